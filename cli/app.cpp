@@ -1,0 +1,86 @@
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless::cli {
+
+namespace {
+
+struct Command {
+    const char* name;
+    int (*run)(int, char**);
+    const char* summary;
+};
+
+constexpr Command kCommands[] = {
+    {"demo", cmd_demo, "extract and render an embedded analytic volume (no input needed)"},
+    {"isosurface", cmd_isosurface, "volume -> projected oriented point set (PLY) and picture (PNG)"},
+    {"generate", cmd_generate, "volume -> one sample per active cell, as a binary stream"},
+    {"project", cmd_project, "sample stream -> points projected onto the isosurface"},
+    {"write", cmd_write, "point stream -> binary PLY"},
+    {"splat", cmd_splat, "point stream or PLY -> surface-splatted PNG (quad or EWA kernels)"},
+    {"mc", cmd_mc, "volume -> marching-cubes triangle mesh (PLY), the baseline"},
+    {"info", cmd_info, "describe any file meshless reads or writes"},
+};
+
+void print_usage(std::FILE* out) {
+    std::fputs("usage: meshless COMMAND [options]   (meshless COMMAND --help for details)\n\n"
+               "Point-based isosurfaces and pictures from volume data, without meshing\n"
+               "(C. S. Co, Meshless Methods for Volume Visualization, 2006).\n\ncommands:\n", out);
+    for (const auto& c : kCommands) std::fprintf(out, "  %-12s %s\n", c.name, c.summary);
+    std::fputs("\nPipes: meshless generate VOL --iso V | meshless project | meshless splat -o img.png\n"
+               "exit codes: 0 success, 1 usage error, 2 bad input data or I/O failure, 3 internal error.\n",
+               out);
+}
+
+}  // namespace
+
+int cli_main(int argc, char** argv) {
+    // A closed downstream pipe surfaces as EPIPE from write(), mapped to a quiet exit.
+    std::signal(SIGPIPE, SIG_IGN);
+    if (argc < 2) {
+        print_usage(stderr);
+        return 1;
+    }
+    const std::string name = argv[1];
+    if (name == "--help" || name == "-h" || name == "help") {
+        print_usage(stdout);
+        return 0;
+    }
+    if (name == "--version") {
+        std::puts("meshless 0.1.0");
+        return 0;
+    }
+    for (const auto& c : kCommands) {
+        if (name != c.name) continue;
+        try {
+            return c.run(argc, argv);
+        } catch (const BrokenPipe&) {
+            return 0;
+        } catch (const UsageError& e) {
+            std::fprintf(stderr, "meshless %s: %s\n", c.name, e.what());
+            return 1;
+        } catch (const FormatError& e) {
+            std::fprintf(stderr, "meshless %s: %s\n", c.name, e.what());
+            return 2;
+        } catch (const IoError& e) {
+            std::fprintf(stderr, "meshless %s: %s\n", c.name, e.what());
+            return 2;
+        } catch (const std::bad_alloc&) {
+            std::fprintf(stderr, "meshless %s: out of memory\n", c.name);
+            return 2;
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "meshless %s: internal error: %s\n", c.name, e.what());
+            return 3;
+        }
+    }
+    std::fprintf(stderr, "meshless: unknown command '%s' (see meshless --help)\n", name.c_str());
+    return 1;
+}
+
+}  // namespace meshless::cli

@@ -1,0 +1,61 @@
+// A small command-line parser for the meshless subcommands: long options ("--iso 100.5" or
+// "--iso=100.5"), short aliases ("-o"), boolean flags, repeatable options, positionals, and a
+// generated --help text. Throws UsageError (exit code 1) with a one-line message on unknown
+// options, missing values or malformed numbers. No globals; one Args per subcommand invocation.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace meshless::cli {
+
+class Args {
+public:
+    Args(std::string command, std::string synopsis, std::string description);
+
+    /// Declares an option taking a value. `short_name` may be empty. Default shown in --help only.
+    Args& option(const std::string& name, const std::string& short_name, const std::string& metavar,
+                 const std::string& help, const std::string& default_text = "");
+    /// Declares a boolean flag.
+    Args& flag(const std::string& name, const std::string& help);
+    /// Adds a paragraph (examples, exit codes) at the end of --help.
+    Args& epilog(const std::string& text);
+
+    /// Parses argv[first..argc). Returns false when --help was requested (help text printed).
+    bool parse(int argc, char** argv, int first);
+
+    bool has(const std::string& name) const;
+    std::optional<std::string> get(const std::string& name) const;
+    std::vector<std::string> get_all(const std::string& name) const;
+    std::string get_or(const std::string& name, const std::string& def) const;
+    std::string require(const std::string& name) const;
+    std::optional<double> get_double(const std::string& name) const;
+    double get_double_or(const std::string& name, double def) const;
+    long long get_int_or(const std::string& name, long long def) const;
+    /// "a,b,c" -> 3 numbers; throws UsageError otherwise.
+    std::optional<std::array<double, 3>> get_triple(const std::string& name) const;
+
+    const std::vector<std::string>& positional() const { return positional_; }
+    std::string help_text() const;
+    const std::string& command() const { return command_; }
+    /// The command line as given (for provenance in stream metadata).
+    const std::string& command_line() const { return command_line_; }
+
+private:
+    struct Spec {
+        std::string name, short_name, metavar, help, default_text;
+        bool takes_value;
+    };
+    const Spec* find(const std::string& token) const;
+    std::string command_, synopsis_, description_, epilog_, command_line_;
+    std::vector<Spec> specs_;
+    std::vector<std::pair<std::string, std::string>> values_;
+    std::vector<std::string> positional_;
+};
+
+/// Parses a number with full-string validation; throws UsageError naming `what`.
+double parse_double(const std::string& s, const std::string& what);
+long long parse_int(const std::string& s, const std::string& what);
+
+}  // namespace meshless::cli

@@ -1,0 +1,54 @@
+// meshless demo: the main job on an embedded default, no input file needed. Builds an analytic
+// volume, extracts its isosurface by iso-splatting (paradigm C, approximate projection) and writes
+// DIR/demo.ply and DIR/demo.png (EWA splats, Phong shading).
+#include <cstdio>
+#include <filesystem>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cli/render_output.hpp"
+#include "formats/ply_points.hpp"
+#include "kernels/analytic_volumes.hpp"
+#include "kernels/errors.hpp"
+#include "stream/isosplat_pipeline.hpp"
+#include "stream/point_sinks.hpp"
+
+namespace meshless::cli {
+
+int cmd_demo(int argc, char** argv) {
+    Args a("demo", "[-o DIR] [--field torus|sphere|gyroid|ml] [--n N]",
+           "Builds an embedded analytic volume, extracts an isosurface by iso-splatting and writes\n"
+           "DIR/demo.ply (oriented points) and DIR/demo.png (surface-splatted picture).");
+    a.option("output", "o", "DIR", "output directory (created if missing)", ".")
+        .option("field", "", "NAME", "analytic field: torus | sphere | gyroid | ml (Marschner-Lobb)", "ml")
+        .option("n", "", "N", "grid resolution N^3", "128");
+    add_thread_option(a);
+    add_camera_options(a);
+    if (!a.parse(argc, argv, 2)) return 0;
+    const auto parsed = parse_analytic_field(a.get_or("field", "ml"));
+    if (!parsed) throw UsageError("--field: expected torus, sphere, gyroid or ml, got '" + a.get_or("field", "ml") + "'");
+    const AnalyticField field = *parsed;
+    const long long n = a.get_int_or("n", 128);
+    if (n < 8 || n > 1024) throw UsageError("--n: expected 8..1024");
+    const std::filesystem::path dir = a.get_or("output", ".");
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (!std::filesystem::is_directory(dir)) throw IoError(dir.string() + ": cannot create output directory");
+
+    const Volume vol = make_analytic_volume(field, n);
+    const double iso = default_iso(field);
+    StreamMeta meta = volume_meta(std::string("demo-") + to_string(field), vol, iso, a.command_line());
+    meta.set("projection", "approx");
+    CollectSink sink;
+    const IsoSplatResult r = run_isosplat(vol.view(), iso, Projection::approx, SamplingParams{}, sink, {threads(a)});
+    const std::string ply = (dir / "demo.ply").string(), png = (dir / "demo.png").string();
+    write_ply_points(ply, sink.points, ply_comments(meta));
+    render_to_png(sink.points, meta_bounds(meta), camera_from(a), kernel_from(a), png);
+    std::printf("demo: %s field on a %lld^3 grid, iso %g: %zu points from %lld active cells in %.3f s\n"
+                "wrote %s and %s\n",
+                to_string(field), n, iso, sink.points.size(), static_cast<long long>(r.sampling.active_cells), r.seconds,
+                ply.c_str(), png.c_str());
+    return 0;
+}
+
+}  // namespace meshless::cli

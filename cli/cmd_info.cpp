@@ -1,0 +1,107 @@
+// meshless info: describes any file meshless reads or writes (volumes, point/sample streams,
+// PLY point sets and meshes, PNG pictures).
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "formats/point_stream.hpp"
+#include "formats/volume_reader.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless::cli {
+
+namespace {
+
+void info_stream(const std::string& path) {
+    InputFile in(path);
+    StreamReader r(in.f, in.name);
+    r.read_meta();
+    std::vector<char> buf;
+    std::uint64_t frames = 0;
+    for (;;) {
+        buf.clear();
+        if (!r.next_data(buf)) break;
+        ++frames;
+    }
+    std::printf("%s: meshless %s stream, version %u, %zu-byte records\n", path.c_str(),
+                r.kind() == RecordKind::point ? "point" : "sample", kStreamVersion, record_size(r.kind()));
+    std::printf("  records: %llu in %llu DATA frames, END frame present\n", static_cast<unsigned long long>(r.total()),
+                static_cast<unsigned long long>(frames));
+    for (const auto& [k, v] : r.meta().kv) std::printf("  %s: %s\n", k.c_str(), v.c_str());
+}
+
+void info_ply(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    std::printf("%s: PLY\n", path.c_str());
+    int lines = 0;
+    while (std::getline(in, line) && lines++ < 200) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        while (!line.empty() && line.back() == ' ') line.pop_back();
+        if (line == "ply") continue;
+        std::printf("  %s\n", line.c_str());
+        if (line == "end_header") return;
+    }
+    throw FormatError(path + ": PLY header has no end_header");
+}
+
+void info_png(const std::string& path, const unsigned char* h, std::size_t n) {
+    if (n < 24) throw FormatError(path + ": truncated PNG header");
+    auto be32 = [&](int o) { return (unsigned(h[o]) << 24) | (unsigned(h[o + 1]) << 16) | (unsigned(h[o + 2]) << 8) | h[o + 3]; };
+    std::printf("%s: PNG image, %u x %u\n", path.c_str(), be32(16), be32(20));
+}
+
+void info_volume(const std::string& path, const Args& a) {
+    const VolumeInfo vi = probe_volume(path, raw_options(a));
+    const GridSpec& g = vi.grid;
+    std::printf("%s: %s volume\n", path.c_str(), vi.format.c_str());
+    std::printf("  dims: %lld x %lld x %lld (%lld voxels, %lld cells)\n", static_cast<long long>(g.dims[0]),
+                static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]), static_cast<long long>(g.voxel_count()),
+                static_cast<long long>(g.cell_count()));
+    std::printf("  type: %s\n  spacing: %g %g %g\n  origin: %g %g %g\n", to_string(vi.type), g.spacing[0], g.spacing[1],
+                g.spacing[2], g.origin[0], g.origin[1], g.origin[2]);
+    if (!vi.encoding.empty()) std::printf("  encoding: %s\n", vi.encoding.c_str());
+    if (!vi.data_files.empty())
+        std::printf("  data files: %zu (%s%s)\n", vi.data_files.size(), vi.data_files.front().c_str(),
+                    vi.data_files.size() > 1 ? ", ..." : "");
+}
+
+}  // namespace
+
+int cmd_info(int argc, char** argv) {
+    Args a("info", "FILE...",
+           "Describes files meshless reads or writes: volumes (format, dims, type, spacing, value range),\n"
+           "point/sample streams (records, frames, metadata; checks the END frame), PLY and PNG files.");
+    a.flag("range", "volumes: also read the samples and print the value range");
+    add_volume_options(a);
+    if (!a.parse(argc, argv, 2)) return 0;
+    if (a.positional().empty()) throw UsageError("info: missing FILE argument");
+    for (const std::string& path : a.positional()) {
+        unsigned char h[32] = {};
+        std::size_t n = 0;
+        if (path != "-") {
+            InputFile in(path);
+            n = std::fread(h, 1, sizeof h, in.f);
+        }
+        if (path == "-" || (n >= 8 && std::memcmp(h, "\x89MLS", 4) == 0)) {
+            info_stream(path);
+        } else if (n >= 4 && std::memcmp(h, "ply", 3) == 0 && (h[3] == '\n' || h[3] == '\r')) {
+            info_ply(path);
+        } else if (n >= 8 && std::memcmp(h, "\x89PNG", 4) == 0) {
+            info_png(path, h, n);
+        } else {
+            info_volume(path, a);
+            if (a.has("range") || a.has("dims") || a.has("type")) {
+                const Volume v = load_volume(a);
+                const auto r = v.value_range();
+                std::printf("  value range: %g .. %g\n", r[0], r[1]);
+            }
+        }
+    }
+    return 0;
+}
+
+}  // namespace meshless::cli

@@ -1,0 +1,132 @@
+// The pipeline stages as their own processes, joined by Unix pipes (DESIGN.md):
+//   meshless generate VOLUME --iso V | meshless project | meshless write -o out.ply
+// Each reads/writes the versioned binary stream of formats/point_stream.hpp; one DATA frame per
+// batch, so the bytes that reach the last stage equal the in-process `meshless isosurface` run.
+#include <cstdio>
+#include <memory>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "formats/atomic_file.hpp"
+#include "kernels/errors.hpp"
+#include "stream/cell_row_source.hpp"
+#include "stream/generate_stage.hpp"
+#include "stream/point_sinks.hpp"
+#include "stream/project_stage.hpp"
+#include "stream/runner.hpp"
+#include "stream/stream_endpoints.hpp"
+
+namespace meshless::cli {
+
+namespace {
+
+/// Stream output: stdout when "-" (refused when stdout is a terminal), else an AtomicFile.
+struct StreamOutput {
+    std::unique_ptr<AtomicFile> file;
+    std::FILE* f = nullptr;
+    std::string name;
+    explicit StreamOutput(const std::string& path, const std::string& command) : name(path) {
+        file = std::make_unique<AtomicFile>(path);
+        if (file->is_stdout() && ::isatty(1))
+            throw UsageError(command + ": refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
+        f = file->handle();
+    }
+    void commit() { file->commit(); }
+};
+
+void add_compress_option(Args& a) { a.flag("compress", "zstd-compress the stream's DATA frames"); }
+
+}  // namespace
+
+int cmd_generate(int argc, char** argv) {
+    Args a("generate", "VOLUME --iso V [-o FILE|-]",
+           "Point generation of paradigm (C) (section 3.4): one sample per active cell, at the cell centre,\n"
+           "with trilinear value and gradient and the cell's corner values, written as a binary sample\n"
+           "stream (stdout by default) for `meshless project`.");
+    a.option("iso", "", "V", "isovalue (required)")
+        .option("output", "o", "FILE", "stream output, '-' = stdout", "-")
+        .option("radius-scale", "", "S", "splat radius = S * half the cell diagonal", "1");
+    add_compress_option(a);
+    add_volume_options(a);
+    add_thread_option(a);
+    a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png\n");
+    if (!a.parse(argc, argv, 2)) return 0;
+    const double iso = parse_double(a.require("iso"), "--iso");
+    SamplingParams sp;
+    sp.radius_scale = a.get_double_or("radius-scale", 1.0);
+    if (!(sp.radius_scale > 0)) throw UsageError("--radius-scale: must be positive");
+    const int nthreads = threads(a);
+    const std::string path = a.positional()[0];
+    const Volume vol = load_volume(a);
+    warn_if_iso_outside(iso, vol.value_range(), path);
+    StreamOutput out(a.get_or("output", "-"), "generate");
+    StreamSink sink(out.f, out.name, RecordKind::sample, volume_meta(path, vol, iso, a.command_line()), a.has("compress"));
+    CellRowSource source(vol.grid);
+    GenerateStage generate(vol.view(), iso, sp);
+    const Stage* stages[] = {&generate};
+    run_pipeline(source, stages, sink, {nthreads});
+    out.commit();
+    return 0;
+}
+
+int cmd_project(int argc, char** argv) {
+    Args a("project", "[INPUT|-] [--projection approx|exact|none] [-o FILE|-]",
+           "Projects a sample stream onto the isosurface (section 3.3): one Newton step with the\n"
+           "displacement criterion (approx, Eq. 3.5), the ray-trilinear cubic (exact, Eq. 3.3), or none.\n"
+           "Reads stdin by default; the isovalue comes from the stream unless --iso overrides it.");
+    a.option("iso", "", "V", "isovalue (default: the one recorded by generate)")
+        .option("projection", "", "MODE", "approx | exact | none", "approx")
+        .option("output", "o", "FILE", "point stream output, '-' = stdout", "-")
+        .flag("stats", "print projection counts to stderr");
+    add_compress_option(a);
+    add_thread_option(a);
+    if (!a.parse(argc, argv, 2)) return 0;
+    const Projection mode = parse_projection(a.get_or("projection", "approx"));
+    const int nthreads = threads(a);
+    InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
+    StreamReader reader(in.f, in.name);
+    if (reader.kind() != RecordKind::sample)
+        throw FormatError(in.name + ": holds projected points, expected a sample stream from 'meshless generate'");
+    reader.read_meta();
+    StreamMeta meta = reader.meta();
+    double iso;
+    if (auto v = a.get_double("iso")) iso = *v;
+    else if (auto m = meta.get_double("iso")) iso = *m;
+    else throw UsageError("project: the stream records no isovalue; give --iso V");
+    meta.set("iso", iso);
+    meta.set("projection", to_string(mode));
+    StreamOutput out(a.get_or("output", "-"), "project");
+    StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"));
+    StreamSource source(reader);
+    ProjectStage project(iso, mode);
+    const Stage* stages[] = {&project};
+    run_pipeline(source, stages, sink, {nthreads});
+    out.commit();
+    if (a.has("stats")) {
+        const auto s = project.stats();
+        std::fprintf(stderr, "project: %lld samples -> %lld points (%s; discarded: %lld too far, %lld flat, %lld missed)\n",
+                     static_cast<long long>(s.input), static_cast<long long>(s.output), to_string(mode),
+                     static_cast<long long>(s.too_far), static_cast<long long>(s.flat), static_cast<long long>(s.missed));
+    }
+    return 0;
+}
+
+int cmd_write(int argc, char** argv) {
+    Args a("write", "[INPUT|-] -o out.ply",
+           "Writes a point stream (from `meshless project`) as a binary little-endian PLY with\n"
+           "x y z nx ny nz radius value, which MeshLab, ParaView and VTK open.");
+    a.option("output", "o", "FILE", "PLY output (required; '-' = stdout)");
+    if (!a.parse(argc, argv, 2)) return 0;
+    const std::string outpath = a.require("output");
+    InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
+    StreamReader reader(in.f, in.name);
+    if (reader.kind() != RecordKind::point)
+        throw FormatError(in.name + ": holds unprojected samples; run 'meshless project' first");
+    reader.read_meta();
+    PlySink sink(outpath, ply_comments(reader.meta()));
+    StreamSource source(reader);
+    run_pipeline(source, {}, sink, {1});
+    return 0;
+}
+
+}  // namespace meshless::cli

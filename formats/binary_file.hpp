@@ -1,0 +1,26 @@
+// Whole-file and byte-range reads with one large fread, with errors that name the path.
+//
+// Units: byte offsets and counts. Throws IoError when the path cannot be opened, is a directory,
+// or a read fails; FormatError ("PATH: truncated: need N bytes at offset O, file has M") when the
+// requested range extends past the end of the file. Thread-safety: reentrant.
+// Dissertation: none (input plumbing for chapter 3).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace meshless {
+
+/// Size of a regular file; IoError if missing or a directory.
+std::uint64_t regular_file_size(const std::string& path);
+/// The whole file.
+std::vector<std::byte> read_file_bytes(const std::string& path);
+/// Exactly `count` bytes starting at `offset`.
+std::vector<std::byte> read_file_range(const std::string& path, std::uint64_t offset, std::uint64_t count);
+/// Reads exactly `count` bytes at `offset` into `dst` (which must hold them).
+void read_file_range_into(const std::string& path, std::uint64_t offset, std::uint64_t count, std::byte* dst);
+/// Up to `max_bytes` from the start of the file (fewer if the file is shorter), as text.
+std::string read_file_prefix(const std::string& path, std::size_t max_bytes);
+
+}  // namespace meshless

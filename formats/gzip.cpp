@@ -1,0 +1,137 @@
+#include "formats/gzip.hpp"
+
+#include <zlib.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+struct InflateReader::Impl {
+    std::string path;
+    std::FILE* f = nullptr;
+    z_stream zs{};
+    bool z_open = false;
+    bool eof_in = false;
+    bool finished = false;
+    std::vector<unsigned char> in;
+    std::uint64_t pos = 0;
+
+    ~Impl() {
+        if (z_open) inflateEnd(&zs);
+        if (f) std::fclose(f);
+    }
+    void refill() {
+        if (eof_in) return;
+        const std::size_t got = std::fread(in.data(), 1, in.size(), f);
+        if (got < in.size()) {
+            if (std::ferror(f)) throw IoError(path + ": read failed: " + std::strerror(errno));
+            eof_in = true;
+        }
+        zs.next_in = in.data();
+        zs.avail_in = static_cast<uInt>(got);
+    }
+};
+
+InflateReader::InflateReader(const std::string& path, std::uint64_t offset) : impl_(std::make_unique<Impl>()) {
+    impl_->path = path;
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a file");
+    impl_->f = std::fopen(path.c_str(), "rb");
+    if (!impl_->f) throw IoError(path + ": cannot open: " + std::strerror(errno));
+    if (offset && fseeko(impl_->f, static_cast<off_t>(offset), SEEK_SET) != 0)
+        throw IoError(path + ": cannot seek to " + std::to_string(offset));
+    impl_->in.resize(1 << 20);
+    if (inflateInit2(&impl_->zs, 15 + 32) != Z_OK) throw IoError(path + ": zlib init failed");
+    impl_->z_open = true;
+}
+
+InflateReader::~InflateReader() = default;
+
+std::uint64_t InflateReader::position() const { return impl_->pos; }
+
+std::size_t InflateReader::read(void* dst, std::size_t n) {
+    Impl& m = *impl_;
+    auto* out = static_cast<unsigned char*>(dst);
+    std::size_t done = 0;
+    while (done < n && !m.finished) {
+        if (m.zs.avail_in == 0) {
+            m.refill();
+            if (m.zs.avail_in == 0)
+                throw FormatError(m.path + ": compressed data ends unexpectedly after " +
+                                  std::to_string(m.pos + done) + " decompressed bytes");
+        }
+        const std::size_t chunk = std::min<std::size_t>(n - done, 1u << 30);
+        m.zs.next_out = out + done;
+        m.zs.avail_out = static_cast<uInt>(chunk);
+        const int r = inflate(&m.zs, Z_NO_FLUSH);
+        done += chunk - m.zs.avail_out;
+        if (r == Z_STREAM_END) {
+            // another gzip member may follow
+            if (m.zs.avail_in == 0) m.refill();
+            if (m.zs.avail_in >= 2 && is_gzip_magic(m.zs.next_in, m.zs.avail_in)) {
+                inflateReset(&m.zs);
+            } else {
+                m.finished = true;  // end of data (trailing padding after the last member is ignored)
+            }
+        } else if (r != Z_OK && r != Z_BUF_ERROR) {
+            throw FormatError(m.path + ": corrupt compressed data: " + (m.zs.msg ? m.zs.msg : "inflate error"));
+        }
+    }
+    m.pos += done;
+    return done;
+}
+
+void InflateReader::read_exact(void* dst, std::size_t n, const char* what) {
+    const std::uint64_t before = impl_->pos;
+    const std::size_t got = read(dst, n);
+    if (got != n)
+        throw FormatError(impl_->path + ": compressed " + what + " ends after " + std::to_string(before + got) +
+                          " bytes, expected " + std::to_string(before + n));
+}
+
+void InflateReader::skip(std::uint64_t n) {
+    std::vector<unsigned char> buf(std::min<std::uint64_t>(n, 1 << 16));
+    while (n) {
+        const std::size_t k = static_cast<std::size_t>(std::min<std::uint64_t>(n, buf.size()));
+        read_exact(buf.data(), k, "data");
+        n -= k;
+    }
+}
+
+void inflate_into(const std::byte* data, std::size_t n, std::byte* dst, std::size_t expected, const std::string& path) {
+    z_stream zs{};
+    if (inflateInit2(&zs, 15 + 32) != Z_OK) throw IoError(path + ": zlib init failed");
+    zs.next_in = reinterpret_cast<Bytef*>(const_cast<std::byte*>(data));
+    zs.avail_in = static_cast<uInt>(n);
+    zs.next_out = reinterpret_cast<Bytef*>(dst);
+    zs.avail_out = static_cast<uInt>(expected);
+    const int r = inflate(&zs, Z_FINISH);
+    const std::size_t got = expected - zs.avail_out;
+    std::string msg = zs.msg ? zs.msg : "";
+    inflateEnd(&zs);
+    if (r == Z_STREAM_END && got == expected) return;
+    if (r == Z_STREAM_END || (r == Z_BUF_ERROR && zs.avail_in == 0))
+        throw FormatError(path + ": compressed block decompresses to " + std::to_string(got) + " bytes, expected " +
+                          std::to_string(expected));
+    if (r == Z_BUF_ERROR && zs.avail_out == 0)
+        throw FormatError(path + ": compressed block decompresses to more than " + std::to_string(expected) + " bytes");
+    throw FormatError(path + ": corrupt compressed data: " + (msg.empty() ? "inflate error" : msg));
+}
+
+std::vector<std::byte> inflate_exact(const std::byte* data, std::size_t n, std::size_t expected, const std::string& path) {
+    std::vector<std::byte> out(expected);
+    inflate_into(data, n, out.data(), expected, path);
+    return out;
+}
+
+bool is_gzip_magic(const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    return n >= 2 && p[0] == 0x1f && p[1] == 0x8b;
+}
+
+}  // namespace meshless

@@ -1,0 +1,35 @@
+// A small JSON reader (RFC 8259) for metadata files such as vtk-js index.json.
+//
+// Numbers are doubles; objects keep their key order (linear lookup: meant for small documents).
+// Throws FormatError("PATH: bad JSON at offset N: ...") on malformed input, including trailing
+// garbage. Nesting is limited to 256 levels. Thread-safety: values are immutable after parsing.
+// Dissertation: input plumbing.
+#pragma once
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace meshless {
+
+struct Json {
+    enum class Kind { null, boolean, number, string, array, object };
+    Kind kind = Kind::null;
+    bool b = false;
+    double num = 0;
+    std::string str;
+    std::vector<Json> arr;
+    std::vector<std::pair<std::string, Json>> obj;
+
+    bool is_null() const { return kind == Kind::null; }
+    bool is_number() const { return kind == Kind::number; }
+    bool is_string() const { return kind == Kind::string; }
+    bool is_array() const { return kind == Kind::array; }
+    bool is_object() const { return kind == Kind::object; }
+    /// Member of an object, nullptr if absent or not an object.
+    const Json* find(std::string_view key) const;
+};
+
+Json parse_json(std::string_view text, const std::string& path);
+
+}  // namespace meshless

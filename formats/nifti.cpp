@@ -1,0 +1,190 @@
+#include "formats/nifti.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "formats/binary_file.hpp"
+#include "formats/gzip.hpp"
+#include "formats/payload.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+namespace {
+
+constexpr std::size_t kHeaderBytes = 348;
+
+struct NiftiHeader {
+    GridSpec grid;
+    StoredType type = StoredType::u8;
+    bool big_endian = false;
+    std::uint64_t vox_offset = 0;
+    float slope = 0, inter = 0;
+    bool pair = false;  // "ni1": data in a separate .img
+};
+
+bool ends_with(const std::string& s, const std::string& suf) {
+    return s.size() >= suf.size() && s.compare(s.size() - suf.size(), suf.size(), suf) == 0;
+}
+
+bool is_gz_path(const std::string& path) {
+    const std::string l = path;
+    return ends_with(l, ".gz") || ends_with(l, ".GZ");
+}
+
+NiftiHeader parse_header(const unsigned char* h, const std::string& path) {
+    std::int32_t sz;
+    std::memcpy(&sz, h, 4);
+    NiftiHeader r;
+    if (sz == 348) {
+        r.big_endian = !host_is_little_endian();
+    } else if (static_cast<std::int32_t>(__builtin_bswap32(static_cast<std::uint32_t>(sz))) == 348) {
+        r.big_endian = host_is_little_endian();
+    } else {
+        if (sz == 540 || static_cast<std::int32_t>(__builtin_bswap32(static_cast<std::uint32_t>(sz))) == 540)
+            throw FormatError(path + ": NIfTI-2 header is not supported (NIfTI-1 only)");
+        throw FormatError(path + ": not a NIfTI-1 file (sizeof_hdr is " + std::to_string(sz) +
+                          ", expected 348 in either byte order)");
+    }
+    const bool swap = r.big_endian == host_is_little_endian();
+    auto i16 = [&](std::size_t off) {
+        std::uint16_t v;
+        std::memcpy(&v, h + off, 2);
+        if (swap) v = static_cast<std::uint16_t>((v >> 8) | (v << 8));
+        return static_cast<std::int16_t>(v);
+    };
+    auto f32 = [&](std::size_t off) {
+        std::uint32_t v;
+        std::memcpy(&v, h + off, 4);
+        if (swap) v = __builtin_bswap32(v);
+        float f;
+        std::memcpy(&f, &v, 4);
+        return f;
+    };
+    const char* magic = reinterpret_cast<const char*>(h + 344);
+    if (std::memcmp(magic, "n+1\0", 4) == 0)
+        r.pair = false;
+    else if (std::memcmp(magic, "ni1\0", 4) == 0)
+        r.pair = true;
+    else
+        throw FormatError(path + ": bad NIfTI magic (expected 'n+1' or 'ni1'; ANALYZE 7.5 is not supported)");
+    const int ndim = i16(40);
+    if (ndim < 1 || ndim > 7) throw FormatError(path + ": bad NIfTI dim[0] " + std::to_string(ndim) + " (1..7)");
+    for (int a = 0; a < 3; ++a) {
+        const std::int64_t d = a < ndim ? i16(42 + 2 * a) : 1;
+        if (d < 1) throw FormatError(path + ": bad NIfTI dim[" + std::to_string(a + 1) + "] " + std::to_string(d));
+        r.grid.dims[a] = d;
+    }
+    for (int a = 3; a < ndim; ++a)
+        if (i16(42 + 2 * a) > 1)
+            throw FormatError(path + ": unsupported NIfTI with dim[" + std::to_string(a + 1) + "] = " +
+                              std::to_string(i16(42 + 2 * a)) + " (3-D volumes only)");
+    const int dt = i16(70);
+    switch (dt) {
+        case 2: r.type = StoredType::u8; break;
+        case 4: r.type = StoredType::i16; break;
+        case 8: r.type = StoredType::i32; break;
+        case 16: r.type = StoredType::f32; break;
+        case 64: r.type = StoredType::f64; break;
+        case 256: r.type = StoredType::i8; break;
+        case 512: r.type = StoredType::u16; break;
+        case 768: r.type = StoredType::u32; break;
+        case 1024: r.type = StoredType::i64; break;
+        case 1280: r.type = StoredType::u64; break;
+        default: throw FormatError(path + ": unsupported NIfTI datatype " + std::to_string(dt));
+    }
+    for (int a = 0; a < 3; ++a) {
+        const double s = std::fabs(static_cast<double>(f32(80 + 4 * a)));
+        r.grid.spacing[a] = (s > 0 && std::isfinite(s)) ? s : 1.0;
+    }
+    const float vo = f32(108);
+    if (!(vo >= 0) || !std::isfinite(vo)) throw FormatError(path + ": bad NIfTI vox_offset");
+    r.vox_offset = static_cast<std::uint64_t>(vo);
+    if (!r.pair && r.vox_offset < kHeaderBytes) r.vox_offset = 352;  // n+1 data never overlaps the header
+    r.slope = f32(112);
+    r.inter = f32(116);
+    const int qform = i16(252), sform = i16(254);
+    if (sform > 0) {
+        for (int a = 0; a < 3; ++a) r.grid.origin[a] = f32(280 + 16 * a + 12);
+    } else if (qform > 0) {
+        for (int a = 0; a < 3; ++a) r.grid.origin[a] = f32(268 + 4 * a);
+    }
+    return r;
+}
+
+// The .img beside a .hdr (or .img.gz).
+std::string image_file_for(const std::string& path) {
+    std::string base = path;
+    if (is_gz_path(base)) base = base.substr(0, base.size() - 3);
+    const std::string stem = base.substr(0, base.size() - std::filesystem::path(base).extension().string().size());
+    std::error_code ec;
+    for (const char* ext : {".img", ".img.gz", ".IMG"})
+        if (std::filesystem::is_regular_file(stem + ext, ec)) return stem + ext;
+    throw IoError(path + ": cannot open the image file " + stem + ".img");
+}
+
+NiftiHeader read_header(const std::string& path) {
+    unsigned char h[kHeaderBytes];
+    if (is_gz_path(path)) {
+        InflateReader r(path);
+        r.read_exact(h, kHeaderBytes, "NIfTI header");
+    } else {
+        const auto b = read_file_range(path, 0, kHeaderBytes);
+        std::memcpy(h, b.data(), kHeaderBytes);
+    }
+    return parse_header(h, path);
+}
+
+Volume apply_scaling(Volume v, const NiftiHeader& h) {
+    if (h.slope == 0 || !std::isfinite(h.slope) || (h.slope == 1 && h.inter == 0)) return v;
+    Volume out(v.grid, SampleType::f32);
+    auto* o = reinterpret_cast<float*>(out.bytes.data());
+    const std::int64_t n = v.grid.voxel_count();
+    visit_samples(v.view(), [&](auto* p) {
+        for (std::int64_t i = 0; i < n; ++i) o[i] = static_cast<float>(h.slope * static_cast<double>(p[i]) + h.inter);
+    });
+    return out;
+}
+
+}  // namespace
+
+VolumeInfo probe_nifti(const std::string& path) {
+    const NiftiHeader h = read_header(path);
+    VolumeInfo i;
+    i.format = "nifti";
+    i.grid = h.grid;
+    const std::string data = h.pair ? image_file_for(path) : path;
+    i.type = (h.slope != 0 && std::isfinite(h.slope) && !(h.slope == 1 && h.inter == 0)) ? SampleType::f32
+                                                                                         : volume_type_for(h.type);
+    i.encoding = is_gz_path(data) ? "gzip" : "raw";
+    i.data_files = {data};
+    return i;
+}
+
+Volume read_nifti(const std::string& path) {
+    const NiftiHeader h = read_header(path);
+    const std::string data = h.pair ? image_file_for(path) : path;
+    if (is_gz_path(data)) {
+        const std::uint64_t bytes = static_cast<std::uint64_t>(h.grid.voxel_count()) * stored_size(h.type);
+        // deflate cannot expand more than ~1032:1; reject absurd headers before allocating
+        if (bytes / 1100 > regular_file_size(data) + (1 << 20))
+            throw FormatError(data + ": NIfTI header claims " + std::to_string(bytes) +
+                              " payload bytes, more than the compressed file can hold");
+        std::vector<std::byte> payload(static_cast<std::size_t>(bytes));
+        InflateReader r(data);
+        r.skip(h.vox_offset);
+        r.read_exact(payload.data(), payload.size(), "NIfTI payload");
+        return apply_scaling(make_volume(std::move(payload), h.type, h.big_endian, h.grid, data), h);
+    }
+    PayloadPlan plan;
+    plan.format = "nifti";
+    plan.grid = h.grid;
+    plan.type = h.type;
+    plan.big_endian = h.big_endian;
+    plan.files = {data};
+    plan.file_offset = h.vox_offset;
+    return apply_scaling(read_payload(plan), h);
+}
+
+}  // namespace meshless

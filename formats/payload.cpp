@@ -1,0 +1,172 @@
+#include "formats/payload.hpp"
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+
+#include "formats/binary_file.hpp"
+#include "formats/gzip.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+const char* to_string(PayloadEncoding e) {
+    switch (e) {
+        case PayloadEncoding::raw: return "raw";
+        case PayloadEncoding::gzip: return "gzip";
+        case PayloadEncoding::ascii: return "ascii";
+    }
+    return "?";
+}
+
+VolumeInfo info_from_plan(const PayloadPlan& plan) {
+    VolumeInfo i;
+    i.format = plan.format;
+    i.grid = plan.grid;
+    i.type = volume_type_for(plan.type);
+    i.encoding = to_string(plan.encoding);
+    i.data_files = plan.files;
+    return i;
+}
+
+namespace {
+
+// Offset of the byte after `lines` newlines, starting at `offset` in a file.
+std::uint64_t skip_lines(const std::string& path, std::uint64_t offset, std::int64_t lines) {
+    if (lines <= 0) return offset;
+    const std::uint64_t size = regular_file_size(path);
+    std::uint64_t pos = offset;
+    std::int64_t seen = 0;
+    while (pos < size) {
+        const std::uint64_t n = std::min<std::uint64_t>(size - pos, 1 << 16);
+        const auto buf = read_file_range(path, pos, n);
+        for (std::size_t i = 0; i < buf.size(); ++i)
+            if (buf[i] == std::byte{'\n'} && ++seen == lines) return pos + i + 1;
+        pos += n;
+    }
+    throw FormatError(path + ": line skip " + std::to_string(lines) + " runs past the end of the file");
+}
+
+template <class T>
+void put(std::byte* out, std::size_t i, T v) {
+    std::memcpy(out + i * sizeof(T), &v, sizeof(T));
+}
+
+}  // namespace
+
+std::vector<std::byte> parse_ascii_samples(std::string_view text, StoredType t, std::size_t count,
+                                           const std::string& path) {
+    std::vector<std::byte> out(count * stored_size(t));
+    const char* p = text.data();
+    const char* end = text.data() + text.size();
+    for (std::size_t i = 0; i < count; ++i) {
+        while (p < end && (std::isspace(static_cast<unsigned char>(*p)) || *p == ',')) ++p;
+        if (p == end)
+            throw FormatError(path + ": ascii data ends after " + std::to_string(i) + " values, expected " +
+                              std::to_string(count));
+        double v = 0;
+        auto r = std::from_chars(p, end, v);
+        if (r.ec != std::errc()) {
+            // from_chars rejects a leading '+', accept it
+            if (*p == '+') r = std::from_chars(p + 1, end, v);
+            if (r.ec != std::errc())
+                throw FormatError(path + ": bad ascii value '" + std::string(p, std::min<std::size_t>(end - p, 16)) +
+                                  "' at value " + std::to_string(i));
+        }
+        p = r.ptr;
+        switch (t) {
+            case StoredType::u8: put(out.data(), i, static_cast<std::uint8_t>(v)); break;
+            case StoredType::i8: put(out.data(), i, static_cast<std::int8_t>(v)); break;
+            case StoredType::u16: put(out.data(), i, static_cast<std::uint16_t>(v)); break;
+            case StoredType::i16: put(out.data(), i, static_cast<std::int16_t>(v)); break;
+            case StoredType::u32: put(out.data(), i, static_cast<std::uint32_t>(v)); break;
+            case StoredType::i32: put(out.data(), i, static_cast<std::int32_t>(v)); break;
+            case StoredType::u64: put(out.data(), i, static_cast<std::uint64_t>(v)); break;
+            case StoredType::i64: put(out.data(), i, static_cast<std::int64_t>(v)); break;
+            case StoredType::f32: put(out.data(), i, static_cast<float>(v)); break;
+            case StoredType::f64: put(out.data(), i, v); break;
+        }
+    }
+    return out;
+}
+
+Volume read_payload(const PayloadPlan& plan) {
+    const std::string& head = plan.files.empty() ? std::string("?") : plan.files.front();
+    if (plan.files.empty()) throw FormatError("(no data file): empty payload plan");
+    for (int a = 0; a < 3; ++a)
+        if (plan.grid.dims[a] < 1)
+            throw FormatError(head + ": invalid dimensions " + dims_string(plan.grid));
+    const std::uint64_t n = static_cast<std::uint64_t>(plan.grid.voxel_count());
+    const std::uint64_t elem = stored_size(plan.type);
+    if (n > (std::numeric_limits<std::uint64_t>::max() / elem) / 2)
+        throw FormatError(head + ": dimensions " + dims_string(plan.grid) + " are too large");
+    const std::uint64_t total = n * elem;
+    const std::uint64_t k = plan.files.size();
+    if (n % k != 0)
+        throw FormatError(head + ": " + std::to_string(n) + " samples do not split evenly over " + std::to_string(k) +
+                          " data files");
+    const std::uint64_t share = total / k;
+    const bool swapped_host_order = plan.encoding == PayloadEncoding::ascii;
+
+    // Validate raw sizes before allocating.
+    std::vector<std::uint64_t> starts(k);
+    for (std::uint64_t f = 0; f < k; ++f) {
+        const std::string& file = plan.files[f];
+        if (plan.encoding == PayloadEncoding::raw) {
+            const std::uint64_t size = regular_file_size(file);
+            std::uint64_t start = skip_lines(file, plan.file_offset, plan.line_skip);
+            if (plan.byte_skip == -1) {
+                if (size < share)
+                    throw FormatError(file + ": expected " + std::to_string(share) + " bytes for " + dims_string(plan.grid) +
+                                      " " + to_string(plan.type) + (k > 1 ? " (one of " + std::to_string(k) + " files)" : "") +
+                                      ", file has " + std::to_string(size));
+                start = size - share;
+            } else {
+                start += static_cast<std::uint64_t>(plan.byte_skip);
+            }
+            const bool ok = plan.exact_size ? size == start + share : size >= start && size - start >= share;
+            if (!ok) {
+                std::string what = "expected " + std::to_string(share) + " bytes";
+                if (start) what += " after offset " + std::to_string(start);
+                throw FormatError(file + ": " + what + " for " + dims_string(plan.grid) + " " + to_string(plan.type) +
+                                  (k > 1 ? " (one of " + std::to_string(k) + " files)" : "") + ", file has " +
+                                  std::to_string(size));
+            }
+            starts[f] = start;
+        } else {
+            if (plan.byte_skip < 0)
+                throw FormatError(file + ": byte skip -1 is only allowed with raw encoding");
+            starts[f] = skip_lines(file, plan.file_offset, plan.line_skip);
+        }
+    }
+
+    std::vector<std::byte> payload(static_cast<std::size_t>(total));
+    for (std::uint64_t f = 0; f < k; ++f) {
+        const std::string& file = plan.files[f];
+        std::byte* dst = payload.data() + f * share;
+        switch (plan.encoding) {
+            case PayloadEncoding::raw: read_file_range_into(file, starts[f], share, dst); break;
+            case PayloadEncoding::gzip: {
+                InflateReader r(file, starts[f]);
+                r.skip(static_cast<std::uint64_t>(plan.byte_skip));
+                r.read_exact(dst, static_cast<std::size_t>(share), "payload");
+                break;
+            }
+            case PayloadEncoding::ascii: {
+                const std::uint64_t size = regular_file_size(file);
+                const auto bytes = read_file_range(file, starts[f], size - std::min(size, starts[f]));
+                const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+                auto vals = parse_ascii_samples(text, plan.type, static_cast<std::size_t>(n / k), file);
+                std::memcpy(dst, vals.data(), vals.size());
+                break;
+            }
+        }
+    }
+    const bool big = swapped_host_order ? !host_is_little_endian() : plan.big_endian;
+    return make_volume(std::move(payload), plan.type, big, plan.grid, head);
+}
+
+}  // namespace meshless

@@ -1,0 +1,43 @@
+// Payload plans: where a volume's samples live (one file or a list of slab files, an offset, an
+// encoding) and the reader that executes a plan with one large read per file.
+//
+// Units: bytes; `file_offset` is where the (possibly compressed) data starts in each file,
+// `byte_skip` bytes are then discarded from the decoded stream (-1 for raw: the data is the last
+// bytes of the file). Each of k files holds 1/k of the samples in order.
+// Throws IoError (cannot open) and FormatError (size mismatch, truncation, bad ascii, corrupt
+// compression), messages start with the file's path. Thread-safety: reentrant.
+// Dissertation: none (input plumbing for chapter 3).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "formats/stored_type.hpp"
+#include "formats/volume_reader.hpp"
+
+namespace meshless {
+
+enum class PayloadEncoding { raw, gzip, ascii };
+
+struct PayloadPlan {
+    std::string format;               ///< for VolumeInfo
+    GridSpec grid;
+    StoredType type = StoredType::u8;
+    bool big_endian = false;
+    PayloadEncoding encoding = PayloadEncoding::raw;
+    std::vector<std::string> files;
+    std::uint64_t file_offset = 0;    ///< where data starts in each file (before line skip)
+    std::int64_t line_skip = 0;       ///< lines skipped after file_offset
+    std::int64_t byte_skip = 0;       ///< bytes skipped after that; -1: data ends at end of file (raw only)
+    bool exact_size = false;          ///< raw: each file must hold exactly offset+share bytes
+};
+
+Volume read_payload(const PayloadPlan& plan);
+VolumeInfo info_from_plan(const PayloadPlan& plan);
+const char* to_string(PayloadEncoding e);
+
+/// Parses whitespace-separated numbers into `count` samples of type t in host order.
+std::vector<std::byte> parse_ascii_samples(std::string_view text, StoredType t, std::size_t count,
+                                           const std::string& path);
+
+}  // namespace meshless

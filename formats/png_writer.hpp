@@ -1,0 +1,19 @@
+// PNG output of rendered images (dissertation section 3.6 figures): 8-bit RGB, no alpha, via
+// libpng's simplified API. write_png goes through AtomicFile (temporary + rename; "-" = stdout),
+// so a failed write never leaves a file that looks complete. read_png is for tests and tools.
+// Throws: IoError naming the path when the file cannot be created/written/opened;
+//         FormatError naming the path when read_png meets something that is not a valid PNG;
+//         UsageError for an image whose size does not match its pixel buffer.
+// Thread-safety: reentrant (no shared state).
+#pragma once
+#include <string>
+
+#include "kernels/splat_rasterizer.hpp"
+
+namespace meshless {
+
+void write_png(const Image& image, const std::string& path);
+/// Reads any PNG and converts it to 8-bit RGB (alpha is composited away by libpng onto black).
+Image read_png(const std::string& path);
+
+}  // namespace meshless

@@ -1,0 +1,239 @@
+#include "formats/point_stream.hpp"
+
+#include <zlib.h>
+#include <zstd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+namespace {
+
+constexpr unsigned char kMagic[8] = {0x89, 'M', 'L', 'S', '\r', '\n', 0x1a, '\n'};
+constexpr std::uint32_t kFrameMeta = 1, kFrameData = 2, kFrameEnd = 3;
+constexpr std::uint32_t kFlagZstd = 1;
+constexpr std::uint32_t kMaxPayload = 1u << 30;
+
+void put_u32(unsigned char* p, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
+}
+void put_u64(unsigned char* p, std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
+}
+std::uint32_t get_u32(const unsigned char* p) {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | p[i];
+    return v;
+}
+std::uint64_t get_u64(const unsigned char* p) {
+    std::uint64_t v = 0;
+    for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
+    return v;
+}
+std::uint32_t crc_of(const void* p, std::size_t n) {
+    return static_cast<std::uint32_t>(crc32(0L, static_cast<const Bytef*>(p), static_cast<uInt>(n)));
+}
+
+}  // namespace
+
+std::size_t record_size(RecordKind k) {
+    return k == RecordKind::point ? sizeof(PointRecord) : sizeof(SampleRecord);
+}
+
+void StreamMeta::set(const std::string& k, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    kv[k] = buf;
+}
+
+std::optional<std::string> StreamMeta::get(const std::string& k) const {
+    auto it = kv.find(k);
+    if (it == kv.end()) return std::nullopt;
+    return it->second;
+}
+
+std::optional<double> StreamMeta::get_double(const std::string& k) const {
+    auto s = get(k);
+    if (!s) return std::nullopt;
+    char* end = nullptr;
+    const double v = std::strtod(s->c_str(), &end);
+    if (end == s->c_str() || *end != '\0') throw FormatError("stream metadata: '" + k + "' is not a number: " + *s);
+    return v;
+}
+
+std::string StreamMeta::serialize() const {
+    std::string out;
+    for (const auto& [k, v] : kv) {
+        out += k;
+        out += '=';
+        for (char c : v) out += (c == '\n' ? ' ' : c);
+        out += '\n';
+    }
+    return out;
+}
+
+StreamMeta StreamMeta::parse(const std::string& text, const std::string& name) {
+    StreamMeta m;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.empty()) continue;
+        auto eq = line.find('=');
+        if (eq == std::string::npos) throw FormatError(name + ": malformed META frame line '" + line + "'");
+        m.kv[line.substr(0, eq)] = line.substr(eq + 1);
+    }
+    return m;
+}
+
+// ---------------------------------------------------------------- writer
+
+StreamWriter::StreamWriter(std::FILE* f, std::string name, RecordKind kind, bool compress)
+    : f_(f), name_(std::move(name)), kind_(kind), compress_(compress) {
+    unsigned char h[32] = {};
+    std::memcpy(h, kMagic, 8);
+    put_u32(h + 8, kStreamVersion);
+    put_u32(h + 12, static_cast<std::uint32_t>(kind));
+    put_u32(h + 16, static_cast<std::uint32_t>(record_size(kind)));
+    put(h, sizeof h);
+}
+
+void StreamWriter::put(const void* p, std::size_t n) {
+    if (n && std::fwrite(p, 1, n, f_) != n) {
+        if (errno == EPIPE) throw BrokenPipe();
+        throw IoError(name_ + ": write failed (" + std::strerror(errno) + ")");
+    }
+}
+
+void StreamWriter::write_frame(std::uint32_t type, std::uint32_t flags, std::uint64_t seq,
+                               std::uint64_t count, const void* payload, std::uint32_t bytes) {
+    unsigned char h[32];
+    put_u32(h, type);
+    put_u32(h + 4, flags);
+    put_u64(h + 8, seq);
+    put_u64(h + 16, count);
+    put_u32(h + 24, bytes);
+    put_u32(h + 28, crc_of(payload, bytes));
+    put(h, sizeof h);
+    put(payload, bytes);
+}
+
+void StreamWriter::write_meta(const StreamMeta& m) {
+    const std::string s = m.serialize();
+    write_frame(kFrameMeta, 0, 0, 0, s.data(), static_cast<std::uint32_t>(s.size()));
+}
+
+void StreamWriter::write_data(std::uint64_t seq, const void* records, std::uint64_t count) {
+    if (count == 0) return;
+    const std::size_t raw = count * record_size(kind_);
+    if (raw > kMaxPayload) throw FormatError(name_ + ": batch of " + std::to_string(count) + " records too large for one frame");
+    if (compress_) {
+        scratch_.resize(ZSTD_compressBound(raw));
+        const std::size_t n = ZSTD_compress(scratch_.data(), scratch_.size(), records, raw, 1);
+        if (ZSTD_isError(n)) throw IoError(name_ + ": zstd compression failed");
+        write_frame(kFrameData, kFlagZstd, seq, count, scratch_.data(), static_cast<std::uint32_t>(n));
+    } else {
+        write_frame(kFrameData, 0, seq, count, records, static_cast<std::uint32_t>(raw));
+    }
+    total_ += count;
+}
+
+void StreamWriter::finish() {
+    write_frame(kFrameEnd, 0, 0, total_, nullptr, 0);
+    if (std::fflush(f_) != 0) {
+        if (errno == EPIPE) throw BrokenPipe();
+        throw IoError(name_ + ": write failed (" + std::strerror(errno) + ")");
+    }
+}
+
+// ---------------------------------------------------------------- reader
+
+bool StreamReader::read_exact(void* p, std::size_t n) {
+    const std::size_t got = std::fread(p, 1, n, f_);
+    if (got == n) return true;
+    if (std::ferror(f_)) throw IoError(name_ + ": read failed (" + std::strerror(errno) + ")");
+    if (got == 0) return false;
+    throw FormatError(name_ + ": truncated stream (EOF inside a frame after " + std::to_string(total_) + " records)");
+}
+
+StreamReader::StreamReader(std::FILE* f, std::string name) : f_(f), name_(std::move(name)) {
+    unsigned char h[32];
+    const std::size_t got = std::fread(h, 1, sizeof h, f_);
+    if (got == 0) throw FormatError(name_ + ": empty input, expected a meshless point stream");
+    if (got < 8 || std::memcmp(h, kMagic, 8) != 0)
+        throw FormatError(name_ + ": not a meshless point stream (bad magic)");
+    if (got < sizeof h) throw FormatError(name_ + ": truncated stream header");
+    const std::uint32_t version = get_u32(h + 8);
+    if (version != kStreamVersion)
+        throw FormatError(name_ + ": stream version " + std::to_string(version) + " is not supported (this build reads version " +
+                          std::to_string(kStreamVersion) + ")");
+    const std::uint32_t kind = get_u32(h + 12), rsize = get_u32(h + 16);
+    if (kind != 1 && kind != 2) throw FormatError(name_ + ": unknown record kind " + std::to_string(kind));
+    kind_ = static_cast<RecordKind>(kind);
+    if (rsize != record_size(kind_))
+        throw FormatError(name_ + ": record size " + std::to_string(rsize) + " does not match kind " + std::to_string(kind) +
+                          " (expected " + std::to_string(record_size(kind_)) + ")");
+}
+
+void StreamReader::read_meta() {
+    if (pending_ || ended_) return;
+    pending_buf_.clear();
+    if (auto n = next_data(pending_buf_)) {
+        pending_ = true;
+        pending_count_ = *n;
+    }
+}
+
+std::optional<std::uint64_t> StreamReader::next_data(std::vector<char>& out) {
+    if (pending_) {
+        pending_ = false;
+        out.insert(out.end(), pending_buf_.begin(), pending_buf_.end());
+        return pending_count_;
+    }
+    if (ended_) return std::nullopt;
+    const std::size_t rsize = record_size(kind_);
+    for (;;) {
+        unsigned char h[32];
+        if (!read_exact(h, sizeof h))
+            throw FormatError(name_ + ": truncated stream (no END frame after " + std::to_string(total_) + " records)");
+        const std::uint32_t type = get_u32(h), flags = get_u32(h + 4);
+        const std::uint64_t count = get_u64(h + 16);
+        const std::uint32_t bytes = get_u32(h + 24), crc = get_u32(h + 28);
+        if (bytes > kMaxPayload) throw FormatError(name_ + ": corrupt frame header (payload of " + std::to_string(bytes) + " bytes)");
+        stored_.resize(bytes);
+        if (bytes && !read_exact(stored_.data(), bytes))
+            throw FormatError(name_ + ": truncated stream (EOF inside a frame after " + std::to_string(total_) + " records)");
+        if (crc_of(stored_.data(), bytes) != crc) throw FormatError(name_ + ": frame checksum mismatch after " + std::to_string(total_) + " records (corrupt stream)");
+        if (type == kFrameEnd) {
+            if (count != total_)
+                throw FormatError(name_ + ": END frame says " + std::to_string(count) + " records, stream held " + std::to_string(total_));
+            ended_ = true;
+            return std::nullopt;
+        }
+        if (type == kFrameMeta) {
+            const StreamMeta m = StreamMeta::parse(std::string(stored_.begin(), stored_.end()), name_);
+            for (const auto& [k, v] : m.kv) meta_.kv[k] = v;
+            continue;
+        }
+        if (type != kFrameData) continue;  // unknown frame type: skip
+        if (count > kMaxPayload / rsize) throw FormatError(name_ + ": corrupt frame header (" + std::to_string(count) + " records)");
+        const std::size_t raw = count * rsize;
+        const std::size_t at = out.size();
+        out.resize(at + raw);
+        if (flags & kFlagZstd) {
+            const std::size_t n = ZSTD_decompress(out.data() + at, raw, stored_.data(), bytes);
+            if (ZSTD_isError(n) || n != raw) throw FormatError(name_ + ": corrupt compressed frame after " + std::to_string(total_) + " records");
+        } else {
+            if (bytes != raw) throw FormatError(name_ + ": DATA frame of " + std::to_string(count) + " records has " + std::to_string(bytes) + " bytes");
+            std::memcpy(out.data() + at, stored_.data(), raw);
+        }
+        total_ += count;
+        return count;
+    }
+}
+
+}  // namespace meshless

@@ -1,0 +1,96 @@
+// The on-pipe binary stream between stages (DESIGN.md "On-pipe stream"), version 1.
+//
+// Layout, all integers little endian:
+//   stream header, 32 bytes: magic "\x89MLS\r\n\x1a\n" (8) | u32 version (=1) | u32 record kind
+//     (1 point, 2 sample) | u32 record size (32 or 88) | u32 flags (0) | u64 reserved (0)
+//   frames, each a 32-byte header: u32 type (1 META, 2 DATA, 3 END) | u32 flags (bit 0: payload is
+//     one zstd frame) | u64 seq | u64 count (records; END: total records in the stream) |
+//     u32 stored payload bytes | u32 CRC-32 of the stored payload
+//     followed by the payload: META = "key=value\n" text; DATA = count records (raw or zstd).
+//   exactly one END frame closes the stream.
+// Readers skip frame types they do not know, reject a wrong magic ("not a meshless stream"), a
+// version other than 1, a record size that does not match the kind, CRC mismatches, and EOF
+// before END ("truncated stream"), all as FormatError naming the stream ("-" = stdin).
+// Thread-safety: one reader or writer per object.
+#pragma once
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kernels/records.hpp"
+
+namespace meshless {
+
+inline constexpr std::uint32_t kStreamVersion = 1;
+
+/// Stream metadata: iso value, grid, bounds, producer command line ... (sorted keys).
+struct StreamMeta {
+    std::map<std::string, std::string> kv;
+    void set(const std::string& k, const std::string& v) { kv[k] = v; }
+    void set(const std::string& k, double v);
+    std::optional<std::string> get(const std::string& k) const;
+    /// The value parsed as a double; nullopt when absent; FormatError when present but not a number.
+    std::optional<double> get_double(const std::string& k) const;
+    std::string serialize() const;
+    static StreamMeta parse(const std::string& text, const std::string& name);
+};
+
+std::size_t record_size(RecordKind k);
+
+class StreamWriter {
+public:
+    /// Writes the stream header to f (not owned). `name` is used in error messages.
+    StreamWriter(std::FILE* f, std::string name, RecordKind kind, bool compress = false);
+    void write_meta(const StreamMeta& m);
+    /// Writes one DATA frame (skipped when count == 0).
+    void write_data(std::uint64_t seq, const void* records, std::uint64_t count);
+    /// Writes the END frame and flushes.
+    void finish();
+    std::uint64_t total() const { return total_; }
+
+private:
+    void write_frame(std::uint32_t type, std::uint32_t flags, std::uint64_t seq, std::uint64_t count,
+                     const void* payload, std::uint32_t bytes);
+    void put(const void* p, std::size_t n);
+    std::FILE* f_;
+    std::string name_;
+    RecordKind kind_;
+    bool compress_;
+    std::uint64_t total_ = 0;
+    std::vector<char> scratch_;
+};
+
+class StreamReader {
+public:
+    /// Reads and validates the stream header from f (not owned); throws FormatError.
+    StreamReader(std::FILE* f, std::string name);
+    RecordKind kind() const { return kind_; }
+    /// Metadata of all META frames seen so far (the first frames of a stream in practice).
+    const StreamMeta& meta() const { return meta_; }
+    /// Reads frames up to and including the first META frame, or up to the first DATA frame.
+    void read_meta();
+    /// Next DATA frame's records appended to `out` as raw bytes; returns the record count, or
+    /// nullopt at END (after checking the END total). Throws FormatError on corruption/truncation.
+    std::optional<std::uint64_t> next_data(std::vector<char>& out);
+    std::uint64_t total() const { return total_; }
+    const std::string& name() const { return name_; }
+
+private:
+    bool read_exact(void* p, std::size_t n);  // false on clean EOF at start
+    std::FILE* f_;
+    std::string name_;
+    RecordKind kind_;
+    StreamMeta meta_;
+    std::uint64_t total_ = 0;
+    bool ended_ = false;
+    // a DATA frame read ahead by read_meta
+    bool pending_ = false;
+    std::uint64_t pending_count_ = 0;
+    std::vector<char> pending_buf_;
+    std::vector<char> stored_;
+};
+
+}  // namespace meshless

@@ -1,0 +1,144 @@
+#include "formats/slc.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+
+#include "formats/binary_file.hpp"
+#include "formats/text_header.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+namespace {
+
+struct Scanner {
+    const std::string& path;
+    const std::byte* data;
+    std::size_t size;
+    std::size_t pos = 0;
+
+    std::string token(const char* what) {
+        while (pos < size && std::isspace(static_cast<unsigned char>(data[pos]))) ++pos;
+        const std::size_t s = pos;
+        while (pos < size && !std::isspace(static_cast<unsigned char>(data[pos])) && data[pos] != std::byte{'X'}) ++pos;
+        if (s == pos) throw FormatError(path + ": SLC header ends before " + what + " (offset " + std::to_string(s) + ")");
+        return std::string(reinterpret_cast<const char*>(data + s), pos - s);
+    }
+    std::int64_t integer(const char* what) { return parse_int(token(what), path, what); }
+    double real(const char* what) { return parse_double(token(what), path, what); }
+    void expect_x(const char* what) {
+        while (pos < size && data[pos] == std::byte{' '}) ++pos;
+        if (pos >= size || data[pos] != std::byte{'X'})
+            throw FormatError(path + ": expected 'X' after " + what + " at offset " + std::to_string(pos));
+        ++pos;
+    }
+};
+
+struct SlcHeader {
+    GridSpec grid;
+    std::int64_t compression = 0;
+};
+
+SlcHeader parse_header(Scanner& s) {
+    const std::string magic = s.token("magic");
+    if (magic != "11111") throw FormatError(s.path + ": not an SLC file (wrong magic '" + magic.substr(0, 16) + "', expected 11111)");
+    SlcHeader h;
+    for (int a = 0; a < 3; ++a) {
+        h.grid.dims[a] = s.integer("dimensions");
+        if (h.grid.dims[a] < 1 || h.grid.dims[a] > (1 << 20)) throw FormatError(s.path + ": bad SLC dimensions");
+    }
+    const std::int64_t bits = s.integer("bits per voxel");
+    if (bits != 8) throw FormatError(s.path + ": unsupported SLC bits per voxel " + std::to_string(bits) + " (8 supported)");
+    for (int a = 0; a < 3; ++a) {
+        const double v = s.real("spacing");
+        if (!(v > 0)) throw FormatError(s.path + ": bad SLC spacing");
+        h.grid.spacing[a] = v;
+    }
+    s.integer("unit type");
+    s.integer("data origin");
+    s.integer("data modification");
+    h.compression = s.integer("data compression");
+    if (h.compression != 0 && h.compression != 1)
+        throw FormatError(s.path + ": unsupported SLC compression " + std::to_string(h.compression));
+    return h;
+}
+
+}  // namespace
+
+VolumeInfo probe_slc(const std::string& path) {
+    const std::string text = read_file_prefix(path, 512);
+    Scanner s{path, reinterpret_cast<const std::byte*>(text.data()), text.size()};
+    const SlcHeader h = parse_header(s);
+    VolumeInfo i;
+    i.format = "slc";
+    i.grid = h.grid;
+    i.type = SampleType::u8;
+    i.encoding = h.compression == 1 ? "rle" : "raw";
+    i.data_files = {path};
+    return i;
+}
+
+Volume read_slc(const std::string& path) {
+    const std::vector<std::byte> file = read_file_bytes(path);
+    Scanner s{path, file.data(), file.size()};
+    const SlcHeader h = parse_header(s);
+    const std::int64_t iw = s.integer("icon width"), ih = s.integer("icon height");
+    s.expect_x("icon size");
+    if (iw < 0 || ih < 0 || static_cast<std::uint64_t>(iw * ih * 3) > file.size() - s.pos)
+        throw FormatError(path + ": SLC icon " + std::to_string(iw) + "x" + std::to_string(ih) + " runs past the end of the file");
+    s.pos += static_cast<std::size_t>(iw * ih * 3);
+
+    Volume v(h.grid, SampleType::u8);
+    const std::size_t nx = static_cast<std::size_t>(h.grid.dims[0]);
+    const std::size_t plane = nx * static_cast<std::size_t>(h.grid.dims[1]);
+    const auto* in = reinterpret_cast<const unsigned char*>(file.data());
+    auto* out = reinterpret_cast<unsigned char*>(v.bytes.data());
+    for (std::int64_t z = 0; z < h.grid.dims[2]; ++z) {
+        const std::string zs = std::to_string(z);
+        const std::int64_t n = s.integer("slice size");
+        s.expect_x("slice size");
+        if (n < 0 || static_cast<std::uint64_t>(n) > file.size() - s.pos)
+            throw FormatError(path + ": truncated: slice " + zs + " needs " + std::to_string(n) + " bytes at offset " +
+                              std::to_string(s.pos) + ", file has " + std::to_string(file.size()));
+        const unsigned char* p = in + s.pos;
+        const unsigned char* end = p + n;
+        unsigned char* dst = out + static_cast<std::size_t>(z) * plane;
+        std::size_t filled = 0;
+        if (h.compression == 0) {
+            if (static_cast<std::size_t>(n) != plane)
+                throw FormatError(path + ": uncompressed slice " + zs + " has " + std::to_string(n) + " bytes, expected " +
+                                  std::to_string(plane));
+            std::memcpy(dst, p, plane);
+            filled = plane;
+        } else {
+            while (p < end) {
+                const unsigned char c = *p++;
+                const std::size_t run = c & 0x7f;
+                if (run == 0) break;
+                if (filled + run > plane)
+                    throw FormatError(path + ": corrupt RLE in slice " + zs + ": decodes to more than " + std::to_string(plane) + " bytes");
+                if (c & 0x80) {
+                    if (static_cast<std::size_t>(end - p) < run)
+                        throw FormatError(path + ": corrupt RLE in slice " + zs + ": literal run past the slice data");
+                    std::memcpy(dst + filled, p, run);
+                    p += run;
+                } else {
+                    if (p >= end) throw FormatError(path + ": corrupt RLE in slice " + zs + ": repeat run without a value");
+                    std::memset(dst + filled, *p++, run);
+                }
+                filled += run;
+            }
+        }
+        if (filled < plane) {
+            if (plane - filled > nx)
+                throw FormatError(path + ": slice " + zs + " decodes to " + std::to_string(filled) + " bytes, expected " +
+                                  std::to_string(plane));
+            std::memset(dst + filled, 0, plane - filled);  // tolerated short slice (see header)
+        }
+        s.pos += static_cast<std::size_t>(n);
+    }
+    return v;
+}
+
+}  // namespace meshless

@@ -1,0 +1,153 @@
+#include "formats/text_header.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <cstdlib>
+#include <filesystem>
+
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+std::string trim(std::string_view s) {
+    std::size_t a = 0, b = s.size();
+    while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
+    while (b > a && (std::isspace(static_cast<unsigned char>(s[b - 1])) || s[b - 1] == '\0')) --b;
+    return std::string(s.substr(a, b - a));
+}
+
+std::string to_lower(std::string_view s) {
+    std::string r(s);
+    for (auto& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return r;
+}
+
+std::vector<std::string> split_ws(std::string_view s) {
+    std::vector<std::string> out;
+    std::size_t i = 0;
+    while (i < s.size()) {
+        while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+        std::size_t j = i;
+        while (j < s.size() && !std::isspace(static_cast<unsigned char>(s[j]))) ++j;
+        if (j > i) out.emplace_back(s.substr(i, j - i));
+        i = j;
+    }
+    return out;
+}
+
+std::vector<std::string> split_lines(std::string_view s) {
+    std::vector<std::string> out;
+    std::size_t i = 0;
+    while (i <= s.size()) {
+        std::size_t j = s.find('\n', i);
+        if (j == std::string_view::npos) j = s.size();
+        std::string_view l = s.substr(i, j - i);
+        if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+        out.emplace_back(l);
+        if (j == s.size()) break;
+        i = j + 1;
+    }
+    return out;
+}
+
+double parse_double(const std::string& tok, const std::string& path, const char* field) {
+    const std::string t = trim(tok);
+    if (t.empty()) throw FormatError(path + ": bad " + field + " '': expected a number");
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (end != t.c_str() + t.size())
+        throw FormatError(path + ": bad " + field + " '" + t + "': expected a number");
+    return v;
+}
+
+std::int64_t parse_int(const std::string& tok, const std::string& path, const char* field) {
+    const std::string t = trim(tok);
+    std::int64_t v = 0;
+    const char* b = t.data();
+    if (!t.empty() && t[0] == '+') ++b;
+    const auto r = std::from_chars(b, t.data() + t.size(), v);
+    if (t.empty() || r.ec != std::errc() || r.ptr != t.data() + t.size())
+        throw FormatError(path + ": bad " + field + " '" + t + "': expected an integer");
+    return v;
+}
+
+namespace {
+std::vector<std::string> tokens(std::string_view text) {
+    std::string t(text);
+    for (auto& c : t)
+        if (c == ',') c = ' ';
+    return split_ws(t);
+}
+}  // namespace
+
+std::vector<double> parse_doubles(std::string_view text, std::size_t n, const std::string& path, const char* field) {
+    const auto tk = tokens(text);
+    if (tk.size() != n)
+        throw FormatError(path + ": bad " + field + " '" + trim(text) + "': expected " + std::to_string(n) + " numbers");
+    std::vector<double> v;
+    for (const auto& t : tk) v.push_back(parse_double(t, path, field));
+    return v;
+}
+
+std::vector<std::int64_t> parse_ints(std::string_view text, std::size_t n, const std::string& path, const char* field) {
+    const auto tk = tokens(text);
+    if (tk.size() != n)
+        throw FormatError(path + ": bad " + field + " '" + trim(text) + "': expected " + std::to_string(n) + " integers");
+    std::vector<std::int64_t> v;
+    for (const auto& t : tk) v.push_back(parse_int(t, path, field));
+    return v;
+}
+
+bool parse_bool(const std::string& tok, const std::string& path, const char* field) {
+    const std::string l = to_lower(trim(tok));
+    if (l == "true" || l == "1" || l == "yes") return true;
+    if (l == "false" || l == "0" || l == "no") return false;
+    throw FormatError(path + ": bad " + field + " '" + trim(tok) + "': expected True or False");
+}
+
+// "quarter.%d" with one integer conversion -> formatted name; rejects anything else.
+std::string format_file_pattern(const std::string& fmt, std::int64_t i, const std::string& path) {
+    std::string out;
+    int conversions = 0;
+    for (std::size_t p = 0; p < fmt.size(); ++p) {
+        if (fmt[p] != '%') {
+            out += fmt[p];
+            continue;
+        }
+        if (p + 1 < fmt.size() && fmt[p + 1] == '%') {
+            out += '%';
+            ++p;
+            continue;
+        }
+        std::size_t q = p + 1;
+        bool zero = false;
+        if (q < fmt.size() && fmt[q] == '0') zero = true, ++q;
+        int width = 0;
+        while (q < fmt.size() && std::isdigit(static_cast<unsigned char>(fmt[q]))) width = width * 10 + (fmt[q++] - '0');
+        if (q >= fmt.size() || (fmt[q] != 'd' && fmt[q] != 'i' && fmt[q] != 'u') || width > 32)
+            throw FormatError(path + ": bad data file pattern '" + fmt + "': expected one %d conversion");
+        std::string num = std::to_string(i < 0 ? -i : i);
+        const std::size_t len = num.size() + (i < 0 ? 1 : 0);
+        if (static_cast<std::size_t>(width) > len) num.insert(0, width - len, zero ? '0' : ' ');
+        if (i < 0) num.insert(zero ? 0 : num.find_first_not_of(' '), 1, '-');
+        out += num;
+        ++conversions;
+        p = q;
+    }
+    if (conversions != 1)
+        throw FormatError(path + ": bad data file pattern '" + fmt + "': expected exactly one %d conversion");
+    return out;
+}
+
+std::string parent_dir(const std::string& path) {
+    const auto p = std::filesystem::path(path).parent_path();
+    return p.empty() ? std::string(".") : p.string();
+}
+
+std::string resolve_relative(const std::string& header_path, const std::string& name) {
+    const std::filesystem::path n(name);
+    if (n.is_absolute()) return name;
+    return (std::filesystem::path(parent_dir(header_path)) / n).string();
+}
+
+}  // namespace meshless

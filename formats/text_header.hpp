@@ -1,0 +1,40 @@
+// Small text helpers for key/value headers (NRRD "key: value", MetaImage "Key = Value", Voreen .dat).
+//
+// Thread-safety: pure functions. Numeric parsers throw FormatError("PATH: bad FIELD 'TEXT': ...")
+// so messages name the file and the field. Dissertation: none (input plumbing).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace meshless {
+
+std::string trim(std::string_view s);
+std::string to_lower(std::string_view s);
+/// Splits on runs of whitespace.
+std::vector<std::string> split_ws(std::string_view s);
+/// Splits text into lines (handles \n and \r\n); keeps empty lines.
+std::vector<std::string> split_lines(std::string_view s);
+
+/// Parses a whole token as a number; throws FormatError naming path and field on failure.
+double parse_double(const std::string& tok, const std::string& path, const char* field);
+std::int64_t parse_int(const std::string& tok, const std::string& path, const char* field);
+/// Exactly n numbers from whitespace/comma separated text.
+std::vector<double> parse_doubles(std::string_view text, std::size_t n, const std::string& path, const char* field);
+std::vector<std::int64_t> parse_ints(std::string_view text, std::size_t n, const std::string& path, const char* field);
+
+/// Parses "true"/"false"/"1"/"0"/"yes"/"no" (case-insensitive).
+bool parse_bool(const std::string& tok, const std::string& path, const char* field);
+
+/// Expands a printf-like file pattern with exactly one integer conversion (%d, %i, %u, with
+/// optional 0 flag and width, %% for a literal %), e.g. "quarter.%d" or "slice%03d.raw".
+/// Anything else is rejected with FormatError (no general printf on header text).
+std::string format_file_pattern(const std::string& fmt, std::int64_t i, const std::string& path);
+
+/// Directory part of a path ("" -> ".").
+std::string parent_dir(const std::string& path);
+/// Joins a file name found in a header to the header's directory unless it is absolute.
+std::string resolve_relative(const std::string& header_path, const std::string& name);
+
+}  // namespace meshless

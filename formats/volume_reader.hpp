@@ -1,0 +1,54 @@
+// Regular-volume readers: one entry point that dispatches on extension (and content) to the
+// per-format readers (raw, NRRD, MetaImage, VTK legacy, VTK XML .vti, vtk-js index.json, SLC,
+// NIfTI-1, Voreen .dat).
+//
+// Output: a Volume with samples x fastest, then y, then z, in host (little-endian) order.
+// Types: uint8, int16, uint16, float32 are kept; int8 widens to int16; int32/uint32/int64/
+// uint64/float64 convert to float32 (integers above 2^24 round). Units: spacing/origin in the
+// file's world units (voxels when the file gives none).
+// Throws: IoError (cannot open, is a directory, missing data file), FormatError (bad or
+// unsupported content: magic, version, encoding, type, sizes, truncation); messages are one
+// line starting with the offending path. Thread-safety: reentrant; no shared state.
+// Dissertation: supplies the regular grids of chapter 3 (iso-splatting of volume data).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kernels/grid.hpp"
+
+namespace meshless {
+
+/// Layout of headerless raw files. Fields given here override what the file name convention
+/// (`name_XxYxZ_type.raw`) or a sibling Voreen `.dat` says. `type` is the Volume type to read
+/// as (stored type = that type); other stored types need a header (.dat/.nhdr/.mhd).
+struct RawOptions {
+    std::optional<std::array<std::int64_t, 3>> dims;
+    std::optional<SampleType> type;
+    bool big_endian = false;
+    std::optional<std::array<double, 3>> spacing;
+};
+
+/// Reads a whole volume. Dispatch: .raw .nrrd .nhdr .mhd .mha .vtk .vti (file: VTK XML,
+/// directory: vtk-js) .json (vtk-js index) .slc .nii .nii.gz .hdr .dat, a directory holding
+/// index.json, else by content (magic).
+Volume read_volume(const std::string& path, const RawOptions& raw = {});
+
+struct VolumeInfo {
+    std::string format;                   ///< "raw", "nrrd", "metaimage", "vtk-legacy", "vti", "vtkjs", "slc", "nifti", "voreen-dat"
+    GridSpec grid;
+    SampleType type = SampleType::u8;     ///< the type read_volume returns
+    std::string encoding;                 ///< "raw", "gzip", "ascii", "rle", "base64", "base64+zlib", "appended-raw", ...
+    std::vector<std::string> data_files;  ///< files holding the payload (the path itself when attached)
+};
+
+/// Parses headers only (no payload read, no decompression beyond a NIfTI .gz header).
+VolumeInfo probe_volume(const std::string& path, const RawOptions& raw = {});
+
+/// By extension: .raw .nrrd .nhdr .mhd .mha .vtk .vti .slc .nii .nii.gz .dat, a .json that is
+/// a vtk-js index, or a directory holding index.json. Does not open the payload.
+bool looks_like_volume(const std::string& path);
+
+}  // namespace meshless

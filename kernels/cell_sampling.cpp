@@ -1,0 +1,93 @@
+#include "kernels/cell_sampling.hpp"
+
+#include <cmath>
+
+#include "kernels/trilinear.hpp"
+
+namespace meshless {
+
+std::int64_t cell_row_count(const GridSpec& g) {
+    if (g.dims[0] < 2 || g.dims[1] < 2 || g.dims[2] < 2) return 0;
+    return (g.dims[1] - 1) * (g.dims[2] - 1);
+}
+
+namespace {
+
+template <class T>
+void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0, std::int64_t row1,
+                 const SamplingParams& params, std::vector<SampleRecord>& out, SamplingStats& stats) {
+    constexpr bool is_float = std::is_floating_point_v<T>;
+    const std::int64_t nx = g.dims[0], ny = g.dims[1];
+    const std::int64_t sy = nx, sz = nx * ny;
+    const double sx_w = g.spacing[0], sy_w = g.spacing[1], sz_w = g.spacing[2];
+    const float radius = static_cast<float>(
+        params.radius_scale * 0.5 * std::sqrt(sx_w * sx_w + sy_w * sy_w + sz_w * sz_w));
+    const Vec3 size{sx_w, sy_w, sz_w};
+    for (std::int64_t r = row0; r < row1; ++r) {
+        const std::int64_t j = r % (ny - 1), k = r / (ny - 1);
+        const T* p00 = data + j * sy + k * sz;  // (0, j,   k)
+        const T* p10 = p00 + sy;                // (0, j+1, k)
+        const T* p01 = p00 + sz;                // (0, j,   k+1)
+        const T* p11 = p01 + sy;                // (0, j+1, k+1)
+        // Bit mask of the 4 corners of the x-column at i: above iso?
+        auto column_mask = [&](std::int64_t i) -> unsigned {
+            return (static_cast<double>(p00[i]) >= iso ? 1u : 0u) |
+                   (static_cast<double>(p10[i]) >= iso ? 2u : 0u) |
+                   (static_cast<double>(p01[i]) >= iso ? 4u : 0u) |
+                   (static_cast<double>(p11[i]) >= iso ? 8u : 0u);
+        };
+        unsigned left = column_mask(0);
+        for (std::int64_t i = 0; i + 1 < nx; ++i) {
+            const unsigned right = column_mask(i + 1);
+            const unsigned mask = left | (right << 4);
+            left = right;
+            // NaN compares false (reads as "below"), so a cell is only examined for finiteness
+            // when its finite corners straddle the isovalue; such cells are skipped and counted.
+            if (mask == 0u || mask == 0xffu) continue;
+            double c[8] = {static_cast<double>(p00[i]), static_cast<double>(p00[i + 1]),
+                           static_cast<double>(p10[i]), static_cast<double>(p10[i + 1]),
+                           static_cast<double>(p01[i]), static_cast<double>(p01[i + 1]),
+                           static_cast<double>(p11[i]), static_cast<double>(p11[i + 1])};
+            if constexpr (is_float) {
+                bool finite = true;
+                for (double x : c) finite = finite && std::isfinite(x);
+                if (!finite) {
+                    ++stats.nonfinite_cells;
+                    continue;
+                }
+            }
+            const ValueGrad vg = trilinear(c, 0.5, 0.5, 0.5);
+            const Vec3 gw = to_world_gradient(vg.grad, size);
+            SampleRecord s;
+            const double lo[3] = {g.origin[0] + static_cast<double>(i) * sx_w,
+                                  g.origin[1] + static_cast<double>(j) * sy_w,
+                                  g.origin[2] + static_cast<double>(k) * sz_w};
+            s.pos[0] = static_cast<float>(lo[0] + 0.5 * sx_w);
+            s.pos[1] = static_cast<float>(lo[1] + 0.5 * sy_w);
+            s.pos[2] = static_cast<float>(lo[2] + 0.5 * sz_w);
+            s.grad[0] = static_cast<float>(gw.x);
+            s.grad[1] = static_cast<float>(gw.y);
+            s.grad[2] = static_cast<float>(gw.z);
+            s.value = static_cast<float>(vg.value);
+            s.radius = radius;
+            for (int a = 0; a < 3; ++a) {
+                s.cell_lo[a] = static_cast<float>(lo[a]);
+                s.cell_size[a] = static_cast<float>(g.spacing[a]);
+            }
+            for (int a = 0; a < 8; ++a) s.corner[a] = static_cast<float>(c[a]);
+            out.push_back(s);
+            ++stats.active_cells;
+        }
+    }
+}
+
+}  // namespace
+
+void sample_active_cells(const VolumeView& v, double iso, std::int64_t row0, std::int64_t row1,
+                         const SamplingParams& params, std::vector<SampleRecord>& out,
+                         SamplingStats& stats) {
+    if (cell_row_count(v.grid) == 0 || row0 >= row1) return;
+    visit_samples(v, [&](auto* p) { sample_rows(p, v.grid, iso, row0, row1, params, out, stats); });
+}
+
+}  // namespace meshless

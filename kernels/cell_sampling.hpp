@@ -1,0 +1,43 @@
+// Point generation of iso-splatting, paradigm (C) (dissertation sections 3.4-3.5): one sample per
+// active cell, at the cell centre, with value and gradient by trilinear interpolation, and the cell's
+// corner values so that either projection (Eq. 3.5 or Eq. 3.3) can run downstream.
+//
+// A cell is active for isovalue f_I when its corners are not all on one side: some corner >= f_I
+// and some corner < f_I (the marching-cubes case is neither 0 nor 255). Cells with a NaN or Inf
+// corner are skipped and counted. Units: world positions (grid origin + spacing), gradient in value
+// units per world unit, radius = radius_scale * 1/2 * sqrt(sx^2+sy^2+sz^2) world units.
+// Cells are addressed by "cell rows": row r = j + (ny-1)*k holds the nx-1 cells (i, j, k).
+// Pure and reentrant; concurrent calls on disjoint row ranges are safe.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "kernels/grid.hpp"
+#include "kernels/records.hpp"
+
+namespace meshless {
+
+struct SamplingParams {
+    double radius_scale = 1.0;  ///< splat radius as a multiple of half the cell diagonal
+};
+
+struct SamplingStats {
+    std::int64_t active_cells = 0;      ///< samples emitted
+    std::int64_t nonfinite_cells = 0;   ///< cells skipped because a corner is NaN/Inf
+    SamplingStats& operator+=(const SamplingStats& o) {
+        active_cells += o.active_cells;
+        nonfinite_cells += o.nonfinite_cells;
+        return *this;
+    }
+};
+
+/// Number of cell rows of the grid: (ny-1)*(nz-1), 0 when any dimension is < 2.
+std::int64_t cell_row_count(const GridSpec& g);
+
+/// Appends one SampleRecord per active cell in cell rows [row0, row1), in row-major order
+/// (i fastest). Preconditions: 0 <= row0 <= row1 <= cell_row_count(v.grid).
+void sample_active_cells(const VolumeView& v, double iso, std::int64_t row0, std::int64_t row1,
+                         const SamplingParams& params, std::vector<SampleRecord>& out,
+                         SamplingStats& stats);
+
+}  // namespace meshless

@@ -1,0 +1,79 @@
+#include "kernels/grid.hpp"
+
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace meshless {
+
+std::size_t sample_size(SampleType t) {
+    switch (t) {
+        case SampleType::u8: return 1;
+        case SampleType::i16:
+        case SampleType::u16: return 2;
+        case SampleType::f32: return 4;
+    }
+    return 0;
+}
+
+const char* to_string(SampleType t) {
+    switch (t) {
+        case SampleType::u8: return "uint8";
+        case SampleType::i16: return "int16";
+        case SampleType::u16: return "uint16";
+        case SampleType::f32: return "float32";
+    }
+    return "?";
+}
+
+std::optional<SampleType> parse_sample_type(std::string_view s) {
+    std::string l(s);
+    for (auto& c : l) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (l == "uint8" || l == "uchar" || l == "unsigned char" || l == "uint8_t" || l == "u8" ||
+        l == "met_uchar" || l == "unsigned_char")
+        return SampleType::u8;
+    if (l == "int16" || l == "short" || l == "int16_t" || l == "i16" || l == "met_short" ||
+        l == "signed short" || l == "short int" || l == "signed short int")
+        return SampleType::i16;
+    if (l == "uint16" || l == "ushort" || l == "unsigned short" || l == "uint16_t" || l == "u16" ||
+        l == "met_ushort" || l == "unsigned_short" || l == "unsigned short int")
+        return SampleType::u16;
+    if (l == "float32" || l == "float" || l == "f32" || l == "met_float")
+        return SampleType::f32;
+    return std::nullopt;
+}
+
+std::int64_t GridSpec::cell_count() const {
+    if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2) return 0;
+    return (dims[0] - 1) * (dims[1] - 1) * (dims[2] - 1);
+}
+
+double VolumeView::at(std::int64_t linear) const {
+    assert(linear >= 0 && linear < grid.voxel_count());
+    return visit_samples(*this, [&](auto* p) { return static_cast<double>(p[linear]); });
+}
+
+double VolumeView::at(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return at(grid.index(i, j, k));
+}
+
+Volume::Volume(GridSpec g, SampleType t)
+    : grid(g), type(t), bytes(static_cast<std::size_t>(g.voxel_count()) * sample_size(t)) {}
+
+std::array<double, 2> Volume::value_range() const {
+    return visit_samples(view(), [&](auto* p) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        const std::int64_t n = grid.voxel_count();
+        for (std::int64_t i = 0; i < n; ++i) {
+            const double v = static_cast<double>(p[i]);
+            if (!std::isfinite(v)) continue;
+            lo = v < lo ? v : lo;
+            hi = v > hi ? v : hi;
+        }
+        if (lo > hi) return std::array<double, 2>{0.0, 0.0};
+        return std::array<double, 2>{lo, hi};
+    });
+}
+
+}  // namespace meshless

@@ -1,0 +1,62 @@
+// Marching cubes (Lorensen & Cline 1987): the triangle-mesh baseline of dissertation §3.6 and the
+// reference surface of the tests. Case table: kernels/marching_cubes_table.hpp (generated, faces
+// resolved by "above corners are separated", so the mesh of a closed isosurface is closed and
+// consistently oriented).
+//
+// Input: a VolumeView in its native sample type (u8/i16/u16/f32), any dims (dims < 2 on some axis
+// gives an empty mesh), 64-bit indexing. A corner is above when value >= iso.
+// Output (Mesh):
+//   xyz      3 floats per vertex, world units: origin + spacing * (grid index + t * edge direction),
+//            t = (iso - v0) / (v1 - v0) on the grid edge.
+//   normals  3 floats per vertex, unit gradient pointing towards increasing value: per-sample
+//            gradient by central differences (one-sided at the volume border or next to a non-finite
+//            neighbour), in value per world unit, interpolated linearly along the edge with t and
+//            normalised; where that is zero, the edge direction towards the above end.
+//   tri      3 vertex indices per triangle, counter-clockwise seen from the above side (normal by
+//            right-hand rule points towards increasing value).
+//   Every grid edge crossing is exactly one vertex (shared by all cells around the edge).
+//   Vertex and triangle order is deterministic (cells in x-fastest order).
+// Cells with a NaN/Inf corner produce nothing and are counted in McStats::skipped_nonfinite;
+// active_cells counts finite cells with at least one triangle. stats (when given) is overwritten.
+// Memory besides the output: 5 uint32 edge-index arrays and 2 byte masks of one z-slice.
+// Throws UsageError for a non-finite iso, std::length_error when the mesh would need more than
+// 2^32-1 vertices (uint32 indices). Reentrant; single-threaded (threads may each run a slab).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "kernels/grid.hpp"
+
+namespace meshless {
+
+struct Mesh {
+    std::vector<float> xyz;
+    std::vector<float> normals;
+    std::vector<std::uint32_t> tri;  ///< 3 indices per triangle
+
+    std::size_t vertex_count() const { return xyz.size() / 3; }
+    std::size_t triangle_count() const { return tri.size() / 3; }
+    /// Bytes held by the three arrays (sizes, not capacities).
+    std::size_t memory_bytes() const {
+        return xyz.size() * sizeof(float) + normals.size() * sizeof(float) +
+               tri.size() * sizeof(std::uint32_t);
+    }
+};
+
+struct McStats {
+    std::int64_t active_cells = 0;       ///< finite cells that produced triangles
+    std::int64_t skipped_nonfinite = 0;  ///< cells with a NaN/Inf corner (no triangles)
+};
+
+/// Isosurface of the whole volume.
+Mesh marching_cubes(const VolumeView& v, double iso, McStats* stats = nullptr);
+
+/// Cells with cell index k in [k0, k1) (clamped to [0, nz-1)); the mesh of the whole volume is the
+/// concatenation of slabs (indices offset by the earlier vertex counts) except that vertices on the
+/// z-slices shared by two slabs appear once in each slab, with bitwise identical positions and
+/// normals. For running slabs on several threads.
+Mesh marching_cubes_slab(const VolumeView& v, double iso, std::int64_t k0, std::int64_t k1,
+                         McStats* stats = nullptr);
+
+}  // namespace meshless

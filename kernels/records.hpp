@@ -1,0 +1,35 @@
+// Records that flow between stages, byte-identical in memory and on a pipe (little endian, x86).
+//
+// PointRecord (32 bytes): a projected, oriented surface sample, ready to splat or write.
+// SampleRecord (88 bytes): an unprojected sample of paradigm (C) (dissertation section 3.4): the
+//   sample position, the trilinear value and gradient there, the splat radius, and the cell it came
+//   from (lower corner, edge lengths, eight corner values) so that both the approximate (Eq. 3.5)
+//   and the exact (Eq. 3.3) projection can run downstream without the volume.
+#pragma once
+#include <cstdint>
+#include <type_traits>
+
+namespace meshless {
+
+struct PointRecord {
+    float pos[3];     ///< world position
+    float normal[3];  ///< unit normal (gradient direction, pointing to increasing values)
+    float radius;     ///< splat radius, world units
+    float value;      ///< field value at pos (== iso when projected exactly)
+};
+static_assert(sizeof(PointRecord) == 32 && std::is_trivially_copyable_v<PointRecord>);
+
+struct SampleRecord {
+    float pos[3];        ///< sample position (cell centre in paradigm C), world units
+    float grad[3];       ///< gradient of the trilinear interpolant at pos, value units / world unit
+    float value;         ///< trilinear value at pos
+    float radius;        ///< splat radius, world units
+    float cell_lo[3];    ///< world position of the cell's corner (i,j,k)
+    float cell_size[3];  ///< cell edge lengths s_x, s_y, s_z (world units)
+    float corner[8];     ///< corner values, index = dx + 2*dy + 4*dz
+};
+static_assert(sizeof(SampleRecord) == 88 && std::is_trivially_copyable_v<SampleRecord>);
+
+enum class RecordKind : std::uint32_t { point = 1, sample = 2 };
+
+}  // namespace meshless

@@ -1,0 +1,221 @@
+// Elliptical (EWA-style) splat kernel of SplatRenderer; see splat_rasterizer.hpp for the model
+// (Zwicker et al. 2001 surface splatting, as used in dissertation section 3.6).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "kernels/shading.hpp"
+#include "kernels/splat_rasterizer.hpp"
+
+namespace meshless {
+namespace {
+
+constexpr int kTable = 1024;           // Gaussian lookup entries over q in [0, cutoff^2]
+constexpr float kFixed = 1048576.0f;  // 2^20: fixed-point scale of weights and weighted normals
+
+// Screen-space footprint of one splat; identical in both passes (same code, same inputs).
+struct Footprint {
+    float sx, sy;            // centre, pixels
+    float q00, q01, q11;     // conic V^-1
+    float depth, gx, gy;     // plane depth at the centre and its screen gradient
+    float zlo, zhi;          // depth clamp: the disk spans at most +-radius in depth
+    float eps;               // accumulation depth tolerance
+    float n[3];              // oriented unit normal, camera space
+    int x0, x1, y0, y1;      // clipped pixel range
+};
+
+struct Setup {
+    detail::FloatView fv;
+    float inv_c2;   // 1 / cutoff^2: variance of the object-space Gaussian in unit-disk coordinates
+    float c2;       // cutoff^2
+    float lowpass;  // pixel^2
+    float depth_eps;
+    bool two_sided;
+    int W, H;
+};
+
+bool footprint(const Setup& s, const PointRecord& rec, Footprint& f) {
+    if (!(std::isfinite(rec.pos[0]) && std::isfinite(rec.pos[1]) && std::isfinite(rec.pos[2]))) return false;
+    const detail::FloatView& fv = s.fv;
+    float pc[3];
+    fv.point(rec.pos, pc);
+    const float D = fv.distance - pc[2];
+    if (!(D > fv.near_depth)) return false;
+    const float k = fv.perspective ? fv.focal / D : fv.focal;
+    f.sx = fv.cx + k * pc[0];
+    f.sy = fv.cy - k * pc[1];
+    const float r = std::isfinite(rec.radius) ? std::max(rec.radius, 0.0f) : 0.0f;
+
+    float v[3];
+    detail::oriented_normal(fv, rec, pc, D, s.two_sided, f.n, v);
+    const float* n = f.n;
+    // Tangent axes u, w (orthonormal, perpendicular to n), scaled by the radius.
+    float a[3] = {0, 0, 0};
+    const float ax = std::fabs(n[0]), ay = std::fabs(n[1]), az = std::fabs(n[2]);
+    a[(ax <= ay && ax <= az) ? 0 : (ay <= az ? 1 : 2)] = 1.0f;
+    float u[3] = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
+    const float ul = r / std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (float& c : u) c *= ul;
+    const float w[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+
+    // Jacobian of (tangent coords s, t) -> screen offset. Perspective: x = f X / D, D = dist - Z.
+    float j00, j01, j10, j11;
+    if (fv.perspective) {
+        const float ex = pc[0] / D, ey = pc[1] / D;
+        j00 = k * (u[0] + ex * u[2]);
+        j01 = k * (w[0] + ex * w[2]);
+        j10 = -k * (u[1] + ey * u[2]);
+        j11 = -k * (w[1] + ey * w[2]);
+    } else {
+        j00 = k * u[0];
+        j01 = k * w[0];
+        j10 = -k * u[1];
+        j11 = -k * w[1];
+    }
+    // V = J J^T / c^2 + lowpass I
+    const float v00 = (j00 * j00 + j01 * j01) * s.inv_c2 + s.lowpass;
+    const float v01 = (j00 * j10 + j01 * j11) * s.inv_c2;
+    const float v11 = (j10 * j10 + j11 * j11) * s.inv_c2 + s.lowpass;
+    const float det = v00 * v11 - v01 * v01;
+    if (!(det > 0.0f) || !std::isfinite(det)) return false;
+    f.q00 = v11 / det;
+    f.q01 = -v01 / det;
+    f.q11 = v00 / det;
+
+    // Depth of the splat plane, linear in the screen offset: depth(s,t) = D - (s u_z + t w_z).
+    f.depth = D;
+    f.zlo = D - r;
+    f.zhi = D + r;
+    f.eps = s.depth_eps * r;
+    const float detj = j00 * j11 - j01 * j10;
+    if (std::fabs(detj) > 1e-6f * (std::fabs(j00 * j11) + std::fabs(j01 * j10)) && detj != 0.0f) {
+        // (s,t) = J^-1 d
+        f.gx = -(u[2] * j11 - w[2] * j10) / detj;
+        f.gy = -(w[2] * j00 - u[2] * j01) / detj;
+    } else {
+        f.gx = f.gy = 0.0f;
+    }
+
+    const float c = std::sqrt(s.c2);
+    const float ex = c * std::sqrt(v00), ey = c * std::sqrt(v11);
+    const float fx0 = std::ceil(f.sx - ex - 0.5f), fx1 = std::floor(f.sx + ex - 0.5f);
+    const float fy0 = std::ceil(f.sy - ey - 0.5f), fy1 = std::floor(f.sy + ey - 0.5f);
+    if (!(fx1 >= 0 && fy1 >= 0 && fx0 <= s.W - 1 && fy0 <= s.H - 1 && fx0 <= fx1 && fy0 <= fy1)) return false;
+    f.x0 = static_cast<int>(std::max(fx0, 0.0f));
+    f.x1 = static_cast<int>(std::min(fx1, float(s.W - 1)));
+    f.y0 = static_cast<int>(std::max(fy0, 0.0f));
+    f.y1 = static_cast<int>(std::min(fy1, float(s.H - 1)));
+    return true;
+}
+
+}  // namespace
+
+void SplatRenderer::render_ewa(std::span<const PointRecord> points, SplatStats& st) {
+    const int W = cam_.width, H = cam_.height;
+    const std::size_t npix = static_cast<std::size_t>(W) * H;
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    zbuf_.assign(npix, inf);
+    acc_.assign(4 * npix, 0);
+
+    const float cutoff = static_cast<float>(std::max(shading_.ewa_cutoff, 1e-3));
+    const Setup s{detail::FloatView(view_),
+                  1.0f / (cutoff * cutoff),
+                  cutoff * cutoff,
+                  static_cast<float>(std::max(shading_.ewa_lowpass_px2, 0.0)),
+                  static_cast<float>(std::max(shading_.depth_epsilon, 0.0)),
+                  shading_.two_sided,
+                  W,
+                  H};
+    std::array<float, kTable + 1> gauss;
+    for (int i = 0; i <= kTable; ++i) gauss[i] = std::exp(-0.5f * s.c2 * static_cast<float>(i) / kTable);
+    const float qscale = kTable / s.c2;
+
+    float* const zb = zbuf_.data();
+    std::int64_t* const acc = acc_.data();
+    std::int64_t drawn = 0, frags = 0;
+    Footprint f;
+
+    // Pass 1: visibility.
+    for (const PointRecord& rec : points) {
+        if (!footprint(s, rec, f)) continue;
+        ++drawn;
+        for (int y = f.y0; y <= f.y1; ++y) {
+            const float dy = y + 0.5f - f.sy;
+            float* row = zb + static_cast<std::size_t>(y) * W;
+            for (int x = f.x0; x <= f.x1; ++x) {
+                const float dx = x + 0.5f - f.sx;
+                const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
+                if (q > s.c2) continue;
+                ++frags;
+                const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, f.zlo, f.zhi);
+                row[x] = std::min(row[x], z);
+            }
+        }
+    }
+    // Pass 2: accumulation of fragments near the visible surface.
+    for (const PointRecord& rec : points) {
+        if (!footprint(s, rec, f)) continue;
+        for (int y = f.y0; y <= f.y1; ++y) {
+            const float dy = y + 0.5f - f.sy;
+            const std::size_t rowi = static_cast<std::size_t>(y) * W;
+            for (int x = f.x0; x <= f.x1; ++x) {
+                const float dx = x + 0.5f - f.sx;
+                const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
+                if (q > s.c2) continue;
+                ++frags;
+                const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, f.zlo, f.zhi);
+                if (z > zb[rowi + x] + f.eps) continue;
+                const float wgt = gauss[static_cast<int>(q * qscale)] * kFixed;
+                std::int64_t* a = acc + 4 * (rowi + x);
+                a[0] += static_cast<std::int64_t>(wgt);
+                a[1] += static_cast<std::int64_t>(std::lrint(wgt * f.n[0]));
+                a[2] += static_cast<std::int64_t>(std::lrint(wgt * f.n[1]));
+                a[3] += static_cast<std::int64_t>(std::lrint(wgt * f.n[2]));
+            }
+        }
+    }
+
+    // Resolve: normalise the blended normal and shade (deferred).
+    const detail::Shader shader(shading_);
+    const detail::FloatView& fv = s.fv;
+    const auto& bg = shading_.background;
+    std::uint8_t* out = image_.rgb.data();
+    for (int y = 0; y < H; ++y) {
+        for (int x = 0; x < W; ++x, out += 3) {
+            const std::int64_t* a = acc + 4 * (static_cast<std::size_t>(y) * W + x);
+            if (a[0] == 0) {
+                out[0] = bg[0];
+                out[1] = bg[1];
+                out[2] = bg[2];
+                continue;
+            }
+            float v[3] = {0, 0, 1};
+            if (fv.perspective) {
+                v[0] = -(x + 0.5f - fv.cx) / fv.focal;
+                v[1] = (y + 0.5f - fv.cy) / fv.focal;
+                const float il = 1.0f / std::sqrt(v[0] * v[0] + v[1] * v[1] + 1.0f);
+                v[0] *= il;
+                v[1] *= il;
+                v[2] = il;
+            }
+            float n[3] = {static_cast<float>(a[1]), static_cast<float>(a[2]), static_cast<float>(a[3])};
+            const float len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+            if (len2 > 0.0f) {
+                const float il = 1.0f / std::sqrt(len2);
+                n[0] *= il;
+                n[1] *= il;
+                n[2] *= il;
+            } else {
+                n[0] = v[0];
+                n[1] = v[1];
+                n[2] = v[2];
+            }
+            detail::unpack_rgb(shader.shade(n[0], n[1], n[2], v[0], v[1], v[2]), out);
+        }
+    }
+    st.splats_drawn = drawn;
+    st.fragments = frags;
+}
+
+}  // namespace meshless

@@ -1,0 +1,33 @@
+// Batch: the unit of in-flight memory in the stage graph (DESIGN.md "Core types").
+//
+// A batch holds records of one kind (samples or points), at most kMaxBatchRecords, and a sequence
+// number assigned by the source; sinks receive batches in sequence order whatever the thread count,
+// so outputs are byte-identical across --threads. A batch may also be empty (a source's unit of work
+// that produced nothing) and is still delivered, to keep sequence numbers dense.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "kernels/grid.hpp"
+#include "kernels/records.hpp"
+
+namespace meshless {
+
+inline constexpr std::size_t kMaxBatchRecords = 65536;
+
+/// A unit of work for a generating stage: the cell rows [k0, k1) of a regular grid
+/// (row r = j + (ny-1)*k, see kernels/cell_sampling.hpp).
+struct CellRange {
+    std::int64_t k0 = 0, k1 = 0;
+};
+
+struct Batch {
+    std::uint64_t seq = 0;
+    RecordKind kind = RecordKind::sample;
+    CellRange cells;                    ///< work description (generate stage input), else empty
+    std::vector<SampleRecord> samples;  ///< valid when kind == sample
+    std::vector<PointRecord> points;    ///< valid when kind == point
+    std::uint64_t count() const { return kind == RecordKind::sample ? samples.size() : points.size(); }
+};
+
+}  // namespace meshless

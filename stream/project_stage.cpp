@@ -1,0 +1,35 @@
+#include "stream/project_stage.hpp"
+
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+void ProjectStage::process(Batch& b) const {
+    if (b.kind != RecordKind::sample) throw FormatError("project: input holds points, expected unprojected samples");
+    ProjectionStats s;
+    b.points.clear();
+    b.points.reserve(b.samples.size());
+    PointRecord p;
+    for (const SampleRecord& r : b.samples)
+        if (project_sample(r, iso_, mode_, p, s)) b.points.push_back(p);
+    b.samples.clear();
+    b.samples.shrink_to_fit();
+    b.kind = RecordKind::point;
+    input_ += s.input;
+    output_ += s.output;
+    too_far_ += s.too_far;
+    flat_ += s.flat;
+    missed_ += s.missed;
+}
+
+ProjectionStats ProjectStage::stats() const {
+    ProjectionStats s;
+    s.input = input_.load();
+    s.output = output_.load();
+    s.too_far = too_far_.load();
+    s.flat = flat_.load();
+    s.missed = missed_.load();
+    return s;
+}
+
+}  // namespace meshless

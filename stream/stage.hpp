@@ -1,0 +1,37 @@
+// The pull-based stage graph's three interfaces (DESIGN.md): Source::next(), Stage::process(),
+// Sink::consume(). One level of interfaces, no void* payloads.
+//
+// Threading: Source::next and Sink::consume are called from one thread at a time, in order;
+// Stage::process may be called concurrently on different batches, so stages must keep per-call
+// state local (counters are atomics or merged by the stage itself).
+#pragma once
+#include <optional>
+
+#include "stream/batch.hpp"
+
+namespace meshless {
+
+class Source {
+public:
+    virtual ~Source() = default;
+    /// The next batch, or nullopt at the end. Sets seq in increasing order.
+    virtual std::optional<Batch> next() = 0;
+};
+
+class Stage {
+public:
+    virtual ~Stage() = default;
+    /// Transforms a batch in place (may change its kind). Thread-safe across distinct batches.
+    virtual void process(Batch& b) const = 0;
+};
+
+class Sink {
+public:
+    virtual ~Sink() = default;
+    /// Receives batches in increasing seq order.
+    virtual void consume(Batch&& b) = 0;
+    /// Called once after the last batch (write trailers, commit files).
+    virtual void finish() {}
+};
+
+}  // namespace meshless

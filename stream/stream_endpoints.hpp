@@ -1,0 +1,38 @@
+// Pipe endpoints of the stage graph: a Source that reads the binary point stream
+// (formats/point_stream.hpp) and a Sink that writes it. One DATA frame = one batch, so a stage run
+// as its own process sees the same batches, in the same order, as in-process: results are
+// byte-identical across pipes. Not thread-safe (called serially by the runner).
+#pragma once
+#include <memory>
+
+#include "formats/point_stream.hpp"
+#include "stream/stage.hpp"
+
+namespace meshless {
+
+class StreamSource final : public Source {
+public:
+    /// The reader must outlive the source; its META must already be read (read_meta()).
+    explicit StreamSource(StreamReader& r) : r_(r) {}
+    std::optional<Batch> next() override;
+
+private:
+    StreamReader& r_;
+    std::uint64_t seq_ = 0;
+    std::vector<char> buf_;
+};
+
+class StreamSink final : public Sink {
+public:
+    /// Writes the stream header and META immediately; one DATA frame per non-empty batch.
+    StreamSink(std::FILE* f, std::string name, RecordKind kind, const StreamMeta& meta, bool compress = false);
+    void consume(Batch&& b) override;
+    void finish() override { w_.finish(); }
+    std::uint64_t total() const { return w_.total(); }
+
+private:
+    StreamWriter w_;
+    RecordKind kind_;
+};
+
+}  // namespace meshless

@@ -1,0 +1,317 @@
+// Tests of the software splat renderer (dissertation section 3.6): analytic coverage of single
+// splats, hole-free planes, the silhouette and shading of a sphere, depth order, permutation
+// invariance, turntable periodicity.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "kernels/camera.hpp"
+#include "kernels/splat_rasterizer.hpp"
+
+using namespace meshless;
+
+namespace {
+
+constexpr std::array<std::uint8_t, 3> kMagenta{255, 0, 255};  // never produced by grey shading
+
+ShadingParams test_shading() {
+    ShadingParams s;
+    s.background = kMagenta;
+    return s;
+}
+
+PointRecord rec(Vec3 p, Vec3 n, float r) {
+    PointRecord q{};
+    q.pos[0] = float(p.x), q.pos[1] = float(p.y), q.pos[2] = float(p.z);
+    q.normal[0] = float(n.x), q.normal[1] = float(n.y), q.normal[2] = float(n.z);
+    q.radius = r;
+    q.value = 0;
+    return q;
+}
+
+std::int64_t covered(const Image& img, std::array<std::uint8_t, 3> bg = kMagenta) {
+    std::int64_t c = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) c += img.at(x, y) != bg;
+    return c;
+}
+
+double luminance(const Image& img, int x, int y) {
+    const auto p = img.at(x, y);
+    return 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
+}
+
+const std::array<Vec3, 2> kUnitBox{Vec3{-1, -1, -1}, Vec3{1, 1, 1}};
+
+Camera front_camera(int size, bool perspective) {
+    Camera c;
+    c.azimuth_deg = 0;
+    c.elevation_deg = 0;
+    c.width = c.height = size;
+    c.perspective = perspective;
+    return c;
+}
+
+// Fibonacci sphere of n points, radius rho, outward normals; splat radius = k * mean spacing.
+std::vector<PointRecord> sphere_points(int n, double rho, double k) {
+    std::vector<PointRecord> pts;
+    pts.reserve(n);
+    const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+    const float r = float(k * rho * std::sqrt(4 * std::numbers::pi / n));
+    for (int i = 0; i < n; ++i) {
+        const double y = 1.0 - 2.0 * (i + 0.5) / n;
+        const double s = std::sqrt(1 - y * y);
+        const Vec3 d{s * std::cos(golden * i), y, s * std::sin(golden * i)};
+        pts.push_back(rec(d * rho, d, r));
+    }
+    return pts;
+}
+
+}  // namespace
+
+TEST_CASE("camera: azimuth turns about the y axis, 0 and 360 coincide, the box fits", "[splat]") {
+    for (bool persp : {true, false}) {
+        Camera c;
+        c.perspective = persp;
+        c.width = 320;
+        c.height = 240;
+        double sx0 = 0, sy0 = 0, d0 = 0;
+        for (double az : {0.0, 10.0, 123.0, 360.0}) {
+            c.azimuth_deg = az;
+            const ViewTransform v = make_view(c, kUnitBox[0], kUnitBox[1]);
+            double sx, sy, d;
+            REQUIRE(v.project(Vec3{0, 0.5, 0}, sx, sy, d));  // on the rotation axis
+            if (az == 0) {
+                sx0 = sx, sy0 = sy, d0 = d;
+            } else {
+                CHECK(sx == Approx(sx0).margin(1e-4));
+                CHECK(sy == Approx(sy0).margin(1e-4));
+                CHECK(d == Approx(d0).margin(1e-6));
+            }
+            // every box corner projects inside the image
+            for (int k = 0; k < 8; ++k) {
+                const Vec3 p{k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0};
+                REQUIRE(v.project(p, sx, sy, d));
+                CHECK(sx >= 0);
+                CHECK(sx <= c.width);
+                CHECK(sy >= 0);
+                CHECK(sy <= c.height);
+            }
+        }
+        c.azimuth_deg = 0;
+        const ViewTransform a = make_view(c, kUnitBox[0], kUnitBox[1]);
+        c.azimuth_deg = 360;
+        const ViewTransform b = make_view(c, kUnitBox[0], kUnitBox[1]);
+        CHECK(std::memcmp(a.rot, b.rot, sizeof a.rot) == 0);
+    }
+}
+
+TEST_CASE("single splat facing the camera covers (2r)^2 (quad) and pi r^2 (ewa) pixels", "[splat]") {
+    for (bool persp : {true, false}) {
+        const Camera cam = front_camera(256, persp);
+        const ViewTransform v = make_view(cam, kUnitBox[0], kUnitBox[1]);
+        for (float rho : {0.15f, 0.3f}) {
+            const PointRecord p = rec({0, 0, 0}, {0, 0, 1}, rho);
+            const double rpx = rho * v.pixels_per_unit(v.distance);
+            INFO("perspective " << persp << " r_px " << rpx);
+            REQUIRE(rpx > 8);
+            SplatStats st;
+            const Image q = render_splats({&p, 1}, cam, SplatKernel::quad, test_shading(), &st, kUnitBox);
+            CHECK(st.splats_drawn == 1);
+            CHECK(std::abs(double(covered(q)) - 4 * rpx * rpx) <= 4 * rpx + 1);
+            const Image e = render_splats({&p, 1}, cam, SplatKernel::ewa, test_shading(), &st, kUnitBox);
+            CHECK(st.splats_drawn == 1);
+            CHECK(double(covered(e)) == Approx(std::numbers::pi * rpx * rpx).epsilon(0.05));
+            // a zero normal draws as if facing the camera
+            const PointRecord z = rec({0, 0, 0}, {0, 0, 0}, rho);
+            for (SplatKernel k : {SplatKernel::quad, SplatKernel::ewa})
+                CHECK(render_splats({&z, 1}, cam, k, test_shading(), nullptr, kUnitBox).rgb ==
+                      render_splats({&p, 1}, cam, k, test_shading(), nullptr, kUnitBox).rgb);
+        }
+    }
+}
+
+TEST_CASE("a dense planar grid renders without holes inside its projection", "[splat]") {
+    const int n = 160;
+    const double h = 2.0 / (n - 1);
+    std::vector<PointRecord> pts;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) pts.push_back(rec({-1 + i * h, -1 + j * h, 0}, {0, 0, 1}, float(0.75 * h)));
+    Camera cam;
+    cam.width = cam.height = 200;
+    cam.azimuth_deg = 35;
+    cam.elevation_deg = 25;
+    for (bool persp : {true, false}) {
+        cam.perspective = persp;
+        const ViewTransform v = make_view(cam, kUnitBox[0], kUnitBox[1]);
+        double cx[4], cy[4], d;
+        const Vec3 corners[4] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+        for (int k = 0; k < 4; ++k) REQUIRE(v.project(corners[k], cx[k], cy[k], d));
+        // signed distance (pixels) of a point to the projected quadrilateral's edges; > 0 inside
+        auto inside = [&](double x, double y) {
+            double dmin = 1e30;
+            double orient = (cx[1] - cx[0]) * (cy[2] - cy[0]) - (cy[1] - cy[0]) * (cx[2] - cx[0]);
+            for (int k = 0; k < 4; ++k) {
+                const int l = (k + 1) % 4;
+                const double ex = cx[l] - cx[k], ey = cy[l] - cy[k];
+                const double s = ((x - cx[k]) * ey - (y - cy[k]) * ex) / std::hypot(ex, ey);
+                dmin = std::min(dmin, orient > 0 ? -s : s);
+            }
+            return dmin;
+        };
+        for (SplatKernel k : {SplatKernel::quad, SplatKernel::ewa}) {
+            const Image img = render_splats(pts, cam, k, test_shading(), nullptr, kUnitBox);
+            std::int64_t holes = 0, inner = 0, stray = 0;
+            for (int y = 0; y < img.height; ++y)
+                for (int x = 0; x < img.width; ++x) {
+                    const double s = inside(x + 0.5, y + 0.5);
+                    const bool bg = img.at(x, y) == kMagenta;
+                    if (s > 1.0) {
+                        ++inner;
+                        holes += bg;
+                    }
+                    if (s < -4.0) stray += !bg;  // beyond splat radius + low-pass footprint
+                }
+            INFO("perspective " << persp << " kernel " << int(k));
+            CHECK(inner > 5000);
+            CHECK(holes == 0);
+            CHECK(stray == 0);
+        }
+    }
+}
+
+TEST_CASE("a densely sampled sphere renders as a shaded disc of the analytic size", "[splat]") {
+    const double rho = 0.8;
+    const auto pts = sphere_points(200000, rho, 0.9);
+    Camera cam;
+    cam.width = cam.height = 512;
+    ShadingParams sh = test_shading();
+    sh.specular = 0;  // pure Lambert under the headlight
+    for (bool persp : {true, false}) {
+        cam.perspective = persp;
+        const ViewTransform v = make_view(cam, kUnitBox[0], kUnitBox[1]);
+        // apparent radius: perspective sphere of radius rho at eye distance D: f * rho / sqrt(D^2 - rho^2)
+        const double R = persp ? v.focal_px * rho / std::sqrt(v.distance * v.distance - rho * rho) : v.focal_px * rho;
+        for (SplatKernel k : {SplatKernel::quad, SplatKernel::ewa}) {
+            INFO("perspective " << persp << " kernel " << int(k) << " R_px " << R);
+            const Image img = render_splats(pts, cam, k, sh, nullptr, kUnitBox);
+            CHECK(double(covered(img)) == Approx(std::numbers::pi * R * R).epsilon(0.05));
+            const int c = cam.width / 2;
+            const double centre = luminance(img, c, c);
+            const double mid = luminance(img, c + int(0.5 * R), c);
+            const double rim = luminance(img, c + int(0.92 * R), c);
+            CHECK(img.at(c + int(0.92 * R), c) != kMagenta);
+            CHECK(centre > mid);
+            CHECK(mid > rim);
+            // Lambert under a headlight: brightness ~ ambient + diffuse * cos(angle); centre ~ full
+            CHECK(centre / rim > 1.5);
+        }
+    }
+}
+
+TEST_CASE("a nearer splat occludes a farther one regardless of draw order", "[splat]") {
+    const Camera cam = front_camera(128, true);
+    const PointRecord near = rec({0, 0, 0.5}, {0, 0, 1}, 0.1f);
+    const PointRecord far = rec({0.05, 0, -0.5}, {0.6, 0, 0.8}, 0.3f);
+    const std::vector<PointRecord> ab{near, far}, ba{far, near};
+    for (SplatKernel k : {SplatKernel::quad, SplatKernel::ewa}) {
+        const Image a = render_splats(ab, cam, k, test_shading(), nullptr, kUnitBox);
+        const Image b = render_splats(ba, cam, k, test_shading(), nullptr, kUnitBox);
+        const Image only_near = render_splats({&near, 1}, cam, k, test_shading(), nullptr, kUnitBox);
+        const Image only_far = render_splats({&far, 1}, cam, k, test_shading(), nullptr, kUnitBox);
+        CHECK(a.rgb == b.rgb);
+        const int c = 64;
+        CHECK(a.at(c, c) == only_near.at(c, c));
+        CHECK(only_near.at(c, c) != only_far.at(c, c));
+        // where only the far splat reaches, it shows
+        const int x = c + 7;
+        REQUIRE(only_near.at(x, c) == kMagenta);
+        REQUIRE(only_far.at(x, c) != kMagenta);
+        CHECK(a.at(x, c) == only_far.at(x, c));
+    }
+}
+
+TEST_CASE("images are deterministic and independent of the point order", "[splat]") {
+    auto pts = sphere_points(50000, 0.9, 1.0);
+    Camera cam;
+    cam.width = cam.height = 256;
+    for (SplatKernel k : {SplatKernel::quad, SplatKernel::ewa}) {
+        const Image a = render_splats(pts, cam, k, test_shading());
+        const Image a2 = render_splats(pts, cam, k, test_shading());
+        CHECK(a.rgb == a2.rgb);
+        auto shuffled = pts;
+        std::mt19937 rng(12345);
+        std::shuffle(shuffled.begin(), shuffled.end(), rng);
+        const Image b = render_splats(shuffled, cam, k, test_shading());
+        CHECK(a.rgb == b.rgb);
+    }
+}
+
+TEST_CASE("turntable: azimuth 0 equals 360, renderer reuse equals one-shot rendering", "[splat]") {
+    // an asymmetric object: a sphere plus an off-axis blob
+    auto pts = sphere_points(20000, 0.6, 1.0);
+    for (const auto& p : sphere_points(3000, 0.2, 1.0)) {
+        PointRecord q = p;
+        q.pos[0] += 0.7f;
+        pts.push_back(q);
+    }
+    Camera cam;
+    cam.width = cam.height = 160;
+    const auto bounds = point_bounds(pts);
+    for (SplatKernel k : {SplatKernel::quad, SplatKernel::ewa}) {
+        SplatRenderer r(cam, test_shading(), bounds);
+        const Image f0 = r.render(pts, k, 0.0);
+        const Image f10 = r.render(pts, k, 10.0);
+        const Image f360 = r.render(pts, k, 360.0);
+        CHECK(f0.rgb == f360.rgb);
+        CHECK(f0.rgb != f10.rgb);
+        Camera c10 = cam;
+        c10.azimuth_deg = 10;
+        CHECK(render_splats(pts, c10, k, test_shading(), nullptr, bounds).rgb == f10.rgb);
+    }
+}
+
+TEST_CASE("empty input and points behind the eye give the background", "[splat]") {
+    Camera cam;
+    cam.width = 40;
+    cam.height = 30;
+    const ShadingParams sh = test_shading();
+    for (SplatKernel k : {SplatKernel::quad, SplatKernel::ewa}) {
+        const Image e = render_splats({}, cam, k, sh);
+        CHECK(e.width == 40);
+        CHECK(e.height == 30);
+        CHECK(covered(e) == 0);
+        // far behind the eye along the view axis (camera at az 0, elev 0 sits at +z)
+        const PointRecord behind = rec({0, 0, 100}, {0, 0, 1}, 1.0f);
+        CHECK(covered(render_splats({&behind, 1}, front_camera(40, true), k, sh, nullptr, kUnitBox)) == 0);
+        PointRecord nan = rec({0, 0, 0}, {0, 0, 1}, 0.5f);
+        nan.pos[1] = std::nanf("");
+        CHECK(covered(render_splats({&nan, 1}, front_camera(40, true), k, sh, nullptr, kUnitBox)) == 0);
+    }
+}
+
+// Scratch timing, not a test: ./test_kernels "[.splat_bench]"
+TEST_CASE("splat frame time for ~1M splats at 800x800", "[.splat_bench]") {
+    const auto pts = sphere_points(1000000, 0.9, 1.0);
+    Camera cam;
+    for (SplatKernel k : {SplatKernel::quad, SplatKernel::ewa}) {
+        SplatRenderer r(cam, ShadingParams{}, point_bounds(pts));
+        SplatStats st;
+        double best = 1e30, total = 0;
+        const int frames = 6;
+        for (int i = 0; i < frames; ++i) {
+            r.render(pts, k, 10.0 * i, &st);
+            best = std::min(best, st.seconds);
+            total += st.seconds;
+        }
+        std::printf("%s: 1M splats 800x800: best %.3f s, mean %.3f s, %lld splats drawn, %lld fragments\n",
+                    k == SplatKernel::quad ? "quad" : "ewa", best, total / frames, (long long)st.splats_drawn,
+                    (long long)st.fragments);
+    }
+}
