@@ -26,6 +26,7 @@ constexpr Command kCommands[] = {
     {"splat", cmd_splat, "point stream or PLY -> surface-splatted PNG (quad or EWA kernels)"},
     {"mc", cmd_mc, "volume -> marching-cubes triangle mesh (PLY), the baseline"},
     {"info", cmd_info, "describe any file meshless reads or writes"},
+    {"bench", cmd_bench, "benchmarks: accuracy, speed vs marching cubes / VTK Flying Edges, threads, splatting"},
 };
 
 void print_usage(std::FILE* out) {

@@ -13,6 +13,7 @@ int cmd_write(int argc, char** argv);
 int cmd_splat(int argc, char** argv);
 int cmd_mc(int argc, char** argv);
 int cmd_info(int argc, char** argv);
+int cmd_bench(int argc, char** argv);
 
 /// The whole program: dispatch and exception -> exit code mapping.
 int cli_main(int argc, char** argv);

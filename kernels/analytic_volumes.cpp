@@ -85,17 +85,18 @@ double analytic_distance(AnalyticField f, double iso, const Vec3& p) {
     const double g0n = norm(g0);
     const double first_order =
         g0n > 0 ? std::abs(f0) / g0n : std::numeric_limits<double>::infinity();
-    Vec3 q = p;
-    for (int it = 0; it < 20; ++it) {
+    // 1-D Newton along the line through p in the gradient direction: phi(s) = f(p + s u) - iso.
+    const Vec3 u = g0 * (1.0 / g0n);
+    double sv = 0;
+    for (int it = 0; it < 20 && g0n > 0; ++it) {
+        const Vec3 q = p + u * sv;
         const double fq = analytic_value(f, q) - iso;
-        if (std::abs(fq) < 1e-12) return norm(q - p);
-        const Vec3 g = analytic_gradient(f, q);
-        const double gg = dot(g, g);
-        if (!(gg > 0)) break;
-        q = q - g * (fq / gg);
+        if (std::abs(fq) < 1e-12) return std::abs(sv);
+        const double slope = dot(analytic_gradient(f, q), u);
+        if (!(std::abs(slope) > 1e-12)) break;
+        sv -= fq / slope;
+        if (!(std::abs(sv) < 10.0 * first_order + 1e-9)) break;  // wandered off: give up
     }
-    const double fq = analytic_value(f, q) - iso;
-    if (std::abs(fq) < 1e-9) return norm(q - p);
     return first_order;
 }
 

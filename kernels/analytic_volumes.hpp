@@ -14,10 +14,11 @@
 //                   value = (1 - sin(pi z/2) + alpha (1 + cos(2 pi f_M cos(pi r/2)))) / (2 (1+alpha)),
 //                   r = sqrt(x^2+y^2), range [0,1], default iso 0.5
 // analytic_distance: exact for sphere (| |p| - iso |) and torus (|value - iso|, valid for iso < 0.5);
-// for gyroid and Marschner–Lobb an ESTIMATE: Newton steps along the gradient from p (at most 20,
-// until |f - iso| < 1e-12) and the distance to where they stop; that is the length to a point on the
-// surface (an upper bound of the true distance, close to it for points near the surface); if the
-// iteration does not converge, the first-order estimate |f - iso| / |grad f| (inf where grad f = 0).
+// for gyroid and Marschner–Lobb an ESTIMATE: Newton steps (at most 20, until |f - iso| < 1e-12) on
+// the line through p along grad f(p), and the distance to the crossing found; that crossing is a
+// surface point, so the estimate is an upper bound of the true distance, close to it for points near
+// the surface; where the iteration fails (flat gradient, wandering), the first-order estimate
+// |f - iso| / |grad f| (inf where grad f = 0).
 // Names: "sphere", "torus", "gyroid", "ml" (parse also accepts "marschner_lobb", "marschner-lobb").
 // Throws UsageError from make_analytic_volume when n < 2 or n^3 samples would not fit in memory
 // addressing (n > 2^20). Everything else is pure, reentrant and allocation-free.

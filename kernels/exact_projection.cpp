@@ -36,18 +36,70 @@ Vec3 clamp01(const Vec3& x) {
     return {std::clamp(x.x, 0.0, 1.0), std::clamp(x.y, 0.0, 1.0), std::clamp(x.z, 0.0, 1.0)};
 }
 
-// Smallest |t| root of the ray cubic whose point is inside the cell; returns false when none.
+// Root of the cubic k in [lo, hi], where k(lo) and k(hi) differ in sign and k is monotone:
+// safeguarded Newton (falls back to bisection whenever a step leaves the bracket).
+double bracketed_root(const std::array<double, 4>& k, double lo, double hi, double start) {
+    double flo = cubic_value(k, lo);
+    double t = (start > lo && start < hi) ? start : 0.5 * (lo + hi);
+    for (int it = 0; it < 100; ++it) {
+        const double f = cubic_value(k, t);
+        if (f == 0.0) return t;
+        if ((f < 0) == (flo < 0)) { lo = t; flo = f; } else { hi = t; }
+        const double fp = (3.0 * k[0] * t + 2.0 * k[1]) * t + k[2];
+        double tn = fp != 0.0 ? t - f / fp : 0.5 * (lo + hi);
+        if (!(tn > lo && tn < hi)) tn = 0.5 * (lo + hi);
+        if (std::fabs(tn - t) <= 1e-15 * (1.0 + std::fabs(t)) || hi - lo <= 1e-15 * (1.0 + std::fabs(t))) return tn;
+        t = tn;
+    }
+    return t;
+}
+
+// Smallest |t| root of the ray cubic whose point is inside the cell (within tol); false if none.
+// Cardan's closed form (solve_cubic) gives the starting guesses; the roots are then isolated on the ray's parameter interval inside the cell, split at the critical points
+// of the cubic, so that each piece is monotone and holds at most one root. This stays accurate when
+// the cubic's leading coefficient is tiny and its other roots are far outside the cell, where
+// closed-form roots lose all precision.
 bool nearest_hit(const double c[8], const Vec3& p, const Vec3& dir, double iso, double tol, double& t_best) {
     const auto k = trilinear_ray_cubic(c, p, dir, iso);
-    double roots[3];
-    const int n = solve_cubic(k[0], k[1], k[2], k[3], roots);
+    double t0 = -std::numeric_limits<double>::infinity(), t1 = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+        const double pa = p[a], da = dir[a];
+        if (da == 0.0) {
+            if (pa < -tol || pa > 1.0 + tol) return false;
+            continue;
+        }
+        const double ta = (-tol - pa) / da, tb = (1.0 + tol - pa) / da;
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+    }
+    if (!(t0 <= t1)) return false;
+    double cuts[4] = {t0, 0, 0, 0};
+    int ncuts = 1;
+    double crit[2];
+    const int nc = solve_quadratic(3.0 * k[0], 2.0 * k[1], k[2], crit);
+    for (int i = 0; i < nc; ++i)
+        if (crit[i] > t0 && crit[i] < t1) cuts[ncuts++] = crit[i];
+    cuts[ncuts++] = t1;
+    std::sort(cuts, cuts + ncuts);
+    double cardan[3];
+    const int nr = solve_cubic(k[0], k[1], k[2], k[3], cardan);
     bool found = false;
-    for (int i = 0; i < n; ++i) {
-        const double t = roots[i];
-        if (found && std::fabs(t) >= std::fabs(t_best)) continue;
-        if (!inside(p + dir * t, tol)) continue;
-        t_best = t;
-        found = true;
+    for (int i = 0; i + 1 < ncuts; ++i) {
+        const double lo = cuts[i], hi = cuts[i + 1];
+        const double flo = cubic_value(k, lo), fhi = cubic_value(k, hi);
+        double t;
+        if (flo == 0.0) t = lo;
+        else if (fhi == 0.0) t = hi;
+        else if ((flo < 0) != (fhi < 0)) {
+            double start = 0.5 * (lo + hi);
+            for (int r = 0; r < nr; ++r)
+                if (cardan[r] > lo && cardan[r] < hi) start = cardan[r];
+            t = bracketed_root(k, lo, hi, start);
+        } else continue;
+        if (!found || std::fabs(t) < std::fabs(t_best)) {
+            t_best = t;
+            found = true;
+        }
     }
     return found;
 }

@@ -64,9 +64,14 @@ public:
         }
         const McTable& table = marching_cubes_table();
         const std::size_t slice = static_cast<std::size_t>(sxy_);
-        std::vector<std::uint8_t> mask[2] = {std::vector<std::uint8_t>(slice),
-                                             std::vector<std::uint8_t>(slice)};
-        std::vector<RowInfo> rows[2] = {std::vector<RowInfo>(ny_), std::vector<RowInfo>(ny_)};
+        // Masks of three slices: k and k+1 for the current layer, k+2 built one layer ahead so that
+        // the samples the gradients at slice k+1 need are already in cache.
+        std::vector<std::uint8_t> mask[3];
+        std::vector<RowInfo> rows[3];
+        for (int s = 0; s < 3; ++s) {
+            mask[s].resize(slice);
+            rows[s].resize(static_cast<std::size_t>(ny_));
+        }
         std::vector<std::uint32_t> xe[2], ye[2], ze;
         for (int s = 0; s < 2; ++s) {
             xe[s].assign(slice, kNoVertex);
@@ -78,12 +83,15 @@ public:
         std::uint32_t base_xy[2] = {0, 0};
         mesh_ = &mesh;
 
-        build_slice(k0, mask[k0 & 1].data(), rows[k0 & 1].data());
+        build_slice(k0, mask[k0 % 3].data(), rows[k0 % 3].data());
+        build_slice(k0 + 1, mask[(k0 + 1) % 3].data(), rows[(k0 + 1) % 3].data());
         for (std::int64_t k = k0; k < k1; ++k) {
-            const int a = static_cast<int>(k & 1), b = a ^ 1;
-            build_slice(k + 1, mask[b].data(), rows[b].data());
+            const int a = static_cast<int>(k % 3), b = static_cast<int>((k + 1) % 3);
+            if (k + 2 < nz_ && k + 1 < k1)
+                build_slice(k + 2, mask[(k + 2) % 3].data(), rows[(k + 2) % 3].data());
+            const int pb = static_cast<int>((k + 1) & 1);  // edge arrays alternate by slice parity
             const std::uint32_t layer_base = nverts_;
-            base_xy[b] = layer_base;
+            base_xy[pb] = layer_base;
             const std::uint32_t base_z = layer_base;
             const std::uint8_t* ma = mask[a].data();
             const std::uint8_t* mb = mask[b].data();

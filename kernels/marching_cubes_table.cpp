@@ -96,7 +96,7 @@ constexpr McTable build_table() {
             }
         }
 
-        // Chain segments into closed polygons, fan-triangulate each.
+        // Chain segments into closed polygons and triangulate each.
         bool used[12]{};
         int ntri = 0;
         for (int e = 0; e < 12; ++e) {
@@ -114,12 +114,39 @@ constexpr McTable build_table() {
             }
             if (n < 3) throw std::logic_error("marching cubes table: degenerate polygon");
             ++mc.polygon_count;
-            for (int k = 1; k + 1 < n; ++k) {
+            // Triangulate with diagonals that never lie in a cell face (two polygon vertices on
+            // edges of one face): such a diagonal would lie in the face shared with the neighbour
+            // cell, which may cut the same face the same way (overlapping, non-manifold triangles).
+            // A fan from the first admissible apex when there is one, else ear clipping.
+            int apex = -1;
+            for (int s = 0; s < n && apex < 0; ++s) {
+                bool ok = true;
+                for (int k = 2; k + 1 < n; ++k)
+                    if (mc_edges_share_face(poly[s], poly[(s + k) % n])) ok = false;
+                if (ok) apex = s;
+            }
+            auto emit = [&](int a, int b, int c) {
                 if (ntri >= kMcMaxTriangles) throw std::logic_error("marching cubes table: too many triangles");
-                mc.edges[3 * ntri + 0] = static_cast<std::uint8_t>(poly[0]);
-                mc.edges[3 * ntri + 1] = static_cast<std::uint8_t>(poly[k]);
-                mc.edges[3 * ntri + 2] = static_cast<std::uint8_t>(poly[k + 1]);
+                mc.edges[3 * ntri + 0] = static_cast<std::uint8_t>(a);
+                mc.edges[3 * ntri + 1] = static_cast<std::uint8_t>(b);
+                mc.edges[3 * ntri + 2] = static_cast<std::uint8_t>(c);
                 ++ntri;
+            };
+            if (apex >= 0) {
+                for (int k = 1; k + 1 < n; ++k)
+                    emit(poly[apex], poly[(apex + k) % n], poly[(apex + k + 1) % n]);
+            } else {
+                int m = n;
+                while (m > 3) {
+                    int ear = -1;
+                    for (int s = 0; s < m && ear < 0; ++s)
+                        if (!mc_edges_share_face(poly[(s + m - 1) % m], poly[(s + 1) % m])) ear = s;
+                    if (ear < 0) throw std::logic_error("marching cubes table: no admissible triangulation");
+                    emit(poly[(ear + m - 1) % m], poly[ear], poly[(ear + 1) % m]);
+                    for (int q = ear; q + 1 < m; ++q) poly[q] = poly[q + 1];
+                    --m;
+                }
+                emit(poly[0], poly[1], poly[2]);
             }
         }
         mc.triangle_count = static_cast<std::uint8_t>(ntri);

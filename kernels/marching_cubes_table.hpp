@@ -5,7 +5,9 @@
 //   that depends only on the face's 4 corner signs, "above corners are separated" (each above corner
 //   is cut off by its own segment), so the two cells sharing a face always agree and meshes are
 //   closed; the segments are chained into closed polygons and every polygon is triangulated as a fan
-//   from its first vertex. No interior (tunnel) test: polygons follow the face segments only.
+//   from the first vertex whose diagonals do not lie in a cell face (ear clipping with that rule when
+//   no such apex exists): a diagonal in a face could overlap the neighbour cell's triangles.
+//   No interior (tunnel) test: polygons follow the face segments only. At most 5 triangles per case.
 //
 // Conventions.
 //   Corner c = dx + 2*dy + 4*dz at offset (dx,dy,dz) in {0,1}^3 from the cell's lowest sample.
@@ -70,6 +72,20 @@ constexpr int mc_edge_of(int a, int b) {
     if (d == 1) return lo >> 1;
     if (d == 2) return 4 + ((lo & 1) | ((lo >> 2) << 1));
     return 8 + (lo & 3);
+}
+
+/// True when cube edges a and b lie on a common face.
+constexpr bool mc_edges_share_face(int a, int b) {
+    for (const McFace& f : kMcFaces) {
+        bool ha = false, hb = false;
+        for (int k = 0; k < 4; ++k) {
+            const int e = mc_edge_of(f.corners[k], f.corners[(k + 1) % 4]);
+            ha = ha || e == a;
+            hb = hb || e == b;
+        }
+        if (ha && hb) return true;
+    }
+    return false;
 }
 
 }  // namespace meshless

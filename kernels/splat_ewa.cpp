@@ -2,6 +2,8 @@
 // (Zwicker et al. 2001 surface splatting, as used in dissertation section 3.6).
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -31,9 +33,24 @@ struct Setup {
     float c2;       // cutoff^2
     float lowpass;  // pixel^2
     float depth_eps;
-    bool two_sided;
     int W, H;
 };
+
+// 10 bits per component of a unit normal, enough to decide which way a fragment faces.
+std::uint64_t pack_normal(const float* n) {
+    std::uint64_t out = 0;
+    for (int i = 0; i < 3; ++i)
+        out = (out << 10) | static_cast<std::uint64_t>(std::lrint(std::clamp(n[i], -1.0f, 1.0f) * 511.0f + 511.0f));
+    return out;
+}
+
+// Whether n points the same way as the packed normal in the low bits of a visibility key.
+bool agrees(std::uint64_t key, const float* n) {
+    const float a = static_cast<float>((key >> 20) & 1023u) - 511.0f;
+    const float b = static_cast<float>((key >> 10) & 1023u) - 511.0f;
+    const float c = static_cast<float>(key & 1023u) - 511.0f;
+    return a * n[0] + b * n[1] + c * n[2] >= 0.0f;
+}
 
 bool footprint(const Setup& s, const PointRecord& rec, Footprint& f) {
     if (!(std::isfinite(rec.pos[0]) && std::isfinite(rec.pos[1]) && std::isfinite(rec.pos[2]))) return false;
@@ -48,7 +65,9 @@ bool footprint(const Setup& s, const PointRecord& rec, Footprint& f) {
     const float r = std::isfinite(rec.radius) ? std::max(rec.radius, 0.0f) : 0.0f;
 
     float v[3];
-    detail::oriented_normal(fv, rec, pc, D, s.two_sided, f.n, v);
+    // Raw orientation here: fragments are aligned per pixel in pass 2 and the blended normal is
+    // flipped towards the viewer at resolve time (flipping per splat would cancel at silhouettes).
+    detail::oriented_normal(fv, rec, pc, D, false, f.n, v);
     const float* n = f.n;
     // Tangent axes u, w (orthonormal, perpendicular to n), scaled by the radius.
     float a[3] = {0, 0, 0};
@@ -85,7 +104,7 @@ bool footprint(const Setup& s, const PointRecord& rec, Footprint& f) {
 
     // Depth of the splat plane, linear in the screen offset: depth(s,t) = D - (s u_z + t w_z).
     f.depth = D;
-    f.zlo = D - r;
+    f.zlo = std::max(D - r, 0.0f);  // non-negative: depth bits order the visibility keys
     f.zhi = D + r;
     f.eps = s.depth_eps * r;
     const float detj = j00 * j11 - j01 * j10;
@@ -114,8 +133,7 @@ bool footprint(const Setup& s, const PointRecord& rec, Footprint& f) {
 void SplatRenderer::render_ewa(std::span<const PointRecord> points, SplatStats& st) {
     const int W = cam_.width, H = cam_.height;
     const std::size_t npix = static_cast<std::size_t>(W) * H;
-    constexpr float inf = std::numeric_limits<float>::infinity();
-    zbuf_.assign(npix, inf);
+    key_.assign(npix, std::numeric_limits<std::uint64_t>::max());
     acc_.assign(4 * npix, 0);
 
     const float cutoff = static_cast<float>(std::max(shading_.ewa_cutoff, 1e-3));
@@ -124,32 +142,33 @@ void SplatRenderer::render_ewa(std::span<const PointRecord> points, SplatStats& 
                   cutoff * cutoff,
                   static_cast<float>(std::max(shading_.ewa_lowpass_px2, 0.0)),
                   static_cast<float>(std::max(shading_.depth_epsilon, 0.0)),
-                  shading_.two_sided,
                   W,
                   H};
     std::array<float, kTable + 1> gauss;
     for (int i = 0; i <= kTable; ++i) gauss[i] = std::exp(-0.5f * s.c2 * static_cast<float>(i) / kTable);
     const float qscale = kTable / s.c2;
 
-    float* const zb = zbuf_.data();
+    std::uint64_t* const kb = key_.data();
     std::int64_t* const acc = acc_.data();
     std::int64_t drawn = 0, frags = 0;
     Footprint f;
 
-    // Pass 1: visibility.
+    // Pass 1: visibility. Key = (depth bits << 32) | packed normal of the nearest fragment, so the
+    // minimum is independent of the drawing order, ties included.
     for (const PointRecord& rec : points) {
         if (!footprint(s, rec, f)) continue;
         ++drawn;
+        const std::uint64_t packed = pack_normal(f.n);
         for (int y = f.y0; y <= f.y1; ++y) {
             const float dy = y + 0.5f - f.sy;
-            float* row = zb + static_cast<std::size_t>(y) * W;
+            std::uint64_t* row = kb + static_cast<std::size_t>(y) * W;
             for (int x = f.x0; x <= f.x1; ++x) {
                 const float dx = x + 0.5f - f.sx;
                 const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
                 if (q > s.c2) continue;
                 ++frags;
                 const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, f.zlo, f.zhi);
-                row[x] = std::min(row[x], z);
+                row[x] = std::min(row[x], (std::uint64_t{std::bit_cast<std::uint32_t>(z)} << 32) | packed);
             }
         }
     }
@@ -165,13 +184,16 @@ void SplatRenderer::render_ewa(std::span<const PointRecord> points, SplatStats& 
                 if (q > s.c2) continue;
                 ++frags;
                 const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, f.zlo, f.zhi);
-                if (z > zb[rowi + x] + f.eps) continue;
+                const std::uint64_t key = kb[rowi + x];
+                if (z > std::bit_cast<float>(static_cast<std::uint32_t>(key >> 32)) + f.eps) continue;
+                // Align with the visible fragment's orientation before blending.
                 const float wgt = gauss[static_cast<int>(q * qscale)] * kFixed;
+                const float wn = agrees(key, f.n) ? wgt : -wgt;
                 std::int64_t* a = acc + 4 * (rowi + x);
                 a[0] += static_cast<std::int64_t>(wgt);
-                a[1] += static_cast<std::int64_t>(std::lrint(wgt * f.n[0]));
-                a[2] += static_cast<std::int64_t>(std::lrint(wgt * f.n[1]));
-                a[3] += static_cast<std::int64_t>(std::lrint(wgt * f.n[2]));
+                a[1] += static_cast<std::int64_t>(std::lrint(wn * f.n[0]));
+                a[2] += static_cast<std::int64_t>(std::lrint(wn * f.n[1]));
+                a[3] += static_cast<std::int64_t>(std::lrint(wn * f.n[2]));
             }
         }
     }
@@ -180,6 +202,7 @@ void SplatRenderer::render_ewa(std::span<const PointRecord> points, SplatStats& 
     const detail::Shader shader(shading_);
     const detail::FloatView& fv = s.fv;
     const auto& bg = shading_.background;
+    const bool two_sided = shading_.two_sided;
     std::uint8_t* out = image_.rgb.data();
     for (int y = 0; y < H; ++y) {
         for (int x = 0; x < W; ++x, out += 3) {
@@ -202,7 +225,8 @@ void SplatRenderer::render_ewa(std::span<const PointRecord> points, SplatStats& 
             float n[3] = {static_cast<float>(a[1]), static_cast<float>(a[2]), static_cast<float>(a[3])};
             const float len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
             if (len2 > 0.0f) {
-                const float il = 1.0f / std::sqrt(len2);
+                float il = 1.0f / std::sqrt(len2);
+                if (two_sided && n[0] * v[0] + n[1] * v[1] + n[2] * v[2] < 0) il = -il;
                 n[0] *= il;
                 n[1] *= il;
                 n[2] *= il;

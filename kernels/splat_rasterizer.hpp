@@ -12,12 +12,13 @@
 //   lowpass in pixel^2), so the disk boundary is the Mahalanobis radius c, and the footprint is
 //   cut off there. Pass 1 (visibility) writes the nearest splat-plane depth per pixel; pass 2
 //   (accumulation) adds weight * normal and weight of every fragment whose depth is within
-//   depth_epsilon * radius of the visible depth; the blended normal is normalised per pixel and
-//   shaded (deferred Phong). Accumulation is in 64-bit fixed point, so the image does not depend
+//   depth_epsilon * radius of the visible depth, each normal first aligned (sign) with the visible
+//   fragment's; the blended normal is normalised per pixel, flipped towards the viewer when
+//   two-sided, and shaded (deferred Phong). Accumulation is in 64-bit fixed point, so the image does not depend
 //   on the order of the points.
 // Shading: Lambert + Phong with a directional light given in camera space (default: a headlight
 //   from the viewer), view vector towards the eye; two_sided flips normals that face away from
-//   the viewer. Points with a zero normal face the camera. Points with non-finite positions or
+//   the viewer (quad: per splat; ewa: the blended normal per pixel). Points with a zero normal face the camera. Points with non-finite positions or
 //   behind the near plane are skipped. Pixels that no splat covers get the background colour.
 // Determinism: single-threaded; the same input gives the same bytes, and for both kernels a
 //   permutation of the points gives the same bytes (quad ties are broken by the shaded colour).
@@ -94,8 +95,7 @@ private:
     std::array<Vec3, 2> bounds_;
     ViewTransform view_;
     Image image_;
-    std::vector<std::uint64_t> key_;   // quad: (depth bits << 32) | rgb, per pixel
-    std::vector<float> zbuf_;          // ewa: visible depth per pixel
+    std::vector<std::uint64_t> key_;   // per pixel: (depth bits << 32) | rgb (quad) or packed normal (ewa)
     std::vector<std::int64_t> acc_;    // ewa: weight, weight * normal (x, y, z) per pixel, fixed point
 };
 

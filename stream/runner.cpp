@@ -21,6 +21,9 @@ void run_pipeline(Source& source, std::span<const Stage* const> stages, Sink& si
         sink.finish();
         return;
     }
+    // Allow as many threads as asked for, even beyond the core count (TBB's default cap is cores).
+    oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(threads));
     oneapi::tbb::task_arena arena(threads);
     arena.execute([&] {
         oneapi::tbb::parallel_pipeline(

@@ -7,7 +7,7 @@
 
 #include "formats/png_writer.hpp"
 #include "kernels/errors.hpp"
-#include "test_paths.hpp"
+#include "tests/test_paths.hpp"
 
 using namespace meshless;
 

@@ -78,10 +78,10 @@ TEST_CASE("analytic: gyroid and Marschner-Lobb distance estimates", "[mc]") {
             if (norm(g) < 0.5) continue;  // keep away from near-critical points
             ++tested;
             CHECK(analytic_distance(f, iso, q) < 1e-9);
-            const double d = 0.002;
+            const double d = 2e-4;  // small against the curvature radius (ML features are ~0.01)
             const double est = analytic_distance(f, iso, q + normalized(g) * d);
             CHECK(est <= d * 1.05);  // the distance to q is d; the estimate is near the true one
-            CHECK(est >= d * 0.9);
+            CHECK(est >= d * 0.95);
         }
         CHECK(tested > 20);
     }

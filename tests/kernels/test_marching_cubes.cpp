@@ -152,6 +152,16 @@ TEST_CASE("mc table: triangles use exactly the edges with a sign change", "[mc]"
         CHECK(used == crossing);
         // a polygon with p vertices gives p-2 triangles: sum over polygons = crossings - 2*polygons
         CHECK(c.triangle_count == __builtin_popcount(crossing) - 2 * c.polygon_count);
+        // triangle sides joining two edges of one face are boundary segments (used once); the
+        // other sides are interior diagonals (used twice, in opposite directions)
+        std::map<std::pair<int, int>, int> sides;
+        for (int k = 0; k < c.triangle_count; ++k)
+            for (int q = 0; q < 3; ++q) ++sides[{c.edges[3 * k + q], c.edges[3 * k + (q + 1) % 3]}];
+        for (auto& [sd, uses] : sides) {
+            CHECK(uses == 1);
+            const bool reverse = sides.count({sd.second, sd.first}) > 0;
+            CHECK(reverse == !mc_edges_share_face(sd.first, sd.second));
+        }
     }
 }
 
@@ -180,18 +190,22 @@ TEST_CASE("mc: each of the 256 cases in a 2x2x2 volume", "[mc]") {
             CHECK(seen.insert(edge_of_vertex[i]).second);
             CHECK(std::abs(norm(vnormal(m, i)) - 1.0) < 1e-5);
         }
-        // every triangle (and every vertex normal) faces the above end of its edges
+        // every vertex normal faces the above end of its edge; every triangle faces the above ends
+        // of its three edges on balance (a single one may be perpendicular or slightly behind for a
+        // triangle of a non-planar polygon)
         for (std::size_t f = 0; f < m.triangle_count(); ++f) {
-            const Vec3 n = tri_cross(m, f);
-            REQUIRE(norm(n) > 1e-6);
+            const Vec3 n = normalized(tri_cross(m, f));
+            REQUIRE(norm(tri_cross(m, f)) > 1e-6);
+            double sum = 0;
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t vi = m.tri[3 * f + k];
                 const int e = edge_of_vertex[vi];
                 const int a = kMcEdgeCorners[e][0], b = kMcEdgeCorners[e][1];
                 const Vec3 up = ((cs >> b) & 1) ? corner_pos(b) - corner_pos(a) : corner_pos(a) - corner_pos(b);
-                CHECK(dot(n, up) > 0);
+                sum += dot(n, up);
                 CHECK(dot(vnormal(m, vi), up) > 0);
             }
+            CHECK(sum > 0.5);
         }
     }
 }
@@ -372,7 +386,8 @@ TEST_CASE("mc: a linear field gives a planar surface with constant normal", "[mc
     }
     for (std::size_t f = 0; f < m.triangle_count(); ++f) {
         const Vec3 n = tri_cross(m, f);
-        if (norm(n) < 1e-9) continue;
+        INFO("triangle area " << 0.5 * norm(n));
+        if (norm(n) < 1e-4) continue;  // slivers: float rounding dominates their direction
         CHECK(dot(normalized(n), an) > 1 - 1e-4);
     }
     CHECK(topology(m).oriented());

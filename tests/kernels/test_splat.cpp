@@ -211,6 +211,38 @@ TEST_CASE("a densely sampled sphere renders as a shaded disc of the analytic siz
             CHECK(mid > rim);
             // Lambert under a headlight: brightness ~ ambient + diffuse * cos(angle); centre ~ full
             CHECK(centre / rim > 1.5);
+            // Per pixel against the analytic shading: cast the pixel's ray at the exact sphere
+            // (camera space: sphere at the origin, eye at z = D, headlight along +z).
+            const double base_lum = 0.299 * sh.base[0] + 0.587 * sh.base[1] + 0.114 * sh.base[2];
+            auto analytic = [&](double px, double py) {  // expected luminance at a screen point
+                const double u = (px - v.cx) / v.focal_px, w = -(py - v.cy) / v.focal_px;
+                Vec3 o{0, 0, v.distance}, d{0, 0, -1};
+                if (persp) d = normalized(Vec3{u, w, -1});
+                else o = Vec3{u, w, v.distance};
+                const double b = dot(o, d), cc = dot(o, o) - rho * rho, disc = b * b - cc;
+                REQUIRE(disc > 0);
+                const Vec3 hit = o + d * (-b - std::sqrt(disc));
+                return base_lum * (sh.ambient + sh.diffuse * std::max(0.0, hit.z / rho));
+            };
+            const double lum_09 = analytic(v.cx + 0.9 * R, v.cy);
+            std::int64_t checked = 0, bad = 0, bright_rim = 0;
+            double worst = 0;
+            for (int y = 0; y < img.height; ++y)
+                for (int x = 0; x < img.width; ++x) {
+                    const double rad = std::hypot(x + 0.5 - v.cx, y + 0.5 - v.cy) / R;
+                    if (rad > 0.9) {  // near and beyond the silhouette: never brighter than inside
+                        if (img.at(x, y) != kMagenta && luminance(img, x, y) > lum_09 + 6) ++bright_rim;
+                        continue;
+                    }
+                    const double err = std::abs(luminance(img, x, y) - analytic(x + 0.5, y + 0.5));
+                    worst = std::max(worst, err);
+                    ++checked;
+                    bad += err > 6;
+                }
+            INFO("worst luminance error " << worst);
+            CHECK(checked > 0.7 * std::numbers::pi * R * R);
+            CHECK(bad == 0);
+            CHECK(bright_rim == 0);
         }
     }
 }

@@ -1,0 +1,97 @@
+// Shared pieces of `meshless bench` (dissertation §3.6: extraction time, memory and frame rate of
+// iso-splatting vs marching cubes): options, the report (plain-text tables on stdout, the same
+// tables as markdown for bench/RESULTS.md), the machine description, a wall clock, isovalue
+// selection over a volume's histogram, and the list of benchmark volumes under the data folder.
+//
+// Units: times in milliseconds unless a column says otherwise; memory in bytes (printed as MiB/KiB);
+// distances in voxels. Nothing here is thread-safe: one Report per bench run, used by one thread.
+// Throws IoError when the markdown file cannot be written; UsageError for bad options.
+#pragma once
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "kernels/grid.hpp"
+
+namespace meshless::cli::bench {
+
+struct BenchOptions {
+    std::string data_dir;     ///< folder holding the shared test data (may not exist)
+    std::string bench_dir;    ///< folder holding flying_edges.py
+    int reps = 10;            ///< repetitions per isosurface
+    int isovalues = 16;       ///< isosurfaces per volume
+    bool quick = false;       ///< smoke-test mode: few reps and isovalues, no large volumes
+    std::string python = "/usr/bin/python3";  ///< interpreter with the vtk module (FE baseline)
+};
+
+/// A table of strings: a header row and data rows, right-aligned numbers, left-aligned first column.
+struct Table {
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
+    void add(std::vector<std::string> row) { rows.push_back(std::move(row)); }
+};
+
+/// Prints sections, notes and tables to stdout as they are produced (flushed, so a long run shows
+/// progress) and keeps the markdown rendering of everything for write_markdown().
+class Report {
+public:
+    void title(const std::string& text);
+    void section(const std::string& text);
+    void note(const std::string& text);
+    void table(const Table& t);
+    /// Writes the markdown document (AtomicFile: temporary + rename).
+    void write_markdown(const std::string& path) const;
+
+private:
+    std::string md_;
+};
+
+/// "AMD EPYC 7xx (2 logical cores)" from /proc/cpuinfo (or "unknown CPU").
+std::string machine_description();
+/// Local date and time "YYYY-MM-DD HH:MM".
+std::string now_string();
+
+/// Wall clock in milliseconds since construction.
+class Stopwatch {
+public:
+    Stopwatch() : t0_(std::chrono::steady_clock::now()) {}
+    double ms() const {
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
+    }
+
+private:
+    std::chrono::steady_clock::time_point t0_;
+};
+
+/// printf-style formatting into a std::string.
+std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
+/// Bytes as "12.3 MiB" / "45.6 KiB".
+std::string bytes_str(double bytes);
+
+/// K isovalues spread over the data: evenly spaced quantiles (k+1)/(K+1) of the sample
+/// histogram; integer sample types snap to "between grey levels" (floor + 0.5) so no sample
+/// equals the isovalue. Duplicates are replaced by evenly spaced values over the range, so
+/// fewer than K values come back only when the range has fewer than K distinct levels.
+/// Sorted ascending; every value lies strictly inside (min, max) of the finite samples.
+std::vector<double> pick_isovalues(const Volume& v, int k);
+
+/// A benchmark volume: label, path relative to the data folder, and whether --quick skips it.
+struct DataVolume {
+    std::string label, rel_path;
+    bool large = false;
+};
+/// The volumes of the speed benchmark (section 3.6), present or not.
+std::vector<DataVolume> speed_volumes();
+
+// The sections; each prints its tables into the report. Missing data is reported, not thrown.
+/// Accuracy of the projected points against analytic surfaces (cli/bench_accuracy.cpp).
+void run_accuracy(const BenchOptions& o, Report& r);
+/// Extraction time and memory, iso-splatting vs marching cubes vs VTK Flying Edges (cli/bench_speed.cpp).
+void run_speed(const BenchOptions& o, Report& r);
+/// Thread scaling of iso-splatting and identical output across thread counts (cli/bench_speed.cpp).
+void run_threads(const BenchOptions& o, Report& r);
+/// Splat rendering frame times, quad and EWA kernels, 36-frame turntable (cli/bench_splat.cpp).
+void run_splat(const BenchOptions& o, Report& r);
+
+}  // namespace meshless::cli::bench

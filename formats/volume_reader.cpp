@@ -1,0 +1,134 @@
+#include "formats/volume_reader.hpp"
+
+#include <cstring>
+#include <filesystem>
+
+#include "formats/binary_file.hpp"
+#include "formats/gzip.hpp"
+#include "formats/metaimage.hpp"
+#include "formats/nifti.hpp"
+#include "formats/nrrd.hpp"
+#include "formats/raw_volume.hpp"
+#include "formats/slc.hpp"
+#include "formats/text_header.hpp"
+#include "formats/voreen_dat.hpp"
+#include "formats/vti.hpp"
+#include "formats/vtk_legacy.hpp"
+#include "formats/vtkjs_image.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+enum class Fmt { raw, nrrd, metaimage, vtk_legacy, vti, vtkjs, slc, nifti, voreen_dat, unknown };
+
+bool ends_with(const std::string& s, const char* suf) {
+    const std::size_t n = std::strlen(suf);
+    return s.size() >= n && s.compare(s.size() - n, n, suf) == 0;
+}
+
+Fmt by_extension(const std::string& path) {
+    const std::string l = to_lower(fs::path(path).filename().string());
+    if (ends_with(l, ".nii.gz") || ends_with(l, ".nii") || ends_with(l, ".hdr") || ends_with(l, ".hdr.gz")) return Fmt::nifti;
+    if (ends_with(l, ".nrrd") || ends_with(l, ".nhdr")) return Fmt::nrrd;
+    if (ends_with(l, ".mhd") || ends_with(l, ".mha")) return Fmt::metaimage;
+    if (ends_with(l, ".vtk")) return Fmt::vtk_legacy;
+    if (ends_with(l, ".vti")) return Fmt::vti;
+    if (ends_with(l, ".json")) return Fmt::vtkjs;
+    if (ends_with(l, ".slc")) return Fmt::slc;
+    if (ends_with(l, ".dat")) return Fmt::voreen_dat;
+    if (ends_with(l, ".raw")) return Fmt::raw;
+    return Fmt::unknown;
+}
+
+Fmt by_content(const std::string& path, const RawOptions& raw) {
+    const std::string h = read_file_prefix(path, 4096);
+    if (h.rfind("NRRD", 0) == 0) return Fmt::nrrd;
+    if (to_lower(h.substr(0, 14)) == "# vtk datafile") return Fmt::vtk_legacy;
+    if (h.rfind("<?xml", 0) == 0 || h.rfind("<VTKFile", 0) == 0) return Fmt::vti;
+    if (h.rfind("11111", 0) == 0) return Fmt::slc;
+    if (h.size() >= 348) {
+        std::int32_t s;
+        std::memcpy(&s, h.data(), 4);
+        if (s == 348 || s == static_cast<std::int32_t>(__builtin_bswap32(348u))) return Fmt::nifti;
+    }
+    if (is_gzip_magic(h.data(), h.size())) return Fmt::nifti;  // the only gzipped single-file volume we know
+    if (h.find("ElementDataFile") != std::string::npos) return Fmt::metaimage;
+    if (h.find("ObjectFileName") != std::string::npos) return Fmt::voreen_dat;
+    if (h.find("vtkImageData") != std::string::npos) return Fmt::vtkjs;
+    if ((raw.dims && raw.type) || parse_raw_name(path)) return Fmt::raw;
+    return Fmt::unknown;
+}
+
+Fmt detect(const std::string& path, const RawOptions& raw) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) {
+        if (fs::is_regular_file(fs::path(path) / "index.json", ec)) return Fmt::vtkjs;
+        throw IoError(path + ": is a directory, expected a volume file (or a vtk-js directory with index.json)");
+    }
+    if (!fs::exists(path, ec)) throw IoError(path + ": cannot open: No such file or directory");
+    const Fmt e = by_extension(path);
+    if (e != Fmt::unknown) return e;
+    const Fmt c = by_content(path, raw);
+    if (c == Fmt::unknown)
+        throw FormatError(path + ": unrecognized volume format (no known extension or magic; for raw data give dims and type)");
+    return c;
+}
+
+}  // namespace
+
+Volume read_volume(const std::string& path, const RawOptions& raw) {
+    switch (detect(path, raw)) {
+        case Fmt::raw: return read_raw(path, raw);
+        case Fmt::nrrd: return read_nrrd(path);
+        case Fmt::metaimage: return read_metaimage(path);
+        case Fmt::vtk_legacy: return read_vtk_legacy(path);
+        case Fmt::vti: return read_vti(path);
+        case Fmt::vtkjs: return read_vtkjs_image(path);
+        case Fmt::slc: return read_slc(path);
+        case Fmt::nifti: return read_nifti(path);
+        case Fmt::voreen_dat: return read_voreen_dat(path);
+        case Fmt::unknown: break;
+    }
+    throw FormatError(path + ": unrecognized volume format");
+}
+
+VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
+    switch (detect(path, raw)) {
+        case Fmt::raw: return probe_raw(path, raw);
+        case Fmt::nrrd: return probe_nrrd(path);
+        case Fmt::metaimage: return probe_metaimage(path);
+        case Fmt::vtk_legacy: return probe_vtk_legacy(path);
+        case Fmt::vti: return probe_vti(path);
+        case Fmt::vtkjs: return probe_vtkjs_image(path);
+        case Fmt::slc: return probe_slc(path);
+        case Fmt::nifti: return probe_nifti(path);
+        case Fmt::voreen_dat: return probe_voreen_dat(path);
+        case Fmt::unknown: break;
+    }
+    throw FormatError(path + ": unrecognized volume format");
+}
+
+bool looks_like_volume(const std::string& path) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) return fs::is_regular_file(fs::path(path) / "index.json", ec);
+    const Fmt e = by_extension(path);
+    if (e == Fmt::unknown) return false;
+    if (e == Fmt::vtkjs || e == Fmt::voreen_dat) {
+        // .json only when it is a vtk-js image index; .dat only when it is a Voreen sidecar
+        try {
+            if (!fs::is_regular_file(path, ec)) return false;
+            const std::string h = read_file_prefix(path, 1 << 16);
+            return e == Fmt::vtkjs ? h.find("vtkImageData") != std::string::npos
+                                   : h.find("ObjectFileName") != std::string::npos;
+        } catch (const IoError&) {
+            return false;
+        }
+    }
+    return true;
+}
+
+}  // namespace meshless

@@ -1,0 +1,299 @@
+#include "formats/vti.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <cstring>
+#include <map>
+
+#include "formats/base64.hpp"
+#include "formats/binary_file.hpp"
+#include "formats/gzip.hpp"
+#include "formats/payload.hpp"
+#include "formats/text_header.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+namespace {
+
+using Attrs = std::map<std::string, std::string>;
+
+struct Tag {
+    std::size_t begin = std::string::npos;  // offset of '<'
+    std::size_t end = 0;                    // offset after '>'
+    Attrs attrs;
+    bool self_closing = false;
+};
+
+// Finds the next <name ...> at or after `from` (before `limit`) and parses its attributes.
+Tag find_tag(std::string_view doc, std::string_view name, std::size_t from, std::size_t limit, const std::string& path) {
+    Tag t;
+    std::size_t p = from;
+    for (;;) {
+        p = doc.find(name, p);
+        if (p == std::string_view::npos || p >= limit) return t;
+        if (p > 0 && doc[p - 1] == '<' && p + name.size() < doc.size() &&
+            (std::isspace(static_cast<unsigned char>(doc[p + name.size()])) || doc[p + name.size()] == '>' ||
+             doc[p + name.size()] == '/'))
+            break;
+        p += name.size();
+    }
+    t.begin = p - 1;
+    std::size_t i = p + name.size();
+    for (;;) {
+        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
+        if (i >= doc.size()) throw FormatError(path + ": unterminated <" + std::string(name) + "> tag");
+        if (doc[i] == '>') {
+            t.end = i + 1;
+            return t;
+        }
+        if (doc[i] == '/' && i + 1 < doc.size() && doc[i + 1] == '>') {
+            t.self_closing = true;
+            t.end = i + 2;
+            return t;
+        }
+        const std::size_t ks = i;
+        while (i < doc.size() && doc[i] != '=' && doc[i] != '>' && !std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
+        std::string key(doc.substr(ks, i - ks));
+        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
+        if (i >= doc.size() || doc[i] != '=') throw FormatError(path + ": bad attribute '" + key + "' in <" + std::string(name) + ">");
+        ++i;
+        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
+        if (i >= doc.size() || (doc[i] != '"' && doc[i] != '\''))
+            throw FormatError(path + ": unquoted attribute '" + key + "' in <" + std::string(name) + ">");
+        const char q = doc[i++];
+        const std::size_t vs = i;
+        const std::size_t ve = doc.find(q, vs);
+        if (ve == std::string_view::npos) throw FormatError(path + ": unterminated attribute '" + key + "'");
+        t.attrs[key] = std::string(doc.substr(vs, ve - vs));
+        i = ve + 1;
+    }
+}
+
+std::string attr(const Tag& t, const char* k, const std::string& def = "") {
+    const auto it = t.attrs.find(k);
+    return it == t.attrs.end() ? def : it->second;
+}
+
+std::optional<StoredType> vtk_xml_type(const std::string& t) {
+    static const std::map<std::string, StoredType> m = {
+        {"Int8", StoredType::i8},   {"UInt8", StoredType::u8},   {"Int16", StoredType::i16},
+        {"UInt16", StoredType::u16}, {"Int32", StoredType::i32}, {"UInt32", StoredType::u32},
+        {"Int64", StoredType::i64}, {"UInt64", StoredType::u64}, {"Float32", StoredType::f32},
+        {"Float64", StoredType::f64}, {"Char", StoredType::i8}, {"UnsignedChar", StoredType::u8}};
+    const auto it = m.find(t);
+    if (it == m.end()) return std::nullopt;
+    return it->second;
+}
+
+struct VtiLayout {
+    GridSpec grid;
+    StoredType type = StoredType::u8;
+    bool big_endian = false;
+    bool compressed = false;
+    bool header64 = false;
+    std::string format;            // ascii | binary | appended
+    std::size_t content_begin = 0; // inline content
+    std::size_t content_end = 0;
+    std::size_t appended_begin = 0;  // first byte after '_'
+    bool appended_base64 = false;
+    std::uint64_t offset = 0;
+    std::string encoding_name;
+};
+
+VtiLayout parse_layout(std::string_view doc, const std::string& path) {
+    if (doc.find("<VTKFile") == std::string_view::npos)
+        throw FormatError(path + ": not a VTK XML file (no <VTKFile> element)");
+    const Tag file = find_tag(doc, "VTKFile", 0, doc.size(), path);
+    VtiLayout L;
+    const std::string type = attr(file, "type");
+    if (type != "ImageData") throw FormatError(path + ": unsupported VTK XML type '" + type + "' (ImageData supported)");
+    const std::string bo = attr(file, "byte_order", "LittleEndian");
+    if (bo == "BigEndian")
+        L.big_endian = true;
+    else if (bo != "LittleEndian")
+        throw FormatError(path + ": bad byte_order '" + bo + "'");
+    const std::string ht = attr(file, "header_type", "UInt32");
+    if (ht == "UInt64")
+        L.header64 = true;
+    else if (ht != "UInt32")
+        throw FormatError(path + ": unsupported header_type '" + ht + "'");
+    const std::string comp = attr(file, "compressor");
+    if (comp == "vtkZLibDataCompressor")
+        L.compressed = true;
+    else if (!comp.empty())
+        throw FormatError(path + ": unsupported compressor '" + comp + "' (vtkZLibDataCompressor supported)");
+
+    const Tag image = find_tag(doc, "ImageData", file.end, doc.size(), path);
+    if (image.begin == std::string::npos) throw FormatError(path + ": missing <ImageData>");
+    const Tag piece = find_tag(doc, "Piece", image.end, doc.size(), path);
+    if (piece.begin == std::string::npos) throw FormatError(path + ": missing <Piece>");
+    const std::size_t piece_close = doc.find("</Piece>", piece.end);
+    if (piece_close == std::string_view::npos) throw FormatError(path + ": unterminated <Piece>");
+    if (find_tag(doc, "Piece", piece_close, doc.find("</ImageData>", piece_close), path).begin != std::string::npos)
+        throw FormatError(path + ": several <Piece> elements are not supported");
+    std::string extent = attr(piece, "Extent", attr(image, "WholeExtent"));
+    const auto ext = parse_ints(extent, 6, path, "Extent");
+    const auto sp = parse_doubles(attr(image, "Spacing", "1 1 1"), 3, path, "Spacing");
+    const auto org = parse_doubles(attr(image, "Origin", "0 0 0"), 3, path, "Origin");
+    for (int a = 0; a < 3; ++a) {
+        L.grid.dims[a] = ext[2 * a + 1] - ext[2 * a] + 1;
+        if (L.grid.dims[a] < 1) throw FormatError(path + ": bad Extent '" + extent + "'");
+        if (sp[a] == 0) throw FormatError(path + ": bad Spacing: zero spacing");
+        L.grid.spacing[a] = std::fabs(sp[a]);
+        L.grid.origin[a] = org[a] + static_cast<double>(ext[2 * a]) * sp[a];
+    }
+
+    const Tag pd = find_tag(doc, "PointData", piece.end, piece_close, path);
+    if (pd.begin == std::string::npos || pd.self_closing) throw FormatError(path + ": no <PointData> arrays");
+    const std::size_t pd_close = doc.find("</PointData>", pd.end);
+    if (pd_close == std::string_view::npos) throw FormatError(path + ": unterminated <PointData>");
+    const std::string want = attr(pd, "Scalars");
+    Tag chosen;
+    for (std::size_t from = pd.end;;) {
+        const Tag a = find_tag(doc, "DataArray", from, pd_close, path);
+        if (a.begin == std::string::npos) break;
+        if (chosen.begin == std::string::npos || (!want.empty() && attr(a, "Name") == want &&
+                                                  attr(chosen, "Name") != want))
+            chosen = a;
+        from = a.end;
+    }
+    if (chosen.begin == std::string::npos) throw FormatError(path + ": no point DataArray");
+    const std::string ncomp = attr(chosen, "NumberOfComponents", "1");
+    if (ncomp != "1") throw FormatError(path + ": unsupported DataArray with " + ncomp + " components");
+    const std::string tname = attr(chosen, "type");
+    const auto st = vtk_xml_type(tname);
+    if (!st) throw FormatError(path + ": unsupported DataArray type '" + tname + "'");
+    L.type = *st;
+    L.format = attr(chosen, "format");
+    if (L.format == "ascii" || L.format == "binary") {
+        if (chosen.self_closing) throw FormatError(path + ": empty DataArray");
+        L.content_begin = chosen.end;
+        L.content_end = doc.find("</DataArray>", chosen.end);
+        if (L.content_end == std::string_view::npos) throw FormatError(path + ": unterminated <DataArray>");
+        L.encoding_name = L.format == "ascii" ? "ascii" : (L.compressed ? "base64+zlib" : "base64");
+    } else if (L.format == "appended") {
+        L.offset = static_cast<std::uint64_t>(parse_int(attr(chosen, "offset", "0"), path, "offset"));
+        const Tag app = find_tag(doc, "AppendedData", pd_close, doc.size(), path);
+        if (app.begin == std::string::npos) throw FormatError(path + ": format=\"appended\" without <AppendedData>");
+        const std::string enc = attr(app, "encoding", "raw");
+        if (enc == "base64")
+            L.appended_base64 = true;
+        else if (enc != "raw")
+            throw FormatError(path + ": unsupported AppendedData encoding '" + enc + "'");
+        const std::size_t us = doc.find('_', app.end);
+        if (us == std::string_view::npos) throw FormatError(path + ": <AppendedData> without the '_' marker");
+        L.appended_begin = us + 1;
+        L.encoding_name = std::string("appended-") + (L.appended_base64 ? "base64" : "raw") + (L.compressed ? "+zlib" : "");
+    } else {
+        throw FormatError(path + ": unsupported DataArray format '" + L.format + "'");
+    }
+    return L;
+}
+
+std::uint64_t read_uint(const std::byte* p, bool header64, bool big) {
+    if (header64) {
+        std::uint64_t v;
+        std::memcpy(&v, p, 8);
+        if (big == host_is_little_endian()) v = __builtin_bswap64(v);
+        return v;
+    }
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);
+    if (big == host_is_little_endian()) v = __builtin_bswap32(v);
+    return v;
+}
+
+// Decodes [header][data] laid out in `bin` (raw bytes) into the payload.
+std::vector<std::byte> decode_binary(const std::byte* bin, std::size_t n, const VtiLayout& L, std::uint64_t expected,
+                                     const std::string& path) {
+    const std::size_t hs = L.header64 ? 8 : 4;
+    if (!L.compressed) {
+        if (n < hs) throw FormatError(path + ": truncated DataArray header");
+        const std::uint64_t nbytes = read_uint(bin, L.header64, L.big_endian);
+        if (nbytes != expected)
+            throw FormatError(path + ": DataArray holds " + std::to_string(nbytes) + " bytes, expected " +
+                              std::to_string(expected) + " for " + dims_string(L.grid) + " " + to_string(L.type));
+        if (n - hs < nbytes)
+            throw FormatError(path + ": truncated DataArray: " + std::to_string(n - hs) + " of " + std::to_string(nbytes) + " bytes");
+        return std::vector<std::byte>(bin + hs, bin + hs + nbytes);
+    }
+    if (n < 3 * hs) throw FormatError(path + ": truncated compressed DataArray header");
+    const std::uint64_t nblocks = read_uint(bin, L.header64, L.big_endian);
+    const std::uint64_t bsize = read_uint(bin + hs, L.header64, L.big_endian);
+    const std::uint64_t last = read_uint(bin + 2 * hs, L.header64, L.big_endian);
+    if (nblocks > (n / hs) || (nblocks > 0 && bsize == 0))
+        throw FormatError(path + ": bad compressed DataArray header (" + std::to_string(nblocks) + " blocks)");
+    const std::uint64_t total = nblocks == 0 ? 0 : (nblocks - 1) * bsize + (last == 0 ? bsize : last);
+    if (total != expected)
+        throw FormatError(path + ": DataArray holds " + std::to_string(total) + " bytes, expected " + std::to_string(expected) +
+                          " for " + dims_string(L.grid) + " " + to_string(L.type));
+    const std::size_t header_bytes = static_cast<std::size_t>((3 + nblocks) * hs);
+    if (n < header_bytes) throw FormatError(path + ": truncated compressed DataArray header");
+    std::vector<std::byte> out(static_cast<std::size_t>(total));
+    std::uint64_t in_pos = header_bytes;
+    for (std::uint64_t b = 0; b < nblocks; ++b) {
+        const std::uint64_t cs = read_uint(bin + (3 + b) * hs, L.header64, L.big_endian);
+        if (cs > n - in_pos)
+            throw FormatError(path + ": truncated compressed block " + std::to_string(b) + " (" + std::to_string(cs) +
+                              " bytes at " + std::to_string(in_pos) + ", have " + std::to_string(n - in_pos) + ")");
+        const std::uint64_t us = (b + 1 == nblocks && last != 0) ? last : bsize;
+        inflate_into(bin + in_pos, static_cast<std::size_t>(cs), out.data() + b * bsize, static_cast<std::size_t>(us), path);
+        in_pos += cs;
+    }
+    return out;
+}
+
+}  // namespace
+
+VolumeInfo probe_vti(const std::string& path) {
+    const std::uint64_t size = regular_file_size(path);
+    // headers are at the front; the chosen array's content may be far away, but probing only
+    // needs the tags: read up to 1 MiB, falling back to the whole file when tags straddle it
+    std::string doc = read_file_prefix(path, static_cast<std::size_t>(std::min<std::uint64_t>(size, 1 << 20)));
+    VtiLayout L;
+    try {
+        L = parse_layout(doc, path);
+    } catch (const FormatError&) {
+        if (doc.size() == size) throw;
+        doc = read_file_prefix(path, static_cast<std::size_t>(size));
+        L = parse_layout(doc, path);
+    }
+    VolumeInfo i;
+    i.format = "vti";
+    i.grid = L.grid;
+    i.type = volume_type_for(L.type);
+    i.encoding = L.encoding_name;
+    i.data_files = {path};
+    return i;
+}
+
+Volume read_vti(const std::string& path) {
+    const std::vector<std::byte> bytes = read_file_bytes(path);
+    const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    const VtiLayout L = parse_layout(doc, path);
+    const std::uint64_t count = static_cast<std::uint64_t>(L.grid.voxel_count());
+    const std::uint64_t expected = count * stored_size(L.type);
+    std::vector<std::byte> payload;
+    if (L.format == "ascii") {
+        payload = parse_ascii_samples(doc.substr(L.content_begin, L.content_end - L.content_begin), L.type,
+                                      static_cast<std::size_t>(count), path);
+        return make_volume(std::move(payload), L.type, !host_is_little_endian(), L.grid, path);
+    }
+    if (L.format == "binary") {
+        const auto bin = base64_decode(doc.substr(L.content_begin, L.content_end - L.content_begin), path);
+        payload = decode_binary(bin.data(), bin.size(), L, expected, path);
+    } else if (L.appended_base64) {
+        if (L.appended_begin + L.offset > doc.size()) throw FormatError(path + ": appended offset past the end of the file");
+        const auto bin = base64_decode(doc.substr(static_cast<std::size_t>(L.appended_begin + L.offset)), path, true);
+        payload = decode_binary(bin.data(), bin.size(), L, expected, path);
+    } else {
+        const std::uint64_t start = L.appended_begin + L.offset;
+        if (start > bytes.size()) throw FormatError(path + ": appended offset " + std::to_string(L.offset) + " past the end of the file");
+        payload = decode_binary(bytes.data() + start, static_cast<std::size_t>(bytes.size() - start), L, expected, path);
+    }
+    return make_volume(std::move(payload), L.type, L.big_endian, L.grid, path);
+}
+
+}  // namespace meshless

@@ -1,0 +1,24 @@
+// VTK XML ImageData (.vti) reader, single piece.
+//
+// Reads the point array named by <PointData Scalars="..."> (else the first point DataArray),
+// one component. Data formats: ascii, binary (inline base64) and appended (raw or base64);
+// compressor vtkZLibDataCompressor or none; header_type UInt32 (default) or UInt64;
+// byte_order LittleEndian or BigEndian (applies to headers and data). Compressed layout: header
+// [nblocks, blocksize, last_blocksize, csize_0..csize_{n-1}], then the zlib blocks.
+// Types Int8..UInt64, Float32, Float64 (see volume_reader.hpp for conversions).
+// Grid: dims from the Piece (else Whole) extent, origin = Origin + extent_min * Spacing;
+// a non-identity Direction is ignored.
+// Throws IoError (cannot open), FormatError (not ImageData, unsupported compressor, several
+// pieces, multi-component, size mismatch, corrupt base64/zlib). Thread-safety: reentrant.
+// Dissertation: chapter 3 input volumes.
+#pragma once
+#include <string>
+
+#include "formats/volume_reader.hpp"
+
+namespace meshless {
+
+VolumeInfo probe_vti(const std::string& path);
+Volume read_vti(const std::string& path);
+
+}  // namespace meshless

@@ -1,0 +1,23 @@
+// vtk-js HttpDataSetReader image layout: a directory (often named *.vti) holding index.json
+// with vtkClass "vtkImageData", extent[6], spacing[3], origin[3] and pointData.arrays[].data
+// {dataType (Int8Array..Float64Array), numberOfComponents, size, ref {basepath, id, encode}};
+// the array bytes are in BASEPATH/ID.gz (gzip) or BASEPATH/ID (raw, or gzip by magic).
+// The array registered with "setScalars" is read, else the first; one component only.
+// `path` may be the directory or the index.json itself.
+// Throws IoError (cannot open index or array file), FormatError (bad JSON, not vtkImageData,
+// unsupported dataType/components, size mismatch, corrupt gzip). Thread-safety: reentrant.
+// Dissertation: chapter 3 input volumes.
+#pragma once
+#include <string>
+
+#include "formats/payload.hpp"
+
+namespace meshless {
+
+/// index.json for a directory path, the path itself otherwise.
+std::string vtkjs_index_path(const std::string& path);
+PayloadPlan plan_vtkjs_image(const std::string& path);
+VolumeInfo probe_vtkjs_image(const std::string& path);
+Volume read_vtkjs_image(const std::string& path);
+
+}  // namespace meshless

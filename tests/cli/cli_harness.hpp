@@ -1,0 +1,47 @@
+// Running the built `meshless` executable from tests: shell command lines (pipes included), exit
+// codes, captured stderr, file contents.
+#pragma once
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "test_paths.hpp"
+
+namespace meshless::test {
+
+struct RunResult {
+    int code = -1;
+    std::string err;
+};
+
+/// Runs `bash -o pipefail -c CMD` with stderr captured; "MESHLESS" in CMD is replaced by the binary.
+inline RunResult sh(std::string cmd, const TempDir& dir) {
+    for (std::size_t p; (p = cmd.find("MESHLESS")) != std::string::npos;) cmd.replace(p, 8, meshless_exe());
+    const std::string errfile = (dir.path / "stderr.txt").string();
+    const std::string full = "bash -o pipefail -c '" + cmd + "' </dev/null 2>" + errfile;
+    const int status = std::system(full.c_str());
+    RunResult r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    std::ifstream in(errfile);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    r.err = ss.str();
+    return r;
+}
+
+inline std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+inline void spit(const std::filesystem::path& p, const std::string& bytes) {
+    std::ofstream out(p, std::ios::binary);
+    out << bytes;
+}
+
+}  // namespace meshless::test

@@ -1,0 +1,175 @@
+// The meshless command line as a user runs it: pipes vs in-process byte identity, thread-count
+// identity, exit codes, bad input, quiet exit on closed pipes, no half-written outputs.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <vector>
+
+#include "cli/cli_harness.hpp"
+#include "kernels/analytic_volumes.hpp"
+
+using namespace meshless;
+using namespace meshless::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A 40^3 uint8 torus volume written with the name convention; returns its path.
+std::string write_test_volume(const TempDir& d) {
+    const Volume v = make_analytic_volume(AnalyticField::torus, 40);
+    const float* f = reinterpret_cast<const float*>(v.bytes.data());
+    std::string bytes(static_cast<std::size_t>(v.grid.voxel_count()), '\0');
+    for (std::size_t i = 0; i < bytes.size(); ++i)
+        bytes[i] = static_cast<char>(static_cast<unsigned char>(std::clamp(std::lround(f[i] * 200.0), 0L, 255L)));
+    const auto p = d / "torus_40x40x40_uint8.raw";
+    spit(p, bytes);
+    return p.string();
+}
+
+}  // namespace
+
+TEST_CASE("pipes give the same bytes as the in-process isosurface, for any thread count", "[cli]") {
+    TempDir d("pipe");
+    const std::string vol = write_test_volume(d);
+    const std::string D = d.path.string();
+    for (const char* proj : {"approx", "exact", "none"}) {
+        INFO(proj);
+        REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 --projection " + std::string(proj) + " -o " + D + "/a.ply --png " + D +
+                       "/a.png --size 200x200",
+                   d).code == 0);
+        REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project --projection " + std::string(proj) +
+                       " | MESHLESS write -o " + D + "/b.ply",
+                   d).code == 0);
+        REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 --threads 2 --compress | MESHLESS project --threads 3 --projection " +
+                       std::string(proj) + " | MESHLESS splat -o " + D + "/b.png --size 200x200",
+                   d).code == 0);
+        REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 --threads 2 --projection " + std::string(proj) + " -o " + D + "/c.ply", d).code == 0);
+        const std::string a = slurp(d / "a.ply");
+        CHECK(a.size() > 1000);
+        CHECK(a == slurp(d / "b.ply"));
+        CHECK(a == slurp(d / "c.ply"));
+        CHECK(slurp(d / "a.png") == slurp(d / "b.png"));
+    }
+}
+
+TEST_CASE("closed pipes end quietly, truncated streams are reported", "[cli]") {
+    TempDir d("head");
+    const std::string vol = write_test_volume(d);
+    auto r = sh("MESHLESS generate " + vol + " --iso 50.5 | head -c 100 > /dev/null", d);
+    CHECK(r.code == 0);
+    CHECK(r.err.empty());
+    r = sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project | head -c 100 > /dev/null", d);
+    CHECK(r.code == 0);
+    CHECK(r.err.empty());
+    r = sh("MESHLESS generate " + vol + " --iso 50.5 | head -c 1000 | MESHLESS project > /dev/null", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("truncated"));
+}
+
+TEST_CASE("garbage, wrong-version and wrong-kind streams are refused with exit code 2", "[cli]") {
+    TempDir d("garbage");
+    const std::string vol = write_test_volume(d);
+    const std::string D = d.path.string();
+    auto r = sh("echo hello | MESHLESS project > /dev/null", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("not a meshless point stream"));
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 -o " + D + "/s.mls", d).code == 0);
+    std::string s = slurp(d / "s.mls");
+    s[8] = 9;
+    spit(d / "v9.mls", s);
+    r = sh("MESHLESS project " + D + "/v9.mls > /dev/null", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("version 9"));
+    r = sh("MESHLESS write " + D + "/s.mls -o " + D + "/x.ply", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("unprojected"));
+    CHECK(!fs::exists(d / "x.ply"));
+    r = sh("MESHLESS project < /dev/null > /dev/null", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("empty input"));
+}
+
+TEST_CASE("bad volumes and bad arguments: one-line errors and documented exit codes", "[cli]") {
+    TempDir d("bad");
+    const std::string vol = write_test_volume(d);
+    const std::string D = d.path.string();
+    auto r = sh("MESHLESS isosurface " + vol + " -o " + D + "/x.ply", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("--iso"));
+    r = sh("MESHLESS isosurface " + vol + " --iso abc -o " + D + "/x.ply", d);
+    CHECK(r.code == 1);
+    r = sh("MESHLESS isosurface " + vol + " --iso 5 --bogus -o " + D + "/x.ply", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("unknown option"));
+    r = sh("MESHLESS frobnicate", d);
+    CHECK(r.code == 1);
+    // wrong dims for the file size
+    r = sh("MESHLESS isosurface " + vol + " --dims 41,40,40 --type uint8 --iso 5 -o " + D + "/x.ply", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains(vol));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    // unreadable input, directory as input
+    r = sh("MESHLESS isosurface " + D + "/missing_8x8x8_uint8.raw --iso 5 -o " + D + "/x.ply", d);
+    CHECK(r.code == 2);
+    r = sh("MESHLESS isosurface " + D + " --iso 5 -o " + D + "/x.ply", d);
+    CHECK(r.code == 2);
+    CHECK(!fs::exists(d / "x.ply"));
+    // unwritable output: directory missing -> no file, exit 2
+    r = sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/no/such/dir/x.ply", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("no/such/dir/x.ply"));
+    // a directory where the output file should be
+    r = sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D, d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("is a directory"));
+    // nothing half-written anywhere
+    for (const auto& e : fs::directory_iterator(d.path)) CHECK(e.path().string().find(".tmp-") == std::string::npos);
+}
+
+TEST_CASE("an isovalue outside the data range warns and writes empty but valid outputs", "[cli]") {
+    TempDir d("range");
+    const std::string vol = write_test_volume(d);
+    const std::string D = d.path.string();
+    auto r = sh("MESHLESS isosurface " + vol + " --iso 1000 -o " + D + "/e.ply --png " + D + "/e.png --size 64x64", d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("outside the data range"));
+    CHECK_THAT(slurp(d / "e.ply"), Catch::Contains("element vertex 0\n"));
+    CHECK(fs::file_size(d / "e.png") > 0);
+    r = sh("MESHLESS info " + D + "/e.ply", d);
+    CHECK(r.code == 0);
+}
+
+TEST_CASE("every subcommand answers --help with exit 0", "[cli]") {
+    TempDir d("help");
+    for (const char* c : {"demo", "isosurface", "generate", "project", "write", "splat", "mc", "info"}) {
+        INFO(c);
+        CHECK(sh("MESHLESS " + std::string(c) + " --help | grep -q usage:", d).code == 0);
+    }
+    CHECK(sh("MESHLESS --help | grep -q isosurface", d).code == 0);
+}
+
+TEST_CASE("demo writes a PLY and a PNG", "[cli]") {
+    TempDir d("demo");
+    const std::string D = d.path.string();
+    REQUIRE(sh("MESHLESS demo -o " + D + "/out --n 48 --size 160x120", d).code == 0);
+    CHECK(fs::file_size(d / "out/demo.ply") > 10000);
+    CHECK(fs::file_size(d / "out/demo.png") > 1000);
+    auto r = sh("MESHLESS info " + D + "/out/demo.png " + D + "/out/demo.ply", d);
+    CHECK(r.code == 0);
+}
+
+TEST_CASE("mc writes a closed mesh and stats; turntable writes N frames", "[cli]") {
+    TempDir d("mc");
+    const std::string vol = write_test_volume(d);
+    const std::string D = d.path.string();
+    auto r = sh("MESHLESS mc " + vol + " --iso 50.5 -o " + D + "/m.ply --stats", d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("triangles"));
+    r = sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/p.ply && MESHLESS splat " + D + "/p.ply -o " + D +
+               "/t.png --turntable 4 --size 64x64 --kernel quad",
+           d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("ms/frame"));
+    for (int i = 0; i < 4; ++i) CHECK(fs::exists(d / ("t_00" + std::to_string(i) + ".png")));
+}
