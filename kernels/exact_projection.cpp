@@ -27,11 +27,6 @@ std::array<double, 4> trilinear_ray_cubic(const double c[8], const Vec3& p, cons
 
 namespace {
 
-bool inside(const Vec3& x, double tol) {
-    return x.x >= -tol && x.x <= 1.0 + tol && x.y >= -tol && x.y <= 1.0 + tol && x.z >= -tol &&
-           x.z <= 1.0 + tol;
-}
-
 Vec3 clamp01(const Vec3& x) {
     return {std::clamp(x.x, 0.0, 1.0), std::clamp(x.y, 0.0, 1.0), std::clamp(x.z, 0.0, 1.0)};
 }
@@ -80,7 +75,7 @@ bool nearest_hit(const double c[8], const Vec3& p, const Vec3& dir, double iso, 
     for (int i = 0; i < nc; ++i)
         if (crit[i] > t0 && crit[i] < t1) cuts[ncuts++] = crit[i];
     cuts[ncuts++] = t1;
-    std::sort(cuts, cuts + ncuts);
+    // solve_quadratic returns ascending roots, all strictly inside (t0, t1): cuts is sorted.
     double cardan[3];
     const int nr = solve_cubic(k[0], k[1], k[2], k[3], cardan);
     bool found = false;

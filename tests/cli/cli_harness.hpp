@@ -12,16 +12,25 @@
 
 namespace meshless::test {
 
+inline std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
 struct RunResult {
     int code = -1;
     std::string err;
+    std::string out;
 };
 
 /// Runs `bash -o pipefail -c CMD` with stderr captured; "MESHLESS" in CMD is replaced by the binary.
 inline RunResult sh(std::string cmd, const TempDir& dir) {
     for (std::size_t p; (p = cmd.find("MESHLESS")) != std::string::npos;) cmd.replace(p, 8, meshless_exe());
     const std::string errfile = (dir.path / "stderr.txt").string();
-    const std::string full = "bash -o pipefail -c '" + cmd + "' </dev/null 2>" + errfile;
+    const std::string outfile = (dir.path / "stdout.txt").string();
+    const std::string full = "bash -o pipefail -c '" + cmd + "' </dev/null >" + outfile + " 2>" + errfile;
     const int status = std::system(full.c_str());
     RunResult r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -29,14 +38,8 @@ inline RunResult sh(std::string cmd, const TempDir& dir) {
     std::stringstream ss;
     ss << in.rdbuf();
     r.err = ss.str();
+    r.out = slurp(outfile);
     return r;
-}
-
-inline std::string slurp(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 inline void spit(const std::filesystem::path& p, const std::string& bytes) {
