@@ -1,7 +1,9 @@
 #include "kernels/cell_sampling.hpp"
 
 #include <cmath>
+#include <cstring>
 
+#include "kernels/iso_threshold.hpp"
 #include "kernels/trilinear.hpp"
 
 namespace meshless {
@@ -13,42 +15,50 @@ std::int64_t cell_row_count(const GridSpec& g) {
 
 namespace {
 
-template <class T>
+template <class T, class Emit>
 void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0, std::int64_t row1,
-                 const SamplingParams& params, std::vector<SampleRecord>& out, SamplingStats& stats) {
+                 const SamplingParams& params, Emit&& emit, SamplingStats& stats) {
     constexpr bool is_float = std::is_floating_point_v<T>;
+    const IsoThreshold<T> thr(iso);
+    if (thr.none_above || thr.all_above) return;  // every cell on one side: nothing is active
+    const T t = thr.t;
     const std::int64_t nx = g.dims[0], ny = g.dims[1];
     const std::int64_t sy = nx, sz = nx * ny;
     const double sx_w = g.spacing[0], sy_w = g.spacing[1], sz_w = g.spacing[2];
     const float radius = static_cast<float>(
         params.radius_scale * 0.5 * std::sqrt(sx_w * sx_w + sy_w * sy_w + sz_w * sz_w));
     const Vec3 size{sx_w, sy_w, sz_w};
+    // count[i] = how many of the 4 samples of x-column i of this cell row are above iso; a cell
+    // (columns i, i+1) is active unless count[i] + count[i+1] is 0 or 8. The counting loop is
+    // branch-free and vectorises; the scan below skips inactive runs 8 cells at a time.
+    std::vector<std::uint8_t> count(static_cast<std::size_t>(nx) + 8, 0);
     for (std::int64_t r = row0; r < row1; ++r) {
         const std::int64_t j = r % (ny - 1), k = r / (ny - 1);
         const T* p00 = data + j * sy + k * sz;  // (0, j,   k)
         const T* p10 = p00 + sy;                // (0, j+1, k)
         const T* p01 = p00 + sz;                // (0, j,   k+1)
         const T* p11 = p01 + sy;                // (0, j+1, k+1)
-        // Bit mask of the 4 corners of the x-column at i: above iso?
-        auto column_mask = [&](std::int64_t i) -> unsigned {
-            return (static_cast<double>(p00[i]) >= iso ? 1u : 0u) |
-                   (static_cast<double>(p10[i]) >= iso ? 2u : 0u) |
-                   (static_cast<double>(p01[i]) >= iso ? 4u : 0u) |
-                   (static_cast<double>(p11[i]) >= iso ? 8u : 0u);
-        };
-        unsigned left = column_mask(0);
+        std::uint8_t* cnt = count.data();
+        for (std::int64_t i = 0; i < nx; ++i)
+            cnt[i] = static_cast<std::uint8_t>((p00[i] >= t) + (p10[i] >= t) + (p01[i] >= t) + (p11[i] >= t));
         for (std::int64_t i = 0; i + 1 < nx; ++i) {
-            const unsigned right = column_mask(i + 1);
-            const unsigned mask = left | (right << 4);
-            left = right;
-            // NaN compares false (reads as "below"), so a cell is only examined for finiteness
-            // when its finite corners straddle the isovalue; such cells are skipped and counted.
-            if (mask == 0u || mask == 0xffu) continue;
+            if (i + 9 <= nx) {  // skip 8 cells whose 9 columns are all below or all above
+                std::uint64_t w;
+                std::memcpy(&w, cnt + i, 8);
+                if ((w == 0 && cnt[i + 8] == 0) || (w == 0x0404040404040404ull && cnt[i + 8] == 4)) {
+                    i += 7;
+                    continue;
+                }
+            }
+            const unsigned sum = cnt[i] + cnt[i + 1];
+            if (sum == 0u || sum == 8u) continue;
             double c[8] = {static_cast<double>(p00[i]), static_cast<double>(p00[i + 1]),
                            static_cast<double>(p10[i]), static_cast<double>(p10[i + 1]),
                            static_cast<double>(p01[i]), static_cast<double>(p01[i + 1]),
                            static_cast<double>(p11[i]), static_cast<double>(p11[i + 1])};
             if constexpr (is_float) {
+                // NaN compares false (reads as "below"), so only cells whose finite corners
+                // straddle the isovalue get here; those with a NaN/Inf corner are skipped, counted.
                 bool finite = true;
                 for (double x : c) finite = finite && std::isfinite(x);
                 if (!finite) {
@@ -75,7 +85,7 @@ void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0
                 s.cell_size[a] = static_cast<float>(g.spacing[a]);
             }
             for (int a = 0; a < 8; ++a) s.corner[a] = static_cast<float>(c[a]);
-            out.push_back(s);
+            emit(s);
             ++stats.active_cells;
         }
     }
@@ -87,7 +97,20 @@ void sample_active_cells(const VolumeView& v, double iso, std::int64_t row0, std
                          const SamplingParams& params, std::vector<SampleRecord>& out,
                          SamplingStats& stats) {
     if (cell_row_count(v.grid) == 0 || row0 >= row1) return;
-    visit_samples(v, [&](auto* p) { sample_rows(p, v.grid, iso, row0, row1, params, out, stats); });
+    auto emit = [&](const SampleRecord& s) { out.push_back(s); };
+    visit_samples(v, [&](auto* p) { sample_rows(p, v.grid, iso, row0, row1, params, emit, stats); });
+}
+
+void sample_and_project_active_cells(const VolumeView& v, double iso, std::int64_t row0, std::int64_t row1,
+                                     const SamplingParams& params, Projection mode,
+                                     std::vector<PointRecord>& out, SamplingStats& stats,
+                                     ProjectionStats& pstats) {
+    if (cell_row_count(v.grid) == 0 || row0 >= row1) return;
+    PointRecord p;
+    auto emit = [&](const SampleRecord& s) {
+        if (project_sample(s, iso, mode, p, pstats)) out.push_back(p);
+    };
+    visit_samples(v, [&](auto* d) { sample_rows(d, v.grid, iso, row0, row1, params, emit, stats); });
 }
 
 }  // namespace meshless

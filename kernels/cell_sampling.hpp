@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "kernels/grid.hpp"
+#include "kernels/project_sample.hpp"
 #include "kernels/records.hpp"
 
 namespace meshless {
@@ -39,5 +40,13 @@ std::int64_t cell_row_count(const GridSpec& g);
 void sample_active_cells(const VolumeView& v, double iso, std::int64_t row0, std::int64_t row1,
                          const SamplingParams& params, std::vector<SampleRecord>& out,
                          SamplingStats& stats);
+
+/// The same samples, each projected at once by project_sample (no SampleRecord is stored): the
+/// in-process fast path of paradigm (C). Output bytes equal sample_active_cells followed by
+/// project_sample on each record, by construction (the same record is built and projected).
+void sample_and_project_active_cells(const VolumeView& v, double iso, std::int64_t row0, std::int64_t row1,
+                                     const SamplingParams& params, Projection mode,
+                                     std::vector<PointRecord>& out, SamplingStats& stats,
+                                     ProjectionStats& pstats);
 
 }  // namespace meshless

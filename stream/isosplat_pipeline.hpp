@@ -15,7 +15,9 @@ struct IsoSplatResult {
     double seconds = 0;  ///< wall time of generate + project + sink
 };
 
+/// fused = true runs GenerateProjectStage (no SampleRecords stored); false runs GenerateStage and
+/// ProjectStage as two stages, exactly as the piped commands do. Both give the same bytes.
 IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, const SamplingParams& sp,
-                            Sink& sink, const RunOptions& opt = {});
+                            Sink& sink, const RunOptions& opt = {}, bool fused = true);
 
 }  // namespace meshless

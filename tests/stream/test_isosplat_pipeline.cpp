@@ -18,9 +18,9 @@ using namespace meshless;
 namespace {
 
 std::vector<PointRecord> isosplat(const Volume& v, double iso, Projection mode, int threads,
-                                  IsoSplatResult* res = nullptr) {
+                                  IsoSplatResult* res = nullptr, bool fused = true) {
     CollectSink sink;
-    const IsoSplatResult r = run_isosplat(v.view(), iso, mode, SamplingParams{}, sink, {threads});
+    const IsoSplatResult r = run_isosplat(v.view(), iso, mode, SamplingParams{}, sink, {threads}, fused);
     if (res) *res = r;
     return sink.points;
 }
@@ -126,10 +126,13 @@ TEST_CASE("points cover the marching-cubes surface (no holes)", "[isosplat]") {
     }
 }
 
-TEST_CASE("output bytes do not depend on the thread count", "[isosplat]") {
+TEST_CASE("output bytes do not depend on the thread count nor on fusing generate and project", "[isosplat]") {
     const Volume v = make_analytic_volume(AnalyticField::gyroid, 72);
     for (Projection mode : {Projection::approx, Projection::exact, Projection::none}) {
         const auto one = isosplat(v, 0.0, mode, 1);
+        const auto staged = isosplat(v, 0.0, mode, 1, nullptr, false);  // generate and project as two stages
+        REQUIRE(staged.size() == one.size());
+        CHECK(std::memcmp(staged.data(), one.data(), one.size() * sizeof(PointRecord)) == 0);
         for (int t : {2, 3, 4}) {
             const auto many = isosplat(v, 0.0, mode, t);
             REQUIRE(many.size() == one.size());
