@@ -20,13 +20,13 @@ int cmd_demo(int argc, char** argv) {
            "Builds an embedded analytic volume, extracts an isosurface by iso-splatting and writes\n"
            "DIR/demo.ply (oriented points) and DIR/demo.png (surface-splatted picture).");
     a.option("output", "o", "DIR", "output directory (created if missing)", ".")
-        .option("field", "", "NAME", "analytic field: torus | sphere | gyroid | ml (Marschner-Lobb)", "ml")
+        .option("field", "", "NAME", "analytic field: torus | sphere | gyroid | ml (Marschner-Lobb)", "torus")
         .option("n", "", "N", "grid resolution N^3", "128");
     add_thread_option(a);
     add_camera_options(a);
     if (!a.parse(argc, argv, 2)) return 0;
-    const auto parsed = parse_analytic_field(a.get_or("field", "ml"));
-    if (!parsed) throw UsageError("--field: expected torus, sphere, gyroid or ml, got '" + a.get_or("field", "ml") + "'");
+    const auto parsed = parse_analytic_field(a.get_or("field", "torus"));
+    if (!parsed) throw UsageError("--field: expected torus, sphere, gyroid or ml, got '" + a.get_or("field", "torus") + "'");
     const AnalyticField field = *parsed;
     const long long n = a.get_int_or("n", 128);
     if (n < 8 || n > 1024) throw UsageError("--n: expected 8..1024");
@@ -43,7 +43,10 @@ int cmd_demo(int argc, char** argv) {
     const IsoSplatResult r = run_isosplat(vol.view(), iso, Projection::approx, SamplingParams{}, sink, {threads(a)});
     const std::string ply = (dir / "demo.ply").string(), png = (dir / "demo.png").string();
     write_ply_points(ply, sink.points, ply_comments(meta));
-    render_to_png(sink.points, meta_bounds(meta), camera_from(a), kernel_from(a), png);
+    Camera cam = camera_from(a);
+    // the torus and the sphere fill only the middle of their cube
+    if (!a.has("zoom") && (field == AnalyticField::torus || field == AnalyticField::sphere)) cam.zoom = 1.6;
+    render_to_png(sink.points, meta_bounds(meta), cam, kernel_from(a), png);
     std::printf("demo: %s field on a %lld^3 grid, iso %g: %zu points from %lld active cells in %.3f s\n"
                 "wrote %s and %s\n",
                 to_string(field), n, iso, sink.points.size(), static_cast<long long>(r.sampling.active_cells), r.seconds,
