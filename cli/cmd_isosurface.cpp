@@ -22,8 +22,8 @@ int cmd_isosurface(int argc, char** argv) {
         .option("output", "o", "FILE", "point set output (.ply, '-' for stdout)")
         .option("png", "", "FILE", "also render the points to this PNG")
         .option("projection", "", "MODE", "approx (one Newton step, Eq. 3.5) | exact (ray-trilinear cubic, Eq. 3.3) | none", "approx")
-        .option("radius-scale", "", "S", "splat radius = S * half the cell diagonal", "1")
         .flag("stats", "print counts (active cells, discarded samples) and timing to stderr");
+    add_sampling_options(a);
     add_volume_options(a);
     add_thread_option(a);
     add_camera_options(a);
@@ -34,9 +34,7 @@ int cmd_isosurface(int argc, char** argv) {
     const auto png = a.get("png");
     if (!out && !png) throw UsageError("isosurface: nothing to write: give -o FILE and/or --png FILE");
     const Projection mode = parse_projection(a.get_or("projection", "approx"));
-    SamplingParams sp;
-    sp.radius_scale = a.get_double_or("radius-scale", 1.0);
-    if (!(sp.radius_scale > 0)) throw UsageError("--radius-scale: must be positive");
+    const SamplingParams sp = sampling_params(a);
     const Camera cam = camera_from(a);
     const SplatKernel kernel = kernel_from(a);
     const int nthreads = threads(a);

@@ -44,17 +44,15 @@ int cmd_generate(int argc, char** argv) {
            "with trilinear value and gradient and the cell's corner values, written as a binary sample\n"
            "stream (stdout by default) for `meshless project`.");
     a.option("iso", "", "V", "isovalue (required)")
-        .option("output", "o", "FILE", "stream output, '-' = stdout", "-")
-        .option("radius-scale", "", "S", "splat radius = S * half the cell diagonal", "1");
+        .option("output", "o", "FILE", "stream output, '-' = stdout", "-");
     add_compress_option(a);
+    add_sampling_options(a);
     add_volume_options(a);
     add_thread_option(a);
     a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png\n");
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_double(a.require("iso"), "--iso");
-    SamplingParams sp;
-    sp.radius_scale = a.get_double_or("radius-scale", 1.0);
-    if (!(sp.radius_scale > 0)) throw UsageError("--radius-scale: must be positive");
+    const SamplingParams sp = sampling_params(a);
     const int nthreads = threads(a);
     const std::string path = a.positional()[0];
     const Volume vol = load_volume(a);

@@ -52,6 +52,17 @@ Volume load_volume(const Args& a) {
     return read_volume(a.positional()[0], raw_options(a));
 }
 
+void add_sampling_options(Args& a) {
+    a.option("radius-scale", "", "S", "splat radius = S * half the cell diagonal", "1");
+}
+
+SamplingParams sampling_params(const Args& a) {
+    SamplingParams sp;
+    sp.radius_scale = a.get_double_or("radius-scale", 1.0);
+    if (!(sp.radius_scale > 0)) throw UsageError("--radius-scale: must be positive");
+    return sp;
+}
+
 void add_thread_option(Args& a) {
     a.option("threads", "j", "N", "worker threads (0 = all cores); output bytes do not depend on it", "1");
 }

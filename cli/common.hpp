@@ -9,6 +9,7 @@
 
 #include "cli/args.hpp"
 #include "formats/point_stream.hpp"
+#include "kernels/cell_sampling.hpp"
 #include "kernels/grid.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/splat_rasterizer.hpp"
@@ -21,6 +22,9 @@ void add_volume_options(Args& a);
 RawOptions raw_options(const Args& a);
 /// Loads the volume named by the first positional argument (throws UsageError if none).
 Volume load_volume(const Args& a);
+/// --radius-scale
+void add_sampling_options(Args& a);
+SamplingParams sampling_params(const Args& a);
 /// --threads
 void add_thread_option(Args& a);
 int threads(const Args& a);

@@ -4,10 +4,8 @@
 // projection), which the tests check; `meshless isosurface` uses it, the piped stages do not.
 // Thread-safe: statistics are atomics.
 #pragma once
-#include <atomic>
-
-#include "kernels/cell_sampling.hpp"
 #include "stream/stage.hpp"
+#include "stream/stage_stats.hpp"
 
 namespace meshless {
 
@@ -17,16 +15,16 @@ public:
     GenerateProjectStage(VolumeView v, double iso, SamplingParams p, Projection mode)
         : v_(v), iso_(iso), p_(p), mode_(mode) {}
     void process(Batch& b) const override;
-    SamplingStats sampling_stats() const { return {active_.load(), nonfinite_.load()}; }
-    ProjectionStats projection_stats() const;
+    SamplingStats sampling_stats() const { return sampling_.load(); }
+    ProjectionStats projection_stats() const { return projection_.load(); }
 
 private:
     VolumeView v_;
     double iso_;
     SamplingParams p_;
     Projection mode_;
-    mutable std::atomic<std::int64_t> active_{0}, nonfinite_{0};
-    mutable std::atomic<std::int64_t> input_{0}, output_{0}, too_far_{0}, flat_{0}, missed_{0};
+    mutable AtomicSamplingStats sampling_;
+    mutable AtomicProjectionStats projection_;
 };
 
 }  // namespace meshless

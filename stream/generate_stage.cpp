@@ -8,8 +8,7 @@ void GenerateStage::process(Batch& b) const {
     b.samples.clear();
     sample_active_cells(v_, iso_, b.cells.k0, b.cells.k1, p_, b.samples, s);
     b.cells = {};
-    active_ += s.active_cells;
-    nonfinite_ += s.nonfinite_cells;
+    stats_.add(s);
 }
 
 }  // namespace meshless

@@ -15,21 +15,7 @@ void ProjectStage::process(Batch& b) const {
     b.samples.clear();
     b.samples.shrink_to_fit();
     b.kind = RecordKind::point;
-    input_ += s.input;
-    output_ += s.output;
-    too_far_ += s.too_far;
-    flat_ += s.flat;
-    missed_ += s.missed;
-}
-
-ProjectionStats ProjectStage::stats() const {
-    ProjectionStats s;
-    s.input = input_.load();
-    s.output = output_.load();
-    s.too_far = too_far_.load();
-    s.flat = flat_.load();
-    s.missed = missed_.load();
-    return s;
+    stats_.add(s);
 }
 
 }  // namespace meshless

@@ -2,10 +2,8 @@
 // kernels/project_sample.hpp (approx Newton step, exact cubic, or none). Thread-safe; statistics
 // are atomics.
 #pragma once
-#include <atomic>
-
-#include "kernels/project_sample.hpp"
 #include "stream/stage.hpp"
+#include "stream/stage_stats.hpp"
 
 namespace meshless {
 
@@ -13,12 +11,12 @@ class ProjectStage final : public Stage {
 public:
     ProjectStage(double iso, Projection mode) : iso_(iso), mode_(mode) {}
     void process(Batch& b) const override;
-    ProjectionStats stats() const;
+    ProjectionStats stats() const { return stats_.load(); }
 
 private:
     double iso_;
     Projection mode_;
-    mutable std::atomic<std::int64_t> input_{0}, output_{0}, too_far_{0}, flat_{0}, missed_{0};
+    mutable AtomicProjectionStats stats_;
 };
 
 }  // namespace meshless
