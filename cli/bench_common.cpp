@@ -85,7 +85,11 @@ void Report::table(const Table& t) {
 
     auto md_line = [&](const std::vector<std::string>& row) {
         std::string s = "|";
-        for (std::size_t c = 0; c < nc; ++c) s += " " + cell(row, c) + " |";
+        for (std::size_t c = 0; c < nc; ++c) {
+            std::string v = cell(row, c);
+            for (std::size_t p = 0; (p = v.find('|', p)) != std::string::npos; p += 2) v.replace(p, 1, "\\|");
+            s += " " + v + " |";
+        }
         return s + "\n";
     };
     md_ += md_line(t.header);
