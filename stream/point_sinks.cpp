@@ -30,7 +30,14 @@ void PlySink::finish() {
 
 void CollectSink::consume(Batch&& b) {
     require_points(b);
-    points.insert(points.end(), b.points.begin(), b.points.end());
+    size_ += b.points.size();
+    if (keep_chunks_) {
+        if (!b.points.empty()) chunks.push_back(std::move(b.points));
+    } else if (points.empty()) {
+        points = std::move(b.points);
+    } else {
+        points.insert(points.end(), b.points.begin(), b.points.end());
+    }
 }
 
 }  // namespace meshless

@@ -28,8 +28,18 @@ private:
 
 class CollectSink final : public Sink {
 public:
+    /// keep_chunks = false: `points` holds everything, in order (one flat array).
+    /// keep_chunks = true: each batch's array is kept as it came in `chunks` (no copying; for
+    /// consumers that iterate, such as the benchmarks); `points` stays empty.
+    explicit CollectSink(bool keep_chunks = false) : keep_chunks_(keep_chunks) {}
     void consume(Batch&& b) override;
+    std::size_t size() const { return size_; }
     std::vector<PointRecord> points;
+    std::vector<std::vector<PointRecord>> chunks;
+
+private:
+    bool keep_chunks_;
+    std::size_t size_ = 0;
 };
 
 }  // namespace meshless
