@@ -40,60 +40,34 @@ struct ProjectionStats {
     }
 };
 
-/// Projects s onto f = iso. Returns false (and counts why) when the sample is discarded.
-/// Inline: it sits in the innermost loop of the fused generate+project path.
-inline bool project_sample(const SampleRecord& s, double iso, Projection mode, PointRecord& out,
-                    ProjectionStats& stats) {
-    ++stats.input;
-    const Vec3 p{s.pos[0], s.pos[1], s.pos[2]};
-    const Vec3 lo{s.cell_lo[0], s.cell_lo[1], s.cell_lo[2]};
-    const Vec3 size{s.cell_size[0], s.cell_size[1], s.cell_size[2]};
-    double c[8];
-    for (int a = 0; a < 8; ++a) c[a] = s.corner[a];
+/// The exact and none projections (out of line; project_sample dispatches here). Does not count
+/// stats.input.
+bool project_sample_cell(const SampleRecord& s, double iso, Projection mode, PointRecord& out,
+                         ProjectionStats& stats);
 
-    Vec3 q = p;  // output position, world units
-    switch (mode) {
-        case Projection::none: break;
-        case Projection::approx: {
-            const Vec3 g{s.grad[0], s.grad[1], s.grad[2]};
-            const NewtonResult r = newton_step(p, s.value, g, iso, displacement_threshold(size));
-            if (r.status == NewtonStatus::flat) { ++stats.flat; return false; }
-            if (r.status == NewtonStatus::too_far) { ++stats.too_far; return false; }
-            const double gg = dot(g, g);  // > 0, or newton_step would have said flat
-            const Vec3 n = g * (1.0 / std::sqrt(gg));
-            out.pos[0] = static_cast<float>(r.pos.x);
-            out.pos[1] = static_cast<float>(r.pos.y);
-            out.pos[2] = static_cast<float>(r.pos.z);
-            out.normal[0] = static_cast<float>(n.x);
-            out.normal[1] = static_cast<float>(n.y);
-            out.normal[2] = static_cast<float>(n.z);
-            out.radius = s.radius;
-            out.value = static_cast<float>(iso);
-            ++stats.output;
-            return true;
-        }
-        case Projection::exact: {
-            const Vec3 pl{(p.x - lo.x) / size.x, (p.y - lo.y) / size.y, (p.z - lo.z) / size.z};
-            const ExactResult r = exact_project_cell(c, pl, iso);
-            if (r.status != ExactStatus::ok) { ++stats.missed; return false; }
-            q = {lo.x + r.local.x * size.x, lo.y + r.local.y * size.y, lo.z + r.local.z * size.z};
-            break;
-        }
-    }
-    const ValueGrad vg = trilinear(c, (q.x - lo.x) / size.x, (q.y - lo.y) / size.y, (q.z - lo.z) / size.z);
-    Vec3 n = normalized(to_world_gradient(vg.grad, size));
-    if (dot(n, n) == 0.0) n = normalized(Vec3{s.grad[0], s.grad[1], s.grad[2]});
-    out.pos[0] = static_cast<float>(q.x);
-    out.pos[1] = static_cast<float>(q.y);
-    out.pos[2] = static_cast<float>(q.z);
+/// Projects s onto f = iso. Returns false (and counts why) when the sample is discarded.
+/// The approximate projection is inline: it is the innermost loop of the fused generate+project path.
+inline bool project_sample(const SampleRecord& s, double iso, Projection mode, PointRecord& out,
+                           ProjectionStats& stats) {
+    ++stats.input;
+    if (mode != Projection::approx) return project_sample_cell(s, iso, mode, out, stats);
+    const Vec3 p{s.pos[0], s.pos[1], s.pos[2]};
+    const Vec3 size{s.cell_size[0], s.cell_size[1], s.cell_size[2]};
+    const Vec3 g{s.grad[0], s.grad[1], s.grad[2]};
+    const NewtonResult r = newton_step(p, s.value, g, iso, displacement_threshold(size));
+    if (r.status == NewtonStatus::flat) { ++stats.flat; return false; }
+    if (r.status == NewtonStatus::too_far) { ++stats.too_far; return false; }
+    const Vec3 n = g * (1.0 / std::sqrt(dot(g, g)));  // dot(g, g) > 0, or the step was flat
+    out.pos[0] = static_cast<float>(r.pos.x);
+    out.pos[1] = static_cast<float>(r.pos.y);
+    out.pos[2] = static_cast<float>(r.pos.z);
     out.normal[0] = static_cast<float>(n.x);
     out.normal[1] = static_cast<float>(n.y);
     out.normal[2] = static_cast<float>(n.z);
     out.radius = s.radius;
-    out.value = static_cast<float>(vg.value);
+    out.value = static_cast<float>(iso);
     ++stats.output;
     return true;
 }
-
 
 }  // namespace meshless
