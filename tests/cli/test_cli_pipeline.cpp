@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <vector>
 
@@ -172,4 +173,27 @@ TEST_CASE("mc writes a closed mesh and stats; turntable writes N frames", "[cli]
     CHECK(r.code == 0);
     CHECK_THAT(r.err, Catch::Contains("ms/frame"));
     for (int i = 0; i < 4; ++i) CHECK(fs::exists(d / ("t_00" + std::to_string(i) + ".png")));
+}
+
+TEST_CASE("unknown sample types and NaN voxels from the command line", "[cli]") {
+    TempDir d("types");
+    const std::string D = d.path.string();
+    // a float32 sphere-ish ramp with a NaN plane through the middle
+    const int n = 16;
+    std::vector<float> f(n * n * n);
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i)
+                f[i + n * (j + n * k)] = k == n / 2 ? std::numeric_limits<float>::quiet_NaN()
+                                                    : static_cast<float>(std::sqrt((i - 7.5) * (i - 7.5) + (j - 7.5) * (j - 7.5) + (k - 7.3) * (k - 7.3)));
+    spit(d / "v.raw", std::string(reinterpret_cast<const char*>(f.data()), f.size() * 4));
+    auto r = sh("MESHLESS isosurface " + D + "/v.raw --dims 16,16,16 --type float64 --iso 5 -o " + D + "/x.ply", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("unknown sample type"));
+    r = sh("MESHLESS isosurface " + D + "/v.raw --dims 16,16,16 --type float32 --iso 5.5 -o " + D + "/x.ply --stats", d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("cells with NaN/Inf skipped"));
+    CHECK_THAT(r.err, !Catch::Contains(" 0 cells with NaN/Inf skipped"));
+    r = sh("MESHLESS mc " + D + "/v.raw --dims 16,16,16 --type float32 --iso 5.5 -o " + D + "/m.ply --stats", d);
+    CHECK(r.code == 0);
 }
