@@ -25,8 +25,12 @@ constexpr Command kCommands[] = {
     {"write", cmd_write, "point stream -> binary PLY"},
     {"splat", cmd_splat, "point stream or PLY -> surface-splatted PNG (quad or EWA kernels)"},
     {"mc", cmd_mc, "volume -> marching-cubes triangle mesh (PLY), the baseline"},
+    {"convert", cmd_convert, "volume -> Morton-ordered zstd brick store (.mlb) for out-of-core work"},
+    {"verify", cmd_verify, "check every brick of a brick store; names the first bad one"},
+    {"synth", cmd_synth, "upsample a real volume into a big brick store (test volumes of any size)"},
     {"info", cmd_info, "describe any file meshless reads or writes"},
     {"bench", cmd_bench, "benchmarks: accuracy, speed vs marching cubes / VTK Flying Edges, threads, splatting"},
+    {"batch", cmd_batch, "nightly job: archive of volumes -> brick stores + point sets, skipping what is up to date"},
 };
 
 void print_usage(std::FILE* out) {

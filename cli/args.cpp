@@ -1,5 +1,6 @@
 #include "cli/args.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -13,6 +14,12 @@ double parse_double(const std::string& s, const std::string& what) {
     const double v = std::strtod(s.c_str(), &end);
     if (s.empty() || end != s.c_str() + s.size())
         throw UsageError(what + ": expected a number, got '" + s + "'");
+    return v;
+}
+
+double parse_finite(const std::string& s, const std::string& what) {
+    const double v = parse_double(s, what);
+    if (!std::isfinite(v)) throw UsageError(what + ": expected a finite number, got '" + s + "'");
     return v;
 }
 
@@ -37,6 +44,12 @@ Args& Args::option(const std::string& name, const std::string& short_name, const
 
 Args& Args::flag(const std::string& name, const std::string& help) {
     specs_.push_back({name, "", "", help, "", false});
+    return *this;
+}
+
+Args& Args::positionals(std::size_t min, std::size_t max) {
+    min_positional_ = min;
+    max_positional_ = max;
     return *this;
 }
 
@@ -74,22 +87,25 @@ bool Args::parse(int argc, char** argv, int first) {
             inline_value = true;
         }
         const Spec* s = find(tok);
-        if (!s) throw UsageError(command_ + ": unknown option '" + tok + "' (see meshless " + command_ + " --help)");
+        if (!s) throw UsageError("unknown option '" + tok + "' (see meshless " + command_ + " --help)");
         if (s->name == "help") {
             std::fputs(help_text().c_str(), stdout);
             return false;
         }
         if (s->takes_value) {
             if (!inline_value) {
-                if (i + 1 >= argc) throw UsageError(command_ + ": option --" + s->name + " needs a value (" + s->metavar + ")");
+                if (i + 1 >= argc) throw UsageError("option --" + s->name + " needs a value (" + s->metavar + ")");
                 value = argv[++i];
             }
             values_.emplace_back(s->name, value);
         } else {
-            if (inline_value) throw UsageError(command_ + ": option --" + s->name + " takes no value");
+            if (inline_value) throw UsageError("option --" + s->name + " takes no value");
             values_.emplace_back(s->name, "1");
         }
     }
+    if (positional_.size() > max_positional_)
+        throw UsageError("unexpected argument '" + positional_[max_positional_] + "' (see meshless " + command_ + " --help)");
+    (void)min_positional_;  // commands report their own missing arguments, with their names
     return true;
 }
 
@@ -117,7 +133,7 @@ std::string Args::get_or(const std::string& name, const std::string& def) const 
 
 std::string Args::require(const std::string& name) const {
     auto v = get(name);
-    if (!v) throw UsageError(command_ + ": missing required option --" + name + " (see meshless " + command_ + " --help)");
+    if (!v) throw UsageError("missing required option --" + name + " (see meshless " + command_ + " --help)");
     return *v;
 }
 

@@ -21,6 +21,8 @@ public:
     Args& flag(const std::string& name, const std::string& help);
     /// Adds a paragraph (examples, exit codes) at the end of --help.
     Args& epilog(const std::string& text);
+    /// Allowed number of positional arguments (default 0..1); parse() throws UsageError otherwise.
+    Args& positionals(std::size_t min, std::size_t max);
 
     /// Parses argv[first..argc). Returns false when --help was requested (help text printed).
     bool parse(int argc, char** argv, int first);
@@ -52,10 +54,13 @@ private:
     std::vector<Spec> specs_;
     std::vector<std::pair<std::string, std::string>> values_;
     std::vector<std::string> positional_;
+    std::size_t min_positional_ = 0, max_positional_ = 1;
 };
 
 /// Parses a number with full-string validation; throws UsageError naming `what`.
 double parse_double(const std::string& s, const std::string& what);
+/// The same, refusing NaN and infinities.
+double parse_finite(const std::string& s, const std::string& what);
 long long parse_int(const std::string& s, const std::string& what);
 
 }  // namespace meshless::cli

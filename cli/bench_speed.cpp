@@ -264,7 +264,7 @@ Breakdown breakdown(const Volume& vol, double iso, int reps) {
         b.samples = static_cast<std::int64_t>(samples.size());
         CollectSink sink2;
         Stopwatch sw3;
-        run_isosplat(view, iso, Projection::approx, SamplingParams{}, sink2, RunOptions{1}, /*fused=*/false);
+        run_isosplat(view, iso, Projection::approx, SamplingParams{}, sink2, RunOptions{1}, PipelineShape::two_stage);
         const double s_ms = sw3.ms();
         CollectSink sink;
         Stopwatch sw4;

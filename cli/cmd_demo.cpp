@@ -22,6 +22,7 @@ int cmd_demo(int argc, char** argv) {
     a.option("output", "o", "DIR", "output directory (created if missing)", ".")
         .option("field", "", "NAME", "analytic field: torus | sphere | gyroid | ml (Marschner-Lobb)", "torus")
         .option("n", "", "N", "grid resolution N^3", "128");
+    a.positionals(0, 0);
     add_thread_option(a);
     add_camera_options(a);
     if (!a.parse(argc, argv, 2)) return 0;
@@ -43,10 +44,11 @@ int cmd_demo(int argc, char** argv) {
     const IsoSplatResult r = run_isosplat(vol.view(), iso, Projection::approx, SamplingParams{}, sink, {threads(a)});
     const std::string ply = (dir / "demo.ply").string(), png = (dir / "demo.png").string();
     write_ply_points(ply, sink.points, ply_comments(meta));
-    Camera cam = camera_from(a);
+    RenderSettings rs = render_settings(a);
+    Camera& cam = rs.camera;
     // the torus and the sphere fill only the middle of their cube
     if (!a.has("zoom") && (field == AnalyticField::torus || field == AnalyticField::sphere)) cam.zoom = 1.6;
-    render_to_png(sink.points, meta_bounds(meta), cam, kernel_from(a), png);
+    render_to_png(sink.points, meta_bounds(meta), rs, png);
     std::printf("demo: %s field on a %lld^3 grid, iso %g: %zu points from %lld active cells in %.3f s\n"
                 "wrote %s and %s\n",
                 to_string(field), n, iso, sink.points.size(), static_cast<long long>(r.sampling.active_cells), r.seconds,

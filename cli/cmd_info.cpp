@@ -10,6 +10,7 @@
 #include "formats/point_stream.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/errors.hpp"
+#include "ooc/brick_store.hpp"
 
 namespace meshless::cli {
 
@@ -54,6 +55,36 @@ void info_png(const std::string& path, const unsigned char* h, std::size_t n) {
     std::printf("%s: PNG image, %u x %u\n", path.c_str(), be32(16), be32(20));
 }
 
+void info_brick_store(const std::string& path) {
+    const auto store = BrickStore::open(path);
+    const BrickStoreInfo& i = store->info();
+    const GridSpec& g = i.grid;
+    std::uint64_t stored = 0, raw = 0, constant = 0;
+    for (const auto& e : store->bricks()) {
+        stored += e.stored_bytes;
+        raw += e.raw_bytes;
+        if (e.vmin == e.vmax) ++constant;
+    }
+    const std::uint64_t volume_bytes = static_cast<std::uint64_t>(g.voxel_count()) * sample_size(i.type);
+    const std::uint64_t file_bytes = stored + kBrickStoreHeaderBytes + kBrickStoreFooterBytes +
+                                     store->bricks().size() * kBrickIndexEntryBytes;
+    std::printf("%s: meshless brick store, version %u\n", path.c_str(), kBrickStoreVersion);
+    std::printf("  dims: %lld x %lld x %lld (%lld voxels, %lld cells)\n", static_cast<long long>(g.dims[0]),
+                static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]), static_cast<long long>(g.voxel_count()),
+                static_cast<long long>(g.cell_count()));
+    std::printf("  type: %s\n  spacing: %g %g %g\n  origin: %g %g %g\n  value range: %g .. %g\n", to_string(i.type),
+                g.spacing[0], g.spacing[1], g.spacing[2], g.origin[0], g.origin[1], g.origin[2], i.value_min, i.value_max);
+    std::printf("  bricks: %llu (%lld x %lld x %lld) of %u cells + %u ghost, Morton order, zstd level %d; %llu constant\n",
+                static_cast<unsigned long long>(i.brick_count), static_cast<long long>(i.bricks_per_axis[0]),
+                static_cast<long long>(i.bricks_per_axis[1]), static_cast<long long>(i.bricks_per_axis[2]), i.brick_edge,
+                i.ghost, i.zstd_level, static_cast<unsigned long long>(constant));
+    std::printf("  largest brick: %llu bytes decompressed (minimum --memory)\n",
+                static_cast<unsigned long long>(store->max_brick_bytes()));
+    std::printf("  size: %llu bytes; volume %llu bytes (bricks with ghost layers %llu): compression ratio %.2f\n",
+                static_cast<unsigned long long>(file_bytes), static_cast<unsigned long long>(volume_bytes),
+                static_cast<unsigned long long>(raw), file_bytes ? static_cast<double>(volume_bytes) / file_bytes : 0.0);
+}
+
 void info_volume(const std::string& path, const Args& a) {
     const VolumeInfo vi = probe_volume(path, raw_options(a));
     const GridSpec& g = vi.grid;
@@ -74,11 +105,13 @@ void info_volume(const std::string& path, const Args& a) {
 int cmd_info(int argc, char** argv) {
     Args a("info", "FILE...",
            "Describes files meshless reads or writes: volumes (format, dims, type, spacing, value range),\n"
-           "point/sample streams (records, frames, metadata; checks the END frame), PLY and PNG files.");
+           "point/sample streams (records, frames, metadata; checks the END frame), brick stores (.mlb),\n"
+           "PLY and PNG files.");
     a.flag("range", "volumes: also read the samples and print the value range");
+    a.positionals(1, 100000);
     add_volume_options(a);
     if (!a.parse(argc, argv, 2)) return 0;
-    if (a.positional().empty()) throw UsageError("info: missing FILE argument");
+    if (a.positional().empty()) throw UsageError("missing FILE argument");
     for (const std::string& path : a.positional()) {
         unsigned char h[32] = {};
         std::size_t n = 0;
@@ -90,6 +123,8 @@ int cmd_info(int argc, char** argv) {
             info_stream(path);
         } else if (n >= 4 && std::memcmp(h, "ply", 3) == 0 && (h[3] == '\n' || h[3] == '\r')) {
             info_ply(path);
+        } else if (n >= 8 && std::memcmp(h, kBrickStoreMagic, 8) == 0) {
+            info_brick_store(path);
         } else if (n >= 8 && std::memcmp(h, "\x89PNG", 4) == 0) {
             info_png(path, h, n);
         } else {

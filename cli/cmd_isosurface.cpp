@@ -1,7 +1,9 @@
 // meshless isosurface: paradigm (C) iso-splatting in one process (dissertation chapter 3).
 #include <cstdio>
+#include <cstring>
 
 #include "cli/commands.hpp"
+#include "cli/mpi_session.hpp"
 #include "cli/common.hpp"
 #include "cli/render_output.hpp"
 #include "formats/ply_points.hpp"
@@ -11,13 +13,74 @@
 
 namespace meshless::cli {
 
+namespace {
+
+void write_outputs(const Args& a, const StreamMeta& meta, std::span<const PointRecord> points,
+                   const RenderSettings& rs) {
+    if (auto out = a.get("output")) write_ply_points(*out, points, ply_comments(meta));
+    if (auto png = a.get("png")) render_to_png(points, meta_bounds(meta), rs, *png);
+}
+
+void print_stats(const std::string& path, double iso, Projection mode, const IsoSplatResult& r, std::size_t points,
+                 int nthreads, int ranks) {
+    std::fprintf(stderr,
+                 "isosurface: %s iso %g: %lld active cells, %zu points (%s projection; discarded: %lld too far, %lld flat, "
+                 "%lld missed; %lld cells with NaN/Inf skipped), %.3f s on %d thread(s) x %d rank(s)\n",
+                 path.c_str(), iso, static_cast<long long>(r.sampling.active_cells), points, to_string(mode),
+                 static_cast<long long>(r.projection.too_far), static_cast<long long>(r.projection.flat),
+                 static_cast<long long>(r.projection.missed), static_cast<long long>(r.sampling.nonfinite_cells), r.seconds,
+                 nthreads, ranks);
+}
+
+/// mpirun -np N: each rank iso-splats a contiguous Morton range of the active bricks; rank 0
+/// gathers the points in rank order (= the single-process order) and writes the outputs.
+int isosurface_mpi(const Args& a, int argc, char** argv, double iso, Projection mode, const SamplingParams& sp,
+                   const RenderSettings& rs, int nthreads) {
+    MpiSession mpi(&argc, &argv);
+    try {
+        VolumeInput in = open_volume_input(a);
+        if (!in.store)
+            throw UsageError("MPI runs need a brick store (.mlb): meshless convert " + in.path + " -o vol.mlb");
+        if (mpi.rank() == 0) warn_if_iso_outside(iso, in.value_range(), in.path);
+        const std::vector<std::size_t> active = in.index->active(iso);
+        const std::size_t n = active.size(), r0 = n * mpi.rank() / mpi.size(), r1 = n * (mpi.rank() + 1) / mpi.size();
+        CollectSink sink;
+        IsoSplatResult r = run_isosplat_bricks(*in.store, *in.cache, {active.begin() + r0, active.begin() + r1}, iso, mode,
+                                               sp, sink, {nthreads});
+        const std::vector<std::byte> all = mpi.gather_to_root(sink.points.data(), sink.points.size() * sizeof(PointRecord));
+        const auto sums = mpi.sum_to_root({r.sampling.active_cells, r.sampling.nonfinite_cells, r.projection.too_far,
+                                           r.projection.flat, r.projection.missed});
+        if (mpi.rank() != 0) return 0;
+        std::vector<PointRecord> points(all.size() / sizeof(PointRecord));
+        std::memcpy(points.data(), all.data(), all.size());
+        StreamMeta meta = volume_meta(in, iso, a.command_line());
+        meta.set("projection", to_string(mode));
+        write_outputs(a, meta, points, rs);
+        r.sampling = {sums[0], sums[1]};
+        r.projection.too_far = sums[2];
+        r.projection.flat = sums[3];
+        r.projection.missed = sums[4];
+        if (a.has("stats")) print_stats(in.path, iso, mode, r, points.size(), nthreads, mpi.size());
+        return 0;
+    } catch (const BrokenPipe&) {
+        return 0;
+    } catch (const std::exception& e) {
+        // one failing rank ends the job: nothing is renamed into place, every rank exits non-zero
+        std::fprintf(stderr, "meshless isosurface (rank %d of %d): %s\n", mpi.rank(), mpi.size(), e.what());
+        mpi.abort(dynamic_cast<const UsageError*>(&e) ? 1 : (dynamic_cast<const FormatError*>(&e) || dynamic_cast<const IoError*>(&e)) ? 2 : 3);
+    }
+}
+
+}  // namespace
+
 int cmd_isosurface(int argc, char** argv) {
     Args a("isosurface", "VOLUME --iso V -o out.ply [--png out.png] [options]",
            "Paradigm (C) iso-splatting: one sample per active cell (cell centre), value and gradient by\n"
            "trilinear interpolation, projected onto the isosurface; writes an oriented point set\n"
            "(binary PLY: x y z nx ny nz radius value) and/or a surface-splatted picture.\n"
            "VOLUME: raw (name_XxYxZ_type.raw or --dims/--type), NRRD (.nrrd/.nhdr), MetaImage (.mhd/.mha),\n"
-           "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI.");
+           "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI, or a brick store (.mlb,\n"
+           "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory.");
     a.option("iso", "", "V", "isovalue (required)")
         .option("output", "o", "FILE", "point set output (.ply, '-' for stdout)")
         .option("png", "", "FILE", "also render the points to this PNG")
@@ -25,47 +88,43 @@ int cmd_isosurface(int argc, char** argv) {
         .flag("stats", "print counts (active cells, discarded samples) and timing to stderr");
     add_sampling_options(a);
     add_volume_options(a);
+    add_memory_option(a);
     add_thread_option(a);
     add_camera_options(a);
-    a.epilog("example: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n");
+    a.epilog("examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
+             "          meshless isosurface vol.mlb --iso 100.5 --memory 256M -o out.ply\n"
+             "          mpirun -np 4 meshless isosurface vol.mlb --iso 100.5 -o out.ply   (ranks split the active bricks)\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    const double iso = parse_double(a.require("iso"), "--iso");
+    const double iso = parse_finite(a.require("iso"), "--iso");
     const auto out = a.get("output");
     const auto png = a.get("png");
-    if (!out && !png) throw UsageError("isosurface: nothing to write: give -o FILE and/or --png FILE");
+    if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
+    if (out && png && *out == *png) throw UsageError("-o and --png name the same output '" + *out + "'");
     const Projection mode = parse_projection(a.get_or("projection", "approx"));
     const SamplingParams sp = sampling_params(a);
-    const Camera cam = camera_from(a);
-    const SplatKernel kernel = kernel_from(a);
+    const RenderSettings rs = render_settings(a);
     const int nthreads = threads(a);
 
-    const std::string path = a.positional()[0];
-    const Volume vol = load_volume(a);
-    warn_if_iso_outside(iso, vol.value_range(), path);
-    StreamMeta meta = volume_meta(path, vol, iso, a.command_line());
+    if (launched_world_size() > 1) return isosurface_mpi(a, argc, argv, iso, mode, sp, rs, nthreads);
+
+    VolumeInput in = open_volume_input(a);
+    warn_if_iso_outside(iso, in.value_range(), in.path);
+    StreamMeta meta = volume_meta(in, iso, a.command_line());
     meta.set("projection", to_string(mode));
 
     IsoSplatResult r;
     std::size_t points = 0;
     if (png) {
         CollectSink sink;
-        r = run_isosplat(vol.view(), iso, mode, sp, sink, {nthreads});
+        r = run_isosplat_input(in, iso, mode, sp, sink, nthreads, PipelineShape::fused);
         points = sink.points.size();
-        if (out) write_ply_points(*out, sink.points, ply_comments(meta));
-        render_to_png(sink.points, meta_bounds(meta), cam, kernel, *png);
+        write_outputs(a, meta, sink.points, rs);
     } else {
         PlySink sink(*out, ply_comments(meta));
-        r = run_isosplat(vol.view(), iso, mode, sp, sink, {nthreads});
+        r = run_isosplat_input(in, iso, mode, sp, sink, nthreads, PipelineShape::fused);
         points = sink.count();
     }
-    if (a.has("stats"))
-        std::fprintf(stderr,
-                     "isosurface: %s iso %g: %lld active cells, %zu points (%s projection; discarded: %lld too far, %lld flat, "
-                     "%lld missed; %lld cells with NaN/Inf skipped), %.3f s on %d thread(s)\n",
-                     path.c_str(), iso, static_cast<long long>(r.sampling.active_cells), points, to_string(mode),
-                     static_cast<long long>(r.projection.too_far), static_cast<long long>(r.projection.flat),
-                     static_cast<long long>(r.projection.missed), static_cast<long long>(r.sampling.nonfinite_cells),
-                     r.seconds, nthreads);
+    if (a.has("stats")) print_stats(in.path, iso, mode, r, points, nthreads, 1);
     return 0;
 }
 

@@ -28,7 +28,7 @@ struct StreamOutput {
     explicit StreamOutput(const std::string& path, const std::string& command) : name(path) {
         file = std::make_unique<AtomicFile>(path);
         if (file->is_stdout() && ::isatty(1))
-            throw UsageError(command + ": refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
+            throw UsageError("refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
         f = file->handle();
     }
     void commit() { file->commit(); }
@@ -48,21 +48,18 @@ int cmd_generate(int argc, char** argv) {
     add_compress_option(a);
     add_sampling_options(a);
     add_volume_options(a);
+    add_memory_option(a);
     add_thread_option(a);
     a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    const double iso = parse_double(a.require("iso"), "--iso");
+    const double iso = parse_finite(a.require("iso"), "--iso");
     const SamplingParams sp = sampling_params(a);
     const int nthreads = threads(a);
-    const std::string path = a.positional()[0];
-    const Volume vol = load_volume(a);
-    warn_if_iso_outside(iso, vol.value_range(), path);
+    VolumeInput in = open_volume_input(a);
+    warn_if_iso_outside(iso, in.value_range(), in.path);
     StreamOutput out(a.get_or("output", "-"), "generate");
-    StreamSink sink(out.f, out.name, RecordKind::sample, volume_meta(path, vol, iso, a.command_line()), a.has("compress"));
-    CellRowSource source(vol.grid);
-    GenerateStage generate(vol.view(), iso, sp);
-    const Stage* stages[] = {&generate};
-    run_pipeline(source, stages, sink, {nthreads});
+    StreamSink sink(out.f, out.name, RecordKind::sample, volume_meta(in, iso, a.command_line()), a.has("compress"));
+    run_isosplat_input(in, iso, Projection::approx, sp, sink, nthreads, PipelineShape::samples_only);
     out.commit();
     return 0;
 }
@@ -87,10 +84,7 @@ int cmd_project(int argc, char** argv) {
         throw FormatError(in.name + ": holds projected points, expected a sample stream from 'meshless generate'");
     reader.read_meta();
     StreamMeta meta = reader.meta();
-    double iso;
-    if (auto v = a.get_double("iso")) iso = *v;
-    else if (auto m = meta.get_double("iso")) iso = *m;
-    else throw UsageError("project: the stream records no isovalue; give --iso V");
+    const double iso = stream_iso(a, meta);
     meta.set("iso", iso);
     meta.set("projection", to_string(mode));
     StreamOutput out(a.get_or("output", "-"), "project");

@@ -14,6 +14,10 @@ int cmd_splat(int argc, char** argv);
 int cmd_mc(int argc, char** argv);
 int cmd_info(int argc, char** argv);
 int cmd_bench(int argc, char** argv);
+int cmd_batch(int argc, char** argv);
+int cmd_convert(int argc, char** argv);
+int cmd_verify(int argc, char** argv);
+int cmd_synth(int argc, char** argv);
 
 /// The whole program: dispatch and exception -> exit code mapping.
 int cli_main(int argc, char** argv);

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -48,8 +49,16 @@ RawOptions raw_options(const Args& a) {
 }
 
 Volume load_volume(const Args& a) {
-    if (a.positional().empty()) throw UsageError(a.command() + ": missing VOLUME argument (see meshless " + a.command() + " --help)");
-    return read_volume(a.positional()[0], raw_options(a));
+    if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
+    const std::string& path = a.positional()[0];
+    const RawOptions raw = raw_options(a);
+    if (a.has("dims") || a.has("type") || a.has("endian") || a.has("spacing")) {
+        const VolumeInfo vi = probe_volume(path, raw);
+        if (vi.format != "raw")
+            std::fprintf(stderr, "meshless %s: warning: %s is a %s file, which describes itself: --dims, --type, --endian "
+                         "and --spacing are ignored\n", a.command().c_str(), path.c_str(), vi.format.c_str());
+    }
+    return read_volume(path, raw);
 }
 
 void add_sampling_options(Args& a) {
@@ -61,6 +70,37 @@ SamplingParams sampling_params(const Args& a) {
     sp.radius_scale = a.get_double_or("radius-scale", 1.0);
     if (!(sp.radius_scale > 0)) throw UsageError("--radius-scale: must be positive");
     return sp;
+}
+
+void add_memory_option(Args& a) {
+    a.option("memory", "", "BYTES", "brick stores (.mlb): brick cache budget, e.g. 256M, 2G", "256M");
+}
+
+const GridSpec& VolumeInput::grid() const { return store ? store->info().grid : volume->grid; }
+SampleType VolumeInput::type() const { return store ? store->info().type : volume->type; }
+std::array<double, 2> VolumeInput::value_range() const {
+    return store ? std::array<double, 2>{store->info().value_min, store->info().value_max} : volume->value_range();
+}
+
+VolumeInput open_volume_input(const Args& a) {
+    if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
+    VolumeInput in;
+    in.path = a.positional()[0];
+    if (is_brick_store(in.path)) {
+        in.store = BrickStore::open(in.path);
+        in.cache = std::make_unique<BrickCache>(*in.store, parse_memory_size(a.get_or("memory", "256M")));
+        in.index = std::make_unique<BrickIndex>(*in.store);
+    } else {
+        in.volume = load_volume(a);
+    }
+    return in;
+}
+
+IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
+                                  Sink& sink, int threads, PipelineShape shape) {
+    if (in.store)
+        return run_isosplat_bricks(*in.store, *in.cache, in.index->active(iso), iso, mode, sp, sink, {threads}, shape);
+    return run_isosplat(in.volume->view(), iso, mode, sp, sink, {threads}, shape);
 }
 
 void add_thread_option(Args& a) {
@@ -79,8 +119,11 @@ void add_camera_options(Args& a) {
         .option("elevation", "", "DEG", "camera elevation", "20")
         .option("zoom", "", "Z", "zoom factor (1 frames the whole volume)", "1")
         .option("kernel", "", "quad|ewa", "splat kernel: quadrilateral or elliptical (EWA)", "ewa")
+        .option("shading", "", "phong|lambert", "lighting of the splats (a headlight)", "phong")
         .flag("ortho", "orthographic instead of perspective projection");
 }
+
+namespace {
 
 Camera camera_from(const Args& a) {
     Camera c;
@@ -91,12 +134,20 @@ Camera camera_from(const Args& a) {
     c.height = static_cast<int>(parse_int(size.substr(x + 1), "--size height"));
     if (c.width < 1 || c.height < 1 || c.width > 16384 || c.height > 16384)
         throw UsageError("--size: width and height must be 1..16384");
-    c.azimuth_deg = a.get_double_or("azimuth", 30);
-    c.elevation_deg = a.get_double_or("elevation", 20);
-    c.zoom = a.get_double_or("zoom", 1);
+    c.azimuth_deg = parse_finite(a.get_or("azimuth", "30"), "--azimuth");
+    c.elevation_deg = parse_finite(a.get_or("elevation", "20"), "--elevation");
+    c.zoom = parse_finite(a.get_or("zoom", "1"), "--zoom");
     if (!(c.zoom > 0)) throw UsageError("--zoom: must be positive");
     c.perspective = !a.has("ortho");
     return c;
+}
+
+ShadingParams shading_from(const Args& a) {
+    ShadingParams s;
+    const std::string m = a.get_or("shading", "phong");
+    if (m == "lambert") s.specular = 0;
+    else if (m != "phong") throw UsageError("--shading: expected phong or lambert, got '" + m + "'");
+    return s;
 }
 
 SplatKernel kernel_from(const Args& a) {
@@ -105,6 +156,10 @@ SplatKernel kernel_from(const Args& a) {
     if (k == "ewa") return SplatKernel::ewa;
     throw UsageError("--kernel: expected quad or ewa, got '" + k + "'");
 }
+
+}  // namespace
+
+RenderSettings render_settings(const Args& a) { return {camera_from(a), kernel_from(a), shading_from(a)}; }
 
 namespace {
 std::string triple(double a, double b, double c) {
@@ -122,9 +177,9 @@ std::optional<Vec3> parse_triple_meta(const StreamMeta& m, const std::string& ke
 }
 }  // namespace
 
-StreamMeta volume_meta(const std::string& source, const Volume& v, double iso, const std::string& producer) {
+StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType type,
+                       const std::array<double, 2>& r, double iso, const std::string& producer) {
     StreamMeta m;
-    const GridSpec& g = v.grid;
     m.set("source", std::filesystem::path(source).filename().string());
     m.set("iso", iso);
     m.set("grid_dims", std::to_string(g.dims[0]) + "," + std::to_string(g.dims[1]) + "," + std::to_string(g.dims[2]));
@@ -133,19 +188,25 @@ StreamMeta volume_meta(const std::string& source, const Volume& v, double iso, c
     m.set("bounds_lo", triple(g.origin[0], g.origin[1], g.origin[2]));
     m.set("bounds_hi", triple(g.origin[0] + (g.dims[0] - 1) * g.spacing[0], g.origin[1] + (g.dims[1] - 1) * g.spacing[1],
                               g.origin[2] + (g.dims[2] - 1) * g.spacing[2]));
-    const auto r = v.value_range();
     m.set("value_min", r[0]);
     m.set("value_max", r[1]);
-    m.set("sample_type", to_string(v.type));
+    m.set("sample_type", to_string(type));
     m.set("producer", producer);
     return m;
 }
 
 std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
-    for (const char* k : {"source", "iso", "projection", "grid_dims", "grid_spacing"})
+    for (const char* k : {"source", "iso", "projection", "grid_dims", "grid_spacing", "bounds_lo", "bounds_hi"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
+}
+
+std::optional<std::array<Vec3, 2>> ply_bounds(const std::vector<std::string>& comments) {
+    StreamMeta m;
+    for (const auto& c : comments)
+        if (auto sp = c.find(' '); sp != std::string::npos) m.set(c.substr(0, sp), c.substr(sp + 1));
+    return meta_bounds(m);
 }
 
 std::optional<std::array<Vec3, 2>> meta_bounds(const StreamMeta& m) {
@@ -154,8 +215,26 @@ std::optional<std::array<Vec3, 2>> meta_bounds(const StreamMeta& m) {
     return std::array<Vec3, 2>{*lo, *hi};
 }
 
+double stream_iso(const Args& a, const StreamMeta& m) {
+    const auto given = a.get("iso");
+    const auto recorded = m.get_double("iso");
+    if (!given) {
+        if (!recorded) throw UsageError("the stream records no isovalue; give --iso V");
+        return *recorded;
+    }
+    const double iso = parse_finite(*given, "--iso");
+    if (recorded && *recorded != iso)
+        std::fprintf(stderr,
+                     "meshless %s: warning: --iso %g differs from the stream's isovalue %g: the samples are the cells "
+                     "active for %g, so the surface for %g may be incomplete\n",
+                     a.command().c_str(), iso, *recorded, *recorded, iso);
+    return iso;
+}
+
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source) {
-    if (iso < range[0] || iso > range[1])
+    if (std::isnan(range[0]))
+        std::fprintf(stderr, "meshless: warning: %s has no finite samples; the outputs will be empty\n", source.c_str());
+    else if (iso < range[0] || iso > range[1])
         std::fprintf(stderr, "meshless: warning: %s: isovalue %g is outside the data range [%g, %g]; the outputs will be empty\n",
                      source.c_str(), iso, range[0], range[1]);
 }

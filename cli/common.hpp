@@ -8,11 +8,15 @@
 #include <vector>
 
 #include "cli/args.hpp"
+#include "cli/render_output.hpp"
 #include "formats/point_stream.hpp"
 #include "kernels/cell_sampling.hpp"
 #include "kernels/grid.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/splat_rasterizer.hpp"
+#include "ooc/brick_cache.hpp"
+#include "ooc/brick_index.hpp"
+#include "stream/isosplat_pipeline.hpp"
 
 namespace meshless::cli {
 
@@ -22,6 +26,27 @@ void add_volume_options(Args& a);
 RawOptions raw_options(const Args& a);
 /// Loads the volume named by the first positional argument (throws UsageError if none).
 Volume load_volume(const Args& a);
+
+/// --memory BYTES: the brick cache budget when VOLUME is a brick store (.mlb).
+void add_memory_option(Args& a);
+
+/// A VOLUME argument: a volume loaded into memory, or a brick store (.mlb) read brick by brick
+/// through a byte-budgeted cache (--memory), with its brick interval tree.
+struct VolumeInput {
+    std::string path;
+    std::optional<Volume> volume;
+    std::unique_ptr<BrickStore> store;
+    std::unique_ptr<BrickCache> cache;
+    std::unique_ptr<BrickIndex> index;
+    const GridSpec& grid() const;
+    SampleType type() const;
+    std::array<double, 2> value_range() const;
+};
+VolumeInput open_volume_input(const Args& a);
+
+/// Runs paradigm (C) on either kind of input.
+IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
+                                  Sink& sink, int threads, PipelineShape shape);
 /// --radius-scale
 void add_sampling_options(Args& a);
 SamplingParams sampling_params(const Args& a);
@@ -31,16 +56,30 @@ int threads(const Args& a);
 
 /// --size WxH --azimuth --elevation --zoom --kernel quad|ewa --ortho
 void add_camera_options(Args& a);
-Camera camera_from(const Args& a);
-SplatKernel kernel_from(const Args& a);
+/// Camera, kernel and shading from the camera options.
+RenderSettings render_settings(const Args& a);
 
 /// Metadata describing a volume and the isovalue (keys: source, iso, grid_dims, grid_origin,
 /// grid_spacing, bounds_lo, bounds_hi, value_min, value_max, producer).
-StreamMeta volume_meta(const std::string& source, const Volume& v, double iso, const std::string& producer);
+StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType type,
+                       const std::array<double, 2>& range, double iso, const std::string& producer);
+inline StreamMeta volume_meta(const std::string& source, const Volume& v, double iso, const std::string& producer) {
+    return volume_meta(source, v.grid, v.type, v.value_range(), iso, producer);
+}
+inline StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer) {
+    return volume_meta(in.path, in.grid(), in.type(), in.value_range(), iso, producer);
+}
 /// The PLY comment lines derived from metadata (same for the in-process and piped paths).
 std::vector<std::string> ply_comments(const StreamMeta& m);
+/// Bounds recorded in PLY comments written by ply_comments ("bounds_lo x,y,z", "bounds_hi ..."), if any.
+std::optional<std::array<Vec3, 2>> ply_bounds(const std::vector<std::string>& comments);
 /// Bounds recorded in the metadata, if any.
 std::optional<std::array<Vec3, 2>> meta_bounds(const StreamMeta& m);
+
+/// The isovalue for a stage reading a stream: --iso if given (with a warning when it differs from
+/// the stream's, whose active cells were chosen for that value), else the stream's; UsageError
+/// when neither exists.
+double stream_iso(const Args& a, const StreamMeta& m);
 
 /// Warns on stderr when iso lies outside [lo, hi] (the outputs will be empty but valid).
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source);

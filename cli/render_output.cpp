@@ -8,9 +8,9 @@
 namespace meshless::cli {
 
 SplatStats render_to_png(std::span<const PointRecord> pts, std::optional<std::array<Vec3, 2>> bounds,
-                         const Camera& cam, SplatKernel kernel, const std::string& png_path) {
+                         const RenderSettings& rs, const std::string& png_path) {
     SplatStats st;
-    const Image img = render_splats(pts, cam, kernel, ShadingParams{}, &st, bounds);
+    const Image img = render_splats(pts, rs.camera, rs.kernel, rs.shading, &st, bounds);
     write_png(img, png_path);
     return st;
 }
@@ -25,8 +25,10 @@ std::string frame_path(const std::string& path, int i) {
 }
 
 TurntableStats render_turntable(std::span<const PointRecord> pts, std::optional<std::array<Vec3, 2>> bounds,
-                                const Camera& cam, SplatKernel kernel, int frames, const std::string& png_path) {
-    SplatRenderer r(cam, ShadingParams{}, bounds ? *bounds : point_bounds(pts));
+                                const RenderSettings& rs, int frames, const std::string& png_path) {
+    const Camera& cam = rs.camera;
+    const SplatKernel kernel = rs.kernel;
+    SplatRenderer r(cam, rs.shading, bounds ? *bounds : point_bounds(pts));
     TurntableStats t;
     t.frames = frames;
     double sum = 0;

@@ -12,21 +12,44 @@ namespace meshless {
 
 namespace fs = std::filesystem;
 
+bool is_streaming_output(const std::string& path) {
+    if (path == "-") return true;
+    std::error_code ec;
+    const auto st = fs::status(path, ec);
+    return fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st);
+}
+
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     if (path_ == "-") {
         file_ = stdout;
         return;
     }
     std::error_code ec;
-    if (fs::is_directory(path_, ec))
+    // A symbolic link is followed: the temporary goes beside the target, which is replaced.
+    std::string target = path_;
+    if (fs::is_symlink(path_, ec)) target = fs::weakly_canonical(path_, ec).string();
+    if (fs::is_directory(target, ec))
         throw IoError(path_ + ": is a directory, expected a file name");
-    tmp_ = path_ + ".tmp-" + std::to_string(::getpid());
+    const auto st = fs::status(target, ec);
+    if (fs::exists(st) && !fs::is_regular_file(st)) {
+        // a device, FIFO or socket (/dev/null, a named pipe): write to it directly, never replace it
+        file_ = std::fopen(target.c_str(), "wb");
+        if (!file_) throw IoError(path_ + ": cannot open for writing (" + std::strerror(errno) + ")");
+        direct_ = true;
+        return;
+    }
+    target_ = target;
+    tmp_ = target + ".tmp-" + std::to_string(::getpid());
     file_ = std::fopen(tmp_.c_str(), "wb+");
     if (!file_) throw IoError(path_ + ": cannot create (" + std::strerror(errno) + ")");
 }
 
 AtomicFile::~AtomicFile() {
     if (is_stdout()) return;
+    if (direct_) {
+        if (file_) std::fclose(file_);
+        return;
+    }
     if (file_) std::fclose(file_);
     if (!committed_ && !tmp_.empty()) std::remove(tmp_.c_str());
 }
@@ -40,7 +63,7 @@ void AtomicFile::write(const void* data, std::size_t n) {
 }
 
 void AtomicFile::pwrite(std::size_t offset, const void* data, std::size_t n) {
-    if (is_stdout()) throw IoError("-: cannot seek on standard output");
+    if (is_stdout() || direct_) throw IoError(path_ + ": cannot seek in this output (not a regular file)");
     const long here = std::ftell(file_);
     if (std::fseek(file_, static_cast<long>(offset), SEEK_SET) != 0 ||
         std::fwrite(data, 1, n, file_) != n || std::fseek(file_, here, SEEK_SET) != 0)
@@ -57,12 +80,24 @@ void AtomicFile::commit() {
         committed_ = true;
         return;
     }
+    if (direct_) {
+        const bool ok = std::fflush(file_) == 0;
+        const int err = errno;
+        std::fclose(file_);
+        file_ = nullptr;
+        if (!ok) {
+            if (err == EPIPE) throw BrokenPipe();
+            throw IoError(path_ + ": write failed (" + std::strerror(err) + ")");
+        }
+        committed_ = true;
+        return;
+    }
     const bool flush_ok = std::fflush(file_) == 0 && ::fsync(fileno(file_)) == 0;
     const int err = errno;
     std::fclose(file_);
     file_ = nullptr;
     if (!flush_ok) throw IoError(path_ + ": write failed (" + std::strerror(err) + ")");
-    if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
+    if (std::rename(tmp_.c_str(), target_.c_str()) != 0)
         throw IoError(path_ + ": cannot rename temporary file into place (" + std::strerror(errno) + ")");
     committed_ = true;
 }

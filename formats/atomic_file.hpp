@@ -1,8 +1,11 @@
 // Output files that are never left half-written.
 //
 // AtomicFile writes to "<path>.tmp-<pid>" in the same directory and renames it over <path> on
-// commit(); if the object is destroyed without commit() (an exception, a signal-free early return)
-// the temporary is removed. The path "-" means standard output: written directly, commit() flushes.
+// commit(); if the object is destroyed without commit() (an exception, an early return) the
+// temporary is removed. A process killed by a signal leaves only the temporary, never a file that
+// looks complete. The path "-" means standard output, and an existing path that is not a regular
+// file (a device such as /dev/null, a FIFO) is written directly, never replaced; a symbolic link
+// is followed (the temporary goes beside its target, which is replaced).
 // Throws IoError naming the path when the file cannot be created, written or renamed, or when the
 // path is a directory. Not thread-safe; one writer per object.
 #pragma once
@@ -11,6 +14,9 @@
 #include <string>
 
 namespace meshless {
+
+/// True for outputs that cannot seek: "-" and existing non-regular files (devices, FIFOs).
+bool is_streaming_output(const std::string& path);
 
 class AtomicFile {
 public:
@@ -29,11 +35,14 @@ public:
     std::FILE* handle() { return file_; }
     const std::string& path() const { return path_; }
     bool is_stdout() const { return path_ == "-"; }
+    /// True when the output cannot seek (stdout, a device or FIFO): see is_streaming_output.
+    bool is_streaming() const { return is_stdout() || direct_; }
 
 private:
-    std::string path_, tmp_;
+    std::string path_, target_, tmp_;
     std::FILE* file_ = nullptr;
     bool committed_ = false;
+    bool direct_ = false;  ///< writing straight into a non-regular file
 };
 
 }  // namespace meshless

@@ -36,7 +36,8 @@ const char* kProperties =
 
 PlyPointWriter::PlyPointWriter(const std::string& path, const std::vector<std::string>& comments)
     : file_(std::make_unique<AtomicFile>(path)) {
-    if (file_->is_stdout()) throw UsageError("PLY point output to '-' needs the whole point set (use write_ply_points)");
+    if (file_->is_streaming())
+        throw UsageError(path + ": a PLY point output that cannot seek needs the whole point set (use write_ply_points)");
     const std::string pre = header_prefix(comments);
     file_->write(pre);
     count_offset_ = pre.size();
@@ -138,10 +139,20 @@ PlyPoints read_ply_points(const std::string& path) {
             if (props[p].name == names[a]) ix[a] = static_cast<int>(p);
     }
     if (ix[0] < 0 || ix[1] < 0 || ix[2] < 0) throw FormatError(path + ": PLY vertices have no x y z");
-    out.points.resize(nvert);
-    std::vector<double> vals(props.size());
     std::size_t stride = 0;
     for (const auto& p : props) stride += p.size;
+    if (enc != Enc::ascii) {  // a corrupt count must not allocate memory the file cannot fill
+        const auto here = in.tellg();
+        in.seekg(0, std::ios::end);
+        const auto remaining = static_cast<std::uint64_t>(in.tellg() - here);
+        in.seekg(here);
+        if (stride && nvert > remaining / stride)
+            throw FormatError(path + ": truncated or corrupt PLY: " + std::to_string(nvert) + " vertices of " +
+                              std::to_string(stride) + " bytes need more than the " + std::to_string(remaining) +
+                              " bytes left");
+    }
+    out.points.resize(nvert);
+    std::vector<double> vals(props.size());
     std::vector<unsigned char> raw(stride);
     for (std::uint64_t v = 0; v < nvert; ++v) {
         if (enc == Enc::ascii) {

@@ -212,6 +212,10 @@ std::optional<std::uint64_t> StreamReader::next_data(std::vector<char>& out) {
             if (count != total_)
                 throw FormatError(name_ + ": END frame says " + std::to_string(count) + " records, stream held " + std::to_string(total_));
             ended_ = true;
+            // a stream is one header ... END; bytes after it (two streams concatenated, a
+            // corrupted tail) would otherwise be dropped without a word
+            if (std::fgetc(f_) != EOF)
+                throw FormatError(name_ + ": unexpected data after the END frame (concatenated or corrupt stream)");
             return std::nullopt;
         }
         if (type == kFrameMeta) {

@@ -9,8 +9,8 @@
 //     followed by the payload: META = "key=value\n" text; DATA = count records (raw or zstd).
 //   exactly one END frame closes the stream.
 // Readers skip frame types they do not know, reject a wrong magic ("not a meshless stream"), a
-// version other than 1, a record size that does not match the kind, CRC mismatches, and EOF
-// before END ("truncated stream"), all as FormatError naming the stream ("-" = stdin).
+// version other than 1, a record size that does not match the kind, CRC mismatches, EOF before
+// END ("truncated stream") and bytes after END, all as FormatError naming the stream ("-" = stdin).
 // Thread-safety: one reader or writer per object.
 #pragma once
 #include <cstdint>

@@ -69,9 +69,10 @@ void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0
             const ValueGrad vg = trilinear(c, 0.5, 0.5, 0.5);
             const Vec3 gw = to_world_gradient(vg.grad, size);
             SampleRecord s;
-            const double lo[3] = {g.origin[0] + static_cast<double>(i) * sx_w,
-                                  g.origin[1] + static_cast<double>(j) * sy_w,
-                                  g.origin[2] + static_cast<double>(k) * sz_w};
+            const auto& off = params.index_offset;
+            const double lo[3] = {g.origin[0] + static_cast<double>(i + off[0]) * sx_w,
+                                  g.origin[1] + static_cast<double>(j + off[1]) * sy_w,
+                                  g.origin[2] + static_cast<double>(k + off[2]) * sz_w};
             s.pos[0] = static_cast<float>(lo[0] + 0.5 * sx_w);
             s.pos[1] = static_cast<float>(lo[1] + 0.5 * sy_w);
             s.pos[2] = static_cast<float>(lo[2] + 0.5 * sz_w);

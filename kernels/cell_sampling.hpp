@@ -9,6 +9,7 @@
 // Cells are addressed by "cell rows": row r = j + (ny-1)*k holds the nx-1 cells (i, j, k).
 // Pure and reentrant; concurrent calls on disjoint row ranges are safe.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -20,6 +21,10 @@ namespace meshless {
 
 struct SamplingParams {
     double radius_scale = 1.0;  ///< splat radius as a multiple of half the cell diagonal
+    /// Index of the view's voxel (0,0,0) in the whole volume, for views of a part (a brick) whose
+    /// grid origin is the whole volume's origin: positions are origin + (offset + i) * spacing, the
+    /// very same arithmetic as for the whole volume, so bricked and in-memory runs agree bit for bit.
+    std::array<std::int64_t, 3> index_offset{0, 0, 0};
 };
 
 struct SamplingStats {

@@ -71,7 +71,7 @@ std::array<double, 2> Volume::value_range() const {
             lo = v < lo ? v : lo;
             hi = v > hi ? v : hi;
         }
-        if (lo > hi) return std::array<double, 2>{0.0, 0.0};
+        if (lo > hi) return std::array<double, 2>{std::nan(""), std::nan("")};
         return std::array<double, 2>{lo, hi};
     });
 }

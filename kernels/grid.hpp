@@ -56,7 +56,7 @@ struct Volume {
     Volume() = default;
     Volume(GridSpec g, SampleType t);
     VolumeView view() const { return VolumeView{bytes.data(), type, grid}; }
-    /// Minimum and maximum over finite samples; {0,0} for an all-NaN volume.
+    /// Minimum and maximum over finite samples; {NaN, NaN} when there is none.
     std::array<double, 2> value_range() const;
 };
 

@@ -13,7 +13,8 @@ JOBS="${JOBS:-$(nproc)}"
 
 PACKAGES=(build-essential cmake ninja-build pkg-config git
           libeigen3-dev libnanoflann-dev libboost-iostreams-dev libzstd-dev libcgal-dev
-          catch2 libtbb-dev libpng-dev zlib1g-dev)
+          catch2 libtbb-dev libpng-dev zlib1g-dev
+          libopenmpi-dev openmpi-bin)
 
 install_deps() {
   [ "${SKIP_APT:-0}" = 1 ] && return 0

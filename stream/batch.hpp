@@ -25,6 +25,7 @@ struct Batch {
     std::uint64_t seq = 0;
     RecordKind kind = RecordKind::sample;
     CellRange cells;                    ///< work description (generate stage input), else empty
+    std::int64_t brick = -1;            ///< brick-store work: index of the brick the cell rows are in
     std::vector<SampleRecord> samples;  ///< valid when kind == sample
     std::vector<PointRecord> points;    ///< valid when kind == point
     std::uint64_t count() const { return kind == RecordKind::sample ? samples.size() : points.size(); }

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "stream/brick_source.hpp"
 #include "stream/cell_row_source.hpp"
 #include "stream/generate_project_stage.hpp"
 #include "stream/generate_stage.hpp"
@@ -9,12 +10,20 @@
 
 namespace meshless {
 
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
 IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, const SamplingParams& sp,
-                            Sink& sink, const RunOptions& opt, bool opt_fused) {
+                            Sink& sink, const RunOptions& opt, PipelineShape shape) {
     const auto t0 = std::chrono::steady_clock::now();
     CellRowSource source(v.grid);
     IsoSplatResult r;
-    if (opt_fused) {
+    if (shape == PipelineShape::fused) {
         GenerateProjectStage stage(v, iso, sp, mode);
         const Stage* stages[] = {&stage};
         run_pipeline(source, stages, sink, opt);
@@ -23,12 +32,32 @@ IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, co
     } else {
         GenerateStage generate(v, iso, sp);
         ProjectStage project(iso, mode);
-        const Stage* stages[] = {&generate, &project};
-        run_pipeline(source, stages, sink, opt);
+        const Stage* both[] = {&generate, &project};
+        const Stage* one[] = {&generate};
+        run_pipeline(source, shape == PipelineShape::two_stage ? std::span<const Stage* const>(both)
+                                                                : std::span<const Stage* const>(one),
+                     sink, opt);
         r.sampling = generate.stats();
         r.projection = project.stats();
     }
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.seconds = seconds_since(t0);
+    return r;
+}
+
+IsoSplatResult run_isosplat_bricks(const BrickStore& store, BrickCache& cache, std::vector<std::size_t> bricks,
+                                   double iso, Projection mode, const SamplingParams& sp, Sink& sink,
+                                   const RunOptions& opt, PipelineShape shape) {
+    const auto t0 = std::chrono::steady_clock::now();
+    BrickSource source(store, std::move(bricks));
+    BrickGenerateStage stage(store, cache, iso, sp,
+                             shape == PipelineShape::fused ? std::optional<Projection>(mode) : std::nullopt);
+    ProjectStage project(iso, mode);
+    const Stage* both[] = {&stage, &project};
+    run_pipeline(source, std::span<const Stage* const>(both, shape == PipelineShape::two_stage ? 2 : 1), sink, opt);
+    IsoSplatResult r;
+    r.sampling = stage.sampling_stats();
+    r.projection = shape == PipelineShape::two_stage ? project.stats() : stage.projection_stats();
+    r.seconds = seconds_since(t0);
     return r;
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 #include "kernels/cell_sampling.hpp"
 #include "kernels/project_sample.hpp"
+#include "ooc/brick_cache.hpp"
 #include "stream/runner.hpp"
 
 namespace meshless {
@@ -15,9 +16,19 @@ struct IsoSplatResult {
     double seconds = 0;  ///< wall time of generate + project + sink
 };
 
-/// fused = true runs GenerateProjectStage (no SampleRecords stored); false runs GenerateStage and
-/// ProjectStage as two stages, exactly as the piped commands do. Both give the same bytes.
+/// How the stages are arranged: `fused` generates and projects in one stage (no SampleRecords are
+/// stored); `two_stage` runs the generate and project stages one after the other, exactly as the
+/// piped commands do (same bytes as fused); `samples_only` stops after generation (the sink gets
+/// sample batches: what `meshless generate` writes; `mode` is unused).
+enum class PipelineShape { fused, two_stage, samples_only };
+
 IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, const SamplingParams& sp,
-                            Sink& sink, const RunOptions& opt = {}, bool fused = true);
+                            Sink& sink, const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused);
+
+/// The same over a brick store: the given bricks (normally BrickIndex::active(iso), Morton order)
+/// through the byte-budgeted cache.
+IsoSplatResult run_isosplat_bricks(const BrickStore& store, BrickCache& cache, std::vector<std::size_t> bricks,
+                                   double iso, Projection mode, const SamplingParams& sp, Sink& sink,
+                                   const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused);
 
 }  // namespace meshless

@@ -1,5 +1,6 @@
 #include "stream/point_sinks.hpp"
 
+#include "formats/atomic_file.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -13,7 +14,8 @@ void require_points(const Batch& b) {
 
 PlySink::PlySink(const std::string& path, const std::vector<std::string>& comments)
     : path_(path), comments_(comments) {
-    if (path != "-") w_ = std::make_unique<PlyPointWriter>(path, comments);
+    // stdout, devices and FIFOs cannot seek to patch the count: hold the points, write at the end
+    if (!is_streaming_output(path)) w_ = std::make_unique<PlyPointWriter>(path, comments);
 }
 
 void PlySink::consume(Batch&& b) {

@@ -160,7 +160,7 @@ TEST_CASE("demo writes a PLY and a PNG", "[cli]") {
     CHECK(r.code == 0);
 }
 
-TEST_CASE("mc writes a closed mesh and stats; turntable writes N frames", "[cli]") {
+TEST_CASE("mc writes a closed mesh and stats, turntable writes N frames", "[cli]") {
     TempDir d("mc");
     const std::string vol = write_test_volume(d);
     const std::string D = d.path.string();

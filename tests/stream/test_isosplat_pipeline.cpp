@@ -20,7 +20,7 @@ namespace {
 std::vector<PointRecord> isosplat(const Volume& v, double iso, Projection mode, int threads,
                                   IsoSplatResult* res = nullptr, bool fused = true) {
     CollectSink sink;
-    const IsoSplatResult r = run_isosplat(v.view(), iso, mode, SamplingParams{}, sink, {threads}, fused);
+    const IsoSplatResult r = run_isosplat(v.view(), iso, mode, SamplingParams{}, sink, {threads}, fused ? PipelineShape::fused : PipelineShape::two_stage);
     if (res) *res = r;
     return sink.points;
 }

@@ -1,0 +1,34 @@
+// Slab-streaming conversion of a volume into a brick store (DESIGN.md "Brick store"): one pass
+// over z-slabs of B+1 slices (memory: one slab of bricks plus its compressed frames, never the
+// volume), compressed bricks spooled to "<out>.tmp-<pid>.spool", then written in Morton order with
+// the index and footer to "<out>.tmp-<pid>" and renamed over <out>. Deterministic: the same input
+// and parameters give byte-identical stores, so a conversion killed at any point and run again
+// yields the same file; a killed run leaves only temporaries, never a file that looks complete.
+// Throws IoError (disk full, unwritable) after removing its temporaries; FormatError from the source.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "ooc/slice_source.hpp"
+
+namespace meshless {
+
+struct ConvertParams {
+    std::uint32_t brick_edge = 32;  ///< cells per brick edge (2..1024)
+    int zstd_level = 1;             ///< chosen by benchmark (see README)
+    int threads = 1;                ///< compression threads; output bytes do not depend on it
+};
+
+struct ConvertStats {
+    std::uint64_t input_bytes = 0;   ///< voxels * sample size
+    std::uint64_t output_bytes = 0;  ///< size of the store
+    std::uint64_t bricks = 0;
+    double seconds = 0;
+};
+
+/// progress(fraction) is called after each slab when given (the CLI prints it on a terminal).
+ConvertStats convert_to_brick_store(SliceSource& src, const std::string& out_path, const ConvertParams& p,
+                                    const std::function<void(double)>& progress = {});
+
+}  // namespace meshless

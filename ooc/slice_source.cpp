@@ -1,0 +1,303 @@
+#include "ooc/slice_source.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "formats/binary_file.hpp"
+#include "formats/gzip.hpp"
+#include "formats/metaimage.hpp"
+#include "formats/nrrd.hpp"
+#include "formats/payload.hpp"
+#include "formats/raw_volume.hpp"
+#include "formats/stored_type.hpp"
+#include "formats/voreen_dat.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+namespace {
+
+void check_range(const SliceSource& s, std::int64_t k, std::int64_t count) {
+    if (k < 0 || count < 0 || k + count > s.grid().dims[2])
+        throw UsageError(s.name() + ": slices [" + std::to_string(k) + "," + std::to_string(k + count) +
+                         ") outside the volume's " + std::to_string(s.grid().dims[2]) + " slices");
+}
+
+/// A volume already in memory (formats that are read whole).
+class MemorySliceSource final : public SliceSource {
+public:
+    MemorySliceSource(Volume v, std::string name) : v_(std::move(v)), name_(std::move(name)) {}
+    const GridSpec& grid() const override { return v_.grid; }
+    SampleType type() const override { return v_.type; }
+    std::string name() const override { return name_; }
+    void read_slices(std::int64_t k, std::int64_t count, std::byte* out) override {
+        check_range(*this, k, count);
+        const std::size_t slice = static_cast<std::size_t>(v_.grid.dims[0] * v_.grid.dims[1]) * sample_size(v_.type);
+        std::memcpy(out, v_.bytes.data() + static_cast<std::size_t>(k) * slice, static_cast<std::size_t>(count) * slice);
+    }
+
+private:
+    Volume v_;
+    std::string name_;
+};
+
+/// Executes a payload plan (raw or gzip, no line skip) slab by slab: random access for raw files,
+/// sequential decompression for gzip (restarting the current file when asked to go back).
+class PlanSliceSource final : public SliceSource {
+public:
+    PlanSliceSource(PayloadPlan plan, std::string name) : plan_(std::move(plan)), name_(std::move(name)) {
+        const std::string& head = plan_.files.front();
+        for (int a = 0; a < 3; ++a)
+            if (plan_.grid.dims[a] < 1) throw FormatError(head + ": invalid dimensions " + dims_string(plan_.grid));
+        type_ = volume_type_for(plan_.type);
+        const std::uint64_t n = static_cast<std::uint64_t>(plan_.grid.voxel_count());
+        const std::uint64_t k = plan_.files.size();
+        if (n % k != 0)
+            throw FormatError(head + ": " + std::to_string(n) + " samples do not split evenly over " + std::to_string(k) +
+                              " data files");
+        share_ = n * stored_size(plan_.type) / k;
+        starts_.resize(k);
+        for (std::size_t f = 0; f < k; ++f) {
+            const std::string& file = plan_.files[f];
+            if (plan_.encoding != PayloadEncoding::raw) {
+                starts_[f] = plan_.file_offset;
+                continue;
+            }
+            const std::uint64_t size = regular_file_size(file);
+            std::uint64_t start = plan_.file_offset;
+            if (plan_.byte_skip == -1) {
+                if (size < share_)
+                    throw FormatError(file + ": expected " + std::to_string(share_) + " bytes for " + dims_string(plan_.grid) +
+                                      " " + to_string(plan_.type) + ", file has " + std::to_string(size));
+                start = size - share_;
+            } else {
+                start += static_cast<std::uint64_t>(plan_.byte_skip);
+            }
+            const bool ok = plan_.exact_size ? size == start + share_ : size >= start && size - start >= share_;
+            if (!ok)
+                throw FormatError(file + ": expected " + std::to_string(share_) + " bytes" +
+                                  (start ? " after offset " + std::to_string(start) : std::string()) + " for " +
+                                  dims_string(plan_.grid) + " " + to_string(plan_.type) + ", file has " + std::to_string(size));
+            starts_[f] = start;
+        }
+    }
+    const GridSpec& grid() const override { return plan_.grid; }
+    SampleType type() const override { return type_; }
+    std::string name() const override { return name_; }
+
+    void read_slices(std::int64_t k, std::int64_t count, std::byte* out) override {
+        check_range(*this, k, count);
+        if (count == 0) return;
+        const std::uint64_t slice_stored = static_cast<std::uint64_t>(plan_.grid.dims[0] * plan_.grid.dims[1]) * stored_size(plan_.type);
+        const std::uint64_t begin = static_cast<std::uint64_t>(k) * slice_stored;
+        const std::uint64_t bytes = static_cast<std::uint64_t>(count) * slice_stored;
+        const bool native = plan_.type == StoredType::u8 || plan_.type == StoredType::u16 || plan_.type == StoredType::i16 ||
+                            plan_.type == StoredType::f32;
+        const bool direct = native && plan_.big_endian != host_is_little_endian();
+        if (direct) {
+            fetch(begin, bytes, out);
+            return;
+        }
+        std::vector<std::byte> buf(static_cast<std::size_t>(bytes));
+        fetch(begin, bytes, buf.data());
+        GridSpec g = plan_.grid;
+        g.dims[2] = count;
+        const Volume v = make_volume(std::move(buf), plan_.type, plan_.big_endian, g, plan_.files.front());
+        std::memcpy(out, v.bytes.data(), v.bytes.size());
+    }
+
+private:
+    // Bytes [begin, begin+n) of the concatenated (decoded) payload.
+    void fetch(std::uint64_t begin, std::uint64_t n, std::byte* dst) {
+        while (n > 0) {
+            const std::size_t f = static_cast<std::size_t>(begin / share_);
+            const std::uint64_t in_file = begin % share_;
+            const std::uint64_t take = std::min(n, share_ - in_file);
+            const std::string& file = plan_.files[f];
+            if (plan_.encoding == PayloadEncoding::raw) {
+                read_file_range_into(file, starts_[f] + in_file, take, dst);
+            } else {
+                if (!inflate_ || inflate_file_ != f || inflate_->position() > in_file + skip_) {
+                    inflate_ = std::make_unique<InflateReader>(file, starts_[f]);
+                    inflate_file_ = f;
+                    skip_ = static_cast<std::uint64_t>(std::max<std::int64_t>(0, plan_.byte_skip));
+                    inflate_->skip(skip_);
+                }
+                const std::uint64_t pos = inflate_->position() - skip_;
+                if (pos < in_file) inflate_->skip(in_file - pos);
+                inflate_->read_exact(dst, static_cast<std::size_t>(take), "payload");
+            }
+            dst += take;
+            begin += take;
+            n -= take;
+        }
+    }
+
+    PayloadPlan plan_;
+    std::string name_;
+    SampleType type_ = SampleType::u8;
+    std::uint64_t share_ = 0;
+    std::vector<std::uint64_t> starts_;
+    std::unique_ptr<InflateReader> inflate_;
+    std::size_t inflate_file_ = 0;
+    std::uint64_t skip_ = 0;
+};
+
+std::optional<PayloadPlan> streamable_plan(const std::string& path, const RawOptions& raw) {
+    const VolumeInfo vi = probe_volume(path, raw);
+    PayloadPlan plan;
+    if (vi.format == "raw") plan = plan_raw(path, raw);
+    else if (vi.format == "nrrd") plan = plan_nrrd(path);
+    else if (vi.format == "metaimage") plan = plan_metaimage(path);
+    else if (vi.format == "voreen-dat") plan = plan_voreen_dat(path);
+    else return std::nullopt;
+    if (plan.files.empty() || plan.line_skip != 0) return std::nullopt;
+    if (plan.encoding != PayloadEncoding::raw && plan.encoding != PayloadEncoding::gzip) return std::nullopt;
+    if (plan.encoding == PayloadEncoding::gzip && plan.byte_skip < 0) return std::nullopt;  // read_payload reports it
+    return plan;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Upsampling.
+
+struct Taps {
+    std::int64_t idx[4];
+    double w[4];
+    int n = 0;
+};
+
+// Interpolation taps of fine sample I on an axis of n coarse samples (factor f).
+std::vector<Taps> axis_taps(std::int64_t n, int f, Upsampling mode) {
+    const std::int64_t fine = n == 1 ? 1 : (n - 1) * f + 1;
+    std::vector<Taps> taps(static_cast<std::size_t>(fine));
+    for (std::int64_t I = 0; I < fine; ++I) {
+        Taps& t = taps[static_cast<std::size_t>(I)];
+        const std::int64_t i0 = I / f;
+        const double u = static_cast<double>(I % f) / f;
+        auto add = [&](std::int64_t i, double w) {
+            if (w == 0) return;
+            i = std::clamp<std::int64_t>(i, 0, n - 1);
+            for (int q = 0; q < t.n; ++q)
+                if (t.idx[q] == i) {
+                    t.w[q] += w;
+                    return;
+                }
+            t.idx[t.n] = i;
+            t.w[t.n++] = w;
+        };
+        if (u == 0) {
+            add(i0, 1.0);
+        } else if (mode == Upsampling::trilinear) {
+            add(i0, 1 - u);
+            add(i0 + 1, u);
+        } else {  // Catmull-Rom
+            const double u2 = u * u, u3 = u2 * u;
+            add(i0 - 1, 0.5 * (-u3 + 2 * u2 - u));
+            add(i0, 0.5 * (3 * u3 - 5 * u2 + 2));
+            add(i0 + 1, 0.5 * (-3 * u3 + 4 * u2 + u));
+            add(i0 + 2, 0.5 * (u3 - u2));
+        }
+    }
+    return taps;
+}
+
+template <class T>
+T to_sample(double v) {
+    if constexpr (std::is_floating_point_v<T>) {
+        return static_cast<T>(v);
+    } else {
+        const double r = std::floor(v + 0.5);
+        return static_cast<T>(std::clamp(r, static_cast<double>(std::numeric_limits<T>::lowest()),
+                                         static_cast<double>(std::numeric_limits<T>::max())));
+    }
+}
+
+class UpsamplingSliceSource final : public SliceSource {
+public:
+    UpsamplingSliceSource(const Volume& v, int f, Upsampling mode, std::string name) : v_(v), name_(std::move(name)) {
+        if (f < 1 || f > 64) throw UsageError(name_ + ": upsampling factor must be 1..64, got " + std::to_string(f));
+        for (int a = 0; a < 3; ++a) {
+            taps_[a] = axis_taps(v.grid.dims[a], f, mode);
+            grid_.dims[a] = static_cast<std::int64_t>(taps_[a].size());
+            grid_.origin[a] = v.grid.origin[a];
+            grid_.spacing[a] = v.grid.spacing[a] / f;
+        }
+        if (grid_.dims[0] >= (std::int64_t{1} << 31) || grid_.dims[1] >= (std::int64_t{1} << 31))
+            throw UsageError(name_ + ": upsampled slice too large");
+    }
+    const GridSpec& grid() const override { return grid_; }
+    SampleType type() const override { return v_.type; }
+    std::string name() const override { return name_; }
+
+    void read_slices(std::int64_t k, std::int64_t count, std::byte* out) override {
+        check_range(*this, k, count);
+        const std::size_t slice_bytes = static_cast<std::size_t>(grid_.dims[0] * grid_.dims[1]) * sample_size(v_.type);
+        for (std::int64_t q = 0; q < count; ++q)
+            visit_samples(v_.view(), [&](const auto* src) {
+                using T = std::remove_const_t<std::remove_pointer_t<decltype(src)>>;
+                slice(src, k + q, reinterpret_cast<T*>(out + static_cast<std::size_t>(q) * slice_bytes));
+            });
+    }
+
+private:
+    template <class T>
+    void slice(const T* src, std::int64_t K, T* dst) {
+        const std::int64_t nx = v_.grid.dims[0], ny = v_.grid.dims[1];
+        const std::int64_t NX = grid_.dims[0], NY = grid_.dims[1];
+        zbuf_.assign(static_cast<std::size_t>(nx * ny), 0.0);
+        const Taps& tz = taps_[2][static_cast<std::size_t>(K)];
+        for (int q = 0; q < tz.n; ++q) {
+            const T* s = src + tz.idx[q] * nx * ny;
+            const double w = tz.w[q];
+            for (std::int64_t i = 0; i < nx * ny; ++i) zbuf_[static_cast<std::size_t>(i)] += w * static_cast<double>(s[i]);
+        }
+        ybuf_.assign(static_cast<std::size_t>(nx * NY), 0.0);
+        for (std::int64_t J = 0; J < NY; ++J) {
+            const Taps& ty = taps_[1][static_cast<std::size_t>(J)];
+            double* row = ybuf_.data() + J * nx;
+            for (int q = 0; q < ty.n; ++q) {
+                const double* s = zbuf_.data() + ty.idx[q] * nx;
+                const double w = ty.w[q];
+                for (std::int64_t i = 0; i < nx; ++i) row[i] += w * s[i];
+            }
+        }
+        const auto& tx = taps_[0];
+        for (std::int64_t J = 0; J < NY; ++J) {
+            const double* row = ybuf_.data() + J * nx;
+            T* o = dst + J * NX;
+            for (std::int64_t I = 0; I < NX; ++I) {
+                const Taps& t = tx[static_cast<std::size_t>(I)];
+                double v = 0;
+                for (int q = 0; q < t.n; ++q) v += t.w[q] * row[t.idx[q]];
+                o[I] = to_sample<T>(v);
+            }
+        }
+    }
+
+    const Volume& v_;
+    std::string name_;
+    GridSpec grid_;
+    std::vector<Taps> taps_[3];
+    std::vector<double> zbuf_, ybuf_;
+};
+
+}  // namespace
+
+std::unique_ptr<SliceSource> open_slice_source(const std::string& path, const RawOptions& raw) {
+    if (auto plan = streamable_plan(path, raw)) return std::make_unique<PlanSliceSource>(std::move(*plan), path);
+    return std::make_unique<MemorySliceSource>(read_volume(path, raw), path);
+}
+
+std::unique_ptr<SliceSource> make_volume_source(Volume v, std::string name) {
+    return std::make_unique<MemorySliceSource>(std::move(v), std::move(name));
+}
+
+std::unique_ptr<SliceSource> make_upsampling_source(const Volume& v, int factor, Upsampling mode, std::string name) {
+    return std::make_unique<UpsamplingSliceSource>(v, factor, mode, std::move(name));
+}
+
+}  // namespace meshless

@@ -1,0 +1,21 @@
+// Full check of a brick store (meshless verify): header, index and footer, then every brick is read
+// and decompressed, its CRC, size and value range compared with the index. Reports the first bad
+// brick by index and voxel range. Never throws for damage (it is the result); IoError when the file
+// cannot be read at all.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace meshless {
+
+struct VerifyReport {
+    bool ok = false;
+    std::uint64_t bricks_checked = 0;
+    std::optional<std::uint64_t> first_bad_brick;
+    std::string message;  ///< one line: "ok: N bricks" or what is wrong and where
+};
+
+VerifyReport verify_brick_store(const std::string& path);
+
+}  // namespace meshless
