@@ -23,6 +23,7 @@ constexpr Command kCommands[] = {
     {"generate", cmd_generate, "volume -> one sample per active cell, as a binary stream"},
     {"project", cmd_project, "sample stream -> points projected onto the isosurface"},
     {"write", cmd_write, "point stream -> binary PLY"},
+    {"extract", cmd_extract, "sample store (.mls, paradigm A) -> samples of the active cells of one isovalue"},
     {"splat", cmd_splat, "point stream or PLY -> surface-splatted PNG (quad or EWA kernels)"},
     {"mc", cmd_mc, "volume -> marching-cubes triangle mesh (PLY), the baseline"},
     {"convert", cmd_convert, "volume -> Morton-ordered zstd brick store (.mlb) for out-of-core work"},

@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/mpi_session.hpp"
+#include "formats/atomic_file.hpp"
 #include "cli/common.hpp"
 #include "cli/render_output.hpp"
 #include "formats/ply_points.hpp"
@@ -99,7 +100,8 @@ int cmd_isosurface(int argc, char** argv) {
     const auto out = a.get("output");
     const auto png = a.get("png");
     if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
-    if (out && png && *out == *png) throw UsageError("-o and --png name the same output '" + *out + "'");
+    if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
+        throw UsageError("-o and --png name the same output '" + *out + "'");
     const Projection mode = parse_projection(a.get_or("projection", "approx"));
     const SamplingParams sp = sampling_params(a);
     const RenderSettings rs = render_settings(a);

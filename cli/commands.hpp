@@ -10,6 +10,7 @@ int cmd_isosurface(int argc, char** argv);
 int cmd_generate(int argc, char** argv);
 int cmd_project(int argc, char** argv);
 int cmd_write(int argc, char** argv);
+int cmd_extract(int argc, char** argv);
 int cmd_splat(int argc, char** argv);
 int cmd_mc(int argc, char** argv);
 int cmd_info(int argc, char** argv);

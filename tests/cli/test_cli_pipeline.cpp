@@ -197,3 +197,53 @@ TEST_CASE("unknown sample types and NaN voxels from the command line", "[cli]") 
     r = sh("MESHLESS mc " + D + "/v.raw --dims 16,16,16 --type float32 --iso 5.5 -o " + D + "/m.ply --stats", d);
     CHECK(r.code == 0);
 }
+
+TEST_CASE("outputs that are devices, FIFOs or symlinks are written through, never replaced", "[cli]") {
+    TempDir d("devs");
+    const std::string vol = write_test_volume(d);
+    const std::string D = d.path.string();
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o /dev/null --png /dev/null", d).code == 0);
+    CHECK(fs::is_character_file("/dev/null"));
+    REQUIRE(sh("mkfifo " + D + "/fifo.ply && (cat " + D + "/fifo.ply > " + D + "/got.ply &) && MESHLESS isosurface " + vol +
+                   " --iso 50.5 -o " + D + "/fifo.ply && sleep 0.2",
+               d).code == 0);
+    CHECK(fs::is_fifo(d / "fifo.ply"));
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/plain.ply", d).code == 0);
+    CHECK(slurp(d / "got.ply") == slurp(d / "plain.ply"));
+    REQUIRE(sh("ln -s plain.ply " + D + "/link.ply && MESHLESS isosurface " + vol + " --iso 60.5 -o " + D + "/link.ply", d).code == 0);
+    CHECK(fs::is_symlink(d / "link.ply"));
+    CHECK(slurp(d / "link.ply") != slurp(d / "got.ply"));  // the target was replaced with the new surface
+}
+
+TEST_CASE("misuse is refused: extra arguments, NaN numbers, same output twice, concatenated streams", "[cli]") {
+    TempDir d("misuse");
+    const std::string vol = write_test_volume(d);
+    const std::string D = d.path.string();
+    CHECK(sh("MESHLESS isosurface " + vol + " extra.raw --iso 50.5 -o " + D + "/x.ply", d).code == 1);
+    CHECK(sh("MESHLESS isosurface " + vol + " --iso nan -o " + D + "/x.ply", d).code == 1);
+    CHECK(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/x.ply --azimuth inf --png " + D + "/x.png", d).code == 1);
+    CHECK(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/x.ply --png " + D + "/x.ply", d).code == 1);
+    CHECK(!fs::exists(d / "x.ply"));
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project -o " + D + "/p.mls", d).code == 0);
+    auto r = sh("cat " + D + "/p.mls " + D + "/p.mls | MESHLESS write -o " + D + "/c.ply", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("after the END frame"));
+    r = sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project --iso 70.5 > /dev/null", d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("differs from the stream's isovalue"));
+    r = sh("MESHLESS isosurface ../x.nhdr --dims 5,5,5 --iso 1 -o " + D + "/x.ply", d);
+    CHECK(r.code == 2);
+}
+
+TEST_CASE("render-time projection (paradigms B/D) and PLY re-renders match the in-process picture", "[cli]") {
+    TempDir d("bd");
+    const std::string vol = write_test_volume(d);
+    const std::string D = d.path.string();
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/a.ply --png " + D + "/a.png --size 120x90", d).code == 0);
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS splat -o " + D + "/b.png --size 120x90", d).code == 0);
+    REQUIRE(sh("MESHLESS splat " + D + "/a.ply -o " + D + "/c.png --size 120x90", d).code == 0);
+    CHECK(slurp(d / "a.png") == slurp(d / "b.png"));
+    CHECK(slurp(d / "a.png") == slurp(d / "c.png"));
+    auto r = sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project | MESHLESS splat --iso 3 -o " + D + "/e.png", d);
+    CHECK(r.code == 1);
+}

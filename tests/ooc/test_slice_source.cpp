@@ -175,7 +175,7 @@ TEST_CASE("real volumes convert to brick stores that reassemble to read_volume",
     }
     TempDir dir("ooc-real");
     const fs::path d = shared_data();
-    for (const fs::path p : {d / "vtkjs_LIDC2" / "LIDC2.vti", d / "vtk_headsq" / "quarter.nhdr",
+    for (const fs::path& p : {d / "vtkjs_LIDC2" / "LIDC2.vti", d / "vtk_headsq" / "quarter.nhdr",
                              d / "tooth" / "tooth_103x94x161_uint8.raw"}) {
         INFO(p.string());
         const Volume ref = read_volume(p.string());
