@@ -59,7 +59,7 @@ int cli_main(int argc, char** argv) {
         return 0;
     }
     if (name == "--version") {
-        std::puts("meshless 0.1.0");
+        std::puts("meshless " MESHLESS_VERSION);
         return 0;
     }
     for (const auto& c : kCommands) {

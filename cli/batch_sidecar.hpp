@@ -23,7 +23,7 @@
 namespace meshless::cli {
 
 /// Tool version recorded in sidecars (keep equal to `meshless --version`, CMake project VERSION).
-inline constexpr const char* kMeshlessVersion = "0.1.0";
+inline constexpr const char* kMeshlessVersion = MESHLESS_VERSION;  // from CMake project(VERSION)
 
 struct FileStat {
     std::string path;

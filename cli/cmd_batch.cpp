@@ -98,12 +98,15 @@ struct ItemResult {
     std::string message;
 };
 
-/// True for I/O errors that mean the disk (or the file size limit) is full: no point going on.
+/// True for I/O errors that mean the disk is full: no point going on with the other volumes.
 bool is_disk_full(const std::string& msg) {
-    for (int e : {ENOSPC, EFBIG, EDQUOT})
+    for (int e : {ENOSPC, EDQUOT})
         if (msg.find(std::strerror(e)) != std::string::npos) return true;
     return false;
 }
+/// True when a file hit the size limit (ulimit -f, or the file system's largest file): this volume
+/// fails, smaller ones may still fit.
+bool is_file_too_large(const std::string& msg) { return msg.find(std::strerror(EFBIG)) != std::string::npos; }
 
 void remove_quietly(const std::string& p) {
     std::error_code ec;
@@ -192,6 +195,8 @@ public:
         if (!fs::exists(item_.path, ec)) throw IoError(item_.path + ": missing input (no such file or directory)");
         const VolumeInfo info = probe_volume(item_.path, item_.raw);
         std::vector<std::string> files{item_.path};
+        if (fs::is_directory(item_.path, ec) && fs::is_regular_file(fs::path(item_.path) / "index.json", ec))
+            files.push_back((fs::path(item_.path) / "index.json").string());  // vtk-js: the index is part of it
         for (const auto& f : info.data_files)
             if (std::find(files.begin(), files.end(), f) == files.end() && !fs::equivalent(f, item_.path, ec)) files.push_back(f);
         stats_ = stat_files(files);
@@ -314,8 +319,8 @@ private:
         Sidecar full = expected;
         put_input(full, item_.path, stats_, crc());
         if (!same_identity(*sc, full)) return false;
-        if (recorded_files(*sc) != stats_ || sc->at("input") != item_.path) {
-            full["output"] = sc->count("output") ? sc->at("output") : fs::path(out).filename().string();
+        if (recorded_files(*sc) != stats_ || sc->find("input") == sc->end() || sc->at("input") != item_.path) {
+            full["output"] = fs::path(out).filename().string();
             full["output_size"] = rec->second;
             write_sidecar(sidecar_path(out), full);
         }
@@ -502,9 +507,12 @@ int cmd_batch(int argc, char** argv) {
         r.seconds = std::chrono::duration<double>(Clock::now() - t).count();
         progress.clear();
         if (r.status == Status::failed) {
+            if (is_file_too_large(r.message))
+                r.message += "; over the file size limit (ulimit -f, or the file system's largest file); "
+                             "temporaries removed";
             std::fprintf(stderr, "meshless batch: %s: %s\n", r.name.c_str(), r.message.c_str());
             if (is_disk_full(r.message)) {
-                disk_full = "out of disk space (or over the file size limit) in " + s.out_dir;
+                disk_full = "out of disk space in " + s.out_dir;
                 std::fprintf(stderr,
                              "meshless batch: %s; stopping. Finished outputs are kept, temporaries removed; free some space "
                              "and run the same command again to finish the rest\n",

@@ -19,19 +19,32 @@ namespace meshless::cli {
 
 namespace {
 
-// Defaults chosen by measurement (this 2-core machine, one thread, bench in ooc/README.md):
-// zstd level 1 is within a few percent of level 3's ratio on the 8-bit CTs (LIDC2 2.43 vs 2.53x,
-// tooth 2.65 vs 2.84x, headsq int16 2.04 vs 2.11x) at 2-3x the compression speed, and decodes
-// at least as fast; brick 32 (33^3 = 35.9 KB per u8 brick with its ghost layer) compresses
-// 5-10% better than 16 (whose ghost layer alone is 19% overhead) and keeps a cache budget of a
-// few MiB useful, where 64 (275 KB/brick) reads 7.7x more data per brick touched.
+// Defaults chosen by measurement (2-core shared VM, 1 thread, best of 3; convert = slab read,
+// compression, spool, Morton-order copy and fsync; decode = read + CRC + decompress every brick):
+//   dataset (type)          level/brick  ratio  convert MB/s  decode MB/s
+//   LIDC2 256x256x133 u8    L1 B16        4.71     132           916
+//                           L1 B32        5.55     172          2122
+//                           L1 B64        5.72     279          2464
+//                           L3 B16/32/64  4.68/5.52/5.66   124/147/139   549/1055/1113
+//   tooth 103x94x161 u8     L1 B16/32/64  1.42/1.50/1.50    51/71/82     608/1116/1265
+//                           L3 B16/32/64  1.39/1.49/1.53    33/37/37     484/858/881
+//   headsq 64x64x93 i16     L1 B16/32/64  1.51/1.58/1.66    38/84/64     640/1013/1127
+//                           L3 B16/32/64  1.51/1.67/1.79    34/48/34     606/899/943
+//   LIDC2 x2 511x511x265 u8 L1 B16/32/64  5.06/5.99/6.19   155/224/280  1059/1347/1589
+//                           L3 B16/32/64  5.10/6.13/6.52   127/205/178   658/1666/1337
+// Level 1: on the noisy 8-bit CTs it matches or beats level 3's ratio (LIDC2 5.55 vs 5.52, tooth
+// 1.50 vs 1.49 at B32) while converting 1.2-2x and decoding up to 2x faster; level 3 buys 2-6% on
+// int16 / smooth data only. Brick 32: 5-18% smaller and 1.3-2.3x faster to decode than 16 (whose
+// ghost layer makes each brick 20% bigger than its cells, vs 10% at 32), within 0-5% of 64 while a
+// brick (33^3 = 36 KB for u8) is 7.6x smaller, so --memory budgets and the set of bricks an
+// isovalue touches stay fine-grained.
 constexpr const char* kDefaultBrick = "32";
 constexpr const char* kDefaultLevel = "1";
 
 void add_store_options(Args& a) {
     a.option("output", "o", "FILE", "brick store to write (required)")
         .option("brick", "", "B", "cells per brick edge, 2..1024", kDefaultBrick)
-        .option("level", "", "N", "zstd level, 1..19 (1 is fastest and, on noisy 8-bit CT, nearly as small)", kDefaultLevel)
+        .option("level", "", "N", "zstd level, 1..19 (1: fastest; on noisy 8-bit CT as small as 3)", kDefaultLevel)
         .flag("stats", "print bricks, throughput (MB/s) and compression ratio to stderr");
     add_thread_option(a);
 }

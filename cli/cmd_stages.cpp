@@ -44,7 +44,8 @@ int cmd_generate(int argc, char** argv) {
            "with trilinear value and gradient and the cell's corner values, written as a binary sample\n"
            "stream (stdout by default) for `meshless project`.");
     a.option("iso", "", "V", "isovalue (required)")
-        .option("output", "o", "FILE", "stream output, '-' = stdout", "-");
+        .option("output", "o", "FILE", "stream output, '-' = stdout", "-")
+        .flag("stats", "print sample counts and timing to stderr");
     add_compress_option(a);
     add_sampling_options(a);
     add_volume_options(a);
@@ -59,7 +60,11 @@ int cmd_generate(int argc, char** argv) {
     warn_if_iso_outside(iso, in.value_range(), in.path);
     StreamOutput out(a.get_or("output", "-"), "generate");
     StreamSink sink(out.f, out.name, RecordKind::sample, volume_meta(in, iso, a.command_line()), a.has("compress"));
-    run_isosplat_input(in, iso, Projection::approx, sp, sink, nthreads, PipelineShape::samples_only);
+    const IsoSplatResult r = run_isosplat_input(in, iso, Projection::approx, sp, sink, nthreads, PipelineShape::samples_only);
+    if (a.has("stats"))
+        std::fprintf(stderr, "generate: %s iso %g: %lld samples (active cells), %lld cells with NaN/Inf skipped, %.3f s\n",
+                     in.path.c_str(), iso, static_cast<long long>(r.sampling.active_cells),
+                     static_cast<long long>(r.sampling.nonfinite_cells), r.seconds);
     out.commit();
     return 0;
 }

@@ -3,8 +3,11 @@
 // corner values so that either projection (Eq. 3.5 or Eq. 3.3) can run downstream.
 //
 // A cell is active for isovalue f_I when its corners are not all on one side: some corner >= f_I
-// and some corner < f_I (the marching-cubes case is neither 0 nor 255). Cells with a NaN or Inf
-// corner are skipped and counted. Units: world positions (grid origin + spacing), gradient in value
+// and some corner < f_I (the marching-cubes case is neither 0 nor 255). A NaN corner reads as
+// "below" in that test; cells that look active and have a NaN or Inf corner are skipped and counted
+// (nonfinite_cells). Cells whose finite corners all lie on one side are inactive whatever their
+// other corners hold, so they are not counted (marching cubes counts every cell touching a bad
+// sample, hence its larger count). Units: world positions (grid origin + spacing), gradient in value
 // units per world unit, radius = radius_scale * 1/2 * sqrt(sx^2+sy^2+sz^2) world units.
 // Cells are addressed by "cell rows": row r = j + (ny-1)*k holds the nx-1 cells (i, j, k).
 // Pure and reentrant; concurrent calls on disjoint row ranges are safe.

@@ -2,12 +2,16 @@
 // of a BrickStore, least-recently-used eviction once the budget (the user's --memory) is exceeded.
 // get() is thread-safe; a brick handed out stays valid while the caller holds the shared_ptr, even
 // if the cache evicts it (so the true peak is budget + bricks in use by the running threads).
-// Throws UsageError when the budget is smaller than one brick, naming the minimum.
+// The cached (evictable) bytes never exceed the budget: peak_bytes in stats() reports their maximum.
+// Two threads missing the same brick at once may both decompress it; one copy is kept.
+// Throws UsageError when the budget is smaller than one brick (BrickStore::max_brick_bytes()),
+// naming the minimum; get() throws what BrickStore::read_brick throws (FormatError on damage).
 #pragma once
 #include <cstdint>
 #include <list>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -43,7 +47,8 @@ private:
     BrickCacheStats stats_;
 };
 
-/// Parses "256M", "1G", "512k", "1048576" (binary units) into bytes; UsageError otherwise.
+/// Parses "256M", "1G", "512k", "1048576" (binary units; K/M/G/T, optional B or iB, any case)
+/// into bytes; UsageError for anything else, zero or overflow.
 std::uint64_t parse_memory_size(const std::string& s);
 
 }  // namespace meshless

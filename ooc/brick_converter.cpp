@@ -1,6 +1,7 @@
 #include "ooc/brick_converter.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 #include <zstd.h>
 
@@ -8,12 +9,15 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <exception>
+#include <filesystem>
 #include <limits>
 #include <numeric>
 #include <vector>
@@ -70,6 +74,26 @@ private:
     int fd_ = -1;
     std::uint64_t size_ = 0;
 };
+
+/// Removes "<out>.tmp-<pid>" and "<out>.tmp-<pid>.spool" left by conversions that were killed
+/// (their process no longer exists), so reruns do not pile up temporaries.
+void remove_stale_temporaries(const std::string& out) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path op(out);
+    const fs::path dir = op.has_parent_path() ? op.parent_path() : fs::path(".");
+    const std::string prefix = op.filename().string() + ".tmp-";
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.compare(0, prefix.size(), prefix) != 0) continue;
+        std::string rest = name.substr(prefix.size());
+        if (rest.size() > 6 && rest.compare(rest.size() - 6, 6, ".spool") == 0) rest.resize(rest.size() - 6);
+        if (rest.empty() || rest.size() > 9 || rest.find_first_not_of("0123456789") != std::string::npos) continue;
+        const long pid = std::stol(rest);
+        if (pid <= 0 || pid == ::getpid()) continue;
+        if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) fs::remove(it->path(), ec);
+    }
+}
 
 struct CompressedBrick {
     std::vector<std::byte> frame;
@@ -143,31 +167,41 @@ ConvertStats convert_to_brick_store(SliceSource& src, const std::string& out_pat
     const std::size_t slice_bytes = static_cast<std::size_t>(nx * ny) * ss;
     const std::int64_t nbx = info.bricks_per_axis[0], nby = info.bricks_per_axis[1], nbz = info.bricks_per_axis[2];
 
+    remove_stale_temporaries(out_path);
     Spool spool(out_path);
     std::vector<BrickEntry> entries;
     entries.reserve(static_cast<std::size_t>(info.brick_count));
-    std::vector<std::byte> slab(static_cast<std::size_t>(std::min<std::int64_t>(B + 1, nz)) * slice_bytes);
+    // With more than one thread the next slab is read (or upsampled) while this one is compressed:
+    // two slab buffers instead of one. The source is still read by one task at a time, in order.
+    const bool prefetch = p.threads > 1 && nbz > 1;
+    const std::size_t slab_bytes = static_cast<std::size_t>(std::min<std::int64_t>(B + 1, nz)) * slice_bytes;
+    std::vector<std::byte> slab(slab_bytes), next(prefetch ? slab_bytes : 0);
     std::vector<CompressedBrick> out(static_cast<std::size_t>(nbx * nby));
     tbb::task_arena arena(p.threads);
     tbb::enumerable_thread_specific<CCtxPtr> cctx([] { return CCtxPtr(ZSTD_createCCtx()); });
-    tbb::enumerable_thread_specific<std::vector<std::byte>> scratch;
+    tbb::enumerable_thread_specific<std::vector<std::byte>> scratch, zbuf;
     double vmin = std::numeric_limits<double>::infinity(), vmax = -vmin;
 
-    std::int64_t have_z0 = 0, have_n = 0;  // slices currently in `slab`
-    for (std::int64_t bz = 0; bz < nbz; ++bz) {
-        const std::int64_t z0 = bz * B;
-        const std::int64_t z1 = std::min<std::int64_t>(z0 + B + 1, nz);
-        // Keep the shared ghost slice (the previous slab's last) and read the rest.
+    // Fills dst with slab bz: the shared ghost slice comes from the previous slab `prev` (its
+    // last slice, slab bz-1 having B+1 slices), the rest from the source. dst may be prev.
+    auto load = [&](std::int64_t bz, std::byte* dst, const std::byte* prev) {
+        const std::int64_t z0 = bz * B, z1 = std::min<std::int64_t>(z0 + B + 1, nz);
         std::int64_t keep = 0;
-        if (have_n > 0 && have_z0 + have_n - 1 == z0) {
-            std::memmove(slab.data(), slab.data() + static_cast<std::size_t>(have_n - 1) * slice_bytes, slice_bytes);
+        if (prev) {
+            std::memmove(dst, prev + static_cast<std::size_t>(B) * slice_bytes, slice_bytes);
             keep = 1;
         }
-        src.read_slices(z0 + keep, z1 - z0 - keep, slab.data() + static_cast<std::size_t>(keep) * slice_bytes);
-        have_z0 = z0;
-        have_n = z1 - z0;
-
+        src.read_slices(z0 + keep, z1 - z0 - keep, dst + static_cast<std::size_t>(keep) * slice_bytes);
+    };
+    load(0, slab.data(), nullptr);
+    for (std::int64_t bz = 0; bz < nbz; ++bz) {
+        const std::int64_t z0 = bz * B;
+        const bool more = bz + 1 < nbz;
         arena.execute([&] {
+            tbb::task_group reader;
+            if (prefetch && more) reader.run([&] { load(bz + 1, next.data(), slab.data()); });
+            std::exception_ptr failed;
+            try {
             tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, nbx * nby, 1), [&](const tbb::blocked_range<std::int64_t>& r) {
                 ZSTD_CCtx* cc = cctx.local().get();
                 if (!cc) throw std::bad_alloc();
@@ -183,10 +217,11 @@ ConvertStats convert_to_brick_store(SliceSource& src, const std::string& out_pat
                         return extract<T>(s, g, z0, b, reinterpret_cast<T*>(raw.data()));
                     });
                     CompressedBrick& cb = out[static_cast<std::size_t>(q)];
-                    cb.frame.resize(ZSTD_compressBound(raw.size()));
-                    const std::size_t n = ZSTD_compressCCtx(cc, cb.frame.data(), cb.frame.size(), raw.data(), raw.size(), p.zstd_level);
+                    std::vector<std::byte>& z = zbuf.local();
+                    z.resize(ZSTD_compressBound(raw.size()));
+                    const std::size_t n = ZSTD_compressCCtx(cc, z.data(), z.size(), raw.data(), raw.size(), p.zstd_level);
                     if (ZSTD_isError(n)) throw IoError(out_path + ": zstd compression failed (" + ZSTD_getErrorName(n) + ")");
-                    cb.frame.resize(n);
+                    cb.frame.assign(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(n));  // exact size: a slab's frames stay small
                     BrickEntry& e = cb.entry;
                     e.coord = coord;
                     e.key = morton_encode(coord[0], coord[1], coord[2]);
@@ -197,6 +232,11 @@ ConvertStats convert_to_brick_store(SliceSource& src, const std::string& out_pat
                     e.raw_bytes = raw.size();
                 }
             });
+            } catch (...) {
+                failed = std::current_exception();
+            }
+            reader.wait();  // rethrows a read failure
+            if (failed) std::rethrow_exception(failed);
         });
         for (CompressedBrick& cb : out) {
             cb.entry.offset = spool.append(cb.frame.data(), cb.frame.size());
@@ -208,6 +248,10 @@ ConvertStats convert_to_brick_store(SliceSource& src, const std::string& out_pat
             std::vector<std::byte>().swap(cb.frame);
         }
         if (progress) progress(static_cast<double>(bz + 1) / static_cast<double>(nbz));
+        if (more) {
+            if (prefetch) slab.swap(next);
+            else load(bz + 1, slab.data(), slab.data());
+        }
     }
     if (vmin > vmax) vmin = vmax = 0;  // no finite sample: same convention as Volume::value_range
     info.value_min = vmin;

@@ -3,7 +3,10 @@
 // volume), compressed bricks spooled to "<out>.tmp-<pid>.spool", then written in Morton order with
 // the index and footer to "<out>.tmp-<pid>" and renamed over <out>. Deterministic: the same input
 // and parameters give byte-identical stores, so a conversion killed at any point and run again
-// yields the same file; a killed run leaves only temporaries, never a file that looks complete.
+// yields the same file; a killed run leaves only temporaries, never a file that looks complete,
+// and the next conversion to the same <out> removes temporaries whose process no longer exists.
+// Bricks of a slab are compressed in parallel (oneTBB, `threads` workers); output bytes do not
+// depend on the thread count.
 // Throws IoError (disk full, unwritable) after removing its temporaries; FormatError from the source.
 #pragma once
 #include <cstdint>
@@ -15,8 +18,8 @@
 namespace meshless {
 
 struct ConvertParams {
-    std::uint32_t brick_edge = 32;  ///< cells per brick edge (2..1024)
-    int zstd_level = 1;             ///< chosen by benchmark (see README)
+    std::uint32_t brick_edge = 32;  ///< cells per brick edge (2..1024); UsageError otherwise
+    int zstd_level = 1;             ///< 1..19; default chosen by benchmark (numbers in cli/cmd_convert.cpp)
     int threads = 1;                ///< compression threads; output bytes do not depend on it
 };
 

@@ -14,8 +14,16 @@
 // Brick (bx,by,bz) holds the voxels [b*B, min(b*B + B + 1, n)) on each axis (B cells plus the
 // ghost layer), so it owns exactly the cells [b*B, min(b*B + B, n-1)): every cell of the volume
 // belongs to exactly one brick, and a brick is a complete little volume (a VolumeView).
-// vmin/vmax: range of the brick's finite samples (ghost layer included), NaN when it has none.
-// Errors: FormatError naming the file and, for brick damage, the brick index and voxel range.
+// Bricks per axis: max(1, ceil((n-1)/B)) (an axis of one sample has one brick of one voxel).
+// Frames are contiguous: the first starts at byte 256, each next one where the previous ends, the
+// index right after the last. Header value range: over all finite samples ({0,0} when none, as
+// Volume::value_range); vmin/vmax: range of the brick's finite samples (ghost layer included),
+// NaN when it has none.
+// Errors: FormatError naming the file and what is wrong ("not a brick store (wrong magic)",
+// "unsupported brick store version 2", "truncated or unfinished brick store", "header/index
+// checksum mismatch", and for brick damage "PATH: brick 17 (voxels [32,65)x[0,33)x[0,10)):
+// checksum mismatch"); IoError when the file cannot be opened or read.
+// Thread-safety: a BrickStore is immutable after open(); read_brick may be called concurrently.
 #pragma once
 #include <array>
 #include <cstddef>

@@ -6,6 +6,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -29,6 +30,10 @@ constexpr char kEndMagic[8] = {'M', 'L', 'A', 'E', 'N', 'D', '\0', '\0'};
 constexpr std::size_t kSampleBytes = sizeof(CellIntervalSample);
 constexpr std::uint32_t kMaxLevels = 1024;
 constexpr std::size_t kSourceOffset = 156, kSourceBytes = 96;
+constexpr std::uint64_t kReadChunk = 4096;  ///< samples per positional read of a query
+// query() copies pos, grad, value (28 contiguous bytes) from the stored sample into the record
+static_assert(offsetof(CellIntervalSample, value) == 24 && offsetof(SampleRecord, grad) == 12 &&
+              offsetof(SampleRecord, value) == 24 && offsetof(SampleRecord, radius) == 28);
 
 std::uint32_t crc_update(std::uint32_t crc, const void* p, std::size_t n) {
     const auto* b = static_cast<const Bytef*>(p);
@@ -560,6 +565,7 @@ std::uint64_t SampleStore::query(double iso, const std::function<void(std::span<
                                  const SamplingParams& params, std::size_t max_batch) const {
     SampleQuery q(*this, iso, params);
     std::vector<SampleRecord> out;
+    max_batch = std::clamp<std::size_t>(max_batch, 1, 65536);
     while (q.next(out, max_batch)) emit(std::span<const SampleRecord>(out.data(), out.size()));
     return q.emitted();
 }
@@ -608,6 +614,7 @@ SampleQuery::SampleQuery(const SampleStore& store, double iso, const SamplingPar
     const GridSpec& g = info.grid;
     origin_ = g.origin;
     spacing_ = g.spacing;
+    for (int a = 0; a < 3; ++a) inv_spacing_[a] = 1.0 / g.spacing[a];
     const double sx = g.spacing[0], sy = g.spacing[1], sz = g.spacing[2];
     proto_.radius = static_cast<float>(params.radius_scale * 0.5 * std::sqrt(sx * sx + sy * sy + sz * sz));
     for (int a = 0; a < 3; ++a) proto_.cell_size[a] = static_cast<float>(g.spacing[a]);
@@ -638,7 +645,8 @@ bool SampleQuery::next(std::vector<SampleRecord>& out, std::size_t max) {
     const auto& bk = store_.buckets_;
     while (out.size() < max && item_ < plan_.size()) {
         // one positional read over consecutive plan buckets that are contiguous on disk
-        const std::uint64_t want = max - out.size();
+        // small reads keep the buffer in cache while it is checksummed and converted
+        const std::uint64_t want = std::min<std::uint64_t>(max - out.size(), kReadChunk);
         const std::uint64_t first = bk[plan_[item_].bucket].first + offset_;
         std::uint64_t n = 0;
         {
@@ -664,20 +672,26 @@ bool SampleQuery::next(std::vector<SampleRecord>& out, std::size_t max) {
             const std::uint64_t take = std::min(b.count - offset_, n - pos);
             const CellIntervalSample* s = buf_.data() + pos;
             crc_ = crc_update(crc_, s, take * kSampleBytes);
+            const std::size_t base = out.size();
+            out.resize(base + take);
+            SampleRecord* o = out.data() + base;
+            const double ox = origin_[0], oy = origin_[1], oz = origin_[2];
+            const double sx = spacing_[0], sy = spacing_[1], sz = spacing_[2];
+            const double ix = inv_spacing_[0], iy = inv_spacing_[1], iz = inv_spacing_[2];
             for (std::uint64_t k = 0; k < take; ++k) {
                 const CellIntervalSample& c = s[k];
                 if (item.filter && !(c.vmin < thr_ && thr_ <= c.vmax)) continue;
-                SampleRecord r = proto_;
-                for (int a = 0; a < 3; ++a) {
-                    r.pos[a] = c.pos[a];
-                    r.grad[a] = c.grad[a];
-                    // the cell's lower corner exactly as paradigm (C) computes it: origin + i * s
-                    const double i = std::nearbyint((static_cast<double>(c.pos[a]) - origin_[a]) / spacing_[a] - 0.5);
-                    r.cell_lo[a] = static_cast<float>(origin_[a] + i * spacing_[a]);
-                }
-                r.value = c.value;
-                out.push_back(r);
+                SampleRecord& r = *o++;
+                r = proto_;
+                std::memcpy(r.pos, c.pos, sizeof r.pos + sizeof r.grad + sizeof r.value);  // pos, grad, value
+                // the cell's lower corner exactly as paradigm (C) computes it, origin + i * s, with
+                // the index i >= 0 recovered from the cell centre (exact up to float rounding)
+                const double px = c.pos[0], py = c.pos[1], pz = c.pos[2];
+                r.cell_lo[0] = static_cast<float>(ox + static_cast<double>(static_cast<std::int64_t>((px - ox) * ix)) * sx);
+                r.cell_lo[1] = static_cast<float>(oy + static_cast<double>(static_cast<std::int64_t>((py - oy) * iy)) * sy);
+                r.cell_lo[2] = static_cast<float>(oz + static_cast<double>(static_cast<std::int64_t>((pz - oz) * iz)) * sz);
             }
+            out.resize(static_cast<std::size_t>(o - out.data()));
             pos += take;
             offset_ += take;
             if (offset_ == b.count) {

@@ -119,10 +119,10 @@ public:
     std::uint32_t level(double v) const;
 
     /// Emits the active samples of iso as SampleRecords in batches of at most max_batch records
-    /// (cell_lo/cell_size from the header, radius = params.radius_scale * half the cell diagonal,
+    /// (<= 65536; the default keeps a batch in cache; cell_lo/cell_size from the header, radius = params.radius_scale * half the cell diagonal,
     /// corner[] = NaN). Returns the number emitted. UsageError for a NaN iso.
     std::uint64_t query(double iso, const std::function<void(std::span<const SampleRecord>)>& emit,
-                        const SamplingParams& params = {}, std::size_t max_batch = 65536) const;
+                        const SamplingParams& params = {}, std::size_t max_batch = 4096) const;
     /// Number of active samples of iso from the bucket table alone when no boundary bucket is hit
     /// (exact levels); otherwise an upper bound. Reads nothing.
     std::uint64_t count_upper_bound(double iso) const;
@@ -166,7 +166,7 @@ private:
     const SampleStore& store_;
     double thr_;
     SampleRecord proto_{};
-    std::array<double, 3> origin_{}, spacing_{};
+    std::array<double, 3> origin_{}, spacing_{}, inv_spacing_{};
     std::vector<Item> plan_;
     std::size_t item_ = 0;       ///< current plan item
     std::uint64_t offset_ = 0;   ///< samples of the current bucket already read
