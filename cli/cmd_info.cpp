@@ -2,13 +2,16 @@
 // PLY point sets and meshes, PNG pictures).
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "formats/ply_points.hpp"
 #include "formats/point_stream.hpp"
 #include "formats/volume_reader.hpp"
+#include "ooc/sample_store.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/brick_store.hpp"
 
@@ -37,16 +40,20 @@ void info_stream(const std::string& path) {
 void info_ply(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::string line;
-    std::printf("%s: PLY\n", path.c_str());
-    int lines = 0;
-    while (std::getline(in, line) && lines++ < 200) {
+    std::string header;
+    bool faces = false, ended = false;
+    for (int lines = 0; !ended && lines < 10000 && std::getline(in, line); ++lines) {
         if (!line.empty() && line.back() == '\r') line.pop_back();
         while (!line.empty() && line.back() == ' ') line.pop_back();
         if (line == "ply") continue;
-        std::printf("  %s\n", line.c_str());
-        if (line == "end_header") return;
+        faces = faces || (line.rfind("element ", 0) == 0 && line.rfind("element vertex", 0) != 0);
+        ended = line == "end_header";
+        header += "  " + line + "\n";
     }
-    throw FormatError(path + ": PLY header has no end_header");
+    if (!ended) throw FormatError(path + ": PLY header has no end_header");
+    // a point set is read through, so a truncated or corrupt body is reported, not just the header
+    if (!faces) (void)read_ply_points(path);
+    std::printf("%s: PLY%s\n%s", path.c_str(), faces ? "" : " point set (body checked)", header.c_str());
 }
 
 void info_png(const std::string& path, const unsigned char* h, std::size_t n) {
@@ -100,43 +107,76 @@ void info_volume(const std::string& path, const Args& a) {
                     vi.data_files.size() > 1 ? ", ..." : "");
 }
 
+void info_sample_store(const std::string& path) {
+    const auto store = SampleStore::open(path);
+    const SampleStoreInfo& i = store->info();
+    const GridSpec& g = i.grid;
+    std::printf("%s: meshless paradigm (A) sample store (span-space index)\n", path.c_str());
+    std::printf("  source: %s, %lld x %lld x %lld %s, spacing %g %g %g\n", i.source.c_str(),
+                static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]),
+                to_string(i.type), g.spacing[0], g.spacing[1], g.spacing[2]);
+    std::printf("  samples: %llu (non-constant cells; %llu constant, %llu NaN/Inf cells skipped)\n",
+                static_cast<unsigned long long>(i.sample_count), static_cast<unsigned long long>(i.constant_cells),
+                static_cast<unsigned long long>(i.nonfinite_cells));
+    std::printf("  index: %llu buckets over %u %s levels of [%g, %g]\n", static_cast<unsigned long long>(i.bucket_count),
+                i.levels, i.exact_levels ? "exact" : "quantised", i.value_lo, i.value_hi);
+}
+
+void describe(const std::string& path, const Args& a) {
+    unsigned char h[32] = {};
+    std::size_t n = 0;
+    std::error_code ec;
+    const bool dir = std::filesystem::is_directory(path, ec);  // a vtk-js image is a directory
+    if (path != "-" && !dir) {
+        InputFile in(path);
+        n = std::fread(h, 1, sizeof h, in.f);
+    }
+    if (path == "-" || (n >= 8 && std::memcmp(h, "\x89MLS", 4) == 0)) {
+        info_stream(path);
+    } else if (n >= 4 && std::memcmp(h, "ply", 3) == 0 && (h[3] == '\n' || h[3] == '\r')) {
+        info_ply(path);
+    } else if (n >= 8 && std::memcmp(h, kBrickStoreMagic, 8) == 0) {
+        info_brick_store(path);
+    } else if (n >= 8 && is_sample_store(path)) {
+        info_sample_store(path);
+    } else if (n >= 8 && std::memcmp(h, "\x89PNG", 4) == 0) {
+        info_png(path, h, n);
+    } else {
+        info_volume(path, a);
+        if (a.has("range")) {
+            const Volume v = read_volume(path, raw_options(a));
+            const auto r = v.value_range();
+            std::printf("  value range: %g .. %g\n", r[0], r[1]);
+        }
+    }
+}
+
 }  // namespace
 
 int cmd_info(int argc, char** argv) {
     Args a("info", "FILE...",
            "Describes files meshless reads or writes: volumes (format, dims, type, spacing, value range),\n"
            "point/sample streams (records, frames, metadata; checks the END frame), brick stores (.mlb),\n"
-           "PLY and PNG files.");
+           "sample stores (.mls), PLY (point sets are read through, so truncation is reported) and PNG.\n"
+           "Files that cannot be described are reported on stderr; the others are still described.");
     a.flag("range", "volumes: also read the samples and print the value range");
     a.positionals(1, 100000);
     add_volume_options(a);
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().empty()) throw UsageError("missing FILE argument");
+    int status = 0;
     for (const std::string& path : a.positional()) {
-        unsigned char h[32] = {};
-        std::size_t n = 0;
-        if (path != "-") {
-            InputFile in(path);
-            n = std::fread(h, 1, sizeof h, in.f);
-        }
-        if (path == "-" || (n >= 8 && std::memcmp(h, "\x89MLS", 4) == 0)) {
-            info_stream(path);
-        } else if (n >= 4 && std::memcmp(h, "ply", 3) == 0 && (h[3] == '\n' || h[3] == '\r')) {
-            info_ply(path);
-        } else if (n >= 8 && std::memcmp(h, kBrickStoreMagic, 8) == 0) {
-            info_brick_store(path);
-        } else if (n >= 8 && std::memcmp(h, "\x89PNG", 4) == 0) {
-            info_png(path, h, n);
-        } else {
-            info_volume(path, a);
-            if (a.has("range") || a.has("dims") || a.has("type")) {
-                const Volume v = load_volume(a);
-                const auto r = v.value_range();
-                std::printf("  value range: %g .. %g\n", r[0], r[1]);
-            }
+        try {
+            describe(path, a);
+        } catch (const UsageError&) {
+            throw;
+        } catch (const std::exception& e) {  // report, go on with the other files, exit 2 at the end
+            std::fflush(stdout);
+            std::fprintf(stderr, "meshless info: %s\n", e.what());
+            status = 2;
         }
     }
-    return 0;
+    return status;
 }
 
 }  // namespace meshless::cli

@@ -3,12 +3,14 @@
 // Each reads/writes the versioned binary stream of formats/point_stream.hpp; one DATA frame per
 // batch, so the bytes that reach the last stage equal the in-process `meshless isosurface` run.
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "formats/atomic_file.hpp"
 #include "kernels/errors.hpp"
+#include "ooc/sample_store.hpp"
 #include "stream/cell_row_source.hpp"
 #include "stream/generate_stage.hpp"
 #include "stream/point_sinks.hpp"
@@ -38,12 +40,38 @@ void add_compress_option(Args& a) { a.flag("compress", "zstd-compress the stream
 
 }  // namespace
 
+namespace {
+
+/// generate --all: paradigm (A) sample store from a volume or a brick store.
+int generate_all(const Args& a) {
+    if (a.has("iso")) throw UsageError("--all precomputes samples for every isovalue: drop --iso");
+    const std::string out = a.get_or("output", "-");
+    if (out == "-") throw UsageError("--all writes a sample store: give -o FILE.mls");
+    VolumeInput in = open_volume_input(a);
+    const std::string source = std::filesystem::path(in.path).filename().string();
+    const SampleStoreBuildStats st = in.store ? write_sample_store_from_brick_store(*in.store, *in.cache, out, source)
+                                              : write_sample_store_from_volume(in.volume->view(), out, source);
+    if (a.has("stats"))
+        std::fprintf(stderr, "generate --all: %s: %llu samples (non-constant cells) in %llu span-space buckets (%u levels%s), "
+                     "%llu constant and %llu NaN/Inf cells skipped, %.1f MiB\n",
+                     in.path.c_str(), static_cast<unsigned long long>(st.samples), static_cast<unsigned long long>(st.buckets),
+                     st.levels, st.exact_levels ? ", exact" : "", static_cast<unsigned long long>(st.constant_cells),
+                     static_cast<unsigned long long>(st.nonfinite_cells), st.file_bytes / 1048576.0);
+    return 0;
+}
+
+}  // namespace
+
 int cmd_generate(int argc, char** argv) {
-    Args a("generate", "VOLUME --iso V [-o FILE|-]",
+    Args a("generate", "VOLUME --iso V [-o FILE|-]   |   VOLUME --all -o vol.mls",
            "Point generation of paradigm (C) (section 3.4): one sample per active cell, at the cell centre,\n"
            "with trilinear value and gradient and the cell's corner values, written as a binary sample\n"
-           "stream (stdout by default) for `meshless project`.");
-    a.option("iso", "", "V", "isovalue (required)")
+           "stream (stdout by default) for `meshless project`.\n"
+           "With --all: paradigm (A) preprocessing (Table 3.1): one sample per non-constant cell with its\n"
+           "value interval, into a sample store with a span-space index; `meshless extract vol.mls --iso V`\n"
+           "then reads only the samples active for V.");
+    a.option("iso", "", "V", "isovalue (required unless --all)")
+        .flag("all", "paradigm (A): precompute samples for every isovalue into a sample store (-o FILE.mls)")
         .option("output", "o", "FILE", "stream output, '-' = stdout", "-")
         .flag("stats", "print sample counts and timing to stderr");
     add_compress_option(a);
@@ -53,6 +81,7 @@ int cmd_generate(int argc, char** argv) {
     add_thread_option(a);
     a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png\n");
     if (!a.parse(argc, argv, 2)) return 0;
+    if (a.has("all")) return generate_all(a);
     const double iso = parse_finite(a.require("iso"), "--iso");
     const SamplingParams sp = sampling_params(a);
     const int nthreads = threads(a);
@@ -90,6 +119,9 @@ int cmd_project(int argc, char** argv) {
     reader.read_meta();
     StreamMeta meta = reader.meta();
     const double iso = stream_iso(a, meta);
+    if (mode == Projection::exact && meta.get("sample_corners") == "none")
+        throw FormatError(in.name + ": samples from a paradigm (A) sample store carry no cell corners; "
+                          "--projection exact needs them, use approx");
     meta.set("iso", iso);
     meta.set("projection", to_string(mode));
     StreamOutput out(a.get_or("output", "-"), "project");

@@ -1,6 +1,7 @@
 #include "kernels/project_sample.hpp"
 
 #include <cassert>
+#include <cmath>
 
 #include "kernels/errors.hpp"
 #include "kernels/exact_projection.hpp"
@@ -30,6 +31,19 @@ bool project_sample_cell(const SampleRecord& s, double iso, Projection mode, Poi
     const Vec3 p{s.pos[0], s.pos[1], s.pos[2]};
     const Vec3 lo{s.cell_lo[0], s.cell_lo[1], s.cell_lo[2]};
     const Vec3 size{s.cell_size[0], s.cell_size[1], s.cell_size[2]};
+    if (std::isnan(s.corner[0])) {
+        // a paradigm (A) sample (ooc/sample_store.hpp) carries no cell corners
+        if (mode == Projection::exact)
+            throw FormatError("samples from a paradigm (A) sample store carry no cell corners: --projection exact needs "
+                              "them (use approx, or generate the samples from the volume)");
+        const Vec3 n = normalized(Vec3{s.grad[0], s.grad[1], s.grad[2]});
+        out = PointRecord{{s.pos[0], s.pos[1], s.pos[2]},
+                          {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)},
+                          s.radius,
+                          s.value};
+        ++stats.output;
+        return true;
+    }
     double c[8];
     for (int a = 0; a < 8; ++a) c[a] = s.corner[a];
 

@@ -9,6 +9,8 @@
 // step to one division and one square root per sample. `exact` and `none` record the unit gradient
 // and the value of the cell's trilinear interpolant at the output position (falling back to the
 // sample's gradient where that vanishes). Rejected samples return false and are counted.
+// Samples of a paradigm (A) store carry no corners (corner[] is NaN): `none` then keeps the
+// sample's own position, gradient and value, and `exact` throws FormatError.
 // Pure and reentrant.
 #pragma once
 #include <cmath>
