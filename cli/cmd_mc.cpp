@@ -7,26 +7,30 @@
 #include "formats/ply_mesh.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/marching_cubes.hpp"
+#include "ooc/brick_marching_cubes.hpp"
 
 namespace meshless::cli {
 
 int cmd_mc(int argc, char** argv) {
     Args a("mc", "VOLUME --iso V -o mesh.ply",
            "Marching cubes (full 256-case table, shared vertices, gradient normals): the triangle-mesh\n"
-           "baseline iso-splatting is compared against. Writes a binary PLY mesh.");
+           "baseline iso-splatting is compared against. Writes a binary PLY mesh. A brick store (.mlb) is\n"
+           "triangulated brick by brick within --memory, seam vertices welded.");
     a.option("iso", "", "V", "isovalue (required)")
         .option("output", "o", "FILE", "PLY mesh output (required; '-' = stdout)")
         .flag("stats", "print triangle/vertex counts, memory and timing to stderr");
     add_volume_options(a);
+    add_memory_option(a);
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_double(a.require("iso"), "--iso");
     const std::string out = a.require("output");
-    const std::string path = a.positional().empty() ? "" : a.positional()[0];
-    const Volume vol = load_volume(a);
-    warn_if_iso_outside(iso, vol.value_range(), path);
+    VolumeInput in = open_volume_input(a);
+    const std::string& path = in.path;
+    warn_if_iso_outside(iso, in.value_range(), path);
     McStats st;
     const auto t0 = std::chrono::steady_clock::now();
-    const Mesh mesh = marching_cubes(vol.view(), iso, &st);
+    const Mesh mesh = in.store ? marching_cubes_bricks(*in.store, *in.cache, *in.index, iso, &st)
+                               : marching_cubes(in.volume->view(), iso, &st);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_ply_mesh(mesh, out);
     if (a.has("stats"))

@@ -40,7 +40,8 @@ struct RowInfo {
 template <class T>
 class McRunner {
 public:
-    McRunner(const T* p, const GridSpec& g, double iso) : p_(p), g_(g), iso_(iso) {
+    McRunner(const T* p, const GridSpec& g, double iso, const std::array<std::int64_t, 3>& offset)
+        : p_(p), g_(g), iso_(iso), off_(offset) {
         nx_ = g.dims[0], ny_ = g.dims[1], nz_ = g.dims[2];
         sxy_ = nx_ * ny_;
         if constexpr (std::is_floating_point_v<T>) {
@@ -243,7 +244,8 @@ private:
         const double vb = static_cast<double>(p_[idx + stride[axis]]);
         double t = (iso_ - va) / (vb - va);
         t = std::clamp(t, 0.0, 1.0);
-        double pos[3] = {static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)};
+        double pos[3] = {static_cast<double>(i + off_[0]), static_cast<double>(j + off_[1]),
+                         static_cast<double>(k + off_[2])};
         pos[axis] += t;
         double ga[3], gb[3];
         gradient(i, j, k, ga);
@@ -273,6 +275,7 @@ private:
     const T* p_;
     GridSpec g_;
     double iso_;
+    std::array<std::int64_t, 3> off_;
     std::int64_t nx_ = 0, ny_ = 0, nz_ = 0, sxy_ = 0;
     float thr_f_ = 0;
     std::int32_t thr_i_ = 0;
@@ -283,12 +286,12 @@ private:
 }  // namespace
 
 Mesh marching_cubes_slab(const VolumeView& v, double iso, std::int64_t k0, std::int64_t k1,
-                         McStats* stats) {
+                         McStats* stats, const std::array<std::int64_t, 3>& index_offset) {
     if (!std::isfinite(iso))
         throw UsageError("marching_cubes: iso value " + std::to_string(iso) + " is not finite");
     return visit_samples(v, [&](auto* p) {
         using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
-        McRunner<T> runner(p, v.grid, iso);
+        McRunner<T> runner(p, v.grid, iso, index_offset);
         return runner.run(k0, k1, stats);
     });
 }

@@ -22,6 +22,7 @@
 // Throws UsageError for a non-finite iso, std::length_error when the mesh would need more than
 // 2^32-1 vertices (uint32 indices). Reentrant; single-threaded (threads may each run a slab).
 #pragma once
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -56,7 +57,10 @@ Mesh marching_cubes(const VolumeView& v, double iso, McStats* stats = nullptr);
 /// concatenation of slabs (indices offset by the earlier vertex counts) except that vertices on the
 /// z-slices shared by two slabs appear once in each slab, with bitwise identical positions and
 /// normals. For running slabs on several threads.
+/// index_offset: for a view of part of a volume (a brick) whose grid origin is the whole volume's
+/// origin, positions are origin + spacing * (index_offset + index + t): the same arithmetic as for
+/// the whole volume, so vertices on faces shared by two parts are bitwise identical.
 Mesh marching_cubes_slab(const VolumeView& v, double iso, std::int64_t k0, std::int64_t k1,
-                         McStats* stats = nullptr);
+                         McStats* stats = nullptr, const std::array<std::int64_t, 3>& index_offset = {0, 0, 0});
 
 }  // namespace meshless

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "cli/cli_harness.hpp"
+#include "formats/ply_mesh.hpp"
 #include "formats/ply_points.hpp"
 #include "kernels/analytic_volumes.hpp"
 
@@ -111,4 +112,22 @@ TEST_CASE("mpirun -np 2 gives the single-process bytes; a failing rank fails the
     r = sh(mpirun + "MESHLESS isosurface " + D + "/bad.mlb --iso 128.5 -o " + D + "/two_bad.ply", d);
     CHECK(r.code != 0);
     CHECK(!fs::exists(d / "two_bad.ply"));
+}
+
+TEST_CASE("mc on a brick store welds the seams: the in-memory vertex set and triangle count", "[cli][ooc-pipeline]") {
+    TempDir d("oocmc");
+    const std::string vol = gyroid_volume(d), D = d.path.string();
+    REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "/g.mlb --brick 16", d).code == 0);
+    REQUIRE(sh("MESHLESS mc " + vol + " --iso 128.5 -o " + D + "/mem.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS mc " + D + "/g.mlb --iso 128.5 -o " + D + "/ooc.ply --memory 64K", d).code == 0);
+    const Mesh a = read_ply_mesh((d / "mem.ply").string()), b = read_ply_mesh((d / "ooc.ply").string());
+    CHECK(a.triangle_count() == b.triangle_count());
+    REQUIRE(a.vertex_count() == b.vertex_count());
+    auto positions = [](const Mesh& m) {
+        std::vector<std::array<float, 3>> p(m.vertex_count());
+        for (std::size_t i = 0; i < p.size(); ++i) p[i] = {m.xyz[3 * i], m.xyz[3 * i + 1], m.xyz[3 * i + 2]};
+        std::sort(p.begin(), p.end());
+        return p;
+    };
+    CHECK(positions(a) == positions(b));
 }
