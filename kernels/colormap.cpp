@@ -1,0 +1,38 @@
+#include "kernels/colormap.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace meshless {
+
+namespace {
+// Moreland (2009) cool-to-warm, RGB at t = 0, 1/8, ..., 1
+constexpr double kCoolWarm[9][3] = {{59, 76, 192},   {98, 130, 234},  {141, 176, 254}, {184, 208, 249}, {221, 221, 221},
+                                    {245, 196, 173}, {244, 154, 123}, {222, 96, 77},   {180, 4, 38}};
+}  // namespace
+
+bool parse_colormap(std::string_view s, Colormap& out) {
+    if (s == "coolwarm") out = Colormap::coolwarm;
+    else if (s == "gray" || s == "grey") out = Colormap::gray;
+    else return false;
+    return true;
+}
+
+std::array<std::uint8_t, 3> map_color(Colormap m, double v, double lo, double hi, std::array<std::uint8_t, 3> nan) {
+    if (std::isnan(v)) return nan;
+    double t = hi > lo ? (v - lo) / (hi - lo) : 0.5;
+    t = std::clamp(t, 0.0, 1.0);
+    if (m == Colormap::gray) {
+        const auto g = static_cast<std::uint8_t>(std::lround(255 * t));
+        return {g, g, g};
+    }
+    const double x = t * 8;
+    const int i = std::min(7, static_cast<int>(x));
+    const double f = x - i;
+    std::array<std::uint8_t, 3> c{};
+    for (int k = 0; k < 3; ++k)
+        c[k] = static_cast<std::uint8_t>(std::lround(kCoolWarm[i][k] + f * (kCoolWarm[i + 1][k] - kCoolWarm[i][k])));
+    return c;
+}
+
+}  // namespace meshless
