@@ -23,7 +23,14 @@ struct BenchOptions {
     int isovalues = 16;       ///< isosurfaces per volume
     bool quick = false;       ///< smoke-test mode: few reps and isovalues, no large volumes
     std::string python = "/usr/bin/python3";  ///< interpreter with the vtk module (FE baseline)
+    std::string scratch_dir;  ///< ooc section: folder for its stores (empty: the system temp folder)
+    bool keep = false;        ///< ooc section: keep the scratch files
+    bool with_ooc = false;    ///< "all" includes the ooc section even without kOocScratchRoom free
 };
+
+/// Free space in the scratch folder above which "bench all" includes the ooc section (its 4.4 GB
+/// synthetic volume's store, the lung-sized sample store and the output point sets).
+inline constexpr std::uint64_t kOocScratchRoom = 16ull << 30;
 
 /// A table of strings: a header row and data rows, right-aligned numbers, left-aligned first column.
 struct Table {
@@ -93,5 +100,11 @@ void run_speed(const BenchOptions& o, Report& r);
 void run_threads(const BenchOptions& o, Report& r);
 /// Splat rendering frame times, quad and EWA kernels, 36-frame turntable (cli/bench_splat.cpp).
 void run_splat(const BenchOptions& o, Report& r);
+/// Issue 3's out-of-core numbers (cli/bench_ooc.cpp): conversion MB/s and ratio, store vs in-memory
+/// throughput, paradigm (A) vs (C) vs marching cubes, threads and MPI ranks, peak RSS on >= 4 GiB.
+/// Writes (and removes unless o.keep) a scratch folder under o.scratch_dir; takes minutes and GBs.
+void run_ooc(const BenchOptions& o, Report& r);
+/// True when o.scratch_dir (or the temp folder) has at least kOocScratchRoom bytes free.
+bool ooc_scratch_has_room(const BenchOptions& o);
 
 }  // namespace meshless::cli::bench

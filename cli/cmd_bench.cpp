@@ -1,5 +1,6 @@
 // meshless bench: the benchmarks of dissertation §3.6 (accuracy, extraction speed and memory vs
-// marching cubes and VTK Flying Edges, thread scaling, splat frame rates). Thin: parses options and
+// marching cubes and VTK Flying Edges, thread scaling, splat frame rates) and of issue 3 (out of
+// core: brick stores, paradigms A and C, peak memory). Thin: parses options and
 // runs the sections in cli/bench_*.cpp.
 #include <unistd.h>
 
@@ -42,26 +43,32 @@ std::string default_data_dir() {
 }  // namespace
 
 int cmd_bench(int argc, char** argv) {
-    Args a("bench", "[accuracy|speed|threads|splat|all] [options]",
+    Args a("bench", "[accuracy|speed|threads|splat|ooc|all] [options]",
            "Benchmarks of dissertation section 3.6, printed as tables on stdout (progress on stderr):\n"
            "  accuracy  distance / normal / value errors of the projected points on analytic fields, coverage\n"
            "  speed     extraction time and memory: iso-splatting vs marching cubes vs VTK Flying Edges\n"
            "  threads   iso-splatting on 1 and 2 threads, identical output\n"
            "  splat     quad and EWA splat frame times, 36-frame turntable\n"
-           "  all       everything (the default)");
+           "  ooc       brick stores: conversion MB/s and ratio, store vs in-memory throughput, paradigm A vs C\n"
+           "            vs marching cubes, threads and MPI ranks, peak RSS on a 4.4 GB volume (minutes, GBs)\n"
+           "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
     a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
         .option("reps", "", "N", "repetitions per isosurface", "10")
         .option("isovalues", "", "K", "isosurfaces per volume", "16")
         .option("markdown", "", "FILE", "also write the tables as markdown (e.g. bench/RESULTS.md)")
         .option("bench-dir", "", "DIR", "folder holding flying_edges.py (default: the source tree's bench/)")
         .option("python", "", "EXE", "Python interpreter with the vtk module", "/usr/bin/python3")
-        .flag("quick", "smoke test: 2 reps, 4 isovalues, no large volumes");
+        .option("scratch", "", "DIR", "ooc: folder for its temporary stores (default: the system temp folder)")
+        .flag("keep", "ooc: keep the scratch files (stores, the 4.4 GB volume's store)")
+        .flag("with-ooc", "all: include the ooc section whatever the free space")
+        .flag("quick", "smoke test: 2 reps, 4 isovalues, no large volumes (ooc: LIDC2 x1, no 4 GiB volume, no MPI)");
     a.epilog("example: meshless bench speed --data ../shared/data --markdown bench/RESULTS.md\n");
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().size() > 1) throw UsageError("bench: expected at most one section name");
     const std::string what = a.positional().empty() ? "all" : a.positional()[0];
-    if (what != "all" && what != "accuracy" && what != "speed" && what != "threads" && what != "splat")
-        throw UsageError("bench: unknown section '" + what + "' (accuracy, speed, threads, splat, all)");
+    if (what != "all" && what != "accuracy" && what != "speed" && what != "threads" && what != "splat" &&
+        what != "ooc")
+        throw UsageError("bench: unknown section '" + what + "' (accuracy, speed, threads, splat, ooc, all)");
 
     bench::BenchOptions o;
     o.quick = a.has("quick");
@@ -72,6 +79,11 @@ int cmd_bench(int argc, char** argv) {
     o.data_dir = a.get_or("data", default_data_dir());
     o.bench_dir = a.get_or("bench-dir", default_bench_dir());
     o.python = a.get_or("python", "/usr/bin/python3");
+    o.scratch_dir = a.get_or("scratch", "");
+    o.keep = a.has("keep");
+    o.with_ooc = a.has("with-ooc");
+    if (!o.scratch_dir.empty() && !fs::is_directory(o.scratch_dir))
+        throw UsageError("--scratch: '" + o.scratch_dir + "' is not a folder");
 
     bench::Report r;
     r.title("meshless bench " + what + (o.quick ? " (--quick)" : ""));
@@ -81,6 +93,11 @@ int cmd_bench(int argc, char** argv) {
     if (what == "all" || what == "speed") bench::run_speed(o, r);
     if (what == "all" || what == "threads") bench::run_threads(o, r);
     if (what == "all" || what == "splat") bench::run_splat(o, r);
+    if (what == "ooc" || (what == "all" && (o.quick || o.with_ooc || bench::ooc_scratch_has_room(o))))
+        bench::run_ooc(o, r);
+    else if (what == "all")
+        r.note("ooc section skipped: less than 16 GiB free in the scratch folder (give --with-ooc, --scratch DIR, "
+               "or run `meshless bench ooc`).");
     if (auto md = a.get("markdown")) r.write_markdown(*md);
     return 0;
 }

@@ -1,5 +1,6 @@
 // meshless info: describes any file meshless reads or writes (volumes, point/sample streams,
 // PLY point sets and meshes, PNG pictures).
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -8,7 +9,9 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/point_set_cli.hpp"
 #include "formats/ply_points.hpp"
+#include "formats/point_set_reader.hpp"
 #include "formats/point_stream.hpp"
 #include "formats/volume_reader.hpp"
 #include "ooc/sample_store.hpp"
@@ -122,6 +125,34 @@ void info_sample_store(const std::string& path) {
                 i.levels, i.exact_levels ? "exact" : "quantised", i.value_lo, i.value_hi);
 }
 
+// Scattered and multiblock point sets (text, .vtp, .vts, PLOT3D, raw records, .npy): read through.
+void info_point_set(const std::string& path, const Args& a) {
+    const PointSetInfo info = probe_point_set(path, point_set_options(a));
+    const PointSet& ps = info.set;
+    std::printf("%s: %s point set\n", path.c_str(), info.format.c_str());
+    for (const auto& n : info.notes) std::printf("  %s\n", n.c_str());
+    std::printf("  points: %zu\n", ps.size());
+    std::printf("  blocks: %zu\n", ps.blocks.size());
+    const std::size_t shown = std::min<std::size_t>(ps.blocks.size(), 16);
+    for (std::size_t b = 0; b < shown; ++b) {
+        const auto& blk = ps.blocks[b];
+        std::printf("    %s: %lld x %lld x %lld, %llu points\n", blk.name.c_str(), static_cast<long long>(blk.dims[0]),
+                    static_cast<long long>(blk.dims[1]), static_cast<long long>(blk.dims[2]),
+                    static_cast<unsigned long long>(blk.count));
+    }
+    if (shown < ps.blocks.size()) std::printf("    ... (%zu more)\n", ps.blocks.size() - shown);
+    if (ps.has_values) {
+        const auto r = ps.value_range();
+        std::printf("  value: %s, range %.9g .. %.9g\n", ps.value_name.empty() ? "(unnamed)" : ps.value_name.c_str(), r[0], r[1]);
+    } else {
+        std::printf("  value: none (positions only)\n");
+    }
+    const auto bb = ps.bounds();
+    std::printf("  bounds: %.12g %.12g %.12g .. %.12g %.12g %.12g\n", bb[0].x, bb[0].y, bb[0].z, bb[1].x, bb[1].y, bb[1].z);
+    std::printf("  dropped: %llu NaN/Inf, %llu blanked (IBLANK 0)\n", static_cast<unsigned long long>(ps.dropped_nonfinite),
+                static_cast<unsigned long long>(ps.dropped_blanked));
+}
+
 void describe(const std::string& path, const Args& a) {
     unsigned char h[32] = {};
     std::size_t n = 0;
@@ -141,6 +172,8 @@ void describe(const std::string& path, const Args& a) {
         info_sample_store(path);
     } else if (n >= 8 && std::memcmp(h, "\x89PNG", 4) == 0) {
         info_png(path, h, n);
+    } else if (looks_like_point_set(path)) {
+        info_point_set(path, a);
     } else {
         info_volume(path, a);
         if (a.has("range")) {
@@ -157,11 +190,14 @@ int cmd_info(int argc, char** argv) {
     Args a("info", "FILE...",
            "Describes files meshless reads or writes: volumes (format, dims, type, spacing, value range),\n"
            "point/sample streams (records, frames, metadata; checks the END frame), brick stores (.mlb),\n"
-           "sample stores (.mls), PLY (point sets are read through, so truncation is reported) and PNG.\n"
+           "sample stores (.mls), PLY (point sets are read through, so truncation is reported), PNG, and\n"
+           "scattered/multiblock point sets (CSV/TSV/text, .vtp, .vts, PLOT3D .bin/.xyz/.p3d, raw float32\n"
+           "records, .npy): points, blocks and dims, value name and range, bounds, dropped samples.\n"
            "Files that cannot be described are reported on stderr; the others are still described.");
     a.flag("range", "volumes: also read the samples and print the value range");
     a.positionals(1, 100000);
     add_volume_options(a);
+    add_point_set_options(a, false);
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().empty()) throw UsageError("missing FILE argument");
     int status = 0;

@@ -14,11 +14,15 @@ int cmd_extract(int argc, char** argv);
 int cmd_splat(int argc, char** argv);
 int cmd_mc(int argc, char** argv);
 int cmd_info(int argc, char** argv);
+int cmd_probe(int argc, char** argv);
+int cmd_slice(int argc, char** argv);
+int cmd_resample(int argc, char** argv);
 int cmd_bench(int argc, char** argv);
 int cmd_batch(int argc, char** argv);
 int cmd_convert(int argc, char** argv);
 int cmd_verify(int argc, char** argv);
 int cmd_synth(int argc, char** argv);
+int cmd_sample(int argc, char** argv);
 
 /// The whole program: dispatch and exception -> exit code mapping.
 int cli_main(int argc, char** argv);

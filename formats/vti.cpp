@@ -11,81 +11,20 @@
 #include "formats/gzip.hpp"
 #include "formats/payload.hpp"
 #include "formats/text_header.hpp"
+#include "formats/vtk_xml.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
 
 namespace {
 
-using Attrs = std::map<std::string, std::string>;
+using Tag = VtkXmlTag;
 
-struct Tag {
-    std::size_t begin = std::string::npos;  // offset of '<'
-    std::size_t end = 0;                    // offset after '>'
-    Attrs attrs;
-    bool self_closing = false;
-};
-
-// Finds the next <name ...> at or after `from` (before `limit`) and parses its attributes.
 Tag find_tag(std::string_view doc, std::string_view name, std::size_t from, std::size_t limit, const std::string& path) {
-    Tag t;
-    std::size_t p = from;
-    for (;;) {
-        p = doc.find(name, p);
-        if (p == std::string_view::npos || p >= limit) return t;
-        if (p > 0 && doc[p - 1] == '<' && p + name.size() < doc.size() &&
-            (std::isspace(static_cast<unsigned char>(doc[p + name.size()])) || doc[p + name.size()] == '>' ||
-             doc[p + name.size()] == '/'))
-            break;
-        p += name.size();
-    }
-    t.begin = p - 1;
-    std::size_t i = p + name.size();
-    for (;;) {
-        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
-        if (i >= doc.size()) throw FormatError(path + ": unterminated <" + std::string(name) + "> tag");
-        if (doc[i] == '>') {
-            t.end = i + 1;
-            return t;
-        }
-        if (doc[i] == '/' && i + 1 < doc.size() && doc[i + 1] == '>') {
-            t.self_closing = true;
-            t.end = i + 2;
-            return t;
-        }
-        const std::size_t ks = i;
-        while (i < doc.size() && doc[i] != '=' && doc[i] != '>' && !std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
-        std::string key(doc.substr(ks, i - ks));
-        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
-        if (i >= doc.size() || doc[i] != '=') throw FormatError(path + ": bad attribute '" + key + "' in <" + std::string(name) + ">");
-        ++i;
-        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
-        if (i >= doc.size() || (doc[i] != '"' && doc[i] != '\''))
-            throw FormatError(path + ": unquoted attribute '" + key + "' in <" + std::string(name) + ">");
-        const char q = doc[i++];
-        const std::size_t vs = i;
-        const std::size_t ve = doc.find(q, vs);
-        if (ve == std::string_view::npos) throw FormatError(path + ": unterminated attribute '" + key + "'");
-        t.attrs[key] = std::string(doc.substr(vs, ve - vs));
-        i = ve + 1;
-    }
+    return vtk_xml_find_tag(doc, name, from, limit, path);
 }
 
-std::string attr(const Tag& t, const char* k, const std::string& def = "") {
-    const auto it = t.attrs.find(k);
-    return it == t.attrs.end() ? def : it->second;
-}
-
-std::optional<StoredType> vtk_xml_type(const std::string& t) {
-    static const std::map<std::string, StoredType> m = {
-        {"Int8", StoredType::i8},   {"UInt8", StoredType::u8},   {"Int16", StoredType::i16},
-        {"UInt16", StoredType::u16}, {"Int32", StoredType::i32}, {"UInt32", StoredType::u32},
-        {"Int64", StoredType::i64}, {"UInt64", StoredType::u64}, {"Float32", StoredType::f32},
-        {"Float64", StoredType::f64}, {"Char", StoredType::i8}, {"UnsignedChar", StoredType::u8}};
-    const auto it = m.find(t);
-    if (it == m.end()) return std::nullopt;
-    return it->second;
-}
+std::string attr(const Tag& t, const char* k, const std::string& def = "") { return t.attr(k, def); }
 
 struct VtiLayout {
     GridSpec grid;
@@ -192,57 +131,14 @@ VtiLayout parse_layout(std::string_view doc, const std::string& path) {
     return L;
 }
 
-std::uint64_t read_uint(const std::byte* p, bool header64, bool big) {
-    if (header64) {
-        std::uint64_t v;
-        std::memcpy(&v, p, 8);
-        if (big == host_is_little_endian()) v = __builtin_bswap64(v);
-        return v;
-    }
-    std::uint32_t v;
-    std::memcpy(&v, p, 4);
-    if (big == host_is_little_endian()) v = __builtin_bswap32(v);
-    return v;
-}
-
 // Decodes [header][data] laid out in `bin` (raw bytes) into the payload.
 std::vector<std::byte> decode_binary(const std::byte* bin, std::size_t n, const VtiLayout& L, std::uint64_t expected,
                                      const std::string& path) {
-    const std::size_t hs = L.header64 ? 8 : 4;
-    if (!L.compressed) {
-        if (n < hs) throw FormatError(path + ": truncated DataArray header");
-        const std::uint64_t nbytes = read_uint(bin, L.header64, L.big_endian);
-        if (nbytes != expected)
-            throw FormatError(path + ": DataArray holds " + std::to_string(nbytes) + " bytes, expected " +
-                              std::to_string(expected) + " for " + dims_string(L.grid) + " " + to_string(L.type));
-        if (n - hs < nbytes)
-            throw FormatError(path + ": truncated DataArray: " + std::to_string(n - hs) + " of " + std::to_string(nbytes) + " bytes");
-        return std::vector<std::byte>(bin + hs, bin + hs + nbytes);
-    }
-    if (n < 3 * hs) throw FormatError(path + ": truncated compressed DataArray header");
-    const std::uint64_t nblocks = read_uint(bin, L.header64, L.big_endian);
-    const std::uint64_t bsize = read_uint(bin + hs, L.header64, L.big_endian);
-    const std::uint64_t last = read_uint(bin + 2 * hs, L.header64, L.big_endian);
-    if (nblocks > (n / hs) || (nblocks > 0 && bsize == 0))
-        throw FormatError(path + ": bad compressed DataArray header (" + std::to_string(nblocks) + " blocks)");
-    const std::uint64_t total = nblocks == 0 ? 0 : (nblocks - 1) * bsize + (last == 0 ? bsize : last);
-    if (total != expected)
-        throw FormatError(path + ": DataArray holds " + std::to_string(total) + " bytes, expected " + std::to_string(expected) +
-                          " for " + dims_string(L.grid) + " " + to_string(L.type));
-    const std::size_t header_bytes = static_cast<std::size_t>((3 + nblocks) * hs);
-    if (n < header_bytes) throw FormatError(path + ": truncated compressed DataArray header");
-    std::vector<std::byte> out(static_cast<std::size_t>(total));
-    std::uint64_t in_pos = header_bytes;
-    for (std::uint64_t b = 0; b < nblocks; ++b) {
-        const std::uint64_t cs = read_uint(bin + (3 + b) * hs, L.header64, L.big_endian);
-        if (cs > n - in_pos)
-            throw FormatError(path + ": truncated compressed block " + std::to_string(b) + " (" + std::to_string(cs) +
-                              " bytes at " + std::to_string(in_pos) + ", have " + std::to_string(n - in_pos) + ")");
-        const std::uint64_t us = (b + 1 == nblocks && last != 0) ? last : bsize;
-        inflate_into(bin + in_pos, static_cast<std::size_t>(cs), out.data() + b * bsize, static_cast<std::size_t>(us), path);
-        in_pos += cs;
-    }
-    return out;
+    VtkXmlFile f;
+    f.big_endian = L.big_endian;
+    f.header64 = L.header64;
+    f.compressed = L.compressed;
+    return vtk_xml_decode_binary(bin, n, f, expected, path, dims_string(L.grid) + " " + to_string(L.type));
 }
 
 }  // namespace

@@ -25,6 +25,8 @@ struct PointSet {
     std::vector<PointSetBlock> blocks;       ///< at least one
     std::uint64_t dropped_nonfinite = 0;     ///< samples dropped by the reader (NaN/Inf coordinate or value)
     std::uint64_t dropped_blanked = 0;       ///< PLOT3D IBLANK == 0
+    /// False for positions-only files (.npy (N,3), .pts, PLOT3D xyz without q): value is all 0.
+    bool has_values = true;
 
     std::size_t size() const { return pos.size(); }
     /// Axis-aligned bounds of pos; {0,0,0},{0,0,0} when empty.

@@ -74,3 +74,68 @@ TEST_CASE("bench speed without the data folder falls back to analytic volumes", 
     CHECK(contains(text, "analytic sphere"));
     CHECK(contains(text, "IS/MC"));
 }
+
+TEST_CASE("bench ooc --quick prints the out-of-core tables and removes its scratch folder", "[bench]") {
+    TempDir dir("bench-ooc");
+    const std::string out = (dir / "out.txt").string();
+    const std::string md = (dir / "ooc.md").string();
+    const std::filesystem::path scratch = dir / "scratch";
+    std::filesystem::create_directories(scratch);
+    const RunResult r = sh("MESHLESS bench ooc --quick --isovalues 2 --data " + shared_data().string() + " --scratch " +
+                               scratch.string() + " --markdown " + md + " > " + out,
+                           dir);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string text = slurp(out);
+    INFO(text);
+    CHECK(contains(text, "Machine: "));
+    CHECK(contains(text, "convert MB/s"));
+    CHECK(contains(text, "throughput fresh"));
+    CHECK(contains(text, "A query ms"));
+    CHECK(contains(text, "C full ms"));
+    CHECK(contains(text, "MC ms"));
+    CHECK(contains(text, "--threads 2"));
+    CHECK((contains(text, "PASS") || contains(text, "FAIL")));
+    // paradigms A and C select the same cells, and 1 and 2 threads write the same bytes
+    CHECK_FALSE(contains(text, " NO"));
+    if (have_shared_data()) {
+        CHECK(contains(text, "LIDC2 chest CT"));
+        CHECK(contains(text, "tooth"));
+    } else {
+        CHECK(contains(text, "analytic gyroid"));
+    }
+    if (std::filesystem::exists("/usr/bin/time")) CHECK(contains(text, "max RSS"));
+    else CHECK(contains(text, "/usr/bin/time not found"));
+    CHECK(contains(slurp(md), "| iso | active % |"));
+    // the scratch folder is removed (no --keep)
+    CHECK(std::filesystem::is_empty(scratch));
+}
+
+TEST_CASE("bench ooc --quick without the data folder uses an analytic volume", "[bench]") {
+    TempDir dir("bench-ooc-nodata");
+    const std::string out = (dir / "out.txt").string();
+    const RunResult r = sh("MESHLESS bench ooc --quick --isovalues 2 --data " + (dir / "no-such-dir").string() +
+                               " --scratch " + dir.path.string() + " --keep > " + out,
+                           dir);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string text = slurp(out);
+    INFO(text);
+    CHECK(contains(text, "not found"));
+    CHECK(contains(text, "analytic gyroid"));
+    CHECK(contains(text, "A query ms"));
+    CHECK_FALSE(contains(text, " NO"));
+    // --keep leaves the stores in place
+    bool kept = false;
+    for (const auto& e : std::filesystem::directory_iterator(dir.path))
+        if (e.path().filename().string().rfind("meshless-bench-ooc-", 0) == 0)
+            kept = kept || std::filesystem::exists(e.path() / "lung.mlb");
+    CHECK(kept);
+}
+
+TEST_CASE("bench ooc refuses a scratch folder that does not exist", "[bench]") {
+    TempDir dir("bench-ooc-bad");
+    const RunResult r = sh("MESHLESS bench ooc --quick --scratch " + (dir / "missing").string() + " > /dev/null", dir);
+    CHECK(r.code == 1);
+    CHECK(r.err.find("--scratch") != std::string::npos);
+}

@@ -1,0 +1,234 @@
+// Looking at scattered data directly through meshless fields (dissertation chapters 4-5, 7):
+//   meshless probe POINTS --at x,y,z ...        value and gradient at given positions (CSV)
+//   meshless slice POINTS --plane z=0.5 -o s.png colour-mapped slice with the nearby points overlaid
+//   meshless resample POINTS --dims X,Y,Z -o v.nrrd   the field on a regular grid
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cli/field_cli.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/nrrd_writer.hpp"
+#include "formats/png_writer.hpp"
+#include "kernels/colormap.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless::cli {
+
+namespace {
+
+std::string fmt9(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.9g", v);
+    return b;
+}
+
+/// Positions from a CSV/whitespace file: three numbers per line (an optional header line is skipped).
+std::vector<Vec3> read_positions(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw IoError(path + ": cannot open");
+    std::vector<Vec3> out;
+    std::string line;
+    for (std::size_t n = 1; std::getline(in, line); ++n) {
+        for (char& c : line)
+            if (c == ',' || c == ';' || c == '\t') c = ' ';
+        std::istringstream ls(line);
+        std::string first;
+        if (!(ls >> first) || first[0] == '#') continue;
+        double v[3];
+        std::istringstream all(line);
+        if (!(all >> v[0] >> v[1] >> v[2])) {
+            if (out.empty() && n == 1) continue;  // header
+            throw FormatError(path + ":" + std::to_string(n) + ": expected x,y,z");
+        }
+        if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
+            throw FormatError(path + ":" + std::to_string(n) + ": non-finite position");
+        out.push_back({v[0], v[1], v[2]});
+    }
+    return out;
+}
+
+struct Plane {
+    int axis = 2;
+    double at = 0;
+};
+
+Plane parse_plane(const std::string& s) {
+    const auto eq = s.find('=');
+    if (eq != 1 || (s[0] != 'x' && s[0] != 'y' && s[0] != 'z'))
+        throw UsageError("--plane: expected x=V, y=V or z=V, got '" + s + "'");
+    return {s[0] - 'x', parse_finite(s.substr(2), "--plane")};
+}
+
+}  // namespace
+
+int cmd_probe(int argc, char** argv) {
+    Args a("probe", "POINTS... --at x,y,z [--at ...] | --at-file FILE [-o out.csv]",
+           "Value and gradient of a meshless field built from scattered points, at world positions.\n"
+           "Writes CSV with the header x,y,z,value,gx,gy,gz (stdout by default). NaN marks positions the\n"
+           "field does not cover.");
+    a.option("at", "", "X,Y,Z", "a position (repeatable)")
+        .option("at-file", "", "FILE", "positions, three numbers per line (CSV or whitespace; header allowed)")
+        .option("output", "o", "FILE", "CSV output, '-' = stdout", "-");
+    add_field_options(a);
+    a.positionals(1, 1000);
+    if (!a.parse(argc, argv, 2)) return 0;
+    std::vector<Vec3> at;
+    for (const std::string& s : a.get_all("at")) {
+        double v[3];
+        char tail;
+        if (std::sscanf(s.c_str(), "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) != 3 || !std::isfinite(v[0]) ||
+            !std::isfinite(v[1]) || !std::isfinite(v[2]))
+            throw UsageError("--at: expected x,y,z, got '" + s + "'");
+        at.push_back({v[0], v[1], v[2]});
+    }
+    if (auto f = a.get("at-file")) {
+        const auto more = read_positions(*f);
+        at.insert(at.end(), more.begin(), more.end());
+    }
+    if (at.empty()) throw UsageError("nothing to probe: give --at x,y,z or --at-file FILE");
+    const PointSet pts = read_points_arg(a);
+    const auto field = build_field(a, pts);
+    std::vector<double> val(at.size());
+    std::vector<Vec3> grad(at.size());
+    evaluate_parallel(*field, at, val, grad, threads(a));
+    AtomicFile out(a.get_or("output", "-"));
+    out.write(std::string("x,y,z,value,gx,gy,gz\n"));
+    for (std::size_t i = 0; i < at.size(); ++i)
+        out.write(fmt9(at[i].x) + "," + fmt9(at[i].y) + "," + fmt9(at[i].z) + "," + fmt9(val[i]) + "," + fmt9(grad[i].x) +
+                  "," + fmt9(grad[i].y) + "," + fmt9(grad[i].z) + "\n");
+    out.commit();
+    return 0;
+}
+
+int cmd_slice(int argc, char** argv) {
+    Args a("slice", "POINTS... --plane z=V -o slice.png [--size 1024x1024]",
+           "Renders a colour-mapped slice through a meshless field built from scattered points, over the\n"
+           "points' bounding box in the plane, with the data points near the plane drawn as dots.\n"
+           "Grey marks where the field does not cover the plane.");
+    a.option("plane", "", "AXIS=V", "the slicing plane, e.g. z=0.5 (world units)")
+        .option("output", "o", "FILE", "PNG output (required)")
+        .option("size", "", "WxH", "largest image size; the aspect follows the bounding box", "1024x1024")
+        .option("range", "", "LO,HI", "values mapped to the ends of the colour map (default: the data's range)")
+        .option("colormap", "", "NAME", "coolwarm | gray", "coolwarm")
+        .option("near", "", "D", "overlay data points within D of the plane (default: half the mean point spacing)");
+    add_field_options(a);
+    a.positionals(1, 1000);
+    if (!a.parse(argc, argv, 2)) return 0;
+    const Plane plane = parse_plane(a.require("plane"));
+    const std::string png = a.require("output");
+    Colormap cmap;
+    if (!parse_colormap(a.get_or("colormap", "coolwarm"), cmap)) throw UsageError("--colormap: expected coolwarm or gray");
+    const std::string size = a.get_or("size", "1024x1024");
+    const auto x = size.find('x');
+    if (x == std::string::npos) throw UsageError("--size: expected WxH, got '" + size + "'");
+    const long long W = parse_int(size.substr(0, x), "--size"), H = parse_int(size.substr(x + 1), "--size");
+    if (W < 2 || H < 2 || W > 16384 || H > 16384) throw UsageError("--size: width and height must be 2..16384");
+
+    const PointSet pts = read_points_arg(a);
+    const auto field = build_field(a, pts);
+    const auto [lo, hi] = pts.bounds();
+    const int u = (plane.axis + 1) % 3, v = (plane.axis + 2) % 3;  // image axes: u right, v up
+    const int ua = std::min(u, v), va = std::max(u, v);             // x before y before z
+    const double eu = std::max(hi[ua] - lo[ua], 1e-12), ev = std::max(hi[va] - lo[va], 1e-12);
+    const double px = std::max(eu / W, ev / H);  // world units per pixel, aspect kept
+    const int w = std::max(2, static_cast<int>(std::ceil(eu / px))), h = std::max(2, static_cast<int>(std::ceil(ev / px)));
+    std::vector<Vec3> at(static_cast<std::size_t>(w) * h);
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+            double q[3];
+            q[plane.axis] = plane.at;
+            q[ua] = lo[ua] + (c + 0.5) * px;
+            q[va] = lo[va] + (h - 1 - r + 0.5) * px;  // top row = largest v
+            at[static_cast<std::size_t>(r) * w + c] = {q[0], q[1], q[2]};
+        }
+    std::vector<double> val(at.size());
+    evaluate_parallel(*field, at, val, {}, threads(a));
+    std::array<double, 2> range = pts.value_range();
+    if (auto r = a.get("range")) {
+        if (std::sscanf(r->c_str(), "%lf,%lf", &range[0], &range[1]) != 2 || !(range[0] < range[1]))
+            throw UsageError("--range: expected LO,HI with LO < HI, got '" + *r + "'");
+    }
+    Image img;
+    img.width = w;
+    img.height = h;
+    img.rgb.resize(static_cast<std::size_t>(w) * h * 3);
+    for (std::size_t i = 0; i < val.size(); ++i) {
+        const auto c = map_color(cmap, val[i], range[0], range[1]);
+        std::copy(c.begin(), c.end(), img.rgb.begin() + 3 * i);
+    }
+    // overlay: data points near the plane, as 3x3 dark dots
+    double near = 0;
+    if (auto d = a.get("near")) near = parse_finite(*d, "--near");
+    else {
+        const Vec3 ext = hi - lo;
+        double vol = 1;
+        int k = 0;
+        for (int d2 = 0; d2 < 3; ++d2)
+            if (ext[d2] > 0) vol *= ext[d2], ++k;
+        near = 0.5 * (k ? std::pow(vol / std::max<std::size_t>(1, pts.size()), 1.0 / k) : 0);
+    }
+    std::size_t shown = 0;
+    for (const Vec3& p : pts.pos) {
+        if (std::abs(p[plane.axis] - plane.at) > near) continue;
+        const int c = static_cast<int>((p[ua] - lo[ua]) / px), r = h - 1 - static_cast<int>((p[va] - lo[va]) / px);
+        ++shown;
+        for (int dr = -1; dr <= 1; ++dr)
+            for (int dc = -1; dc <= 1; ++dc) {
+                const int rr = r + dr, cc = c + dc;
+                if (rr < 0 || rr >= h || cc < 0 || cc >= w) continue;
+                std::uint8_t* px8 = &img.rgb[3 * (static_cast<std::size_t>(rr) * w + cc)];
+                px8[0] = px8[1] = px8[2] = (dr == 0 && dc == 0) ? 255 : 20;
+            }
+    }
+    write_png(img, png);
+    if (a.has("stats"))
+        std::fprintf(stderr, "slice: %dx%d pixels, %g world units per pixel, %zu data points within %g of the plane\n", w, h, px,
+                     shown, near);
+    return 0;
+}
+
+int cmd_resample(int argc, char** argv) {
+    Args a("resample", "POINTS... --dims X,Y,Z -o vol.nrrd",
+           "Resamples a meshless field built from scattered points onto a regular grid over the points'\n"
+           "bounding box (float32 NRRD), for the isosurface commands and other tools.");
+    a.option("dims", "", "X,Y,Z", "grid samples along x, y, z (required)").option("output", "o", "FILE", "NRRD output (required)");
+    add_field_options(a);
+    a.positionals(1, 1000);
+    if (!a.parse(argc, argv, 2)) return 0;
+    const auto d = a.get_triple("dims");
+    if (!d) throw UsageError("missing required option --dims (see meshless resample --help)");
+    GridSpec g;
+    for (int i = 0; i < 3; ++i) {
+        if ((*d)[i] < 2 || (*d)[i] > 4096 || (*d)[i] != std::floor((*d)[i])) throw UsageError("--dims: expected integers 2..4096");
+        g.dims[i] = static_cast<std::int64_t>((*d)[i]);
+    }
+    const std::string out = a.require("output");
+    const PointSet pts = read_points_arg(a);
+    const auto field = build_field(a, pts);
+    const auto [lo, hi] = pts.bounds();
+    for (int i = 0; i < 3; ++i) {
+        g.origin[i] = lo[i];
+        g.spacing[i] = hi[i] > lo[i] ? (hi[i] - lo[i]) / static_cast<double>(g.dims[i] - 1) : 1.0;
+    }
+    Volume vol(g, SampleType::f32);
+    float* dst = reinterpret_cast<float*>(vol.bytes.data());
+    std::vector<Vec3> at(static_cast<std::size_t>(g.dims[0] * g.dims[1]));
+    std::vector<double> val(at.size());
+    for (std::int64_t k = 0; k < g.dims[2]; ++k) {  // one z-slice at a time
+        for (std::int64_t j = 0; j < g.dims[1]; ++j)
+            for (std::int64_t i = 0; i < g.dims[0]; ++i)
+                at[static_cast<std::size_t>(i + g.dims[0] * j)] = {g.origin[0] + i * g.spacing[0], g.origin[1] + j * g.spacing[1],
+                                                                   g.origin[2] + k * g.spacing[2]};
+        evaluate_parallel(*field, at, val, {}, threads(a));
+        for (std::size_t n = 0; n < at.size(); ++n) dst[static_cast<std::size_t>(k) * at.size() + n] = static_cast<float>(val[n]);
+    }
+    write_nrrd(vol, out, "meshless resample: " + std::string(field->name()) + " field of " + std::to_string(pts.size()) + " points");
+    return 0;
+}
+
+}  // namespace meshless::cli

@@ -1,0 +1,29 @@
+// Shared pieces of the commands that build a meshless field from scattered points (probe, slice,
+// resample): the field options (--field --binning --max-points --alpha --hardy-c --hardy-c-world
+// --support --normalise-axes), reading POINTS (one or several files: multiblock pieces), building the
+// field under --threads, and parallel batch evaluation. Throws UsageError for bad options.
+#pragma once
+#include <memory>
+#include <span>
+
+#include "cli/args.hpp"
+#include "kernels/field.hpp"
+#include "kernels/field_params.hpp"
+#include "kernels/point_set.hpp"
+
+namespace meshless::cli {
+
+void add_field_options(Args& a);
+FieldParams field_params(const Args& a);
+
+/// Reads the positional POINTS files (as one set) with the point-set options.
+PointSet read_points_arg(const Args& a);
+
+/// Builds the field with --threads workers; prints the build summary on stderr with --stats.
+std::unique_ptr<Field> build_field(const Args& a, const PointSet& points);
+
+/// Evaluates in parallel chunks (deterministic: each point is independent).
+void evaluate_parallel(const Field& f, std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad,
+                       int threads);
+
+}  // namespace meshless::cli

@@ -1,0 +1,181 @@
+#include "formats/point_set_reader.hpp"
+
+#include <filesystem>
+
+#include "formats/binary_file.hpp"
+#include "formats/plot3d.hpp"
+#include "formats/points_ply.hpp"
+#include "formats/points_raw.hpp"
+#include "formats/points_text.hpp"
+#include "formats/points_vtp.hpp"
+#include "formats/points_vts.hpp"
+#include "formats/text_header.hpp"
+#include "formats/volume_reader.hpp"
+
+namespace meshless {
+
+namespace {
+
+std::string ext_of(const std::string& path) {
+    std::string e = to_lower(std::filesystem::path(path).extension().string());
+    return e;
+}
+
+bool volume_claims(const std::string& path) {
+    try {
+        (void)probe_volume(path);
+        return true;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+enum class Fmt { text, ply, vtp, vts, raw, npy, plot3d, p3d, volume };
+
+Fmt choose(const std::string& path) {
+    const std::string e = ext_of(path);
+    if (e == ".csv" || e == ".tsv" || e == ".txt" || e == ".pts" || e == ".asc" || e == ".xyzv") return Fmt::text;
+    if (e == ".ply") return Fmt::ply;
+    if (e == ".vtp") return Fmt::vtp;
+    if (e == ".vts") return Fmt::vts;
+    if (e == ".npy") return Fmt::npy;
+    if (e == ".p3d") return Fmt::p3d;
+    if (e == ".xyz" || e == ".x" || e == ".g") return Fmt::plot3d;
+    if (e == ".raw") return volume_claims(path) ? Fmt::volume : Fmt::raw;
+    if (e == ".bin") return looks_like_plot3d_xyz(path) ? Fmt::plot3d : Fmt::raw;
+    if (looks_like_volume(path)) return Fmt::volume;
+    // by content
+    const std::string head = read_file_prefix(path, 64);
+    if (head.rfind("ply", 0) == 0) return Fmt::ply;
+    if (head.rfind("\x93NUMPY", 0) == 0) return Fmt::npy;
+    if (head.find("<VTKFile") != std::string::npos || head.rfind("<?xml", 0) == 0) {
+        const std::string more = read_file_prefix(path, 4096);
+        return more.find("StructuredGrid") != std::string::npos ? Fmt::vts : Fmt::vtp;
+    }
+    if (looks_like_plot3d_xyz(path)) return Fmt::plot3d;
+    return Fmt::text;
+}
+
+const char* fmt_name(Fmt f) {
+    switch (f) {
+        case Fmt::text: return "text";
+        case Fmt::ply: return "ply";
+        case Fmt::vtp: return "vtp";
+        case Fmt::vts: return "vts";
+        case Fmt::raw: return "raw-float32";
+        case Fmt::npy: return "npy";
+        case Fmt::plot3d: return "plot3d";
+        case Fmt::p3d: return "plot3d-meta";
+        case Fmt::volume: return "volume";
+    }
+    return "?";
+}
+
+void merge_blocks(PointSet& ps, const std::string& path) {
+    if (ps.blocks.size() <= 1) return;
+    ps.blocks = {PointSetBlock{std::filesystem::path(path).filename().string(),
+                               {static_cast<std::int64_t>(ps.pos.size()), 1, 1}, 0, ps.pos.size()}};
+}
+
+void check_count(const PointSet& ps, const std::string& path) {
+    if (ps.size() < kMinPointSetPoints)
+        throw FormatError(path + ": " + std::to_string(ps.size()) + " valid point" + (ps.size() == 1 ? "" : "s") +
+                          (ps.dropped_nonfinite || ps.dropped_blanked
+                               ? " (" + std::to_string(ps.dropped_nonfinite) + " NaN/Inf and " +
+                                     std::to_string(ps.dropped_blanked) + " blanked dropped)"
+                               : std::string()) +
+                          ", at least " + std::to_string(kMinPointSetPoints) + " needed");
+}
+
+PointSet read_one(const std::string& path, const PointSetOptions& o, Fmt f, std::vector<std::string>* notes) {
+    if (std::filesystem::is_directory(path) && f != Fmt::volume) throw IoError(path + ": is a directory, expected a file");
+    PointSet ps;
+    switch (f) {
+        case Fmt::text: ps = read_points_text(path, o, notes); break;
+        case Fmt::ply: ps = read_points_ply(path, o, notes); break;
+        case Fmt::vtp: ps = read_points_vtp(path, o, notes); break;
+        case Fmt::vts: ps = read_points_vts(path, o, notes); break;
+        case Fmt::raw: ps = read_points_raw(path, o, notes); break;
+        case Fmt::npy: ps = read_points_npy(path, o, notes); break;
+        case Fmt::plot3d: ps = read_plot3d(path, o, notes); break;
+        case Fmt::p3d: ps = read_plot3d_meta(path, o, notes); break;
+        case Fmt::volume: ps = point_set_from_volume(path, o); break;
+    }
+    if (ps.blocks.size() == 1 && ps.blocks[0].name == "points")
+        ps.blocks[0].name = std::filesystem::path(path).filename().string();
+    if (o.merge_blocks) merge_blocks(ps, path);
+    check_count(ps, path);
+    return ps;
+}
+
+}  // namespace
+
+PointSet point_set_from_volume(const std::string& path, const PointSetOptions& o) {
+    const Volume v = read_volume(path);
+    const GridSpec& g = v.grid;
+    const VolumeView view = v.view();
+    PointSetBuilder b(path, o);
+    b.begin_block(std::filesystem::path(path).filename().string(), g.dims);
+    b.reserve(static_cast<std::size_t>(g.voxel_count()));
+    std::uint64_t idx = 0;
+    for (std::int64_t k = 0; k < g.dims[2]; ++k)
+        for (std::int64_t j = 0; j < g.dims[1]; ++j)
+            for (std::int64_t i = 0; i < g.dims[0]; ++i, ++idx)
+                b.add(g.origin[0] + i * g.spacing[0], g.origin[1] + j * g.spacing[1], g.origin[2] + k * g.spacing[2],
+                      view.at(static_cast<std::int64_t>(idx)), "voxel", idx);
+    return b.finish("value", true);
+}
+
+PointSet read_point_set(const std::string& path, const PointSetOptions& o) {
+    return read_one(path, o, choose(path), nullptr);
+}
+
+PointSet read_point_set(const std::vector<std::string>& paths, const PointSetOptions& o) {
+    if (paths.empty()) throw UsageError("no point-set files given");
+    if (paths.size() == 1) return read_point_set(paths.front(), o);
+    PointSetOptions each = o;
+    each.merge_blocks = false;
+    PointSet out;
+    for (std::size_t i = 0; i < paths.size(); ++i) {
+        PointSet ps = read_point_set(paths[i], each);
+        if (i == 0) {
+            out.value_name = ps.value_name;
+            out.has_values = ps.has_values;
+        } else if (ps.value_name != out.value_name || ps.has_values != out.has_values) {
+            throw FormatError(paths[i] + ": scalar '" + ps.value_name + "' differs from '" + out.value_name + "' in " + paths[0]);
+        }
+        const std::uint64_t first = out.pos.size();
+        for (auto blk : ps.blocks) {
+            blk.first += first;
+            out.blocks.push_back(std::move(blk));
+        }
+        out.pos.insert(out.pos.end(), ps.pos.begin(), ps.pos.end());
+        out.value.insert(out.value.end(), ps.value.begin(), ps.value.end());
+        out.dropped_nonfinite += ps.dropped_nonfinite;
+        out.dropped_blanked += ps.dropped_blanked;
+    }
+    if (o.merge_blocks) merge_blocks(out, paths.front());
+    return out;
+}
+
+PointSetInfo probe_point_set(const std::string& path, const PointSetOptions& o) {
+    PointSetInfo info;
+    const Fmt f = choose(path);
+    info.format = fmt_name(f);
+    info.set = read_one(path, o, f, &info.notes);
+    return info;
+}
+
+bool looks_like_point_set(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;
+    const std::string e = ext_of(path);
+    if (e == ".csv" || e == ".tsv" || e == ".txt" || e == ".pts" || e == ".asc" || e == ".xyzv" || e == ".vtp" ||
+        e == ".vts" || e == ".npy" || e == ".p3d" || e == ".xyz" || e == ".x" || e == ".g")
+        return true;
+    if (e == ".raw") return !volume_claims(path);
+    if (e == ".bin") return looks_like_plot3d_xyz(path);
+    return false;
+}
+
+}  // namespace meshless

@@ -1,0 +1,169 @@
+#include "formats/points_raw.hpp"
+
+#include <cmath>
+#include <cstring>
+
+#include "formats/binary_file.hpp"
+#include "formats/stored_type.hpp"
+#include "formats/text_header.hpp"
+
+namespace meshless {
+
+namespace {
+
+float load_f32(const std::byte* p, bool swap) {
+    std::uint32_t u;
+    std::memcpy(&u, p, 4);
+    if (swap) u = __builtin_bswap32(u);
+    float f;
+    std::memcpy(&f, &u, 4);
+    return f;
+}
+
+double load_f64(const std::byte* p, bool swap) {
+    std::uint64_t u;
+    std::memcpy(&u, p, 8);
+    if (swap) u = __builtin_bswap64(u);
+    double f;
+    std::memcpy(&f, &u, 8);
+    return f;
+}
+
+// Byte-swapped floats get a random exponent: few land in [1e-12, 1e12], real data almost always does.
+bool plausible(double v) {
+    const double a = std::fabs(v);
+    return std::isfinite(v) && (a == 0 || (a > 1e-12 && a < 1e12));
+}
+
+}  // namespace
+
+PointSet read_points_raw(const std::string& path, const PointSetOptions& o, std::vector<std::string>* notes) {
+    const auto bytes = read_file_bytes(path);
+    if (bytes.empty()) throw FormatError(path + ": empty file (no points)");
+    std::size_t fields = 4;
+    if (!o.columns.empty()) {
+        const std::string c = to_lower(o.columns);
+        if (c == "x,y,z") fields = 3;
+        else if (c != "x,y,z,value" && c != "x,y,z,v") throw FormatError(path + ": raw records are x,y,z or x,y,z,value float32 (--columns '" + o.columns + "')");
+    }
+    const std::size_t rec = 4 * fields;
+    const std::size_t n = bytes.size() / rec;
+    const std::size_t extra = bytes.size() - n * rec;
+    if (extra && !o.allow_trailing)
+        throw FormatError(path + ": " + std::to_string(bytes.size()) + " bytes is not a whole number of " + std::to_string(rec) +
+                          "-byte float32 records (" + std::to_string(extra) + " trailing bytes; --allow-trailing ignores them)");
+    if (extra && notes) notes->push_back(std::to_string(extra) + " trailing bytes ignored");
+    const std::size_t nf = n * fields;
+    std::size_t good[2] = {0, 0};  // [little, big]
+    for (int order = 0; order < 2; ++order) {
+        const bool swap = (order == 1) == host_is_little_endian();
+        for (std::size_t i = 0; i < nf; ++i) good[order] += plausible(load_f32(bytes.data() + 4 * i, swap));
+    }
+    bool big = false;
+    if (o.byte_order == ByteOrder::detect) {
+        big = good[1] > good[0];
+    } else {
+        big = o.byte_order == ByteOrder::big;
+        const int other = big ? 0 : 1;
+        if (nf && good[other] == nf && good[1 - other] * 2 < nf)
+            throw FormatError(path + ": the float32 values are implausible as " + (big ? "big" : "little") +
+                              "-endian; the file looks " + (big ? "little" : "big") + "-endian");
+    }
+    if (notes) notes->push_back(std::string("byte order: ") + (big ? "big" : "little") + " endian" +
+                                (o.byte_order == ByteOrder::detect ? " (detected)" : ""));
+    const bool swap = big == host_is_little_endian();
+    PointSetBuilder b(path, o);
+    b.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::byte* r = bytes.data() + i * rec;
+        b.add(load_f32(r, swap), load_f32(r + 4, swap), load_f32(r + 8, swap), fields == 4 ? load_f32(r + 12, swap) : 0.0,
+              "record", i);
+    }
+    return b.finish(fields == 4 ? "value" : "", fields == 4);
+}
+
+PointSet read_points_npy(const std::string& path, const PointSetOptions& o, std::vector<std::string>* notes) {
+    const auto bytes = read_file_bytes(path);
+    if (bytes.size() < 10 || std::memcmp(bytes.data(), "\x93NUMPY", 6) != 0)
+        throw FormatError(path + ": not a NumPy .npy file (missing \\x93NUMPY magic)");
+    const unsigned major = static_cast<unsigned char>(bytes[6]);
+    std::size_t hlen = 0, hstart = 0;
+    if (major == 1) {
+        hlen = static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
+        hstart = 10;
+    } else if (major == 2 || major == 3) {
+        if (bytes.size() < 12) throw FormatError(path + ": truncated .npy header");
+        std::uint32_t l;
+        std::memcpy(&l, bytes.data() + 8, 4);
+        if (!host_is_little_endian()) l = __builtin_bswap32(l);
+        hlen = l;
+        hstart = 12;
+    } else {
+        throw FormatError(path + ": unsupported .npy version " + std::to_string(major));
+    }
+    if (hstart + hlen > bytes.size()) throw FormatError(path + ": truncated .npy header");
+    const std::string h(reinterpret_cast<const char*>(bytes.data()) + hstart, hlen);
+    auto value_of = [&](const char* key) -> std::string {
+        const std::size_t k = h.find(std::string("'") + key + "'");
+        if (k == std::string::npos) throw FormatError(path + ": malformed .npy header (no '" + key + "')");
+        std::size_t c = h.find(':', k);
+        if (c == std::string::npos) throw FormatError(path + ": malformed .npy header");
+        ++c;
+        while (c < h.size() && h[c] == ' ') ++c;
+        std::size_t e = c;
+        if (h[c] == '(') e = h.find(')', c) + 1;
+        else if (h[c] == '\'') e = h.find('\'', c + 1) + 1;
+        else while (e < h.size() && h[e] != ',' && h[e] != '}') ++e;
+        if (e == 0 || e > h.size()) throw FormatError(path + ": malformed .npy header");
+        return h.substr(c, e - c);
+    };
+    const std::string descr = value_of("descr");
+    const std::string fortran = value_of("fortran_order");
+    const std::string shape = value_of("shape");
+    std::size_t es = 0;
+    bool big = false;
+    if (descr == "'<f4'") es = 4;
+    else if (descr == "'>f4'") es = 4, big = true;
+    else if (descr == "'<f8'") es = 8;
+    else if (descr == "'>f8'") es = 8, big = true;
+    else throw FormatError(path + ": unsupported .npy dtype " + descr + " (float32/float64 supported)");
+    std::vector<std::int64_t> dims;
+    {
+        std::string s = shape.substr(1, shape.size() - 2);
+        for (char& c : s)
+            if (c == ',') c = ' ';
+        for (const auto& t : split_ws(s)) dims.push_back(parse_int(t, path, "shape"));
+    }
+    if (dims.size() != 2 || dims[1] < 3 || dims[0] < 0)
+        throw FormatError(path + ": .npy shape " + shape + ", expected (N, 3) positions or (N, k>=4) x,y,z,value...");
+    const auto N = static_cast<std::uint64_t>(dims[0]), K = static_cast<std::uint64_t>(dims[1]);
+    const std::size_t data = hstart + hlen;
+    const std::uint64_t need = N * K * es;
+    if (bytes.size() - data < need)
+        throw FormatError(path + ": truncated .npy data: " + std::to_string(bytes.size() - data) + " of " + std::to_string(need) + " bytes");
+    if (bytes.size() - data > need) {
+        if (!o.allow_trailing)
+            throw FormatError(path + ": " + std::to_string(bytes.size() - data - need) + " trailing bytes after the .npy array");
+        if (notes) notes->push_back(std::to_string(bytes.size() - data - need) + " trailing bytes ignored");
+    }
+    const bool forder = fortran == "True";
+    const bool has_v = K >= 4;
+    std::uint64_t vc = 3;
+    if (o.value_index) {
+        if (*o.value_index < 0 || static_cast<std::uint64_t>(*o.value_index) >= K)
+            throw FormatError(path + ": missing column " + std::to_string(*o.value_index) + " (the array has " + std::to_string(K) + ")");
+        vc = static_cast<std::uint64_t>(*o.value_index);
+    }
+    const bool swap = big == host_is_little_endian();
+    auto at = [&](std::uint64_t i, std::uint64_t c) {
+        const std::uint64_t k = forder ? c * N + i : i * K + c;
+        const std::byte* p = bytes.data() + data + k * es;
+        return es == 4 ? static_cast<double>(load_f32(p, swap)) : load_f64(p, swap);
+    };
+    PointSetBuilder b(path, o);
+    b.reserve(N);
+    for (std::uint64_t i = 0; i < N; ++i) b.add(at(i, 0), at(i, 1), at(i, 2), has_v ? at(i, vc) : 0.0, "row", i);
+    return b.finish(has_v ? "column " + std::to_string(vc) : "", has_v);
+}
+
+}  // namespace meshless

@@ -1,0 +1,132 @@
+#include "formats/points_vtp.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include "formats/binary_file.hpp"
+#include "formats/text_header.hpp"
+#include "formats/vtk_xml.hpp"
+
+namespace meshless {
+
+PointSet read_points_vtp(const std::string& path, const PointSetOptions& o, std::vector<std::string>* notes) {
+    return read_points_vtk_xml(path, "PolyData", o, notes);
+}
+
+PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_type, const PointSetOptions& o,
+                             std::vector<std::string>* notes) {
+    const auto bytes = read_file_bytes(path);
+    if (bytes.empty()) throw FormatError(path + ": empty file");
+    const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    const VtkXmlFile F = vtk_xml_file(doc, path);
+    if (F.type != vtk_type)
+        throw FormatError(path + ": VTK XML type '" + F.type + "', expected " + vtk_type);
+    const VtkXmlTag top = vtk_xml_find_tag(doc, vtk_type, 0, doc.size(), path);
+    if (!top.found()) throw FormatError(path + ": missing <" + vtk_type + ">");
+    const std::size_t top_close = doc.find("</" + vtk_type + ">", top.end);
+    if (top_close == std::string_view::npos) throw FormatError(path + ": unterminated <" + vtk_type + ">");
+    const bool structured = vtk_type == "StructuredGrid";
+    const std::string file_name = std::filesystem::path(path).filename().string();
+
+    PointSetBuilder b(path, o);
+    std::string value_name;
+    bool has_values = false, first_piece = true;
+    int piece_no = 0;
+    for (std::size_t from = top.end;;) {
+        const VtkXmlTag piece = vtk_xml_find_tag(doc, "Piece", from, top_close, path);
+        if (!piece.found()) break;
+        const std::size_t piece_close = piece.self_closing ? piece.end : doc.find("</Piece>", piece.end);
+        if (piece_close == std::string_view::npos) throw FormatError(path + ": unterminated <Piece>");
+        from = piece_close;
+        std::array<std::int64_t, 3> dims{0, 1, 1};
+        std::uint64_t n = 0;
+        if (structured) {
+            const auto ext = parse_ints(piece.attr("Extent", top.attr("WholeExtent")), 6, path, "Extent");
+            for (int a = 0; a < 3; ++a) {
+                dims[a] = ext[2 * a + 1] - ext[2 * a] + 1;
+                if (dims[a] < 1) throw FormatError(path + ": bad Extent in piece " + std::to_string(piece_no));
+            }
+            n = static_cast<std::uint64_t>(dims[0] * dims[1] * dims[2]);
+        } else {
+            const auto np = parse_int(piece.attr("NumberOfPoints", "0"), path, "NumberOfPoints");
+            if (np < 0) throw FormatError(path + ": negative NumberOfPoints");
+            n = static_cast<std::uint64_t>(np);
+            dims = {np, 1, 1};
+        }
+        if (n > bytes.size() * 8)  // a compressed float triple still takes some bits
+            throw FormatError(path + ": implausible point count " + std::to_string(n) + " for a " + std::to_string(bytes.size()) + "-byte file");
+        // Points
+        const VtkXmlTag pts = vtk_xml_find_tag(doc, "Points", piece.end, piece_close, path);
+        if (!pts.found() || pts.self_closing) throw FormatError(path + ": piece " + std::to_string(piece_no) + " has no <Points>");
+        const VtkXmlTag parr = vtk_xml_find_tag(doc, "DataArray", pts.end, piece_close, path);
+        if (!parr.found()) throw FormatError(path + ": <Points> without a DataArray");
+        if (parr.attr("NumberOfComponents", "1") != "3")
+            throw FormatError(path + ": <Points> DataArray has " + parr.attr("NumberOfComponents", "1") + " components, expected 3");
+        const std::vector<double> xyz = vtk_xml_read_array(doc, F, parr, 3 * n, path);
+        // PointData
+        VtkXmlTag chosen;
+        int ncomp = 1;
+        const VtkXmlTag pd = vtk_xml_find_tag(doc, "PointData", piece.end, piece_close, path);
+        if (pd.found() && !pd.self_closing) {
+            const std::size_t pd_close = doc.find("</PointData>", pd.end);
+            if (pd_close == std::string_view::npos) throw FormatError(path + ": unterminated <PointData>");
+            std::vector<VtkXmlTag> arrays;
+            for (std::size_t f2 = pd.end;;) {
+                const VtkXmlTag a = vtk_xml_find_tag(doc, "DataArray", f2, pd_close, path);
+                if (!a.found()) break;
+                arrays.push_back(a);
+                f2 = a.end;
+            }
+            auto comps = [](const VtkXmlTag& a) { return std::atoi(a.attr("NumberOfComponents", "1").c_str()); };
+            if (!o.value_name.empty()) {
+                for (const auto& a : arrays)
+                    if (a.attr("Name") == o.value_name) chosen = a;
+                if (!chosen.found()) {
+                    std::string s;
+                    for (const auto& a : arrays) s += (s.empty() ? "" : ", ") + a.attr("Name");
+                    throw FormatError(path + ": no PointData array '" + o.value_name + "' (arrays: " + (s.empty() ? "none" : s) + ")");
+                }
+            } else {
+                const std::string want = pd.attr("Scalars");
+                for (const auto& a : arrays)
+                    if (!want.empty() && a.attr("Name") == want && comps(a) == 1) chosen = a;
+                for (const auto& a : arrays)
+                    if (!chosen.found() && comps(a) == 1) chosen = a;
+            }
+            if (chosen.found()) ncomp = comps(chosen);
+            if (ncomp < 1) throw FormatError(path + ": bad NumberOfComponents in array '" + chosen.attr("Name") + "'");
+        } else if (!o.value_name.empty()) {
+            throw FormatError(path + ": no PointData array '" + o.value_name + "' (the piece has no PointData)");
+        }
+        std::vector<double> vals;
+        if (chosen.found()) vals = vtk_xml_read_array(doc, F, chosen, n * static_cast<std::uint64_t>(ncomp), path);
+        const std::string vname = chosen.found() ? chosen.attr("Name") : "";
+        if (!first_piece && (vname != value_name || chosen.found() != has_values))
+            throw FormatError(path + ": piece " + std::to_string(piece_no) + " has scalar '" + vname + "', piece 0 has '" +
+                              value_name + "'");
+        value_name = vname;
+        has_values = chosen.found();
+        first_piece = false;
+        b.begin_block(file_name + (piece_no ? " piece " + std::to_string(piece_no) : ""), dims);
+        b.reserve(b.set().pos.size() + n);
+        for (std::uint64_t i = 0; i < n; ++i) {
+            double v = 0;
+            if (has_values) {
+                if (ncomp == 1) {
+                    v = vals[i];
+                } else {
+                    for (int c = 0; c < ncomp; ++c) v += vals[i * ncomp + c] * vals[i * ncomp + c];
+                    v = std::sqrt(v);
+                }
+            }
+            b.add(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], v, "point", i);
+        }
+        ++piece_no;
+    }
+    if (piece_no == 0) throw FormatError(path + ": no <Piece> in <" + vtk_type + ">");
+    if (notes && has_values) notes->push_back("scalar: PointData array '" + value_name + "'");
+    if (notes && piece_no > 1) notes->push_back(std::to_string(piece_no) + " pieces");
+    return b.finish(value_name, has_values);
+}
+
+}  // namespace meshless

@@ -1,0 +1,235 @@
+#include "formats/vtk_xml.hpp"
+
+#include <cctype>
+#include <cstring>
+
+#include "formats/base64.hpp"
+#include "formats/gzip.hpp"
+#include "formats/text_header.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+VtkXmlTag vtk_xml_find_tag(std::string_view doc, std::string_view name, std::size_t from, std::size_t limit,
+                           const std::string& path) {
+    VtkXmlTag t;
+    std::size_t p = from;
+    for (;;) {
+        p = doc.find(name, p);
+        if (p == std::string_view::npos || p >= limit) return t;
+        if (p > 0 && doc[p - 1] == '<' && p + name.size() < doc.size() &&
+            (std::isspace(static_cast<unsigned char>(doc[p + name.size()])) || doc[p + name.size()] == '>' ||
+             doc[p + name.size()] == '/'))
+            break;
+        p += name.size();
+    }
+    t.begin = p - 1;
+    std::size_t i = p + name.size();
+    for (;;) {
+        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
+        if (i >= doc.size()) throw FormatError(path + ": unterminated <" + std::string(name) + "> tag");
+        if (doc[i] == '>') {
+            t.end = i + 1;
+            return t;
+        }
+        if (doc[i] == '/' && i + 1 < doc.size() && doc[i + 1] == '>') {
+            t.self_closing = true;
+            t.end = i + 2;
+            return t;
+        }
+        const std::size_t ks = i;
+        while (i < doc.size() && doc[i] != '=' && doc[i] != '>' && !std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
+        std::string key(doc.substr(ks, i - ks));
+        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
+        if (i >= doc.size() || doc[i] != '=') throw FormatError(path + ": bad attribute '" + key + "' in <" + std::string(name) + ">");
+        ++i;
+        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
+        if (i >= doc.size() || (doc[i] != '"' && doc[i] != '\''))
+            throw FormatError(path + ": unquoted attribute '" + key + "' in <" + std::string(name) + ">");
+        const char q = doc[i++];
+        const std::size_t vs = i;
+        const std::size_t ve = doc.find(q, vs);
+        if (ve == std::string_view::npos) throw FormatError(path + ": unterminated attribute '" + key + "'");
+        t.attrs[key] = std::string(doc.substr(vs, ve - vs));
+        i = ve + 1;
+    }
+}
+
+std::optional<StoredType> vtk_xml_type(const std::string& t) {
+    static const std::map<std::string, StoredType> m = {
+        {"Int8", StoredType::i8},   {"UInt8", StoredType::u8},   {"Int16", StoredType::i16},
+        {"UInt16", StoredType::u16}, {"Int32", StoredType::i32}, {"UInt32", StoredType::u32},
+        {"Int64", StoredType::i64}, {"UInt64", StoredType::u64}, {"Float32", StoredType::f32},
+        {"Float64", StoredType::f64}, {"Char", StoredType::i8}, {"UnsignedChar", StoredType::u8}};
+    const auto it = m.find(t);
+    if (it == m.end()) return std::nullopt;
+    return it->second;
+}
+
+VtkXmlFile vtk_xml_file(std::string_view doc, const std::string& path, bool find_appended) {
+    if (doc.find("<VTKFile") == std::string_view::npos)
+        throw FormatError(path + ": not a VTK XML file (no <VTKFile> element)");
+    const VtkXmlTag file = vtk_xml_find_tag(doc, "VTKFile", 0, doc.size(), path);
+    if (!file.found()) throw FormatError(path + ": not a VTK XML file (no <VTKFile> element)");
+    VtkXmlFile f;
+    f.type = file.attr("type");
+    const std::string bo = file.attr("byte_order", "LittleEndian");
+    if (bo == "BigEndian")
+        f.big_endian = true;
+    else if (bo != "LittleEndian")
+        throw FormatError(path + ": bad byte_order '" + bo + "'");
+    const std::string ht = file.attr("header_type", "UInt32");
+    if (ht == "UInt64")
+        f.header64 = true;
+    else if (ht != "UInt32")
+        throw FormatError(path + ": unsupported header_type '" + ht + "'");
+    const std::string comp = file.attr("compressor");
+    if (comp == "vtkZLibDataCompressor")
+        f.compressed = true;
+    else if (!comp.empty())
+        throw FormatError(path + ": unsupported compressor '" + comp + "' (vtkZLibDataCompressor supported)");
+    if (find_appended) {
+        const VtkXmlTag app = vtk_xml_find_tag(doc, "AppendedData", file.end, doc.size(), path);
+        if (app.found()) {
+            const std::string enc = app.attr("encoding", "raw");
+            if (enc == "base64")
+                f.appended_base64 = true;
+            else if (enc != "raw")
+                throw FormatError(path + ": unsupported AppendedData encoding '" + enc + "'");
+            const std::size_t us = doc.find('_', app.end);
+            if (us == std::string_view::npos) throw FormatError(path + ": <AppendedData> without the '_' marker");
+            f.appended_begin = us + 1;
+        }
+    }
+    return f;
+}
+
+namespace {
+
+std::uint64_t read_uint(const std::byte* p, bool header64, bool big) {
+    if (header64) {
+        std::uint64_t v;
+        std::memcpy(&v, p, 8);
+        if (big == host_is_little_endian()) v = __builtin_bswap64(v);
+        return v;
+    }
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);
+    if (big == host_is_little_endian()) v = __builtin_bswap32(v);
+    return v;
+}
+
+template <class T>
+void widen(const std::byte* src, std::size_t n, double* dst) {
+    for (std::size_t i = 0; i < n; ++i) {
+        T v;
+        std::memcpy(&v, src + i * sizeof(T), sizeof(T));
+        dst[i] = static_cast<double>(v);
+    }
+}
+
+}  // namespace
+
+std::vector<std::byte> vtk_xml_decode_binary(const std::byte* bin, std::size_t n, const VtkXmlFile& f,
+                                             std::uint64_t expected, const std::string& path, const std::string& what) {
+    const std::size_t hs = f.header64 ? 8 : 4;
+    if (!f.compressed) {
+        if (n < hs) throw FormatError(path + ": truncated DataArray header");
+        const std::uint64_t nbytes = read_uint(bin, f.header64, f.big_endian);
+        if (nbytes != expected)
+            throw FormatError(path + ": DataArray holds " + std::to_string(nbytes) + " bytes, expected " +
+                              std::to_string(expected) + " for " + what);
+        if (n - hs < nbytes)
+            throw FormatError(path + ": truncated DataArray: " + std::to_string(n - hs) + " of " + std::to_string(nbytes) + " bytes");
+        return std::vector<std::byte>(bin + hs, bin + hs + nbytes);
+    }
+    if (n < 3 * hs) throw FormatError(path + ": truncated compressed DataArray header");
+    const std::uint64_t nblocks = read_uint(bin, f.header64, f.big_endian);
+    const std::uint64_t bsize = read_uint(bin + hs, f.header64, f.big_endian);
+    const std::uint64_t last = read_uint(bin + 2 * hs, f.header64, f.big_endian);
+    if (nblocks > (n / hs) || (nblocks > 0 && bsize == 0))
+        throw FormatError(path + ": bad compressed DataArray header (" + std::to_string(nblocks) + " blocks)");
+    const std::uint64_t total = nblocks == 0 ? 0 : (nblocks - 1) * bsize + (last == 0 ? bsize : last);
+    if (total != expected)
+        throw FormatError(path + ": DataArray holds " + std::to_string(total) + " bytes, expected " + std::to_string(expected) +
+                          " for " + what);
+    const std::size_t header_bytes = static_cast<std::size_t>((3 + nblocks) * hs);
+    if (n < header_bytes) throw FormatError(path + ": truncated compressed DataArray header");
+    std::vector<std::byte> out(static_cast<std::size_t>(total));
+    std::uint64_t in_pos = header_bytes;
+    for (std::uint64_t b = 0; b < nblocks; ++b) {
+        const std::uint64_t cs = read_uint(bin + (3 + b) * hs, f.header64, f.big_endian);
+        if (cs > n - in_pos)
+            throw FormatError(path + ": truncated compressed block " + std::to_string(b) + " (" + std::to_string(cs) +
+                              " bytes at " + std::to_string(in_pos) + ", have " + std::to_string(n - in_pos) + ")");
+        const std::uint64_t us = (b + 1 == nblocks && last != 0) ? last : bsize;
+        inflate_into(bin + in_pos, static_cast<std::size_t>(cs), out.data() + b * bsize, static_cast<std::size_t>(us), path);
+        in_pos += cs;
+    }
+    return out;
+}
+
+std::vector<double> vtk_xml_read_array(std::string_view doc, const VtkXmlFile& f, const VtkXmlTag& a,
+                                       std::uint64_t count, const std::string& path) {
+    const std::string name = a.attr("Name", "(unnamed)");
+    const std::string tname = a.attr("type");
+    const auto st = vtk_xml_type(tname);
+    if (!st) throw FormatError(path + ": DataArray '" + name + "' has unsupported type '" + tname + "'");
+    const std::string format = a.attr("format");
+    const std::size_t es = stored_size(*st);
+    const std::uint64_t expected = count * es;
+    const std::string what = "DataArray '" + name + "' (" + std::to_string(count) + " " + to_string(*st) + ")";
+    std::vector<std::byte> payload;
+    if (format == "ascii" || format == "binary") {
+        if (a.self_closing) throw FormatError(path + ": empty DataArray '" + name + "'");
+        // the content ends at the next tag: </DataArray>, or nested <InformationKey> elements
+        const std::size_t ce = doc.find('<', a.end);
+        if (ce == std::string_view::npos) throw FormatError(path + ": unterminated <DataArray> '" + name + "'");
+        const std::string_view text = doc.substr(a.end, ce - a.end);
+        if (format == "ascii") {
+            const auto toks = split_ws(text);
+            if (toks.size() != count)
+                throw FormatError(path + ": " + what + " has " + std::to_string(toks.size()) + " ascii values, expected " +
+                                  std::to_string(count));
+            std::vector<double> out(count);
+            for (std::size_t i = 0; i < count; ++i) out[i] = parse_double(toks[i], path, "DataArray value");
+            return out;
+        }
+        const auto bin = base64_decode(text, path);
+        payload = vtk_xml_decode_binary(bin.data(), bin.size(), f, expected, path, what);
+    } else if (format == "appended") {
+        if (f.appended_begin == std::string::npos)
+            throw FormatError(path + ": format=\"appended\" without <AppendedData>");
+        const auto off = static_cast<std::uint64_t>(parse_int(a.attr("offset", "0"), path, "offset"));
+        if (f.appended_begin + off > doc.size())
+            throw FormatError(path + ": appended offset " + std::to_string(off) + " past the end of the file");
+        const std::size_t start = static_cast<std::size_t>(f.appended_begin + off);
+        if (f.appended_base64) {
+            const auto bin = base64_decode(doc.substr(start), path, true);
+            payload = vtk_xml_decode_binary(bin.data(), bin.size(), f, expected, path, what);
+        } else {
+            payload = vtk_xml_decode_binary(reinterpret_cast<const std::byte*>(doc.data()) + start, doc.size() - start, f,
+                                            expected, path, what);
+        }
+    } else {
+        throw FormatError(path + ": unsupported DataArray format '" + format + "'");
+    }
+    if (f.big_endian != !host_is_little_endian()) byte_swap_in_place(payload.data(), payload.size(), es);
+    std::vector<double> out(static_cast<std::size_t>(count));
+    const std::byte* p = payload.data();
+    switch (*st) {
+        case StoredType::u8: widen<std::uint8_t>(p, count, out.data()); break;
+        case StoredType::i8: widen<std::int8_t>(p, count, out.data()); break;
+        case StoredType::u16: widen<std::uint16_t>(p, count, out.data()); break;
+        case StoredType::i16: widen<std::int16_t>(p, count, out.data()); break;
+        case StoredType::u32: widen<std::uint32_t>(p, count, out.data()); break;
+        case StoredType::i32: widen<std::int32_t>(p, count, out.data()); break;
+        case StoredType::u64: widen<std::uint64_t>(p, count, out.data()); break;
+        case StoredType::i64: widen<std::int64_t>(p, count, out.data()); break;
+        case StoredType::f32: widen<float>(p, count, out.data()); break;
+        case StoredType::f64: widen<double>(p, count, out.data()); break;
+    }
+    return out;
+}
+
+}  // namespace meshless

@@ -1,0 +1,121 @@
+// Parameters and build statistics of the meshless fields (dissertation sections 2.1.1, 4.3, 5.5):
+// which field, the RBF-grid binning constant m, the MPU threshold N and sphere factor alpha, and
+// Hardy's multiquadric constant c.
+//
+// Hardy's c (section 2.1.1): the paper fixes c = 0.025 for data normalised to its experiments. Here
+// c is given relative to a documented length scale so that one default works for data in metres or
+// in voxels:  c_world = hardy_c_rel x (diagonal of the bounding box of the data points), unless
+// hardy_c_world > 0, which is used as is (world units). hardy_c_world_for() computes it.
+//
+// Near-duplicate points: two points closer than merge_rel x h are merged (first position kept,
+// values averaged), where h = (prod of the non-degenerate bounding-box extents / n)^(1/k) is the
+// mean point spacing (k = number of non-degenerate axes). See kernels/merge_near_duplicates.hpp.
+//
+// Plain data, no invariants beyond the documented ranges (make_field() checks them and throws
+// UsageError). Thread-safe as a value.
+#pragma once
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "kernels/vec3.hpp"
+
+namespace meshless {
+
+enum class FieldKind : std::uint8_t {
+    rbf_grid,    ///< section 4.3: local multiquadrics at RBF-grid cell centres, PU blended
+    mpu,         ///< section 5.5: local multiquadrics at octree leaves (sphere alpha*d, <= N points)
+    global_rbf,  ///< section 2.1.1: Hardy's global interpolant over all points (small sets only)
+};
+
+/// How far the partition-of-unity weights of the RBF grid reach (see kernels/rbf_grid_field.hpp).
+enum class RbfGridSupport : std::uint8_t {
+    /// Default. Blend the 27 neighbouring cells as section 4.3 evaluates, with the weight radius
+    /// shrunk to 1.5 x (smallest cell edge) so that no centre outside those 27 cells has a non-zero
+    /// weight: the field is continuous. (The paper's weight radius 2*|s| with only 27 neighbours is
+    /// not: centres two cells away still weigh at x, and drop out at a cell face.)
+    neighbours27,
+    /// The paper's radius of influence R = 2*sqrt(sx^2+sy^2+sz^2) for the weights too, blending all
+    /// centres whose sphere contains x (a 9x9x9 neighbourhood for cubic cells): continuous, ~10x
+    /// slower to evaluate, slightly smoother.
+    paper_radius,
+};
+
+struct FieldParams {
+    FieldKind kind = FieldKind::rbf_grid;
+    // --- Hardy's constant (section 2.1.1)
+    double hardy_c_rel = 0.025;   ///< c_world = hardy_c_rel * bbox diagonal (when hardy_c_world <= 0)
+    double hardy_c_world = 0;     ///< > 0: c in world units, overrides hardy_c_rel
+    // --- RBF grid (section 4.3)
+    double binning_m = 5;         ///< binning constant m: ~points per RBF-grid cell, > 0
+    RbfGridSupport rbf_grid_support = RbfGridSupport::neighbours27;
+    std::uint32_t rbf_grid_max_local = 600;  ///< cap on points of one local system (nearest kept), >= 8
+    std::uint32_t rbf_grid_min_local = 20;   ///< a local with fewer points takes its nearest this many, 1..max
+    // --- MPU octree (section 5.5)
+    std::uint32_t mpu_max_points = 100;  ///< N: subdivide while a node's sphere holds more, >= 8
+    std::uint32_t mpu_min_points = 20;   ///< leaves with fewer points grow their sphere to this many, 1..N
+    double mpu_alpha = 0.75;             ///< sphere radius = alpha * node diagonal, > 0.5 (covers the cube)
+    std::uint32_t mpu_max_depth = 40;    ///< octree depth limit (a deeper leaf keeps its N nearest points)
+    // --- global RBF
+    std::uint32_t global_max_points = 4000;  ///< refuse larger sets (dense O(n^3) solve, O(n) evaluation)
+    // --- robustness
+    double merge_rel = 1e-5;      ///< merge points closer than merge_rel * mean spacing (>= 0)
+    /// Build the field in coordinates scaled per axis so the bounding box becomes a cube with the
+    /// same diagonal (for axes in unrelated units, e.g. x,y in km and z in m). Gradients are still
+    /// per world unit. hardy_c_world, when set, is then in those scaled units. Off: isotropic world
+    /// metric (right for physical space).
+    bool normalise_axes = false;
+};
+
+/// c in world units for data with bounds [lo, hi] (see the header comment). A degenerate box (all
+/// points equal) gives hardy_c_rel (as if the diagonal were 1).
+inline double hardy_c_world_for(const FieldParams& p, const std::array<Vec3, 2>& bounds) {
+    if (p.hardy_c_world > 0) return p.hardy_c_world;
+    const double diag = norm(bounds[1] - bounds[0]);
+    return p.hardy_c_rel * (diag > 0 ? diag : 1.0);
+}
+
+/// "rbf-grid", "mpu", "global-rbf".
+inline std::string_view field_kind_name(FieldKind k) {
+    switch (k) {
+        case FieldKind::rbf_grid: return "rbf-grid";
+        case FieldKind::mpu: return "mpu";
+        case FieldKind::global_rbf: return "global-rbf";
+    }
+    return "?";
+}
+
+/// Inverse of field_kind_name(); false for an unknown name.
+inline bool parse_field_kind(std::string_view s, FieldKind& out) {
+    for (FieldKind k : {FieldKind::rbf_grid, FieldKind::mpu, FieldKind::global_rbf})
+        if (s == field_kind_name(k)) { out = k; return true; }
+    return false;
+}
+
+/// What happened while building a field (counts are over local interpolants unless stated).
+struct FieldBuildStats {
+    std::uint64_t input_points = 0;    ///< points handed in
+    std::uint64_t merged_points = 0;   ///< points removed by merging near-duplicates into another
+    std::uint64_t used_points = 0;     ///< distinct points after merging
+    double merge_tolerance = 0;        ///< world units
+    double hardy_c_world = 0;          ///< c used, world units
+    std::uint64_t locals = 0;          ///< local interpolants built (1 for global-rbf)
+    std::uint64_t interpolated = 0;    ///< locals solved exactly (MQ + linear, interpolating)
+    std::uint64_t rank_deficient = 0;  ///< locals whose points are collinear/coplanar (polynomial part by least squares)
+    std::uint64_t regularised = 0;     ///< ill-conditioned locals solved with a ridge (approximating)
+    std::uint64_t linear_fallback = 0; ///< locals that fell back to a least-squares linear fit
+    std::uint64_t polynomial_only = 0; ///< locals with too few points for RBF terms (constant/linear)
+    std::uint64_t capped = 0;          ///< locals that kept only their nearest points (size cap)
+    std::uint64_t grown = 0;           ///< locals that took extra nearest points (rbf_grid_min_local / mpu_min_points)
+    std::uint64_t max_local_points = 0;
+    double mean_local_points = 0;
+    std::array<std::int64_t, 3> grid_dims{0, 0, 0};  ///< RBF grid n_x, n_y, n_z
+    std::uint64_t octree_nodes = 0;
+    std::uint32_t octree_depth = 0;
+    std::uint64_t memory_bytes = 0;    ///< approximate heap held by the field
+    double build_seconds = 0;
+};
+
+}  // namespace meshless

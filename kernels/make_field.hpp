@@ -1,0 +1,23 @@
+// Factory for the meshless fields of dissertation chapters 4-5 (params.kind):
+//   rbf-grid   kernels/rbf_grid_field.hpp   (section 4.3)
+//   mpu        kernels/mpu_field.hpp        (section 5.5)
+//   global-rbf kernels/global_rbf_field.hpp (section 2.1.1; at most params.global_max_points points)
+// The returned field does not reference `points` (it keeps its own merged copy).
+// Preconditions: at least 4 points (fewer: UsageError "…N points, at least 4 are needed").
+// Throws FormatError for non-finite coordinates/values or mismatched sizes (naming the point),
+// UsageError for bad parameters or an oversized global-rbf set. stats (optional) receives counts
+// of merged points, local outcomes (regularised, fallbacks, rank-deficient), sizes, memory and the
+// wall-clock build time. Construction uses oneTBB (limit it with tbb::global_control); the result
+// does not depend on the thread count.
+#pragma once
+#include <memory>
+
+#include "kernels/field.hpp"
+#include "kernels/field_params.hpp"
+#include "kernels/point_set.hpp"
+
+namespace meshless {
+
+std::unique_ptr<Field> make_field(const PointSet& points, const FieldParams& params, FieldBuildStats* stats = nullptr);
+
+}  // namespace meshless

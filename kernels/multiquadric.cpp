@@ -1,0 +1,166 @@
+#include "kernels/multiquadric.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+#include <Eigen/QR>
+
+namespace meshless {
+
+namespace {
+constexpr double kRcondMin = 1e-14;       // below: the reduced system counts as ill-conditioned
+constexpr double kRcondRidge = 1e-10;     // a ridge-regularised system must be at least this well conditioned
+constexpr double kLinearRel = 1e-12;      // data this close to its least-squares linear fit is linear
+constexpr double kResidualRel = 1e-8;     // exact solve must interpolate to this fraction of the data range
+constexpr double kRankThreshold = 1e-10;  // relative pivot threshold of the polynomial QR
+}  // namespace
+
+struct MultiquadricSolver::Impl {
+    Eigen::MatrixXd A, M, S;
+    Eigen::MatrixXd P;
+    Eigen::VectorXd g, rhs, mu, lam, t, r;
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
+    Eigen::LLT<Eigen::MatrixXd> llt;
+};
+
+MultiquadricSolver::MultiquadricSolver() : impl_(std::make_unique<Impl>()) {}
+MultiquadricSolver::~MultiquadricSolver() = default;
+
+MultiquadricFitResult MultiquadricSolver::fit(std::span<const Vec3> pos, std::span<const double> value,
+                                              std::span<const std::uint32_t> idx, double c,
+                                              MultiquadricLocal& out, std::span<double> lambda) {
+    Impl& w = *impl_;
+    const Eigen::Index n = static_cast<Eigen::Index>(idx.size());
+    MultiquadricFitResult res;
+    out.c2 = c * c;
+    out.count = 0;
+    out.a = {0, 0, 0};
+
+    // Centre and scale.
+    Vec3 o{0, 0, 0};
+    double fbar = 0;
+    for (std::uint32_t i : idx) { o += pos[i]; fbar += value[i]; }
+    o = o * (1.0 / static_cast<double>(n));
+    fbar /= static_cast<double>(n);
+    double L = 0, gmax = 0;
+    for (std::uint32_t i : idx) {
+        L = std::max(L, norm(pos[i] - o));
+        gmax = std::max(gmax, std::abs(value[i] - fbar));
+    }
+    out.origin = o;
+    out.a0 = fbar;
+    if (n == 1 || !(L > 0)) {
+        res.outcome = MultiquadricOutcome::polynomial_only;
+        res.poly_rank = 1;
+        return res;
+    }
+    const double invL = 1.0 / L;
+    w.P.resize(n, 4);
+    w.g.resize(n);
+    for (Eigen::Index k = 0; k < n; ++k) {
+        const Vec3 q = (pos[idx[k]] - o) * invL;
+        w.P(k, 0) = 1;
+        w.P(k, 1) = q.x;
+        w.P(k, 2) = q.y;
+        w.P(k, 3) = q.z;
+        w.g(k) = value[idx[k]] - fbar;
+    }
+    w.qr.setThreshold(kRankThreshold);
+    w.qr.compute(w.P);
+    const Eigen::Index r = w.qr.rank();
+    res.poly_rank = static_cast<int>(r);
+
+    auto set_poly = [&](const Eigen::VectorXd& rhs) {
+        const Eigen::Vector4d a = w.qr.solve(rhs);
+        out.a0 = fbar + a(0);
+        out.a = Vec3{a(1), a(2), a(3)} * invL;
+    };
+    if (gmax == 0) {  // constant data: exact with the constant alone
+        res.outcome = MultiquadricOutcome::interpolated;
+        return res;
+    }
+    if (n <= r) {
+        set_poly(w.g);
+        res.outcome = MultiquadricOutcome::polynomial_only;
+        return res;
+    }
+    {   // Linear data (to rounding): the polynomial alone interpolates it exactly. Solving the
+        // (possibly ill-conditioned) RBF part would only amplify rounding noise.
+        const Eigen::Vector4d a = w.qr.solve(w.g);
+        if ((w.P * a - w.g).cwiseAbs().maxCoeff() <= kLinearRel * (std::abs(fbar) + gmax)) {
+            set_poly(w.g);
+            res.outcome = MultiquadricOutcome::interpolated;
+            return res;
+        }
+    }
+
+    // Multiquadric matrix in scaled coordinates.
+    const double cs2 = (c * invL) * (c * invL);
+    w.A.resize(n, n);
+    {   // lower triangle column by column (contiguous, vectorisable), then mirrored
+        const double* qx = w.P.col(1).data();
+        const double* qy = w.P.col(2).data();
+        const double* qz = w.P.col(3).data();
+        for (Eigen::Index j = 0; j < n; ++j) {
+            double* col = w.A.col(j).data();
+            const double xj = qx[j], yj = qy[j], zj = qz[j];
+            for (Eigen::Index i = j; i < n; ++i) {
+                const double dx = qx[i] - xj, dy = qy[i] - yj, dz = qz[i] - zj;
+                col[i] = std::sqrt(dx * dx + dy * dy + dz * dz + cs2);
+            }
+        }
+        w.A.triangularView<Eigen::StrictlyUpper>() = w.A.transpose();
+    }
+    // Null-space reduction: Z = trailing n-r columns of Q; S = -Z^T A Z is SPD.
+    const auto Q = w.qr.householderQ();
+    w.M.noalias() = Q.adjoint() * w.A;
+    w.M = w.M * Q;
+    const Eigen::Index m = n - r;
+    w.t = Q.adjoint() * w.g;
+    w.rhs = -w.t.tail(m);
+    const double diag_mean = -w.M.bottomRightCorner(m, m).diagonal().mean();
+
+    auto finish = [&](MultiquadricOutcome oc) -> bool {
+        w.mu = w.llt.solve(w.rhs);
+        if (!w.mu.allFinite()) return false;
+        w.t.setZero(n);
+        w.t.tail(m) = w.mu;
+        w.lam = Q * w.t;
+        w.r = w.g - w.A * w.lam;  // what the polynomial must carry
+        const Eigen::Vector4d a = w.qr.solve(w.r);
+        if (!a.allFinite() || !w.lam.allFinite()) return false;
+        if (oc == MultiquadricOutcome::interpolated) {
+            const double resid = (w.P * a - w.r).cwiseAbs().maxCoeff();
+            if (!(resid <= kResidualRel * gmax)) return false;
+        }
+        out.a0 = fbar + a(0);
+        out.a = Vec3{a(1), a(2), a(3)} * invL;
+        out.count = static_cast<std::uint32_t>(n);
+        for (Eigen::Index k = 0; k < n; ++k) lambda[static_cast<std::size_t>(k)] = w.lam(k) * invL;
+        res.outcome = oc;
+        return true;
+    };
+
+    w.S = -w.M.bottomRightCorner(m, m);
+    w.llt.compute(w.S);
+    res.rcond = w.llt.info() == Eigen::Success ? w.llt.rcond() : 0.0;
+    if (w.llt.info() == Eigen::Success && res.rcond >= kRcondMin && finish(MultiquadricOutcome::interpolated))
+        return res;
+    for (double eps : {1e-12, 1e-10, 1e-8, 1e-6, 1e-4}) {
+        w.S = -w.M.bottomRightCorner(m, m);
+        w.S.diagonal().array() += eps * std::max(diag_mean, 1e-300);
+        w.llt.compute(w.S);
+        if (w.llt.info() != Eigen::Success) continue;
+        res.rcond = w.llt.rcond();
+        if (res.rcond >= kRcondRidge && finish(MultiquadricOutcome::regularised)) return res;
+    }
+    // Linear least squares.
+    set_poly(w.g);
+    out.count = 0;
+    res.outcome = MultiquadricOutcome::linear_fallback;
+    return res;
+}
+
+}  // namespace meshless

@@ -1,0 +1,282 @@
+#include "kernels/rbf_grid_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "kernels/errors.hpp"
+#include "kernels/field_input.hpp"
+#include "kernels/partition_of_unity.hpp"
+
+namespace meshless {
+
+RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats) {
+    if (!(params.binning_m > 0) || !std::isfinite(params.binning_m))
+        throw UsageError("rbf-grid: binning constant m must be > 0");
+    if (params.rbf_grid_max_local < 8) throw UsageError("rbf-grid: rbf_grid_max_local must be >= 8");
+    if (params.rbf_grid_min_local < 1 || params.rbf_grid_min_local > params.rbf_grid_max_local)
+        throw UsageError("rbf-grid: rbf_grid_min_local must be in 1..rbf_grid_max_local");
+    FieldBuildStats local_stats;
+    FieldBuildStats& st = stats ? *stats : local_stats;
+    MergedPoints mp = prepare_field_points(points, params, "rbf-grid", &st);
+    origin_ = mp.origin;
+    scale_ = mp.scale;
+    bounds_ = points.bounds();
+    pos_ = std::move(mp.pos);
+    const std::vector<double>& val = mp.value;
+    const double c = hardy_c_world_for(params, bounds_);
+    const std::size_t n = pos_.size();
+
+    // ---- RBF grid dimensions (section 4.3), degenerate axes folded out.
+    Vec3 lo = pos_[0], hi = pos_[0];
+    for (const Vec3& p : pos_) {
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    lo_ = lo;
+    const double w[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
+    const double wmax = std::max({w[0], w[1], w[2]});
+    bool active[3];
+    for (int a = 0; a < 3; ++a) active[a] = w[a] > 1e-9 * wmax;
+    double s = 0;
+    for (;;) {
+        int k = 0;
+        double prod = 1;
+        for (int a = 0; a < 3; ++a)
+            if (active[a]) { prod *= w[a]; ++k; }
+        if (k == 0) break;
+        s = std::pow(params.binning_m * prod / static_cast<double>(n), 1.0 / k);
+        bool changed = false;
+        for (int a = 0; a < 3; ++a)
+            if (active[a] && w[a] / s < 0.5) { active[a] = false; changed = true; }
+        if (!changed) break;
+    }
+    double sc[3];
+    for (int a = 0; a < 3; ++a) {
+        n_[a] = active[a] ? std::max<std::int64_t>(1, std::llround(w[a] / s)) : 1;
+        sc[a] = w[a] / static_cast<double>(n_[a]);
+    }
+    s_ = {sc[0], sc[1], sc[2]};
+    inv_s_ = {n_[0] > 1 ? 1 / sc[0] : 0.0, n_[1] > 1 ? 1 / sc[1] : 0.0, n_[2] > 1 ? 1 / sc[2] : 0.0};
+    const std::int64_t ncells = n_[0] * n_[1] * n_[2];
+    if (ncells > static_cast<std::int64_t>(8 * n + 64) || ncells > 0x7FFFFFFF)
+        throw UsageError("rbf-grid: internal grid of " + std::to_string(ncells) + " cells is too large");
+    st.grid_dims = {n_[0], n_[1], n_[2]};
+
+    const double diag = norm(s_);
+    r_data_ = 2 * diag;
+    if (params.rbf_grid_support == RbfGridSupport::paper_radius) {
+        r_w_ = r_data_;
+    } else {
+        double m = std::numeric_limits<double>::infinity();
+        for (int a = 0; a < 3; ++a)
+            if (n_[a] >= 3) m = std::min(m, 1.5 * sc[a]);
+        r_w_ = std::isfinite(m) ? m : r_data_;
+        r_w_ = std::min(std::max(r_w_, 1.01 * 0.5 * diag), r_data_);
+    }
+    if (!(r_w_ > 0)) r_w_ = r_data_ = 1;  // a single point (after merging): one constant local
+    for (int a = 0; a < 3; ++a)
+        reach_[a] = n_[a] < 2 ? 0
+                              : static_cast<int>(std::clamp<double>(std::ceil(r_w_ / sc[a] - 0.5), 1.0,
+                                                                    static_cast<double>(n_[a] - 1)));
+
+    // ---- Bin the points (counting sort by cell, input order within a cell).
+    auto cell_of = [&](const Vec3& p, std::int64_t ci[3]) {
+        for (int a = 0; a < 3; ++a) {
+            const double u = (p[a] - lo_[a]) * inv_s_[a];
+            ci[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(u)), 0, n_[a] - 1);
+        }
+    };
+    std::vector<std::uint32_t> start(static_cast<std::size_t>(ncells) + 1, 0), order(n);
+    std::vector<std::uint32_t> pcell(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        std::int64_t ci[3];
+        cell_of(pos_[i], ci);
+        pcell[i] = static_cast<std::uint32_t>(ci[0] + n_[0] * (ci[1] + n_[1] * ci[2]));
+        ++start[pcell[i] + 1];
+    }
+    for (std::int64_t k = 0; k < ncells; ++k) start[k + 1] += start[k];
+    {
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (std::size_t i = 0; i < n; ++i) order[fill[pcell[i]]++] = static_cast<std::uint32_t>(i);
+    }
+    std::vector<std::uint32_t>().swap(pcell);
+
+    auto centre_of = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+        return Vec3{lo_.x + (i + 0.5) * sc[0], lo_.y + (j + 0.5) * sc[1], lo_.z + (k + 0.5) * sc[2]};
+    };
+    const double rd2 = r_data_ * r_data_ * (1 + 1e-12);
+    // Visit the points of the 27 neighbouring cells inside the data sphere of cell `cell`.
+    auto gather = [&](std::int64_t cell, auto&& fn) {
+        const std::int64_t i = cell % n_[0], j = (cell / n_[0]) % n_[1], k = cell / (n_[0] * n_[1]);
+        const Vec3 cc = centre_of(i, j, k);
+        for (std::int64_t z = std::max<std::int64_t>(0, k - 1); z <= std::min(n_[2] - 1, k + 1); ++z)
+            for (std::int64_t y = std::max<std::int64_t>(0, j - 1); y <= std::min(n_[1] - 1, j + 1); ++y)
+                for (std::int64_t x = std::max<std::int64_t>(0, i - 1); x <= std::min(n_[0] - 1, i + 1); ++x) {
+                    const std::int64_t nc = x + n_[0] * (y + n_[1] * z);
+                    for (std::uint32_t q = start[nc]; q < start[nc + 1]; ++q) {
+                        const std::uint32_t pi = order[q];
+                        const Vec3 e = pos_[pi] - cc;
+                        if (dot(e, e) <= rd2) fn(pi, e);
+                    }
+                }
+    };
+
+    // Sparse local: the `want` points nearest to the centre, from cubes of cells growing by rings.
+    auto grow = [&](std::int64_t cell, std::uint32_t want, std::vector<std::pair<double, std::uint32_t>>& near,
+                    std::vector<std::uint32_t>& out) {
+        const std::int64_t i = cell % n_[0], j = (cell / n_[0]) % n_[1], k = cell / (n_[0] * n_[1]);
+        const Vec3 cc = centre_of(i, j, k);
+        const std::int64_t rmax = std::max({n_[0], n_[1], n_[2]});
+        for (std::int64_t r = 2;; ++r) {
+            near.clear();
+            for (std::int64_t z = std::max<std::int64_t>(0, k - r); z <= std::min(n_[2] - 1, k + r); ++z)
+                for (std::int64_t y = std::max<std::int64_t>(0, j - r); y <= std::min(n_[1] - 1, j + r); ++y)
+                    for (std::int64_t x = std::max<std::int64_t>(0, i - r); x <= std::min(n_[0] - 1, i + r); ++x) {
+                        const std::int64_t nc = x + n_[0] * (y + n_[1] * z);
+                        for (std::uint32_t q = start[nc]; q < start[nc + 1]; ++q) {
+                            const Vec3 e = pos_[order[q]] - cc;
+                            near.emplace_back(dot(e, e), order[q]);
+                        }
+                    }
+            if (near.size() >= want || r >= rmax) break;
+        }
+        const std::size_t take = std::min<std::size_t>(want, near.size());
+        std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(take), near.end());
+        out.clear();
+        for (std::size_t q = 0; q < take; ++q) out.push_back(near[q].second);
+        std::sort(out.begin(), out.end());
+    };
+
+    // ---- Count the points of every local, then lay out the arrays.
+    const std::uint32_t cap = params.rbf_grid_max_local, min_local = std::min<std::uint32_t>(params.rbf_grid_min_local, static_cast<std::uint32_t>(n));
+    std::vector<std::uint32_t> count(static_cast<std::size_t>(ncells), 0);
+    std::vector<std::vector<std::uint32_t>> grown(static_cast<std::size_t>(ncells));
+    tbb::enumerable_thread_specific<std::vector<std::pair<double, std::uint32_t>>> scratch;
+    tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, ncells, 256), [&](const tbb::blocked_range<std::int64_t>& r) {
+        auto& near = scratch.local();
+        for (std::int64_t cell = r.begin(); cell != r.end(); ++cell) {
+            std::uint32_t cnt = 0;
+            gather(cell, [&](std::uint32_t, const Vec3&) { ++cnt; });
+            if (cnt > 0 && cnt < min_local) {
+                grow(cell, min_local, near, grown[cell]);
+                cnt = static_cast<std::uint32_t>(grown[cell].size());
+            }
+            count[cell] = cnt;
+        }
+    });
+    cell_local_.assign(static_cast<std::size_t>(ncells), -1);
+    std::vector<std::int64_t> local_cell;
+    std::uint64_t total = 0;
+    for (std::int64_t cell = 0; cell < ncells; ++cell) {
+        if (count[cell] == 0) continue;
+        cell_local_[cell] = static_cast<std::int32_t>(local_cell.size());
+        local_cell.push_back(cell);
+        MultiquadricLocal h;
+        h.first = static_cast<std::uint32_t>(total);
+        locals_.push_back(h);
+        const std::uint32_t used = std::min(count[cell], cap);
+        total += used;
+        if (total > 0xFFFFFFF0ull) throw UsageError("rbf-grid: too many local points (" + std::to_string(total) + ")");
+    }
+    idx_.resize(total);
+    lambda_.assign(total, 0.0);
+
+    // ---- Fit every local (parallel, independent: the result does not depend on the thread count).
+    std::vector<MultiquadricOutcome> outcome(locals_.size());
+    std::vector<std::uint8_t> rank_def(locals_.size(), 0), capped(locals_.size(), 0);
+    tbb::enumerable_thread_specific<MultiquadricSolver> solvers;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, locals_.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
+        MultiquadricSolver& solver = solvers.local();
+        auto& near = scratch.local();
+        for (std::size_t l = r.begin(); l != r.end(); ++l) {
+            const std::int64_t cell = local_cell[l];
+            MultiquadricLocal& h = locals_[l];
+            const std::uint32_t cnt = count[cell];
+            const std::uint32_t used = std::min(cnt, cap);
+            std::uint32_t* out = idx_.data() + h.first;
+            if (!grown[cell].empty()) {
+                std::copy(grown[cell].begin(), grown[cell].end(), out);
+            } else if (cnt <= cap) {
+                std::uint32_t k = 0;
+                gather(cell, [&](std::uint32_t pi, const Vec3&) { out[k++] = pi; });
+            } else {  // keep the `cap` nearest points (ties by index)
+                near.clear();
+                gather(cell, [&](std::uint32_t pi, const Vec3& e) { near.emplace_back(dot(e, e), pi); });
+                std::nth_element(near.begin(), near.begin() + cap, near.end());
+                for (std::uint32_t k = 0; k < cap; ++k) out[k] = near[k].second;
+                std::sort(out, out + cap);
+                capped[l] = 1;
+            }
+            const MultiquadricFitResult res =
+                solver.fit(pos_, val, std::span<const std::uint32_t>(out, used), c, h,
+                           std::span<double>(lambda_.data() + h.first, used));
+            outcome[l] = res.outcome;
+            rank_def[l] = res.poly_rank < 4;
+        }
+    });
+
+    st.locals = locals_.size();
+    std::uint64_t sum_pts = 0;
+    for (std::size_t l = 0; l < locals_.size(); ++l) {
+        st.interpolated += outcome[l] == MultiquadricOutcome::interpolated;
+        st.regularised += outcome[l] == MultiquadricOutcome::regularised;
+        st.linear_fallback += outcome[l] == MultiquadricOutcome::linear_fallback;
+        st.polynomial_only += outcome[l] == MultiquadricOutcome::polynomial_only;
+        st.rank_deficient += rank_def[l];
+        st.capped += capped[l];
+        st.grown += !grown[local_cell[l]].empty();
+        const std::uint64_t used = (l + 1 < locals_.size() ? locals_[l + 1].first : total) - locals_[l].first;
+        sum_pts += used;
+        st.max_local_points = std::max<std::uint64_t>(st.max_local_points, used);
+    }
+    st.mean_local_points = locals_.empty() ? 0.0 : static_cast<double>(sum_pts) / static_cast<double>(locals_.size());
+    st.memory_bytes = pos_.size() * sizeof(Vec3) + cell_local_.size() * sizeof(std::int32_t) +
+                      locals_.size() * sizeof(MultiquadricLocal) + total * (sizeof(std::uint32_t) + sizeof(double));
+}
+
+void RbfGridField::evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
+    PuBlend blend;
+    const bool want_grad = !grad.empty();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t t = 0; t < p.size(); ++t) {
+        const Vec3 dw = p[t] - origin_;
+        const Vec3 x{dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z};
+        if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z)) {
+            value[t] = nan;
+            if (want_grad) grad[t] = {nan, nan, nan};
+            continue;
+        }
+        std::int64_t ci[3];
+        for (int a = 0; a < 3; ++a) {
+            const double u = (x[a] - lo_[a]) * inv_s_[a];
+            const double f = std::clamp(std::floor(u), 0.0, static_cast<double>(n_[a] - 1));
+            ci[a] = static_cast<std::int64_t>(f);
+        }
+        blend.reset();
+        const std::int64_t z0 = std::max<std::int64_t>(0, ci[2] - reach_[2]), z1 = std::min(n_[2] - 1, ci[2] + reach_[2]);
+        const std::int64_t y0 = std::max<std::int64_t>(0, ci[1] - reach_[1]), y1 = std::min(n_[1] - 1, ci[1] + reach_[1]);
+        const std::int64_t x0 = std::max<std::int64_t>(0, ci[0] - reach_[0]), x1 = std::min(n_[0] - 1, ci[0] + reach_[0]);
+        for (std::int64_t k = z0; k <= z1; ++k)
+            for (std::int64_t j = y0; j <= y1; ++j)
+                for (std::int64_t i = x0; i <= x1; ++i) {
+                    const std::int32_t l = cell_local_[static_cast<std::size_t>(i + n_[0] * (j + n_[1] * k))];
+                    if (l < 0) continue;
+                    const Vec3 cc{lo_.x + (i + 0.5) * s_.x, lo_.y + (j + 0.5) * s_.y, lo_.z + (k + 0.5) * s_.z};
+                    double d;
+                    if (!PuBlend::covers(x, cc, r_w_, &d)) continue;
+                    Vec3 gq;
+                    const double q = multiquadric_evaluate(locals_[l], pos_.data(), idx_.data(), lambda_.data(), x,
+                                                           want_grad ? &gq : nullptr);
+                    blend.add(x, cc, r_w_, d, q, gq);
+                }
+        value[t] = blend.finish(want_grad ? &grad[t] : nullptr);
+        if (want_grad) grad[t] = {grad[t].x * scale_.x, grad[t].y * scale_.y, grad[t].z * scale_.z};
+    }
+}
+
+}  // namespace meshless
