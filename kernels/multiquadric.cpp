@@ -20,7 +20,7 @@ constexpr double kRankThreshold = 1e-10;  // relative pivot threshold of the pol
 struct MultiquadricSolver::Impl {
     Eigen::MatrixXd A, M, S;
     Eigen::MatrixXd P;
-    Eigen::VectorXd g, rhs, mu, lam, t, r;
+    Eigen::VectorXd g, rhs, mu, lam, t, r, v, p;
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
     Eigen::LLT<Eigen::MatrixXd> llt;
 };
@@ -111,12 +111,22 @@ MultiquadricFitResult MultiquadricSolver::fit(std::span<const Vec3> pos, std::sp
                 col[i] = std::sqrt(dx * dx + dy * dy + dz * dz + cs2);
             }
         }
-        w.A.triangularView<Eigen::StrictlyUpper>() = w.A.transpose();
-    }
+    }  // only the lower triangle of A (and of M below) is ever read
     // Null-space reduction: Z = trailing n-r columns of Q; S = -Z^T A Z is SPD.
     const auto Q = w.qr.householderQ();
-    w.M.noalias() = Q.adjoint() * w.A;
-    w.M = w.M * Q;
+    // M = Q^T A Q, applying each reflector H_k = I - tau v v^T from both sides as one symmetric
+    // rank-2 update of the lower triangle: H A H = A - v w^T - w v^T, w = p - (tau/2)(p.v) v, p = tau A v.
+    w.M = w.A;
+    for (Eigen::Index k = 0; k < w.qr.hCoeffs().size(); ++k) {
+        const double tau = w.qr.hCoeffs()(k);
+        if (tau == 0) continue;
+        w.v.setZero(n);
+        w.v(k) = 1;
+        w.v.tail(n - k - 1) = w.qr.matrixQR().col(k).tail(n - k - 1);
+        w.p.noalias() = tau * (w.M.selfadjointView<Eigen::Lower>() * w.v);
+        w.p -= (0.5 * tau * w.p.dot(w.v)) * w.v;
+        w.M.selfadjointView<Eigen::Lower>().rankUpdate(w.v, w.p, -1.0);
+    }
     const Eigen::Index m = n - r;
     w.t = Q.adjoint() * w.g;
     w.rhs = -w.t.tail(m);
@@ -128,7 +138,7 @@ MultiquadricFitResult MultiquadricSolver::fit(std::span<const Vec3> pos, std::sp
         w.t.setZero(n);
         w.t.tail(m) = w.mu;
         w.lam = Q * w.t;
-        w.r = w.g - w.A * w.lam;  // what the polynomial must carry
+        w.r = w.g - w.A.selfadjointView<Eigen::Lower>() * w.lam;  // what the polynomial must carry
         const Eigen::Vector4d a = w.qr.solve(w.r);
         if (!a.allFinite() || !w.lam.allFinite()) return false;
         if (oc == MultiquadricOutcome::interpolated) {
