@@ -31,6 +31,15 @@ long long parse_int(const std::string& s, const std::string& what) {
     return v;
 }
 
+std::array<int, 2> parse_size(const std::string& s, const std::string& what, int lo, int hi) {
+    const auto x = s.find('x');
+    if (x == std::string::npos) throw UsageError(what + ": expected WxH, got '" + s + "'");
+    const long long w = parse_int(s.substr(0, x), what), h = parse_int(s.substr(x + 1), what);
+    if (w < lo || h < lo || w > hi || h > hi)
+        throw UsageError(what + ": width and height must be " + std::to_string(lo) + ".." + std::to_string(hi));
+    return {static_cast<int>(w), static_cast<int>(h)};
+}
+
 Args::Args(std::string command, std::string synopsis, std::string description)
     : command_(std::move(command)), synopsis_(std::move(synopsis)), description_(std::move(description)) {
     flag("help", "show this help and exit");

@@ -62,5 +62,7 @@ double parse_double(const std::string& s, const std::string& what);
 /// The same, refusing NaN and infinities.
 double parse_finite(const std::string& s, const std::string& what);
 long long parse_int(const std::string& s, const std::string& what);
+/// "WxH" with both in [lo, hi]; throws UsageError naming `what`.
+std::array<int, 2> parse_size(const std::string& s, const std::string& what, int lo, int hi);
 
 }  // namespace meshless::cli

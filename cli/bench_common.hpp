@@ -18,11 +18,11 @@ namespace meshless::cli::bench {
 
 struct BenchOptions {
     std::string data_dir;     ///< folder holding the shared test data (may not exist)
-    std::string bench_dir;    ///< folder holding flying_edges.py
+    std::string bench_dir;    ///< folder holding flying_edges.py and rbf_reference.py
     int reps = 10;            ///< repetitions per isosurface
     int isovalues = 16;       ///< isosurfaces per volume
     bool quick = false;       ///< smoke-test mode: few reps and isovalues, no large volumes
-    std::string python = "/usr/bin/python3";  ///< interpreter with the vtk module (FE baseline)
+    std::string python = "/usr/bin/python3";  ///< interpreter with vtk (FE baseline) and scipy (fields reference)
     std::string scratch_dir;  ///< ooc section: folder for its stores (empty: the system temp folder)
     bool keep = false;        ///< ooc section: keep the scratch files
     bool with_ooc = false;    ///< "all" includes the ooc section even without kOocScratchRoom free
@@ -104,6 +104,10 @@ void run_splat(const BenchOptions& o, Report& r);
 /// throughput, paradigm (A) vs (C) vs marching cubes, threads and MPI ranks, peak RSS on >= 4 GiB.
 /// Writes (and removes unless o.keep) a scratch folder under o.scratch_dir; takes minutes and GBs.
 void run_ooc(const BenchOptions& o, Report& r);
+/// Issue 4's numbers for the meshless fields (cli/bench_fields.cpp): accuracy on Franke's 3-D function
+/// and Marschner-Lobb vs SciPy's RBFInterpolator (bench/rbf_reference.py, run with o.python), linear
+/// reproduction, Table 4.1 construction times on 1 and 2 threads, evaluation rate, 1M-point memory.
+void run_fields(const BenchOptions& o, Report& r);
 /// True when o.scratch_dir (or the temp folder) has at least kOocScratchRoom bytes free.
 bool ooc_scratch_has_room(const BenchOptions& o);
 

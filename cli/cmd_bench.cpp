@@ -1,6 +1,6 @@
 // meshless bench: the benchmarks of dissertation §3.6 (accuracy, extraction speed and memory vs
 // marching cubes and VTK Flying Edges, thread scaling, splat frame rates) and of issue 3 (out of
-// core: brick stores, paradigms A and C, peak memory). Thin: parses options and
+// core: brick stores, paradigms A and C, peak memory) and of issue 4 (meshless fields). Thin: parses options and
 // runs the sections in cli/bench_*.cpp.
 #include <unistd.h>
 
@@ -43,7 +43,7 @@ std::string default_data_dir() {
 }  // namespace
 
 int cmd_bench(int argc, char** argv) {
-    Args a("bench", "[accuracy|speed|threads|splat|ooc|all] [options]",
+    Args a("bench", "[accuracy|speed|threads|splat|ooc|fields|all] [options]",
            "Benchmarks of dissertation section 3.6, printed as tables on stdout (progress on stderr):\n"
            "  accuracy  distance / normal / value errors of the projected points on analytic fields, coverage\n"
            "  speed     extraction time and memory: iso-splatting vs marching cubes vs VTK Flying Edges\n"
@@ -51,24 +51,27 @@ int cmd_bench(int argc, char** argv) {
            "  splat     quad and EWA splat frame times, 36-frame turntable\n"
            "  ooc       brick stores: conversion MB/s and ratio, store vs in-memory throughput, paradigm A vs C\n"
            "            vs marching cubes, threads and MPI ranks, peak RSS on a 4.4 GB volume (minutes, GBs)\n"
+           "  fields    meshless fields (rbf-grid, mpu, global-rbf): accuracy vs SciPy RBFInterpolator, linear\n"
+           "            reproduction, Table 4.1 construction times, evaluation rate, 1M-point memory (minutes)\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
     a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
         .option("reps", "", "N", "repetitions per isosurface", "10")
         .option("isovalues", "", "K", "isosurfaces per volume", "16")
         .option("markdown", "", "FILE", "also write the tables as markdown (e.g. bench/RESULTS.md)")
-        .option("bench-dir", "", "DIR", "folder holding flying_edges.py (default: the source tree's bench/)")
-        .option("python", "", "EXE", "Python interpreter with the vtk module", "/usr/bin/python3")
+        .option("bench-dir", "", "DIR", "folder holding flying_edges.py and rbf_reference.py (default: the source tree's bench/)")
+        .option("python", "", "EXE", "Python interpreter with the vtk module (speed) and scipy (fields)", "/usr/bin/python3")
         .option("scratch", "", "DIR", "ooc: folder for its temporary stores (default: the system temp folder)")
         .flag("keep", "ooc: keep the scratch files (stores, the 4.4 GB volume's store)")
         .flag("with-ooc", "all: include the ooc section whatever the free space")
-        .flag("quick", "smoke test: 2 reps, 4 isovalues, no large volumes (ooc: LIDC2 x1, no 4 GiB volume, no MPI)");
+        .flag("quick", "smoke test: 2 reps, 4 isovalues, no large volumes (ooc: LIDC2 x1, no 4 GiB volume, no MPI; "
+                       "fields: N = 1K, 10K, no 1M)");
     a.epilog("example: meshless bench speed --data ../shared/data --markdown bench/RESULTS.md\n");
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().size() > 1) throw UsageError("bench: expected at most one section name");
     const std::string what = a.positional().empty() ? "all" : a.positional()[0];
     if (what != "all" && what != "accuracy" && what != "speed" && what != "threads" && what != "splat" &&
-        what != "ooc")
-        throw UsageError("bench: unknown section '" + what + "' (accuracy, speed, threads, splat, ooc, all)");
+        what != "ooc" && what != "fields")
+        throw UsageError("bench: unknown section '" + what + "' (accuracy, speed, threads, splat, ooc, fields, all)");
 
     bench::BenchOptions o;
     o.quick = a.has("quick");
@@ -93,6 +96,7 @@ int cmd_bench(int argc, char** argv) {
     if (what == "all" || what == "speed") bench::run_speed(o, r);
     if (what == "all" || what == "threads") bench::run_threads(o, r);
     if (what == "all" || what == "splat") bench::run_splat(o, r);
+    if (what == "all" || what == "fields") bench::run_fields(o, r);
     if (what == "ooc" || (what == "all" && (o.quick || o.with_ooc || bench::ooc_scratch_has_room(o))))
         bench::run_ooc(o, r);
     else if (what == "all")

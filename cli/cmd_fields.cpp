@@ -123,12 +123,7 @@ int cmd_slice(int argc, char** argv) {
     const std::string png = a.require("output");
     Colormap cmap;
     if (!parse_colormap(a.get_or("colormap", "coolwarm"), cmap)) throw UsageError("--colormap: expected coolwarm or gray");
-    const std::string size = a.get_or("size", "1024x1024");
-    const auto x = size.find('x');
-    if (x == std::string::npos) throw UsageError("--size: expected WxH, got '" + size + "'");
-    const long long W = parse_int(size.substr(0, x), "--size"), H = parse_int(size.substr(x + 1), "--size");
-    if (W < 2 || H < 2 || W > 16384 || H > 16384) throw UsageError("--size: width and height must be 2..16384");
-
+    const auto [W, H] = parse_size(a.get_or("size", "1024x1024"), "--size", 2, 16384);
     const PointSet pts = read_points_arg(a);
     const auto field = build_field(a, pts);
     const auto [lo, hi] = pts.bounds();

@@ -127,13 +127,9 @@ namespace {
 
 Camera camera_from(const Args& a) {
     Camera c;
-    const std::string size = a.get_or("size", "800x800");
-    const auto x = size.find('x');
-    if (x == std::string::npos) throw UsageError("--size: expected WxH, got '" + size + "'");
-    c.width = static_cast<int>(parse_int(size.substr(0, x), "--size width"));
-    c.height = static_cast<int>(parse_int(size.substr(x + 1), "--size height"));
-    if (c.width < 1 || c.height < 1 || c.width > 16384 || c.height > 16384)
-        throw UsageError("--size: width and height must be 1..16384");
+    const auto wh = parse_size(a.get_or("size", "800x800"), "--size", 1, 16384);
+    c.width = wh[0];
+    c.height = wh[1];
     c.azimuth_deg = parse_finite(a.get_or("azimuth", "30"), "--azimuth");
     c.elevation_deg = parse_finite(a.get_or("elevation", "20"), "--elevation");
     c.zoom = parse_finite(a.get_or("zoom", "1"), "--zoom");

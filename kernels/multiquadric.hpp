@@ -12,9 +12,13 @@
 // L for conditioning; the side conditions are eliminated with a column-pivoted QR of the polynomial
 // matrix P = [1 q] (null-space method), leaving a symmetric positive definite system (the
 // multiquadric is conditionally negative definite of order 1) solved by Cholesky (LLT). Outcomes:
-//   interpolated      exact solve (rcond >= 1e-14 and interpolation residual <= 1e-9 of the data range)
+//   interpolated      exact solve: Cholesky succeeds, the interpolation residual is <= 1e-8 of the
+//                     data range, and sum|lambda_i| * max phi <= 1e8 x the data range (so evaluating
+//                     H cancels away at most ~1e-8 of the range: ill-conditioning that amplifies
+//                     rounding noise shows up as large cancelling coefficients)
 //   regularised       ridge eps*I added to the reduced system (eps = 1e-12 .. 1e-4 of its mean
-//                     diagonal, the first that gives rcond >= 1e-10): approximates, still
+//                     diagonal, the first with rcond >= 1e-10 passing the same coefficient
+//                     bound): approximates, still
 //                     reproduces linear functions (exactly when the data is linear to rounding,
 //                     which is detected first and fitted by the polynomial alone)
 //   linear_fallback   no ridge helped: lambda = 0, least-squares linear fit
@@ -52,7 +56,7 @@ enum class MultiquadricOutcome : std::uint8_t { interpolated, regularised, linea
 struct MultiquadricFitResult {
     MultiquadricOutcome outcome = MultiquadricOutcome::interpolated;
     int poly_rank = 4;           ///< rank of [1 q]: 4 general, 3 coplanar, 2 collinear, 1 one point
-    double rcond = 0;            ///< reciprocal condition estimate of the reduced system (0 if none)
+    double rcond = 0;            ///< reciprocal condition estimate of the ridge system (0 unless regularised)
 };
 
 class MultiquadricSolver {

@@ -3,11 +3,14 @@
 #pragma once
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "kernels/analytic_volumes.hpp"
 #include "test_paths.hpp"
 
 namespace meshless::test {
@@ -45,6 +48,21 @@ inline RunResult sh(std::string cmd, const TempDir& dir) {
 inline void spit(const std::filesystem::path& p, const std::string& bytes) {
     std::ofstream out(p, std::ios::binary);
     out << bytes;
+}
+
+/// An analytic field sampled on an n^3 grid, quantised to uint8 as round(value * scale + offset),
+/// written as NAME_NxNxN_uint8.raw (the name convention) in dir; returns the path.
+inline std::string write_uint8_analytic_volume(const TempDir& dir, const std::string& name, AnalyticField field,
+                                               std::int64_t n, double scale, double offset) {
+    const Volume v = make_analytic_volume(field, n);
+    const float* f = reinterpret_cast<const float*>(v.bytes.data());
+    std::string bytes(static_cast<std::size_t>(v.grid.voxel_count()), '\0');
+    for (std::size_t i = 0; i < bytes.size(); ++i)
+        bytes[i] = static_cast<char>(static_cast<unsigned char>(std::clamp(std::lround(f[i] * scale + offset), 0L, 255L)));
+    const std::string dims = std::to_string(n) + "x" + std::to_string(n) + "x" + std::to_string(n);
+    const auto p = dir / (name + "_" + dims + "_uint8.raw");
+    spit(p, bytes);
+    return p.string();
 }
 
 }  // namespace meshless::test

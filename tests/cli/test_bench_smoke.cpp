@@ -139,3 +139,37 @@ TEST_CASE("bench ooc refuses a scratch folder that does not exist", "[bench]") {
     CHECK(r.code == 1);
     CHECK(r.err.find("--scratch") != std::string::npos);
 }
+
+TEST_CASE("bench fields --quick prints the field accuracy, reproduction and speed tables", "[bench]") {
+    TempDir dir("bench-fields");
+    const std::string out = (dir / "out.txt").string();
+    const std::string md = (dir / "fields.md").string();
+    const RunResult r = sh("MESHLESS bench fields --quick --data " + shared_data().string() + " --markdown " + md +
+                               " > " + out,
+                           dir);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string text = slurp(out);
+    INFO(text);
+    CHECK(contains(text, "Machine: "));
+    CHECK(contains(text, "Franke 3-D"));
+    CHECK(contains(text, "Marschner-Lobb"));
+    for (const char* f : {"rbf-grid", "mpu", "global-rbf"}) CHECK(contains(text, f));
+    CHECK(contains(text, "RMS err"));
+    CHECK(contains(text, "max rel err"));
+    CHECK(contains(text, "1 thread s"));
+    CHECK(contains(text, "eval Mpts/s"));
+    // SciPy's reference runs when /usr/bin/python3 has scipy, else the section says why it is skipped
+    CHECK((contains(text, "scipy MQ") || contains(text, "SciPy not installed")));
+    if (have_shared_data()) {
+        CHECK(contains(text, "bucky ball"));
+        CHECK(contains(text, "21114"));
+        CHECK(contains(text, "2688"));
+        CHECK(contains(text, "16000"));
+    } else {
+        CHECK(contains(text, "Franke stand-in"));
+    }
+    CHECK((contains(text, "PASS") || contains(text, "FAIL")));
+    CHECK_FALSE(contains(text, "build failed"));
+    CHECK(contains(slurp(md), "| function | N | field |"));
+}

@@ -18,14 +18,7 @@ namespace {
 
 /// A 40^3 uint8 torus volume written with the name convention; returns its path.
 std::string write_test_volume(const TempDir& d) {
-    const Volume v = make_analytic_volume(AnalyticField::torus, 40);
-    const float* f = reinterpret_cast<const float*>(v.bytes.data());
-    std::string bytes(static_cast<std::size_t>(v.grid.voxel_count()), '\0');
-    for (std::size_t i = 0; i < bytes.size(); ++i)
-        bytes[i] = static_cast<char>(static_cast<unsigned char>(std::clamp(std::lround(f[i] * 200.0), 0L, 255L)));
-    const auto p = d / "torus_40x40x40_uint8.raw";
-    spit(p, bytes);
-    return p.string();
+    return write_uint8_analytic_volume(d, "torus", AnalyticField::torus, 40, 200.0, 0.0);
 }
 
 }  // namespace

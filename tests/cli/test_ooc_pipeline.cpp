@@ -20,14 +20,7 @@ namespace {
 
 /// A 70^3 uint8 gyroid (several bricks of 32 cells) written with the name convention.
 std::string gyroid_volume(const TempDir& d) {
-    const Volume v = make_analytic_volume(AnalyticField::gyroid, 70);
-    const float* f = reinterpret_cast<const float*>(v.bytes.data());
-    std::string bytes(static_cast<std::size_t>(v.grid.voxel_count()), '\0');
-    for (std::size_t i = 0; i < bytes.size(); ++i)
-        bytes[i] = static_cast<char>(static_cast<unsigned char>(std::clamp(std::lround(f[i] * 80.0 + 128.0), 0L, 255L)));
-    const auto p = d / "gyroid_70x70x70_uint8.raw";
-    spit(p, bytes);
-    return p.string();
+    return write_uint8_analytic_volume(d, "gyroid", AnalyticField::gyroid, 70, 80.0, 128.0);
 }
 
 /// The records of a PLY point set, sorted bytewise (order-free comparison).
