@@ -39,6 +39,7 @@
 #include "formats/volume_reader.hpp"
 #include "kernels/analytic_volumes.hpp"
 #include "kernels/errors.hpp"
+#include "kernels/splitmix.hpp"
 #include "kernels/make_field.hpp"
 #include "kernels/trilinear_field.hpp"
 
@@ -60,17 +61,6 @@ constexpr double kMiB = 1024.0 * 1024.0;
 
 // ---- random numbers, test functions -----------------------------------------------------------
 
-/// splitmix64: tiny, well mixed, identical on every platform (as `meshless sample`).
-struct SplitMix {
-    std::uint64_t s;
-    std::uint64_t next() {
-        std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double unit() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-};
 
 std::vector<Vec3> random_box(const Vec3& lo, const Vec3& hi, std::size_t n, std::uint64_t seed) {
     SplitMix rng{seed};

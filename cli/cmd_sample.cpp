@@ -11,25 +11,10 @@
 #include "formats/point_set_writer.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/point_set.hpp"
+#include "kernels/splitmix.hpp"
 #include "kernels/trilinear_field.hpp"
 
 namespace meshless::cli {
-
-namespace {
-
-// splitmix64: tiny, well mixed, identical on every platform.
-struct SplitMix {
-    std::uint64_t s;
-    std::uint64_t next() {
-        std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double unit() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-};
-
-}  // namespace
 
 int cmd_sample(int argc, char** argv) {
     Args a("sample", "VOLUME --count N -o points.ply|points.csv",
