@@ -70,7 +70,7 @@ int cmd_probe(int argc, char** argv) {
     Args a("probe", "POINTS... --at x,y,z [--at ...] | --at-file FILE [-o out.csv]",
            "Value and gradient of a meshless field built from scattered points, at world positions.\n"
            "Writes CSV with the header x,y,z,value,gx,gy,gz (stdout by default). NaN marks positions the\n"
-           "field does not cover.");
+           "data does not reach (see --max-gap).");
     a.option("at", "", "X,Y,Z", "a position (repeatable)")
         .option("at-file", "", "FILE", "positions, three numbers per line (CSV or whitespace; header allowed)")
         .option("output", "o", "FILE", "CSV output, '-' = stdout", "-");
@@ -95,7 +95,7 @@ int cmd_probe(int argc, char** argv) {
     const auto field = build_field(a, pts);
     std::vector<double> val(at.size());
     std::vector<Vec3> grad(at.size());
-    evaluate_parallel(*field, at, val, grad, threads(a));
+    evaluate_parallel(field, at, val, grad, threads(a));
     AtomicFile out(a.get_or("output", "-"));
     out.write(std::string("x,y,z,value,gx,gy,gz\n"));
     for (std::size_t i = 0; i < at.size(); ++i)
@@ -109,7 +109,7 @@ int cmd_slice(int argc, char** argv) {
     Args a("slice", "POINTS... --plane z=V -o slice.png [--size 1024x1024]",
            "Renders a colour-mapped slice through a meshless field built from scattered points, over the\n"
            "points' bounding box in the plane, with the data points near the plane drawn as dots.\n"
-           "Grey marks where the field does not cover the plane.");
+           "Grey marks where the data does not reach (see --max-gap).");
     a.option("plane", "", "AXIS=V", "the slicing plane, e.g. z=0.5 (world units)")
         .option("output", "o", "FILE", "PNG output (required)")
         .option("size", "", "WxH", "largest image size; the aspect follows the bounding box", "1024x1024")
@@ -142,7 +142,10 @@ int cmd_slice(int argc, char** argv) {
             at[static_cast<std::size_t>(r) * w + c] = {q[0], q[1], q[2]};
         }
     std::vector<double> val(at.size());
-    evaluate_parallel(*field, at, val, {}, threads(a));
+    const std::size_t uncovered = evaluate_parallel(field, at, val, {}, threads(a));
+    if (uncovered == at.size())
+        std::fprintf(stderr, "meshless slice: warning: the plane %c=%g does not meet the data (every pixel is outside it)\n",
+                     'x' + plane.axis, plane.at);
     std::array<double, 2> range = pts.value_range();
     if (auto r = a.get("range")) {
         if (std::sscanf(r->c_str(), "%lf,%lf", &range[0], &range[1]) != 2 || !(range[0] < range[1]))
@@ -190,7 +193,8 @@ int cmd_slice(int argc, char** argv) {
 int cmd_resample(int argc, char** argv) {
     Args a("resample", "POINTS... --dims X,Y,Z -o vol.nrrd",
            "Resamples a meshless field built from scattered points onto a regular grid over the points'\n"
-           "bounding box (float32 NRRD), for the isosurface commands and other tools.");
+           "bounding box (float32 NRRD), for the isosurface commands and other tools. Voxels the data does\n"
+           "not reach (see --max-gap) are NaN.");
     a.option("dims", "", "X,Y,Z", "grid samples along x, y, z (required)").option("output", "o", "FILE", "NRRD output (required)");
     add_field_options(a);
     a.positionals(1, 1000);
@@ -219,10 +223,10 @@ int cmd_resample(int argc, char** argv) {
             for (std::int64_t i = 0; i < g.dims[0]; ++i)
                 at[static_cast<std::size_t>(i + g.dims[0] * j)] = {g.origin[0] + i * g.spacing[0], g.origin[1] + j * g.spacing[1],
                                                                    g.origin[2] + k * g.spacing[2]};
-        evaluate_parallel(*field, at, val, {}, threads(a));
+        evaluate_parallel(field, at, val, {}, threads(a));
         for (std::size_t n = 0; n < at.size(); ++n) dst[static_cast<std::size_t>(k) * at.size() + n] = static_cast<float>(val[n]);
     }
-    write_nrrd(vol, out, "meshless resample: " + std::string(field->name()) + " field of " + std::to_string(pts.size()) + " points");
+    write_nrrd(vol, out, "meshless resample: " + std::string(field.field->name()) + " field of " + std::to_string(pts.size()) + " points");
     return 0;
 }
 

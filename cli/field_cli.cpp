@@ -4,6 +4,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include <atomic>
 #include <cstdio>
 
 #include "cli/common.hpp"
@@ -23,6 +24,8 @@ void add_field_options(Args& a) {
         .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal", "0.025")
         .option("hardy-c-world", "", "C", "Hardy's constant in world units (overrides --hardy-c)")
         .flag("normalise-axes", "scale each axis so the bounding box is a cube (axes in unrelated units)")
+        .option("max-gap", "", "F", "positions farther than F x the local point spacing (8th-neighbour distance) "
+                "from the data are NaN, not extrapolated; 0 keeps every value", "1")
         .flag("stats", "print what building the field did (merged points, fallbacks, sizes, time) to stderr");
     add_point_set_options(a, /*with_endian=*/true);
     add_thread_option(a);
@@ -52,12 +55,16 @@ PointSet read_points_arg(const Args& a) {
     return read_point_set(a.positional(), point_set_options(a));
 }
 
-std::unique_ptr<Field> build_field(const Args& a, const PointSet& points) {
+BuiltField build_field(const Args& a, const PointSet& points) {
     const FieldParams params = field_params(a);
     const int n = threads(a);
     oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(n));
     FieldBuildStats st;
-    auto f = make_field(points, params, &st);
+    BuiltField f;
+    f.field = make_field(points, params, &st);
+    const double gap = parse_finite(a.get_or("max-gap", "1"), "--max-gap");
+    if (gap < 0) throw UsageError("--max-gap: expected a factor >= 0");
+    if (gap > 0) f.coverage = std::make_unique<PointCoverage>(points.pos, gap);
     if (a.has("stats"))
         std::fprintf(stderr,
                      "%s: %s field from %llu points (%llu merged as near-duplicates), c = %g, %llu local interpolants "
@@ -71,17 +78,22 @@ std::unique_ptr<Field> build_field(const Args& a, const PointSet& points) {
     return f;
 }
 
-void evaluate_parallel(const Field& f, std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad,
-                       int threads) {
+std::size_t evaluate_parallel(const BuiltField& bf, std::span<const Vec3> p, std::span<double> value,
+                              std::span<Vec3> grad, int threads) {
+    const Field& f = *bf.field;
+    std::atomic<std::size_t> masked{0};
     constexpr std::size_t kChunk = 4096;
     const std::size_t chunks = (p.size() + kChunk - 1) / kChunk;
     oneapi::tbb::task_arena arena(threads);
     arena.execute([&] {
         oneapi::tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
             const std::size_t b = c * kChunk, n = std::min(kChunk, p.size() - b);
-            f.evaluate(p.subspan(b, n), value.subspan(b, n), grad.empty() ? grad : grad.subspan(b, n));
+            const auto g = grad.empty() ? grad : grad.subspan(b, n);
+            f.evaluate(p.subspan(b, n), value.subspan(b, n), g);
+            if (bf.coverage) masked += bf.coverage->mask(p.subspan(b, n), value.subspan(b, n), g);
         });
     });
+    return masked.load();
 }
 
 }  // namespace meshless::cli

@@ -9,6 +9,7 @@
 #include "cli/args.hpp"
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
+#include "kernels/point_coverage.hpp"
 #include "kernels/point_set.hpp"
 
 namespace meshless::cli {
@@ -19,11 +20,18 @@ FieldParams field_params(const Args& a);
 /// Reads the positional POINTS files (as one set) with the point-set options.
 PointSet read_points_arg(const Args& a);
 
-/// Builds the field with --threads workers; prints the build summary on stderr with --stats.
-std::unique_ptr<Field> build_field(const Args& a, const PointSet& points);
+/// A field and where its data covers space (--max-gap; null when --max-gap 0).
+struct BuiltField {
+    std::unique_ptr<Field> field;
+    std::unique_ptr<PointCoverage> coverage;
+};
 
-/// Evaluates in parallel chunks (deterministic: each point is independent).
-void evaluate_parallel(const Field& f, std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad,
-                       int threads);
+/// Builds the field with --threads workers; prints the build summary on stderr with --stats.
+BuiltField build_field(const Args& a, const PointSet& points);
+
+/// Evaluates in parallel chunks (deterministic: each point is independent), then marks positions
+/// the data does not cover NaN (values there would be extrapolation, not data). Returns how many.
+std::size_t evaluate_parallel(const BuiltField& f, std::span<const Vec3> p, std::span<double> value,
+                              std::span<Vec3> grad, int threads);
 
 }  // namespace meshless::cli

@@ -27,6 +27,9 @@ MergedPoints prepare_field_points(const PointSet& points, const FieldParams& par
         throw UsageError(w + ": merge_rel must be >= 0, hardy_c_rel > 0 and hardy_c_world >= 0");
     const double tol = params.merge_rel * mean_point_spacing(points.pos);
     MergedPoints m = merge_near_duplicates(points.pos, points.value, tol);
+    if (m.pos.size() < 4)
+        throw UsageError(w + ": " + std::to_string(m.pos.size()) + " distinct points (of " +
+                         std::to_string(points.pos.size()) + " after merging near-duplicates), at least 4 are needed");
     if (params.normalise_axes && m.pos.size() > 1) {
         Vec3 lo = m.pos[0], hi = m.pos[0];
         for (const Vec3& p : m.pos) {

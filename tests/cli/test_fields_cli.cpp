@@ -91,3 +91,16 @@ TEST_CASE("slice renders the plane with the bounding box's aspect", "[cli][field
     CHECK(sh("MESHLESS slice " + pts + " --plane w=1 -o " + D + "/x.png", d).code == 1);
     CHECK(sh("MESHLESS slice " + pts + " --plane z=1 -o " + D + "/x.png --colormap jet", d).code == 1);
 }
+
+TEST_CASE("positions the data does not reach are NaN, unless --max-gap 0", "[cli][fields]") {
+    TempDir d("gap");
+    const std::string pts = write_points(d), D = d.path.string();
+    REQUIRE(sh("MESHLESS probe " + pts + " --at 5,102,3 --at 40,102,3 -o " + D + "/p.csv", d).code == 0);
+    const std::string out = slurp(d / "p.csv");
+    CHECK(out.find("40,102,3,nan") != std::string::npos);
+    CHECK(out.find("5,102,3,nan") == std::string::npos);
+    // global-rbf is defined everywhere: without the coverage mask it extrapolates
+    REQUIRE(sh("MESHLESS probe " + pts + " --field global-rbf --at 40,102,3 --max-gap 0 -o " + D + "/q.csv", d).code == 0);
+    CHECK(slurp(d / "q.csv").find("nan") == std::string::npos);
+    CHECK(sh("MESHLESS probe " + pts + " --at 1,1,1 --max-gap -1", d).code == 1);
+}
