@@ -69,8 +69,7 @@ int cmd_extract(int argc, char** argv) {
     a.positionals(1, 1);
     a.epilog("example: meshless extract vol.mls --iso 100.5 | meshless project | meshless splat -o img.png\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    const double iso = parse_double(a.require("iso"), "--iso");
-    if (std::isnan(iso)) throw UsageError("extract: --iso must be a number");
+    const double iso = parse_finite(a.require("iso"), "--iso");
     const SamplingParams sp = sampling_params(a);
     const std::string path = a.positional()[0];
     const auto store = SampleStore::open(path);
@@ -79,7 +78,7 @@ int cmd_extract(int argc, char** argv) {
 
     auto file = std::make_unique<AtomicFile>(a.get_or("output", "-"));
     if (file->is_stdout() && ::isatty(1))
-        throw UsageError("extract: refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
+        throw UsageError("refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
     StreamSink sink(file->handle(), file->path(), RecordKind::sample, store_meta(info, iso, a.command_line()),
                     a.has("compress"));
     SampleStoreSource source(*store, iso, sp);

@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/mpi_session.hpp"
 #include "formats/atomic_file.hpp"
+#include "formats/png_writer.hpp"
 #include "cli/common.hpp"
 #include "cli/render_output.hpp"
 #include "formats/ply_points.hpp"
@@ -16,10 +17,21 @@ namespace meshless::cli {
 
 namespace {
 
+/// Writes -o and --png as one outcome: the picture is rendered before anything is written, and
+/// if writing the second file fails the first is removed, so a failed run leaves neither.
 void write_outputs(const Args& a, const StreamMeta& meta, std::span<const PointRecord> points,
                    const RenderSettings& rs) {
-    if (auto out = a.get("output")) write_ply_points(*out, points, ply_comments(meta));
-    if (auto png = a.get("png")) render_to_png(points, meta_bounds(meta), rs, *png);
+    std::optional<Image> img;
+    if (a.has("png")) img = render_splats(points, rs.camera, rs.kernel, rs.shading, nullptr, meta_bounds(meta));
+    const auto out = a.get("output");
+    if (out) write_ply_points(*out, points, ply_comments(meta));
+    if (!img) return;
+    try {
+        write_png(*img, *a.get("png"));
+    } catch (...) {
+        if (out && *out != "-" && !is_streaming_output(*out)) std::remove(out->c_str());
+        throw;
+    }
 }
 
 void print_stats(const std::string& path, double iso, Projection mode, const IsoSplatResult& r, std::size_t points,

@@ -185,7 +185,11 @@ PointSet read_points_text(const std::string& path, const PointSetOptions& o, std
             cx = find_col("x", false);
             cy = find_col("y", false);
             cz = find_col("z", false);
-            if (cx < 0 || cy < 0 || cz < 0) {
+            const int named = (cx >= 0) + (cy >= 0) + (cz >= 0);
+            if (named > 0 && named < 3)  // the header names coordinates, but not all of them
+                throw FormatError(path + ": missing column " + std::string(cx < 0 ? "x" : cy < 0 ? "y" : "z") + " (" +
+                                  header_list() + "; give --columns to choose others)");
+            if (named == 0) {  // other names (lon, lat, elev, ...): the first three columns, in order
                 if (ncols < 3) throw FormatError(path + ": need 3 coordinate columns (" + header_list() + ")");
                 cx = 0, cy = 1, cz = 2;
             }

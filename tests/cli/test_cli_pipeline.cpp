@@ -217,6 +217,9 @@ TEST_CASE("misuse is refused: extra arguments, NaN numbers, same output twice, c
     CHECK(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/x.ply --azimuth inf --png " + D + "/x.png", d).code == 1);
     CHECK(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/x.ply --png " + D + "/x.ply", d).code == 1);
     CHECK(!fs::exists(d / "x.ply"));
+    // the PLY and the PNG are one outcome: a PNG that cannot be written takes the PLY with it
+    CHECK(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/x.ply --png " + D + "/no/dir/x.png", d).code == 2);
+    CHECK(!fs::exists(d / "x.ply"));
     REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project -o " + D + "/p.mls", d).code == 0);
     auto r = sh("cat " + D + "/p.mls " + D + "/p.mls | MESHLESS write -o " + D + "/c.ply", d);
     CHECK(r.code == 2);

@@ -821,3 +821,12 @@ TEST_CASE("real PLOT3D and VTS multiblock data loads with the dims and ranges of
         CHECK(r[1] <= 0.72);
     }
 }
+
+TEST_CASE("a header naming some coordinates but not all is refused", "[scatter]") {
+    meshless::test::TempDir d("nozcol");
+    {
+        std::ofstream f(d / "a.csv");
+        f << "x,y,value\n0,0,1\n1,0,2\n0,1,3\n1,1,4\n2,2,2\n";
+    }
+    CHECK_THROWS_WITH(meshless::read_point_set((d / "a.csv").string()), Catch::Contains("missing column z"));
+}
