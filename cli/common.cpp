@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "formats/volume_reader.hpp"
+#include "ooc/brick_slice_source.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless::cli {
@@ -51,6 +52,7 @@ RawOptions raw_options(const Args& a) {
 Volume load_volume(const Args& a) {
     if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
     const std::string& path = a.positional()[0];
+    if (is_brick_store(path)) return read_brick_store_volume(path);  // commands that need the volume whole
     const RawOptions raw = raw_options(a);
     if (a.has("dims") || a.has("type") || a.has("endian") || a.has("spacing")) {
         const VolumeInfo vi = probe_volume(path, raw);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "formats/binary_file.hpp"
+#include "ooc/brick_slice_source.hpp"
 #include "formats/gzip.hpp"
 #include "formats/metaimage.hpp"
 #include "formats/nrrd.hpp"
@@ -288,6 +289,7 @@ private:
 }  // namespace
 
 std::unique_ptr<SliceSource> open_slice_source(const std::string& path, const RawOptions& raw) {
+    if (is_brick_store(path)) return open_brick_store_slices(path);
     if (auto plan = streamable_plan(path, raw)) return std::make_unique<PlanSliceSource>(std::move(*plan), path);
     return std::make_unique<MemorySliceSource>(read_volume(path, raw), path);
 }

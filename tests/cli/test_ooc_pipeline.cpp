@@ -124,3 +124,18 @@ TEST_CASE("mc on a brick store welds the seams: the in-memory vertex set and tri
     };
     CHECK(positions(a) == positions(b));
 }
+
+TEST_CASE("a brick store is a VOLUME everywhere: re-bricking, sampling, synth", "[cli][ooc-pipeline]") {
+    TempDir d("mlbvol");
+    const std::string vol = gyroid_volume(d), D = d.path.string();
+    REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "/g32.mlb", d).code == 0);
+    REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "/g16.mlb --brick 16", d).code == 0);
+    REQUIRE(sh("MESHLESS convert " + D + "/g32.mlb -o " + D + "/g16b.mlb --brick 16", d).code == 0);
+    CHECK(slurp(d / "g16.mlb") == slurp(d / "g16b.mlb"));
+    REQUIRE(sh("MESHLESS sample " + vol + " --count 500 --seed 3 -o " + D + "/a.csv", d).code == 0);
+    REQUIRE(sh("MESHLESS sample " + D + "/g32.mlb --count 500 --seed 3 -o " + D + "/b.csv", d).code == 0);
+    CHECK(slurp(d / "a.csv") == slurp(d / "b.csv"));
+    REQUIRE(sh("MESHLESS synth --upsample 2 " + D + "/g32.mlb -o " + D + "/s1.mlb", d).code == 0);
+    REQUIRE(sh("MESHLESS synth --upsample 2 " + vol + " -o " + D + "/s2.mlb", d).code == 0);
+    CHECK(slurp(d / "s1.mlb") == slurp(d / "s2.mlb"));
+}
