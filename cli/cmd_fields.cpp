@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -29,6 +30,8 @@ std::string fmt9(double v) {
 
 /// Positions from a CSV/whitespace file: three numbers per line (an optional header line is skipped).
 std::vector<Vec3> read_positions(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a file of positions");
     std::ifstream in(path);
     if (!in) throw IoError(path + ": cannot open");
     std::vector<Vec3> out;

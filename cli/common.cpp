@@ -88,11 +88,15 @@ VolumeInput open_volume_input(const Args& a) {
     if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
     VolumeInput in;
     in.path = a.positional()[0];
-    if (is_brick_store(in.path)) {
+    const bool mlb_name = in.path.size() > 4 && in.path.compare(in.path.size() - 4, 4, ".mlb") == 0;
+    if (is_brick_store(in.path) || mlb_name) {  // a damaged .mlb gets the brick store's own diagnosis
         in.store = BrickStore::open(in.path);
         in.cache = std::make_unique<BrickCache>(*in.store, parse_memory_size(a.get_or("memory", "256M")));
         in.index = std::make_unique<BrickIndex>(*in.store);
     } else {
+        if (a.has("memory"))
+            std::fprintf(stderr, "meshless %s: warning: --memory applies to brick stores (.mlb); %s is read whole "
+                         "(meshless convert makes a store)\n", a.command().c_str(), in.path.c_str());
         in.volume = load_volume(a);
     }
     return in;

@@ -67,10 +67,13 @@ BuiltField build_field(const Args& a, const PointSet& points) {
     if (gap > 0) f.coverage = std::make_unique<PointCoverage>(points.pos, gap);
     if (a.has("stats"))
         std::fprintf(stderr,
-                     "%s: %s field from %llu points (%llu merged as near-duplicates), c = %g, %llu local interpolants "
+                     "%s: %s field from %llu points (%llu dropped by the reader as NaN/Inf, %llu blanked; %llu merged as "
+                     "near-duplicates), c = %g, %llu local interpolants "
                      "(%llu exact, %llu rank-deficient, %llu regularised, %llu linear fallback), %.1f MiB, %.3f s\n",
                      a.command().c_str(), std::string(field_kind_name(params.kind)).c_str(),
-                     static_cast<unsigned long long>(st.input_points), static_cast<unsigned long long>(st.merged_points),
+                     static_cast<unsigned long long>(st.input_points),
+                     static_cast<unsigned long long>(points.dropped_nonfinite),
+                     static_cast<unsigned long long>(points.dropped_blanked), static_cast<unsigned long long>(st.merged_points),
                      st.hardy_c_world, static_cast<unsigned long long>(st.locals),
                      static_cast<unsigned long long>(st.interpolated), static_cast<unsigned long long>(st.rank_deficient),
                      static_cast<unsigned long long>(st.regularised), static_cast<unsigned long long>(st.linear_fallback),
