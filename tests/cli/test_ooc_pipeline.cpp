@@ -137,5 +137,8 @@ TEST_CASE("a brick store is a VOLUME everywhere: re-bricking, sampling, synth", 
     CHECK(slurp(d / "a.csv") == slurp(d / "b.csv"));
     REQUIRE(sh("MESHLESS synth --upsample 2 " + D + "/g32.mlb -o " + D + "/s1.mlb", d).code == 0);
     REQUIRE(sh("MESHLESS synth --upsample 2 " + vol + " -o " + D + "/s2.mlb", d).code == 0);
-    CHECK(slurp(d / "s1.mlb") == slurp(d / "s2.mlb"));
+    CHECK(slurp(d / "s1.mlb") == slurp(d / "s2.mlb"));    spit(d / "garbage.mlb", std::string(1000, '\x42'));
+    const auto r = sh("MESHLESS isosurface " + D + "/garbage.mlb --iso 1 -o " + D + "/x.ply", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("not a brick store"));
 }
