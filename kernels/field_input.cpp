@@ -1,3 +1,4 @@
+#include "kernels/point_set.hpp"
 #include "kernels/field_input.hpp"
 
 #include <algorithm>
@@ -31,11 +32,7 @@ MergedPoints prepare_field_points(const PointSet& points, const FieldParams& par
         throw UsageError(w + ": " + std::to_string(m.pos.size()) + " distinct points (of " +
                          std::to_string(points.pos.size()) + " after merging near-duplicates), at least 4 are needed");
     if (params.normalise_axes && m.pos.size() > 1) {
-        Vec3 lo = m.pos[0], hi = m.pos[0];
-        for (const Vec3& p : m.pos) {
-            lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-            hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-        }
+        const auto [lo, hi] = bounding_box(m.pos);
         const Vec3 w = hi - lo;
         const double wmax = std::max({w.x, w.y, w.z});
         double sum2 = 0;

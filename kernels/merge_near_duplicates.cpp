@@ -1,3 +1,4 @@
+#include "kernels/point_set.hpp"
 #include "kernels/merge_near_duplicates.hpp"
 
 #include <algorithm>
@@ -20,14 +21,7 @@ struct CellKeyHash {
     }
 };
 
-std::array<Vec3, 2> bbox(std::span<const Vec3> pos) {
-    Vec3 lo = pos[0], hi = pos[0];
-    for (const Vec3& p : pos) {
-        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    }
-    return {lo, hi};
-}
+std::array<Vec3, 2> bbox(std::span<const Vec3> pos) { return bounding_box(pos); }
 
 }  // namespace
 

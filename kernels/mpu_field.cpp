@@ -1,3 +1,4 @@
+#include "kernels/point_set.hpp"
 #include "kernels/mpu_field.hpp"
 
 #include <algorithm>
@@ -132,11 +133,7 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
     const std::vector<double>& val = mp.value;
     const double c = hardy_c_world_for(params, bounds_);
 
-    Vec3 lo = pos_[0], hi = pos_[0];
-    for (const Vec3& p : pos_) {
-        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    }
+    const auto [lo, hi] = bounding_box(pos_);
     const Vec3 w = hi - lo;
     const double wmax = std::max({w.x, w.y, w.z});
     OctreeBuilder b{pos_, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha, {}, {}, {}, {}, {}};

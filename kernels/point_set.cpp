@@ -6,7 +6,7 @@
 
 namespace meshless {
 
-std::array<Vec3, 2> PointSet::bounds() const {
+std::array<Vec3, 2> bounding_box(std::span<const Vec3> pos) {
     if (pos.empty()) return {Vec3{}, Vec3{}};
     Vec3 lo = pos[0], hi = pos[0];
     for (const Vec3& p : pos) {
@@ -15,6 +15,8 @@ std::array<Vec3, 2> PointSet::bounds() const {
     }
     return {lo, hi};
 }
+
+std::array<Vec3, 2> PointSet::bounds() const { return bounding_box(pos); }
 
 std::array<double, 2> PointSet::value_range() const {
     if (value.empty()) return {std::nan(""), std::nan("")};

@@ -5,12 +5,16 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "kernels/vec3.hpp"
 
 namespace meshless {
+
+/// Axis-aligned bounds {lo, hi} of positions; {0,0,0},{0,0,0} when empty.
+std::array<Vec3, 2> bounding_box(std::span<const Vec3> pos);
 
 struct PointSetBlock {
     std::string name;                        ///< e.g. "grid 1", "multicomb_0.vts"

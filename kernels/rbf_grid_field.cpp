@@ -1,3 +1,4 @@
+#include "kernels/point_set.hpp"
 #include "kernels/rbf_grid_field.hpp"
 
 #include <algorithm>
@@ -32,11 +33,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
     const std::size_t n = pos_.size();
 
     // ---- RBF grid dimensions (section 4.3), degenerate axes folded out.
-    Vec3 lo = pos_[0], hi = pos_[0];
-    for (const Vec3& p : pos_) {
-        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    }
+    const auto [lo, hi] = bounding_box(pos_);
     lo_ = lo;
     const double w[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
     const double wmax = std::max({w[0], w[1], w[2]});
