@@ -15,14 +15,12 @@ bool contains(const std::string& text, const std::string& what) { return text.fi
 
 TEST_CASE("bench accuracy --quick prints the accuracy table", "[bench]") {
     TempDir dir("bench-acc");
-    const std::string out = (dir / "out.txt").string();
     const std::string md = (dir / "results.md").string();
-    const RunResult r = sh("MESHLESS bench accuracy --quick --data " + shared_data().string() + " --markdown " + md +
-                               " > " + out,
+    const RunResult r = sh("MESHLESS bench accuracy --quick --data " + shared_data().string() + " --markdown " + md,
                            dir);
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const std::string text = slurp(out);
+    const std::string text = r.out;
     INFO(text);
     CHECK(contains(text, "Machine: "));
     CHECK(contains(text, "mean dist [vox]"));
@@ -39,11 +37,10 @@ TEST_CASE("bench accuracy --quick prints the accuracy table", "[bench]") {
 
 TEST_CASE("bench speed --quick prints the speed tables", "[bench]") {
     TempDir dir("bench-speed");
-    const std::string out = (dir / "out.txt").string();
-    const RunResult r = sh("MESHLESS bench speed --quick --data " + shared_data().string() + " > " + out, dir);
+    const RunResult r = sh("MESHLESS bench speed --quick --data " + shared_data().string(), dir);
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const std::string text = slurp(out);
+    const std::string text = r.out;
     INFO(text);
     CHECK(contains(text, "IS ms"));
     CHECK(contains(text, "MC ms"));
@@ -63,13 +60,12 @@ TEST_CASE("bench rejects unknown sections and bad options", "[bench]") {
 
 TEST_CASE("bench speed without the data folder falls back to analytic volumes", "[bench]") {
     TempDir dir("bench-nodata");
-    const std::string out = (dir / "out.txt").string();
     const RunResult r =
-        sh("MESHLESS bench speed --quick --reps 1 --isovalues 2 --data " + (dir / "no-such-dir").string() + " > " + out,
+        sh("MESHLESS bench speed --quick --reps 1 --isovalues 2 --data " + (dir / "no-such-dir").string(),
            dir);
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const std::string text = slurp(out);
+    const std::string text = r.out;
     CHECK(contains(text, "not found"));
     CHECK(contains(text, "analytic sphere"));
     CHECK(contains(text, "IS/MC"));
@@ -77,16 +73,15 @@ TEST_CASE("bench speed without the data folder falls back to analytic volumes", 
 
 TEST_CASE("bench ooc --quick prints the out-of-core tables and removes its scratch folder", "[bench]") {
     TempDir dir("bench-ooc");
-    const std::string out = (dir / "out.txt").string();
     const std::string md = (dir / "ooc.md").string();
     const std::filesystem::path scratch = dir / "scratch";
     std::filesystem::create_directories(scratch);
     const RunResult r = sh("MESHLESS bench ooc --quick --isovalues 2 --data " + shared_data().string() + " --scratch " +
-                               scratch.string() + " --markdown " + md + " > " + out,
+                               scratch.string() + " --markdown " + md,
                            dir);
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const std::string text = slurp(out);
+    const std::string text = r.out;
     INFO(text);
     CHECK(contains(text, "Machine: "));
     CHECK(contains(text, "convert MB/s"));
@@ -113,13 +108,12 @@ TEST_CASE("bench ooc --quick prints the out-of-core tables and removes its scrat
 
 TEST_CASE("bench ooc --quick without the data folder uses an analytic volume", "[bench]") {
     TempDir dir("bench-ooc-nodata");
-    const std::string out = (dir / "out.txt").string();
     const RunResult r = sh("MESHLESS bench ooc --quick --isovalues 2 --data " + (dir / "no-such-dir").string() +
-                               " --scratch " + dir.path.string() + " --keep > " + out,
+                               " --scratch " + dir.path.string() + " --keep",
                            dir);
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const std::string text = slurp(out);
+    const std::string text = r.out;
     INFO(text);
     CHECK(contains(text, "not found"));
     CHECK(contains(text, "analytic gyroid"));
@@ -142,14 +136,12 @@ TEST_CASE("bench ooc refuses a scratch folder that does not exist", "[bench]") {
 
 TEST_CASE("bench fields --quick prints the field accuracy, reproduction and speed tables", "[bench]") {
     TempDir dir("bench-fields");
-    const std::string out = (dir / "out.txt").string();
     const std::string md = (dir / "fields.md").string();
-    const RunResult r = sh("MESHLESS bench fields --quick --data " + shared_data().string() + " --markdown " + md +
-                               " > " + out,
+    const RunResult r = sh("MESHLESS bench fields --quick --data " + shared_data().string() + " --markdown " + md,
                            dir);
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const std::string text = slurp(out);
+    const std::string text = r.out;
     INFO(text);
     CHECK(contains(text, "Machine: "));
     CHECK(contains(text, "Franke 3-D"));
