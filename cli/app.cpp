@@ -34,7 +34,6 @@ constexpr Command kCommands[] = {
     {"slice", cmd_slice, "scattered points -> colour-mapped slice of a meshless field (PNG)"},
     {"resample", cmd_resample, "scattered points -> a meshless field on a regular grid (NRRD)"},
     {"info", cmd_info, "describe any file meshless reads or writes"},
-    {"bench", cmd_bench, "benchmarks: accuracy, speed vs marching cubes / VTK Flying Edges, threads, splatting"},
     {"batch", cmd_batch, "nightly job: archive of volumes -> brick stores + point sets, skipping what is up to date"},
 };
 

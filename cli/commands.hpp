@@ -17,7 +17,6 @@ int cmd_info(int argc, char** argv);
 int cmd_probe(int argc, char** argv);
 int cmd_slice(int argc, char** argv);
 int cmd_resample(int argc, char** argv);
-int cmd_bench(int argc, char** argv);
 int cmd_batch(int argc, char** argv);
 int cmd_convert(int argc, char** argv);
 int cmd_verify(int argc, char** argv);

@@ -1,4 +1,4 @@
-// Shared pieces of `meshless bench` (dissertation §3.6: extraction time, memory and frame rate of
+// Shared pieces of `meshless-bench` (dissertation §3.6: extraction time, memory and frame rate of
 // iso-splatting vs marching cubes): options, the report (plain-text tables on stdout, the same
 // tables as markdown for bench/RESULTS.md), the machine description, a wall clock, isovalue
 // selection over a volume's histogram, and the list of benchmark volumes under the data folder.
@@ -14,7 +14,7 @@
 
 #include "kernels/grid.hpp"
 
-namespace meshless::cli::bench {
+namespace meshless::bench {
 
 struct BenchOptions {
     std::string data_dir;     ///< folder holding the shared test data (may not exist)
@@ -26,6 +26,10 @@ struct BenchOptions {
     std::string scratch_dir;  ///< ooc section: folder for its stores (empty: the system temp folder)
     bool keep = false;        ///< ooc section: keep the scratch files
     bool with_ooc = false;    ///< "all" includes the ooc section even without kOocScratchRoom free
+    std::string meshless;     ///< the `meshless` executable that whole-process rows run (ooc, process)
+    std::string work_dir;     ///< process: cache folder for its volumes and point sets (empty: a temp folder)
+    int process_reps = 3;     ///< process: best of this many runs per row
+    bool large = false;       ///< process: also the 10^8-point splat row
 };
 
 /// Free space in the scratch folder above which "bench all" includes the ooc section (its 4.4 GB
@@ -92,23 +96,29 @@ struct DataVolume {
 std::vector<DataVolume> speed_volumes();
 
 // The sections; each prints its tables into the report. Missing data is reported, not thrown.
-/// Accuracy of the projected points against analytic surfaces (cli/bench_accuracy.cpp).
+/// Accuracy of the projected points against analytic surfaces (bench/bench_accuracy.cpp).
 void run_accuracy(const BenchOptions& o, Report& r);
-/// Extraction time and memory, iso-splatting vs marching cubes vs VTK Flying Edges (cli/bench_speed.cpp).
+/// Extraction time and memory, iso-splatting vs marching cubes vs VTK Flying Edges (bench/bench_speed.cpp).
 void run_speed(const BenchOptions& o, Report& r);
-/// Thread scaling of iso-splatting and identical output across thread counts (cli/bench_speed.cpp).
+/// Thread scaling of iso-splatting and identical output across thread counts (bench/bench_speed.cpp).
 void run_threads(const BenchOptions& o, Report& r);
-/// Splat rendering frame times, quad and EWA kernels, 36-frame turntable (cli/bench_splat.cpp).
+/// Splat rendering frame times, quad and EWA kernels, 36-frame turntable (bench/bench_splat.cpp).
 void run_splat(const BenchOptions& o, Report& r);
-/// Issue 3's out-of-core numbers (cli/bench_ooc.cpp): conversion MB/s and ratio, store vs in-memory
+/// Issue 3's out-of-core numbers (bench/bench_ooc.cpp): conversion MB/s and ratio, store vs in-memory
 /// throughput, paradigm (A) vs (C) vs marching cubes, threads and MPI ranks, peak RSS on >= 4 GiB.
 /// Writes (and removes unless o.keep) a scratch folder under o.scratch_dir; takes minutes and GBs.
 void run_ooc(const BenchOptions& o, Report& r);
-/// Issue 4's numbers for the meshless fields (cli/bench_fields.cpp): accuracy on Franke's 3-D function
+/// Issue 4's numbers for the meshless fields (bench/bench_fields.cpp): accuracy on Franke's 3-D function
 /// and Marschner-Lobb vs SciPy's RBFInterpolator (bench/rbf_reference.py, run with o.python), linear
 /// reproduction, Table 4.1 construction times on 1 and 2 threads, evaluation rate, 1M-point memory.
 void run_fields(const BenchOptions& o, Report& r);
+/// Issue 11's whole-process numbers (bench/bench_process.cpp): the `meshless` binary (o.meshless) run as
+/// users run it on the lung-sized CT, best-of-N wall clock and peak RSS (wait4), each row with the ratio
+/// to its baseline measured in the same run: isosurface vs vtkFlyingEdges3D, pipes vs in-process,
+/// 2 vs 1 threads, paradigm A vs C, splat throughput and RSS for 10^6..10^8 points. A command that
+/// fails is an "n/a (reason)" row; the run goes on.
+void run_process(const BenchOptions& o, Report& r);
 /// True when o.scratch_dir (or the temp folder) has at least kOocScratchRoom bytes free.
 bool ooc_scratch_has_room(const BenchOptions& o);
 
-}  // namespace meshless::cli::bench
+}  // namespace meshless::bench

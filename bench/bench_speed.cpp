@@ -1,4 +1,4 @@
-// meshless bench speed / threads: extraction time and memory of paradigm-(C) iso-splatting vs our
+// meshless-bench speed / threads: extraction time and memory of paradigm-(C) iso-splatting vs our
 // marching cubes vs VTK's Flying Edges (dissertation §3.6, Fig. 3.5: 16 isosurfaces x 10 runs per
 // data set, mean time per isosurface), and thread scaling with identical output bytes.
 #include <sys/wait.h>
@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "cli/bench_common.hpp"
+#include "bench/bench_common.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/json_lite.hpp"
 #include "formats/volume_reader.hpp"
@@ -22,7 +22,7 @@
 #include "stream/isosplat_pipeline.hpp"
 #include "stream/point_sinks.hpp"
 
-namespace meshless::cli::bench {
+namespace meshless::bench {
 
 namespace {
 
@@ -388,4 +388,4 @@ void run_threads(const BenchOptions& o, Report& r) {
     r.table(t);
 }
 
-}  // namespace meshless::cli::bench
+}  // namespace meshless::bench

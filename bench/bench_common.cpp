@@ -1,4 +1,4 @@
-#include "cli/bench_common.hpp"
+#include "bench/bench_common.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include "formats/atomic_file.hpp"
 
-namespace meshless::cli::bench {
+namespace meshless::bench {
 
 std::string fmt(const char* format, ...) {
     char buf[512];
@@ -195,4 +195,4 @@ std::vector<DataVolume> speed_volumes() {
     };
 }
 
-}  // namespace meshless::cli::bench
+}  // namespace meshless::bench

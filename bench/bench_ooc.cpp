@@ -1,4 +1,4 @@
-// meshless bench ooc: the numbers of issue 3 ("bigger than RAM"; dissertation sections 3.5 Table 3.1
+// meshless-bench ooc: the numbers of issue 3 ("bigger than RAM"; dissertation sections 3.5 Table 3.1
 // and 3.6): brick-store conversion throughput and compression per dataset; out-of-core paradigm (C)
 // from a brick store whose bricks are in the page cache vs the in-memory path on the same volume;
 // paradigm (A) (sample store, span-space query) vs a full paradigm-(C) pass vs marching cubes on the
@@ -6,7 +6,7 @@
 // resident memory of `meshless isosurface big.mlb --memory 256M` on a >= 4 GiB volume made by
 // `meshless synth --upsample 8` (measured with /usr/bin/time -v, skipped when it is absent).
 // Everything it writes goes to a scratch folder (--scratch, default the system temp folder),
-// removed at the end unless --keep. Child commands are this executable (/proc/self/exe).
+// removed at the end unless --keep. Child commands are the `meshless` binary (BenchOptions::meshless).
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,7 +23,7 @@
 #include <optional>
 #include <sstream>
 
-#include "cli/bench_common.hpp"
+#include "bench/bench_common.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/analytic_volumes.hpp"
 #include "kernels/marching_cubes.hpp"
@@ -39,7 +39,7 @@
 #include "stream/runner.hpp"
 #include "stream/sample_store_source.hpp"
 
-namespace meshless::cli::bench {
+namespace meshless::bench {
 
 namespace {
 
@@ -58,12 +58,6 @@ std::string shq(const std::string& s) {
     std::string out = "'";
     for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
     return out + "'";
-}
-
-std::string self_exe() {
-    std::error_code ec;
-    const fs::path p = fs::read_symlink("/proc/self/exe", ec);
-    return ec ? std::string("meshless") : p.string();
 }
 
 std::string dims_str(const GridSpec& g) {
@@ -770,7 +764,7 @@ bool ooc_scratch_has_room(const BenchOptions& o) {
 void run_ooc(const BenchOptions& o, Report& r) {
     r.section("Out of core: brick stores, paradigms (A) and (C), threads and ranks, peak memory (issue 3)");
     OocScratch scratch(o.scratch_dir, o.keep);
-    const std::string exe = self_exe();
+    const std::string exe = o.meshless;
     const int reps = o.quick ? 1 : std::clamp(o.reps, 1, 3);
     const bool mpi_built =
 #ifdef MESHLESS_HAVE_MPI
@@ -880,4 +874,4 @@ void run_ooc(const BenchOptions& o, Report& r) {
     if (o.keep) r.note("Scratch files kept in " + scratch.path.string() + " (--keep).");
 }
 
-}  // namespace meshless::cli::bench
+}  // namespace meshless::bench

@@ -1,4 +1,4 @@
-// meshless bench accuracy: how close the iso-splatted points lie to the true isosurface of analytic
+// meshless-bench accuracy: how close the iso-splatted points lie to the true isosurface of analytic
 // fields (dissertation §3.3: approximate projection Eq. 3.5, exact projection Eq. 3.3, and the
 // unprojected cell centres of Fig. 3.4), and whether the splats cover the surface (every
 // marching-cubes vertex within one splat radius of some point).
@@ -6,13 +6,13 @@
 #include <cmath>
 #include <limits>
 
-#include "cli/bench_common.hpp"
+#include "bench/bench_common.hpp"
 #include "kernels/analytic_volumes.hpp"
 #include "kernels/marching_cubes.hpp"
 #include "stream/isosplat_pipeline.hpp"
 #include "stream/point_sinks.hpp"
 
-namespace meshless::cli::bench {
+namespace meshless::bench {
 
 namespace {
 
@@ -213,4 +213,4 @@ void run_accuracy(const BenchOptions& o, Report& r) {
     r.note(std::string("Accuracy targets: ") + (all_ok ? "all PASS" : "some FAIL (see the targets column)"));
 }
 
-}  // namespace meshless::cli::bench
+}  // namespace meshless::bench

@@ -1,16 +1,16 @@
-// meshless bench splat: software surface-splatting frame times (dissertation §3.6: frame rate over
+// meshless-bench splat: software surface-splatting frame times (dissertation §3.6: frame rate over
 // 36 frames, the model rotated 10 degrees about the y axis each time), quad and EWA kernels, for
 // several point counts (every k-th point of one isosurface).
 #include <filesystem>
 
-#include "cli/bench_common.hpp"
+#include "bench/bench_common.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/analytic_volumes.hpp"
 #include "kernels/splat_rasterizer.hpp"
 #include "stream/isosplat_pipeline.hpp"
 #include "stream/point_sinks.hpp"
 
-namespace meshless::cli::bench {
+namespace meshless::bench {
 
 void run_splat(const BenchOptions& o, Report& r) {
     r.section("Splatting: software renderer frame times, 800x800 (dissertation 3.6)");
@@ -72,4 +72,4 @@ void run_splat(const BenchOptions& o, Report& r) {
     r.table(t);
 }
 
-}  // namespace meshless::cli::bench
+}  // namespace meshless::bench

@@ -1,0 +1,168 @@
+// meshless-bench: the benchmarks of dissertation §3.6 (accuracy, extraction speed and memory vs
+// marching cubes and VTK Flying Edges, thread scaling, splat frame rates), of issue 3 (out of core:
+// brick stores, paradigms A and C, peak memory), of issue 4 (meshless fields) and of issue 11 (whole
+// processes as users run them, bench/bench_process.cpp). An executable of its own, never part of the
+// `meshless` product. Thin: parses options and runs the sections in bench/bench_*.cpp.
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+
+#include "cli/args.hpp"
+#include "bench/bench_common.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless::bench {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using cli::Args;
+
+/// Folder holding flying_edges.py: the source folder this executable was built from, else
+/// ../../bench relative to the executable (build/bench/meshless-bench).
+std::string default_bench_dir() {
+    std::error_code ec;
+    const fs::path src(MESHLESS_BENCH_SOURCE_DIR);
+    if (fs::exists(src / "flying_edges.py", ec)) return src.string();
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const fs::path d = exe.parent_path().parent_path().parent_path() / "bench";
+        if (fs::exists(d / "flying_edges.py", ec)) return d.string();
+    }
+    return "bench";
+}
+
+/// The `meshless` built beside this executable (build/cli/meshless), else the one on PATH.
+std::string default_meshless() {
+    std::error_code ec;
+    const fs::path built(MESHLESS_BENCH_DEFAULT_MESHLESS);
+    if (fs::exists(built, ec)) return built.string();
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const fs::path d = exe.parent_path().parent_path() / "cli" / "meshless";
+        if (fs::exists(d, ec)) return d.string();
+    }
+    return "meshless";
+}
+
+std::string default_data_dir() {
+    if (const char* e = std::getenv("MESHLESS_DATA"); e && *e) return e;
+    return "../shared/data";
+}
+
+}  // namespace
+
+/// Args names its program "meshless COMMAND"; this executable is "meshless-bench".
+std::string own_name(std::string text) {
+    for (std::size_t p; (p = text.find("meshless bench")) != std::string::npos;) text.replace(p, 14, "meshless-bench");
+    return text;
+}
+
+int bench_main(int argc, char** argv) {
+    Args a("bench", "[accuracy|speed|threads|splat|ooc|fields|process|all] [options]",
+           "Benchmarks, printed as tables on stdout (progress on stderr); ratios are against baselines\n"
+           "measured in the same run. Results are written to a file only with --markdown FILE.\n"
+           "  accuracy  distance / normal / value errors of the projected points on analytic fields, coverage\n"
+           "  speed     extraction time and memory: iso-splatting vs marching cubes vs VTK Flying Edges\n"
+           "  threads   iso-splatting on 1 and 2 threads, identical output\n"
+           "  splat     quad and EWA splat frame times, 36-frame turntable\n"
+           "  ooc       brick stores: conversion MB/s and ratio, store vs in-memory throughput, paradigm A vs C\n"
+           "            vs marching cubes, threads and MPI ranks, peak RSS on a 4.4 GB volume (minutes, GBs)\n"
+           "  fields    meshless fields (rbf-grid, mpu, global-rbf): accuracy vs SciPy RBFInterpolator, linear\n"
+           "            reproduction, Table 4.1 construction times, evaluation rate, 1M-point memory (minutes)\n"
+           "  process   whole `meshless` processes as users run them on the lung-sized CT (LIDC2 x2): isosurface\n"
+           "            vs VTK Flying Edges, pipes vs in-process, threads, paradigm A vs C, splat throughput and\n"
+           "            peak RSS (best-of-N wall clock, RSS from wait4; a few minutes, ~1 GB in --work)\n"
+           "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
+    a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
+        .option("reps", "", "N", "repetitions per isosurface (process: best of N runs, default 3)", "10")
+        .option("isovalues", "", "K", "isosurfaces per volume", "16")
+        .option("markdown", "", "FILE", "also write the tables as markdown to FILE (nothing is written without it)")
+        .option("bench-dir", "", "DIR", "folder holding flying_edges.py and rbf_reference.py (default: the source tree's bench/)")
+        .option("python", "", "EXE", "Python interpreter with the vtk module (speed) and scipy (fields)", "/usr/bin/python3")
+        .option("scratch", "", "DIR", "ooc: folder for its temporary stores (default: the system temp folder)")
+        .option("meshless", "", "PATH", "the meshless executable the whole-process rows run (default: the one built beside this)")
+        .option("work", "", "DIR", "process: cache folder for the lung-sized volume, its store and point sets, kept and "
+                                   "reused (default: a temporary folder, removed at the end)")
+        .flag("large", "process: also the 10^8-point splat row (3.2 GB of PLY in --work)")
+        .flag("keep", "ooc: keep the scratch files (stores, the 4.4 GB volume's store)")
+        .flag("with-ooc", "all: include the ooc section whatever the free space")
+        .flag("quick", "smoke test: 2 reps, 4 isovalues, no large volumes (ooc: LIDC2 x1, no 4 GiB volume, no MPI; "
+                       "fields: N = 1K, 10K, no 1M; process: LIDC2 x1, 2 isovalues, 10^4/10^5-point splats)");
+    a.epilog("examples: meshless-bench process --work /tmp/mb-cache --markdown /tmp/process.md\n"
+             "          meshless-bench speed --data ../shared/data --markdown bench/RESULTS.md\n");
+    for (int i = 1; i < argc; ++i)
+        if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+            std::fputs(own_name(a.help_text()).c_str(), stdout);
+            return 0;
+        }
+    a.parse(argc, argv, 1);
+    const std::string what = a.positional().empty() ? "all" : a.positional()[0];
+    if (what != "all" && what != "accuracy" && what != "speed" && what != "threads" && what != "splat" &&
+        what != "ooc" && what != "fields" && what != "process")
+        throw UsageError("unknown section '" + what + "' (accuracy, speed, threads, splat, ooc, fields, process, all)");
+
+    BenchOptions o;
+    o.quick = a.has("quick");
+    o.reps = static_cast<int>(a.get_int_or("reps", o.quick ? 2 : 10));
+    o.process_reps = static_cast<int>(a.get_int_or("reps", o.quick ? 1 : 3));
+    o.isovalues = static_cast<int>(a.get_int_or("isovalues", o.quick ? 4 : 16));
+    if (o.reps < 1 || o.reps > 100000) throw UsageError("--reps: expected 1..100000");
+    if (o.isovalues < 1 || o.isovalues > 1000) throw UsageError("--isovalues: expected 1..1000");
+    o.data_dir = a.get_or("data", default_data_dir());
+    o.bench_dir = a.get_or("bench-dir", default_bench_dir());
+    o.python = a.get_or("python", "/usr/bin/python3");
+    o.scratch_dir = a.get_or("scratch", "");
+    o.keep = a.has("keep");
+    o.with_ooc = a.has("with-ooc");
+    o.meshless = a.get_or("meshless", default_meshless());
+    o.work_dir = a.get_or("work", "");
+    o.large = a.has("large");
+    if (!o.scratch_dir.empty() && !fs::is_directory(o.scratch_dir))
+        throw UsageError("--scratch: '" + o.scratch_dir + "' is not a folder");
+
+    Report r;
+    r.title("meshless-bench " + what + (o.quick ? " (--quick)" : ""));
+    r.note("Machine: " + machine_description() + ". Date: " + now_string() + ". " +
+           fmt("Options: --reps %d --isovalues %d, data folder %s.", o.reps, o.isovalues, o.data_dir.c_str()));
+    if (what == "all" || what == "accuracy") run_accuracy(o, r);
+    if (what == "all" || what == "speed") run_speed(o, r);
+    if (what == "all" || what == "threads") run_threads(o, r);
+    if (what == "all" || what == "splat") run_splat(o, r);
+    if (what == "all" || what == "fields") run_fields(o, r);
+    if (what == "ooc" || (what == "all" && (o.quick || o.with_ooc || ooc_scratch_has_room(o))))
+        run_ooc(o, r);
+    else if (what == "all")
+        r.note("ooc section skipped: less than 16 GiB free in the scratch folder (give --with-ooc, --scratch DIR, "
+               "or run `meshless-bench ooc`).");
+    if (what == "all" || what == "process") run_process(o, r);
+    if (auto md = a.get("markdown")) r.write_markdown(*md);
+    return 0;
+}
+
+}  // namespace meshless::bench
+
+int main(int argc, char** argv) {
+    using namespace meshless;
+    std::signal(SIGPIPE, SIG_IGN);
+    try {
+        return bench::bench_main(argc, argv);
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "meshless-bench: %s\n", bench::own_name(e.what()).c_str());
+        return 1;
+    } catch (const FormatError& e) {
+        std::fprintf(stderr, "meshless-bench: %s\n", e.what());
+        return 2;
+    } catch (const IoError& e) {
+        std::fprintf(stderr, "meshless-bench: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "meshless-bench: internal error: %s\n", e.what());
+        return 3;
+    }
+}
