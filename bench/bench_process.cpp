@@ -579,13 +579,15 @@ void part_c(const Ctx& c, const Lung& l, double iso, const fs::path& splat_point
     add_row(t, "isosurface --threads 1", i1, "-", kNone, kNone, true);
     add_row(t, "isosurface --threads 2", i2, "--threads 1", i1.ok ? i1.seconds : kNone, 1.8,
             false, true, i1.ok && i2.ok ? compare_points(c.work / "c_t1.ply", c.work / "c_t2.ply") : std::string("-"));
-    const Timed p1 = c.run(c.m + " isosurface " + vol + iso_s + " -o " + c.out("c_t1.ply") + " --png " + c.out("c_t1.png") +
-                           " --threads 1");
-    const Timed p2 = c.run(c.m + " isosurface " + vol + iso_s + " -o " + c.out("c_t2.ply") + " --png " + c.out("c_t2.png") +
-                           " --threads 2");
-    add_row(t, "isosurface --png --threads 1", p1, "-", kNone, kNone, true);
-    add_row(t, "isosurface --png --threads 2", p2, "--threads 1", p1.ok ? p1.seconds : kNone,
-            1.8, false, true, p1.ok && p2.ok ? (slurp(c.work / "c_t1.png") == slurp(c.work / "c_t2.png") ? "SAME png" : "DIFFERENT png") : "-");
+    if (!c.o.quick) {  // --quick: the smoke test's few seconds
+        const Timed p1 = c.run(c.m + " isosurface " + vol + iso_s + " -o " + c.out("c_t1.ply") + " --png " + c.out("c_t1.png") +
+                               " --threads 1");
+        const Timed p2 = c.run(c.m + " isosurface " + vol + iso_s + " -o " + c.out("c_t2.ply") + " --png " + c.out("c_t2.png") +
+                               " --threads 2");
+        add_row(t, "isosurface --png --threads 1", p1, "-", kNone, kNone, true);
+        add_row(t, "isosurface --png --threads 2", p2, "--threads 1", p1.ok ? p1.seconds : kNone,
+                1.8, false, true, p1.ok && p2.ok ? (slurp(c.work / "c_t1.png") == slurp(c.work / "c_t2.png") ? "SAME png" : "DIFFERENT png") : "-");
+    }
     if (!splat_points.empty()) {
         const std::string in = shq(splat_points.string());
         const Timed s1 = c.run(c.m + " splat " + in + " -o " + c.out("c_s1.png") + " --kernel quad --size 1024x1024 --threads 1");

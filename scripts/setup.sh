@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # meshless set-up on a fresh Debian 12 machine: installs the Debian packages the project needs,
-# builds in Release, then runs the demo or the test suite.
-#   scripts/setup.sh demo    install + build + `meshless demo -o out/demo`
-#   scripts/setup.sh test    install + build + the whole test suite (ctest)
-#   scripts/setup.sh deps    install only;   scripts/setup.sh build   install + build only
+# builds in Release what the task needs, then runs it.
+#   scripts/setup.sh demo    install + build the `meshless` executable only + `meshless demo -o out/demo`
+#   scripts/setup.sh test    install + build everything, tests and meshless-bench included + ctest
+#   scripts/setup.sh bench   install (+ VTK and SciPy, the baselines) + build meshless and meshless-bench
+#   scripts/setup.sh deps    install only;   scripts/setup.sh build   install + build meshless and the tests
 # Environment: BUILD_DIR (default build), JOBS (default nproc), SKIP_APT=1 to skip apt-get.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,11 +16,13 @@ PACKAGES=(build-essential cmake ninja-build pkg-config git
           libeigen3-dev libnanoflann-dev libboost-iostreams-dev libzstd-dev libcgal-dev
           catch2 libtbb-dev libpng-dev zlib1g-dev
           libopenmpi-dev openmpi-bin)
+# the benchmarks' baselines (bench/flying_edges.py, bench/rbf_reference.py) and /usr/bin/time
+BENCH_PACKAGES=(python3-vtk9 python3-scipy time)
 
 install_deps() {
   [ "${SKIP_APT:-0}" = 1 ] && return 0
   local missing=()
-  for p in "${PACKAGES[@]}"; do
+  for p in "${PACKAGES[@]}" "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
@@ -30,15 +33,29 @@ install_deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
+# configure TESTS BENCH [TARGET...]: configures with the tests and meshless-bench ON or OFF, then
+# builds the given targets (all when none).
 build() {
-  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$BUILD_DIR" -j "$JOBS"
+  local tests="$1" bench="$2"
+  shift 2
+  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+        -DMESHLESS_BUILD_TESTS="$tests" -DMESHLESS_BUILD_BENCH="$bench" >/dev/null
+  if [ $# -eq 0 ]; then
+    cmake --build "$BUILD_DIR" -j "$JOBS"
+  else
+    cmake --build "$BUILD_DIR" -j "$JOBS" --target "$@"
+  fi
 }
 
 case "$what" in
   deps) install_deps ;;
-  build) install_deps; build ;;
-  demo) install_deps; build; "$BUILD_DIR/cli/meshless" demo -o out/demo ;;
-  test) install_deps; build; ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" ;;
-  *) echo "usage: scripts/setup.sh demo|test|deps|build" >&2; exit 1 ;;
+  build) install_deps; build ON OFF ;;
+  demo) install_deps; build OFF OFF meshless; "$BUILD_DIR/cli/meshless" demo -o out/demo ;;
+  test) install_deps; build ON ON; ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" ;;
+  bench)
+    install_deps "${BENCH_PACKAGES[@]}"
+    build OFF ON meshless meshless-bench
+    echo "setup: built $BUILD_DIR/bench/meshless-bench; e.g. $BUILD_DIR/bench/meshless-bench process --markdown /tmp/process.md" >&2
+    echo "       ($BUILD_DIR/bench/meshless-bench --help lists the sections; bench/README.md explains the rows)" >&2 ;;
+  *) echo "usage: scripts/setup.sh demo|test|bench|deps|build" >&2; exit 1 ;;
 esac
