@@ -303,7 +303,8 @@ void write_raw_and_header(const fs::path& mlb, const fs::path& raw, const fs::pa
     fs::rename(tmp, nhdr);
 }
 
-Lung make_lung(const BenchOptions& o, const fs::path& work, int factor, Report& r) {
+/// The lung-sized volume in `work` (made when missing); `scratch` takes the commands' stderr.
+Lung make_lung(const BenchOptions& o, const fs::path& work, const fs::path& scratch, int factor, Report& r) {
     Lung l;
     const fs::path lidc = fs::path(o.data_dir) / "vtkjs_LIDC2" / "LIDC2.vti";
     if (!fs::exists(lidc)) {
@@ -318,7 +319,7 @@ Lung make_lung(const BenchOptions& o, const fs::path& work, int factor, Report& 
         const std::string cmd = shq(o.meshless) + " synth --upsample " + std::to_string(factor) + " " +
                                 shq(lidc.string()) + " -o " + shq(l.mlb.string());
         std::fprintf(stderr, "bench process: %s\n", cmd.c_str());
-        const Run s = run_sh(cmd, work / "stderr.txt");
+        const Run s = run_sh(cmd, scratch / "stderr.txt");
         if (!s.ok()) {
             l.why = "meshless synth failed: " + s.why();
             return l;
@@ -398,7 +399,7 @@ fs::path sphere_points(const fs::path& work, std::uint64_t n) {
 struct Ctx {
     const BenchOptions& o;
     Report& r;
-    fs::path work;
+    fs::path work;  ///< the run's own output folder (outputs, stderr files), removed at the end
     int reps;
     std::string m;  ///< quoted meshless path
     Timed run(const std::string& cmd) const { return best_of(cmd, reps, work); }
@@ -714,23 +715,30 @@ void part_e(const Ctx& c, const std::vector<std::pair<std::uint64_t, fs::path>>&
 
 void run_process(const BenchOptions& o, Report& r) {
     r.section("Whole processes (issue 11): `meshless` as users run it");
+    // inputs in `work` (kept when given), outputs of this run in its own folder inside it (always removed)
     const bool own_work = o.work_dir.empty();
     const fs::path work = own_work ? fs::temp_directory_path() / fmt("meshless-bench-process-%d", static_cast<int>(::getpid()))
                                    : fs::path(o.work_dir);
     fs::create_directories(work);
-    const Run version = run_sh(shq(o.meshless) + " --version", work / "stderr.txt", work / "version.txt");
+    const fs::path out = work / fmt("out-%d", static_cast<int>(::getpid()));
+    fs::create_directories(out);
+    auto clean_up = [&] {
+        std::error_code ec;
+        fs::remove_all(own_work ? work : out, ec);
+    };
+    const Run version = run_sh(shq(o.meshless) + " --version", out / "stderr.txt", out / "version.txt");
     if (!version.ok()) {
         r.note("`" + o.meshless + " --version` failed (" + version.why() + "): process section skipped (give --meshless PATH).");
-        if (own_work) fs::remove_all(work);
+        clean_up();
         return;
     }
     const int reps = std::max(1, o.process_reps);
     r.note(fmt("Binary: %s (%s). Best of %d runs per row, wall clock of the whole process (fork to wait4), peak RSS = "
-               "wait4's ru_maxrss. Work folder: %s%s. The rows are timed on whatever else the machine runs: compare "
+               "wait4's ru_maxrss. Inputs in %s%s. The rows are timed on whatever else the machine runs: compare "
                "ratios within this run.",
                o.meshless.c_str(), first_line(version.out).c_str(), reps, work.c_str(),
-               own_work ? " (temporary)" : " (kept; inputs reused)"));
-    Ctx c{o, r, work, reps, shq(o.meshless)};
+               own_work ? " (temporary)" : " (kept; reused by later runs)"));
+    Ctx c{o, r, out, reps, shq(o.meshless)};
 
     // the splat point sets (no data needed)
     std::vector<std::pair<std::uint64_t, fs::path>> sets;
@@ -743,7 +751,7 @@ void run_process(const BenchOptions& o, Report& r) {
         r.note(std::string("splat point sets could not be written: ") + e.what());
     }
 
-    const Lung lung = make_lung(o, work, o.quick ? 1 : 2, r);
+    const Lung lung = make_lung(o, work, out, o.quick ? 1 : 2, r);
     if (!lung.ok) {
         r.note("Lung-sized CT unavailable: " + lung.why + ". Parts (a)-(d) skipped.");
     } else {
@@ -759,18 +767,7 @@ void run_process(const BenchOptions& o, Report& r) {
         part_d(c, lung, 230.5);
     }
     if (!sets.empty()) part_e(c, sets);
-
-    // outputs go; the inputs stay when the work folder was given
-    std::error_code ec;
-    if (own_work) {
-        fs::remove_all(work, ec);
-    } else {
-        for (const auto& e : fs::directory_iterator(work, ec)) {
-            const std::string n = e.path().filename().string();
-            if (n.rfind("lung_", 0) == 0 || n.rfind("sphere_", 0) == 0) continue;
-            fs::remove_all(e.path(), ec);
-        }
-    }
+    clean_up();
 }
 
 }  // namespace meshless::bench
