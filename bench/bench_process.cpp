@@ -91,7 +91,7 @@ struct Run {
         if (const auto see = e.find(" (see meshless"); see != std::string::npos) e = e.substr(0, see);
         if (!work.empty())
             for (std::size_t p; (p = e.find(work + "/")) != std::string::npos;) e.replace(p, work.size() + 1, "WORK/");
-        if (e.size() > 90) e = e.substr(0, 87) + "...";
+        if (e.size() > 64) e = e.substr(0, 61) + "...";
         return (code >= 128 ? fmt("signal %d", code - 128) : fmt("exit %d", code)) + (e.empty() ? "" : ": " + e);
     }
 };
@@ -700,10 +700,10 @@ void part_e(const Ctx& c, const std::vector<std::pair<std::uint64_t, fs::path>>&
         else if (auto ms = reported_ms_per_frame(tt.err)) {
             rms = fmt("%.1f", *ms);
             render_rate = static_cast<double>(n) / (*ms * 1e-3) / 1e6;
-            rrate = fmt("%.1f", *render_rate);
+            rrate = fmt("%.3g", *render_rate);
         }
         const double best_rate = render_rate ? *render_rate : rate;
-        t.add({label, fmt("%.0f", ply_mib), threads.empty() ? "default" : "1", secs(s.seconds), fmt("%.1f", rate),
+        t.add({label, fmt("%.0f", ply_mib), threads.empty() ? "default" : "1", secs(s.seconds), fmt("%.3g", rate),
                mib(s.maxrss_kib),
                fmt("%.0f", s.maxrss_kib / 1024.0 - ply_mib), rms, rrate,
                fmt(">= 20 M/s: %s", best_rate >= 20 ? "PASS" : "FAIL")});
@@ -733,7 +733,7 @@ void run_process(const BenchOptions& o, Report& r) {
         return;
     }
     const int reps = std::max(1, o.process_reps);
-    r.note(fmt("Binary: %s (%s). Best of %d runs per row, wall clock of the whole process (fork to wait4), peak RSS = "
+    r.note(fmt("Binary: %s (%s). Best of %d runs per row (--reps), wall clock of the whole process (fork to wait4), peak RSS = "
                "wait4's ru_maxrss. Inputs in %s%s. The rows are timed on whatever else the machine runs: compare "
                "ratios within this run.",
                o.meshless.c_str(), first_line(version.out).c_str(), reps, work.c_str(),
