@@ -757,7 +757,7 @@ void run_process(const BenchOptions& o, Report& r) {
     } else {
         r.note("Volume: " + lung.label + ", as " + lung.nhdr.filename().string() + " (detached NRRD header + raw) and " +
                lung.mlb.filename().string() + " (brick store).");
-        part_a(c, lung, part_a_isovalues(o.quick ? 2 : 8));
+        part_a(c, lung, part_a_isovalues(o.quick ? 1 : 8));
         part_b(c, lung, 100.5);
         // the threads rows splat the largest set up to 10^7 points
         std::pair<std::uint64_t, fs::path> th{0, {}};

@@ -93,7 +93,7 @@ int bench_main(int argc, char** argv) {
         .flag("keep", "ooc: keep the scratch files (stores, the 4.4 GB volume's store)")
         .flag("with-ooc", "all: include the ooc section whatever the free space")
         .flag("quick", "smoke test: 2 reps, 4 isovalues, no large volumes (ooc: LIDC2 x1, no 4 GiB volume, no MPI; "
-                       "fields: N = 1K, 10K, no 1M; process: LIDC2 x1, 2 isovalues, 10^4/10^5-point splats)");
+                       "fields: N = 1K, 10K, no 1M; process: LIDC2 x1, 1 isovalue, 10^4/10^5-point splats)");
     a.epilog("examples: meshless-bench process --work /tmp/mb-cache --markdown /tmp/process.md\n"
              "          meshless-bench speed --data ../shared/data --markdown bench/RESULTS.md\n");
     for (int i = 1; i < argc; ++i)
