@@ -80,7 +80,7 @@ int bench_main(int argc, char** argv) {
            "            peak RSS (best-of-N wall clock, RSS from wait4; a few minutes, ~1 GB in --work)\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
     a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
-        .option("reps", "", "N", "repetitions per isosurface (process: best of N runs, default 3)", "10")
+        .option("reps", "", "N", "repetitions per isosurface (default 10); process: best of N runs (default 3)")
         .option("isovalues", "", "K", "isosurfaces per volume", "16")
         .option("markdown", "", "FILE", "also write the tables as markdown to FILE (nothing is written without it)")
         .option("bench-dir", "", "DIR", "folder holding flying_edges.py and rbf_reference.py (default: the source tree's bench/)")
