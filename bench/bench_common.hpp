@@ -118,6 +118,11 @@ void run_fields(const BenchOptions& o, Report& r);
 /// 2 vs 1 threads, paradigm A vs C, splat throughput and RSS for 10^6..10^8 points. A command that
 /// fails is an "n/a (reason)" row; the run goes on.
 void run_process(const BenchOptions& o, Report& r);
+/// `meshless-bench --rusage-wrapper RSSFILE PROGRAM ARGS...` (used by run_process, not by users): runs
+/// PROGRAM as a child, writes the child's ru_maxrss (KiB, its waited-for descendants included) to
+/// RSSFILE and exits with the child's status. A fresh process, so the child's peak RSS is its own.
+inline constexpr const char* kRusageWrapperFlag = "--rusage-wrapper";
+int run_rusage_wrapper(int argc, char** argv);
 /// True when o.scratch_dir (or the temp folder) has at least kOocScratchRoom bytes free.
 bool ooc_scratch_has_room(const BenchOptions& o);
 

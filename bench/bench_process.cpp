@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -96,10 +97,28 @@ struct Run {
     }
 };
 
+/// This executable (the rusage wrapper below is this program re-executed), empty when unknown.
+const std::string& self_exe() {
+    static const std::string path = [] {
+        std::error_code ec;
+        const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+        return ec ? std::string() : p.string();
+    }();
+    return path;
+}
+
 /// Runs `/bin/sh -c cmd` with stdin on /dev/null, stdout into out_file (or /dev/null), stderr into
-/// err_file; wall time from before fork() to after wait4(), ru_maxrss from wait4.
+/// err_file; wall time from before fork() to after wait4(). Peak RSS: a process forked from this one
+/// starts with this process's resident set as its high-water mark (Linux copies it at fork and keeps
+/// it across exec), so the shell runs under a freshly executed copy of this program
+/// (run_rusage_wrapper, a few MiB) that forks it, waits and reports the shell's ru_maxrss (which
+/// includes the shell's children). Without /proc/self/exe: wait4's own figure, an upper bound.
 Run run_sh(const std::string& cmd, const fs::path& err_file, const fs::path& out_file = {}) {
     Run r;
+    const std::string rss_file = err_file.string() + ".rss";
+    std::error_code ec;
+    fs::remove(rss_file, ec);
+    const std::string& self = self_exe();
     const auto t0 = std::chrono::steady_clock::now();
     const pid_t pid = ::fork();
     if (pid < 0) {
@@ -114,6 +133,9 @@ Run run_sh(const std::string& cmd, const fs::path& err_file, const fs::path& out
         ::dup2(in, 0);
         ::dup2(out, 1);
         ::dup2(err, 2);
+        if (!self.empty())
+            ::execl(self.c_str(), self.c_str(), kRusageWrapperFlag, rss_file.c_str(), "/bin/sh", "-c", cmd.c_str(),
+                    static_cast<char*>(nullptr));
         ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
         ::_exit(127);
     }
@@ -124,6 +146,11 @@ Run run_sh(const std::string& cmd, const fs::path& err_file, const fs::path& out
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.code = WIFEXITED(st) ? WEXITSTATUS(st) : WIFSIGNALED(st) ? 128 + WTERMSIG(st) : -1;
     r.maxrss_kib = ru.ru_maxrss;
+    if (std::ifstream f(rss_file); f) {
+        long kib = 0;
+        if (f >> kib) r.maxrss_kib = kib;
+    }
+    fs::remove(rss_file, ec);
     r.err = slurp(err_file);
     if (!out_file.empty()) r.out = slurp(out_file);
     return r;
@@ -713,6 +740,26 @@ void part_e(const Ctx& c, const std::vector<std::pair<std::uint64_t, fs::path>>&
 
 }  // namespace
 
+int run_rusage_wrapper(int argc, char** argv) {
+    if (argc < 4) return 126;
+    std::signal(SIGPIPE, SIG_DFL);  // the bench ignores SIGPIPE; the commands measured get the default
+    const pid_t pid = ::fork();
+    if (pid < 0) return 126;
+    if (pid == 0) {
+        ::execv(argv[3], argv + 3);
+        ::_exit(127);
+    }
+    int st = 0;
+    struct rusage ru {};
+    while (::wait4(pid, &st, 0, &ru) < 0 && errno == EINTR) {
+    }
+    if (std::FILE* f = std::fopen(argv[2], "w")) {
+        std::fprintf(f, "%ld\n", ru.ru_maxrss);
+        std::fclose(f);
+    }
+    return WIFEXITED(st) ? WEXITSTATUS(st) : WIFSIGNALED(st) ? 128 + WTERMSIG(st) : 126;
+}
+
 void run_process(const BenchOptions& o, Report& r) {
     r.section("Whole processes (issue 11): `meshless` as users run it");
     // inputs in `work` (kept when given), outputs of this run in its own folder inside it (always removed)
@@ -734,7 +781,8 @@ void run_process(const BenchOptions& o, Report& r) {
     }
     const int reps = std::max(1, o.process_reps);
     r.note(fmt("Binary: %s (%s). Best of %d runs per row (--reps), wall clock of the whole process (fork to wait4), peak RSS = "
-               "wait4's ru_maxrss. Inputs in %s%s. The rows are timed on whatever else the machine runs: compare "
+               "ru_maxrss of the shell running the command (its largest process), measured by a freshly started wrapper "
+               "so that the bench's own memory does not count. Inputs in %s%s. The rows are timed on whatever else the machine runs: compare "
                "ratios within this run.",
                o.meshless.c_str(), first_line(version.out).c_str(), reps, work.c_str(),
                own_work ? " (temporary)" : " (kept; reused by later runs)"));

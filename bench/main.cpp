@@ -149,6 +149,7 @@ int bench_main(int argc, char** argv) {
 
 int main(int argc, char** argv) {
     using namespace meshless;
+    if (argc >= 2 && std::strcmp(argv[1], bench::kRusageWrapperFlag) == 0) return bench::run_rusage_wrapper(argc, argv);
     std::signal(SIGPIPE, SIG_IGN);
     try {
         return bench::bench_main(argc, argv);
