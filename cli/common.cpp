@@ -12,6 +12,7 @@
 #include "formats/volume_reader.hpp"
 #include "ooc/brick_slice_source.hpp"
 #include "kernels/errors.hpp"
+#include "stream/available_cpus.hpp"
 
 namespace meshless::cli {
 
@@ -49,7 +50,8 @@ RawOptions raw_options(const Args& a) {
     return raw;
 }
 
-Volume load_volume(const Args& a) {
+namespace {
+Volume load_volume(const Args& a, bool map) {
     if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
     const std::string& path = a.positional()[0];
     if (is_brick_store(path)) return read_brick_store_volume(path);  // commands that need the volume whole
@@ -60,8 +62,11 @@ Volume load_volume(const Args& a) {
             std::fprintf(stderr, "meshless %s: warning: %s is a %s file, which describes itself: --dims, --type, --endian "
                          "and --spacing are ignored\n", a.command().c_str(), path.c_str(), vi.format.c_str());
     }
-    return read_volume(path, raw);
+    return map ? map_volume(path, raw) : read_volume(path, raw);
 }
+}  // namespace
+
+Volume load_volume(const Args& a) { return load_volume(a, false); }
 
 void add_sampling_options(Args& a) {
     a.option("radius-scale", "", "S", "splat radius = S * half the cell diagonal", "1");
@@ -81,7 +86,13 @@ void add_memory_option(Args& a) {
 const GridSpec& VolumeInput::grid() const { return store ? store->info().grid : volume->grid; }
 SampleType VolumeInput::type() const { return store ? store->info().type : volume->type; }
 std::array<double, 2> VolumeInput::value_range() const {
-    return store ? std::array<double, 2>{store->info().value_min, store->info().value_max} : volume->value_range();
+    if (!range_)
+        range_ = store ? std::array<double, 2>{store->info().value_min, store->info().value_max} : volume->value_range();
+    return *range_;
+}
+std::optional<std::array<double, 2>> VolumeInput::known_value_range() const {
+    if (store) return value_range();
+    return range_;
 }
 
 VolumeInput open_volume_input(const Args& a) {
@@ -97,7 +108,7 @@ VolumeInput open_volume_input(const Args& a) {
         if (a.has("memory"))
             std::fprintf(stderr, "meshless %s: warning: --memory applies to brick stores (.mlb); %s is read whole "
                          "(meshless convert makes a store)\n", a.command().c_str(), in.path.c_str());
-        in.volume = load_volume(a);
+        in.volume = load_volume(a, /*map=*/true);
     }
     return in;
 }
@@ -110,13 +121,15 @@ IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, 
 }
 
 void add_thread_option(Args& a) {
-    a.option("threads", "j", "N", "worker threads (0 = all cores); output bytes do not depend on it", "1");
+    a.option("threads", "j", "N",
+             "worker threads (default 0 = every CPU this process may use: affinity mask and cgroup quota); "
+             "output bytes do not depend on it", "0");
 }
 
 int threads(const Args& a) {
-    const long long n = a.get_int_or("threads", 1);
+    const long long n = a.get_int_or("threads", 0);
     if (n < 0 || n > 1024) throw UsageError("--threads: expected 0..1024");
-    return n == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : static_cast<int>(n);
+    return n == 0 ? available_cpus() : static_cast<int>(n);
 }
 
 void add_camera_options(Args& a) {
@@ -180,7 +193,7 @@ std::optional<Vec3> parse_triple_meta(const StreamMeta& m, const std::string& ke
 }  // namespace
 
 StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType type,
-                       const std::array<double, 2>& r, double iso, const std::string& producer) {
+                       const std::optional<std::array<double, 2>>& r, double iso, const std::string& producer) {
     StreamMeta m;
     m.set("source", std::filesystem::path(source).filename().string());
     m.set("iso", iso);
@@ -190,8 +203,10 @@ StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType 
     m.set("bounds_lo", triple(g.origin[0], g.origin[1], g.origin[2]));
     m.set("bounds_hi", triple(g.origin[0] + (g.dims[0] - 1) * g.spacing[0], g.origin[1] + (g.dims[1] - 1) * g.spacing[1],
                               g.origin[2] + (g.dims[2] - 1) * g.spacing[2]));
-    m.set("value_min", r[0]);
-    m.set("value_max", r[1]);
+    if (r) {
+        m.set("value_min", (*r)[0]);
+        m.set("value_max", (*r)[1]);
+    }
     m.set("sample_type", to_string(type));
     m.set("producer", producer);
     return m;
@@ -239,6 +254,10 @@ void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const s
     else if (iso < range[0] || iso > range[1])
         std::fprintf(stderr, "meshless: warning: %s: isovalue %g is outside the data range [%g, %g]; the outputs will be empty\n",
                      source.c_str(), iso, range[0], range[1]);
+}
+
+void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s) {
+    if (s.active_cells == 0) warn_if_iso_outside(iso, in.value_range(), in.path);
 }
 
 InputFile::InputFile(const std::string& path) : name(path) {
