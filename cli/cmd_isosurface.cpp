@@ -121,7 +121,7 @@ int cmd_isosurface(int argc, char** argv) {
 
     if (launched_world_size() > 1) return isosurface_mpi(a, argc, argv, iso, mode, sp, rs, nthreads);
 
-    VolumeInput in = open_volume_input(a);
+    VolumeInput in = open_volume_input(a, /*stream=*/true);
     StreamMeta meta = volume_meta(in, iso, a.command_line());
     meta.set("projection", to_string(mode));
 

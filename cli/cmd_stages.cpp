@@ -85,7 +85,7 @@ int cmd_generate(int argc, char** argv) {
     const double iso = parse_finite(a.require("iso"), "--iso");
     const SamplingParams sp = sampling_params(a);
     const int nthreads = threads(a);
-    VolumeInput in = open_volume_input(a);
+    VolumeInput in = open_volume_input(a, /*stream=*/true);
     StreamOutput out(a.get_or("output", "-"), "generate");
     StreamSink sink(out.f, out.name, RecordKind::sample, volume_meta(in, iso, a.command_line()), a.has("compress"));
     const IsoSplatResult r = run_isosplat_input(in, iso, Projection::approx, sp, sink, nthreads, PipelineShape::samples_only);

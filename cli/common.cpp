@@ -51,17 +51,21 @@ RawOptions raw_options(const Args& a) {
 }
 
 namespace {
-Volume load_volume(const Args& a, bool map) {
-    if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
-    const std::string& path = a.positional()[0];
-    if (is_brick_store(path)) return read_brick_store_volume(path);  // commands that need the volume whole
-    const RawOptions raw = raw_options(a);
+void warn_if_raw_options_ignored(const Args& a, const std::string& path, const RawOptions& raw) {
     if (a.has("dims") || a.has("type") || a.has("endian") || a.has("spacing")) {
         const VolumeInfo vi = probe_volume(path, raw);
         if (vi.format != "raw")
             std::fprintf(stderr, "meshless %s: warning: %s is a %s file, which describes itself: --dims, --type, --endian "
                          "and --spacing are ignored\n", a.command().c_str(), path.c_str(), vi.format.c_str());
     }
+}
+
+Volume load_volume(const Args& a, bool map) {
+    if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
+    const std::string& path = a.positional()[0];
+    if (is_brick_store(path)) return read_brick_store_volume(path);  // commands that need the volume whole
+    const RawOptions raw = raw_options(a);
+    warn_if_raw_options_ignored(a, path, raw);
     return map ? map_volume(path, raw) : read_volume(path, raw);
 }
 }  // namespace
@@ -83,11 +87,37 @@ void add_memory_option(Args& a) {
     a.option("memory", "", "BYTES", "brick stores (.mlb): brick cache budget, e.g. 256M, 2G", "256M");
 }
 
-const GridSpec& VolumeInput::grid() const { return store ? store->info().grid : volume->grid; }
-SampleType VolumeInput::type() const { return store ? store->info().type : volume->type; }
+const GridSpec& VolumeInput::grid() const {
+    return store ? store->info().grid : slices ? slices->grid() : volume->grid;
+}
+SampleType VolumeInput::type() const { return store ? store->info().type : slices ? slices->type() : volume->type; }
+
+namespace {
+/// One pass over a slab-streamed volume, a few slices at a time.
+std::array<double, 2> streamed_range(SliceSource& s) {
+    GridSpec g = s.grid();
+    const auto slice_bytes = static_cast<std::size_t>(g.dims[0] * g.dims[1]) * sample_size(s.type());
+    const std::int64_t step = std::max<std::int64_t>(1, static_cast<std::int64_t>((std::size_t{4} << 20) / std::max<std::size_t>(1, slice_bytes)));
+    std::vector<std::byte> buf;
+    std::array<double, 2> r{std::nan(""), std::nan("")};
+    for (std::int64_t k = 0; k < g.dims[2]; k += step) {
+        const std::int64_t n = std::min(step, g.dims[2] - k);
+        buf.resize(slice_bytes * static_cast<std::size_t>(n));
+        s.read_slices(k, n, buf.data());
+        GridSpec part = g;
+        part.dims[2] = n;
+        const auto pr = value_range(VolumeView{buf.data(), s.type(), part});
+        if (std::isnan(pr[0])) continue;
+        r = std::isnan(r[0]) ? pr : std::array<double, 2>{std::min(r[0], pr[0]), std::max(r[1], pr[1])};
+    }
+    return r;
+}
+}  // namespace
+
 std::array<double, 2> VolumeInput::value_range() const {
     if (!range_)
-        range_ = store ? std::array<double, 2>{store->info().value_min, store->info().value_max} : volume->value_range();
+        range_ = store ? std::array<double, 2>{store->info().value_min, store->info().value_max}
+                 : slices ? streamed_range(*slices) : volume->value_range();
     return *range_;
 }
 std::optional<std::array<double, 2>> VolumeInput::known_value_range() const {
@@ -95,7 +125,16 @@ std::optional<std::array<double, 2>> VolumeInput::known_value_range() const {
     return range_;
 }
 
-VolumeInput open_volume_input(const Args& a) {
+namespace {
+/// Formats whose payload open_slice_source streams from disk (raw or gzip samples).
+bool streamable(const std::string& path, const RawOptions& raw) {
+    const VolumeInfo vi = probe_volume(path, raw);
+    return (vi.format == "raw" || vi.format == "nrrd" || vi.format == "metaimage" || vi.format == "voreen-dat") &&
+           (vi.encoding == "raw" || vi.encoding == "gzip");
+}
+}  // namespace
+
+VolumeInput open_volume_input(const Args& a, bool stream) {
     if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
     VolumeInput in;
     in.path = a.positional()[0];
@@ -108,7 +147,13 @@ VolumeInput open_volume_input(const Args& a) {
         if (a.has("memory"))
             std::fprintf(stderr, "meshless %s: warning: --memory applies to brick stores (.mlb); %s is read whole "
                          "(meshless convert makes a store)\n", a.command().c_str(), in.path.c_str());
-        in.volume = load_volume(a, /*map=*/true);
+        const RawOptions raw = raw_options(a);
+        if (stream && streamable(in.path, raw)) {
+            warn_if_raw_options_ignored(a, in.path, raw);
+            in.slices = open_slice_source(in.path, raw);
+        } else {
+            in.volume = load_volume(a, /*map=*/true);
+        }
     }
     return in;
 }
@@ -117,6 +162,7 @@ IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, 
                                   Sink& sink, int threads, PipelineShape shape) {
     if (in.store)
         return run_isosplat_bricks(*in.store, *in.cache, in.index->active(iso), iso, mode, sp, sink, {threads}, shape);
+    if (in.slices) return run_isosplat_slabs(*in.slices, iso, mode, sp, sink, {threads}, shape);
     return run_isosplat(in.volume->view(), iso, mode, sp, sink, {threads}, shape);
 }
 

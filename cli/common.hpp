@@ -16,6 +16,7 @@
 #include "kernels/splat_rasterizer.hpp"
 #include "ooc/brick_cache.hpp"
 #include "ooc/brick_index.hpp"
+#include "ooc/slice_source.hpp"
 #include "stream/isosplat_pipeline.hpp"
 
 namespace meshless::cli {
@@ -36,6 +37,7 @@ void add_memory_option(Args& a);
 struct VolumeInput {
     std::string path;
     std::optional<Volume> volume;
+    std::unique_ptr<SliceSource> slices;  ///< slab-streamed file (open_volume_input with stream = true)
     std::unique_ptr<BrickStore> store;
     std::unique_ptr<BrickCache> cache;
     std::unique_ptr<BrickIndex> index;
@@ -49,7 +51,11 @@ struct VolumeInput {
 private:
     mutable std::optional<std::array<double, 2>> range_;
 };
-VolumeInput open_volume_input(const Args& a);
+/// stream = true (commands that make one pass in cell-row order: isosurface, generate): raw, NRRD,
+/// MetaImage and Voreen files with raw or gzip payloads are streamed slab by slab (`slices`, see
+/// stream/slab_source.hpp), other formats loaded whole; stream = false: loaded whole (mapped when
+/// raw samples, see map_volume). Brick stores (.mlb) are always opened as stores.
+VolumeInput open_volume_input(const Args& a, bool stream = false);
 
 /// Runs paradigm (C) on either kind of input.
 IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
