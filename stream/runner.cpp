@@ -65,7 +65,7 @@ void run_pipeline(Source& source, std::span<const Stage* const> stages, Sink& si
             pool.refill(*b);
             for (const Stage* s : stages) s->process(*b);
             sink.consume(std::move(*b));
-            pool.reclaim(*b);
+            if (!source.recycle(*b)) pool.reclaim(*b);
         }
         sink.finish();
         return;
@@ -101,7 +101,7 @@ void run_pipeline(Source& source, std::span<const Stage* const> stages, Sink& si
                     oneapi::tbb::filter_mode::serial_in_order,
                     [&](std::shared_ptr<Batch> b) {
                         sink.consume(std::move(*b));
-                        pool.reclaim(*b);
+                        if (!source.recycle(*b)) pool.reclaim(*b);
                     }));
     });
     sink.finish();
