@@ -168,7 +168,7 @@ IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, 
 
 void add_thread_option(Args& a) {
     a.option("threads", "j", "N",
-             "worker threads (default 0 = every CPU this process may use: affinity mask and cgroup quota); "
+             "worker threads, 0 = every CPU this process may use (affinity mask, cgroup quota); "
              "output bytes do not depend on it", "0");
 }
 
