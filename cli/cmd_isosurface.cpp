@@ -121,8 +121,7 @@ int cmd_isosurface(int argc, char** argv) {
 
     if (launched_world_size() > 1) return isosurface_mpi(a, argc, argv, iso, mode, sp, rs, nthreads);
 
-    VolumeInput in = open_volume_input(a);
-    warn_if_iso_outside(iso, in.value_range(), in.path);
+    VolumeInput in = open_volume_input(a, /*stream=*/true);
     StreamMeta meta = volume_meta(in, iso, a.command_line());
     meta.set("projection", to_string(mode));
 
@@ -138,6 +137,7 @@ int cmd_isosurface(int argc, char** argv) {
         r = run_isosplat_input(in, iso, mode, sp, sink, nthreads, PipelineShape::fused);
         points = sink.count();
     }
+    warn_if_nothing_active(in, iso, r.sampling);
     if (a.has("stats")) print_stats(in.path, iso, mode, r, points, nthreads, 1);
     return 0;
 }

@@ -85,11 +85,11 @@ int cmd_generate(int argc, char** argv) {
     const double iso = parse_finite(a.require("iso"), "--iso");
     const SamplingParams sp = sampling_params(a);
     const int nthreads = threads(a);
-    VolumeInput in = open_volume_input(a);
-    warn_if_iso_outside(iso, in.value_range(), in.path);
+    VolumeInput in = open_volume_input(a, /*stream=*/true);
     StreamOutput out(a.get_or("output", "-"), "generate");
     StreamSink sink(out.f, out.name, RecordKind::sample, volume_meta(in, iso, a.command_line()), a.has("compress"));
     const IsoSplatResult r = run_isosplat_input(in, iso, Projection::approx, sp, sink, nthreads, PipelineShape::samples_only);
+    warn_if_nothing_active(in, iso, r.sampling);
     if (a.has("stats"))
         std::fprintf(stderr, "generate: %s iso %g: %lld samples (active cells), %lld cells with NaN/Inf skipped, %.3f s\n",
                      in.path.c_str(), iso, static_cast<long long>(r.sampling.active_cells),

@@ -12,6 +12,7 @@
 #include "formats/volume_reader.hpp"
 #include "ooc/brick_slice_source.hpp"
 #include "kernels/errors.hpp"
+#include "stream/available_cpus.hpp"
 
 namespace meshless::cli {
 
@@ -49,19 +50,27 @@ RawOptions raw_options(const Args& a) {
     return raw;
 }
 
-Volume load_volume(const Args& a) {
-    if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
-    const std::string& path = a.positional()[0];
-    if (is_brick_store(path)) return read_brick_store_volume(path);  // commands that need the volume whole
-    const RawOptions raw = raw_options(a);
+namespace {
+void warn_if_raw_options_ignored(const Args& a, const std::string& path, const RawOptions& raw) {
     if (a.has("dims") || a.has("type") || a.has("endian") || a.has("spacing")) {
         const VolumeInfo vi = probe_volume(path, raw);
         if (vi.format != "raw")
             std::fprintf(stderr, "meshless %s: warning: %s is a %s file, which describes itself: --dims, --type, --endian "
                          "and --spacing are ignored\n", a.command().c_str(), path.c_str(), vi.format.c_str());
     }
-    return read_volume(path, raw);
 }
+
+Volume load_volume(const Args& a, bool map) {
+    if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
+    const std::string& path = a.positional()[0];
+    if (is_brick_store(path)) return read_brick_store_volume(path);  // commands that need the volume whole
+    const RawOptions raw = raw_options(a);
+    warn_if_raw_options_ignored(a, path, raw);
+    return map ? map_volume(path, raw) : read_volume(path, raw);
+}
+}  // namespace
+
+Volume load_volume(const Args& a) { return load_volume(a, false); }
 
 void add_sampling_options(Args& a) {
     a.option("radius-scale", "", "S", "splat radius = S * half the cell diagonal", "1");
@@ -78,13 +87,54 @@ void add_memory_option(Args& a) {
     a.option("memory", "", "BYTES", "brick stores (.mlb): brick cache budget, e.g. 256M, 2G", "256M");
 }
 
-const GridSpec& VolumeInput::grid() const { return store ? store->info().grid : volume->grid; }
-SampleType VolumeInput::type() const { return store ? store->info().type : volume->type; }
+const GridSpec& VolumeInput::grid() const {
+    return store ? store->info().grid : slices ? slices->grid() : volume->grid;
+}
+SampleType VolumeInput::type() const { return store ? store->info().type : slices ? slices->type() : volume->type; }
+
+namespace {
+/// One pass over a slab-streamed volume, a few slices at a time.
+std::array<double, 2> streamed_range(SliceSource& s) {
+    GridSpec g = s.grid();
+    const auto slice_bytes = static_cast<std::size_t>(g.dims[0] * g.dims[1]) * sample_size(s.type());
+    const std::int64_t step = std::max<std::int64_t>(1, static_cast<std::int64_t>((std::size_t{4} << 20) / std::max<std::size_t>(1, slice_bytes)));
+    std::vector<std::byte> buf;
+    std::array<double, 2> r{std::nan(""), std::nan("")};
+    for (std::int64_t k = 0; k < g.dims[2]; k += step) {
+        const std::int64_t n = std::min(step, g.dims[2] - k);
+        buf.resize(slice_bytes * static_cast<std::size_t>(n));
+        s.read_slices(k, n, buf.data());
+        GridSpec part = g;
+        part.dims[2] = n;
+        const auto pr = value_range(VolumeView{buf.data(), s.type(), part});
+        if (std::isnan(pr[0])) continue;
+        r = std::isnan(r[0]) ? pr : std::array<double, 2>{std::min(r[0], pr[0]), std::max(r[1], pr[1])};
+    }
+    return r;
+}
+}  // namespace
+
 std::array<double, 2> VolumeInput::value_range() const {
-    return store ? std::array<double, 2>{store->info().value_min, store->info().value_max} : volume->value_range();
+    if (!range_)
+        range_ = store ? std::array<double, 2>{store->info().value_min, store->info().value_max}
+                 : slices ? streamed_range(*slices) : volume->value_range();
+    return *range_;
+}
+std::optional<std::array<double, 2>> VolumeInput::known_value_range() const {
+    if (store) return value_range();
+    return range_;
 }
 
-VolumeInput open_volume_input(const Args& a) {
+namespace {
+/// Formats whose payload open_slice_source streams from disk (raw or gzip samples).
+bool streamable(const std::string& path, const RawOptions& raw) {
+    const VolumeInfo vi = probe_volume(path, raw);
+    return (vi.format == "raw" || vi.format == "nrrd" || vi.format == "metaimage" || vi.format == "voreen-dat") &&
+           (vi.encoding == "raw" || vi.encoding == "gzip");
+}
+}  // namespace
+
+VolumeInput open_volume_input(const Args& a, bool stream) {
     if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
     VolumeInput in;
     in.path = a.positional()[0];
@@ -97,7 +147,13 @@ VolumeInput open_volume_input(const Args& a) {
         if (a.has("memory"))
             std::fprintf(stderr, "meshless %s: warning: --memory applies to brick stores (.mlb); %s is read whole "
                          "(meshless convert makes a store)\n", a.command().c_str(), in.path.c_str());
-        in.volume = load_volume(a);
+        const RawOptions raw = raw_options(a);
+        if (stream && streamable(in.path, raw)) {
+            warn_if_raw_options_ignored(a, in.path, raw);
+            in.slices = open_slice_source(in.path, raw);
+        } else {
+            in.volume = load_volume(a, /*map=*/true);
+        }
     }
     return in;
 }
@@ -106,17 +162,20 @@ IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, 
                                   Sink& sink, int threads, PipelineShape shape) {
     if (in.store)
         return run_isosplat_bricks(*in.store, *in.cache, in.index->active(iso), iso, mode, sp, sink, {threads}, shape);
+    if (in.slices) return run_isosplat_slabs(*in.slices, iso, mode, sp, sink, {threads}, shape);
     return run_isosplat(in.volume->view(), iso, mode, sp, sink, {threads}, shape);
 }
 
 void add_thread_option(Args& a) {
-    a.option("threads", "j", "N", "worker threads (0 = all cores); output bytes do not depend on it", "1");
+    a.option("threads", "j", "N",
+             "worker threads, 0 = every CPU this process may use (affinity mask, cgroup quota); "
+             "output bytes do not depend on it", "0");
 }
 
 int threads(const Args& a) {
-    const long long n = a.get_int_or("threads", 1);
+    const long long n = a.get_int_or("threads", 0);
     if (n < 0 || n > 1024) throw UsageError("--threads: expected 0..1024");
-    return n == 0 ? static_cast<int>(std::max(1u, std::thread::hardware_concurrency())) : static_cast<int>(n);
+    return n == 0 ? available_cpus() : static_cast<int>(n);
 }
 
 void add_camera_options(Args& a) {
@@ -180,7 +239,7 @@ std::optional<Vec3> parse_triple_meta(const StreamMeta& m, const std::string& ke
 }  // namespace
 
 StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType type,
-                       const std::array<double, 2>& r, double iso, const std::string& producer) {
+                       const std::optional<std::array<double, 2>>& r, double iso, const std::string& producer) {
     StreamMeta m;
     m.set("source", std::filesystem::path(source).filename().string());
     m.set("iso", iso);
@@ -190,8 +249,10 @@ StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType 
     m.set("bounds_lo", triple(g.origin[0], g.origin[1], g.origin[2]));
     m.set("bounds_hi", triple(g.origin[0] + (g.dims[0] - 1) * g.spacing[0], g.origin[1] + (g.dims[1] - 1) * g.spacing[1],
                               g.origin[2] + (g.dims[2] - 1) * g.spacing[2]));
-    m.set("value_min", r[0]);
-    m.set("value_max", r[1]);
+    if (r) {
+        m.set("value_min", (*r)[0]);
+        m.set("value_max", (*r)[1]);
+    }
     m.set("sample_type", to_string(type));
     m.set("producer", producer);
     return m;
@@ -239,6 +300,10 @@ void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const s
     else if (iso < range[0] || iso > range[1])
         std::fprintf(stderr, "meshless: warning: %s: isovalue %g is outside the data range [%g, %g]; the outputs will be empty\n",
                      source.c_str(), iso, range[0], range[1]);
+}
+
+void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s) {
+    if (s.active_cells == 0) warn_if_iso_outside(iso, in.value_range(), in.path);
 }
 
 InputFile::InputFile(const std::string& path) : name(path) {

@@ -16,6 +16,7 @@
 #include "kernels/splat_rasterizer.hpp"
 #include "ooc/brick_cache.hpp"
 #include "ooc/brick_index.hpp"
+#include "ooc/slice_source.hpp"
 #include "stream/isosplat_pipeline.hpp"
 
 namespace meshless::cli {
@@ -30,19 +31,31 @@ Volume load_volume(const Args& a);
 /// --memory BYTES: the brick cache budget when VOLUME is a brick store (.mlb).
 void add_memory_option(Args& a);
 
-/// A VOLUME argument: a volume loaded into memory, or a brick store (.mlb) read brick by brick
+/// A VOLUME argument: a volume in memory (mapped from the file when it is raw samples, see
+/// map_volume), or a brick store (.mlb) read brick by brick
 /// through a byte-budgeted cache (--memory), with its brick interval tree.
 struct VolumeInput {
     std::string path;
     std::optional<Volume> volume;
+    std::unique_ptr<SliceSource> slices;  ///< slab-streamed file (open_volume_input with stream = true)
     std::unique_ptr<BrickStore> store;
     std::unique_ptr<BrickCache> cache;
     std::unique_ptr<BrickIndex> index;
     const GridSpec& grid() const;
     SampleType type() const;
+    /// The value range (computed once, on first use: the store's header, or one pass over the volume).
     std::array<double, 2> value_range() const;
+    /// The value range when it costs nothing: a brick store's header, or value_range() already called.
+    std::optional<std::array<double, 2>> known_value_range() const;
+
+private:
+    mutable std::optional<std::array<double, 2>> range_;
 };
-VolumeInput open_volume_input(const Args& a);
+/// stream = true (commands that make one pass in cell-row order: isosurface, generate): raw, NRRD,
+/// MetaImage and Voreen files with raw or gzip payloads are streamed slab by slab (`slices`, see
+/// stream/slab_source.hpp), other formats loaded whole; stream = false: loaded whole (mapped when
+/// raw samples, see map_volume). Brick stores (.mlb) are always opened as stores.
+VolumeInput open_volume_input(const Args& a, bool stream = false);
 
 /// Runs paradigm (C) on either kind of input.
 IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
@@ -61,13 +74,20 @@ RenderSettings render_settings(const Args& a);
 
 /// Metadata describing a volume and the isovalue (keys: source, iso, grid_dims, grid_origin,
 /// grid_spacing, bounds_lo, bounds_hi, value_min, value_max, producer).
+/// value_min/value_max are left out when `range` is nullopt.
 StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType type,
-                       const std::array<double, 2>& range, double iso, const std::string& producer);
+                       const std::optional<std::array<double, 2>>& range, double iso, const std::string& producer);
+inline StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType type,
+                              const std::array<double, 2>& range, double iso, const std::string& producer) {
+    return volume_meta(source, g, type, std::optional<std::array<double, 2>>(range), iso, producer);
+}
 inline StreamMeta volume_meta(const std::string& source, const Volume& v, double iso, const std::string& producer) {
     return volume_meta(source, v.grid, v.type, v.value_range(), iso, producer);
 }
+/// The value range is recorded only when known without a pass over the samples (a brick store's
+/// header, or already computed): a stage process starts without reading the whole volume.
 inline StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer) {
-    return volume_meta(in.path, in.grid(), in.type(), in.value_range(), iso, producer);
+    return volume_meta(in.path, in.grid(), in.type(), in.known_value_range(), iso, producer);
 }
 /// The PLY comment lines derived from metadata (same for the in-process and piped paths).
 std::vector<std::string> ply_comments(const StreamMeta& m);
@@ -83,6 +103,10 @@ double stream_iso(const Args& a, const StreamMeta& m);
 
 /// Warns on stderr when iso lies outside [lo, hi] (the outputs will be empty but valid).
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source);
+/// After a paradigm (C) run: when it found no active cell, warn_if_iso_outside with the input's value
+/// range (computed only then). A run that found an active cell has iso inside the range, so the
+/// volume is not read an extra time to say nothing.
+void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s);
 
 /// A FILE* for reading: stdin for "-", else fopen (IoError naming the path; directories refused).
 struct InputFile {

@@ -1,5 +1,6 @@
 #include "formats/atomic_file.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -59,6 +60,15 @@ void AtomicFile::write(const void* data, std::size_t n) {
     if (std::fwrite(data, 1, n, file_) != n) {
         if (errno == EPIPE) throw BrokenPipe();
         throw IoError(path_ + ": write failed (" + std::strerror(errno) + ")");
+    }
+    written_ += n;
+    constexpr std::size_t kWriteBackStep = std::size_t{8} << 20;
+    if (!tmp_.empty() && written_ - synced_ >= kWriteBackStep && std::fflush(file_) == 0) {
+        // start write-back of what is written so far (does not wait for it); a failure here is
+        // not an error: commit()'s fsync is what guarantees the data
+        ::sync_file_range(fileno(file_), static_cast<off_t>(synced_), static_cast<off_t>(written_ - synced_),
+                          SYNC_FILE_RANGE_WRITE);
+        synced_ = written_;
     }
 }
 

@@ -1,5 +1,10 @@
 // Output files that are never left half-written.
 //
+// Durability: commit() flushes and fsyncs before the rename, so after a crash the file is either
+// the old one or the complete new one. To keep that wait short, write-back of large outputs is
+// started every few MiB as they are written (sync_file_range, asynchronous), overlapping the disk
+// with the computation; commit() then waits only for the tail.
+//
 // AtomicFile writes to "<path>.tmp-<pid>" in the same directory and renames it over <path> on
 // commit(); if the object is destroyed without commit() (an exception, an early return) the
 // temporary is removed. A process killed by a signal leaves only the temporary, never a file that
@@ -43,6 +48,7 @@ private:
     std::FILE* file_ = nullptr;
     bool committed_ = false;
     bool direct_ = false;  ///< writing straight into a non-regular file
+    std::size_t written_ = 0, synced_ = 0;  ///< bytes appended; bytes whose write-back was started
 };
 
 }  // namespace meshless

@@ -9,6 +9,7 @@
 
 #include "formats/binary_file.hpp"
 #include "formats/gzip.hpp"
+#include "formats/mapped_file.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -93,7 +94,7 @@ std::vector<std::byte> parse_ascii_samples(std::string_view text, StoredType t, 
     return out;
 }
 
-Volume read_payload(const PayloadPlan& plan) {
+Volume read_payload(const PayloadPlan& plan, bool map_raw) {
     const std::string& head = plan.files.empty() ? std::string("?") : plan.files.front();
     if (plan.files.empty()) throw FormatError("(no data file): empty payload plan");
     for (int a = 0; a < 3; ++a)
@@ -141,6 +142,17 @@ Volume read_payload(const PayloadPlan& plan) {
                 throw FormatError(file + ": byte skip -1 is only allowed with raw encoding");
             starts[f] = skip_lines(file, plan.file_offset, plan.line_skip);
         }
+    }
+
+    const bool native = plan.type == StoredType::u8 || plan.type == StoredType::u16 || plan.type == StoredType::i16 ||
+                        plan.type == StoredType::f32;
+    if (map_raw && plan.encoding == PayloadEncoding::raw && k == 1 && native &&
+        (plan.big_endian != host_is_little_endian() || stored_size(plan.type) == 1)) {
+        Volume v;
+        v.grid = plan.grid;
+        v.type = volume_type_for(plan.type);
+        v.bytes = map_file_range(plan.files.front(), starts.front(), share);
+        return v;
     }
 
     std::vector<std::byte> payload(static_cast<std::size_t>(total));

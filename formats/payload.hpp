@@ -32,7 +32,10 @@ struct PayloadPlan {
     bool exact_size = false;          ///< raw: each file must hold exactly offset+share bytes
 };
 
-Volume read_payload(const PayloadPlan& plan);
+/// Executes the plan. map_raw: when the samples are one uncompressed file in host byte order and
+/// a native type (uint8, int16, uint16, float32), the Volume maps the file instead of reading it
+/// (formats/mapped_file.hpp: no copy; the file must not be truncated while the Volume lives).
+Volume read_payload(const PayloadPlan& plan, bool map_raw = false);
 VolumeInfo info_from_plan(const PayloadPlan& plan);
 const char* to_string(PayloadEncoding e);
 

@@ -15,6 +15,7 @@
 #pragma once
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -75,6 +76,10 @@ public:
     /// Next DATA frame's records appended to `out` as raw bytes; returns the record count, or
     /// nullopt at END (after checking the END total). Throws FormatError on corruption/truncation.
     std::optional<std::uint64_t> next_data(std::vector<char>& out);
+    /// The same into memory the caller provides: room(count) must return space for count records
+    /// (called once per DATA frame, before its payload is read; raw payloads are read straight into
+    /// it, with no intermediate copy). On a FormatError the room may hold part of a frame.
+    std::optional<std::uint64_t> next_records(const std::function<void*(std::uint64_t count)>& room);
     std::uint64_t total() const { return total_; }
     const std::string& name() const { return name_; }
 

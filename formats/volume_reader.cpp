@@ -8,6 +8,7 @@
 #include "formats/metaimage.hpp"
 #include "formats/nifti.hpp"
 #include "formats/nrrd.hpp"
+#include "formats/payload.hpp"
 #include "formats/raw_volume.hpp"
 #include "formats/slc.hpp"
 #include "formats/text_header.hpp"
@@ -94,6 +95,16 @@ Volume read_volume(const std::string& path, const RawOptions& raw) {
         case Fmt::unknown: break;
     }
     throw FormatError(path + ": unrecognized volume format");
+}
+
+Volume map_volume(const std::string& path, const RawOptions& raw) {
+    switch (detect(path, raw)) {
+        case Fmt::raw: return read_payload(plan_raw(path, raw), true);
+        case Fmt::nrrd: return read_payload(plan_nrrd(path), true);
+        case Fmt::metaimage: return read_payload(plan_metaimage(path), true);
+        case Fmt::voreen_dat: return read_payload(plan_voreen_dat(path), true);
+        default: return read_volume(path, raw);
+    }
 }
 
 VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {

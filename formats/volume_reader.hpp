@@ -36,6 +36,12 @@ struct RawOptions {
 /// index.json, else by content (magic).
 Volume read_volume(const std::string& path, const RawOptions& raw = {});
 
+/// The same volume as read_volume, read the fastest way for one pass over it: when the samples are
+/// one uncompressed file in host byte order and a native type (raw, NRRD, MetaImage, Voreen .dat
+/// with raw encoding), the Volume maps the file (formats/mapped_file.hpp: no read, no copy; the
+/// file must not be truncated while the Volume lives); every other case is read_volume.
+Volume map_volume(const std::string& path, const RawOptions& raw = {});
+
 struct VolumeInfo {
     std::string format;                   ///< "raw", "nrrd", "metaimage", "vtk-legacy", "vti", "vtkjs", "slc", "nifti", "voreen-dat"
     GridSpec grid;

@@ -3,6 +3,10 @@
 #include <cmath>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "kernels/iso_threshold.hpp"
 #include "kernels/trilinear.hpp"
 
@@ -30,8 +34,10 @@ void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0
     const Vec3 size{sx_w, sy_w, sz_w};
     // count[i] = how many of the 4 samples of x-column i of this cell row are above iso; a cell
     // (columns i, i+1) is active unless count[i] + count[i+1] is 0 or 8. The counting loop is
-    // branch-free and vectorises; the scan below skips inactive runs 8 cells at a time.
-    std::vector<std::uint8_t> count(static_cast<std::size_t>(nx) + 8, 0);
+    // branch-free and vectorises; the scan below tests 16 cells at a time (SSE2) and visits only
+    // the active ones, in increasing i (so the output order is that of a plain loop over i).
+    // Padding of 32 zero counts past nx: the 16-wide scan reads up to cnt[nx + 14].
+    std::vector<std::uint8_t> count(static_cast<std::size_t>(nx) + 32, 0);
     for (std::int64_t r = row0; r < row1; ++r) {
         const std::int64_t j = r % (ny - 1), k = r / (ny - 1);
         const T* p00 = data + j * sy + k * sz;  // (0, j,   k)
@@ -41,17 +47,7 @@ void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0
         std::uint8_t* cnt = count.data();
         for (std::int64_t i = 0; i < nx; ++i)
             cnt[i] = static_cast<std::uint8_t>((p00[i] >= t) + (p10[i] >= t) + (p01[i] >= t) + (p11[i] >= t));
-        for (std::int64_t i = 0; i + 1 < nx; ++i) {
-            if (i + 9 <= nx) {  // skip 8 cells whose 9 columns are all below or all above
-                std::uint64_t w;
-                std::memcpy(&w, cnt + i, 8);
-                if ((w == 0 && cnt[i + 8] == 0) || (w == 0x0404040404040404ull && cnt[i + 8] == 4)) {
-                    i += 7;
-                    continue;
-                }
-            }
-            const unsigned sum = cnt[i] + cnt[i + 1];
-            if (sum == 0u || sum == 8u) continue;
+        auto cell = [&](std::int64_t i) {
             double c[8] = {static_cast<double>(p00[i]), static_cast<double>(p00[i + 1]),
                            static_cast<double>(p10[i]), static_cast<double>(p10[i + 1]),
                            static_cast<double>(p01[i]), static_cast<double>(p01[i + 1]),
@@ -63,7 +59,7 @@ void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0
                 for (double x : c) finite = finite && std::isfinite(x);
                 if (!finite) {
                     ++stats.nonfinite_cells;
-                    continue;
+                    return;
                 }
             }
             const ValueGrad vg = trilinear(c, 0.5, 0.5, 0.5);
@@ -88,7 +84,28 @@ void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0
             for (int a = 0; a < 8; ++a) s.corner[a] = static_cast<float>(c[a]);
             emit(s);
             ++stats.active_cells;
+        };
+        const std::int64_t cells = nx - 1;
+#if defined(__SSE2__)
+        const __m128i zero = _mm_setzero_si128(), eight = _mm_set1_epi8(8);
+        for (std::int64_t i0 = 0; i0 < cells; i0 += 16) {
+            const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cnt + i0));
+            const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cnt + i0 + 1));
+            const __m128i sum = _mm_add_epi8(a, b);
+            const __m128i inactive = _mm_or_si128(_mm_cmpeq_epi8(sum, zero), _mm_cmpeq_epi8(sum, eight));
+            unsigned m = ~static_cast<unsigned>(_mm_movemask_epi8(inactive)) & 0xFFFFu;
+            if (cells - i0 < 16) m &= (1u << (cells - i0)) - 1u;
+            while (m != 0) {
+                cell(i0 + __builtin_ctz(m));
+                m &= m - 1;
+            }
         }
+#else
+        for (std::int64_t i = 0; i < cells; ++i) {
+            const unsigned sum = cnt[i] + cnt[i + 1];
+            if (sum != 0u && sum != 8u) cell(i);
+        }
+#endif
     }
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
+#include <algorithm>
 
 namespace meshless {
 
@@ -61,19 +63,44 @@ double VolumeView::at(std::int64_t i, std::int64_t j, std::int64_t k) const {
 Volume::Volume(GridSpec g, SampleType t)
     : grid(g), type(t), bytes(static_cast<std::size_t>(g.voxel_count()) * sample_size(t)) {}
 
-std::array<double, 2> Volume::value_range() const {
-    return visit_samples(view(), [&](auto* p) {
-        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-        const std::int64_t n = grid.voxel_count();
-        for (std::int64_t i = 0; i < n; ++i) {
-            const double v = static_cast<double>(p[i]);
-            if (!std::isfinite(v)) continue;
-            lo = v < lo ? v : lo;
-            hi = v > hi ? v : hi;
+namespace {
+
+template <class T>
+std::array<double, 2> range_of(const T* p, std::size_t n) {
+    if constexpr (std::is_floating_point_v<T>) {
+        // non-finite samples become +inf for the minimum and -inf for the maximum; written as
+        // selects and min/max so that the loop vectorises (minps/maxps)
+        constexpr T inf = std::numeric_limits<T>::infinity(), big = std::numeric_limits<T>::max();
+        T lo = inf, hi = -inf;
+        for (std::size_t i = 0; i < n; ++i) {
+            const T x = p[i];
+            const bool finite = std::fabs(x) <= big;  // false for NaN and +-Inf
+            const T xl = finite ? x : inf, xh = finite ? x : -inf;
+            lo = xl < lo ? xl : lo;
+            hi = xh > hi ? xh : hi;
         }
-        if (lo > hi) return std::array<double, 2>{std::nan(""), std::nan("")};
-        return std::array<double, 2>{lo, hi};
-    });
+        if (!(lo <= hi)) return {std::nan(""), std::nan("")};
+        return {static_cast<double>(lo), static_cast<double>(hi)};
+    } else {
+        if (n == 0) return {std::nan(""), std::nan("")};
+        T lo = std::numeric_limits<T>::max(), hi = std::numeric_limits<T>::lowest();
+        for (std::size_t i = 0; i < n; ++i) {
+            const T x = p[i];
+            lo = x < lo ? x : lo;
+            hi = x > hi ? x : hi;
+        }
+        return {static_cast<double>(lo), static_cast<double>(hi)};
+    }
 }
+
+}  // namespace
+
+std::array<double, 2> value_range(const VolumeView& v) {
+    const auto n = static_cast<std::size_t>(std::max<std::int64_t>(0, v.grid.voxel_count()));
+    if (n == 0 || v.data == nullptr) return {std::nan(""), std::nan("")};
+    return visit_samples(v, [&](auto* p) { return range_of(p, n); });
+}
+
+std::array<double, 2> Volume::value_range() const { return meshless::value_range(view()); }
 
 }  // namespace meshless

@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "kernels/sample_bytes.hpp"
+
 namespace meshless {
 
 enum class SampleType : std::uint8_t { u8 = 1, i16 = 2, u16 = 3, f32 = 4 };
@@ -51,14 +53,19 @@ struct VolumeView {
 struct Volume {
     GridSpec grid;
     SampleType type = SampleType::u8;
-    std::vector<std::byte> bytes;  ///< voxel_count() * sample_size(type)
+    SampleBytes bytes;  ///< voxel_count() * sample_size(type): owned, or a file mapping (formats/mapped_file.hpp)
 
     Volume() = default;
     Volume(GridSpec g, SampleType t);
     VolumeView view() const { return VolumeView{bytes.data(), type, grid}; }
-    /// Minimum and maximum over finite samples; {NaN, NaN} when there is none.
+    /// Minimum and maximum over finite samples; {NaN, NaN} when there is none (see value_range below).
     std::array<double, 2> value_range() const;
 };
+
+/// Minimum and maximum over the finite samples of a view (NaN and +-Inf are skipped; integer types
+/// have none); {NaN, NaN} when there is no finite sample (or no sample). One pass in the native
+/// type, vectorised: memory speed (~4 ms for a 69 MB uint8 CT). Reentrant.
+std::array<double, 2> value_range(const VolumeView& v);
 
 /// Calls f(typed_pointer) with the data pointer cast to its native type.
 template <class F>

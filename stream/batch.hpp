@@ -6,6 +6,7 @@
 // that produced nothing) and is still delivered, to keep sequence numbers dense.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "kernels/grid.hpp"
@@ -21,11 +22,20 @@ struct CellRange {
     std::int64_t k0 = 0, k1 = 0;
 };
 
+/// Consecutive z-slices [z0, z0 + samples.grid.dims[2]) of a volume streamed slab by slab
+/// (stream/slab_source.hpp): `samples.grid` is the volume's grid with dims[2] = the slice count and
+/// the volume's origin, so positions are computed with index offset z0, bit for bit as in memory.
+struct VolumeChunk {
+    Volume samples;
+    std::int64_t z0 = 0;
+};
+
 struct Batch {
     std::uint64_t seq = 0;
     RecordKind kind = RecordKind::sample;
     CellRange cells;                    ///< work description (generate stage input), else empty
     std::int64_t brick = -1;            ///< brick-store work: index of the brick the cell rows are in
+    std::shared_ptr<const VolumeChunk> chunk;  ///< slab-streamed work: the slices the cell rows (local to it) are in
     std::vector<SampleRecord> samples;  ///< valid when kind == sample
     std::vector<PointRecord> points;    ///< valid when kind == point
     std::uint64_t count() const { return kind == RecordKind::sample ? samples.size() : points.size(); }

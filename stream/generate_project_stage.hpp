@@ -11,7 +11,8 @@ namespace meshless {
 
 class GenerateProjectStage final : public Stage {
 public:
-    /// The volume must outlive the stage.
+    /// The volume must outlive the stage. Batches carrying a chunk (stream/slab_source.hpp) are
+    /// sampled from the chunk instead; for a run made only of those, v needs no data (grid and type).
     GenerateProjectStage(VolumeView v, double iso, SamplingParams p, Projection mode)
         : v_(v), iso_(iso), p_(p), mode_(mode) {}
     void process(Batch& b) const override;

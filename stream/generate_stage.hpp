@@ -9,7 +9,8 @@ namespace meshless {
 
 class GenerateStage final : public Stage {
 public:
-    /// The volume must outlive the stage.
+    /// The volume must outlive the stage. Batches carrying a chunk (stream/slab_source.hpp) are
+    /// sampled from the chunk instead; for a run made only of those, v needs no data (grid and type).
     GenerateStage(VolumeView v, double iso, SamplingParams p = {}) : v_(v), iso_(iso), p_(p) {}
     void process(Batch& b) const override;
     SamplingStats stats() const { return stats_.load(); }

@@ -7,6 +7,7 @@
 #include "stream/generate_project_stage.hpp"
 #include "stream/generate_stage.hpp"
 #include "stream/project_stage.hpp"
+#include "stream/slab_source.hpp"
 
 namespace meshless {
 
@@ -18,10 +19,11 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, const SamplingParams& sp,
-                            Sink& sink, const RunOptions& opt, PipelineShape shape) {
+namespace {
+
+IsoSplatResult run_regular(Source& source, const VolumeView& v, double iso, Projection mode, const SamplingParams& sp,
+                           Sink& sink, const RunOptions& opt, PipelineShape shape) {
     const auto t0 = std::chrono::steady_clock::now();
-    CellRowSource source(v.grid);
     IsoSplatResult r;
     if (shape == PipelineShape::fused) {
         GenerateProjectStage stage(v, iso, sp, mode);
@@ -42,6 +44,20 @@ IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, co
     }
     r.seconds = seconds_since(t0);
     return r;
+}
+
+}  // namespace
+
+IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, const SamplingParams& sp,
+                            Sink& sink, const RunOptions& opt, PipelineShape shape) {
+    CellRowSource source(v.grid);
+    return run_regular(source, v, iso, mode, sp, sink, opt, shape);
+}
+
+IsoSplatResult run_isosplat_slabs(SliceSource& slices, double iso, Projection mode, const SamplingParams& sp,
+                                  Sink& sink, const RunOptions& opt, PipelineShape shape) {
+    SlabSource source(slices);
+    return run_regular(source, VolumeView{nullptr, slices.type(), slices.grid()}, iso, mode, sp, sink, opt, shape);
 }
 
 IsoSplatResult run_isosplat_bricks(const BrickStore& store, BrickCache& cache, std::vector<std::size_t> bricks,

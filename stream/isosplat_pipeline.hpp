@@ -6,6 +6,7 @@
 #include "kernels/cell_sampling.hpp"
 #include "kernels/project_sample.hpp"
 #include "ooc/brick_cache.hpp"
+#include "ooc/slice_source.hpp"
 #include "stream/runner.hpp"
 
 namespace meshless {
@@ -30,5 +31,10 @@ IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, co
 IsoSplatResult run_isosplat_bricks(const BrickStore& store, BrickCache& cache, std::vector<std::size_t> bricks,
                                    double iso, Projection mode, const SamplingParams& sp, Sink& sink,
                                    const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused);
+
+/// The same over a volume streamed slab by slab (stream/slab_source.hpp): memory is a few chunks
+/// of slices, never the volume; same bytes as run_isosplat on the whole volume.
+IsoSplatResult run_isosplat_slabs(SliceSource& slices, double iso, Projection mode, const SamplingParams& sp,
+                                  Sink& sink, const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused);
 
 }  // namespace meshless

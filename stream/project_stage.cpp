@@ -13,7 +13,7 @@ void ProjectStage::process(Batch& b) const {
     for (const SampleRecord& r : b.samples)
         if (project_sample(r, iso_, mode_, p, s)) b.points.push_back(p);
     b.samples.clear();
-    b.samples.shrink_to_fit();
+    // capacity kept: the runner or the stream source hands the array to a later batch
     b.kind = RecordKind::point;
     stats_.add(s);
 }

@@ -5,29 +5,80 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <memory>
-#include <thread>
+#include <mutex>
+#include <vector>
+
+#include "stream/available_cpus.hpp"
 
 namespace meshless {
+
+namespace {
+
+/// Record arrays of consumed batches, handed to new batches so that their capacity is reused: a
+/// steady-state run allocates (and page-faults) no new batch memory. At most `cap` arrays of each
+/// kind are kept, so the pool holds no more than the batches that were in flight at once.
+/// Thread-safe (the runner's first and last filters may run at the same time).
+class BufferPool {
+public:
+    explicit BufferPool(std::size_t cap) : cap_(cap) {}
+    /// Gives a new batch spare arrays where it has none.
+    void refill(Batch& b) {
+        std::lock_guard lock(m_);
+        if (b.points.capacity() == 0 && !points_.empty()) {
+            b.points.swap(points_.back());
+            points_.pop_back();
+        }
+        if (b.samples.capacity() == 0 && !samples_.empty()) {
+            b.samples.swap(samples_.back());
+            samples_.pop_back();
+        }
+    }
+    /// Takes back what the sink left in a consumed batch (a sink may have moved the arrays out).
+    void reclaim(Batch& b) {
+        std::lock_guard lock(m_);
+        if (b.points.capacity() != 0 && points_.size() < cap_) {
+            b.points.clear();
+            points_.push_back(std::move(b.points));
+        }
+        if (b.samples.capacity() != 0 && samples_.size() < cap_) {
+            b.samples.clear();
+            samples_.push_back(std::move(b.samples));
+        }
+    }
+
+private:
+    std::mutex m_;
+    std::size_t cap_;
+    std::vector<std::vector<PointRecord>> points_;
+    std::vector<std::vector<SampleRecord>> samples_;
+};
+
+}  // namespace
 
 void run_pipeline(Source& source, std::span<const Stage* const> stages, Sink& sink,
                   const RunOptions& opt) {
     int threads = opt.threads;
-    if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads <= 0) threads = available_cpus();
     if (threads == 1) {
+        BufferPool pool(1);
         while (auto b = source.next()) {
+            pool.refill(*b);
             for (const Stage* s : stages) s->process(*b);
             sink.consume(std::move(*b));
+            if (!source.recycle(*b)) pool.reclaim(*b);
         }
         sink.finish();
         return;
     }
+    const std::size_t tokens = static_cast<std::size_t>(2 * threads);
+    BufferPool pool(tokens);
     // Allow as many threads as asked for, even beyond the core count (TBB's default cap is cores).
     oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism,
                                       static_cast<std::size_t>(threads));
     oneapi::tbb::task_arena arena(threads);
     arena.execute([&] {
         oneapi::tbb::parallel_pipeline(
-            static_cast<std::size_t>(2 * threads),
+            tokens,
             oneapi::tbb::make_filter<void, std::shared_ptr<Batch>>(
                 oneapi::tbb::filter_mode::serial_in_order,
                 [&](oneapi::tbb::flow_control& fc) -> std::shared_ptr<Batch> {
@@ -36,7 +87,9 @@ void run_pipeline(Source& source, std::span<const Stage* const> stages, Sink& si
                         fc.stop();
                         return nullptr;
                     }
-                    return std::make_shared<Batch>(std::move(*b));
+                    auto p = std::make_shared<Batch>(std::move(*b));
+                    pool.refill(*p);
+                    return p;
                 }) &
                 oneapi::tbb::make_filter<std::shared_ptr<Batch>, std::shared_ptr<Batch>>(
                     oneapi::tbb::filter_mode::parallel,
@@ -46,7 +99,10 @@ void run_pipeline(Source& source, std::span<const Stage* const> stages, Sink& si
                     }) &
                 oneapi::tbb::make_filter<std::shared_ptr<Batch>, void>(
                     oneapi::tbb::filter_mode::serial_in_order,
-                    [&](std::shared_ptr<Batch> b) { sink.consume(std::move(*b)); }));
+                    [&](std::shared_ptr<Batch> b) {
+                        sink.consume(std::move(*b));
+                        if (!source.recycle(*b)) pool.reclaim(*b);
+                    }));
     });
     sink.finish();
 }

@@ -16,6 +16,14 @@ public:
     virtual ~Source() = default;
     /// The next batch, or nullopt at the end. Sets seq in increasing order.
     virtual std::optional<Batch> next() = 0;
+    /// Offered a consumed batch (whatever record arrays the sink left in it) so that the source can
+    /// reuse their capacity in its next batches; returns false when it does not want them (the
+    /// default: the runner then recycles them itself). May be called from another thread than
+    /// next(), never concurrently with itself.
+    virtual bool recycle(Batch& consumed) {
+        (void)consumed;
+        return false;
+    }
 };
 
 class Stage {

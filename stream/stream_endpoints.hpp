@@ -1,9 +1,12 @@
 // Pipe endpoints of the stage graph: a Source that reads the binary point stream
 // (formats/point_stream.hpp) and a Sink that writes it. One DATA frame = one batch, so a stage run
 // as its own process sees the same batches, in the same order, as in-process: results are
-// byte-identical across pipes. Not thread-safe (called serially by the runner).
+// byte-identical across pipes. Frames are read straight into the batches' record arrays, which are
+// recycled from consumed batches. Not thread-safe (called serially by the runner).
 #pragma once
 #include <memory>
+#include <mutex>
+#include <vector>
 
 #include "formats/point_stream.hpp"
 #include "stream/stage.hpp"
@@ -15,11 +18,15 @@ public:
     /// The reader must outlive the source; its META must already be read (read_meta()).
     explicit StreamSource(StreamReader& r) : r_(r) {}
     std::optional<Batch> next() override;
+    /// Keeps the record arrays of consumed batches (a few) and reads later frames into them.
+    bool recycle(Batch& consumed) override;
 
 private:
     StreamReader& r_;
     std::uint64_t seq_ = 0;
-    std::vector<char> buf_;
+    std::mutex m_;  // recycle() may run on the sink's thread while next() runs
+    std::vector<std::vector<PointRecord>> spare_points_;
+    std::vector<std::vector<SampleRecord>> spare_samples_;
 };
 
 class StreamSink final : public Sink {
