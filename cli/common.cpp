@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <thread>
 
 #include "formats/volume_reader.hpp"
+#include "kernels/block_minmax.hpp"
 #include "ooc/brick_slice_source.hpp"
 #include "kernels/errors.hpp"
 
@@ -197,9 +199,66 @@ StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType 
     return m;
 }
 
+namespace {
+constexpr int kFramingBlockEdge = 32;  // the default brick edge of meshless convert
+
+std::optional<std::array<Vec3, 2>> store_surface_bounds(const VolumeInput& in, double iso) {
+    std::optional<VoxelBox> box;
+    for (std::size_t i : in.index->active(iso)) {
+        const BrickBox b = in.store->box(i);
+        VoxelBox one;
+        for (int a = 0; a < 3; ++a) {
+            one.lo[a] = b.first[a];
+            one.hi[a] = b.first[a] + b.dims[a] - 1;
+        }
+        if (!box) {
+            box = one;
+            continue;
+        }
+        for (int a = 0; a < 3; ++a) {
+            box->lo[a] = std::min(box->lo[a], one.lo[a]);
+            box->hi[a] = std::max(box->hi[a], one.hi[a]);
+        }
+    }
+    if (!box) return std::nullopt;
+    return world_bounds(in.grid(), *box);
+}
+
+void set_surface_bounds(StreamMeta& m, const std::optional<std::array<Vec3, 2>>& surface) {
+    m.set("volume_bounds_lo", *m.get("bounds_lo"));
+    m.set("volume_bounds_hi", *m.get("bounds_hi"));
+    if (!surface) return;  // nothing active: frame the volume
+    m.set("bounds_lo", triple((*surface)[0].x, (*surface)[0].y, (*surface)[0].z));
+    m.set("bounds_hi", triple((*surface)[1].x, (*surface)[1].y, (*surface)[1].z));
+}
+}  // namespace
+
+std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso) {
+    if (in.store) return store_surface_bounds(in, iso);
+    const BlockMinMax b = block_minmax(in.volume->view(), kFramingBlockEdge);
+    const auto box = active_block_box(b, in.grid(), iso);
+    if (!box) return std::nullopt;
+    return world_bounds(in.grid(), *box);
+}
+
+StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer) {
+    if (in.store) {
+        StreamMeta m = volume_meta(in.path, in.grid(), in.type(), in.value_range(), iso, producer);
+        set_surface_bounds(m, store_surface_bounds(in, iso));
+        return m;
+    }
+    // one pass gives the value range and the active blocks
+    const BlockMinMax b = block_minmax(in.volume->view(), kFramingBlockEdge);
+    StreamMeta m = volume_meta(in.path, in.grid(), in.type(), b.range(), iso, producer);
+    const auto box = active_block_box(b, in.grid(), iso);
+    set_surface_bounds(m, box ? std::optional(world_bounds(in.grid(), *box)) : std::nullopt);
+    return m;
+}
+
 std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
-    for (const char* k : {"source", "iso", "projection", "grid_dims", "grid_spacing", "bounds_lo", "bounds_hi"})
+    for (const char* k : {"source", "iso", "projection", "grid_dims", "grid_spacing", "bounds_lo", "bounds_hi",
+                          "volume_bounds_lo", "volume_bounds_hi"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
 }

@@ -66,9 +66,15 @@ StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType 
 inline StreamMeta volume_meta(const std::string& source, const Volume& v, double iso, const std::string& producer) {
     return volume_meta(source, v.grid, v.type, v.value_range(), iso, producer);
 }
-inline StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer) {
-    return volume_meta(in.path, in.grid(), in.type(), in.value_range(), iso, producer);
-}
+/// As above, and frames the surface: bounds_lo/hi become the surface bounds for iso (surface_bounds;
+/// the volume's when nothing is active) and the volume's are kept as volume_bounds_lo/hi. For a
+/// volume in memory the value range and the surface bounds come from one pass (kernels/block_minmax).
+StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer);
+/// The bounds of the isosurface known before extraction (dissertation section 3.6 framing): a brick
+/// store: the union of the active bricks' voxel boxes (BrickIndex::active); a volume in memory: the
+/// union of the active 32-cell blocks (aligned as the bricks of a store with the default edge, so
+/// both frame alike). nullopt when nothing is active.
+std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso);
 /// The PLY comment lines derived from metadata (same for the in-process and piped paths).
 std::vector<std::string> ply_comments(const StreamMeta& m);
 /// Bounds recorded in PLY comments written by ply_comments ("bounds_lo x,y,z", "bounds_hi ..."), if any.
