@@ -6,6 +6,8 @@
 #include <malloc.h>
 
 #include <atomic>
+#include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -273,4 +275,34 @@ TEST_CASE("PLY source: batches reproduce the file; a cut file names the file", "
     { std::ofstream(path, std::ios::app) << "xx"; }
     PlySource tail(path);
     CHECK_THROWS_AS([&] { while (tail.next()) {} }(), FormatError);
+}
+
+TEST_CASE("splat sink throughput (hidden; MESHLESS_SPLAT_BENCH_PLY=points.ply)", "[.splat_sink_bench]") {
+    const char* path = std::getenv("MESHLESS_SPLAT_BENCH_PLY");
+    std::vector<PointRecord> pts = path ? read_ply_points(path).points : test_points(1000000, 1);
+    const auto bounds = point_bounds(pts);
+    Camera cam;
+    cam.width = cam.height = 1024;
+    for (SplatKernel k : {SplatKernel::quad, SplatKernel::ewa})
+        for (int threads : {1, 2}) {
+            double best = 1e30;
+            for (int rep = 0; rep < 3; ++rep) {
+                const auto t0 = std::chrono::steady_clock::now();
+                SplatSink sink(cam, k, ShadingParams{}, bounds, threads);
+                VectorSource src(pts, {kMaxBatchRecords});
+                const Stage* st[] = {&sink.stage()};
+                run_pipeline(src, st, sink, {threads});
+                best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            }
+            // the draw alone (one thread, no merge/resolve)
+            SplatFrame f(cam, k, ShadingParams{}, bounds);
+            std::vector<std::uint64_t> keys(f.npix(), SplatFrame::kEmptyKey);
+            SplatStats s;
+            const auto t1 = std::chrono::steady_clock::now();
+            f.draw(pts, keys.data(), s);
+            const double draw = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+            std::printf("%s %d thread(s): %zu points in %.3f s = %.2f M points/s (sink, best of 3); draw pass alone %.2f M points/s, %.2f fragments/splat\n",
+                        k == SplatKernel::quad ? "quad" : "ewa", threads, pts.size(), best, 1e-6 * pts.size() / best,
+                        1e-6 * pts.size() / draw, double(s.fragments) / std::max<std::int64_t>(1, s.splats_drawn));
+        }
 }
