@@ -21,6 +21,7 @@ namespace meshless {
 struct SplatSink::Canvas {
     std::vector<std::uint64_t> keys;
     std::vector<std::int64_t> acc;
+    std::vector<PointRecord> batch;  // EWA pass 2: the spooled batch being replayed
     SplatStats stats;
 };
 
@@ -116,33 +117,42 @@ void SplatSink::finish() {
 
     std::vector<std::int64_t> acc;
     if (frame_.two_pass()) {
-        if (std::fflush(spool_) != 0 || std::fseek(spool_, 0, SEEK_SET) != 0)
-            throw IoError(spool_name_ + ": cannot rewind the splat spool: " + std::strerror(errno));
+        if (std::fflush(spool_) != 0)
+            throw IoError(spool_name_ + ": cannot write the splat spool (deleted temporary file): " + std::strerror(errno));
+        // Pass 2 replays the spool in batches; each task reads its own batch (pread), so threads
+        // meet only at the end, and memory is one batch + one accumulator per thread.
+        const int fd = ::fileno(spool_);
+        const std::uint64_t nbatch = (points_ + kMaxBatchRecords - 1) / kMaxBatchRecords;
         oneapi::tbb::enumerable_thread_specific<Canvas> accs;
-        oneapi::tbb::task_arena arena(threads_);
-        std::vector<PointRecord> buf(kMaxBatchRecords);
-        std::uint64_t left = points_;
-        while (left > 0) {
-            const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(left, buf.size()));
-            if (std::fread(buf.data(), sizeof(PointRecord), want, spool_) != want)
-                throw IoError(spool_name_ + ": cannot read back the splat spool (deleted temporary file)");
-            left -= want;
-            const std::span<const PointRecord> part(buf.data(), want);
-            auto draw = [&](std::size_t i0, std::size_t i1) {
-                Canvas& c = accs.local();
-                if (c.acc.empty()) c.acc.assign(4 * npix, 0);
-                frame_.accumulate(part.subspan(i0, i1 - i0), keys.data(), c.acc.data(), c.stats);
-            };
-            if (threads_ == 1) {
-                draw(0, want);
-            } else {
-                arena.execute([&] {
-                    oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::size_t>(0, want, 1024),
-                                              [&](const oneapi::tbb::blocked_range<std::size_t>& r) {
-                                                  draw(r.begin(), r.end());
-                                              });
-                });
+        auto replay = [&](std::uint64_t i) {
+            Canvas& c = accs.local();
+            if (c.acc.empty()) c.acc.assign(4 * npix, 0);
+            const std::uint64_t first = i * kMaxBatchRecords;
+            const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kMaxBatchRecords, points_ - first));
+            c.batch.resize(n);
+            std::size_t got = 0;
+            const std::size_t want = n * sizeof(PointRecord);
+            char* dst = reinterpret_cast<char*>(c.batch.data());
+            while (got < want) {
+                const ssize_t r = ::pread(fd, dst + got, want - got, static_cast<off_t>(first * sizeof(PointRecord) + got));
+                if (r < 0 && errno == EINTR) continue;
+                if (r <= 0)
+                    throw IoError(spool_name_ + ": cannot read back the splat spool (deleted temporary file)" +
+                                  (r < 0 ? std::string(": ") + std::strerror(errno) : std::string(": short file")));
+                got += static_cast<std::size_t>(r);
             }
+            frame_.accumulate(c.batch, keys.data(), c.acc.data(), c.stats);
+        };
+        if (threads_ == 1) {
+            for (std::uint64_t i = 0; i < nbatch; ++i) replay(i);
+        } else {
+            oneapi::tbb::task_arena arena(threads_);
+            arena.execute([&] {
+                oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::uint64_t>(0, nbatch, 1),
+                                          [&](const oneapi::tbb::blocked_range<std::uint64_t>& r) {
+                                              for (std::uint64_t i = r.begin(); i != r.end(); ++i) replay(i);
+                                          });
+            });
         }
         for (Canvas& c : accs) {
             stats_.fragments += c.stats.fragments;
