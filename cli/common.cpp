@@ -125,7 +125,7 @@ void add_camera_options(Args& a) {
     a.option("size", "", "WxH", "image size in pixels", "800x800")
         .option("azimuth", "", "DEG", "camera rotation about the y axis", "30")
         .option("elevation", "", "DEG", "camera elevation", "20")
-        .option("zoom", "", "Z", "zoom factor (1 frames the whole volume)", "1")
+        .option("zoom", "", "Z", "zoom factor (1 frames the surface: its bounds from the stream, PLY or active bricks/blocks)", "1")
         .option("kernel", "", "quad|ewa", "splat kernel: quadrilateral or elliptical (EWA)", "ewa")
         .option("shading", "", "phong|lambert", "lighting of the splats (a headlight)", "phong")
         .flag("ortho", "orthographic instead of perspective projection");
