@@ -87,7 +87,7 @@ void SplatSink::spool(const std::vector<PointRecord>& pts) {
         throw IoError(spool_name_ + ": cannot write the splat spool (deleted temporary file): " + std::strerror(errno));
 }
 
-void SplatSink::consume(Batch&& b) {
+void SplatSink::observe(const Batch& b) {
     require_points(b);
     points_ += b.points.size();
     if (!staged_) {

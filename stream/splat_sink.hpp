@@ -40,7 +40,9 @@ public:
     /// The parallel drawing stage; put it last in the runner's stage list. Once called, consume()
     /// no longer draws (only counts and spools).
     const Stage& stage();
-    void consume(Batch&& b) override;
+    void consume(Batch&& b) override { observe(b); }
+    /// As consume(); the batch is only read.
+    void observe(const Batch& b) override;
     /// Merges, runs the EWA accumulation pass, shades. Then image() is valid.
     void finish() override;
 

@@ -1,6 +1,6 @@
-// A sink that hands every batch to two sinks (e.g. a PLY writer and the splat sink of
-// `meshless isosurface -o out.ply --png out.png`): nothing is collected; memory = one extra copy of
-// the batch in flight. finish() finishes the first sink, then the second, so the order of the
+// A sink that hands every batch to two sinks (e.g. the splat sink and a PLY writer of
+// `meshless isosurface -o out.ply --png out.png`): nothing is collected. The first sink observes
+// the batch (Sink::observe: no copy when it only reads it), the second consumes it. finish() finishes the first sink, then the second, so the order of the
 // constructor is the order of commits (put the one that can fail without side effects first).
 // Throws what the sinks throw. Not thread-safe (Sink rules).
 #pragma once
@@ -12,8 +12,7 @@ class TeeSink final : public Sink {
 public:
     TeeSink(Sink& first, Sink& second) : first_(first), second_(second) {}
     void consume(Batch&& b) override {
-        Batch copy = b;
-        first_.consume(std::move(copy));
+        first_.observe(b);  // no copy when the first sink only reads (SplatSink)
         second_.consume(std::move(b));
     }
     void finish() override {
