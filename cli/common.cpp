@@ -202,10 +202,12 @@ StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType 
 namespace {
 constexpr int kFramingBlockEdge = 32;  // the default brick edge of meshless convert
 
-std::optional<std::array<Vec3, 2>> store_surface_bounds(const VolumeInput& in, double iso) {
+}  // namespace
+
+std::optional<std::array<Vec3, 2>> store_surface_bounds(const BrickStore& store, const BrickIndex& index, double iso) {
     std::optional<VoxelBox> box;
-    for (std::size_t i : in.index->active(iso)) {
-        const BrickBox b = in.store->box(i);
+    for (std::size_t i : index.active(iso)) {
+        const BrickBox b = store.box(i);
         VoxelBox one;
         for (int a = 0; a < 3; ++a) {
             one.lo[a] = b.first[a];
@@ -221,7 +223,7 @@ std::optional<std::array<Vec3, 2>> store_surface_bounds(const VolumeInput& in, d
         }
     }
     if (!box) return std::nullopt;
-    return world_bounds(in.grid(), *box);
+    return world_bounds(store.info().grid, *box);
 }
 
 void set_surface_bounds(StreamMeta& m, const std::optional<std::array<Vec3, 2>>& surface) {
@@ -231,10 +233,9 @@ void set_surface_bounds(StreamMeta& m, const std::optional<std::array<Vec3, 2>>&
     m.set("bounds_lo", triple((*surface)[0].x, (*surface)[0].y, (*surface)[0].z));
     m.set("bounds_hi", triple((*surface)[1].x, (*surface)[1].y, (*surface)[1].z));
 }
-}  // namespace
 
 std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso) {
-    if (in.store) return store_surface_bounds(in, iso);
+    if (in.store) return store_surface_bounds(*in.store, *in.index, iso);
     const BlockMinMax b = block_minmax(in.volume->view(), kFramingBlockEdge);
     const auto box = active_block_box(b, in.grid(), iso);
     if (!box) return std::nullopt;
@@ -244,7 +245,7 @@ std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double 
 StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer) {
     if (in.store) {
         StreamMeta m = volume_meta(in.path, in.grid(), in.type(), in.value_range(), iso, producer);
-        set_surface_bounds(m, store_surface_bounds(in, iso));
+        set_surface_bounds(m, store_surface_bounds(*in.store, *in.index, iso));
         return m;
     }
     // one pass gives the value range and the active blocks

@@ -75,6 +75,11 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
 /// union of the active 32-cell blocks (aligned as the bricks of a store with the default edge, so
 /// both frame alike). nullopt when nothing is active.
 std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso);
+/// The brick-store case of surface_bounds.
+std::optional<std::array<Vec3, 2>> store_surface_bounds(const BrickStore& store, const BrickIndex& index, double iso);
+/// Moves bounds_lo/hi (the volume's, from volume_meta) to volume_bounds_lo/hi and records the
+/// surface's as bounds_lo/hi; nullopt (nothing active) keeps the volume's as the frame.
+void set_surface_bounds(StreamMeta& m, const std::optional<std::array<Vec3, 2>>& surface);
 /// The PLY comment lines derived from metadata (same for the in-process and piped paths).
 std::vector<std::string> ply_comments(const StreamMeta& m);
 /// Bounds recorded in PLY comments written by ply_comments ("bounds_lo x,y,z", "bounds_hi ..."), if any.
