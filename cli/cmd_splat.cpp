@@ -57,6 +57,7 @@ int cmd_splat(int argc, char** argv) {
     std::optional<std::array<Vec3, 2>> bounds;
     std::optional<ProjectStage> project;
     if (is_ply) {
+        if (a.has("iso")) throw UsageError("--iso applies to sample streams; " + input + " holds projected points");
         auto ply = std::make_unique<PlySource>(input);
         bounds = ply_bounds(ply->comments());  // the surface bounds recorded by isosurface/write
         if (!bounds) {
@@ -75,7 +76,6 @@ int cmd_splat(int argc, char** argv) {
                                     : std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{0, 0, 0}};  // as point_bounds
         }
         source = std::move(ply);
-        if (a.has("iso")) throw UsageError("--iso applies to sample streams; " + input + " holds projected points");
     } else {
         in.emplace(input);
         reader = std::make_unique<StreamReader>(in->f, in->name);
