@@ -5,11 +5,14 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
 #include "cli/cli_harness.hpp"
+#include "formats/ply_points.hpp"
 #include "formats/png_writer.hpp"
+#include "kernels/splat_rasterizer.hpp"
 
 using namespace meshless;
 using namespace meshless::test;
@@ -90,4 +93,25 @@ TEST_CASE("isosurface -o --png: a PNG that cannot be written leaves no PLY; an e
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Catch::Contains("splat spool"));
     CHECK_FALSE(fs::exists(d / "x.png"));
+}
+
+TEST_CASE("splat FILE.ply without recorded bounds frames the points (a streaming pre-pass)", "[cli][splat]") {
+    TempDir d("splatnob");
+    const std::string vol = corner_ball(d), D = d.path.string();
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "/a.ply", d).code == 0);
+    const PlyPoints a = read_ply_points(D + "/a.ply");
+    REQUIRE(a.points.size() > 100);
+    const auto b = point_bounds(a.points);
+    char lo[128], hi[128];
+    std::snprintf(lo, sizeof lo, "bounds_lo %.9g,%.9g,%.9g", b[0].x, b[0].y, b[0].z);
+    std::snprintf(hi, sizeof hi, "bounds_hi %.9g,%.9g,%.9g", b[1].x, b[1].y, b[1].z);
+    write_ply_points(D + "/none.ply", a.points, {});
+    write_ply_points(D + "/with.ply", a.points, {lo, hi});
+    for (const char* k : {"quad", "ewa"}) {
+        REQUIRE(sh("MESHLESS splat " + D + "/none.ply --size 64x48 --kernel " + k + " -o " + D + "/n.png", d).code == 0);
+        REQUIRE(sh("MESHLESS splat " + D + "/with.ply --size 64x48 --kernel " + k + " -o " + D + "/w.png", d).code == 0);
+        REQUIRE(sh("MESHLESS splat " + D + "/a.ply --size 64x48 --kernel " + k + " -o " + D + "/s.png", d).code == 0);
+        CHECK(slurp(d / "n.png") == slurp(d / "w.png"));
+        CHECK(slurp(d / "n.png") != slurp(d / "s.png"));  // the surface-block frame is a different picture
+    }
 }
