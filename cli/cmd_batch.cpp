@@ -253,6 +253,7 @@ public:
                                           "meshless isosurface " + fs::path(mlb).filename().string() + " --iso " +
                                               s_.iso_names[k] + " --projection " + to_string(s_.mode));
             meta.set("projection", to_string(s_.mode));
+            set_surface_bounds(meta, store_surface_bounds(*store, *index, iso));  // frame as isosurface does
             if (do_ply) remove_quietly(sidecar_path(ply));
             if (do_mlp) remove_quietly(sidecar_path(mlp));
             // on failure, whichever of these is in place without a sidecar is removed (no output that

@@ -1,6 +1,9 @@
 // meshless isosurface: paradigm (C) iso-splatting in one process (dissertation chapter 3).
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/mpi_session.hpp"
@@ -11,7 +14,14 @@
 #include "formats/ply_points.hpp"
 #include "kernels/errors.hpp"
 #include "stream/isosplat_pipeline.hpp"
+#include "stream/brick_source.hpp"
+#include "stream/cell_row_source.hpp"
+#include "stream/generate_project_stage.hpp"
 #include "stream/point_sinks.hpp"
+#include "stream/runner.hpp"
+#include "stream/slab_source.hpp"
+#include "stream/splat_sink.hpp"
+#include "stream/tee_sink.hpp"
 
 namespace meshless::cli {
 
@@ -84,6 +94,35 @@ int isosurface_mpi(const Args& a, int argc, char** argv, double iso, Projection 
     }
 }
 
+/// The single-process graph: cell rows of the volume in memory (or the active bricks of a store, in
+/// Morton order) -> generate + project (fused) -> [draw] -> sink. Same batches, hence same bytes, as
+/// run_isosplat_input with PipelineShape::fused.
+IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
+                                    const Stage* draw, Sink& sink, int nthreads) {
+    const auto t0 = std::chrono::steady_clock::now();
+    IsoSplatResult r;
+    if (in.store) {
+        BrickSource source(*in.store, in.index->active(iso));
+        BrickGenerateStage generate(*in.store, *in.cache, iso, sp, mode);
+        const Stage* stages[] = {&generate, draw};
+        run_pipeline(source, std::span<const Stage* const>(stages, draw ? 2 : 1), sink, {nthreads});
+        r.sampling = generate.sampling_stats();
+        r.projection = generate.projection_stats();
+    } else {
+        // slab-streamed file (stream/slab_source.hpp; batches carry their chunk) or a volume in memory
+        std::optional<SlabSource> slabs;
+        std::optional<CellRowSource> rows;
+        Source& source = in.slices ? static_cast<Source&>(slabs.emplace(*in.slices)) : rows.emplace(in.grid());
+        GenerateProjectStage generate(in.slices ? VolumeView{nullptr, in.type(), in.grid()} : in.volume->view(), iso, sp, mode);
+        const Stage* stages[] = {&generate, draw};
+        run_pipeline(source, std::span<const Stage* const>(stages, draw ? 2 : 1), sink, {nthreads});
+        r.sampling = generate.sampling_stats();
+        r.projection = generate.projection_stats();
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+}
+
 }  // namespace
 
 int cmd_isosurface(int argc, char** argv) {
@@ -122,22 +161,35 @@ int cmd_isosurface(int argc, char** argv) {
     if (launched_world_size() > 1) return isosurface_mpi(a, argc, argv, iso, mode, sp, rs, nthreads);
 
     VolumeInput in = open_volume_input(a, /*stream=*/true);
-    StreamMeta meta = volume_meta(in, iso, a.command_line());
+    StreamMeta meta = volume_meta(in, iso, a.command_line());  // value range and surface bounds, one pass
+    warn_if_iso_outside(iso, {meta.get_double("value_min").value_or(NAN), meta.get_double("value_max").value_or(NAN)},
+                        in.path);
     meta.set("projection", to_string(mode));
 
     IsoSplatResult r;
     std::size_t points = 0;
     if (png) {
-        CollectSink sink;
-        r = run_isosplat_input(in, iso, mode, sp, sink, nthreads, PipelineShape::fused);
-        points = sink.points.size();
-        write_outputs(a, meta, sink.points, rs);
+        // Streaming: each batch is drawn as it is produced (in the parallel section) and, with -o,
+        // written to the PLY; nothing is collected. The splat sink finishes (renders) before the PLY
+        // is committed, and a PNG that cannot be written removes the PLY: one outcome.
+        SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
+        std::optional<PlySink> ply;
+        if (out) ply.emplace(*out, ply_comments(meta));
+        std::optional<TeeSink> tee;
+        if (ply) tee.emplace(splat, *ply);
+        r = run_isosurface_graph(in, iso, mode, sp, &splat.stage(), tee ? static_cast<Sink&>(*tee) : splat, nthreads);
+        points = splat.points();
+        try {
+            write_png(splat.image(), *png);
+        } catch (...) {
+            if (out && *out != "-" && !is_streaming_output(*out)) std::remove(out->c_str());
+            throw;
+        }
     } else {
         PlySink sink(*out, ply_comments(meta));
-        r = run_isosplat_input(in, iso, mode, sp, sink, nthreads, PipelineShape::fused);
+        r = run_isosurface_graph(in, iso, mode, sp, nullptr, sink, nthreads);
         points = sink.count();
     }
-    warn_if_nothing_active(in, iso, r.sampling);
     if (a.has("stats")) print_stats(in.path, iso, mode, r, points, nthreads, 1);
     return 0;
 }

@@ -1,13 +1,20 @@
 // meshless splat: software surface splatting of a point stream or PLY (section 3.6).
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <memory>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/render_output.hpp"
 #include "formats/ply_points.hpp"
 #include "kernels/errors.hpp"
+#include "formats/png_writer.hpp"
+#include "stream/ply_source.hpp"
 #include "stream/point_sinks.hpp"
+#include "stream/splat_sink.hpp"
 #include "stream/project_stage.hpp"
 #include "stream/runner.hpp"
 #include "stream/stream_endpoints.hpp"
@@ -20,12 +27,17 @@ int cmd_splat(int argc, char** argv) {
            "elliptical EWA kernels with depth-tested, normalised accumulation and Phong shading.\n"
            "INPUT is a point stream (stdin by default) or a .ply point set. Given a sample stream (from\n"
            "`meshless generate` or `meshless extract`), it projects at render time (paradigms B and D of\n"
-           "Table 3.1): the isovalue comes from --iso or the stream.");
+           "Table 3.1): the isovalue comes from --iso or the stream. Points are drawn as they arrive (memory =\n"
+           "the image buffers + one batch; the EWA kernel spools the points to an unlinked file in $TMPDIR\n"
+           "for its second pass); the camera frames the surface bounds recorded in the stream or PLY.\n"
+           "--turntable collects the points (each frame draws them all).");
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("iso", "", "V", "sample streams: isovalue to project onto (default: the stream's)")
         .option("projection", "", "MODE", "sample streams: approx | exact | none", "approx")
-        .option("turntable", "", "N", "render N frames, 360/N degrees apart about the y axis, as FILE_000.png ...; reports time per frame");
+        .option("turntable", "", "N", "render N frames, 360/N degrees apart about the y axis, as FILE_000.png ...; reports time per frame")
+        .flag("stats", "print the point count, time and throughput to stderr");
     add_camera_options(a);
+    add_thread_option(a);
     a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png --turntable 36\n");
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string png = a.require("output");
@@ -36,40 +48,78 @@ int cmd_splat(int argc, char** argv) {
     if (frames > 0 && png == "-") throw UsageError("--turntable writes one file per frame: give -o NAME.png, not '-'");
     const std::string input = a.positional().empty() ? "-" : a.positional()[0];
 
-    std::vector<PointRecord> points;
+    const int nthreads = threads(a);
+    const bool is_ply = input.size() > 4 && input.substr(input.size() - 4) == ".ply";
+    // The graph: PLY file or point/sample stream -> [project] -> draw (parallel) -> splat sink.
+    std::unique_ptr<StreamReader> reader;
+    std::optional<InputFile> in;
+    std::unique_ptr<Source> source;
     std::optional<std::array<Vec3, 2>> bounds;
-    if (input.size() > 4 && input.substr(input.size() - 4) == ".ply") {
-        PlyPoints ply = read_ply_points(input);
-        points = std::move(ply.points);
-        bounds = ply_bounds(ply.comments);  // the volume's bounds, so framing matches isosurface --png
-    } else {
-        InputFile in(input);
-        StreamReader reader(in.f, in.name);
-        reader.read_meta();
-        bounds = meta_bounds(reader.meta());
-        StreamSource source(reader);
-        CollectSink sink;
-        if (reader.kind() == RecordKind::sample) {
-            // paradigms (B)/(D): projection at render time
-            ProjectStage project(stream_iso(a, reader.meta()), parse_projection(a.get_or("projection", "approx")));
-            const Stage* stages[] = {&project};
-            run_pipeline(source, stages, sink, {1});
-        } else {
-            if (a.has("iso")) throw UsageError("--iso applies to sample streams; this stream holds projected points");
-            run_pipeline(source, {}, sink, {1});
+    std::optional<ProjectStage> project;
+    if (is_ply) {
+        if (a.has("iso")) throw UsageError("--iso applies to sample streams; " + input + " holds projected points");
+        auto ply = std::make_unique<PlySource>(input);
+        bounds = ply_bounds(ply->comments());  // the surface bounds recorded by isosurface/write
+        if (!bounds) {
+            // no recorded bounds (a PLY from elsewhere): one streaming pre-pass over the file
+            PlySource pre(input);
+            double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            while (auto bt = pre.next())
+                for (const PointRecord& p : bt->points) {
+                    if (!(std::isfinite(p.pos[0]) && std::isfinite(p.pos[1]) && std::isfinite(p.pos[2]))) continue;
+                    for (int i = 0; i < 3; ++i) {
+                        lo[i] = std::min(lo[i], double(p.pos[i]));
+                        hi[i] = std::max(hi[i], double(p.pos[i]));
+                    }
+                }
+            bounds = lo[0] <= hi[0] ? std::array<Vec3, 2>{Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}}
+                                    : std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{0, 0, 0}};  // as point_bounds
         }
-        points = std::move(sink.points);
-    }
-    if (frames > 0) {
-        const auto t = render_turntable(points, bounds, rs, static_cast<int>(frames), png);
-        std::fprintf(stderr, "splat: turntable of %d frames, %zu points, %dx%d %s: %.2f ms/frame (min %.2f, max %.2f)\n",
-                     t.frames, points.size(), cam.width, cam.height, rs.kernel == SplatKernel::quad ? "quad" : "ewa",
-                     1e3 * t.mean_seconds, 1e3 * t.min_seconds, 1e3 * t.max_seconds);
+        source = std::move(ply);
     } else {
-        const auto st = render_to_png(points, bounds, rs, png);
-        if (stderr_is_tty())
-            std::fprintf(stderr, "splat: %zu points, %.2f ms\n", points.size(), 1e3 * st.seconds);
+        in.emplace(input);
+        reader = std::make_unique<StreamReader>(in->f, in->name);
+        reader->read_meta();
+        bounds = meta_bounds(reader->meta());
+        source = std::make_unique<StreamSource>(*reader);
+        if (reader->kind() == RecordKind::sample) {
+            // paradigms (B)/(D): projection at render time
+            project.emplace(stream_iso(a, reader->meta()), parse_projection(a.get_or("projection", "approx")));
+        } else if (a.has("iso")) {
+            throw UsageError("--iso applies to sample streams; this stream holds projected points");
+        }
     }
+    std::vector<const Stage*> stages;
+    if (project) stages.push_back(&*project);
+
+    if (frames > 0 || !bounds) {
+        // A turntable draws every point once per frame: the points are collected (memory grows with
+        // them); so are the points of a stream that records no bounds (the frame needs them first).
+        CollectSink sink;
+        run_pipeline(*source, stages, sink, {nthreads});
+        std::vector<PointRecord> points = std::move(sink.points);
+        if (frames > 0) {
+            const auto t = render_turntable(points, bounds, rs, static_cast<int>(frames), png);
+            std::fprintf(stderr, "splat: turntable of %d frames, %zu points, %dx%d %s: %.2f ms/frame (min %.2f, max %.2f)\n",
+                         t.frames, points.size(), cam.width, cam.height, rs.kernel == SplatKernel::quad ? "quad" : "ewa",
+                         1e3 * t.mean_seconds, 1e3 * t.min_seconds, 1e3 * t.max_seconds);
+        } else {
+            const auto st = render_to_png(points, bounds, rs, png);
+            if (stderr_is_tty()) std::fprintf(stderr, "splat: %zu points, %.2f ms\n", points.size(), 1e3 * st.seconds);
+        }
+        return 0;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    SplatSink sink(cam, rs.kernel, rs.shading, *bounds, nthreads);
+    stages.push_back(&sink.stage());
+    run_pipeline(*source, stages, sink, {nthreads});
+    write_png(sink.image(), png);
+    if (stderr_is_tty() || a.has("stats"))
+        std::fprintf(stderr, "splat: %llu points, %dx%d %s, %d thread(s): %.3f s (%.2f M points/s)\n",
+                     static_cast<unsigned long long>(sink.points()), cam.width, cam.height,
+                     rs.kernel == SplatKernel::quad ? "quad" : "ewa", nthreads,
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                     1e-6 * sink.points() / std::max(1e-9, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
     return 0;
 }
 

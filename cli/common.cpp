@@ -2,14 +2,17 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include "formats/volume_reader.hpp"
+#include "kernels/block_minmax.hpp"
 #include "ooc/brick_slice_source.hpp"
 #include "kernels/errors.hpp"
 #include "stream/available_cpus.hpp"
@@ -93,36 +96,49 @@ const GridSpec& VolumeInput::grid() const {
 SampleType VolumeInput::type() const { return store ? store->info().type : slices ? slices->type() : volume->type; }
 
 namespace {
-/// One pass over a slab-streamed volume, a few slices at a time.
-std::array<double, 2> streamed_range(SliceSource& s) {
-    GridSpec g = s.grid();
+constexpr int kFramingBlockEdge = 32;  // the default brick edge of meshless convert
+
+/// block_minmax over a slab-streamed volume, one layer of blocks (edge + 1 slices) at a time: the
+/// layers' blocks are those of the whole volume, in the same order (x fastest, z slowest).
+BlockMinMax streamed_block_minmax(SliceSource& s, int edge) {
+    const GridSpec g = s.grid();
     const auto slice_bytes = static_cast<std::size_t>(g.dims[0] * g.dims[1]) * sample_size(s.type());
-    const std::int64_t step = std::max<std::int64_t>(1, static_cast<std::int64_t>((std::size_t{4} << 20) / std::max<std::size_t>(1, slice_bytes)));
+    BlockMinMax all;
+    all.edge = edge;
     std::vector<std::byte> buf;
-    std::array<double, 2> r{std::nan(""), std::nan("")};
-    for (std::int64_t k = 0; k < g.dims[2]; k += step) {
-        const std::int64_t n = std::min(step, g.dims[2] - k);
-        buf.resize(slice_bytes * static_cast<std::size_t>(n));
-        s.read_slices(k, n, buf.data());
+    const std::int64_t nz = g.dims[2];
+    for (std::int64_t z0 = 0;; z0 += edge) {
+        const std::int64_t z1 = std::min<std::int64_t>(z0 + edge, nz - 1), n = z1 - z0 + 1;
+        if (z0 == 0) {
+            buf.resize(slice_bytes * static_cast<std::size_t>(n));
+            s.read_slices(0, n, buf.data());
+        } else {  // the shared slice z0 ends the previous layer: copied, so every slice is read once
+            std::memmove(buf.data(), buf.data() + buf.size() - slice_bytes, slice_bytes);
+            buf.resize(slice_bytes * static_cast<std::size_t>(n));
+            s.read_slices(z0 + 1, n - 1, buf.data() + slice_bytes);
+        }
         GridSpec part = g;
         part.dims[2] = n;
-        const auto pr = value_range(VolumeView{buf.data(), s.type(), part});
-        if (std::isnan(pr[0])) continue;
-        r = std::isnan(r[0]) ? pr : std::array<double, 2>{std::min(r[0], pr[0]), std::max(r[1], pr[1])};
+        BlockMinMax layer = block_minmax(VolumeView{buf.data(), s.type(), part}, edge);
+        all.blocks = {layer.blocks[0], layer.blocks[1], all.blocks[2] + 1};
+        all.vmin.insert(all.vmin.end(), layer.vmin.begin(), layer.vmin.end());
+        all.vmax.insert(all.vmax.end(), layer.vmax.begin(), layer.vmax.end());
+        if (z1 >= nz - 1) break;
     }
-    return r;
+    return all;
 }
 }  // namespace
 
-std::array<double, 2> VolumeInput::value_range() const {
-    if (!range_)
-        range_ = store ? std::array<double, 2>{store->info().value_min, store->info().value_max}
-                 : slices ? streamed_range(*slices) : volume->value_range();
-    return *range_;
+const BlockMinMax& VolumeInput::blocks() const {
+    if (store) throw std::logic_error("VolumeInput::blocks: a brick store has its brick index");
+    if (!blocks_)
+        blocks_ = slices ? streamed_block_minmax(*slices, kFramingBlockEdge) : block_minmax(volume->view(), kFramingBlockEdge);
+    return *blocks_;
 }
-std::optional<std::array<double, 2>> VolumeInput::known_value_range() const {
-    if (store) return value_range();
-    return range_;
+
+std::array<double, 2> VolumeInput::value_range() const {
+    if (store) return {store->info().value_min, store->info().value_max};
+    return blocks().range();
 }
 
 namespace {
@@ -182,7 +198,7 @@ void add_camera_options(Args& a) {
     a.option("size", "", "WxH", "image size in pixels", "800x800")
         .option("azimuth", "", "DEG", "camera rotation about the y axis", "30")
         .option("elevation", "", "DEG", "camera elevation", "20")
-        .option("zoom", "", "Z", "zoom factor (1 frames the whole volume)", "1")
+        .option("zoom", "", "Z", "zoom factor (1 frames the surface: its bounds from the stream, PLY or active bricks/blocks)", "1")
         .option("kernel", "", "quad|ewa", "splat kernel: quadrilateral or elliptical (EWA)", "ewa")
         .option("shading", "", "phong|lambert", "lighting of the splats (a headlight)", "phong")
         .flag("ortho", "orthographic instead of perspective projection");
@@ -258,9 +274,61 @@ StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType 
     return m;
 }
 
+std::optional<std::array<Vec3, 2>> store_surface_bounds(const BrickStore& store, const BrickIndex& index, double iso) {
+    std::optional<VoxelBox> box;
+    for (std::size_t i : index.active(iso)) {
+        const BrickBox b = store.box(i);
+        VoxelBox one;
+        for (int a = 0; a < 3; ++a) {
+            one.lo[a] = b.first[a];
+            one.hi[a] = b.first[a] + b.dims[a] - 1;
+        }
+        if (!box) {
+            box = one;
+            continue;
+        }
+        for (int a = 0; a < 3; ++a) {
+            box->lo[a] = std::min(box->lo[a], one.lo[a]);
+            box->hi[a] = std::max(box->hi[a], one.hi[a]);
+        }
+    }
+    if (!box) return std::nullopt;
+    return world_bounds(store.info().grid, *box);
+}
+
+void set_surface_bounds(StreamMeta& m, const std::optional<std::array<Vec3, 2>>& surface) {
+    m.set("volume_bounds_lo", *m.get("bounds_lo"));
+    m.set("volume_bounds_hi", *m.get("bounds_hi"));
+    if (!surface) return;  // nothing active: frame the volume
+    m.set("bounds_lo", triple((*surface)[0].x, (*surface)[0].y, (*surface)[0].z));
+    m.set("bounds_hi", triple((*surface)[1].x, (*surface)[1].y, (*surface)[1].z));
+}
+
+std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso) {
+    if (in.store) return store_surface_bounds(*in.store, *in.index, iso);
+    const auto box = active_block_box(in.blocks(), in.grid(), iso);
+    if (!box) return std::nullopt;
+    return world_bounds(in.grid(), *box);
+}
+
+StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer) {
+    if (in.store) {
+        StreamMeta m = volume_meta(in.path, in.grid(), in.type(), in.value_range(), iso, producer);
+        set_surface_bounds(m, store_surface_bounds(*in.store, *in.index, iso));
+        return m;
+    }
+    // one pass gives the value range and the active blocks
+    const BlockMinMax& b = in.blocks();
+    StreamMeta m = volume_meta(in.path, in.grid(), in.type(), b.range(), iso, producer);
+    const auto box = active_block_box(b, in.grid(), iso);
+    set_surface_bounds(m, box ? std::optional(world_bounds(in.grid(), *box)) : std::nullopt);
+    return m;
+}
+
 std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
-    for (const char* k : {"source", "iso", "projection", "grid_dims", "grid_spacing", "bounds_lo", "bounds_hi"})
+    for (const char* k : {"source", "iso", "projection", "grid_dims", "grid_spacing", "bounds_lo", "bounds_hi",
+                          "volume_bounds_lo", "volume_bounds_hi"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
 }

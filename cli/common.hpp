@@ -10,6 +10,7 @@
 #include "cli/args.hpp"
 #include "cli/render_output.hpp"
 #include "formats/point_stream.hpp"
+#include "kernels/block_minmax.hpp"
 #include "kernels/cell_sampling.hpp"
 #include "kernels/grid.hpp"
 #include "formats/volume_reader.hpp"
@@ -43,13 +44,15 @@ struct VolumeInput {
     std::unique_ptr<BrickIndex> index;
     const GridSpec& grid() const;
     SampleType type() const;
-    /// The value range (computed once, on first use: the store's header, or one pass over the volume).
+    /// The value range (computed once, on first use: the store's header, or blocks().range()).
     std::array<double, 2> value_range() const;
-    /// The value range when it costs nothing: a brick store's header, or value_range() already called.
-    std::optional<std::array<double, 2>> known_value_range() const;
+    /// Not for a brick store (its index has the bricks' intervals): the min/max of 32-cell blocks
+    /// aligned as a store's bricks (kernels/block_minmax.hpp), computed once, on first use, in one
+    /// pass over the volume in memory or over the slab-streamed file (a layer of blocks at a time).
+    const BlockMinMax& blocks() const;
 
 private:
-    mutable std::optional<std::array<double, 2>> range_;
+    mutable std::optional<BlockMinMax> blocks_;
 };
 /// stream = true (commands that make one pass in cell-row order: isosurface, generate): raw, NRRD,
 /// MetaImage and Voreen files with raw or gzip payloads are streamed slab by slab (`slices`, see
@@ -84,11 +87,20 @@ inline StreamMeta volume_meta(const std::string& source, const GridSpec& g, Samp
 inline StreamMeta volume_meta(const std::string& source, const Volume& v, double iso, const std::string& producer) {
     return volume_meta(source, v.grid, v.type, v.value_range(), iso, producer);
 }
-/// The value range is recorded only when known without a pass over the samples (a brick store's
-/// header, or already computed): a stage process starts without reading the whole volume.
-inline StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer) {
-    return volume_meta(in.path, in.grid(), in.type(), in.known_value_range(), iso, producer);
-}
+/// As above, and frames the surface: bounds_lo/hi become the surface bounds for iso (surface_bounds;
+/// the volume's when nothing is active) and the volume's are kept as volume_bounds_lo/hi. For a
+/// volume in memory the value range and the surface bounds come from one pass (kernels/block_minmax).
+StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer);
+/// The bounds of the isosurface known before extraction (dissertation section 3.6 framing): a brick
+/// store: the union of the active bricks' voxel boxes (BrickIndex::active); a volume in memory: the
+/// union of the active 32-cell blocks (aligned as the bricks of a store with the default edge, so
+/// both frame alike). nullopt when nothing is active.
+std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso);
+/// The brick-store case of surface_bounds.
+std::optional<std::array<Vec3, 2>> store_surface_bounds(const BrickStore& store, const BrickIndex& index, double iso);
+/// Moves bounds_lo/hi (the volume's, from volume_meta) to volume_bounds_lo/hi and records the
+/// surface's as bounds_lo/hi; nullopt (nothing active) keeps the volume's as the frame.
+void set_surface_bounds(StreamMeta& m, const std::optional<std::array<Vec3, 2>>& surface);
 /// The PLY comment lines derived from metadata (same for the in-process and piped paths).
 std::vector<std::string> ply_comments(const StreamMeta& m);
 /// Bounds recorded in PLY comments written by ply_comments ("bounds_lo x,y,z", "bounds_hi ..."), if any.

@@ -46,4 +46,25 @@ struct PlyPoints {
 };
 PlyPoints read_ply_points(const std::string& path);
 
+/// Streaming reader of the same files: the header is parsed on construction, the vertices are
+/// read in pieces of at most `max` (memory = one piece). Binary little-endian files with exactly
+/// the properties written above are read with one bulk read per piece. Throws as read_ply_points
+/// (FormatError naming the file and the vertex; trailing bytes are reported by the read that
+/// reaches the last vertex). Not thread-safe.
+class PlyPointReader {
+public:
+    explicit PlyPointReader(const std::string& path);
+    ~PlyPointReader();
+    const std::vector<std::string>& comments() const;
+    /// Vertices the header declares.
+    std::uint64_t count() const;
+    const std::string& path() const;
+    /// Replaces out with the next up to max points; returns how many (0 at the end).
+    std::size_t read(std::vector<PointRecord>& out, std::size_t max);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> d_;
+};
+
 }  // namespace meshless

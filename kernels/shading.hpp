@@ -14,6 +14,7 @@ struct Shader {
     float base[3];
     float ambient, diffuse, specular, shininess;
     float light[3];
+    int int_shininess = -1;  // >= 0: shininess is this integer, raised by repeated squaring (no powf)
 
     explicit Shader(const ShadingParams& p) {
         for (int i = 0; i < 3; ++i) base[i] = p.base[i] / 255.0f;
@@ -25,6 +26,16 @@ struct Shader {
         light[0] = static_cast<float>(l.x);
         light[1] = static_cast<float>(l.y);
         light[2] = static_cast<float>(l.z);
+        if (p.shininess >= 0 && p.shininess <= 1024 && p.shininess == std::floor(p.shininess))
+            int_shininess = static_cast<int>(p.shininess);
+    }
+
+    float specular_power(float x) const {
+        if (int_shininess < 0) return std::pow(x, shininess);
+        float r = 1.0f, b = x;
+        for (int e = int_shininess; e; e >>= 1, b *= b)
+            if (e & 1) r *= b;
+        return r;
     }
 
     /// n: unit normal (already flipped towards the viewer when two-sided); v: unit vector to the eye.
@@ -38,7 +49,7 @@ struct Shader {
                 // Phong: reflect the light about the normal, compare with the view vector.
                 const float rx = 2 * ndl * nx - light[0], ry = 2 * ndl * ny - light[1], rz = 2 * ndl * nz - light[2];
                 const float rdv = rx * vx + ry * vy + rz * vz;
-                if (rdv > 0.0f) spec = specular * std::pow(rdv, shininess);
+                if (rdv > 0.0f) spec = specular * specular_power(rdv);
             }
         }
         std::uint32_t out = 0;

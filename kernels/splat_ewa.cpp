@@ -1,4 +1,4 @@
-// Elliptical (EWA-style) splat kernel of SplatRenderer; see splat_rasterizer.hpp for the model
+// Elliptical (EWA-style) splat kernel of SplatFrame; see splat_rasterizer.hpp for the model
 // (Zwicker et al. 2001 surface splatting, as used in dissertation section 3.6).
 #include <algorithm>
 #include <array>
@@ -128,31 +128,35 @@ bool footprint(const Setup& s, const PointRecord& rec, Footprint& f) {
     return true;
 }
 
+float ewa_c2(const ShadingParams& sh) {
+    const float cutoff = static_cast<float>(std::max(sh.ewa_cutoff, 1e-3));
+    return cutoff * cutoff;
+}
+
+Setup make_setup(const ViewTransform& view, const ShadingParams& sh) {
+    const float c2 = ewa_c2(sh);
+    return Setup{detail::FloatView(view),
+                 1.0f / c2,
+                 c2,
+                 static_cast<float>(std::max(sh.ewa_lowpass_px2, 0.0)),
+                 static_cast<float>(std::max(sh.depth_epsilon, 0.0)),
+                 view.width,
+                 view.height};
+}
+
 }  // namespace
 
-void SplatRenderer::render_ewa(std::span<const PointRecord> points, SplatStats& st) {
-    const int W = cam_.width, H = cam_.height;
-    const std::size_t npix = static_cast<std::size_t>(W) * H;
-    key_.assign(npix, std::numeric_limits<std::uint64_t>::max());
-    acc_.assign(4 * npix, 0);
+void SplatFrame::init_ewa() {
+    const float c2 = ewa_c2(shading_);
+    gauss_.resize(kTable + 1);
+    for (int i = 0; i <= kTable; ++i) gauss_[i] = std::exp(-0.5f * c2 * static_cast<float>(i) / kTable);
+}
 
-    const float cutoff = static_cast<float>(std::max(shading_.ewa_cutoff, 1e-3));
-    const Setup s{detail::FloatView(view_),
-                  1.0f / (cutoff * cutoff),
-                  cutoff * cutoff,
-                  static_cast<float>(std::max(shading_.ewa_lowpass_px2, 0.0)),
-                  static_cast<float>(std::max(shading_.depth_epsilon, 0.0)),
-                  W,
-                  H};
-    std::array<float, kTable + 1> gauss;
-    for (int i = 0; i <= kTable; ++i) gauss[i] = std::exp(-0.5f * s.c2 * static_cast<float>(i) / kTable);
-    const float qscale = kTable / s.c2;
-
-    std::uint64_t* const kb = key_.data();
-    std::int64_t* const acc = acc_.data();
+void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb, SplatStats& st) const {
+    const Setup s = make_setup(view_, shading_);
+    const int W = s.W;
     std::int64_t drawn = 0, frags = 0;
     Footprint f;
-
     // Pass 1: visibility. Key = (depth bits << 32) | packed normal of the nearest fragment, so the
     // minimum is independent of the drawing order, ties included.
     for (const PointRecord& rec : points) {
@@ -172,6 +176,18 @@ void SplatRenderer::render_ewa(std::span<const PointRecord> points, SplatStats& 
             }
         }
     }
+    st.splats_drawn += drawn;
+    st.fragments += frags;
+}
+
+void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint64_t* kb, std::int64_t* acc,
+                            SplatStats& st) const {
+    const Setup s = make_setup(view_, shading_);
+    const int W = s.W;
+    const float* gauss = gauss_.data();
+    const float qscale = kTable / s.c2;
+    std::int64_t frags = 0;
+    Footprint f;
     // Pass 2: accumulation of fragments near the visible surface.
     for (const PointRecord& rec : points) {
         if (!footprint(s, rec, f)) continue;
@@ -197,13 +213,17 @@ void SplatRenderer::render_ewa(std::span<const PointRecord> points, SplatStats& 
             }
         }
     }
+    st.fragments += frags;
+}
 
+void SplatFrame::resolve_ewa(const std::int64_t* acc, Image& img) const {
+    const int W = view_.width, H = view_.height;
     // Resolve: normalise the blended normal and shade (deferred).
     const detail::Shader shader(shading_);
-    const detail::FloatView& fv = s.fv;
+    const detail::FloatView fv(view_);
     const auto& bg = shading_.background;
     const bool two_sided = shading_.two_sided;
-    std::uint8_t* out = image_.rgb.data();
+    std::uint8_t* out = img.rgb.data();
     for (int y = 0; y < H; ++y) {
         for (int x = 0; x < W; ++x, out += 3) {
             const std::int64_t* a = acc + 4 * (static_cast<std::size_t>(y) * W + x);
@@ -238,8 +258,6 @@ void SplatRenderer::render_ewa(std::span<const PointRecord> points, SplatStats& 
             detail::unpack_rgb(shader.shade(n[0], n[1], n[2], v[0], v[1], v[2]), out);
         }
     }
-    st.splats_drawn = drawn;
-    st.fragments = frags;
 }
 
 }  // namespace meshless

@@ -1,4 +1,4 @@
-// Quadrilateral (QSplat-style) splat kernel of SplatRenderer; see splat_rasterizer.hpp.
+// Quadrilateral (QSplat-style) splat kernel of SplatFrame; see splat_rasterizer.hpp.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -9,39 +9,49 @@
 
 namespace meshless {
 
-void SplatRenderer::render_quad(std::span<const PointRecord> points, SplatStats& st) {
-    const int W = cam_.width, H = cam_.height;
-    const std::size_t npix = static_cast<std::size_t>(W) * H;
-    constexpr std::uint64_t empty = std::numeric_limits<std::uint64_t>::max();
-    key_.assign(npix, empty);
-    const detail::FloatView fv(view_);
-    const detail::Shader shader(shading_);
-    const bool two_sided = shading_.two_sided;
-    std::uint64_t* const key = key_.data();
-    std::int64_t drawn = 0, frags = 0;
+namespace {
 
+// Exact ceil/floor of a float known to lie within +-2^30 (callers clamp): no libm call, no
+// rounding-mode dependence (the x86-64 baseline has no roundss).
+inline int iceil(float v) {
+    const int i = static_cast<int>(v);
+    return i + (static_cast<float>(i) < v);
+}
+inline int ifloor(float v) {
+    const int i = static_cast<int>(v);
+    return i - (static_cast<float>(i) > v);
+}
+inline float clamp_px(float v) { return std::clamp(v, -1e9f, 1e9f); }  // far outside any image, inside int
+
+// The per-point loop, specialised on the projection so the inner work has no hoistable branch.
+template <bool Perspective>
+void draw_quad_points(const detail::FloatView& fv, const detail::Shader& shader, bool two_sided, int W, int H,
+                      std::span<const PointRecord> points, std::uint64_t* key, std::int64_t& drawn,
+                      std::int64_t& frags) {
     for (const PointRecord& rec : points) {
         if (!(std::isfinite(rec.pos[0]) && std::isfinite(rec.pos[1]) && std::isfinite(rec.pos[2]))) continue;
         float pc[3];
         fv.point(rec.pos, pc);
         const float depth = fv.distance - pc[2];
         if (!(depth > fv.near_depth)) continue;
-        const float k = fv.perspective ? fv.focal / depth : fv.focal;
+        const float k = Perspective ? fv.focal / depth : fv.focal;
         const float sx = fv.cx + k * pc[0], sy = fv.cy - k * pc[1];
         const float r = std::isfinite(rec.radius) ? std::max(rec.radius, 0.0f) * k : 0.0f;
         // Pixels with centres in [s - r, s + r); at least the pixel under the centre.
-        float fx0 = std::ceil(sx - r - 0.5f), fx1 = std::ceil(sx + r - 0.5f) - 1.0f;
-        float fy0 = std::ceil(sy - r - 0.5f), fy1 = std::ceil(sy + r - 0.5f) - 1.0f;
-        if (fx1 < fx0) fx0 = fx1 = std::floor(sx);
-        if (fy1 < fy0) fy0 = fy1 = std::floor(sy);
-        if (fx1 < 0 || fy1 < 0 || fx0 > W - 1 || fy0 > H - 1) continue;
-        const int x0 = static_cast<int>(std::max(fx0, 0.0f)), x1 = static_cast<int>(std::min(fx1, float(W - 1)));
-        const int y0 = static_cast<int>(std::max(fy0, 0.0f)), y1 = static_cast<int>(std::min(fy1, float(H - 1)));
+        int x0 = iceil(clamp_px(sx - r - 0.5f)), x1 = iceil(clamp_px(sx + r - 0.5f)) - 1;
+        int y0 = iceil(clamp_px(sy - r - 0.5f)), y1 = iceil(clamp_px(sy + r - 0.5f)) - 1;
+        if (x1 < x0) x0 = x1 = ifloor(clamp_px(sx));
+        if (y1 < y0) y0 = y1 = ifloor(clamp_px(sy));
+        if (x1 < 0 || y1 < 0 || x0 > W - 1 || y0 > H - 1) continue;
+        x0 = std::max(x0, 0);
+        x1 = std::min(x1, W - 1);
+        y0 = std::max(y0, 0);
+        y1 = std::min(y1, H - 1);
 
         float n[3], v[3];
         detail::oriented_normal(fv, rec, pc, depth, two_sided, n, v);
-        const std::uint64_t kk =
-            (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(depth)) << 32) | shader.shade(n[0], n[1], n[2], v[0], v[1], v[2]);
+        const std::uint64_t kk = (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(depth)) << 32) |
+                                 shader.shade(n[0], n[1], n[2], v[0], v[1], v[2]);
         ++drawn;
         frags += static_cast<std::int64_t>(x1 - x0 + 1) * (y1 - y0 + 1);
         for (int y = y0; y <= y1; ++y) {
@@ -49,11 +59,28 @@ void SplatRenderer::render_quad(std::span<const PointRecord> points, SplatStats&
             for (int x = x0; x <= x1; ++x) row[x] = std::min(row[x], kk);
         }
     }
+}
 
-    std::uint8_t* out = image_.rgb.data();
+}  // namespace
+
+void SplatFrame::draw_quad(std::span<const PointRecord> points, std::uint64_t* key, SplatStats& st) const {
+    const detail::FloatView fv(view_);
+    const detail::Shader shader(shading_);
+    std::int64_t drawn = 0, frags = 0;
+    if (fv.perspective)
+        draw_quad_points<true>(fv, shader, shading_.two_sided, view_.width, view_.height, points, key, drawn, frags);
+    else
+        draw_quad_points<false>(fv, shader, shading_.two_sided, view_.width, view_.height, points, key, drawn, frags);
+    st.splats_drawn += drawn;
+    st.fragments += frags;
+}
+
+void SplatFrame::resolve_quad(const std::uint64_t* key, Image& img) const {
+    std::uint8_t* out = img.rgb.data();
     const auto& bg = shading_.background;
-    for (std::size_t i = 0; i < npix; ++i, out += 3) {
-        if (key[i] == empty) {
+    const std::size_t n = npix();
+    for (std::size_t i = 0; i < n; ++i, out += 3) {
+        if (key[i] == kEmptyKey) {
             out[0] = bg[0];
             out[1] = bg[1];
             out[2] = bg[2];
@@ -61,8 +88,6 @@ void SplatRenderer::render_quad(std::span<const PointRecord> points, SplatStats&
             detail::unpack_rgb(static_cast<std::uint32_t>(key[i] & 0xFFFFFFu), out);
         }
     }
-    st.splats_drawn = drawn;
-    st.fragments = frags;
 }
 
 }  // namespace meshless

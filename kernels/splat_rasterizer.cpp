@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <limits>
 
 namespace meshless {
@@ -35,18 +36,46 @@ void SplatRenderer::set_bounds(const std::array<Vec3, 2>& bounds) {
 
 const Image& SplatRenderer::render(std::span<const PointRecord> points, SplatKernel kernel, SplatStats* stats) {
     const auto t0 = std::chrono::steady_clock::now();
-    const std::size_t npix = static_cast<std::size_t>(cam_.width) * cam_.height;
-    image_.width = cam_.width;
-    image_.height = cam_.height;
-    image_.rgb.resize(3 * npix);
+    const SplatFrame frame(cam_, kernel, shading_, bounds_);
+    const std::size_t npix = frame.npix();
     SplatStats st;
-    if (kernel == SplatKernel::quad)
-        render_quad(points, st);
-    else
-        render_ewa(points, st);
+    key_.assign(npix, SplatFrame::kEmptyKey);
+    frame.draw(points, key_.data(), st);
+    if (frame.two_pass()) {
+        acc_.assign(4 * npix, 0);
+        frame.accumulate(points, key_.data(), acc_.data(), st);
+    }
+    frame.resolve(key_.data(), acc_.data(), image_);
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (stats) *stats = st;
     return image_;
+}
+
+SplatFrame::SplatFrame(const Camera& cam, SplatKernel kernel, const ShadingParams& shading,
+                       const std::array<Vec3, 2>& bounds)
+    : view_(make_view(cam, bounds[0], bounds[1])), shading_(shading), kernel_(kernel) {
+    if (kernel_ == SplatKernel::ewa) init_ewa();
+}
+
+void SplatFrame::merge_keys(std::uint64_t* dst, const std::uint64_t* src, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) dst[i] = std::min(dst[i], src[i]);
+}
+
+void SplatFrame::merge_acc(std::int64_t* dst, const std::int64_t* src, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) dst[i] += src[i];
+}
+
+void SplatFrame::draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats) const {
+    if (kernel_ == SplatKernel::quad) draw_quad(points, keys, stats);
+    else draw_ewa(points, keys, stats);
+}
+
+void SplatFrame::resolve(const std::uint64_t* keys, const std::int64_t* acc, Image& img) const {
+    img.width = view_.width;
+    img.height = view_.height;
+    img.rgb.resize(3 * npix());
+    if (kernel_ == SplatKernel::quad) resolve_quad(keys, img);
+    else resolve_ewa(acc, img);
 }
 
 const Image& SplatRenderer::render(std::span<const PointRecord> points, SplatKernel kernel, double azimuth_deg,

@@ -20,8 +20,11 @@
 //   from the viewer), view vector towards the eye; two_sided flips normals that face away from
 //   the viewer (quad: per splat; ewa: the blended normal per pixel). Points with a zero normal face the camera. Points with non-finite positions or
 //   behind the near plane are skipped. Pixels that no splat covers get the background colour.
-// Determinism: single-threaded; the same input gives the same bytes, and for both kernels a
-//   permutation of the points gives the same bytes (quad ties are broken by the shaded colour).
+// Determinism: the same input gives the same bytes, and for both kernels a permutation of the
+//   points gives the same bytes (quad ties are broken by the shaded colour), so the points may be
+//   drawn in any split: SplatFrame draws any subset into a partial buffer, partial buffers are
+//   merged by min (keys) and integer sum (EWA accumulators), and the result equals one pass over all
+//   points, byte for byte, whatever the split or the thread count (stream/splat_sink.hpp).
 // Cost: O(points + covered fragments), no per-splat allocation; buffers live in SplatRenderer and
 //   are reused across frames (a 36-frame turntable allocates once).
 // Thread-safety: render_splats is reentrant; a SplatRenderer is used by one thread at a time.
@@ -71,6 +74,49 @@ struct SplatStats {
 /// Axis-aligned bounds of the finite positions; {0,0,0},{0,0,0} when there are none.
 std::array<Vec3, 2> point_bounds(std::span<const PointRecord> points);
 
+/// One frame's fixed set-up (view, shading, kernel) and the pieces of the render, for drawing the
+/// points in parts (streaming, threads). Buffers are the caller's, npix() entries each:
+///   keys: uint64 per pixel, start at kEmptyKey; quad: draw() leaves min((depth << 32) | rgb);
+///         ewa: draw() is the visibility pass, min((depth << 32) | packed normal).
+///   acc:  ewa only, 4 int64 per pixel, start at 0; accumulate() adds the fragments near the
+///         visible depth of the *final* keys (all points drawn and merged first).
+/// Const members are thread-safe (distinct buffers per thread, or read-only keys in accumulate()).
+class SplatFrame {
+public:
+    static constexpr std::uint64_t kEmptyKey = ~std::uint64_t{0};
+    SplatFrame(const Camera& cam, SplatKernel kernel, const ShadingParams& shading, const std::array<Vec3, 2>& bounds);
+    int width() const { return view_.width; }
+    int height() const { return view_.height; }
+    std::size_t npix() const { return static_cast<std::size_t>(view_.width) * view_.height; }
+    SplatKernel kernel() const { return kernel_; }
+    bool two_pass() const { return kernel_ == SplatKernel::ewa; }
+    const ViewTransform& view() const { return view_; }
+
+    /// Quad: the only pass; ewa: pass 1 (visibility). Adds to stats.splats_drawn / fragments.
+    void draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats) const;
+    /// EWA pass 2 against the final visibility keys.
+    void accumulate(std::span<const PointRecord> points, const std::uint64_t* keys, std::int64_t* acc,
+                    SplatStats& stats) const;
+    /// Shades the buffers into img (resized to width x height); acc is unused by the quad kernel.
+    void resolve(const std::uint64_t* keys, const std::int64_t* acc, Image& img) const;
+
+    /// dst[i] = min(dst[i], src[i]) over n keys; sums n accumulator words.
+    static void merge_keys(std::uint64_t* dst, const std::uint64_t* src, std::size_t n);
+    static void merge_acc(std::int64_t* dst, const std::int64_t* src, std::size_t n);
+
+private:
+    void init_ewa();
+    void draw_quad(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats) const;
+    void draw_ewa(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats) const;
+    void resolve_quad(const std::uint64_t* keys, Image& img) const;
+    void resolve_ewa(const std::int64_t* acc, Image& img) const;
+
+    ViewTransform view_;
+    ShadingParams shading_;
+    SplatKernel kernel_;
+    std::vector<float> gauss_;  // ewa: Gaussian over q in [0, cutoff^2]
+};
+
 class SplatRenderer {
 public:
     SplatRenderer(const Camera& cam, const ShadingParams& shading, const std::array<Vec3, 2>& bounds);
@@ -87,9 +133,6 @@ public:
                         SplatStats* stats = nullptr);
 
 private:
-    void render_quad(std::span<const PointRecord> points, SplatStats& st);
-    void render_ewa(std::span<const PointRecord> points, SplatStats& st);
-
     Camera cam_;
     ShadingParams shading_;
     std::array<Vec3, 2> bounds_;

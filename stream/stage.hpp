@@ -38,6 +38,12 @@ public:
     virtual ~Sink() = default;
     /// Receives batches in increasing seq order.
     virtual void consume(Batch&& b) = 0;
+    /// Receives a batch that the caller keeps (a tee hands the same batch to two sinks); the
+    /// default copies it into consume(), sinks that only read a batch override it to avoid the copy.
+    virtual void observe(const Batch& b) {
+        Batch copy = b;
+        consume(std::move(copy));
+    }
     /// Called once after the last batch (write trailers, commit files).
     virtual void finish() {}
 };

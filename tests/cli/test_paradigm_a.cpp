@@ -67,7 +67,14 @@ TEST_CASE("extract | project | write equals isosurface as a point multiset", "[p
         CHECK(c.points.size() > 100);
         CHECK(point_multiset(a.points) == point_multiset(c.points));
         CHECK(point_multiset(b.points) == point_multiset(c.points));
-        CHECK(a.comments == c.comments);  // same source, iso, grid keys in the META
+        // same source, iso, grid keys in the META. Framing keys aside: isosurface records the surface
+        // bounds (bounds_lo/hi) and the volume's (volume_bounds_lo/hi); the sample store does not know
+        // its active blocks yet, so extract still records the volume's bounds.
+        auto without_bounds = [](std::vector<std::string> v) {
+            std::erase_if(v, [](const std::string& s) { return s.find("bounds_") != std::string::npos; });
+            return v;
+        };
+        CHECK(without_bounds(a.comments) == without_bounds(c.comments));
     }
     // the splatted picture path runs too
     CHECK(sh("MESHLESS extract " + store + " --iso 50.5 | MESHLESS project | MESHLESS splat -o " + D + "/a.png --size 64x64", d).code == 0);

@@ -1,0 +1,151 @@
+#include "kernels/block_minmax.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+namespace meshless {
+
+namespace {
+
+std::int64_t blocks_along(std::int64_t n, int edge) { return std::max<std::int64_t>(1, (n - 1 + edge - 1) / edge); }
+
+// Min/max of p[0..n) over finite values (integers are always finite). Branch-free for integers.
+template <class T>
+void segment_minmax(const T* p, std::int64_t n, T& lo, T& hi, bool& any) {
+    if constexpr (std::is_floating_point_v<T>) {
+        for (std::int64_t i = 0; i < n; ++i) {
+            const T v = p[i];
+            if (!std::isfinite(v)) continue;
+            lo = v < lo ? v : lo;
+            hi = v > hi ? v : hi;
+            any = true;
+        }
+    } else {
+        T a = lo, b = hi;
+        for (std::int64_t i = 0; i < n; ++i) {
+            a = std::min(a, p[i]);
+            b = std::max(b, p[i]);
+        }
+        lo = a;
+        hi = b;
+        any = any || n > 0;
+    }
+}
+
+template <class T>
+void compute(const T* data, const GridSpec& g, BlockMinMax& out) {
+    const int B = out.edge;
+    const std::int64_t nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
+    const std::int64_t bx = out.blocks[0], by = out.blocks[1], bz = out.blocks[2];
+    const T tmax = std::numeric_limits<T>::has_infinity ? std::numeric_limits<T>::infinity() : std::numeric_limits<T>::max();
+    const T tmin = std::numeric_limits<T>::has_infinity ? -std::numeric_limits<T>::infinity() : std::numeric_limits<T>::lowest();
+    std::vector<T> lo(static_cast<std::size_t>(bx * by * bz), tmax), hi(lo.size(), tmin);
+    std::vector<char> any(lo.size(), 0);
+    std::vector<T> rlo(static_cast<std::size_t>(bx)), rhi(rlo.size());
+    std::vector<char> rany(rlo.size());
+    // The blocks (up to 2 per axis) a voxel index belongs to.
+    auto owners = [&](std::int64_t i, std::int64_t nb, std::int64_t* o) {
+        int c = 0;
+        const std::int64_t b = i / B;
+        if (b < nb) o[c++] = b;
+        if (i % B == 0 && b > 0) o[c++] = b - 1;
+        return c;
+    };
+    for (std::int64_t k = 0; k < nz; ++k) {
+        std::int64_t oz[2];
+        const int cz = owners(k, bz, oz);
+        for (std::int64_t j = 0; j < ny; ++j) {
+            std::int64_t oy[2];
+            const int cy = owners(j, by, oy);
+            const T* row = data + nx * (j + ny * k);
+            for (std::int64_t b = 0; b < bx; ++b) {
+                const std::int64_t x0 = b * B, x1 = std::min<std::int64_t>(x0 + B, nx - 1);
+                T a = tmax, h = tmin;
+                bool seen = false;
+                segment_minmax(row + x0, x1 - x0 + 1, a, h, seen);
+                rlo[b] = a;
+                rhi[b] = h;
+                rany[b] = seen;
+            }
+            for (int zi = 0; zi < cz; ++zi)
+                for (int yi = 0; yi < cy; ++yi) {
+                    const std::size_t base = static_cast<std::size_t>(bx * (oy[yi] + by * oz[zi]));
+                    for (std::int64_t b = 0; b < bx; ++b) {
+                        if (!rany[b]) continue;
+                        lo[base + b] = std::min(lo[base + b], rlo[b]);
+                        hi[base + b] = std::max(hi[base + b], rhi[b]);
+                        any[base + b] = 1;
+                    }
+                }
+        }
+    }
+    out.vmin.resize(lo.size());
+    out.vmax.resize(lo.size());
+    for (std::size_t i = 0; i < lo.size(); ++i) {
+        out.vmin[i] = any[i] ? static_cast<double>(lo[i]) : std::nan("");
+        out.vmax[i] = any[i] ? static_cast<double>(hi[i]) : std::nan("");
+    }
+}
+
+}  // namespace
+
+std::array<double, 2> BlockMinMax::range() const {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t i = 0; i < vmin.size(); ++i) {
+        if (std::isnan(vmin[i])) continue;
+        lo = std::min(lo, vmin[i]);
+        hi = std::max(hi, vmax[i]);
+    }
+    if (lo > hi) return {std::nan(""), std::nan("")};
+    return {lo, hi};
+}
+
+BlockMinMax block_minmax(const VolumeView& v, int edge) {
+    BlockMinMax out;
+    out.edge = std::max(edge, 1);
+    for (int a = 0; a < 3; ++a) out.blocks[a] = blocks_along(v.grid.dims[a], out.edge);
+    if (v.grid.voxel_count() <= 0) {
+        out.vmin.assign(static_cast<std::size_t>(out.blocks[0] * out.blocks[1] * out.blocks[2]), std::nan(""));
+        out.vmax = out.vmin;
+        return out;
+    }
+    visit_samples(v, [&](auto* p) { compute(p, v.grid, out); });
+    return out;
+}
+
+std::optional<VoxelBox> active_block_box(const BlockMinMax& b, const GridSpec& g, double iso) {
+    std::optional<VoxelBox> box;
+    std::size_t i = 0;
+    for (std::int64_t z = 0; z < b.blocks[2]; ++z)
+        for (std::int64_t y = 0; y < b.blocks[1]; ++y)
+            for (std::int64_t x = 0; x < b.blocks[0]; ++x, ++i) {
+                if (!(b.vmin[i] < iso && iso <= b.vmax[i])) continue;
+                const std::int64_t c[3] = {x, y, z};
+                VoxelBox one;
+                for (int a = 0; a < 3; ++a) {
+                    one.lo[a] = c[a] * b.edge;
+                    one.hi[a] = std::min<std::int64_t>(one.lo[a] + b.edge, g.dims[a] - 1);
+                }
+                if (!box) {
+                    box = one;
+                } else {
+                    for (int a = 0; a < 3; ++a) {
+                        box->lo[a] = std::min(box->lo[a], one.lo[a]);
+                        box->hi[a] = std::max(box->hi[a], one.hi[a]);
+                    }
+                }
+            }
+    return box;
+}
+
+std::array<Vec3, 2> world_bounds(const GridSpec& g, const VoxelBox& box) {
+    Vec3 lo{g.origin[0] + box.lo[0] * g.spacing[0], g.origin[1] + box.lo[1] * g.spacing[1],
+            g.origin[2] + box.lo[2] * g.spacing[2]};
+    Vec3 hi{g.origin[0] + box.hi[0] * g.spacing[0], g.origin[1] + box.hi[1] * g.spacing[1],
+            g.origin[2] + box.hi[2] * g.spacing[2]};
+    return {lo, hi};
+}
+
+}  // namespace meshless

@@ -1,0 +1,179 @@
+#include "stream/splat_sink.hpp"
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "kernels/errors.hpp"
+#include "stream/batch.hpp"
+
+namespace meshless {
+
+struct SplatSink::Canvas {
+    std::vector<std::uint64_t> keys;
+    std::vector<std::int64_t> acc;
+    std::vector<PointRecord> batch;  // EWA pass 2: the spooled batch being replayed
+    SplatStats stats;
+};
+
+struct SplatSink::Canvases {
+    oneapi::tbb::enumerable_thread_specific<Canvas> per_thread;
+    Canvas& local(const SplatFrame& f) {
+        Canvas& c = per_thread.local();
+        if (c.keys.empty()) c.keys.assign(f.npix(), SplatFrame::kEmptyKey);
+        return c;
+    }
+};
+
+namespace {
+void require_points(const Batch& b) {
+    if (b.kind != RecordKind::point)
+        throw FormatError("splat: input holds unprojected samples; run 'meshless project' first");
+}
+}  // namespace
+
+class SplatSink::DrawStage final : public Stage {
+public:
+    explicit DrawStage(SplatSink& s) : s_(s) {}
+    void process(Batch& b) const override {
+        require_points(b);
+        Canvas& c = s_.canvases_->local(s_.frame_);
+        s_.frame_.draw(b.points, c.keys.data(), c.stats);
+    }
+
+private:
+    SplatSink& s_;
+};
+
+SplatSink::SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams& shading,
+                     const std::array<Vec3, 2>& bounds, int threads)
+    : frame_(cam, kernel, shading, bounds), threads_(std::max(threads, 1)), canvases_(std::make_unique<Canvases>()) {
+    if (!frame_.two_pass()) return;
+    const char* dir = std::getenv("TMPDIR");
+    std::string tmpl = std::string(dir && *dir ? dir : "/tmp") + "/meshless-splat-spool-XXXXXX";
+    const int fd = ::mkstemp(tmpl.data());
+    if (fd < 0) throw IoError(tmpl + ": cannot create the splat spool file: " + std::strerror(errno));
+    spool_name_ = tmpl;
+    ::unlink(tmpl.c_str());  // unlinked: the space is freed whatever happens to the process
+    spool_ = ::fdopen(fd, "w+b");
+    if (!spool_) {
+        ::close(fd);
+        throw IoError(spool_name_ + ": cannot open the splat spool file: " + std::strerror(errno));
+    }
+}
+
+SplatSink::~SplatSink() {
+    if (spool_) std::fclose(spool_);
+}
+
+const Stage& SplatSink::stage() {
+    if (!stage_) stage_ = std::make_unique<DrawStage>(*this);
+    staged_ = true;
+    return *stage_;
+}
+
+void SplatSink::spool(const std::vector<PointRecord>& pts) {
+    if (pts.empty()) return;
+    if (std::fwrite(pts.data(), sizeof(PointRecord), pts.size(), spool_) != pts.size())
+        throw IoError(spool_name_ + ": cannot write the splat spool (deleted temporary file): " + std::strerror(errno));
+}
+
+void SplatSink::observe(const Batch& b) {
+    require_points(b);
+    points_ += b.points.size();
+    if (!staged_) {
+        Canvas& c = canvases_->local(frame_);
+        frame_.draw(b.points, c.keys.data(), c.stats);
+    }
+    if (spool_) spool(b.points);
+}
+
+void SplatSink::finish() {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::size_t npix = frame_.npix();
+    // Merge the partial visibility / colour buffers by min.
+    std::vector<std::uint64_t> keys;
+    for (Canvas& c : canvases_->per_thread) {
+        stats_.splats_drawn += c.stats.splats_drawn;
+        stats_.fragments += c.stats.fragments;
+        c.stats = {};
+        if (c.keys.empty()) continue;
+        if (keys.empty()) keys = std::move(c.keys);
+        else SplatFrame::merge_keys(keys.data(), c.keys.data(), npix);
+        c.keys = {};
+        c.keys.shrink_to_fit();
+    }
+    if (keys.empty()) keys.assign(npix, SplatFrame::kEmptyKey);
+    canvases_->per_thread.clear();
+
+    std::vector<std::int64_t> acc;
+    if (frame_.two_pass()) {
+        if (std::fflush(spool_) != 0)
+            throw IoError(spool_name_ + ": cannot write the splat spool (deleted temporary file): " + std::strerror(errno));
+        // Pass 2 replays the spool in batches; each task reads its own batch (pread), so threads
+        // meet only at the end, and memory is one batch + one accumulator per thread.
+        const int fd = ::fileno(spool_);
+        const std::uint64_t nbatch = (points_ + kMaxBatchRecords - 1) / kMaxBatchRecords;
+        oneapi::tbb::enumerable_thread_specific<Canvas> accs;
+        auto replay = [&](std::uint64_t i) {
+            Canvas& c = accs.local();
+            if (c.acc.empty()) c.acc.assign(4 * npix, 0);
+            const std::uint64_t first = i * kMaxBatchRecords;
+            const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kMaxBatchRecords, points_ - first));
+            c.batch.resize(n);
+            std::size_t got = 0;
+            const std::size_t want = n * sizeof(PointRecord);
+            char* dst = reinterpret_cast<char*>(c.batch.data());
+            while (got < want) {
+                const ssize_t r = ::pread(fd, dst + got, want - got, static_cast<off_t>(first * sizeof(PointRecord) + got));
+                if (r < 0 && errno == EINTR) continue;
+                if (r <= 0)
+                    throw IoError(spool_name_ + ": cannot read back the splat spool (deleted temporary file)" +
+                                  (r < 0 ? std::string(": ") + std::strerror(errno) : std::string(": short file")));
+                got += static_cast<std::size_t>(r);
+            }
+            frame_.accumulate(c.batch, keys.data(), c.acc.data(), c.stats);
+        };
+        if (threads_ == 1) {
+            for (std::uint64_t i = 0; i < nbatch; ++i) replay(i);
+        } else {
+            oneapi::tbb::task_arena arena(threads_);
+            arena.execute([&] {
+                oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::uint64_t>(0, nbatch, 1),
+                                          [&](const oneapi::tbb::blocked_range<std::uint64_t>& r) {
+                                              for (std::uint64_t i = r.begin(); i != r.end(); ++i) replay(i);
+                                          });
+            });
+        }
+        for (Canvas& c : accs) {
+            stats_.fragments += c.stats.fragments;
+            if (c.acc.empty()) continue;
+            if (acc.empty()) acc = std::move(c.acc);
+            else SplatFrame::merge_acc(acc.data(), c.acc.data(), 4 * npix);
+            c.acc = {};
+        }
+        if (acc.empty()) acc.assign(4 * npix, 0);
+        std::fclose(spool_);
+        spool_ = nullptr;
+    }
+    frame_.resolve(keys.data(), acc.data(), image_);
+    stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::size_t SplatSink::retained_bytes() const {
+    std::size_t n = image_.rgb.capacity();
+    for (const Canvas& c : canvases_->per_thread)
+        n += c.keys.capacity() * sizeof(std::uint64_t) + c.acc.capacity() * sizeof(std::int64_t);
+    return n;
+}
+
+}  // namespace meshless

@@ -1,0 +1,75 @@
+// The streaming splat sink (dissertation section 3.6): oriented points are rasterised as their
+// batches arrive, into the renderer's per-pixel buffers (kernels/splat_rasterizer.hpp SplatFrame);
+// nothing is collected. Memory = the image buffers (one set per drawing thread) + one batch, for
+// any number of points.
+//
+// The camera must be framed before the first point (the surface bounds of the stream's META or the
+// PLY comments, see cli/common.hpp surface_bounds). Kernels:
+//  - quad: one pass; each pixel keeps min((depth << 32) | colour), which does not depend on the
+//    order or the split of the points.
+//  - ewa: two passes (visibility, then accumulation against the final visibility). Pass 1 draws the
+//    batches as they arrive and spools their points to an unlinked temporary file in $TMPDIR (or
+//    /tmp), raw PointRecords; finish() replays the spool in batches of kMaxBatchRecords for pass 2.
+//    The accumulators are 64-bit fixed point, so the sum is exact in any order.
+// The image is byte-identical to render_splats() on all the points at once, for any batch split
+// and any thread count (the tests check both kernels).
+//
+// Threads: stage() returns a Stage that draws each batch inside the runner's parallel section into
+// a per-thread partial buffer (the batch passes through unchanged); partial buffers are merged by
+// min (keys) and integer sum (EWA accumulators) in finish(). Without stage(), consume() draws
+// (serial). finish() replays the EWA spool with `threads` threads (its own task arena).
+// Errors: FormatError on sample batches; IoError naming the spool file when it cannot be created,
+// written or read back. Not thread-safe apart from the stage (Sink rules, stream/stage.hpp).
+#pragma once
+#include <array>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "kernels/splat_rasterizer.hpp"
+#include "stream/stage.hpp"
+
+namespace meshless {
+
+class SplatSink final : public Sink {
+public:
+    SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams& shading, const std::array<Vec3, 2>& bounds,
+              int threads = 1);
+    ~SplatSink() override;
+
+    /// The parallel drawing stage; put it last in the runner's stage list. Once called, consume()
+    /// no longer draws (only counts and spools).
+    const Stage& stage();
+    void consume(Batch&& b) override { observe(b); }
+    /// As consume(); the batch is only read.
+    void observe(const Batch& b) override;
+    /// Merges, runs the EWA accumulation pass, shades. Then image() is valid.
+    void finish() override;
+
+    const Image& image() const { return image_; }
+    const SplatFrame& frame() const { return frame_; }
+    /// Splats drawn and fragments tested, summed over threads and passes; seconds = time in finish().
+    SplatStats stats() const { return stats_; }
+    std::uint64_t points() const { return points_; }
+    /// Bytes held by the sink's buffers now (keys, accumulators, image, spool staging), for tests.
+    std::size_t retained_bytes() const;
+
+private:
+    struct Canvas;
+    struct Canvases;
+    class DrawStage;
+    void spool(const std::vector<PointRecord>& pts);
+
+    SplatFrame frame_;
+    int threads_;
+    std::unique_ptr<Canvases> canvases_;
+    std::unique_ptr<DrawStage> stage_;
+    bool staged_ = false;
+    std::FILE* spool_ = nullptr;
+    std::string spool_name_;
+    std::uint64_t points_ = 0;
+    SplatStats stats_;
+    Image image_;
+};
+
+}  // namespace meshless
