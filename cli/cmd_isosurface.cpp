@@ -1,4 +1,5 @@
 // meshless isosurface: paradigm (C) iso-splatting in one process (dissertation chapter 3).
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 
@@ -8,10 +9,13 @@
 #include "formats/png_writer.hpp"
 #include "cli/common.hpp"
 #include "cli/render_output.hpp"
+#include "cli/sample_store_cli.hpp"
 #include "formats/ply_points.hpp"
 #include "kernels/errors.hpp"
 #include "stream/isosplat_pipeline.hpp"
 #include "stream/point_sinks.hpp"
+#include "stream/project_stage.hpp"
+#include "stream/sample_store_source.hpp"
 
 namespace meshless::cli {
 
@@ -84,6 +88,38 @@ int isosurface_mpi(const Args& a, int argc, char** argv, double iso, Projection 
     }
 }
 
+/// A sample store (.mls) input: paradigm (A) in one process (section 3.5, Table 3.1): the store's
+/// candidate rows, recomputed from its .mlb, projected; the same points as from the .mlb.
+int isosurface_sample_store(const Args& a, double iso, Projection mode, const SamplingParams& sp,
+                            const RenderSettings& rs, int nthreads) {
+    const std::string path = a.positional()[0];
+    const auto store = SampleStore::open(path);
+    warn_if_iso_outside(iso, {store->info().value_lo, store->info().value_hi}, path);
+    StreamMeta meta = sample_store_meta(*store, iso, a.command_line());
+    meta.set("projection", to_string(mode));
+    const auto t0 = std::chrono::steady_clock::now();
+    SampleStoreSource source(*store, iso, sp);
+    const ProjectStage project(iso, mode);
+    const Stage* stages[] = {&project};
+    IsoSplatResult r;
+    std::size_t points = 0;
+    if (a.has("png")) {
+        CollectSink sink;
+        run_pipeline(source, stages, sink, {nthreads});
+        points = sink.points.size();
+        write_outputs(a, meta, sink.points, rs);
+    } else {
+        PlySink sink(*a.get("output"), ply_comments(meta));
+        run_pipeline(source, stages, sink, {nthreads});
+        points = sink.count();
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.sampling.active_cells = static_cast<std::int64_t>(source.emitted());
+    r.projection = project.stats();
+    if (a.has("stats")) print_stats(path, iso, mode, r, points, nthreads, 1);
+    return 0;
+}
+
 }  // namespace
 
 int cmd_isosurface(int argc, char** argv) {
@@ -93,7 +129,8 @@ int cmd_isosurface(int argc, char** argv) {
            "(binary PLY: x y z nx ny nz radius value) and/or a surface-splatted picture.\n"
            "VOLUME: raw (name_XxYxZ_type.raw or --dims/--type), NRRD (.nrrd/.nhdr), MetaImage (.mhd/.mha),\n"
            "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI, or a brick store (.mlb,\n"
-           "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory.");
+           "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory,\n"
+           "or a paradigm (A) sample store (.mls, see meshless generate --all): only its candidate cell rows.");
     a.option("iso", "", "V", "isovalue (required)")
         .option("output", "o", "FILE", "point set output (.ply, '-' for stdout)")
         .option("png", "", "FILE", "also render the points to this PNG")
@@ -120,6 +157,8 @@ int cmd_isosurface(int argc, char** argv) {
     const int nthreads = threads(a);
 
     if (launched_world_size() > 1) return isosurface_mpi(a, argc, argv, iso, mode, sp, rs, nthreads);
+    if (!a.positional().empty() && is_sample_store(a.positional()[0]))
+        return isosurface_sample_store(a, iso, mode, sp, rs, nthreads);
 
     VolumeInput in = open_volume_input(a);
     warn_if_iso_outside(iso, in.value_range(), in.path);
