@@ -63,11 +63,20 @@ std::unique_ptr<SampleStore> SampleStore::open(const std::string& path) {
     if (!fs::exists(mlb, ec))
         throw FormatError(path + ": its brick store " + m + " is missing (a sample store recomputes samples from the .mlb "
                           "it was made from; keep them together or remake it with 'meshless generate VOL.mlb --all -o " + path + "')");
-    const BrickStoreIdentity id = brick_store_identity(m);
+    BrickStoreIdentity id;
+    try {
+        id = brick_store_identity(m);
+    } catch (const FormatError& e) {
+        throw FormatError(path + ": its brick store is unusable: " + e.what());
+    }
     if (!(id == info.mlb))
         throw FormatError(path + ": its brick store " + m + " has changed since the sample store was made (size or "
                           "checksums differ); remake it with 'meshless generate " + m + " --all -o " + path + "'");
-    s->mlb_ = BrickStore::open(m);
+    try {
+        s->mlb_ = BrickStore::open(m);
+    } catch (const FormatError& e) {
+        throw FormatError(path + ": its brick store is unusable: " + e.what());
+    }
     const BrickStoreInfo& bi = s->mlb_->info();
     if (!(bi.grid == info.grid) || bi.type != info.type || bi.brick_edge != info.brick_edge ||
         bi.brick_count != info.mlb.brick_count)
@@ -172,6 +181,8 @@ bool SampleQuery::next(std::vector<SampleRecord>& out, std::size_t max) {
         }
         const std::uint64_t key = keys_[at_];
         const std::size_t brick = static_cast<std::size_t>(key / B2);
+        // one batch per brick at most (as BrickSource): small batches, reused memory, pipelining
+        if (static_cast<std::int64_t>(brick) != brick_ && !out.empty()) break;
         const std::int64_t row = static_cast<std::int64_t>(key % B2);
         GridSpec g = mlb.brick_grid(brick);
         const std::int64_t rows = cell_row_count(g);

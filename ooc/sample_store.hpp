@@ -91,8 +91,8 @@ private:
 class SampleQuery {
 public:
     SampleQuery(const SampleStore& store, double iso, const SamplingParams& params = {});
-    /// Replaces `out` with the next records (at most max, at least one unless exhausted); returns
-    /// false when the query is exhausted (out is then empty).
+    /// Replaces `out` with the next records (at most max, at least one unless exhausted, never
+    /// from two bricks); returns false when the query is exhausted (out is then empty).
     bool next(std::vector<SampleRecord>& out, std::size_t max = 65536);
     /// Active samples emitted so far.
     std::uint64_t emitted() const { return emitted_; }
