@@ -30,10 +30,40 @@ inline void put_varint(std::vector<unsigned char>& out, std::uint64_t x) {
     out.push_back(static_cast<unsigned char>(x));
 }
 
-/// Decodes `count` gap-coded keys from [p, end) and appends them (key = running sum - 1) to out.
+/// Decodes `count` gap-coded keys from [p, end), calling f(key) for each (key = running sum - 1).
 /// False when the bytes run out, a varint is longer than 10 bytes or overflows, a gap is 0, a key
-/// is >= key_limit, or bytes remain after the last key.
+/// is >= key_limit, or bytes remain after the last key (f may have been called for earlier keys).
+template <class F>
 bool decode_row_keys(const unsigned char* p, const unsigned char* end, std::uint64_t count, std::uint64_t key_limit,
-                     std::vector<std::uint64_t>& out);
+                     F&& f) {
+    if (count > static_cast<std::uint64_t>(end - p)) return false;  // every key takes >= 1 byte
+    std::uint64_t sum = 0;
+    for (std::uint64_t k = 0; k < count; ++k) {
+        std::uint64_t gap = 0;
+        if (p < end && *p < 0x80) {
+            gap = *p++;  // the common one-byte gap
+        } else {
+            int shift = 0;
+            for (;;) {
+                if (p == end || shift > 63) return false;
+                const std::uint64_t byte = *p++;
+                if (shift == 63 && byte > 1) return false;
+                gap |= (byte & 0x7f) << shift;
+                if (byte < 0x80) break;
+                shift += 7;
+            }
+        }
+        if (gap == 0 || gap > key_limit - sum) return false;  // sum + gap - 1 must be < key_limit
+        sum += gap;
+        f(sum - 1);
+    }
+    return p == end;
+}
+
+/// The same, appending the keys to out.
+inline bool decode_row_keys(const unsigned char* p, const unsigned char* end, std::uint64_t count,
+                            std::uint64_t key_limit, std::vector<std::uint64_t>& out) {
+    return decode_row_keys(p, end, count, key_limit, [&](std::uint64_t k) { out.push_back(k); });
+}
 
 }  // namespace meshless

@@ -13,7 +13,6 @@
 #include "kernels/cell_interval_sampling.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/brick_store_identity.hpp"
-#include "ooc/row_key_sort.hpp"
 
 namespace meshless {
 
@@ -120,27 +119,26 @@ std::uint64_t SampleStore::query(double iso, const std::function<void(std::span<
 
 void SampleStore::verify() const {
     std::vector<unsigned char> bytes;
-    std::vector<std::uint64_t> keys;
+    RowSet rows(layout_.key_limit());
     for (std::size_t i = 0; i < layout_.buckets.size(); ++i) {
         const SampleBucket& b = layout_.buckets[i];
         bytes.resize(b.bytes);
         read_bytes(bytes.data(), bytes.size(), kSampleStoreHeaderBytes + b.offset);
-        keys.clear();
-        decode_sample_store_bucket(layout_, i, bytes.data(), keys, path_);
+        decode_sample_store_bucket(layout_, i, bytes.data(), &rows, path_);
         ++buckets_read_;
-        // every key must name a row inside its brick
-        const std::uint64_t B2 = static_cast<std::uint64_t>(info().brick_edge) * info().brick_edge;
-        for (const std::uint64_t k : keys)
-            if (static_cast<std::int64_t>(k % B2) >= cell_row_count(mlb_->brick_grid(k / B2)))
-                throw FormatError(path_ + ": bucket " + std::to_string(i) + " names a cell row outside its brick");
     }
+    // every key must name a row inside its brick
+    const std::uint64_t B2 = static_cast<std::uint64_t>(info().brick_edge) * info().brick_edge;
+    for (std::uint64_t k = rows.next(0); k < rows.limit(); k = rows.next(k + 1))
+        if (static_cast<std::int64_t>(k % B2) >= cell_row_count(mlb_->brick_grid(k / B2)))
+            throw FormatError(path_ + ": key " + std::to_string(k) + " names a cell row outside its brick (corrupt keys)");
 }
 
 // ---------------------------------------------------------------------------------------------
 // Query
 
 SampleQuery::SampleQuery(const SampleStore& store, double iso, const SamplingParams& params)
-    : store_(store), iso_(iso), params_(params) {
+    : store_(store), iso_(iso), params_(params), rows_(store.layout_.key_limit()) {
     if (std::isnan(iso)) throw UsageError("sample store query: the isovalue is NaN");
     const SampleStoreInfo& info = store.info();
     const double thr = active_threshold(info.type, iso);
@@ -158,11 +156,11 @@ SampleQuery::SampleQuery(const SampleStore& store, double iso, const SamplingPar
         bytes.resize(n);
         store.read_bytes(bytes.data(), n, kSampleStoreHeaderBytes + first);
         for (std::size_t k = i; k < j; ++k)
-            decode_sample_store_bucket(store.layout_, k, bytes.data() + (bk[k].offset - first), keys_, store.path_);
+            decode_sample_store_bucket(store.layout_, k, bytes.data() + (bk[k].offset - first), &rows_, store.path_);
         store.buckets_read_ += j - i;
         i = j;
     }
-    sort_unique_row_keys(keys_, store.layout_.key_limit());
+    at_ = rows_.next(0);
     ++store.queries_;
 }
 
@@ -171,7 +169,7 @@ bool SampleQuery::next(std::vector<SampleRecord>& out, std::size_t max) {
     max = std::max<std::size_t>(max, 1);
     const BrickStore& mlb = *store_.mlb_;
     const std::uint64_t B2 = static_cast<std::uint64_t>(store_.info().brick_edge) * store_.info().brick_edge;
-    while (out.size() < max && (pend_at_ < pending_.size() || at_ < keys_.size())) {
+    while (out.size() < max && (pend_at_ < pending_.size() || at_ < rows_.limit())) {
         if (pend_at_ < pending_.size()) {  // records of a row run that did not fit the last batch
             const std::size_t n = std::min(max - out.size(), pending_.size() - pend_at_);
             out.insert(out.end(), pending_.begin() + static_cast<std::ptrdiff_t>(pend_at_),
@@ -179,7 +177,7 @@ bool SampleQuery::next(std::vector<SampleRecord>& out, std::size_t max) {
             pend_at_ += n;
             continue;
         }
-        const std::uint64_t key = keys_[at_];
+        const std::uint64_t key = at_;
         const std::size_t brick = static_cast<std::size_t>(key / B2);
         // one batch per brick at most (as BrickSource): small batches, reused memory, pipelining
         if (static_cast<std::int64_t>(brick) != brick_ && !out.empty()) break;
@@ -198,11 +196,8 @@ bool SampleQuery::next(std::vector<SampleRecord>& out, std::size_t max) {
         const std::int64_t per_row = std::max<std::int64_t>(1, g.dims[0] - 1);
         const std::int64_t room = std::max<std::int64_t>(1, static_cast<std::int64_t>(max - out.size()) / per_row);
         std::int64_t r1 = row + 1;
-        ++at_;
-        while (at_ < keys_.size() && keys_[at_] == key + static_cast<std::uint64_t>(r1 - row) && r1 < rows && r1 - row < room) {
-            ++r1;
-            ++at_;
-        }
+        while (r1 < rows && r1 - row < room && rows_.contains(key + static_cast<std::uint64_t>(r1 - row))) ++r1;
+        at_ = rows_.next(key + static_cast<std::uint64_t>(r1 - row));
         store_.rows_read_ += static_cast<std::uint64_t>(r1 - row);
         // paradigm (C)'s kernel on these rows, positions from the whole volume (as BrickGenerateStage)
         SamplingParams p = params_;

@@ -14,7 +14,7 @@
 // IoError naming the .mls and the .mlb ("vol.mls: its brick store vol.mlb is missing", "... has
 // changed since the sample store was made"). Bucket damage (CRC, malformed keys) is detected when
 // a query or verify() reads the bucket, before anything of that query is emitted.
-// Memory of a query: its candidate keys (8 bytes per candidate row) + one decompressed brick + one
+// Memory of a query: one bit per possible row (ooc/row_set.hpp) + one decompressed brick + one
 // batch. Threading: a SampleStore is immutable after open(); queries may run concurrently; the
 // read statistics are atomic. A SampleQuery is not thread-safe.
 #pragma once
@@ -29,6 +29,7 @@
 #include "kernels/cell_sampling.hpp"
 #include "kernels/records.hpp"
 #include "ooc/brick_store.hpp"
+#include "ooc/row_set.hpp"
 #include "ooc/sample_store_format.hpp"
 #include "ooc/span_space_levels.hpp"
 
@@ -97,14 +98,14 @@ public:
     /// Active samples emitted so far.
     std::uint64_t emitted() const { return emitted_; }
     /// Distinct candidate rows of the query.
-    std::size_t candidate_rows() const { return keys_.size(); }
+    std::uint64_t candidate_rows() const { return rows_.size(); }
 
 private:
     const SampleStore& store_;
     double iso_;
     SamplingParams params_;
-    std::vector<std::uint64_t> keys_;  ///< ascending, distinct
-    std::size_t at_ = 0;
+    RowSet rows_;                      ///< candidate rows
+    std::uint64_t at_ = 0;             ///< next key to look at
     std::int64_t brick_ = -1;          ///< brick held in buf_
     std::vector<std::byte> buf_;
     std::vector<SampleRecord> pending_;  ///< records of a row run beyond the last batch's cap

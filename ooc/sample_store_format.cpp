@@ -8,6 +8,7 @@
 
 #include "kernels/errors.hpp"
 #include "ooc/row_key_codec.hpp"
+#include "ooc/row_set.hpp"
 #include "ooc/span_space_levels.hpp"
 
 namespace meshless {
@@ -42,7 +43,7 @@ std::uint32_t sample_store_crc32(std::uint32_t crc, const void* data, std::size_
 
 std::uint64_t SampleStoreLayout::key_limit() const {
     const std::uint64_t B = info.brick_edge;
-    return info.mlb.brick_count * B * B;  // bounded at decode: brick count <= file bytes of the .mlb / 64
+    return info.mlb.brick_count * B * B;  // < 2^40: checked at decode
 }
 
 std::array<unsigned char, kSampleStoreHeaderBytes> encode_sample_store_header(const SampleStoreInfo& info) {
@@ -156,7 +157,8 @@ SampleStoreLayout decode_sample_store_layout(const ReadAt& read, std::uint64_t s
     info.mlb.index_crc = get<std::uint32_t>(h + 180);
     info.key_bytes = get<std::uint64_t>(h + 184);
     // an .mlb holds a 64-byte index entry per brick: its size bounds the brick count (and the keys)
-    if (info.mlb.brick_count < 1 || info.mlb.brick_count > info.mlb.file_bytes / 64)
+    if (info.mlb.brick_count < 1 || info.mlb.brick_count > info.mlb.file_bytes / 64 ||
+        info.mlb.brick_count > (std::uint64_t{1} << 40) / (std::uint64_t{info.brick_edge} * info.brick_edge))
         throw bad("invalid brick store identity in sample store header");
     const char* p = reinterpret_cast<const char*>(h + kSampleStorePathOffset);
     info.mlb_path.assign(p, strnlen(p, kSampleStorePathBytes));
@@ -209,15 +211,17 @@ SampleStoreLayout decode_sample_store_layout(const ReadAt& read, std::uint64_t s
 }
 
 void decode_sample_store_bucket(const SampleStoreLayout& layout, std::size_t i, const unsigned char* bytes,
-                                std::vector<std::uint64_t>& out, const std::string& name) {
+                                RowSet* rows, const std::string& name) {
     const SampleBucket& b = layout.buckets[i];
     auto where = [&]() {
         return name + ": bucket " + std::to_string(i) + " (levels " + std::to_string(b.a) + ".." + std::to_string(b.b) +
                ", key bytes " + std::to_string(b.offset) + ".." + std::to_string(b.offset + b.bytes) + ")";
     };
     if (sample_store_crc32(0, bytes, b.bytes) != b.crc) throw FormatError(where() + ": checksum mismatch (corrupt keys)");
-    if (!decode_row_keys(bytes, bytes + b.bytes, b.count, layout.key_limit(), out))
-        throw FormatError(where() + ": malformed keys");
+    const bool ok = rows ? decode_row_keys(bytes, bytes + b.bytes, b.count, layout.key_limit(),
+                                           [rows](std::uint64_t k) { rows->insert(k); })
+                         : decode_row_keys(bytes, bytes + b.bytes, b.count, layout.key_limit(), [](std::uint64_t) {});
+    if (!ok) throw FormatError(where() + ": malformed keys");
 }
 
 SampleStoreLayout parse_sample_store_bytes(std::span<const unsigned char> bytes, const std::string& name) {
@@ -226,11 +230,8 @@ SampleStoreLayout parse_sample_store_bytes(std::span<const unsigned char> bytes,
         std::memcpy(dst, bytes.data() + off, n);
     };
     SampleStoreLayout layout = decode_sample_store_layout(read, bytes.size(), name);
-    std::vector<std::uint64_t> keys;
-    for (std::size_t i = 0; i < layout.buckets.size(); ++i) {
-        keys.clear();
-        decode_sample_store_bucket(layout, i, bytes.data() + kSampleStoreHeaderBytes + layout.buckets[i].offset, keys, name);
-    }
+    for (std::size_t i = 0; i < layout.buckets.size(); ++i)
+        decode_sample_store_bucket(layout, i, bytes.data() + kSampleStoreHeaderBytes + layout.buckets[i].offset, nullptr, name);
     return layout;
 }
 

@@ -101,10 +101,12 @@ using ReadAt = std::function<void(void* dst, std::size_t n, std::uint64_t offset
 /// Decodes and validates header, footer and table of a store of `size` bytes (see above).
 SampleStoreLayout decode_sample_store_layout(const ReadAt& read, std::uint64_t size, const std::string& name);
 
-/// Decodes the keys of bucket i from its bytes (CRC, varints, bounds), appending to out;
-/// FormatError naming `name` and the bucket.
+class RowSet;
+
+/// Checks bucket i's bytes (CRC, varints, key bounds) and inserts its keys into `rows` (when not
+/// null; its limit must be layout.key_limit()); FormatError naming `name` and the bucket.
 void decode_sample_store_bucket(const SampleStoreLayout& layout, std::size_t i, const unsigned char* bytes,
-                                std::vector<std::uint64_t>& out, const std::string& name);
+                                RowSet* rows, const std::string& name);
 
 /// The fuzz-friendly entry point: validates a whole store held in memory (layout and every
 /// bucket) without its brick store; returns the layout or throws FormatError naming `name`.

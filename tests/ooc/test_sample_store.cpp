@@ -25,7 +25,7 @@
 #include "ooc/brick_index.hpp"
 #include "ooc/brick_store.hpp"
 #include "ooc/row_key_codec.hpp"
-#include "ooc/row_key_sort.hpp"
+#include "ooc/row_set.hpp"
 #include "ooc/sample_store.hpp"
 #include "ooc/sample_store_format.hpp"
 #include "ooc/sample_store_writer.hpp"
@@ -187,18 +187,23 @@ TEST_CASE("row keys: gap coding round trip and malformed input", "[parA]") {
     CHECK_FALSE(decode_row_keys(cut, cut + 1, 1, 1000, out));
 }
 
-TEST_CASE("row keys: radix merge equals sort + unique", "[parA]") {
+TEST_CASE("row set: merging keys equals sort + unique, iteration ascending", "[parA]") {
     std::mt19937_64 rng(2);
-    for (std::uint64_t limit : {std::uint64_t{1}, std::uint64_t{2}, std::uint64_t{2047}, std::uint64_t{2048},
-                                std::uint64_t{1} << 22, (std::uint64_t{1} << 35) + 3}) {
+    for (std::uint64_t limit : {std::uint64_t{1}, std::uint64_t{2}, std::uint64_t{63}, std::uint64_t{64},
+                                std::uint64_t{65}, std::uint64_t{2048}, std::uint64_t{1} << 22}) {
         for (std::size_t n : {std::size_t{0}, std::size_t{10}, std::size_t{5000}}) {
             std::vector<std::uint64_t> keys;
             for (std::size_t i = 0; i < n; ++i) keys.push_back(rng() % limit);
-            auto expect = keys;
-            std::sort(expect.begin(), expect.end());
-            expect.erase(std::unique(expect.begin(), expect.end()), expect.end());
-            sort_unique_row_keys(keys, limit);
-            CHECK(keys == expect);
+            RowSet set(limit);
+            for (auto k : keys) set.insert(k);
+            std::sort(keys.begin(), keys.end());
+            keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+            std::vector<std::uint64_t> got;
+            for (std::uint64_t k = set.next(0); k < set.limit(); k = set.next(k + 1)) got.push_back(k);
+            CHECK(got == keys);
+            CHECK(set.size() == keys.size());
+            CHECK(set.next(limit) == limit);
+            for (auto k : keys) CHECK(set.contains(k));
         }
     }
 }
