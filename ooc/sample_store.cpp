@@ -164,7 +164,10 @@ SampleQuery::SampleQuery(const SampleStore& store, double iso, const SamplingPar
     ++store.queries_;
 }
 
-bool SampleQuery::next(std::vector<SampleRecord>& out, std::size_t max) {
+bool SampleQuery::next(std::vector<SampleRecord>& result, std::size_t max) {
+    // built in a member vector that keeps its capacity, then copied at its exact size: a fresh
+    // batch vector per call costs one allocation, not a growth sequence (page faults)
+    std::vector<SampleRecord>& out = out_;
     out.clear();
     max = std::max<std::size_t>(max, 1);
     const BrickStore& mlb = *store_.mlb_;
@@ -215,6 +218,7 @@ bool SampleQuery::next(std::vector<SampleRecord>& out, std::size_t max) {
     }
     emitted_ += out.size();
     store_.samples_emitted_ += out.size();
+    result.assign(out.begin(), out.end());
     return !out.empty();
 }
 

@@ -108,6 +108,7 @@ private:
     std::uint64_t at_ = 0;             ///< next key to look at
     std::int64_t brick_ = -1;          ///< brick held in buf_
     std::vector<std::byte> buf_;
+    std::vector<SampleRecord> out_;      ///< the batch being built
     std::vector<SampleRecord> pending_;  ///< records of a row run beyond the last batch's cap
     std::size_t pend_at_ = 0;
     std::uint64_t emitted_ = 0;

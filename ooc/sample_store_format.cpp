@@ -181,22 +181,31 @@ SampleStoreLayout decode_sample_store_layout(const ReadAt& read, std::uint64_t s
     if (std::memcmp(f + 24, kSampleStoreEndMagic, 8) != 0 || get<std::uint32_t>(f + 20) != kSampleStoreVersion ||
         get<std::uint64_t>(f) != table_offset || get<std::uint64_t>(f + 8) != info.bucket_count)
         throw bad("sample store footer does not match its header (corrupt or truncated file)");
-    std::vector<unsigned char> table(info.bucket_count * kSampleStoreBucketBytes);
-    if (!table.empty()) read(table.data(), table.size(), table_offset);
-    if (sample_store_crc32(0, table.data(), table.size()) != get<std::uint32_t>(f + 16))
-        throw bad("sample store bucket table checksum mismatch (corrupt index)");
-
+    // the table, read in chunks (checksummed and decoded as it comes: no second copy of it)
     out.buckets.resize(info.bucket_count);
+    std::vector<unsigned char> chunk;
+    std::uint32_t crc = 0;
     std::uint64_t next = 0, keys = 0;
+    constexpr std::size_t kChunkEntries = 2048;
+    for (std::size_t c0 = 0; c0 < out.buckets.size(); c0 += kChunkEntries) {
+        const std::size_t n = std::min(kChunkEntries, out.buckets.size() - c0);
+        chunk.resize(n * kSampleStoreBucketBytes);
+        read(chunk.data(), chunk.size(), table_offset + c0 * kSampleStoreBucketBytes);
+        crc = sample_store_crc32(crc, chunk.data(), chunk.size());
+        for (std::size_t i = c0; i < c0 + n; ++i) {
+            const unsigned char* e = chunk.data() + (i - c0) * kSampleStoreBucketBytes;
+            SampleBucket& b = out.buckets[i];
+            b.a = get<std::uint16_t>(e);
+            b.b = get<std::uint16_t>(e + 2);
+            b.crc = get<std::uint32_t>(e + 4);
+            b.offset = get<std::uint64_t>(e + 8);
+            b.bytes = get<std::uint64_t>(e + 16);
+            b.count = get<std::uint64_t>(e + 24);
+        }
+    }
+    if (crc != get<std::uint32_t>(f + 16)) throw bad("sample store bucket table checksum mismatch (corrupt index)");
     for (std::size_t i = 0; i < out.buckets.size(); ++i) {
-        const unsigned char* e = table.data() + i * kSampleStoreBucketBytes;
-        SampleBucket& b = out.buckets[i];
-        b.a = get<std::uint16_t>(e);
-        b.b = get<std::uint16_t>(e + 2);
-        b.crc = get<std::uint32_t>(e + 4);
-        b.offset = get<std::uint64_t>(e + 8);
-        b.bytes = get<std::uint64_t>(e + 16);
-        b.count = get<std::uint64_t>(e + 24);
+        const SampleBucket& b = out.buckets[i];
         const SampleBucket* prev = i ? &out.buckets[i - 1] : nullptr;
         const bool ordered = !prev || prev->a < b.a || (prev->a == b.a && prev->b < b.b);
         if (b.a > b.b || b.b >= info.levels || !ordered || b.offset != next || b.count == 0 || b.bytes < b.count ||
