@@ -32,6 +32,7 @@
 #include "ooc/brick_index.hpp"
 #include "ooc/brick_store.hpp"
 #include "ooc/sample_store.hpp"
+#include "ooc/sample_store_writer.hpp"
 #include "ooc/slice_source.hpp"
 #include "stream/isosplat_pipeline.hpp"
 #include "stream/point_sinks.hpp"
@@ -370,9 +371,8 @@ void run_paradigms(const Lung& lung, const std::vector<double>& isos, int reps, 
     SampleStoreBuildStats bs;
     double mls_s = 0;
     {
-        BrickCache cache(*bstore, kBudget);
         Stopwatch sw;
-        bs = write_sample_store_from_brick_store(*bstore, cache, mls.string(), lung.label);
+        bs = write_sample_store(*bstore, mls.string());
         mls_s = sw.ms() / 1e3;
     }
     const auto sstore = SampleStore::open(mls.string());
@@ -385,11 +385,11 @@ void run_paradigms(const Lung& lung, const std::vector<double>& isos, int reps, 
             "convert / synth (section above)"});
     sz.add({"(A) sample store", ".mls", fmt("%.1f", bytes_of(mls) / 1e6),
             fmt("%.3f", static_cast<double>(bytes_of(mls)) / raw), fmt("%.2f", mls_s),
-            "write_sample_store_from_brick_store (= generate --all vol.mlb)"});
-    r.note(fmt("%s (%s, %s): %lld cells; the sample store holds one 36-byte sample per non-constant cell "
-               "(%llu samples, %llu constant cells, %llu span-space buckets, %u levels%s).",
+            "write_sample_store (= generate --all vol.mlb)"});
+    r.note(fmt("%s (%s, %s): %lld cells; the sample store files the cell rows of the non-constant cells by span-space "
+               "bucket (%llu cells, %llu constant cells, %llu span-space buckets, %u levels%s).",
                lung.label.c_str(), dims_str(lung.vol.grid).c_str(), to_string(lung.vol.type), static_cast<long long>(cells),
-               static_cast<unsigned long long>(bs.samples), static_cast<unsigned long long>(bs.constant_cells),
+               static_cast<unsigned long long>(bs.cells), static_cast<unsigned long long>(bs.constant_cells),
                static_cast<unsigned long long>(bs.buckets), bs.levels, bs.exact_levels ? ", exact" : ""));
     r.table(sz);
 

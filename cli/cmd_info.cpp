@@ -114,13 +114,16 @@ void info_sample_store(const std::string& path) {
     const auto store = SampleStore::open(path);
     const SampleStoreInfo& i = store->info();
     const GridSpec& g = i.grid;
-    std::printf("%s: meshless paradigm (A) sample store (span-space index)\n", path.c_str());
-    std::printf("  source: %s, %lld x %lld x %lld %s, spacing %g %g %g\n", i.source.c_str(),
-                static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]),
-                to_string(i.type), g.spacing[0], g.spacing[1], g.spacing[2]);
-    std::printf("  samples: %llu (non-constant cells; %llu constant, %llu NaN/Inf cells skipped)\n",
-                static_cast<unsigned long long>(i.sample_count), static_cast<unsigned long long>(i.constant_cells),
-                static_cast<unsigned long long>(i.nonfinite_cells));
+    std::printf("%s: meshless paradigm (A) sample store, version %u (span-space index of cell rows)\n", path.c_str(),
+                kSampleStoreVersion);
+    std::printf("  brick store: %s (recomputed from; identity checked), %lld x %lld x %lld %s, spacing %g %g %g\n",
+                store->brick_store().path().c_str(), static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
+                static_cast<long long>(g.dims[2]), to_string(i.type), g.spacing[0], g.spacing[1], g.spacing[2]);
+    std::printf("  cells: %llu indexed (non-constant; %llu constant, %llu NaN/Inf cells skipped) as %llu cell-row keys, "
+                "%llu key bytes\n",
+                static_cast<unsigned long long>(i.cells), static_cast<unsigned long long>(i.constant_cells),
+                static_cast<unsigned long long>(i.nonfinite_cells), static_cast<unsigned long long>(i.key_count),
+                static_cast<unsigned long long>(i.key_bytes));
     std::printf("  index: %llu buckets over %u %s levels of [%g, %g]\n", static_cast<unsigned long long>(i.bucket_count),
                 i.levels, i.exact_levels ? "exact" : "quantised", i.value_lo, i.value_hi);
 }

@@ -1,6 +1,7 @@
 // meshless isosurface: paradigm (C) iso-splatting in one process (dissertation chapter 3).
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <cstring>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "formats/png_writer.hpp"
 #include "cli/common.hpp"
 #include "cli/render_output.hpp"
+#include "cli/sample_store_cli.hpp"
 #include "formats/ply_points.hpp"
 #include "kernels/errors.hpp"
 #include "stream/isosplat_pipeline.hpp"
@@ -18,7 +20,9 @@
 #include "stream/cell_row_source.hpp"
 #include "stream/generate_project_stage.hpp"
 #include "stream/point_sinks.hpp"
+#include "stream/project_stage.hpp"
 #include "stream/runner.hpp"
+#include "stream/sample_store_source.hpp"
 #include "stream/slab_source.hpp"
 #include "stream/splat_sink.hpp"
 #include "stream/tee_sink.hpp"
@@ -123,6 +127,61 @@ IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode
     return r;
 }
 
+/// Runs a graph (`run(draw, sink)`: draw is the splat stage or null) into -o and/or --png. Streaming:
+/// each batch is drawn as it is produced (in the parallel section) and, with -o, written to the PLY;
+/// nothing is collected. The splat sink finishes (renders) before the PLY is committed, and a PNG
+/// that cannot be written removes the PLY: one outcome. Returns the number of points.
+using GraphRun = std::function<IsoSplatResult(const Stage* draw, Sink& sink)>;
+std::size_t run_to_outputs(const Args& a, const StreamMeta& meta, const RenderSettings& rs, int nthreads,
+                           const GraphRun& run, IsoSplatResult& r) {
+    const auto out = a.get("output");
+    const auto png = a.get("png");
+    if (!png) {
+        PlySink sink(*out, ply_comments(meta));
+        r = run(nullptr, sink);
+        return sink.count();
+    }
+    SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
+    std::optional<PlySink> ply;
+    if (out) ply.emplace(*out, ply_comments(meta));
+    std::optional<TeeSink> tee;
+    if (ply) tee.emplace(splat, *ply);
+    r = run(&splat.stage(), tee ? static_cast<Sink&>(*tee) : splat);
+    try {
+        write_png(splat.image(), *png);
+    } catch (...) {
+        if (out && *out != "-" && !is_streaming_output(*out)) std::remove(out->c_str());
+        throw;
+    }
+    return splat.points();
+}
+
+/// A sample store (.mls) input: paradigm (A) in one process (section 3.5, Table 3.1): the store's
+/// candidate rows, recomputed from its .mlb, projected; the same points as from the .mlb.
+int isosurface_sample_store(const Args& a, double iso, Projection mode, const SamplingParams& sp,
+                            const RenderSettings& rs, int nthreads) {
+    const std::string path = a.positional()[0];
+    const auto store = SampleStore::open(path);
+    warn_if_iso_outside(iso, {store->info().value_lo, store->info().value_hi}, path);
+    StreamMeta meta = sample_store_meta(*store, iso, a.command_line());
+    meta.set("projection", to_string(mode));
+    SampleStoreSource source(*store, iso, sp);
+    const ProjectStage project(iso, mode);
+    IsoSplatResult r;
+    const std::size_t points = run_to_outputs(a, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const Stage* stages[] = {&project, draw};
+        run_pipeline(source, std::span<const Stage* const>(stages, draw ? 2 : 1), sink, {nthreads});
+        IsoSplatResult q;
+        q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        q.sampling.active_cells = static_cast<std::int64_t>(source.emitted());
+        q.projection = project.stats();
+        return q;
+    }, r);
+    if (a.has("stats")) print_stats(path, iso, mode, r, points, nthreads, 1);
+    return 0;
+}
+
 }  // namespace
 
 int cmd_isosurface(int argc, char** argv) {
@@ -132,7 +191,8 @@ int cmd_isosurface(int argc, char** argv) {
            "(binary PLY: x y z nx ny nz radius value) and/or a surface-splatted picture.\n"
            "VOLUME: raw (name_XxYxZ_type.raw or --dims/--type), NRRD (.nrrd/.nhdr), MetaImage (.mhd/.mha),\n"
            "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI, or a brick store (.mlb,\n"
-           "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory.");
+           "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory,\n"
+           "or a paradigm (A) sample store (.mls, see meshless generate --all): only its candidate cell rows.");
     a.option("iso", "", "V", "isovalue (required)")
         .option("output", "o", "FILE", "point set output (.ply, '-' for stdout)")
         .option("png", "", "FILE", "also render the points to this PNG")
@@ -159,6 +219,8 @@ int cmd_isosurface(int argc, char** argv) {
     const int nthreads = threads(a);
 
     if (launched_world_size() > 1) return isosurface_mpi(a, argc, argv, iso, mode, sp, rs, nthreads);
+    if (!a.positional().empty() && is_sample_store(a.positional()[0]))
+        return isosurface_sample_store(a, iso, mode, sp, rs, nthreads);
 
     VolumeInput in = open_volume_input(a, /*stream=*/true);
     StreamMeta meta = volume_meta(in, iso, a.command_line());  // value range and surface bounds, one pass
@@ -167,29 +229,9 @@ int cmd_isosurface(int argc, char** argv) {
     meta.set("projection", to_string(mode));
 
     IsoSplatResult r;
-    std::size_t points = 0;
-    if (png) {
-        // Streaming: each batch is drawn as it is produced (in the parallel section) and, with -o,
-        // written to the PLY; nothing is collected. The splat sink finishes (renders) before the PLY
-        // is committed, and a PNG that cannot be written removes the PLY: one outcome.
-        SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
-        std::optional<PlySink> ply;
-        if (out) ply.emplace(*out, ply_comments(meta));
-        std::optional<TeeSink> tee;
-        if (ply) tee.emplace(splat, *ply);
-        r = run_isosurface_graph(in, iso, mode, sp, &splat.stage(), tee ? static_cast<Sink&>(*tee) : splat, nthreads);
-        points = splat.points();
-        try {
-            write_png(splat.image(), *png);
-        } catch (...) {
-            if (out && *out != "-" && !is_streaming_output(*out)) std::remove(out->c_str());
-            throw;
-        }
-    } else {
-        PlySink sink(*out, ply_comments(meta));
-        r = run_isosurface_graph(in, iso, mode, sp, nullptr, sink, nthreads);
-        points = sink.count();
-    }
+    const std::size_t points = run_to_outputs(a, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+        return run_isosurface_graph(in, iso, mode, sp, draw, sink, nthreads);
+    }, r);
     if (a.has("stats")) print_stats(in.path, iso, mode, r, points, nthreads, 1);
     return 0;
 }

@@ -10,7 +10,7 @@
 #include "cli/common.hpp"
 #include "formats/atomic_file.hpp"
 #include "kernels/errors.hpp"
-#include "ooc/sample_store.hpp"
+#include "ooc/sample_store_writer.hpp"
 #include "stream/cell_row_source.hpp"
 #include "stream/generate_stage.hpp"
 #include "stream/point_sinks.hpp"
@@ -42,21 +42,23 @@ void add_compress_option(Args& a) { a.flag("compress", "zstd-compress the stream
 
 namespace {
 
-/// generate --all: paradigm (A) sample store from a volume or a brick store.
+/// generate --all: paradigm (A) sample store (ooc/sample_store_writer.hpp) of a brick store.
 int generate_all(const Args& a) {
-    if (a.has("iso")) throw UsageError("--all precomputes samples for every isovalue: drop --iso");
+    if (a.has("iso")) throw UsageError("--all precomputes the index for every isovalue: drop --iso");
     const std::string out = a.get_or("output", "-");
     if (out == "-") throw UsageError("--all writes a sample store: give -o FILE.mls");
     VolumeInput in = open_volume_input(a);
-    const std::string source = std::filesystem::path(in.path).filename().string();
-    const SampleStoreBuildStats st = in.store ? write_sample_store_from_brick_store(*in.store, *in.cache, out, source)
-                                              : write_sample_store_from_volume(in.volume->view(), out, source);
+    if (!in.store)
+        throw UsageError("--all needs a brick store (.mlb), which the sample store recomputes samples from: "
+                         "meshless convert " + in.path + " -o vol.mlb");
+    const SampleStoreBuildStats st = write_sample_store(*in.store, out);
     if (a.has("stats"))
-        std::fprintf(stderr, "generate --all: %s: %llu samples (non-constant cells) in %llu span-space buckets (%u levels%s), "
-                     "%llu constant and %llu NaN/Inf cells skipped, %.1f MiB\n",
-                     in.path.c_str(), static_cast<unsigned long long>(st.samples), static_cast<unsigned long long>(st.buckets),
-                     st.levels, st.exact_levels ? ", exact" : "", static_cast<unsigned long long>(st.constant_cells),
-                     static_cast<unsigned long long>(st.nonfinite_cells), st.file_bytes / 1048576.0);
+        std::fprintf(stderr, "generate --all: %s: %llu non-constant cells as %llu cell-row keys in %llu span-space buckets "
+                     "(%u levels%s), %llu constant and %llu NaN/Inf cells skipped, %.1f MiB\n",
+                     in.path.c_str(), static_cast<unsigned long long>(st.cells), static_cast<unsigned long long>(st.keys),
+                     static_cast<unsigned long long>(st.buckets), st.levels, st.exact_levels ? ", exact" : "",
+                     static_cast<unsigned long long>(st.constant_cells), static_cast<unsigned long long>(st.nonfinite_cells),
+                     st.file_bytes / 1048576.0);
     return 0;
 }
 
@@ -67,11 +69,11 @@ int cmd_generate(int argc, char** argv) {
            "Point generation of paradigm (C) (section 3.4): one sample per active cell, at the cell centre,\n"
            "with trilinear value and gradient and the cell's corner values, written as a binary sample\n"
            "stream (stdout by default) for `meshless project`.\n"
-           "With --all: paradigm (A) preprocessing (Table 3.1): one sample per non-constant cell with its\n"
-           "value interval, into a sample store with a span-space index; `meshless extract vol.mls --iso V`\n"
-           "then reads only the samples active for V.");
+           "With --all (VOLUME a brick store .mlb): paradigm (A) preprocessing (Table 3.1): the cell rows of\n"
+           "the non-constant cells filed by value interval into a sample store (span-space index) that refers to\n"
+           "the .mlb; `meshless extract vol.mls --iso V` then recomputes only the rows that can be active for V.");
     a.option("iso", "", "V", "isovalue (required unless --all)")
-        .flag("all", "paradigm (A): precompute samples for every isovalue into a sample store (-o FILE.mls)")
+        .flag("all", "paradigm (A): index the cells of a brick store for every isovalue into a sample store (-o FILE.mls)")
         .option("output", "o", "FILE", "stream output, '-' = stdout", "-")
         .flag("stats", "print sample counts and timing to stderr");
     add_compress_option(a);

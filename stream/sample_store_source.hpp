@@ -1,9 +1,10 @@
 // Paradigm (A) extraction as a stage-graph Source (dissertation section 3.5, Table 3.1): the
-// active samples of one isovalue read from a sample store (ooc/sample_store.hpp), in batches of at
-// most kMaxBatchRecords SampleRecords (kind sample, corner[] = NaN: only the approximate projection
-// applies). Batches follow the store's bucket order, so the output is the same for any thread
-// count of the runner. A damaged bucket throws FormatError from next(). Not thread-safe (the
-// runner calls next() serially); the store must outlive the source.
+// active samples of one isovalue from a sample store (ooc/sample_store.hpp): the candidate cell
+// rows from its span-space index, recomputed from its brick store, in batches of at most
+// kMaxBatchRecords SampleRecords (kind sample, corners included). Batches follow the brick (Morton)
+// and row order of paradigm (C), so the records equal, in order and bytes, those of
+// `meshless generate vol.mlb`. A damaged bucket throws FormatError from the constructor, a damaged
+// brick from next(). Not thread-safe (the runner calls next() serially); the store must outlive it.
 #pragma once
 #include <optional>
 
