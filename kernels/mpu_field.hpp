@@ -26,6 +26,8 @@
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
 #include "kernels/multiquadric.hpp"
+#include "kernels/multiquadric_sum.hpp"
+#include "kernels/partition_of_unity.hpp"
 #include "kernels/point_set.hpp"
 
 namespace meshless {
@@ -55,13 +57,26 @@ private:
         std::int32_t child = -1;  // first of 8 children, -1 for a leaf
         std::int32_t local = -1;  // leaf: index into locals_
     };
+    struct LeafSphere {
+        Vec3 c;           // centre (frame)
+        double r, r2;     // weight radius and its square
+    };
+    void build_lookup();
+    void add_leaf(std::size_t l, const Vec3& x, bool want_grad, PuBlend& blend) const;
+
     Vec3 origin_, scale_{1, 1, 1};  // frame = (world - origin_) * scale_
     std::array<Vec3, 2> bounds_;
-    std::vector<Vec3> pos_;
     std::vector<Node> nodes_;
     std::vector<MultiquadricLocal> locals_;
-    std::vector<std::uint32_t> idx_;
+    std::vector<LeafSphere> leaf_;            // per local (leaf order)
+    std::vector<double> px_, py_, pz_;        // leaf l's centres: [first, first + count), leaf order
     std::vector<double> lambda_;
+    // Lookup grid over the root cube: cell (i, j, k) lists the leaves whose sphere meets it.
+    Vec3 g_lo_;
+    double g_cell_ = 1, g_inv_ = 1;
+    std::int64_t g_ = 1;
+    std::vector<std::uint32_t> grid_first_;   // CSR offsets, g_^3 + 1
+    std::vector<std::uint32_t> grid_leaf_;
 };
 
 }  // namespace meshless

@@ -34,6 +34,7 @@
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
 #include "kernels/multiquadric.hpp"
+#include "kernels/multiquadric_sum.hpp"
 #include "kernels/point_set.hpp"
 
 namespace meshless {
@@ -59,13 +60,14 @@ private:
     std::array<Vec3, 2> bounds_;
     Vec3 lo_, s_, inv_s_;         // grid lower corner (frame), cell edges, 1/edge (0 on 1-cell axes)
     std::int64_t n_[3] = {1, 1, 1};
-    int reach_[3] = {0, 0, 0};
+    double reach_[3] = {0, 0, 0};  // R_w / s_a (0 on 1-cell axes)
     double r_data_ = 0, r_w_ = 0;
-    std::vector<Vec3> pos_;
+    std::vector<double> px_, py_, pz_;           // points sorted by cell, then copies for grown/capped locals
     std::vector<std::int32_t> cell_local_;       // cell -> local index or -1
     std::vector<MultiquadricLocal> locals_;
-    std::vector<std::uint32_t> idx_;
-    std::vector<double> lambda_;
+    std::vector<std::uint32_t> run_first_;       // local l reads runs_[run_first_[l] .. run_first_[l + 1])
+    std::vector<MqRun> runs_;
+    std::vector<double> lambda_;                 // local l: lambda_[first .. first + count), in run order
 };
 
 }  // namespace meshless
