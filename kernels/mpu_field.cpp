@@ -12,6 +12,7 @@
 
 #include "kernels/errors.hpp"
 #include "kernels/field_input.hpp"
+#include "kernels/batch_order.hpp"
 #include "kernels/partition_of_unity.hpp"
 
 namespace meshless {
@@ -297,12 +298,34 @@ inline void MpuField::add_leaf(std::size_t l, const Vec3& x, bool want_grad, PuB
     blend.add(x, s.c, s.r, d, q, h.a + Vec3{acc.gx, acc.gy, acc.gz});
 }
 
+std::uint32_t MpuField::batch_key(const Vec3& pw) const {
+    const Vec3 dw = pw - origin_;
+    const double u[3] = {(dw.x * scale_.x - g_lo_.x) * g_inv_, (dw.y * scale_.y - g_lo_.y) * g_inv_,
+                         (dw.z * scale_.z - g_lo_.z) * g_inv_};
+    const double top = static_cast<double>(g_);
+    if (!(u[0] >= 0 && u[0] < top && u[1] >= 0 && u[1] < top && u[2] >= 0 && u[2] < top)) return 0xFFFFFFFFu;
+    return static_cast<std::uint32_t>(static_cast<std::int64_t>(u[0]) +
+                                      g_ * (static_cast<std::int64_t>(u[1]) + g_ * static_cast<std::int64_t>(u[2])));
+}
+
 void MpuField::evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
     PuBlend blend;
     const bool want_grad = !grad.empty();
+    if (p.size() < kBatchOrderMin) {
+        for (std::size_t t = 0; t < p.size(); ++t) eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, blend);
+        return;
+    }
+    std::vector<std::uint32_t> key(p.size()), order, scratch;
+    for (std::size_t t = 0; t < p.size(); ++t) key[t] = batch_key(p[t]);
+    order_by_key(key, order, scratch);
+    for (const std::uint32_t t : order) eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, blend);
+}
+
+void MpuField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blend) const {
+    const bool want_grad = grad != nullptr;
     std::array<std::int32_t, kMaxStack> stack;
-    for (std::size_t t = 0; t < p.size(); ++t) {
-        const Vec3 dw = p[t] - origin_;
+    {
+        const Vec3 dw = pw - origin_;
         const Vec3 x{dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z};
         blend.reset();
         if (std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z)) {
@@ -329,8 +352,8 @@ void MpuField::evaluate(std::span<const Vec3> p, std::span<double> value, std::s
                 }
             }
         }
-        value[t] = blend.finish(want_grad ? &grad[t] : nullptr);
-        if (want_grad) grad[t] = {grad[t].x * scale_.x, grad[t].y * scale_.y, grad[t].z * scale_.z};
+        value = blend.finish(grad);
+        if (want_grad) *grad = {grad->x * scale_.x, grad->y * scale_.y, grad->z * scale_.z};
     }
 }
 

@@ -62,6 +62,8 @@ private:
         double r, r2;     // weight radius and its square
     };
     void build_lookup();
+    std::uint32_t batch_key(const Vec3& world) const;  // lookup cell of a query (kernels/batch_order.hpp)
+    void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend) const;
     void add_leaf(std::size_t l, const Vec3& x, bool want_grad, PuBlend& blend) const;
 
     Vec3 origin_, scale_{1, 1, 1};  // frame = (world - origin_) * scale_

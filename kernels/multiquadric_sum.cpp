@@ -103,11 +103,11 @@ __attribute__((target("avx512f,avx512vl,avx512dq,fma"))) void sum_avx512(const d
         const __m512d hr2 = _mm512_mul_pd(half, r2);
         y = _mm512_mul_pd(y, _mm512_fnmadd_pd(hr2, _mm512_mul_pd(y, y), threehalf));
         y = _mm512_mul_pd(y, _mm512_fnmadd_pd(hr2, _mm512_mul_pd(y, y), threehalf));
-        const __m512d phi = _mm512_mul_pd(r2, y);
+        const __mmask8 pos = _mm512_mask_cmp_pd_mask(m, r2, zero, _CMP_GT_OQ);  // r2 == 0: phi = 0, no slope
+        const __m512d phi = _mm512_maskz_mul_pd(pos, r2, y);
         const __m512d l = _mm512_maskz_loadu_pd(m, lam);  // 0 in the masked-off lanes
-        v = _mm512_mask3_fmadd_pd(l, phi, v, m);
+        v = _mm512_fmadd_pd(l, phi, v);
         if (grad) {
-            const __mmask8 pos = _mm512_mask_cmp_pd_mask(m, r2, zero, _CMP_GT_OQ);
             const __m512d s = _mm512_maskz_mul_pd(pos, l, y);
             gx = _mm512_fmadd_pd(s, ex, gx);
             gy = _mm512_fmadd_pd(s, ey, gy);

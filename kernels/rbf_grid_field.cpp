@@ -11,6 +11,7 @@
 
 #include "kernels/errors.hpp"
 #include "kernels/field_input.hpp"
+#include "kernels/batch_order.hpp"
 #include "kernels/partition_of_unity.hpp"
 
 namespace meshless {
@@ -71,7 +72,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
     } else {
         double m = std::numeric_limits<double>::infinity();
         for (int a = 0; a < 3; ++a)
-            if (n_[a] >= 3) m = std::min(m, 0.95 * sc[a]);
+            if (n_[a] >= 3) m = std::min(m, 1.5 * sc[a]);
         r_w_ = std::isfinite(m) ? m : r_data_;
         r_w_ = std::min(std::max(r_w_, 1.01 * 0.5 * diag), r_data_);
     }
@@ -257,6 +258,8 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
         }
     });
 
+
+
     st.locals = locals_.size();
     std::uint64_t sum_pts = 0;
     for (std::size_t l = 0; l < locals_.size(); ++l) {
@@ -277,19 +280,42 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                       runs_.size() * sizeof(MqRun) + total * sizeof(double);
 }
 
+std::uint32_t RbfGridField::batch_key(const Vec3& pw) const {
+    const Vec3 dw = pw - origin_;
+    const Vec3 x{dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z};
+    std::int64_t ci[3];
+    for (int a = 0; a < 3; ++a) {
+        const double u = (x[a] - lo_[a]) * inv_s_[a];
+        if (!(u == u)) return 0xFFFFFFFFu;
+        ci[a] = static_cast<std::int64_t>(std::clamp(std::floor(u), 0.0, static_cast<double>(n_[a] - 1)));
+    }
+    return static_cast<std::uint32_t>(ci[0] + n_[0] * (ci[1] + n_[1] * ci[2]));
+}
+
 void RbfGridField::evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
-    PuBlend blend;
+    PuBlend sc;
     const bool want_grad = !grad.empty();
+    if (p.size() < kBatchOrderMin) {
+        for (std::size_t t = 0; t < p.size(); ++t) eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, sc);
+        return;
+    }
+    std::vector<std::uint32_t> key(p.size()), order, scratch;
+    for (std::size_t t = 0; t < p.size(); ++t) key[t] = batch_key(p[t]);
+    order_by_key(key, order, scratch);
+    for (const std::uint32_t t : order) eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, sc);
+}
+
+void RbfGridField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blend) const {
+    const bool want_grad = grad != nullptr;
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    for (std::size_t t = 0; t < p.size(); ++t) {
-        const Vec3 dw = p[t] - origin_;
+    {
+        const Vec3 dw = pw - origin_;
         const Vec3 x{dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z};
         if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z)) {
-            value[t] = nan;
-            if (want_grad) grad[t] = {nan, nan, nan};
-            continue;
-        }
-        // Centres within R_w of x on every axis: |u - i| < R_w / s_a, u = cell coordinate - 1/2
+            value = nan;
+            if (want_grad) *grad = {nan, nan, nan};
+            return;
+        }        // Centres within R_w of x on every axis: |u - i| < R_w / s_a, u = cell coordinate - 1/2
         // (a little wider; the sphere test below decides).
         std::int64_t c0[3], c1[3];
         for (int a = 0; a < 3; ++a) {
@@ -324,8 +350,8 @@ void RbfGridField::evaluate(std::span<const Vec3> p, std::span<double> value, st
                     blend.add(x, cc, r_w_, d, q, h.a + Vec3{acc.gx, acc.gy, acc.gz});
                 }
             }
-        value[t] = blend.finish(want_grad ? &grad[t] : nullptr);
-        if (want_grad) grad[t] = {grad[t].x * scale_.x, grad[t].y * scale_.y, grad[t].z * scale_.z};
+        value = blend.finish(grad);
+        if (want_grad) *grad = {grad->x * scale_.x, grad->y * scale_.y, grad->z * scale_.z};
     }
 }
 

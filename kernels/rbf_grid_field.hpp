@@ -35,6 +35,7 @@
 #include "kernels/field_params.hpp"
 #include "kernels/multiquadric.hpp"
 #include "kernels/multiquadric_sum.hpp"
+#include "kernels/partition_of_unity.hpp"
 #include "kernels/point_set.hpp"
 
 namespace meshless {
@@ -56,6 +57,9 @@ public:
     std::size_t local_count() const { return locals_.size(); }
 
 private:
+    std::uint32_t batch_key(const Vec3& world) const;  // cell of a query (kernels/batch_order.hpp)
+    void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend) const;
+
     Vec3 origin_, scale_{1, 1, 1};  // frame = (world - origin_) * scale_                 // world position of the frame of pos_
     std::array<Vec3, 2> bounds_;
     Vec3 lo_, s_, inv_s_;         // grid lower corner (frame), cell edges, 1/edge (0 on 1-cell axes)
