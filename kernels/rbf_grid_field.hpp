@@ -24,9 +24,18 @@
 // Coverage: F is defined (finite) where some local's weight sphere contains x: every cell with a
 // data point within its 27 neighbours, i.e. the whole bounding box for evenly spread data. Elsewhere
 // evaluate() gives NaN (value and gradient). Units: world in, data units out, gradient per world unit.
-// Memory: ~27 m points per local x 12 bytes (index + lambda): ~330 bytes per input point at m = 5.
-// Construction is parallel (oneTBB parallel_for over cells; the result does not depend on the
-// thread count); evaluate() is thread-safe (const). Throws FormatError/UsageError (see make_field.hpp).
+//
+// Evaluation layout: the points are stored once, sorted by cell, structure-of-arrays; a local over
+// its 27-cell block (the data sphere always contains the whole block) reads them as up to 9 runs,
+// one per (y, z) row of the block, with its lambdas contiguous in the same order, so there is no
+// per-centre index and the sum runs SIMD-wide (kernels/multiquadric_sum.hpp). Grown or capped
+// locals get their own copied run. A query visits only the cells whose centre lies within R_w on
+// every axis. Batches of >= kBatchOrderMin queries are evaluated cell by cell (kernels/
+// batch_order.hpp) and written back in place: every query's bits equal its single-point result.
+// Memory: ~27 m lambdas per local x 8 bytes + 24 bytes per point: ~1.1 KB per cell at m = 5
+// (~260 bytes per input point). Construction is parallel (oneTBB parallel_for over cells; the
+// result does not depend on the thread count); evaluate() is thread-safe (const). Throws
+// FormatError/UsageError (see make_field.hpp).
 #pragma once
 #include <cstdint>
 #include <vector>
