@@ -154,4 +154,27 @@ void multiquadric_sum(const double* px, const double* py, const double* pz, std:
 
 const char* multiquadric_sum_isa() { return chosen().name; }
 
+bool multiquadric_sum_isa_available(std::string_view isa) {
+    if (isa == "scalar") return true;
+#ifdef MESHLESS_MQ_X86
+    __builtin_cpu_init();
+    if (isa == "avx2") return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    if (isa == "avx512")
+        return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+               __builtin_cpu_supports("avx512dq");
+#endif
+    return false;
+}
+
+void multiquadric_sum_with(std::string_view isa, const double* px, const double* py, const double* pz,
+                           std::span<const MqRun> runs, const double* lambda, double c2, const Vec3& x, bool grad,
+                           MqSum& out) {
+    SumFn fn = sum_scalar;
+#ifdef MESHLESS_MQ_X86
+    if (isa == "avx2") fn = sum_avx2;
+    if (isa == "avx512") fn = sum_avx512;
+#endif
+    fn(px, py, pz, runs.data(), runs.size(), lambda, c2, x, grad, out);
+}
+
 }  // namespace meshless

@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "kernels/vec3.hpp"
 
@@ -37,5 +38,11 @@ void multiquadric_sum(const double* px, const double* py, const double* pz, std:
 
 /// Which implementation multiquadric_sum() uses on this machine: "avx512", "avx2" or "scalar".
 const char* multiquadric_sum_isa();
+/// Tests: whether this CPU can run implementation `isa`, and multiquadric_sum() through it
+/// (precondition: multiquadric_sum_isa_available(isa)).
+bool multiquadric_sum_isa_available(std::string_view isa);
+void multiquadric_sum_with(std::string_view isa, const double* px, const double* py, const double* pz,
+                           std::span<const MqRun> runs, const double* lambda, double c2, const Vec3& x, bool grad,
+                           MqSum& out);
 
 }  // namespace meshless

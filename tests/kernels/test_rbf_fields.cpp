@@ -571,19 +571,28 @@ TEST_CASE("multiquadric_sum over runs matches the scalar multiquadric", "[rbf]")
     h.c2 = 0.01;
     h.count = static_cast<std::uint32_t>(idx.size());
     for (const Vec3& x : random_points(50, {-1.5, -1.5, -1.5}, {1.5, 1.5, 1.5}, 73)) {
-        MqSum s;
-        multiquadric_sum(px.data(), py.data(), pz.data(), runs, lam_runs.data(), h.c2, x, true, s);
         Vec3 g;
         const double v = multiquadric_evaluate(h, pts.data(), idx.data(), lam_runs.data(), x, &g);
         double scale = 0;
         for (std::size_t k = 0; k < idx.size(); ++k) scale += std::abs(lam_runs[k]) * std::sqrt(dot(x - pts[idx[k]], x - pts[idx[k]]) + h.c2);
-        CHECK(std::abs(s.v - v) <= 1e-13 * scale);
-        CHECK(std::abs(s.gx - g.x) <= 1e-12 * scale);
-        CHECK(std::abs(s.gy - g.y) <= 1e-12 * scale);
-        CHECK(std::abs(s.gz - g.z) <= 1e-12 * scale);
-        MqSum s0;
-        multiquadric_sum(px.data(), py.data(), pz.data(), runs, lam_runs.data(), h.c2, x, false, s0);
-        CHECK(s0.v == s.v);
+        for (const char* isa : {"default", "scalar", "avx2", "avx512"}) {
+            const bool dflt = std::string(isa) == "default";
+            if (!dflt && !multiquadric_sum_isa_available(isa)) continue;
+            INFO(isa);
+            MqSum s, s0;
+            if (dflt) {
+                multiquadric_sum(px.data(), py.data(), pz.data(), runs, lam_runs.data(), h.c2, x, true, s);
+                multiquadric_sum(px.data(), py.data(), pz.data(), runs, lam_runs.data(), h.c2, x, false, s0);
+            } else {
+                multiquadric_sum_with(isa, px.data(), py.data(), pz.data(), runs, lam_runs.data(), h.c2, x, true, s);
+                multiquadric_sum_with(isa, px.data(), py.data(), pz.data(), runs, lam_runs.data(), h.c2, x, false, s0);
+            }
+            CHECK(std::abs(s.v - v) <= 1e-13 * scale);
+            CHECK(std::abs(s.gx - g.x) <= 1e-12 * scale);
+            CHECK(std::abs(s.gy - g.y) <= 1e-12 * scale);
+            CHECK(std::abs(s.gz - g.z) <= 1e-12 * scale);
+            CHECK(s0.v == s.v);
+        }
     }
     INFO(multiquadric_sum_isa());
 }
