@@ -19,6 +19,9 @@ public:
     virtual ~Field() = default;
     /// value[i] (and grad[i] when grad is not empty) at p[i]. Preconditions: value.size() ==
     /// p.size(), grad.empty() || grad.size() == p.size(). Throws nothing but std::bad_alloc.
+    /// Every point's result is independent of the rest of the batch (an implementation may visit a
+    /// batch in its own order, e.g. spatially sorted, but writes each result to its own slot), so
+    /// callers gain by passing large batches (thousands of points) and lose nothing by any order.
     virtual void evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const = 0;
     /// Axis-aligned domain [lo, hi], world units.
     virtual std::array<Vec3, 2> bounds() const = 0;

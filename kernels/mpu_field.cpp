@@ -12,6 +12,7 @@
 
 #include "kernels/errors.hpp"
 #include "kernels/field_input.hpp"
+#include "kernels/batch_order.hpp"
 #include "kernels/partition_of_unity.hpp"
 
 namespace meshless {
@@ -129,14 +130,14 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
     origin_ = mp.origin;
     scale_ = mp.scale;
     bounds_ = points.bounds();
-    pos_ = std::move(mp.pos);
+    const std::vector<Vec3> pts = std::move(mp.pos);
     const std::vector<double>& val = mp.value;
     const double c = hardy_c_world_for(params, bounds_);
 
-    const auto [lo, hi] = bounding_box(pos_);
+    const auto [lo, hi] = bounding_box(pts);
     const Vec3 w = hi - lo;
     const double wmax = std::max({w.x, w.y, w.z});
-    OctreeBuilder b{pos_, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha, {}, {}, {}, {}, {}};
+    OctreeBuilder b{pts, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha, {}, {}, {}, {}, {}};
     OctreeBuilder::NodeRec root;
     root.c = (lo + hi) * 0.5;
     root.half = wmax > 0 ? 0.5 * wmax * (1 + 1e-9) : 1.0;
@@ -146,7 +147,7 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
     root.local = -1;
     b.nodes.push_back(root);
     {
-        std::vector<std::uint32_t> all(pos_.size());
+        std::vector<std::uint32_t> all(pts.size());
         for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
         b.build(0, all, 0);
     }
@@ -167,8 +168,8 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         }
         nd.rsub = rs;
     }
-    idx_ = std::move(b.flat);
-    lambda_.assign(idx_.size(), 0.0);
+    const std::vector<std::uint32_t> idx = std::move(b.flat);
+    lambda_.assign(idx.size(), 0.0);
     locals_.resize(b.leaf_range.size());
     for (std::size_t l = 0; l < locals_.size(); ++l) locals_[l].first = static_cast<std::uint32_t>(b.leaf_range[l].first);
 
@@ -181,12 +182,24 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
             MultiquadricLocal& h = locals_[l];
             const std::uint32_t cnt = b.leaf_range[l].second;
             const MultiquadricFitResult res =
-                solver.fit(pos_, val, std::span<const std::uint32_t>(idx_.data() + h.first, cnt), c, h,
+                solver.fit(pts, val, std::span<const std::uint32_t>(idx.data() + h.first, cnt), c, h,
                            std::span<double>(lambda_.data() + h.first, cnt));
             outcome[l] = res.outcome;
             rank_def[l] = res.poly_rank < 4;
         }
     });
+
+    // Centres copied structure-of-arrays in leaf order (the lambda order): leaf l's run is
+    // [first, first + count) of px_/py_/pz_ and of lambda_.
+    px_.resize(idx.size());
+    py_.resize(idx.size());
+    pz_.resize(idx.size());
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+        px_[k] = pts[idx[k]].x;
+        py_[k] = pts[idx[k]].y;
+        pz_[k] = pts[idx[k]].z;
+    }
+    build_lookup();
 
     st.locals = locals_.size();
     st.grown = b.grown;
@@ -204,8 +217,8 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         st.max_local_points = std::max<std::uint64_t>(st.max_local_points, b.leaf_range[l].second);
     }
     st.mean_local_points = locals_.empty() ? 0.0 : static_cast<double>(sum) / static_cast<double>(locals_.size());
-    st.memory_bytes = pos_.size() * sizeof(Vec3) + nodes_.size() * sizeof(Node) +
-                      locals_.size() * sizeof(MultiquadricLocal) + idx_.size() * (sizeof(std::uint32_t) + sizeof(double));
+    st.memory_bytes = nodes_.size() * sizeof(Node) + locals_.size() * (sizeof(MultiquadricLocal) + sizeof(LeafSphere)) +
+                      lambda_.size() * 4 * sizeof(double) + (grid_first_.size() + grid_leaf_.size()) * sizeof(std::uint32_t);
 }
 
 std::vector<MpuField::LeafInfo> MpuField::leaves() const {
@@ -215,37 +228,132 @@ std::vector<MpuField::LeafInfo> MpuField::leaves() const {
     return out;
 }
 
+void MpuField::build_lookup() {
+    // Leaf spheres in leaf order, then a uniform grid of G^3 cells over the root cube listing, per
+    // cell, the leaves whose sphere meets the cell (ascending). G^3 ~ the number of leaves.
+    leaf_.resize(locals_.size());
+    for (const Node& nd : nodes_)
+        if (nd.child < 0) leaf_[static_cast<std::size_t>(nd.local)] = LeafSphere{nd.c, nd.r, nd.r * nd.r};
+    const Node& root = nodes_[0];
+    int level = 0;
+    while (level < 7 && (std::size_t{1} << (3 * (level + 1))) <= std::max<std::size_t>(1, locals_.size())) ++level;
+    g_ = std::int64_t{1} << level;
+    g_lo_ = root.c - Vec3{root.half, root.half, root.half};
+    g_cell_ = 2 * root.half / static_cast<double>(g_);
+    g_inv_ = 1 / g_cell_;
+    const std::size_t ncell = static_cast<std::size_t>(g_ * g_ * g_);
+    auto range = [&](const LeafSphere& s, std::int64_t lo[3], std::int64_t hi[3]) {
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((s.c[a] - s.r - g_lo_[a]) * g_inv_)));
+            hi[a] = std::min<std::int64_t>(g_ - 1, static_cast<std::int64_t>(std::floor((s.c[a] + s.r - g_lo_[a]) * g_inv_)));
+        }
+    };
+    auto meets = [&](const LeafSphere& s, std::int64_t i, std::int64_t j, std::int64_t k) {
+        const std::int64_t ci[3] = {i, j, k};
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double b0 = g_lo_[a] + static_cast<double>(ci[a]) * g_cell_, b1 = b0 + g_cell_;
+            const double e = s.c[a] < b0 ? b0 - s.c[a] : s.c[a] > b1 ? s.c[a] - b1 : 0.0;
+            d2 += e * e;
+        }
+        return d2 <= s.r2 * (1 + 1e-9);
+    };
+    grid_first_.assign(ncell + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+        std::vector<std::uint32_t> fill;
+        if (pass == 1) {
+            for (std::size_t c = 0; c < ncell; ++c) grid_first_[c + 1] += grid_first_[c];
+            grid_leaf_.resize(grid_first_[ncell]);
+            fill.assign(grid_first_.begin(), grid_first_.end() - 1);
+        }
+        for (std::size_t l = 0; l < leaf_.size(); ++l) {
+            std::int64_t lo[3], hi[3];
+            range(leaf_[l], lo, hi);
+            for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+                for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+                    for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
+                        if (!meets(leaf_[l], i, j, k)) continue;
+                        const std::size_t c = static_cast<std::size_t>(i + g_ * (j + g_ * k));
+                        if (pass == 0) ++grid_first_[c + 1];
+                        else grid_leaf_[fill[c]++] = static_cast<std::uint32_t>(l);
+                    }
+        }
+    }
+}
+
+inline void MpuField::add_leaf(std::size_t l, const Vec3& x, bool want_grad, PuBlend& blend) const {
+    const LeafSphere& s = leaf_[l];
+    const Vec3 e = x - s.c;
+    const double d2 = dot(e, e);
+    if (!(d2 < s.r2)) return;
+    const double d = std::sqrt(d2);
+    const MultiquadricLocal& h = locals_[l];
+    MqSum acc;
+    if (h.count > 0) {
+        const MqRun run{h.first, h.count};
+        multiquadric_sum(px_.data(), py_.data(), pz_.data(), std::span<const MqRun>(&run, 1), lambda_.data() + h.first,
+                         h.c2, x, want_grad, acc);
+    }
+    const double q = h.a0 + dot(h.a, x - h.origin) + acc.v;
+    blend.add(x, s.c, s.r, d, q, h.a + Vec3{acc.gx, acc.gy, acc.gz});
+}
+
+std::uint32_t MpuField::batch_key(const Vec3& pw) const {
+    const Vec3 dw = pw - origin_;
+    const double u[3] = {(dw.x * scale_.x - g_lo_.x) * g_inv_, (dw.y * scale_.y - g_lo_.y) * g_inv_,
+                         (dw.z * scale_.z - g_lo_.z) * g_inv_};
+    const double top = static_cast<double>(g_);
+    if (!(u[0] >= 0 && u[0] < top && u[1] >= 0 && u[1] < top && u[2] >= 0 && u[2] < top)) return 0xFFFFFFFFu;
+    return static_cast<std::uint32_t>(static_cast<std::int64_t>(u[0]) +
+                                      g_ * (static_cast<std::int64_t>(u[1]) + g_ * static_cast<std::int64_t>(u[2])));
+}
+
 void MpuField::evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
     PuBlend blend;
     const bool want_grad = !grad.empty();
-    const double nan = std::numeric_limits<double>::quiet_NaN();
+    if (p.size() < kBatchOrderMin) {
+        for (std::size_t t = 0; t < p.size(); ++t) eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, blend);
+        return;
+    }
+    std::vector<std::uint32_t> key(p.size()), order, scratch;
+    for (std::size_t t = 0; t < p.size(); ++t) key[t] = batch_key(p[t]);
+    order_by_key(key, order, scratch);
+    for (const std::uint32_t t : order) eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, blend);
+}
+
+void MpuField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blend) const {
+    const bool want_grad = grad != nullptr;
     std::array<std::int32_t, kMaxStack> stack;
-    for (std::size_t t = 0; t < p.size(); ++t) {
-        const Vec3 dw = p[t] - origin_;
+    {
+        const Vec3 dw = pw - origin_;
         const Vec3 x{dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z};
         blend.reset();
         if (std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z)) {
-            int top = 0;
-            stack[top++] = 0;
-            while (top > 0) {
-                const Node& nd = nodes_[static_cast<std::size_t>(stack[--top])];
-                const Vec3 e = x - nd.c;
-                if (!(dot(e, e) < nd.rsub * nd.rsub)) continue;
-                if (nd.child >= 0) {
-                    for (int q = 7; q >= 0; --q) stack[top++] = nd.child + q;
-                    continue;
+            const double u[3] = {(x.x - g_lo_.x) * g_inv_, (x.y - g_lo_.y) * g_inv_, (x.z - g_lo_.z) * g_inv_};
+            const double top = static_cast<double>(g_);
+            if (u[0] >= 0 && u[0] < top && u[1] >= 0 && u[1] < top && u[2] >= 0 && u[2] < top) {
+                // inside the root cube: the leaves listed for x's lookup cell
+                const std::size_t c = static_cast<std::size_t>(static_cast<std::int64_t>(u[0]) +
+                                                               g_ * (static_cast<std::int64_t>(u[1]) +
+                                                                     g_ * static_cast<std::int64_t>(u[2])));
+                for (std::uint32_t q = grid_first_[c]; q < grid_first_[c + 1]; ++q) add_leaf(grid_leaf_[q], x, want_grad, blend);
+            } else {  // outside: descend the tree (spheres reach beyond the root cube)
+                int top_ = 0;
+                stack[top_++] = 0;
+                while (top_ > 0) {
+                    const Node& nd = nodes_[static_cast<std::size_t>(stack[--top_])];
+                    const Vec3 e = x - nd.c;
+                    if (!(dot(e, e) < nd.rsub * nd.rsub)) continue;
+                    if (nd.child >= 0) {
+                        for (int q = 7; q >= 0; --q) stack[top_++] = nd.child + q;
+                        continue;
+                    }
+                    add_leaf(static_cast<std::size_t>(nd.local), x, want_grad, blend);
                 }
-                double d;
-                if (!PuBlend::covers(x, nd.c, nd.r, &d)) continue;
-                Vec3 gq;
-                const double q = multiquadric_evaluate(locals_[static_cast<std::size_t>(nd.local)], pos_.data(),
-                                                       idx_.data(), lambda_.data(), x, want_grad ? &gq : nullptr);
-                blend.add(x, nd.c, nd.r, d, q, gq);
             }
         }
-        value[t] = blend.finish(want_grad ? &grad[t] : nullptr);
-        if (want_grad) grad[t] = {grad[t].x * scale_.x, grad[t].y * scale_.y, grad[t].z * scale_.z};
-        (void)nan;
+        value = blend.finish(grad);
+        if (want_grad) *grad = {grad->x * scale_.x, grad->y * scale_.y, grad->z * scale_.z};
     }
 }
 

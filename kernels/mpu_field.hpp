@@ -4,8 +4,8 @@
 // holds more than N points (N = 100) is subdivided, so the leaves ("interpolation nodes") hold at
 // most N points and each gets a local multiquadric (kernels/multiquadric.hpp) over the points in its
 // sphere. The locals are blended with Franke-Nielson weights over their spheres
-// (kernels/partition_of_unity.hpp); evaluation descends the tree from the root, skipping subtrees
-// whose bounding sphere misses x: O(log m) for m leaves. Only the original points are used.
+// (kernels/partition_of_unity.hpp); evaluation blends the leaves whose sphere holds x (see
+// "Evaluation" below). Only the original points are used.
 //
 // Coverage: alpha > 0.5 makes every leaf's sphere contain its cube, and the leaves tile the root
 // cube (the bounding box grown to a cube), so F is finite everywhere in the bounding box. A leaf
@@ -15,9 +15,16 @@
 // keeps its N nearest (FieldBuildStats::capped). F interpolates the data: every sphere that weighs
 // at a data point holds that point (up to the solver's 1e-8 residual), unless a local was capped,
 // regularised or fell back.
-// Units: world in, data units out, gradient per world unit. Memory: ~N/2 points per leaf x 12 bytes,
-// roughly 100-150 bytes per input point. Construction: sequential octree, parallel fits (oneTBB;
-// the result does not depend on the thread count); evaluate() is thread-safe (const).
+// Evaluation: each leaf's centres are copied structure-of-arrays with its lambdas (the sum runs
+// SIMD-wide, kernels/multiquadric_sum.hpp); inside the root cube a uniform lookup grid (about one
+// cell per leaf) lists, per cell, the leaves whose sphere meets it, so a query tests only those
+// instead of descending the tree (outside the root cube it descends the tree). Batches of >=
+// kBatchOrderMin queries are evaluated lookup cell by lookup cell (kernels/batch_order.hpp) and
+// written back in place: every query's bits equal its single-point result.
+// Units: world in, data units out, gradient per world unit. Memory: ~N/2 points per leaf x 32 bytes
+// plus the lookup lists, ~500 bytes per input point (FieldBuildStats::memory_bytes at 1M uniform). Construction: sequential octree,
+// parallel fits (oneTBB; the result does not depend on the thread count); evaluate() is
+// thread-safe (const).
 // Throws FormatError/UsageError (see make_field.hpp).
 #pragma once
 #include <cstdint>
@@ -26,6 +33,8 @@
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
 #include "kernels/multiquadric.hpp"
+#include "kernels/multiquadric_sum.hpp"
+#include "kernels/partition_of_unity.hpp"
 #include "kernels/point_set.hpp"
 
 namespace meshless {
@@ -55,13 +64,28 @@ private:
         std::int32_t child = -1;  // first of 8 children, -1 for a leaf
         std::int32_t local = -1;  // leaf: index into locals_
     };
+    struct LeafSphere {
+        Vec3 c;           // centre (frame)
+        double r, r2;     // weight radius and its square
+    };
+    void build_lookup();
+    std::uint32_t batch_key(const Vec3& world) const;  // lookup cell of a query (kernels/batch_order.hpp)
+    void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend) const;
+    void add_leaf(std::size_t l, const Vec3& x, bool want_grad, PuBlend& blend) const;
+
     Vec3 origin_, scale_{1, 1, 1};  // frame = (world - origin_) * scale_
     std::array<Vec3, 2> bounds_;
-    std::vector<Vec3> pos_;
     std::vector<Node> nodes_;
     std::vector<MultiquadricLocal> locals_;
-    std::vector<std::uint32_t> idx_;
+    std::vector<LeafSphere> leaf_;            // per local (leaf order)
+    std::vector<double> px_, py_, pz_;        // leaf l's centres: [first, first + count), leaf order
     std::vector<double> lambda_;
+    // Lookup grid over the root cube: cell (i, j, k) lists the leaves whose sphere meets it.
+    Vec3 g_lo_;
+    double g_cell_ = 1, g_inv_ = 1;
+    std::int64_t g_ = 1;
+    std::vector<std::uint32_t> grid_first_;   // CSR offsets, g_^3 + 1
+    std::vector<std::uint32_t> grid_leaf_;
 };
 
 }  // namespace meshless

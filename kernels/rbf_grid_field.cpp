@@ -11,6 +11,7 @@
 
 #include "kernels/errors.hpp"
 #include "kernels/field_input.hpp"
+#include "kernels/batch_order.hpp"
 #include "kernels/partition_of_unity.hpp"
 
 namespace meshless {
@@ -27,13 +28,13 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
     origin_ = mp.origin;
     scale_ = mp.scale;
     bounds_ = points.bounds();
-    pos_ = std::move(mp.pos);
+    const std::vector<Vec3> pts = std::move(mp.pos);
     const std::vector<double>& val = mp.value;
     const double c = hardy_c_world_for(params, bounds_);
-    const std::size_t n = pos_.size();
+    const std::size_t n = pts.size();
 
     // ---- RBF grid dimensions (section 4.3), degenerate axes folded out.
-    const auto [lo, hi] = bounding_box(pos_);
+    const auto [lo, hi] = bounding_box(pts);
     lo_ = lo;
     const double w[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
     const double wmax = std::max({w[0], w[1], w[2]});
@@ -76,10 +77,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
         r_w_ = std::min(std::max(r_w_, 1.01 * 0.5 * diag), r_data_);
     }
     if (!(r_w_ > 0)) r_w_ = r_data_ = 1;  // a single point (after merging): one constant local
-    for (int a = 0; a < 3; ++a)
-        reach_[a] = n_[a] < 2 ? 0
-                              : static_cast<int>(std::clamp<double>(std::ceil(r_w_ / sc[a] - 0.5), 1.0,
-                                                                    static_cast<double>(n_[a] - 1)));
+    for (int a = 0; a < 3; ++a) reach_[a] = n_[a] < 2 ? 0.0 : r_w_ / sc[a];
 
     // ---- Bin the points (counting sort by cell, input order within a cell).
     auto cell_of = [&](const Vec3& p, std::int64_t ci[3]) {
@@ -92,7 +90,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
     std::vector<std::uint32_t> pcell(n);
     for (std::size_t i = 0; i < n; ++i) {
         std::int64_t ci[3];
-        cell_of(pos_[i], ci);
+        cell_of(pts[i], ci);
         pcell[i] = static_cast<std::uint32_t>(ci[0] + n_[0] * (ci[1] + n_[1] * ci[2]));
         ++start[pcell[i] + 1];
     }
@@ -117,7 +115,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                     const std::int64_t nc = x + n_[0] * (y + n_[1] * z);
                     for (std::uint32_t q = start[nc]; q < start[nc + 1]; ++q) {
                         const std::uint32_t pi = order[q];
-                        const Vec3 e = pos_[pi] - cc;
+                        const Vec3 e = pts[pi] - cc;
                         if (dot(e, e) <= rd2) fn(pi, e);
                     }
                 }
@@ -136,7 +134,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                     for (std::int64_t x = std::max<std::int64_t>(0, i - r); x <= std::min(n_[0] - 1, i + r); ++x) {
                         const std::int64_t nc = x + n_[0] * (y + n_[1] * z);
                         for (std::uint32_t q = start[nc]; q < start[nc + 1]; ++q) {
-                            const Vec3 e = pos_[order[q]] - cc;
+                            const Vec3 e = pts[order[q]] - cc;
                             near.emplace_back(dot(e, e), order[q]);
                         }
                     }
@@ -166,9 +164,15 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
             count[cell] = cnt;
         }
     });
+    // A local over its whole 27-cell block (the data sphere always contains the block: its corner
+    // is 1.5 |s| < R from the centre) reads the points as up to 9 runs of the cell-sorted arrays,
+    // one per (y, z) row of the block, in exactly the order gather() visits them. A grown or capped
+    // local gets copies of its points after the sorted ones, one run.
     cell_local_.assign(static_cast<std::size_t>(ncells), -1);
     std::vector<std::int64_t> local_cell;
-    std::uint64_t total = 0;
+    std::vector<std::uint8_t> explicit_pts;
+    std::uint64_t total = 0, extra = 0;
+    run_first_.push_back(0);
     for (std::int64_t cell = 0; cell < ncells; ++cell) {
         if (count[cell] == 0) continue;
         cell_local_[cell] = static_cast<std::int32_t>(local_cell.size());
@@ -178,24 +182,52 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
         locals_.push_back(h);
         const std::uint32_t used = std::min(count[cell], cap);
         total += used;
-        if (total > 0xFFFFFFF0ull) throw UsageError("rbf-grid: too many local points (" + std::to_string(total) + ")");
+        if (total > 0xFFFFFFF0ull || n + extra + used > 0xFFFFFFF0ull)
+            throw UsageError("rbf-grid: too many local points (" + std::to_string(total) + ")");
+        const bool expl = !grown[cell].empty() || count[cell] > cap;
+        explicit_pts.push_back(expl);
+        if (expl) {
+            runs_.push_back(MqRun{static_cast<std::uint32_t>(n + extra), used});
+            extra += used;
+        } else {
+            const std::int64_t i = cell % n_[0], j = (cell / n_[0]) % n_[1], k = cell / (n_[0] * n_[1]);
+            const std::int64_t x0 = std::max<std::int64_t>(0, i - 1), x1 = std::min(n_[0] - 1, i + 1);
+            for (std::int64_t z = std::max<std::int64_t>(0, k - 1); z <= std::min(n_[2] - 1, k + 1); ++z)
+                for (std::int64_t y = std::max<std::int64_t>(0, j - 1); y <= std::min(n_[1] - 1, j + 1); ++y) {
+                    const std::int64_t row = n_[0] * (y + n_[1] * z);
+                    const std::uint32_t b = start[row + x0], e = start[row + x1 + 1];
+                    if (e > b) runs_.push_back(MqRun{b, e - b});
+                }
+        }
+        run_first_.push_back(static_cast<std::uint32_t>(runs_.size()));
     }
-    idx_.resize(total);
     lambda_.assign(total, 0.0);
+    px_.resize(n + extra);
+    py_.resize(n + extra);
+    pz_.resize(n + extra);
+    for (std::size_t q = 0; q < n; ++q) {
+        const Vec3& p = pts[order[q]];
+        px_[q] = p.x;
+        py_[q] = p.y;
+        pz_[q] = p.z;
+    }
 
     // ---- Fit every local (parallel, independent: the result does not depend on the thread count).
     std::vector<MultiquadricOutcome> outcome(locals_.size());
     std::vector<std::uint8_t> rank_def(locals_.size(), 0), capped(locals_.size(), 0);
     tbb::enumerable_thread_specific<MultiquadricSolver> solvers;
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> idx_scratch;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, locals_.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
         MultiquadricSolver& solver = solvers.local();
         auto& near = scratch.local();
+        auto& idxv = idx_scratch.local();
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
             const std::int64_t cell = local_cell[l];
             MultiquadricLocal& h = locals_[l];
             const std::uint32_t cnt = count[cell];
             const std::uint32_t used = std::min(cnt, cap);
-            std::uint32_t* out = idx_.data() + h.first;
+            idxv.resize(used);
+            std::uint32_t* out = idxv.data();
             if (!grown[cell].empty()) {
                 std::copy(grown[cell].begin(), grown[cell].end(), out);
             } else if (cnt <= cap) {
@@ -210,12 +242,23 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                 capped[l] = 1;
             }
             const MultiquadricFitResult res =
-                solver.fit(pos_, val, std::span<const std::uint32_t>(out, used), c, h,
+                solver.fit(pts, val, std::span<const std::uint32_t>(out, used), c, h,
                            std::span<double>(lambda_.data() + h.first, used));
             outcome[l] = res.outcome;
             rank_def[l] = res.poly_rank < 4;
+            if (explicit_pts[l]) {
+                const std::uint32_t at = runs_[run_first_[l]].start;
+                for (std::uint32_t k = 0; k < used; ++k) {
+                    const Vec3& p = pts[out[k]];
+                    px_[at + k] = p.x;
+                    py_[at + k] = p.y;
+                    pz_[at + k] = p.z;
+                }
+            }
         }
     });
+
+
 
     st.locals = locals_.size();
     std::uint64_t sum_pts = 0;
@@ -232,47 +275,83 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
         st.max_local_points = std::max<std::uint64_t>(st.max_local_points, used);
     }
     st.mean_local_points = locals_.empty() ? 0.0 : static_cast<double>(sum_pts) / static_cast<double>(locals_.size());
-    st.memory_bytes = pos_.size() * sizeof(Vec3) + cell_local_.size() * sizeof(std::int32_t) +
-                      locals_.size() * sizeof(MultiquadricLocal) + total * (sizeof(std::uint32_t) + sizeof(double));
+    st.memory_bytes = px_.size() * 3 * sizeof(double) + cell_local_.size() * sizeof(std::int32_t) +
+                      locals_.size() * sizeof(MultiquadricLocal) + run_first_.size() * sizeof(std::uint32_t) +
+                      runs_.size() * sizeof(MqRun) + total * sizeof(double);
+}
+
+std::uint32_t RbfGridField::batch_key(const Vec3& pw) const {
+    const Vec3 dw = pw - origin_;
+    const Vec3 x{dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z};
+    std::int64_t ci[3];
+    for (int a = 0; a < 3; ++a) {
+        const double u = (x[a] - lo_[a]) * inv_s_[a];
+        if (!(u == u)) return 0xFFFFFFFFu;
+        ci[a] = static_cast<std::int64_t>(std::clamp(std::floor(u), 0.0, static_cast<double>(n_[a] - 1)));
+    }
+    return static_cast<std::uint32_t>(ci[0] + n_[0] * (ci[1] + n_[1] * ci[2]));
 }
 
 void RbfGridField::evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
-    PuBlend blend;
+    PuBlend sc;
     const bool want_grad = !grad.empty();
+    if (p.size() < kBatchOrderMin) {
+        for (std::size_t t = 0; t < p.size(); ++t) eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, sc);
+        return;
+    }
+    std::vector<std::uint32_t> key(p.size()), order, scratch;
+    for (std::size_t t = 0; t < p.size(); ++t) key[t] = batch_key(p[t]);
+    order_by_key(key, order, scratch);
+    for (const std::uint32_t t : order) eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, sc);
+}
+
+void RbfGridField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blend) const {
+    const bool want_grad = grad != nullptr;
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    for (std::size_t t = 0; t < p.size(); ++t) {
-        const Vec3 dw = p[t] - origin_;
+    {
+        const Vec3 dw = pw - origin_;
         const Vec3 x{dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z};
         if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z)) {
-            value[t] = nan;
-            if (want_grad) grad[t] = {nan, nan, nan};
-            continue;
-        }
-        std::int64_t ci[3];
+            value = nan;
+            if (want_grad) *grad = {nan, nan, nan};
+            return;
+        }        // Centres within R_w of x on every axis: |u - i| < R_w / s_a, u = cell coordinate - 1/2
+        // (a little wider; the sphere test below decides).
+        std::int64_t c0[3], c1[3];
         for (int a = 0; a < 3; ++a) {
-            const double u = (x[a] - lo_[a]) * inv_s_[a];
-            const double f = std::clamp(std::floor(u), 0.0, static_cast<double>(n_[a] - 1));
-            ci[a] = static_cast<std::int64_t>(f);
+            if (n_[a] < 2) {
+                c0[a] = c1[a] = 0;
+                continue;
+            }
+            const double u = (x[a] - lo_[a]) * inv_s_[a] - 0.5;
+            const double top = static_cast<double>(n_[a] - 1);
+            c0[a] = static_cast<std::int64_t>(std::clamp(std::ceil(u - reach_[a] - 1e-6), 0.0, top + 1));
+            c1[a] = static_cast<std::int64_t>(std::clamp(std::floor(u + reach_[a] + 1e-6), -1.0, top));
         }
         blend.reset();
-        const std::int64_t z0 = std::max<std::int64_t>(0, ci[2] - reach_[2]), z1 = std::min(n_[2] - 1, ci[2] + reach_[2]);
-        const std::int64_t y0 = std::max<std::int64_t>(0, ci[1] - reach_[1]), y1 = std::min(n_[1] - 1, ci[1] + reach_[1]);
-        const std::int64_t x0 = std::max<std::int64_t>(0, ci[0] - reach_[0]), x1 = std::min(n_[0] - 1, ci[0] + reach_[0]);
-        for (std::int64_t k = z0; k <= z1; ++k)
-            for (std::int64_t j = y0; j <= y1; ++j)
-                for (std::int64_t i = x0; i <= x1; ++i) {
-                    const std::int32_t l = cell_local_[static_cast<std::size_t>(i + n_[0] * (j + n_[1] * k))];
+        for (std::int64_t k = c0[2]; k <= c1[2]; ++k)
+            for (std::int64_t j = c0[1]; j <= c1[1]; ++j) {
+                const std::int32_t* row = cell_local_.data() + n_[0] * (j + n_[1] * k);
+                for (std::int64_t i = c0[0]; i <= c1[0]; ++i) {
+                    const std::int32_t l = row[i];
                     if (l < 0) continue;
                     const Vec3 cc{lo_.x + (i + 0.5) * s_.x, lo_.y + (j + 0.5) * s_.y, lo_.z + (k + 0.5) * s_.z};
                     double d;
                     if (!PuBlend::covers(x, cc, r_w_, &d)) continue;
-                    Vec3 gq;
-                    const double q = multiquadric_evaluate(locals_[l], pos_.data(), idx_.data(), lambda_.data(), x,
-                                                           want_grad ? &gq : nullptr);
-                    blend.add(x, cc, r_w_, d, q, gq);
+                    const MultiquadricLocal& h = locals_[static_cast<std::size_t>(l)];
+                    MqSum acc;
+                    if (h.count > 0)
+                        multiquadric_sum(px_.data(), py_.data(), pz_.data(),
+                                         std::span<const MqRun>(runs_.data() + run_first_[l],
+                                                                run_first_[l + 1] - run_first_[l]),
+                                         lambda_.data() + h.first, h.c2, x, want_grad, acc);
+                    const Vec3 dx = x - h.origin;
+                    const double q = h.a0 + dot(h.a, dx) + acc.v;
+                    blend.add(x, cc, r_w_, d, q, h.a + Vec3{acc.gx, acc.gy, acc.gz});
                 }
-        value[t] = blend.finish(want_grad ? &grad[t] : nullptr);
-        if (want_grad) grad[t] = {grad[t].x * scale_.x, grad[t].y * scale_.y, grad[t].z * scale_.z};
+            }
+        value = blend.finish(grad);
+        if (want_grad) *grad = {grad->x * scale_.x, grad->y * scale_.y, grad->z * scale_.z};
     }
 }
 

@@ -24,9 +24,18 @@
 // Coverage: F is defined (finite) where some local's weight sphere contains x: every cell with a
 // data point within its 27 neighbours, i.e. the whole bounding box for evenly spread data. Elsewhere
 // evaluate() gives NaN (value and gradient). Units: world in, data units out, gradient per world unit.
-// Memory: ~27 m points per local x 12 bytes (index + lambda): ~330 bytes per input point at m = 5.
-// Construction is parallel (oneTBB parallel_for over cells; the result does not depend on the
-// thread count); evaluate() is thread-safe (const). Throws FormatError/UsageError (see make_field.hpp).
+//
+// Evaluation layout: the points are stored once, sorted by cell, structure-of-arrays; a local over
+// its 27-cell block (the data sphere always contains the whole block) reads them as up to 9 runs,
+// one per (y, z) row of the block, with its lambdas contiguous in the same order, so there is no
+// per-centre index and the sum runs SIMD-wide (kernels/multiquadric_sum.hpp). Grown or capped
+// locals get their own copied run. A query visits only the cells whose centre lies within R_w on
+// every axis. Batches of >= kBatchOrderMin queries are evaluated cell by cell (kernels/
+// batch_order.hpp) and written back in place: every query's bits equal its single-point result.
+// Memory: ~27 m lambdas per local x 8 bytes + 24 bytes per point: ~1.1 KB per cell at m = 5
+// (~260 bytes per input point). Construction is parallel (oneTBB parallel_for over cells; the
+// result does not depend on the thread count); evaluate() is thread-safe (const). Throws
+// FormatError/UsageError (see make_field.hpp).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -34,6 +43,8 @@
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
 #include "kernels/multiquadric.hpp"
+#include "kernels/multiquadric_sum.hpp"
+#include "kernels/partition_of_unity.hpp"
 #include "kernels/point_set.hpp"
 
 namespace meshless {
@@ -55,17 +66,21 @@ public:
     std::size_t local_count() const { return locals_.size(); }
 
 private:
+    std::uint32_t batch_key(const Vec3& world) const;  // cell of a query (kernels/batch_order.hpp)
+    void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend) const;
+
     Vec3 origin_, scale_{1, 1, 1};  // frame = (world - origin_) * scale_                 // world position of the frame of pos_
     std::array<Vec3, 2> bounds_;
     Vec3 lo_, s_, inv_s_;         // grid lower corner (frame), cell edges, 1/edge (0 on 1-cell axes)
     std::int64_t n_[3] = {1, 1, 1};
-    int reach_[3] = {0, 0, 0};
+    double reach_[3] = {0, 0, 0};  // R_w / s_a (0 on 1-cell axes)
     double r_data_ = 0, r_w_ = 0;
-    std::vector<Vec3> pos_;
+    std::vector<double> px_, py_, pz_;           // points sorted by cell, then copies for grown/capped locals
     std::vector<std::int32_t> cell_local_;       // cell -> local index or -1
     std::vector<MultiquadricLocal> locals_;
-    std::vector<std::uint32_t> idx_;
-    std::vector<double> lambda_;
+    std::vector<std::uint32_t> run_first_;       // local l reads runs_[run_first_[l] .. run_first_[l + 1])
+    std::vector<MqRun> runs_;
+    std::vector<double> lambda_;                 // local l: lambda_[first .. first + count), in run order
 };
 
 }  // namespace meshless

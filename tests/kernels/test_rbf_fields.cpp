@@ -17,9 +17,11 @@
 #include "kernels/field_params.hpp"
 #include "kernels/global_rbf_field.hpp"
 #include "kernels/make_field.hpp"
+#include "kernels/batch_order.hpp"
 #include "kernels/merge_near_duplicates.hpp"
 #include "kernels/mpu_field.hpp"
 #include "kernels/multiquadric.hpp"
+#include "kernels/multiquadric_sum.hpp"
 #include "kernels/partition_of_unity.hpp"
 #include "kernels/rbf_grid_field.hpp"
 
@@ -494,4 +496,103 @@ TEST_CASE("rbf-grid dimensions follow section 4.3 and Franke-Nielson weights van
     const double fd = (franke_nielson_weight(x + ex, c, R, norm(x + ex - c), nullptr) -
                        franke_nielson_weight(x - ex, c, R, norm(x - ex - c), nullptr)) / (2 * h);
     CHECK(gw.x == Approx(fd).epsilon(1e-5));
+}
+
+TEST_CASE("a batch evaluated in cell order gives each point exactly its single-point result", "[rbf]") {
+    // evaluate() reorders batches of >= kBatchOrderMin points (kernels/batch_order.hpp); every
+    // point must still get the bits it gets alone, inside and outside the data's box (NaN there).
+    const auto pos = random_points(4000, {0, 0, 0}, {1, 1, 1}, 61);
+    const PointSet ps = make_points(pos, franke3);
+    auto at = random_points(3 * kBatchOrderMin, {-0.2, -0.2, -0.2}, {1.2, 1.2, 1.2}, 62);
+    at[5] = {std::nan(""), 0.5, 0.5};
+    for (FieldKind k : {FieldKind::rbf_grid, FieldKind::mpu}) {
+        INFO(field_kind_name(k));
+        const auto f = make_field(ps, params_for(k));
+        std::vector<double> v(at.size());
+        std::vector<Vec3> g(at.size());
+        f->evaluate(at, v, g);
+        std::vector<double> v_only(at.size());
+        f->evaluate(at, v_only, {});
+        std::size_t differ = 0, finite = 0;
+        for (std::size_t i = 0; i < at.size(); ++i) {
+            Vec3 g1;
+            const double v1 = f->value(at[i], &g1);
+            finite += std::isfinite(v1);
+            differ += std::memcmp(&v1, &v[i], sizeof v1) != 0 || std::memcmp(&g1, &g[i], sizeof g1) != 0 ||
+                      std::memcmp(&v1, &v_only[i], sizeof v1) != 0;
+        }
+        CHECK(differ == 0);
+        CHECK(finite > at.size() / 2);
+        CHECK(finite < at.size());  // some points lie outside every support
+    }
+}
+
+TEST_CASE("order_by_key sorts stably", "[rbf]") {
+    std::mt19937 rng(7);
+    std::vector<std::uint32_t> key(70000);
+    for (auto& k : key) k = rng() % 3 == 0 ? 0xFFFFFFFFu : rng() % 100000;
+    std::vector<std::uint32_t> order, scratch;
+    order_by_key(key, order, scratch);
+    std::vector<std::uint32_t> want(key.size());
+    for (std::size_t i = 0; i < want.size(); ++i) want[i] = static_cast<std::uint32_t>(i);
+    std::stable_sort(want.begin(), want.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+    CHECK(order == want);
+}
+
+TEST_CASE("multiquadric_sum over runs matches the scalar multiquadric", "[rbf]") {
+    const auto pts = random_points(300, {-1, -1, -1}, {1, 1, 1}, 71);
+    std::vector<double> px, py, pz, lam;
+    std::mt19937_64 rng(72);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (const Vec3& p : pts) {
+        px.push_back(p.x);
+        py.push_back(p.y);
+        pz.push_back(p.z);
+        lam.push_back(u(rng));
+    }
+    // runs of every length 0..20 and one long run, in a scrambled order
+    std::vector<MqRun> runs;
+    std::uint32_t at = 0;
+    for (std::uint32_t len = 0; len <= 20; ++len) {
+        runs.push_back({at, len});
+        at += len;
+    }
+    runs.push_back({at, 300 - at});
+    std::reverse(runs.begin(), runs.end());
+    std::vector<double> lam_runs;
+    std::vector<std::uint32_t> idx;
+    std::vector<double> lam_idx;
+    for (const MqRun& r : runs)
+        for (std::uint32_t k = r.start; k < r.start + r.count; ++k) {
+            lam_runs.push_back(lam[k]);
+            idx.push_back(k);
+        }
+    MultiquadricLocal h;
+    h.c2 = 0.01;
+    h.count = static_cast<std::uint32_t>(idx.size());
+    for (const Vec3& x : random_points(50, {-1.5, -1.5, -1.5}, {1.5, 1.5, 1.5}, 73)) {
+        Vec3 g;
+        const double v = multiquadric_evaluate(h, pts.data(), idx.data(), lam_runs.data(), x, &g);
+        double scale = 0;
+        for (std::size_t k = 0; k < idx.size(); ++k) scale += std::abs(lam_runs[k]) * std::sqrt(dot(x - pts[idx[k]], x - pts[idx[k]]) + h.c2);
+        for (const char* isa : {"default", "scalar", "avx2", "avx512"}) {
+            const bool dflt = std::string(isa) == "default";
+            if (!dflt && !multiquadric_sum_isa_available(isa)) continue;
+            INFO(isa);
+            MqSum s, s0;
+            if (dflt) {
+                multiquadric_sum(px.data(), py.data(), pz.data(), runs, lam_runs.data(), h.c2, x, true, s);
+                multiquadric_sum(px.data(), py.data(), pz.data(), runs, lam_runs.data(), h.c2, x, false, s0);
+            } else {
+                multiquadric_sum_with(isa, px.data(), py.data(), pz.data(), runs, lam_runs.data(), h.c2, x, true, s);
+                multiquadric_sum_with(isa, px.data(), py.data(), pz.data(), runs, lam_runs.data(), h.c2, x, false, s0);
+            }
+            CHECK(std::abs(s.v - v) <= 1e-13 * scale);
+            CHECK(std::abs(s.gx - g.x) <= 1e-12 * scale);
+            CHECK(std::abs(s.gy - g.y) <= 1e-12 * scale);
+            CHECK(std::abs(s.gz - g.z) <= 1e-12 * scale);
+            CHECK(s0.v == s.v);
+        }
+    }
+    INFO(multiquadric_sum_isa());
 }
