@@ -1,8 +1,10 @@
 // meshless isosurface: paradigm (C) iso-splatting in one process (dissertation chapter 3).
 #include <cstdio>
 #include <cstring>
+#include <functional>
 
 #include "cli/commands.hpp"
+#include "cli/isosurface_mpi.hpp"
 #include "cli/mpi_session.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/png_writer.hpp"
@@ -45,43 +47,19 @@ void print_stats(const std::string& path, double iso, Projection mode, const Iso
                  nthreads, ranks);
 }
 
-/// mpirun -np N: each rank iso-splats a contiguous Morton range of the active bricks; rank 0
-/// gathers the points in rank order (= the single-process order) and writes the outputs.
-int isosurface_mpi(const Args& a, int argc, char** argv, double iso, Projection mode, const SamplingParams& sp,
-                   const RenderSettings& rs, int nthreads) {
-    MpiSession mpi(&argc, &argv);
-    try {
-        VolumeInput in = open_volume_input(a);
-        if (!in.store)
-            throw UsageError("MPI runs need a brick store (.mlb): meshless convert " + in.path + " -o vol.mlb");
-        if (mpi.rank() == 0) warn_if_iso_outside(iso, in.value_range(), in.path);
-        const std::vector<std::size_t> active = in.index->active(iso);
-        const std::size_t n = active.size(), r0 = n * mpi.rank() / mpi.size(), r1 = n * (mpi.rank() + 1) / mpi.size();
+/// The command's outputs around a graph run: -o alone streams into a PlySink; --png collects the
+/// points, renders, then writes both (write_outputs). Shared by the single-process and MPI paths.
+std::size_t write_isosurface(const Args& a, const StreamMeta& meta, const RenderSettings& rs,
+                             const std::function<void(Sink&)>& produce) {
+    if (a.has("png")) {
         CollectSink sink;
-        IsoSplatResult r = run_isosplat_bricks(*in.store, *in.cache, {active.begin() + r0, active.begin() + r1}, iso, mode,
-                                               sp, sink, {nthreads});
-        const std::vector<std::byte> all = mpi.gather_to_root(sink.points.data(), sink.points.size() * sizeof(PointRecord));
-        const auto sums = mpi.sum_to_root({r.sampling.active_cells, r.sampling.nonfinite_cells, r.projection.too_far,
-                                           r.projection.flat, r.projection.missed});
-        if (mpi.rank() != 0) return 0;
-        std::vector<PointRecord> points(all.size() / sizeof(PointRecord));
-        std::memcpy(points.data(), all.data(), all.size());
-        StreamMeta meta = volume_meta(in, iso, a.command_line());
-        meta.set("projection", to_string(mode));
-        write_outputs(a, meta, points, rs);
-        r.sampling = {sums[0], sums[1]};
-        r.projection.too_far = sums[2];
-        r.projection.flat = sums[3];
-        r.projection.missed = sums[4];
-        if (a.has("stats")) print_stats(in.path, iso, mode, r, points.size(), nthreads, mpi.size());
-        return 0;
-    } catch (const BrokenPipe&) {
-        return 0;
-    } catch (const std::exception& e) {
-        // one failing rank ends the job: nothing is renamed into place, every rank exits non-zero
-        std::fprintf(stderr, "meshless isosurface (rank %d of %d): %s\n", mpi.rank(), mpi.size(), e.what());
-        mpi.abort(dynamic_cast<const UsageError*>(&e) ? 1 : (dynamic_cast<const FormatError*>(&e) || dynamic_cast<const IoError*>(&e)) ? 2 : 3);
+        produce(sink);
+        write_outputs(a, meta, sink.points, rs);
+        return sink.points.size();
     }
+    PlySink sink(*a.get("output"), ply_comments(meta));
+    produce(sink);
+    return sink.count();
 }
 
 }  // namespace
@@ -119,7 +97,14 @@ int cmd_isosurface(int argc, char** argv) {
     const RenderSettings rs = render_settings(a);
     const int nthreads = threads(a);
 
-    if (launched_world_size() > 1) return isosurface_mpi(a, argc, argv, iso, mode, sp, rs, nthreads);
+    if (launched_world_size() > 1) {
+        const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads,
+                                                     [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
+                                                         return write_isosurface(a, meta, rs, produce);
+                                                     });
+        if (m.root && a.has("stats")) print_stats(m.path, iso, mode, m.result, m.points, nthreads, m.ranks);
+        return 0;
+    }
 
     VolumeInput in = open_volume_input(a);
     warn_if_iso_outside(iso, in.value_range(), in.path);
@@ -127,17 +112,9 @@ int cmd_isosurface(int argc, char** argv) {
     meta.set("projection", to_string(mode));
 
     IsoSplatResult r;
-    std::size_t points = 0;
-    if (png) {
-        CollectSink sink;
+    const std::size_t points = write_isosurface(a, meta, rs, [&](Sink& sink) {
         r = run_isosplat_input(in, iso, mode, sp, sink, nthreads, PipelineShape::fused);
-        points = sink.points.size();
-        write_outputs(a, meta, sink.points, rs);
-    } else {
-        PlySink sink(*out, ply_comments(meta));
-        r = run_isosplat_input(in, iso, mode, sp, sink, nthreads, PipelineShape::fused);
-        points = sink.count();
-    }
+    });
     if (a.has("stats")) print_stats(in.path, iso, mode, r, points, nthreads, 1);
     return 0;
 }

@@ -97,6 +97,12 @@ TEST_CASE("mpirun -np 2 gives the single-process bytes; a failing rank fails the
     REQUIRE(r.code == 0);
     CHECK_THAT(r.err, Catch::Contains("2 rank(s)"));
     CHECK(slurp(d / "one.ply") == slurp(d / "two.ply"));
+    // three ranks (one owning fewer bricks), two threads each: the same bytes
+    r = sh("mpirun --allow-run-as-root --oversubscribe -np 3 MESHLESS isosurface " + D + "/g.mlb --iso 128.5 -o " + D +
+               "/three.ply --threads 2 --memory 64K",
+           d);
+    REQUIRE(r.code == 0);
+    CHECK(slurp(d / "one.ply") == slurp(d / "three.ply"));
     // damage the last brick (rank 1's share): the job must fail and leave no two_bad.ply
     std::string store = slurp(d / "g.mlb");
     const auto size = store.size();
