@@ -30,6 +30,7 @@ struct SampleRecord {
 };
 static_assert(sizeof(SampleRecord) == 88 && std::is_trivially_copyable_v<SampleRecord>);
 
-enum class RecordKind : std::uint32_t { point = 1, sample = 2 };
+/// mesh: a marching-cubes piece in a stage-graph batch (stream/batch.hpp); never on a pipe.
+enum class RecordKind : std::uint32_t { point = 1, sample = 2, mesh = 3 };
 
 }  // namespace meshless

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "kernels/grid.hpp"
+#include "kernels/marching_cubes.hpp"
 #include "kernels/records.hpp"
 
 namespace meshless {
@@ -28,7 +29,13 @@ struct Batch {
     std::int64_t brick = -1;            ///< brick-store work: index of the brick the cell rows are in
     std::vector<SampleRecord> samples;  ///< valid when kind == sample
     std::vector<PointRecord> points;    ///< valid when kind == point
-    std::uint64_t count() const { return kind == RecordKind::sample ? samples.size() : points.size(); }
+    Mesh mesh;                          ///< valid when kind == mesh: a marching-cubes piece (local indices)
+    std::vector<std::uint64_t> mesh_seam;  ///< kind == mesh: per vertex, its edge key if on the piece's
+                                           ///< boundary (shared with a neighbour), else kNoSeam
+    std::uint64_t count() const {
+        return kind == RecordKind::sample ? samples.size() : kind == RecordKind::mesh ? mesh.triangle_count() : points.size();
+    }
+    static constexpr std::uint64_t kNoSeam = ~std::uint64_t{0};
 };
 
 }  // namespace meshless
