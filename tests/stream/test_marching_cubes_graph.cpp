@@ -9,7 +9,6 @@
 
 #include "kernels/analytic_volumes.hpp"
 #include "ooc/brick_index.hpp"
-#include "ooc/brick_marching_cubes.hpp"
 #include "ooc/ooc_test_util.hpp"
 #include "stream/marching_cubes_stage.hpp"
 #include "stream/mesh_sink.hpp"
@@ -70,7 +69,8 @@ TEST_CASE("mc graph over slabs: exactly marching_cubes(), any threads and slab s
     }
 }
 
-TEST_CASE("mc graph over bricks: the previous brick mesher's bytes, any threads", "[mc-graph]") {
+TEST_CASE("mc graph over bricks: the in-memory vertex set and triangles, any threads", "[mc-graph]") {
+    // (this graph replaced ooc/brick_marching_cubes; commit 573a24e checked it gave that mesher's bytes)
     TempDir d("mcgraph");
     const Volume v = make_analytic_volume(AnalyticField::gyroid, 50);
     const std::string path = (d / "g.mlb").string();
@@ -79,16 +79,41 @@ TEST_CASE("mc graph over bricks: the previous brick mesher's bytes, any threads"
     BrickCache cache(*store, 1 << 20);
     const BrickIndex index(*store);
     const double iso = 0.1;
-    const Mesh old = marching_cubes_bricks(*store, cache, index, iso);
+    const Mesh ref = marching_cubes(v.view(), iso);
+    auto positions = [](const Mesh& m) {
+        std::vector<std::array<float, 3>> p(m.vertex_count());
+        for (std::size_t i = 0; i < p.size(); ++i) p[i] = {m.xyz[3 * i], m.xyz[3 * i + 1], m.xyz[3 * i + 2]};
+        std::sort(p.begin(), p.end());
+        return p;
+    };
+    auto triangles = [](const Mesh& m) {  // each triangle as its corner positions, rotated to a canonical start
+        std::vector<std::array<float, 9>> t(m.triangle_count());
+        for (std::size_t i = 0; i < t.size(); ++i) {
+            std::array<std::array<float, 3>, 3> c;
+            for (int k = 0; k < 3; ++k)
+                for (int d = 0; d < 3; ++d) c[k][d] = m.xyz[3 * m.tri[3 * i + k] + d];
+            const auto first = std::min_element(c.begin(), c.end()) - c.begin();
+            std::rotate(c.begin(), c.begin() + first, c.end());
+            for (int k = 0; k < 3; ++k)
+                for (int d = 0; d < 3; ++d) t[i][3 * k + d] = c[k][d];
+        }
+        std::sort(t.begin(), t.end());
+        return t;
+    };
+    Mesh first;
     for (int threads : {1, 2}) {
         McBrickSource source(index.active(iso));
         MarchingCubesStage stage(*store, cache, iso);
         MeshWeldSink sink;
         const Stage* stages[] = {&stage};
         run_pipeline(source, stages, sink, {threads});
-        CHECK(sink.mesh().xyz == old.xyz);
-        CHECK(sink.mesh().normals == old.normals);
-        CHECK(sink.mesh().tri == old.tri);
+        const Mesh& m = sink.mesh();
+        CHECK(m.vertex_count() == ref.vertex_count());
+        CHECK(positions(m) == positions(ref));
+        CHECK(triangles(m) == triangles(ref));  // same triangles, same orientation
+        if (threads == 1) first = m;
+        CHECK(m.xyz == first.xyz);
+        CHECK(m.tri == first.tri);
     }
 }
 
