@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 
 #include "formats/nrrd_writer.hpp"
 #include "kernels/errors.hpp"
@@ -64,19 +65,25 @@ void SliceImageSink::consume(Batch&& b) {
     next_ += val.size();
 }
 
-NrrdVolumeSink::NrrdVolumeSink(const GridSpec& g, std::string path, std::string comment)
-    : vol_(g, SampleType::f32), path_(std::move(path)), comment_(std::move(comment)) {}
+NrrdVolumeSink::NrrdVolumeSink(const GridSpec& g, const std::string& path, const std::string& comment)
+    : out_(path), total_(static_cast<std::size_t>(g.voxel_count())) {
+    out_.write(nrrd_header(g, SampleType::f32, comment));
+}
 
 void NrrdVolumeSink::consume(Batch&& b) {
     require_values(b, "resample writer");
     const auto& val = b.query.value;
-    const auto total = static_cast<std::size_t>(vol_.grid.voxel_count());
-    require_room(next_, val.size(), total, "resample writer");
-    float* dst = reinterpret_cast<float*>(vol_.bytes.data()) + next_;
-    for (std::size_t i = 0; i < val.size(); ++i) dst[i] = static_cast<float>(val[i]);
+    require_room(next_, val.size(), total_, "resample writer");
+    buf_.resize(val.size());
+    for (std::size_t i = 0; i < val.size(); ++i) buf_[i] = static_cast<float>(val[i]);
+    out_.write(buf_.data(), buf_.size() * sizeof(float));
     next_ += val.size();
 }
 
-void NrrdVolumeSink::finish() { write_nrrd(vol_, path_, comment_); }
+void NrrdVolumeSink::finish() {
+    if (next_ != total_)
+        throw std::logic_error("resample writer: " + std::to_string(next_) + " of " + std::to_string(total_) + " samples arrived");
+    out_.commit();
+}
 
 }  // namespace meshless

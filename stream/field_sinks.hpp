@@ -2,7 +2,8 @@
 //   ProbeCsvSink    CSV "x,y,z,value,gx,gy,gz" (%.9g), one row per query, streamed through an
 //                   AtomicFile (temporary name + rename on finish; "-" = stdout)
 //   SliceImageSink  a width x height colour-mapped image, pixels in source order (row 0 = top)
-//   NrrdVolumeSink  a float32 volume over the grid, samples in source order, written as NRRD on finish
+//   NrrdVolumeSink  a float32 NRRD over the grid (formats/nrrd_writer.hpp's bytes), samples in source
+//                   order, streamed through an AtomicFile: memory is one batch, not the volume
 // All take batches of kind query in sequence order (FormatError otherwise, or when more values arrive
 // than the raster holds). Not thread-safe (the runner calls them serially).
 #pragma once
@@ -42,14 +43,15 @@ private:
 
 class NrrdVolumeSink final : public Sink {
 public:
-    NrrdVolumeSink(const GridSpec& g, std::string path, std::string comment);
+    NrrdVolumeSink(const GridSpec& g, const std::string& path, const std::string& comment);
     void consume(Batch&& b) override;
+    /// Throws std::logic_error when fewer samples than the grid holds arrived (nothing is committed).
     void finish() override;
 
 private:
-    Volume vol_;
-    std::string path_, comment_;
-    std::size_t next_ = 0;
+    AtomicFile out_;
+    std::size_t total_, next_ = 0;
+    std::vector<float> buf_;
 };
 
 }  // namespace meshless
