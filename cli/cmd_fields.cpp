@@ -2,6 +2,7 @@
 //   meshless probe POINTS --at x,y,z ...        value and gradient at given positions (CSV)
 //   meshless slice POINTS --plane z=0.5 -o s.png colour-mapped slice with the nearby points overlaid
 //   meshless resample POINTS --dims X,Y,Z -o v.nrrd   the field on a regular grid
+// Each is a graph: a source of query positions -> FieldEvaluateStage -> a CSV / image / NRRD sink.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,16 +18,14 @@
 #include "formats/png_writer.hpp"
 #include "kernels/colormap.hpp"
 #include "kernels/errors.hpp"
+#include "stream/field_evaluate_stage.hpp"
+#include "stream/field_query_sources.hpp"
+#include "stream/field_sinks.hpp"
+#include "stream/runner.hpp"
 
 namespace meshless::cli {
 
 namespace {
-
-std::string fmt9(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.9g", v);
-    return b;
-}
 
 /// Positions from a CSV/whitespace file: three numbers per line (an optional header line is skipped).
 std::vector<Vec3> read_positions(const std::string& path) {
@@ -96,15 +95,12 @@ int cmd_probe(int argc, char** argv) {
     if (at.empty()) throw UsageError("nothing to probe: give --at x,y,z or --at-file FILE");
     const PointSet pts = read_points_arg(a);
     const auto field = build_field(a, pts);
-    std::vector<double> val(at.size());
-    std::vector<Vec3> grad(at.size());
-    evaluate_parallel(field, at, val, grad, threads(a));
-    AtomicFile out(a.get_or("output", "-"));
-    out.write(std::string("x,y,z,value,gx,gy,gz\n"));
-    for (std::size_t i = 0; i < at.size(); ++i)
-        out.write(fmt9(at[i].x) + "," + fmt9(at[i].y) + "," + fmt9(at[i].z) + "," + fmt9(val[i]) + "," + fmt9(grad[i].x) +
-                  "," + fmt9(grad[i].y) + "," + fmt9(grad[i].z) + "\n");
-    out.commit();
+    // query positions -> field -> CSV
+    QueryListSource source(std::move(at), /*want_grad=*/true);
+    FieldEvaluateStage evaluate(*field.field, field.coverage.get());
+    ProbeCsvSink sink(a.get_or("output", "-"));
+    const Stage* stages[] = {&evaluate};
+    run_pipeline(source, stages, sink, {threads(a)});
     return 0;
 }
 
@@ -135,33 +131,29 @@ int cmd_slice(int argc, char** argv) {
     const double eu = std::max(hi[ua] - lo[ua], 1e-12), ev = std::max(hi[va] - lo[va], 1e-12);
     const double px = std::max(eu / W, ev / H);  // world units per pixel, aspect kept
     const int w = std::max(2, static_cast<int>(std::ceil(eu / px))), h = std::max(2, static_cast<int>(std::ceil(ev / px)));
-    std::vector<Vec3> at(static_cast<std::size_t>(w) * h);
-    for (int r = 0; r < h; ++r)
-        for (int c = 0; c < w; ++c) {
-            double q[3];
-            q[plane.axis] = plane.at;
-            q[ua] = lo[ua] + (c + 0.5) * px;
-            q[va] = lo[va] + (h - 1 - r + 0.5) * px;  // top row = largest v
-            at[static_cast<std::size_t>(r) * w + c] = {q[0], q[1], q[2]};
-        }
-    std::vector<double> val(at.size());
-    const std::size_t uncovered = evaluate_parallel(field, at, val, {}, threads(a));
-    if (uncovered == at.size())
-        std::fprintf(stderr, "meshless slice: warning: the plane %c=%g does not meet the data (every pixel is outside it)\n",
-                     'x' + plane.axis, plane.at);
     std::array<double, 2> range = pts.value_range();
     if (auto r = a.get("range")) {
         if (std::sscanf(r->c_str(), "%lf,%lf", &range[0], &range[1]) != 2 || !(range[0] < range[1]))
             throw UsageError("--range: expected LO,HI with LO < HI, got '" + *r + "'");
     }
-    Image img;
-    img.width = w;
-    img.height = h;
-    img.rgb.resize(static_cast<std::size_t>(w) * h * 3);
-    for (std::size_t i = 0; i < val.size(); ++i) {
-        const auto c = map_color(cmap, val[i], range[0], range[1]);
-        std::copy(c.begin(), c.end(), img.rgb.begin() + 3 * i);
-    }
+    // pixel centres -> field -> colour-mapped image
+    PlaneRaster raster;
+    raster.axis = plane.axis;
+    raster.at = plane.at;
+    raster.lo_u = lo[ua];
+    raster.lo_v = lo[va];
+    raster.pixel = px;
+    raster.width = w;
+    raster.height = h;
+    PlaneRasterSource source(raster);
+    FieldEvaluateStage evaluate(*field.field, field.coverage.get());
+    SliceImageSink sink(w, h, cmap, range[0], range[1]);
+    const Stage* stages[] = {&evaluate};
+    run_pipeline(source, stages, sink, {threads(a)});
+    if (evaluate.uncovered() == static_cast<std::size_t>(w) * static_cast<std::size_t>(h))
+        std::fprintf(stderr, "meshless slice: warning: the plane %c=%g does not meet the data (every pixel is outside it)\n",
+                     'x' + plane.axis, plane.at);
+    Image& img = sink.image();
     // overlay: data points near the plane, as 3x3 dark dots
     double near = 0;
     if (auto d = a.get("near")) near = parse_finite(*d, "--near");
@@ -217,19 +209,12 @@ int cmd_resample(int argc, char** argv) {
         g.origin[i] = lo[i];
         g.spacing[i] = hi[i] > lo[i] ? (hi[i] - lo[i]) / static_cast<double>(g.dims[i] - 1) : 1.0;
     }
-    Volume vol(g, SampleType::f32);
-    float* dst = reinterpret_cast<float*>(vol.bytes.data());
-    std::vector<Vec3> at(static_cast<std::size_t>(g.dims[0] * g.dims[1]));
-    std::vector<double> val(at.size());
-    for (std::int64_t k = 0; k < g.dims[2]; ++k) {  // one z-slice at a time
-        for (std::int64_t j = 0; j < g.dims[1]; ++j)
-            for (std::int64_t i = 0; i < g.dims[0]; ++i)
-                at[static_cast<std::size_t>(i + g.dims[0] * j)] = {g.origin[0] + i * g.spacing[0], g.origin[1] + j * g.spacing[1],
-                                                                   g.origin[2] + k * g.spacing[2]};
-        evaluate_parallel(field, at, val, {}, threads(a));
-        for (std::size_t n = 0; n < at.size(); ++n) dst[static_cast<std::size_t>(k) * at.size() + n] = static_cast<float>(val[n]);
-    }
-    write_nrrd(vol, out, "meshless resample: " + std::string(field.field->name()) + " field of " + std::to_string(pts.size()) + " points");
+    // grid samples -> field -> NRRD
+    GridRasterSource source(g);
+    FieldEvaluateStage evaluate(*field.field, field.coverage.get());
+    NrrdVolumeSink sink(g, out, "meshless resample: " + std::string(field.field->name()) + " field of " + std::to_string(pts.size()) + " points");
+    const Stage* stages[] = {&evaluate};
+    run_pipeline(source, stages, sink, {threads(a)});
     return 0;
 }
 

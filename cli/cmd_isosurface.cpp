@@ -1,12 +1,13 @@
 // meshless isosurface: paradigm (C) iso-splatting in one process (dissertation chapter 3).
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/isosurface_mpi.hpp"
 #include "cli/mpi_session.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/png_writer.hpp"
@@ -31,23 +32,6 @@ namespace meshless::cli {
 
 namespace {
 
-/// Writes -o and --png as one outcome: the picture is rendered before anything is written, and
-/// if writing the second file fails the first is removed, so a failed run leaves neither.
-void write_outputs(const Args& a, const StreamMeta& meta, std::span<const PointRecord> points,
-                   const RenderSettings& rs) {
-    std::optional<Image> img;
-    if (a.has("png")) img = render_splats(points, rs.camera, rs.kernel, rs.shading, nullptr, meta_bounds(meta));
-    const auto out = a.get("output");
-    if (out) write_ply_points(*out, points, ply_comments(meta));
-    if (!img) return;
-    try {
-        write_png(*img, *a.get("png"));
-    } catch (...) {
-        if (out && *out != "-" && !is_streaming_output(*out)) std::remove(out->c_str());
-        throw;
-    }
-}
-
 void print_stats(const std::string& path, double iso, Projection mode, const IsoSplatResult& r, std::size_t points,
                  int nthreads, int ranks) {
     std::fprintf(stderr,
@@ -57,45 +41,6 @@ void print_stats(const std::string& path, double iso, Projection mode, const Iso
                  static_cast<long long>(r.projection.too_far), static_cast<long long>(r.projection.flat),
                  static_cast<long long>(r.projection.missed), static_cast<long long>(r.sampling.nonfinite_cells), r.seconds,
                  nthreads, ranks);
-}
-
-/// mpirun -np N: each rank iso-splats a contiguous Morton range of the active bricks; rank 0
-/// gathers the points in rank order (= the single-process order) and writes the outputs.
-int isosurface_mpi(const Args& a, int argc, char** argv, double iso, Projection mode, const SamplingParams& sp,
-                   const RenderSettings& rs, int nthreads) {
-    MpiSession mpi(&argc, &argv);
-    try {
-        VolumeInput in = open_volume_input(a);
-        if (!in.store)
-            throw UsageError("MPI runs need a brick store (.mlb): meshless convert " + in.path + " -o vol.mlb");
-        if (mpi.rank() == 0) warn_if_iso_outside(iso, in.value_range(), in.path);
-        const std::vector<std::size_t> active = in.index->active(iso);
-        const std::size_t n = active.size(), r0 = n * mpi.rank() / mpi.size(), r1 = n * (mpi.rank() + 1) / mpi.size();
-        CollectSink sink;
-        IsoSplatResult r = run_isosplat_bricks(*in.store, *in.cache, {active.begin() + r0, active.begin() + r1}, iso, mode,
-                                               sp, sink, {nthreads});
-        const std::vector<std::byte> all = mpi.gather_to_root(sink.points.data(), sink.points.size() * sizeof(PointRecord));
-        const auto sums = mpi.sum_to_root({r.sampling.active_cells, r.sampling.nonfinite_cells, r.projection.too_far,
-                                           r.projection.flat, r.projection.missed});
-        if (mpi.rank() != 0) return 0;
-        std::vector<PointRecord> points(all.size() / sizeof(PointRecord));
-        std::memcpy(points.data(), all.data(), all.size());
-        StreamMeta meta = volume_meta(in, iso, a.command_line());
-        meta.set("projection", to_string(mode));
-        write_outputs(a, meta, points, rs);
-        r.sampling = {sums[0], sums[1]};
-        r.projection.too_far = sums[2];
-        r.projection.flat = sums[3];
-        r.projection.missed = sums[4];
-        if (a.has("stats")) print_stats(in.path, iso, mode, r, points.size(), nthreads, mpi.size());
-        return 0;
-    } catch (const BrokenPipe&) {
-        return 0;
-    } catch (const std::exception& e) {
-        // one failing rank ends the job: nothing is renamed into place, every rank exits non-zero
-        std::fprintf(stderr, "meshless isosurface (rank %d of %d): %s\n", mpi.rank(), mpi.size(), e.what());
-        mpi.abort(dynamic_cast<const UsageError*>(&e) ? 1 : (dynamic_cast<const FormatError*>(&e) || dynamic_cast<const IoError*>(&e)) ? 2 : 3);
-    }
 }
 
 /// The single-process graph: cell rows of the volume in memory (or the active bricks of a store, in
@@ -131,9 +76,11 @@ IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode
 /// each batch is drawn as it is produced (in the parallel section) and, with -o, written to the PLY;
 /// nothing is collected. The splat sink finishes (renders) before the PLY is committed, and a PNG
 /// that cannot be written removes the PLY: one outcome. Returns the number of points.
+/// parallel_draw = false (the MPI root: batches arrive already made): draw is null and the splat
+/// sink draws in consume().
 using GraphRun = std::function<IsoSplatResult(const Stage* draw, Sink& sink)>;
 std::size_t run_to_outputs(const Args& a, const StreamMeta& meta, const RenderSettings& rs, int nthreads,
-                           const GraphRun& run, IsoSplatResult& r) {
+                           const GraphRun& run, IsoSplatResult& r, bool parallel_draw = true) {
     const auto out = a.get("output");
     const auto png = a.get("png");
     if (!png) {
@@ -146,7 +93,7 @@ std::size_t run_to_outputs(const Args& a, const StreamMeta& meta, const RenderSe
     if (out) ply.emplace(*out, ply_comments(meta));
     std::optional<TeeSink> tee;
     if (ply) tee.emplace(splat, *ply);
-    r = run(&splat.stage(), tee ? static_cast<Sink&>(*tee) : splat);
+    r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);
     try {
         write_png(splat.image(), *png);
     } catch (...) {
@@ -218,7 +165,18 @@ int cmd_isosurface(int argc, char** argv) {
     const RenderSettings rs = render_settings(a);
     const int nthreads = threads(a);
 
-    if (launched_world_size() > 1) return isosurface_mpi(a, argc, argv, iso, mode, sp, rs, nthreads);
+    if (launched_world_size() > 1) {
+        const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads,
+                                                     [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
+                                                         IsoSplatResult unused;
+                                                         return run_to_outputs(a, meta, rs, nthreads, [&](const Stage*, Sink& sink) {
+                                                             produce(sink);
+                                                             return IsoSplatResult{};
+                                                         }, unused, /*parallel_draw=*/false);
+                                                     });
+        if (m.root && a.has("stats")) print_stats(m.path, iso, mode, m.result, m.points, nthreads, m.ranks);
+        return 0;
+    }
     if (!a.positional().empty() && is_sample_store(a.positional()[0]))
         return isosurface_sample_store(a, iso, mode, sp, rs, nthreads);
 

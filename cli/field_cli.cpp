@@ -1,10 +1,7 @@
 #include "cli/field_cli.hpp"
 
 #include <oneapi/tbb/global_control.h>
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
 
-#include <atomic>
 #include <cstdio>
 
 #include "cli/common.hpp"
@@ -79,24 +76,6 @@ BuiltField build_field(const Args& a, const PointSet& points) {
                      static_cast<unsigned long long>(st.regularised), static_cast<unsigned long long>(st.linear_fallback),
                      st.memory_bytes / 1048576.0, st.build_seconds);
     return f;
-}
-
-std::size_t evaluate_parallel(const BuiltField& bf, std::span<const Vec3> p, std::span<double> value,
-                              std::span<Vec3> grad, int threads) {
-    const Field& f = *bf.field;
-    std::atomic<std::size_t> masked{0};
-    constexpr std::size_t kChunk = 4096;
-    const std::size_t chunks = (p.size() + kChunk - 1) / kChunk;
-    oneapi::tbb::task_arena arena(threads);
-    arena.execute([&] {
-        oneapi::tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-            const std::size_t b = c * kChunk, n = std::min(kChunk, p.size() - b);
-            const auto g = grad.empty() ? grad : grad.subspan(b, n);
-            f.evaluate(p.subspan(b, n), value.subspan(b, n), g);
-            if (bf.coverage) masked += bf.coverage->mask(p.subspan(b, n), value.subspan(b, n), g);
-        });
-    });
-    return masked.load();
 }
 
 }  // namespace meshless::cli

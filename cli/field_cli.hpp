@@ -1,7 +1,8 @@
 // Shared pieces of the commands that build a meshless field from scattered points (probe, slice,
 // resample): the field options (--field --binning --max-points --alpha --hardy-c --hardy-c-world
 // --support --normalise-axes), reading POINTS (one or several files: multiblock pieces), building the
-// field under --threads, and parallel batch evaluation. Throws UsageError for bad options.
+// field under --threads. Evaluation is a stage graph (stream/field_evaluate_stage.hpp). Throws UsageError
+// for bad options.
 #pragma once
 #include <memory>
 #include <span>
@@ -28,10 +29,5 @@ struct BuiltField {
 
 /// Builds the field with --threads workers; prints the build summary on stderr with --stats.
 BuiltField build_field(const Args& a, const PointSet& points);
-
-/// Evaluates in parallel chunks (deterministic: each point is independent), then marks positions
-/// the data does not cover NaN (values there would be extrapolation, not data). Returns how many.
-std::size_t evaluate_parallel(const BuiltField& f, std::span<const Vec3> p, std::span<double> value,
-                              std::span<Vec3> grad, int threads);
 
 }  // namespace meshless::cli

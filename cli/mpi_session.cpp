@@ -6,7 +6,12 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <chrono>
 #include <cstring>
+#include <thread>
+#include <deque>
+#include <limits>
+#include <stdexcept>
 
 #include "kernels/errors.hpp"
 
@@ -34,42 +39,83 @@ MpiSession::~MpiSession() {
     if (!finalized) MPI_Finalize();
 }
 
-std::vector<std::byte> MpiSession::gather_to_root(const void* data, std::size_t bytes) {
-    // sizes first, then point-to-point in chunks below INT_MAX bytes, in rank order
-    const std::uint64_t mine = bytes;
-    std::vector<std::uint64_t> sizes(static_cast<std::size_t>(size_));
-    MPI_Gather(&mine, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
-    constexpr std::size_t kChunk = std::size_t{1} << 30;
-    std::vector<std::byte> all;
-    if (rank_ == 0) {
-        std::uint64_t total = 0;
-        for (auto s : sizes) total += s;
-        all.resize(total);
-        std::memcpy(all.data(), data, bytes);
-        std::size_t at = bytes;
-        for (int r = 1; r < size_; ++r) {
-            for (std::uint64_t done = 0; done < sizes[r];) {
-                const std::size_t n = std::min<std::uint64_t>(kChunk, sizes[r] - done);
-                MPI_Recv(all.data() + at, static_cast<int>(n), MPI_BYTE, r, 7, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-                at += n;
-                done += n;
-            }
-        }
-    } else {
-        const auto* p = static_cast<const std::byte*>(data);
-        for (std::size_t done = 0; done < bytes;) {
-            const std::size_t n = std::min(kChunk, bytes - done);
-            MPI_Send(const_cast<std::byte*>(p + done), static_cast<int>(n), MPI_BYTE, 0, 7, MPI_COMM_WORLD);
-            done += n;
-        }
-    }
-    return all;
-}
-
 std::vector<std::int64_t> MpiSession::sum_to_root(const std::vector<std::int64_t>& v) {
     std::vector<std::int64_t> out(v.size(), 0);
     MPI_Reduce(v.data(), out.data(), static_cast<int>(v.size()), MPI_INT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
     return out;
+}
+
+namespace {
+constexpr int kStreamTag = 11;
+
+/// Waits for `done()` without spinning a core: MPI's blocking calls busy-poll, which on a machine
+/// with fewer free cores than ranks (mpirun --oversubscribe, other jobs) starves the ranks that
+/// compute. Polls a few times, then sleeps in growing steps up to 200 us between polls.
+template <class Done>
+void wait_politely(Done done) {
+    for (int i = 0; i < 64; ++i)
+        if (done()) return;
+    std::chrono::microseconds pause(5);
+    while (!done()) {
+        std::this_thread::sleep_for(pause);
+        pause = std::min(pause * 2, std::chrono::microseconds(200));
+    }
+}
+}  // namespace
+
+struct MpiChannel::Pending {
+    struct Message {
+        std::vector<std::byte> bytes;
+        MPI_Request request;
+    };
+    std::deque<Message> q;
+};
+
+MpiChannel::MpiChannel(const MpiSession&, int window) : pending_(std::make_unique<Pending>()), window_(std::max(1, window)) {}
+
+MpiChannel::~MpiChannel() {
+    // normal runs flush; after an error the job is aborted, so nothing is waited for here
+    for (auto& m : pending_->q) MPI_Request_free(&m.request);
+}
+
+void MpiChannel::send_to_root(std::vector<std::byte> message) {
+    if (message.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        throw std::logic_error("MPI channel: message larger than INT_MAX bytes");
+    while (pending_->q.size() >= static_cast<std::size_t>(window_)) {
+        MPI_Request* req = &pending_->q.front().request;
+        wait_politely([&] {
+            int flag = 0;
+            MPI_Test(req, &flag, MPI_STATUS_IGNORE);
+            return flag != 0;
+        });
+        pending_->q.pop_front();
+    }
+    auto& m = pending_->q.emplace_back();
+    m.bytes = std::move(message);
+    MPI_Issend(m.bytes.data(), static_cast<int>(m.bytes.size()), MPI_BYTE, 0, kStreamTag, MPI_COMM_WORLD, &m.request);
+}
+
+void MpiChannel::receive_from(int rank, std::vector<std::byte>& message) {
+    MPI_Status st;
+    wait_politely([&] {
+        int flag = 0;
+        MPI_Iprobe(rank, kStreamTag, MPI_COMM_WORLD, &flag, &st);
+        return flag != 0;
+    });
+    int n = 0;
+    MPI_Get_count(&st, MPI_BYTE, &n);
+    message.resize(static_cast<std::size_t>(n));
+    MPI_Recv(message.data(), n, MPI_BYTE, rank, kStreamTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+}
+
+void MpiChannel::flush() {
+    for (auto& m : pending_->q)
+        wait_politely([&] {
+            int flag = 0;
+            MPI_Test(&m.request, &flag, MPI_STATUS_IGNORE);
+            return flag != 0;
+        });
+    pending_->q.clear();
 }
 
 void MpiSession::abort(int code) {

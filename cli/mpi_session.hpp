@@ -1,6 +1,7 @@
-// MPI for `mpirun -np N meshless isosurface vol.mlb ...` (DESIGN.md "Distribution"): ranks take
-// disjoint, contiguous Morton ranges of the active bricks; rank 0 gathers the points in rank order,
-// so the merged output is byte-identical to the single-process run. The MPI headers stay inside
+// MPI for `mpirun -np N meshless isosurface vol.mlb ...` (DESIGN.md "Distribution"): the session
+// (init/finalize, rank, size, reductions, abort) and MpiChannel, the RankChannel over which ranks
+// stream their batches to rank 0 (stream/rank_merge.hpp), so the merged output is byte-identical to
+// the single-process run and rank 0 never holds it. The MPI headers stay inside
 // cli/mpi_session.cpp (built when CMake finds MPI; otherwise cli/mpi_session_none.cpp reports that
 // this build has no MPI). A launch under mpirun is recognised from the launcher's environment
 // (OMPI_COMM_WORLD_SIZE, PMI_SIZE, PMIX_RANK); a plain run never initialises MPI.
@@ -11,6 +12,8 @@
 #include <cstdint>
 #include <memory>
 #include <vector>
+
+#include "stream/rank_merge.hpp"
 
 namespace meshless::cli {
 
@@ -28,8 +31,6 @@ public:
     MpiSession& operator=(const MpiSession&) = delete;
     int rank() const { return rank_; }
     int size() const { return size_; }
-    /// Concatenation of every rank's bytes in rank order, on rank 0 (empty elsewhere). Collective.
-    std::vector<std::byte> gather_to_root(const void* data, std::size_t bytes);
     /// Element-wise sum over ranks, on rank 0. Collective.
     std::vector<std::int64_t> sum_to_root(const std::vector<std::int64_t>& v);
     /// Ends every rank of the job with this exit code (does not return).
@@ -37,6 +38,24 @@ public:
 
 private:
     int rank_ = 0, size_ = 1;
+};
+
+/// Byte messages to rank 0 in synchronous mode (MPI_Issend) with at most `window` unreceived
+/// messages per sender: a sender blocks on its oldest message once the window is full, so neither
+/// side buffers more than window messages whatever the output size. Receives probe for the size.
+/// One channel per rank; not thread-safe (the sinks call it from one thread).
+class MpiChannel final : public RankChannel {
+public:
+    explicit MpiChannel(const MpiSession& s, int window = 4);
+    ~MpiChannel() override;
+    void send_to_root(std::vector<std::byte> message) override;
+    void receive_from(int rank, std::vector<std::byte>& message) override;
+    void flush() override;
+
+private:
+    struct Pending;
+    std::unique_ptr<Pending> pending_;
+    int window_;
 };
 
 }  // namespace meshless::cli

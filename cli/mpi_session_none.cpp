@@ -19,9 +19,17 @@ MpiSession::MpiSession(int*, char***) {
     throw UsageError("this meshless was built without MPI (install libopenmpi-dev and rebuild: scripts/setup.sh build)");
 }
 MpiSession::~MpiSession() = default;
-std::vector<std::byte> MpiSession::gather_to_root(const void*, std::size_t) { return {}; }
 std::vector<std::int64_t> MpiSession::sum_to_root(const std::vector<std::int64_t>& v) { return v; }
 void MpiSession::abort(int code) { std::exit(code); }
+
+struct MpiChannel::Pending {};
+MpiChannel::MpiChannel(const MpiSession&, int window) : window_(window) {
+    throw UsageError("this meshless was built without MPI");
+}
+MpiChannel::~MpiChannel() = default;
+void MpiChannel::send_to_root(std::vector<std::byte>) {}
+void MpiChannel::receive_from(int, std::vector<std::byte>&) {}
+void MpiChannel::flush() {}
 
 }  // namespace meshless::cli
 #endif

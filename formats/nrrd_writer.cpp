@@ -18,12 +18,11 @@ const char* nrrd_type(SampleType t) {
 }
 }  // namespace
 
-void write_nrrd(const Volume& v, const std::string& path, const std::string& comment) {
-    const GridSpec& g = v.grid;
+std::string nrrd_header(const GridSpec& g, SampleType type, const std::string& comment) {
     char buf[1024];
     std::string h = "NRRD0004\n";
     if (!comment.empty()) h += "# " + comment + "\n";
-    h += std::string("type: ") + nrrd_type(v.type) + "\ndimension: 3\nspace dimension: 3\n";
+    h += std::string("type: ") + nrrd_type(type) + "\ndimension: 3\nspace dimension: 3\n";
     std::snprintf(buf, sizeof buf, "sizes: %lld %lld %lld\n", static_cast<long long>(g.dims[0]),
                   static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]));
     h += buf;
@@ -33,8 +32,12 @@ void write_nrrd(const Volume& v, const std::string& path, const std::string& com
     std::snprintf(buf, sizeof buf, "space origin: (%.17g,%.17g,%.17g)\n", g.origin[0], g.origin[1], g.origin[2]);
     h += buf;
     h += "endian: little\nencoding: raw\n\n";
+    return h;
+}
+
+void write_nrrd(const Volume& v, const std::string& path, const std::string& comment) {
     AtomicFile f(path);
-    f.write(h);
+    f.write(nrrd_header(v.grid, v.type, comment));
     f.write(v.bytes.data(), v.bytes.size());
     f.commit();
 }

@@ -11,4 +11,8 @@ namespace meshless {
 
 void write_nrrd(const Volume& v, const std::string& path, const std::string& comment = "");
 
+/// The attached header write_nrrd writes (ends with the blank line); the raw samples follow it
+/// (x fastest, little endian). For writers that stream the samples (stream/field_sinks.hpp).
+std::string nrrd_header(const GridSpec& g, SampleType type, const std::string& comment = "");
+
 }  // namespace meshless

@@ -40,8 +40,9 @@ struct RowInfo {
 template <class T>
 class McRunner {
 public:
-    McRunner(const T* p, const GridSpec& g, double iso, const std::array<std::int64_t, 3>& offset)
-        : p_(p), g_(g), iso_(iso), off_(offset) {
+    McRunner(const T* p, const GridSpec& g, double iso, const std::array<std::int64_t, 3>& offset,
+             std::vector<std::uint64_t>* keys, const std::array<std::int64_t, 3>& whole)
+        : p_(p), g_(g), iso_(iso), off_(offset), keys_(keys), whole_(whole) {
         nx_ = g.dims[0], ny_ = g.dims[1], nz_ = g.dims[2];
         sxy_ = nx_ * ny_;
         if constexpr (std::is_floating_point_v<T>) {
@@ -269,6 +270,7 @@ private:
             m.xyz.push_back(static_cast<float>(g_.origin[d] + g_.spacing[d] * pos[d]));
         }
         for (int d = 0; d < 3; ++d) m.normals.push_back(static_cast<float>(nrm[d] * inv));
+        if (keys_) keys_->push_back(mc_edge_key(i + off_[0], j + off_[1], k + off_[2], axis, whole_));
         return nverts_++;
     }
 
@@ -280,18 +282,22 @@ private:
     float thr_f_ = 0;
     std::int32_t thr_i_ = 0;
     Mesh* mesh_ = nullptr;
+    std::vector<std::uint64_t>* keys_ = nullptr;
+    std::array<std::int64_t, 3> whole_;
     std::uint32_t nverts_ = 0;
 };
 
 }  // namespace
 
 Mesh marching_cubes_slab(const VolumeView& v, double iso, std::int64_t k0, std::int64_t k1,
-                         McStats* stats, const std::array<std::int64_t, 3>& index_offset) {
+                         McStats* stats, const std::array<std::int64_t, 3>& index_offset,
+                         std::vector<std::uint64_t>* edge_keys, const std::array<std::int64_t, 3>& whole_dims) {
     if (!std::isfinite(iso))
         throw UsageError("marching_cubes: iso value " + std::to_string(iso) + " is not finite");
+    if (edge_keys) edge_keys->clear();
     return visit_samples(v, [&](auto* p) {
         using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;
-        McRunner<T> runner(p, v.grid, iso, index_offset);
+        McRunner<T> runner(p, v.grid, iso, index_offset, edge_keys, whole_dims);
         return runner.run(k0, k1, stats);
     });
 }

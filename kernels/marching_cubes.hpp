@@ -60,7 +60,21 @@ Mesh marching_cubes(const VolumeView& v, double iso, McStats* stats = nullptr);
 /// index_offset: for a view of part of a volume (a brick) whose grid origin is the whole volume's
 /// origin, positions are origin + spacing * (index_offset + index + t): the same arithmetic as for
 /// the whole volume, so vertices on faces shared by two parts are bitwise identical.
+/// edge_keys (when given): resized to vertex_count(); per vertex, the key of the grid edge it lies on,
+/// in the grid of dims `whole_dims` (the whole volume's, for a part of it): with (i, j, k) the
+/// edge's lower end in whole-volume indices (index_offset + local) and axis 0/1/2,
+///   key = 3 * (i + W0 * (j + W1 * k)) + axis.
+/// Two parts of one volume give the same key to a vertex of the same edge: the stage graph welds
+/// slabs and bricks by it (stream/marching_cubes_stage.hpp).
 Mesh marching_cubes_slab(const VolumeView& v, double iso, std::int64_t k0, std::int64_t k1,
-                         McStats* stats = nullptr, const std::array<std::int64_t, 3>& index_offset = {0, 0, 0});
+                         McStats* stats = nullptr, const std::array<std::int64_t, 3>& index_offset = {0, 0, 0},
+                         std::vector<std::uint64_t>* edge_keys = nullptr,
+                         const std::array<std::int64_t, 3>& whole_dims = {0, 0, 0});
+
+/// The key of marching_cubes_slab's edge_keys, and its inverse.
+inline std::uint64_t mc_edge_key(std::int64_t i, std::int64_t j, std::int64_t k, int axis,
+                                 const std::array<std::int64_t, 3>& whole_dims) {
+    return 3 * static_cast<std::uint64_t>(i + whole_dims[0] * (j + whole_dims[1] * k)) + static_cast<std::uint64_t>(axis);
+}
 
 }  // namespace meshless

@@ -30,6 +30,8 @@ struct SampleRecord {
 };
 static_assert(sizeof(SampleRecord) == 88 && std::is_trivially_copyable_v<SampleRecord>);
 
-enum class RecordKind : std::uint32_t { point = 1, sample = 2 };
+/// mesh: a marching-cubes piece, query: field query positions and results, in a stage-graph batch
+/// (stream/batch.hpp); never on a pipe.
+enum class RecordKind : std::uint32_t { point = 1, sample = 2, mesh = 3, query = 4 };
 
 }  // namespace meshless

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "kernels/grid.hpp"
+#include "kernels/marching_cubes.hpp"
+#include "kernels/vec3.hpp"
 #include "kernels/records.hpp"
 
 namespace meshless {
@@ -30,6 +32,15 @@ struct VolumeChunk {
     std::int64_t z0 = 0;
 };
 
+/// Field queries (probe / slice / resample): world positions and, once a FieldEvaluateStage ran,
+/// the field's value (and gradient when want_grad) at each.
+struct FieldQueries {
+    std::vector<Vec3> at;
+    std::vector<double> value;
+    std::vector<Vec3> grad;  ///< empty unless want_grad
+    bool want_grad = false;
+};
+
 struct Batch {
     std::uint64_t seq = 0;
     RecordKind kind = RecordKind::sample;
@@ -38,7 +49,20 @@ struct Batch {
     std::shared_ptr<const VolumeChunk> chunk;  ///< slab-streamed work: the slices the cell rows (local to it) are in
     std::vector<SampleRecord> samples;  ///< valid when kind == sample
     std::vector<PointRecord> points;    ///< valid when kind == point
-    std::uint64_t count() const { return kind == RecordKind::sample ? samples.size() : points.size(); }
+    Mesh mesh;                          ///< valid when kind == mesh: a marching-cubes piece (local indices)
+    std::vector<std::uint64_t> mesh_seam;  ///< kind == mesh: per vertex, its edge key if on the piece's
+                                           ///< boundary (shared with a neighbour), else kNoSeam
+    FieldQueries query;                 ///< valid when kind == query
+    std::uint64_t count() const {
+        switch (kind) {
+            case RecordKind::sample: return samples.size();
+            case RecordKind::mesh: return mesh.triangle_count();
+            case RecordKind::query: return query.at.size();
+            case RecordKind::point: break;
+        }
+        return points.size();
+    }
+    static constexpr std::uint64_t kNoSeam = ~std::uint64_t{0};
 };
 
 }  // namespace meshless

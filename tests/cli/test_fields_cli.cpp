@@ -2,6 +2,7 @@
 // field reproduces) sampled at scattered points.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -103,4 +104,22 @@ TEST_CASE("positions the data does not reach are NaN, unless --max-gap 0", "[cli
     REQUIRE(sh("MESHLESS probe " + pts + " --field global-rbf --at 40,102,3 --max-gap 0 -o " + D + "/q.csv", d).code == 0);
     CHECK(slurp(d / "q.csv").find("nan") == std::string::npos);
     CHECK(sh("MESHLESS probe " + pts + " --at 1,1,1 --max-gap -1", d).code == 1);
+}
+
+TEST_CASE("probe, slice and resample run as graphs: the same bytes for any --threads", "[cli][fields]") {
+    TempDir d("fieldthreads");
+    const std::string pts = write_points(d), D = d.path.string();
+    std::ostringstream at;
+    for (int i = 0; i < 9000; ++i) at << (i % 97) * 0.1 << " " << 100 + (i % 41) * 0.1 << " " << (i % 13) * 0.45 << "\n";
+    spit(d / "at.txt", at.str());
+    for (const std::string t : {"1", "3"}) {
+        REQUIRE(sh("MESHLESS probe " + pts + " --field mpu --at-file " + D + "/at.txt -o " + D + "/p" + t + ".csv --threads " + t, d).code == 0);
+        REQUIRE(sh("MESHLESS slice " + pts + " --plane y=102 --size 200x200 -o " + D + "/s" + t + ".png --threads " + t, d).code == 0);
+        REQUIRE(sh("MESHLESS resample " + pts + " --dims 30,20,25 -o " + D + "/r" + t + ".nrrd --threads " + t, d).code == 0);
+    }
+    const std::string probe = slurp(d / "p1.csv");
+    CHECK(probe == slurp(d / "p3.csv"));
+    CHECK(std::count(probe.begin(), probe.end(), '\n') == 9001);
+    CHECK(slurp(d / "s1.png") == slurp(d / "s3.png"));
+    CHECK(slurp(d / "r1.nrrd") == slurp(d / "r3.nrrd"));
 }

@@ -98,6 +98,12 @@ TEST_CASE("mpirun -np 2 gives the single-process bytes; a failing rank fails the
     REQUIRE(r.code == 0);
     CHECK_THAT(r.err, Catch::Contains("2 rank(s)"));
     CHECK(slurp(d / "one.ply") == slurp(d / "two.ply"));
+    // three ranks (one owning fewer bricks), two threads each: the same bytes
+    r = sh("mpirun --allow-run-as-root --oversubscribe -np 3 MESHLESS isosurface " + D + "/g.mlb --iso 128.5 -o " + D +
+               "/three.ply --threads 2 --memory 64K",
+           d);
+    REQUIRE(r.code == 0);
+    CHECK(slurp(d / "one.ply") == slurp(d / "three.ply"));
     // damage the last brick (rank 1's share): the job must fail and leave no two_bad.ply
     std::string store = slurp(d / "g.mlb");
     const auto size = store.size();
@@ -142,4 +148,16 @@ TEST_CASE("a brick store is a VOLUME everywhere: re-bricking, sampling, synth", 
     const auto r = sh("MESHLESS isosurface " + D + "/garbage.mlb --iso 1 -o " + D + "/x.ply", d);
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Catch::Contains("not a brick store"));
+}
+
+TEST_CASE("mc runs as a graph: same bytes for any --threads, in memory and from a brick store", "[cli][ooc-pipeline][mc]") {
+    TempDir d("mcthreads");
+    const std::string vol = gyroid_volume(d), D = d.path.string();
+    REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "/g.mlb --brick 16", d).code == 0);
+    for (const std::string in : {vol, D + "/g.mlb"}) {
+        REQUIRE(sh("MESHLESS mc " + in + " --iso 128.5 -o " + D + "/t1.ply --threads 1", d).code == 0);
+        REQUIRE(sh("MESHLESS mc " + in + " --iso 128.5 -o " + D + "/t3.ply --threads 3 --memory 64K", d).code == 0);
+        CHECK(slurp(d / "t1.ply") == slurp(d / "t3.ply"));
+        CHECK(read_ply_mesh((d / "t1.ply").string()).triangle_count() > 1000);
+    }
 }

@@ -1,0 +1,76 @@
+#include "stream/field_project_stage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace meshless {
+
+void AtomicFieldNewtonStats::add(const FieldNewtonStats& s) {
+    const std::int64_t x[8] = {s.input, s.converged, s.flat, s.too_far, s.not_converged, s.stalled, s.nonfinite, s.evaluations};
+    for (int i = 0; i < 8; ++i) v_[i].fetch_add(x[i], std::memory_order_relaxed);
+}
+
+FieldNewtonStats AtomicFieldNewtonStats::load() const {
+    FieldNewtonStats s;
+    s.input = v_[0].load();
+    s.converged = v_[1].load();
+    s.flat = v_[2].load();
+    s.too_far = v_[3].load();
+    s.not_converged = v_[4].load();
+    s.stalled = v_[5].load();
+    s.nonfinite = v_[6].load();
+    s.evaluations = v_[7].load();
+    return s;
+}
+
+void FieldProjectStage::process(Batch& b) const {
+    const bool samples = b.kind == RecordKind::sample;
+    const std::size_t n = samples ? b.samples.size() : b.points.size();
+    std::vector<Vec3> seeds(n), pos(n), grad(n);
+    std::vector<float> radius(n);
+    std::vector<double> limit;
+    std::vector<FieldNewtonStatus> status(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const float* p = samples ? b.samples[i].pos : b.points[i].pos;
+        seeds[i] = {p[0], p[1], p[2]};
+        radius[i] = samples ? b.samples[i].radius : b.points[i].radius;
+    }
+    if (samples && p_.limit_to_cell) {
+        limit.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const float* s = b.samples[i].cell_size;
+            const double half_diagonal = 0.5 * std::sqrt(double(s[0]) * s[0] + double(s[1]) * s[1] + double(s[2]) * s[2]);
+            limit[i] = std::isfinite(half_diagonal) && half_diagonal > 0 ? std::min(p_.newton.max_displacement, half_diagonal)
+                                                                         : p_.newton.max_displacement;
+        }
+    }
+    FieldNewtonStats st;
+    project_onto_field(f_, iso_, seeds, p_.newton, limit, pos, grad, status, st);
+
+    std::vector<PointRecord> out;
+    out.reserve(static_cast<std::size_t>(st.converged));
+    for (std::size_t i = 0; i < n; ++i) {
+        if (status[i] != FieldNewtonStatus::converged) continue;
+        const Vec3 nrm = grad[i] * (1.0 / norm(grad[i]));  // converged implies a non-zero gradient
+        PointRecord r;
+        r.pos[0] = static_cast<float>(pos[i].x);
+        r.pos[1] = static_cast<float>(pos[i].y);
+        r.pos[2] = static_cast<float>(pos[i].z);
+        r.normal[0] = static_cast<float>(nrm.x);
+        r.normal[1] = static_cast<float>(nrm.y);
+        r.normal[2] = static_cast<float>(nrm.z);
+        r.radius = radius[i];
+        r.value = static_cast<float>(iso_);
+        out.push_back(r);
+    }
+    b.points = std::move(out);
+    b.samples.clear();
+    b.samples.shrink_to_fit();
+    b.kind = RecordKind::point;
+    b.cells = {};
+    b.brick = -1;
+    stats_.add(st);
+}
+
+}  // namespace meshless

@@ -1,0 +1,51 @@
+// The stage that projects seeds onto the isosurface f = iso of any `const Field&` (DESIGN.md "What the
+// graph carries": Newton onto a Field, the projector chapters 4, 5 and 7 plug into), by
+// kernels/field_newton_projection.hpp, one Field::evaluate per Newton round per batch.
+//
+// Input: a batch of points (seed = position) or of samples (seed = sample position). Output: a point
+// batch, in input order, holding the seeds that converged: position on the surface, unit normal
+// = grad f / |grad f| (pointing to increasing values, as every PointRecord in this project: see
+// kernels/records.hpp and kernels/project_sample.hpp), the seed's radius passed through, value = iso.
+// Seeds that did not converge are dropped and counted (stats()). With `limit_to_cell`, a sample's
+// displacement is also limited to half its cell's diagonal (the criterion of Fig. 3.3), when the
+// cell size is finite and positive.
+// Thread-safe: process() may run concurrently on distinct batches; statistics are atomics. The
+// field must outlive the stage. Batches are processed independently, so outputs are identical for
+// any thread count.
+#pragma once
+#include <atomic>
+
+#include "kernels/field.hpp"
+#include "kernels/field_newton_projection.hpp"
+#include "stream/stage.hpp"
+
+namespace meshless {
+
+class AtomicFieldNewtonStats {
+public:
+    void add(const FieldNewtonStats& s);
+    FieldNewtonStats load() const;
+
+private:
+    std::atomic<std::int64_t> v_[8] = {};
+};
+
+struct FieldProjectParams {
+    FieldNewtonParams newton;
+    bool limit_to_cell = false;  ///< samples: also limit displacement to half the cell diagonal
+};
+
+class FieldProjectStage final : public Stage {
+public:
+    FieldProjectStage(const Field& f, double iso, FieldProjectParams p = {}) : f_(f), iso_(iso), p_(p) {}
+    void process(Batch& b) const override;
+    FieldNewtonStats stats() const { return stats_.load(); }
+
+private:
+    const Field& f_;
+    double iso_;
+    FieldProjectParams p_;
+    mutable AtomicFieldNewtonStats stats_;
+};
+
+}  // namespace meshless

@@ -1,0 +1,38 @@
+#include "stream/mesh_sink.hpp"
+
+#include <limits>
+#include <stdexcept>
+
+#include "formats/ply_mesh.hpp"
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+void MeshWeldSink::consume(Batch&& b) {
+    if (b.kind != RecordKind::mesh) throw FormatError("mesh writer: input holds points or samples, expected mesh pieces");
+    const Mesh& m = b.mesh;
+    const std::size_t n = m.vertex_count();
+    remap_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (mesh_.vertex_count() >= std::numeric_limits<std::uint32_t>::max())
+            throw std::length_error("marching cubes: more than 2^32-1 vertices (uint32 indices)");
+        const auto fresh = static_cast<std::uint32_t>(mesh_.vertex_count());
+        if (i < b.mesh_seam.size() && b.mesh_seam[i] != Batch::kNoSeam) {
+            const auto [it, inserted] = seam_.emplace(b.mesh_seam[i], fresh);
+            if (!inserted) {
+                remap_[i] = it->second;
+                continue;
+            }
+        }
+        remap_[i] = fresh;
+        mesh_.xyz.insert(mesh_.xyz.end(), &m.xyz[3 * i], &m.xyz[3 * i] + 3);
+        mesh_.normals.insert(mesh_.normals.end(), &m.normals[3 * i], &m.normals[3 * i] + 3);
+    }
+    for (std::uint32_t t : m.tri) mesh_.tri.push_back(remap_[t]);
+}
+
+void MeshWeldSink::finish() {
+    if (!path_.empty()) write_ply_mesh(mesh_, path_);
+}
+
+}  // namespace meshless

@@ -1,0 +1,29 @@
+// The sink of the marching-cubes graph (stream/marching_cubes_stage.hpp): appends each mesh piece,
+// welding the vertices it shares with earlier pieces by their grid-edge key (Batch::mesh_seam), and
+// on finish() writes the mesh as a binary PLY (formats/ply_mesh.hpp, temporary name + rename;
+// no path: keeps it for mesh()). Memory: the welded mesh (a PLY mesh needs its counts up front) and
+// the keys of seam vertices. Throws FormatError on non-mesh batches, std::length_error beyond 2^32-1
+// vertices, and what write_ply_mesh throws. Not thread-safe (the runner calls it serially).
+#pragma once
+#include <string>
+#include <unordered_map>
+
+#include "stream/stage.hpp"
+
+namespace meshless {
+
+class MeshWeldSink final : public Sink {
+public:
+    explicit MeshWeldSink(std::string path = {}) : path_(std::move(path)) {}
+    void consume(Batch&& b) override;
+    void finish() override;
+    const Mesh& mesh() const { return mesh_; }
+
+private:
+    std::string path_;
+    Mesh mesh_;
+    std::unordered_map<std::uint64_t, std::uint32_t> seam_;
+    std::vector<std::uint32_t> remap_;
+};
+
+}  // namespace meshless

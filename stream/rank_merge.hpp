@@ -1,0 +1,113 @@
+// Streaming several ranks' outputs into one sink in the single-process order (DESIGN.md
+// "Distribution"; issue 11 "MPI streams"), without the root holding the output.
+//
+// The work is a sequence of n *units* (for `isosurface`: the active bricks in Morton order), dealt
+// round-robin: unit u belongs to rank u % ranks. Every rank runs its own graph over its units; a
+// TaggingSource records, in order, the unit of each batch it emits. Rank r > 0 ends its graph with a
+// RankSendSink, which sends each batch's points to rank 0 as one message and an END message after
+// each of its units (so units that produce no batch are still closed). Rank 0 ends its graph with a
+// RankMergeSink, which writes the units to the downstream sink in unit order: its own batches as they
+// come, every other unit received from its owner, message by message, when its turn comes. The
+// downstream sink therefore sees the single-process sequence of points, in batches.
+//
+// Memory: rank 0 holds one received message (at most one batch, kMaxBatchRecords points) at a time;
+// a sender holds at most the channel's window of messages; neither grows with the output.
+// Messages: a 24-byte header {u32 kind (1 data, 2 end), u32 rank, u64 unit, u64 count} followed by
+// count PointRecords (data only). A message that does not match what rank 0 expects throws
+// FormatError naming the rank and the unit.
+// Threading: sinks and sources here follow stage.hpp (serial next()/consume()); UnitTags is the one
+// object shared between the source's and the sink's threads (mutex inside).
+#pragma once
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <vector>
+
+#include "stream/stage.hpp"
+
+namespace meshless {
+
+/// Byte messages between ranks, in order per pair of ranks (what MPI guarantees for one tag).
+class RankChannel {
+public:
+    virtual ~RankChannel() = default;
+    /// Sends to rank 0; may block while the sender's window of unreceived messages is full.
+    virtual void send_to_root(std::vector<std::byte> message) = 0;
+    /// The next message from `rank` (blocking), into `message` (resized).
+    virtual void receive_from(int rank, std::vector<std::byte>& message) = 0;
+    /// Blocks until every message sent has been received.
+    virtual void flush() = 0;
+};
+
+/// The rank that owns unit u of a round-robin deal over `ranks` ranks.
+inline int unit_owner(std::size_t unit, int ranks) { return static_cast<int>(unit % static_cast<std::size_t>(ranks)); }
+/// The units of `rank`, in increasing order.
+std::vector<std::size_t> units_of_rank(std::size_t units, int rank, int ranks);
+
+/// The unit of each batch a TaggingSource emitted, in emission order, until its sink consumes it.
+class UnitTags {
+public:
+    void push(std::size_t unit);
+    std::size_t pop();  ///< throws std::logic_error when empty (a sink got a batch no source emitted)
+
+private:
+    std::mutex mu_;
+    std::deque<std::size_t> q_;
+};
+
+/// Wraps a source and records unit_of(batch) for each batch it emits.
+class TaggingSource final : public Source {
+public:
+    TaggingSource(Source& inner, UnitTags& tags, std::function<std::size_t(const Batch&)> unit_of)
+        : inner_(inner), tags_(tags), unit_of_(std::move(unit_of)) {}
+    std::optional<Batch> next() override;
+
+private:
+    Source& inner_;
+    UnitTags& tags_;
+    std::function<std::size_t(const Batch&)> unit_of_;
+};
+
+/// Rank r > 0: the point batches of its units (in increasing unit order) to rank 0.
+class RankSendSink final : public Sink {
+public:
+    RankSendSink(RankChannel& ch, UnitTags& tags, int rank, std::vector<std::size_t> my_units);
+    void consume(Batch&& b) override;
+    void finish() override;
+
+private:
+    void end_units_before(std::size_t unit);
+    RankChannel& ch_;
+    UnitTags& tags_;
+    int rank_;
+    std::vector<std::size_t> units_;
+    std::size_t next_ = 0;  ///< index in units_ of the unit being sent
+};
+
+/// Rank 0: its own batches and the other ranks' messages, in unit order, into `out`.
+class RankMergeSink final : public Sink {
+public:
+    RankMergeSink(RankChannel& ch, UnitTags& tags, std::size_t units, int ranks, Sink& out)
+        : ch_(ch), tags_(tags), units_(units), ranks_(ranks), out_(out) {}
+    void consume(Batch&& b) override;
+    /// Receives the remaining units, then calls out.finish().
+    void finish() override;
+    std::uint64_t points() const { return points_; }
+    std::uint64_t received_messages() const { return messages_; }
+
+private:
+    void write_units_before(std::size_t unit);
+    void receive_unit(std::size_t unit);
+    void deliver(Batch&& b);
+    RankChannel& ch_;
+    UnitTags& tags_;
+    std::size_t units_;
+    int ranks_;
+    Sink& out_;
+    std::size_t next_unit_ = 0;  ///< the unit being written
+    std::uint64_t seq_ = 0, points_ = 0, messages_ = 0;
+    std::vector<std::byte> buf_;
+};
+
+}  // namespace meshless
