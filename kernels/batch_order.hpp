@@ -38,4 +38,18 @@ inline void order_by_key(std::span<const std::uint32_t> key, std::vector<std::ui
     }
 }
 
+/// Calls eval(t) once for every query t in [0, n): in ascending key_of(t) order (order_by_key)
+/// when n >= kBatchOrderMin, else in index order. The batch evaluation loop of both fields.
+template <class KeyOf, class Eval>
+void for_each_in_key_order(std::size_t n, KeyOf key_of, Eval eval) {
+    if (n < kBatchOrderMin) {
+        for (std::size_t t = 0; t < n; ++t) eval(t);
+        return;
+    }
+    std::vector<std::uint32_t> key(n), order, scratch;
+    for (std::size_t t = 0; t < n; ++t) key[t] = key_of(t);
+    order_by_key(key, order, scratch);
+    for (const std::uint32_t t : order) eval(static_cast<std::size_t>(t));
+}
+
 }  // namespace meshless

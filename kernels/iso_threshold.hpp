@@ -8,6 +8,8 @@
 #include <limits>
 #include <type_traits>
 
+#include "kernels/grid.hpp"
+
 namespace meshless {
 
 template <class T>
@@ -31,5 +33,15 @@ struct IsoThreshold {
     }
     bool above(T v) const { return v >= t; }
 };
+
+/// The isovalue as the active-cell test sees it, for a volume of sample type t, in double: a cell
+/// is active for iso exactly when vmin < active_threshold(t, iso) <= vmax, which is the
+/// classification of kernels/cell_sampling.hpp (some corner >= iso, some corner < iso, compared in
+/// the native type). Integers: ceil(iso); float32: the smallest float >= iso (IsoThreshold<float>).
+/// Used by the span-space index of paradigm (A) (ooc/span_space_levels.hpp, ooc/sample_store.cpp).
+inline double active_threshold(SampleType t, double iso) {
+    if (t == SampleType::f32) return static_cast<double>(IsoThreshold<float>(iso).t);
+    return std::ceil(iso);
+}
 
 }  // namespace meshless

@@ -295,14 +295,8 @@ std::uint32_t RbfGridField::batch_key(const Vec3& pw) const {
 void RbfGridField::evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
     PuBlend sc;
     const bool want_grad = !grad.empty();
-    if (p.size() < kBatchOrderMin) {
-        for (std::size_t t = 0; t < p.size(); ++t) eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, sc);
-        return;
-    }
-    std::vector<std::uint32_t> key(p.size()), order, scratch;
-    for (std::size_t t = 0; t < p.size(); ++t) key[t] = batch_key(p[t]);
-    order_by_key(key, order, scratch);
-    for (const std::uint32_t t : order) eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, sc);
+    for_each_in_key_order(p.size(), [&](std::size_t t) { return batch_key(p[t]); },
+                          [&](std::size_t t) { eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, sc); });
 }
 
 void RbfGridField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blend) const {

@@ -10,7 +10,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "kernels/cell_interval_sampling.hpp"
+#include "kernels/iso_threshold.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/brick_store_identity.hpp"
 

@@ -47,7 +47,7 @@ struct SpanSpaceLevels {
     }
     std::size_t buckets() const { return static_cast<std::size_t>(count) * (count + 1) / 2; }
     /// Whether bucket (a, b) may hold a cell active at threshold thr (see kernels/
-    /// cell_interval_sampling.hpp active_threshold): a <= level(thr) <= b, and with exact levels
+    /// kernels/iso_threshold.hpp active_threshold): a <= level(thr) <= b, and with exact levels
     /// a < level(thr) and thr inside (lo, lo + L - 1].
     bool candidate(std::uint32_t a, std::uint32_t b, double thr) const;
 };

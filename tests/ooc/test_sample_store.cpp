@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "kernels/analytic_volumes.hpp"
-#include "kernels/cell_interval_sampling.hpp"
+#include "kernels/iso_threshold.hpp"
 #include "kernels/cell_sampling.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/brick_index.hpp"
