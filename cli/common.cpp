@@ -98,34 +98,21 @@ SampleType VolumeInput::type() const { return store ? store->info().type : slice
 namespace {
 constexpr int kFramingBlockEdge = 32;  // the default brick edge of meshless convert
 
-/// block_minmax over a slab-streamed volume, one layer of blocks (edge + 1 slices) at a time: the
-/// layers' blocks are those of the whole volume, in the same order (x fastest, z slowest).
+/// block_minmax over a slab-streamed volume: about 1 MiB of slices at a time (every slice read
+/// once, in order, into one reused buffer), so the pass costs neither memory nor page faults.
 BlockMinMax streamed_block_minmax(SliceSource& s, int edge) {
     const GridSpec g = s.grid();
+    BlockMinMaxBuilder b(g, s.type(), edge);
     const auto slice_bytes = static_cast<std::size_t>(g.dims[0] * g.dims[1]) * sample_size(s.type());
-    BlockMinMax all;
-    all.edge = edge;
-    std::vector<std::byte> buf;
-    const std::int64_t nz = g.dims[2];
-    for (std::int64_t z0 = 0;; z0 += edge) {
-        const std::int64_t z1 = std::min<std::int64_t>(z0 + edge, nz - 1), n = z1 - z0 + 1;
-        if (z0 == 0) {
-            buf.resize(slice_bytes * static_cast<std::size_t>(n));
-            s.read_slices(0, n, buf.data());
-        } else {  // the shared slice z0 ends the previous layer: copied, so every slice is read once
-            std::memmove(buf.data(), buf.data() + buf.size() - slice_bytes, slice_bytes);
-            buf.resize(slice_bytes * static_cast<std::size_t>(n));
-            s.read_slices(z0 + 1, n - 1, buf.data() + slice_bytes);
-        }
-        GridSpec part = g;
-        part.dims[2] = n;
-        BlockMinMax layer = block_minmax(VolumeView{buf.data(), s.type(), part}, edge);
-        all.blocks = {layer.blocks[0], layer.blocks[1], all.blocks[2] + 1};
-        all.vmin.insert(all.vmin.end(), layer.vmin.begin(), layer.vmin.end());
-        all.vmax.insert(all.vmax.end(), layer.vmax.begin(), layer.vmax.end());
-        if (z1 >= nz - 1) break;
+    if (slice_bytes == 0) return std::move(b).finish();
+    const std::int64_t step = std::max<std::int64_t>(1, static_cast<std::int64_t>((std::size_t{1} << 20) / slice_bytes));
+    const std::unique_ptr<std::byte[]> buf(new std::byte[slice_bytes * static_cast<std::size_t>(step)]);
+    for (std::int64_t k = 0; k < g.dims[2]; k += step) {
+        const std::int64_t n = std::min(step, g.dims[2] - k);
+        s.read_slices(k, n, buf.get());
+        b.add_slices(k, n, buf.get());
     }
-    return all;
+    return std::move(b).finish();
 }
 }  // namespace
 

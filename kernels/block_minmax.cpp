@@ -34,15 +34,15 @@ void segment_minmax(const T* p, std::int64_t n, T& lo, T& hi, bool& any) {
     }
 }
 
+// Adds z-slices [k0, k0 + count) (data: those slices, x fastest) to the per-block doubles lo/hi
+// (+inf/-inf until a finite sample arrives).
 template <class T>
-void compute(const T* data, const GridSpec& g, BlockMinMax& out) {
-    const int B = out.edge;
-    const std::int64_t nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
-    const std::int64_t bx = out.blocks[0], by = out.blocks[1], bz = out.blocks[2];
+void add_rows(const T* data, const GridSpec& g, std::int64_t k0, std::int64_t count, int B,
+              const std::array<std::int64_t, 3>& blocks, std::vector<double>& lo, std::vector<double>& hi) {
+    const std::int64_t nx = g.dims[0], ny = g.dims[1];
+    const std::int64_t bx = blocks[0], by = blocks[1], bz = blocks[2];
     const T tmax = std::numeric_limits<T>::has_infinity ? std::numeric_limits<T>::infinity() : std::numeric_limits<T>::max();
     const T tmin = std::numeric_limits<T>::has_infinity ? -std::numeric_limits<T>::infinity() : std::numeric_limits<T>::lowest();
-    std::vector<T> lo(static_cast<std::size_t>(bx * by * bz), tmax), hi(lo.size(), tmin);
-    std::vector<char> any(lo.size(), 0);
     std::vector<T> rlo(static_cast<std::size_t>(bx)), rhi(rlo.size());
     std::vector<char> rany(rlo.size());
     // The blocks (up to 2 per axis) a voxel index belongs to.
@@ -53,13 +53,13 @@ void compute(const T* data, const GridSpec& g, BlockMinMax& out) {
         if (i % B == 0 && b > 0) o[c++] = b - 1;
         return c;
     };
-    for (std::int64_t k = 0; k < nz; ++k) {
+    for (std::int64_t k = k0; k < k0 + count; ++k) {
         std::int64_t oz[2];
         const int cz = owners(k, bz, oz);
         for (std::int64_t j = 0; j < ny; ++j) {
             std::int64_t oy[2];
             const int cy = owners(j, by, oy);
-            const T* row = data + nx * (j + ny * k);
+            const T* row = data + nx * (j + ny * (k - k0));
             for (std::int64_t b = 0; b < bx; ++b) {
                 const std::int64_t x0 = b * B, x1 = std::min<std::int64_t>(x0 + B, nx - 1);
                 T a = tmax, h = tmin;
@@ -74,18 +74,11 @@ void compute(const T* data, const GridSpec& g, BlockMinMax& out) {
                     const std::size_t base = static_cast<std::size_t>(bx * (oy[yi] + by * oz[zi]));
                     for (std::int64_t b = 0; b < bx; ++b) {
                         if (!rany[b]) continue;
-                        lo[base + b] = std::min(lo[base + b], rlo[b]);
-                        hi[base + b] = std::max(hi[base + b], rhi[b]);
-                        any[base + b] = 1;
+                        lo[base + b] = std::min(lo[base + b], static_cast<double>(rlo[b]));
+                        hi[base + b] = std::max(hi[base + b], static_cast<double>(rhi[b]));
                     }
                 }
         }
-    }
-    out.vmin.resize(lo.size());
-    out.vmax.resize(lo.size());
-    for (std::size_t i = 0; i < lo.size(); ++i) {
-        out.vmin[i] = any[i] ? static_cast<double>(lo[i]) : std::nan("");
-        out.vmax[i] = any[i] ? static_cast<double>(hi[i]) : std::nan("");
     }
 }
 
@@ -102,17 +95,33 @@ std::array<double, 2> BlockMinMax::range() const {
     return {lo, hi};
 }
 
+BlockMinMaxBuilder::BlockMinMaxBuilder(const GridSpec& g, SampleType type, int edge) : grid_(g), type_(type) {
+    out_.edge = std::max(edge, 1);
+    for (int a = 0; a < 3; ++a) out_.blocks[a] = blocks_along(g.dims[a], out_.edge);
+    const auto n = static_cast<std::size_t>(out_.blocks[0] * out_.blocks[1] * out_.blocks[2]);
+    out_.vmin.assign(n, std::numeric_limits<double>::infinity());
+    out_.vmax.assign(n, -std::numeric_limits<double>::infinity());
+}
+
+void BlockMinMaxBuilder::add_slices(std::int64_t k0, std::int64_t count, const std::byte* data) {
+    if (count <= 0 || grid_.dims[0] <= 0 || grid_.dims[1] <= 0) return;
+    GridSpec part = grid_;
+    part.dims[2] = count;
+    visit_samples(VolumeView{data, type_, part}, [&](auto* p) {
+        add_rows(p, grid_, k0, count, out_.edge, out_.blocks, out_.vmin, out_.vmax);
+    });
+}
+
+BlockMinMax BlockMinMaxBuilder::finish() && {
+    for (std::size_t i = 0; i < out_.vmin.size(); ++i)
+        if (out_.vmin[i] > out_.vmax[i]) out_.vmin[i] = out_.vmax[i] = std::nan("");  // no finite sample
+    return std::move(out_);
+}
+
 BlockMinMax block_minmax(const VolumeView& v, int edge) {
-    BlockMinMax out;
-    out.edge = std::max(edge, 1);
-    for (int a = 0; a < 3; ++a) out.blocks[a] = blocks_along(v.grid.dims[a], out.edge);
-    if (v.grid.voxel_count() <= 0) {
-        out.vmin.assign(static_cast<std::size_t>(out.blocks[0] * out.blocks[1] * out.blocks[2]), std::nan(""));
-        out.vmax = out.vmin;
-        return out;
-    }
-    visit_samples(v, [&](auto* p) { compute(p, v.grid, out); });
-    return out;
+    BlockMinMaxBuilder b(v.grid, v.type, edge);
+    if (v.grid.voxel_count() > 0) b.add_slices(0, v.grid.dims[2], static_cast<const std::byte*>(v.data));
+    return std::move(b).finish();
 }
 
 std::optional<VoxelBox> active_block_box(const BlockMinMax& b, const GridSpec& g, double iso) {

@@ -33,6 +33,22 @@ struct BlockMinMax {
 /// Per-block min/max of v with blocks of `edge` cells (edge >= 1).
 BlockMinMax block_minmax(const VolumeView& v, int edge = 32);
 
+/// The same summary built from z-slices as they are read (a volume streamed slab by slab needs one
+/// slab in memory, not the volume): add every slice of the grid once, in any order and grouping,
+/// then finish() gives exactly block_minmax() of the whole volume.
+class BlockMinMaxBuilder {
+public:
+    BlockMinMaxBuilder(const GridSpec& g, SampleType type, int edge = 32);
+    /// data: `count` consecutive z-slices starting at k0, samples of `type`, x fastest.
+    void add_slices(std::int64_t k0, std::int64_t count, const std::byte* data);
+    BlockMinMax finish() &&;
+
+private:
+    GridSpec grid_;
+    SampleType type_;
+    BlockMinMax out_;
+};
+
 /// Inclusive voxel-index box.
 struct VoxelBox {
     std::array<std::int64_t, 3> lo{0, 0, 0}, hi{0, 0, 0};

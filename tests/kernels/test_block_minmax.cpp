@@ -2,6 +2,7 @@
 // force over every block, for each sample type, with NaN samples and edges that do not divide.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -87,4 +88,35 @@ TEST_CASE("active block box: union of the blocks the isovalue crosses, in world 
     CHECK(w[1].z == 0.5 + 11 * 2);
     CHECK_FALSE(active_block_box(b, g, 150.0));  // above everything
     CHECK_FALSE(active_block_box(b, g, 0.0));    // vmin < iso fails everywhere
+}
+
+TEST_CASE("BlockMinMaxBuilder: slices added in any grouping and order give block_minmax", "[kernels][block_minmax]") {
+    const Volume f = random_volume<float>({13, 9, 21}, SampleType::f32, 7, true);
+    const Volume u = random_volume<std::uint16_t>({13, 9, 21}, SampleType::u16, 8, false);
+    for (const Volume* v : {&f, &u})
+        for (int edge : {1, 4, 8, 32}) {
+            const BlockMinMax whole = block_minmax(v->view(), edge);
+            const std::size_t slice = static_cast<std::size_t>(13 * 9) * sample_size(v->type);
+            BlockMinMaxBuilder b(v->grid, v->type, edge);
+            // groups of 5, 1, 5, 1, ... slices, the last group first
+            std::vector<std::array<std::int64_t, 2>> groups;
+            for (std::int64_t k = 0, g = 0; k < 21; ++g) {
+                const std::int64_t n = std::min<std::int64_t>(g % 2 ? 1 : 5, 21 - k);
+                groups.push_back({k, n});
+                k += n;
+            }
+            std::rotate(groups.begin(), groups.end() - 1, groups.end());
+            for (const auto& [k, n] : groups) b.add_slices(k, n, v->bytes.data() + slice * static_cast<std::size_t>(k));
+            const BlockMinMax built = std::move(b).finish();
+            INFO("edge " << edge);
+            CHECK(built.blocks == whole.blocks);
+            REQUIRE(built.vmin.size() == whole.vmin.size());
+            for (std::size_t i = 0; i < whole.vmin.size(); ++i) {
+                CHECK(std::isnan(built.vmin[i]) == std::isnan(whole.vmin[i]));
+                if (!std::isnan(whole.vmin[i])) {
+                    CHECK(built.vmin[i] == whole.vmin[i]);
+                    CHECK(built.vmax[i] == whole.vmax[i]);
+                }
+            }
+        }
 }
