@@ -5,7 +5,7 @@
 //
 // Units: times in milliseconds unless a column says otherwise; memory in bytes (printed as MiB/KiB);
 // distances in voxels. Nothing here is thread-safe: one Report per bench run, used by one thread.
-// Throws IoError when the markdown file cannot be written; UsageError for bad options.
+// Throws IoError when the markdown file cannot be written; cli::UsageError for bad options.
 #pragma once
 #include <chrono>
 #include <cstdint>

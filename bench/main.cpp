@@ -10,10 +10,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <string>
 
 #include "cli/args.hpp"
+#include "cli/errors.hpp"
 #include "bench/bench_common.hpp"
-#include "kernels/errors.hpp"
 
 namespace meshless::bench {
 
@@ -22,6 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using cli::Args;
+using cli::UsageError;
 
 /// Folder holding flying_edges.py: the source folder this executable was built from, else
 /// ../../bench relative to the executable (build/bench/meshless-bench).
@@ -153,17 +155,11 @@ int main(int argc, char** argv) {
     std::signal(SIGPIPE, SIG_IGN);
     try {
         return bench::bench_main(argc, argv);
-    } catch (const UsageError& e) {
-        std::fprintf(stderr, "meshless-bench: %s\n", bench::own_name(e.what()).c_str());
-        return 1;
-    } catch (const FormatError& e) {
-        std::fprintf(stderr, "meshless-bench: %s\n", e.what());
-        return 2;
-    } catch (const IoError& e) {
-        std::fprintf(stderr, "meshless-bench: %s\n", e.what());
-        return 2;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "meshless-bench: internal error: %s\n", e.what());
-        return 3;
+    } catch (const std::exception& e) {  // the CLI's one mapping (cli/errors.hpp)
+        const int code = cli::exit_code(e);
+        const std::string msg = cli::error_message(e);
+        if (code != cli::kExitOk)
+            std::fprintf(stderr, "meshless-bench: %s\n", (code == cli::kExitUsage ? bench::own_name(msg) : msg).c_str());
+        return code;
     }
 }

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "kernels/errors.hpp"
+#include "cli/errors.hpp"
 
 namespace meshless::cli {
 
@@ -69,23 +69,10 @@ int cli_main(int argc, char** argv) {
         if (name != c.name) continue;
         try {
             return c.run(argc, argv);
-        } catch (const BrokenPipe&) {
-            return 0;
-        } catch (const UsageError& e) {
-            std::fprintf(stderr, "meshless %s: %s\n", c.name, e.what());
-            return 1;
-        } catch (const FormatError& e) {
-            std::fprintf(stderr, "meshless %s: %s\n", c.name, e.what());
-            return 2;
-        } catch (const IoError& e) {
-            std::fprintf(stderr, "meshless %s: %s\n", c.name, e.what());
-            return 2;
-        } catch (const std::bad_alloc&) {
-            std::fprintf(stderr, "meshless %s: out of memory\n", c.name);
-            return 2;
         } catch (const std::exception& e) {
-            std::fprintf(stderr, "meshless %s: internal error: %s\n", c.name, e.what());
-            return 3;
+            const int code = exit_code(e);
+            if (code != kExitOk) std::fprintf(stderr, "meshless %s: %s\n", c.name, error_message(e).c_str());
+            return code;
         }
     }
     std::fprintf(stderr, "meshless: unknown command '%s' (see meshless --help)\n", name.c_str());

@@ -1,11 +1,12 @@
 #include "cli/args.hpp"
 
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
-
-#include "kernels/errors.hpp"
 
 namespace meshless::cli {
 
@@ -38,6 +39,41 @@ std::array<int, 2> parse_size(const std::string& s, const std::string& what, int
     if (w < lo || h < lo || w > hi || h > hi)
         throw UsageError(what + ": width and height must be " + std::to_string(lo) + ".." + std::to_string(hi));
     return {static_cast<int>(w), static_cast<int>(h)};
+}
+
+std::uint64_t parse_memory_size(const std::string& s) {
+    auto bad = [&] {
+        return UsageError("--memory: expected a size like 256M, 1G, 512K or a byte count, got '" + s + "'");
+    };
+    std::size_t i = 0;
+    if (i == s.size() || !std::isdigit(static_cast<unsigned char>(s[i]))) throw bad();
+    std::uint64_t v = 0;
+    while (i < s.size() && std::isdigit(static_cast<unsigned char>(s[i]))) {
+        const std::uint64_t d = static_cast<std::uint64_t>(s[i] - '0');
+        if (v > (std::numeric_limits<std::uint64_t>::max() - d) / 10) throw bad();
+        v = v * 10 + d;
+        ++i;
+    }
+    std::string suffix;
+    for (; i < s.size(); ++i) suffix += static_cast<char>(std::toupper(static_cast<unsigned char>(s[i])));
+    int shift = 0;
+    if (!suffix.empty()) {
+        switch (suffix[0]) {
+            case 'B': shift = suffix == "B" ? 0 : -1; break;
+            case 'K': shift = 10; break;
+            case 'M': shift = 20; break;
+            case 'G': shift = 30; break;
+            case 'T': shift = 40; break;
+            default: shift = -1;
+        }
+        const std::string rest = suffix.substr(1);
+        if (suffix[0] != 'B' && !(rest.empty() || rest == "B" || rest == "IB")) shift = -1;
+    }
+    if (shift < 0) throw bad();
+    if (shift > 0 && v > (std::numeric_limits<std::uint64_t>::max() >> shift)) throw bad();
+    v <<= shift;
+    if (v == 0) throw UsageError("--memory: must be positive, got '" + s + "'");
+    return v;
 }
 
 Args::Args(std::string command, std::string synopsis, std::string description)

@@ -4,9 +4,12 @@
 // options, missing values or malformed numbers. No globals; one Args per subcommand invocation.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "cli/errors.hpp"
 
 namespace meshless::cli {
 
@@ -64,5 +67,8 @@ double parse_finite(const std::string& s, const std::string& what);
 long long parse_int(const std::string& s, const std::string& what);
 /// "WxH" with both in [lo, hi]; throws UsageError naming `what`.
 std::array<int, 2> parse_size(const std::string& s, const std::string& what, int lo, int hi);
+/// --memory: "256M", "1G", "512k", "1048576" (binary units; K/M/G/T, optional B or iB, any case)
+/// into bytes; UsageError for anything else, zero or overflow.
+std::uint64_t parse_memory_size(const std::string& s);
 
 }  // namespace meshless::cli

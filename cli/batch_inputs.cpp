@@ -10,6 +10,7 @@
 
 #include "cli/args.hpp"
 #include "cli/common.hpp"
+#include "cli/errors.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless::cli {

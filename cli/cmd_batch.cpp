@@ -28,6 +28,7 @@
 #include "cli/batch_sidecar.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/errors.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/point_stream.hpp"
 #include "kernels/errors.hpp"

@@ -10,7 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
-#include "kernels/errors.hpp"
+#include "cli/errors.hpp"
 #include "ooc/brick_converter.hpp"
 #include "ooc/slice_source.hpp"
 #include "ooc/verify_brick_store.hpp"

@@ -12,9 +12,9 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/errors.hpp"
 #include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
-#include "kernels/errors.hpp"
 #include "ooc/sample_store.hpp"
 #include "stream/runner.hpp"
 #include "stream/sample_store_source.hpp"

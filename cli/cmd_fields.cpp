@@ -12,6 +12,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/errors.hpp"
 #include "cli/field_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/nrrd_writer.hpp"

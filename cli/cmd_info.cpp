@@ -9,6 +9,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/errors.hpp"
 #include "cli/point_set_cli.hpp"
 #include "formats/ply_points.hpp"
 #include "formats/point_set_reader.hpp"
@@ -207,9 +208,8 @@ int cmd_info(int argc, char** argv) {
     for (const std::string& path : a.positional()) {
         try {
             describe(path, a);
-        } catch (const UsageError&) {
-            throw;
         } catch (const std::exception& e) {  // report, go on with the other files, exit 2 at the end
+            if (exit_code(e) == kExitUsage) throw;  // a bad option (UsageError, InvalidArgument) fails them all
             std::fflush(stdout);
             std::fprintf(stderr, "meshless info: %s\n", e.what());
             status = 2;

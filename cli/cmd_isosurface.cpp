@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/errors.hpp"
 #include "cli/isosurface_mpi.hpp"
 #include "cli/mpi_session.hpp"
 #include "formats/atomic_file.hpp"
@@ -15,7 +16,6 @@
 #include "cli/render_output.hpp"
 #include "cli/sample_store_cli.hpp"
 #include "formats/ply_points.hpp"
-#include "kernels/errors.hpp"
 #include "stream/isosplat_pipeline.hpp"
 #include "stream/brick_source.hpp"
 #include "stream/cell_row_source.hpp"

@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/errors.hpp"
 #include "formats/point_set_writer.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/point_set.hpp"

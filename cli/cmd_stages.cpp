@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/errors.hpp"
 #include "formats/atomic_file.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/sample_store_writer.hpp"

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "cli/errors.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/block_minmax.hpp"
 #include "ooc/brick_slice_source.hpp"
@@ -331,6 +332,13 @@ std::optional<std::array<Vec3, 2>> meta_bounds(const StreamMeta& m) {
     auto lo = parse_triple_meta(m, "bounds_lo"), hi = parse_triple_meta(m, "bounds_hi");
     if (!lo || !hi) return std::nullopt;
     return std::array<Vec3, 2>{*lo, *hi};
+}
+
+Projection parse_projection(const std::string& s) {
+    if (s == "none") return Projection::none;
+    if (s == "approx") return Projection::approx;
+    if (s == "exact") return Projection::exact;
+    throw UsageError("--projection: expected none, approx or exact, got '" + s + "'");
 }
 
 double stream_iso(const Args& a, const StreamMeta& m) {

@@ -13,6 +13,7 @@
 #include "kernels/block_minmax.hpp"
 #include "kernels/cell_sampling.hpp"
 #include "kernels/grid.hpp"
+#include "kernels/project_sample.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/splat_rasterizer.hpp"
 #include "ooc/brick_cache.hpp"
@@ -112,6 +113,9 @@ std::optional<std::array<Vec3, 2>> meta_bounds(const StreamMeta& m);
 /// the stream's, whose active cells were chosen for that value), else the stream's; UsageError
 /// when neither exists.
 double stream_iso(const Args& a, const StreamMeta& m);
+
+/// --projection: "none" | "approx" | "exact" (kernels/project_sample.hpp); UsageError otherwise.
+Projection parse_projection(const std::string& s);
 
 /// Warns on stderr when iso lies outside [lo, hi] (the outputs will be empty but valid).
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source);

@@ -5,9 +5,9 @@
 #include <cstdio>
 
 #include "cli/common.hpp"
+#include "cli/errors.hpp"
 #include "cli/point_set_cli.hpp"
 #include "formats/point_set_reader.hpp"
-#include "kernels/errors.hpp"
 #include "kernels/make_field.hpp"
 
 namespace meshless::cli {

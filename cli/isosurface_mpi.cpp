@@ -3,8 +3,8 @@
 #include <cstdio>
 
 #include "cli/common.hpp"
+#include "cli/errors.hpp"
 #include "cli/mpi_session.hpp"
-#include "kernels/errors.hpp"
 #include "stream/isosplat_ranks.hpp"
 
 namespace meshless::cli {
@@ -42,13 +42,14 @@ MpiIsosurfaceResult isosurface_mpi(const Args& a, int argc, char** argv, double 
         out.result.projection.flat = sums[3];
         out.result.projection.missed = sums[4];
         return out;
-    } catch (const BrokenPipe&) {
-        // downstream closed on rank 0: a quiet exit, but the other ranks may wait on it
-        mpi.abort(0);
     } catch (const std::exception& e) {
-        // one failing rank ends the job: nothing is renamed into place, every rank exits non-zero
-        std::fprintf(stderr, "meshless isosurface (rank %d of %d): %s\n", mpi.rank(), mpi.size(), e.what());
-        mpi.abort(dynamic_cast<const UsageError*>(&e) ? 1 : (dynamic_cast<const FormatError*>(&e) || dynamic_cast<const IoError*>(&e)) ? 2 : 3);
+        // One failing rank ends the job: nothing is renamed into place, every rank exits non-zero.
+        // A closed downstream pipe on rank 0 (BrokenPipe, exit 0) is quiet, but the other ranks may
+        // wait on it, so it aborts too.
+        const int code = exit_code(e);
+        if (code != kExitOk)
+            std::fprintf(stderr, "meshless isosurface (rank %d of %d): %s\n", mpi.rank(), mpi.size(), error_message(e).c_str());
+        mpi.abort(code);
     }
 }
 

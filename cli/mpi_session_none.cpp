@@ -2,8 +2,8 @@
 #ifndef MESHLESS_HAVE_MPI
 #include <cstdlib>
 
+#include "cli/errors.hpp"
 #include "cli/mpi_session.hpp"
-#include "kernels/errors.hpp"
 
 namespace meshless::cli {
 

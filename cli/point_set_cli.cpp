@@ -1,6 +1,6 @@
 #include "cli/point_set_cli.hpp"
 
-#include "kernels/errors.hpp"
+#include "cli/errors.hpp"
 
 namespace meshless::cli {
 

@@ -37,7 +37,7 @@ const char* kProperties =
 PlyPointWriter::PlyPointWriter(const std::string& path, const std::vector<std::string>& comments)
     : file_(std::make_unique<AtomicFile>(path)) {
     if (file_->is_streaming())
-        throw UsageError(path + ": a PLY point output that cannot seek needs the whole point set (use write_ply_points)");
+        throw InvalidArgument(path + ": a PLY point output that cannot seek needs the whole point set (use write_ply_points)");
     const std::string pre = header_prefix(comments);
     file_->write(pre);
     count_offset_ = pre.size();

@@ -5,7 +5,8 @@
 // properties are ignored by readers that do not know them). The vertex count is patched into a
 // fixed-width header at the end, so points can be streamed without holding them all.
 // Output goes through AtomicFile (temporary name + rename; "-" = stdout, where the count must be
-// known up front: use write_ply_points for that). Throws IoError naming the path.
+// known up front: use write_ply_points for that; PlyPointWriter on "-" throws InvalidArgument).
+// Throws IoError naming the path.
 // The reader accepts binary little/big endian and ASCII PLY with at least x y z; missing nx ny nz,
 // radius or value read as 0; throws FormatError on a malformed header or truncated body.
 #pragma once

@@ -15,8 +15,8 @@ namespace meshless {
 void write_png(const Image& image, const std::string& path) {
     if (image.width <= 0 || image.height <= 0 ||
         image.rgb.size() != 3 * static_cast<std::size_t>(image.width) * image.height)
-        throw UsageError(path + ": image " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                         " does not match its " + std::to_string(image.rgb.size()) + "-byte pixel buffer");
+        throw InvalidArgument(path + ": image " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                              " does not match its " + std::to_string(image.rgb.size()) + "-byte pixel buffer");
     png_image img;
     std::memset(&img, 0, sizeof img);
     img.version = PNG_IMAGE_VERSION;

@@ -3,7 +3,7 @@
 // so a failed write never leaves a file that looks complete. read_png is for tests and tools.
 // Throws: IoError naming the path when the file cannot be created/written/opened;
 //         FormatError naming the path when read_png meets something that is not a valid PNG;
-//         UsageError for an image whose size does not match its pixel buffer.
+//         InvalidArgument for an image whose size does not match its pixel buffer.
 // Thread-safety: reentrant (no shared state).
 #pragma once
 #include <string>

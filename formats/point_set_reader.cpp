@@ -131,7 +131,7 @@ PointSet read_point_set(const std::string& path, const PointSetOptions& o) {
 }
 
 PointSet read_point_set(const std::vector<std::string>& paths, const PointSetOptions& o) {
-    if (paths.empty()) throw UsageError("no point-set files given");
+    if (paths.empty()) throw InvalidArgument("no point-set files given");
     if (paths.size() == 1) return read_point_set(paths.front(), o);
     PointSetOptions each = o;
     each.merge_blocks = false;

@@ -28,7 +28,8 @@ inline constexpr std::size_t kMinPointSetPoints = 4;
 /// Reads one file as a point set (see the dispatch above).
 PointSet read_point_set(const std::string& path, const PointSetOptions& options = {});
 /// Several files as one set: each file's blocks are appended (e.g. multicomb_0..2.vts = 3 blocks).
-/// Value names must agree (FormatError otherwise); dropped counts add up.
+/// Value names must agree (FormatError otherwise); dropped counts add up. InvalidArgument when
+/// `paths` is empty.
 PointSet read_point_set(const std::vector<std::string>& paths, const PointSetOptions& options = {});
 
 /// What `meshless info` prints: the format, notes (files paired, bytes ignored) and the whole set's

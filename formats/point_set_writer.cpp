@@ -60,7 +60,7 @@ void write_point_set(const std::string& path, const PointSet& ps, const std::vec
     const std::string e = to_lower(std::filesystem::path(path).extension().string());
     if (e == ".ply") return write_point_set_ply(path, ps, comments);
     if (e == ".csv" || e == ".txt" || e == ".tsv" || path == "-") return write_point_set_csv(path, ps);
-    throw UsageError(path + ": unknown point-set output type (use .ply or .csv)");
+    throw InvalidArgument(path + ": unknown point-set output type (use .ply or .csv)");
 }
 
 }  // namespace meshless

@@ -18,7 +18,7 @@ namespace meshless {
 
 void write_point_set_ply(const std::string& path, const PointSet& ps, const std::vector<std::string>& comments = {});
 void write_point_set_csv(const std::string& path, const PointSet& ps);
-/// By extension: .ply -> PLY, .csv/.txt/.tsv or "-" -> CSV; anything else UsageError.
+/// By extension: .ply -> PLY, .csv/.txt/.tsv or "-" -> CSV; anything else InvalidArgument.
 void write_point_set(const std::string& path, const PointSet& ps, const std::vector<std::string>& comments = {});
 
 }  // namespace meshless

@@ -74,7 +74,7 @@ PayloadPlan plan_raw(const std::string& path, const RawOptions& opts) {
     plan.exact_size = true;
     if (opts.dims) {
         for (int a = 0; a < 3; ++a)
-            if ((*opts.dims)[a] < 1) throw UsageError(path + ": raw dims must be >= 1");
+            if ((*opts.dims)[a] < 1) throw InvalidArgument(path + ": raw dims must be >= 1");
         plan.grid.dims = *opts.dims;
         have_dims = true;
     }
@@ -90,7 +90,7 @@ PayloadPlan plan_raw(const std::string& path, const RawOptions& opts) {
     if (opts.big_endian) plan.big_endian = true;
     if (opts.spacing) {
         for (int a = 0; a < 3; ++a)
-            if (!((*opts.spacing)[a] > 0)) throw UsageError(path + ": raw spacing must be > 0");
+            if (!((*opts.spacing)[a] > 0)) throw InvalidArgument(path + ": raw spacing must be > 0");
         plan.grid.spacing = *opts.spacing;
     }
     if (!have_dims || !have_type)

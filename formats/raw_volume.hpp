@@ -4,7 +4,8 @@
 // ObjectFileName names this file), and RawOptions (dims, type, big_endian, spacing).
 // The file must hold exactly X*Y*Z*size bytes.
 // Throws IoError (cannot open / directory), FormatError ("PATH: expected N bytes for 64x64x64
-// uint8, file has M"; missing layout). Thread-safety: reentrant. Dissertation: chapter 3 input.
+// uint8, file has M"; missing layout), InvalidArgument (RawOptions dims < 1 or spacing <= 0).
+// Thread-safety: reentrant. Dissertation: chapter 3 input.
 #pragma once
 #include <array>
 #include <optional>

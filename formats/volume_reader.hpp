@@ -7,7 +7,8 @@
 // uint64/float64 convert to float32 (integers above 2^24 round). Units: spacing/origin in the
 // file's world units (voxels when the file gives none).
 // Throws: IoError (cannot open, is a directory, missing data file), FormatError (bad or
-// unsupported content: magic, version, encoding, type, sizes, truncation); messages are one
+// unsupported content: magic, version, encoding, type, sizes, truncation), InvalidArgument (raw
+// options out of range, see raw_volume.hpp); messages are one
 // line starting with the offending path. Thread-safety: reentrant; no shared state.
 // Dissertation: supplies the regular grids of chapter 3 (iso-splatting of volume data).
 #pragma once

@@ -130,8 +130,8 @@ std::optional<AnalyticField> parse_analytic_field(std::string_view s) {
 
 Volume make_analytic_volume(AnalyticField f, std::int64_t n) {
     if (n < 2 || n > (std::int64_t{1} << 20))
-        throw UsageError("analytic volume " + std::string(to_string(f)) + ": grid size " +
-                         std::to_string(n) + " out of range, expected 2..1048576");
+        throw InvalidArgument("analytic volume " + std::string(to_string(f)) + ": grid size " +
+                              std::to_string(n) + " out of range, expected 2..1048576");
     GridSpec g;
     g.dims = {n, n, n};
     const double h = 2.0 / static_cast<double>(n - 1);

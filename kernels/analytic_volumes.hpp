@@ -20,7 +20,7 @@
 // the surface; where the iteration fails (flat gradient, wandering), the first-order estimate
 // |f - iso| / |grad f| (inf where grad f = 0).
 // Names: "sphere", "torus", "gyroid", "ml" (parse also accepts "marschner_lobb", "marschner-lobb").
-// Throws UsageError from make_analytic_volume when n < 2 or n^3 samples would not fit in memory
+// Throws InvalidArgument from make_analytic_volume when n < 2 or n^3 samples would not fit in memory
 // addressing (n > 2^20). Everything else is pure, reentrant and allocation-free.
 #pragma once
 #include <cstdint>

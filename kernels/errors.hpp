@@ -1,14 +1,16 @@
-// Error types of meshless. Conventions (DESIGN.md): assert for programmer errors; these exceptions
-// for bad data and environment. The CLI is the only place that catches them and maps them to exit
-// codes: UsageError -> 1, FormatError/IoError -> 2, anything else -> 3.
+// Error types of the meshless libraries (kernels/, formats/, ooc/, stream/). Conventions (DESIGN.md):
+// assert for programmer errors; these exceptions for bad arguments, bad data and a failing environment.
 // Messages are one line and name the file (when there is one) and what was expected.
+// Only cli/ catches them and maps them to exit codes (cli/errors.hpp, the one mapping): InvalidArgument
+// -> 1 (like the CLI's own UsageError), FormatError/IoError -> 2, BrokenPipe -> 0 (quiet), others -> 3.
 #pragma once
 #include <stdexcept>
 #include <string>
 
 namespace meshless {
 
-/// Malformed, truncated or unsupported input data (wrong magic, version, sizes, values).
+/// Malformed, truncated or unsupported input data (wrong magic, version, sizes, values). The message
+/// names the file and, where known, the byte offset or the field.
 struct FormatError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
@@ -18,9 +20,14 @@ struct IoError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// The user asked for something inconsistent (bad flag, missing argument).
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+/// A caller passed a parameter outside the documented domain of a library function (a NaN isovalue,
+/// a brick edge of 1, a memory budget smaller than one brick, fewer than 4 points for a field, an
+/// output path a writer cannot use). The message names the parameter (and the file, when there is
+/// one) and the accepted range. Parameters usually come from the user's command line, so the CLI
+/// reports it like a usage error; it is not the CLI's UsageError (cli/errors.hpp), which the
+/// libraries never throw.
+struct InvalidArgument : std::invalid_argument {
+    using std::invalid_argument::invalid_argument;
 };
 
 /// A downstream pipe closed (EPIPE): not an error for the user, the CLI exits quietly.

@@ -15,9 +15,9 @@ MergedPoints prepare_field_points(const PointSet& points, const FieldParams& par
     if (points.pos.size() != points.value.size())
         throw FormatError(w + ": point set has " + std::to_string(points.pos.size()) + " positions but " +
                           std::to_string(points.value.size()) + " values");
-    if (points.pos.empty()) throw UsageError(w + ": the point set is empty");
+    if (points.pos.empty()) throw InvalidArgument(w + ": the point set is empty");
     if (points.pos.size() > 0xFFFFFFF0ull)
-        throw UsageError(w + ": " + std::to_string(points.pos.size()) + " points, at most 4294967280 supported");
+        throw InvalidArgument(w + ": " + std::to_string(points.pos.size()) + " points, at most 4294967280 supported");
     for (std::size_t i = 0; i < points.pos.size(); ++i) {
         const Vec3& p = points.pos[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(points.value[i]))
@@ -25,12 +25,12 @@ MergedPoints prepare_field_points(const PointSet& points, const FieldParams& par
     }
     if (!(params.merge_rel >= 0) || !(params.hardy_c_rel > 0) || !std::isfinite(params.hardy_c_world) ||
         params.hardy_c_world < 0)
-        throw UsageError(w + ": merge_rel must be >= 0, hardy_c_rel > 0 and hardy_c_world >= 0");
+        throw InvalidArgument(w + ": merge_rel must be >= 0, hardy_c_rel > 0 and hardy_c_world >= 0");
     const double tol = params.merge_rel * mean_point_spacing(points.pos);
     MergedPoints m = merge_near_duplicates(points.pos, points.value, tol);
     if (m.pos.size() < 4)
-        throw UsageError(w + ": " + std::to_string(m.pos.size()) + " distinct points (of " +
-                         std::to_string(points.pos.size()) + " after merging near-duplicates), at least 4 are needed");
+        throw InvalidArgument(w + ": " + std::to_string(m.pos.size()) + " distinct points (of " +
+                              std::to_string(points.pos.size()) + " after merging near-duplicates), at least 4 are needed");
     if (params.normalise_axes && m.pos.size() > 1) {
         const auto [lo, hi] = bounding_box(m.pos);
         const Vec3 w = hi - lo;

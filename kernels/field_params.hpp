@@ -12,7 +12,7 @@
 // mean point spacing (k = number of non-degenerate axes). See kernels/merge_near_duplicates.hpp.
 //
 // Plain data, no invariants beyond the documented ranges (make_field() checks them and throws
-// UsageError). Thread-safe as a value.
+// InvalidArgument). Thread-safe as a value.
 #pragma once
 #include <array>
 #include <cmath>

@@ -13,8 +13,8 @@ GlobalRbfField::GlobalRbfField(const PointSet& points, const FieldParams& params
     FieldBuildStats& st = stats ? *stats : local_stats;
     MergedPoints m = prepare_field_points(points, params, "global-rbf", &st);
     if (m.pos.size() > params.global_max_points)
-        throw UsageError("global-rbf: " + std::to_string(m.pos.size()) + " distinct points, more than the limit of " +
-                         std::to_string(params.global_max_points) + " (use rbf-grid or mpu)");
+        throw InvalidArgument("global-rbf: " + std::to_string(m.pos.size()) + " distinct points, more than the limit of " +
+                              std::to_string(params.global_max_points) + " (use rbf-grid or mpu)");
     origin_ = m.origin;
     scale_ = m.scale;
     bounds_ = points.bounds();

@@ -5,7 +5,7 @@
 // points (default 4000: ~0.25 GB and seconds to build) are refused.
 // Defined everywhere (extrapolates: the multiquadric grows linearly far away); bounds() is the
 // bounding box of the points. Thread-safe (const) after construction.
-// Throws UsageError when the set is larger than the limit or empty, FormatError for non-finite input.
+// Throws InvalidArgument when the set is larger than the limit or empty, FormatError for non-finite input.
 #pragma once
 #include <cstdint>
 #include <vector>

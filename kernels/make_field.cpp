@@ -13,7 +13,7 @@ namespace meshless {
 std::unique_ptr<Field> make_field(const PointSet& points, const FieldParams& params, FieldBuildStats* stats) {
     const std::string who(field_kind_name(params.kind));
     if (points.pos.size() < 4)
-        throw UsageError(who + ": " + std::to_string(points.pos.size()) + " points, at least 4 are needed");
+        throw InvalidArgument(who + ": " + std::to_string(points.pos.size()) + " points, at least 4 are needed");
     const auto t0 = std::chrono::steady_clock::now();
     FieldBuildStats local;
     FieldBuildStats* st = stats ? stats : &local;

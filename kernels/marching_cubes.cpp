@@ -293,7 +293,7 @@ Mesh marching_cubes_slab(const VolumeView& v, double iso, std::int64_t k0, std::
                          McStats* stats, const std::array<std::int64_t, 3>& index_offset,
                          std::vector<std::uint64_t>* edge_keys, const std::array<std::int64_t, 3>& whole_dims) {
     if (!std::isfinite(iso))
-        throw UsageError("marching_cubes: iso value " + std::to_string(iso) + " is not finite");
+        throw InvalidArgument("marching_cubes: iso value " + std::to_string(iso) + " is not finite");
     if (edge_keys) edge_keys->clear();
     return visit_samples(v, [&](auto* p) {
         using T = std::remove_const_t<std::remove_pointer_t<decltype(p)>>;

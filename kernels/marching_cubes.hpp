@@ -19,7 +19,7 @@
 // Cells with a NaN/Inf corner produce nothing and are counted in McStats::skipped_nonfinite;
 // active_cells counts finite cells with at least one triangle. stats (when given) is overwritten.
 // Memory besides the output: 5 uint32 edge-index arrays and 3 byte masks of one z-slice.
-// Throws UsageError for a non-finite iso, std::length_error when the mesh would need more than
+// Throws InvalidArgument for a non-finite iso, std::length_error when the mesh would need more than
 // 2^32-1 vertices (uint32 indices). Reentrant; single-threaded (threads may each run a slab).
 #pragma once
 #include <array>

@@ -118,12 +118,12 @@ struct OctreeBuilder {
 }  // namespace
 
 MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats) {
-    if (params.mpu_max_points < 8) throw UsageError("mpu: N (mpu_max_points) must be >= 8");
+    if (params.mpu_max_points < 8) throw InvalidArgument("mpu: N (mpu_max_points) must be >= 8");
     if (params.mpu_min_points < 1 || params.mpu_min_points > params.mpu_max_points)
-        throw UsageError("mpu: mpu_min_points must be in 1..N");
+        throw InvalidArgument("mpu: mpu_min_points must be in 1..N");
     if (!(params.mpu_alpha > 0.5) || !std::isfinite(params.mpu_alpha))
-        throw UsageError("mpu: alpha must be > 0.5 (the sphere must cover its cube)");
-    if (params.mpu_max_depth < 1 || params.mpu_max_depth > 60) throw UsageError("mpu: mpu_max_depth must be in 1..60");
+        throw InvalidArgument("mpu: alpha must be > 0.5 (the sphere must cover its cube)");
+    if (params.mpu_max_depth < 1 || params.mpu_max_depth > 60) throw InvalidArgument("mpu: mpu_max_depth must be in 1..60");
     FieldBuildStats local_stats;
     FieldBuildStats& st = stats ? *stats : local_stats;
     MergedPoints mp = prepare_field_points(points, params, "mpu", &st);
@@ -151,7 +151,7 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
         b.build(0, all, 0);
     }
-    if (b.flat.size() > 0xFFFFFFF0ull) throw UsageError("mpu: too many local points (" + std::to_string(b.flat.size()) + ")");
+    if (b.flat.size() > 0xFFFFFFF0ull) throw InvalidArgument("mpu: too many local points (" + std::to_string(b.flat.size()) + ")");
 
     nodes_.resize(b.nodes.size());
     for (std::size_t i = 0; i < nodes_.size(); ++i) {

@@ -15,7 +15,6 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
-#include <string_view>
 
 #include "kernels/exact_projection.hpp"
 #include "kernels/newton_projection.hpp"
@@ -26,8 +25,7 @@ namespace meshless {
 
 enum class Projection { none, approx, exact };
 
-/// "none" | "approx" | "exact"; throws UsageError otherwise.
-Projection parse_projection(std::string_view s);
+/// "none" | "approx" | "exact" (the names the CLI's --projection accepts, cli/common.hpp).
 const char* to_string(Projection p);
 
 struct ProjectionStats {

@@ -18,10 +18,10 @@ namespace meshless {
 
 RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats) {
     if (!(params.binning_m > 0) || !std::isfinite(params.binning_m))
-        throw UsageError("rbf-grid: binning constant m must be > 0");
-    if (params.rbf_grid_max_local < 8) throw UsageError("rbf-grid: rbf_grid_max_local must be >= 8");
+        throw InvalidArgument("rbf-grid: binning constant m must be > 0");
+    if (params.rbf_grid_max_local < 8) throw InvalidArgument("rbf-grid: rbf_grid_max_local must be >= 8");
     if (params.rbf_grid_min_local < 1 || params.rbf_grid_min_local > params.rbf_grid_max_local)
-        throw UsageError("rbf-grid: rbf_grid_min_local must be in 1..rbf_grid_max_local");
+        throw InvalidArgument("rbf-grid: rbf_grid_min_local must be in 1..rbf_grid_max_local");
     FieldBuildStats local_stats;
     FieldBuildStats& st = stats ? *stats : local_stats;
     MergedPoints mp = prepare_field_points(points, params, "rbf-grid", &st);
@@ -62,7 +62,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
     inv_s_ = {n_[0] > 1 ? 1 / sc[0] : 0.0, n_[1] > 1 ? 1 / sc[1] : 0.0, n_[2] > 1 ? 1 / sc[2] : 0.0};
     const std::int64_t ncells = n_[0] * n_[1] * n_[2];
     if (ncells > static_cast<std::int64_t>(8 * n + 64) || ncells > 0x7FFFFFFF)
-        throw UsageError("rbf-grid: internal grid of " + std::to_string(ncells) + " cells is too large");
+        throw InvalidArgument("rbf-grid: internal grid of " + std::to_string(ncells) + " cells is too large");
     st.grid_dims = {n_[0], n_[1], n_[2]};
 
     const double diag = norm(s_);
@@ -183,7 +183,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
         const std::uint32_t used = std::min(count[cell], cap);
         total += used;
         if (total > 0xFFFFFFF0ull || n + extra + used > 0xFFFFFFF0ull)
-            throw UsageError("rbf-grid: too many local points (" + std::to_string(total) + ")");
+            throw InvalidArgument("rbf-grid: too many local points (" + std::to_string(total) + ")");
         const bool expl = !grown[cell].empty() || count[cell] > cap;
         explicit_pts.push_back(expl);
         if (expl) {

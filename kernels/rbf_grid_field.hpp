@@ -35,7 +35,7 @@
 // Memory: ~27 m lambdas per local x 8 bytes + 24 bytes per point: ~1.1 KB per cell at m = 5
 // (~260 bytes per input point). Construction is parallel (oneTBB parallel_for over cells; the
 // result does not depend on the thread count); evaluate() is thread-safe (const). Throws
-// FormatError/UsageError (see make_field.hpp).
+// FormatError/InvalidArgument (see make_field.hpp).
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -1,7 +1,5 @@
 #include "ooc/brick_cache.hpp"
 
-#include <cctype>
-#include <limits>
 #include <string>
 
 #include "kernels/errors.hpp"
@@ -27,8 +25,8 @@ std::string human_bytes(std::uint64_t b) {
 BrickCache::BrickCache(const BrickStore& store, std::uint64_t budget_bytes) : store_(store), budget_(budget_bytes) {
     const std::uint64_t need = store.max_brick_bytes();
     if (budget_bytes < need)
-        throw UsageError("--memory " + std::to_string(budget_bytes) + " bytes is smaller than one brick of " + store.path() +
-                         "; the minimum is " + std::to_string(need) + " bytes (--memory " + human_bytes(need) + ")");
+        throw InvalidArgument("--memory " + std::to_string(budget_bytes) + " bytes is smaller than one brick of " + store.path() +
+                              "; the minimum is " + std::to_string(need) + " bytes (--memory " + human_bytes(need) + ")");
 }
 
 std::shared_ptr<const std::vector<std::byte>> BrickCache::get(std::size_t i) {
@@ -76,41 +74,6 @@ VolumeView BrickCache::view(std::size_t i, const std::vector<std::byte>& bytes) 
 BrickCacheStats BrickCache::stats() const {
     std::lock_guard<std::mutex> lock(mu_);
     return stats_;
-}
-
-std::uint64_t parse_memory_size(const std::string& s) {
-    auto bad = [&] {
-        return UsageError("--memory: expected a size like 256M, 1G, 512K or a byte count, got '" + s + "'");
-    };
-    std::size_t i = 0;
-    if (i == s.size() || !std::isdigit(static_cast<unsigned char>(s[i]))) throw bad();
-    std::uint64_t v = 0;
-    while (i < s.size() && std::isdigit(static_cast<unsigned char>(s[i]))) {
-        const std::uint64_t d = static_cast<std::uint64_t>(s[i] - '0');
-        if (v > (std::numeric_limits<std::uint64_t>::max() - d) / 10) throw bad();
-        v = v * 10 + d;
-        ++i;
-    }
-    std::string suffix;
-    for (; i < s.size(); ++i) suffix += static_cast<char>(std::toupper(static_cast<unsigned char>(s[i])));
-    int shift = 0;
-    if (!suffix.empty()) {
-        switch (suffix[0]) {
-            case 'B': shift = suffix == "B" ? 0 : -1; break;
-            case 'K': shift = 10; break;
-            case 'M': shift = 20; break;
-            case 'G': shift = 30; break;
-            case 'T': shift = 40; break;
-            default: shift = -1;
-        }
-        const std::string rest = suffix.substr(1);
-        if (suffix[0] != 'B' && !(rest.empty() || rest == "B" || rest == "IB")) shift = -1;
-    }
-    if (shift < 0) throw bad();
-    if (shift > 0 && v > (std::numeric_limits<std::uint64_t>::max() >> shift)) throw bad();
-    v <<= shift;
-    if (v == 0) throw UsageError("--memory: must be positive, got '" + s + "'");
-    return v;
 }
 
 }  // namespace meshless

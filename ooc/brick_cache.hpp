@@ -4,7 +4,7 @@
 // if the cache evicts it (so the true peak is budget + bricks in use by the running threads).
 // The cached (evictable) bytes never exceed the budget: peak_bytes in stats() reports their maximum.
 // Two threads missing the same brick at once may both decompress it; one copy is kept.
-// Throws UsageError when the budget is smaller than one brick (BrickStore::max_brick_bytes()),
+// Throws InvalidArgument when the budget is smaller than one brick (BrickStore::max_brick_bytes()),
 // naming the minimum; get() throws what BrickStore::read_brick throws (FormatError on damage).
 #pragma once
 #include <cstdint>
@@ -46,9 +46,5 @@ private:
     std::uint64_t bytes_ = 0;
     BrickCacheStats stats_;
 };
-
-/// Parses "256M", "1G", "512k", "1048576" (binary units; K/M/G/T, optional B or iB, any case)
-/// into bytes; UsageError for anything else, zero or overflow.
-std::uint64_t parse_memory_size(const std::string& s);
 
 }  // namespace meshless

@@ -141,11 +141,11 @@ ConvertStats convert_to_brick_store(SliceSource& src, const std::string& out_pat
                                     const std::function<void(double)>& progress) {
     const auto t0 = std::chrono::steady_clock::now();
     if (p.brick_edge < 2 || p.brick_edge > 1024)
-        throw UsageError("--brick: brick edge must be 2..1024 cells, got " + std::to_string(p.brick_edge));
+        throw InvalidArgument("--brick: brick edge must be 2..1024 cells, got " + std::to_string(p.brick_edge));
     if (p.zstd_level < 1 || p.zstd_level > ZSTD_maxCLevel())
-        throw UsageError("--level: zstd level must be 1.." + std::to_string(ZSTD_maxCLevel()) + ", got " +
-                         std::to_string(p.zstd_level));
-    if (p.threads < 1) throw UsageError("--threads: must be at least 1");
+        throw InvalidArgument("--level: zstd level must be 1.." + std::to_string(ZSTD_maxCLevel()) + ", got " +
+                              std::to_string(p.zstd_level));
+    if (p.threads < 1) throw InvalidArgument("--threads: must be at least 1");
     const GridSpec g = src.grid();
     const SampleType type = src.type();
     const std::size_t ss = sample_size(type);
@@ -160,7 +160,7 @@ ConvertStats convert_to_brick_store(SliceSource& src, const std::string& out_pat
     info.bricks_per_axis = brick_store_bricks_per_axis(g.dims, B);
     for (int a = 0; a < 3; ++a)
         if (info.bricks_per_axis[a] >= (std::int64_t{1} << 21))
-            throw UsageError(src.name() + ": too many bricks along an axis; use a larger --brick");
+            throw InvalidArgument(src.name() + ": too many bricks along an axis; use a larger --brick");
     info.brick_count = static_cast<std::uint64_t>(info.bricks_per_axis[0] * info.bricks_per_axis[1] * info.bricks_per_axis[2]);
 
     const std::int64_t nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];

@@ -7,7 +7,8 @@
 // and the next conversion to the same <out> removes temporaries whose process no longer exists.
 // Bricks of a slab are compressed in parallel (oneTBB, `threads` workers); output bytes do not
 // depend on the thread count.
-// Throws IoError (disk full, unwritable) after removing its temporaries; FormatError from the source.
+// Throws IoError (disk full, unwritable) after removing its temporaries; FormatError from the source;
+// InvalidArgument for ConvertParams out of range or a volume needing 2^21 or more bricks along an axis.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -18,9 +19,9 @@
 namespace meshless {
 
 struct ConvertParams {
-    std::uint32_t brick_edge = 32;  ///< cells per brick edge (2..1024); UsageError otherwise
-    int zstd_level = 1;             ///< 1..19; default chosen by benchmark (numbers in cli/cmd_convert.cpp)
-    int threads = 1;                ///< compression threads; output bytes do not depend on it
+    std::uint32_t brick_edge = 32;  ///< cells per brick edge (2..1024); InvalidArgument otherwise
+    int zstd_level = 1;             ///< 1..ZSTD_maxCLevel(); default chosen by benchmark (numbers in cli/cmd_convert.cpp)
+    int threads = 1;                ///< compression threads (>= 1); output bytes do not depend on it
 };
 
 struct ConvertStats {

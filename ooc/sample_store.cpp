@@ -139,7 +139,7 @@ void SampleStore::verify() const {
 
 SampleQuery::SampleQuery(const SampleStore& store, double iso, const SamplingParams& params)
     : store_(store), iso_(iso), params_(params), rows_(store.layout_.key_limit()) {
-    if (std::isnan(iso)) throw UsageError("sample store query: the isovalue is NaN");
+    if (std::isnan(iso)) throw InvalidArgument("sample store query: the isovalue is NaN");
     const SampleStoreInfo& info = store.info();
     const double thr = active_threshold(info.type, iso);
     const auto& bk = store.layout_.buckets;

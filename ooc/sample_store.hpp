@@ -63,7 +63,7 @@ public:
     const BrickStore& brick_store() const { return *mlb_; }
 
     /// Emits the active samples of iso as SampleRecords (paradigm C's, see above) in batches of at
-    /// most max_batch records (1..65536). Returns the number emitted. UsageError for a NaN iso.
+    /// most max_batch records (1..65536). Returns the number emitted. InvalidArgument for a NaN iso.
     std::uint64_t query(double iso, const std::function<void(std::span<const SampleRecord>)>& emit,
                         const SamplingParams& params = {}, std::size_t max_batch = 4096) const;
     /// Reads and decodes every bucket; FormatError naming the first bad one.

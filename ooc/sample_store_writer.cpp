@@ -116,18 +116,18 @@ std::string recorded_path(const std::string& mlb, const std::string& mls) {
     std::string s = rel.empty() ? a.string() : rel.string();
     if (s.size() >= kSampleStorePathBytes) s = a.string();
     if (s.size() >= kSampleStorePathBytes)
-        throw UsageError(mlb + ": path too long to record in a sample store (" + std::to_string(s.size()) +
-                         " bytes; at most " + std::to_string(kSampleStorePathBytes - 1) + ")");
+        throw InvalidArgument(mlb + ": path too long to record in a sample store (" + std::to_string(s.size()) +
+                              " bytes; at most " + std::to_string(kSampleStorePathBytes - 1) + ")");
     return s;
 }
 
 }  // namespace
 
 SampleStoreBuildStats write_sample_store(const BrickStore& store, const std::string& path, const SampleStoreParams& params) {
-    if (path == "-") throw UsageError("-: a sample store must be written to a file, not standard output");
+    if (path == "-") throw InvalidArgument("-: a sample store must be written to a file, not standard output");
     if (params.levels < 1 || params.levels > kMaxSpanSpaceLevels)
-        throw UsageError("sample store: levels must be in 1.." + std::to_string(kMaxSpanSpaceLevels) + ", got " +
-                         std::to_string(params.levels));
+        throw InvalidArgument("sample store: levels must be in 1.." + std::to_string(kMaxSpanSpaceLevels) + ", got " +
+                              std::to_string(params.levels));
     const BrickStoreInfo& bi = store.info();
     SampleStoreInfo info;
     info.grid = bi.grid;

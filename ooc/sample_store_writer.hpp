@@ -6,7 +6,7 @@
 // keys and key bytes per bucket, the second encodes them and writes each bucket's run at its place
 // (positional writes into an AtomicFile: temporary name, then rename). Memory: O(buckets) plus one
 // brick plus a bounded buffer of pending keys, never all keys.
-// Errors: UsageError (output "-", levels out of 1..1024, an .mlb path too long to record),
+// Errors: InvalidArgument (output "-", levels out of 1..1024, an .mlb path too long to record),
 // FormatError (damaged bricks, naming the .mlb), IoError (cannot write). Not thread-safe (one call
 // writes one file); the store must not change while it runs.
 #pragma once

@@ -24,8 +24,8 @@ namespace {
 
 void check_range(const SliceSource& s, std::int64_t k, std::int64_t count) {
     if (k < 0 || count < 0 || k + count > s.grid().dims[2])
-        throw UsageError(s.name() + ": slices [" + std::to_string(k) + "," + std::to_string(k + count) +
-                         ") outside the volume's " + std::to_string(s.grid().dims[2]) + " slices");
+        throw InvalidArgument(s.name() + ": slices [" + std::to_string(k) + "," + std::to_string(k + count) +
+                              ") outside the volume's " + std::to_string(s.grid().dims[2]) + " slices");
 }
 
 /// A volume already in memory (formats that are read whole).
@@ -220,7 +220,7 @@ T to_sample(double v) {
 class UpsamplingSliceSource final : public SliceSource {
 public:
     UpsamplingSliceSource(const Volume& v, int f, Upsampling mode, std::string name) : v_(v), name_(std::move(name)) {
-        if (f < 1 || f > 64) throw UsageError(name_ + ": upsampling factor must be 1..64, got " + std::to_string(f));
+        if (f < 1 || f > 64) throw InvalidArgument(name_ + ": upsampling factor must be 1..64, got " + std::to_string(f));
         for (int a = 0; a < 3; ++a) {
             taps_[a] = axis_taps(v.grid.dims[a], f, mode);
             grid_.dims[a] = static_cast<std::int64_t>(taps_[a].size());
@@ -228,7 +228,7 @@ public:
             grid_.spacing[a] = v.grid.spacing[a] / f;
         }
         if (grid_.dims[0] >= (std::int64_t{1} << 31) || grid_.dims[1] >= (std::int64_t{1} << 31))
-            throw UsageError(name_ + ": upsampled slice too large");
+            throw InvalidArgument(name_ + ": upsampled slice too large");
     }
     const GridSpec& grid() const override { return grid_; }
     SampleType type() const override { return v_.type; }

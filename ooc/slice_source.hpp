@@ -10,8 +10,9 @@
 //   make_volume_source: a volume already in memory (tests, callers that have one).
 // read_slices fills `count` consecutive z-slices starting at k, samples in native type, x fastest;
 // sources are read with increasing, contiguous k (raw files and memory allow any k; gzip payloads
-// restart decompression when asked to go back). A range outside [0, nz) is a UsageError.
-// Throws FormatError/IoError naming the file. One source per thread (sources keep read state).
+// restart decompression when asked to go back). A range outside [0, nz) is an InvalidArgument.
+// Throws FormatError/IoError naming the file; InvalidArgument for an upsampling factor outside
+// 1..64 or an upsampled slice wider than 2^31 samples. One source per thread (sources keep read state).
 #pragma once
 #include <cstddef>
 #include <memory>

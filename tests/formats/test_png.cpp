@@ -67,5 +67,5 @@ TEST_CASE("PNG reader rejects a non-PNG file and a truncated PNG", "[splat]") {
 
     Image wrong = img;
     wrong.rgb.pop_back();
-    CHECK_THROWS_AS(write_png(wrong, (dir / "wrong.png").string()), UsageError);
+    CHECK_THROWS_AS(write_png(wrong, (dir / "wrong.png").string()), InvalidArgument);
 }

@@ -107,7 +107,7 @@ TEST_CASE("analytic: volumes sample the functions on [-1,1]^3", "[mc]") {
         CHECK(range[0] < default_iso(f));
         CHECK(range[1] > default_iso(f));
     }
-    CHECK_THROWS_AS(make_analytic_volume(AnalyticField::sphere, 1), UsageError);
+    CHECK_THROWS_AS(make_analytic_volume(AnalyticField::sphere, 1), InvalidArgument);
     const auto ml = make_analytic_volume(AnalyticSpec{AnalyticField::marschner_lobb, 20}).value_range();
     CHECK(ml[0] >= 0.0);
     CHECK(ml[1] <= 1.0);

@@ -494,7 +494,7 @@ TEST_CASE("mc: degenerate inputs", "[mc]") {
     const Volume flat = make_volume<float>({5, 1, 4}, SampleType::f32, [](auto i, auto, auto) { return double(i); });
     CHECK(marching_cubes(flat.view(), 2.5).triangle_count() == 0);
     const Volume v = make_analytic_volume(AnalyticField::sphere, 8);
-    CHECK_THROWS_AS(marching_cubes(v.view(), std::nan("")), UsageError);
+    CHECK_THROWS_AS(marching_cubes(v.view(), std::nan("")), InvalidArgument);
     CHECK(marching_cubes(v.view(), 100.0).triangle_count() == 0);   // nothing above
     CHECK(marching_cubes(v.view(), -100.0).triangle_count() == 0);  // everything above
     CHECK(marching_cubes_slab(v.view(), 0.5, 5, 5).triangle_count() == 0);

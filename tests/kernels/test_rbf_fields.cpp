@@ -454,7 +454,7 @@ TEST_CASE("construction is deterministic across thread counts", "[rbf]") {
 
 TEST_CASE("bad input: too few points, non-finite values, oversized global sets, bad parameters", "[rbf]") {
     PointSet tiny = make_points(random_points(3, {0, 0, 0}, {1, 1, 1}, 1), franke3);
-    CHECK_THROWS_AS(make_field(tiny, params_for(FieldKind::mpu)), UsageError);
+    CHECK_THROWS_AS(make_field(tiny, params_for(FieldKind::mpu)), InvalidArgument);
     PointSet bad = make_points(random_points(100, {0, 0, 0}, {1, 1, 1}, 2), franke3);
     bad.value[17] = std::nan("");
     CHECK_THROWS_AS(make_field(bad, params_for(FieldKind::rbf_grid)), FormatError);
@@ -463,10 +463,10 @@ TEST_CASE("bad input: too few points, non-finite values, oversized global sets, 
     CHECK_THROWS_WITH(make_field(bad, params_for(FieldKind::rbf_grid)), Catch::Contains("point 3"));
     FieldParams gp = params_for(FieldKind::global_rbf);
     gp.global_max_points = 50;
-    CHECK_THROWS_AS(make_field(make_points(random_points(100, {0, 0, 0}, {1, 1, 1}, 3), franke3), gp), UsageError);
+    CHECK_THROWS_AS(make_field(make_points(random_points(100, {0, 0, 0}, {1, 1, 1}, 3), franke3), gp), InvalidArgument);
     FieldParams bp = params_for(FieldKind::rbf_grid);
     bp.binning_m = 0;
-    CHECK_THROWS_AS(make_field(make_points(random_points(100, {0, 0, 0}, {1, 1, 1}, 3), franke3), bp), UsageError);
+    CHECK_THROWS_AS(make_field(make_points(random_points(100, {0, 0, 0}, {1, 1, 1}, 3), franke3), bp), InvalidArgument);
     FieldKind k;
     CHECK(parse_field_kind("mpu", k));
     CHECK(k == FieldKind::mpu);

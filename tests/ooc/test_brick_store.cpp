@@ -275,10 +275,10 @@ TEST_CASE("converter parameters are validated", "[ooc]") {
     auto src = make_volume_source(v, "memory");
     ConvertParams p;
     p.brick_edge = 1;
-    CHECK_THROWS_AS(convert_to_brick_store(*src, (dir / "x.mlb").string(), p), UsageError);
+    CHECK_THROWS_AS(convert_to_brick_store(*src, (dir / "x.mlb").string(), p), InvalidArgument);
     p.brick_edge = 8;
     p.zstd_level = 0;
-    CHECK_THROWS_AS(convert_to_brick_store(*src, (dir / "x.mlb").string(), p), UsageError);
+    CHECK_THROWS_AS(convert_to_brick_store(*src, (dir / "x.mlb").string(), p), InvalidArgument);
     p.zstd_level = 1;
     CHECK_THROWS_AS(convert_to_brick_store(*src, (dir / "no-such-dir" / "x.mlb").string(), p), IoError);
     CHECK(dir_entries(dir.path).empty());

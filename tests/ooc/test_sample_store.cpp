@@ -281,7 +281,7 @@ TEST_CASE("sample store queries equal paradigm (C) for float volumes (boundary b
         CHECK(c.size() > 1000);
         CHECK(paradigm_a(*store, 0.25, p, 7) == c);
         CHECK(paradigm_a(*store, 0.25, p, 100) == c);
-        CHECK_THROWS_AS(store->query(std::nan(""), [](std::span<const SampleRecord>) {}), UsageError);
+        CHECK_THROWS_AS(store->query(std::nan(""), [](std::span<const SampleRecord>) {}), InvalidArgument);
     }
 }
 
@@ -461,10 +461,10 @@ TEST_CASE("damaged sample stores are refused with an error naming the file", "[p
         CHECK_THROWS_AS(SampleStore::open((d / "nope.mls").string()), IoError);
         CHECK_THROWS_AS(SampleStore::open(d.path.string()), IoError);
         const auto bs = BrickStore::open(mlb);
-        CHECK_THROWS_AS(write_sample_store(*bs, "-"), UsageError);
+        CHECK_THROWS_AS(write_sample_store(*bs, "-"), InvalidArgument);
         SampleStoreParams p;
         p.levels = 0;
-        CHECK_THROWS_AS(write_sample_store(*bs, (d / "x.mls").string(), p), UsageError);
+        CHECK_THROWS_AS(write_sample_store(*bs, (d / "x.mls").string(), p), InvalidArgument);
         CHECK_FALSE(std::filesystem::exists(d / "x.mls"));
     }
 }

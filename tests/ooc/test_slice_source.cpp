@@ -150,7 +150,7 @@ TEST_CASE("trilinear upsampling keeps the original voxels and reproduces linear 
     }
     SECTION("bad factor") {
         const Volume v = random_volume({3, 3, 3}, SampleType::u8);
-        CHECK_THROWS_AS(make_upsampling_source(v, 0, Upsampling::trilinear, "mem"), UsageError);
+        CHECK_THROWS_AS(make_upsampling_source(v, 0, Upsampling::trilinear, "mem"), InvalidArgument);
     }
 }
 

@@ -1,0 +1,35 @@
+// The CLI's own error type and the one mapping from exceptions to exit codes, used by every
+// executable (meshless, its MPI path, meshless-bench). The libraries below cli/ throw their own
+// types (kernels/errors.hpp) and never UsageError.
+//   exit 0: success; a closed downstream pipe (BrokenPipe: quiet, nothing printed)
+//   exit 1: UsageError (bad flag, missing argument, malformed option value) and the libraries'
+//           InvalidArgument (a parameter outside a function's domain, usually from the command line)
+//   exit 2: FormatError (bad input data), IoError (the environment failed), std::bad_alloc
+//   exit 3: anything else (an internal error)
+// Thread-safety: stateless functions.
+#pragma once
+#include <exception>
+#include <stdexcept>
+#include <string>
+
+namespace meshless::cli {
+
+/// The user asked for something inconsistent on the command line (bad flag, missing argument,
+/// malformed value). Thrown by cli/ only.
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitUsage = 1;
+inline constexpr int kExitData = 2;
+inline constexpr int kExitInternal = 3;
+
+/// The exit code for an exception that ended a command (see the table above).
+int exit_code(const std::exception& e) noexcept;
+
+/// The one-line message for it: what(), "out of memory" for std::bad_alloc, prefixed
+/// "internal error: " when exit_code(e) is kExitInternal.
+std::string error_message(const std::exception& e);
+
+}  // namespace meshless::cli
