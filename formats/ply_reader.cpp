@@ -231,7 +231,8 @@ struct PlyReader::Impl {
         } else if (r.ec != std::errc() || r.ptr != num.data() + num.size()) {
             throw FormatError(at() + "bad number '" + ply_escape(s) + "' for property '" + ply_escape(prop) + "'");
         }
-        if (t != StoredType::f32 && t != StoredType::f64) {
+        if (t == StoredType::f32) return static_cast<float>(v);  // the value a float property holds
+        if (t != StoredType::f64) {
             double lo, hi;
             int_range(t, lo, hi);
             if (!(v >= lo && v <= hi) || v != std::floor(v))
@@ -428,17 +429,22 @@ struct PlyReader::Impl {
         skip_to(h.elements.size());
         std::uint64_t trailing = 0;
         if (ascii) {
+            ++line;  // the position is at the start of the line after the last record
+            bool seen = false;  // trailing = bytes from the first non-whitespace one on
             while (fill(1)) {
-                for (std::size_t i = 0; i < avail; ++i) {
+                for (std::size_t i = 0; i < avail && !seen; ++i) {
                     const char c = static_cast<char>(p[i]);
                     if (c == '\n') ++line;
-                    if (c != ' ' && c != '\t' && c != '\r' && c != '\n' && c != '\f' && c != '\v' && !allow_trailing)
+                    if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v') continue;
+                    if (!allow_trailing)
                         throw FormatError(at() + "unexpected '" +
                                           ply_escape(std::string_view(reinterpret_cast<const char*>(p + i),
                                                                       std::min<std::size_t>(avail - i, 16))) +
                                           "' after the last PLY element");
+                    seen = true;
+                    trailing -= i;  // the whitespace before it is not trailing data
                 }
-                trailing += avail;
+                if (seen) trailing += avail;
                 consume(avail);
             }
             return trailing;
