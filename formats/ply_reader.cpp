@@ -21,6 +21,7 @@ namespace {
 
 constexpr std::size_t kBuffer = kPlyMaxHeaderBytes;
 constexpr std::size_t kMaxLine = std::size_t(64) << 20;
+constexpr std::size_t kChunk = std::size_t(256) << 10;  // smallest read(2) into the buffer
 
 double decode(const std::byte* p, StoredType t, bool swap) {
     unsigned char b[8];
@@ -104,7 +105,9 @@ struct PlyReader::Impl {
         }
         p = buf.get();
         while (avail < need && !eof) {
-            const std::size_t got = read_some(buf.get() + avail, buf_size - avail);
+            // a file's first read need not fill the whole buffer: bulk reads go straight to the caller
+            const std::size_t want = std::min(buf_size - avail, std::max(need - avail, kChunk));
+            const std::size_t got = read_some(buf.get() + avail, want);
             avail += got;
             if (got == 0) eof = true;
         }
