@@ -55,7 +55,7 @@ PointSet read_points_ply(const std::string& path, const PointSetOptions& o, std:
     }
     const std::uint64_t trailing = r.finish(o.allow_trailing);
     if (notes && trailing) notes->push_back(std::to_string(trailing) + " trailing bytes ignored");
-    if (notes && iv >= 0 && o.value_name.empty()) notes->push_back("scalar: vertex property '" + V.props[iv].name + "'");
+    if (notes && iv >= 0 && o.value_name.empty()) notes->push_back("scalar: vertex property '" + ply_escape(V.props[iv].name) + "'");
     return b.finish(iv >= 0 ? V.props[iv].name : "", iv >= 0);
 }
 
