@@ -408,3 +408,23 @@ TEST_CASE("PLY codec: the wrappers' own defects", "[ply]") {
     CHECK_THROWS_AS(PlyReader(d.path.string()), IoError);
     CHECK_THROWS_AS(PlyReader(P("missing.ply")), IoError);
 }
+
+TEST_CASE("PLY codec: a parsed header formats back to text that parses to the same model", "[ply]") {
+    // CRLF, tabs, stray \r and \v inside lines (a fuzz_ply finding: a comment ending in \r did not round-trip)
+    const std::string text =
+        "ply\r\nformat\tascii 1.0\r\ncomment  a comment\twith a tab \r\r\ncomment " + std::string("\x01\x00\r   \r\n", 8) +
+        "obj_info o\v\r\nelement vertex 2\r\nproperty\tfloat x\r\r\nproperty list uchar int idx\r\nend_header\r\n";
+    const PlyHeader h = parse_ply_header(text, "crlf.ply");
+    REQUIRE(h.comments.size() == 2);
+    CHECK(h.comments[0] == "a comment\twith a tab");
+    CHECK(h.comments[1] == std::string("\x01\x00", 2));
+    CHECK(h.obj_info == std::vector<std::string>{"o"});
+    REQUIRE(h.elements.size() == 1);
+    CHECK(h.elements[0].props[0].name == "x");
+    CHECK(h.elements[0].props[1].is_list);
+    CHECK(h.header_bytes == text.size());
+    const PlyHeader again = parse_ply_header(format_ply_header(h, false), "again");
+    CHECK(again.comments == h.comments);
+    CHECK(again.obj_info == h.obj_info);
+    CHECK(format_ply_header(again, true) == format_ply_header(h, true));
+}
