@@ -118,7 +118,8 @@ public:
     void skip_to(std::size_t e);
     /// Up to `max` records of the current element (no list properties) as doubles: the properties
     /// whose indices `columns` lists, in that order (empty: all, in header order); out is resized to
-    /// n * columns. Returns n (0 at its end). Every value of an ASCII record is parsed and checked
+    /// n * columns (at most 32 MiB of values per call: n may be less than both `max` and the records
+    /// left). Returns n (0 at the element's end). Every value of an ASCII record is parsed and checked
     /// (integer properties range-checked); NaN/Inf pass through (callers decide).
     std::size_t read_values(std::vector<double>& out, std::size_t max, std::span<const int> columns = {});
     /// Binary files, elements without lists: up to `max` records copied as they are stored (file

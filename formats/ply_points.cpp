@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <stdexcept>
 
 #include "formats/ply.hpp"
 #include "kernels/errors.hpp"
@@ -95,12 +96,15 @@ std::size_t PlyPointReader::read(std::vector<PointRecord>& out, std::size_t max)
         std::size_t nc = 0;
         for (int a = 0; a < 8; ++a)
             if (d.ix[a] >= 0) slot[nc] = a, cols[nc++] = d.ix[a];
-        d.r.read_values(d.vals, n, std::span<const int>(cols, nc));
         out.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            float f[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-            for (std::size_t c = 0; c < nc; ++c) f[slot[c]] = static_cast<float>(d.vals[i * nc + c]);
-            std::memcpy(&out[i], f, sizeof f);
+        for (std::size_t i = 0; i < n;) {  // pieces: the converted values stay small
+            const std::size_t k = d.r.read_values(d.vals, std::min<std::size_t>(n - i, 65536), std::span<const int>(cols, nc));
+            if (k == 0) throw std::logic_error(d.r.name() + ": PLY vertices ended early");
+            for (std::size_t j = 0; j < k; ++j, ++i) {
+                float f[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+                for (std::size_t c = 0; c < nc; ++c) f[slot[c]] = static_cast<float>(d.vals[j * nc + c]);
+                std::memcpy(&out[i], f, sizeof f);
+            }
         }
     }
     d.done += n;

@@ -267,7 +267,9 @@ struct PlyReader::Impl {
         for (int c : columns)
             if (c < 0 || static_cast<std::size_t>(c) >= np) throw std::invalid_argument(name + ": PLY column out of range");
         const std::size_t nc = columns.size();
-        const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(max, e.count - rec));
+        // at most 32 MiB of values per call, whatever `max` and the header say
+        const std::size_t cap = std::max<std::size_t>(1, (std::size_t(32) << 20) / (sizeof(double) * std::max<std::size_t>(nc, 1)));
+        const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(std::min(max, cap), e.count - rec));
         out.resize(n * nc);
         if (ascii) {
             std::vector<double> vals(np);

@@ -242,7 +242,7 @@ TEST_CASE("PLY codec: patched counts give the declared header's bytes", "[ply]")
 
 TEST_CASE("PLY codec: oriented points, point sets and meshes in every encoding read the same", "[ply]") {
     TempDir d("ply-wrap");
-    std::vector<PointRecord> pts(1000);
+    std::vector<PointRecord> pts(70000);  // more than one 65536-record piece
     for (std::size_t i = 0; i < pts.size(); ++i) {
         const float f[8] = {float(i) * 0.5f, -float(i), 1.0f / float(i + 1), 0, 0.6f, 0.8f, 0.01f, float(i % 7)};
         std::memcpy(&pts[i], f, sizeof f);
