@@ -82,9 +82,9 @@ Mesh read_ply_mesh(const std::string& path) {
         if (slot[s] >= 0 && V.props[slot[s]].is_list)
             throw FormatError(path + ": line " + std::to_string(V.line) + ": PLY vertex property '" + names[s] + "' is a list");
     }
-    if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0) throw FormatError(path + ": PLY vertex element lacks x, y or z");
+    if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0) throw FormatError(path + ": line " + std::to_string(V.line) + ": PLY vertex element lacks x, y or z");
     const int nn = (slot[3] >= 0) + (slot[4] >= 0) + (slot[5] >= 0);
-    if (nn != 0 && nn != 3) throw FormatError(path + ": PLY vertex has some but not all of nx ny nz");
+    if (nn != 0 && nn != 3) throw FormatError(path + ": line " + std::to_string(V.line) + ": PLY vertex has some but not all of nx ny nz");
     const int fi = h.find("face");
     int list_prop = -1;
     if (fi >= 0) {
@@ -92,7 +92,7 @@ Mesh read_ply_mesh(const std::string& path) {
         for (const char* n : {"vertex_indices", "vertex_index"})
             if (list_prop < 0 && F.find(n) >= 0 && F.props[F.find(n)].is_list) list_prop = F.find(n);
         if (F.count > 0 && list_prop < 0) throw FormatError(path + ": line " + std::to_string(F.line) + ": PLY face element lacks vertex_indices");
-        if (fi < vi && F.count > 0) throw FormatError(path + ": PLY face element before the vertex element");
+        if (fi < vi && F.count > 0) throw FormatError(path + ": line " + std::to_string(h.elements[fi].line) + ": PLY face element before the vertex element");
     }
 
     Mesh mesh;

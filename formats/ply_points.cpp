@@ -68,7 +68,7 @@ PlyPointReader::PlyPointReader(const std::string& path) : d_(std::make_unique<Im
     const PlyElement& V = h.elements[d.vi];
     if (V.has_lists()) throw FormatError(path + ": line " + std::to_string(V.line) + ": list properties on PLY vertices are not supported");
     for (int a = 0; a < 8; ++a) d.ix[a] = V.find(kNames[a]);
-    if (d.ix[0] < 0 || d.ix[1] < 0 || d.ix[2] < 0) throw FormatError(path + ": PLY vertices have no x y z properties");
+    if (d.ix[0] < 0 || d.ix[1] < 0 || d.ix[2] < 0) throw FormatError(path + ": line " + std::to_string(V.line) + ": PLY vertices have no x y z properties");
     d.count = V.count;
     d.last = d.vi + 1 == h.elements.size();
     d.native = h.encoding == PlyEncoding::binary_little_endian && std::endian::native == std::endian::little &&

@@ -17,7 +17,7 @@ PointSet read_points_ply(const std::string& path, const PointSetOptions& o, std:
             throw FormatError(path + ": line " + std::to_string(V.line) + ": list property '" + ply_escape(p.name) +
                               "' on PLY vertices is not supported");
     const int ix[3] = {V.find("x"), V.find("y"), V.find("z")};
-    if (ix[0] < 0 || ix[1] < 0 || ix[2] < 0) throw FormatError(path + ": PLY vertices have no x y z properties");
+    if (ix[0] < 0 || ix[1] < 0 || ix[2] < 0) throw FormatError(path + ": line " + std::to_string(V.line) + ": PLY vertices have no x y z properties");
     auto names = [&] {
         std::string s;
         for (const auto& p : V.props) s += (s.empty() ? "" : ", ") + ply_escape(p.name);

@@ -377,9 +377,9 @@ TEST_CASE("PLY codec: the wrappers' own defects", "[ply]") {
     CHECK_THAT(error_of([&] { read_point_set(P("list.ply")); }), Catch::Contains("list property 'extra' on PLY vertices"));
     // a missing required property
     spit(d / "noz.ply", asc + "element vertex 4\nproperty float x\nproperty float y\nend_header\n0 0\n1 0\n0 1\n1 1\n");
-    CHECK_THAT(error_of([&] { read_ply_points(P("noz.ply")); }), Catch::Contains("no x y z"));
+    CHECK_THAT(error_of([&] { read_ply_points(P("noz.ply")); }), Catch::Contains("noz.ply: line 3: PLY vertices have no x y z"));
     CHECK_THAT(error_of([&] { read_point_set(P("noz.ply")); }), Catch::Contains("no x y z"));
-    CHECK_THAT(error_of([&] { read_ply_mesh(P("noz.ply")); }), Catch::Contains("lacks x, y or z"));
+    CHECK_THAT(error_of([&] { read_ply_mesh(P("noz.ply")); }), Catch::Contains("noz.ply: line 3: PLY vertex element lacks x, y or z"));
     spit(d / "novertex.ply", asc + "element face 0\nproperty list uchar int vertex_indices\nend_header\n");
     CHECK_THAT(error_of([&] { read_ply_points(P("novertex.ply")); }), Catch::Contains("no vertex element"));
     // non-finite values where they are refused: strict point sets, mesh coordinates
