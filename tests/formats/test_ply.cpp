@@ -238,6 +238,26 @@ TEST_CASE("PLY codec: patched counts give the declared header's bytes", "[ply]")
     }
     CHECK_FALSE(fs::exists(d / "c.ply"));
     CHECK_THROWS_AS(PlyWriter("-", h, PlyCounts::patched), IoError);
+    // two elements, patched: next_element() moves on; the same bytes as declared up front
+    const Rich r2 = rich_data(30, 12);
+    {
+        PlyWriter w((d / "e.ply").string(), rich_header(PlyEncoding::binary_big_endian, 0, 0), PlyCounts::patched);
+        w.append(r2.vbytes.data(), r2.vbytes.size());
+        w.next_element();
+        w.append(r2.fbytes.data(), r2.fbytes.size());
+        CHECK(w.count(0) == 30);
+        CHECK(w.count(1) == 12);
+        w.commit();
+    }
+    {
+        PlyWriter w((d / "f.ply").string(), rich_header(PlyEncoding::binary_big_endian, 30, 12), PlyCounts::declared_padded);
+        w.append(r2.vbytes.data(), r2.vbytes.size());
+        w.append(r2.fbytes.data(), r2.fbytes.size());
+        w.commit();
+    }
+    CHECK(slurp(d / "e.ply") == slurp(d / "f.ply"));
+    PlyReader re((d / "e.ply").string());
+    check_rich(re, r2);
 }
 
 TEST_CASE("PLY codec: oriented points, point sets and meshes in every encoding read the same", "[ply]") {
