@@ -36,6 +36,7 @@
 
 #include "bench/bench_common.hpp"
 #include "formats/json_lite.hpp"
+#include "formats/ply.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/brick_slice_source.hpp"
 
@@ -198,27 +199,15 @@ struct PlyBody {
 PlyBody read_ply_body(const fs::path& p) {
     PlyBody b;
     const std::string all = slurp(p);
-    const auto end = all.find("end_header\n");
-    if (all.rfind("ply\n", 0) != 0 || end == std::string::npos) return b;
-    b.header = all.substr(0, end);
-    b.body = all.substr(end + 11);
-    std::istringstream h(b.header);
-    std::string line;
-    bool in_vertex = false;
-    while (std::getline(h, line)) {
-        std::istringstream ls(line);
-        std::string kw, t;
-        ls >> kw;
-        if (kw == "element") {
-            ls >> t;
-            in_vertex = t == "vertex";
-        } else if (kw == "property" && in_vertex) {
-            ls >> t;
-            if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") b.record += 1;
-            else if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") b.record += 2;
-            else if (t == "double" || t == "float64") b.record += 8;
-            else b.record += 4;
-        }
+    try {
+        const PlyHeader h = parse_ply_header(all, p.string());  // the codec's header parser
+        const int vi = h.find("vertex");
+        if (h.encoding == PlyEncoding::ascii || vi < 0 || h.elements[vi].has_lists()) return b;
+        b.header = all.substr(0, h.header_bytes);
+        b.body = all.substr(h.header_bytes);
+        b.record = h.elements[vi].min_record_bytes();
+    } catch (const FormatError&) {
+        return b;
     }
     b.ok = b.record > 0 && b.body.size() % b.record == 0;
     return b;
@@ -374,21 +363,18 @@ Lung make_lung(const BenchOptions& o, const fs::path& work, const fs::path& scra
 /// extracted surface); splat radius = the mean point spacing. Reused when present with the right size.
 fs::path sphere_points(const fs::path& work, std::uint64_t n) {
     const fs::path p = work / fmt("sphere_%llu.ply", static_cast<unsigned long long>(n));
-    std::string header = "ply\nformat binary_little_endian 1.0\n"
-                         "comment meshless-bench synthetic sphere (splat benchmark)\n"
-                         "comment bounds_lo 0,0,0\ncomment bounds_hi 1,1,1\n";
-    header += fmt("element vertex %llu\n", static_cast<unsigned long long>(n));
-    header += "property float x\nproperty float y\nproperty float z\n"
-              "property float nx\nproperty float ny\nproperty float nz\n"
-              "property float radius\nproperty float value\nend_header\n";
-    if (file_bytes(p) == header.size() + n * 32) return p;
+    PlyHeader h;
+    h.encoding = PlyEncoding::binary_little_endian;
+    h.comments = {"meshless-bench synthetic sphere (splat benchmark)", "bounds_lo 0,0,0", "bounds_hi 1,1,1"};
+    PlyElement v{"vertex", n, {}, 0};
+    for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "radius", "value"})
+        v.props.push_back({name, StoredType::f32, false, StoredType::u8});
+    h.elements.push_back(std::move(v));
+    if (file_bytes(p) == format_ply_header(h, false).size() + n * 32) return p;
     std::fprintf(stderr, "bench process: writing %llu points to %s\n", static_cast<unsigned long long>(n), p.c_str());
     const double R = 0.4, spacing = std::sqrt(4 * kPi * R * R / static_cast<double>(n));
     const auto rings = static_cast<std::int64_t>(std::max(1.0, std::round(std::sqrt(kPi * static_cast<double>(n) / 4))));
-    const fs::path tmp = p.string() + ".tmp";
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throw IoError(tmp.string() + ": cannot create");
-    std::fwrite(header.data(), 1, header.size(), f);
+    PlyWriter f(p.string(), std::move(h), PlyCounts::declared);  // the codec's writer (temporary + rename)
     std::vector<float> buf;
     buf.reserve(8 * 65536);
     std::uint64_t done = 0;
@@ -408,16 +394,14 @@ fs::path sphere_points(const fs::path& work, std::uint64_t n) {
                                   static_cast<float>(nz), static_cast<float>(spacing), 100.5f};
             buf.insert(buf.end(), rec, rec + 8);
             if (buf.size() >= 8 * 65536) {
-                std::fwrite(buf.data(), sizeof(float), buf.size(), f);
+                f.append(buf.data(), buf.size() * sizeof(float));
                 buf.clear();
             }
         }
         done = upto;
     }
-    std::fwrite(buf.data(), sizeof(float), buf.size(), f);
-    const bool bad = std::ferror(f) != 0;
-    if (std::fclose(f) != 0 || bad) throw IoError(tmp.string() + ": write failed");
-    fs::rename(tmp, p);
+    f.append(buf.data(), buf.size() * sizeof(float));
+    f.commit();
     return p;
 }
 

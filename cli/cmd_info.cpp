@@ -11,7 +11,7 @@
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/point_set_cli.hpp"
-#include "formats/ply_points.hpp"
+#include "formats/ply.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/point_stream.hpp"
 #include "formats/volume_reader.hpp"
@@ -42,22 +42,22 @@ void info_stream(const std::string& path) {
 }
 
 void info_ply(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::string line;
-    std::string header;
-    bool faces = false, ended = false;
-    for (int lines = 0; !ended && lines < 10000 && std::getline(in, line); ++lines) {
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        while (!line.empty() && line.back() == ' ') line.pop_back();
-        if (line == "ply") continue;
-        faces = faces || (line.rfind("element ", 0) == 0 && line.rfind("element vertex", 0) != 0);
-        ended = line == "end_header";
-        header += "  " + line + "\n";
+    // the header through the PLY codec, then the whole body read through (a truncated or corrupt
+    // body is reported, not just the header)
+    PlyReader r(path);
+    const PlyHeader h = r.header();
+    r.finish();
+    bool faces = false;
+    std::string text = format_ply_header(h, false);
+    text = text.substr(4, text.size() - 4 - std::string("end_header\n").size());  // between "ply" and end_header
+    for (const auto& e : h.elements) faces = faces || e.name != "vertex";
+    std::string indented;
+    for (std::size_t i = 0; i < text.size();) {
+        const std::size_t nl = text.find('\n', i);
+        indented += "  " + ply_escape(text.substr(i, nl - i), 4096) + "\n";
+        i = nl + 1;
     }
-    if (!ended) throw FormatError(path + ": PLY header has no end_header");
-    // a point set is read through, so a truncated or corrupt body is reported, not just the header
-    if (!faces) (void)read_ply_points(path);
-    std::printf("%s: PLY%s\n%s", path.c_str(), faces ? "" : " point set (body checked)", header.c_str());
+    std::printf("%s: PLY%s (body checked)\n%s  end_header\n", path.c_str(), faces ? "" : " point set", indented.c_str());
 }
 
 void info_png(const std::string& path, const unsigned char* h, std::size_t n) {

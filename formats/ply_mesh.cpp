@@ -1,130 +1,15 @@
 #include "formats/ply_mesh.hpp"
 
-#include <bit>
-#include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
-#include <string_view>
 #include <vector>
 
-#include "formats/atomic_file.hpp"
-#include "formats/binary_file.hpp"
-#include "formats/text_header.hpp"
+#include "formats/ply.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
-namespace {
-
-template <class T>
-void put_le(std::vector<unsigned char>& buf, T v) {
-    unsigned char b[sizeof(T)];
-    std::memcpy(b, &v, sizeof(T));
-    if constexpr (std::endian::native == std::endian::big)
-        for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
-    buf.insert(buf.end(), b, b + sizeof(T));
-}
-
-enum class PlyType { i8, u8, i16, u16, i32, u32, f32, f64 };
-
-std::size_t type_size(PlyType t) {
-    switch (t) {
-        case PlyType::i8:
-        case PlyType::u8: return 1;
-        case PlyType::i16:
-        case PlyType::u16: return 2;
-        case PlyType::i32:
-        case PlyType::u32:
-        case PlyType::f32: return 4;
-        case PlyType::f64: return 8;
-    }
-    return 0;
-}
-
-bool parse_type(const std::string& s, PlyType& t) {
-    if (s == "char" || s == "int8") t = PlyType::i8;
-    else if (s == "uchar" || s == "uint8") t = PlyType::u8;
-    else if (s == "short" || s == "int16") t = PlyType::i16;
-    else if (s == "ushort" || s == "uint16") t = PlyType::u16;
-    else if (s == "int" || s == "int32") t = PlyType::i32;
-    else if (s == "uint" || s == "uint32") t = PlyType::u32;
-    else if (s == "float" || s == "float32") t = PlyType::f32;
-    else if (s == "double" || s == "float64") t = PlyType::f64;
-    else return false;
-    return true;
-}
-
-struct Property {
-    std::string name;
-    PlyType type = PlyType::f32;
-    bool is_list = false;
-    PlyType count_type = PlyType::u8;
-};
-
-struct Element {
-    std::string name;
-    std::int64_t count = 0;
-    std::vector<Property> props;
-};
-
-/// Reads values from the body, binary little endian or ASCII tokens.
-class BodyReader {
-public:
-    BodyReader(const std::string& path, const std::byte* p, std::size_t n, bool ascii)
-        : path_(path), p_(p), n_(n), ascii_(ascii) {}
-
-    double read(PlyType t, const char* what) {
-        if (ascii_) return read_ascii(t, what);
-        const std::size_t s = type_size(t);
-        if (n_ - pos_ < s)
-            throw FormatError(path_ + ": truncated: body ends inside " + what + " at byte " +
-                              std::to_string(pos_));
-        unsigned char b[8];
-        std::memcpy(b, p_ + pos_, s);
-        if constexpr (std::endian::native == std::endian::big)
-            for (std::size_t i = 0; i < s / 2; ++i) std::swap(b[i], b[s - 1 - i]);
-        pos_ += s;
-        switch (t) {
-            case PlyType::i8: { std::int8_t v; std::memcpy(&v, b, 1); return v; }
-            case PlyType::u8: { std::uint8_t v; std::memcpy(&v, b, 1); return v; }
-            case PlyType::i16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-            case PlyType::u16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-            case PlyType::i32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-            case PlyType::u32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
-            case PlyType::f32: { float v; std::memcpy(&v, b, 4); return v; }
-            case PlyType::f64: { double v; std::memcpy(&v, b, 8); return v; }
-        }
-        return 0;
-    }
-
-private:
-    double read_ascii(PlyType t, const char* what) {
-        const char* c = reinterpret_cast<const char*>(p_);
-        while (pos_ < n_ && std::isspace(static_cast<unsigned char>(c[pos_]))) ++pos_;
-        if (pos_ >= n_)
-            throw FormatError(path_ + ": truncated: ASCII body ends before " + what);
-        const std::size_t start = pos_;
-        while (pos_ < n_ && !std::isspace(static_cast<unsigned char>(c[pos_]))) ++pos_;
-        const std::string tok(c + start, pos_ - start);
-        char* end = nullptr;
-        const double v = std::strtod(tok.c_str(), &end);
-        if (end != tok.c_str() + tok.size() || tok.empty())
-            throw FormatError(path_ + ": bad number '" + tok + "' in " + what);
-        if (t != PlyType::f32 && t != PlyType::f64 && v != std::floor(v))
-            throw FormatError(path_ + ": non-integer '" + tok + "' for an integer property in " + what);
-        return v;
-    }
-
-    const std::string& path_;
-    const std::byte* p_;
-    std::size_t n_;
-    std::size_t pos_ = 0;
-    bool ascii_;
-};
-
-}  // namespace
 
 void write_ply_mesh(const Mesh& mesh, const std::string& path) {
     if (mesh.xyz.size() % 3 != 0 || mesh.tri.size() % 3 != 0)
@@ -141,179 +26,121 @@ void write_ply_mesh(const Mesh& mesh, const std::string& path) {
             throw std::invalid_argument(path + ": triangle index " + std::to_string(i) +
                                         " out of range (" + std::to_string(nv) + " vertices)");
 
-    std::string header = "ply\nformat binary_little_endian 1.0\ncomment meshless marching cubes\n";
-    header += "element vertex " + std::to_string(nv) + "\n";
-    header += "property float x\nproperty float y\nproperty float z\n";
-    if (normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
-    header += "element face " + std::to_string(nf) + "\n";
-    header += "property list uchar int vertex_indices\nend_header\n";
+    PlyHeader h;
+    h.encoding = PlyEncoding::binary_little_endian;
+    h.comments = {"meshless marching cubes"};
+    PlyElement v{"vertex", nv, {}, 0};
+    for (const char* n : {"x", "y", "z"}) v.props.push_back({n, StoredType::f32, false, StoredType::u8});
+    if (normals)
+        for (const char* n : {"nx", "ny", "nz"}) v.props.push_back({n, StoredType::f32, false, StoredType::u8});
+    PlyElement f{"face", nf, {{"vertex_indices", StoredType::i32, true, StoredType::u8}}, 0};
+    h.elements = {v, f};
+    PlyWriter out(path, std::move(h), PlyCounts::declared);
 
-    AtomicFile out(path);
-    out.write(header);
+    // packed host-order records, in pieces of 64 Ki
+    constexpr std::size_t kChunk = std::size_t(1) << 16;
     std::vector<unsigned char> buf;
-    constexpr std::size_t kChunk = 1 << 16;
-    buf.reserve(kChunk * 24 + 64);
-    for (std::size_t v = 0; v < nv; ++v) {
-        for (int d = 0; d < 3; ++d) put_le(buf, mesh.xyz[3 * v + d]);
-        if (normals)
-            for (int d = 0; d < 3; ++d) put_le(buf, mesh.normals[3 * v + d]);
-        if (buf.size() >= kChunk * 24) {
-            out.write(buf.data(), buf.size());
-            buf.clear();
+    buf.reserve(kChunk * 24);
+    for (std::size_t b = 0; b < nv; b += kChunk) {
+        const std::size_t e = std::min(nv, b + kChunk);
+        buf.clear();
+        for (std::size_t i = b; i < e; ++i) {
+            const auto* p = reinterpret_cast<const unsigned char*>(&mesh.xyz[3 * i]);
+            buf.insert(buf.end(), p, p + 12);
+            if (normals) {
+                const auto* q = reinterpret_cast<const unsigned char*>(&mesh.normals[3 * i]);
+                buf.insert(buf.end(), q, q + 12);
+            }
         }
+        out.append(buf.data(), buf.size());
     }
-    for (std::size_t f = 0; f < nf; ++f) {
-        buf.push_back(3);
-        for (int d = 0; d < 3; ++d) put_le(buf, static_cast<std::int32_t>(mesh.tri[3 * f + d]));
-        if (buf.size() >= kChunk * 24) {
-            out.write(buf.data(), buf.size());
-            buf.clear();
+    for (std::size_t b = 0; b < nf; b += kChunk) {
+        const std::size_t e = std::min(nf, b + kChunk);
+        buf.clear();
+        for (std::size_t t = b; t < e; ++t) {
+            buf.push_back(3);
+            const std::int32_t idx[3] = {static_cast<std::int32_t>(mesh.tri[3 * t]), static_cast<std::int32_t>(mesh.tri[3 * t + 1]),
+                                         static_cast<std::int32_t>(mesh.tri[3 * t + 2])};
+            const auto* p = reinterpret_cast<const unsigned char*>(idx);
+            buf.insert(buf.end(), p, p + 12);
         }
+        out.append(buf.data(), buf.size());
     }
-    out.write(buf.data(), buf.size());
     out.commit();
 }
 
 Mesh read_ply_mesh(const std::string& path) {
-    const std::vector<std::byte> bytes = read_file_bytes(path);
-    const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    if (text.substr(0, 4) != "ply\n" && text.substr(0, 5) != "ply\r\n")
-        throw FormatError(path + ": not a PLY file (missing 'ply' magic line)");
-    std::size_t end = std::string_view::npos;
-    std::size_t body = 0;
-    for (std::size_t pos = 0; pos < text.size();) {
-        std::size_t nl = text.find('\n', pos);
-        if (nl == std::string_view::npos) break;
-        std::string_view line = text.substr(pos, nl - pos);
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        if (line == "end_header") {
-            end = pos;
-            body = nl + 1;
-            break;
-        }
-        pos = nl + 1;
+    PlyReader r(path);
+    const PlyHeader& h = r.header();
+    const int vi = h.find("vertex");
+    if (vi < 0) throw FormatError(path + ": PLY file has no vertex element");
+    const PlyElement& V = h.elements[static_cast<std::size_t>(vi)];
+    int slot[6];
+    const char* names[6] = {"x", "y", "z", "nx", "ny", "nz"};
+    for (int s = 0; s < 6; ++s) {
+        slot[s] = V.find(names[s]);
+        if (slot[s] >= 0 && V.props[slot[s]].is_list)
+            throw FormatError(path + ": line " + std::to_string(V.line) + ": PLY vertex property '" + names[s] + "' is a list");
     }
-    if (end == std::string_view::npos) throw FormatError(path + ": PLY header has no end_header line");
-
-    bool ascii = false, have_format = false;
-    std::vector<Element> elements;
-    const std::vector<std::string> lines = split_lines(text.substr(0, end));
-    for (std::size_t li = 1; li < lines.size(); ++li) {
-        const std::vector<std::string> w = split_ws(lines[li]);
-        if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
-        if (w[0] == "format") {
-            if (w.size() != 3 || w[2] != "1.0")
-                throw FormatError(path + ": bad PLY format line '" + lines[li] + "'");
-            if (w[1] == "ascii") ascii = true;
-            else if (w[1] == "binary_little_endian") ascii = false;
-            else
-                throw FormatError(path + ": PLY format '" + w[1] +
-                                  "' not supported (expected ascii or binary_little_endian)");
-            have_format = true;
-        } else if (w[0] == "element") {
-            if (w.size() != 3) throw FormatError(path + ": bad PLY element line '" + lines[li] + "'");
-            Element e;
-            e.name = w[1];
-            e.count = parse_int(w[2], path, "element count");
-            if (e.count < 0) throw FormatError(path + ": negative count for element " + e.name);
-            elements.push_back(e);
-        } else if (w[0] == "property") {
-            if (elements.empty()) throw FormatError(path + ": PLY property before any element");
-            Property p;
-            if (w.size() == 5 && w[1] == "list") {
-                p.is_list = true;
-                if (!parse_type(w[2], p.count_type) || !parse_type(w[3], p.type))
-                    throw FormatError(path + ": bad PLY list property '" + lines[li] + "'");
-                p.name = w[4];
-            } else if (w.size() == 3) {
-                if (!parse_type(w[1], p.type))
-                    throw FormatError(path + ": unknown PLY property type '" + w[1] + "'");
-                p.name = w[2];
-            } else {
-                throw FormatError(path + ": bad PLY property line '" + lines[li] + "'");
-            }
-            elements.back().props.push_back(p);
-        } else {
-            throw FormatError(path + ": unknown PLY header keyword '" + w[0] + "'");
-        }
+    if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0) throw FormatError(path + ": line " + std::to_string(V.line) + ": PLY vertex element lacks x, y or z");
+    const int nn = (slot[3] >= 0) + (slot[4] >= 0) + (slot[5] >= 0);
+    if (nn != 0 && nn != 3) throw FormatError(path + ": line " + std::to_string(V.line) + ": PLY vertex has some but not all of nx ny nz");
+    const int fi = h.find("face");
+    int list_prop = -1;
+    if (fi >= 0) {
+        const PlyElement& F = h.elements[static_cast<std::size_t>(fi)];
+        for (const char* n : {"vertex_indices", "vertex_index"})
+            if (list_prop < 0 && F.find(n) >= 0 && F.props[F.find(n)].is_list) list_prop = F.find(n);
+        if (F.count > 0 && list_prop < 0) throw FormatError(path + ": line " + std::to_string(F.line) + ": PLY face element lacks vertex_indices");
+        if (fi < vi && F.count > 0) throw FormatError(path + ": line " + std::to_string(h.elements[fi].line) + ": PLY face element before the vertex element");
     }
-    if (!have_format) throw FormatError(path + ": PLY header has no format line");
 
     Mesh mesh;
-    BodyReader rd(path, bytes.data() + body, bytes.size() - body, ascii);
-    bool have_vertices = false;
-    std::int64_t nv = 0;
-    for (const Element& e : elements) {
-        if (e.props.empty()) continue;
-        const bool is_vertex = e.name == "vertex";
-        const bool is_face = e.name == "face";
-        int slot[6] = {-1, -1, -1, -1, -1, -1};
-        int list_prop = -1;
-        if (is_vertex) {
-            const char* names[6] = {"x", "y", "z", "nx", "ny", "nz"};
-            for (std::size_t p = 0; p < e.props.size(); ++p)
-                for (int s = 0; s < 6; ++s)
-                    if (e.props[p].name == names[s] && !e.props[p].is_list) slot[s] = static_cast<int>(p);
-            if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0)
-                throw FormatError(path + ": PLY vertex element lacks x, y or z");
-            const int nn = (slot[3] >= 0) + (slot[4] >= 0) + (slot[5] >= 0);
-            if (nn != 0 && nn != 3) throw FormatError(path + ": PLY vertex has some but not all of nx ny nz");
-            have_vertices = true;
-            nv = e.count;
-        } else if (is_face) {
-            for (std::size_t p = 0; p < e.props.size(); ++p)
-                if (e.props[p].is_list &&
-                    (e.props[p].name == "vertex_indices" || e.props[p].name == "vertex_index"))
-                    list_prop = static_cast<int>(p);
-            if (list_prop < 0) throw FormatError(path + ": PLY face element lacks vertex_indices");
-            if (!have_vertices) throw FormatError(path + ": PLY face element before the vertex element");
+    const std::uint64_t nv = V.count;
+    r.skip_to(static_cast<std::size_t>(vi));
+    PlyRecord rec;
+    std::vector<double> vals;
+    const std::size_t np = V.props.size();
+    auto add_vertex = [&](const double* q) {
+        float f[6];
+        for (int s = 0; s < 6; ++s) {
+            const double x = slot[s] >= 0 ? q[slot[s]] : 0.0;
+            if (!std::isfinite(x)) throw FormatError(r.where() + "non-finite PLY vertex " + names[s]);
+            f[s] = static_cast<float>(x);
         }
-        const std::string what = "element " + e.name;
-        for (std::int64_t r = 0; r < e.count; ++r) {
-            float vals[6] = {0, 0, 0, 0, 0, 0};
-            for (std::size_t p = 0; p < e.props.size(); ++p) {
-                const Property& pr = e.props[p];
-                if (!pr.is_list) {
-                    const double v = rd.read(pr.type, what.c_str());
-                    if (is_vertex)
-                        for (int s = 0; s < 6; ++s)
-                            if (slot[s] == static_cast<int>(p)) vals[s] = static_cast<float>(v);
-                    continue;
-                }
-                const double cnt = rd.read(pr.count_type, what.c_str());
-                if (cnt < 0 || cnt > 1e6)
-                    throw FormatError(path + ": bad list length " + std::to_string(cnt) + " in " + what);
-                const auto c = static_cast<std::int64_t>(cnt);
-                if (is_face && static_cast<int>(p) == list_prop) {
-                    if (c < 3)
-                        throw FormatError(path + ": face " + std::to_string(r) + " has fewer than 3 vertices");
-                    std::uint32_t first = 0, prev = 0;
-                    for (std::int64_t q = 0; q < c; ++q) {
-                        const double iv = rd.read(pr.type, what.c_str());
-                        if (!(iv >= 0 && iv < static_cast<double>(nv)) || iv != std::floor(iv))
-                            throw FormatError(path + ": face " + std::to_string(r) + " vertex index " +
-                                              std::to_string(iv) + " out of range (" +
-                                              std::to_string(nv) + " vertices)");
-                        const auto idx = static_cast<std::uint32_t>(iv);
-                        if (q == 0) first = idx;
-                        else if (q >= 2) {
-                            mesh.tri.push_back(first);
-                            mesh.tri.push_back(prev);
-                            mesh.tri.push_back(idx);
-                        }
-                        prev = idx;
-                    }
-                } else {
-                    for (std::int64_t q = 0; q < c; ++q) rd.read(pr.type, what.c_str());
-                }
+        mesh.xyz.insert(mesh.xyz.end(), f, f + 3);
+        if (nn) mesh.normals.insert(mesh.normals.end(), f + 3, f + 6);
+    };
+    if (!V.has_lists()) {
+        while (r.element() == static_cast<std::size_t>(vi)) {
+            const std::size_t n = r.read_values(vals, 65536);
+            for (std::size_t i = 0; i < n; ++i) add_vertex(&vals[i * np]);
+        }
+    } else {
+        while (r.element() == static_cast<std::size_t>(vi) && r.read_record(rec)) add_vertex(rec.values.data());
+    }
+    if (fi > vi) {
+        r.skip_to(static_cast<std::size_t>(fi));
+        std::uint64_t face = 0;
+        while (r.element() == static_cast<std::size_t>(fi) && r.read_record(rec)) {
+            const std::vector<double>& l = rec.lists[list_prop];
+            if (l.size() < 3)
+                throw FormatError(r.where() + "PLY face " + std::to_string(face) + " has fewer than 3 vertices");
+            std::uint32_t first = 0, prev = 0;
+            for (std::size_t q = 0; q < l.size(); ++q) {
+                if (!(l[q] >= 0 && l[q] < static_cast<double>(nv)) || l[q] != std::floor(l[q]))
+                    throw FormatError(r.where() + "PLY face " + std::to_string(face) + " vertex index " +
+                                      std::to_string(static_cast<long long>(l[q])) + " out of range (" + std::to_string(nv) +
+                                      " vertices)");
+                const auto idx = static_cast<std::uint32_t>(l[q]);
+                if (q == 0) first = idx;
+                else if (q >= 2) mesh.tri.insert(mesh.tri.end(), {first, prev, idx});
+                prev = idx;
             }
-            if (is_vertex) {
-                mesh.xyz.insert(mesh.xyz.end(), vals, vals + 3);
-                if (slot[3] >= 0) mesh.normals.insert(mesh.normals.end(), vals + 3, vals + 6);
-            }
+            ++face;
         }
     }
-    if (!have_vertices) throw FormatError(path + ": PLY file has no vertex element");
+    r.finish();
     return mesh;
 }
 

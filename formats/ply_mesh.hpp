@@ -1,4 +1,5 @@
-// Triangle meshes (marching cubes output, dissertation §3.6 baseline) as PLY.
+// Triangle meshes (marching cubes output, dissertation §3.6 baseline) as PLY: a thin wrapper of
+// the PLY codec (formats/ply.hpp) for Mesh.
 //
 // write_ply_mesh: binary little endian; element vertex with float x y z and, when the mesh has
 // normals (normals.size() == xyz.size()), float nx ny nz; element face with
@@ -6,11 +7,11 @@
 // Throws IoError (BrokenPipe on a closed stdout) naming the path, std::invalid_argument when the
 // mesh arrays are inconsistent (xyz not a multiple of 3, normals of another size, an index out of
 // range) and std::length_error when there are more than 2^31-1 vertices (int indices).
-// read_ply_mesh (mainly for tests): binary little endian or ASCII 1.0; any scalar property types,
-// extra properties and elements are skipped; x y z required, nx ny nz optional (all three or none);
+// read_ply_mesh (mainly for tests): any encoding the codec reads; any scalar property types, extra
+// properties and elements are skipped; x y z required, nx ny nz optional (all three or none);
 // faces with more than 3 vertices are fan-triangulated. Throws IoError when the file cannot be read
-// and FormatError ("PATH: what") on a malformed header, a truncated body, garbage numbers, an index
-// out of range, or binary big endian (unsupported).
+// and FormatError ("PATH: ...") on the codec's defects, NaN/Inf coordinates, an index out of range,
+// a face of fewer than 3 vertices, or a face element before the vertices.
 // Thread-safety: reentrant (no shared state).
 #pragma once
 #include <string>

@@ -1,14 +1,17 @@
-// Oriented point sets as binary little-endian PLY (the product's point-set output).
+// Oriented point sets as PLY (the product's point-set output, dissertation §3.5-3.6): a thin
+// wrapper of the PLY codec (formats/ply.hpp) for PointRecord.
 //
-// Vertex element with float properties x y z nx ny nz radius value: exactly the bytes of
-// PointRecord, so writing is a memcpy. MeshLab, ParaView and VTK's vtkPLYReader open it (extra
-// properties are ignored by readers that do not know them). The vertex count is patched into a
-// fixed-width header at the end, so points can be streamed without holding them all.
-// Output goes through AtomicFile (temporary name + rename; "-" = stdout, where the count must be
-// known up front: use write_ply_points for that; PlyPointWriter on "-" throws InvalidArgument).
-// Throws IoError naming the path.
-// The reader accepts binary little/big endian and ASCII PLY with at least x y z; missing nx ny nz,
-// radius or value read as 0; throws FormatError on a malformed header or truncated body.
+// Written as binary little endian, vertex element with float properties x y z nx ny nz radius
+// value: exactly the bytes of PointRecord, so writing is one copy. MeshLab, ParaView and VTK's
+// vtkPLYReader open it. The vertex count sits in a fixed-width (padded) header and is patched at the
+// end, so points can be streamed without holding them all. Output goes through AtomicFile
+// (temporary name + rename; "-" = stdout, where the count must be known up front: use
+// write_ply_points for that). Throws IoError naming the path.
+// The reader accepts binary little/big endian and ASCII PLY (formats/ply.hpp) whose vertex
+// element has at least x y z (any numeric types, no lists); missing nx ny nz, radius or value read
+// as 0; elements before the vertices are skipped, elements after them are not read. A binary
+// little-endian file with exactly the properties written above is read with bulk copies.
+// NaN/Inf values pass through. Throws FormatError as the codec does (the file and the byte or line).
 #pragma once
 #include <memory>
 #include <span>
@@ -19,7 +22,8 @@
 
 namespace meshless {
 
-class AtomicFile;
+class PlyWriter;
+class PlyReader;
 
 class PlyPointWriter {
 public:
@@ -32,8 +36,7 @@ public:
     std::uint64_t count() const { return count_; }
 
 private:
-    std::unique_ptr<AtomicFile> file_;
-    std::size_t count_offset_ = 0;
+    std::unique_ptr<PlyWriter> w_;
     std::uint64_t count_ = 0;
 };
 
@@ -47,11 +50,11 @@ struct PlyPoints {
 };
 PlyPoints read_ply_points(const std::string& path);
 
-/// Streaming reader of the same files: the header is parsed on construction, the vertices are
-/// read in pieces of at most `max` (memory = one piece). Binary little-endian files with exactly
-/// the properties written above are read with one bulk read per piece. Throws as read_ply_points
-/// (FormatError naming the file and the vertex; trailing bytes are reported by the read that
-/// reaches the last vertex). Not thread-safe.
+/// Streaming reader of the same files: the header is parsed (and its counts checked against the
+/// file size) on construction, the vertices are read in pieces of at most `max` (memory = one
+/// piece). Binary little-endian files with exactly the properties written above are read with one
+/// bulk read per piece. When the vertices are the last element, the read that reaches the last
+/// vertex reports trailing bytes (FormatError). Not thread-safe.
 class PlyPointReader {
 public:
     explicit PlyPointReader(const std::string& path);
@@ -60,6 +63,8 @@ public:
     /// Vertices the header declares.
     std::uint64_t count() const;
     const std::string& path() const;
+    /// The file's size is known (a regular file): count() was checked against it.
+    bool size_known() const;
     /// Replaces out with the next up to max points; returns how many (0 at the end).
     std::size_t read(std::vector<PointRecord>& out, std::size_t max);
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "formats/atomic_file.hpp"
+#include "formats/ply.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
@@ -12,15 +13,15 @@
 namespace meshless {
 
 void write_point_set_ply(const std::string& path, const PointSet& ps, const std::vector<std::string>& comments) {
-    static_assert(std::endian::native == std::endian::little, "PLY writer assumes a little-endian host");
-    AtomicFile f(path);
-    std::string h = "ply\nformat binary_little_endian 1.0\n";
-    for (const auto& c : comments) h += "comment " + c + "\n";
-    if (ps.has_values && !ps.value_name.empty()) h += "comment value_name " + ps.value_name + "\n";
-    h += "element vertex " + std::to_string(ps.size()) + "\nproperty double x\nproperty double y\nproperty double z\n";
-    if (ps.has_values) h += "property double value\n";
-    h += "end_header\n";
-    f.write(h);
+    PlyHeader h;
+    h.encoding = PlyEncoding::binary_little_endian;
+    h.comments = comments;
+    if (ps.has_values && !ps.value_name.empty()) h.comments.push_back("value_name " + ps.value_name);
+    PlyElement v{"vertex", ps.size(), {}, 0};
+    for (const char* n : {"x", "y", "z"}) v.props.push_back({n, StoredType::f64, false, StoredType::u8});
+    if (ps.has_values) v.props.push_back({"value", StoredType::f64, false, StoredType::u8});
+    h.elements.push_back(std::move(v));
+    PlyWriter f(path, std::move(h), PlyCounts::declared);
     const std::size_t per = ps.has_values ? 4 : 3;
     std::vector<double> buf;
     buf.reserve(per * 4096);
@@ -30,11 +31,11 @@ void write_point_set_ply(const std::string& path, const PointSet& ps, const std:
         buf.push_back(ps.pos[i].z);
         if (ps.has_values) buf.push_back(ps.value[i]);
         if (buf.size() >= per * 4096) {
-            f.write(buf.data(), buf.size() * sizeof(double));
+            f.append(buf.data(), buf.size() * sizeof(double));
             buf.clear();
         }
     }
-    f.write(buf.data(), buf.size() * sizeof(double));
+    f.append(buf.data(), buf.size() * sizeof(double));
     f.commit();
 }
 

@@ -1,11 +1,13 @@
 // Scattered points with a scalar from PLY (binary little/big endian and ASCII), dissertation
-// chapters 4-5 inputs. Reads the vertex element (elements before it are skipped, list
-// properties included); positions are x y z (any numeric type, kept in double precision).
-// The scalar: options.value_name (FormatError listing the properties when absent), else a
-// property named "value" or "scalar", else the first float/double property that is not x y z,
-// a normal (nx ny nz) or "radius"; none -> positions only (has_values = false).
-// formats/ply_points.hpp (PointRecord output, float precision) is left as it is.
-// Throws FormatError (malformed header, list properties on vertices, truncated body), IoError.
+// chapters 4-5 inputs: a thin wrapper of the PLY codec (formats/ply.hpp) for PointSet.
+// Reads the vertex element (elements before and after it are read past and checked); positions are
+// x y z (any numeric type, kept in double precision). The scalar: options.value_name
+// (FormatError listing the properties when absent), else a property named "value" or "scalar",
+// else the first float/double property that is not x y z, a normal (nx ny nz) or "radius";
+// none -> positions only (has_values = false). NaN/Inf samples follow PointSetBuilder's policy
+// (dropped and counted, or refused with options.strict). Bytes after the last element are refused
+// unless options.allow_trailing (then noted).
+// Throws FormatError (the codec's defects, list properties on vertices, missing x y z), IoError.
 // Thread-safety: reentrant.
 #pragma once
 #include <string>
