@@ -38,13 +38,14 @@ int cmd_demo(int argc, char** argv) {
     VolumeInput in;
     in.path = std::string("demo-") + to_string(field);
     in.volume = make_analytic_volume(field, n);
+    in.threads = threads(a);
     const double iso = default_iso(field);
     StreamMeta meta = volume_meta(in, iso, a.command_line());  // value range and surface bounds
     meta.set("projection", "approx");
     RenderSettings rs = render_settings(a);
     // the surface is framed by 32-cell blocks; the torus and the sphere leave much of theirs empty
     if (!a.has("zoom") && (field == AnalyticField::torus || field == AnalyticField::sphere)) rs.camera.zoom = 1.6;
-    const int nthreads = threads(a);
+    const int nthreads = in.threads;
     const std::string ply = (dir / "demo.ply").string(), png = (dir / "demo.png").string();
     IsoSplatResult r;
     const std::size_t points = run_to_outputs(ply, png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
