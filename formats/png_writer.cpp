@@ -24,9 +24,9 @@ void write_png(const Image& image, const std::string& path) {
     img.height = static_cast<png_uint_32>(image.height);
     img.format = PNG_FORMAT_RGB;
     const png_int_32 stride = 3 * image.width;
-    png_alloc_size_t size = 0;
-    if (!png_image_write_get_memory_size(img, size, 0, image.rgb.data(), stride, nullptr))
-        throw IoError(path + ": PNG encoding failed (" + img.message + ")");
+    // encoded once, into a buffer of the worst-case size (png_image_write_get_memory_size would
+    // encode the whole image a first time only to measure it)
+    png_alloc_size_t size = PNG_IMAGE_PNG_SIZE_MAX(img);
     std::vector<unsigned char> buf(size);
     if (!png_image_write_to_memory(&img, buf.data(), &size, 0, image.rgb.data(), stride, nullptr))
         throw IoError(path + ": PNG encoding failed (" + img.message + ")");
