@@ -12,13 +12,14 @@
 #include <vector>
 
 #include "kernels/errors.hpp"
+#include "stream/large_page_allocator.hpp"
 #include "stream/batch.hpp"
 
 namespace meshless {
 
 struct SplatSink::Canvas {
-    std::vector<std::uint64_t> keys;
-    std::vector<std::int64_t> acc;
+    LargeBuffer<std::uint64_t> keys;
+    LargeBuffer<std::int64_t> acc;
     std::vector<PointRecord> batch;  // EWA pass 2: the spooled batch being replayed
     SplatStats stats;
 };
@@ -82,7 +83,7 @@ void SplatSink::finish() {
     const auto t0 = std::chrono::steady_clock::now();
     const std::size_t npix = frame_.npix();
     // Merge the partial visibility / colour buffers by min.
-    std::vector<std::uint64_t> keys;
+    LargeBuffer<std::uint64_t> keys;
     for (Canvas& c : canvases_->per_thread) {
         stats_.splats_drawn += c.stats.splats_drawn;
         stats_.fragments += c.stats.fragments;
@@ -96,7 +97,7 @@ void SplatSink::finish() {
     if (keys.empty()) keys.assign(npix, SplatFrame::kEmptyKey);
     canvases_->per_thread.clear();
 
-    std::vector<std::int64_t> acc;
+    LargeBuffer<std::int64_t> acc;
     if (frame_.two_pass()) {
         if (own_spool_) own_spool_->flush();
         if (pass2_->size() != points_)
