@@ -22,6 +22,7 @@
 #include "ooc/brick_slice_source.hpp"
 #include "kernels/errors.hpp"
 #include "stream/available_cpus.hpp"
+#include "stream/large_page_allocator.hpp"
 
 namespace meshless::cli {
 
@@ -123,7 +124,7 @@ BlockMinMax streamed_block_minmax(SliceSource& s, int edge) {
     const auto slice_bytes = static_cast<std::size_t>(g.dims[0] * g.dims[1]) * sample_size(s.type());
     BlockMinMax all;
     all.edge = edge;
-    std::vector<std::byte> buf;
+    LargeBuffer<std::byte> buf;  // a layer of slices: huge pages, a few faults instead of thousands
     const std::int64_t nz = g.dims[2];
     for (std::int64_t z0 = 0;; z0 += edge) {
         const std::int64_t z1 = std::min<std::int64_t>(z0 + edge, nz - 1), n = z1 - z0 + 1;
@@ -154,7 +155,7 @@ BlockMinMax parallel_block_minmax(const GridSpec& g, SampleType type, int edge, 
     std::vector<BlockMinMax> layers(static_cast<std::size_t>(nlayers));
     struct Reader {
         std::unique_ptr<SliceSource> src;
-        std::vector<std::byte> buf;
+        LargeBuffer<std::byte> buf;
     };
     oneapi::tbb::enumerable_thread_specific<Reader> readers;
     auto one = [&](std::int64_t i) {
