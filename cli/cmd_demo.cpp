@@ -1,17 +1,16 @@
 // meshless demo: the main job on an embedded default, no input file needed. Builds an analytic
 // volume, extracts its isosurface by iso-splatting (paradigm C, approximate projection) and writes
-// DIR/demo.ply and DIR/demo.png (EWA splats, Phong shading).
+// DIR/demo.ply and DIR/demo.png (EWA splats, Phong shading), through the graph of `meshless
+// isosurface` (cli/isosurface_graph.hpp): the same points and picture as `meshless isosurface` on
+// the same volume, framed on the surface; nothing is collected.
 #include <cstdio>
 #include <filesystem>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
-#include "cli/render_output.hpp"
-#include "formats/ply_points.hpp"
+#include "cli/isosurface_graph.hpp"
 #include "kernels/analytic_volumes.hpp"
 #include "kernels/errors.hpp"
-#include "stream/isosplat_pipeline.hpp"
-#include "stream/point_sinks.hpp"
 
 namespace meshless::cli {
 
@@ -36,22 +35,25 @@ int cmd_demo(int argc, char** argv) {
     std::filesystem::create_directories(dir, ec);
     if (!std::filesystem::is_directory(dir)) throw IoError(dir.string() + ": cannot create output directory");
 
-    const Volume vol = make_analytic_volume(field, n);
+    VolumeInput in;
+    in.path = std::string("demo-") + to_string(field);
+    in.volume = make_analytic_volume(field, n);
+    in.threads = threads(a);
     const double iso = default_iso(field);
-    StreamMeta meta = volume_meta(std::string("demo-") + to_string(field), vol, iso, a.command_line());
+    StreamMeta meta = volume_meta(in, iso, a.command_line());  // value range and surface bounds
     meta.set("projection", "approx");
-    CollectSink sink;
-    const IsoSplatResult r = run_isosplat(vol.view(), iso, Projection::approx, SamplingParams{}, sink, {threads(a)});
-    const std::string ply = (dir / "demo.ply").string(), png = (dir / "demo.png").string();
-    write_ply_points(ply, sink.points, ply_comments(meta));
     RenderSettings rs = render_settings(a);
-    Camera& cam = rs.camera;
-    // the torus and the sphere fill only the middle of their cube
-    if (!a.has("zoom") && (field == AnalyticField::torus || field == AnalyticField::sphere)) cam.zoom = 1.6;
-    render_to_png(sink.points, meta_bounds(meta), rs, png);
+    // the surface is framed by 32-cell blocks; the torus and the sphere leave much of theirs empty
+    if (!a.has("zoom") && (field == AnalyticField::torus || field == AnalyticField::sphere)) rs.camera.zoom = 1.6;
+    const int nthreads = in.threads;
+    const std::string ply = (dir / "demo.ply").string(), png = (dir / "demo.png").string();
+    IsoSplatResult r;
+    const std::size_t points = run_to_outputs(ply, png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+        return run_isosurface_graph(in, iso, Projection::approx, SamplingParams{}, draw, sink, nthreads);
+    }, r);
     std::printf("demo: %s field on a %lld^3 grid, iso %g: %zu points from %lld active cells in %.3f s\n"
                 "wrote %s and %s\n",
-                to_string(field), n, iso, sink.points.size(), static_cast<long long>(r.sampling.active_cells), r.seconds,
+                to_string(field), n, iso, points, static_cast<long long>(r.sampling.active_cells), r.seconds,
                 ply.c_str(), png.c_str());
     return 0;
 }

@@ -2,31 +2,22 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <functional>
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/common.hpp"
 #include "cli/errors.hpp"
+#include "cli/isosurface_graph.hpp"
 #include "cli/isosurface_mpi.hpp"
 #include "cli/mpi_session.hpp"
-#include "formats/atomic_file.hpp"
-#include "formats/png_writer.hpp"
-#include "cli/common.hpp"
 #include "cli/render_output.hpp"
 #include "cli/sample_store_cli.hpp"
-#include "formats/ply_points.hpp"
-#include "stream/isosplat_pipeline.hpp"
-#include "stream/brick_source.hpp"
-#include "stream/cell_row_source.hpp"
-#include "stream/generate_project_stage.hpp"
-#include "stream/point_sinks.hpp"
+#include "formats/atomic_file.hpp"
+#include "kernels/errors.hpp"
 #include "stream/project_stage.hpp"
 #include "stream/runner.hpp"
 #include "stream/sample_store_source.hpp"
-#include "stream/slab_source.hpp"
-#include "stream/splat_sink.hpp"
-#include "stream/tee_sink.hpp"
 
 namespace meshless::cli {
 
@@ -43,66 +34,6 @@ void print_stats(const std::string& path, double iso, Projection mode, const Iso
                  nthreads, ranks);
 }
 
-/// The single-process graph: cell rows of the volume in memory (or the active bricks of a store, in
-/// Morton order) -> generate + project (fused) -> [draw] -> sink. Same batches, hence same bytes, as
-/// run_isosplat_input with PipelineShape::fused.
-IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
-                                    const Stage* draw, Sink& sink, int nthreads) {
-    const auto t0 = std::chrono::steady_clock::now();
-    IsoSplatResult r;
-    if (in.store) {
-        BrickSource source(*in.store, in.index->active(iso));
-        BrickGenerateStage generate(*in.store, *in.cache, iso, sp, mode);
-        const Stage* stages[] = {&generate, draw};
-        run_pipeline(source, std::span<const Stage* const>(stages, draw ? 2 : 1), sink, {nthreads});
-        r.sampling = generate.sampling_stats();
-        r.projection = generate.projection_stats();
-    } else {
-        // slab-streamed file (stream/slab_source.hpp; batches carry their chunk) or a volume in memory
-        std::optional<SlabSource> slabs;
-        std::optional<CellRowSource> rows;
-        Source& source = in.slices ? static_cast<Source&>(slabs.emplace(*in.slices)) : rows.emplace(in.grid());
-        GenerateProjectStage generate(in.slices ? VolumeView{nullptr, in.type(), in.grid()} : in.volume->view(), iso, sp, mode);
-        const Stage* stages[] = {&generate, draw};
-        run_pipeline(source, std::span<const Stage* const>(stages, draw ? 2 : 1), sink, {nthreads});
-        r.sampling = generate.sampling_stats();
-        r.projection = generate.projection_stats();
-    }
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return r;
-}
-
-/// Runs a graph (`run(draw, sink)`: draw is the splat stage or null) into -o and/or --png. Streaming:
-/// each batch is drawn as it is produced (in the parallel section) and, with -o, written to the PLY;
-/// nothing is collected. The splat sink finishes (renders) before the PLY is committed, and a PNG
-/// that cannot be written removes the PLY: one outcome. Returns the number of points.
-/// parallel_draw = false (the MPI root: batches arrive already made): draw is null and the splat
-/// sink draws in consume().
-using GraphRun = std::function<IsoSplatResult(const Stage* draw, Sink& sink)>;
-std::size_t run_to_outputs(const Args& a, const StreamMeta& meta, const RenderSettings& rs, int nthreads,
-                           const GraphRun& run, IsoSplatResult& r, bool parallel_draw = true) {
-    const auto out = a.get("output");
-    const auto png = a.get("png");
-    if (!png) {
-        PlySink sink(*out, ply_comments(meta));
-        r = run(nullptr, sink);
-        return sink.count();
-    }
-    SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
-    std::optional<PlySink> ply;
-    if (out) ply.emplace(*out, ply_comments(meta));
-    std::optional<TeeSink> tee;
-    if (ply) tee.emplace(splat, *ply);
-    r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);
-    try {
-        write_png(splat.image(), *png);
-    } catch (...) {
-        if (out && *out != "-" && !is_streaming_output(*out)) std::remove(out->c_str());
-        throw;
-    }
-    return splat.points();
-}
-
 /// A sample store (.mls) input: paradigm (A) in one process (section 3.5, Table 3.1): the store's
 /// candidate rows, recomputed from its .mlb, projected; the same points as from the .mlb.
 int isosurface_sample_store(const Args& a, double iso, Projection mode, const SamplingParams& sp,
@@ -115,7 +46,7 @@ int isosurface_sample_store(const Args& a, double iso, Projection mode, const Sa
     SampleStoreSource source(*store, iso, sp);
     const ProjectStage project(iso, mode);
     IsoSplatResult r;
-    const std::size_t points = run_to_outputs(a, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+    const std::size_t points = run_to_outputs(a.get("output"), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
         const auto t0 = std::chrono::steady_clock::now();
         const Stage* stages[] = {&project, draw};
         run_pipeline(source, std::span<const Stage* const>(stages, draw ? 2 : 1), sink, {nthreads});
@@ -169,7 +100,7 @@ int cmd_isosurface(int argc, char** argv) {
         const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads,
                                                      [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
                                                          IsoSplatResult unused;
-                                                         return run_to_outputs(a, meta, rs, nthreads, [&](const Stage*, Sink& sink) {
+                                                         return run_to_outputs(a.get("output"), a.get("png"), meta, rs, nthreads, [&](const Stage*, Sink& sink) {
                                                              produce(sink);
                                                              return IsoSplatResult{};
                                                          }, unused, /*parallel_draw=*/false);
@@ -187,7 +118,7 @@ int cmd_isosurface(int argc, char** argv) {
     meta.set("projection", to_string(mode));
 
     IsoSplatResult r;
-    const std::size_t points = run_to_outputs(a, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+    const std::size_t points = run_to_outputs(a.get("output"), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
         return run_isosurface_graph(in, iso, mode, sp, draw, sink, nthreads);
     }, r);
     if (a.has("stats")) print_stats(in.path, iso, mode, r, points, nthreads, 1);

@@ -1,7 +1,6 @@
 // meshless splat: software surface splatting of a point stream or PLY (section 3.6).
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -9,15 +8,15 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/render_output.hpp"
-#include "formats/ply_points.hpp"
-#include "kernels/errors.hpp"
 #include "formats/png_writer.hpp"
+#include "kernels/errors.hpp"
 #include "stream/ply_source.hpp"
-#include "stream/point_sinks.hpp"
-#include "stream/splat_sink.hpp"
+#include "stream/point_spool.hpp"
 #include "stream/project_stage.hpp"
 #include "stream/runner.hpp"
+#include "stream/splat_sink.hpp"
 #include "stream/stream_endpoints.hpp"
+#include "stream/turntable.hpp"
 
 namespace meshless::cli {
 
@@ -30,7 +29,8 @@ int cmd_splat(int argc, char** argv) {
            "Table 3.1): the isovalue comes from --iso or the stream. Points are drawn as they arrive (memory =\n"
            "the image buffers + one batch; the EWA kernel spools the points to an unlinked file in $TMPDIR\n"
            "for its second pass); the camera frames the surface bounds recorded in the stream or PLY.\n"
-           "--turntable collects the points (each frame draws them all).");
+           "Input without recorded bounds, and --turntable, spool the points once to such a file (the\n"
+           "frame is then known; each turntable frame replays the file): memory stays bounded.");
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("iso", "", "V", "sample streams: isovalue to project onto (default: the stream's)")
         .option("projection", "", "MODE", "sample streams: approx | exact | none", "approx")
@@ -53,6 +53,7 @@ int cmd_splat(int argc, char** argv) {
     // The graph: PLY file or point/sample stream -> [project] -> draw (parallel) -> splat sink.
     std::unique_ptr<StreamReader> reader;
     std::optional<InputFile> in;
+    std::optional<PointSpool> spool;  // see below; outlives the source that may replay it
     std::unique_ptr<Source> source;
     std::optional<std::array<Vec3, 2>> bounds;
     std::optional<ProjectStage> project;
@@ -60,21 +61,6 @@ int cmd_splat(int argc, char** argv) {
         if (a.has("iso")) throw UsageError("--iso applies to sample streams; " + input + " holds projected points");
         auto ply = std::make_unique<PlySource>(input);
         bounds = ply_bounds(ply->comments());  // the surface bounds recorded by isosurface/write
-        if (!bounds) {
-            // no recorded bounds (a PLY from elsewhere): one streaming pre-pass over the file
-            PlySource pre(input);
-            double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-            while (auto bt = pre.next())
-                for (const PointRecord& p : bt->points) {
-                    if (!(std::isfinite(p.pos[0]) && std::isfinite(p.pos[1]) && std::isfinite(p.pos[2]))) continue;
-                    for (int i = 0; i < 3; ++i) {
-                        lo[i] = std::min(lo[i], double(p.pos[i]));
-                        hi[i] = std::max(hi[i], double(p.pos[i]));
-                    }
-                }
-            bounds = lo[0] <= hi[0] ? std::array<Vec3, 2>{Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}}
-                                    : std::array<Vec3, 2>{Vec3{0, 0, 0}, Vec3{0, 0, 0}};  // as point_bounds
-        }
         source = std::move(ply);
     } else {
         in.emplace(input);
@@ -92,25 +78,27 @@ int cmd_splat(int argc, char** argv) {
     std::vector<const Stage*> stages;
     if (project) stages.push_back(&*project);
 
+    // A turntable draws every point once per frame, and a picture without recorded bounds needs all
+    // the points before its first one is drawn: the points (projected) go once to a point spool,
+    // which is then replayed; memory stays a few batches.
     if (frames > 0 || !bounds) {
-        // A turntable draws every point once per frame: the points are collected (memory grows with
-        // them); so are the points of a stream that records no bounds (the frame needs them first).
-        CollectSink sink;
-        run_pipeline(*source, stages, sink, {nthreads});
-        std::vector<PointRecord> points = std::move(sink.points);
+        spool.emplace("splat-spool");
+        run_pipeline(*source, stages, *spool, {nthreads});
+        if (!bounds) bounds = spool->bounds();
         if (frames > 0) {
-            const auto t = render_turntable(points, bounds, rs, static_cast<int>(frames), png);
-            std::fprintf(stderr, "splat: turntable of %d frames, %zu points, %dx%d %s: %.2f ms/frame (min %.2f, max %.2f)\n",
-                         t.frames, points.size(), cam.width, cam.height, rs.kernel == SplatKernel::quad ? "quad" : "ewa",
-                         1e3 * t.mean_seconds, 1e3 * t.min_seconds, 1e3 * t.max_seconds);
-        } else {
-            const auto st = render_to_png(points, bounds, rs, png);
-            if (stderr_is_tty()) std::fprintf(stderr, "splat: %zu points, %.2f ms\n", points.size(), 1e3 * st.seconds);
+            const auto t = render_turntable(*spool, *bounds, cam, rs.kernel, rs.shading, static_cast<int>(frames), nthreads,
+                                            [&](int i, const Image& img) { write_png(img, frame_path(png, i)); });
+            std::fprintf(stderr, "splat: turntable of %d frames, %llu points, %dx%d %s: %.2f ms/frame (min %.2f, max %.2f)\n",
+                         t.frames, static_cast<unsigned long long>(spool->size()), cam.width, cam.height,
+                         rs.kernel == SplatKernel::quad ? "quad" : "ewa", 1e3 * t.mean_seconds, 1e3 * t.min_seconds,
+                         1e3 * t.max_seconds);
+            return 0;
         }
-        return 0;
+        source = std::make_unique<PointSpoolSource>(*spool);
+        stages.clear();  // projected already
     }
     const auto t0 = std::chrono::steady_clock::now();
-    SplatSink sink(cam, rs.kernel, rs.shading, *bounds, nthreads);
+    SplatSink sink(cam, rs.kernel, rs.shading, *bounds, nthreads, spool ? &*spool : nullptr);
     stages.push_back(&sink.stage());
     run_pipeline(*source, stages, sink, {nthreads});
     write_png(sink.image(), png);

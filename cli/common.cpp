@@ -12,11 +12,18 @@
 #include <thread>
 
 #include "cli/errors.hpp"
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
 #include "formats/volume_reader.hpp"
 #include "kernels/block_minmax.hpp"
 #include "ooc/brick_slice_source.hpp"
 #include "kernels/errors.hpp"
 #include "stream/available_cpus.hpp"
+#include "stream/large_page_allocator.hpp"
 
 namespace meshless::cli {
 
@@ -99,6 +106,18 @@ SampleType VolumeInput::type() const { return store ? store->info().type : slice
 namespace {
 constexpr int kFramingBlockEdge = 32;  // the default brick edge of meshless convert
 
+/// Appends one layer of blocks (edge + 1 slices or fewer, one block deep) to `all`.
+void append_layer(BlockMinMax& all, const BlockMinMax& layer) {
+    all.blocks = {layer.blocks[0], layer.blocks[1], all.blocks[2] + 1};
+    all.vmin.insert(all.vmin.end(), layer.vmin.begin(), layer.vmin.end());
+    all.vmax.insert(all.vmax.end(), layer.vmax.begin(), layer.vmax.end());
+}
+
+/// Layer i of blocks holds slices [i * edge, min(i * edge + edge, nz - 1)].
+std::int64_t block_layers(const GridSpec& g, int edge) {
+    return std::max<std::int64_t>(1, (g.dims[2] - 1 + edge - 1) / edge);
+}
+
 /// block_minmax over a slab-streamed volume: about 1 MiB of slices at a time (every slice read
 /// once, in order, into one reused buffer), so the pass costs neither memory nor page faults.
 BlockMinMax streamed_block_minmax(SliceSource& s, int edge) {
@@ -115,11 +134,59 @@ BlockMinMax streamed_block_minmax(SliceSource& s, int edge) {
     }
     return std::move(b).finish();
 }
+
+/// The same, the layers computed in parallel (`threads`), each thread reading its layers (all
+/// edge + 1 slices) through its own reader from `reopen` (a raw payload, read at any k) or, without
+/// one, straight from the volume in memory `data`. The layers are joined in z order: the same blocks
+/// as block_minmax / streamed_block_minmax whatever the thread count.
+BlockMinMax parallel_block_minmax(const GridSpec& g, SampleType type, int edge, int threads,
+                                  const std::function<std::unique_ptr<SliceSource>()>& reopen, const std::byte* data) {
+    const auto slice_bytes = static_cast<std::size_t>(g.dims[0] * g.dims[1]) * sample_size(type);
+    const std::int64_t nlayers = block_layers(g, edge);
+    std::vector<BlockMinMax> layers(static_cast<std::size_t>(nlayers));
+    struct Reader {
+        std::unique_ptr<SliceSource> src;
+        LargeBuffer<std::byte> buf;
+    };
+    oneapi::tbb::enumerable_thread_specific<Reader> readers;
+    auto one = [&](std::int64_t i) {
+        const std::int64_t z0 = i * edge, n = std::min<std::int64_t>(z0 + edge, g.dims[2] - 1) - z0 + 1;
+        GridSpec part = g;
+        part.dims[2] = n;
+        const std::byte* at = data ? data + slice_bytes * static_cast<std::size_t>(z0) : nullptr;
+        if (!data) {
+            Reader& r = readers.local();
+            if (!r.src) r.src = reopen();
+            r.buf.resize(slice_bytes * static_cast<std::size_t>(n));
+            r.src->read_slices(z0, n, r.buf.data());
+            at = r.buf.data();
+        }
+        layers[static_cast<std::size_t>(i)] = block_minmax(VolumeView{at, type, part}, edge);
+    };
+    // as many threads as asked for, even beyond the core count (as the runner, stream/runner.cpp)
+    oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(threads));
+    oneapi::tbb::task_arena arena(threads);
+    arena.execute([&] {
+        oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::int64_t>(0, nlayers, 1),
+                                  [&](const oneapi::tbb::blocked_range<std::int64_t>& r) {
+                                      for (std::int64_t i = r.begin(); i != r.end(); ++i) one(i);
+                                  });
+    });
+    BlockMinMax all;
+    all.edge = edge;
+    for (const BlockMinMax& layer : layers) append_layer(all, layer);
+    return all;
+}
 }  // namespace
 
 const BlockMinMax& VolumeInput::blocks() const {
     if (store) throw std::logic_error("VolumeInput::blocks: a brick store has its brick index");
-    if (!blocks_)
+    if (blocks_) return *blocks_;
+    if (threads > 1 && (!slices || reopen))
+        blocks_ = parallel_block_minmax(grid(), type(), kFramingBlockEdge, threads, reopen,
+                                        slices ? nullptr : static_cast<const std::byte*>(volume->view().data));
+    else
         blocks_ = slices ? streamed_block_minmax(*slices, kFramingBlockEdge) : block_minmax(volume->view(), kFramingBlockEdge);
     return *blocks_;
 }
@@ -152,9 +219,12 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
             std::fprintf(stderr, "meshless %s: warning: --memory applies to brick stores (.mlb); %s is read whole "
                          "(meshless convert makes a store)\n", a.command().c_str(), in.path.c_str());
         const RawOptions raw = raw_options(a);
+        in.threads = threads(a);
         if (stream && streamable(in.path, raw)) {
             warn_if_raw_options_ignored(a, in.path, raw);
             in.slices = open_slice_source(in.path, raw);
+            if (probe_volume(in.path, raw).encoding == "raw")  // any k, any reader: parallel passes
+                in.reopen = [path = in.path, raw] { return open_slice_source(path, raw); };
         } else {
             in.volume = load_volume(a, /*map=*/true);
         }

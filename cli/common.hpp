@@ -3,6 +3,7 @@
 // stderr (only when stderr is a terminal).
 #pragma once
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,6 +41,10 @@ struct VolumeInput {
     std::string path;
     std::optional<Volume> volume;
     std::unique_ptr<SliceSource> slices;  ///< slab-streamed file (open_volume_input with stream = true)
+    /// Opens another reader of `slices` (raw payloads, read at any k), for passes split across
+    /// threads; empty when the payload must be read in order (gzip).
+    std::function<std::unique_ptr<SliceSource>()> reopen;
+    int threads = 1;  ///< threads for blocks() (--threads); its result does not depend on them
     std::unique_ptr<BrickStore> store;
     std::unique_ptr<BrickCache> cache;
     std::unique_ptr<BrickIndex> index;
@@ -49,7 +54,8 @@ struct VolumeInput {
     std::array<double, 2> value_range() const;
     /// Not for a brick store (its index has the bricks' intervals): the min/max of 32-cell blocks
     /// aligned as a store's bricks (kernels/block_minmax.hpp), computed once, on first use, in one
-    /// pass over the volume in memory or over the slab-streamed file (a layer of blocks at a time).
+    /// pass over the volume in memory or over the slab-streamed file (a layer of blocks at a time;
+    /// layers split across `threads` when the volume is in memory or `reopen` is set).
     const BlockMinMax& blocks() const;
 
 private:

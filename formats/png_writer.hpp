@@ -1,5 +1,5 @@
 // PNG output of rendered images (dissertation section 3.6 figures): 8-bit RGB, no alpha, via
-// libpng's simplified API. write_png goes through AtomicFile (temporary + rename; "-" = stdout),
+// libpng (SUB filter, zlib level 1: fast; the bytes depend only on the image). write_png goes through AtomicFile (temporary + rename; "-" = stdout),
 // so a failed write never leaves a file that looks complete. read_png is for tests and tools.
 // Throws: IoError naming the path when the file cannot be created/written/opened;
 //         FormatError naming the path when read_png meets something that is not a valid PNG;

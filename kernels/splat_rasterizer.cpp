@@ -7,18 +7,25 @@
 
 namespace meshless {
 
-std::array<Vec3, 2> point_bounds(std::span<const PointRecord> points) {
-    constexpr double inf = std::numeric_limits<double>::infinity();
-    double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
+void PointBounds::add(std::span<const PointRecord> points) {
     for (const PointRecord& p : points) {
         if (!(std::isfinite(p.pos[0]) && std::isfinite(p.pos[1]) && std::isfinite(p.pos[2]))) continue;
         for (int i = 0; i < 3; ++i) {
-            lo[i] = std::min(lo[i], static_cast<double>(p.pos[i]));
-            hi[i] = std::max(hi[i], static_cast<double>(p.pos[i]));
+            lo_[i] = std::min(lo_[i], static_cast<double>(p.pos[i]));
+            hi_[i] = std::max(hi_[i], static_cast<double>(p.pos[i]));
         }
     }
-    if (!(lo[0] <= hi[0])) return {Vec3{0, 0, 0}, Vec3{0, 0, 0}};
-    return {Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}};
+}
+
+std::array<Vec3, 2> PointBounds::bounds() const {
+    if (!(lo_[0] <= hi_[0])) return {Vec3{0, 0, 0}, Vec3{0, 0, 0}};
+    return {Vec3{lo_[0], lo_[1], lo_[2]}, Vec3{hi_[0], hi_[1], hi_[2]}};
+}
+
+std::array<Vec3, 2> point_bounds(std::span<const PointRecord> points) {
+    PointBounds b;
+    b.add(points);
+    return b.bounds();
 }
 
 SplatRenderer::SplatRenderer(const Camera& cam, const ShadingParams& shading, const std::array<Vec3, 2>& bounds)

@@ -32,6 +32,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -73,6 +74,19 @@ struct SplatStats {
 
 /// Axis-aligned bounds of the finite positions; {0,0,0},{0,0,0} when there are none.
 std::array<Vec3, 2> point_bounds(std::span<const PointRecord> points);
+
+/// point_bounds over points that come in parts (a stream, a spool): add() each part, in any order
+/// and split; bounds() equals point_bounds of all of them. Not thread-safe.
+class PointBounds {
+public:
+    void add(std::span<const PointRecord> points);
+    /// {0,0,0},{0,0,0} while no finite position was added.
+    std::array<Vec3, 2> bounds() const;
+
+private:
+    static constexpr double kInf = std::numeric_limits<double>::infinity();
+    double lo_[3] = {kInf, kInf, kInf}, hi_[3] = {-kInf, -kInf, -kInf};
+};
 
 /// One frame's fixed set-up (view, shading, kernel) and the pieces of the render, for drawing the
 /// points in parts (streaming, threads). Buffers are the caller's, npix() entries each:

@@ -1,6 +1,6 @@
 // Sinks that end a point pipeline: PlySink streams points into a binary PLY (formats/ply_points.hpp,
-// temporary name + rename on finish), CollectSink keeps them in memory (for turntables, which draw
-// every point once per frame, and for tests; single pictures stream through stream/splat_sink.hpp). Both require point batches (throw FormatError on samples). Not thread-safe.
+// temporary name + rename on finish), CollectSink keeps them in memory (for tests and benchmarks;
+// pictures stream through stream/splat_sink.hpp, turntables replay a stream/point_spool.hpp). Both require point batches (throw FormatError on samples). Not thread-safe.
 #pragma once
 #include <memory>
 #include <string>

@@ -4,23 +4,22 @@
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
-#include <cstdlib>
-#include <cstring>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "kernels/errors.hpp"
+#include "stream/large_page_allocator.hpp"
 #include "stream/batch.hpp"
 
 namespace meshless {
 
 struct SplatSink::Canvas {
-    std::vector<std::uint64_t> keys;
-    std::vector<std::int64_t> acc;
+    LargeBuffer<std::uint64_t> keys;
+    LargeBuffer<std::int64_t> acc;
     std::vector<PointRecord> batch;  // EWA pass 2: the spooled batch being replayed
     SplatStats stats;
 };
@@ -55,36 +54,19 @@ private:
 };
 
 SplatSink::SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams& shading,
-                     const std::array<Vec3, 2>& bounds, int threads)
+                     const std::array<Vec3, 2>& bounds, int threads, const PointSpool* replay)
     : frame_(cam, kernel, shading, bounds), threads_(std::max(threads, 1)), canvases_(std::make_unique<Canvases>()) {
     if (!frame_.two_pass()) return;
-    const char* dir = std::getenv("TMPDIR");
-    std::string tmpl = std::string(dir && *dir ? dir : "/tmp") + "/meshless-splat-spool-XXXXXX";
-    const int fd = ::mkstemp(tmpl.data());
-    if (fd < 0) throw IoError(tmpl + ": cannot create the splat spool file: " + std::strerror(errno));
-    spool_name_ = tmpl;
-    ::unlink(tmpl.c_str());  // unlinked: the space is freed whatever happens to the process
-    spool_ = ::fdopen(fd, "w+b");
-    if (!spool_) {
-        ::close(fd);
-        throw IoError(spool_name_ + ": cannot open the splat spool file: " + std::strerror(errno));
-    }
+    if (!replay) own_spool_ = std::make_unique<PointSpool>("splat-spool");
+    pass2_ = replay ? replay : own_spool_.get();
 }
 
-SplatSink::~SplatSink() {
-    if (spool_) std::fclose(spool_);
-}
+SplatSink::~SplatSink() = default;
 
 const Stage& SplatSink::stage() {
     if (!stage_) stage_ = std::make_unique<DrawStage>(*this);
     staged_ = true;
     return *stage_;
-}
-
-void SplatSink::spool(const std::vector<PointRecord>& pts) {
-    if (pts.empty()) return;
-    if (std::fwrite(pts.data(), sizeof(PointRecord), pts.size(), spool_) != pts.size())
-        throw IoError(spool_name_ + ": cannot write the splat spool (deleted temporary file): " + std::strerror(errno));
 }
 
 void SplatSink::observe(const Batch& b) {
@@ -94,14 +76,14 @@ void SplatSink::observe(const Batch& b) {
         Canvas& c = canvases_->local(frame_);
         frame_.draw(b.points, c.keys.data(), c.stats);
     }
-    if (spool_) spool(b.points);
+    if (own_spool_) own_spool_->append(b.points);
 }
 
 void SplatSink::finish() {
     const auto t0 = std::chrono::steady_clock::now();
     const std::size_t npix = frame_.npix();
     // Merge the partial visibility / colour buffers by min.
-    std::vector<std::uint64_t> keys;
+    LargeBuffer<std::uint64_t> keys;
     for (Canvas& c : canvases_->per_thread) {
         stats_.splats_drawn += c.stats.splats_drawn;
         stats_.fragments += c.stats.fragments;
@@ -115,32 +97,22 @@ void SplatSink::finish() {
     if (keys.empty()) keys.assign(npix, SplatFrame::kEmptyKey);
     canvases_->per_thread.clear();
 
-    std::vector<std::int64_t> acc;
+    LargeBuffer<std::int64_t> acc;
     if (frame_.two_pass()) {
-        if (std::fflush(spool_) != 0)
-            throw IoError(spool_name_ + ": cannot write the splat spool (deleted temporary file): " + std::strerror(errno));
+        if (own_spool_) own_spool_->flush();
+        if (pass2_->size() != points_)
+            throw std::logic_error("SplatSink: the replay spool holds " + std::to_string(pass2_->size()) +
+                                   " points, the sink was given " + std::to_string(points_));
         // Pass 2 replays the spool in batches; each task reads its own batch (pread), so threads
         // meet only at the end, and memory is one batch + one accumulator per thread.
-        const int fd = ::fileno(spool_);
         const std::uint64_t nbatch = (points_ + kMaxBatchRecords - 1) / kMaxBatchRecords;
         oneapi::tbb::enumerable_thread_specific<Canvas> accs;
         auto replay = [&](std::uint64_t i) {
             Canvas& c = accs.local();
             if (c.acc.empty()) c.acc.assign(4 * npix, 0);
             const std::uint64_t first = i * kMaxBatchRecords;
-            const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kMaxBatchRecords, points_ - first));
-            c.batch.resize(n);
-            std::size_t got = 0;
-            const std::size_t want = n * sizeof(PointRecord);
-            char* dst = reinterpret_cast<char*>(c.batch.data());
-            while (got < want) {
-                const ssize_t r = ::pread(fd, dst + got, want - got, static_cast<off_t>(first * sizeof(PointRecord) + got));
-                if (r < 0 && errno == EINTR) continue;
-                if (r <= 0)
-                    throw IoError(spool_name_ + ": cannot read back the splat spool (deleted temporary file)" +
-                                  (r < 0 ? std::string(": ") + std::strerror(errno) : std::string(": short file")));
-                got += static_cast<std::size_t>(r);
-            }
+            c.batch.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kMaxBatchRecords, points_ - first)));
+            pass2_->read(first, c.batch);
             frame_.accumulate(c.batch, keys.data(), c.acc.data(), c.stats);
         };
         if (threads_ == 1) {
@@ -162,8 +134,7 @@ void SplatSink::finish() {
             c.acc = {};
         }
         if (acc.empty()) acc.assign(4 * npix, 0);
-        std::fclose(spool_);
-        spool_ = nullptr;
+        own_spool_.reset();
     }
     frame_.resolve(keys.data(), acc.data(), image_);
     stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -8,9 +8,11 @@
 //  - quad: one pass; each pixel keeps min((depth << 32) | colour), which does not depend on the
 //    order or the split of the points.
 //  - ewa: two passes (visibility, then accumulation against the final visibility). Pass 1 draws the
-//    batches as they arrive and spools their points to an unlinked temporary file in $TMPDIR (or
-//    /tmp), raw PointRecords; finish() replays the spool in batches of kMaxBatchRecords for pass 2.
-//    The accumulators are 64-bit fixed point, so the sum is exact in any order.
+//    batches as they arrive and appends their points to a point spool (stream/point_spool.hpp: an
+//    unlinked temporary file in $TMPDIR or /tmp); finish() replays the spool in batches of
+//    kMaxBatchRecords for pass 2. A caller whose points are already in a spool (a turntable replays
+//    one spool per frame) passes it as `replay`: the sink then spools nothing and reads pass 2 from
+//    it. The accumulators are 64-bit fixed point, so the sum is exact in any order.
 // The image is byte-identical to render_splats() on all the points at once, for any batch split
 // and any thread count (the tests check both kernels).
 //
@@ -19,22 +21,23 @@
 // min (keys) and integer sum (EWA accumulators) in finish(). Without stage(), consume() draws
 // (serial). finish() replays the EWA spool with `threads` threads (its own task arena).
 // Errors: FormatError on sample batches; IoError naming the spool file when it cannot be created,
-// written or read back. Not thread-safe apart from the stage (Sink rules, stream/stage.hpp).
+// written or read back; std::logic_error when a `replay` spool does not hold the points drawn. Not thread-safe apart from the stage (Sink rules, stream/stage.hpp).
 #pragma once
 #include <array>
-#include <cstdio>
 #include <memory>
-#include <string>
 
 #include "kernels/splat_rasterizer.hpp"
+#include "stream/point_spool.hpp"
 #include "stream/stage.hpp"
 
 namespace meshless {
 
 class SplatSink final : public Sink {
 public:
+    /// replay (ewa only, may be null): a flushed spool holding exactly the points this sink will be
+    /// given (in any order); it must outlive finish().
     SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams& shading, const std::array<Vec3, 2>& bounds,
-              int threads = 1);
+              int threads = 1, const PointSpool* replay = nullptr);
     ~SplatSink() override;
 
     /// The parallel drawing stage; put it last in the runner's stage list. Once called, consume()
@@ -58,15 +61,14 @@ private:
     struct Canvas;
     struct Canvases;
     class DrawStage;
-    void spool(const std::vector<PointRecord>& pts);
 
     SplatFrame frame_;
     int threads_;
     std::unique_ptr<Canvases> canvases_;
     std::unique_ptr<DrawStage> stage_;
     bool staged_ = false;
-    std::FILE* spool_ = nullptr;
-    std::string spool_name_;
+    std::unique_ptr<PointSpool> own_spool_;  // ewa without `replay`: pass 1 spools here
+    const PointSpool* pass2_ = nullptr;      // what pass 2 reads (own_spool_ or replay)
     std::uint64_t points_ = 0;
     SplatStats stats_;
     Image image_;

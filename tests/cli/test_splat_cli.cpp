@@ -11,6 +11,7 @@
 
 #include "cli/cli_harness.hpp"
 #include "formats/ply_points.hpp"
+#include "formats/point_stream.hpp"
 #include "formats/png_writer.hpp"
 #include "kernels/splat_rasterizer.hpp"
 
@@ -91,11 +92,11 @@ TEST_CASE("isosurface -o --png: a PNG that cannot be written leaves no PLY; an e
     REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "/ok.ply", d).code == 0);
     r = sh("TMPDIR=" + D + "/nodir MESHLESS splat " + D + "/ok.ply --kernel ewa -o " + D + "/x.png", d);
     CHECK(r.code == 2);
-    CHECK_THAT(r.err, Catch::Contains("splat spool"));
+    CHECK_THAT(r.err, Catch::Contains(D + "/nodir/meshless-splat-spool-"));
     CHECK_FALSE(fs::exists(d / "x.png"));
 }
 
-TEST_CASE("splat FILE.ply without recorded bounds frames the points (a streaming pre-pass)", "[cli][splat]") {
+TEST_CASE("splat: a PLY or a point stream without recorded bounds frames the points (a point spool)", "[cli][splat]") {
     TempDir d("splatnob");
     const std::string vol = corner_ball(d), D = d.path.string();
     REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "/a.ply", d).code == 0);
@@ -107,11 +108,49 @@ TEST_CASE("splat FILE.ply without recorded bounds frames the points (a streaming
     std::snprintf(hi, sizeof hi, "bounds_hi %.9g,%.9g,%.9g", b[1].x, b[1].y, b[1].z);
     write_ply_points(D + "/none.ply", a.points, {});
     write_ply_points(D + "/with.ply", a.points, {lo, hi});
+    {  // a point stream whose META records no bounds, in a few DATA frames
+        std::FILE* f = std::fopen((D + "/none.mls").c_str(), "wb");
+        REQUIRE(f);
+        StreamWriter w(f, "none.mls", RecordKind::point);
+        w.write_meta(StreamMeta{});
+        const std::size_t half = a.points.size() / 2;
+        w.write_data(0, a.points.data(), half);
+        w.write_data(1, a.points.data() + half, a.points.size() - half);
+        w.finish();
+        std::fclose(f);
+    }
     for (const char* k : {"quad", "ewa"}) {
-        REQUIRE(sh("MESHLESS splat " + D + "/none.ply --size 64x48 --kernel " + k + " -o " + D + "/n.png", d).code == 0);
-        REQUIRE(sh("MESHLESS splat " + D + "/with.ply --size 64x48 --kernel " + k + " -o " + D + "/w.png", d).code == 0);
-        REQUIRE(sh("MESHLESS splat " + D + "/a.ply --size 64x48 --kernel " + k + " -o " + D + "/s.png", d).code == 0);
+        INFO(k);
+        const std::string opt = std::string(" --size 64x48 --kernel ") + k;
+        REQUIRE(sh("MESHLESS splat " + D + "/none.ply" + opt + " -o " + D + "/n.png", d).code == 0);
+        REQUIRE(sh("MESHLESS splat " + D + "/with.ply" + opt + " -o " + D + "/w.png", d).code == 0);
+        REQUIRE(sh("MESHLESS splat " + D + "/a.ply" + opt + " -o " + D + "/s.png", d).code == 0);
+        REQUIRE(sh("MESHLESS splat " + opt + " --threads 2 -o " + D + "/m.png < " + D + "/none.mls", d).code == 0);
         CHECK(slurp(d / "n.png") == slurp(d / "w.png"));
+        CHECK(slurp(d / "m.png") == slurp(d / "w.png"));
         CHECK(slurp(d / "n.png") != slurp(d / "s.png"));  // the surface-block frame is a different picture
+    }
+}
+
+TEST_CASE("splat --turntable: frame i is the picture at azimuth + 360 i / N, from a PLY or a pipe", "[cli][splat]") {
+    TempDir d("turntable");
+    const std::string vol = corner_ball(d), D = d.path.string();
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "/a.ply", d).code == 0);
+    for (const char* k : {"quad", "ewa"}) {
+        INFO(k);
+        const std::string opt = std::string(" --size 80x60 --elevation 20 --kernel ") + k;
+        auto r = sh("MESHLESS splat " + D + "/a.ply --turntable 4 --azimuth 10 --threads 2 -o " + D + "/t.png" + opt, d);
+        REQUIRE(r.code == 0);
+        CHECK_THAT(r.err, Catch::Contains("turntable of 4 frames"));
+        REQUIRE(sh("MESHLESS generate " + vol + " --iso 100.5 | MESHLESS project | MESHLESS splat --turntable 4 --azimuth 10 "
+                   "--threads 1 -o " + D + "/p.png" + opt, d).code == 0);
+        for (int i = 0; i < 4; ++i) {
+            const std::string frame = "t_00" + std::to_string(i) + ".png";
+            REQUIRE(sh("MESHLESS splat " + D + "/a.ply --azimuth " + std::to_string(10 + 90 * i) + " -o " + D + "/one.png" + opt,
+                       d).code == 0);
+            CHECK(slurp(d / frame) == slurp(d / "one.png"));
+            CHECK(slurp(d / ("p_00" + std::to_string(i) + ".png")) == slurp(d / "one.png"));
+            if (i > 0) CHECK(slurp(d / frame) != slurp(d / "t_000.png"));
+        }
     }
 }

@@ -1,0 +1,69 @@
+#include "cli/isosurface_graph.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <span>
+
+#include "formats/atomic_file.hpp"
+#include "formats/png_writer.hpp"
+#include "stream/brick_source.hpp"
+#include "stream/cell_row_source.hpp"
+#include "stream/generate_project_stage.hpp"
+#include "stream/point_sinks.hpp"
+#include "stream/runner.hpp"
+#include "stream/slab_source.hpp"
+#include "stream/splat_sink.hpp"
+#include "stream/tee_sink.hpp"
+
+namespace meshless::cli {
+
+IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
+                                    const Stage* draw, Sink& sink, int nthreads) {
+    const auto t0 = std::chrono::steady_clock::now();
+    IsoSplatResult r;
+    if (in.store) {
+        BrickSource source(*in.store, in.index->active(iso));
+        BrickGenerateStage generate(*in.store, *in.cache, iso, sp, mode);
+        const Stage* stages[] = {&generate, draw};
+        run_pipeline(source, std::span<const Stage* const>(stages, draw ? 2 : 1), sink, {nthreads});
+        r.sampling = generate.sampling_stats();
+        r.projection = generate.projection_stats();
+    } else {
+        // slab-streamed file (stream/slab_source.hpp; batches carry their chunk) or a volume in memory
+        std::optional<SlabSource> slabs;
+        std::optional<CellRowSource> rows;
+        Source& source = in.slices ? static_cast<Source&>(slabs.emplace(*in.slices)) : rows.emplace(in.grid());
+        GenerateProjectStage generate(in.slices ? VolumeView{nullptr, in.type(), in.grid()} : in.volume->view(), iso, sp, mode);
+        const Stage* stages[] = {&generate, draw};
+        run_pipeline(source, std::span<const Stage* const>(stages, draw ? 2 : 1), sink, {nthreads});
+        r.sampling = generate.sampling_stats();
+        r.projection = generate.projection_stats();
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+}
+
+std::size_t run_to_outputs(const std::optional<std::string>& out, const std::optional<std::string>& png,
+                           const StreamMeta& meta, const RenderSettings& rs, int nthreads, const GraphRun& run,
+                           IsoSplatResult& r, bool parallel_draw) {
+    if (!png) {
+        PlySink sink(*out, ply_comments(meta));
+        r = run(nullptr, sink);
+        return sink.count();
+    }
+    SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
+    std::optional<PlySink> ply;
+    if (out) ply.emplace(*out, ply_comments(meta));
+    std::optional<TeeSink> tee;
+    if (ply) tee.emplace(splat, *ply);
+    r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);
+    try {
+        write_png(splat.image(), *png);
+    } catch (...) {
+        if (out && *out != "-" && !is_streaming_output(*out)) std::remove(out->c_str());
+        throw;
+    }
+    return splat.points();
+}
+
+}  // namespace meshless::cli

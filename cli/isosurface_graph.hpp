@@ -1,0 +1,35 @@
+// The graph of `meshless isosurface` and `meshless demo` (paradigm C, dissertation chapter 3):
+// cell rows of a volume in memory, slab-streamed slices or the active bricks of a store (Morton
+// order) -> generate + project (fused) -> [splat draw, in the runner's parallel section] -> sink,
+// and the outputs it ends in: a PLY (-o), a PNG (--png, stream/splat_sink.hpp), or both through a
+// tee. Nothing is collected: memory = the image buffers + the batches in flight. Both commands
+// build the same graph, so the demo's files equal `meshless isosurface` on the same volume.
+// Throws what the sources, stages and sinks throw (FormatError, IoError naming the file).
+#pragma once
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "cli/common.hpp"
+#include "stream/stage.hpp"
+
+namespace meshless::cli {
+
+/// One run of the graph on `in`; draw (the splat stage, or null) goes after generate + project.
+/// Same batches, hence same bytes, as run_isosplat_input with PipelineShape::fused.
+IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
+                                    const Stage* draw, Sink& sink, int nthreads);
+
+/// A graph to run into the outputs: run(draw, sink), draw = the splat stage or null.
+using GraphRun = std::function<IsoSplatResult(const Stage* draw, Sink& sink)>;
+
+/// Runs `run` into the PLY `out` and/or the PNG `png` (at least one given). Each batch is drawn as it
+/// is produced and, with `out`, written to the PLY. The splat sink finishes (renders) before the
+/// PLY is committed, and a PNG that cannot be written removes the PLY: one outcome. Returns the
+/// number of points; the run's result goes to r. parallel_draw = false (the MPI root: batches arrive
+/// already made): draw is null and the splat sink draws in consume().
+std::size_t run_to_outputs(const std::optional<std::string>& out, const std::optional<std::string>& png,
+                           const StreamMeta& meta, const RenderSettings& rs, int nthreads, const GraphRun& run,
+                           IsoSplatResult& r, bool parallel_draw = true);
+
+}  // namespace meshless::cli

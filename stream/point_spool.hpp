@@ -1,0 +1,81 @@
+// The point spool: oriented points written once to an unlinked temporary file and read back as
+// often as needed, so that a consumer that needs the points more than once (the EWA splat kernel's
+// second pass, a turntable's frames, a picture whose frame must be known before its first point)
+// holds one batch in memory, not all of them.
+//
+// The file is created in $TMPDIR (else /tmp) as meshless-PURPOSE-XXXXXX and unlinked at once, so
+// its space is freed however the process ends; it holds raw PointRecords (32 bytes each, native
+// byte order), in the order appended. The spool tracks the bounds of the finite positions
+// (kernels/splat_rasterizer.hpp PointBounds), known once every point is in.
+//
+// PointSpool is a Sink (requires point batches: FormatError on samples), so a graph can end in it;
+// finish() flushes. PointSpoolSource replays it in batches of at most kMaxBatchRecords, with dense
+// sequence numbers, reading each batch into a recycled array: the source holds at most one batch.
+// Errors: IoError naming the spool file (and saying it is a deleted temporary) when it cannot be
+// created, written or read back.
+// Threads: append/consume/finish from one thread at a time; read() is thread-safe (pread) once the
+// spool is flushed and while nothing is appended.
+#pragma once
+#include <array>
+#include <cstdio>
+#include <mutex>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "kernels/splat_rasterizer.hpp"
+#include "stream/stage.hpp"
+
+namespace meshless {
+
+class PointSpool final : public Sink {
+public:
+    /// Creates and unlinks the file; `purpose` goes into its name (e.g. "splat-spool").
+    explicit PointSpool(const std::string& purpose = "point-spool");
+    ~PointSpool() override;
+    PointSpool(const PointSpool&) = delete;
+    PointSpool& operator=(const PointSpool&) = delete;
+
+    /// Appends points (buffered: call flush() before read()).
+    void append(std::span<const PointRecord> points);
+    void consume(Batch&& b) override { observe(b); }
+    void observe(const Batch& b) override;
+    void finish() override { flush(); }
+    void flush();
+
+    std::uint64_t size() const { return count_; }
+    /// point_bounds() of every point appended.
+    std::array<Vec3, 2> bounds() const { return bounds_.bounds(); }
+    /// Reads points [first, first + out.size()) into out; they must all have been appended.
+    void read(std::uint64_t first, std::span<PointRecord> out) const;
+    /// The file's name as created (it no longer exists in the directory).
+    const std::string& name() const { return name_; }
+
+private:
+    [[noreturn]] void fail(const char* what, int err) const;
+    std::FILE* f_ = nullptr;
+    std::string name_;
+    std::uint64_t count_ = 0;
+    PointBounds bounds_;
+};
+
+class PointSpoolSource final : public Source {
+public:
+    /// Flushes the spool; the spool must outlive the source and not grow while it is read.
+    explicit PointSpoolSource(PointSpool& spool, std::size_t batch_records = kMaxBatchRecords);
+    std::optional<Batch> next() override;
+    /// Keeps one consumed array to read the next batch into.
+    bool recycle(Batch& consumed) override;
+    /// Bytes of record arrays the source holds now (at most one batch), for tests.
+    std::size_t retained_bytes();
+
+private:
+    const PointSpool& spool_;
+    std::size_t per_;
+    std::uint64_t at_ = 0;
+    std::uint64_t seq_ = 0;
+    std::mutex m_;  // recycle() may run on the sink's thread while next() runs
+    std::vector<PointRecord> spare_;
+};
+
+}  // namespace meshless

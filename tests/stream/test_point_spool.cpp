@@ -1,0 +1,188 @@
+// The point spool (stream/point_spool.hpp) alone: points round-trip through the unlinked file in
+// any append split and any replay batch size, bounds equal point_bounds (non-finite positions
+// skipped), the empty spool, the file gone from $TMPDIR from the start, errors naming the file, and
+// a replaying source that holds at most one batch whatever the thread count.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "kernels/errors.hpp"
+#include "stream/point_sinks.hpp"
+#include "stream/point_spool.hpp"
+#include "stream/runner.hpp"
+#include "test_paths.hpp"
+
+using namespace meshless;
+using meshless::test::TempDir;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<PointRecord> random_points(std::size_t n, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> u(-3, 5);
+    std::vector<PointRecord> pts(n);
+    for (auto& p : pts)
+        for (float* f : {&p.pos[0], &p.pos[1], &p.pos[2], &p.normal[0], &p.normal[1], &p.normal[2], &p.radius, &p.value})
+            *f = u(rng);
+    return pts;
+}
+
+bool same(const std::vector<PointRecord>& a, const std::vector<PointRecord>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(PointRecord)) == 0;
+}
+
+/// Sets TMPDIR for the scope of the object.
+struct ScopedTmpdir {
+    explicit ScopedTmpdir(const std::string& dir) {
+        if (const char* old = std::getenv("TMPDIR")) saved = old;
+        had = std::getenv("TMPDIR") != nullptr;
+        ::setenv("TMPDIR", dir.c_str(), 1);
+    }
+    ~ScopedTmpdir() {
+        if (had) ::setenv("TMPDIR", saved.c_str(), 1);
+        else ::unsetenv("TMPDIR");
+    }
+    std::string saved;
+    bool had = false;
+};
+
+}  // namespace
+
+TEST_CASE("point spool: round trip in any split, bounds as point_bounds", "[point_spool]") {
+    auto pts = random_points(150000, 5);
+    pts[17].pos[1] = NAN;  // skipped by the bounds, kept in the spool
+    pts[99].pos[0] = -INFINITY;
+    pts[1234].pos[2] = 1e6f;  // far outside: must widen the bounds
+    PointSpool spool("test-spool");
+    std::size_t at = 0;
+    for (std::size_t n : {0, 1, 7, 65536, 3, 70000}) {  // uneven appends, the rest at the end
+        spool.append(std::span(pts).subspan(at, n));
+        at += n;
+    }
+    spool.append(std::span(pts).subspan(at));
+    REQUIRE(spool.size() == pts.size());
+    const auto want = point_bounds(pts);
+    const auto got = spool.bounds();
+    CHECK(got[1].z == 1e6);
+    for (int i = 0; i < 2; ++i) {
+        CHECK(got[i].x == want[i].x);
+        CHECK(got[i].y == want[i].y);
+        CHECK(got[i].z == want[i].z);
+    }
+    for (std::size_t per : {std::size_t{1000}, kMaxBatchRecords, std::size_t{1} << 30})
+        for (int threads : {1, 2}) {
+            INFO("batch " << per << " threads " << threads);
+            PointSpoolSource source(spool, per);
+            CollectSink out;
+            run_pipeline(source, {}, out, {threads});
+            CHECK(same(out.points, pts));
+        }
+    // batches are at most the requested size, with dense sequence numbers
+    PointSpoolSource source(spool, 40000);
+    std::uint64_t seq = 0;
+    std::size_t total = 0;
+    while (auto b = source.next()) {
+        CHECK(b->seq == seq++);
+        CHECK(b->kind == RecordKind::point);
+        CHECK(b->points.size() == std::min<std::size_t>(40000, pts.size() - total));
+        total += b->points.size();
+    }
+    CHECK(total == pts.size());
+    // random access
+    std::vector<PointRecord> mid(10);
+    spool.read(140000, mid);
+    CHECK(std::memcmp(mid.data(), pts.data() + 140000, sizeof(PointRecord) * 10) == 0);
+}
+
+TEST_CASE("point spool: empty; a graph can end in it; samples are refused", "[point_spool]") {
+    PointSpool spool;
+    CHECK(spool.size() == 0);
+    CHECK(spool.bounds()[0].x == 0);
+    CHECK(spool.bounds()[1].z == 0);
+    PointSpoolSource empty(spool);
+    CHECK_FALSE(empty.next());
+
+    const auto pts = random_points(5000, 9);
+    PointSpool sunk;
+    std::vector<PointRecord> copy = pts;
+    struct Once final : Source {
+        std::vector<PointRecord>* p;
+        bool done = false;
+        std::optional<Batch> next() override {
+            if (done) return std::nullopt;
+            done = true;
+            Batch b;
+            b.kind = RecordKind::point;
+            b.points = *p;
+            return b;
+        }
+    } src;
+    src.p = &copy;
+    run_pipeline(src, {}, sunk, {2});
+    CollectSink out;
+    PointSpoolSource replay(sunk);
+    run_pipeline(replay, {}, out, {1});
+    CHECK(same(out.points, pts));
+
+    Batch b;
+    b.kind = RecordKind::sample;
+    b.samples.resize(2);
+    CHECK_THROWS_AS(sunk.consume(std::move(b)), FormatError);
+}
+
+TEST_CASE("point spool: the file is unlinked in $TMPDIR; errors name it", "[point_spool]") {
+    TempDir d("spooldir");
+    {
+        ScopedTmpdir t(d.path.string());
+        PointSpool spool("named");
+        CHECK(spool.name().rfind((d.path / "meshless-named-").string(), 0) == 0);
+        spool.append(random_points(1000, 1));
+        spool.flush();
+        CHECK(fs::is_empty(d.path));  // nothing to clean up, whatever happens to the process
+        std::vector<PointRecord> past(10);
+        try {
+            spool.read(995, past);
+            FAIL("no error");
+        } catch (const IoError& e) {
+            CHECK_THAT(e.what(), Catch::Contains(spool.name()) && Catch::Contains("holds 1000"));
+        }
+    }
+    ScopedTmpdir t((d.path / "missing").string());
+    try {
+        PointSpool spool("named");
+        FAIL("no error");
+    } catch (const IoError& e) {
+        CHECK_THAT(e.what(), Catch::Contains((d.path / "missing" / "meshless-named-").string()));
+    }
+}
+
+TEST_CASE("point spool: the replaying source holds at most one batch", "[point_spool]") {
+    const auto pts = random_points(20 * kMaxBatchRecords + 5, 3);
+    PointSpool spool;
+    spool.append(pts);
+    for (int threads : {1, 2, 4}) {
+        PointSpoolSource source(spool);
+        CollectSink out(/*keep_chunks=*/true);  // takes the arrays: nothing comes back to recycle
+        run_pipeline(source, {}, out, {threads});
+        CHECK(source.retained_bytes() == 0);
+        CHECK(out.size() == pts.size());
+
+        // a sink that only reads: arrays come back and are reused, one kept at a time
+        struct Count final : Sink {
+            std::size_t n = 0;
+            void consume(Batch&& b) override { n += b.points.size(); }
+        } count;
+        PointSpoolSource reused(spool);
+        run_pipeline(reused, {}, count, {threads});
+        CHECK(count.n == pts.size());
+        CHECK(reused.retained_bytes() <= kMaxBatchRecords * sizeof(PointRecord));
+        CHECK(reused.retained_bytes() > 0);
+    }
+}
