@@ -4,7 +4,9 @@
 // the single-process run and rank 0 never holds it. The MPI headers stay inside
 // cli/mpi_session.cpp (built when CMake finds MPI; otherwise cli/mpi_session_none.cpp reports that
 // this build has no MPI). A launch under mpirun is recognised from the launcher's environment
-// (OMPI_COMM_WORLD_SIZE, PMI_SIZE, PMIX_RANK); a plain run never initialises MPI.
+// (OMPI_COMM_WORLD_SIZE, PMI_SIZE, PMIX_RANK); a plain run never initialises MPI, and never loads
+// it: the MPI code lives in a plugin beside the executable (cli/mpi_backend.hpp), loaded by the
+// MpiSession constructor.
 // Failure: a rank that fails prints its error and aborts the whole job (MPI_Abort), so no rank
 // presents partial output as complete (rank 0 writes through a temporary name + rename).
 #pragma once
@@ -13,6 +15,7 @@
 #include <memory>
 #include <vector>
 
+#include "cli/mpi_backend.hpp"
 #include "stream/rank_merge.hpp"
 
 namespace meshless::cli {
@@ -24,7 +27,8 @@ bool mpi_built();
 
 class MpiSession {
 public:
-    /// MPI_Init; throws UsageError when the build has no MPI.
+    /// Loads the MPI plugin and runs MPI_Init; throws UsageError when the build has no MPI or the
+    /// plugin cannot be loaded (the message names the file and dlerror()).
     MpiSession(int* argc, char*** argv);
     ~MpiSession();
     MpiSession(const MpiSession&) = delete;
@@ -36,7 +40,11 @@ public:
     /// Ends every rank of the job with this exit code (does not return).
     [[noreturn]] void abort(int code);
 
+    MpiBackend& backend() const { return *backend_; }
+
 private:
+    void* plugin_ = nullptr;  // dlopen handle
+    std::unique_ptr<MpiBackend> backend_;
     int rank_ = 0, size_ = 1;
 };
 
@@ -53,9 +61,7 @@ public:
     void flush() override;
 
 private:
-    struct Pending;
-    std::unique_ptr<Pending> pending_;
-    int window_;
+    MpiBackend& backend_;
 };
 
 }  // namespace meshless::cli

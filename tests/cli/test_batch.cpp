@@ -254,7 +254,7 @@ TEST_CASE("batch manifest: relative paths, raw options, comments, a missing entr
     CHECK_THAT(slurp(out / "plain.mlb.meta"), Catch::Contains("param.raw=dims=20,20,20 type=uint8"));
 }
 
-TEST_CASE("batch over the file size limit: exit 2, a clear message, no partial output; rerun finishes", "[batch]") {
+TEST_CASE("batch over the file size limit: exit 2, a clear message, no partial output, rerun finishes", "[batch]") {
     TempDir d("batch-full");
     const fs::path arch = d / "arch";
     fs::create_directories(arch);

@@ -80,7 +80,7 @@ TEST_CASE("paradigm (A): generate --all, extract, project at render time or in a
     CHECK(sh("MESHLESS generate " + vol + " --all --iso 3 -o " + D + "/x.mls", d).code == 1);
 }
 
-TEST_CASE("mpirun -np 2 gives the single-process bytes; a failing rank fails the job with no output", "[cli][ooc-pipeline][mpi]") {
+TEST_CASE("mpirun -np 2 gives the single-process bytes, a failing rank fails the job with no output", "[cli][ooc-pipeline][mpi]") {
     TempDir d("mpi");
     if (sh("command -v mpirun", d).code != 0) {
         WARN("mpirun not installed: MPI test skipped");

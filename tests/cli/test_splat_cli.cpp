@@ -76,7 +76,7 @@ TEST_CASE("splat: every path to a picture gives the same bytes, both kernels, an
     CHECK(comment(ply, "volume_bounds_hi") == "69,69,69");
 }
 
-TEST_CASE("isosurface -o --png: a PNG that cannot be written leaves no PLY; an empty surface is a background image",
+TEST_CASE("isosurface -o --png: a PNG that cannot be written leaves no PLY, an empty surface is a background image",
           "[cli][splat]") {
     TempDir d("splatfail");
     const std::string vol = corner_ball(d), D = d.path.string();

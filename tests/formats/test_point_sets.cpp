@@ -347,7 +347,7 @@ std::string vtk_array(const std::string& attrs, const std::vector<double>& v, bo
 
 }  // namespace
 
-TEST_CASE("VTP: ascii, base64, appended raw/base64, zlib, UInt64 headers, big endian; array choice", "[scatter]") {
+TEST_CASE("VTP: ascii, base64, appended raw/base64, zlib, UInt64 headers, big endian, array choice", "[scatter]") {
     TempDir d("ps-vtp");
     const PointSet ref = make_set(37, 2.0);
     std::vector<double> xyz, val, other, vec3;

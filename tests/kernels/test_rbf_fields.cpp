@@ -294,7 +294,7 @@ TEST_CASE("mpu is continuous across octree leaf boundaries and covers the boundi
     CHECK(std::isnan(g.x));
 }
 
-TEST_CASE("Franke 3-D: error falls with more points; local fields near the global reference", "[rbf]") {
+TEST_CASE("Franke 3-D: error falls with more points, local fields near the global reference", "[rbf]") {
     const auto at = random_points(3000, {0.05, 0.05, 0.05}, {0.95, 0.95, 0.95}, 61);
     const auto p1k = random_points(1000, {0, 0, 0}, {1, 1, 1}, 62);
     const auto p10k = random_points(10000, {0, 0, 0}, {1, 1, 1}, 63);
@@ -315,7 +315,7 @@ TEST_CASE("Franke 3-D: error falls with more points; local fields near the globa
     }
 }
 
-TEST_CASE("a 1e6 offset gives the same errors as no offset; anisotropic scales work", "[rbf]") {
+TEST_CASE("a 1e6 offset gives the same errors as no offset, anisotropic scales work", "[rbf]") {
     const auto pos = random_points(4000, {0, 0, 0}, {1, 1, 1}, 71);
     const auto at = random_points(1000, {0.05, 0.05, 0.05}, {0.95, 0.95, 0.95}, 72);
     const Vec3 shift{1e6, -2e6, 3e6};

@@ -73,7 +73,7 @@ TEST_CASE("grid raster -> evaluate: every sample, x fastest, exact values, any t
     }
 }
 
-TEST_CASE("query list with gradients; coverage masks what the data does not reach", "[field-graph]") {
+TEST_CASE("query list with gradients, coverage masks what the data does not reach", "[field-graph]") {
     const Linear f;
     std::vector<Vec3> at;
     for (int i = 0; i < 100; ++i) at.push_back({i * 0.1, 0, 0});
@@ -94,7 +94,7 @@ TEST_CASE("query list with gradients; coverage masks what the data does not reac
     CHECK(st.uncovered() < 100);
 }
 
-TEST_CASE("plane raster pixels; image and NRRD sinks fill in order and refuse overflow", "[field-graph]") {
+TEST_CASE("plane raster pixels, image and NRRD sinks fill in order and refuse overflow", "[field-graph]") {
     PlaneRaster r;
     r.axis = 1;
     r.at = 0.25;

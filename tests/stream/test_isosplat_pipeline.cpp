@@ -141,7 +141,7 @@ TEST_CASE("output bytes do not depend on the thread count nor on fusing generate
     }
 }
 
-TEST_CASE("isovalue outside the range gives an empty result; NaN cells are skipped and counted", "[isosplat]") {
+TEST_CASE("isovalue outside the range gives an empty result, NaN cells are skipped and counted", "[isosplat]") {
     Volume v = make_analytic_volume(AnalyticField::sphere, 32);
     CHECK(isosplat(v, 1e9, Projection::approx, 2).empty());
     float* data = reinterpret_cast<float*>(v.bytes.data());

@@ -101,7 +101,7 @@ TEST_CASE("point spool: round trip in any split, bounds as point_bounds", "[poin
     CHECK(std::memcmp(mid.data(), pts.data() + 140000, sizeof(PointRecord) * 10) == 0);
 }
 
-TEST_CASE("point spool: empty; a graph can end in it; samples are refused", "[point_spool]") {
+TEST_CASE("point spool: empty, a graph can end in it, samples are refused", "[point_spool]") {
     PointSpool spool;
     CHECK(spool.size() == 0);
     CHECK(spool.bounds()[0].x == 0);
@@ -137,7 +137,7 @@ TEST_CASE("point spool: empty; a graph can end in it; samples are refused", "[po
     CHECK_THROWS_AS(sunk.consume(std::move(b)), FormatError);
 }
 
-TEST_CASE("point spool: the file is unlinked in $TMPDIR; errors name it", "[point_spool]") {
+TEST_CASE("point spool: the file is unlinked in $TMPDIR, errors name it", "[point_spool]") {
     TempDir d("spooldir");
     {
         ScopedTmpdir t(d.path.string());

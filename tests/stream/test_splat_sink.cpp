@@ -156,7 +156,7 @@ TEST_CASE("splat sink: a different point set gives a different image (the compar
     CHECK(diff > 50);
 }
 
-TEST_CASE("splat sink: empty stream gives the background; samples are refused", "[splat_sink]") {
+TEST_CASE("splat sink: empty stream gives the background, samples are refused", "[splat_sink]") {
     for (SplatKernel k : {SplatKernel::quad, SplatKernel::ewa}) {
         ShadingParams sh;
         sh.background = {12, 34, 56};
@@ -241,7 +241,7 @@ TEST_CASE("tee sink: both sinks see every batch, in order", "[splat_sink]") {
     CHECK(std::memcmp(b.points.data(), pts.data(), pts.size() * sizeof(PointRecord)) == 0);
 }
 
-TEST_CASE("PLY source: batches reproduce the file; a cut file names the file", "[splat_sink]") {
+TEST_CASE("PLY source: batches reproduce the file, a cut file names the file", "[splat_sink]") {
     meshless::test::TempDir dir("plysrc");
     const auto pts = test_points(70000, 5);  // more than one batch
     const std::string path = (dir / "p.ply").string();
@@ -277,7 +277,7 @@ TEST_CASE("PLY source: batches reproduce the file; a cut file names the file", "
     CHECK_THROWS_AS([&] { while (tail.next()) {} }(), FormatError);
 }
 
-TEST_CASE("splat sink throughput (hidden; MESHLESS_SPLAT_BENCH_PLY=points.ply)", "[.splat_sink_bench]") {
+TEST_CASE("splat sink throughput (hidden, MESHLESS_SPLAT_BENCH_PLY=points.ply)", "[.splat_sink_bench]") {
     const char* path = std::getenv("MESHLESS_SPLAT_BENCH_PLY");
     std::vector<PointRecord> pts = path ? read_ply_points(path).points : test_points(1000000, 1);
     const auto bounds = point_bounds(pts);

@@ -1,0 +1,123 @@
+// The MPI plugin (libmeshless_mpi.so, see cli/mpi_backend.hpp): the only code that includes
+// mpi.h. Loaded by cli/mpi_session.cpp when `meshless` runs under mpirun.
+#include "cli/mpi_backend.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <deque>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+namespace meshless::cli {
+
+namespace {
+constexpr int kStreamTag = 11;
+
+/// Waits for `done()` without spinning a core: MPI's blocking calls busy-poll, which on a machine
+/// with fewer free cores than ranks (mpirun --oversubscribe, other jobs) starves the ranks that
+/// compute. Polls a few times, then sleeps in growing steps up to 200 us between polls.
+template <class Done>
+void wait_politely(Done done) {
+    for (int i = 0; i < 64; ++i)
+        if (done()) return;
+    std::chrono::microseconds pause(5);
+    while (!done()) {
+        std::this_thread::sleep_for(pause);
+        pause = std::min(pause * 2, std::chrono::microseconds(200));
+    }
+}
+}  // namespace
+
+class OpenMpiBackend final : public MpiBackend {
+public:
+    OpenMpiBackend(int* argc, char*** argv) {
+        int inited = 0;
+        MPI_Initialized(&inited);
+        if (!inited) MPI_Init(argc, argv);
+        MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+        MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    }
+    ~OpenMpiBackend() override {
+        close_channel();
+        int finalized = 0;
+        MPI_Finalized(&finalized);
+        if (!finalized) MPI_Finalize();
+    }
+    int rank() const override { return rank_; }
+    int size() const override { return size_; }
+    void sum_to_root(const std::int64_t* in, std::int64_t* out, int n) override {
+        MPI_Reduce(in, out, n, MPI_INT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    }
+    [[noreturn]] void abort(int code) override {
+        MPI_Abort(MPI_COMM_WORLD, code);
+        std::exit(code);
+    }
+    void open_channel(int window) override {
+        close_channel();
+        window_ = std::max(1, window);
+    }
+    void close_channel() override {
+        // normal runs flush; after an error the job is aborted, so nothing is waited for here
+        for (auto& m : q_) MPI_Request_free(&m.request);
+        q_.clear();
+    }
+
+    void send_to_root(std::vector<std::byte> message) override {
+        if (message.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+            throw std::logic_error("MPI channel: message larger than INT_MAX bytes");
+        while (q_.size() >= static_cast<std::size_t>(window_)) {
+            MPI_Request* req = &q_.front().request;
+            wait_politely([&] {
+                int flag = 0;
+                MPI_Test(req, &flag, MPI_STATUS_IGNORE);
+                return flag != 0;
+            });
+            q_.pop_front();
+        }
+        auto& m = q_.emplace_back();
+        m.bytes = std::move(message);
+        MPI_Issend(m.bytes.data(), static_cast<int>(m.bytes.size()), MPI_BYTE, 0, kStreamTag, MPI_COMM_WORLD, &m.request);
+    }
+
+    void receive_from(int rank, std::vector<std::byte>& message) override {
+        MPI_Status st;
+        wait_politely([&] {
+            int flag = 0;
+            MPI_Iprobe(rank, kStreamTag, MPI_COMM_WORLD, &flag, &st);
+            return flag != 0;
+        });
+        int n = 0;
+        MPI_Get_count(&st, MPI_BYTE, &n);
+        message.resize(static_cast<std::size_t>(n));
+        MPI_Recv(message.data(), n, MPI_BYTE, rank, kStreamTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    }
+
+    void flush() override {
+        for (auto& m : q_)
+            wait_politely([&] {
+                int flag = 0;
+                MPI_Test(&m.request, &flag, MPI_STATUS_IGNORE);
+                return flag != 0;
+            });
+        q_.clear();
+    }
+
+private:
+    struct Message {
+        std::vector<std::byte> bytes;
+        MPI_Request request;
+    };
+    std::deque<Message> q_;
+    int window_ = 4;
+    int rank_ = 0, size_ = 1;
+};
+
+}  // namespace meshless::cli
+
+extern "C" __attribute__((visibility("default"))) meshless::cli::MpiBackend* meshless_mpi_backend_v1(int* argc, char*** argv) {
+    return new meshless::cli::OpenMpiBackend(argc, argv);
+}
