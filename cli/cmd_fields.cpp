@@ -120,7 +120,7 @@ int cmd_slice(int argc, char** argv) {
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
     const Plane plane = parse_plane(a.require("plane"));
-    const std::string png = a.require("output");
+    const std::string png = require_output_extension(a.require("output"), ".png", "-o", "a PNG image");
     Colormap cmap;
     if (!parse_colormap(a.get_or("colormap", "coolwarm"), cmap)) throw UsageError("--colormap: expected coolwarm or gray");
     const auto [W, H] = parse_size(a.get_or("size", "1024x1024"), "--size", 2, 16384);
@@ -202,7 +202,7 @@ int cmd_resample(int argc, char** argv) {
         if ((*d)[i] < 2 || (*d)[i] > 4096 || (*d)[i] != std::floor((*d)[i])) throw UsageError("--dims: expected integers 2..4096");
         g.dims[i] = static_cast<std::int64_t>((*d)[i]);
     }
-    const std::string out = a.require("output");
+    const std::string out = require_output_extension(a.require("output"), ".nrrd", "-o", "a float32 volume (NRRD)");
     const PointSet pts = read_points_arg(a);
     const auto field = build_field(a, pts);
     const auto [lo, hi] = pts.bounds();

@@ -89,6 +89,8 @@ int cmd_isosurface(int argc, char** argv) {
     const auto out = a.get("output");
     const auto png = a.get("png");
     if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
+    if (out) require_output_extension(*out, ".ply", "-o", "an oriented point set (binary PLY)");
+    if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
     if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
         throw UsageError("-o and --png name the same output '" + *out + "'");
     const Projection mode = parse_projection(a.get_or("projection", "approx"));

@@ -28,7 +28,7 @@ int cmd_mc(int argc, char** argv) {
     add_thread_option(a);
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_double(a.require("iso"), "--iso");
-    const std::string out = a.require("output");
+    const std::string out = require_output_extension(a.require("output"), ".ply", "-o", "a triangle mesh (binary PLY)");
     VolumeInput in = open_volume_input(a);
     const std::string& path = in.path;
     warn_if_iso_outside(iso, in.value_range(), path);

@@ -40,7 +40,7 @@ int cmd_splat(int argc, char** argv) {
     add_thread_option(a);
     a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png --turntable 36\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    const std::string png = a.require("output");
+    const std::string png = require_output_extension(a.require("output"), ".png", "-o", "a PNG image");
     const RenderSettings rs = render_settings(a);
     const Camera& cam = rs.camera;
     const long long frames = a.get_int_or("turntable", 0);

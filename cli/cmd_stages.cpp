@@ -149,7 +149,7 @@ int cmd_write(int argc, char** argv) {
            "x y z nx ny nz radius value, which MeshLab, ParaView and VTK open.");
     a.option("output", "o", "FILE", "PLY output (required; '-' = stdout)");
     if (!a.parse(argc, argv, 2)) return 0;
-    const std::string outpath = a.require("output");
+    const std::string outpath = require_output_extension(a.require("output"), ".ply", "-o", "an oriented point set (binary PLY)");
     InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
     StreamReader reader(in.f, in.name);
     if (reader.kind() != RecordKind::point)

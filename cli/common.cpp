@@ -18,6 +18,7 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include "formats/atomic_file.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/block_minmax.hpp"
 #include "ooc/brick_slice_source.hpp"
@@ -425,6 +426,19 @@ double stream_iso(const Args& a, const StreamMeta& m) {
                      "active for %g, so the surface for %g may be incomplete\n",
                      a.command().c_str(), iso, *recorded, *recorded, iso);
     return iso;
+}
+
+const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
+                                            const char* what) {
+    if (path == "-" || is_streaming_output(path)) return path;
+    const std::string e(ext);
+    auto lower = [](char c) { return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c); };
+    bool ok = path.size() > e.size();
+    for (std::size_t i = 0; ok && i < e.size(); ++i) ok = lower(path[path.size() - e.size() + i]) == e[i];
+    if (!ok)
+        throw UsageError(std::string(option) + " '" + path + "': this output is " + what + ", written to a " + e +
+                         " file (outputs are chosen by extension; '-' for stdout)");
+    return path;
 }
 
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source) {

@@ -125,6 +125,11 @@ Projection parse_projection(const std::string& s);
 
 /// Warns on stderr when iso lies outside [lo, hi] (the outputs will be empty but valid).
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source);
+/// Outputs are chosen by extension: returns `path` when it ends in `ext` (".ply", ".png", ...;
+/// case-insensitive) or is a stream ("-", a device, a FIFO); otherwise throws UsageError naming
+/// the option, the path and what it writes (a file named out.vtp must not receive PLY bytes).
+const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
+                                            const char* what);
 /// After a paradigm (C) run: when it found no active cell, warn_if_iso_outside with the input's value
 /// range (computed only then). A run that found an active cell has iso inside the range, so the
 /// volume is not read an extra time to say nothing.

@@ -116,9 +116,21 @@ TEST_CASE("bad volumes and bad arguments: one-line errors and documented exit co
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Catch::Contains("no/such/dir/x.ply"));
     // a directory where the output file should be
-    r = sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D, d);
+    fs::create_directory(d / "dir.ply");
+    r = sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/dir.ply", d);
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Catch::Contains("is a directory"));
+    // outputs are chosen by extension: PLY bytes never go to a .vtp, a PNG never to a .jpg
+    for (const std::string& args : {std::string(" -o ") + D + "/x.vtp", std::string(" --png ") + D + "/x.jpg"}) {
+        r = sh("MESHLESS isosurface " + vol + " --iso 50.5" + args, d);
+        CHECK(r.code == 1);
+        CHECK_THAT(r.err, Catch::Contains("chosen by extension"));
+    }
+    CHECK(!fs::exists(d / "x.vtp"));
+    CHECK(!fs::exists(d / "x.jpg"));
+    r = sh("MESHLESS mc " + vol + " --iso 50.5 -o " + D + "/m.obj", d);
+    CHECK(r.code == 1);
+    CHECK(!fs::exists(d / "m.obj"));
     // nothing half-written anywhere
     for (const auto& e : fs::directory_iterator(d.path)) CHECK(e.path().string().find(".tmp-") == std::string::npos);
 }
