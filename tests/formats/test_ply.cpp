@@ -5,6 +5,8 @@
 // and the line or byte, bytes from the file escaped).
 #include <catch2/catch.hpp>
 
+#include "error_of.hpp"
+
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -24,6 +26,7 @@
 #include "test_paths.hpp"
 
 using namespace meshless;
+using meshless::test::error_of;
 using meshless::test::TempDir;
 namespace fs = std::filesystem;
 
@@ -41,15 +44,6 @@ void put(std::vector<unsigned char>& b, T v) {
     b.insert(b.end(), p, p + sizeof(T));
 }
 
-template <class F>
-std::string error_of(F&& f) {
-    try {
-        f();
-    } catch (const FormatError& e) {
-        return e.what();
-    }
-    return "(no FormatError)";
-}
 
 std::span<const std::byte> as_bytes(const std::string& s) { return {reinterpret_cast<const std::byte*>(s.data()), s.size()}; }
 

@@ -3,6 +3,8 @@
 // shared/data/SOURCES.md sections 2 and 3.
 #include <catch2/catch.hpp>
 
+#include "error_of.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -70,16 +72,11 @@ void require_same(const PointSet& a, const PointSet& b, double tol = 0) {
     }
 }
 
+
+/// The reader's message: a FormatError or an IoError (tests/error_of.hpp).
 template <class F>
 std::string error_of(F&& f) {
-    try {
-        f();
-    } catch (const FormatError& e) {
-        return e.what();
-    } catch (const IoError& e) {
-        return e.what();
-    }
-    return "";
+    return test::error_of<FormatError, IoError>(f);
 }
 
 }  // namespace
