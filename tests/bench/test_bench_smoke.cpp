@@ -59,8 +59,11 @@ TEST_CASE("meshless-bench smoke: process and accuracy --quick, markdown where to
     } else {
         CHECK(contains(text, "Parts (a)-(d) skipped"));
     }
-    // markdown only where told; the work folder keeps its inputs and loses its outputs
-    CHECK(contains(slurp(md), "| row | seconds |"));
+    // markdown only where told (part (e) runs without the shared data, (a)-(d) need it); the work
+    // folder keeps its inputs and loses its outputs
+    const std::string markdown = slurp(md);
+    CHECK(contains(markdown, "| points | PLY MiB |"));
+    CHECK(contains(markdown, "| row | seconds |") == have_shared_data());
     for (const auto& e : std::filesystem::directory_iterator(work)) {
         const std::string n = e.path().filename().string();
         CHECK((n.rfind("lung_", 0) == 0 || n.rfind("sphere_", 0) == 0));
