@@ -30,8 +30,23 @@ struct SampleRecord {
 };
 static_assert(sizeof(SampleRecord) == 88 && std::is_trivially_copyable_v<SampleRecord>);
 
+/// SeedRecord (40 bytes): a seed of the multiblock/AMR path (dissertation sections 4.4-4.5): one
+///   barycentric-lattice sample inside a marching-cubes triangle of a block cell, before the Newton
+///   projection onto the continuous field. base_radius = sqrt(2A / (pi n (n+1))) for the triangle's
+///   area A and the lattice parameter n; the projected point's radius is 2 (1 + d/l) base_radius
+///   (d the distance travelled, l = cell_diagonal).
+struct SeedRecord {
+    float pos[3];         ///< seed position, world units
+    float normal[3];      ///< the triangle's unit normal, pointing to increasing values
+    float value;          ///< the block interpolant's value at pos (== iso up to rounding)
+    float base_radius;    ///< sqrt(2A / (pi n (n+1))), world units
+    float cell_diagonal;  ///< diagonal of the seeding cell (l of section 4.4), world units
+    std::uint32_t block;  ///< index of the block the seed came from
+};
+static_assert(sizeof(SeedRecord) == 40 && std::is_trivially_copyable_v<SeedRecord>);
+
 /// mesh: a marching-cubes piece, query: field query positions and results, in a stage-graph batch
 /// (stream/batch.hpp); never on a pipe.
-enum class RecordKind : std::uint32_t { point = 1, sample = 2, mesh = 3, query = 4 };
+enum class RecordKind : std::uint32_t { point = 1, sample = 2, mesh = 3, query = 4, seed = 5 };
 
 }  // namespace meshless

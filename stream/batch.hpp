@@ -49,6 +49,9 @@ struct Batch {
     std::shared_ptr<const VolumeChunk> chunk;  ///< slab-streamed work: the slices the cell rows (local to it) are in
     std::vector<SampleRecord> samples;  ///< valid when kind == sample
     std::vector<PointRecord> points;    ///< valid when kind == point
+    std::vector<std::uint32_t> point_block;  ///< kind == point: empty, or per point the id of the block
+                                             ///< it was seeded in (multiblock/AMR path, PLY `block`)
+    std::vector<SeedRecord> seeds;      ///< valid when kind == seed
     Mesh mesh;                          ///< valid when kind == mesh: a marching-cubes piece (local indices)
     std::vector<std::uint64_t> mesh_seam;  ///< kind == mesh: per vertex, its edge key if on the piece's
                                            ///< boundary (shared with a neighbour), else kNoSeam
@@ -58,6 +61,7 @@ struct Batch {
             case RecordKind::sample: return samples.size();
             case RecordKind::mesh: return mesh.triangle_count();
             case RecordKind::query: return query.at.size();
+            case RecordKind::seed: return seeds.size();
             case RecordKind::point: break;
         }
         return points.size();
