@@ -70,9 +70,14 @@ Multiblock read_one(const std::string& path, const PointSetOptions& o, Multibloc
     const std::string e = lower_ext(path);
     if (e == ".vtm" || e == ".vthb") return read_vtk_collection(path, o, details);
     if (e == ".vts" || e == ".vti" || e == ".vtr") return read_vtk_file(path, o, details);
-    if (e == ".p3d") return read_plot3d_meta_blocks(path, o);
-    if (e == ".xyz" || e == ".x" || e == ".g" || (e == ".bin" && looks_like_plot3d_xyz(path))) return read_plot3d_blocks(path, o);
-    return read_via_point_set(path, o);
+    std::vector<std::string> notes;
+    Multiblock mb;
+    if (e == ".p3d") mb = read_plot3d_meta_blocks(path, o, &notes);
+    else if (e == ".xyz" || e == ".x" || e == ".g" || (e == ".bin" && looks_like_plot3d_xyz(path))) mb = read_plot3d_blocks(path, o, &notes);
+    else return read_via_point_set(path, o);
+    if (details) details->description = "PLOT3D, " + std::to_string(mb.blocks.size()) + " grid(s)";
+    mb.notes = std::move(notes);
+    return mb;
 }
 
 }  // namespace

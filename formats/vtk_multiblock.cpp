@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 
 #include "formats/binary_file.hpp"
 #include "formats/ply.hpp"
@@ -49,14 +50,18 @@ std::string lower_ext(const std::string& p) {
     return e;
 }
 
-// One piece of the collection, with its errors re-thrown naming the collection and the piece.
+// One piece of the collection, with its errors re-thrown naming the collection and the piece. A
+// piece listed twice is refused (it would multiply what one file's bytes can make the reader
+// allocate, and no writer lists a piece twice).
 VtkStructuredFile read_piece(const std::string& coll, const std::string& rel, const std::string& label,
-                             const PointSetOptions& o, bool amr) {
+                             const PointSetOptions& o, bool amr, std::set<std::string>& seen) {
     const std::string tag = coll + ": piece '" + esc(rel, 200) + "' (" + label + ")";
     const std::string e = lower_ext(rel);
     if (amr ? e != ".vti" : (e != ".vts" && e != ".vti" && e != ".vtr"))
         throw FormatError(tag + ": unsupported piece type '" + esc(e) + "' (" + (amr ? ".vti" : ".vts, .vti, .vtr") + ")");
     const std::string piece_path = resolve_relative(coll, rel);
+    if (!seen.insert(std::filesystem::path(piece_path).lexically_normal().string()).second)
+        throw FormatError(tag + ": the piece is listed twice");
     try {
         return read_vtk_structured(piece_path, o);
     } catch (const IoError& x) {
@@ -102,6 +107,7 @@ Multiblock read_plain(const std::string& path, std::string_view doc, const VtkXm
     Multiblock mb;
     mb.format = "vtm";
     Chosen chosen;
+    std::set<std::string> seen;
     std::size_t empty = 0, count = 0;
     for (std::size_t from = top.end;;) {
         const VtkXmlTag ds = vtk_xml_find_tag(doc, "DataSet", from, close, path);
@@ -113,13 +119,13 @@ Multiblock read_plain(const std::string& path, std::string_view doc, const VtkXm
             continue;
         }
         const std::string label = "DataSet " + std::to_string(count);
-        VtkStructuredFile f = read_piece(path, file, label, o, false);
+        VtkStructuredFile f = read_piece(path, file, label, o, false, seen);
         agree(chosen, f, path, file, false);
         if (details && details->arrays.empty()) {
             details->arrays = f.arrays;
             details->cell = f.cell;
         }
-        const std::string name = ds.attr("name", std::filesystem::path(file).filename().string());
+        const std::string name = esc(ds.attr("name", std::filesystem::path(file).filename().string()), 200);
         add_blocks(mb, f, name, 0);
         if (++count > 100000) throw FormatError(path + ": more than 100000 pieces");
     }
@@ -222,10 +228,11 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
     Multiblock mb;
     mb.format = v1 ? "vthb" : "vtm-amr";
     Chosen chosen;
+    std::set<std::string> seen;
     std::map<int, std::size_t> per_level;
     for (const Box& b : boxes) {
         const std::string label = "level " + std::to_string(b.level) + " box " + esc(b.index);
-        VtkStructuredFile f = read_piece(path, b.file, label, o, true);
+        VtkStructuredFile f = read_piece(path, b.file, label, o, true, seen);
         const std::string tag = path + ": piece '" + esc(b.file, 200) + "' (" + label + ")";
         if (f.type != "ImageData") throw FormatError(tag + ": an AMR piece must be ImageData, not " + esc(f.type));
         if (f.pieces.size() != 1) throw FormatError(tag + ": " + std::to_string(f.pieces.size()) + " <Piece> elements, an AMR box has one");

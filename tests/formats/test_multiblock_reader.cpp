@@ -473,6 +473,12 @@ TEST_CASE("AMR and .vtm: each defect class is refused with one line naming the c
     boxes[1].box = {2, 6, 2, 5, 2, 5};
     m = fails("extent.vthb", vthb_text(boxes));
     CHECK_THAT(m, Catch::Contains("extent.vthb: piece 'p1.vti' (level 1 box 0): its extent has 4 cells along x, its amr_box"));
+    // a piece listed twice
+    boxes = amr_boxes();
+    boxes[2].file = "./p1.vti";
+    boxes[2].box = boxes[1].box;
+    m = fails("twice.vthb", vthb_text(boxes));
+    CHECK_THAT(m, Catch::Contains("twice.vthb: piece './p1.vti' (level 1 box 1): the piece is listed twice"));
     // a piece at another place than its amr_box says (same size)
     boxes = amr_boxes();
     boxes[1].box = {3, 6, 2, 5, 2, 5};
