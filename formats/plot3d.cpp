@@ -73,6 +73,13 @@ struct Bin {
     }
 };
 
+// dims[0]*dims[1]*dims[2] without overflow (false when it would overflow).
+bool node_count(const Dims& d, std::uint64_t& n) {
+    std::uint64_t ij = 0;
+    return !__builtin_mul_overflow(static_cast<std::uint64_t>(d[0]), static_cast<std::uint64_t>(d[1]), &ij) &&
+           !__builtin_mul_overflow(ij, static_cast<std::uint64_t>(d[2]), &n);
+}
+
 std::uint64_t grid_payload(Kind k, std::uint64_t N, int prec, bool iblank, std::int64_t nv) {
     if (k == Kind::xyz) return 3 * N * prec + (iblank ? 4 * N : 0);
     if (k == Kind::q) return 5 * N * prec;
@@ -115,8 +122,8 @@ bool try_binary(const Bin& b, Kind kind, Layout& L) {
     off += hb + mk;
     L.base.assign(static_cast<std::size_t>(ng), 0);
     for (std::int64_t g = 0; g < ng; ++g) {
-        const std::uint64_t N = static_cast<std::uint64_t>(L.dims[g][0]) * L.dims[g][1] * L.dims[g][2];
-        if (N > n) return false;
+        std::uint64_t N = 0;
+        if (!node_count(L.dims[g], N) || N > n) return false;
         if (kind == Kind::q) {  // fsmach alpha re time
             const std::uint64_t rb = 4ull * L.prec;
             if (L.records && (off + 4 > n || b.i32(off) != static_cast<std::int64_t>(rb))) return false;
@@ -197,8 +204,8 @@ bool try_ascii(const std::vector<double>& t, Kind kind, Layout& L) {
     off += static_cast<std::uint64_t>(per * ng);
     L.base.assign(static_cast<std::size_t>(ng), 0);
     for (std::int64_t g = 0; g < ng; ++g) {
-        const std::uint64_t N = static_cast<std::uint64_t>(L.dims[g][0]) * L.dims[g][1] * L.dims[g][2];
-        if (N > t.size()) return false;
+        std::uint64_t N = 0;
+        if (!node_count(L.dims[g], N) || N > t.size()) return false;
         if (kind == Kind::q) off += 4;
         L.base[g] = off;
         off += kind == Kind::xyz ? (3 + (L.iblank ? 1 : 0)) * N : kind == Kind::q ? 5 * N : static_cast<std::uint64_t>(L.nvars[g]) * N;

@@ -304,6 +304,9 @@ TEST_CASE("PLOT3D blocks: bad input (q/xyz dims disagree, every node blanked, no
                Catch::Contains("bxyz.bin: grid 1 (4x3x2): every node is blanked"));
     write_plot3d(P(d, "c.xyz"), P(d, "unused.q"), {4, 3, 2}, [](std::int64_t) { return false; }, false, {4, 3, 2});
     CHECK_THAT(error_of([&] { read_multiblock({P(d, "c.xyz")}); }), Catch::Contains("c.xyz: no values"));
+    // dims whose product wraps around 2^64 (2^21 * 2^21 * 2^22): no layout, not an empty grid
+    spit(P(d, "wrap.xyz"), "2097152 2097152 4194304\n");
+    CHECK_THAT(error_of([&] { read_multiblock({P(d, "wrap.xyz")}); }), Catch::Contains("wrap.xyz: not a PLOT3D xyz file: no layout"));
 }
 
 // ------------------------------------------------------------------------------------- VTK XML
