@@ -14,12 +14,15 @@
 //   AMR pieces are ImageData (.vti). Each piece is checked against its box: cells per axis (points
 //   - 1; an axis of one point counts one cell) = amr_box extent, Spacing = the level's spacing,
 //   piece origin (Origin + Extent lo * Spacing) = the hierarchy origin + amr_box lo * spacing
-//   (tolerance 1e-4 of the spacing, 1e-5 relative for spacings): a contradiction is a
+//   (tolerance 1e-3 of the spacing, 1e-5 relative for spacings: files store float32 spacings
+//   beside float64 ones), and consecutive levels' spacings must differ by an integer ratio equal to a
+//   declared RefinementRatio: a contradiction is a
 //   FormatError naming the collection and the piece. The chosen array (options.value_name, else
 //   as formats/vtk_structured.hpp chooses) must have one centring in every piece (mixed cell/point
 //   centring: FormatError). Cell data: one block per box whose nodes are its cell centres
 //   (cell_centred, level set); point data: the box's points as they are.
 // A missing, unreadable or malformed piece: FormatError "COLLECTION: piece 'FILE' (...): <why>".
+// A piece listed twice is refused (it would multiply what one file's bytes can allocate).
 // A piece that is itself a collection is refused (no recursion). Bytes quoted from files escaped.
 // Units: the files'. Thread-safety: reentrant.
 #pragma once
