@@ -48,7 +48,8 @@ Multiblock read_via_point_set(const std::string& path, const PointSetOptions& o)
                           " blanked or non-finite samples break the block lattice of this format");
     if (!ps.has_values) throw FormatError(path + ": positions only; a block input needs a scalar");
     Multiblock mb;
-    mb.format = lower_ext(path).empty() ? "volume" : lower_ext(path).substr(1);
+    const std::string e = lower_ext(path);
+    mb.format = !e.empty() && looks_like_point_set(path) ? e.substr(1) : "volume";
     mb.value_name = ps.value_name;
     for (const auto& b : ps.blocks) {
         StructuredBlock sb;

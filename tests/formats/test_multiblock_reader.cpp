@@ -688,3 +688,19 @@ TEST_CASE("real AMR hierarchies load with the levels, boxes and ranges of SOURCE
                    Catch::Contains("'VectorXYZ' has 3 components"));
     }
 }
+
+TEST_CASE("a regular volume is one block of its voxels", "[multiblock]") {
+    TempDir d("mb-vol");
+    std::string b;
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 4; ++i) b.push_back(static_cast<char>(i + 4 * j + 12 * k));
+    spit(P(d, "v_4x3x2_uint8.raw"), b);
+    CHECK_FALSE(looks_like_multiblock(P(d, "v_4x3x2_uint8.raw")));
+    const Multiblock mb = read_multiblock({P(d, "v_4x3x2_uint8.raw")});
+    CHECK(mb.format == "volume");
+    REQUIRE(mb.blocks.size() == 1);
+    CHECK(mb.blocks[0].dims == Dims{4, 3, 2});
+    for (std::size_t n = 0; n < 24; ++n)
+        CHECK(mb.blocks[0].value[n] == mb.blocks[0].node[n].x + 4 * mb.blocks[0].node[n].y + 12 * mb.blocks[0].node[n].z);
+}
