@@ -173,7 +173,7 @@ std::vector<double> ascii_tokens(const std::vector<std::byte>& bytes, const std:
             char* e = nullptr;
             v = std::strtod(tmp.c_str(), &e);
             if (e != tmp.c_str() + tmp.size())
-                throw FormatError(path + ": bad number '" + std::string(s + i, j - i) + "' at token " + std::to_string(out.size()));
+                throw FormatError(path + ": bad number '" + ply_escape(std::string_view(s + i, j - i)) + "' at token " + std::to_string(out.size()));
         }
         out.push_back(v);
         i = j;
