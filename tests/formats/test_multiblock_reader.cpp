@@ -704,3 +704,35 @@ TEST_CASE("a regular volume is one block of its voxels", "[multiblock]") {
     for (std::size_t n = 0; n < 24; ++n)
         CHECK(mb.blocks[0].value[n] == mb.blocks[0].node[n].x + 4 * mb.blocks[0].node[n].y + 12 * mb.blocks[0].node[n].z);
 }
+
+TEST_CASE("AMR with point data: each box's points as they are, checked against its amr_box", "[multiblock][amr]") {
+    TempDir d("mb-amr-points");
+    for (const auto& b : amr_boxes()) {
+        const double h = b.level == 0 ? 1.0 : 0.5;
+        const std::array<std::int64_t, 3> cells{b.box[1] - b.box[0] + 1, b.box[3] - b.box[2] + 1, b.box[5] - b.box[4] + 1};
+        Arr f{"p", {}};
+        for (int k = 0; k <= cells[2]; ++k)
+            for (int j = 0; j <= cells[1]; ++j)
+                for (int i = 0; i <= cells[0]; ++i) f.v.push_back(lin((b.box[0] + i) * h, (b.box[2] + j) * h, (b.box[4] + k) * h));
+        // the pieces' extents start where their boxes do (as VTK writes global extents)
+        write_vti(P(d, b.file), {b.box[0], b.box[1] + 1, b.box[2], b.box[3] + 1, b.box[4], b.box[5] + 1}, {0, 0, 0}, {h, h, h}, {f});
+    }
+    spit(P(d, "h.vthb"), vthb_text(amr_boxes()));
+    MultiblockDetails det;
+    const Multiblock mb = read_multiblock({P(d, "h.vthb")}, {}, det);
+    REQUIRE(mb.blocks.size() == 3);
+    CHECK_FALSE(det.cell);
+    const auto boxes = amr_boxes();
+    for (std::size_t b = 0; b < 3; ++b) {
+        const StructuredBlock& blk = mb.blocks[b];
+        CHECK_FALSE(blk.cell_centred);
+        CHECK(blk.level == boxes[b].level);
+        CHECK(blk.dims == Dims{boxes[b].box[1] - boxes[b].box[0] + 2, boxes[b].box[3] - boxes[b].box[2] + 2,
+                               boxes[b].box[5] - boxes[b].box[4] + 2});
+        const double h = boxes[b].level == 0 ? 1.0 : 0.5;
+        CHECK(blk.node[0].x == boxes[b].box[0] * h);
+        CHECK(blk.node[0].z == boxes[b].box[4] * h);
+        for (std::size_t n = 0; n < blk.node.size(); ++n)
+            REQUIRE(blk.value[n] == Approx(lin(blk.node[n].x, blk.node[n].y, blk.node[n].z)).margin(1e-12));
+    }
+}
