@@ -373,6 +373,16 @@ TEST_CASE("VTS blocks: point data as nodes, cell data as cell centres (mean of t
     strict.strict = true;
     CHECK_THAT(error_of([&] { read_multiblock({P(d, "n.vts")}, strict); }),
                Catch::Contains("n.vts: piece 0 point 0: non-finite coordinate"));
+    // a vtkGhostType point array blanks the HIDDENPOINT (0x02) points, not the DUPLICATEPOINT (0x01) ones
+    Arr ghost{"vtkGhostType", std::vector<double>(60, 0.0)};
+    ghost.v[5] = 2, ghost.v[6] = 1, ghost.v[7] = 3;
+    write_vts(P(d, "h.vts"), dims, {ghost, curv_point_field(dims)});
+    const Multiblock hm = read_multiblock({P(d, "h.vts")});
+    CHECK(hm.value_name == "f");  // never the ghost array by default
+    CHECK(hm.blanked == 2);
+    CHECK_FALSE(hm.blocks[0].is_valid(5));
+    CHECK(hm.blocks[0].is_valid(6));
+    CHECK_FALSE(hm.blocks[0].is_valid(7));
     // several files: several blocks, named by file
     const Multiblock two = read_multiblock({P(d, "g.vts"), P(d, "n.vts")});
     REQUIRE(two.blocks.size() == 2);
