@@ -250,7 +250,7 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
                 throw FormatError(tag + ": its extent has " + std::to_string(cells) + " cells along " + "xyz"[a] +
                                   ", its amr_box '" + std::to_string(b.box[0]) + " " + std::to_string(b.box[1]) + " " +
                                   std::to_string(b.box[2]) + " " + std::to_string(b.box[3]) + " " + std::to_string(b.box[4]) +
-                                  " " + std::to_string(b.box[5]) + "' " + std::to_string(want));
+                                  " " + std::to_string(b.box[5]) + "' has " + std::to_string(want));
             if (!(P.spacing[a] > 0))
                 throw FormatError(tag + ": Spacing " + std::to_string(P.spacing[a]) + " along " + "xyz"[a] + " is not positive");
             if (rel_diff(P.spacing[a], h[a]) > 1e-5)
