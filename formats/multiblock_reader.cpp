@@ -85,7 +85,8 @@ Multiblock read_one(const std::string& path, const PointSetOptions& o, Multibloc
 
 bool looks_like_multiblock(const std::string& path) {
     const std::string e = lower_ext(path);
-    if (e == ".vts" || e == ".vtr" || e == ".vtm" || e == ".vthb" || e == ".p3d" || e == ".xyz" || e == ".x") return true;
+    if (e == ".vts" || e == ".vtr" || e == ".vtm" || e == ".vthb" || e == ".p3d" || e == ".xyz" || e == ".x" || e == ".g")
+        return true;
     if (e == ".bin") return looks_like_plot3d_xyz(path);
     return false;
 }

@@ -37,7 +37,7 @@ Multiblock read_multiblock(const std::vector<std::string>& paths, const PointSet
                            MultiblockDetails& details);
 
 /// True for files that are block inputs rather than volumes or scattered points (by extension and
-/// content): .vts .vtr .vtm .vthb, PLOT3D .xyz/.x/.p3d and .bin with a PLOT3D header. (read_multiblock
+/// content): .vts .vtr .vtm .vthb, PLOT3D .xyz/.x/.g/.p3d and .bin with a PLOT3D header. (read_multiblock
 /// also takes .vti and regular volumes as blocks.)
 bool looks_like_multiblock(const std::string& path);
 
