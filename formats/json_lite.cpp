@@ -122,7 +122,7 @@ struct Parser {
                 ws();
                 if (i >= s.size() || s[i] != ':') fail("expected ':'");
                 ++i;
-                v.obj.emplace_back(std::move(k), value(depth + 1));
+                v.obj.push_back(Json::Member{std::move(k), value(depth + 1)});
                 ws();
                 if (i < s.size() && s[i] == ',') {
                     ++i;

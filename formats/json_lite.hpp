@@ -13,13 +13,14 @@
 namespace meshless {
 
 struct Json {
+    struct Member;  ///< one object member: key and value (a struct, not std::pair: Clang's libstdc++ pair needs Json complete)
     enum class Kind { null, boolean, number, string, array, object };
     Kind kind = Kind::null;
     bool b = false;
     double num = 0;
     std::string str;
     std::vector<Json> arr;
-    std::vector<std::pair<std::string, Json>> obj;
+    std::vector<Member> obj;
 
     bool is_null() const { return kind == Kind::null; }
     bool is_number() const { return kind == Kind::number; }
@@ -28,6 +29,11 @@ struct Json {
     bool is_object() const { return kind == Kind::object; }
     /// Member of an object, nullptr if absent or not an object.
     const Json* find(std::string_view key) const;
+};
+
+struct Json::Member {
+    std::string key;
+    Json value;
 };
 
 Json parse_json(std::string_view text, const std::string& path);

@@ -9,6 +9,7 @@
 #include "formats/json_lite.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/text_header.hpp"
+#include "formats/ply.hpp"
 
 namespace meshless {
 
@@ -72,6 +73,13 @@ struct Bin {
     }
 };
 
+// dims[0]*dims[1]*dims[2] without overflow (false when it would overflow).
+bool node_count(const Dims& d, std::uint64_t& n) {
+    std::uint64_t ij = 0;
+    return !__builtin_mul_overflow(static_cast<std::uint64_t>(d[0]), static_cast<std::uint64_t>(d[1]), &ij) &&
+           !__builtin_mul_overflow(ij, static_cast<std::uint64_t>(d[2]), &n);
+}
+
 std::uint64_t grid_payload(Kind k, std::uint64_t N, int prec, bool iblank, std::int64_t nv) {
     if (k == Kind::xyz) return 3 * N * prec + (iblank ? 4 * N : 0);
     if (k == Kind::q) return 5 * N * prec;
@@ -114,8 +122,8 @@ bool try_binary(const Bin& b, Kind kind, Layout& L) {
     off += hb + mk;
     L.base.assign(static_cast<std::size_t>(ng), 0);
     for (std::int64_t g = 0; g < ng; ++g) {
-        const std::uint64_t N = static_cast<std::uint64_t>(L.dims[g][0]) * L.dims[g][1] * L.dims[g][2];
-        if (N > n) return false;
+        std::uint64_t N = 0;
+        if (!node_count(L.dims[g], N) || N > n) return false;
         if (kind == Kind::q) {  // fsmach alpha re time
             const std::uint64_t rb = 4ull * L.prec;
             if (L.records && (off + 4 > n || b.i32(off) != static_cast<std::int64_t>(rb))) return false;
@@ -165,7 +173,7 @@ std::vector<double> ascii_tokens(const std::vector<std::byte>& bytes, const std:
             char* e = nullptr;
             v = std::strtod(tmp.c_str(), &e);
             if (e != tmp.c_str() + tmp.size())
-                throw FormatError(path + ": bad number '" + std::string(s + i, j - i) + "' at token " + std::to_string(out.size()));
+                throw FormatError(path + ": bad number '" + ply_escape(std::string_view(s + i, j - i)) + "' at token " + std::to_string(out.size()));
         }
         out.push_back(v);
         i = j;
@@ -196,8 +204,8 @@ bool try_ascii(const std::vector<double>& t, Kind kind, Layout& L) {
     off += static_cast<std::uint64_t>(per * ng);
     L.base.assign(static_cast<std::size_t>(ng), 0);
     for (std::int64_t g = 0; g < ng; ++g) {
-        const std::uint64_t N = static_cast<std::uint64_t>(L.dims[g][0]) * L.dims[g][1] * L.dims[g][2];
-        if (N > t.size()) return false;
+        std::uint64_t N = 0;
+        if (!node_count(L.dims[g], N) || N > t.size()) return false;
         if (kind == Kind::q) off += 4;
         L.base[g] = off;
         off += kind == Kind::xyz ? (3 + (L.iblank ? 1 : 0)) * N : kind == Kind::q ? 5 * N : static_cast<std::uint64_t>(L.nvars[g]) * N;
@@ -372,89 +380,100 @@ bool looks_like_plot3d_xyz(const std::string& path) {
     return false;
 }
 
-PointSet read_plot3d(const std::string& xyz_path, const PointSetOptions& o, std::vector<std::string>* notes) {
-    const auto xb = read_file_bytes(xyz_path);
-    if (xb.empty()) throw FormatError(xyz_path + ": empty file");
-    std::vector<double> xt;
-    const bool ascii = looks_ascii(xb);
-    if (ascii) xt = ascii_tokens(xb, xyz_path);
-    const Layout X = detect_xyz(xb, ascii ? &xt : nullptr, xyz_path, o, notes);
-    if (notes) notes->push_back("xyz layout: " + X.describe());
+namespace {
 
-    // values
-    Kind vkind = Kind::xyz;
-    std::string vpath;
-    if (!o.function_file.empty()) vkind = Kind::func, vpath = o.function_file;
-    else if (!o.q_file.empty()) vkind = Kind::q, vpath = o.q_file;
-    else if (!(vpath = plot3d_sibling_q(xyz_path)).empty()) vkind = Kind::q;
-    std::vector<std::byte> vb;
-    std::vector<double> vt;
-    Layout V;
+// One parse of an xyz file and its q/function file, shared by the point-set and the structured
+// readers (the layout is detected once, here).
+struct Parsed {
+    std::string xyz_path, vpath;
+    std::vector<std::byte> xb, vb;
+    std::vector<double> xt, vt;
+    Layout X, V;
+    Kind vkind = Kind::xyz;  // xyz: positions only
     int comp = 0;
     std::string value_name;
-    if (vkind != Kind::xyz) {
-        vb = read_file_bytes(vpath);
-        if (ascii && !vb.empty() && looks_ascii(vb)) vt = ascii_tokens(vb, vpath);
-        const bool vascii = !vb.empty() && looks_ascii(vb);
-        V = parse_values_file(vb, vascii ? &vt : nullptr, vkind, X, vpath, xyz_path, o, notes);
-        if (vkind == Kind::q) {
-            comp = q_component(o, vpath);
-            value_name = kQNames[comp];
-        } else {
-            comp = o.value_index.value_or(0);
-            for (std::size_t g = 0; g < V.nvars.size(); ++g)
-                if (comp < 0 || comp >= V.nvars[g])
-                    throw FormatError(vpath + ": function variable " + std::to_string(comp) + " out of range (grid " +
-                                      std::to_string(g + 1) + " has " + std::to_string(V.nvars[g]) + ")");
-            value_name = "function " + std::to_string(comp);
-        }
-        if (notes) notes->push_back(std::string(kind_name(vkind)) + " file: " + vpath);
-    }
+};
 
-    const Bin xbin{xb.data(), xb.size(), X.big == host_is_little_endian()};
-    const Bin vbin{vb.data(), vb.size(), X.big == host_is_little_endian()};
-    auto real = [&](bool values, std::uint64_t base, std::uint64_t k) {
-        if (X.ascii) return values ? vt[base + k] : xt[base + k];
-        return values ? vbin.real(base + k * X.prec, X.prec) : xbin.real(base + k * X.prec, X.prec);
-    };
-    PointSetBuilder b(xyz_path, o);
-    std::uint64_t total = 0;
-    for (const auto& d : X.dims) total += static_cast<std::uint64_t>(d[0]) * d[1] * d[2];
-    b.reserve(static_cast<std::size_t>(total));
-    for (std::size_t g = 0; g < X.dims.size(); ++g) {
-        const std::uint64_t N = static_cast<std::uint64_t>(X.dims[g][0]) * X.dims[g][1] * X.dims[g][2];
-        b.begin_block(X.dims.size() > 1 ? "grid " + std::to_string(g + 1) : file_name(xyz_path), X.dims[g]);
-        const std::uint64_t xb0 = X.base[g];
-        const std::string where = "grid " + std::to_string(g + 1) + " point";
-        for (std::uint64_t i = 0; i < N; ++i) {
-            if (X.iblank) {
-                const double ib = X.ascii ? xt[xb0 + 3 * N + i] : static_cast<double>(xbin.i32(xb0 + 3 * N * X.prec + 4 * i));
-                if (ib == 0) {
-                    b.add_blanked();
-                    continue;
-                }
-            }
-            double v = 0;
-            if (vkind == Kind::q) {
-                if (comp < 5) {
-                    v = real(true, V.base[g], comp * N + i);
-                } else {
-                    const double rho = real(true, V.base[g], i);
-                    const double mu = real(true, V.base[g], N + i), mv = real(true, V.base[g], 2 * N + i),
-                                 mw = real(true, V.base[g], 3 * N + i);
-                    v = std::sqrt(mu * mu + mv * mv + mw * mw) / rho;
-                }
-            } else if (vkind == Kind::func) {
-                v = real(true, V.base[g], static_cast<std::uint64_t>(comp) * N + i);
-            }
-            b.add(real(false, xb0, i), real(false, xb0, N + i), real(false, xb0, 2 * N + i), v,
-                  where.c_str(), i);
-        }
+Parsed parse_plot3d(const std::string& xyz_path, const PointSetOptions& o, std::vector<std::string>* notes) {
+    Parsed P;
+    P.xyz_path = xyz_path;
+    P.xb = read_file_bytes(xyz_path);
+    if (P.xb.empty()) throw FormatError(xyz_path + ": empty file");
+    const bool ascii = looks_ascii(P.xb);
+    if (ascii) P.xt = ascii_tokens(P.xb, xyz_path);
+    P.X = detect_xyz(P.xb, ascii ? &P.xt : nullptr, xyz_path, o, notes);
+    if (notes) notes->push_back("xyz layout: " + P.X.describe());
+
+    if (!o.function_file.empty()) P.vkind = Kind::func, P.vpath = o.function_file;
+    else if (!o.q_file.empty()) P.vkind = Kind::q, P.vpath = o.q_file;
+    else if (!(P.vpath = plot3d_sibling_q(xyz_path)).empty()) P.vkind = Kind::q;
+    if (P.vkind == Kind::xyz) return P;
+    P.vb = read_file_bytes(P.vpath);
+    const bool vascii = !P.vb.empty() && looks_ascii(P.vb);
+    if (ascii && vascii) P.vt = ascii_tokens(P.vb, P.vpath);
+    P.V = parse_values_file(P.vb, vascii ? &P.vt : nullptr, P.vkind, P.X, P.vpath, xyz_path, o, notes);
+    if (P.vkind == Kind::q) {
+        P.comp = q_component(o, P.vpath);
+        P.value_name = kQNames[P.comp];
+    } else {
+        P.comp = o.value_index.value_or(0);
+        for (std::size_t g = 0; g < P.V.nvars.size(); ++g)
+            if (P.comp < 0 || P.comp >= P.V.nvars[g])
+                throw FormatError(P.vpath + ": function variable " + std::to_string(P.comp) + " out of range (grid " +
+                                  std::to_string(g + 1) + " has " + std::to_string(P.V.nvars[g]) + ")");
+        P.value_name = "function " + std::to_string(P.comp);
     }
-    return b.finish(value_name, vkind != Kind::xyz);
+    if (notes) notes->push_back(std::string(kind_name(P.vkind)) + " file: " + P.vpath);
+    return P;
 }
 
-PointSet read_plot3d_meta(const std::string& p3d_path, const PointSetOptions& o, std::vector<std::string>* notes) {
+std::uint64_t grid_nodes(const Layout& L, std::size_t g) {
+    return static_cast<std::uint64_t>(L.dims[g][0]) * L.dims[g][1] * L.dims[g][2];
+}
+
+// Calls f(i, blanked, x, y, z, v) for every node i of grid g in file order (i fastest). The layout
+// check (expected size == file size) has proven every offset read here.
+template <class F>
+void for_each_node(const Parsed& P, std::size_t g, F&& f) {
+    const Layout& X = P.X;
+    const Bin xbin{P.xb.data(), P.xb.size(), X.big == host_is_little_endian()};
+    const Bin vbin{P.vb.data(), P.vb.size(), X.big == host_is_little_endian()};
+    auto real = [&](bool values, std::uint64_t base, std::uint64_t k) {
+        if (X.ascii) return values ? P.vt[base + k] : P.xt[base + k];
+        return values ? vbin.real(base + k * X.prec, X.prec) : xbin.real(base + k * X.prec, X.prec);
+    };
+    const std::uint64_t N = grid_nodes(X, g);
+    const std::uint64_t xb0 = X.base[g];
+    for (std::uint64_t i = 0; i < N; ++i) {
+        bool blanked = false;
+        if (X.iblank) {
+            const double ib = X.ascii ? P.xt[xb0 + 3 * N + i] : static_cast<double>(xbin.i32(xb0 + 3 * N * X.prec + 4 * i));
+            blanked = ib == 0;
+        }
+        double v = 0;
+        if (P.vkind == Kind::q) {
+            const std::uint64_t vb0 = P.V.base[g];
+            if (P.comp < 5) {
+                v = real(true, vb0, static_cast<std::uint64_t>(P.comp) * N + i);
+            } else {
+                const double rho = real(true, vb0, i);
+                const double mu = real(true, vb0, N + i), mv = real(true, vb0, 2 * N + i), mw = real(true, vb0, 3 * N + i);
+                v = std::sqrt(mu * mu + mv * mv + mw * mw) / rho;
+            }
+        } else if (P.vkind == Kind::func) {
+            v = real(true, P.V.base[g], static_cast<std::uint64_t>(P.comp) * N + i);
+        }
+        f(i, blanked, real(false, xb0, i), real(false, xb0, N + i), real(false, xb0, 2 * N + i), v);
+    }
+}
+
+std::string grid_name(const Parsed& P, std::size_t g) {
+    return P.X.dims.size() > 1 ? "grid " + std::to_string(g + 1) : file_name(P.xyz_path);
+}
+
+// The .p3d meta file's first entry: the xyz path and the options it implies.
+std::string resolve_meta(const std::string& p3d_path, const PointSetOptions& o, PointSetOptions& opt,
+                         std::vector<std::string>* notes) {
     const auto bytes = read_file_bytes(p3d_path);
     if (bytes.empty()) throw FormatError(p3d_path + ": empty file");
     const Json j = parse_json(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), p3d_path);
@@ -464,13 +483,13 @@ PointSet read_plot3d_meta(const std::string& p3d_path, const PointSetOptions& o,
     const Json& f0 = files->arr.front();
     const Json* xyz = f0.find("xyz");
     if (!xyz || !xyz->is_string()) throw FormatError(p3d_path + ": the first \"filenames\" entry has no \"xyz\" file");
-    PointSetOptions opt = o;
+    opt = o;
     const Json* auto_detect = j.find("auto-detect-format");
     const Json* bo = j.find("byte-order");
     if (opt.byte_order == ByteOrder::detect && bo && bo->is_string() && !(auto_detect && auto_detect->b)) {
         if (to_lower(bo->str) == "big") opt.byte_order = ByteOrder::big;
         else if (to_lower(bo->str) == "little") opt.byte_order = ByteOrder::little;
-        else throw FormatError(p3d_path + ": bad \"byte-order\" '" + bo->str + "'");
+        else throw FormatError(p3d_path + ": bad \"byte-order\" '" + ply_escape(bo->str) + "'");
     }
     if (const Json* q = f0.find("q"); q && q->is_string() && opt.q_file.empty() && opt.function_file.empty())
         opt.q_file = resolve_relative(p3d_path, q->str);
@@ -478,7 +497,77 @@ PointSet read_plot3d_meta(const std::string& p3d_path, const PointSetOptions& o,
         opt.function_file = resolve_relative(p3d_path, fn->str);
     if (notes && files->arr.size() > 1)
         notes->push_back(std::to_string(files->arr.size()) + " time steps in the meta file; reading the first");
-    return read_plot3d(resolve_relative(p3d_path, xyz->str), opt, notes);
+    return resolve_relative(p3d_path, xyz->str);
+}
+
+}  // namespace
+
+PointSet read_plot3d(const std::string& xyz_path, const PointSetOptions& o, std::vector<std::string>* notes) {
+    const Parsed P = parse_plot3d(xyz_path, o, notes);
+    PointSetBuilder b(xyz_path, o);
+    std::uint64_t total = 0;
+    for (std::size_t g = 0; g < P.X.dims.size(); ++g) total += grid_nodes(P.X, g);
+    b.reserve(static_cast<std::size_t>(total));
+    for (std::size_t g = 0; g < P.X.dims.size(); ++g) {
+        b.begin_block(grid_name(P, g), P.X.dims[g]);
+        const std::string where = "grid " + std::to_string(g + 1) + " point";
+        for_each_node(P, g, [&](std::uint64_t i, bool blanked, double x, double y, double z, double v) {
+            if (blanked) b.add_blanked();
+            else b.add(x, y, z, v, where.c_str(), i);
+        });
+    }
+    return b.finish(P.value_name, P.vkind != Kind::xyz);
+}
+
+PointSet read_plot3d_meta(const std::string& p3d_path, const PointSetOptions& o, std::vector<std::string>* notes) {
+    PointSetOptions opt;
+    const std::string xyz = resolve_meta(p3d_path, o, opt, notes);
+    return read_plot3d(xyz, opt, notes);
+}
+
+Multiblock read_plot3d_blocks(const std::string& xyz_path, const PointSetOptions& o, std::vector<std::string>* notes) {
+    const Parsed P = parse_plot3d(xyz_path, o, notes);
+    if (P.vkind == Kind::xyz)
+        throw FormatError(xyz_path + ": no values: no q file beside it and no --q/--function file (a block input needs a scalar)");
+    Multiblock mb;
+    mb.format = "plot3d";
+    mb.value_name = P.value_name;
+    for (std::size_t g = 0; g < P.X.dims.size(); ++g) {
+        StructuredBlock sb;
+        sb.name = grid_name(P, g);
+        sb.dims = P.X.dims[g];
+        const std::uint64_t N = grid_nodes(P.X, g);
+        sb.node.resize(static_cast<std::size_t>(N));
+        sb.value.resize(static_cast<std::size_t>(N));
+        sb.valid.assign(static_cast<std::size_t>(N), 1);
+        std::uint64_t invalid = 0;
+        for_each_node(P, g, [&](std::uint64_t i, bool blanked, double x, double y, double z, double v) {
+            sb.node[i] = Vec3{x, y, z};
+            sb.value[i] = v;
+            if (blanked) {
+                sb.valid[i] = 0, ++mb.blanked, ++invalid;
+            } else if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(v)) {
+                if (o.strict)
+                    throw FormatError(xyz_path + ": grid " + std::to_string(g + 1) + " point " + std::to_string(i) +
+                                      ": non-finite " +
+                                      (std::isfinite(x) && std::isfinite(y) && std::isfinite(z) ? "value" : "coordinate") +
+                                      " (NaN/Inf are refused in strict mode)");
+                sb.valid[i] = 0, ++mb.nonfinite, ++invalid;
+            }
+        });
+        if (invalid == N)
+            throw FormatError(xyz_path + ": grid " + std::to_string(g + 1) + " (" + dims_text({P.X.dims[g]}) +
+                              "): every node is blanked (IBLANK 0) or non-finite");
+        if (invalid == 0) sb.valid.clear();
+        mb.blocks.push_back(std::move(sb));
+    }
+    return mb;
+}
+
+Multiblock read_plot3d_meta_blocks(const std::string& p3d_path, const PointSetOptions& o, std::vector<std::string>* notes) {
+    PointSetOptions opt;
+    const std::string xyz = resolve_meta(p3d_path, o, opt, notes);
+    return read_plot3d_blocks(xyz, opt, notes);
 }
 
 }  // namespace meshless

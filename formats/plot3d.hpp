@@ -19,6 +19,11 @@
 // (bluntfinq.bin has 484): then a note says how many were ignored.
 // .p3d files (VTK's JSON meta format) name xyz/q/function files (relative to the .p3d) and may
 // give "byte-order"; with several "filenames" entries (time steps) the first is read (a note).
+// Structured read (read_plot3d_blocks, dissertation chapter 4): the same parse (one layout
+// detection), each grid a StructuredBlock with every node kept in its lattice: IBLANK 0 nodes get
+// valid = 0 (counted in Multiblock::blanked), NaN/Inf coordinates or values valid = 0 (counted in
+// Multiblock::nonfinite; options.strict: FormatError "PATH: grid G point I: non-finite ...").
+// A grid whose every node is invalid, or an xyz file without q/function values: FormatError.
 // Units: the file's. Throws FormatError/IoError, one line starting with the offending path.
 // Thread-safety: reentrant.
 #pragma once
@@ -26,6 +31,7 @@
 #include <vector>
 
 #include "formats/point_set_options.hpp"
+#include "kernels/structured_block.hpp"
 
 namespace meshless {
 
@@ -34,6 +40,12 @@ PointSet read_plot3d(const std::string& xyz_path, const PointSetOptions& options
 /// A .p3d JSON meta file.
 PointSet read_plot3d_meta(const std::string& p3d_path, const PointSetOptions& options,
                           std::vector<std::string>* notes = nullptr);
+/// The grids as structured blocks (format "plot3d"), values as read_plot3d chooses them.
+Multiblock read_plot3d_blocks(const std::string& xyz_path, const PointSetOptions& options,
+                              std::vector<std::string>* notes = nullptr);
+/// A .p3d meta file read as structured blocks.
+Multiblock read_plot3d_meta_blocks(const std::string& p3d_path, const PointSetOptions& options,
+                                   std::vector<std::string>* notes = nullptr);
 /// True when the file's first bytes parse as a plausible PLOT3D xyz header (any supported layout).
 bool looks_like_plot3d_xyz(const std::string& path);
 /// The sibling q file of an xyz file ("" when there is none on disk).

@@ -1,5 +1,7 @@
 #include "formats/text_header.hpp"
 
+#include "formats/ply.hpp"
+
 #include <cctype>
 #include <charconv>
 #include <cstdlib>
@@ -56,7 +58,7 @@ double parse_double(const std::string& tok, const std::string& path, const char*
     char* end = nullptr;
     const double v = std::strtod(t.c_str(), &end);
     if (end != t.c_str() + t.size())
-        throw FormatError(path + ": bad " + field + " '" + t + "': expected a number");
+        throw FormatError(path + ": bad " + field + " '" + ply_escape(t) + "': expected a number");
     return v;
 }
 
@@ -67,7 +69,7 @@ std::int64_t parse_int(const std::string& tok, const std::string& path, const ch
     if (!t.empty() && t[0] == '+') ++b;
     const auto r = std::from_chars(b, t.data() + t.size(), v);
     if (t.empty() || r.ec != std::errc() || r.ptr != t.data() + t.size())
-        throw FormatError(path + ": bad " + field + " '" + t + "': expected an integer");
+        throw FormatError(path + ": bad " + field + " '" + ply_escape(t) + "': expected an integer");
     return v;
 }
 
@@ -83,7 +85,7 @@ std::vector<std::string> tokens(std::string_view text) {
 std::vector<double> parse_doubles(std::string_view text, std::size_t n, const std::string& path, const char* field) {
     const auto tk = tokens(text);
     if (tk.size() != n)
-        throw FormatError(path + ": bad " + field + " '" + trim(text) + "': expected " + std::to_string(n) + " numbers");
+        throw FormatError(path + ": bad " + field + " '" + ply_escape(trim(text)) + "': expected " + std::to_string(n) + " numbers");
     std::vector<double> v;
     for (const auto& t : tk) v.push_back(parse_double(t, path, field));
     return v;
@@ -92,7 +94,7 @@ std::vector<double> parse_doubles(std::string_view text, std::size_t n, const st
 std::vector<std::int64_t> parse_ints(std::string_view text, std::size_t n, const std::string& path, const char* field) {
     const auto tk = tokens(text);
     if (tk.size() != n)
-        throw FormatError(path + ": bad " + field + " '" + trim(text) + "': expected " + std::to_string(n) + " integers");
+        throw FormatError(path + ": bad " + field + " '" + ply_escape(trim(text)) + "': expected " + std::to_string(n) + " integers");
     std::vector<std::int64_t> v;
     for (const auto& t : tk) v.push_back(parse_int(t, path, field));
     return v;
@@ -102,7 +104,7 @@ bool parse_bool(const std::string& tok, const std::string& path, const char* fie
     const std::string l = to_lower(trim(tok));
     if (l == "true" || l == "1" || l == "yes") return true;
     if (l == "false" || l == "0" || l == "no") return false;
-    throw FormatError(path + ": bad " + field + " '" + trim(tok) + "': expected True or False");
+    throw FormatError(path + ": bad " + field + " '" + ply_escape(trim(tok)) + "': expected True or False");
 }
 
 // "quarter.%d" with one integer conversion -> formatted name; rejects anything else.

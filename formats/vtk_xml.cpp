@@ -5,6 +5,7 @@
 
 #include "formats/base64.hpp"
 #include "formats/gzip.hpp"
+#include "formats/ply.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
 
@@ -41,15 +42,15 @@ VtkXmlTag vtk_xml_find_tag(std::string_view doc, std::string_view name, std::siz
         while (i < doc.size() && doc[i] != '=' && doc[i] != '>' && !std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
         std::string key(doc.substr(ks, i - ks));
         while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
-        if (i >= doc.size() || doc[i] != '=') throw FormatError(path + ": bad attribute '" + key + "' in <" + std::string(name) + ">");
+        if (i >= doc.size() || doc[i] != '=') throw FormatError(path + ": bad attribute '" + ply_escape(key) + "' in <" + std::string(name) + ">");
         ++i;
         while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
         if (i >= doc.size() || (doc[i] != '"' && doc[i] != '\''))
-            throw FormatError(path + ": unquoted attribute '" + key + "' in <" + std::string(name) + ">");
+            throw FormatError(path + ": unquoted attribute '" + ply_escape(key) + "' in <" + std::string(name) + ">");
         const char q = doc[i++];
         const std::size_t vs = i;
         const std::size_t ve = doc.find(q, vs);
-        if (ve == std::string_view::npos) throw FormatError(path + ": unterminated attribute '" + key + "'");
+        if (ve == std::string_view::npos) throw FormatError(path + ": unterminated attribute '" + ply_escape(key) + "'");
         t.attrs[key] = std::string(doc.substr(vs, ve - vs));
         i = ve + 1;
     }
@@ -77,17 +78,17 @@ VtkXmlFile vtk_xml_file(std::string_view doc, const std::string& path, bool find
     if (bo == "BigEndian")
         f.big_endian = true;
     else if (bo != "LittleEndian")
-        throw FormatError(path + ": bad byte_order '" + bo + "'");
+        throw FormatError(path + ": bad byte_order '" + ply_escape(bo) + "'");
     const std::string ht = file.attr("header_type", "UInt32");
     if (ht == "UInt64")
         f.header64 = true;
     else if (ht != "UInt32")
-        throw FormatError(path + ": unsupported header_type '" + ht + "'");
+        throw FormatError(path + ": unsupported header_type '" + ply_escape(ht) + "'");
     const std::string comp = file.attr("compressor");
     if (comp == "vtkZLibDataCompressor")
         f.compressed = true;
     else if (!comp.empty())
-        throw FormatError(path + ": unsupported compressor '" + comp + "' (vtkZLibDataCompressor supported)");
+        throw FormatError(path + ": unsupported compressor '" + ply_escape(comp) + "' (vtkZLibDataCompressor supported)");
     if (find_appended) {
         const VtkXmlTag app = vtk_xml_find_tag(doc, "AppendedData", file.end, doc.size(), path);
         if (app.found()) {
@@ -95,7 +96,7 @@ VtkXmlFile vtk_xml_file(std::string_view doc, const std::string& path, bool find
             if (enc == "base64")
                 f.appended_base64 = true;
             else if (enc != "raw")
-                throw FormatError(path + ": unsupported AppendedData encoding '" + enc + "'");
+                throw FormatError(path + ": unsupported AppendedData encoding '" + ply_escape(enc) + "'");
             const std::size_t us = doc.find('_', app.end);
             if (us == std::string_view::npos) throw FormatError(path + ": <AppendedData> without the '_' marker");
             f.appended_begin = us + 1;
@@ -171,10 +172,10 @@ std::vector<std::byte> vtk_xml_decode_binary(const std::byte* bin, std::size_t n
 
 std::vector<double> vtk_xml_read_array(std::string_view doc, const VtkXmlFile& f, const VtkXmlTag& a,
                                        std::uint64_t count, const std::string& path) {
-    const std::string name = a.attr("Name", "(unnamed)");
+    const std::string name = ply_escape(a.attr("Name", "(unnamed)"));
     const std::string tname = a.attr("type");
     const auto st = vtk_xml_type(tname);
-    if (!st) throw FormatError(path + ": DataArray '" + name + "' has unsupported type '" + tname + "'");
+    if (!st) throw FormatError(path + ": DataArray '" + name + "' has unsupported type '" + ply_escape(tname) + "'");
     const std::string format = a.attr("format");
     const std::size_t es = stored_size(*st);
     const std::uint64_t expected = count * es;
@@ -212,7 +213,7 @@ std::vector<double> vtk_xml_read_array(std::string_view doc, const VtkXmlFile& f
                                             expected, path, what);
         }
     } else {
-        throw FormatError(path + ": unsupported DataArray format '" + format + "'");
+        throw FormatError(path + ": unsupported DataArray format '" + ply_escape(format) + "'");
     }
     if (f.big_endian != !host_is_little_endian()) byte_swap_in_place(payload.data(), payload.size(), es);
     std::vector<double> out(static_cast<std::size_t>(count));
