@@ -38,10 +38,12 @@
 // FormatError/InvalidArgument (see make_field.hpp).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
+#include "kernels/field_state.hpp"
 #include "kernels/multiquadric.hpp"
 #include "kernels/multiquadric_sum.hpp"
 #include "kernels/partition_of_unity.hpp"
@@ -65,7 +67,14 @@ public:
     double weight_radius() const { return r_w_; }    ///< R_w (partition-of-unity support, frame units)
     std::size_t local_count() const { return locals_.size(); }
 
+    /// The fitted state (kernels/field_state.hpp): every array evaluate() reads.
+    void save_state(FieldStateWriter& w) const;
+    /// A field from a saved state, validated (sizes, indices, derived scalars recomputed bit for
+    /// bit); evaluates bit-identically to the saved one. FormatError through FieldState::fail.
+    static std::unique_ptr<RbfGridField> load_state(FieldState& s);
+
 private:
+    RbfGridField() = default;
     std::uint32_t batch_key(const Vec3& world) const;  // cell of a query (kernels/batch_order.hpp)
     void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend) const;
 
