@@ -2,6 +2,7 @@
 
 #include <oneapi/tbb/global_control.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
@@ -111,6 +112,7 @@ FieldParams field_params(const Args& a) {
     const long long n = a.get_int_or("max-points", 100);
     if (n < 8 || n > 100000) throw UsageError("--max-points: expected 8..100000");
     p.mpu_max_points = static_cast<std::uint32_t>(n);
+    p.mpu_min_points = std::min(p.mpu_min_points, p.mpu_max_points);  // grown leaves never exceed N
     p.mpu_alpha = parse_finite(a.get_or("alpha", "0.75"), "--alpha");
     p.hardy_c_rel = parse_finite(a.get_or("hardy-c", "0.025"), "--hardy-c");
     if (auto c = a.get("hardy-c-world")) p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
