@@ -1,7 +1,9 @@
 #include "kernels/field_state.hpp"
 
+#include <bit>
 #include <cmath>
 #include <string>
+#include <unordered_map>
 
 #include "kernels/errors.hpp"
 #include "kernels/global_rbf_field.hpp"
@@ -163,6 +165,55 @@ void check_local_ranges(const FieldState& s, std::span<const MultiquadricLocal> 
             s.fail("local_ranges", "local " + std::to_string(l) + " reads terms " + std::to_string(h.first) + ".." +
                                        std::to_string(static_cast<std::uint64_t>(h.first) + h.count) + ", beyond the " +
                                        std::to_string(terms) + " stored");
+    }
+}
+
+namespace {
+
+struct CentreKey {
+    std::uint64_t x, y, z;
+    bool operator==(const CentreKey&) const = default;
+};
+struct CentreHash {
+    std::size_t operator()(const CentreKey& k) const {
+        std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+        h = (h ^ (h >> 29) ^ k.y) * 0xBF58476D1CE4E5B9ull;
+        h = (h ^ (h >> 31) ^ k.z) * 0x94D049BB133111EBull;
+        return static_cast<std::size_t>(h ^ (h >> 32));
+    }
+};
+
+}  // namespace
+
+void put_centres(FieldStateWriter& w, std::span<const double> px, std::span<const double> py, std::span<const double> pz) {
+    std::unordered_map<CentreKey, std::uint32_t, CentreHash> seen;
+    seen.reserve(px.size() / 4 + 16);
+    std::vector<double> centres;
+    std::vector<std::uint32_t> index(px.size());
+    for (std::size_t i = 0; i < px.size(); ++i) {
+        const CentreKey k{std::bit_cast<std::uint64_t>(px[i]), std::bit_cast<std::uint64_t>(py[i]), std::bit_cast<std::uint64_t>(pz[i])};
+        const auto [it, fresh] = seen.try_emplace(k, static_cast<std::uint32_t>(centres.size() / 3));
+        if (fresh) centres.insert(centres.end(), {px[i], py[i], pz[i]});
+        index[i] = it->second;
+    }
+    w.put("centres", std::span<const double>(centres));
+    w.put("centre_index", std::span<const std::uint32_t>(index));
+}
+
+void take_centres(FieldState& s, std::vector<double>& px, std::vector<double>& py, std::vector<double>& pz) {
+    const std::vector<double> c = s.take_f64("centres");
+    if (c.size() % 3 != 0) s.fail("centres", "array 'centres' does not hold 3 values per centre");
+    const std::vector<std::uint32_t> index = s.take_u32("centre_index");
+    const std::size_t nc = c.size() / 3, n = index.size();
+    px.resize(n);
+    py.resize(n);
+    pz.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t k = index[i];
+        if (k >= nc) s.fail("centre_index", "entry " + std::to_string(i) + " names centre " + std::to_string(k) + " of " + std::to_string(nc));
+        px[i] = c[3 * k];
+        py[i] = c[3 * k + 1];
+        pz[i] = c[3 * k + 2];
     }
 }
 

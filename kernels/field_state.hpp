@@ -97,6 +97,12 @@ std::vector<MultiquadricLocal> take_locals(FieldState& s);
 /// Every local with count > 0 has first + count <= terms (the length of its lambda/centre arrays).
 void check_local_ranges(const FieldState& s, std::span<const MultiquadricLocal> locals, std::size_t terms);
 
+/// Centre coordinates that repeat (one point in several overlapping locals), stored once: arrays
+/// "centres" (x, y, z of each distinct centre, in order of first use) and "centre_index" (u32 per
+/// entry). take_centres rebuilds the three coordinate arrays bit for bit, checking every index.
+void put_centres(FieldStateWriter& w, std::span<const double> px, std::span<const double> py, std::span<const double> pz);
+void take_centres(FieldState& s, std::vector<double>& px, std::vector<double>& py, std::vector<double>& pz);
+
 /// Writes the state of a field made by make_field() (RbfGridField, MpuField, GlobalRbfField);
 /// InvalidArgument for any other Field.
 void save_field_state(const Field& field, FieldStateWriter& w);

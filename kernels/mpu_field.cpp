@@ -376,9 +376,7 @@ void MpuField::save_state(FieldStateWriter& w) const {
     w.put("nodes", std::span<const double>(nf));
     w.put("node_links", std::span<const std::int32_t>(links));
     put_locals(w, locals_);
-    w.put("px", std::span<const double>(px_));
-    w.put("py", std::span<const double>(py_));
-    w.put("pz", std::span<const double>(pz_));
+    put_centres(w, px_, py_, pz_);  // a point is a centre of every leaf whose sphere holds it: ~10x repeated
     w.put("lambda", std::span<const double>(lambda_));
     w.put("lookup_first", std::span<const std::uint32_t>(grid_first_));
     w.put("lookup_leaves", std::span<const std::uint32_t>(grid_leaf_));
@@ -435,14 +433,11 @@ std::unique_ptr<MpuField> MpuField::load_state(FieldState& s) {
         }
         if (leaves != nl) s.fail("node_links", std::to_string(leaves) + " leaves for " + std::to_string(nl) + " locals");
     }
-    f->px_ = s.take_f64("px");
+    take_centres(s, f->px_, f->py_, f->pz_);
     const std::size_t np = f->px_.size();
-    if (np > 0xFFFFFFF0u) s.fail("px", "more than 2^32-16 centres");
-    f->py_ = s.take_f64("py", np);
-    f->pz_ = s.take_f64("pz", np);
+    if (np > 0xFFFFFFF0u) s.fail("centre_index", "more than 2^32-16 centres");
     f->lambda_ = s.take_f64("lambda", np);
-    if (f->py_.size() != np || f->pz_.size() != np || f->lambda_.size() != np)
-        s.fail("lambda", "px, py, pz, lambda differ in length");
+    if (f->lambda_.size() != np) s.fail("lambda", "not one lambda per centre entry");
     check_local_ranges(s, f->locals_, np);
     f->compute_subtree_radii();
     f->lookup_geometry();

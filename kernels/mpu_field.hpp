@@ -57,8 +57,8 @@ public:
     /// units unless params.normalise_axes).
     std::vector<LeafInfo> leaves() const;
 
-    /// The fitted state (kernels/field_state.hpp): the octree, the locals, their centres and
-    /// lambdas, the lookup lists (the leaf spheres and the subtree radii are recomputed on load).
+    /// The fitted state (kernels/field_state.hpp): the octree, the locals, their centres (each
+    /// distinct point once, see put_centres) and lambdas, the lookup lists (the leaf spheres and the subtree radii are recomputed on load).
     void save_state(FieldStateWriter& w) const;
     /// A field from a saved state, validated (a proper octree of depth <= 60, every index in
     /// range); evaluates bit-identically to the saved one. FormatError through FieldState::fail.

@@ -206,6 +206,14 @@ TEST_CASE("an MPU state with a broken octree or an index out of range is refused
     CHECK_THAT(with([](Collector& c) { c.get<std::uint32_t>("local_ranges")[1] += 100000; }),
                Catch::Contains("section 'local_ranges': local 0 reads terms"));
     CHECK_THAT(with([](Collector& c) { c.get<double>("lambda").pop_back(); }), Catch::Contains("section 'lambda'"));
+    CHECK_THAT(with([](Collector& c) { c.get<std::uint32_t>("centre_index")[3] = 1u << 30; }),
+               Catch::Contains("section 'centre_index': entry 3 names centre 1073741824 of "));
+    CHECK_THAT(with([](Collector& c) { c.get<double>("centres").pop_back(); }), Catch::Contains("section 'centres'"));
+    CHECK_THAT(with([](Collector& c) { c.get<std::uint32_t>("centre_index").pop_back(); }), Catch::Contains("section 'lambda'"));
+    // the centres are stored once each: far fewer than the entries
+    auto& c0 = const_cast<Collector&>(s.c);
+    CHECK(c0.get<double>("centres").size() / 3 <= 2000);
+    CHECK(c0.get<std::uint32_t>("centre_index").size() > 3 * 2000);
 }
 
 TEST_CASE("an MPU state deeper than 60 levels is refused (the evaluation stack is bounded)", "[kernels][field_state][mustfail]") {
