@@ -41,6 +41,28 @@ bool crc_matches(std::uint32_t stored, std::uint32_t computed) {
 
 std::size_t element_size(std::uint32_t type) { return type == kTypeBytes ? 1 : state_type_size(type); }
 
+// ---- byte shuffling: element i's byte b at b * n + i (byte planes compress better)
+template <std::size_t E>
+void shuffle_t(const unsigned char* in, unsigned char* out, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t b = 0; b < E; ++b) out[b * n + i] = in[i * E + b];
+}
+template <std::size_t E>
+void unshuffle_t(const unsigned char* in, unsigned char* out, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t b = 0; b < E; ++b) out[i * E + b] = in[b * n + i];
+}
+void shuffle(const unsigned char* in, unsigned char* out, std::size_t n, std::size_t es) {
+    if (es == 8) return shuffle_t<8>(in, out, n);
+    if (es == 4) return shuffle_t<4>(in, out, n);
+    std::memcpy(out, in, n * es);
+}
+void unshuffle(const unsigned char* in, unsigned char* out, std::size_t n, std::size_t es) {
+    if (es == 8) return unshuffle_t<8>(in, out, n);
+    if (es == 4) return unshuffle_t<4>(in, out, n);
+    std::memcpy(out, in, n * es);
+}
+
 // ---- little-endian encoding of the metadata sections
 struct Enc {
     std::vector<unsigned char> b;
@@ -143,8 +165,7 @@ public:
             const unsigned char* src = payload;
             if (es > 1) {  // byte planes: exponents and high mantissa bytes compress, low ones barely
                 shuffled_.resize(raw);
-                for (std::size_t i = 0; i < count; ++i)
-                    for (std::size_t b = 0; b < es; ++b) shuffled_[b * count + i] = payload[i * es + b];
+                shuffle(payload, shuffled_.data(), count, es);
                 src = shuffled_.data();
             }
             if (!cctx_) cctx_ = ZSTD_createCCtx();
@@ -328,10 +349,8 @@ private:
         if (!s.compressed) return stored;
         std::vector<unsigned char> out = decompress(s, stored, at);
         if (!s.shuffled) return out;
-        const std::size_t es = element_size(s.type), n = static_cast<std::size_t>(s.count);
         std::vector<unsigned char> plain(out.size());
-        for (std::size_t b = 0; b < es; ++b)
-            for (std::size_t i = 0; i < n; ++i) plain[i * es + b] = out[b * n + i];
+        unshuffle(out.data(), plain.data(), static_cast<std::size_t>(s.count), element_size(s.type));
         return plain;
     }
 
@@ -386,9 +405,12 @@ private:
                 if (!crc_matches(s.stored_crc, crc32_ieee(0, vec.data(), static_cast<std::size_t>(s.stored_bytes))))
                     fail(at, "section '" + s.name + "': payload checksum mismatch (the file is damaged)");
             } else {
-                const std::vector<unsigned char> b = payload(s, at);
+                FieldFileSection plain = s;
+                plain.shuffled = false;  // unshuffled straight into the array below
+                const std::vector<unsigned char> b = payload(plain, at);
                 vec.resize(b.size() / sizeof(T));
-                std::memcpy(vec.data(), b.data(), b.size());
+                if (s.shuffled) unshuffle(b.data(), reinterpret_cast<unsigned char*>(vec.data()), vec.size(), sizeof(T));
+                else std::memcpy(vec.data(), b.data(), b.size());
             }
             return StateArray(std::move(vec));
         };
