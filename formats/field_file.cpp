@@ -340,35 +340,41 @@ private:
         return s;
     }
 
-    /// The raw payload bytes (decompressed, unshuffled), proven by the file before any allocation.
-    std::vector<unsigned char> payload(const FieldFileSection& s, std::uint64_t at) {
-        std::vector<unsigned char> stored(s.stored_bytes);  // <= the bytes left in the file
-        if (!stored.empty()) read_(stored.data(), stored.size(), at);
-        if (!crc_matches(s.stored_crc, crc32_ieee(0, stored.data(), stored.size())))
+    /// The payload bytes as stored (decompressed, still shuffled), proven by the file before any
+    /// allocation, in buffers reused from section to section (large fresh allocations cost a page
+    /// fault per 4 KiB); valid until the next call.
+    std::span<const unsigned char> payload_bytes(const FieldFileSection& s, std::uint64_t at) {
+        stored_.resize(static_cast<std::size_t>(s.stored_bytes));  // <= the bytes left in the file
+        if (!stored_.empty()) read_(stored_.data(), stored_.size(), at);
+        if (!crc_matches(s.stored_crc, crc32_ieee(0, stored_.data(), stored_.size())))
             fail(at, "section '" + s.name + "': payload checksum mismatch (the file is damaged)");
-        if (!s.compressed) return stored;
-        std::vector<unsigned char> out = decompress(s, stored, at);
-        if (!s.shuffled) return out;
-        std::vector<unsigned char> plain(out.size());
-        unshuffle(out.data(), plain.data(), static_cast<std::size_t>(s.count), element_size(s.type));
-        return plain;
+        if (!s.compressed) return stored_;
+        return decompress(s, at);
     }
 
-    std::vector<unsigned char> decompress(const FieldFileSection& s, const std::vector<unsigned char>& in, std::uint64_t at) {
-        struct DCtx {
-            ZSTD_DCtx* p = ZSTD_createDCtx();
-            ~DCtx() { ZSTD_freeDCtx(p); }
-        } d;
-        if (!d.p) throw std::bad_alloc();
+    /// The raw payload bytes of a metadata section (unshuffled).
+    std::vector<unsigned char> payload(const FieldFileSection& s, std::uint64_t at) {
+        const std::span<const unsigned char> b = payload_bytes(s, at);
+        std::vector<unsigned char> out(b.size());
+        if (s.shuffled) unshuffle(b.data(), out.data(), static_cast<std::size_t>(s.count), element_size(s.type));
+        else if (!b.empty()) std::memcpy(out.data(), b.data(), b.size());
+        return out;
+    }
+
+    std::span<const unsigned char> decompress(const FieldFileSection& s, std::uint64_t at) {
+        if (!dctx_) dctx_ = ZSTD_createDCtx();
+        if (!dctx_) throw std::bad_alloc();
+        ZSTD_DCtx_reset(dctx_, ZSTD_reset_session_only);
         const std::size_t cap = static_cast<std::size_t>(s.raw_bytes);
-        std::vector<unsigned char> out;
-        // Grow as data arrives (a small frame may claim a huge output), never beyond the declared size.
-        out.resize(std::min<std::size_t>(cap, std::max<std::size_t>(1 << 16, 4 * in.size())));
-        ZSTD_inBuffer ib{in.data(), in.size(), 0};
+        std::vector<unsigned char>& out = raw_;
+        // Grow as data arrives (a small frame may claim a huge output), never beyond the declared
+        // size; shuffled doubles compress about 1.1-4x, so the first guess usually holds it all.
+        out.resize(std::min<std::size_t>(cap, std::max<std::size_t>(1 << 16, 16 * stored_.size())));
+        ZSTD_inBuffer ib{stored_.data(), stored_.size(), 0};
         std::size_t produced = 0;
         for (;;) {
             ZSTD_outBuffer ob{out.data(), out.size(), produced};
-            const std::size_t r = ZSTD_decompressStream(d.p, &ob, &ib);
+            const std::size_t r = ZSTD_decompressStream(dctx_, &ob, &ib);
             produced = ob.pos;
             if (ZSTD_isError(r)) fail(at, "section '" + s.name + "': corrupt zstd payload (" + ZSTD_getErrorName(r) + ")");
             if (r == 0) break;  // frame complete
@@ -377,7 +383,7 @@ private:
                     // full: anything more than the declared size is an error
                     unsigned char extra;
                     ZSTD_outBuffer ob2{&extra, 1, 0};
-                    const std::size_t r2 = ZSTD_decompressStream(d.p, &ob2, &ib);
+                    const std::size_t r2 = ZSTD_decompressStream(dctx_, &ob2, &ib);
                     if (ZSTD_isError(r2) || ob2.pos > 0)
                         fail(at, "section '" + s.name + "': payload decompresses to more than the declared " + std::to_string(cap) + " bytes");
                     if (r2 == 0) break;
@@ -392,8 +398,7 @@ private:
         if (ib.pos != ib.size) fail(at, "section '" + s.name + "': bytes after the zstd frame");
         if (produced != cap)
             fail(at, "section '" + s.name + "': payload decompresses to " + std::to_string(produced) + " bytes, declared " + std::to_string(cap));
-        out.resize(produced);
-        return out;
+        return std::span<const unsigned char>(out.data(), produced);
     }
 
     StateArray payload_array(const FieldFileSection& s, std::uint64_t at) {
@@ -405,12 +410,10 @@ private:
                 if (!crc_matches(s.stored_crc, crc32_ieee(0, vec.data(), static_cast<std::size_t>(s.stored_bytes))))
                     fail(at, "section '" + s.name + "': payload checksum mismatch (the file is damaged)");
             } else {
-                FieldFileSection plain = s;
-                plain.shuffled = false;  // unshuffled straight into the array below
-                const std::vector<unsigned char> b = payload(plain, at);
+                const std::span<const unsigned char> b = payload_bytes(s, at);
                 vec.resize(b.size() / sizeof(T));
                 if (s.shuffled) unshuffle(b.data(), reinterpret_cast<unsigned char*>(vec.data()), vec.size(), sizeof(T));
-                else std::memcpy(vec.data(), b.data(), b.size());
+                else if (!b.empty()) std::memcpy(vec.data(), b.data(), b.size());
             }
             return StateArray(std::move(vec));
         };
@@ -493,6 +496,11 @@ private:
     ReadAt read_;
     std::uint64_t size_;
     std::string name_;
+    std::vector<unsigned char> stored_, raw_;  // reused from section to section
+    ZSTD_DCtx* dctx_ = nullptr;
+
+public:
+    ~Parser() { ZSTD_freeDCtx(dctx_); }
 };
 
 }  // namespace
