@@ -449,9 +449,10 @@ std::unique_ptr<RbfGridField> RbfGridField::load_state(FieldState& s) {
     }
     if (f->run_first_[0] != 0 || f->run_first_[nl] != f->runs_.size())
         s.fail("run_first", "run table does not span the runs");
+    for (std::size_t l = 0; l < nl; ++l)  // with the ends checked above, every entry is <= the run count
+        if (f->run_first_[l] > f->run_first_[l + 1]) s.fail("run_first", "run table not ascending at local " + std::to_string(l));
     f->lambda_ = s.take_f64("lambda");
     for (std::size_t l = 0; l < nl; ++l) {
-        if (f->run_first_[l] > f->run_first_[l + 1]) s.fail("run_first", "run table not ascending at local " + std::to_string(l));
         const MultiquadricLocal& h = f->locals_[l];
         if (h.count == 0) continue;
         std::uint64_t terms = 0;

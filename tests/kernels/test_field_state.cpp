@@ -152,6 +152,8 @@ TEST_CASE("an RBF-grid state with an index out of range or inconsistent sizes is
     CHECK_THAT(with([&](Collector& c) { auto& r = c.get<std::uint32_t>("run_first"); std::swap(r[1], r[2]); r[1] += 1000; }),
                Catch::StartsWith("f.mlf: section '"));
     CHECK_THAT(with([&](Collector& c) { c.get<std::uint32_t>("run_first").back() += 1; }), Catch::Contains("run table does not span"));
+    CHECK_THAT(with([&](Collector& c) { c.get<std::uint32_t>("run_first")[1] = 0x7FFFFFFF; }),  // found by fuzz_field_file
+               Catch::Contains("section 'run_first': run table not ascending at local 1"));
     CHECK_THAT(with([&](Collector& c) { c.get<std::int64_t>("dims")[0] += 1; }), Catch::Contains("section 'cell_local'"));
     CHECK_THAT(with([&](Collector& c) { c.get<std::int64_t>("dims")[1] = 0; }), Catch::Contains("section 'dims'"));
     CHECK_THAT(with([&](Collector& c) { c.get<std::int64_t>("dims")[2] = std::int64_t{1} << 40; }), Catch::Contains("section 'dims'"));
