@@ -6,6 +6,7 @@
 // Defined everywhere (extrapolates: the multiquadric grows linearly far away); bounds() is the
 // bounding box of the points. Thread-safe (const) after construction.
 // Throws InvalidArgument when the set is larger than the limit or empty, FormatError for non-finite input.
+// save_state/load_state carry the fitted state (kernels/field_state.hpp) to and from a .mlf file.
 #pragma once
 #include <cstdint>
 #include <memory>

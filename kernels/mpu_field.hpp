@@ -25,7 +25,8 @@
 // plus the lookup lists, ~500 bytes per input point (FieldBuildStats::memory_bytes at 1M uniform). Construction: sequential octree,
 // parallel fits (oneTBB; the result does not depend on the thread count); evaluate() is
 // thread-safe (const).
-// Throws FormatError/InvalidArgument (see make_field.hpp).
+// Throws FormatError/InvalidArgument (see make_field.hpp). save_state/load_state carry the fitted
+// state (kernels/field_state.hpp) to and from a .mlf file.
 #pragma once
 #include <cstdint>
 #include <memory>

@@ -35,7 +35,8 @@
 // Memory: ~27 m lambdas per local x 8 bytes + 24 bytes per point: ~1.1 KB per cell at m = 5
 // (~260 bytes per input point). Construction is parallel (oneTBB parallel_for over cells; the
 // result does not depend on the thread count); evaluate() is thread-safe (const). Throws
-// FormatError/InvalidArgument (see make_field.hpp).
+// FormatError/InvalidArgument (see make_field.hpp). save_state/load_state carry the fitted state
+// (kernels/field_state.hpp) to and from a .mlf file.
 #pragma once
 #include <cstdint>
 #include <memory>
