@@ -205,9 +205,9 @@ void take_centres(FieldState& s, std::vector<double>& px, std::vector<double>& p
     if (c.size() % 3 != 0) s.fail("centres", "array 'centres' does not hold 3 values per centre");
     const std::vector<std::uint32_t> index = s.take_u32("centre_index");
     const std::size_t nc = c.size() / 3, n = index.size();
-    px.resize(n);
-    py.resize(n);
-    pz.resize(n);
+    s.resize(px, n);
+    s.resize(py, n);
+    s.resize(pz, n);
     for (std::size_t i = 0; i < n; ++i) {
         const std::size_t k = index[i];
         if (k >= nc) s.fail("centre_index", "entry " + std::to_string(i) + " names centre " + std::to_string(k) + " of " + std::to_string(nc));

@@ -68,6 +68,14 @@ public:
     /// After a field took its arrays: FormatError naming the first array nobody took.
     void check_all_taken() const;
     std::size_t size() const { return entries_.size(); }
+    /// How a field sizes the large arrays it rebuilds (the .mlf reader asks for huge pages, which
+    /// saves most of the page faults of filling hundreds of MB); default std::vector::resize.
+    using Resizer = void (*)(std::vector<double>& v, std::size_t n);
+    void set_resizer(Resizer r) { resizer_ = r; }
+    void resize(std::vector<double>& v, std::size_t n) const {
+        if (resizer_) resizer_(v, n);
+        else v.resize(n);
+    }
 
 private:
     struct Entry {
@@ -80,6 +88,7 @@ private:
     const Entry* find(std::string_view name) const;
     std::string prefix_, missing_where_;
     std::vector<Entry> entries_;
+    Resizer resizer_ = nullptr;
 };
 
 // ---- Shared parts of the three fields.
