@@ -65,13 +65,7 @@ int cmd_fit(int argc, char** argv) {
     write_field_file(out, *field, params, data, st, static_cast<int>(level));
     const double write_s = since(t_write);
     if (stats) {
-        std::fprintf(stderr,
-                     "fit: %s field from %" PRIu64 " points (%" PRIu64 " merged as near-duplicates), c = %g, %" PRIu64
-                     " local interpolants (%" PRIu64 " exact, %" PRIu64 " rank-deficient, %" PRIu64 " regularised, %" PRIu64
-                     " linear fallback), %.1f MiB in memory\n",
-                     std::string(field_kind_name(params.kind)).c_str(), st.input_points, st.merged_points, st.hardy_c_world,
-                     st.locals, st.interpolated, st.rank_deficient, st.regularised, st.linear_fallback,
-                     st.memory_bytes / 1048576.0);
+        print_field_build_stats(a, params, points, st);
         std::fprintf(stderr, "fit: read %.3f s, fit %.3f s, wrote %s (%" PRIu64 " bytes, identity %s) in %.3f s\n", read_s,
                      st.build_seconds, out.c_str(), regular_file_size(out),
                      describe_identity(data.identity).c_str(), write_s);

@@ -10,7 +10,6 @@
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/point_set_cli.hpp"
-#include "formats/binary_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
 #include "kernels/make_field.hpp"
@@ -29,20 +28,6 @@ bool ends_with_mlf(const std::string& s) {
     std::string e = s.substr(s.size() - 4);
     for (char& c : e) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
     return e == ".mlf";
-}
-
-void print_build_stats(const Args& a, const FieldParams& params, const PointSet& points, const FieldBuildStats& st,
-                       const char* verb, double seconds) {
-    std::fprintf(stderr,
-                 "%s: %s field %s %llu points (%llu dropped by the reader as NaN/Inf, %llu blanked; %llu merged as "
-                 "near-duplicates), c = %g, %llu local interpolants "
-                 "(%llu exact, %llu rank-deficient, %llu regularised, %llu linear fallback), %.1f MiB, %.3f s\n",
-                 a.command().c_str(), std::string(field_kind_name(params.kind)).c_str(), verb,
-                 static_cast<unsigned long long>(st.input_points), static_cast<unsigned long long>(points.dropped_nonfinite),
-                 static_cast<unsigned long long>(points.dropped_blanked), static_cast<unsigned long long>(st.merged_points),
-                 st.hardy_c_world, static_cast<unsigned long long>(st.locals), static_cast<unsigned long long>(st.interpolated),
-                 static_cast<unsigned long long>(st.rank_deficient), static_cast<unsigned long long>(st.regularised),
-                 static_cast<unsigned long long>(st.linear_fallback), st.memory_bytes / 1048576.0, seconds);
 }
 
 BuiltField load_file(const Args& a, const std::string& path) {
@@ -68,6 +53,19 @@ BuiltField load_file(const Args& a, const std::string& path) {
 }
 
 }  // namespace
+
+void print_field_build_stats(const Args& a, const FieldParams& params, const PointSet& points, const FieldBuildStats& st) {
+    std::fprintf(stderr,
+                 "%s: %s field from %llu points (%llu dropped by the reader as NaN/Inf, %llu blanked; %llu merged as "
+                 "near-duplicates), c = %g, %llu local interpolants "
+                 "(%llu exact, %llu rank-deficient, %llu regularised, %llu linear fallback), %.1f MiB, %.3f s\n",
+                 a.command().c_str(), std::string(field_kind_name(params.kind)).c_str(),
+                 static_cast<unsigned long long>(st.input_points), static_cast<unsigned long long>(points.dropped_nonfinite),
+                 static_cast<unsigned long long>(points.dropped_blanked), static_cast<unsigned long long>(st.merged_points),
+                 st.hardy_c_world, static_cast<unsigned long long>(st.locals), static_cast<unsigned long long>(st.interpolated),
+                 static_cast<unsigned long long>(st.rank_deficient), static_cast<unsigned long long>(st.regularised),
+                 static_cast<unsigned long long>(st.linear_fallback), st.memory_bytes / 1048576.0, st.build_seconds);
+}
 
 void add_field_options(Args& a, bool with_coverage) {
     a.option("field", "", "NAME|FILE.mlf",
@@ -143,7 +141,7 @@ BuiltField build_field(const Args& a, const PointSet& points) {
         oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(n));
         FieldBuildStats st;
         f.field = make_field(points, params, &st);
-        if (a.has("stats")) print_build_stats(a, params, points, st, "from", st.build_seconds);
+        if (a.has("stats")) print_field_build_stats(a, params, points, st);
     }
     if (a.declared("max-gap")) {
         const double gap = parse_finite(a.get_or("max-gap", "1"), "--max-gap");

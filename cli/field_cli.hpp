@@ -48,6 +48,9 @@ struct BuiltField {
 /// like --binning, are then a UsageError). Prints a summary on stderr with --stats.
 BuiltField build_field(const Args& a, const PointSet& points);
 
+/// The --stats line of a field built from `points`.
+void print_field_build_stats(const Args& a, const FieldParams& params, const PointSet& points, const FieldBuildStats& st);
+
 /// For commands without the data: the .mlf named by --field, loaded (no coverage). UsageError when
 /// --field names a field kind instead of a file.
 BuiltField load_field_arg(const Args& a);
