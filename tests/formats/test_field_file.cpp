@@ -335,6 +335,30 @@ TEST_CASE("a .mlf with consistent checksums but inconsistent contents is refused
     put_u32(b, 20, 1000000);
     fix_header_crc(b);
     CHECK_THAT(parse_error(b), Catch::StartsWith("bad.mlf: offset 20: section count 1000000 does not fit the file"));
+    // a compressed section whose payload decodes to more or fewer elements than its header declares
+    {
+        const auto z = small_file(d, FieldKind::rbf_grid, 1);
+        const auto zoffs = section_offsets(z);
+        std::size_t sec = 0;
+        for (std::size_t k = 3; k < zoffs.size() && !sec; ++k) {
+            std::uint32_t flags;
+            std::memcpy(&flags, z.data() + zoffs[k] + 20, 4);
+            if (flags & 1) sec = k;
+        }
+        REQUIRE(sec > 0);
+        auto zforge = [&](std::int64_t delta) {
+            auto b = z;
+            std::uint64_t n;
+            std::memcpy(&n, b.data() + zoffs[sec] + 24, 8);
+            n = static_cast<std::uint64_t>(static_cast<std::int64_t>(n) + delta);
+            std::memcpy(b.data() + zoffs[sec] + 24, &n, 8);
+            put_u32(b, zoffs[sec] + 44, crc32_ieee(0, b.data() + zoffs[sec], 44));
+            return parse_error(b);
+        };
+        CHECK_THAT(zforge(-1), Catch::Contains("payload decompresses to more than the declared"));
+        CHECK_THAT(zforge(1), Catch::Contains("bytes, declared"));
+        CHECK_THAT(zforge(std::int64_t{1} << 40), Catch::StartsWith("bad.mlf: offset " + std::to_string(zoffs[sec] + kFieldFileSectionHeaderBytes)));
+    }
     // another field kind in the header than in the parameters
     b = good;
     put_u32(b, 16, 1);
