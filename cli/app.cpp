@@ -30,6 +30,7 @@ constexpr Command kCommands[] = {
     {"verify", cmd_verify, "check every brick of a brick store; names the first bad one"},
     {"synth", cmd_synth, "upsample a real volume into a big brick store (test volumes of any size)"},
     {"sample", cmd_sample, "volume -> scattered points (uniform random positions, trilinear values; .ply/.csv)"},
+    {"fit", cmd_fit, "scattered points or multiblock grids -> a fitted meshless field saved once (.mlf)"},
     {"probe", cmd_probe, "scattered points -> value and gradient of a meshless field at positions (CSV)"},
     {"slice", cmd_slice, "scattered points -> colour-mapped slice of a meshless field (PNG)"},
     {"resample", cmd_resample, "scattered points -> a meshless field on a regular grid (NRRD)"},

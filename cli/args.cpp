@@ -160,6 +160,12 @@ bool Args::has(const std::string& name) const {
     return false;
 }
 
+bool Args::declared(const std::string& name) const {
+    for (const auto& s : specs_)
+        if (s.name == name) return true;
+    return false;
+}
+
 std::optional<std::string> Args::get(const std::string& name) const {
     std::optional<std::string> r;
     for (const auto& [k, v] : values_)

@@ -31,6 +31,8 @@ public:
     bool parse(int argc, char** argv, int first);
 
     bool has(const std::string& name) const;
+    /// True when option or flag `name` was declared (shared option sets that differ per command).
+    bool declared(const std::string& name) const;
     std::optional<std::string> get(const std::string& name) const;
     std::vector<std::string> get_all(const std::string& name) const;
     std::string get_or(const std::string& name, const std::string& def) const;

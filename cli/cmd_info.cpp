@@ -12,6 +12,7 @@
 #include "cli/errors.hpp"
 #include "cli/point_set_cli.hpp"
 #include "formats/multiblock_reader.hpp"
+#include "formats/field_file.hpp"
 #include "formats/ply.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/point_stream.hpp"
@@ -130,6 +131,66 @@ void info_sample_store(const std::string& path) {
                 i.levels, i.exact_levels ? "exact" : "quantised", i.value_lo, i.value_hi);
 }
 
+// Fitted fields (.mlf): read and validated whole (every checksum and index), then described.
+void info_field_file(const std::string& path) {
+    const FieldFile ff = read_field_file(path);
+    const FieldFileInfo& i = ff.info;
+    const FieldParams& p = i.params;
+    const FieldBuildStats& s = i.stats;
+    const PointSetIdentity& id = i.data.identity;
+    auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
+    std::printf("%s: meshless fitted field (.mlf), format version %u, %llu bytes (checked)\n", path.c_str(), i.version,
+                u(i.file_bytes));
+    std::printf("  field: %s\n", std::string(field_kind_name(p.kind)).c_str());
+    std::string c = p.hardy_c_world > 0 ? std::to_string(p.hardy_c_world) + " (world units)"
+                                        : std::to_string(p.hardy_c_rel) + " x bounding-box diagonal";
+    switch (p.kind) {
+        case FieldKind::rbf_grid:
+            std::printf("  parameters: binning m = %g, support %s, local points %u..%u, Hardy c = %s\n", p.binning_m,
+                        p.rbf_grid_support == RbfGridSupport::paper_radius ? "paper radius" : "27 neighbours",
+                        p.rbf_grid_min_local, p.rbf_grid_max_local, c.c_str());
+            break;
+        case FieldKind::mpu:
+            std::printf("  parameters: N = %u, min points %u, alpha = %g, max depth %u, Hardy c = %s\n", p.mpu_max_points,
+                        p.mpu_min_points, p.mpu_alpha, p.mpu_max_depth, c.c_str());
+            break;
+        case FieldKind::global_rbf:
+            std::printf("  parameters: at most %u points, Hardy c = %s\n", p.global_max_points, c.c_str());
+            break;
+    }
+    std::printf("  merge: points closer than %g x mean spacing%s\n", p.merge_rel, p.normalise_axes ? ", axes normalised" : "");
+    std::printf("  fitted to: %llu points, identity hash %016llx\n", u(id.count), u(id.hash));
+    std::printf("  bounds: %.12g %.12g %.12g .. %.12g %.12g %.12g\n", id.bounds[0].x, id.bounds[0].y, id.bounds[0].z,
+                id.bounds[1].x, id.bounds[1].y, id.bounds[1].z);
+    if (i.data.has_values)
+        std::printf("  value: %s, range %.9g .. %.9g\n",
+                    i.data.value_name.empty() ? "(unnamed)" : ply_escape(i.data.value_name, 128).c_str(), id.value_range[0],
+                    id.value_range[1]);
+    else
+        std::printf("  value: none (positions only)\n");
+    std::printf("  dropped by the reader: %llu NaN/Inf, %llu blanked\n", u(i.data.dropped_nonfinite), u(i.data.dropped_blanked));
+    std::printf("  build: %llu points used (%llu merged, tolerance %g), c = %g, %llu local interpolants (%llu exact, "
+                "%llu rank-deficient, %llu regularised, %llu linear fallback, %llu polynomial only, %llu grown, %llu capped), "
+                "%.1f points per local (max %llu)\n",
+                u(s.used_points), u(s.merged_points), s.merge_tolerance, s.hardy_c_world, u(s.locals), u(s.interpolated),
+                u(s.rank_deficient), u(s.regularised), u(s.linear_fallback), u(s.polynomial_only), u(s.grown), u(s.capped),
+                s.mean_local_points, u(s.max_local_points));
+    if (p.kind == FieldKind::rbf_grid)
+        std::printf("  RBF grid: %lld x %lld x %lld cells\n", static_cast<long long>(s.grid_dims[0]),
+                    static_cast<long long>(s.grid_dims[1]), static_cast<long long>(s.grid_dims[2]));
+    if (p.kind == FieldKind::mpu) std::printf("  octree: %llu nodes, depth %u\n", u(s.octree_nodes), s.octree_depth);
+    std::printf("  memory when loaded: %.1f MiB\n", s.memory_bytes / 1048576.0);
+    std::printf("  sections: %zu\n", i.sections.size());
+    for (const auto& sec : i.sections) {
+        static const char* const kType[] = {"bytes", "f64", "i64", "u32", "i32"};
+        std::printf("    %-14s %-5s %12llu elements, %12llu bytes%s\n", sec.name.c_str(), kType[sec.type < 5 ? sec.type : 0],
+                    u(sec.count), u(sec.stored_bytes),
+                    sec.compressed ? (" (zstd" + std::string(sec.shuffled ? ", shuffled" : "") + ", from " +
+                                      std::to_string(sec.raw_bytes) + ")").c_str()
+                                   : "");
+    }
+}
+
 // Scattered and multiblock point sets (text, .vtp, .vts, PLOT3D, raw records, .npy): read through.
 void info_point_set(const std::string& path, const Args& a) {
     const PointSetInfo info = probe_point_set(path, point_set_options(a));
@@ -229,6 +290,8 @@ void describe(const std::string& path, const Args& a) {
         info_brick_store(path);
     } else if (n >= 8 && is_sample_store(path)) {
         info_sample_store(path);
+    } else if (n >= 8 && std::memcmp(h, kFieldFileMagic, 8) == 0) {
+        info_field_file(path);
     } else if (n >= 8 && std::memcmp(h, "\x89PNG", 4) == 0) {
         info_png(path, h, n);
     } else if (is_collection(path)) {
@@ -251,7 +314,7 @@ int cmd_info(int argc, char** argv) {
     Args a("info", "FILE...",
            "Describes files meshless reads or writes: volumes (format, dims, type, spacing, value range),\n"
            "point/sample streams (records, frames, metadata; checks the END frame), brick stores (.mlb),\n"
-           "sample stores (.mls), PLY (point sets are read through, so truncation is reported), PNG, and\n"
+           "sample stores (.mls), fitted fields (.mlf: kind, parameters, the data it was fitted to), PLY (point sets are read through, so truncation is reported), PNG, and\n"
            "scattered/multiblock point sets (CSV/TSV/text, .vtp, .vts, PLOT3D .bin/.xyz/.p3d, raw float32\n"
            "records, .npy): points, blocks and dims, value name and range, bounds, dropped samples;\n"
            "VTK multiblock .vtm and AMR .vthb/.vtm hierarchies: levels, boxes per level, refinement,\n"

@@ -14,6 +14,7 @@ int cmd_extract(int argc, char** argv);
 int cmd_splat(int argc, char** argv);
 int cmd_mc(int argc, char** argv);
 int cmd_info(int argc, char** argv);
+int cmd_fit(int argc, char** argv);
 int cmd_probe(int argc, char** argv);
 int cmd_slice(int argc, char** argv);
 int cmd_resample(int argc, char** argv);

@@ -2,36 +2,106 @@
 
 #include <oneapi/tbb/global_control.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cinttypes>
 #include <cstdio>
 
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/point_set_cli.hpp"
+#include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
 #include "kernels/make_field.hpp"
+#include "kernels/point_set_identity.hpp"
+#include "kernels/structured_block.hpp"
 
 namespace meshless::cli {
 
-void add_field_options(Args& a) {
-    a.option("field", "", "NAME", "rbf-grid (section 4.3) | mpu (section 5.5) | global-rbf (small sets)", "rbf-grid")
+namespace {
+
+/// Options that shape a fit: meaningless with a fitted field file.
+constexpr const char* kFitOptions[] = {"binning", "support", "max-points", "alpha", "hardy-c", "hardy-c-world", "normalise-axes"};
+
+bool ends_with_mlf(const std::string& s) {
+    if (s.size() < 4) return false;
+    std::string e = s.substr(s.size() - 4);
+    for (char& c : e) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+    return e == ".mlf";
+}
+
+BuiltField load_file(const Args& a, const std::string& path) {
+    for (const char* opt : kFitOptions)
+        if (a.has(opt))
+            throw UsageError("--" + std::string(opt) + ": the field comes fitted from " + path +
+                             " (its options are in the file, see meshless info); leave --" + opt + " out");
+    const auto t0 = std::chrono::steady_clock::now();
+    FieldFile ff = read_field_file(path);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (a.has("stats")) {
+        const FieldFileInfo& i = ff.info;
+        std::fprintf(stderr,
+                     "%s: %s field loaded from %s (%.1f MiB): fitted to %" PRIu64 " points (%" PRIu64
+                     " merged), %" PRIu64 " local interpolants, %.3f s\n",
+                     a.command().c_str(), std::string(field_kind_name(i.params.kind)).c_str(), path.c_str(),
+                     i.file_bytes / 1048576.0, i.data.identity.count, i.stats.merged_points, i.stats.locals, seconds);
+    }
+    BuiltField f;
+    f.field = std::move(ff.field);
+    f.file = std::move(ff.info);
+    return f;
+}
+
+}  // namespace
+
+void print_field_build_stats(const Args& a, const FieldParams& params, const PointSet& points, const FieldBuildStats& st) {
+    std::fprintf(stderr,
+                 "%s: %s field from %llu points (%llu dropped by the reader as NaN/Inf, %llu blanked; %llu merged as "
+                 "near-duplicates), c = %g, %llu local interpolants "
+                 "(%llu exact, %llu rank-deficient, %llu regularised, %llu linear fallback), %.1f MiB, %.3f s\n",
+                 a.command().c_str(), std::string(field_kind_name(params.kind)).c_str(),
+                 static_cast<unsigned long long>(st.input_points), static_cast<unsigned long long>(points.dropped_nonfinite),
+                 static_cast<unsigned long long>(points.dropped_blanked), static_cast<unsigned long long>(st.merged_points),
+                 st.hardy_c_world, static_cast<unsigned long long>(st.locals), static_cast<unsigned long long>(st.interpolated),
+                 static_cast<unsigned long long>(st.rank_deficient), static_cast<unsigned long long>(st.regularised),
+                 static_cast<unsigned long long>(st.linear_fallback), st.memory_bytes / 1048576.0, st.build_seconds);
+}
+
+void add_field_options(Args& a, bool with_coverage) {
+    a.option("field", "", "NAME|FILE.mlf",
+             "rbf-grid (section 4.3) | mpu (section 5.5) | global-rbf (small sets), or a field fitted by "
+             "meshless fit (.mlf; it must have been fitted to these points)",
+             "rbf-grid")
         .option("binning", "", "M", "rbf-grid: binning constant m, about points per RBF-grid cell", "5")
         .option("support", "", "27|paper", "rbf-grid: blend the 27 neighbour cells (continuous) or the paper's radius 2|s|", "27")
         .option("max-points", "", "N", "mpu: subdivide while a node's sphere holds more than N points", "100")
         .option("alpha", "", "A", "mpu: sphere of influence = A x node diagonal", "0.75")
         .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal", "0.025")
         .option("hardy-c-world", "", "C", "Hardy's constant in world units (overrides --hardy-c)")
-        .flag("normalise-axes", "scale each axis so the bounding box is a cube (axes in unrelated units)")
-        .option("max-gap", "", "F", "positions farther than F x the local point spacing (8th-neighbour distance) "
-                "from the data are NaN, not extrapolated; 0 keeps every value", "1")
-        .flag("stats", "print what building the field did (merged points, fallbacks, sizes, time) to stderr");
+        .flag("normalise-axes", "scale each axis so the bounding box is a cube (axes in unrelated units)");
+    if (with_coverage)
+        a.option("max-gap", "", "F", "positions farther than F x the local point spacing (8th-neighbour distance) "
+                 "from the data are NaN, not extrapolated; 0 keeps every value", "1");
+    a.flag("stats", "print what building (or loading) the field did (merged points, fallbacks, sizes, time) to stderr");
     add_point_set_options(a, /*with_endian=*/true);
     add_thread_option(a);
+}
+
+std::optional<std::string> field_file_arg(const Args& a) {
+    const auto v = a.get("field");
+    if (!v) return std::nullopt;
+    FieldKind k;
+    if (parse_field_kind(*v, k)) return std::nullopt;
+    if (ends_with_mlf(*v) || is_field_file(*v)) return *v;
+    return std::nullopt;
 }
 
 FieldParams field_params(const Args& a) {
     FieldParams p;
     const std::string kind = a.get_or("field", "rbf-grid");
-    if (!parse_field_kind(kind, p.kind)) throw UsageError("--field: expected rbf-grid, mpu or global-rbf, got '" + kind + "'");
+    if (field_file_arg(a)) throw UsageError("--field " + kind + ": a fitted field file, not a field to build");
+    if (!parse_field_kind(kind, p.kind))
+        throw UsageError("--field: expected rbf-grid, mpu, global-rbf or a fitted field file (.mlf), got '" + kind + "'");
     p.binning_m = parse_finite(a.get_or("binning", "5"), "--binning");
     const std::string support = a.get_or("support", "27");
     if (support == "27") p.rbf_grid_support = RbfGridSupport::neighbours27;
@@ -40,6 +110,7 @@ FieldParams field_params(const Args& a) {
     const long long n = a.get_int_or("max-points", 100);
     if (n < 8 || n > 100000) throw UsageError("--max-points: expected 8..100000");
     p.mpu_max_points = static_cast<std::uint32_t>(n);
+    p.mpu_min_points = std::min(p.mpu_min_points, p.mpu_max_points);  // grown leaves never exceed N
     p.mpu_alpha = parse_finite(a.get_or("alpha", "0.75"), "--alpha");
     p.hardy_c_rel = parse_finite(a.get_or("hardy-c", "0.025"), "--hardy-c");
     if (auto c = a.get("hardy-c-world")) p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
@@ -47,35 +118,45 @@ FieldParams field_params(const Args& a) {
     return p;
 }
 
+PointSet read_field_points(const std::vector<std::string>& paths, const Args& a) {
+    bool blocks = !paths.empty();
+    for (const auto& p : paths) blocks = blocks && looks_like_multiblock(p);
+    if (blocks) return to_point_set(read_multiblock(paths, point_set_options(a)));
+    return read_point_set(paths, point_set_options(a));
+}
+
 PointSet read_points_arg(const Args& a) {
     if (a.positional().empty()) throw UsageError("missing POINTS argument (see meshless " + a.command() + " --help)");
-    return read_point_set(a.positional(), point_set_options(a));
+    return read_field_points(a.positional(), a);
 }
 
 BuiltField build_field(const Args& a, const PointSet& points) {
-    const FieldParams params = field_params(a);
-    const int n = threads(a);
-    oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(n));
-    FieldBuildStats st;
     BuiltField f;
-    f.field = make_field(points, params, &st);
-    const double gap = parse_finite(a.get_or("max-gap", "1"), "--max-gap");
-    if (gap < 0) throw UsageError("--max-gap: expected a factor >= 0");
-    if (gap > 0) f.coverage = std::make_unique<PointCoverage>(points.pos, gap);
-    if (a.has("stats"))
-        std::fprintf(stderr,
-                     "%s: %s field from %llu points (%llu dropped by the reader as NaN/Inf, %llu blanked; %llu merged as "
-                     "near-duplicates), c = %g, %llu local interpolants "
-                     "(%llu exact, %llu rank-deficient, %llu regularised, %llu linear fallback), %.1f MiB, %.3f s\n",
-                     a.command().c_str(), std::string(field_kind_name(params.kind)).c_str(),
-                     static_cast<unsigned long long>(st.input_points),
-                     static_cast<unsigned long long>(points.dropped_nonfinite),
-                     static_cast<unsigned long long>(points.dropped_blanked), static_cast<unsigned long long>(st.merged_points),
-                     st.hardy_c_world, static_cast<unsigned long long>(st.locals),
-                     static_cast<unsigned long long>(st.interpolated), static_cast<unsigned long long>(st.rank_deficient),
-                     static_cast<unsigned long long>(st.regularised), static_cast<unsigned long long>(st.linear_fallback),
-                     st.memory_bytes / 1048576.0, st.build_seconds);
+    if (const auto path = field_file_arg(a)) {
+        f = load_file(a, *path);
+        check_fitted_to(*f.file, point_set_identity(points), *path);
+    } else {
+        const FieldParams params = field_params(a);
+        const int n = threads(a);
+        oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(n));
+        FieldBuildStats st;
+        f.field = make_field(points, params, &st);
+        if (a.has("stats")) print_field_build_stats(a, params, points, st);
+    }
+    if (a.declared("max-gap")) {
+        const double gap = parse_finite(a.get_or("max-gap", "1"), "--max-gap");
+        if (gap < 0) throw UsageError("--max-gap: expected a factor >= 0");
+        if (gap > 0) f.coverage = std::make_unique<PointCoverage>(points.pos, gap);
+    }
     return f;
+}
+
+BuiltField load_field_arg(const Args& a) {
+    const auto path = field_file_arg(a);
+    if (!path)
+        throw UsageError("--field: " + a.command() + " needs a fitted field file (.mlf, made by meshless fit), got '" +
+                         a.get_or("field", "") + "'");
+    return load_file(a, *path);
 }
 
 }  // namespace meshless::cli

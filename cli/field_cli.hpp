@@ -1,13 +1,19 @@
-// Shared pieces of the commands that build a meshless field from scattered points (probe, slice,
-// resample): the field options (--field --binning --max-points --alpha --hardy-c --hardy-c-world
-// --support --normalise-axes), reading POINTS (one or several files: multiblock pieces), building the
-// field under --threads. Evaluation is a stage graph (stream/field_evaluate_stage.hpp). Throws UsageError
-// for bad options.
+// Shared pieces of the commands that use a meshless field built from scattered or multiblock
+// points (fit, probe, slice, resample; isosurface/project over blocks): the field options
+// (--field --binning --max-points --alpha --hardy-c --hardy-c-world --support --normalise-axes),
+// reading the data (one or several files: point sets, or multiblock/AMR inputs as every valid node),
+// building the field under --threads, or loading it from a fitted-field file: `--field FILE.mlf`
+// (formats/field_file.hpp, written by `meshless fit`). Evaluation is a stage graph
+// (stream/field_evaluate_stage.hpp). Throws UsageError for bad options, FormatError for a .mlf that
+// is damaged or was fitted to other data than the command's (exit 2).
 #pragma once
 #include <memory>
+#include <optional>
 #include <span>
+#include <string>
 
 #include "cli/args.hpp"
+#include "formats/field_file.hpp"
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
 #include "kernels/point_coverage.hpp"
@@ -15,19 +21,38 @@
 
 namespace meshless::cli {
 
-void add_field_options(Args& a);
+/// with_coverage: also --max-gap (commands that evaluate the field where the data may not reach).
+void add_field_options(Args& a, bool with_coverage = true);
+/// The field parameters of the options; UsageError when --field names a .mlf (see field_file_arg).
 FieldParams field_params(const Args& a);
+/// The .mlf named by --field, if it names one (ends in .mlf, or an existing file with the .mlf magic);
+/// nullopt for a field kind (rbf-grid, mpu, global-rbf).
+std::optional<std::string> field_file_arg(const Args& a);
 
-/// Reads the positional POINTS files (as one set) with the point-set options.
+/// Reads data files as one point set: when every path is a multiblock/AMR input
+/// (looks_like_multiblock: .vts .vtm .vthb, PLOT3D) through read_multiblock and to_point_set (every
+/// valid node, the set the block commands build their field from), else through read_point_set.
+PointSet read_field_points(const std::vector<std::string>& paths, const Args& a);
+/// read_field_points of the positional POINTS files.
 PointSet read_points_arg(const Args& a);
 
-/// A field and where its data covers space (--max-gap; null when --max-gap 0).
+/// A field and where its data covers space (--max-gap; null when --max-gap 0 or not declared).
 struct BuiltField {
     std::unique_ptr<Field> field;
     std::unique_ptr<PointCoverage> coverage;
+    std::optional<FieldFileInfo> file;  ///< set when the field was loaded from a .mlf
 };
 
-/// Builds the field with --threads workers; prints the build summary on stderr with --stats.
+/// Builds the field from `points` with --threads workers, or loads the .mlf named by --field after
+/// checking that it was fitted to exactly `points` (FormatError otherwise; options that shape a fit,
+/// like --binning, are then a UsageError). Prints a summary on stderr with --stats.
 BuiltField build_field(const Args& a, const PointSet& points);
+
+/// The --stats line of a field built from `points`.
+void print_field_build_stats(const Args& a, const FieldParams& params, const PointSet& points, const FieldBuildStats& st);
+
+/// For commands without the data: the .mlf named by --field, loaded (no coverage). UsageError when
+/// --field names a field kind instead of a file.
+BuiltField load_field_arg(const Args& a);
 
 }  // namespace meshless::cli

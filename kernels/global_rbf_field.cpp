@@ -48,3 +48,42 @@ void GlobalRbfField::evaluate(std::span<const Vec3> p, std::span<double> value, 
 }
 
 }  // namespace meshless
+
+namespace meshless {
+
+void GlobalRbfField::save_state(FieldStateWriter& w) const {
+    put_frame(w, origin_, scale_, bounds_);
+    std::vector<double> p;
+    p.reserve(3 * pos_.size());
+    for (const Vec3& v : pos_) p.insert(p.end(), {v.x, v.y, v.z});
+    w.put("points", std::span<const double>(p));
+    w.put("lambda", std::span<const double>(lambda_));
+    put_locals(w, std::span<const MultiquadricLocal>(&h_, 1));
+    const std::uint32_t outcome = static_cast<std::uint32_t>(outcome_);
+    w.put("outcome", std::span<const std::uint32_t>(&outcome, 1));
+}
+
+std::unique_ptr<GlobalRbfField> GlobalRbfField::load_state(FieldState& s) {
+    std::unique_ptr<GlobalRbfField> f(new GlobalRbfField);
+    take_frame(s, f->origin_, f->scale_, f->bounds_);
+    const std::vector<double> p = s.take_f64("points");
+    if (p.empty() || p.size() % 3 != 0) s.fail("points", "array 'points' does not hold 3 values per point");
+    const std::size_t n = p.size() / 3;
+    if (n > 0xFFFFFFF0u) s.fail("points", "more than 2^32-16 points");
+    f->pos_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) f->pos_[i] = {p[3 * i], p[3 * i + 1], p[3 * i + 2]};
+    f->idx_.resize(n);
+    std::iota(f->idx_.begin(), f->idx_.end(), 0u);
+    f->lambda_ = s.take_f64("lambda", n);
+    const std::vector<MultiquadricLocal> h = take_locals(s);
+    if (h.size() != 1) s.fail("locals", "a global field has one interpolant, not " + std::to_string(h.size()));
+    f->h_ = h[0];
+    if (f->h_.first != 0 || (f->h_.count != 0 && f->h_.count != n))
+        s.fail("local_ranges", "the interpolant does not span the points");
+    const std::uint32_t outcome = s.take_u32("outcome", 1)[0];
+    if (outcome > static_cast<std::uint32_t>(MultiquadricOutcome::polynomial_only)) s.fail("outcome", "unknown fit outcome");
+    f->outcome_ = static_cast<MultiquadricOutcome>(outcome);
+    return f;
+}
+
+}  // namespace meshless

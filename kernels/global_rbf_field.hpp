@@ -6,12 +6,15 @@
 // Defined everywhere (extrapolates: the multiquadric grows linearly far away); bounds() is the
 // bounding box of the points. Thread-safe (const) after construction.
 // Throws InvalidArgument when the set is larger than the limit or empty, FormatError for non-finite input.
+// save_state/load_state carry the fitted state (kernels/field_state.hpp) to and from a .mlf file.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
+#include "kernels/field_state.hpp"
 #include "kernels/multiquadric.hpp"
 #include "kernels/point_set.hpp"
 
@@ -25,7 +28,14 @@ public:
     std::string name() const override { return "global-rbf"; }
     MultiquadricOutcome outcome() const { return outcome_; }
 
+    /// The fitted state (kernels/field_state.hpp): merged points, lambdas, the polynomial part.
+    void save_state(FieldStateWriter& w) const;
+    /// A field from a saved state, validated; evaluates bit-identically to the saved one.
+    /// FormatError through FieldState::fail.
+    static std::unique_ptr<GlobalRbfField> load_state(FieldState& s);
+
 private:
+    GlobalRbfField() = default;
     Vec3 origin_, scale_{1, 1, 1};  // frame = (world - origin_) * scale_
     std::array<Vec3, 2> bounds_;
     std::vector<Vec3> pos_;

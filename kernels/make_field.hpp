@@ -8,7 +8,9 @@
 // InvalidArgument for bad parameters or an oversized global-rbf set. stats (optional) receives counts
 // of merged points, local outcomes (regularised, fallbacks, rank-deficient), sizes, memory and the
 // wall-clock build time. Construction uses oneTBB (limit it with tbb::global_control); the result
-// does not depend on the thread count.
+// does not depend on the thread count. A fitted field is saved and loaded again, evaluating
+// bit-identically, through kernels/field_state.hpp (save_field_state / load_field_state; the
+// .mlf file of formats/field_file.hpp).
 #pragma once
 #include <memory>
 

@@ -158,16 +158,7 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         const auto& r = b.nodes[i];
         nodes_[i] = Node{r.c, r.half, r.r, r.r, r.child, r.local};
     }
-    for (std::size_t i = nodes_.size(); i-- > 0;) {  // children follow their parent
-        Node& nd = nodes_[i];
-        if (nd.child < 0) { nd.rsub = nd.r; continue; }
-        double rs = 0;
-        for (int q = 0; q < 8; ++q) {
-            const Node& ch = nodes_[static_cast<std::size_t>(nd.child + q)];
-            rs = std::max(rs, norm(ch.c - nd.c) + ch.rsub);
-        }
-        nd.rsub = rs;
-    }
+    compute_subtree_radii();
     const std::vector<std::uint32_t> idx = std::move(b.flat);
     lambda_.assign(idx.size(), 0.0);
     locals_.resize(b.leaf_range.size());
@@ -228,9 +219,21 @@ std::vector<MpuField::LeafInfo> MpuField::leaves() const {
     return out;
 }
 
-void MpuField::build_lookup() {
-    // Leaf spheres in leaf order, then a uniform grid of G^3 cells over the root cube listing, per
-    // cell, the leaves whose sphere meets the cell (ascending). G^3 ~ the number of leaves.
+void MpuField::compute_subtree_radii() {
+    for (std::size_t i = nodes_.size(); i-- > 0;) {  // children follow their parent
+        Node& nd = nodes_[i];
+        if (nd.child < 0) { nd.rsub = nd.r; continue; }
+        double rs = 0;
+        for (int q = 0; q < 8; ++q) {
+            const Node& ch = nodes_[static_cast<std::size_t>(nd.child + q)];
+            rs = std::max(rs, norm(ch.c - nd.c) + ch.rsub);
+        }
+        nd.rsub = rs;
+    }
+}
+
+void MpuField::lookup_geometry() {
+    // Leaf spheres in leaf order; a uniform grid of G^3 cells over the root cube, G^3 ~ the number of leaves.
     leaf_.resize(locals_.size());
     for (const Node& nd : nodes_)
         if (nd.child < 0) leaf_[static_cast<std::size_t>(nd.local)] = LeafSphere{nd.c, nd.r, nd.r * nd.r};
@@ -241,6 +244,11 @@ void MpuField::build_lookup() {
     g_lo_ = root.c - Vec3{root.half, root.half, root.half};
     g_cell_ = 2 * root.half / static_cast<double>(g_);
     g_inv_ = 1 / g_cell_;
+}
+
+void MpuField::build_lookup() {
+    // The lookup grid lists, per cell, the leaves whose sphere meets the cell (ascending).
+    lookup_geometry();
     const std::size_t ncell = static_cast<std::size_t>(g_ * g_ * g_);
     auto range = [&](const LeafSphere& s, std::int64_t lo[3], std::int64_t hi[3]) {
         for (int a = 0; a < 3; ++a) {
@@ -349,6 +357,100 @@ void MpuField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blen
         value = blend.finish(grad);
         if (want_grad) *grad = {grad->x * scale_.x, grad->y * scale_.y, grad->z * scale_.z};
     }
+}
+
+}  // namespace meshless
+
+namespace meshless {
+
+void MpuField::save_state(FieldStateWriter& w) const {
+    put_frame(w, origin_, scale_, bounds_);
+    std::vector<double> nf;
+    std::vector<std::int32_t> links;
+    nf.reserve(5 * nodes_.size());
+    links.reserve(2 * nodes_.size());
+    for (const Node& n : nodes_) {
+        nf.insert(nf.end(), {n.c.x, n.c.y, n.c.z, n.half, n.r});
+        links.insert(links.end(), {n.child, n.local});
+    }
+    w.put("nodes", std::span<const double>(nf));
+    w.put("node_links", std::span<const std::int32_t>(links));
+    put_locals(w, locals_);
+    put_centres(w, px_, py_, pz_);  // a point is a centre of every leaf whose sphere holds it: ~10x repeated
+    w.put("lambda", std::span<const double>(lambda_));
+    w.put("lookup_first", std::span<const std::uint32_t>(grid_first_));
+    w.put("lookup_leaves", std::span<const std::uint32_t>(grid_leaf_));
+}
+
+std::unique_ptr<MpuField> MpuField::load_state(FieldState& s) {
+    std::unique_ptr<MpuField> f(new MpuField);
+    take_frame(s, f->origin_, f->scale_, f->bounds_);
+    f->locals_ = take_locals(s);
+    const std::size_t nl = f->locals_.size();
+    if (nl == 0) s.fail("locals", "no local interpolant");
+    {
+        const std::vector<double> nf = s.take_f64("nodes");
+        if (nf.empty() || nf.size() % 5 != 0) s.fail("nodes", "array 'nodes' does not hold 5 values per node");
+        const std::size_t nn = nf.size() / 5;
+        if (nn > 0x7FFFFFF0u) s.fail("nodes", "more than 2^31 nodes");
+        const std::vector<std::int32_t> links = s.take_i32("node_links", 2 * nn);
+        f->nodes_.resize(nn);
+        std::vector<std::uint8_t> depth(nn, 0), referenced(nn, 0), local_seen(nl, 0);
+        std::size_t leaves = 0;
+        for (std::size_t i = 0; i < nn; ++i) {
+            const double* v = nf.data() + 5 * i;
+            for (int k = 0; k < 5; ++k)
+                if (!std::isfinite(v[k])) s.fail("nodes", "node " + std::to_string(i) + ": non-finite value");
+            if (!(v[3] > 0) || !(v[4] >= 0)) s.fail("nodes", "node " + std::to_string(i) + ": half edge not > 0 or radius < 0");
+            Node& n = f->nodes_[i];
+            n.c = {v[0], v[1], v[2]};
+            n.half = v[3];
+            n.r = n.rsub = v[4];
+            n.child = links[2 * i];
+            n.local = links[2 * i + 1];
+            const std::string who = "node " + std::to_string(i);
+            if (i > 0 && !referenced[i]) s.fail("node_links", who + " is nobody's child");
+            if (n.child >= 0) {
+                if (static_cast<std::size_t>(n.child) <= i || static_cast<std::size_t>(n.child) + 8 > nn)
+                    s.fail("node_links", who + ": children at " + std::to_string(n.child) + " outside " +
+                                             std::to_string(i + 1) + ".." + std::to_string(nn - 1) + " (8 needed)");
+                if (n.local != -1) s.fail("node_links", who + " has children and a local");
+                if (depth[i] >= 60) s.fail("node_links", who + ": octree deeper than 60 levels");
+                for (int q = 0; q < 8; ++q) {
+                    const std::size_t ch = static_cast<std::size_t>(n.child) + q;
+                    if (referenced[ch]) s.fail("node_links", "node " + std::to_string(ch) + " has two parents");
+                    referenced[ch] = 1;
+                    depth[ch] = static_cast<std::uint8_t>(depth[i] + 1);
+                }
+            } else {
+                if (n.child != -1) s.fail("node_links", who + ": child index " + std::to_string(n.child));
+                if (n.local < 0 || static_cast<std::size_t>(n.local) >= nl)
+                    s.fail("node_links", who + ": local " + std::to_string(n.local) + " of " + std::to_string(nl));
+                if (local_seen[static_cast<std::size_t>(n.local)]) s.fail("node_links", who + ": local " + std::to_string(n.local) + " used twice");
+                local_seen[static_cast<std::size_t>(n.local)] = 1;
+                ++leaves;
+            }
+        }
+        if (leaves != nl) s.fail("node_links", std::to_string(leaves) + " leaves for " + std::to_string(nl) + " locals");
+    }
+    take_centres(s, f->px_, f->py_, f->pz_);
+    const std::size_t np = f->px_.size();
+    if (np > 0xFFFFFFF0u) s.fail("centre_index", "more than 2^32-16 centres");
+    f->lambda_ = s.take_f64("lambda", np);
+    if (f->lambda_.size() != np) s.fail("lambda", "not one lambda per centre entry");
+    check_local_ranges(s, f->locals_, np);
+    f->compute_subtree_radii();
+    f->lookup_geometry();
+    const std::size_t ncell = static_cast<std::size_t>(f->g_ * f->g_ * f->g_);
+    f->grid_first_ = s.take_u32("lookup_first", ncell + 1);
+    f->grid_leaf_ = s.take_u32("lookup_leaves");
+    if (f->grid_first_[0] != 0 || f->grid_first_[ncell] != f->grid_leaf_.size())
+        s.fail("lookup_first", "lookup lists do not span the leaf entries");
+    for (std::size_t c = 0; c < ncell; ++c)
+        if (f->grid_first_[c] > f->grid_first_[c + 1]) s.fail("lookup_first", "lookup lists not ascending at cell " + std::to_string(c));
+    for (std::size_t k = 0; k < f->grid_leaf_.size(); ++k)
+        if (f->grid_leaf_[k] >= nl) s.fail("lookup_leaves", "entry " + std::to_string(k) + " names leaf " + std::to_string(f->grid_leaf_[k]) + " of " + std::to_string(nl));
+    return f;
 }
 
 }  // namespace meshless

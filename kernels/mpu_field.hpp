@@ -25,13 +25,16 @@
 // plus the lookup lists, ~500 bytes per input point (FieldBuildStats::memory_bytes at 1M uniform). Construction: sequential octree,
 // parallel fits (oneTBB; the result does not depend on the thread count); evaluate() is
 // thread-safe (const).
-// Throws FormatError/InvalidArgument (see make_field.hpp).
+// Throws FormatError/InvalidArgument (see make_field.hpp). save_state/load_state carry the fitted
+// state (kernels/field_state.hpp) to and from a .mlf file.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
+#include "kernels/field_state.hpp"
 #include "kernels/multiquadric.hpp"
 #include "kernels/multiquadric_sum.hpp"
 #include "kernels/partition_of_unity.hpp"
@@ -55,7 +58,15 @@ public:
     /// units unless params.normalise_axes).
     std::vector<LeafInfo> leaves() const;
 
+    /// The fitted state (kernels/field_state.hpp): the octree, the locals, their centres (each
+    /// distinct point once, see put_centres) and lambdas, the lookup lists (the leaf spheres and the subtree radii are recomputed on load).
+    void save_state(FieldStateWriter& w) const;
+    /// A field from a saved state, validated (a proper octree of depth <= 60, every index in
+    /// range); evaluates bit-identically to the saved one. FormatError through FieldState::fail.
+    static std::unique_ptr<MpuField> load_state(FieldState& s);
+
 private:
+    MpuField() = default;
     struct Node {
         Vec3 c;              // centre (frame)
         double half = 0;     // half edge
@@ -69,6 +80,8 @@ private:
         double r, r2;     // weight radius and its square
     };
     void build_lookup();
+    void compute_subtree_radii();  // Node::rsub from the children (children follow their parent)
+    void lookup_geometry();        // leaf_ and the lookup grid's g_, g_lo_, g_cell_, g_inv_
     std::uint32_t batch_key(const Vec3& world) const;  // lookup cell of a query (kernels/batch_order.hpp)
     void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend) const;
     void add_leaf(std::size_t l, const Vec3& x, bool want_grad, PuBlend& blend) const;

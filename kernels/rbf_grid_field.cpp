@@ -2,6 +2,7 @@
 #include "kernels/rbf_grid_field.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -347,6 +348,121 @@ void RbfGridField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& 
         value = blend.finish(grad);
         if (want_grad) *grad = {grad->x * scale_.x, grad->y * scale_.y, grad->z * scale_.z};
     }
+}
+
+}  // namespace meshless
+
+namespace meshless {
+
+void RbfGridField::save_state(FieldStateWriter& w) const {
+    put_frame(w, origin_, scale_, bounds_);
+    const double grid[14] = {lo_.x,    lo_.y,    lo_.z,      s_.x,       s_.y,       s_.z,    inv_s_.x,
+                             inv_s_.y, inv_s_.z, reach_[0], reach_[1], reach_[2], r_data_, r_w_};
+    w.put("grid", std::span<const double>(grid, 14));
+    const std::int64_t dims[3] = {n_[0], n_[1], n_[2]};
+    w.put("dims", std::span<const std::int64_t>(dims, 3));
+    w.put("px", std::span<const double>(px_));
+    w.put("py", std::span<const double>(py_));
+    w.put("pz", std::span<const double>(pz_));
+    w.put("cell_local", std::span<const std::int32_t>(cell_local_));
+    put_locals(w, locals_);
+    w.put("run_first", std::span<const std::uint32_t>(run_first_));
+    std::vector<std::uint32_t> runs;
+    runs.reserve(2 * runs_.size());
+    for (const MqRun& r : runs_) runs.insert(runs.end(), {r.start, r.count});
+    w.put("runs", std::span<const std::uint32_t>(runs));
+    w.put("lambda", std::span<const double>(lambda_));
+}
+
+std::unique_ptr<RbfGridField> RbfGridField::load_state(FieldState& s) {
+    std::unique_ptr<RbfGridField> f(new RbfGridField);
+    take_frame(s, f->origin_, f->scale_, f->bounds_);
+    {
+        const std::vector<std::int64_t> d = s.take_i64("dims", 3);
+        std::int64_t cells = 1;
+        for (int a = 0; a < 3; ++a) {
+            if (d[a] < 1 || d[a] > 0x7FFFFFFF) s.fail("dims", "grid dimension " + std::to_string(d[a]) + " outside 1..2^31-1");
+            f->n_[a] = d[a];
+            if (cells > 0x7FFFFFFF / d[a]) s.fail("dims", "grid of more than 2^31-1 cells");
+            cells *= d[a];
+        }
+    }
+    const std::vector<double> g = s.take_f64("grid", 14);
+    for (double v : g)
+        if (!std::isfinite(v)) s.fail("grid", "non-finite grid value");
+    f->lo_ = {g[0], g[1], g[2]};
+    f->s_ = {g[3], g[4], g[5]};
+    f->inv_s_ = {g[6], g[7], g[8]};
+    f->r_data_ = g[12];
+    f->r_w_ = g[13];
+    for (int a = 0; a < 3; ++a) {
+        f->reach_[a] = g[9 + a];
+        const double sa = f->s_[a];
+        if (!(sa >= 0) || (f->n_[a] > 1 && !(sa > 0))) s.fail("grid", "cell edge not > 0");
+        const double inv = f->n_[a] > 1 ? 1 / sa : 0.0;
+        if (std::bit_cast<std::uint64_t>(inv) != std::bit_cast<std::uint64_t>(f->inv_s_[a]))
+            s.fail("grid", "1/cell edge does not match the cell edge");
+    }
+    const double diag = norm(f->s_);  // as built: r_data = 2 |s|, 0 < r_w <= r_data; all points merged into one: 1, 1
+    if (diag > 0) {
+        if (std::bit_cast<std::uint64_t>(f->r_data_) != std::bit_cast<std::uint64_t>(2 * diag))
+            s.fail("grid", "data radius is not 2 |s|");
+        if (!(f->r_w_ > 0 && f->r_w_ <= f->r_data_)) s.fail("grid", "weight radius outside (0, data radius]");
+    } else if (f->r_data_ != 1.0 || f->r_w_ != 1.0) {
+        s.fail("grid", "radii of a single-point grid are not 1");
+    }
+    for (int a = 0; a < 3; ++a) {
+        const double reach = f->n_[a] < 2 ? 0.0 : f->r_w_ / f->s_[a];
+        if (std::bit_cast<std::uint64_t>(reach) != std::bit_cast<std::uint64_t>(f->reach_[a]))
+            s.fail("grid", "reach does not match the weight radius");
+    }
+    const std::size_t ncells = static_cast<std::size_t>(f->n_[0] * f->n_[1] * f->n_[2]);
+
+    f->px_ = s.take_f64("px");
+    const std::size_t np = f->px_.size();
+    f->py_ = s.take_f64("py", np);
+    f->pz_ = s.take_f64("pz", np);
+    if (np == 0 || np > 0xFFFFFFF0u) s.fail("px", "point count " + std::to_string(np) + " outside 1..2^32-16");
+    if (f->py_.size() != np || f->pz_.size() != np) s.fail("py", "px, py, pz differ in length");
+    f->locals_ = take_locals(s);
+    const std::size_t nl = f->locals_.size();
+    if (nl == 0) s.fail("locals", "no local interpolant");
+    f->cell_local_ = s.take_i32("cell_local", ncells);
+    if (f->cell_local_.size() != ncells) s.fail("cell_local", "not one entry per grid cell");
+    for (std::size_t c = 0; c < ncells; ++c) {
+        const std::int32_t l = f->cell_local_[c];
+        if (l < -1 || (l >= 0 && static_cast<std::size_t>(l) >= nl))
+            s.fail("cell_local", "cell " + std::to_string(c) + " names local " + std::to_string(l) + " of " + std::to_string(nl));
+    }
+    f->run_first_ = s.take_u32("run_first", nl + 1);
+    {
+        const std::vector<std::uint32_t> runs = s.take_u32("runs");
+        if (runs.size() % 2 != 0) s.fail("runs", "odd number of run values");
+        f->runs_.resize(runs.size() / 2);
+        for (std::size_t r = 0; r < f->runs_.size(); ++r) {
+            f->runs_[r] = MqRun{runs[2 * r], runs[2 * r + 1]};
+            if (static_cast<std::uint64_t>(runs[2 * r]) + runs[2 * r + 1] > np)
+                s.fail("runs", "run " + std::to_string(r) + " ends at point " +
+                                   std::to_string(static_cast<std::uint64_t>(runs[2 * r]) + runs[2 * r + 1]) +
+                                   ", beyond the " + std::to_string(np) + " points");
+        }
+    }
+    if (f->run_first_[0] != 0 || f->run_first_[nl] != f->runs_.size())
+        s.fail("run_first", "run table does not span the runs");
+    for (std::size_t l = 0; l < nl; ++l)  // with the ends checked above, every entry is <= the run count
+        if (f->run_first_[l] > f->run_first_[l + 1]) s.fail("run_first", "run table not ascending at local " + std::to_string(l));
+    f->lambda_ = s.take_f64("lambda");
+    for (std::size_t l = 0; l < nl; ++l) {
+        const MultiquadricLocal& h = f->locals_[l];
+        if (h.count == 0) continue;
+        std::uint64_t terms = 0;
+        for (std::uint32_t r = f->run_first_[l]; r < f->run_first_[l + 1]; ++r) terms += f->runs_[r].count;
+        if (terms != h.count)
+            s.fail("local_ranges", "local " + std::to_string(l) + " has " + std::to_string(h.count) + " terms, its runs " +
+                                       std::to_string(terms));
+    }
+    check_local_ranges(s, f->locals_, f->lambda_.size());
+    return f;
 }
 
 }  // namespace meshless

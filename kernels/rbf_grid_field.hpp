@@ -35,13 +35,16 @@
 // Memory: ~27 m lambdas per local x 8 bytes + 24 bytes per point: ~1.1 KB per cell at m = 5
 // (~260 bytes per input point). Construction is parallel (oneTBB parallel_for over cells; the
 // result does not depend on the thread count); evaluate() is thread-safe (const). Throws
-// FormatError/InvalidArgument (see make_field.hpp).
+// FormatError/InvalidArgument (see make_field.hpp). save_state/load_state carry the fitted state
+// (kernels/field_state.hpp) to and from a .mlf file.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
+#include "kernels/field_state.hpp"
 #include "kernels/multiquadric.hpp"
 #include "kernels/multiquadric_sum.hpp"
 #include "kernels/partition_of_unity.hpp"
@@ -65,7 +68,14 @@ public:
     double weight_radius() const { return r_w_; }    ///< R_w (partition-of-unity support, frame units)
     std::size_t local_count() const { return locals_.size(); }
 
+    /// The fitted state (kernels/field_state.hpp): every array evaluate() reads.
+    void save_state(FieldStateWriter& w) const;
+    /// A field from a saved state, validated (sizes, indices, derived scalars recomputed bit for
+    /// bit); evaluates bit-identically to the saved one. FormatError through FieldState::fail.
+    static std::unique_ptr<RbfGridField> load_state(FieldState& s);
+
 private:
+    RbfGridField() = default;
     std::uint32_t batch_key(const Vec3& world) const;  // cell of a query (kernels/batch_order.hpp)
     void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend) const;
 
