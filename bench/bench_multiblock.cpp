@@ -29,7 +29,7 @@
 //       vtkContourFilter on each block, cell data moved to points per block for AMR as ParaView does)
 //       on the same blocks in the same run: filter time (best of reps, reading excluded), triangles,
 //       open boundary edges after merging coincident points, and those off the data's bounding box
-//       (the cracks).
+//       (the cracks); in (a) also its coverage, measured as the naive MC's.
 // A command that fails (the multiblock isosurface and mc inputs are issue 8's new features) makes
 // its cells "n/a (exit N: first line of stderr)"; the run goes on.
 #include <sys/wait.h>
@@ -225,14 +225,17 @@ struct VtkContour {
 };
 
 /// bench/vtk_block_contour.py on `inputs` (a .vtm, a .vthb, or "--plot3d XYZ Q").
-VtkContour vtk_contour(const BenchOptions& o, const std::string& inputs, double iso, int reps, const fs::path& work) {
+VtkContour vtk_contour(const BenchOptions& o, const std::string& inputs, double iso, int reps, const fs::path& work,
+                       const fs::path& ply_out = {}) {
     VtkContour v;
     const std::string script = (fs::path(o.bench_dir) / "vtk_block_contour.py").string();
     if (!fs::exists(script)) {
         v.why = "n/a (vtk_block_contour.py not found)";
         return v;
     }
-    const Proc p = run(shq(o.python) + " " + shq(script) + " " + inputs + fmt(" --iso %.17g --reps %d", iso, reps), work);
+    const Proc p = run(shq(o.python) + " " + shq(script) + " " + inputs + fmt(" --iso %.17g --reps %d", iso, reps) +
+                           (ply_out.empty() ? std::string() : " --ply-out " + shq(ply_out.string())),
+                       work);
     if (!p.ok()) {
         v.why = p.why();
         return v;
@@ -273,7 +276,10 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
     Table t;
     t.header = {"field", "layout", "blocks", "nodes", "points", "coverage %", "mean dist / h", "max dist / h",
                 "normal err deg", "isosurface s", "MC crack edges", "MC intersecting pairs", "MC coverage %"};
-    if (vtk) t.header.push_back("VTK crack edges");
+    if (vtk) {
+        t.header.push_back("VTK crack edges");
+        t.header.push_back("VTK coverage %");
+    }
     const std::vector<std::pair<std::string, std::string>> layouts = {
         {"volume", ""}, {"overlapping", "--layout overlapping"}, {"semi-conforming", "--layout semi-conforming"},
         {"non-conforming", "--layout non-conforming"}, {"rotated", "--layout rotated"}, {"amr", "--layout amr"}};
@@ -361,8 +367,12 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
                 row.push_back(mcov ? pct(*mcov) : "n/a (" + why + ")");
             }
             if (vtk) {
-                const VtkContour vc = vtk_contour(o, "--input " + shq(input), iso, 1, dir);
+                const fs::path vply = dir / (fname + "-" + lname + "-vtk.ply");
+                const VtkContour vc = vtk_contour(o, "--input " + shq(input), iso, 1, dir, vply);
                 row.push_back(vc.ok ? fmt("%lld (of %lld open)", vc.cracks, vc.boundary) : vc.why);
+                std::string why;
+                const auto vcov = vc.ok ? mesh_coverage(vply, samples, h, h / 4, why) : std::nullopt;
+                row.push_back(vcov ? pct(*vcov) : "-");
             }
             t.add(row);
         }

@@ -17,7 +17,10 @@ or --plot3d XYZ Q (vtkMultiBlockPLOT3DReader, binary, density = scalar function 
 Must run under an interpreter with the vtk module (Debian: /usr/bin/python3 with python3-vtk9).
 Exit status 2 with a one-line message on stderr on bad arguments or data.
 
-usage: vtk_block_contour.py (--input FILE | --plot3d XYZ Q) --iso V [--reps R]
+With --ply-out FILE the union of the blocks' triangles is also written there (binary PLY, the
+merged points), for the bench's coverage measure.
+
+usage: vtk_block_contour.py (--input FILE | --plot3d XYZ Q) --iso V [--reps R] [--ply-out FILE]
 """
 import argparse
 import json
@@ -45,6 +48,7 @@ def main():
     ap.add_argument("--plot3d", nargs=2, metavar=("XYZ", "Q"))
     ap.add_argument("--iso", type=float, required=True)
     ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--ply-out")
     a = ap.parse_args()
     try:
         import vtk
@@ -120,6 +124,15 @@ def main():
     clean.SetInputConnection(app.GetOutputPort())
     clean.SetTolerance(0.0)
     clean.PointMergingOn()
+    if a.ply_out:
+        tri = vtk.vtkTriangleFilter()
+        tri.SetInputConnection(clean.GetOutputPort())
+        w = vtk.vtkPLYWriter()
+        w.SetInputConnection(tri.GetOutputPort())
+        w.SetFileName(a.ply_out)
+        w.SetFileTypeToBinary()
+        if not w.Write():
+            raise RuntimeError("cannot write " + a.ply_out)
     fe = vtk.vtkFeatureEdges()
     fe.SetInputConnection(clean.GetOutputPort())
     fe.BoundaryEdgesOn()
