@@ -13,10 +13,12 @@
 //       mean and max distance of the points to the true surface in units of the finest cell edge h
 //       (target mean <= 0.05); mean normal error in degrees (sign-agnostic, normals against the
 //       gradient counted apart). Next to them, the naive per-block marching cubes' crack edges and
-//       intersecting pairs as `mc --stats` prints them, and its coverage: the fraction of surface
+//       intersecting pairs as `mc --stats` prints them (with, as a cross-check, the open edges of its
+//       PLY mesh after merging equal vertices, and those off the domain's faces), and its coverage: the fraction of surface
 //       samples within h/4 of a mesh triangle (triangles sampled on a barycentric lattice of spacing
 //       <= h/8, each lattice point a disc of radius h/4). A reference row runs `meshless isosurface`
-//       on the unsplit volume (chapter 3's iso-splatting).
+//       on the unsplit volume (chapter 3's iso-splatting) and `mc` on it (one
+//       block: no crack, open edges only on the domain faces).
 //   (b) speed, whole process (read + field + seeds + Newton + PLY), best of --reps: the Table 4.1 sets
 //       rebuilt with `meshless split` (bucky semi-conforming --resample 33 = 21,114 nodes / 2 grids,
 //       fuel overlapping --blocks 5 --resample 12 --overlap 1 = 2,880 / 5 (Table 4.1: 2,688), neghip
@@ -44,6 +46,8 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <array>
+#include <utility>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -211,6 +215,49 @@ std::optional<double> mesh_coverage(const fs::path& ply, const std::vector<Vec3>
     return surface_coverage(samples, pts, radii).fraction();
 }
 
+/// Open edges of a triangle mesh (edges used by exactly one triangle, vertices merged when their
+/// float coordinates are equal) that do not lie on a face of the box [lo, hi] (within 1e-6 of its
+/// diagonal): the cracks. -1 when the mesh cannot be read.
+long long mesh_cracks(const fs::path& ply, const Vec3& lo, const Vec3& hi, long long* open = nullptr) {
+    Mesh m;
+    try {
+        m = read_ply_mesh(ply.string());
+    } catch (const std::exception&) {
+        return -1;
+    }
+    std::map<std::array<float, 3>, std::uint32_t> ids;
+    std::vector<std::uint32_t> id(m.vertex_count());
+    std::vector<Vec3> pos;
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+        const std::array<float, 3> k{m.xyz[3 * v], m.xyz[3 * v + 1], m.xyz[3 * v + 2]};
+        const auto [it, fresh] = ids.emplace(k, static_cast<std::uint32_t>(pos.size()));
+        if (fresh) pos.push_back({k[0], k[1], k[2]});
+        id[v] = it->second;
+    }
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (std::size_t t = 0; t + 2 < m.tri.size(); t += 3)
+        for (int e = 0; e < 3; ++e) {
+            std::uint32_t a = id[m.tri[t + e]], b = id[m.tri[t + (e + 1) % 3]];
+            if (a == b) continue;
+            if (a > b) std::swap(a, b);
+            ++uses[{a, b}];
+        }
+    const double eps = 1e-6 * norm(hi - lo);
+    long long n_open = 0, cracks = 0;
+    for (const auto& [e, count] : uses) {
+        if (count != 1) continue;
+        ++n_open;
+        const Vec3 p = pos[e.first], q = pos[e.second];
+        bool on_face = false;
+        for (int a = 0; a < 3 && !on_face; ++a)
+            on_face = (std::abs(p[a] - lo[a]) <= eps && std::abs(q[a] - lo[a]) <= eps) ||
+                      (std::abs(p[a] - hi[a]) <= eps && std::abs(q[a] - hi[a]) <= eps);
+        cracks += !on_face;
+    }
+    if (open) *open = n_open;
+    return cracks;
+}
+
 std::string pct(double f) { return fmt("%.3f", 100 * f); }
 
 bool have_vtk(const BenchOptions& o) {
@@ -342,11 +389,6 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
                     for (int i = 0; i < 5; ++i) row.push_back("-");
                 }
             }
-            if (lopt.empty()) {
-                row.resize(t.header.size(), "-");
-                t.add(row);
-                continue;
-            }
             const fs::path naive = dir / (fname + "-" + lname + "-mc.ply");
             fs::remove(naive);
             const Proc mc = run(shq(o.meshless) + " mc " + shq(input) + fmt(" --iso %.17g", iso) + " --stats -o " +
@@ -360,13 +402,20 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
                 const std::string stats = mc.err + "\n" + mc.out;
                 const auto cracks = number_after(stats, "crack");
                 const auto inter = number_after(stats, "intersect");
-                row.push_back(cracks ? fmt("%lld", *cracks) : "? (not in --stats)");
+                long long open = 0;
+                const long long mine = mesh_cracks(naive, {-1, -1, -1}, {1, 1, 1}, &open);
+                const std::string check = mine < 0 ? std::string(" (mesh unreadable)")
+                                                   : fmt(" (mesh: %lld open, %lld off the box)", open, mine);
+                row.push_back((cracks ? fmt("%lld", *cracks) : "? (not in --stats)") + check);
                 row.push_back(inter ? fmt("%lld", *inter) : "? (not in --stats)");
                 std::string why;
                 const auto mcov = mesh_coverage(naive, samples, h, h / 4, why);
                 row.push_back(mcov ? pct(*mcov) : "n/a (" + why + ")");
             }
-            if (vtk) {
+            if (vtk && lopt.empty()) {
+                row.push_back("-");
+                row.push_back("-");
+            } else if (vtk) {
                 const fs::path vply = dir / (fname + "-" + lname + "-vtk.ply");
                 const VtkContour vc = vtk_contour(o, "--input " + shq(input), iso, 1, dir, vply);
                 row.push_back(vc.ok ? fmt("%lld (of %lld open)", vc.cracks, vc.boundary) : vc.why);
