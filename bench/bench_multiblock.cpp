@@ -13,7 +13,7 @@
 //       mean and max distance of the points to the true surface in units of the finest cell edge h
 //       (target mean <= 0.05); mean normal error in degrees (sign-agnostic, normals against the
 //       gradient counted apart). Next to them, the naive per-block marching cubes' crack edges and
-//       intersecting pairs as `mc --stats` prints them (with, as a cross-check, the open edges of its
+//       intersecting pairs as `mc --stats` prints them ("N crack edges", "N intersecting"; with, as a cross-check, the open edges of its
 //       PLY mesh after merging equal vertices, and those off the domain's faces), and its coverage: the fraction of surface
 //       samples within h/4 of a mesh triangle (triangles sampled on a barycentric lattice of spacing
 //       <= h/8, each lattice point a disc of radius h/4). A reference row runs `meshless isosurface`
@@ -25,7 +25,8 @@
 //       overlapping --resample 24 = 15,552 / 2 (Table 4.1: 16,000)) and the combustor (PLOT3D
 //       combxyz.bin + combq.bin, 3 blocks, 47,025 nodes), at 1 and 2 threads, speed-up, identical
 //       point bytes (PLY bodies; headers carry the command line), points per second of the whole
-//       process; iso = the middle of the value range of the data the blocks hold (combustor: density,
+//       process, and from `--stats` the field construction time (Table 4.1's column) and the Newton
+//       points per second per core; iso = the middle of the value range of the data the blocks hold (combustor: density,
 //       q component 0 as `--q` reads it by default).
 //   (c) when python3-vtk9 is installed: VTK's per-block contour (bench/vtk_block_contour.py:
 //       vtkContourFilter on each block, cell data moved to points per block for AMR as ParaView does)
@@ -127,30 +128,39 @@ Proc best_of(const std::string& cmd, int n, const fs::path& work) {
     return best;
 }
 
-/// The first integer on the first line of `text` containing `word` (case-insensitive).
-std::optional<long long> number_after(const std::string& text, const std::string& word) {
-    std::istringstream in(text);
-    std::string line;
-    auto lower = [](std::string s) {
-        for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        return s;
-    };
-    const std::string w = lower(word);
-    while (std::getline(in, line)) {
-        const std::string l = lower(line);
-        if (l.find(w) == std::string::npos) continue;
-        // prefer the number right after the word, else the first number on the line
-        for (std::size_t from : {l.find(w) + w.size(), std::size_t{0}}) {
-            const std::size_t p = l.find_first_of("0123456789", from);
-            if (p == std::string::npos) continue;
-            std::size_t q = p;
-            std::string digits;
-            while (q < l.size() && (std::isdigit(static_cast<unsigned char>(l[q])) || l[q] == ',')) {
-                if (l[q] != ',') digits += l[q];
-                ++q;
-            }
-            if (!digits.empty()) return std::stoll(digits);
-        }
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+/// The number (digits, '.', ',' as a thousands separator) written just before the first occurrence
+/// of `word` in `text` (case-insensitive), as in "136 crack edges" or "86920 points/s per core";
+/// nullopt when the word is absent or not preceded by a number.
+std::optional<double> number_before(const std::string& text, const std::string& word) {
+    const std::string l = lower(text), w = lower(word);
+    const std::size_t at = l.find(w);
+    if (at == std::string::npos) return std::nullopt;
+    std::size_t e = at;
+    while (e > 0 && l[e - 1] == ' ') --e;
+    std::size_t b = e;
+    while (b > 0 && (std::isdigit(static_cast<unsigned char>(l[b - 1])) || l[b - 1] == '.' || l[b - 1] == ',')) --b;
+    std::string digits;
+    for (std::size_t i = b; i < e; ++i)
+        if (l[i] != ',') digits += l[i];
+    if (digits.empty() || !std::isdigit(static_cast<unsigned char>(digits[0]))) return std::nullopt;
+    return std::stod(digits);
+}
+
+/// The number just after the first occurrence of `word` that is followed by one (e.g. "field 3.601 s"
+/// in "... rbf-grid field from ... time: ..., field 3.601 s").
+std::optional<double> number_after(const std::string& text, const std::string& word) {
+    const std::string l = lower(text), w = lower(word);
+    for (std::size_t at = l.find(w); at != std::string::npos; at = l.find(w, at + 1)) {
+        std::size_t b = at + w.size();
+        while (b < l.size() && l[b] == ' ') ++b;
+        std::size_t e = b;
+        while (e < l.size() && (std::isdigit(static_cast<unsigned char>(l[e])) || l[e] == '.')) ++e;
+        if (e > b && std::isdigit(static_cast<unsigned char>(l[b]))) return std::stod(l.substr(b, e - b));
     }
     return std::nullopt;
 }
@@ -400,14 +410,14 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
                 row.push_back("-");
             } else {
                 const std::string stats = mc.err + "\n" + mc.out;
-                const auto cracks = number_after(stats, "crack");
-                const auto inter = number_after(stats, "intersect");
+                const auto cracks = number_before(stats, "crack edges");
+                const auto inter = number_before(stats, "intersecting");
                 long long open = 0;
                 const long long mine = mesh_cracks(naive, {-1, -1, -1}, {1, 1, 1}, &open);
                 const std::string check = mine < 0 ? std::string(" (mesh unreadable)")
                                                    : fmt(" (mesh: %lld open, %lld off the box)", open, mine);
-                row.push_back((cracks ? fmt("%lld", *cracks) : "? (not in --stats)") + check);
-                row.push_back(inter ? fmt("%lld", *inter) : "? (not in --stats)");
+                row.push_back((cracks ? fmt("%.0f", *cracks) : "? (not in --stats)") + check);
+                row.push_back(inter ? fmt("%.0f", *inter) : "? (not in --stats)");
                 std::string why;
                 const auto mcov = mesh_coverage(naive, samples, h, h / 4, why);
                 row.push_back(mcov ? pct(*mcov) : "n/a (" + why + ")");
@@ -477,7 +487,7 @@ SpeedSet split_set(const BenchOptions& o, const fs::path& dir, const std::string
 
 void part_b(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
     r.section("(b) Speed: the Table 4.1 sets and the combustor, whole process at 1 and 2 threads");
-    r.note(fmt("`meshless isosurface BLOCKS --iso V --field rbf-grid --threads T -o out.ply`, wall clock of the whole process "
+    r.note(fmt("`meshless isosurface BLOCKS --iso V --field rbf-grid --stats --threads T -o out.ply`, wall clock of the whole process "
                "(read + field + seeds + Newton + PLY), best of %d. Target: bucky, fuel, neghip <= 1 s, combustor <= 2 s on one "
                "core; 2 threads >= 1.8x with identical point bytes (PLY bodies). Table 4.1 (2.8 GHz Pentium 4) timed the "
                "field construction alone. VTK: vtkContourFilter per block (filter time only), open edges after merging "
@@ -516,7 +526,7 @@ void part_b(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
     }
     Table t;
     t.header = {"set", "Table 4.1 points / grids / field", "blocks", "nodes", "iso", "points", "1 thread s", "2 threads s",
-                "speed-up", "same bytes", "points/s (1 thread)"};
+                "speed-up", "same bytes", "points/s (1 thread)", "field s (1 thread)", "Newton points/s per core"};
     if (vtk) {
         t.header.push_back("VTK contour s");
         t.header.push_back("VTK triangles");
@@ -541,13 +551,13 @@ void part_b(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
         Proc t1, t2;
         const fs::path o1 = dir / (s.label + "-t1.ply"), o2 = dir / (s.label + "-t2.ply");
         for (int th : {1, 2}) {
-            (th == 1 ? t1 : t2) = best_of(shq(o.meshless) + " isosurface" + in + fmt(" --iso %.17g --field rbf-grid --threads %d -o ", s.iso, th) +
+            (th == 1 ? t1 : t2) = best_of(shq(o.meshless) + " isosurface" + in + fmt(" --iso %.17g --field rbf-grid --stats --threads %d -o ", s.iso, th) +
                                               shq((th == 1 ? o1 : o2).string()),
                                           o.process_reps, dir);
         }
         if (!t1.ok()) {
             row.push_back(t1.why());
-            row.resize(vtk ? t.header.size() - 3 : t.header.size(), "-");
+            row.resize(vtk ? t.header.size() - 3 : t.header.size(), "-");  // the VTK cells follow
         } else {
             std::size_t npts = 0;
             try {
@@ -560,6 +570,10 @@ void part_b(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
             row.push_back(t2.ok() ? fmt("%.2fx", t1.seconds / t2.seconds) : "-");
             row.push_back(t2.ok() ? (body_after_header(o1) == body_after_header(o2) ? "SAME" : "DIFFERENT") : "-");
             row.push_back(fmt("%.0f", static_cast<double>(npts) / t1.seconds));
+            const auto field_s = number_after(t1.err, "field ");
+            const auto newton = number_before(t1.err, "points/s per core");
+            row.push_back(field_s ? fmt("%.3f", *field_s) : "? (not in --stats)");
+            row.push_back(newton ? fmt("%.0f", *newton) : "? (not in --stats)");
         }
         if (vtk) {
             const VtkContour vc = vtk_contour(o, s.vtk_input, s.iso, std::max(3, o.process_reps), dir);
