@@ -8,12 +8,15 @@
 //       rbf-grid --stats -o pts.ply` and `meshless mc BLOCKS --iso V --stats -o naive.ply`. The points
 //       are checked against the true surface (kernels/surface_coverage.hpp): coverage = fraction of a
 //       dense sampling of the true isosurface (jittered grid of spacing h/4, Newton-projected, samples
-//       within h/2 of the domain faces left out: a splat centred on a face reaches only half its
-//       radius into the domain) that lies within one splat radius of an output point (target >= 99.9%);
+//       within h/2 of the data domain's faces left out: a splat centred on a face reaches only half its
+//       radius into the domain; the data domain is the volume's box, for the cell-centred AMR layout
+//       the box of the finest cell centres, h/2 inside it) that lies within one splat radius of an
+//       output point (target >= 99.9%);
 //       mean and max distance of the points to the true surface in units of the finest cell edge h
 //       (target mean <= 0.05); mean normal error in degrees (sign-agnostic, normals against the
 //       gradient counted apart). Next to them, the naive per-block marching cubes' crack edges and
-//       intersecting pairs as `mc --stats` prints them ("N crack edges", "N intersecting"; with, as a cross-check, the open edges of its
+//       intersecting pairs as `mc --stats` prints them ("N crack edges", "N intersecting"; with, as a
+//       cross-check, the open edges of its
 //       PLY mesh after merging equal vertices, and those off the domain's faces), and its coverage: the fraction of surface
 //       samples within h/4 of a mesh triangle (triangles sampled on a barycentric lattice of spacing
 //       <= h/8, each lattice point a disc of radius h/4). A reference row runs `meshless isosurface`
@@ -324,7 +327,8 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
                   static_cast<long long>(n), h));
     r.note("Points: `meshless isosurface BLOCKS --iso V --field rbf-grid --stats -o pts.ply` on the blocks of `meshless split`. "
            "Coverage: fraction of a dense sampling of the true isosurface (jittered grid, spacing h/4, Newton-projected; "
-           "samples within h/2 of the domain faces left out) within one splat radius of an output point, target >= 99.9%. "
+           "samples within h/2 of the data domain's faces left out; amr: the data domain is the box of the finest cell "
+           "centres, h/2 inside the volume's) within one splat radius of an output point, target >= 99.9%. "
            "Distances to the true surface in units of h (target mean <= 0.05). Normal error: sign-agnostic, degrees. "
            "Naive MC: `meshless mc BLOCKS --iso V --stats` (crack edges, intersecting pairs as it prints them; coverage = "
            "samples within h/4 of a triangle).");
@@ -345,12 +349,19 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
         const std::string fname = to_string(f);
         const fs::path vol = dir / (fname + ".nrrd");
         write_nrrd(make_analytic_volume(f, n), vol.string(), "meshless-bench multiblock: analytic " + fname);
+        // the data domain: the volume's box for node-centred layouts; for the cell-centred AMR layout
+        // the box of the finest cell centres, h/2 inside it. Samples within h/2 of the data domain's
+        // faces are left out (a splat centred on a face reaches only half its radius into the domain).
         SurfaceSampling ss;
         ss.spacing = h / 4;
         ss.margin = h / 2;
-        const std::vector<Vec3> samples = sample_isosurface(f, iso, Box3{{-1, -1, -1}, {1, 1, 1}}, ss);
-        std::fprintf(stderr, "multiblock: %s, %zu surface samples\n", fname.c_str(), samples.size());
+        const std::vector<Vec3> node_samples = sample_isosurface(f, iso, Box3{{-1, -1, -1}, {1, 1, 1}}, ss);
+        ss.margin = h;
+        const std::vector<Vec3> cell_samples = sample_isosurface(f, iso, Box3{{-1, -1, -1}, {1, 1, 1}}, ss);
+        std::fprintf(stderr, "multiblock: %s, %zu / %zu surface samples\n", fname.c_str(), node_samples.size(),
+                     cell_samples.size());
         for (const auto& [lname, lopt] : layouts) {
+            const std::vector<Vec3>& samples = lname == "amr" ? cell_samples : node_samples;
             std::vector<std::string> row{fname, lname};
             std::string input = vol.string();
             std::string blocks = "1", nodes = fmt("%lld", static_cast<long long>(n * n * n));
