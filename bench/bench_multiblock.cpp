@@ -16,12 +16,12 @@
 //       (target mean <= 0.05); mean normal error in degrees (sign-agnostic, normals against the
 //       gradient counted apart). Next to them, the naive per-block marching cubes' crack edges and
 //       intersecting pairs as `mc --stats` prints them ("N crack edges", "N intersecting"; with, as a
-//       cross-check, the open edges of its
-//       PLY mesh after merging equal vertices, and those off the domain's faces), and its coverage: the fraction of surface
-//       samples within h/4 of a mesh triangle (triangles sampled on a barycentric lattice of spacing
-//       <= h/8, each lattice point a disc of radius h/4). A reference row runs `meshless isosurface`
-//       on the unsplit volume (chapter 3's iso-splatting) and `mc` on it (one
-//       block: no crack, open edges only on the domain faces).
+//       cross-check, the open edges of its PLY mesh after merging equal vertices, and those off the
+//       domain's faces), and its coverage: the fraction of surface samples within h/4 of a mesh
+//       triangle (triangles sampled on a barycentric lattice of spacing <= h/8, each lattice point a
+//       disc of radius h/4). A reference row runs `meshless isosurface` on the unsplit volume
+//       (chapter 3's iso-splatting) and `mc` on it (one block: no crack, open edges only on the domain
+//       faces).
 //   (b) speed, whole process (read + field + seeds + Newton + PLY), best of --reps: the Table 4.1 sets
 //       rebuilt with `meshless split` (bucky semi-conforming --resample 33 = 21,114 nodes / 2 grids,
 //       fuel overlapping --blocks 5 --resample 12 --overlap 1 = 2,880 / 5 (Table 4.1: 2,688), neghip
