@@ -79,7 +79,8 @@ int cmd_split(int argc, char** argv) {
     if (ov < 0 || ov > 1 << 20) throw UsageError("--overlap: expected a number of cells >= 0");
     if ((a.has("blocks") || a.has("overlap")) && *layout != SplitLayout::overlapping && *layout != SplitLayout::rotated)
         throw UsageError("--blocks and --overlap apply to the overlapping and rotated layouts only");
-    if (a.has("iso") && *layout != SplitLayout::amr) throw UsageError("--iso applies to the amr layout only");
+    if ((a.has("iso") || a.has("tile")) && *layout != SplitLayout::amr)
+        throw UsageError("--iso and --tile apply to the amr layout only");
     sp.blocks = static_cast<int>(k);
     sp.overlap = static_cast<int>(ov);
     const std::string name = a.get_or("name", "scalars");

@@ -146,6 +146,9 @@ Volume resample_volume(const VolumeView& v, I64 n) {
         out.dims[a] = cells + 1;
         out.spacing[a] = ext / static_cast<double>(cells);
     }
+    if (out.dims[0] * out.dims[1] > (std::int64_t{1} << 30) / out.dims[2])
+        throw InvalidArgument("resample: " + std::to_string(out.dims[0]) + "x" + std::to_string(out.dims[1]) + "x" +
+                              std::to_string(out.dims[2]) + " nodes would exceed 2^30 samples");
     Volume r(out, SampleType::f32);
     float* d = reinterpret_cast<float*>(r.bytes.data());
     for (I64 k = 0; k < out.dims[2]; ++k)

@@ -67,7 +67,7 @@ Multiblock split_volume(const VolumeView& v, SplitLayout layout, const SplitPara
 /// The volume trilinearly resampled to `n` nodes along its longest world axis and
 /// max(1, round((n - 1) extent_a / extent_A)) + 1 along each other axis a, spanning the same world
 /// box (node 0 and the last node of each axis stay at the volume's corners). float32 samples.
-/// Throws InvalidArgument for n < 2 or n > 4096.
+/// Throws InvalidArgument for n < 2 or n > 4096, or more than 2^30 samples in all.
 Volume resample_volume(const VolumeView& v, std::int64_t n);
 
 /// Trilinear value of the volume at a world position, clamped into the volume's box.

@@ -257,4 +257,5 @@ TEST_CASE("resample_volume keeps the corners and reproduces linear fields", "[sp
                 REQUIRE(r.view().at(i, j, k) == Approx(linear(p)).margin(1e-4));
             }
     CHECK_THROWS_AS(resample_volume(v.view(), 1), InvalidArgument);
+    CHECK_THROWS_AS(resample_volume(linear_volume(9, 9, 9).view(), 4096), InvalidArgument);  // 2^36 samples
 }
