@@ -46,6 +46,8 @@ int cmd_split(int argc, char** argv) {
            "                   levels 1 and 2 (the volume's own cells) in boxes where the values cross --iso\n"
            "                   (else the middle half, then its middle half). A cell's value is the mean of\n"
            "                   the volume's cells it covers (a volume cell: the mean of its 8 corners).\n"
+           "                   Axes of 4k+1 nodes keep every cell; otherwise the last (n-1) mod 4 cell\n"
+           "                   layers are dropped.\n"
            "Writes PREFIX.vtm + PREFIX/PREFIX_<b>.vts (VTK XML StructuredGrid), or for amr\n"
            "PREFIX.vthb + PREFIX/PREFIX_<n>.vti (ImageData, CellData); ParaView opens both.");
     a.option("layout", "", "L", "overlapping | semi-conforming | non-conforming | rotated | amr (required)")
