@@ -119,14 +119,14 @@ Proc run(const std::string& cmd, const fs::path& work) {
     return p;
 }
 
-/// Best of n runs (the last run's output kept); stops at the first failure.
+/// Best of n runs (with that run's output, so --stats figures belong to the time shown); stops at
+/// the first failure.
 Proc best_of(const std::string& cmd, int n, const fs::path& work) {
     Proc best;
     for (int i = 0; i < n; ++i) {
         Proc p = run(cmd, work);
         if (!p.ok()) return p;
-        if (i == 0 || p.seconds < best.seconds) best = p;
-        best.out = p.out, best.err = p.err;
+        if (i == 0 || p.seconds < best.seconds) best = std::move(p);
     }
     return best;
 }
