@@ -106,7 +106,7 @@ TEST_CASE("vtm writer: every layout's pieces read back with the block's nodes an
     CHECK(no_temporaries(dir.path));
 }
 
-TEST_CASE("vthb writer: the index names levels, spacings and boxes; pieces hold the cell values", "[vtm_writer]") {
+TEST_CASE("vthb writer: the index names levels, spacings and boxes, the pieces hold the cell values", "[vtm_writer]") {
     TempDir dir("vthb-writer");
     const Volume v = small_volume();
     AmrParams ap;
