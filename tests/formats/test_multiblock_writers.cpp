@@ -171,8 +171,15 @@ TEST_CASE("VTK reads the written .vtm and .vthb (python3-vtk9)", "[vtm_writer][v
     }
     TempDir dir("vtk-read");
     const Volume v = small_volume();
-    const Multiblock mb = split_volume(v.view(), SplitLayout::semi_conforming, {}, "density");
-    write_vtm((dir / "s.vtm").string(), mb);
+    std::vector<Multiblock> mbs;
+    std::string vtms;
+    for (SplitLayout layout : {SplitLayout::overlapping, SplitLayout::semi_conforming, SplitLayout::non_conforming,
+                               SplitLayout::rotated}) {
+        mbs.push_back(split_volume(v.view(), layout, {}, "density"));
+        const std::string path = (dir / (std::string(to_string(layout)) + ".vtm")).string();
+        write_vtm(path, mbs.back());
+        vtms += (vtms.empty() ? "'" : ", '") + path + "'";
+    }
     AmrParams ap;
     ap.iso = 50;
     ap.tile = 2;
@@ -180,11 +187,12 @@ TEST_CASE("VTK reads the written .vtm and .vthb (python3-vtk9)", "[vtm_writer][v
     write_vthb((dir / "h.vthb").string(), h);
     const std::string text = run_python(
         "import vtk\n"
-        "r = vtk.vtkXMLMultiBlockDataReader(); r.SetFileName('" + (dir / "s.vtm").string() + "'); r.Update()\n"
-        "o = r.GetOutput()\n"
-        "for i in range(o.GetNumberOfBlocks()):\n"
-        "    b = o.GetBlock(i); a = b.GetPointData().GetScalars()\n"
-        "    print('block', b.GetNumberOfPoints(), a.GetName(), '%.6f' % sum(a.GetValue(k) for k in range(a.GetNumberOfTuples())))\n"
+        "for f in [" + vtms + "]:\n"
+        "  r = vtk.vtkXMLMultiBlockDataReader(); r.SetFileName(f); r.Update()\n"
+        "  o = r.GetOutput()\n"
+        "  for i in range(o.GetNumberOfBlocks()):\n"
+        "    b = o.GetBlock(i); a = b.GetPointData().GetScalars(); p = b.GetPoint(b.GetNumberOfPoints() - 1)\n"
+        "    print('block', b.GetNumberOfPoints(), *b.GetDimensions(), a.GetName(), '%.6f' % sum(a.GetValue(k) for k in range(a.GetNumberOfTuples())), '%.9g %.9g %.9g' % p)\n"
         "r = vtk.vtkXMLUniformGridAMRReader(); r.SetFileName('" + (dir / "h.vthb").string() + "')\n"
         "r.SetMaximumLevelsToReadByDefault(0); r.Update(); o = r.GetOutput()\n"
         "print('levels', o.GetNumberOfLevels(), *[o.GetNumberOfDataSets(l) for l in range(o.GetNumberOfLevels())])\n"
@@ -195,12 +203,16 @@ TEST_CASE("VTK reads the written .vtm and .vthb (python3-vtk9)", "[vtm_writer][v
         dir);
     std::string expect;
     char line[256];
-    for (const auto& b : mb.blocks) {
-        double s = 0;
-        for (double x : b.value) s += static_cast<float>(x);
-        std::snprintf(line, sizeof line, "block %zu density %.6f\n", b.node.size(), s);
-        expect += line;
-    }
+    for (const Multiblock& mb : mbs)
+        for (const auto& b : mb.blocks) {
+            double s = 0;
+            for (double x : b.value) s += static_cast<float>(x);
+            const Vec3 p = b.node.back();
+            std::snprintf(line, sizeof line, "block %zu %lld %lld %lld density %.6f %.9g %.9g %.9g\n", b.node.size(),
+                          static_cast<long long>(b.dims[0]), static_cast<long long>(b.dims[1]),
+                          static_cast<long long>(b.dims[2]), s, p.x, p.y, p.z);
+            expect += line;
+        }
     int count[3] = {0, 0, 0};
     for (const AmrBox& b : h.boxes) ++count[b.level];
     std::snprintf(line, sizeof line, "levels 3 %d %d %d\n", count[0], count[1], count[2]);
