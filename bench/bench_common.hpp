@@ -118,6 +118,12 @@ void run_fields(const BenchOptions& o, Report& r);
 /// 2 vs 1 threads, paradigm A vs C, splat throughput and RSS for 10^6..10^8 points. A command that
 /// fails is an "n/a (reason)" row; the run goes on.
 void run_process(const BenchOptions& o, Report& r);
+/// Issue 8's numbers (bench/bench_multiblock.cpp): `meshless split` + `isosurface BLOCKS` + `mc BLOCKS --stats`
+/// on analytic fields in every multiblock layout and a 3-level AMR hierarchy, coverage of the true isosurface,
+/// distance and normal errors next to the naive marching cubes' cracks; whole-process speed on the Table 4.1
+/// sets and the combustor at 1 and 2 threads; VTK's per-block contour when python3-vtk9 is installed.
+/// Commands that fail are "n/a (...)" cells; o.work_dir/multiblock (else a temp folder) holds the files.
+void run_multiblock(const BenchOptions& o, Report& r);
 /// `meshless-bench --rusage-wrapper RSSFILE PROGRAM ARGS...` (used by run_process, not by users): runs
 /// PROGRAM as a child, writes the child's ru_maxrss (KiB, its waited-for descendants included) to
 /// RSSFILE and exits with the child's status. A fresh process, so the child's peak RSS is its own.

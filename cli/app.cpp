@@ -29,6 +29,7 @@ constexpr Command kCommands[] = {
     {"convert", cmd_convert, "volume -> Morton-ordered zstd brick store (.mlb) for out-of-core work"},
     {"verify", cmd_verify, "check every brick of a brick store; names the first bad one"},
     {"synth", cmd_synth, "upsample a real volume into a big brick store (test volumes of any size)"},
+    {"split", cmd_split, "volume -> multiblock (.vtm) or AMR (.vthb) pieces: the layouts of chapter 4's test sets"},
     {"sample", cmd_sample, "volume -> scattered points (uniform random positions, trilinear values; .ply/.csv)"},
     {"fit", cmd_fit, "scattered points or multiblock grids -> a fitted meshless field saved once (.mlf)"},
     {"probe", cmd_probe, "scattered points -> value and gradient of a meshless field at positions (CSV)"},
