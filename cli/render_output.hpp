@@ -11,8 +11,17 @@ namespace meshless::cli {
 struct RenderSettings {
     Camera camera;
     SplatKernel kernel = SplatKernel::ewa;
-    ShadingParams shading;
+    ShadingParams shading;   ///< colours included (ShadingParams::color_by, colormap, value range)
+    bool colorbar = false;   ///< draw the colour bar legend (kernels/colorbar.hpp) when colouring by value
 };
+
+/// What --color asked for, before it is resolved against the input ("auto": value when the points'
+/// values vary and the input is not an isosurface, else none).
+enum class ColorRequest { automatic, value, block, normal, none };
+
+/// The overlays the settings ask for, drawn into a rendered picture before it is written: the
+/// colour bar of the value range when colouring by value and rs.colorbar.
+void decorate_picture(const RenderSettings& rs, Image& img);
 
 /// Frame i of a turntable goes to frame_path(path, i): "img.png" -> "img_007.png".
 std::string frame_path(const std::string& path, int i);
