@@ -50,12 +50,20 @@ BlockCellLocator::BlockCellLocator(const StructuredBlock& b, double tol) : b_(b)
                 hi_ = {std::max(hi_.x, h.x), std::max(hi_.y, h.y), std::max(hi_.z, h.z)};
             }
     if (cells_.empty()) return;
-    // about one bin per cell, proportioned like the bounding box
+    // about one bin per cell, proportioned like the bounding box (flat axes get one bin)
     const Vec3 ext = hi_ - lo_;
-    const double vol = std::max(ext.x, 1e-300) * std::max(ext.y, 1e-300) * std::max(ext.z, 1e-300);
-    const double edge = std::cbrt(vol / static_cast<double>(cells_.size()));
+    double prod = 1;
+    int axes = 0;
     for (int a = 0; a < 3; ++a)
-        bins_[static_cast<std::size_t>(a)] = std::clamp<std::int64_t>(static_cast<std::int64_t>(ext[a] / edge), 1, 1024);
+        if (ext[a] > 0 && std::isfinite(ext[a])) {
+            prod *= ext[a];
+            ++axes;
+        }
+    const double edge = axes ? std::pow(prod / static_cast<double>(cells_.size()), 1.0 / axes) : 1.0;
+    for (int a = 0; a < 3; ++a) {
+        const double nb = ext[a] > 0 && edge > 0 ? ext[a] / edge : 1.0;
+        bins_[static_cast<std::size_t>(a)] = std::isfinite(nb) ? std::clamp<std::int64_t>(std::llround(nb), 1, 1024) : 1;
+    }
     bin_size_ = {ext.x / static_cast<double>(bins_[0]), ext.y / static_cast<double>(bins_[1]), ext.z / static_cast<double>(bins_[2])};
     const std::size_t nbins = static_cast<std::size_t>(bins_[0] * bins_[1] * bins_[2]);
     offset_.assign(nbins + 1, 0);
