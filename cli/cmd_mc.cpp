@@ -72,13 +72,25 @@ int mc_blocks(const Args& a, double iso, const std::string& out) {
 
     const auto t2 = std::chrono::steady_clock::now();
     const WeldedMesh w = weld_by_position(mesh);
-    std::vector<std::unique_ptr<BlockCellLocator>> locators;
-    for (const auto& b : mb.blocks) locators.push_back(std::make_unique<BlockCellLocator>(b));
-    const CrackEdgeStats cs = count_crack_edges(w, [&](const Vec3& p, std::uint32_t own) {
-        for (std::size_t b = 0; b < locators.size(); ++b)
-            if (b != own && locators[b]->contains(p)) return true;
-        return false;
-    });
+    std::vector<BoundaryEdge> boundary;
+    CrackEdgeStats cs = edge_census(w, boundary);
+    if (!boundary.empty()) {
+        // locators over the cells near the boundary edges only
+        const double inf = std::numeric_limits<double>::infinity();
+        Vec3 rlo{inf, inf, inf}, rhi{-inf, -inf, -inf};
+        for (const auto& e : boundary) {
+            rlo = {std::min(rlo.x, e.midpoint.x), std::min(rlo.y, e.midpoint.y), std::min(rlo.z, e.midpoint.z)};
+            rhi = {std::max(rhi.x, e.midpoint.x), std::max(rhi.y, e.midpoint.y), std::max(rhi.z, e.midpoint.z)};
+        }
+        std::vector<std::unique_ptr<BlockCellLocator>> locators;
+        for (const auto& b : mb.blocks) locators.push_back(std::make_unique<BlockCellLocator>(b, 1e-3, rlo, rhi));
+        for (const auto& e : boundary)
+            for (std::size_t b = 0; b < locators.size(); ++b)
+                if (b != e.block && locators[b]->contains(e.midpoint)) {
+                    ++cs.crack_edges;
+                    break;
+                }
+    }
     const double crack_s = seconds_since(t2);
     const auto t3 = std::chrono::steady_clock::now();
     const TrianglePairStats ps = count_intersecting_triangle_pairs(w.xyz, w.tri, w.block);

@@ -49,12 +49,14 @@ WeldedMesh weld_by_position(const Mesh& m) {
     return w;
 }
 
-CrackEdgeStats count_crack_edges(const WeldedMesh& m,
-                                 const std::function<bool(const Vec3& midpoint, std::uint32_t own_block)>& inside_other) {
+CrackEdgeStats edge_census(const WeldedMesh& m, std::vector<BoundaryEdge>& boundary) {
     const std::size_t nt = m.tri.size() / 3;
-    if (m.block.size() != nt) throw std::invalid_argument("count_crack_edges: block ids of another count than the triangles");
+    if (m.block.size() != nt) throw std::invalid_argument("edge_census: block ids of another count than the triangles");
+    if (m.tri.size() % 3) throw std::invalid_argument("edge_census: triangle indices are not a multiple of 3");
+    const std::size_t nv = m.xyz.size() / 3;
     CrackEdgeStats st;
-    st.vertices = static_cast<std::int64_t>(m.xyz.size() / 3);
+    st.vertices = static_cast<std::int64_t>(nv);
+    boundary.clear();
     struct Edge {
         std::uint32_t a, b, t;
     };
@@ -62,6 +64,7 @@ CrackEdgeStats count_crack_edges(const WeldedMesh& m,
     e.reserve(3 * nt);
     for (std::size_t t = 0; t < nt; ++t) {
         const std::uint32_t* v = &m.tri[3 * t];
+        if (v[0] >= nv || v[1] >= nv || v[2] >= nv) throw std::invalid_argument("edge_census: triangle index out of range");
         if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
             ++st.degenerate_triangles;
             continue;
@@ -81,11 +84,19 @@ CrackEdgeStats count_crack_edges(const WeldedMesh& m,
             ++st.boundary_edges;
             const double* p = &m.xyz[3 * e[i].a];
             const double* q = &m.xyz[3 * e[i].b];
-            const Vec3 mid{0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])};
-            if (inside_other(mid, m.block[e[i].t])) ++st.crack_edges;
+            boundary.push_back({Vec3{0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])}, m.block[e[i].t]});
         }
         i = j;
     }
+    return st;
+}
+
+CrackEdgeStats count_crack_edges(const WeldedMesh& m,
+                                 const std::function<bool(const Vec3& midpoint, std::uint32_t own_block)>& inside_other) {
+    std::vector<BoundaryEdge> boundary;
+    CrackEdgeStats st = edge_census(m, boundary);
+    for (const BoundaryEdge& b : boundary)
+        if (inside_other(b.midpoint, b.block)) ++st.crack_edges;
     return st;
 }
 

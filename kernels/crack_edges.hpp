@@ -44,6 +44,15 @@ struct CrackEdgeStats {
     std::int64_t crack_edges = 0;
 };
 
+struct BoundaryEdge {
+    Vec3 midpoint;
+    std::uint32_t block = 0;  ///< the block of the edge's triangle
+};
+
+/// Every count of CrackEdgeStats but crack_edges, and the boundary edges (in (a, b) vertex order).
+CrackEdgeStats edge_census(const WeldedMesh& m, std::vector<BoundaryEdge>& boundary);
+
+/// edge_census, then crack_edges = the boundary edges for which inside_other(midpoint, block).
 CrackEdgeStats count_crack_edges(const WeldedMesh& m,
                                  const std::function<bool(const Vec3& midpoint, std::uint32_t own_block)>& inside_other);
 

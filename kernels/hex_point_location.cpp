@@ -23,7 +23,16 @@ std::array<Vec3, 8> corners(const StructuredBlock& b, std::int64_t i, std::int64
 
 }  // namespace
 
-BlockCellLocator::BlockCellLocator(const StructuredBlock& b, double tol) : b_(b), tol_(tol) {
+BlockCellLocator::BlockCellLocator(const StructuredBlock& b, double tol) : b_(b), tol_(tol) { build(nullptr, nullptr); }
+
+BlockCellLocator::BlockCellLocator(const StructuredBlock& b, double tol, const Vec3& region_lo, const Vec3& region_hi)
+    : b_(b), tol_(tol) {
+    build(&region_lo, &region_hi);
+}
+
+void BlockCellLocator::build(const Vec3* rlo, const Vec3* rhi) {
+    const StructuredBlock& b = b_;
+    const double tol = tol_;
     const double inf = std::numeric_limits<double>::infinity();
     lo_ = {inf, inf, inf};
     hi_ = {-inf, -inf, -inf};
@@ -44,6 +53,8 @@ BlockCellLocator::BlockCellLocator(const StructuredBlock& b, double tol) : b_(b)
                 const Vec3 g = (h - l) * tol;
                 l = l - g;
                 h = h + g;
+                if (rlo && (h.x < rlo->x || h.y < rlo->y || h.z < rlo->z || l.x > rhi->x || l.y > rhi->y || l.z > rhi->z))
+                    continue;
                 box.push_back({l, h});
                 cells_.push_back(i + ni * (j + nj * k));
                 lo_ = {std::min(lo_.x, l.x), std::min(lo_.y, l.y), std::min(lo_.z, l.z)};

@@ -10,7 +10,8 @@
 // the float rounding of mesh vertices and the mismatch of the bilinear faces of blocks that meet.
 // Candidates come from a uniform bin grid over the block's bounding box (about one bin per cell;
 // each cell in every bin its bounding box, grown by tol of its extent, overlaps).
-// Memory: O(cells). Construction O(cells); a query O(cells per bin). Throws std::bad_alloc.
+// Memory: O(cells indexed). Construction O(cells); a query O(cells per bin). A region (the box of
+// the points to be located) restricts the index to the cells near it. Throws std::bad_alloc.
 // Thread-safety: const members are thread-safe; the block must outlive the locator.
 #pragma once
 #include <array>
@@ -24,6 +25,9 @@ namespace meshless {
 class BlockCellLocator {
 public:
     explicit BlockCellLocator(const StructuredBlock& b, double tol = 1e-3);
+    /// Only the cells whose (grown) bounding box meets the box [region_lo, region_hi] are indexed:
+    /// contains() is exact for points inside the region (and may miss cells outside it).
+    BlockCellLocator(const StructuredBlock& b, double tol, const Vec3& region_lo, const Vec3& region_hi);
     /// True when p lies in a valid cell (within tol).
     bool contains(const Vec3& p) const;
     /// Inverse trilinear map of cell (i,j,k) at p; false when Newton does not converge.
@@ -39,6 +43,7 @@ private:
     std::vector<std::int64_t> cells_;            // linear cell index i + (ni-1)(j + (nj-1) k) of valid cells
     std::vector<std::uint32_t> offset_, items_;  // CSR: bin -> indices into cells_
     std::int64_t bin_of(double x, int axis) const;
+    void build(const Vec3* region_lo, const Vec3* region_hi);
 };
 
 }  // namespace meshless
