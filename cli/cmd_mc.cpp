@@ -47,7 +47,7 @@ int mc_blocks(const Args& a, double iso, const std::string& out) {
     // block cell layers -> per-block marching cubes -> welding PLY mesh writer
     const auto t1 = std::chrono::steady_clock::now();
     BlockMcSource source(mb);
-    const BlockMcStage stage(mb, iso);
+    const BlockMcStage stage(mb, iso, block_census(mb, threads(a)));
     MeshWeldSink sink(out);
     const Stage* stages[] = {&stage};
     run_pipeline(source, stages, sink, {threads(a)});
@@ -55,13 +55,16 @@ int mc_blocks(const Args& a, double iso, const std::string& out) {
     if (!a.has("stats")) return 0;
 
     const BlockMcTotals tot = stage.totals();
+    long long all_degenerate = 0;
+    for (const auto& o : stage.orientation()) all_degenerate += o.degenerate;
     const Mesh& mesh = sink.mesh();
     std::fprintf(stderr,
                  "mc: %s: %zu block(s), iso %g: %lld cells, %lld active, skipped %lld with an invalid corner and %lld "
-                 "collapsed/inverted; %zu vertices, %zu triangles; read %.3f s, marching cubes %.3f s\n",
+                 "collapsed/inverted crossed by the surface (of %lld collapsed/inverted); %zu vertices, %zu triangles; read %.3f s, "
+                 "marching cubes %.3f s\n",
                  name.c_str(), mb.blocks.size(), iso, static_cast<long long>(tot.cells), static_cast<long long>(tot.active_cells),
-                 static_cast<long long>(tot.skipped_invalid), static_cast<long long>(tot.skipped_degenerate), mesh.vertex_count(),
-                 mesh.triangle_count(), read_s, mc_s);
+                 static_cast<long long>(tot.skipped_invalid), static_cast<long long>(tot.skipped_degenerate), all_degenerate,
+                 mesh.vertex_count(), mesh.triangle_count(), read_s, mc_s);
     std::vector<std::int64_t> per_block(mb.blocks.size(), 0);
     for (std::uint32_t b : mesh.block) ++per_block[b];
     for (std::size_t b = 0; b < mb.blocks.size(); ++b)

@@ -38,12 +38,16 @@ int jacobian_sign(const HexCell& cell) {
 
 }  // namespace
 
-BlockOrientation block_orientation(const StructuredBlock& b) {
+BlockOrientation block_orientation(const StructuredBlock& b) { return block_orientation(b, 0, b.dims[2]); }
+
+BlockOrientation block_orientation(const StructuredBlock& b, std::int64_t k0, std::int64_t k1) {
     BlockOrientation o;
     if (b.dims[0] < 2 || b.dims[1] < 2 || b.dims[2] < 2) return o;
+    k0 = std::max<std::int64_t>(k0, 0);
+    k1 = std::min<std::int64_t>(k1, b.dims[2] - 1);
     HexCell cell;
     std::array<std::int64_t, 8> node{};
-    for (std::int64_t k = 0; k + 1 < b.dims[2]; ++k)
+    for (std::int64_t k = k0; k < k1; ++k)
         for (std::int64_t j = 0; j + 1 < b.dims[1]; ++j)
             for (std::int64_t i = 0; i + 1 < b.dims[0]; ++i) {
                 if (!gather(b, i, j, k, cell, node)) {
@@ -77,17 +81,17 @@ Mesh block_marching_cubes(const StructuredBlock& b, double iso, bool left_handed
                     ++st.skipped_invalid;
                     continue;
                 }
+                int code = 0;
+                for (int c = 0; c < 8; ++c)
+                    if (cell.value[static_cast<std::size_t>(c)] >= iso) code |= 1 << c;
+                const McCase& mc = table.cases[static_cast<std::size_t>(code)];
+                if (mc.triangle_count == 0) continue;
                 if (jacobian_sign(cell) == 0) {
                     ++st.skipped_degenerate;
                     continue;
                 }
                 const int n = hex_marching_cubes(cell, iso, left_handed, tris);
-                if (n == 0) continue;
                 ++st.active_cells;
-                int code = 0;
-                for (int c = 0; c < 8; ++c)
-                    if (cell.value[static_cast<std::size_t>(c)] >= iso) code |= 1 << c;
-                const McCase& mc = table.cases[static_cast<std::size_t>(code)];
                 for (int t = 0; t < n; ++t) {
                     const std::uint8_t* e = &mc.edges[static_cast<std::size_t>(3 * t)];
                     // hex_marching_cubes' vertex order: e0, then e1/e2 swapped when left-handed

@@ -5,11 +5,13 @@
 //
 // Cells: cell (i,j,k) has corners node(i+dx, j+dy, k+dz), corner c = dx + 2dy + 4dz. A cell is
 //   skipped (no triangles, counted) when a corner is invalid (StructuredBlock::valid, or a non-finite
-//   position/value): skipped_invalid; or when its corner Jacobians (hex_jacobian_range) are not all of
-//   one strict sign (collapsed or inverted): skipped_degenerate. Every other cell is contoured.
-// Orientation: block_orientation counts the valid cells by Jacobian sign; a block whose majority is
-//   negative (left-handed index order) is contoured with flipped winding, so every block's triangles
-//   face increasing values (ties: right-handed).
+//   position/value): skipped_invalid, counted for every cell; or, when the isosurface crosses it,
+//   when its corner Jacobians (hex_jacobian_range) are not all of one strict sign (collapsed or
+//   inverted): skipped_degenerate (a hole in the naive surface). Every other cell is contoured.
+// Orientation: block_orientation counts every valid cell by Jacobian sign (the census: all
+//   collapsed/inverted cells, crossed or not); a block whose majority is negative (left-handed index
+//   order) is contoured with flipped winding, so every block's triangles face increasing values
+//   (ties: right-handed).
 // Vertices: one per block edge crossed (welded within the piece by the edge's key
 //   3 * node(i,j,k) + axis, the edge's lower node and axis 0/1/2), positions as hex_marching_cubes
 //   computes them (bit-identical for the cells sharing the edge), stored as float.
@@ -32,16 +34,25 @@ struct BlockOrientation {
     std::int64_t degenerate = 0;  ///< valid cells with a zero or mixed-sign Jacobian
     std::int64_t invalid = 0;     ///< cells with an invalid corner
     bool left_handed() const { return negative > positive; }
+    BlockOrientation& operator+=(const BlockOrientation& o) {
+        positive += o.positive;
+        negative += o.negative;
+        degenerate += o.degenerate;
+        invalid += o.invalid;
+        return *this;
+    }
 };
 
-/// One pass over the block's cells.
+/// One pass over the block's cells (or the cell layers [k0, k1), clamped): sums over layer ranges
+/// equal the whole.
 BlockOrientation block_orientation(const StructuredBlock& b);
+BlockOrientation block_orientation(const StructuredBlock& b, std::int64_t k0, std::int64_t k1);
 
 struct BlockMcStats {
     std::int64_t cells = 0;               ///< cells visited
     std::int64_t active_cells = 0;        ///< contoured cells that produced triangles
     std::int64_t skipped_invalid = 0;     ///< cells with an invalid (blanked / NaN) corner
-    std::int64_t skipped_degenerate = 0;  ///< collapsed or inverted cells
+    std::int64_t skipped_degenerate = 0;  ///< collapsed or inverted cells the isosurface crosses
 };
 
 /// Marching cubes of the cell layers [k0, k1) (clamped) of block `b`. Returns the piece (local

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 
+#include <stdexcept>
+
 #include "kernels/errors.hpp"
+#include "stream/runner.hpp"
 
 namespace meshless {
 
@@ -39,11 +42,76 @@ std::optional<Batch> BlockMcSource::next() {
     return b;
 }
 
-BlockMcStage::BlockMcStage(const Multiblock& mb, double iso) : mb_(mb), iso_(iso) {
+namespace {
+
+/// The global layer -> block map shared by the stages.
+std::size_t block_of(const std::vector<std::int64_t>& first_layer, std::int64_t k0) {
+    const auto it = std::upper_bound(first_layer.begin(), first_layer.end() - 1, k0);
+    return static_cast<std::size_t>(it - first_layer.begin()) - 1;
+}
+
+std::vector<std::int64_t> first_layers(const Multiblock& mb) {
+    std::vector<std::int64_t> f;
+    std::int64_t first = 0;
+    for (const auto& b : mb.blocks) {
+        f.push_back(first);
+        first += cell_layers(b);
+    }
+    f.push_back(first);
+    return f;
+}
+
+class CensusStage final : public Stage {
+public:
+    explicit CensusStage(const Multiblock& mb) : mb_(mb), first_(first_layers(mb)), sums_(4 * mb.blocks.size()) {}
+    void process(Batch& b) const override {
+        const std::size_t blk = block_of(first_, b.cells.k0);
+        const BlockOrientation o =
+            block_orientation(mb_.blocks[blk], b.cells.k0 - first_[blk], b.cells.k1 - first_[blk]);
+        sums_[4 * blk] += o.positive;
+        sums_[4 * blk + 1] += o.negative;
+        sums_[4 * blk + 2] += o.degenerate;
+        sums_[4 * blk + 3] += o.invalid;
+        b.cells = {};
+    }
+    std::vector<BlockOrientation> result() const {
+        std::vector<BlockOrientation> r(mb_.blocks.size());
+        for (std::size_t i = 0; i < r.size(); ++i)
+            r[i] = {sums_[4 * i].load(), sums_[4 * i + 1].load(), sums_[4 * i + 2].load(), sums_[4 * i + 3].load()};
+        return r;
+    }
+
+private:
+    const Multiblock& mb_;
+    std::vector<std::int64_t> first_;
+    mutable std::vector<std::atomic<std::int64_t>> sums_;
+};
+
+class DiscardSink final : public Sink {
+public:
+    void consume(Batch&&) override {}
+    void observe(const Batch&) override {}
+};
+
+}  // namespace
+
+std::vector<BlockOrientation> block_census(const Multiblock& mb, int threads) {
+    BlockMcSource source(mb);
+    const CensusStage census(mb);
+    DiscardSink sink;
+    const Stage* stages[] = {&census};
+    run_pipeline(source, stages, sink, {threads});
+    return census.result();
+}
+
+BlockMcStage::BlockMcStage(const Multiblock& mb, double iso, std::vector<BlockOrientation> census)
+    : mb_(mb), iso_(iso), orient_(std::move(census)) {
+    if (orient_.size() != mb.blocks.size())
+        throw std::invalid_argument("BlockMcStage: a census of " + std::to_string(orient_.size()) + " blocks for " +
+                                    std::to_string(mb.blocks.size()));
     std::int64_t first = 0;
     std::uint64_t base = 0;
     for (const auto& b : mb.blocks) {
-        orient_.push_back(block_orientation(b));
         first_layer_.push_back(first);
         key_base_.push_back(base);
         first += cell_layers(b);
@@ -55,8 +123,7 @@ BlockMcStage::BlockMcStage(const Multiblock& mb, double iso) : mb_(mb), iso_(iso
 void BlockMcStage::process(Batch& b) const {
     if (b.kind != RecordKind::mesh) throw FormatError("block marching cubes: expected cell-layer work batches");
     // the block holding global layer k0 (batches never span blocks)
-    const auto it = std::upper_bound(first_layer_.begin(), first_layer_.end() - 1, b.cells.k0);
-    const std::size_t blk = static_cast<std::size_t>(it - first_layer_.begin()) - 1;
+    const std::size_t blk = block_of(first_layer_, b.cells.k0);
     const StructuredBlock& sb = mb_.blocks[blk];
     const std::int64_t k0 = b.cells.k0 - first_layer_[blk], k1 = b.cells.k1 - first_layer_[blk];
     BlockMcStats st;

@@ -10,8 +10,9 @@
 // the neighbouring batch of the same block) carry one. The mesh is therefore each block's own
 // welded marching-cubes mesh, blocks never welded to each other, in block order, cells in
 // (i fastest, then j, then k) order: the same bytes for any --threads.
-// Orientation: the stage's constructor runs block_orientation over every block (serial, one pass
-// over the cells) and contours left-handed blocks with flipped winding.
+// Orientation: a first graph over the same work batches (block_census: BlockMcSource ->
+// BlockCensusStage -> a discarding sink, in parallel) counts each block's cells by Jacobian sign;
+// the marching-cubes stage contours the left-handed blocks with flipped winding.
 // The multiblock must outlive source and stage. The source is not thread-safe (serial next()); the
 // stage is (statistics are atomics).
 #pragma once
@@ -43,14 +44,20 @@ struct BlockMcTotals {
     std::int64_t cells = 0, active_cells = 0, skipped_invalid = 0, skipped_degenerate = 0;
 };
 
+/// Per block, the Jacobian-sign census of its cells (kernels/block_marching_cubes.hpp
+/// block_orientation), computed by a graph over BlockMcSource's batches on `threads` threads
+/// (sums: the same result for any thread count).
+std::vector<BlockOrientation> block_census(const Multiblock& mb, int threads);
+
 class BlockMcStage final : public Stage {
 public:
-    BlockMcStage(const Multiblock& mb, double iso);
+    /// census: block_census(mb, ...).
+    BlockMcStage(const Multiblock& mb, double iso, std::vector<BlockOrientation> census);
     void process(Batch& b) const override;
     BlockMcTotals totals() const {
         return {cells_.load(), active_.load(), invalid_.load(), degenerate_.load()};
     }
-    /// Per block: Jacobian-sign census of its valid cells (computed in the constructor).
+    /// Per block: Jacobian-sign census of its cells.
     const std::vector<BlockOrientation>& orientation() const { return orient_; }
 
 private:

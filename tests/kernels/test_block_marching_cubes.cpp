@@ -95,8 +95,10 @@ TEST_CASE("block marching cubes: cells with an invalid corner or collapsed are s
     b.valid.assign(static_cast<std::size_t>(b.node_count()), 1);
     b.valid[static_cast<std::size_t>(b.index(5, 5, 2))] = 0;  // interior node: its 8 cells go
     b.value[static_cast<std::size_t>(b.index(0, 0, 0))] = std::nan("");  // corner node: 1 cell
-    // collapse cell (8, 8, 8): move node (9, 9, 9) onto node (8, 8, 8) -- every cell sharing node 9,9,9 degenerates
+    // collapse cell (8, 8, 8) far from the sphere: node (9, 9, 9) onto node (8, 8, 8); and cell (7, 5, 5),
+    // which the sphere crosses (|p| from 0.4 to 0.66): node (8, 6, 6) onto node (7, 5, 5)
     b.node[static_cast<std::size_t>(b.index(9, 9, 9))] = b.node[static_cast<std::size_t>(b.index(8, 8, 8))];
+    b.node[static_cast<std::size_t>(b.index(8, 6, 6))] = b.node[static_cast<std::size_t>(b.index(7, 5, 5))];
     BlockMcStats st;
     const Mesh m = whole(b, 0.6, 0, st);
     CHECK(st.skipped_invalid == 9);
@@ -104,7 +106,7 @@ TEST_CASE("block marching cubes: cells with an invalid corner or collapsed are s
     CHECK(st.cells == 1000);
     const BlockOrientation o = block_orientation(b);
     CHECK(o.invalid == 9);
-    CHECK(o.degenerate == st.skipped_degenerate);
+    CHECK(o.degenerate > st.skipped_degenerate);  // the census counts the uncrossed collapsed cells too
     CHECK(o.positive + o.negative + o.degenerate + o.invalid == 1000);
     // the hole at the blanked node leaves boundary edges
     int boundary = 0;

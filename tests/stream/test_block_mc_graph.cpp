@@ -26,7 +26,7 @@ Multiblock two_blocks() {
 Mesh graph(const Multiblock& mb, int threads, std::int64_t cells_per_batch, BlockMcTotals* tot = nullptr,
            const std::string& path = {}) {
     BlockMcSource source(mb, cells_per_batch);
-    const BlockMcStage stage(mb, 0.6);
+    const BlockMcStage stage(mb, 0.6, block_census(mb, threads));
     MeshWeldSink sink(path);
     const Stage* stages[] = {&stage};
     run_pipeline(source, stages, sink, {threads});
@@ -84,6 +84,25 @@ TEST_CASE("block mc graph: the PLY carries a per-face block id", "[block_mc]") {
     for (auto b : r.block) ones += b == 1;
     CHECK(ones > 0);
     CHECK(ones < r.block.size());
+}
+
+TEST_CASE("block mc graph: the parallel census equals block_orientation per block", "[block_mc]") {
+    Multiblock mb = two_blocks();
+    mb.blocks[0].node[static_cast<std::size_t>(mb.blocks[0].index(3, 3, 3))] = mb.blocks[0].node[static_cast<std::size_t>(mb.blocks[0].index(2, 2, 2))];
+    for (int threads : {1, 3}) {
+        const auto census = block_census(mb, threads);
+        REQUIRE(census.size() == 3);
+        for (std::size_t b = 0; b < 3; ++b) {
+            const BlockOrientation o = block_orientation(mb.blocks[b]);
+            CHECK(census[b].positive == o.positive);
+            CHECK(census[b].negative == o.negative);
+            CHECK(census[b].degenerate == o.degenerate);
+            CHECK(census[b].invalid == o.invalid);
+        }
+        CHECK(census[0].degenerate > 0);
+        CHECK(census[1].left_handed());
+    }
+    CHECK_THROWS_AS(BlockMcStage(mb, 0.6, {}), std::invalid_argument);
 }
 
 TEST_CASE("block mc graph: blanked nodes skip their cells", "[block_mc]") {
