@@ -14,6 +14,7 @@
 #include "cli/render_output.hpp"
 #include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
+#include "formats/multiblock_reader.hpp"
 #include "kernels/errors.hpp"
 #include "stream/project_stage.hpp"
 #include "stream/runner.hpp"
@@ -101,11 +102,14 @@ int cmd_isosurface(int argc, char** argv) {
     const int nthreads = threads(a);
     // Colours: the points of an isosurface all carry the isovalue, so the default is the uniform
     // surface colour; --color value maps it within --range, else within the volume's value range.
-    if (cc.request == ColorRequest::block)
+    // (block colours need points seeded in blocks: multiblock input, Batch::point_block)
+    const bool multiblock_input = !a.positional().empty() && looks_like_multiblock(a.positional()[0]);
+    if (cc.request == ColorRequest::block && !multiblock_input)
         throw UsageError((a.positional().empty() ? std::string("the input") : a.positional()[0]) +
                          ": a volume has no blocks; --color block needs multiblock points");
     const ColorBy color_by = cc.request == ColorRequest::value    ? ColorBy::value
                              : cc.request == ColorRequest::normal ? ColorBy::normal
+                             : cc.request == ColorRequest::block  ? ColorBy::block
                                                                   : ColorBy::none;
     // (the range without --range: the volume's, set below once it is read; the MPI and sample-store
     // paths map the isovalue to the middle of the colour map)
