@@ -150,7 +150,7 @@ TEST_CASE("ply mesh: inconsistent meshes are refused by the writer", "[mc]") {
     CHECK_THROWS_AS(write_ply_mesh(small_mesh(), dir.path.string()), IoError);  // a directory
 }
 
-TEST_CASE("ply mesh: per-face block ids round trip; bad ones are refused", "[mc][block_mc]") {
+TEST_CASE("ply mesh: per-face block ids round trip, bad ones are refused", "[mc][block_mc]") {
     meshless::test::TempDir dir("plymesh-block");
     Mesh m = small_mesh();
     m.block.resize(m.triangle_count());

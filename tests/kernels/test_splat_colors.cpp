@@ -51,7 +51,7 @@ std::set<std::array<std::uint8_t, 3>> colours(const Image& img, std::array<std::
 
 }  // namespace
 
-TEST_CASE("splat colours: every mode gives another picture; none is the default picture", "[splat][color]") {
+TEST_CASE("splat colours: every mode gives another picture, none is the default picture", "[splat][color]") {
     std::vector<PointRecord> pts;
     std::vector<std::uint32_t> blocks;
     sphere_points(3000, pts, blocks);

@@ -113,7 +113,7 @@ TEST_CASE("coloured splat sink: colouring by block needs the ids", "[splat][colo
     CHECK(sink.points() == 500);
 }
 
-TEST_CASE("point spool: block ids and the value range round trip; a replay spool feeds block colours", "[splat][color]") {
+TEST_CASE("point spool: block ids and the value range round trip, a replay spool feeds block colours", "[splat][color]") {
     const Points p = sphere(3000);
     PointSpool spool("test-colors");
     VectorSource src(p, 1000, true);
