@@ -13,12 +13,9 @@
 #include "cli/point_set_cli.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/ply_mesh.hpp"
-#include "kernels/crack_edges.hpp"
 #include "kernels/errors.hpp"
-#include "kernels/hex_point_location.hpp"
-#include "kernels/triangle_pair_intersections.hpp"
-#include "stream/block_mc_stage.hpp"
 #include "stream/marching_cubes_stage.hpp"
+#include "stream/naive_block_mc.hpp"
 #include "stream/mesh_sink.hpp"
 #include "stream/runner.hpp"
 
@@ -44,71 +41,40 @@ int mc_blocks(const Args& a, double iso, const std::string& out) {
             }
     warn_if_iso_outside(iso, {lo, hi}, name);
     const double read_s = seconds_since(t0);
-    // block cell layers -> per-block marching cubes -> welding PLY mesh writer
-    const auto t1 = std::chrono::steady_clock::now();
-    BlockMcSource source(mb);
-    const BlockMcStage stage(mb, iso, block_census(mb, threads(a)));
-    MeshWeldSink sink(out);
-    const Stage* stages[] = {&stage};
-    run_pipeline(source, stages, sink, {threads(a)});
-    const double mc_s = seconds_since(t1);
+    // census -> block cell layers -> per-block marching cubes -> welding PLY mesh writer (+ stats)
+    const NaiveMcResult r = naive_block_marching_cubes(mb, iso, threads(a), out, a.has("stats"));
     if (!a.has("stats")) return 0;
-
-    const BlockMcTotals tot = stage.totals();
+    const BlockMcTotals& tot = r.totals;
+    const Mesh& mesh = r.mesh;
     long long all_degenerate = 0;
-    for (const auto& o : stage.orientation()) all_degenerate += o.degenerate;
-    const Mesh& mesh = sink.mesh();
+    for (const auto& o : r.census) all_degenerate += o.degenerate;
     std::fprintf(stderr,
                  "mc: %s: %zu block(s), iso %g: %lld cells, %lld active, skipped %lld with an invalid corner and %lld "
                  "collapsed/inverted crossed by the surface (of %lld collapsed/inverted); %zu vertices, %zu triangles; read %.3f s, "
                  "marching cubes %.3f s\n",
                  name.c_str(), mb.blocks.size(), iso, static_cast<long long>(tot.cells), static_cast<long long>(tot.active_cells),
                  static_cast<long long>(tot.skipped_invalid), static_cast<long long>(tot.skipped_degenerate), all_degenerate,
-                 mesh.vertex_count(), mesh.triangle_count(), read_s, mc_s);
+                 mesh.vertex_count(), mesh.triangle_count(), read_s, r.mc_seconds);
     std::vector<std::int64_t> per_block(mb.blocks.size(), 0);
     for (std::uint32_t b : mesh.block) ++per_block[b];
     for (std::size_t b = 0; b < mb.blocks.size(); ++b)
         std::fprintf(stderr, "mc:   block %zu '%s' (%lldx%lldx%lld, %s): %lld triangles\n", b, mb.blocks[b].name.c_str(),
                      static_cast<long long>(mb.blocks[b].dims[0]), static_cast<long long>(mb.blocks[b].dims[1]),
-                     static_cast<long long>(mb.blocks[b].dims[2]),
-                     stage.orientation()[b].left_handed() ? "left-handed" : "right-handed", static_cast<long long>(per_block[b]));
-
-    const auto t2 = std::chrono::steady_clock::now();
-    const WeldedMesh w = weld_by_position(mesh);
-    std::vector<BoundaryEdge> boundary;
-    CrackEdgeStats cs = edge_census(w, boundary);
-    if (!boundary.empty()) {
-        // locators over the cells near the boundary edges only
-        const double inf = std::numeric_limits<double>::infinity();
-        Vec3 rlo{inf, inf, inf}, rhi{-inf, -inf, -inf};
-        for (const auto& e : boundary) {
-            rlo = {std::min(rlo.x, e.midpoint.x), std::min(rlo.y, e.midpoint.y), std::min(rlo.z, e.midpoint.z)};
-            rhi = {std::max(rhi.x, e.midpoint.x), std::max(rhi.y, e.midpoint.y), std::max(rhi.z, e.midpoint.z)};
-        }
-        std::vector<std::unique_ptr<BlockCellLocator>> locators;
-        for (const auto& b : mb.blocks) locators.push_back(std::make_unique<BlockCellLocator>(b, 1e-3, rlo, rhi));
-        for (const auto& e : boundary)
-            for (std::size_t b = 0; b < locators.size(); ++b)
-                if (b != e.block && locators[b]->contains(e.midpoint)) {
-                    ++cs.crack_edges;
-                    break;
-                }
-    }
-    const double crack_s = seconds_since(t2);
-    const auto t3 = std::chrono::steady_clock::now();
-    const TrianglePairStats ps = count_intersecting_triangle_pairs(w.xyz, w.tri, w.block);
-    const double pair_s = seconds_since(t3);
+                     static_cast<long long>(mb.blocks[b].dims[2]), r.census[b].left_handed() ? "left-handed" : "right-handed",
+                     static_cast<long long>(per_block[b]));
+    const CrackEdgeStats& cs = *r.cracks;
+    const TrianglePairStats& ps = *r.pairs;
     std::fprintf(stderr,
                  "mc: welded by position: %lld vertices, %lld edges, %lld boundary, %lld crack edges (boundary edges inside "
                  "another block), %lld non-manifold, %lld degenerate triangles; %.3f s\n",
                  static_cast<long long>(cs.vertices), static_cast<long long>(cs.edges), static_cast<long long>(cs.boundary_edges),
                  static_cast<long long>(cs.crack_edges), static_cast<long long>(cs.nonmanifold_edges),
-                 static_cast<long long>(cs.degenerate_triangles), crack_s);
+                 static_cast<long long>(cs.degenerate_triangles), r.crack_seconds);
     std::fprintf(stderr,
                  "mc: triangle pairs from different blocks: %lld intersecting, %lld duplicated (same vertices), %lld "
                  "box-overlapping candidates, %lld collinear triangles skipped; %.3f s\n",
                  static_cast<long long>(ps.intersecting), static_cast<long long>(ps.duplicates),
-                 static_cast<long long>(ps.candidates), static_cast<long long>(ps.degenerate), pair_s);
+                 static_cast<long long>(ps.candidates), static_cast<long long>(ps.degenerate), r.pair_seconds);
     return 0;
 }
 

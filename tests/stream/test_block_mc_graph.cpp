@@ -7,6 +7,7 @@
 #include "kernels/multiblock_fixtures.hpp"
 #include "stream/block_mc_stage.hpp"
 #include "stream/mesh_sink.hpp"
+#include "stream/naive_block_mc.hpp"
 #include "stream/runner.hpp"
 #include "test_paths.hpp"
 
@@ -113,4 +114,23 @@ TEST_CASE("block mc graph: blanked nodes skip their cells", "[block_mc]") {
     BlockMcTotals tot;
     graph(mb, 2, 400, &tot);
     CHECK(tot.skipped_invalid == 4 * 20);
+}
+
+TEST_CASE("naive_block_marching_cubes: the graph's mesh and the kernels' statistics in one call", "[block_mc]") {
+    Multiblock semi;  // fine x in [-1, 0], coarse x in [0, 1]: cracks at x = 0
+    semi.blocks.push_back(index_block("fine", {-10, -10, -10}, {11, 21, 21}, 0.1, sphere_field));
+    semi.blocks.push_back(index_block("coarse", {0, -5, -5}, {6, 11, 11}, 0.2, sphere_field));
+    const NaiveMcResult r1 = naive_block_marching_cubes(semi, 0.6, 1, {}, true);
+    const NaiveMcResult r3 = naive_block_marching_cubes(semi, 0.6, 3, {}, true);
+    REQUIRE(r1.cracks);
+    REQUIRE(r1.pairs);
+    CHECK(r1.cracks->crack_edges > 0);
+    CHECK(r1.cracks->crack_edges == r3.cracks->crack_edges);
+    CHECK(r1.pairs->intersecting == r3.pairs->intersecting);
+    CHECK(r1.mesh.xyz == r3.mesh.xyz);
+    CHECK(r1.mesh.tri == graph(semi, 2, 1000).tri);
+    const NaiveMcResult quiet = naive_block_marching_cubes(semi, 0.6, 2);
+    CHECK_FALSE(quiet.cracks);
+    CHECK(quiet.mesh.block == r1.mesh.block);
+    CHECK(quiet.census.size() == 2);
 }
