@@ -53,7 +53,8 @@ int cmd_splat(int argc, char** argv) {
            "headlight; by default value when the points' values vary and the input does not record an\n"
            "isovalue (an isosurface's points all carry it), else none (the uniform surface colour). Colouring\n"
            "by value without --range, by default, or by block from a stream first spools the points (their\n"
-           "value range, block ids). --colorbar draws the value range as a legend bar into the picture.");
+           "value range, block ids). --colorbar draws the value range as a legend bar (or the block colours\n"
+           "with their ids) into the picture.");
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("iso", "", "V", "sample streams: isovalue to project onto (default: the stream's)")
         .option("projection", "", "MODE", "sample streams: approx | exact | none", "approx")
@@ -136,6 +137,7 @@ int cmd_splat(int argc, char** argv) {
             case ColorRequest::none: by = ColorBy::none; break;
         }
         apply_color(rs, by, cc, cc.range ? *cc.range : seen ? *seen : std::array<double, 2>{0, 1});
+        if (spool) rs.legend_blocks = spool->block_count();
     }
     if (spool) {
         if (frames > 0) {

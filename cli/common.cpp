@@ -273,7 +273,8 @@ void add_color_options(Args& a) {
         .option("colormap", "", "NAME", "--color value: viridis (perceptually uniform) | coolwarm | gray", "viridis")
         .option("range", "", "LO,HI", "--color value: the colour map's value range (default: the points' min,max;\n                            "
                                      "isosurface: the volume's)")
-        .flag("colorbar", "draw a colour bar legend with the value range into the picture (--color value)");
+        .flag("colorbar", "draw a legend into the picture: a colour bar with the value range (--color value) or the\n"
+                          "                            block palette's swatches with their ids (--color block)");
 }
 
 ColorChoice color_choice(const Args& a) {
@@ -304,8 +305,8 @@ void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std
     rs.shading.value_lo = range[0];
     rs.shading.value_hi = range[1];
     rs.colorbar = c.colorbar;
-    if (c.colorbar && by != ColorBy::value)
-        std::fprintf(stderr, "warning: --colorbar: the picture is not coloured by value (--color value); no colour bar drawn\n");
+    if (c.colorbar && by != ColorBy::value && by != ColorBy::block)
+        std::fprintf(stderr, "warning: --colorbar: the picture is coloured by neither value nor block; no legend drawn\n");
 }
 
 namespace {

@@ -18,6 +18,7 @@ std::string frame_path(const std::string& path, int i) {
 void decorate_picture(const RenderSettings& rs, Image& img) {
     if (rs.colorbar && rs.shading.color_by == ColorBy::value)
         draw_colorbar(img, rs.shading.colormap, rs.shading.value_lo, rs.shading.value_hi);
+    if (rs.colorbar && rs.shading.color_by == ColorBy::block) draw_block_legend(img, rs.legend_blocks);
 }
 
 }  // namespace meshless::cli

@@ -90,4 +90,20 @@ void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std:
     draw_label(img, std::max(0, l.x1 + 1 - label_width(bottom, s)), l.y1 + 3, s, bottom, ink);
 }
 
+void draw_block_legend(Image& img, std::uint32_t blocks, std::array<std::uint8_t, 3> ink) {
+    const ColorbarLayout l = colorbar_layout(img.width, img.height);
+    if (!l.drawn || img.rgb.size() != 3 * static_cast<std::size_t>(img.width) * img.height) return;
+    const int s = l.scale;
+    const std::uint32_t n = blocks == 0 ? kCategoricalColors : std::min<std::uint32_t>(blocks, kCategoricalColors);
+    for (std::uint32_t id = 0; id < n; ++id) {
+        const int y0 = l.y0 + static_cast<int>(id) * (6 * s + 2);
+        if (y0 + 6 * s > img.height) break;
+        const auto c = categorical_color(id);
+        for (int y = y0; y < y0 + 6 * s; ++y)
+            for (int x = l.x0; x < l.x1; ++x) put(img, x, y, c);
+        const std::string label = std::to_string(id);
+        draw_label(img, l.x0 - 2 * s - label_width(label, s), y0 + s / 2, s, label, ink);
+    }
+}
+
 }  // namespace meshless

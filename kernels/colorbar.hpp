@@ -27,6 +27,12 @@ ColorbarLayout colorbar_layout(int width, int height);
 /// The colour of bar row y (y0 <= y < y1): map_color(m, hi - (y - y0 + 0.5) / (y1 - y0) * (hi - lo), lo, hi).
 void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std::uint8_t, 3> ink = {255, 255, 255});
 
+/// The block legend (--color block --colorbar): one swatch per palette colour in use, categorical_color(0)
+/// ... categorical_color(n - 1) with n = min(blocks, kCategoricalColors) (blocks 0: all of them),
+/// stacked from the bar's top (colorbar_layout's x0..x1, 6s + 2 pixels apart, each 6s tall), each
+/// labelled with its id at its left; ids >= kCategoricalColors reuse the colours (id modulo 10).
+void draw_block_legend(Image& img, std::uint32_t blocks, std::array<std::uint8_t, 3> ink = {255, 255, 255});
+
 /// Draws `text` with its top-left corner at (x, y), each font pixel s x s image pixels (clipped).
 void draw_label(Image& img, int x, int y, int s, const std::string& text, std::array<std::uint8_t, 3> ink);
 /// Width in pixels of `text` drawn at scale s (4 font pixels per character, minus the last gap).

@@ -59,6 +59,7 @@ void PointSpool::append(std::span<const PointRecord> points, std::span<const std
         fail("write to", errno);
     count_ += points.size();
     bounds_.add(points);
+    for (std::uint32_t b : blocks) block_count_ = std::max(block_count_, b == ~std::uint32_t{0} ? b : b + 1);
     for (const PointRecord& p : points) {
         if (!std::isfinite(p.value)) continue;
         if (!any_value_) vlo_ = vhi_ = p.value;

@@ -55,6 +55,8 @@ public:
     std::optional<std::array<double, 2>> value_range() const;
     /// True when the points came with block ids.
     bool has_blocks() const { return blocks_ != nullptr; }
+    /// 1 + the largest block id appended (0 without ids).
+    std::uint32_t block_count() const { return block_count_; }
     /// Reads the block ids of points [first, first + out.size()); has_blocks() must be true.
     void read_blocks(std::uint64_t first, std::span<std::uint32_t> out) const;
     /// Reads points [first, first + out.size()) into out; they must all have been appended.
@@ -71,6 +73,7 @@ private:
     std::string purpose_, blocks_name_;
     double vlo_ = 0, vhi_ = 0;
     bool any_value_ = false;
+    std::uint32_t block_count_ = 0;
     std::string name_;
     std::uint64_t count_ = 0;
     PointBounds bounds_;

@@ -190,3 +190,25 @@ TEST_CASE("colour bar: the bitmap font draws digits, '-', '.', 'e', '+' and skip
     CHECK(ink_count("x") == 0);
     CHECK(ink_count("1e-3") == ink_count("1") + ink_count("e") + ink_count("-") + ink_count("3"));
 }
+
+TEST_CASE("block legend: one swatch of the palette per block, labelled", "[splat][color]") {
+    Image img;
+    img.width = 320;
+    img.height = 240;
+    img.rgb.assign(3 * 320 * 240, 0);
+    draw_block_legend(img, 3);
+    const ColorbarLayout l = colorbar_layout(320, 240);
+    for (int id = 0; id < 3; ++id) {
+        const int y = l.y0 + id * (6 * l.scale + 2) + 1;
+        CHECK(img.at((l.x0 + l.x1) / 2, y) == categorical_color(static_cast<std::uint32_t>(id)));
+    }
+    CHECK(img.at((l.x0 + l.x1) / 2, l.y0 + 3 * (6 * l.scale + 2) + 1) == std::array<std::uint8_t, 3>{0, 0, 0});  // no 4th
+    int ink = 0;
+    for (int y = l.y0; y < l.y0 + 3 * (6 * l.scale + 2); ++y)
+        for (int x = 0; x < l.x0; ++x) ink += img.at(x, y)[0] == 255;
+    CHECK(ink >= 3 * 5);  // the ids 0, 1, 2
+    Image all = img;
+    all.rgb.assign(all.rgb.size(), 0);
+    draw_block_legend(all, 0);  // unknown count: the whole palette
+    CHECK(all.at((l.x0 + l.x1) / 2, l.y0 + 9 * (6 * l.scale + 2) + 1) == categorical_color(9));
+}

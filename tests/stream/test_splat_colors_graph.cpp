@@ -119,6 +119,7 @@ TEST_CASE("point spool: block ids and the value range round trip, a replay spool
     VectorSource src(p, 1000, true);
     run_pipeline(src, {}, spool, {1});
     REQUIRE(spool.has_blocks());
+    CHECK(spool.block_count() == 3);
     REQUIRE(spool.value_range().has_value());
     CHECK((*spool.value_range())[0] == Approx(-3).margin(0.01));
     CHECK((*spool.value_range())[1] == Approx(3).margin(0.01));
