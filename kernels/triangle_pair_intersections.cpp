@@ -44,17 +44,15 @@ struct Soup {
     int classify(std::size_t a, std::size_t b) const {
         const std::uint32_t* A = &tri[3 * a];
         const std::uint32_t* B = &tri[3 * b];
-        int shared = 0, ia[3], ib[3];  // ia/ib: positions of shared vertices
+        int shared = 0, ia[3];  // ia: positions in A of the shared vertices
         bool a_shared[3] = {false, false, false}, b_shared[3] = {false, false, false};
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j)
                 if (A[i] == B[j] && !a_shared[i] && !b_shared[j]) {
                     a_shared[i] = b_shared[j] = true;
                     ia[shared] = i;
-                    ib[shared] = j;
                     ++shared;
                 }
-        (void)ib;
         if (shared == 3) return 2;
         if (shared == 2) {
             const Point p = point(A[ia[0]]), q = point(A[ia[1]]);
