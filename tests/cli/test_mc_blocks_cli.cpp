@@ -3,6 +3,8 @@
 // any --threads, a per-face block property, the --stats lines, an isovalue outside the data.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include "cli/cli_harness.hpp"
 #include "formats/ply_mesh.hpp"
 
@@ -39,6 +41,14 @@ TEST_CASE("mc on multiblock .vts: same bytes for any --threads, block ids, stats
     CHECK(seen[0] > 0);
     CHECK(seen[1] > 0);
     CHECK(seen[2] > 0);
+
+    // a multi-grid PLOT3D file: one block per grid, q's density
+    const auto p3d = sh("MESHLESS mc " + P + "multi-bin.xyz --iso 0.4 -o " + D + "p3d.ply --stats --threads 2", d);
+    REQUIRE(p3d.code == 0);
+    CHECK(p3d.err.find("2 block(s)") != std::string::npos);
+    const Mesh pm = read_ply_mesh((d / "p3d.ply").string());
+    CHECK(pm.triangle_count() > 0);
+    CHECK(std::count(pm.block.begin(), pm.block.end(), 1u) > 0);
 
     // an isovalue outside every block's range: a warning and a valid empty mesh
     const auto r = sh("MESHLESS mc " + blocks + " --iso 99 -o " + D + "empty.ply", d);
