@@ -114,7 +114,7 @@ int cmd_slice(int argc, char** argv) {
         .option("output", "o", "FILE", "PNG output (required)")
         .option("size", "", "WxH", "largest image size; the aspect follows the bounding box", "1024x1024")
         .option("range", "", "LO,HI", "values mapped to the ends of the colour map (default: the data's range)")
-        .option("colormap", "", "NAME", "coolwarm | gray", "coolwarm")
+        .option("colormap", "", "NAME", "coolwarm | viridis | gray", "coolwarm")
         .option("near", "", "D", "overlay data points within D of the plane (default: half the mean point spacing)");
     add_field_options(a);
     a.positionals(1, 1000);
@@ -122,7 +122,7 @@ int cmd_slice(int argc, char** argv) {
     const Plane plane = parse_plane(a.require("plane"));
     const std::string png = require_output_extension(a.require("output"), ".png", "-o", "a PNG image");
     Colormap cmap;
-    if (!parse_colormap(a.get_or("colormap", "coolwarm"), cmap)) throw UsageError("--colormap: expected coolwarm or gray");
+    if (!parse_colormap(a.get_or("colormap", "coolwarm"), cmap)) throw UsageError("--colormap: expected coolwarm, viridis or gray");
     const auto [W, H] = parse_size(a.get_or("size", "1024x1024"), "--size", 2, 16384);
     const PointSet pts = read_points_arg(a);
     const auto field = build_field(a, pts);

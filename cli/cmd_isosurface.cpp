@@ -14,6 +14,7 @@
 #include "cli/render_output.hpp"
 #include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
+#include "formats/multiblock_reader.hpp"
 #include "kernels/errors.hpp"
 #include "stream/project_stage.hpp"
 #include "stream/runner.hpp"
@@ -81,6 +82,7 @@ int cmd_isosurface(int argc, char** argv) {
     add_memory_option(a);
     add_thread_option(a);
     add_camera_options(a);
+    add_color_options(a);
     a.epilog("examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
              "          meshless isosurface vol.mlb --iso 100.5 --memory 256M -o out.ply\n"
              "          mpirun -np 4 meshless isosurface vol.mlb --iso 100.5 -o out.ply   (ranks split the active bricks)\n");
@@ -95,8 +97,23 @@ int cmd_isosurface(int argc, char** argv) {
         throw UsageError("-o and --png name the same output '" + *out + "'");
     const Projection mode = parse_projection(a.get_or("projection", "approx"));
     const SamplingParams sp = sampling_params(a);
-    const RenderSettings rs = render_settings(a);
+    RenderSettings rs = render_settings(a);
+    const ColorChoice cc = color_choice(a);
     const int nthreads = threads(a);
+    // Colours: the points of an isosurface all carry the isovalue, so the default is the uniform
+    // surface colour; --color value maps it within --range, else within the volume's value range.
+    // (block colours need points seeded in blocks: multiblock input, Batch::point_block)
+    const bool multiblock_input = !a.positional().empty() && looks_like_multiblock(a.positional()[0]);
+    if (cc.request == ColorRequest::block && !multiblock_input)
+        throw UsageError((a.positional().empty() ? std::string("the input") : a.positional()[0]) +
+                         ": a volume has no blocks; --color block needs multiblock points");
+    const ColorBy color_by = cc.request == ColorRequest::value    ? ColorBy::value
+                             : cc.request == ColorRequest::normal ? ColorBy::normal
+                             : cc.request == ColorRequest::block  ? ColorBy::block
+                                                                  : ColorBy::none;
+    // (the range without --range: the volume's, set below once it is read; the MPI and sample-store
+    // paths map the isovalue to the middle of the colour map)
+    apply_color(rs, color_by, cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
 
     if (launched_world_size() > 1) {
         const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads,
@@ -115,6 +132,10 @@ int cmd_isosurface(int argc, char** argv) {
 
     VolumeInput in = open_volume_input(a, /*stream=*/true);
     StreamMeta meta = volume_meta(in, iso, a.command_line());  // value range and surface bounds, one pass
+    if (!cc.range) {
+        rs.shading.value_lo = meta.get_double("value_min").value_or(iso);
+        rs.shading.value_hi = meta.get_double("value_max").value_or(iso);
+    }
     warn_if_iso_outside(iso, {meta.get_double("value_min").value_or(NAN), meta.get_double("value_max").value_or(NAN)},
                         in.path);
     meta.set("projection", to_string(mode));

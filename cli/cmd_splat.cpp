@@ -8,6 +8,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/render_output.hpp"
+#include "formats/ply.hpp"
 #include "formats/png_writer.hpp"
 #include "kernels/errors.hpp"
 #include "stream/ply_source.hpp"
@@ -20,6 +21,23 @@
 
 namespace meshless::cli {
 
+namespace {
+
+/// The PLY comments written by isosurface/write record the isovalue ("iso V"): the points are an isosurface.
+bool ply_records_iso(const std::vector<std::string>& comments) {
+    for (const auto& c : comments)
+        if (c.rfind("iso ", 0) == 0) return true;
+    return false;
+}
+
+bool ply_has_vertex_property(const std::string& path, const char* name) {
+    PlyReader r(path);
+    const int v = r.header().find("vertex");
+    return v >= 0 && r.header().elements[static_cast<std::size_t>(v)].find(name) >= 0;
+}
+
+}  // namespace
+
 int cmd_splat(int argc, char** argv) {
     Args a("splat", "[INPUT|-] -o img.png [--kernel quad|ewa] [--turntable N] [camera options]",
            "Renders oriented points by surface splatting (software): quadrilateral (QSplat-style) or\n"
@@ -30,18 +48,26 @@ int cmd_splat(int argc, char** argv) {
            "the image buffers + one batch; the EWA kernel spools the points to an unlinked file in $TMPDIR\n"
            "for its second pass); the camera frames the surface bounds recorded in the stream or PLY.\n"
            "Input without recorded bounds, and --turntable, spool the points once to such a file (the\n"
-           "frame is then known; each turntable frame replays the file): memory stays bounded.");
+           "frame is then known; each turntable frame replays the file): memory stays bounded.\n"
+           "Colours (--color): value, block (multiblock points' block ids), normal or none, lit by the\n"
+           "headlight; by default value when the points' values vary and the input does not record an\n"
+           "isovalue (an isosurface's points all carry it), else none (the uniform surface colour). Colouring\n"
+           "by value without --range, by default, or by block from a stream first spools the points (their\n"
+           "value range, block ids). --colorbar draws the value range as a legend bar (or the block colours\n"
+           "with their ids) into the picture.");
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("iso", "", "V", "sample streams: isovalue to project onto (default: the stream's)")
         .option("projection", "", "MODE", "sample streams: approx | exact | none", "approx")
         .option("turntable", "", "N", "render N frames, 360/N degrees apart about the y axis, as FILE_000.png ...; reports time per frame")
         .flag("stats", "print the point count, time and throughput to stderr");
     add_camera_options(a);
+    add_color_options(a);
     add_thread_option(a);
     a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png --turntable 36\n");
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string png = require_output_extension(a.require("output"), ".png", "-o", "a PNG image");
-    const RenderSettings rs = render_settings(a);
+    RenderSettings rs = render_settings(a);
+    const ColorChoice cc = color_choice(a);
     const Camera& cam = rs.camera;
     const long long frames = a.get_int_or("turntable", 0);
     if (a.has("turntable") && (frames < 1 || frames > 3600)) throw UsageError("--turntable: expected 1..3600 frames");
@@ -78,16 +104,49 @@ int cmd_splat(int argc, char** argv) {
     std::vector<const Stage*> stages;
     if (project) stages.push_back(&*project);
 
+    // Colours: an isosurface (the input records its isovalue) is not coloured by value by default.
+    const bool isosurface_input =
+        is_ply ? ply_records_iso(static_cast<PlySource&>(*source).comments()) : reader->meta().get("iso").has_value();
+    if (cc.request == ColorRequest::block && is_ply && !ply_has_vertex_property(input, "block"))
+        throw UsageError(input + ": the points carry no block ids (no vertex property 'block'); --color block needs "
+                         "multiblock points");
+    const bool color_pass = (cc.request == ColorRequest::value && !cc.range) ||
+                            (cc.request == ColorRequest::automatic && !isosurface_input) ||
+                            (cc.request == ColorRequest::block && !is_ply);
+
     // A turntable draws every point once per frame, and a picture without recorded bounds needs all
     // the points before its first one is drawn: the points (projected) go once to a point spool,
     // which is then replayed; memory stays a few batches.
-    if (frames > 0 || !bounds) {
+    if (frames > 0 || !bounds || color_pass) {
         spool.emplace("splat-spool");
         run_pipeline(*source, stages, *spool, {nthreads});
         if (!bounds) bounds = spool->bounds();
+        if (cc.request == ColorRequest::block && spool->size() > 0 && !spool->has_blocks())
+            throw UsageError(input + ": the points carry no block ids; --color block needs multiblock points");
+    }
+    {
+        const std::optional<std::array<double, 2>> seen = spool ? spool->value_range() : std::nullopt;
+        ColorBy by = ColorBy::none;
+        switch (cc.request) {
+            case ColorRequest::automatic:
+                by = !isosurface_input && seen && (*seen)[0] < (*seen)[1] ? ColorBy::value : ColorBy::none;
+                break;
+            case ColorRequest::value: by = ColorBy::value; break;
+            case ColorRequest::block: by = ColorBy::block; break;
+            case ColorRequest::normal: by = ColorBy::normal; break;
+            case ColorRequest::none: by = ColorBy::none; break;
+        }
+        apply_color(rs, by, cc, cc.range ? *cc.range : seen ? *seen : std::array<double, 2>{0, 1});
+        if (spool) rs.legend_blocks = spool->block_count();
+    }
+    if (spool) {
         if (frames > 0) {
             const auto t = render_turntable(*spool, *bounds, cam, rs.kernel, rs.shading, static_cast<int>(frames), nthreads,
-                                            [&](int i, const Image& img) { write_png(img, frame_path(png, i)); });
+                                            [&](int i, const Image& img) {
+                                                Image framed = img;
+                                                decorate_picture(rs, framed);
+                                                write_png(framed, frame_path(png, i));
+                                            });
             std::fprintf(stderr, "splat: turntable of %d frames, %llu points, %dx%d %s: %.2f ms/frame (min %.2f, max %.2f)\n",
                          t.frames, static_cast<unsigned long long>(spool->size()), cam.width, cam.height,
                          rs.kernel == SplatKernel::quad ? "quad" : "ewa", 1e3 * t.mean_seconds, 1e3 * t.min_seconds,
@@ -101,7 +160,9 @@ int cmd_splat(int argc, char** argv) {
     SplatSink sink(cam, rs.kernel, rs.shading, *bounds, nthreads, spool ? &*spool : nullptr);
     stages.push_back(&sink.stage());
     run_pipeline(*source, stages, sink, {nthreads});
-    write_png(sink.image(), png);
+    Image picture = sink.image();
+    decorate_picture(rs, picture);
+    write_png(picture, png);
     if (stderr_is_tty() || a.has("stats"))
         std::fprintf(stderr, "splat: %llu points, %dx%d %s, %d thread(s): %.3f s (%.2f M points/s)\n",
                      static_cast<unsigned long long>(sink.points()), cam.width, cam.height,

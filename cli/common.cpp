@@ -263,6 +263,52 @@ void add_camera_options(Args& a) {
         .flag("ortho", "orthographic instead of perspective projection");
 }
 
+void add_color_options(Args& a) {
+    a.option("color", "", "MODE",
+             "splat colours: value (colour map of the points' values) | block (a categorical palette of the block\n                            "
+             "ids of multiblock points) | normal (RGB = (n + 1) / 2 of the unit normal) | none (the uniform surface\n                            "
+             "colour); all lit by the headlight. Default: value when the points' values vary and the input is not an\n                            "
+             "isosurface (a PLY/stream that records an isovalue: its points all carry that value), else none",
+             "auto")
+        .option("colormap", "", "NAME", "--color value: viridis (perceptually uniform) | coolwarm | gray", "viridis")
+        .option("range", "", "LO,HI", "--color value: the colour map's value range (default: the points' min,max;\n                            "
+                                     "isosurface: the volume's)")
+        .flag("colorbar", "draw a legend into the picture: a colour bar with the value range (--color value) or the\n"
+                          "                            block palette's swatches with their ids (--color block)");
+}
+
+ColorChoice color_choice(const Args& a) {
+    ColorChoice c;
+    const std::string m = a.get_or("color", "auto");
+    if (m == "auto") c.request = ColorRequest::automatic;
+    else if (m == "value") c.request = ColorRequest::value;
+    else if (m == "block") c.request = ColorRequest::block;
+    else if (m == "normal") c.request = ColorRequest::normal;
+    else if (m == "none") c.request = ColorRequest::none;
+    else throw UsageError("--color: expected value, block, normal or none, got '" + m + "'");
+    if (!parse_colormap(a.get_or("colormap", "viridis"), c.colormap))
+        throw UsageError("--colormap: expected viridis, coolwarm or gray, got '" + a.get_or("colormap", "") + "'");
+    if (auto r = a.get("range")) {
+        const auto comma = r->find(',');
+        if (comma == std::string::npos) throw UsageError("--range: expected LO,HI, got '" + *r + "'");
+        const double lo = parse_finite(r->substr(0, comma), "--range"), hi = parse_finite(r->substr(comma + 1), "--range");
+        if (!(lo < hi)) throw UsageError("--range: LO must be less than HI, got '" + *r + "'");
+        c.range = std::array<double, 2>{lo, hi};
+    }
+    c.colorbar = a.has("colorbar");
+    return c;
+}
+
+void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std::array<double, 2>& range) {
+    rs.shading.color_by = by;
+    rs.shading.colormap = c.colormap;
+    rs.shading.value_lo = range[0];
+    rs.shading.value_hi = range[1];
+    rs.colorbar = c.colorbar;
+    if (c.colorbar && by != ColorBy::value && by != ColorBy::block)
+        std::fprintf(stderr, "warning: --colorbar: the picture is coloured by neither value nor block; no legend drawn\n");
+}
+
 namespace {
 
 Camera camera_from(const Args& a) {

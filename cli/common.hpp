@@ -82,6 +82,20 @@ void add_camera_options(Args& a);
 /// Camera, kernel and shading from the camera options.
 RenderSettings render_settings(const Args& a);
 
+/// --color value|block|normal|none (default auto), --colormap, --range LO,HI, --colorbar: the
+/// splat colours of `meshless splat` and `meshless isosurface --png`.
+void add_color_options(Args& a);
+struct ColorChoice {
+    ColorRequest request = ColorRequest::automatic;
+    Colormap colormap = Colormap::viridis;
+    std::optional<std::array<double, 2>> range;  ///< --range
+    bool colorbar = false;
+};
+ColorChoice color_choice(const Args& a);
+/// Sets rs.shading's colouring (by, colormap, range) and rs.colorbar; warns on stderr when a colour
+/// bar was asked for a picture not coloured by value.
+void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std::array<double, 2>& range);
+
 /// Metadata describing a volume and the isovalue (keys: source, iso, grid_dims, grid_origin,
 /// grid_spacing, bounds_lo, bounds_hi, value_min, value_max, producer).
 /// value_min/value_max are left out when `range` is nullopt.

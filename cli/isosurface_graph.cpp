@@ -58,7 +58,9 @@ std::size_t run_to_outputs(const std::optional<std::string>& out, const std::opt
     if (ply) tee.emplace(splat, *ply);
     r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);
     try {
-        write_png(splat.image(), *png);
+        Image picture = splat.image();
+        decorate_picture(rs, picture);
+        write_png(picture, *png);
     } catch (...) {
         if (out && *out != "-" && !is_streaming_output(*out)) std::remove(out->c_str());
         throw;

@@ -33,7 +33,12 @@ void write_ply_mesh(const Mesh& mesh, const std::string& path) {
     for (const char* n : {"x", "y", "z"}) v.props.push_back({n, StoredType::f32, false, StoredType::u8});
     if (normals)
         for (const char* n : {"nx", "ny", "nz"}) v.props.push_back({n, StoredType::f32, false, StoredType::u8});
+    const bool blocks = !mesh.block.empty();
+    if (blocks && mesh.block.size() != nf)
+        throw std::invalid_argument(path + ": mesh has " + std::to_string(mesh.block.size()) + " block ids for " +
+                                    std::to_string(nf) + " triangles");
     PlyElement f{"face", nf, {{"vertex_indices", StoredType::i32, true, StoredType::u8}}, 0};
+    if (blocks) f.props.push_back({"block", StoredType::u32, false, StoredType::u8});
     h.elements = {v, f};
     PlyWriter out(path, std::move(h), PlyCounts::declared);
 
@@ -63,6 +68,10 @@ void write_ply_mesh(const Mesh& mesh, const std::string& path) {
                                          static_cast<std::int32_t>(mesh.tri[3 * t + 2])};
             const auto* p = reinterpret_cast<const unsigned char*>(idx);
             buf.insert(buf.end(), p, p + 12);
+            if (blocks) {
+                const auto* q = reinterpret_cast<const unsigned char*>(&mesh.block[t]);
+                buf.insert(buf.end(), q, q + 4);
+            }
         }
         out.append(buf.data(), buf.size());
     }
@@ -86,11 +95,14 @@ Mesh read_ply_mesh(const std::string& path) {
     const int nn = (slot[3] >= 0) + (slot[4] >= 0) + (slot[5] >= 0);
     if (nn != 0 && nn != 3) throw FormatError(path + ": line " + std::to_string(V.line) + ": PLY vertex has some but not all of nx ny nz");
     const int fi = h.find("face");
-    int list_prop = -1;
+    int list_prop = -1, block_prop = -1;
     if (fi >= 0) {
         const PlyElement& F = h.elements[static_cast<std::size_t>(fi)];
         for (const char* n : {"vertex_indices", "vertex_index"})
             if (list_prop < 0 && F.find(n) >= 0 && F.props[F.find(n)].is_list) list_prop = F.find(n);
+        block_prop = F.find("block");
+        if (block_prop >= 0 && F.props[static_cast<std::size_t>(block_prop)].is_list)
+            throw FormatError(path + ": line " + std::to_string(F.line) + ": PLY face property 'block' is a list");
         if (F.count > 0 && list_prop < 0) throw FormatError(path + ": line " + std::to_string(F.line) + ": PLY face element lacks vertex_indices");
         if (fi < vi && F.count > 0) throw FormatError(path + ": line " + std::to_string(h.elements[fi].line) + ": PLY face element before the vertex element");
     }
@@ -126,6 +138,13 @@ Mesh read_ply_mesh(const std::string& path) {
             const std::vector<double>& l = rec.lists[list_prop];
             if (l.size() < 3)
                 throw FormatError(r.where() + "PLY face " + std::to_string(face) + " has fewer than 3 vertices");
+            std::uint32_t block = 0;
+            if (block_prop >= 0) {
+                const double bv = rec.values[static_cast<std::size_t>(block_prop)];
+                if (!(bv >= 0 && bv <= 4294967295.0) || bv != std::floor(bv))
+                    throw FormatError(r.where() + "PLY face " + std::to_string(face) + " block id is not a 32-bit unsigned integer");
+                block = static_cast<std::uint32_t>(bv);
+            }
             std::uint32_t first = 0, prev = 0;
             for (std::size_t q = 0; q < l.size(); ++q) {
                 if (!(l[q] >= 0 && l[q] < static_cast<double>(nv)) || l[q] != std::floor(l[q]))
@@ -134,7 +153,10 @@ Mesh read_ply_mesh(const std::string& path) {
                                       " vertices)");
                 const auto idx = static_cast<std::uint32_t>(l[q]);
                 if (q == 0) first = idx;
-                else if (q >= 2) mesh.tri.insert(mesh.tri.end(), {first, prev, idx});
+                else if (q >= 2) {
+                    mesh.tri.insert(mesh.tri.end(), {first, prev, idx});
+                    if (block_prop >= 0) mesh.block.push_back(block);
+                }
                 prev = idx;
             }
             ++face;

@@ -35,13 +35,15 @@ struct Mesh {
     std::vector<float> xyz;
     std::vector<float> normals;
     std::vector<std::uint32_t> tri;  ///< 3 indices per triangle
+    std::vector<std::uint32_t> block;  ///< empty, or per triangle the id of the block it came from
+                                       ///< (naive multiblock marching cubes, kernels/block_marching_cubes.hpp)
 
     std::size_t vertex_count() const { return xyz.size() / 3; }
     std::size_t triangle_count() const { return tri.size() / 3; }
     /// Bytes held by the three arrays (sizes, not capacities).
     std::size_t memory_bytes() const {
         return xyz.size() * sizeof(float) + normals.size() * sizeof(float) +
-               tri.size() * sizeof(std::uint32_t);
+               (tri.size() + block.size()) * sizeof(std::uint32_t);
     }
 };
 

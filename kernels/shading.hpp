@@ -40,6 +40,10 @@ struct Shader {
 
     /// n: unit normal (already flipped towards the viewer when two-sided); v: unit vector to the eye.
     std::uint32_t shade(float nx, float ny, float nz, float vx, float vy, float vz) const {
+        return shade(base, nx, ny, nz, vx, vy, vz);
+    }
+    /// As shade() with another surface colour (components in [0, 1]).
+    std::uint32_t shade(const float* colour, float nx, float ny, float nz, float vx, float vy, float vz) const {
         const float ndl = nx * light[0] + ny * light[1] + nz * light[2];
         float lum = ambient;
         float spec = 0.0f;
@@ -54,7 +58,7 @@ struct Shader {
         }
         std::uint32_t out = 0;
         for (int i = 0; i < 3; ++i) {
-            const float c = std::clamp(base[i] * lum + spec, 0.0f, 1.0f);
+            const float c = std::clamp(colour[i] * lum + spec, 0.0f, 1.0f);
             out = (out << 8) | static_cast<std::uint32_t>(c * 255.0f + 0.5f);
         }
         return out;

@@ -181,7 +181,9 @@ void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb
 }
 
 void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint64_t* kb, std::int64_t* acc,
-                            SplatStats& st) const {
+                            SplatStats& st, std::span<const std::uint32_t> blocks) const {
+    const std::size_t words = acc_words();
+    const bool coloured = words == 7;
     const Setup s = make_setup(view_, shading_);
     const int W = s.W;
     const float* gauss = gauss_.data();
@@ -189,8 +191,16 @@ void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint
     std::int64_t frags = 0;
     Footprint f;
     // Pass 2: accumulation of fragments near the visible surface.
-    for (const PointRecord& rec : points) {
+    for (std::size_t pi = 0; pi < points.size(); ++pi) {
+        const PointRecord& rec = points[pi];
         if (!footprint(s, rec, f)) continue;
+        float colour[3] = {0, 0, 0};
+        if (coloured) {
+            const std::uint32_t c = splat_base_color(shading_, rec, blocks, pi);
+            colour[0] = static_cast<float>(c >> 16) / 255.0f;
+            colour[1] = static_cast<float>((c >> 8) & 255u) / 255.0f;
+            colour[2] = static_cast<float>(c & 255u) / 255.0f;
+        }
         for (int y = f.y0; y <= f.y1; ++y) {
             const float dy = y + 0.5f - f.sy;
             const std::size_t rowi = static_cast<std::size_t>(y) * W;
@@ -205,11 +215,16 @@ void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint
                 // Align with the visible fragment's orientation before blending.
                 const float wgt = gauss[static_cast<int>(q * qscale)] * kFixed;
                 const float wn = agrees(key, f.n) ? wgt : -wgt;
-                std::int64_t* a = acc + 4 * (rowi + x);
+                std::int64_t* a = acc + words * (rowi + x);
                 a[0] += static_cast<std::int64_t>(wgt);
                 a[1] += static_cast<std::int64_t>(std::lrint(wn * f.n[0]));
                 a[2] += static_cast<std::int64_t>(std::lrint(wn * f.n[1]));
                 a[3] += static_cast<std::int64_t>(std::lrint(wn * f.n[2]));
+                if (coloured) {
+                    a[4] += static_cast<std::int64_t>(std::lrint(wgt * colour[0]));
+                    a[5] += static_cast<std::int64_t>(std::lrint(wgt * colour[1]));
+                    a[6] += static_cast<std::int64_t>(std::lrint(wgt * colour[2]));
+                }
             }
         }
     }
@@ -223,10 +238,11 @@ void SplatFrame::resolve_ewa(const std::int64_t* acc, Image& img) const {
     const detail::FloatView fv(view_);
     const auto& bg = shading_.background;
     const bool two_sided = shading_.two_sided;
+    const std::size_t words = acc_words();
     std::uint8_t* out = img.rgb.data();
     for (int y = 0; y < H; ++y) {
         for (int x = 0; x < W; ++x, out += 3) {
-            const std::int64_t* a = acc + 4 * (static_cast<std::size_t>(y) * W + x);
+            const std::int64_t* a = acc + words * (static_cast<std::size_t>(y) * W + x);
             if (a[0] == 0) {
                 out[0] = bg[0];
                 out[1] = bg[1];
@@ -255,7 +271,16 @@ void SplatFrame::resolve_ewa(const std::int64_t* acc, Image& img) const {
                 n[1] = v[1];
                 n[2] = v[2];
             }
-            detail::unpack_rgb(shader.shade(n[0], n[1], n[2], v[0], v[1], v[2]), out);
+            if (words == 7) {
+                // the weighted mean base colour of the blended fragments
+                const float inv = 1.0f / static_cast<float>(a[0]);
+                const float colour[3] = {std::clamp(static_cast<float>(a[4]) * inv, 0.0f, 1.0f),
+                                         std::clamp(static_cast<float>(a[5]) * inv, 0.0f, 1.0f),
+                                         std::clamp(static_cast<float>(a[6]) * inv, 0.0f, 1.0f)};
+                detail::unpack_rgb(shader.shade(colour, n[0], n[1], n[2], v[0], v[1], v[2]), out);
+            } else {
+                detail::unpack_rgb(shader.shade(n[0], n[1], n[2], v[0], v[1], v[2]), out);
+            }
         }
     }
 }

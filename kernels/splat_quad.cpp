@@ -25,10 +25,13 @@ inline float clamp_px(float v) { return std::clamp(v, -1e9f, 1e9f); }  // far ou
 
 // The per-point loop, specialised on the projection so the inner work has no hoistable branch.
 template <bool Perspective>
-void draw_quad_points(const detail::FloatView& fv, const detail::Shader& shader, bool two_sided, int W, int H,
-                      std::span<const PointRecord> points, std::uint64_t* key, std::int64_t& drawn,
-                      std::int64_t& frags) {
-    for (const PointRecord& rec : points) {
+void draw_quad_points(const detail::FloatView& fv, const detail::Shader& shader, const ShadingParams& sh, int W, int H,
+                      std::span<const PointRecord> points, std::span<const std::uint32_t> blocks, std::uint64_t* key,
+                      std::int64_t& drawn, std::int64_t& frags) {
+    const bool two_sided = sh.two_sided;
+    const bool coloured = sh.color_by != ColorBy::none;
+    for (std::size_t pi = 0; pi < points.size(); ++pi) {
+        const PointRecord& rec = points[pi];
         if (!(std::isfinite(rec.pos[0]) && std::isfinite(rec.pos[1]) && std::isfinite(rec.pos[2]))) continue;
         float pc[3];
         fv.point(rec.pos, pc);
@@ -50,8 +53,16 @@ void draw_quad_points(const detail::FloatView& fv, const detail::Shader& shader,
 
         float n[3], v[3];
         detail::oriented_normal(fv, rec, pc, depth, two_sided, n, v);
-        const std::uint64_t kk = (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(depth)) << 32) |
-                                 shader.shade(n[0], n[1], n[2], v[0], v[1], v[2]);
+        std::uint32_t rgb;
+        if (coloured) {
+            const std::uint32_t c = splat_base_color(sh, rec, blocks, pi);
+            const float colour[3] = {static_cast<float>(c >> 16) / 255.0f, static_cast<float>((c >> 8) & 255u) / 255.0f,
+                                     static_cast<float>(c & 255u) / 255.0f};
+            rgb = shader.shade(colour, n[0], n[1], n[2], v[0], v[1], v[2]);
+        } else {
+            rgb = shader.shade(n[0], n[1], n[2], v[0], v[1], v[2]);
+        }
+        const std::uint64_t kk = (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(depth)) << 32) | rgb;
         ++drawn;
         frags += static_cast<std::int64_t>(x1 - x0 + 1) * (y1 - y0 + 1);
         for (int y = y0; y <= y1; ++y) {
@@ -63,14 +74,15 @@ void draw_quad_points(const detail::FloatView& fv, const detail::Shader& shader,
 
 }  // namespace
 
-void SplatFrame::draw_quad(std::span<const PointRecord> points, std::uint64_t* key, SplatStats& st) const {
+void SplatFrame::draw_quad(std::span<const PointRecord> points, std::uint64_t* key, SplatStats& st,
+                           std::span<const std::uint32_t> blocks) const {
     const detail::FloatView fv(view_);
     const detail::Shader shader(shading_);
     std::int64_t drawn = 0, frags = 0;
     if (fv.perspective)
-        draw_quad_points<true>(fv, shader, shading_.two_sided, view_.width, view_.height, points, key, drawn, frags);
+        draw_quad_points<true>(fv, shader, shading_, view_.width, view_.height, points, blocks, key, drawn, frags);
     else
-        draw_quad_points<false>(fv, shader, shading_.two_sided, view_.width, view_.height, points, key, drawn, frags);
+        draw_quad_points<false>(fv, shader, shading_, view_.width, view_.height, points, blocks, key, drawn, frags);
     st.splats_drawn += drawn;
     st.fragments += frags;
 }

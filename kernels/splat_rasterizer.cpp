@@ -41,16 +41,17 @@ void SplatRenderer::set_bounds(const std::array<Vec3, 2>& bounds) {
     view_ = make_view(cam_, bounds_[0], bounds_[1]);
 }
 
-const Image& SplatRenderer::render(std::span<const PointRecord> points, SplatKernel kernel, SplatStats* stats) {
+const Image& SplatRenderer::render(std::span<const PointRecord> points, SplatKernel kernel, SplatStats* stats,
+                                   std::span<const std::uint32_t> blocks) {
     const auto t0 = std::chrono::steady_clock::now();
     const SplatFrame frame(cam_, kernel, shading_, bounds_);
     const std::size_t npix = frame.npix();
     SplatStats st;
     key_.assign(npix, SplatFrame::kEmptyKey);
-    frame.draw(points, key_.data(), st);
+    frame.draw(points, key_.data(), st, blocks);
     if (frame.two_pass()) {
-        acc_.assign(4 * npix, 0);
-        frame.accumulate(points, key_.data(), acc_.data(), st);
+        acc_.assign(frame.acc_words() * npix, 0);
+        frame.accumulate(points, key_.data(), acc_.data(), st, blocks);
     }
     frame.resolve(key_.data(), acc_.data(), image_);
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -64,6 +65,28 @@ SplatFrame::SplatFrame(const Camera& cam, SplatKernel kernel, const ShadingParam
     if (kernel_ == SplatKernel::ewa) init_ewa();
 }
 
+std::uint32_t splat_base_color(const ShadingParams& sh, const PointRecord& p, std::span<const std::uint32_t> blocks,
+                               std::size_t i) {
+    std::array<std::uint8_t, 3> c = sh.base;
+    switch (sh.color_by) {
+        case ColorBy::none: break;
+        case ColorBy::value: c = map_color(sh.colormap, p.value, sh.value_lo, sh.value_hi); break;
+        case ColorBy::block: c = categorical_color(i < blocks.size() ? blocks[i] : 0); break;
+        case ColorBy::normal: {
+            const double n2 = double(p.normal[0]) * p.normal[0] + double(p.normal[1]) * p.normal[1] + double(p.normal[2]) * p.normal[2];
+            if (!(n2 > 0) || !std::isfinite(n2)) {
+                c = {128, 128, 128};
+                break;
+            }
+            const double inv = 1 / std::sqrt(n2);
+            for (int k = 0; k < 3; ++k)
+                c[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::lround(std::clamp((p.normal[k] * inv + 1) * 127.5, 0.0, 255.0)));
+            break;
+        }
+    }
+    return (std::uint32_t{c[0]} << 16) | (std::uint32_t{c[1]} << 8) | c[2];
+}
+
 void SplatFrame::merge_keys(std::uint64_t* dst, const std::uint64_t* src, std::size_t n) {
     for (std::size_t i = 0; i < n; ++i) dst[i] = std::min(dst[i], src[i]);
 }
@@ -72,8 +95,9 @@ void SplatFrame::merge_acc(std::int64_t* dst, const std::int64_t* src, std::size
     for (std::size_t i = 0; i < n; ++i) dst[i] += src[i];
 }
 
-void SplatFrame::draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats) const {
-    if (kernel_ == SplatKernel::quad) draw_quad(points, keys, stats);
+void SplatFrame::draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
+                      std::span<const std::uint32_t> blocks) const {
+    if (kernel_ == SplatKernel::quad) draw_quad(points, keys, stats, blocks);
     else draw_ewa(points, keys, stats);
 }
 
@@ -94,9 +118,10 @@ const Image& SplatRenderer::render(std::span<const PointRecord> points, SplatKer
 }
 
 Image render_splats(std::span<const PointRecord> points, const Camera& cam, SplatKernel kernel,
-                    const ShadingParams& shading, SplatStats* stats, std::optional<std::array<Vec3, 2>> bounds) {
+                    const ShadingParams& shading, SplatStats* stats, std::optional<std::array<Vec3, 2>> bounds,
+                    std::span<const std::uint32_t> blocks) {
     SplatRenderer r(cam, shading, bounds ? *bounds : point_bounds(points));
-    return r.render(points, kernel, stats);
+    return r.render(points, kernel, stats, blocks);
 }
 
 }  // namespace meshless

@@ -38,12 +38,24 @@
 #include <vector>
 
 #include "kernels/camera.hpp"
+#include "kernels/colormap.hpp"
 #include "kernels/records.hpp"
 #include "kernels/vec3.hpp"
 
 namespace meshless {
 
 enum class SplatKernel { quad, ewa };
+
+/// The base colour of each splat before shading (meshless splat --color):
+///   none:   ShadingParams::base for every point (the picture as before colouring existed);
+///   value:  colormap(value) over [value_lo, value_hi] (clamped; NaN grey);
+///   block:  categorical_color(block id) (kernels/colormap.hpp; the ids are given beside the points:
+///           Batch::point_block; a point without one gets id 0);
+///   normal: (n + 1) / 2 per component of the world-space unit normal (zero normal: grey).
+/// The colour is then lit like the surface colour (Lambert + Phong). With the EWA kernel the base
+/// colours of the fragments near the visible surface are blended with their Gaussian weights
+/// (3 more 64-bit fixed-point accumulators per pixel), so block colours blend across seams.
+enum class ColorBy { none, value, block, normal };
 
 struct ShadingParams {
     double ambient = 0.15, diffuse = 0.75, specular = 0.2, shininess = 24;
@@ -55,6 +67,10 @@ struct ShadingParams {
     double ewa_cutoff = 2.0;       ///< footprint cut-off, Mahalanobis radius; the disk edge maps here
     double ewa_lowpass_px2 = 1.0;  ///< screen-space low-pass variance added to the footprint (pixel^2)
     double depth_epsilon = 1.0;    ///< blend fragments within depth_epsilon * radius of the visible depth
+    // Per-point colour (see ColorBy)
+    ColorBy color_by = ColorBy::none;
+    Colormap colormap = Colormap::viridis;
+    double value_lo = 0, value_hi = 1;  ///< ColorBy::value: the colour map's range
 };
 
 struct Image {
@@ -106,11 +122,17 @@ public:
     bool two_pass() const { return kernel_ == SplatKernel::ewa; }
     const ViewTransform& view() const { return view_; }
 
+    /// Accumulator words per pixel (EWA): 4 (weight, weighted normal), 7 with per-point colours
+    /// (and the weighted base colour).
+    std::size_t acc_words() const { return shading_.color_by == ColorBy::none ? 4 : 7; }
+
     /// Quad: the only pass; ewa: pass 1 (visibility). Adds to stats.splats_drawn / fragments.
-    void draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats) const;
-    /// EWA pass 2 against the final visibility keys.
+    /// blocks: empty, or the block id of each point (ColorBy::block).
+    void draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
+              std::span<const std::uint32_t> blocks = {}) const;
+    /// EWA pass 2 against the final visibility keys; acc has acc_words() per pixel.
     void accumulate(std::span<const PointRecord> points, const std::uint64_t* keys, std::int64_t* acc,
-                    SplatStats& stats) const;
+                    SplatStats& stats, std::span<const std::uint32_t> blocks = {}) const;
     /// Shades the buffers into img (resized to width x height); acc is unused by the quad kernel.
     void resolve(const std::uint64_t* keys, const std::int64_t* acc, Image& img) const;
 
@@ -120,7 +142,8 @@ public:
 
 private:
     void init_ewa();
-    void draw_quad(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats) const;
+    void draw_quad(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
+                   std::span<const std::uint32_t> blocks) const;
     void draw_ewa(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats) const;
     void resolve_quad(const std::uint64_t* keys, Image& img) const;
     void resolve_ewa(const std::int64_t* acc, Image& img) const;
@@ -130,6 +153,10 @@ private:
     SplatKernel kernel_;
     std::vector<float> gauss_;  // ewa: Gaussian over q in [0, cutoff^2]
 };
+
+/// The base colour of point i (0xRRGGBB) under `shading`'s ColorBy (none: shading.base).
+std::uint32_t splat_base_color(const ShadingParams& shading, const PointRecord& p, std::span<const std::uint32_t> blocks,
+                               std::size_t i);
 
 class SplatRenderer {
 public:
@@ -141,7 +168,9 @@ public:
     const ViewTransform& view() const { return view_; }
 
     /// Renders with the current camera. The returned image lives until the next render.
-    const Image& render(std::span<const PointRecord> points, SplatKernel kernel, SplatStats* stats = nullptr);
+    /// blocks: empty, or one block id per point (ShadingParams::color_by == block).
+    const Image& render(std::span<const PointRecord> points, SplatKernel kernel, SplatStats* stats = nullptr,
+                        std::span<const std::uint32_t> blocks = {});
     /// Sets the camera's azimuth (degrees) and renders: one frame of a turntable.
     const Image& render(std::span<const PointRecord> points, SplatKernel kernel, double azimuth_deg,
                         SplatStats* stats = nullptr);
@@ -159,6 +188,6 @@ private:
 /// One frame; bounds default to point_bounds(points).
 Image render_splats(std::span<const PointRecord> points, const Camera& cam, SplatKernel kernel,
                     const ShadingParams& shading, SplatStats* stats = nullptr,
-                    std::optional<std::array<Vec3, 2>> bounds = {});
+                    std::optional<std::array<Vec3, 2>> bounds = {}, std::span<const std::uint32_t> blocks = {});
 
 }  // namespace meshless

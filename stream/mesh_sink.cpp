@@ -26,9 +26,14 @@ void MeshWeldSink::consume(Batch&& b) {
         }
         remap_[i] = fresh;
         mesh_.xyz.insert(mesh_.xyz.end(), &m.xyz[3 * i], &m.xyz[3 * i] + 3);
-        mesh_.normals.insert(mesh_.normals.end(), &m.normals[3 * i], &m.normals[3 * i] + 3);
+        if (!m.normals.empty()) mesh_.normals.insert(mesh_.normals.end(), &m.normals[3 * i], &m.normals[3 * i] + 3);
     }
     for (std::uint32_t t : m.tri) mesh_.tri.push_back(remap_[t]);
+    if (!m.block.empty() || !mesh_.block.empty()) {
+        if (m.block.size() != m.triangle_count() || mesh_.block.size() + m.block.size() != mesh_.triangle_count())
+            throw FormatError("mesh writer: mesh pieces with and without block ids mixed");
+        mesh_.block.insert(mesh_.block.end(), m.block.begin(), m.block.end());
+    }
 }
 
 void MeshWeldSink::finish() {

@@ -5,29 +5,40 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
+#include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "kernels/errors.hpp"
 
 namespace meshless {
 
-PointSpool::PointSpool(const std::string& purpose) {
+std::FILE* PointSpool::create(const std::string& purpose, std::string& name) {
     const char* dir = std::getenv("TMPDIR");
     std::string tmpl = std::string(dir && *dir ? dir : "/tmp") + "/meshless-" + purpose + "-XXXXXX";
     const int fd = ::mkstemp(tmpl.data());
     if (fd < 0) throw IoError(tmpl + ": cannot create the temporary point spool: " + std::strerror(errno));
-    name_ = tmpl;
-    ::unlink(name_.c_str());  // unlinked: the space is freed whatever happens to the process
-    f_ = ::fdopen(fd, "w+b");
-    if (!f_) {
+    name = tmpl;
+    ::unlink(name.c_str());  // unlinked: the space is freed whatever happens to the process
+    std::FILE* f = ::fdopen(fd, "w+b");
+    if (!f) {
         const int e = errno;
         ::close(fd);
-        throw IoError(name_ + ": cannot open the temporary point spool: " + std::strerror(e));
+        throw IoError(name + ": cannot open the temporary point spool: " + std::strerror(e));
     }
+    return f;
 }
+
+PointSpool::PointSpool(const std::string& purpose) : purpose_(purpose) { f_ = create(purpose, name_); }
 
 PointSpool::~PointSpool() {
     if (f_) std::fclose(f_);
+    if (blocks_) std::fclose(blocks_);
+}
+
+std::optional<std::array<double, 2>> PointSpool::value_range() const {
+    if (!any_value_) return std::nullopt;
+    return std::array<double, 2>{vlo_, vhi_};
 }
 
 void PointSpool::fail(const char* what, int err) const {
@@ -35,39 +46,68 @@ void PointSpool::fail(const char* what, int err) const {
                   (err ? std::strerror(err) : "short file"));
 }
 
-void PointSpool::append(std::span<const PointRecord> points) {
+void PointSpool::append(std::span<const PointRecord> points, std::span<const std::uint32_t> blocks) {
     if (points.empty()) return;
+    if (!blocks.empty() && blocks.size() != points.size())
+        throw FormatError("point spool: " + std::to_string(blocks.size()) + " block ids for " + std::to_string(points.size()) + " points");
+    if (count_ == 0 && !blocks.empty()) blocks_ = create(purpose_ + "-blocks", blocks_name_);
+    if (blocks.empty() != (blocks_ == nullptr))
+        throw FormatError("point spool: points with and without block ids mixed in one input");
     errno = 0;
     if (std::fwrite(points.data(), sizeof(PointRecord), points.size(), f_) != points.size()) fail("write to", errno);
+    if (blocks_ && std::fwrite(blocks.data(), sizeof(std::uint32_t), blocks.size(), blocks_) != blocks.size())
+        fail("write to", errno);
     count_ += points.size();
     bounds_.add(points);
+    for (std::uint32_t b : blocks) block_count_ = std::max(block_count_, b == ~std::uint32_t{0} ? b : b + 1);
+    for (const PointRecord& p : points) {
+        if (!std::isfinite(p.value)) continue;
+        if (!any_value_) vlo_ = vhi_ = p.value;
+        vlo_ = std::min<double>(vlo_, p.value);
+        vhi_ = std::max<double>(vhi_, p.value);
+        any_value_ = true;
+    }
 }
 
 void PointSpool::observe(const Batch& b) {
     if (b.kind != RecordKind::point)
         throw FormatError("point spool: input holds unprojected samples; run 'meshless project' first");
-    append(b.points);
+    append(b.points, b.point_block);
 }
 
 void PointSpool::flush() {
     errno = 0;
     if (std::fflush(f_) != 0) fail("write to", errno);
+    if (blocks_ && std::fflush(blocks_) != 0) fail("write to", errno);
+}
+
+void PointSpool::pread_all(std::FILE* f, const std::string& name, char* dst, std::size_t want, std::uint64_t offset) {
+    const int fd = ::fileno(f);
+    std::size_t got = 0;
+    while (got < want) {
+        const ssize_t r = ::pread(fd, dst + got, want - got, static_cast<off_t>(offset + got));
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0)
+            throw IoError(name + ": cannot read back from the point spool (deleted temporary file): " +
+                          (r < 0 ? std::strerror(errno) : "short file"));
+        got += static_cast<std::size_t>(r);
+    }
+}
+
+void PointSpool::read_blocks(std::uint64_t first, std::span<std::uint32_t> out) const {
+    if (!blocks_) throw std::logic_error("PointSpool::read_blocks: the points have no block ids");
+    if (first + out.size() > count_)
+        throw IoError(blocks_name_ + ": cannot read block ids " + std::to_string(first) + ".." + std::to_string(first + out.size()) +
+                      " back from the point spool (deleted temporary file): it holds " + std::to_string(count_));
+    pread_all(blocks_, blocks_name_, reinterpret_cast<char*>(out.data()), out.size() * sizeof(std::uint32_t),
+              first * sizeof(std::uint32_t));
 }
 
 void PointSpool::read(std::uint64_t first, std::span<PointRecord> out) const {
     if (first + out.size() > count_)
         throw IoError(name_ + ": cannot read points " + std::to_string(first) + ".." + std::to_string(first + out.size()) +
                       " back from the point spool (deleted temporary file): it holds " + std::to_string(count_));
-    const int fd = ::fileno(f_);
-    const std::size_t want = out.size() * sizeof(PointRecord);
-    char* dst = reinterpret_cast<char*>(out.data());
-    std::size_t got = 0;
-    while (got < want) {
-        const ssize_t r = ::pread(fd, dst + got, want - got, static_cast<off_t>(first * sizeof(PointRecord) + got));
-        if (r < 0 && errno == EINTR) continue;
-        if (r <= 0) fail("read back from", r < 0 ? errno : 0);
-        got += static_cast<std::size_t>(r);
-    }
+    pread_all(f_, name_, reinterpret_cast<char*>(out.data()), out.size() * sizeof(PointRecord), first * sizeof(PointRecord));
 }
 
 PointSpoolSource::PointSpoolSource(PointSpool& spool, std::size_t batch_records)
@@ -87,6 +127,14 @@ std::optional<Batch> PointSpoolSource::next() {
     }
     b.points.resize(n);
     spool_.read(at_, b.points);
+    if (spool_.has_blocks()) {
+        {
+            std::lock_guard lock(m_);
+            b.point_block.swap(spare_blocks_);
+        }
+        b.point_block.resize(n);
+        spool_.read_blocks(at_, b.point_block);
+    }
     at_ += n;
     return b;
 }
@@ -95,12 +143,13 @@ bool PointSpoolSource::recycle(Batch& consumed) {
     std::lock_guard lock(m_);
     if (spare_.capacity() != 0 || consumed.points.capacity() == 0) return false;
     spare_.swap(consumed.points);
+    if (spare_blocks_.capacity() == 0) spare_blocks_.swap(consumed.point_block);
     return true;
 }
 
 std::size_t PointSpoolSource::retained_bytes() {
     std::lock_guard lock(m_);
-    return spare_.capacity() * sizeof(PointRecord);
+    return spare_.capacity() * sizeof(PointRecord) + spare_blocks_.capacity() * sizeof(std::uint32_t);
 }
 
 }  // namespace meshless

@@ -6,7 +6,11 @@
 // The file is created in $TMPDIR (else /tmp) as meshless-PURPOSE-XXXXXX and unlinked at once, so
 // its space is freed however the process ends; it holds raw PointRecords (32 bytes each, native
 // byte order), in the order appended. The spool tracks the bounds of the finite positions
-// (kernels/splat_rasterizer.hpp PointBounds), known once every point is in.
+// (kernels/splat_rasterizer.hpp PointBounds) and the range of the finite values, known once every
+// point is in. Points that come with block ids (Batch::point_block, the multiblock path) keep them:
+// a second unlinked file (meshless-PURPOSE-blocks-XXXXXX) holds one uint32 per point, and the
+// source replays them into Batch::point_block. Either every point has an id or none does (a
+// batch with points and without ids after one with them, or the reverse, is a FormatError).
 //
 // PointSpool is a Sink (requires point batches: FormatError on samples), so a graph can end in it;
 // finish() flushes. PointSpoolSource replays it in batches of at most kMaxBatchRecords, with dense
@@ -19,6 +23,7 @@
 #include <array>
 #include <cstdio>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -36,8 +41,8 @@ public:
     PointSpool(const PointSpool&) = delete;
     PointSpool& operator=(const PointSpool&) = delete;
 
-    /// Appends points (buffered: call flush() before read()).
-    void append(std::span<const PointRecord> points);
+    /// Appends points (buffered: call flush() before read()); blocks: empty or one id per point.
+    void append(std::span<const PointRecord> points, std::span<const std::uint32_t> blocks = {});
     void consume(Batch&& b) override { observe(b); }
     void observe(const Batch& b) override;
     void finish() override { flush(); }
@@ -46,6 +51,14 @@ public:
     std::uint64_t size() const { return count_; }
     /// point_bounds() of every point appended.
     std::array<Vec3, 2> bounds() const { return bounds_.bounds(); }
+    /// {min, max} of the finite values appended; nullopt when there is none.
+    std::optional<std::array<double, 2>> value_range() const;
+    /// True when the points came with block ids.
+    bool has_blocks() const { return blocks_ != nullptr; }
+    /// 1 + the largest block id appended (0 without ids).
+    std::uint32_t block_count() const { return block_count_; }
+    /// Reads the block ids of points [first, first + out.size()); has_blocks() must be true.
+    void read_blocks(std::uint64_t first, std::span<std::uint32_t> out) const;
     /// Reads points [first, first + out.size()) into out; they must all have been appended.
     void read(std::uint64_t first, std::span<PointRecord> out) const;
     /// The file's name as created (it no longer exists in the directory).
@@ -53,7 +66,14 @@ public:
 
 private:
     [[noreturn]] void fail(const char* what, int err) const;
+    static std::FILE* create(const std::string& purpose, std::string& name);
+    static void pread_all(std::FILE* f, const std::string& name, char* dst, std::size_t bytes, std::uint64_t offset);
     std::FILE* f_ = nullptr;
+    std::FILE* blocks_ = nullptr;
+    std::string purpose_, blocks_name_;
+    double vlo_ = 0, vhi_ = 0;
+    bool any_value_ = false;
+    std::uint32_t block_count_ = 0;
     std::string name_;
     std::uint64_t count_ = 0;
     PointBounds bounds_;
@@ -76,6 +96,7 @@ private:
     std::uint64_t seq_ = 0;
     std::mutex m_;  // recycle() may run on the sink's thread while next() runs
     std::vector<PointRecord> spare_;
+    std::vector<std::uint32_t> spare_blocks_;
 };
 
 }  // namespace meshless

@@ -21,6 +21,7 @@ struct SplatSink::Canvas {
     LargeBuffer<std::uint64_t> keys;
     LargeBuffer<std::int64_t> acc;
     std::vector<PointRecord> batch;  // EWA pass 2: the spooled batch being replayed
+    std::vector<std::uint32_t> blocks;  // ... and its block ids (when the spool has them)
     SplatStats stats;
 };
 
@@ -34,9 +35,11 @@ struct SplatSink::Canvases {
 };
 
 namespace {
-void require_points(const Batch& b) {
+void require_points(const Batch& b, const ShadingParams& sh) {
     if (b.kind != RecordKind::point)
         throw FormatError("splat: input holds unprojected samples; run 'meshless project' first");
+    if (sh.color_by == ColorBy::block && !b.points.empty() && b.point_block.size() != b.points.size())
+        throw FormatError("splat: colouring by block (--color block), but the points carry no block ids");
 }
 }  // namespace
 
@@ -44,9 +47,9 @@ class SplatSink::DrawStage final : public Stage {
 public:
     explicit DrawStage(SplatSink& s) : s_(s) {}
     void process(Batch& b) const override {
-        require_points(b);
+        require_points(b, s_.shading_);
         Canvas& c = s_.canvases_->local(s_.frame_);
-        s_.frame_.draw(b.points, c.keys.data(), c.stats);
+        s_.frame_.draw(b.points, c.keys.data(), c.stats, b.point_block);
     }
 
 private:
@@ -55,7 +58,7 @@ private:
 
 SplatSink::SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams& shading,
                      const std::array<Vec3, 2>& bounds, int threads, const PointSpool* replay)
-    : frame_(cam, kernel, shading, bounds), threads_(std::max(threads, 1)), canvases_(std::make_unique<Canvases>()) {
+    : frame_(cam, kernel, shading, bounds), shading_(shading), threads_(std::max(threads, 1)), canvases_(std::make_unique<Canvases>()) {
     if (!frame_.two_pass()) return;
     if (!replay) own_spool_ = std::make_unique<PointSpool>("splat-spool");
     pass2_ = replay ? replay : own_spool_.get();
@@ -70,13 +73,15 @@ const Stage& SplatSink::stage() {
 }
 
 void SplatSink::observe(const Batch& b) {
-    require_points(b);
+    require_points(b, shading_);
     points_ += b.points.size();
     if (!staged_) {
         Canvas& c = canvases_->local(frame_);
-        frame_.draw(b.points, c.keys.data(), c.stats);
+        frame_.draw(b.points, c.keys.data(), c.stats, b.point_block);
     }
-    if (own_spool_) own_spool_->append(b.points);
+    // block ids are only needed again (pass 2) when the colour depends on them
+    if (own_spool_) own_spool_->append(b.points, shading_.color_by == ColorBy::block ? std::span<const std::uint32_t>(b.point_block)
+                                                                                      : std::span<const std::uint32_t>());
 }
 
 void SplatSink::finish() {
@@ -106,14 +111,23 @@ void SplatSink::finish() {
         // Pass 2 replays the spool in batches; each task reads its own batch (pread), so threads
         // meet only at the end, and memory is one batch + one accumulator per thread.
         const std::uint64_t nbatch = (points_ + kMaxBatchRecords - 1) / kMaxBatchRecords;
+        const std::size_t words = frame_.acc_words();
+        if (shading_.color_by == ColorBy::block && points_ > 0 && !pass2_->has_blocks())
+            throw FormatError("splat: colouring by block (--color block), but the spooled points carry no block ids");
+        const bool with_blocks = shading_.color_by == ColorBy::block;
         oneapi::tbb::enumerable_thread_specific<Canvas> accs;
         auto replay = [&](std::uint64_t i) {
             Canvas& c = accs.local();
-            if (c.acc.empty()) c.acc.assign(4 * npix, 0);
+            if (c.acc.empty()) c.acc.assign(words * npix, 0);
             const std::uint64_t first = i * kMaxBatchRecords;
             c.batch.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kMaxBatchRecords, points_ - first)));
             pass2_->read(first, c.batch);
-            frame_.accumulate(c.batch, keys.data(), c.acc.data(), c.stats);
+            c.blocks.clear();
+            if (with_blocks) {
+                c.blocks.resize(c.batch.size());
+                pass2_->read_blocks(first, c.blocks);
+            }
+            frame_.accumulate(c.batch, keys.data(), c.acc.data(), c.stats, c.blocks);
         };
         if (threads_ == 1) {
             for (std::uint64_t i = 0; i < nbatch; ++i) replay(i);
@@ -130,10 +144,10 @@ void SplatSink::finish() {
             stats_.fragments += c.stats.fragments;
             if (c.acc.empty()) continue;
             if (acc.empty()) acc = std::move(c.acc);
-            else SplatFrame::merge_acc(acc.data(), c.acc.data(), 4 * npix);
+            else SplatFrame::merge_acc(acc.data(), c.acc.data(), words * npix);
             c.acc = {};
         }
-        if (acc.empty()) acc.assign(4 * npix, 0);
+        if (acc.empty()) acc.assign(words * npix, 0);
         own_spool_.reset();
     }
     frame_.resolve(keys.data(), acc.data(), image_);

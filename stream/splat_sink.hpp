@@ -20,6 +20,9 @@
 // a per-thread partial buffer (the batch passes through unchanged); partial buffers are merged by
 // min (keys) and integer sum (EWA accumulators) in finish(). Without stage(), consume() draws
 // (serial). finish() replays the EWA spool with `threads` threads (its own task arena).
+// Colours (ShadingParams::color_by, kernels/splat_rasterizer.hpp): block colours read each batch's
+// Batch::point_block (and the spool keeps them for pass 2); a non-empty batch without them is a
+// FormatError when colouring by block.
 // Errors: FormatError on sample batches; IoError naming the spool file when it cannot be created,
 // written or read back; std::logic_error when a `replay` spool does not hold the points drawn. Not thread-safe apart from the stage (Sink rules, stream/stage.hpp).
 #pragma once
@@ -63,6 +66,7 @@ private:
     class DrawStage;
 
     SplatFrame frame_;
+    ShadingParams shading_;
     int threads_;
     std::unique_ptr<Canvases> canvases_;
     std::unique_ptr<DrawStage> stage_;

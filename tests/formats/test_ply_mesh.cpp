@@ -149,3 +149,36 @@ TEST_CASE("ply mesh: inconsistent meshes are refused by the writer", "[mc]") {
     CHECK_FALSE(fs::exists(dir / "a.ply"));
     CHECK_THROWS_AS(write_ply_mesh(small_mesh(), dir.path.string()), IoError);  // a directory
 }
+
+TEST_CASE("ply mesh: per-face block ids round trip, bad ones are refused", "[mc][block_mc]") {
+    meshless::test::TempDir dir("plymesh-block");
+    Mesh m = small_mesh();
+    m.block.resize(m.triangle_count());
+    for (std::size_t t = 0; t < m.block.size(); ++t) m.block[t] = static_cast<std::uint32_t>(t * 2654435761u % 7u) + (t == 0 ? 4000000000u : 0u);
+    const auto path = (dir / "b.ply").string();
+    write_ply_mesh(m, path);
+    CHECK(slurp(path).find("property uint block\n") != std::string::npos);
+    const Mesh r = read_ply_mesh(path);
+    CHECK(r.block == m.block);
+    CHECK(r.tri == m.tri);
+    // a mesh without ids writes no property and reads back without ids
+    Mesh plain = small_mesh();
+    write_ply_mesh(plain, path);
+    CHECK(slurp(path).find("block") == std::string::npos);
+    CHECK(read_ply_mesh(path).block.empty());
+    // ids of another count than the triangles
+    m.block.pop_back();
+    CHECK_THROWS_AS(write_ply_mesh(m, path), std::invalid_argument);
+    // ASCII: a quad gets its id twice; a negative, fractional or list id is refused
+    const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n";
+    const std::string verts = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+    spit(dir / "q.ply", head + "element face 1\nproperty list uchar int vertex_indices\nproperty int block\nend_header\n" + verts + "4 0 1 2 3 5\n");
+    CHECK(read_ply_mesh((dir / "q.ply").string()).block == std::vector<std::uint32_t>{5, 5});
+    for (const char* bad : {"4 0 1 2 3 -1\n", "4 0 1 2 3 2.5\n"}) {
+        spit(dir / "q.ply", head + "element face 1\nproperty list uchar int vertex_indices\nproperty float block\nend_header\n" + verts + bad);
+        CHECK_THROWS_AS(read_ply_mesh((dir / "q.ply").string()), FormatError);
+    }
+    spit(dir / "q.ply", head + "element face 1\nproperty list uchar int vertex_indices\nproperty list uchar int block\nend_header\n" + verts +
+                            "4 0 1 2 3 1 7\n");
+    CHECK_THROWS_AS(read_ply_mesh((dir / "q.ply").string()), FormatError);
+}
