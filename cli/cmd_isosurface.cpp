@@ -9,7 +9,9 @@
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/isosurface_graph.hpp"
+#include "cli/field_cli.hpp"
 #include "cli/isosurface_mpi.hpp"
+#include "cli/multiblock_isosurface.hpp"
 #include "cli/mpi_session.hpp"
 #include "cli/render_output.hpp"
 #include "cli/sample_store_cli.hpp"
@@ -81,9 +83,20 @@ int cmd_isosurface(int argc, char** argv) {
     add_memory_option(a);
     add_thread_option(a);
     add_camera_options(a);
-    a.epilog("examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
+    a.epilog("BLOCKS (PLOT3D, .vts pieces, .vtm/.vthb, or several files): the multiblock/AMR isosurface of chapter 4\n"
+             "          (meshless isosurface BLOCKS... --help for its options).\n"
+             "examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
              "          meshless isosurface vol.mlb --iso 100.5 --memory 256M -o out.ply\n"
              "          mpirun -np 4 meshless isosurface vol.mlb --iso 100.5 -o out.ply   (ranks split the active bricks)\n");
+    {
+        // multiblock / AMR inputs (chapter 4) have their own graph and options
+        Args blocks("isosurface", "", "");
+        add_field_options(blocks);
+        add_camera_options(blocks);
+        blocks.option("samples", "", "", "").option("tolerance", "", "", "").option("max-iterations", "", "", "")
+            .option("max-travel", "", "", "");
+        if (blocks_invocation(scan_positionals(argc, argv, 2, {&a, &blocks}))) return isosurface_blocks(argc, argv);
+    }
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_finite(a.require("iso"), "--iso");
     const auto out = a.get("output");

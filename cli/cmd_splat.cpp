@@ -67,6 +67,8 @@ int cmd_splat(int argc, char** argv) {
         reader = std::make_unique<StreamReader>(in->f, in->name);
         reader->read_meta();
         bounds = meta_bounds(reader->meta());
+        if (reader->kind() == RecordKind::seed)
+            throw UsageError(in->name + ": holds unprojected multiblock seeds; project them first: meshless project --field KIND BLOCKS...");
         source = std::make_unique<StreamSource>(*reader);
         if (reader->kind() == RecordKind::sample) {
             // paradigms (B)/(D): projection at render time

@@ -386,8 +386,8 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
 
 std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
-    for (const char* k : {"source", "iso", "projection", "grid_dims", "grid_spacing", "bounds_lo", "bounds_hi",
-                          "volume_bounds_lo", "volume_bounds_hi"})
+    for (const char* k : {"source", "iso", "projection", "field", "samples", "tolerance", "blocks", "grid_dims", "grid_spacing",
+                          "bounds_lo", "bounds_hi", "volume_bounds_lo", "volume_bounds_hi"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
 }

@@ -61,11 +61,14 @@ struct FieldNewtonStats {
 /// Projects every seed. Outputs (each of size seeds.size()): pos[i] the last accepted position
 /// (the surface point when converged), grad[i] the gradient there, status[i] why it stopped.
 /// max_displacement, when not empty (size seeds.size()), is a per-seed limit used instead of
-/// params.max_displacement (the smaller of the two is NOT taken: the span wins).
+/// params.max_displacement (the smaller of the two is NOT taken: the span wins); likewise
+/// tolerance, when not empty, is a per-seed tolerance used instead of params.tolerance (the
+/// multiblock seeds' tolerance is relative to their cell's size, section 4.4).
 /// Adds the counts to `stats`.
 void project_onto_field(const Field& f, double iso, std::span<const Vec3> seeds, const FieldNewtonParams& params,
                         std::span<const double> max_displacement, std::span<Vec3> pos, std::span<Vec3> grad,
-                        std::span<FieldNewtonStatus> status, FieldNewtonStats& stats);
+                        std::span<FieldNewtonStatus> status, FieldNewtonStats& stats,
+                        std::span<const double> tolerance = {});
 
 const char* to_string(FieldNewtonStatus s);
 
