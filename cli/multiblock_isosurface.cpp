@@ -14,6 +14,7 @@
 #include "cli/errors.hpp"
 #include "cli/field_cli.hpp"
 #include "cli/isosurface_graph.hpp"
+#include "cli/mpi_session.hpp"
 #include "cli/point_set_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"
@@ -257,6 +258,8 @@ int isosurface_blocks(int argc, char** argv) {
              "          meshless isosurface multicomb_0.vts multicomb_1.vts multicomb_2.vts --iso 0.4 -o mc.ply\n"
              "pipes:    meshless generate BLOCKS --iso V | meshless project --field mpu BLOCKS | meshless write -o out.ply\n");
     if (!a.parse(argc, argv, 2)) return 0;
+    if (launched_world_size() > 1)
+        throw UsageError("multiblock inputs are not split over MPI ranks: run meshless isosurface BLOCKS... without mpirun");
     const double iso = parse_finite(a.require("iso"), "--iso");
     const auto out = a.get("output");
     const auto png = a.get("png");

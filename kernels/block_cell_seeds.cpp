@@ -4,8 +4,10 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "kernels/barycentric_lattice.hpp"
+#include "kernels/errors.hpp"
 #include "kernels/hex_marching_cubes.hpp"
 #include "kernels/multiblock_splat_radius.hpp"
 
@@ -97,7 +99,13 @@ BlockSeedPlan plan_block_seeds(const Multiblock& mb, double iso) {
     plan.value_range = {nan, nan};
     bool no_nodes = true, no_active = true;
     for (const StructuredBlock& b : mb.blocks) {
-        assert(static_cast<std::int64_t>(b.node.size()) == b.node_count() && b.value.size() == b.node.size());
+        const bool dims_ok = b.dims[0] >= 1 && b.dims[1] >= 1 && b.dims[2] >= 1 &&
+                             b.dims[0] <= std::numeric_limits<std::int64_t>::max() / b.dims[1] &&
+                             b.dims[0] * b.dims[1] <= std::numeric_limits<std::int64_t>::max() / b.dims[2];
+        if (!dims_ok || static_cast<std::int64_t>(b.node.size()) != b.node_count() || b.value.size() != b.node.size() ||
+            (!b.valid.empty() && b.valid.size() != b.node.size()))
+            throw InvalidArgument("block seed plan: block " + std::to_string(plan.orientation.size()) +
+                                  " has node, value or valid arrays that do not match its dims");
         plan.orientation.push_back(block_orientation(b));
         plan.first_cell.push_back(plan.first_cell.back() + block_cell_count(b));
         for (std::int64_t n = 0; n < b.node_count(); ++n) {

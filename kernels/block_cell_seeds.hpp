@@ -23,7 +23,8 @@
 // increasing values in world space. Zero-area triangles (crossings at a shared corner) give no seed
 // and are counted.
 // Units: world positions, the data's values. Pure and reentrant; allocates only in `out`.
-// Throws nothing but std::bad_alloc (preconditions are asserted).
+// block_cell_seeds throws nothing but std::bad_alloc (preconditions are asserted); plan_block_seeds
+// checks the blocks' array sizes.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -69,6 +70,8 @@ struct BlockSeedPlan {
 };
 
 /// One serial pass over mb. A cell is crossed when some corner value >= iso and some < iso.
+/// Throws InvalidArgument when a block's arrays do not match its dims (block_cell_seeds relies on
+/// the plan having checked them).
 BlockSeedPlan plan_block_seeds(const Multiblock& mb, double iso);
 
 /// Appends the seeds of cells [c0, c1) of block `b` (local cell indices, 0 <= c0 <= c1 <=

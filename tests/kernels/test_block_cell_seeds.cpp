@@ -13,6 +13,7 @@
 
 #include "kernels/barycentric_lattice.hpp"
 #include "kernels/block_cell_seeds.hpp"
+#include "kernels/errors.hpp"
 
 using namespace meshless;
 
@@ -181,4 +182,19 @@ TEST_CASE("block seed plan: value range, crossed cells, bounds, global cell numb
     CHECK(plan.orientation == std::vector<int>{1, 1, 1});
     const BlockSeedPlan none = plan_block_seeds(mb, 100);
     CHECK(none.active_cells == 0);
+}
+
+TEST_CASE("block seed plan: blocks whose arrays do not match their dims are refused", "[block-seeds]") {
+    Multiblock mb;
+    mb.blocks.push_back(make_block({3, 3, 3}, cube_map(0, 1), sphere));
+    mb.blocks[0].value.pop_back();
+    CHECK_THROWS_AS(plan_block_seeds(mb, 1.0), InvalidArgument);
+    mb.blocks[0] = make_block({3, 3, 3}, cube_map(0, 1), sphere);
+    mb.blocks[0].valid.assign(5, 1);
+    CHECK_THROWS_AS(plan_block_seeds(mb, 1.0), InvalidArgument);
+    mb.blocks[0].valid.clear();
+    mb.blocks[0].dims = {3, 3, 4};
+    CHECK_THROWS_AS(plan_block_seeds(mb, 1.0), InvalidArgument);
+    mb.blocks[0].dims = {3, 3, 3};
+    CHECK_NOTHROW(plan_block_seeds(mb, 1.0));
 }
