@@ -19,6 +19,7 @@
 #include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
+#include "formats/volume_reader.hpp"
 #include "kernels/barycentric_lattice.hpp"
 #include "kernels/block_cell_seeds.hpp"
 #include "kernels/errors.hpp"
@@ -221,7 +222,11 @@ std::vector<std::string> scan_positionals(int argc, char** argv, int first, std:
 }
 
 bool blocks_invocation(const std::vector<std::string>& positionals) {
-    return positionals.size() > 1 || (positionals.size() == 1 && looks_like_multiblock(positionals[0]));
+    for (const auto& p : positionals)
+        if (looks_like_multiblock(p)) return true;
+    // several inputs are blocks (pieces of a multiblock set) unless the first is a volume: then the
+    // volume command reports the extra argument
+    return positionals.size() > 1 && !looks_like_volume(positionals[0]);
 }
 
 bool project_seeds_invocation(int argc, char** argv) {

@@ -36,8 +36,9 @@ inline constexpr int kDefaultLatticeN = 3;
 /// (an option that takes a value in any of them consumes the next argument).
 std::vector<std::string> scan_positionals(int argc, char** argv, int first, std::initializer_list<const Args*> parsers);
 
-/// True when the positionals name blocks: several inputs, or one that looks like a multiblock file
-/// (formats/multiblock_reader.hpp looks_like_multiblock).
+/// True when the positionals name blocks: one that looks like a multiblock file
+/// (formats/multiblock_reader.hpp looks_like_multiblock), or several inputs the first of which is
+/// not a volume (formats/volume_reader.hpp looks_like_volume).
 bool blocks_invocation(const std::vector<std::string>& positionals);
 
 int isosurface_blocks(int argc, char** argv);
