@@ -9,7 +9,7 @@ namespace meshless {
 
 std::int64_t block_seed_unit_cells(int n) {
     const auto per_cell = static_cast<std::int64_t>(kMcMaxTriangles) * static_cast<std::int64_t>(lattice_size(std::max(1, n)));
-    return std::clamp<std::int64_t>(static_cast<std::int64_t>(kMaxBatchRecords) / per_cell, 1, 4096);
+    return std::clamp<std::int64_t>(static_cast<std::int64_t>(kMaxBatchRecords) / per_cell, 1, 256);
 }
 
 BlockCellSource::BlockCellSource(std::vector<std::int64_t> first_cell, std::int64_t cells_per_unit)

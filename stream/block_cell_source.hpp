@@ -14,7 +14,9 @@
 namespace meshless {
 
 /// Cells per work unit for lattice parameter n: kMaxBatchRecords / (kMcMaxTriangles x n(n+1)/2 seeds),
-/// at most 4096 and at least 1.
+/// at most 256 and at least 1. 256: the isosurface crosses few cells, unevenly, so units are kept
+/// small for the threads to share the Newton work evenly (the three combustor pieces, 1,760 cells,
+/// make a few units per piece rather than one each); a unit costs one batch, a few Field::evaluate calls.
 std::int64_t block_seed_unit_cells(int n);
 
 class BlockCellSource final : public Source {
