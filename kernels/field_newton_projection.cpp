@@ -55,6 +55,9 @@ void project_onto_field(const Field& f, double iso, std::span<const Vec3> seeds,
             return true;
         }
         if (std::abs(r) <= tol * norm(g)) {
+            // the last Newton step, whose length is within the tolerance, taken without evaluating
+            // again (quadratic convergence puts p' far closer to the surface than p)
+            if (params.final_step) pos[i] = pos[i] + g * (-r / dot(g, g));
             finish(FieldNewtonStatus::converged, i, status, stats);
             return true;
         }

@@ -36,6 +36,10 @@ struct FieldNewtonParams {
     int max_iterations = 20;  ///< field evaluations per point after the seed's (halvings count)
     int max_halvings = 12;    ///< consecutive step halvings before a point is `stalled`
     double max_displacement = std::numeric_limits<double>::infinity();  ///< world units from the seed
+    /// On convergence, also take the last step p' = p - (f - iso) grad / |grad|^2 (at most `tolerance`
+    /// long) without a further evaluation: pos is p', grad stays the gradient at p. Newton's quadratic
+    /// convergence leaves p' much nearer the surface than the tolerance; off: pos is p.
+    bool final_step = false;
 };
 
 enum class FieldNewtonStatus : std::uint8_t { converged, flat, too_far, not_converged, stalled, nonfinite };

@@ -97,7 +97,9 @@ void FieldProjectStage::process_seeds(Batch& b) const {
         if (limited) limit[i] = p_.seed_max_travel * s.cell_diagonal;
     }
     FieldNewtonStats st;
-    project_onto_field(f_, iso_, seeds, p_.newton, limit, pos, grad, status, st, tolerance);
+    FieldNewtonParams np = p_.newton;
+    np.final_step = p_.seed_final_step;
+    project_onto_field(f_, iso_, seeds, np, limit, pos, grad, status, st, tolerance);
 
     std::vector<PointRecord>& out = b.points;  // a recycled batch brings its capacity
     std::vector<std::uint32_t>& block = b.point_block;

@@ -12,7 +12,8 @@
 // A batch of multiblock seeds (RecordKind::seed, kernels/block_cell_seeds.hpp; dissertation section
 // 4.4) is projected with a tolerance relative to each seed's cell: seed_tolerance x cell diagonal
 // (the dissertation's 0.01), and at most seed_max_travel cell diagonals from the seed (too_far
-// otherwise); each converged point gets the radius 2 (1 + d/l) base_radius
+// otherwise), taking the last within-tolerance step (seed_final_step, so points seeded in different
+// blocks agree far better than the tolerance); each converged point gets the radius 2 (1 + d/l) base_radius
 // (kernels/multiblock_splat_radius.hpp, d = distance travelled, l = cell diagonal), value = iso,
 // and the seed's block id in Batch::point_block.
 // busy_seconds(): wall time spent inside process(), summed over the threads (for points/s/core).
@@ -43,6 +44,7 @@ struct FieldProjectParams {
     bool limit_to_cell = false;  ///< samples: also limit displacement to half the cell diagonal
     double seed_tolerance = 0.01;  ///< seeds: tolerance = seed_tolerance x the seed's cell diagonal
     double seed_max_travel = std::numeric_limits<double>::infinity();  ///< seeds: limit, in cell diagonals
+    bool seed_final_step = true;  ///< seeds: take the last (within-tolerance) Newton step (FieldNewtonParams::final_step)
 };
 
 class FieldProjectStage final : public Stage {
