@@ -319,7 +319,9 @@ int isosurface_blocks(int argc, char** argv) {
 
     if (a.has("stats")) {
         const char* cmd = "isosurface";
-        print_seed_stats(cmd, in, seed ? seed->stats() : BlockSeedStats{}, n);
+        BlockSeedStats none;  // nothing crossed: no graph ran, the cells were only planned
+        none.cells = in.plan.total_cells();
+        print_seed_stats(cmd, in, seed ? seed->stats() : none, n);
         if (project) print_newton_stats(cmd, field_name, np, project->stats(), project->busy_seconds());
         std::fprintf(stderr,
                      "%s: %zu points; time: read %.3f s, plan %.3f s, field %.3f s, seeds + Newton + output %.3f s "
