@@ -277,8 +277,8 @@ int isosurface_blocks(int argc, char** argv) {
     const FieldProjectParams np = newton_params(a);
     const RenderSettings rs = render_settings(a);
     const int nthreads = threads(a);
-    (void)field_params(a);  // option errors before any reading
 
+    if (!a.get_or("field", "").ends_with(".mlf")) (void)field_params(a);  // option errors before any reading
     BlockInput in = read_blocks(a, iso);
     warn_if_inactive(in, iso);
     StreamMeta meta = block_meta(in, iso, n, a.command_line());
@@ -286,7 +286,8 @@ int isosurface_blocks(int argc, char** argv) {
     // the field: only when some cell is crossed (an empty output needs none)
     auto t0 = Clock::now();
     BuiltField field;
-    std::string field_name(field_kind_name(field_params(a).kind));
+    // (the name the built field reports; without a field, as --field names it)
+    std::string field_name = a.get_or("field", "rbf-grid");
     if (in.plan.active_cells > 0) {
         field = build_field(a, to_point_set(in.mb));
         field_name = field.field->name();
@@ -387,7 +388,6 @@ int project_seeds(int argc, char** argv) {
     if (!a.parse(argc, argv, 2)) return 0;
     const FieldProjectParams np = newton_params(a);
     const int nthreads = threads(a);
-    (void)field_params(a);
     const auto t0 = Clock::now();
     InputFile in(a.get_or("input", "-"));
     StreamReader reader(in.f, in.name);
