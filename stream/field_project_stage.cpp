@@ -1,11 +1,11 @@
 #include "stream/field_project_stage.hpp"
 
-#include "kernels/multiblock_splat_radius.hpp"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <vector>
+
+#include "kernels/multiblock_splat_radius.hpp"
 
 namespace meshless {
 
@@ -60,8 +60,12 @@ void FieldProjectStage::process(Batch& b) const {
 
     std::vector<PointRecord> out;
     out.reserve(static_cast<std::size_t>(st.converged));
+    // points that carry block ids keep those of the points that converged
+    const bool blocks = !samples && b.point_block.size() == n && n > 0;
+    std::size_t kept = 0;
     for (std::size_t i = 0; i < n; ++i) {
         if (status[i] != FieldNewtonStatus::converged) continue;
+        if (blocks) b.point_block[kept++] = b.point_block[i];
         const Vec3 nrm = grad[i] * (1.0 / norm(grad[i]));  // converged implies a non-zero gradient
         PointRecord r;
         r.pos[0] = static_cast<float>(pos[i].x);
@@ -75,6 +79,8 @@ void FieldProjectStage::process(Batch& b) const {
         out.push_back(r);
     }
     b.points = std::move(out);
+    if (blocks) b.point_block.resize(kept);
+    else b.point_block.clear();
     b.samples.clear();
     b.samples.shrink_to_fit();
     b.kind = RecordKind::point;

@@ -6,7 +6,8 @@
 // batch, in input order, holding the seeds that converged: position on the surface, unit normal
 // = grad f / |grad f| (pointing to increasing values, as every PointRecord in this project: see
 // kernels/records.hpp and kernels/project_sample.hpp), the seed's radius passed through, value = iso.
-// Seeds that did not converge are dropped and counted (stats()). With `limit_to_cell`, a sample's
+// Seeds that did not converge are dropped and counted (stats()); a point batch's block ids
+// (Batch::point_block) follow the points that stay. With `limit_to_cell`, a sample's
 // displacement is also limited to half its cell's diagonal (the criterion of Fig. 3.3), when the
 // cell size is finite and positive.
 // A batch of multiblock seeds (RecordKind::seed, kernels/block_cell_seeds.hpp; dissertation section

@@ -106,7 +106,7 @@ TEST_CASE("isosurface BLOCKS: in-process and piped give the same bytes for any -
     CHECK(after_meta(s1) == after_meta(slurp(d / "s2")));
 }
 
-TEST_CASE("isosurface BLOCKS: the PLY carries the block of each point; points on the sphere", "[cli][multiblock]") {
+TEST_CASE("isosurface BLOCKS: the PLY carries the block of each point, points on the sphere", "[cli][multiblock]") {
     TempDir d("mbply");
     const std::string xyz = write_sphere_blocks(d);
     const std::string D = d.path.string();

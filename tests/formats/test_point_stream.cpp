@@ -179,7 +179,7 @@ TEST_CASE("metadata text round trip", "[stream-codec]") {
     CHECK_THROWS_AS(bad.get_double("iso"), FormatError);
 }
 
-TEST_CASE("a point stream without blocks keeps the version-1 header bytes; seeds and blocks get theirs", "[stream-codec]") {
+TEST_CASE("a point stream without blocks keeps the version-1 header bytes, seeds and blocks get theirs", "[stream-codec]") {
     // golden header of a plain point stream: magic, version 1, kind 1, record size 32, flags 0, reserved 0
     const std::string s = encode({some_points(2, 1)}, false);
     const unsigned char golden[32] = {0x89, 'M', 'L', 'S', '\r', '\n', 0x1a, '\n', 1, 0, 0, 0, 1, 0, 0, 0,

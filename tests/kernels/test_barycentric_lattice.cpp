@@ -38,7 +38,7 @@ TEST_CASE("barycentric lattice: n(n+1)/2 distinct interior samples whose weights
     CHECK_THAT(c[0][1], Catch::WithinAbs(1.0 / 3.0, 1e-15));
 }
 
-TEST_CASE("barycentric lattice: the mean of the samples is the centroid; neighbours across an edge share no point", "[lattice]") {
+TEST_CASE("barycentric lattice: the mean of the samples is the centroid, neighbours across an edge share no point", "[lattice]") {
     const int n = 4;
     const auto w = barycentric_lattice(n);
     double m[3] = {0, 0, 0};

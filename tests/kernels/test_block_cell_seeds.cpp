@@ -140,7 +140,7 @@ TEST_CASE("block seeds: collapsed and inverted cells are skipped and counted", "
     }
 }
 
-TEST_CASE("block seeds: split cell ranges give the seeds of one range; blocks without cells give none", "[block-seeds]") {
+TEST_CASE("block seeds: split cell ranges give the seeds of one range, blocks without cells give none", "[block-seeds]") {
     const StructuredBlock b = make_block({10, 7, 6}, [](double i, double j, double k) {
         return Vec3{i * 0.3 + 0.05 * j, j * 0.25, k * 0.4 + 0.02 * i * i};  // curvilinear
     }, [](const Vec3& p) { return std::sin(2 * p.x) + std::cos(3 * p.y) * p.z; });

@@ -41,7 +41,7 @@ TEST_CASE("hex marching cubes: a plane x = 0.3 through an axis-aligned cell give
     CHECK(cross(f[0].v[1] - f[0].v[0], f[0].v[2] - f[0].v[0]).x < 0);
 }
 
-TEST_CASE("hex marching cubes: crossings on a sheared cell lie on its edges; no sign change, no triangle", "[hex_mc]") {
+TEST_CASE("hex marching cubes: crossings on a sheared cell lie on its edges, no sign change gives no triangle", "[hex_mc]") {
     HexCell c = unit_cell({0, 0, 0}, {1, 1, 1}, [](const Vec3& p) { return p.z; });
     for (int i = 4; i < 8; ++i) c.corner[static_cast<std::size_t>(i)].x += 0.5;  // shear the top face
     std::array<HexTriangle, kMcMaxTriangles> t;

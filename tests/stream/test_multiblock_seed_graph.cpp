@@ -377,3 +377,19 @@ TEST_CASE("seed streams and point streams with block ids round-trip through the 
     }
     std::fclose(f);
 }
+
+TEST_CASE("re-projecting points that carry block ids keeps the ids of the points that stay", "[multiblock-graph]") {
+    const SphereDistance f;
+    Batch b;
+    b.kind = RecordKind::point;
+    for (int i = 0; i < 5; ++i) {
+        PointRecord p{};
+        p.pos[0] = i == 2 ? 0.0f : 0.3f + 0.1f * static_cast<float>(i);  // point 2 sits where the gradient vanishes
+        b.points.push_back(p);
+        b.point_block.push_back(static_cast<std::uint32_t>(10 + i));
+    }
+    FieldProjectStage stage(f, 0.5);
+    stage.process(b);
+    REQUIRE(b.points.size() == 4);
+    CHECK(b.point_block == std::vector<std::uint32_t>{10, 11, 13, 14});
+}
