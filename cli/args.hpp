@@ -44,6 +44,13 @@ public:
     std::optional<std::array<double, 3>> get_triple(const std::string& name) const;
 
     const std::vector<std::string>& positional() const { return positional_; }
+    /// True when `token` ("--name" or "-x", no "=value") names a declared option that takes a
+    /// value (so the next argument is its value, not a positional): lets a command look at its
+    /// positionals before choosing which options to declare.
+    bool takes_value(const std::string& token) const {
+        const Spec* s = find(token);
+        return s && s->takes_value;
+    }
     std::string help_text() const;
     const std::string& command() const { return command_; }
     /// The command line as given (for provenance in stream metadata).

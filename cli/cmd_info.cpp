@@ -36,8 +36,9 @@ void info_stream(const std::string& path) {
         if (!r.next_data(buf)) break;
         ++frames;
     }
-    std::printf("%s: meshless %s stream, version %u, %zu-byte records\n", path.c_str(),
-                r.kind() == RecordKind::point ? "point" : "sample", kStreamVersion, record_size(r.kind()));
+    std::printf("%s: meshless %s stream%s, version %u, %zu-byte records\n", path.c_str(),
+                r.kind() == RecordKind::point ? "point" : (r.kind() == RecordKind::seed ? "seed" : "sample"),
+                r.has_blocks() ? " with block ids" : "", kStreamVersion, r.record_bytes());
     std::printf("  records: %llu in %llu DATA frames, END frame present\n", static_cast<unsigned long long>(r.total()),
                 static_cast<unsigned long long>(frames));
     for (const auto& [k, v] : r.meta().kv) std::printf("  %s: %s\n", k.c_str(), v.c_str());

@@ -9,7 +9,9 @@
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/isosurface_graph.hpp"
+#include "cli/field_cli.hpp"
 #include "cli/isosurface_mpi.hpp"
+#include "cli/multiblock_isosurface.hpp"
 #include "cli/mpi_session.hpp"
 #include "cli/render_output.hpp"
 #include "cli/sample_store_cli.hpp"
@@ -83,9 +85,21 @@ int cmd_isosurface(int argc, char** argv) {
     add_thread_option(a);
     add_camera_options(a);
     add_color_options(a);
-    a.epilog("examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
+    a.epilog("BLOCKS (PLOT3D, .vts pieces, .vtm/.vthb, or several files): the multiblock/AMR isosurface of chapter 4\n"
+             "          (meshless isosurface BLOCKS... --help for its options).\n"
+             "examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
              "          meshless isosurface vol.mlb --iso 100.5 --memory 256M -o out.ply\n"
              "          mpirun -np 4 meshless isosurface vol.mlb --iso 100.5 -o out.ply   (ranks split the active bricks)\n");
+    {
+        // multiblock / AMR inputs (chapter 4) have their own graph and options
+        Args blocks("isosurface", "", "");
+        add_field_options(blocks);
+        add_camera_options(blocks);
+        add_color_options(blocks);
+        blocks.option("samples", "", "", "").option("tolerance", "", "", "").option("max-iterations", "", "", "")
+            .option("max-travel", "", "", "");
+        if (blocks_invocation(scan_positionals(argc, argv, 2, {&a, &blocks}))) return isosurface_blocks(argc, argv);
+    }
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_finite(a.require("iso"), "--iso");
     const auto out = a.get("output");
@@ -107,13 +121,9 @@ int cmd_isosurface(int argc, char** argv) {
     if (cc.request == ColorRequest::block && !multiblock_input)
         throw UsageError((a.positional().empty() ? std::string("the input") : a.positional()[0]) +
                          ": a volume has no blocks; --color block needs multiblock points");
-    const ColorBy color_by = cc.request == ColorRequest::value    ? ColorBy::value
-                             : cc.request == ColorRequest::normal ? ColorBy::normal
-                             : cc.request == ColorRequest::block  ? ColorBy::block
-                                                                  : ColorBy::none;
     // (the range without --range: the volume's, set below once it is read; the MPI and sample-store
     // paths map the isovalue to the middle of the colour map)
-    apply_color(rs, color_by, cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
+    apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
 
     if (launched_world_size() > 1) {
         const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads,

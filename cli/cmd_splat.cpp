@@ -93,6 +93,8 @@ int cmd_splat(int argc, char** argv) {
         reader = std::make_unique<StreamReader>(in->f, in->name);
         reader->read_meta();
         bounds = meta_bounds(reader->meta());
+        if (reader->kind() == RecordKind::seed)
+            throw UsageError(in->name + ": holds unprojected multiblock seeds; project them first: meshless project --field KIND BLOCKS...");
         source = std::make_unique<StreamSource>(*reader);
         if (reader->kind() == RecordKind::sample) {
             // paradigms (B)/(D): projection at render time
@@ -126,16 +128,7 @@ int cmd_splat(int argc, char** argv) {
     }
     {
         const std::optional<std::array<double, 2>> seen = spool ? spool->value_range() : std::nullopt;
-        ColorBy by = ColorBy::none;
-        switch (cc.request) {
-            case ColorRequest::automatic:
-                by = !isosurface_input && seen && (*seen)[0] < (*seen)[1] ? ColorBy::value : ColorBy::none;
-                break;
-            case ColorRequest::value: by = ColorBy::value; break;
-            case ColorRequest::block: by = ColorBy::block; break;
-            case ColorRequest::normal: by = ColorBy::normal; break;
-            case ColorRequest::none: by = ColorBy::none; break;
-        }
+        const ColorBy by = color_by(cc, !isosurface_input && seen && (*seen)[0] < (*seen)[1] ? ColorBy::value : ColorBy::none);
         apply_color(rs, by, cc, cc.range ? *cc.range : seen ? *seen : std::array<double, 2>{0, 1});
         if (spool) rs.legend_blocks = spool->block_count();
     }

@@ -9,6 +9,8 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
+#include "cli/multiblock_isosurface.hpp"
+#include "cli/point_set_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/sample_store_writer.hpp"
@@ -82,7 +84,14 @@ int cmd_generate(int argc, char** argv) {
     add_volume_options(a);
     add_memory_option(a);
     add_thread_option(a);
-    a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png\n");
+    a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png\n"
+             "BLOCKS (PLOT3D, .vts pieces, .vtm/.vthb, or several files): multiblock seeds (meshless generate BLOCKS... --help)\n");
+    {
+        Args blocks("generate", "", "");
+        add_point_set_options(blocks, /*with_endian=*/false);
+        blocks.option("samples", "", "", "");
+        if (blocks_invocation(scan_positionals(argc, argv, 2, {&a, &blocks}))) return generate_blocks(argc, argv);
+    }
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.has("all")) return generate_all(a);
     const double iso = parse_finite(a.require("iso"), "--iso");
@@ -112,11 +121,15 @@ int cmd_project(int argc, char** argv) {
         .flag("stats", "print projection counts to stderr");
     add_compress_option(a);
     add_thread_option(a);
+    a.epilog("With --field KIND DATA...: projects a multiblock seed stream onto a meshless field (meshless project --field mpu --help).\n");
+    if (project_seeds_invocation(argc, argv)) return project_seeds(argc, argv);
     if (!a.parse(argc, argv, 2)) return 0;
     const Projection mode = parse_projection(a.get_or("projection", "approx"));
     const int nthreads = threads(a);
     InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
     StreamReader reader(in.f, in.name);
+    if (reader.kind() == RecordKind::seed)
+        throw UsageError(in.name + ": holds multiblock seeds; project them onto a field: meshless project --field KIND BLOCKS...");
     if (reader.kind() != RecordKind::sample)
         throw FormatError(in.name + ": holds projected points, expected a sample stream from 'meshless generate'");
     reader.read_meta();
@@ -146,16 +159,18 @@ int cmd_project(int argc, char** argv) {
 int cmd_write(int argc, char** argv) {
     Args a("write", "[INPUT|-] -o out.ply",
            "Writes a point stream (from `meshless project`) as a binary little-endian PLY with\n"
-           "x y z nx ny nz radius value, which MeshLab, ParaView and VTK open.");
+           "x y z nx ny nz radius value (and block, for multiblock points: the id of the block each point was\n"
+           "seeded in), which MeshLab, ParaView and VTK open.");
     a.option("output", "o", "FILE", "PLY output (required; '-' = stdout)");
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string outpath = require_output_extension(a.require("output"), ".ply", "-o", "an oriented point set (binary PLY)");
     InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
     StreamReader reader(in.f, in.name);
     if (reader.kind() != RecordKind::point)
-        throw FormatError(in.name + ": holds unprojected samples; run 'meshless project' first");
+        throw FormatError(in.name + (reader.kind() == RecordKind::seed ? ": holds unprojected seeds; run 'meshless project --field KIND BLOCKS...' first"
+                                                                      : ": holds unprojected samples; run 'meshless project' first"));
     reader.read_meta();
-    PlySink sink(outpath, ply_comments(reader.meta()));
+    PlySink sink(outpath, ply_comments(reader.meta()), reader.has_blocks());
     StreamSource source(reader);
     run_pipeline(source, {}, sink, {1});
     return 0;

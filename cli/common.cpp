@@ -277,6 +277,17 @@ void add_color_options(Args& a) {
                           "                            block palette's swatches with their ids (--color block)");
 }
 
+ColorBy color_by(const ColorChoice& c, ColorBy automatic) {
+    switch (c.request) {
+        case ColorRequest::value: return ColorBy::value;
+        case ColorRequest::block: return ColorBy::block;
+        case ColorRequest::normal: return ColorBy::normal;
+        case ColorRequest::none: return ColorBy::none;
+        case ColorRequest::automatic: break;
+    }
+    return automatic;
+}
+
 ColorChoice color_choice(const Args& a) {
     ColorChoice c;
     const std::string m = a.get_or("color", "auto");
@@ -432,8 +443,8 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
 
 std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
-    for (const char* k : {"source", "iso", "projection", "grid_dims", "grid_spacing", "bounds_lo", "bounds_hi",
-                          "volume_bounds_lo", "volume_bounds_hi"})
+    for (const char* k : {"source", "iso", "projection", "field", "samples", "tolerance", "blocks", "grid_dims", "grid_spacing",
+                          "bounds_lo", "bounds_hi", "volume_bounds_lo", "volume_bounds_hi"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
 }

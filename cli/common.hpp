@@ -92,6 +92,8 @@ struct ColorChoice {
     bool colorbar = false;
 };
 ColorChoice color_choice(const Args& a);
+/// The colouring a request asks for; `automatic` is what --color auto means for this input.
+ColorBy color_by(const ColorChoice& c, ColorBy automatic);
 /// Sets rs.shading's colouring (by, colormap, range) and rs.colorbar; warns on stderr when a colour
 /// bar was asked for a picture not coloured by value.
 void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std::array<double, 2>& range);

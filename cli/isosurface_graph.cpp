@@ -45,15 +45,15 @@ IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode
 
 std::size_t run_to_outputs(const std::optional<std::string>& out, const std::optional<std::string>& png,
                            const StreamMeta& meta, const RenderSettings& rs, int nthreads, const GraphRun& run,
-                           IsoSplatResult& r, bool parallel_draw) {
+                           IsoSplatResult& r, bool parallel_draw, bool with_blocks) {
     if (!png) {
-        PlySink sink(*out, ply_comments(meta));
+        PlySink sink(*out, ply_comments(meta), with_blocks);
         r = run(nullptr, sink);
         return sink.count();
     }
     SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
     std::optional<PlySink> ply;
-    if (out) ply.emplace(*out, ply_comments(meta));
+    if (out) ply.emplace(*out, ply_comments(meta), with_blocks);
     std::optional<TeeSink> tee;
     if (ply) tee.emplace(splat, *ply);
     r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);

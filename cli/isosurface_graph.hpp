@@ -27,9 +27,10 @@ using GraphRun = std::function<IsoSplatResult(const Stage* draw, Sink& sink)>;
 /// is produced and, with `out`, written to the PLY. The splat sink finishes (renders) before the
 /// PLY is committed, and a PNG that cannot be written removes the PLY: one outcome. Returns the
 /// number of points; the run's result goes to r. parallel_draw = false (the MPI root: batches arrive
-/// already made): draw is null and the splat sink draws in consume().
+/// already made): draw is null and the splat sink draws in consume(). with_blocks: the PLY gets the
+/// `block` property from the batches' point_block (the multiblock path).
 std::size_t run_to_outputs(const std::optional<std::string>& out, const std::optional<std::string>& png,
                            const StreamMeta& meta, const RenderSettings& rs, int nthreads, const GraphRun& run,
-                           IsoSplatResult& r, bool parallel_draw = true);
+                           IsoSplatResult& r, bool parallel_draw = true, bool with_blocks = false);
 
 }  // namespace meshless::cli

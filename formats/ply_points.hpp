@@ -7,6 +7,9 @@
 // end, so points can be streamed without holding them all. Output goes through AtomicFile
 // (temporary name + rename; "-" = stdout, where the count must be known up front: use
 // write_ply_points for that). Throws IoError naming the path.
+// Multiblock/AMR point sets (dissertation chapter 4) add a ninth property, `uint block`: the id of
+// the block each point was seeded in (ParaView and MeshLab colour by it); such files are written
+// with_blocks, and read back with their block ids (PlyPoints::block, PlyPointReader::read).
 // The reader accepts binary little/big endian and ASCII PLY (formats/ply.hpp) whose vertex
 // element has at least x y z (any numeric types, no lists); missing nx ny nz, radius or value read
 // as 0; elements before the vertices are skipped, elements after them are not read. A binary
@@ -14,6 +17,7 @@
 // NaN/Inf values pass through. Throws FormatError as the codec does (the file and the byte or line).
 #pragma once
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -27,25 +31,33 @@ class PlyReader;
 
 class PlyPointWriter {
 public:
-    /// comments: extra "comment" lines (no newlines inside).
-    PlyPointWriter(const std::string& path, const std::vector<std::string>& comments);
+    /// comments: extra "comment" lines (no newlines inside). with_blocks: a `uint block` property.
+    PlyPointWriter(const std::string& path, const std::vector<std::string>& comments, bool with_blocks = false);
     ~PlyPointWriter();
+    /// Without blocks; std::invalid_argument when the writer was made with_blocks.
     void append(std::span<const PointRecord> pts);
+    /// With blocks (blocks.size() == pts.size()); std::invalid_argument when made without.
+    void append(std::span<const PointRecord> pts, std::span<const std::uint32_t> blocks);
     /// Patches the vertex count and renames into place.
     void commit();
     std::uint64_t count() const { return count_; }
 
 private:
     std::unique_ptr<PlyWriter> w_;
+    bool blocks_ = false;
+    std::vector<char> packed_;
     std::uint64_t count_ = 0;
 };
 
-/// Whole point set at once (works for "-" too).
+/// Whole point set at once (works for "-" too). `blocks` given (size pts.size(); empty when there
+/// are no points) adds the `block` property.
 void write_ply_points(const std::string& path, std::span<const PointRecord> pts,
-                      const std::vector<std::string>& comments);
+                      const std::vector<std::string>& comments,
+                      std::optional<std::span<const std::uint32_t>> blocks = std::nullopt);
 
 struct PlyPoints {
     std::vector<PointRecord> points;
+    std::vector<std::uint32_t> block;  ///< empty unless the vertices have a `block` property
     std::vector<std::string> comments;
 };
 PlyPoints read_ply_points(const std::string& path);
@@ -65,8 +77,12 @@ public:
     const std::string& path() const;
     /// The file's size is known (a regular file): count() was checked against it.
     bool size_known() const;
-    /// Replaces out with the next up to max points; returns how many (0 at the end).
-    std::size_t read(std::vector<PointRecord>& out, std::size_t max);
+    /// The vertices have a `block` property (an integer type; values must be 0..2^32-1).
+    bool has_blocks() const;
+    /// Replaces out with the next up to max points; returns how many (0 at the end). With
+    /// `blocks`, it is replaced by their block ids when has_blocks() (else cleared); a block value
+    /// that is not an integer in 0..2^32-1 is a FormatError.
+    std::size_t read(std::vector<PointRecord>& out, std::size_t max, std::vector<std::uint32_t>* blocks = nullptr);
 
 private:
     struct Impl;

@@ -55,8 +55,34 @@ void widen_pipe(std::FILE* f) {
 
 }  // namespace
 
-std::size_t record_size(RecordKind k) {
-    return k == RecordKind::point ? sizeof(PointRecord) : sizeof(SampleRecord);
+std::size_t record_size(RecordKind k, std::uint32_t flags) {
+    switch (k) {
+        case RecordKind::point: return (flags & kStreamFlagBlocks) ? kPointBlockRecordSize : sizeof(PointRecord);
+        case RecordKind::sample: return sizeof(SampleRecord);
+        case RecordKind::seed: return sizeof(SeedRecord);
+        case RecordKind::mesh:
+        case RecordKind::query: break;
+    }
+    throw InvalidArgument("point stream: record kind " + std::to_string(static_cast<std::uint32_t>(k)) + " has no stream form");
+}
+
+void interleave_point_blocks(const PointRecord* points, const std::uint32_t* blocks, std::size_t n, std::vector<char>& out) {
+    out.resize(n * kPointBlockRecordSize);
+    char* p = out.data();
+    for (std::size_t i = 0; i < n; ++i, p += kPointBlockRecordSize) {
+        std::memcpy(p, &points[i], sizeof(PointRecord));
+        std::memcpy(p + sizeof(PointRecord), &blocks[i], sizeof(std::uint32_t));
+    }
+}
+
+void deinterleave_point_blocks(const char* records, std::size_t n, std::vector<PointRecord>& points,
+                               std::vector<std::uint32_t>& blocks) {
+    points.resize(n);
+    blocks.resize(n);
+    for (std::size_t i = 0; i < n; ++i, records += kPointBlockRecordSize) {
+        std::memcpy(&points[i], records, sizeof(PointRecord));
+        std::memcpy(&blocks[i], records + sizeof(PointRecord), sizeof(std::uint32_t));
+    }
 }
 
 void StreamMeta::set(const std::string& k, double v) {
@@ -106,14 +132,17 @@ StreamMeta StreamMeta::parse(const std::string& text, const std::string& name) {
 
 // ---------------------------------------------------------------- writer
 
-StreamWriter::StreamWriter(std::FILE* f, std::string name, RecordKind kind, bool compress)
-    : f_(f), name_(std::move(name)), kind_(kind), compress_(compress) {
+StreamWriter::StreamWriter(std::FILE* f, std::string name, RecordKind kind, bool compress, std::uint32_t flags)
+    : f_(f), name_(std::move(name)), kind_(kind), rsize_(record_size(kind, flags)), compress_(compress) {
+    if ((flags & ~kStreamFlagBlocks) != 0 || ((flags & kStreamFlagBlocks) && kind != RecordKind::point))
+        throw InvalidArgument(name_ + ": stream flags " + std::to_string(flags) + " are not valid for this record kind");
     widen_pipe(f_);
     unsigned char h[32] = {};
     std::memcpy(h, kMagic, 8);
     put_u32(h + 8, kStreamVersion);
     put_u32(h + 12, static_cast<std::uint32_t>(kind));
-    put_u32(h + 16, static_cast<std::uint32_t>(record_size(kind)));
+    put_u32(h + 16, static_cast<std::uint32_t>(rsize_));
+    put_u32(h + 20, flags);
     put(h, sizeof h);
 }
 
@@ -144,7 +173,8 @@ void StreamWriter::write_meta(const StreamMeta& m) {
 
 void StreamWriter::write_data(std::uint64_t seq, const void* records, std::uint64_t count) {
     if (count == 0) return;
-    const std::size_t raw = count * record_size(kind_);
+    if (count > kMaxPayload / rsize_) throw FormatError(name_ + ": batch of " + std::to_string(count) + " records too large for one frame");
+    const std::size_t raw = count * rsize_;
     if (raw > kMaxPayload) throw FormatError(name_ + ": batch of " + std::to_string(count) + " records too large for one frame");
     if (compress_) {
         scratch_.resize(ZSTD_compressBound(raw));
@@ -188,11 +218,21 @@ StreamReader::StreamReader(std::FILE* f, std::string name) : f_(f), name_(std::m
         throw FormatError(name_ + ": stream version " + std::to_string(version) + " is not supported (this build reads version " +
                           std::to_string(kStreamVersion) + ")");
     const std::uint32_t kind = get_u32(h + 12), rsize = get_u32(h + 16);
-    if (kind != 1 && kind != 2) throw FormatError(name_ + ": unknown record kind " + std::to_string(kind));
+    flags_ = get_u32(h + 20);
+    if (kind != 1 && kind != 2 && kind != 5) throw FormatError(name_ + ": unknown record kind " + std::to_string(kind));
     kind_ = static_cast<RecordKind>(kind);
-    if (rsize != record_size(kind_))
+    if ((flags_ & ~kStreamFlagBlocks) != 0)
+        throw FormatError(name_ + ": unknown stream header flags 0x" + [&] {
+            char buf[16];
+            std::snprintf(buf, sizeof buf, "%x", flags_);
+            return std::string(buf);
+        }() + " (written by a newer version?)");
+    if ((flags_ & kStreamFlagBlocks) && kind_ != RecordKind::point)
+        throw FormatError(name_ + ": block ids flagged on a stream of kind " + std::to_string(kind) + " (only points carry them)");
+    rsize_ = record_size(kind_, flags_);
+    if (rsize != rsize_)
         throw FormatError(name_ + ": record size " + std::to_string(rsize) + " does not match kind " + std::to_string(kind) +
-                          " (expected " + std::to_string(record_size(kind_)) + ")");
+                          " (expected " + std::to_string(rsize_) + ")");
 }
 
 void StreamReader::read_meta() {
@@ -207,7 +247,7 @@ void StreamReader::read_meta() {
 std::optional<std::uint64_t> StreamReader::next_data(std::vector<char>& out) {
     return next_records([&](std::uint64_t count) -> void* {
         const std::size_t at = out.size();
-        out.resize(at + count * record_size(kind_));
+        out.resize(at + count * rsize_);
         return out.data() + at;
     });
 }
@@ -220,7 +260,7 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
         return pending_count_;
     }
     if (ended_) return std::nullopt;
-    const std::size_t rsize = record_size(kind_);
+    const std::size_t rsize = rsize_;
     for (;;) {
         unsigned char h[32];
         if (!read_exact(h, sizeof h))

@@ -2,7 +2,12 @@
 //
 // Layout, all integers little endian:
 //   stream header, 32 bytes: magic "\x89MLS\r\n\x1a\n" (8) | u32 version (=1) | u32 record kind
-//     (1 point, 2 sample) | u32 record size (32 or 88) | u32 flags (0) | u64 reserved (0)
+//     (1 point, 2 sample, 5 seed) | u32 record size | u32 flags | u64 reserved (0)
+//   record sizes: point 32 (PointRecord), or 36 with flags bit 0 (kStreamFlagBlocks: each point
+//     record is followed by a u32 block id, the multiblock path's PLY `block`); sample 88
+//     (SampleRecord); seed 40 (SeedRecord, the multiblock seeds of section 4.4). Flags other than
+//     bit 0, and bit 0 on anything but points, are refused. A point stream without blocks is
+//     byte-for-byte what this format was before seeds and blocks existed.
 //   frames, each a 32-byte header: u32 type (1 META, 2 DATA, 3 END) | u32 flags (bit 0: payload is
 //     one zstd frame) | u64 seq | u64 count (records; END: total records in the stream) |
 //     u32 stored payload bytes | u32 CRC-32 of the stored payload
@@ -26,6 +31,10 @@
 namespace meshless {
 
 inline constexpr std::uint32_t kStreamVersion = 1;
+/// Stream header flag: point records carry a u32 block id each (record size 36).
+inline constexpr std::uint32_t kStreamFlagBlocks = 1;
+/// Bytes of one record of a point-with-block stream.
+inline constexpr std::size_t kPointBlockRecordSize = sizeof(PointRecord) + sizeof(std::uint32_t);
 
 /// Stream metadata: iso value, grid, bounds, producer command line ... (sorted keys).
 struct StreamMeta {
@@ -39,12 +48,20 @@ struct StreamMeta {
     static StreamMeta parse(const std::string& text, const std::string& name);
 };
 
-std::size_t record_size(RecordKind k);
+/// Bytes per record of kind k under the header flags (see above).
+std::size_t record_size(RecordKind k, std::uint32_t flags = 0);
+
+/// Packs points and their block ids (same size) as 36-byte records into out (replaced).
+void interleave_point_blocks(const PointRecord* points, const std::uint32_t* blocks, std::size_t n, std::vector<char>& out);
+/// Unpacks n 36-byte records into points and blocks (resized to n).
+void deinterleave_point_blocks(const char* records, std::size_t n, std::vector<PointRecord>& points,
+                               std::vector<std::uint32_t>& blocks);
 
 class StreamWriter {
 public:
     /// Writes the stream header to f (not owned). `name` is used in error messages.
-    StreamWriter(std::FILE* f, std::string name, RecordKind kind, bool compress = false);
+    /// flags: kStreamFlagBlocks for points with block ids (records of kPointBlockRecordSize bytes).
+    StreamWriter(std::FILE* f, std::string name, RecordKind kind, bool compress = false, std::uint32_t flags = 0);
     void write_meta(const StreamMeta& m);
     /// Writes one DATA frame (skipped when count == 0).
     void write_data(std::uint64_t seq, const void* records, std::uint64_t count);
@@ -59,6 +76,7 @@ private:
     std::FILE* f_;
     std::string name_;
     RecordKind kind_;
+    std::size_t rsize_;
     bool compress_;
     std::uint64_t total_ = 0;
     std::vector<char> scratch_;
@@ -69,6 +87,10 @@ public:
     /// Reads and validates the stream header from f (not owned); throws FormatError.
     StreamReader(std::FILE* f, std::string name);
     RecordKind kind() const { return kind_; }
+    /// Header flags (kStreamFlagBlocks) and the resulting record size.
+    std::uint32_t flags() const { return flags_; }
+    bool has_blocks() const { return (flags_ & kStreamFlagBlocks) != 0; }
+    std::size_t record_bytes() const { return rsize_; }
     /// Metadata of all META frames seen so far (the first frames of a stream in practice).
     const StreamMeta& meta() const { return meta_; }
     /// Reads frames up to and including the first META frame, or up to the first DATA frame.
@@ -88,6 +110,8 @@ private:
     std::FILE* f_;
     std::string name_;
     RecordKind kind_;
+    std::uint32_t flags_ = 0;
+    std::size_t rsize_ = 0;
     StreamMeta meta_;
     std::uint64_t total_ = 0;
     bool ended_ = false;

@@ -8,10 +8,9 @@
 //   position/value): skipped_invalid, counted for every cell; or, when the isosurface crosses it,
 //   when its corner Jacobians (hex_jacobian_range) are not all of one strict sign (collapsed or
 //   inverted): skipped_degenerate (a hole in the naive surface). Every other cell is contoured.
-// Orientation: block_orientation counts every valid cell by Jacobian sign (the census: all
-//   collapsed/inverted cells, crossed or not); a block whose majority is negative (left-handed index
-//   order) is contoured with flipped winding, so every block's triangles face increasing values
-//   (ties: right-handed).
+// Orientation: block_orientation (kernels/block_cells.hpp) counts every valid cell by Jacobian sign;
+//   a left-handed block is contoured with flipped winding, so every block's triangles face
+//   increasing values.
 // Vertices: one per block edge crossed (welded within the piece by the edge's key
 //   3 * node(i,j,k) + axis, the edge's lower node and axis 0/1/2), positions as hex_marching_cubes
 //   computes them (bit-identical for the cells sharing the edge), stored as float.
@@ -23,30 +22,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "kernels/block_cells.hpp"
 #include "kernels/marching_cubes.hpp"
 #include "kernels/structured_block.hpp"
 
 namespace meshless {
-
-struct BlockOrientation {
-    std::int64_t positive = 0;    ///< valid cells with all corner Jacobians > 0
-    std::int64_t negative = 0;    ///< valid cells with all corner Jacobians < 0
-    std::int64_t degenerate = 0;  ///< valid cells with a zero or mixed-sign Jacobian
-    std::int64_t invalid = 0;     ///< cells with an invalid corner
-    bool left_handed() const { return negative > positive; }
-    BlockOrientation& operator+=(const BlockOrientation& o) {
-        positive += o.positive;
-        negative += o.negative;
-        degenerate += o.degenerate;
-        invalid += o.invalid;
-        return *this;
-    }
-};
-
-/// One pass over the block's cells (or the cell layers [k0, k1), clamped): sums over layer ranges
-/// equal the whole.
-BlockOrientation block_orientation(const StructuredBlock& b);
-BlockOrientation block_orientation(const StructuredBlock& b, std::int64_t k0, std::int64_t k1);
 
 struct BlockMcStats {
     std::int64_t cells = 0;               ///< cells visited

@@ -34,10 +34,11 @@ void finish(FieldNewtonStatus s, std::size_t i, std::span<FieldNewtonStatus> sta
 
 void project_onto_field(const Field& f, double iso, std::span<const Vec3> seeds, const FieldNewtonParams& params,
                         std::span<const double> max_displacement, std::span<Vec3> pos, std::span<Vec3> grad,
-                        std::span<FieldNewtonStatus> status, FieldNewtonStats& stats) {
+                        std::span<FieldNewtonStatus> status, FieldNewtonStats& stats, std::span<const double> tolerance) {
     const std::size_t n = seeds.size();
     assert(pos.size() == n && grad.size() == n && status.size() == n);
     assert(max_displacement.empty() || max_displacement.size() == n);
+    assert(tolerance.empty() || tolerance.size() == n);
     stats.input += static_cast<std::int64_t>(n);
     if (n == 0) return;
 
@@ -47,13 +48,16 @@ void project_onto_field(const Field& f, double iso, std::span<const Vec3> seeds,
     stats.evaluations += static_cast<std::int64_t>(n);
 
     // a point converges when its first-order distance |f - iso| / |grad| is within tolerance
-    const double tol = params.tolerance;
     auto settled = [&](double r, const Vec3& g, std::size_t i) {
+        const double tol = tolerance.empty() ? params.tolerance : tolerance[i];
         if (!(dot(g, g) > 0.0)) {
             finish(FieldNewtonStatus::flat, i, status, stats);
             return true;
         }
         if (std::abs(r) <= tol * norm(g)) {
+            // the last Newton step, whose length is within the tolerance, taken without evaluating
+            // again (quadratic convergence puts p' far closer to the surface than p)
+            if (params.final_step) pos[i] = pos[i] + g * (-r / dot(g, g));
             finish(FieldNewtonStatus::converged, i, status, stats);
             return true;
         }

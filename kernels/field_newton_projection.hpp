@@ -36,6 +36,10 @@ struct FieldNewtonParams {
     int max_iterations = 20;  ///< field evaluations per point after the seed's (halvings count)
     int max_halvings = 12;    ///< consecutive step halvings before a point is `stalled`
     double max_displacement = std::numeric_limits<double>::infinity();  ///< world units from the seed
+    /// On convergence, also take the last step p' = p - (f - iso) grad / |grad|^2 (at most `tolerance`
+    /// long) without a further evaluation: pos is p', grad stays the gradient at p. Newton's quadratic
+    /// convergence leaves p' much nearer the surface than the tolerance; off: pos is p.
+    bool final_step = false;
 };
 
 enum class FieldNewtonStatus : std::uint8_t { converged, flat, too_far, not_converged, stalled, nonfinite };
@@ -61,11 +65,14 @@ struct FieldNewtonStats {
 /// Projects every seed. Outputs (each of size seeds.size()): pos[i] the last accepted position
 /// (the surface point when converged), grad[i] the gradient there, status[i] why it stopped.
 /// max_displacement, when not empty (size seeds.size()), is a per-seed limit used instead of
-/// params.max_displacement (the smaller of the two is NOT taken: the span wins).
+/// params.max_displacement (the smaller of the two is NOT taken: the span wins); likewise
+/// tolerance, when not empty, is a per-seed tolerance used instead of params.tolerance (the
+/// multiblock seeds' tolerance is relative to their cell's size, section 4.4).
 /// Adds the counts to `stats`.
 void project_onto_field(const Field& f, double iso, std::span<const Vec3> seeds, const FieldNewtonParams& params,
                         std::span<const double> max_displacement, std::span<Vec3> pos, std::span<Vec3> grad,
-                        std::span<FieldNewtonStatus> status, FieldNewtonStats& stats);
+                        std::span<FieldNewtonStatus> status, FieldNewtonStats& stats,
+                        std::span<const double> tolerance = {});
 
 const char* to_string(FieldNewtonStatus s);
 

@@ -1,8 +1,11 @@
 #include "stream/field_project_stage.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <vector>
+
+#include "kernels/multiblock_splat_radius.hpp"
 
 namespace meshless {
 
@@ -25,6 +28,13 @@ FieldNewtonStats AtomicFieldNewtonStats::load() const {
 }
 
 void FieldProjectStage::process(Batch& b) const {
+    const auto t0 = std::chrono::steady_clock::now();
+    struct Busy {
+        std::atomic<std::int64_t>& ns;
+        std::chrono::steady_clock::time_point t0;
+        ~Busy() { ns += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count(); }
+    } busy{busy_ns_, t0};
+    if (b.kind == RecordKind::seed) return process_seeds(b);
     const bool samples = b.kind == RecordKind::sample;
     const std::size_t n = samples ? b.samples.size() : b.points.size();
     std::vector<Vec3> seeds(n), pos(n), grad(n);
@@ -50,8 +60,12 @@ void FieldProjectStage::process(Batch& b) const {
 
     std::vector<PointRecord> out;
     out.reserve(static_cast<std::size_t>(st.converged));
+    // points that carry block ids keep those of the points that converged
+    const bool blocks = !samples && b.point_block.size() == n && n > 0;
+    std::size_t kept = 0;
     for (std::size_t i = 0; i < n; ++i) {
         if (status[i] != FieldNewtonStatus::converged) continue;
+        if (blocks) b.point_block[kept++] = b.point_block[i];
         const Vec3 nrm = grad[i] * (1.0 / norm(grad[i]));  // converged implies a non-zero gradient
         PointRecord r;
         r.pos[0] = static_cast<float>(pos[i].x);
@@ -65,8 +79,58 @@ void FieldProjectStage::process(Batch& b) const {
         out.push_back(r);
     }
     b.points = std::move(out);
+    if (blocks) b.point_block.resize(kept);
+    else b.point_block.clear();
     b.samples.clear();
     b.samples.shrink_to_fit();
+    b.kind = RecordKind::point;
+    b.cells = {};
+    b.brick = -1;
+    stats_.add(st);
+}
+
+void FieldProjectStage::process_seeds(Batch& b) const {
+    const std::size_t n = b.seeds.size();
+    std::vector<Vec3> seeds(n), pos(n), grad(n);
+    std::vector<double> tolerance(n), limit;
+    std::vector<FieldNewtonStatus> status(n);
+    const bool limited = std::isfinite(p_.seed_max_travel);
+    if (limited) limit.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const SeedRecord& s = b.seeds[i];
+        seeds[i] = {s.pos[0], s.pos[1], s.pos[2]};
+        tolerance[i] = p_.seed_tolerance * s.cell_diagonal;
+        if (limited) limit[i] = p_.seed_max_travel * s.cell_diagonal;
+    }
+    FieldNewtonStats st;
+    FieldNewtonParams np = p_.newton;
+    np.final_step = p_.seed_final_step;
+    project_onto_field(f_, iso_, seeds, np, limit, pos, grad, status, st, tolerance);
+
+    std::vector<PointRecord>& out = b.points;  // a recycled batch brings its capacity
+    std::vector<std::uint32_t>& block = b.point_block;
+    out.clear();
+    block.clear();
+    out.reserve(static_cast<std::size_t>(st.converged));
+    block.reserve(static_cast<std::size_t>(st.converged));
+    for (std::size_t i = 0; i < n; ++i) {
+        if (status[i] != FieldNewtonStatus::converged) continue;
+        const SeedRecord& s = b.seeds[i];
+        const Vec3 nrm = grad[i] * (1.0 / norm(grad[i]));  // converged implies a non-zero gradient
+        PointRecord r;
+        r.pos[0] = static_cast<float>(pos[i].x);
+        r.pos[1] = static_cast<float>(pos[i].y);
+        r.pos[2] = static_cast<float>(pos[i].z);
+        r.normal[0] = static_cast<float>(nrm.x);
+        r.normal[1] = static_cast<float>(nrm.y);
+        r.normal[2] = static_cast<float>(nrm.z);
+        r.radius = static_cast<float>(multiblock_splat_radius(s.base_radius, norm(pos[i] - seeds[i]), s.cell_diagonal));
+        r.value = static_cast<float>(iso_);
+        out.push_back(r);
+        block.push_back(s.block);
+    }
+    b.seeds.clear();
+    b.seeds.shrink_to_fit();
     b.kind = RecordKind::point;
     b.cells = {};
     b.brick = -1;

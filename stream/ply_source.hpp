@@ -19,7 +19,7 @@ public:
     std::optional<Batch> next() override {
         Batch b;
         b.kind = RecordKind::point;
-        if (r_.read(b.points, kMaxBatchRecords) == 0) return std::nullopt;
+        if (r_.read(b.points, kMaxBatchRecords, &b.point_block) == 0) return std::nullopt;
         b.seq = seq_++;
         return b;
     }

@@ -13,7 +13,9 @@ namespace meshless {
 
 class PlySink final : public Sink {
 public:
-    PlySink(const std::string& path, const std::vector<std::string>& comments);
+    /// with_blocks: the PLY gets the `block` property from Batch::point_block (multiblock points; a
+    /// batch without block ids is then a FormatError).
+    PlySink(const std::string& path, const std::vector<std::string>& comments, bool with_blocks = false);
     void consume(Batch&& b) override;
     void finish() override;
     std::uint64_t count() const { return count_; }
@@ -23,6 +25,8 @@ private:
     std::vector<std::string> comments_;
     std::unique_ptr<PlyPointWriter> w_;   // file output
     std::vector<PointRecord> held_;       // stdout output (count needed up front)
+    std::vector<std::uint32_t> held_blocks_;
+    bool blocks_ = false;
     std::uint64_t count_ = 0;
 };
 

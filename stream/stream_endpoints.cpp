@@ -28,7 +28,16 @@ std::optional<Batch> StreamSource::next() {
         b.samples = take_spare(spare_samples_);
         b.points = take_spare(spare_points_);
     }
+    const bool blocks = r_.has_blocks();
     auto n = r_.next_records([&](std::uint64_t count) -> void* {
+        if (blocks) {
+            packed_.resize(static_cast<std::size_t>(count) * kPointBlockRecordSize);
+            return packed_.data();
+        }
+        if (b.kind == RecordKind::seed) {
+            b.seeds.resize(count);
+            return b.seeds.data();
+        }
         if (b.kind == RecordKind::sample) {
             b.samples.resize(count);
             return b.samples.data();
@@ -37,6 +46,7 @@ std::optional<Batch> StreamSource::next() {
         return b.points.data();
     });
     if (!n) return std::nullopt;
+    if (blocks) deinterleave_point_blocks(packed_.data(), static_cast<std::size_t>(*n), b.points, b.point_block);
     ++seq_;
     return b;
 }
@@ -55,17 +65,41 @@ bool StreamSource::recycle(Batch& consumed) {
     return true;
 }
 
-StreamSink::StreamSink(std::FILE* f, std::string name, RecordKind kind, const StreamMeta& meta, bool compress)
-    : w_(f, std::move(name), kind, compress), kind_(kind) {
+StreamSink::StreamSink(std::FILE* f, std::string name, RecordKind kind, const StreamMeta& meta, bool compress,
+                       bool with_blocks)
+    : w_(f, std::move(name), kind, compress, with_blocks ? kStreamFlagBlocks : 0), kind_(kind), blocks_(with_blocks) {
     w_.write_meta(meta);
 }
 
+namespace {
+const char* kind_name(RecordKind k) {
+    switch (k) {
+        case RecordKind::point: return "points";
+        case RecordKind::sample: return "samples";
+        case RecordKind::seed: return "seeds";
+        case RecordKind::mesh: return "meshes";
+        case RecordKind::query: return "field queries";
+    }
+    return "?";
+}
+}  // namespace
+
 void StreamSink::consume(Batch&& b) {
     if (b.kind != kind_)
-        throw FormatError(std::string("stream writer: got ") + (b.kind == RecordKind::point ? "points" : "samples") +
-                          ", expected " + (kind_ == RecordKind::point ? "points" : "samples"));
-    if (b.kind == RecordKind::sample) w_.write_data(b.seq, b.samples.data(), b.samples.size());
-    else w_.write_data(b.seq, b.points.data(), b.points.size());
+        throw FormatError(std::string("stream writer: got ") + kind_name(b.kind) + ", expected " + kind_name(kind_));
+    if (b.kind == RecordKind::sample) {
+        w_.write_data(b.seq, b.samples.data(), b.samples.size());
+    } else if (b.kind == RecordKind::seed) {
+        w_.write_data(b.seq, b.seeds.data(), b.seeds.size());
+    } else if (blocks_) {
+        if (b.point_block.size() != b.points.size())
+            throw FormatError("stream writer: a batch of " + std::to_string(b.points.size()) + " points has " +
+                              std::to_string(b.point_block.size()) + " block ids");
+        interleave_point_blocks(b.points.data(), b.point_block.data(), b.points.size(), packed_);
+        w_.write_data(b.seq, packed_.data(), b.points.size());
+    } else {
+        w_.write_data(b.seq, b.points.data(), b.points.size());
+    }
 }
 
 }  // namespace meshless

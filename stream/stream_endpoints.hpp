@@ -3,6 +3,9 @@
 // as its own process sees the same batches, in the same order, as in-process: results are
 // byte-identical across pipes. Frames are read straight into the batches' record arrays, which are
 // recycled from consumed batches. Not thread-safe (called serially by the runner).
+// Kinds: samples, seeds (multiblock seeds, section 4.4) and points; a point stream flagged with block
+// ids (kStreamFlagBlocks) fills Batch::point_block, and a StreamSink made with_blocks writes it
+// (a point batch without block ids is then a FormatError).
 #pragma once
 #include <memory>
 #include <mutex>
@@ -27,12 +30,15 @@ private:
     std::mutex m_;  // recycle() may run on the sink's thread while next() runs
     std::vector<std::vector<PointRecord>> spare_points_;
     std::vector<std::vector<SampleRecord>> spare_samples_;
+    std::vector<char> packed_;  // point-with-block records before they are split
 };
 
 class StreamSink final : public Sink {
 public:
     /// Writes the stream header and META immediately; one DATA frame per non-empty batch.
-    StreamSink(std::FILE* f, std::string name, RecordKind kind, const StreamMeta& meta, bool compress = false);
+    /// with_blocks (points only): records carry Batch::point_block (kStreamFlagBlocks).
+    StreamSink(std::FILE* f, std::string name, RecordKind kind, const StreamMeta& meta, bool compress = false,
+               bool with_blocks = false);
     void consume(Batch&& b) override;
     void finish() override { w_.finish(); }
     std::uint64_t total() const { return w_.total(); }
@@ -40,6 +46,8 @@ public:
 private:
     StreamWriter w_;
     RecordKind kind_;
+    bool blocks_;
+    std::vector<char> packed_;
 };
 
 }  // namespace meshless

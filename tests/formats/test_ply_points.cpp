@@ -107,3 +107,47 @@ TEST_CASE("PLY points: garbage, truncation, bad headers are refused", "[ply-poin
     CHECK_THROWS_WITH(read_ply_points((d / "noxyz.ply").string()), Catch::Contains("no x y z"));
     CHECK_THROWS_AS(read_ply_points((d / "missing.ply").string()), IoError);
 }
+
+TEST_CASE("PLY points with a block property: written streamed and whole, read back with their ids", "[ply-points]") {
+    TempDir d("plyb");
+    const auto v = pts(300);
+    std::vector<std::uint32_t> blk(v.size());
+    for (std::size_t i = 0; i < blk.size(); ++i) blk[i] = static_cast<std::uint32_t>(i % 3 == 0 ? 4000000000u : i % 5);
+    {
+        PlyPointWriter w((d / "a.ply").string(), {"blocks 5"}, /*with_blocks=*/true);
+        w.append(std::span(v).subspan(0, 100), std::span(blk).subspan(0, 100));
+        w.append(std::span(v).subspan(100), std::span(blk).subspan(100));
+        CHECK_THROWS_AS(w.append(std::span(v).subspan(0, 2)), std::invalid_argument);  // ids missing
+        w.commit();
+    }
+    write_ply_points((d / "b.ply").string(), v, {"blocks 5"}, std::span<const std::uint32_t>(blk));
+    CHECK(slurp(d / "a.ply") == slurp(d / "b.ply"));
+    CHECK(slurp(d / "a.ply").find("property float value\nproperty uint block\nend_header") != std::string::npos);
+    const PlyPoints back = read_ply_points((d / "a.ply").string());
+    REQUIRE(back.points.size() == v.size());
+    CHECK(std::memcmp(back.points.data(), v.data(), v.size() * sizeof(PointRecord)) == 0);
+    CHECK(back.block == blk);
+    // an empty multiblock output still declares the property
+    write_ply_points((d / "e.ply").string(), {}, {}, std::span<const std::uint32_t>());
+    CHECK(slurp(d / "e.ply").find("property uint block") != std::string::npos);
+    PlyPointReader er((d / "e.ply").string());
+    CHECK(er.has_blocks());
+    // files without the property read no ids
+    write_ply_points((d / "c.ply").string(), v, {});
+    CHECK(read_ply_points((d / "c.ply").string()).block.empty());
+    CHECK_THROWS_AS(PlyPointWriter((d / "x.ply").string(), {}).append(v, blk), std::invalid_argument);
+}
+
+TEST_CASE("PLY points: ASCII block ids are read, non-integer or float block properties refused", "[ply-points]") {
+    TempDir d("plyc");
+    spit(d / "a.ply", "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+                      "property int block\nend_header\n1 2 3 5\n4 5 6 0\n");
+    const auto a = read_ply_points((d / "a.ply").string());
+    CHECK(a.block == std::vector<std::uint32_t>{5, 0});
+    spit(d / "n.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                      "property int block\nend_header\n1 2 3 -1\n");
+    CHECK_THROWS_WITH(read_ply_points((d / "n.ply").string()), Catch::Contains("vertex 0: block -1"));
+    spit(d / "f.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                      "property float block\nend_header\n1 2 3 1.5\n");
+    CHECK_THROWS_WITH(read_ply_points((d / "f.ply").string()), Catch::Contains("'block' must be an integer type"));
+}

@@ -178,3 +178,71 @@ TEST_CASE("metadata text round trip", "[stream-codec]") {
     bad.set("iso", "abc");
     CHECK_THROWS_AS(bad.get_double("iso"), FormatError);
 }
+
+TEST_CASE("a point stream without blocks keeps the version-1 header bytes, seeds and blocks get theirs", "[stream-codec]") {
+    // golden header of a plain point stream: magic, version 1, kind 1, record size 32, flags 0, reserved 0
+    const std::string s = encode({some_points(2, 1)}, false);
+    const unsigned char golden[32] = {0x89, 'M', 'L', 'S', '\r', '\n', 0x1a, '\n', 1, 0, 0, 0, 1, 0, 0, 0,
+                                      32,   0,   0,   0,   0,    0,    0,    0,   0, 0, 0, 0, 0, 0, 0, 0};
+    REQUIRE(s.size() > 32);
+    CHECK(std::memcmp(s.data(), golden, 32) == 0);
+    CHECK(record_size(RecordKind::point) == 32);
+    CHECK(record_size(RecordKind::point, kStreamFlagBlocks) == 36);
+    CHECK(record_size(RecordKind::sample) == 88);
+    CHECK(record_size(RecordKind::seed) == 40);
+
+    char* buf = nullptr;
+    std::size_t len = 0;
+    std::FILE* f = open_memstream(&buf, &len);
+    {
+        StreamWriter w(f, "mem", RecordKind::point, false, kStreamFlagBlocks);
+        w.write_meta({});
+        std::vector<char> packed;
+        const auto p = some_points(3, 4);
+        const std::uint32_t blocks[3] = {7, 0, 4000000000u};
+        interleave_point_blocks(p.data(), blocks, 3, packed);
+        w.write_data(0, packed.data(), 3);
+        w.finish();
+    }
+    std::fclose(f);
+    const std::string b(buf, len);
+    std::free(buf);
+    CHECK(static_cast<unsigned char>(b[16]) == 36);
+    CHECK(static_cast<unsigned char>(b[20]) == 1);  // flags bit 0
+    std::FILE* in = fmemopen(const_cast<char*>(b.data()), b.size(), "rb");
+    {
+        StreamReader r(in, "mem");
+        CHECK(r.has_blocks());
+        r.read_meta();
+        std::vector<char> raw;
+        REQUIRE(r.next_data(raw) == 3u);
+        std::vector<PointRecord> p;
+        std::vector<std::uint32_t> blk;
+        deinterleave_point_blocks(raw.data(), 3, p, blk);
+        CHECK(same(p, some_points(3, 4)));
+        CHECK(blk == std::vector<std::uint32_t>{7, 0, 4000000000u});
+        CHECK(!r.next_data(raw));
+    }
+    std::fclose(in);
+
+    CHECK_THROWS_AS(StreamWriter(stdout, "x", RecordKind::sample, false, kStreamFlagBlocks), InvalidArgument);
+}
+
+TEST_CASE("unknown header flags, block flags on samples or seeds, and seed record sizes are refused", "[stream-codec]") {
+    const std::string s = encode({some_points(2, 1)}, false);
+    std::string flags = s;
+    flags[20] = 2;  // an unknown flag
+    CHECK_THROWS_WITH(decode(flags), Catch::Contains("unknown stream header flags"));
+    std::string blocks_wrong_size = s;
+    blocks_wrong_size[20] = 1;  // blocks flagged, record size still 32
+    CHECK_THROWS_WITH(decode(blocks_wrong_size), Catch::Contains("record size 32 does not match"));
+    std::string seed = s;
+    seed[12] = 5;  // seeds are 40 bytes
+    CHECK_THROWS_WITH(decode(seed), Catch::Contains("expected 40"));
+    seed[16] = 40;
+    seed[20] = 1;
+    CHECK_THROWS_WITH(decode(seed), Catch::Contains("only points carry them"));
+    std::string mesh = s;
+    mesh[12] = 3;  // mesh batches never go on a pipe
+    CHECK_THROWS_WITH(decode(mesh), Catch::Contains("unknown record kind 3"));
+}

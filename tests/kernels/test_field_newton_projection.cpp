@@ -240,3 +240,27 @@ TEST_CASE("drops are counted by kind, never thrown", "[field-newton]") {
         CHECK(r.status[1] == FieldNewtonStatus::not_converged);
     }
 }
+
+TEST_CASE("final_step: the last within-tolerance step is taken without another evaluation", "[field-newton]") {
+    const LambdaField f = sphere_quadratic();
+    const auto seeds = random_seeds(300, 0.3, 0.8, 5);
+    FieldNewtonParams p;
+    p.tolerance = 1e-2;
+    f.calls = 0;
+    const Run plain = project(f, 0.25, seeds, p);
+    const int plain_calls = f.calls;
+    p.final_step = true;
+    f.calls = 0;
+    const Run fin = project(f, 0.25, seeds, p);
+    CHECK(f.calls == plain_calls);
+    CHECK(fin.stats.converged == 300);
+    double worst_plain = 0, worst_final = 0;
+    for (std::size_t i = 0; i < seeds.size(); ++i) {
+        CHECK(norm(fin.pos[i] - plain.pos[i]) <= 1e-2 * 1.0000001);  // one step of at most the tolerance
+        CHECK(fin.grad[i].x == plain.grad[i].x);                      // the gradient where it was evaluated
+        worst_plain = std::max(worst_plain, std::abs(norm(plain.pos[i] - kCentre) - 0.5));
+        worst_final = std::max(worst_final, std::abs(norm(fin.pos[i] - kCentre) - 0.5));
+    }
+    CHECK(worst_plain > 1e-3);               // the plain stop is up to the tolerance away
+    CHECK(worst_final < 0.1 * worst_plain);  // quadratic convergence: the extra step lands much nearer
+}

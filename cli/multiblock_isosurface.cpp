@@ -1,0 +1,418 @@
+#include "cli/multiblock_isosurface.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include "cli/common.hpp"
+#include "cli/errors.hpp"
+#include "cli/field_cli.hpp"
+#include "cli/isosurface_graph.hpp"
+#include "cli/mpi_session.hpp"
+#include "cli/point_set_cli.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/multiblock_reader.hpp"
+#include "formats/point_set_reader.hpp"
+#include "formats/volume_reader.hpp"
+#include "kernels/barycentric_lattice.hpp"
+#include "kernels/block_cell_seeds.hpp"
+#include "kernels/errors.hpp"
+#include "stream/block_cell_source.hpp"
+#include "stream/block_seed_stage.hpp"
+#include "stream/field_project_stage.hpp"
+#include "stream/record_vector_source.hpp"
+#include "stream/runner.hpp"
+#include "stream/stream_endpoints.hpp"
+
+namespace meshless::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// ------------------------------------------------------------------ options
+
+void add_samples_option(Args& a) {
+    a.option("samples", "", "N",
+             "seeds per marching-cubes triangle: the barycentric lattice of N(N+1)/2 interior points (section 4.4)",
+             std::to_string(kDefaultLatticeN));
+}
+
+int lattice_n(const Args& a) {
+    const long long n = a.get_int_or("samples", kDefaultLatticeN);
+    if (n < 1 || n > kMaxLatticeN) throw UsageError("--samples: expected 1.." + std::to_string(kMaxLatticeN) + ", got " + std::to_string(n));
+    return static_cast<int>(n);
+}
+
+void add_newton_options(Args& a) {
+    a.option("tolerance", "", "T", "Newton: a seed has converged when its next step is below T x its cell's diagonal", "0.01")
+        .option("max-iterations", "", "K", "Newton: field evaluations per seed (halvings included) before it is dropped", "20")
+        .option("max-travel", "", "F", "Newton: drop a seed that would move farther than F cell diagonals (0 = no limit)", "2");
+}
+
+FieldProjectParams newton_params(const Args& a) {
+    FieldProjectParams p;
+    p.seed_tolerance = parse_finite(a.get_or("tolerance", "0.01"), "--tolerance");
+    if (!(p.seed_tolerance > 0) || p.seed_tolerance > 1) throw UsageError("--tolerance: expected a fraction of the cell diagonal in (0, 1]");
+    const long long k = a.get_int_or("max-iterations", 20);
+    if (k < 1 || k > 1000) throw UsageError("--max-iterations: expected 1..1000");
+    p.newton.max_iterations = static_cast<int>(k);
+    const double travel = parse_finite(a.get_or("max-travel", "2"), "--max-travel");
+    if (travel < 0) throw UsageError("--max-travel: expected a number of cell diagonals >= 0");
+    p.seed_max_travel = travel == 0 ? std::numeric_limits<double>::infinity() : travel;
+    return p;
+}
+
+// ------------------------------------------------------------------ inputs and metadata
+
+struct BlockInput {
+    Multiblock mb;
+    BlockSeedPlan plan;
+    std::string source;   ///< file names joined by ','
+    double read_seconds = 0, plan_seconds = 0;
+};
+
+std::string joined_names(const std::vector<std::string>& paths) {
+    std::string s;
+    for (const auto& p : paths) {
+        if (!s.empty()) s += ',';
+        s += std::filesystem::path(p).filename().string();
+    }
+    return s;
+}
+
+BlockInput read_blocks(const Args& a, double iso) {
+    if (a.positional().empty()) throw UsageError("missing BLOCKS argument (see meshless " + a.command() + " --help)");
+    BlockInput in;
+    in.source = joined_names(a.positional());
+    auto t0 = Clock::now();
+    in.mb = read_multiblock(a.positional(), point_set_options(a));
+    in.read_seconds = since(t0);
+    if (in.mb.blocks.size() > std::numeric_limits<std::uint32_t>::max())
+        throw FormatError(a.positional()[0] + ": " + std::to_string(in.mb.blocks.size()) + " blocks, more than block ids can number");
+    t0 = Clock::now();
+    in.plan = plan_block_seeds(in.mb, iso);
+    in.plan_seconds = since(t0);
+    if (std::isnan(in.plan.value_range[0]))
+        throw FormatError(in.source + ": every node is blanked or non-finite; there is no data to contour");
+    return in;
+}
+
+std::string triple(const Vec3& v) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g", v.x, v.y, v.z);
+    return buf;
+}
+
+/// What generate writes and isosurface records: the same keys on both paths, so the PLY comments
+/// (ply_comments) are the same bytes.
+StreamMeta block_meta(const BlockInput& in, double iso, int n, const std::string& producer) {
+    StreamMeta m;
+    m.set("source", in.source);
+    m.set("iso", iso);
+    m.set("blocks", std::to_string(in.mb.blocks.size()));
+    m.set("samples", std::to_string(n));
+    m.set("value_min", in.plan.value_range[0]);
+    m.set("value_max", in.plan.value_range[1]);
+    // the frame: the cells the isosurface crosses (the valid nodes' box when none does)
+    const auto& box = in.plan.active_cells > 0 ? in.plan.active_bounds : in.plan.node_bounds;
+    m.set("bounds_lo", triple(box[0]));
+    m.set("bounds_hi", triple(box[1]));
+    m.set("volume_bounds_lo", triple(in.plan.node_bounds[0]));
+    m.set("volume_bounds_hi", triple(in.plan.node_bounds[1]));
+    m.set("producer", producer);
+    return m;
+}
+
+void add_projection_meta(StreamMeta& m, const std::string& field, const FieldProjectParams& p) {
+    m.set("projection", "newton");
+    m.set("field", field);
+    m.set("tolerance", p.seed_tolerance);
+}
+
+void warn_if_inactive(const BlockInput& in, double iso) {
+    if (in.plan.active_cells == 0) warn_if_iso_outside(iso, in.plan.value_range, in.source);
+    if (in.plan.active_cells == 0 && iso >= in.plan.value_range[0] && iso <= in.plan.value_range[1])
+        std::fprintf(stderr, "meshless: warning: %s: no cell with valid corners is crossed by isovalue %g; the outputs will be empty\n",
+                     in.source.c_str(), iso);
+}
+
+// ------------------------------------------------------------------ statistics
+
+void print_seed_stats(const char* cmd, const BlockInput& in, const BlockSeedStats& s, int n) {
+    std::fprintf(stderr,
+                 "%s: %zu blocks, %lld cells (skipped: %lld with an invalid corner, %lld collapsed/inverted), %lld active "
+                 "cells, %lld triangles (%lld of zero area skipped), %lld seeds (n = %d, %zu per triangle)\n",
+                 cmd, in.mb.blocks.size(), static_cast<long long>(s.cells), static_cast<long long>(s.invalid_cells),
+                 static_cast<long long>(s.degenerate_cells), static_cast<long long>(s.active_cells),
+                 static_cast<long long>(s.triangles), static_cast<long long>(s.zero_area_triangles),
+                 static_cast<long long>(s.seeds), n, lattice_size(n));
+}
+
+void print_newton_stats(const char* cmd, const std::string& field, const FieldProjectParams& p, const FieldNewtonStats& s,
+                        double busy_seconds) {
+    std::fprintf(stderr,
+                 "%s: Newton onto %s (tolerance %g x cell diagonal, <= %d iterations): %lld seeds -> %lld converged; "
+                 "dropped %lld (flat gradient %lld, too far %lld, not converged %lld, stalled %lld, non-finite %lld); "
+                 "%.2f evaluations/seed; %.0f points/s per core (%.3f s busy)\n",
+                 cmd, field.c_str(), p.seed_tolerance, p.newton.max_iterations, static_cast<long long>(s.input),
+                 static_cast<long long>(s.converged), static_cast<long long>(s.dropped()), static_cast<long long>(s.flat),
+                 static_cast<long long>(s.too_far), static_cast<long long>(s.not_converged), static_cast<long long>(s.stalled),
+                 static_cast<long long>(s.nonfinite), s.input ? double(s.evaluations) / double(s.input) : 0.0,
+                 busy_seconds > 0 ? double(s.converged) / busy_seconds : 0.0, busy_seconds);
+}
+
+/// Stream output: stdout when "-" (refused on a terminal), else an AtomicFile.
+struct StreamOutput {
+    std::unique_ptr<AtomicFile> file;
+    std::FILE* f = nullptr;
+    std::string name;
+    explicit StreamOutput(const std::string& path) : name(path) {
+        file = std::make_unique<AtomicFile>(path);
+        if (file->is_stdout() && ::isatty(1))
+            throw UsageError("refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
+        f = file->handle();
+    }
+    void commit() { file->commit(); }
+};
+
+}  // namespace
+
+// ------------------------------------------------------------------ dispatch
+
+std::vector<std::string> scan_positionals(int argc, char** argv, int first, std::initializer_list<const Args*> parsers) {
+    std::vector<std::string> pos;
+    bool only = false;
+    for (int i = first; i < argc; ++i) {
+        const std::string tok = argv[i];
+        if (only || tok == "-" || tok.size() < 2 || tok[0] != '-' ||
+            std::isdigit(static_cast<unsigned char>(tok[1])) || tok[1] == '.') {
+            pos.push_back(tok);
+            continue;
+        }
+        if (tok == "--") {
+            only = true;
+            continue;
+        }
+        if (tok.find('=') != std::string::npos) continue;
+        for (const Args* p : parsers)
+            if (p->takes_value(tok)) {
+                ++i;
+                break;
+            }
+    }
+    return pos;
+}
+
+bool blocks_invocation(const std::vector<std::string>& positionals) {
+    for (const auto& p : positionals)
+        if (looks_like_multiblock(p)) return true;
+    // several inputs are blocks (pieces of a multiblock set) unless the first is a volume: then the
+    // volume command reports the extra argument
+    return positionals.size() > 1 && !looks_like_volume(positionals[0]);
+}
+
+bool project_seeds_invocation(int argc, char** argv) {
+    for (int i = 2; i < argc; ++i) {
+        const std::string tok = argv[i];
+        if (tok == "--") return false;
+        if (tok == "--field" || tok.rfind("--field=", 0) == 0) return true;
+    }
+    return false;
+}
+
+// ------------------------------------------------------------------ isosurface BLOCKS
+
+int isosurface_blocks(int argc, char** argv) {
+    const auto t_start = Clock::now();
+    Args a("isosurface", "BLOCKS... --iso V -o out.ply [--png out.png] [--field rbf-grid|mpu|global-rbf] [--samples N] [options]",
+           "Crack-free isosurface of overlapping multiblock grids and AMR hierarchies (dissertation chapter 4):\n"
+           "one continuous meshless field is built over every block's valid nodes (grid connectivity ignored,\n"
+           "section 4.3); each block's marching-cubes triangles (cells with a blanked/NaN corner and collapsed or\n"
+           "inverted cells skipped and counted) are sampled on a barycentric lattice of N(N+1)/2 interior points,\n"
+           "and every sample is projected onto the field's isosurface by safeguarded Newton iteration (section\n"
+           "4.4). Writes an oriented point set (binary PLY: x y z nx ny nz radius value block; radius\n"
+           "2(1 + d/l) sqrt(2A/(pi N(N+1))), block = the block the point was seeded in) and/or a splatted PNG.\n"
+           "BLOCKS: PLOT3D xyz (+ q/function file), .vts pieces, .vtm/.vthb (see meshless info).");
+    a.option("iso", "", "V", "isovalue (required)")
+        .option("output", "o", "FILE", "point set output (.ply, '-' for stdout)")
+        .option("png", "", "FILE", "also render the points to this PNG");
+    add_samples_option(a);
+    add_newton_options(a);
+    add_field_options(a, /*with_coverage=*/false);
+    add_camera_options(a);
+    add_color_options(a);
+    a.positionals(1, 1u << 20);
+    a.epilog("examples: meshless isosurface ../shared/data/plot3d/combxyz.bin --iso 0.4 -o comb.ply --png comb.png --stats\n"
+             "          meshless isosurface multicomb_0.vts multicomb_1.vts multicomb_2.vts --iso 0.4 -o mc.ply\n"
+             "pipes:    meshless generate BLOCKS --iso V | meshless project --field mpu BLOCKS | meshless write -o out.ply\n");
+    if (!a.parse(argc, argv, 2)) return 0;
+    if (launched_world_size() > 1)
+        throw UsageError("multiblock inputs are not split over MPI ranks: run meshless isosurface BLOCKS... without mpirun");
+    const double iso = parse_finite(a.require("iso"), "--iso");
+    const auto out = a.get("output");
+    const auto png = a.get("png");
+    if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
+    if (out) require_output_extension(*out, ".ply", "-o", "an oriented point set (binary PLY)");
+    if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
+    if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
+        throw UsageError("-o and --png name the same output '" + *out + "'");
+    const int n = lattice_n(a);
+    const FieldProjectParams np = newton_params(a);
+    RenderSettings rs = render_settings(a);
+    const ColorChoice cc = color_choice(a);
+    const int nthreads = threads(a);
+
+    if (!field_file_arg(a)) (void)field_params(a);  // option errors before any reading
+    BlockInput in = read_blocks(a, iso);
+    // Colours: every point carries the isovalue, so the default is the uniform surface colour;
+    // --color block colours by the block a point was seeded in.
+    apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
+    rs.legend_blocks = static_cast<std::uint32_t>(in.mb.blocks.size());
+    warn_if_inactive(in, iso);
+    StreamMeta meta = block_meta(in, iso, n, a.command_line());
+
+    // the field: only when some cell is crossed (an empty output needs none)
+    auto t0 = Clock::now();
+    BuiltField field;
+    // (the name the built field reports; without a field, as --field names it)
+    std::string field_name = a.get_or("field", "rbf-grid");
+    if (in.plan.active_cells > 0) {
+        field = build_field(a, to_point_set(in.mb));
+        field_name = field.field->name();
+    }
+    const double field_seconds = since(t0);
+    add_projection_meta(meta, field_name, np);
+
+    std::optional<BlockSeedStage> seed;
+    std::optional<FieldProjectStage> project;
+    IsoSplatResult unused;
+    t0 = Clock::now();
+    const std::size_t points = run_to_outputs(out, png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+        const auto g0 = Clock::now();
+        if (!field.field) {
+            RecordVectorSource empty(std::vector<PointRecord>{});
+            const Stage* stages[] = {draw};
+            run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, {nthreads});
+        } else {
+            BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
+            seed.emplace(in.mb, in.plan, iso, n);
+            project.emplace(*field.field, iso, np);
+            const Stage* stages[] = {&*seed, &*project, draw};
+            run_pipeline(source, std::span<const Stage* const>(stages, draw ? 3 : 2), sink, {nthreads});
+        }
+        IsoSplatResult r;
+        r.seconds = since(g0);
+        return r;
+    }, unused, /*parallel_draw=*/true, /*with_blocks=*/true);
+    const double graph_seconds = since(t0);
+
+    if (a.has("stats")) {
+        const char* cmd = "isosurface";
+        BlockSeedStats none;  // nothing crossed: no graph ran, the cells were only planned
+        none.cells = in.plan.total_cells();
+        print_seed_stats(cmd, in, seed ? seed->stats() : none, n);
+        if (project) print_newton_stats(cmd, field_name, np, project->stats(), project->busy_seconds());
+        std::fprintf(stderr,
+                     "%s: %zu points; time: read %.3f s, plan %.3f s, field %.3f s, seeds + Newton + output %.3f s "
+                     "(busy: seeds %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
+                     cmd, points, in.read_seconds, in.plan_seconds, field_seconds, graph_seconds,
+                     seed ? seed->busy_seconds() : 0.0, project ? project->busy_seconds() : 0.0, nthreads, since(t_start));
+    }
+    return 0;
+}
+
+// ------------------------------------------------------------------ generate BLOCKS
+
+int generate_blocks(int argc, char** argv) {
+    Args a("generate", "BLOCKS... --iso V [--samples N] [-o FILE|-]",
+           "The seeds of the multiblock/AMR isosurface (dissertation section 4.4): per block, per hexahedral cell,\n"
+           "the marching-cubes triangles, sampled on the barycentric lattice of N(N+1)/2 interior points, written\n"
+           "as a binary seed stream (stdout by default) for `meshless project --field KIND BLOCKS...`.");
+    a.option("iso", "", "V", "isovalue (required)")
+        .option("output", "o", "FILE", "stream output, '-' = stdout", "-")
+        .flag("compress", "zstd-compress the stream's DATA frames")
+        .flag("stats", "print cell, triangle and seed counts and timing to stderr");
+    add_samples_option(a);
+    add_point_set_options(a, /*with_endian=*/true);
+    add_thread_option(a);
+    a.positionals(1, 1u << 20);
+    a.epilog("example: meshless generate combxyz.bin --iso 0.4 | meshless project --field rbf-grid combxyz.bin | meshless write -o c.ply\n");
+    if (!a.parse(argc, argv, 2)) return 0;
+    const double iso = parse_finite(a.require("iso"), "--iso");
+    const int n = lattice_n(a);
+    const int nthreads = threads(a);
+    const auto t0 = Clock::now();
+    BlockInput in = read_blocks(a, iso);
+    warn_if_inactive(in, iso);
+    StreamOutput out(a.get_or("output", "-"));
+    StreamSink sink(out.f, out.name, RecordKind::seed, block_meta(in, iso, n, a.command_line()), a.has("compress"));
+    BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
+    BlockSeedStage seed(in.mb, in.plan, iso, n);
+    const Stage* stages[] = {&seed};
+    run_pipeline(source, stages, sink, {nthreads});
+    out.commit();
+    if (a.has("stats")) {
+        print_seed_stats("generate", in, seed.stats(), n);
+        std::fprintf(stderr, "generate: read %.3f s, plan %.3f s, total %.3f s\n", in.read_seconds, in.plan_seconds, since(t0));
+    }
+    return 0;
+}
+
+// ------------------------------------------------------------------ project --field
+
+int project_seeds(int argc, char** argv) {
+    Args a("project", "--field KIND DATA... | --field FILE.mlf [--input FILE|-] [-o FILE|-]",
+           "Projects a seed stream (from `meshless generate BLOCKS...`) onto the isosurface of the continuous\n"
+           "meshless field built from DATA (or loaded from --field FILE.mlf, see meshless fit) (dissertation sections 4.3-4.4): safeguarded Newton iteration per\n"
+           "seed; writes a point stream whose points carry the id of the block they were seeded in. Give the\n"
+           "same BLOCKS as DATA to get the bytes of the in-process `meshless isosurface BLOCKS...`.");
+    a.option("input", "i", "FILE", "seed stream, '-' = stdin", "-")
+        .option("iso", "", "V", "isovalue (default: the one recorded by generate)")
+        .option("output", "o", "FILE", "point stream output, '-' = stdout", "-")
+        .flag("compress", "zstd-compress the stream's DATA frames");
+    add_newton_options(a);
+    add_field_options(a, /*with_coverage=*/false);
+    a.positionals(0, 1u << 20);
+    if (!a.parse(argc, argv, 2)) return 0;
+    if (!field_file_arg(a) && a.positional().empty())
+        throw UsageError("missing DATA argument: the files the field is built from, or --field FILE.mlf (see meshless project --help)");
+    const FieldProjectParams np = newton_params(a);
+    const int nthreads = threads(a);
+    const auto t0 = Clock::now();
+    InputFile in(a.get_or("input", "-"));
+    StreamReader reader(in.f, in.name);
+    if (reader.kind() != RecordKind::seed)
+        throw FormatError(in.name + ": not a seed stream; --field projects the seeds of 'meshless generate BLOCKS...' "
+                          "(sample streams are projected without --field)");
+    reader.read_meta();
+    StreamMeta meta = reader.meta();
+    const double iso = stream_iso(a, meta);
+    meta.set("iso", iso);
+    const auto t1 = Clock::now();
+    BuiltField field = field_file_arg(a) && a.positional().empty() ? load_field_arg(a)
+                                                                   : build_field(a, read_points_arg(a));
+    const double field_seconds = since(t1);
+    add_projection_meta(meta, field.field->name(), np);
+    StreamOutput out(a.get_or("output", "-"));
+    StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"), /*with_blocks=*/true);
+    StreamSource source(reader);
+    FieldProjectStage project(*field.field, iso, np);
+    const Stage* stages[] = {&project};
+    run_pipeline(source, stages, sink, {nthreads});
+    out.commit();
+    if (a.has("stats")) {
+        print_newton_stats("project", field.field->name(), np, project.stats(), project.busy_seconds());
+        std::fprintf(stderr, "project: field %.3f s, total %.3f s\n", field_seconds, since(t0));
+    }
+    return 0;
+}
+
+}  // namespace meshless::cli
