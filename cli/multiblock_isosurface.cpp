@@ -20,6 +20,7 @@
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/volume_reader.hpp"
+#include "kernels/amr_cover.hpp"
 #include "kernels/barycentric_lattice.hpp"
 #include "kernels/block_cell_seeds.hpp"
 #include "kernels/errors.hpp"
@@ -73,8 +74,11 @@ FieldProjectParams newton_params(const Args& a) {
 // ------------------------------------------------------------------ inputs and metadata
 
 struct BlockInput {
-    Multiblock mb;
-    BlockSeedPlan plan;
+    Multiblock mb;        ///< as read: the field's data (to_point_set)
+    Multiblock padded;    ///< AMR: cell-centred boxes padded to their faces (amr_seed_blocks), else empty
+    BlockSeedPlan plan;   ///< of seed_blocks()
+    /// What the seed stage contours.
+    const Multiblock& seed_blocks() const { return padded.blocks.empty() ? mb : padded; }
     std::string source;   ///< file names joined by ','
     double read_seconds = 0, plan_seconds = 0;
 };
@@ -98,7 +102,8 @@ BlockInput read_blocks(const Args& a, double iso) {
     if (in.mb.blocks.size() > std::numeric_limits<std::uint32_t>::max())
         throw FormatError(a.positional()[0] + ": " + std::to_string(in.mb.blocks.size()) + " blocks, more than block ids can number");
     t0 = Clock::now();
-    in.plan = plan_block_seeds(in.mb, iso);
+    if (has_cell_centred_blocks(in.mb)) in.padded = amr_seed_blocks(in.mb);
+    in.plan = plan_block_seeds(in.seed_blocks(), iso);
     in.plan_seconds = since(t0);
     if (std::isnan(in.plan.value_range[0]))
         throw FormatError(in.source + ": every node is blanked or non-finite; there is no data to contour");
@@ -148,10 +153,12 @@ void warn_if_inactive(const BlockInput& in, double iso) {
 
 void print_seed_stats(const char* cmd, const BlockInput& in, const BlockSeedStats& s, int n) {
     std::fprintf(stderr,
-                 "%s: %zu blocks, %lld cells (skipped: %lld with an invalid corner, %lld collapsed/inverted), %lld active "
-                 "cells, %lld triangles (%lld of zero area skipped), %lld seeds (n = %d, %zu per triangle)\n",
+                 "%s: %zu blocks, %lld cells (skipped: %lld with an invalid corner, %lld collapsed/inverted, %lld covered by "
+                 "a finer level), %lld active cells, %lld triangles (%lld of zero area skipped), %lld seeds (n = %d, %zu per "
+                 "triangle)\n",
                  cmd, in.mb.blocks.size(), static_cast<long long>(s.cells), static_cast<long long>(s.invalid_cells),
-                 static_cast<long long>(s.degenerate_cells), static_cast<long long>(s.active_cells),
+                 static_cast<long long>(s.degenerate_cells), static_cast<long long>(s.covered_cells),
+                 static_cast<long long>(s.active_cells),
                  static_cast<long long>(s.triangles), static_cast<long long>(s.zero_area_triangles),
                  static_cast<long long>(s.seeds), n, lattice_size(n));
 }
@@ -303,7 +310,7 @@ int isosurface_blocks(int argc, char** argv) {
             run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, {nthreads});
         } else {
             BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
-            seed.emplace(in.mb, in.plan, iso, n);
+            seed.emplace(in.seed_blocks(), in.plan, iso, n);
             project.emplace(*field.field, iso, np);
             const Stage* stages[] = {&*seed, &*project, draw};
             run_pipeline(source, std::span<const Stage* const>(stages, draw ? 3 : 2), sink, {nthreads});
@@ -355,7 +362,7 @@ int generate_blocks(int argc, char** argv) {
     StreamOutput out(a.get_or("output", "-"));
     StreamSink sink(out.f, out.name, RecordKind::seed, block_meta(in, iso, n, a.command_line()), a.has("compress"));
     BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
-    BlockSeedStage seed(in.mb, in.plan, iso, n);
+    BlockSeedStage seed(in.seed_blocks(), in.plan, iso, n);
     const Stage* stages[] = {&seed};
     run_pipeline(source, stages, sink, {nthreads});
     out.commit();

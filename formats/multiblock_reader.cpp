@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "formats/plot3d.hpp"
+#include "kernels/amr_cover.hpp"
 #include "formats/ply.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/vtk_multiblock.hpp"
@@ -116,6 +117,8 @@ Multiblock read_multiblock(const std::vector<std::string>& paths, const PointSet
             mb.blocks.push_back(std::move(b));
         }
     }
+    // AMR: the finest data wins (kernels/amr_cover.hpp): coarse nodes under a finer box are not field data.
+    mark_amr_covered(mb);
     return mb;
 }
 

@@ -36,6 +36,13 @@ void for_cells(const StructuredBlock& b, std::int64_t c0, std::int64_t c1, F&& f
     }
 }
 
+bool all_covered(const StructuredBlock& b, const std::array<std::int64_t, 8>& node) {
+    if (b.covered.empty()) return false;
+    for (std::int64_t n : node)
+        if (!b.is_covered(n)) return false;
+    return true;
+}
+
 bool crossed(const HexCell& cell, double iso) {
     bool above = false, below = false;
     for (double v : cell.value) {
@@ -84,7 +91,7 @@ BlockSeedPlan plan_block_seeds(const Multiblock& mb, double iso) {
         HexCell cell;
         std::array<std::int64_t, 8> node{};
         for_cells(b, 0, block_cell_count(b), [&](std::int64_t i, std::int64_t j, std::int64_t k) {
-            if (!gather_block_cell(b, i, j, k, cell, node) || !crossed(cell, iso)) return;
+            if (!gather_block_cell(b, i, j, k, cell, node) || all_covered(b, node) || !crossed(cell, iso)) return;
             ++plan.active_cells;
             for (std::int64_t n : node) grow(plan.active_bounds, no_active, b.node[static_cast<std::size_t>(n)]);
         });
@@ -105,6 +112,10 @@ void block_cell_seeds(const StructuredBlock& b, std::uint32_t block_id, int orie
     for_cells(b, c0, c1, [&](std::int64_t i, std::int64_t j, std::int64_t k) {
         if (!gather_block_cell(b, i, j, k, cell, node)) {
             ++st.invalid_cells;
+            return;
+        }
+        if (all_covered(b, node)) {
+            ++st.covered_cells;
             return;
         }
         if (!crossed(cell, iso)) return;

@@ -12,6 +12,7 @@
 // A block with a dimension of 1 has no cells. Cell-centred blocks (AMR) are contoured on their
 // lattice of centres the same way.
 // Skipped and counted:
+//   - covered: every corner covered by a finer AMR level (StructuredBlock::covered), seeded there;
 //   - invalid: a corner that is blanked (valid == 0) or has a non-finite position or value; counted
 //     for every cell, whatever the isovalue;
 //   - degenerate: a cell the isosurface crosses whose corner Jacobians (hex_jacobian_range) are not
@@ -40,12 +41,13 @@ struct BlockSeedStats {
     std::int64_t cells = 0;               ///< cells visited
     std::int64_t invalid_cells = 0;       ///< skipped: a blanked / non-finite corner
     std::int64_t degenerate_cells = 0;    ///< skipped: collapsed or inverted (crossed by the surface)
+    std::int64_t covered_cells = 0;       ///< skipped: every corner covered by a finer AMR level (kernels/amr_cover.hpp)
     std::int64_t active_cells = 0;        ///< cells that produced triangles
     std::int64_t triangles = 0;           ///< triangles with a positive area
     std::int64_t zero_area_triangles = 0; ///< triangles skipped for a zero area
     std::int64_t seeds = 0;               ///< seeds written
     BlockSeedStats& operator+=(const BlockSeedStats& o) {
-        cells += o.cells; invalid_cells += o.invalid_cells; degenerate_cells += o.degenerate_cells;
+        cells += o.cells; invalid_cells += o.invalid_cells; degenerate_cells += o.degenerate_cells; covered_cells += o.covered_cells;
         active_cells += o.active_cells; triangles += o.triangles; zero_area_triangles += o.zero_area_triangles;
         seeds += o.seeds;
         return *this;

@@ -17,7 +17,7 @@ PointSet to_point_set(const Multiblock& mb) {
         pb.dims = b.dims;
         pb.first = ps.pos.size();
         for (std::int64_t n = 0; n < b.node_count(); ++n) {
-            if (!b.is_valid(n)) continue;
+            if (!b.is_valid(n) || b.is_covered(n)) continue;
             ps.pos.push_back(b.node[static_cast<std::size_t>(n)]);
             ps.value.push_back(b.value[static_cast<std::size_t>(n)]);
         }

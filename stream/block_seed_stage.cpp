@@ -29,9 +29,9 @@ void BlockSeedStage::process(Batch& b) const {
         block_cell_seeds(mb_.blocks[block], static_cast<std::uint32_t>(block), plan_.orientation[block],
                          b.cells.k0 - first[block], b.cells.k1 - first[block], iso_, n_, lattice_, b.seeds, st);
     }
-    const std::int64_t v[7] = {st.cells, st.invalid_cells, st.degenerate_cells, st.active_cells, st.triangles,
-                               st.zero_area_triangles, st.seeds};
-    for (std::size_t i = 0; i < 7; ++i) st_[i].fetch_add(v[i], std::memory_order_relaxed);
+    const std::int64_t v[8] = {st.cells, st.invalid_cells, st.degenerate_cells, st.active_cells, st.triangles,
+                               st.zero_area_triangles, st.seeds, st.covered_cells};
+    for (std::size_t i = 0; i < 8; ++i) st_[i].fetch_add(v[i], std::memory_order_relaxed);
     busy_ns_ += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -44,6 +44,7 @@ BlockSeedStats BlockSeedStage::stats() const {
     s.triangles = st_[4].load();
     s.zero_area_triangles = st_[5].load();
     s.seeds = st_[6].load();
+    s.covered_cells = st_[7].load();
     return s;
 }
 
