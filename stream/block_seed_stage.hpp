@@ -34,7 +34,7 @@ private:
     double iso_;
     int n_;
     std::vector<std::array<double, 3>> lattice_;
-    mutable std::array<std::atomic<std::int64_t>, 7> st_{};
+    mutable std::array<std::atomic<std::int64_t>, 8> st_{};
     mutable std::atomic<std::int64_t> busy_ns_{0};
 };
 
