@@ -106,6 +106,28 @@ TEST_CASE("isosurface BLOCKS: in-process and piped give the same bytes for any -
     CHECK(after_meta(s1) == after_meta(slurp(d / "s2")));
 }
 
+TEST_CASE("isosurface BLOCKS with a fitted field (.mlf): in-process, piped and built-in-place give the same bytes", "[cli][multiblock]") {
+    TempDir d("mbmlf");
+    const std::string xyz = write_sphere_blocks(d);
+    const std::string D = d.path.string();
+    REQUIRE(sh("MESHLESS fit " + xyz + " --field mpu --threads 2 -o " + D + "/f.mlf", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + xyz + " --iso 0.6 --field " + D + "/f.mlf --threads 1 -o " + D + "/a.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + xyz + " --iso 0.6 --field mpu --threads 2 -o " + D + "/b.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS generate " + xyz + " --iso 0.6 --threads 2 | MESHLESS project --field " + D +
+                   "/f.mlf --threads 2 | MESHLESS write -o " + D + "/c.ply",
+               d).code == 0);
+    const std::string a = slurp(d / "a.ply");
+    CHECK(a.size() > 10000);
+    CHECK(a == slurp(d / "b.ply"));
+    CHECK(a == slurp(d / "c.ply"));
+    // a .mlf fitted to other data is refused (exit 2) when the blocks are given
+    REQUIRE(sh("MESHLESS fit " + xyz + " --q-component 1 --field mpu -o " + D + "/other.mlf", d).code == 0);
+    const auto r = sh("MESHLESS isosurface " + xyz + " --iso 0.6 --field " + D + "/other.mlf -o " + D + "/x.ply", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("fitted to other data"));
+    CHECK_FALSE(std::filesystem::exists(d.path / "x.ply"));
+}
+
 TEST_CASE("isosurface BLOCKS: the PLY carries the block of each point, points on the sphere", "[cli][multiblock]") {
     TempDir d("mbply");
     const std::string xyz = write_sphere_blocks(d);
