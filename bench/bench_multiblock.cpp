@@ -65,7 +65,10 @@
 #include "formats/ply_points.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/analytic_volumes.hpp"
+#include "kernels/block_cells.hpp"
 #include "kernels/multiblock_split.hpp"
+#include "kernels/make_field.hpp"
+#include "kernels/seam_gap.hpp"
 #include "kernels/surface_coverage.hpp"
 
 namespace meshless::bench {
@@ -188,6 +191,7 @@ std::string body_after_header(const fs::path& p) {
 struct PointCloud {
     std::vector<Vec3> pos, normal;
     std::vector<float> radius;
+    std::vector<std::uint32_t> block;  ///< empty unless the PLY has a `block` property
 };
 
 PointCloud read_points(const fs::path& p) {
@@ -198,6 +202,7 @@ PointCloud read_points(const fs::path& p) {
         c.normal.push_back({r.normal[0], r.normal[1], r.normal[2]});
         c.radius.push_back(r.radius);
     }
+    c.block = pts.block;
     return c;
 }
 
@@ -603,6 +608,110 @@ void part_b(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
     r.table(t);
 }
 
+// ---- (c) the seam test on real data ------------------------------------------------------------
+
+/// Smallest and median diagonal of the blocks' usable cells (the Newton tolerance is 0.01 x a seed's).
+std::array<double, 2> cell_diagonals(const Multiblock& mb) {
+    std::vector<double> d;
+    HexCell cell;
+    std::array<std::int64_t, 8> node{};
+    for (const auto& b : mb.blocks)
+        for (std::int64_t k = 0; k + 1 < b.dims[2]; ++k)
+            for (std::int64_t j = 0; j + 1 < b.dims[1]; ++j)
+                for (std::int64_t i = 0; i + 1 < b.dims[0]; ++i) {
+                    if (!gather_block_cell(b, i, j, k, cell, node)) continue;
+                    double l = 0;
+                    for (int q = 0; q < 4; ++q) l = std::max(l, norm(cell.corner[static_cast<std::size_t>(7 - q)] - cell.corner[static_cast<std::size_t>(q)]));
+                    d.push_back(l);
+                }
+    if (d.empty()) return {0, 0};
+    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+    const double median = d[d.size() / 2];
+    return {*std::min_element(d.begin(), d.end()), median};
+}
+
+void part_c(const BenchOptions& o, Report& r, const fs::path& work) {
+    r.section("(c) Seam test on the real AMR sets and the 3-block combustor");
+    r.note("`meshless isosurface BLOCKS --iso V --field rbf-grid -o pts.ply`; pairs of points seeded in different blocks "
+           "whose splats overlap (|p_i - p_j| <= max radius); gap = distance of p_i from j's tangent plane "
+           "(kernels/seam_gap.hpp). Target: points of different blocks on one surface, gap <= the Newton tolerance "
+           "(0.01 x the seed's cell diagonal) plus the curvature term r^2 kappa / 2 of two points a splat radius apart "
+           "on a curved surface. Tolerance column: 0.01 x the smallest / median cell diagonal.");
+    const fs::path dir = work / "seam";
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    struct Set {
+        std::string label;
+        std::vector<std::string> paths;
+        std::string options;
+        double iso;
+    };
+    const fs::path D(o.data_dir);
+    const std::vector<Set> sets = {
+        {"chombo3d (AMR, 16 boxes)", {(D / "amr/chombo3d/chombo3d.vtm").string()}, "", -0.02},
+        {"HierarchicalBoxDataset.v1.1 (AMR, 81 boxes)", {(D / "amr/HierarchicalBoxDataset.v1.1.vthb").string()},
+         " --value 'Fractal Volume Fraction'", 1.0},
+        {"combustor multicomb_0..2.vts", {(D / "plot3d/multicomb_0.vts").string(), (D / "plot3d/multicomb_1.vts").string(),
+                                          (D / "plot3d/multicomb_2.vts").string()}, "", 0.4},
+    };
+    Table t;
+    t.header = {"set", "iso", "blocks", "points", "pairs across blocks", "max gap", "p99 gap", "p99 gap within blocks",
+                "tolerance (min / median cell)", "max |f-iso|/|grad f| of the points", "/ min tolerance"};
+    for (const Set& s : sets) {
+        std::vector<std::string> row{s.label, fmt("%g", s.iso)};
+        bool present = true;
+        std::string in;
+        for (const auto& p : s.paths) {
+            present = present && fs::exists(p);
+            in += " " + shq(p);
+        }
+        if (!present) {
+            row.push_back("n/a (data not found)");
+            row.resize(t.header.size(), "-");
+            t.add(row);
+            continue;
+        }
+        const fs::path out = dir / "seam.ply";
+        const Proc p = run(shq(o.meshless) + " isosurface" + in + s.options + fmt(" --iso %.17g --field rbf-grid -o ", s.iso) +
+                               shq(out.string()),
+                           dir);
+        if (!p.ok()) {
+            row.push_back(p.why());
+            row.resize(t.header.size(), "-");
+            t.add(row);
+            continue;
+        }
+        PointSetOptions opt;
+        if (!s.options.empty()) opt.value_name = "Fractal Volume Fraction";
+        const Multiblock mb = read_multiblock(s.paths, opt);
+        const auto diag = cell_diagonals(mb);
+        const PointCloud c = read_points(out);
+        const SeamGaps g = seam_gaps(c.pos, c.normal, c.radius, c.block, std::numeric_limits<double>::infinity());
+        row.push_back(fmt("%zu", mb.blocks.size()));
+        row.push_back(fmt("%zu", c.pos.size()));
+        row.push_back(fmt("%llu", static_cast<unsigned long long>(g.pairs)));
+        row.push_back(fmt("%.3g", g.max_gap));
+        row.push_back(fmt("%.3g", g.p99_gap));
+        const SeamGaps w = seam_gaps(c.pos, c.normal, c.radius, c.block, std::numeric_limits<double>::infinity(), false);
+        row.push_back(fmt("%.3g", w.p99_gap));
+        row.push_back(fmt("%.3g / %.3g", 0.01 * diag[0], 0.01 * diag[1]));
+        // every point's first-order distance to the one surface of the field (the same default rbf-grid
+        // the command built): two points within tolerance of one surface are within 2 x tolerance of each
+        // other's surfaces
+        const auto field = make_field(to_point_set(mb), FieldParams{});
+        std::vector<double> v(c.pos.size());
+        std::vector<Vec3> gr(c.pos.size());
+        field->evaluate(c.pos, v, gr);
+        double worst = 0;
+        for (std::size_t i = 0; i < v.size(); ++i)
+            if (norm(gr[i]) > 0) worst = std::max(worst, std::abs(v[i] - s.iso) / norm(gr[i]));
+        row.push_back(fmt("%.3g", worst));
+        row.push_back(diag[0] > 0 ? fmt("%.2f", worst / (0.01 * diag[0])) : "-");
+        t.add(row);
+    }
+    r.table(t);
+}
+
 }  // namespace
 
 void run_multiblock(const BenchOptions& o, Report& r) {
@@ -627,6 +736,7 @@ void run_multiblock(const BenchOptions& o, Report& r) {
                 : "python3-vtk9 not installed: the VTK columns are left out."));
     part_a(o, r, work, vtk);
     part_b(o, r, work, vtk);
+    part_c(o, r, work);
     if (temp && !o.keep) fs::remove_all(work, ec);
 }
 
