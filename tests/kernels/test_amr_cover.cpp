@@ -59,7 +59,7 @@ TEST_CASE("amr cover: coarse centres under a finer box are covered and left out 
     CHECK(flat.blocks[0].covered.empty());
 }
 
-TEST_CASE("amr cover: seed lattices reach the box faces with linear data exact; all-covered cells are known", "[amr_cover]") {
+TEST_CASE("amr cover: seed lattices reach the box faces with linear data exact and all-covered cells are known", "[amr_cover]") {
     Multiblock mb = two_levels();
     mark_amr_covered(mb);
     const Multiblock s = amr_seed_blocks(mb);
