@@ -111,17 +111,14 @@ MultiquadricFitResult MultiquadricSolver::fit(std::span<const Vec3> pos, std::sp
     const double cs2 = (c * invL) * (c * invL);
     MapM A(Impl::square(w.a_buf, n), n, n);
     MapM M(Impl::square(w.m_buf, n), n, n);
-    {   // lower triangle column by column (contiguous, vectorisable), then mirrored
-        const double* qx = w.P.col(1).data();
-        const double* qy = w.P.col(2).data();
-        const double* qz = w.P.col(3).data();
+    {   // lower triangle column by column, packet-wide (sqrt is correctly rounded in every lane,
+        // the sum is left to right as written: the same bits as a scalar loop)
+        const auto qx = w.P.col(1).array(), qy = w.P.col(2).array(), qz = w.P.col(3).array();
         for (Eigen::Index j = 0; j < n; ++j) {
-            double* col = A.col(j).data();
-            const double xj = qx[j], yj = qy[j], zj = qz[j];
-            for (Eigen::Index i = j; i < n; ++i) {
-                const double dx = qx[i] - xj, dy = qy[i] - yj, dz = qz[i] - zj;
-                col[i] = std::sqrt(dx * dx + dy * dy + dz * dz + cs2);
-            }
+            const Eigen::Index len = n - j;
+            A.col(j).tail(len).array() = ((qx.tail(len) - qx(j)).square() + (qy.tail(len) - qy(j)).square() +
+                                          (qz.tail(len) - qz(j)).square() + cs2)
+                                             .sqrt();
         }
     }  // only the lower triangle of A (and of M below) is ever read
     // Null-space reduction: Z = trailing n-r columns of Q; S = -Z^T A Z is SPD.
