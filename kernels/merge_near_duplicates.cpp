@@ -23,14 +23,15 @@ struct CellKeyHash {
 };
 
 // Open-addressing map CellKey -> head of its chain (linear probing, power-of-two table at most half
-// full): one flat allocation instead of a node per kept point (std::unordered_map was ~13% of an
-// mpu fit). Same lookups and results as the map it replaces.
+// full): one flat array of 4-byte heads instead of a node per kept point (std::unordered_map was
+// ~13% of an mpu fit). A slot's key is recomputed from its head point (key_of), so nothing else is
+// stored. Same lookups and results as the map it replaces.
+template <class KeyOf>
 class CellHeads {
 public:
-    explicit CellHeads(std::size_t n) {
+    CellHeads(std::size_t n, KeyOf key_of) : key_of_(key_of) {
         std::size_t cap = 16;
         while (cap < 2 * n + 16) cap *= 2;
-        keys_.resize(cap);
         heads_.assign(cap, kEmpty);
         mask_ = cap - 1;
     }
@@ -39,23 +40,22 @@ public:
     std::uint32_t find(const CellKey& k) const {
         for (std::size_t s = CellKeyHash{}(k) & mask_;; s = (s + 1) & mask_) {
             if (heads_[s] == kEmpty) return kEmpty;
-            if (keys_[s] == k) return heads_[s];
+            if (key_of_(heads_[s]) == k) return heads_[s];
         }
     }
-    /// Stores head v for k; returns the previous head (kEmpty if k was new). At most n keys.
+    /// Stores head v (whose key is k) for k; returns the previous head (kEmpty if k was new).
     std::uint32_t exchange(const CellKey& k, std::uint32_t v) {
         for (std::size_t s = CellKeyHash{}(k) & mask_;; s = (s + 1) & mask_) {
             if (heads_[s] == kEmpty) {
-                keys_[s] = k;
                 heads_[s] = v;
                 return kEmpty;
             }
-            if (keys_[s] == k) return std::exchange(heads_[s], v);
+            if (key_of_(heads_[s]) == k) return std::exchange(heads_[s], v);
         }
     }
 
 private:
-    std::vector<CellKey> keys_;
+    KeyOf key_of_;
     std::vector<std::uint32_t> heads_;
     std::size_t mask_ = 0;
 };
@@ -91,23 +91,35 @@ MergedPoints merge_near_duplicates(std::span<const Vec3> pos, std::span<const do
     if (!(cell > 0)) cell = 1;  // all points coincide
     const double inv = 1.0 / cell;
 
-    CellHeads head(pos.size());
+    out.pos.reserve(pos.size());
+    // The cell of a point r (relative to the origin); kept points are keyed by the same expression.
+    auto cell_of = [&](const Vec3& r, std::int64_t c[3], double u[3]) {
+        u[0] = (r.x - (lo.x - out.origin.x)) * inv;
+        u[1] = (r.y - (lo.y - out.origin.y)) * inv;
+        u[2] = (r.z - (lo.z - out.origin.z)) * inv;
+        for (int a = 0; a < 3; ++a) c[a] = static_cast<std::int64_t>(std::floor(u[a]));
+    };
+    auto key_of = [&](std::uint32_t k) {
+        std::int64_t c[3];
+        double u[3];
+        cell_of(out.pos[k], c, u);
+        return CellKey{c[0], c[1], c[2]};
+    };
+    CellHeads<decltype(key_of)> head(pos.size(), key_of);
     std::vector<std::uint32_t> next;     // chain of kept points within a hash cell
     std::vector<double> sum;
     std::vector<std::uint32_t> cnt;
-    out.pos.reserve(pos.size());
     constexpr std::uint32_t none = 0xFFFFFFFFu;
     const double tol2 = tol * tol;
 
     for (std::size_t i = 0; i < pos.size(); ++i) {
         const Vec3 r = pos[i] - out.origin;
-        const double u[3] = {(r.x - (lo.x - out.origin.x)) * inv, (r.y - (lo.y - out.origin.y)) * inv,
-                             (r.z - (lo.z - out.origin.z)) * inv};
+        double u[3];
         std::int64_t c[3];
+        cell_of(r, c, u);
         int from[3], to[3];
         for (int a = 0; a < 3; ++a) {
             const double f = std::floor(u[a]);
-            c[a] = static_cast<std::int64_t>(f);
             const double frac = (u[a] - f) * cell;  // distance to the lower face
             from[a] = frac <= tol ? -1 : 0;
             to[a] = cell - frac <= tol ? 1 : 0;
