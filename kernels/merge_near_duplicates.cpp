@@ -3,8 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
-#include <vector>
+#include <unordered_map>
 
 namespace meshless {
 namespace {
@@ -20,44 +19,6 @@ struct CellKeyHash {
         h ^= static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
         return static_cast<std::size_t>(h ^ (h >> 29));
     }
-};
-
-// Open-addressing map CellKey -> head of its chain (linear probing, power-of-two table at most half
-// full): one flat array of 4-byte heads instead of a node per kept point (std::unordered_map was
-// ~13% of an mpu fit). A slot's key is recomputed from its head point (key_of), so nothing else is
-// stored. Same lookups and results as the map it replaces.
-template <class KeyOf>
-class CellHeads {
-public:
-    CellHeads(std::size_t n, KeyOf key_of) : key_of_(key_of) {
-        std::size_t cap = 16;
-        while (cap < 2 * n + 16) cap *= 2;
-        heads_.assign(cap, kEmpty);
-        mask_ = cap - 1;
-    }
-    static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
-    /// The head stored for k, or kEmpty.
-    std::uint32_t find(const CellKey& k) const {
-        for (std::size_t s = CellKeyHash{}(k) & mask_;; s = (s + 1) & mask_) {
-            if (heads_[s] == kEmpty) return kEmpty;
-            if (key_of_(heads_[s]) == k) return heads_[s];
-        }
-    }
-    /// Stores head v (whose key is k) for k; returns the previous head (kEmpty if k was new).
-    std::uint32_t exchange(const CellKey& k, std::uint32_t v) {
-        for (std::size_t s = CellKeyHash{}(k) & mask_;; s = (s + 1) & mask_) {
-            if (heads_[s] == kEmpty) {
-                heads_[s] = v;
-                return kEmpty;
-            }
-            if (key_of_(heads_[s]) == k) return std::exchange(heads_[s], v);
-        }
-    }
-
-private:
-    KeyOf key_of_;
-    std::vector<std::uint32_t> heads_;
-    std::size_t mask_ = 0;
 };
 
 std::array<Vec3, 2> bbox(std::span<const Vec3> pos) { return bounding_box(pos); }
@@ -91,35 +52,24 @@ MergedPoints merge_near_duplicates(std::span<const Vec3> pos, std::span<const do
     if (!(cell > 0)) cell = 1;  // all points coincide
     const double inv = 1.0 / cell;
 
-    out.pos.reserve(pos.size());
-    // The cell of a point r (relative to the origin); kept points are keyed by the same expression.
-    auto cell_of = [&](const Vec3& r, std::int64_t c[3], double u[3]) {
-        u[0] = (r.x - (lo.x - out.origin.x)) * inv;
-        u[1] = (r.y - (lo.y - out.origin.y)) * inv;
-        u[2] = (r.z - (lo.z - out.origin.z)) * inv;
-        for (int a = 0; a < 3; ++a) c[a] = static_cast<std::int64_t>(std::floor(u[a]));
-    };
-    auto key_of = [&](std::uint32_t k) {
-        std::int64_t c[3];
-        double u[3];
-        cell_of(out.pos[k], c, u);
-        return CellKey{c[0], c[1], c[2]};
-    };
-    CellHeads<decltype(key_of)> head(pos.size(), key_of);
+    std::unordered_map<CellKey, std::uint32_t, CellKeyHash> head;
+    head.reserve(pos.size());
     std::vector<std::uint32_t> next;     // chain of kept points within a hash cell
     std::vector<double> sum;
     std::vector<std::uint32_t> cnt;
+    out.pos.reserve(pos.size());
     constexpr std::uint32_t none = 0xFFFFFFFFu;
     const double tol2 = tol * tol;
 
     for (std::size_t i = 0; i < pos.size(); ++i) {
         const Vec3 r = pos[i] - out.origin;
-        double u[3];
+        const double u[3] = {(r.x - (lo.x - out.origin.x)) * inv, (r.y - (lo.y - out.origin.y)) * inv,
+                             (r.z - (lo.z - out.origin.z)) * inv};
         std::int64_t c[3];
-        cell_of(r, c, u);
         int from[3], to[3];
         for (int a = 0; a < 3; ++a) {
             const double f = std::floor(u[a]);
+            c[a] = static_cast<std::int64_t>(f);
             const double frac = (u[a] - f) * cell;  // distance to the lower face
             from[a] = frac <= tol ? -1 : 0;
             to[a] = cell - frac <= tol ? 1 : 0;
@@ -128,7 +78,9 @@ MergedPoints merge_near_duplicates(std::span<const Vec3> pos, std::span<const do
         for (int dz = from[2]; dz <= to[2] && found == none; ++dz)
             for (int dy = from[1]; dy <= to[1] && found == none; ++dy)
                 for (int dx = from[0]; dx <= to[0] && found == none; ++dx) {
-                    for (std::uint32_t k = head.find(CellKey{c[0] + dx, c[1] + dy, c[2] + dz}); k != none; k = next[k]) {
+                    const auto it = head.find(CellKey{c[0] + dx, c[1] + dy, c[2] + dz});
+                    if (it == head.end()) continue;
+                    for (std::uint32_t k = it->second; k != none; k = next[k]) {
                         const Vec3 d = out.pos[k] - r;
                         if (dot(d, d) <= tol2) { found = k; break; }
                     }
@@ -143,7 +95,9 @@ MergedPoints merge_near_duplicates(std::span<const Vec3> pos, std::span<const do
         out.pos.push_back(r);
         sum.push_back(value[i]);
         cnt.push_back(1);
-        next.push_back(head.exchange(CellKey{c[0], c[1], c[2]}, k));  // none when the cell was new
+        auto [it, inserted] = head.try_emplace(CellKey{c[0], c[1], c[2]}, k);
+        next.push_back(inserted ? none : it->second);
+        if (!inserted) it->second = k;
     }
     out.value.resize(out.pos.size());
     for (std::size_t k = 0; k < out.pos.size(); ++k) out.value[k] = cnt[k] == 1 ? sum[k] : sum[k] / cnt[k];
