@@ -147,9 +147,10 @@ void info_field_file(const std::string& path) {
                                         : std::to_string(p.hardy_c_rel) + " x bounding-box diagonal";
     switch (p.kind) {
         case FieldKind::rbf_grid:
-            std::printf("  parameters: binning m = %g, support %s, local points %u..%u, Hardy c = %s\n", p.binning_m,
-                        p.rbf_grid_support == RbfGridSupport::paper_radius ? "paper radius" : "27 neighbours",
-                        p.rbf_grid_min_local, p.rbf_grid_max_local, c.c_str());
+            std::printf("  parameters: binning m = %g, support %s, local points %u..%u, nearest K = %s, Hardy c = %s\n",
+                        p.binning_m, p.rbf_grid_support == RbfGridSupport::paper_radius ? "paper radius" : "27 neighbours",
+                        p.rbf_grid_min_local, p.rbf_grid_max_local,
+                        p.rbf_grid_local_points == 0 ? "all" : std::to_string(p.rbf_grid_local_points).c_str(), c.c_str());
             break;
         case FieldKind::mpu:
             std::printf("  parameters: N = %u, min points %u, alpha = %g, max depth %u, Hardy c = %s\n", p.mpu_max_points,

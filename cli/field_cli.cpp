@@ -21,7 +21,7 @@ namespace meshless::cli {
 namespace {
 
 /// Options that shape a fit: meaningless with a fitted field file.
-constexpr const char* kFitOptions[] = {"binning", "support", "max-points", "alpha", "hardy-c", "hardy-c-world", "normalise-axes"};
+constexpr const char* kFitOptions[] = {"binning", "support", "local-points", "max-points", "alpha", "hardy-c", "hardy-c-world", "normalise-axes"};
 
 bool ends_with_mlf(const std::string& s) {
     if (s.size() < 4) return false;
@@ -74,6 +74,9 @@ void add_field_options(Args& a, bool with_coverage) {
              "rbf-grid")
         .option("binning", "", "M", "rbf-grid: binning constant m, about points per RBF-grid cell", "5")
         .option("support", "", "27|paper", "rbf-grid: blend the 27 neighbour cells (continuous) or the paper's radius 2|s|", "27")
+        .option("local-points", "", "K",
+                "rbf-grid: a local fit keeps its nearest max(K, points within its weight radius) points; 0 = all in its 27 cells",
+                std::to_string(FieldParams{}.rbf_grid_local_points))
         .option("max-points", "", "N", "mpu: subdivide while a node's sphere holds more than N points", "100")
         .option("alpha", "", "A", "mpu: sphere of influence = A x node diagonal", "0.75")
         .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal", "0.025")
@@ -115,6 +118,9 @@ FieldParams field_params(const Args& a) {
     p.hardy_c_rel = parse_finite(a.get_or("hardy-c", "0.025"), "--hardy-c");
     if (auto c = a.get("hardy-c-world")) p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
     p.normalise_axes = a.has("normalise-axes");
+    const long long k = a.get_int_or("local-points", FieldParams{}.rbf_grid_local_points);
+    if (k < 0 || k > 100000) throw UsageError("--local-points: expected 0..100000");
+    p.rbf_grid_local_points = static_cast<std::uint32_t>(k);
     return p;
 }
 

@@ -119,7 +119,7 @@ std::vector<unsigned char> encode_params(const FieldParams& p) {
     e.put<std::uint32_t>(p.mpu_max_depth);
     e.put<std::uint32_t>(p.global_max_points);
     e.put<std::uint32_t>(p.normalise_axes ? 1 : 0);
-    e.put<std::uint32_t>(0);
+    e.put<std::uint32_t>(p.rbf_grid_local_points);
     e.put<double>(p.hardy_c_rel);
     e.put<double>(p.hardy_c_world);
     e.put<double>(p.binning_m);
@@ -461,7 +461,7 @@ private:
         const std::uint32_t norm = d.get<std::uint32_t>();
         if (norm > 1) fail(at + 32, "section 'params': normalise_axes is neither 0 nor 1");
         p.normalise_axes = norm == 1;
-        d.get<std::uint32_t>();
+        p.rbf_grid_local_points = d.get<std::uint32_t>();  // 0 in files made before it existed: all points
         p.hardy_c_rel = d.get<double>();
         p.hardy_c_world = d.get<double>();
         p.binning_m = d.get<double>();

@@ -18,7 +18,8 @@
 //       payload: the elements (count x element size bytes) or their zstd frame
 //   The first three sections are "params" (80 bytes: u32 kind, support (0 27 neighbours, 1 paper
 //   radius), rbf_grid_max_local, rbf_grid_min_local, mpu_max_points, mpu_min_points, mpu_max_depth,
-//   global_max_points, normalise_axes, 0 | f64 hardy_c_rel, hardy_c_world, binning_m, mpu_alpha,
+//   global_max_points, normalise_axes, rbf_grid_local_points (K; 0 = all points, what files written
+//   before K existed hold there, and what they were fitted with) | f64 hardy_c_rel, hardy_c_world, binning_m, mpu_alpha,
 //   merge_rel), "identity" (u64 count | f64 lo[3] | f64 hi[3] | f64 value min, max | u64 hash |
 //   u64 dropped non-finite | u64 dropped blanked | u32 has values | u32 name bytes (<= 1024) | name)
 //   and "build_stats" (168 bytes, FieldBuildStats without the time: u64 input_points, merged_points,

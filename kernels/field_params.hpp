@@ -53,6 +53,10 @@ struct FieldParams {
     RbfGridSupport rbf_grid_support = RbfGridSupport::neighbours27;
     std::uint32_t rbf_grid_max_local = 600;  ///< cap on points of one local system (nearest kept), >= 8
     std::uint32_t rbf_grid_min_local = 20;   ///< a local with fewer points takes its nearest this many, 1..max
+    /// K: a local keeps the nearest max(K, points within the weight radius R_w) of its data-sphere
+    /// points (so F still interpolates every point), 0 = all of them (the paper). Cost per local is
+    /// cubic in its points; see kernels/rbf_grid_field.hpp for the choice of the default.
+    std::uint32_t rbf_grid_local_points = 160;
     // --- MPU octree (section 5.5)
     std::uint32_t mpu_max_points = 100;  ///< N: subdivide while a node's sphere holds more, >= 8
     /// leaves with fewer points grow their sphere to this many, 1..N. 50, not fewer: with ~25 points per

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
@@ -18,12 +19,21 @@ constexpr double kResidualRel = 1e-8;     // exact solve must interpolate to thi
 constexpr double kRankThreshold = 1e-10;  // relative pivot threshold of the polynomial QR
 }  // namespace
 
+using MapM = Eigen::Map<Eigen::MatrixXd>;
+
+// Scratch kept at the largest size seen: the n x n matrices live in buffers that only grow, viewed
+// through Maps, so consecutive fits of different sizes neither reallocate nor touch fresh pages
+// (per-fit reallocation of the ~n^2 x 8-byte matrices cost ~40% of a fit in page faults).
 struct MultiquadricSolver::Impl {
-    Eigen::MatrixXd A, M, S;
+    std::vector<double> a_buf, m_buf, s_buf;
     Eigen::MatrixXd P;
     Eigen::VectorXd g, rhs, mu, lam, t, r, v, p;
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
-    Eigen::LLT<Eigen::MatrixXd> llt;
+    static double* square(std::vector<double>& b, Eigen::Index n) {
+        const std::size_t need = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+        if (b.size() < need) b.resize(need);
+        return b.data();
+    }
 };
 
 MultiquadricSolver::MultiquadricSolver() : impl_(std::make_unique<Impl>()) {}
@@ -99,47 +109,51 @@ MultiquadricFitResult MultiquadricSolver::fit(std::span<const Vec3> pos, std::sp
 
     // Multiquadric matrix in scaled coordinates.
     const double cs2 = (c * invL) * (c * invL);
-    w.A.resize(n, n);
-    {   // lower triangle column by column (contiguous, vectorisable), then mirrored
-        const double* qx = w.P.col(1).data();
-        const double* qy = w.P.col(2).data();
-        const double* qz = w.P.col(3).data();
+    MapM A(Impl::square(w.a_buf, n), n, n);
+    MapM M(Impl::square(w.m_buf, n), n, n);
+    {   // lower triangle column by column, packet-wide (sqrt is correctly rounded in every lane,
+        // the sum is left to right as written: the same bits as a scalar loop)
+        const auto qx = w.P.col(1).array(), qy = w.P.col(2).array(), qz = w.P.col(3).array();
         for (Eigen::Index j = 0; j < n; ++j) {
-            double* col = w.A.col(j).data();
-            const double xj = qx[j], yj = qy[j], zj = qz[j];
-            for (Eigen::Index i = j; i < n; ++i) {
-                const double dx = qx[i] - xj, dy = qy[i] - yj, dz = qz[i] - zj;
-                col[i] = std::sqrt(dx * dx + dy * dy + dz * dz + cs2);
-            }
+            const Eigen::Index len = n - j;
+            A.col(j).tail(len).array() = ((qx.tail(len) - qx(j)).square() + (qy.tail(len) - qy(j)).square() +
+                                          (qz.tail(len) - qz(j)).square() + cs2)
+                                             .sqrt();
         }
     }  // only the lower triangle of A (and of M below) is ever read
     // Null-space reduction: Z = trailing n-r columns of Q; S = -Z^T A Z is SPD.
     const auto Q = w.qr.householderQ();
     // M = Q^T A Q, applying each reflector H_k = I - tau v v^T from both sides as one symmetric
     // rank-2 update of the lower triangle: H A H = A - v w^T - w v^T, w = p - (tau/2)(p.v) v, p = tau A v.
-    w.M = w.A;
+    M.triangularView<Eigen::Lower>() = A;
     for (Eigen::Index k = 0; k < w.qr.hCoeffs().size(); ++k) {
         const double tau = w.qr.hCoeffs()(k);
         if (tau == 0) continue;
         w.v.setZero(n);
         w.v(k) = 1;
         w.v.tail(n - k - 1) = w.qr.matrixQR().col(k).tail(n - k - 1);
-        w.p.noalias() = tau * (w.M.selfadjointView<Eigen::Lower>() * w.v);
+        w.p.noalias() = tau * (M.selfadjointView<Eigen::Lower>() * w.v);
         w.p -= (0.5 * tau * w.p.dot(w.v)) * w.v;
-        w.M.selfadjointView<Eigen::Lower>().rankUpdate(w.v, w.p, -1.0);
+        M.selfadjointView<Eigen::Lower>().rankUpdate(w.v, w.p, -1.0);
     }
     const Eigen::Index m = n - r;
     w.t = Q.adjoint() * w.g;
     w.rhs = -w.t.tail(m);
-    const double diag_mean = -w.M.bottomRightCorner(m, m).diagonal().mean();
+    const double diag_mean = -M.bottomRightCorner(m, m).diagonal().mean();
 
-    auto finish = [&](MultiquadricOutcome oc) -> bool {
-        w.mu = w.llt.solve(w.rhs);
+    MapM S(Impl::square(w.s_buf, m), m, m);
+    using InPlaceLlt = Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>>;  // factors S in place (lower triangle)
+    auto fill_s = [&](double ridge) {
+        S.triangularView<Eigen::Lower>() = -M.bottomRightCorner(m, m);
+        if (ridge != 0) S.diagonal().array() += ridge;
+    };
+    auto finish = [&](const InPlaceLlt& llt, MultiquadricOutcome oc) -> bool {
+        w.mu = llt.solve(w.rhs);
         if (!w.mu.allFinite()) return false;
         w.t.setZero(n);
         w.t.tail(m) = w.mu;
         w.lam = Q * w.t;
-        w.r = w.g - w.A.selfadjointView<Eigen::Lower>() * w.lam;  // what the polynomial must carry
+        w.r = w.g - A.selfadjointView<Eigen::Lower>() * w.lam;  // what the polynomial must carry
         const Eigen::Vector4d a = w.qr.solve(w.r);
         if (!a.allFinite() || !w.lam.allFinite()) return false;
         // Amplified rounding noise shows up as large, cancelling coefficients.
@@ -156,16 +170,17 @@ MultiquadricFitResult MultiquadricSolver::fit(std::span<const Vec3> pos, std::sp
         return true;
     };
 
-    w.S = -w.M.bottomRightCorner(m, m);
-    w.llt.compute(w.S);
-    if (w.llt.info() == Eigen::Success && finish(MultiquadricOutcome::interpolated)) return res;
+    fill_s(0);
+    {
+        InPlaceLlt llt(S);
+        if (llt.info() == Eigen::Success && finish(llt, MultiquadricOutcome::interpolated)) return res;
+    }
     for (double eps : {1e-12, 1e-10, 1e-8, 1e-6, 1e-4}) {
-        w.S = -w.M.bottomRightCorner(m, m);
-        w.S.diagonal().array() += eps * std::max(diag_mean, 1e-300);
-        w.llt.compute(w.S);
-        if (w.llt.info() != Eigen::Success) continue;
-        res.rcond = w.llt.rcond();
-        if (res.rcond >= kRcondRidge && finish(MultiquadricOutcome::regularised)) return res;
+        fill_s(eps * std::max(diag_mean, 1e-300));
+        InPlaceLlt llt(S);
+        if (llt.info() != Eigen::Success) continue;
+        res.rcond = llt.rcond();
+        if (res.rcond >= kRcondRidge && finish(llt, MultiquadricOutcome::regularised)) return res;
     }
     // Linear least squares.
     set_poly(w.g);

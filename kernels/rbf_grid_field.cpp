@@ -150,19 +150,26 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
 
     // ---- Count the points of every local, then lay out the arrays.
     const std::uint32_t cap = params.rbf_grid_max_local, min_local = std::min<std::uint32_t>(params.rbf_grid_min_local, static_cast<std::uint32_t>(n));
-    std::vector<std::uint32_t> count(static_cast<std::size_t>(ncells), 0);
+    // count: points in the data sphere (or grown); keep: how many the local uses, the nearest
+    // max(K, points within R_w) of them (K = rbf_grid_local_points, 0 = all), at most `cap`.
+    const std::uint32_t k_near = params.rbf_grid_local_points;
+    const double rw2 = r_w_ * r_w_ * (1 + 1e-12);
+    std::vector<std::uint32_t> count(static_cast<std::size_t>(ncells), 0), keep(static_cast<std::size_t>(ncells), 0);
     std::vector<std::vector<std::uint32_t>> grown(static_cast<std::size_t>(ncells));
     tbb::enumerable_thread_specific<std::vector<std::pair<double, std::uint32_t>>> scratch;
     tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, ncells, 256), [&](const tbb::blocked_range<std::int64_t>& r) {
         auto& near = scratch.local();
         for (std::int64_t cell = r.begin(); cell != r.end(); ++cell) {
-            std::uint32_t cnt = 0;
-            gather(cell, [&](std::uint32_t, const Vec3&) { ++cnt; });
+            std::uint32_t cnt = 0, in_w = 0;
+            gather(cell, [&](std::uint32_t, const Vec3& e) { ++cnt; in_w += dot(e, e) <= rw2; });
             if (cnt > 0 && cnt < min_local) {
                 grow(cell, min_local, near, grown[cell]);
                 cnt = static_cast<std::uint32_t>(grown[cell].size());
+                in_w = cnt;
             }
             count[cell] = cnt;
+            const std::uint32_t want = k_near == 0 ? cnt : std::max(k_near, in_w);
+            keep[cell] = std::min({cnt, want, cap});
         }
     });
     // A local over its whole 27-cell block (the data sphere always contains the block: its corner
@@ -181,11 +188,11 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
         MultiquadricLocal h;
         h.first = static_cast<std::uint32_t>(total);
         locals_.push_back(h);
-        const std::uint32_t used = std::min(count[cell], cap);
+        const std::uint32_t used = keep[cell];
         total += used;
         if (total > 0xFFFFFFF0ull || n + extra + used > 0xFFFFFFF0ull)
             throw InvalidArgument("rbf-grid: too many local points (" + std::to_string(total) + ")");
-        const bool expl = !grown[cell].empty() || count[cell] > cap;
+        const bool expl = !grown[cell].empty() || used < count[cell];
         explicit_pts.push_back(expl);
         if (expl) {
             runs_.push_back(MqRun{static_cast<std::uint32_t>(n + extra), used});
@@ -226,21 +233,22 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
             const std::int64_t cell = local_cell[l];
             MultiquadricLocal& h = locals_[l];
             const std::uint32_t cnt = count[cell];
-            const std::uint32_t used = std::min(cnt, cap);
+            const std::uint32_t used = keep[cell];
             idxv.resize(used);
             std::uint32_t* out = idxv.data();
             if (!grown[cell].empty()) {
                 std::copy(grown[cell].begin(), grown[cell].end(), out);
-            } else if (cnt <= cap) {
+            } else if (used == cnt) {
                 std::uint32_t k = 0;
                 gather(cell, [&](std::uint32_t pi, const Vec3&) { out[k++] = pi; });
-            } else {  // keep the `cap` nearest points (ties by index)
+            } else {  // keep the `used` nearest points (ties by index), in index order
                 near.clear();
                 gather(cell, [&](std::uint32_t pi, const Vec3& e) { near.emplace_back(dot(e, e), pi); });
-                std::nth_element(near.begin(), near.begin() + cap, near.end());
-                for (std::uint32_t k = 0; k < cap; ++k) out[k] = near[k].second;
-                std::sort(out, out + cap);
-                capped[l] = 1;
+                std::nth_element(near.begin(), near.begin() + used, near.end());
+                for (std::uint32_t k = 0; k < used; ++k) out[k] = near[k].second;
+                std::sort(out, out + used);
+                // capped: the size cap, not K, dropped points inside the weight radius
+                capped[l] = used == cap && near[used].first <= rw2;
             }
             const MultiquadricFitResult res =
                 solver.fit(pts, val, std::span<const std::uint32_t>(out, used), c, h,

@@ -596,3 +596,61 @@ TEST_CASE("multiquadric_sum over runs matches the scalar multiquadric", "[rbf]")
     }
     INFO(multiquadric_sum_isa());
 }
+
+TEST_CASE("rbf-grid K-nearest rule: smaller locals, still interpolating, on graded and clustered data", "[rbf]") {
+    // Graded data (spacing shrinking 30x towards one corner, as curvilinear CFD grids are): the
+    // bounding-box grid gets cells of very different counts.
+    std::vector<Vec3> pos;
+    {
+        std::mt19937_64 rng(77);
+        std::uniform_real_distribution<double> u(0, 1);
+        for (int i = 0; i < 6000; ++i) {
+            const double t = u(rng);
+            const double r = t * t * t;  // dense near the origin
+            pos.push_back({r, u(rng), u(rng)});
+        }
+    }
+    const PointSet ps = make_points(pos, franke3);
+    FieldParams all = params_for(FieldKind::rbf_grid);
+    all.rbf_grid_local_points = 0;
+    FieldParams k50 = params_for(FieldKind::rbf_grid);
+    k50.rbf_grid_local_points = 50;
+    FieldBuildStats s_all, s_k;
+    const auto f_all = make_field(ps, all, &s_all);
+    const auto f_k = make_field(ps, k50, &s_k);
+    REQUIRE(s_k.locals == s_all.locals);
+    CHECK(s_k.mean_local_points < 0.8 * s_all.mean_local_points);
+    REQUIRE(s_k.regularised + s_k.linear_fallback + s_k.capped == 0);
+    // Every point within a local's weight radius is kept, so F still interpolates the data.
+    std::vector<double> v(pos.size());
+    f_k->evaluate(pos, v, {});
+    double worst = 0;
+    for (std::size_t i = 0; i < pos.size(); ++i) worst = std::max(worst, std::abs(v[i] - ps.value[i]));
+    CHECK(worst <= 1e-7);
+    // ... and is about as accurate as the field over whole 27-cell blocks.
+    const auto at = random_points(3000, {0.05, 0.05, 0.05}, {0.95, 0.95, 0.95}, 78);
+    const Errors e_all = errors_at(*f_all, at, franke3), e_k = errors_at(*f_k, at, franke3);
+    CHECK(e_k.nonfinite == 0);
+    CHECK(e_k.rms <= 1.25 * e_all.rms);
+
+    // A cluster of 10^4 near-coincident points inside one cell of a uniform set: locals are bounded
+    // by the size cap (counted as capped), the field stays finite and builds.
+    std::vector<Vec3> cl = random_points(3000, {0, 0, 0}, {1, 1, 1}, 79);
+    const auto blob = random_points(10000, {0.5, 0.5, 0.5}, {0.5005, 0.5005, 0.5005}, 80);
+    cl.insert(cl.end(), blob.begin(), blob.end());
+    const PointSet pc = make_points(cl, franke3);
+    FieldBuildStats sc;
+    const auto fc = make_field(pc, params_for(FieldKind::rbf_grid), &sc);
+    CHECK(sc.max_local_points <= FieldParams{}.rbf_grid_max_local);
+    CHECK(sc.capped > 0);
+    const Errors ec = errors_at(*fc, at, franke3);
+    CHECK(ec.nonfinite == 0);
+    CHECK(ec.rms < 0.05);
+    // Away from the cluster (no capped local weighs there) the data is still interpolated.
+    std::vector<double> vc(3000);
+    fc->evaluate(std::span<const Vec3>(cl.data(), 3000), vc, {});
+    double worst_far = 0;
+    for (std::size_t i = 0; i < 3000; ++i)
+        if (norm(cl[i] - Vec3{0.5, 0.5, 0.5}) > 0.5) worst_far = std::max(worst_far, std::abs(vc[i] - pc.value[i]));
+    CHECK(worst_far <= 1e-7);
+}
