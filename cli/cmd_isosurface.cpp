@@ -66,10 +66,11 @@ int isosurface_sample_store(const Args& a, double iso, Projection mode, const Sa
 }  // namespace
 
 int cmd_isosurface(int argc, char** argv) {
-    Args a("isosurface", "VOLUME --iso V -o out.ply [--png out.png] [options]",
+    Args a("isosurface", "VOLUME --iso V -o out.ply|out.vtp [--png out.png] [options]",
            "Paradigm (C) iso-splatting: one sample per active cell (cell centre), value and gradient by\n"
            "trilinear interpolation, projected onto the isosurface; writes an oriented point set\n"
-           "(binary PLY: x y z nx ny nz radius value) and/or a surface-splatted picture.\n"
+           "(binary PLY: x y z nx ny nz radius value, or VTK XML PolyData .vtp with vertex cells, Normals,\n"
+           "radius, value) and/or a surface-splatted picture.\n"
            "VOLUME: raw (name_XxYxZ_type.raw or --dims/--type), NRRD (.nrrd/.nhdr), MetaImage (.mhd/.mha),\n"
            "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI, or a brick store (.mlb,\n"
            "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory,\n"

@@ -21,9 +21,11 @@
 //
 // Memory: the writers never hold the whole output. Each array goes, block by block as it arrives,
 // compressed into its own unlinked temporary file in $TMPDIR (else /tmp); commit() writes the XML
-// header (which needs the counts and offsets) and then copies the arrays behind it. Memory = one
-// raw block and one compressed block per array + 8 bytes per block of compressed-size table (1/32768
-// of the raw data). The output goes through AtomicFile (temporary name + rename; "-" = stdout,
+// header (which needs the counts and offsets) and then copies the arrays behind it. Memory = the
+// raw and compressed blocks of one appended batch (or of hardware_concurrency blocks, 2..16, of a mesh or cell array) + 8 bytes per
+// block of compressed-size table (1/32768 of the raw data with the default block size). Full
+// blocks are compressed in parallel on up to hardware_concurrency threads (each block alone, so
+// the bytes do not depend on the thread count). The output goes through AtomicFile (temporary name + rename; "-" = stdout,
 // written in full at commit()); nothing is left behind by an exception or a signal (the spool
 // files are unlinked at creation).
 // Throws IoError naming the path (output) or the spool file (temporary) when a write fails,
