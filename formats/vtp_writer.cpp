@@ -27,6 +27,45 @@ static_assert(std::endian::native == std::endian::little, "the VTP writer writes
 /// Blocks compressed together: the threads that compress them (2..16).
 std::size_t drain_blocks() { return std::clamp<std::size_t>(std::thread::hardware_concurrency(), 2, 16); }
 
+/// A zlib compressor reused across blocks (deflateReset): a fresh deflateInit per block would
+/// allocate and clear ~300 KiB of state each time. One z_stream per strategy; not movable (zlib's
+/// state points back to its z_stream), so held by unique_ptr.
+class Deflater {
+public:
+    Deflater() = default;
+    Deflater(const Deflater&) = delete;
+    Deflater& operator=(const Deflater&) = delete;
+    ~Deflater() {
+        for (int k = 0; k < 2; ++k)
+            if (init_[k]) deflateEnd(&z_[k]);
+    }
+    /// Compresses [in, in+n) into out (cap >= compressBound(n)); returns Z_OK and sets out_n.
+    int compress(const unsigned char* in, std::size_t n, unsigned char* out, std::size_t cap, std::size_t& out_n, int level,
+                 bool huffman_only) {
+        const int k = huffman_only ? 1 : 0;
+        z_stream& z = z_[k];
+        if (!init_[k]) {
+            const int rc = deflateInit2(&z, level, Z_DEFLATED, 15, 8, huffman_only ? Z_HUFFMAN_ONLY : Z_DEFAULT_STRATEGY);
+            if (rc != Z_OK) return rc;
+            init_[k] = true;
+        } else if (const int rc = deflateReset(&z); rc != Z_OK) {
+            return rc;
+        }
+        z.next_in = const_cast<unsigned char*>(in);
+        z.avail_in = static_cast<uInt>(n);
+        z.next_out = out;
+        z.avail_out = static_cast<uInt>(cap);
+        const int rc = deflate(&z, Z_FINISH);
+        out_n = cap - z.avail_out;
+        return rc == Z_STREAM_END ? Z_OK : (rc == Z_OK ? Z_BUF_ERROR : rc);
+    }
+
+private:
+    z_stream z_[2]{};
+    bool init_[2]{false, false};
+};
+using Deflaters = std::vector<std::unique_ptr<Deflater>>;
+
 /// One DataArray on its way to the appended section: compressed block by block into an unlinked
 /// temporary file, with the table of compressed sizes kept for the header.
 class ArraySpool {
@@ -84,22 +123,12 @@ public:
     }
     /// Block i of the queue (i < ready()): compresses it into its `packed` (thread-safe across
     /// distinct blocks).
-    void compress(std::size_t i) {
+    void compress(std::size_t i, Deflater& d) {
         Block& b = queue_[i];
         if (o_.compression != VtpCompression::zlib) return;
         const uLong cap = compressBound(static_cast<uLong>(b.raw.size()));
         if (b.packed.size() < cap) b.packed.resize(cap);  // recycled blocks keep their buffers
-        z_stream z{};
-        b.rc = deflateInit2(&z, o_.zlib_level, Z_DEFLATED, 15, 8, entropy_only_ ? Z_HUFFMAN_ONLY : Z_DEFAULT_STRATEGY);
-        if (b.rc != Z_OK) return;
-        z.next_in = b.raw.data();
-        z.avail_in = static_cast<uInt>(b.raw.size());
-        z.next_out = b.packed.data();
-        z.avail_out = static_cast<uInt>(cap);
-        const int rc = deflate(&z, Z_FINISH);
-        b.packed_size = cap - z.avail_out;
-        deflateEnd(&z);
-        b.rc = rc == Z_STREAM_END ? Z_OK : (rc == Z_OK ? Z_BUF_ERROR : rc);
+        b.rc = d.compress(b.raw.data(), b.raw.size(), b.packed.data(), cap, b.packed_size, o_.zlib_level, entropy_only_);
     }
     /// Writes the first k blocks (compressed by compress()) to the spool, in order.
     void write_ready(std::size_t k) {
@@ -181,7 +210,7 @@ private:
 /// Compresses the queued blocks of `arrays` (all of them with `all`, else the full ones) on up to
 /// hardware_concurrency threads and writes them to their spools in order. Deterministic: each
 /// block is compressed alone, so the bytes do not depend on the thread count.
-void drain(const std::vector<ArraySpool*>& arrays, bool all) {
+void drain(const std::vector<ArraySpool*>& arrays, bool all, Deflaters& pool) {
     std::vector<std::pair<ArraySpool*, std::size_t>> jobs;
     std::vector<std::size_t> counts;
     for (ArraySpool* a : arrays) {
@@ -190,17 +219,18 @@ void drain(const std::vector<ArraySpool*>& arrays, bool all) {
     }
     const std::size_t hw = std::max(1u, std::thread::hardware_concurrency());
     const std::size_t nthreads = std::min(jobs.size(), hw);
+    while (pool.size() < nthreads) pool.push_back(std::make_unique<Deflater>());
     if (nthreads <= 1) {
-        for (auto& [a, i] : jobs) a->compress(i);
+        for (auto& [a, i] : jobs) a->compress(i, *pool[0]);
     } else {
         std::atomic<std::size_t> next{0};
-        auto work = [&] {
-            for (std::size_t j; (j = next.fetch_add(1)) < jobs.size();) jobs[j].first->compress(jobs[j].second);
+        auto work = [&](Deflater& d) {
+            for (std::size_t j; (j = next.fetch_add(1)) < jobs.size();) jobs[j].first->compress(jobs[j].second, d);
         };
-        std::vector<std::thread> pool;
-        for (std::size_t t = 1; t < nthreads; ++t) pool.emplace_back(work);
-        work();
-        for (auto& t : pool) t.join();
+        std::vector<std::thread> threads;
+        for (std::size_t t = 1; t < nthreads; ++t) threads.emplace_back(work, std::ref(*pool[t]));
+        work(*pool[0]);
+        for (auto& t : threads) t.join();
     }
     for (std::size_t k = 0; k < arrays.size(); ++k) arrays[k]->write_ready(counts[k]);
 }
@@ -228,18 +258,19 @@ std::string xml_comment(const std::string& text) {
 /// Appends a large array in pieces of drain_blocks() blocks, compressing each piece in parallel:
 /// memory = that many blocks, whatever the array's size.
 
-void append_bulk(ArraySpool& a, const void* data, std::size_t n, std::size_t block_size) {
+void append_bulk(ArraySpool& a, const void* data, std::size_t n, std::size_t block_size, Deflaters& pool) {
     const auto* p = static_cast<const unsigned char*>(data);
     const std::size_t piece = drain_blocks() * block_size;
     for (std::size_t i = 0; i < n; i += piece) {
         a.append(p + i, std::min(piece, n - i));
-        drain({&a}, false);
+        drain({&a}, false, pool);
     }
 }
 
 /// Fills a cell array spool with first, first+step, ... (n values of type T).
 template <class T>
-void append_sequence(ArraySpool& a, std::uint64_t n, std::uint64_t first, std::uint64_t step, std::size_t block_size) {
+void append_sequence(ArraySpool& a, std::uint64_t n, std::uint64_t first, std::uint64_t step, std::size_t block_size,
+                     Deflaters& pool) {
     std::vector<T> buf;
     const std::uint64_t chunk = std::max<std::uint64_t>(1, drain_blocks() * block_size / sizeof(T));
     for (std::uint64_t i = 0; i < n; i += chunk) {
@@ -247,7 +278,7 @@ void append_sequence(ArraySpool& a, std::uint64_t n, std::uint64_t first, std::u
         const std::uint64_t e = std::min(n, i + chunk);
         for (std::uint64_t k = i; k < e; ++k) buf.push_back(static_cast<T>(first + k * step));
         a.append(buf.data(), buf.size() * sizeof(T));
-        drain({&a}, false);
+        drain({&a}, false, pool);
     }
 }
 
@@ -263,14 +294,14 @@ struct Section {
 
 /// Writes the whole file: comments, header with offsets, appended arrays, trailer.
 void assemble(AtomicFile& out, const std::vector<std::string>& comments, const VtpOptions& o, const std::string& piece_attrs,
-              const std::vector<Section>& sections) {
+              const std::vector<Section>& sections, Deflaters& pool) {
     std::string x = "<?xml version=\"1.0\"?>\n";
     for (const auto& c : comments) x += xml_comment(c);
     x += std::string("<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"") +
          compressor_attr(o) + ">\n  <PolyData>\n    <Piece " + piece_attrs + ">\n";
     std::vector<ArraySpool*> all;
     for (const auto& s : sections) all.insert(all.end(), s.arrays.begin(), s.arrays.end());
-    drain(all, true);
+    drain(all, true, pool);
     std::uint64_t offset = 0;
     std::vector<ArraySpool*> order;
     for (const auto& s : sections) {
@@ -304,6 +335,7 @@ struct VtpPointWriter::Impl {
     std::optional<ArraySpool> block;
     bool any = false;
     std::vector<float> scratch;
+    Deflaters pool;
     Impl(const std::string& p, const std::vector<std::string>& c, const VtpOptions& opt)
         : path(p), comments(c), o(opt), out(p), points("Points", "Float32", 3, opt, true), normals("Normals", "Float32", 3, opt, true),
           radius("radius", "Float32", 1, opt), value("value", "Float32", 1, opt) {}
@@ -338,7 +370,7 @@ void VtpPointWriter::append(std::span<const PointRecord> pts, std::span<const st
     if (d_->block) d_->block->append(blocks.data(), 4 * n);
     std::vector<ArraySpool*> arrays{&d_->points, &d_->normals, &d_->radius, &d_->value};
     if (d_->block) arrays.push_back(&*d_->block);
-    drain(arrays, false);
+    drain(arrays, false, d_->pool);
     count_ += n;
 }
 
@@ -349,11 +381,11 @@ void VtpPointWriter::commit() {
     const char* itype = wide ? "Int64" : "Int32";
     ArraySpool conn("connectivity", itype, 1, d.o), offs("offsets", itype, 1, d.o);
     if (wide) {
-        append_sequence<std::int64_t>(conn, n, 0, 1, d.o.block_size);
-        append_sequence<std::int64_t>(offs, n, 1, 1, d.o.block_size);
+        append_sequence<std::int64_t>(conn, n, 0, 1, d.o.block_size, d.pool);
+        append_sequence<std::int64_t>(offs, n, 1, 1, d.o.block_size, d.pool);
     } else {
-        append_sequence<std::int32_t>(conn, n, 0, 1, d.o.block_size);
-        append_sequence<std::int32_t>(offs, n, 1, 1, d.o.block_size);
+        append_sequence<std::int32_t>(conn, n, 0, 1, d.o.block_size, d.pool);
+        append_sequence<std::int32_t>(offs, n, 1, 1, d.o.block_size, d.pool);
     }
     std::vector<ArraySpool*> pd{&d.normals, &d.radius, &d.value};
     if (d.block) pd.push_back(&*d.block);
@@ -362,7 +394,8 @@ void VtpPointWriter::commit() {
              "NumberOfPoints=\"" + ns + "\" NumberOfVerts=\"" + ns + "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\"",
              {{"<PointData Normals=\"Normals\" Scalars=\"value\">", "</PointData>", pd},
               {"<Points>", "</Points>", {&d.points}},
-              {"<Verts>", "</Verts>", {&conn, &offs}}});
+              {"<Verts>", "</Verts>", {&conn, &offs}}},
+             d.pool);
 }
 
 void write_vtp_mesh(const Mesh& mesh, const std::string& path, const std::vector<std::string>& comments, VtpOptions o) {
@@ -382,12 +415,13 @@ void write_vtp_mesh(const Mesh& mesh, const std::string& path, const std::vector
         throw std::invalid_argument(path + ": mesh has " + std::to_string(mesh.block.size()) + " block ids for " +
                                     std::to_string(nf) + " triangles");
     AtomicFile out(path);
+    Deflaters pool;
     ArraySpool points("Points", "Float32", 3, o, true);
-    append_bulk(points, mesh.xyz.data(), mesh.xyz.size() * sizeof(float), o.block_size);
+    append_bulk(points, mesh.xyz.data(), mesh.xyz.size() * sizeof(float), o.block_size, pool);
     std::optional<ArraySpool> nrm;
     if (normals) {
         nrm.emplace("Normals", "Float32", 3, o, true);
-        append_bulk(*nrm, mesh.normals.data(), mesh.normals.size() * sizeof(float), o.block_size);
+        append_bulk(*nrm, mesh.normals.data(), mesh.normals.size() * sizeof(float), o.block_size, pool);
     }
     // indices < 2^32 (uint32 in Mesh); offsets reach 3 * nf
     const auto imax = static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max());
@@ -400,18 +434,18 @@ void write_vtp_mesh(const Mesh& mesh, const std::string& path, const std::vector
         for (std::size_t i = 0; i < mesh.tri.size(); i += kChunk) {
             const std::size_t e = std::min(mesh.tri.size(), i + kChunk);
             buf.assign(mesh.tri.begin() + static_cast<std::ptrdiff_t>(i), mesh.tri.begin() + static_cast<std::ptrdiff_t>(e));
-            append_bulk(conn, buf.data(), buf.size() * 8, o.block_size);
+            append_bulk(conn, buf.data(), buf.size() * 8, o.block_size, pool);
         }
-        append_sequence<std::int64_t>(offs, nf, 3, 3, o.block_size);
+        append_sequence<std::int64_t>(offs, nf, 3, 3, o.block_size, pool);
     } else {
         // uint32 indices below 2^31 have the bytes of their int32 value
-        append_bulk(conn, mesh.tri.data(), mesh.tri.size() * sizeof(std::uint32_t), o.block_size);
-        append_sequence<std::int32_t>(offs, nf, 3, 3, o.block_size);
+        append_bulk(conn, mesh.tri.data(), mesh.tri.size() * sizeof(std::uint32_t), o.block_size, pool);
+        append_sequence<std::int32_t>(offs, nf, 3, 3, o.block_size, pool);
     }
     std::optional<ArraySpool> blk;
     if (blocks) {
         blk.emplace("block", "UInt32", 1, o);
-        append_bulk(*blk, mesh.block.data(), mesh.block.size() * sizeof(std::uint32_t), o.block_size);
+        append_bulk(*blk, mesh.block.data(), mesh.block.size() * sizeof(std::uint32_t), o.block_size, pool);
     }
     std::vector<Section> sections;
     if (normals) sections.push_back({"<PointData Normals=\"Normals\">", "</PointData>", {&*nrm}});
@@ -421,7 +455,7 @@ void write_vtp_mesh(const Mesh& mesh, const std::string& path, const std::vector
     assemble(out, comments, o,
              "NumberOfPoints=\"" + std::to_string(nv) + "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" +
                  std::to_string(nf) + "\"",
-             sections);
+             sections, pool);
 }
 
 }  // namespace meshless
