@@ -70,11 +70,13 @@ using Deflaters = std::vector<std::unique_ptr<Deflater>>;
 /// temporary file, with the table of compressed sizes kept for the header.
 class ArraySpool {
 public:
-    /// entropy_only: compress with Huffman coding alone (Z_HUFFMAN_ONLY): for float geometry
-    /// (positions, normals), where string matching finds almost nothing (1-2% of the size) at
-    /// 3x the time; other arrays (constants, index sequences, ids) use the default strategy.
-    ArraySpool(std::string name, std::string type, int components, const VtpOptions& o, bool entropy_only = false)
-        : name_(std::move(name)), type_(std::move(type)), components_(components), o_(o), entropy_only_(entropy_only) {
+    /// may_skip_matching: float geometry (positions, normals), where zlib's string matching often
+    /// finds almost nothing (2% of the size of projected isosurface points) at 3x the time of
+    /// Huffman coding alone (Z_HUFFMAN_ONLY), but much on grid-aligned data (marching-cubes
+    /// vertices). Probe blocks decide (is_probe). Other arrays (constants,
+    /// index sequences, ids) always use the default strategy.
+    ArraySpool(std::string name, std::string type, int components, const VtpOptions& o, bool may_skip_matching = false)
+        : name_(std::move(name)), type_(std::move(type)), components_(components), o_(o), may_skip_(may_skip_matching) {
         if (o_.block_size == 0 || o_.block_size > (std::size_t{1} << 30)) throw std::invalid_argument("VTP writer: bad block size");
         const char* dir = std::getenv("TMPDIR");
         std::string tmpl = std::string(dir && *dir ? dir : "/tmp") + "/meshless-vtp-" + name_ + "-XXXXXX";
@@ -107,6 +109,7 @@ public:
                     queue_.push_back(std::move(spare_.back()));
                     spare_.pop_back();
                     queue_.back().raw.clear();
+                    queue_.back().done = false;
                 }
             }
             std::vector<unsigned char>& raw = queue_.back().raw;
@@ -121,14 +124,42 @@ public:
         if (queue_.empty()) return 0;
         return queue_.size() - (!all && queue_.back().raw.size() < o_.block_size ? 1 : 0);
     }
-    /// Block i of the queue (i < ready()): compresses it into its `packed` (thread-safe across
-    /// distinct blocks).
+    /// Every kProbeEvery-th block of an array that may skip matching (block index 0, 8, 16, ...)
+    /// is a probe: compressed both ways, it keeps Huffman-only coding when that is within 3% of
+    /// the default strategy's size, and the blocks up to the next probe use the same choice.
+    /// Deterministic: depends on the data only (blocks are fixed raw byte ranges).
+    static constexpr std::uint64_t kProbeEvery = 8;
+    bool is_probe(std::size_t i) const {
+        return may_skip_ && o_.compression == VtpCompression::zlib && (csizes_.size() + i) % kProbeEvery == 0;
+    }
+    /// Compresses probe block i both ways (serially, before the blocks that follow it), keeps the
+    /// chosen result and records the choice for them.
+    void compress_probe(std::size_t i, Deflater& d) {
+        Block& b = queue_[i];
+        const uLong cap = compressBound(static_cast<uLong>(b.raw.size()));
+        if (b.packed.size() < cap) b.packed.resize(cap);
+        probe_out_.resize(cap);
+        std::size_t huffman = 0;
+        b.rc = d.compress(b.raw.data(), b.raw.size(), b.packed.data(), cap, b.packed_size, o_.zlib_level, false);
+        if (b.rc != Z_OK) return;
+        b.rc = d.compress(b.raw.data(), b.raw.size(), probe_out_.data(), cap, huffman, o_.zlib_level, true);
+        entropy_only_ = static_cast<double>(huffman) <= 1.03 * static_cast<double>(b.packed_size);
+        if (entropy_only_) {
+            std::swap(b.packed, probe_out_);
+            b.packed_size = huffman;
+        }
+        b.done = true;
+    }
+    /// Marks block i (not a probe) with the current choice (the last probe's).
+    void assign_strategy(std::size_t i) { queue_[i].huffman_only = entropy_only_; }
+    /// Block i of the queue (i < ready()): compresses it into its `packed` with its strategy
+    /// (thread-safe across distinct blocks); probes are already done.
     void compress(std::size_t i, Deflater& d) {
         Block& b = queue_[i];
-        if (o_.compression != VtpCompression::zlib) return;
+        if (o_.compression != VtpCompression::zlib || b.done) return;
         const uLong cap = compressBound(static_cast<uLong>(b.raw.size()));
         if (b.packed.size() < cap) b.packed.resize(cap);  // recycled blocks keep their buffers
-        b.rc = d.compress(b.raw.data(), b.raw.size(), b.packed.data(), cap, b.packed_size, o_.zlib_level, entropy_only_);
+        b.rc = d.compress(b.raw.data(), b.raw.size(), b.packed.data(), cap, b.packed_size, o_.zlib_level, b.huffman_only);
     }
     /// Writes the first k blocks (compressed by compress()) to the spool, in order.
     void write_ready(std::size_t k) {
@@ -200,9 +231,11 @@ private:
         std::vector<unsigned char> raw, packed;
         std::size_t packed_size = 0;
         int rc = Z_OK;
+        bool huffman_only = false, done = false;
     };
     std::vector<Block> queue_, spare_;
-    bool entropy_only_ = false;
+    bool may_skip_ = false, entropy_only_ = false;
+    std::vector<unsigned char> probe_out_;
     std::vector<std::uint64_t> csizes_;
     std::uint64_t raw_bytes_ = 0, data_bytes_ = 0;
 };
@@ -213,9 +246,17 @@ private:
 void drain(const std::vector<ArraySpool*>& arrays, bool all, Deflaters& pool) {
     std::vector<std::pair<ArraySpool*, std::size_t>> jobs;
     std::vector<std::size_t> counts;
+    if (pool.empty()) pool.push_back(std::make_unique<Deflater>());
     for (ArraySpool* a : arrays) {
         counts.push_back(a->ready(all));
-        for (std::size_t i = 0; i < counts.back(); ++i) jobs.emplace_back(a, i);
+        for (std::size_t i = 0; i < counts.back(); ++i) {
+            if (a->is_probe(i)) {
+                a->compress_probe(i, *pool[0]);
+            } else {
+                a->assign_strategy(i);
+                jobs.emplace_back(a, i);
+            }
+        }
     }
     const std::size_t hw = std::max(1u, std::thread::hardware_concurrency());
     const std::size_t nthreads = std::min(jobs.size(), hw);
