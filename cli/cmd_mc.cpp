@@ -133,7 +133,7 @@ int cmd_mc(int argc, char** argv) {
         source = std::make_unique<McSlabSource>(in.volume->grid);
         stage = std::make_unique<MarchingCubesStage>(in.volume->view(), iso);
     }
-    MeshWeldSink sink(out, format);
+    MeshWeldSink sink(out, format, threads(a));
     const Stage* stages[] = {stage.get()};
     run_pipeline(*source, stages, sink, {threads(a)});
     const double secs = seconds_since(t0);

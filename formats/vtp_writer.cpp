@@ -64,7 +64,13 @@ private:
     z_stream z_[2]{};
     bool init_[2]{false, false};
 };
-using Deflaters = std::vector<std::unique_ptr<Deflater>>;
+/// The compressors of one writer: one per thread, at most `threads` threads.
+struct Deflaters {
+    std::vector<std::unique_ptr<Deflater>> d;
+    std::size_t threads = 1;
+    explicit Deflaters(int t)
+        : threads(t > 0 ? static_cast<std::size_t>(t) : std::max<std::size_t>(1, std::thread::hardware_concurrency())) {}
+};
 
 /// One DataArray on its way to the appended section: compressed block by block into an unlinked
 /// temporary file, with the table of compressed sizes kept for the header.
@@ -241,36 +247,35 @@ private:
 };
 
 /// Compresses the queued blocks of `arrays` (all of them with `all`, else the full ones) on up to
-/// hardware_concurrency threads and writes them to their spools in order. Deterministic: each
+/// VtpOptions::threads threads and writes them to their spools in order. Deterministic: each
 /// block is compressed alone, so the bytes do not depend on the thread count.
 void drain(const std::vector<ArraySpool*>& arrays, bool all, Deflaters& pool) {
     std::vector<std::pair<ArraySpool*, std::size_t>> jobs;
     std::vector<std::size_t> counts;
-    if (pool.empty()) pool.push_back(std::make_unique<Deflater>());
+    if (pool.d.empty()) pool.d.push_back(std::make_unique<Deflater>());
     for (ArraySpool* a : arrays) {
         counts.push_back(a->ready(all));
         for (std::size_t i = 0; i < counts.back(); ++i) {
             if (a->is_probe(i)) {
-                a->compress_probe(i, *pool[0]);
+                a->compress_probe(i, *pool.d[0]);
             } else {
                 a->assign_strategy(i);
                 jobs.emplace_back(a, i);
             }
         }
     }
-    const std::size_t hw = std::max(1u, std::thread::hardware_concurrency());
-    const std::size_t nthreads = std::min(jobs.size(), hw);
-    while (pool.size() < nthreads) pool.push_back(std::make_unique<Deflater>());
+    const std::size_t nthreads = std::min(jobs.size(), pool.threads);
+    while (pool.d.size() < nthreads) pool.d.push_back(std::make_unique<Deflater>());
     if (nthreads <= 1) {
-        for (auto& [a, i] : jobs) a->compress(i, *pool[0]);
+        for (auto& [a, i] : jobs) a->compress(i, *pool.d[0]);
     } else {
         std::atomic<std::size_t> next{0};
         auto work = [&](Deflater& d) {
             for (std::size_t j; (j = next.fetch_add(1)) < jobs.size();) jobs[j].first->compress(jobs[j].second, d);
         };
         std::vector<std::thread> threads;
-        for (std::size_t t = 1; t < nthreads; ++t) threads.emplace_back(work, std::ref(*pool[t]));
-        work(*pool[0]);
+        for (std::size_t t = 1; t < nthreads; ++t) threads.emplace_back(work, std::ref(*pool.d[t]));
+        work(*pool.d[0]);
         for (auto& t : threads) t.join();
     }
     for (std::size_t k = 0; k < arrays.size(); ++k) arrays[k]->write_ready(counts[k]);
@@ -372,13 +377,13 @@ struct VtpPointWriter::Impl {
     std::vector<std::string> comments;
     VtpOptions o;
     AtomicFile out;
+    Deflaters pool;
     ArraySpool points, normals, radius, value;
     std::optional<ArraySpool> block;
     bool any = false;
     std::vector<float> scratch;
-    Deflaters pool;
     Impl(const std::string& p, const std::vector<std::string>& c, const VtpOptions& opt)
-        : path(p), comments(c), o(opt), out(p), points("Points", "Float32", 3, opt, true), normals("Normals", "Float32", 3, opt, true),
+        : path(p), comments(c), o(opt), out(p), pool(opt.threads), points("Points", "Float32", 3, opt, true), normals("Normals", "Float32", 3, opt, true),
           radius("radius", "Float32", 1, opt), value("value", "Float32", 1, opt) {}
 };
 
@@ -456,7 +461,7 @@ void write_vtp_mesh(const Mesh& mesh, const std::string& path, const std::vector
         throw std::invalid_argument(path + ": mesh has " + std::to_string(mesh.block.size()) + " block ids for " +
                                     std::to_string(nf) + " triangles");
     AtomicFile out(path);
-    Deflaters pool;
+    Deflaters pool(o.threads);
     ArraySpool points("Points", "Float32", 3, o, true);
     append_bulk(points, mesh.xyz.data(), mesh.xyz.size() * sizeof(float), o.block_size, pool);
     std::optional<ArraySpool> nrm;

@@ -24,7 +24,7 @@
 // header (which needs the counts and offsets) and then copies the arrays behind it. Memory = the
 // raw and compressed blocks of one appended batch (or of hardware_concurrency blocks, 2..16, of a mesh or cell array) + 8 bytes per
 // block of compressed-size table (1/32768 of the raw data with the default block size). Full
-// blocks are compressed in parallel on up to hardware_concurrency threads (each block alone, so
+// blocks are compressed in parallel on up to VtpOptions::threads threads (each block alone, so
 // the bytes do not depend on the thread count). The output goes through AtomicFile (temporary name + rename; "-" = stdout,
 // written in full at commit()); nothing is left behind by an exception or a signal (the spool
 // files are unlinked at creation).
@@ -51,6 +51,7 @@ struct VtpOptions {
     VtpCompression compression = VtpCompression::zlib;
     int zlib_level = 1;                     ///< 1 (fastest) .. 9; see bench note in the report
     std::size_t block_size = 1u << 18;      ///< raw bytes per compressed block (VTK reads any size)
+    int threads = 0;                        ///< compressing threads (0: hardware_concurrency); bytes do not depend on it
 };
 
 class VtpPointWriter {

@@ -39,7 +39,9 @@ void MeshWeldSink::consume(Batch&& b) {
 
 void MeshWeldSink::finish() {
     if (path_.empty()) return;
-    if (format_ == GeometryFormat::vtp) write_vtp_mesh(mesh_, path_, {"meshless marching cubes"});
+    VtpOptions o;
+    o.threads = threads_;
+    if (format_ == GeometryFormat::vtp) write_vtp_mesh(mesh_, path_, {"meshless marching cubes"}, o);
     else write_ply_mesh(mesh_, path_);
 }
 

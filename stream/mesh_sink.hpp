@@ -17,8 +17,9 @@ namespace meshless {
 
 class MeshWeldSink final : public Sink {
 public:
-    explicit MeshWeldSink(std::string path = {}, GeometryFormat format = GeometryFormat::ply)
-        : path_(std::move(path)), format_(format) {}
+    /// threads: the VTP compressor's threads (0: all cores; the bytes do not depend on it).
+    explicit MeshWeldSink(std::string path = {}, GeometryFormat format = GeometryFormat::ply, int threads = 0)
+        : path_(std::move(path)), format_(format), threads_(threads) {}
     void consume(Batch&& b) override;
     void finish() override;
     const Mesh& mesh() const { return mesh_; }
@@ -26,6 +27,7 @@ public:
 private:
     std::string path_;
     GeometryFormat format_;
+    int threads_;
     Mesh mesh_;
     std::unordered_map<std::uint64_t, std::uint32_t> seam_;
     std::vector<std::uint32_t> remap_;

@@ -45,7 +45,7 @@ NaiveMcResult naive_block_marching_cubes(const Multiblock& mb, double iso, int t
     auto t0 = std::chrono::steady_clock::now();
     BlockMcSource source(mb);
     const BlockMcStage stage(mb, iso, block_census(mb, threads));
-    MeshWeldSink sink(ply_path, format);
+    MeshWeldSink sink(ply_path, format, threads);
     const Stage* stages[] = {&stage};
     run_pipeline(source, stages, sink, {threads});
     r.mc_seconds = seconds_since(t0);

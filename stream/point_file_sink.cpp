@@ -10,8 +10,11 @@ void VtpSink::observe(const Batch& b) {
     w_.append(b.points, b.point_block);
 }
 
-PointFileSink::PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments) {
-    if (format == GeometryFormat::vtp) vtp_.emplace(path, comments);
+PointFileSink::PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments,
+                             int threads) {
+    VtpOptions o;
+    o.threads = threads;
+    if (format == GeometryFormat::vtp) vtp_.emplace(path, comments, o);
     else ply_.emplace(path, comments);
 }
 

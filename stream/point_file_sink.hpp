@@ -32,7 +32,8 @@ private:
 
 class PointFileSink final : public Sink {
 public:
-    PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments);
+    /// threads: the VTP compressor's threads (0: all cores; the bytes do not depend on it).
+    PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments, int threads = 0);
     void consume(Batch&& b) override;
     void observe(const Batch& b) override;
     void finish() override;

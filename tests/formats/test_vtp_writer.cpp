@@ -324,7 +324,7 @@ TEST_CASE("vtp mesh: polygons, normals and per-cell block ids round trip", "[vtp
     CHECK_FALSE(fs::exists(d / "bad.vtp"));
 }
 
-TEST_CASE("vtp points: the bytes depend on the points only, not on how they were batched", "[vtp]") {
+TEST_CASE("vtp points: the bytes depend on the points only, not on batching or compressing threads", "[vtp]") {
     meshless::test::TempDir d("vtp-batches");
     std::vector<PointRecord> pts;
     for (std::uint64_t i = 0; i < 30000; ++i) {
@@ -344,9 +344,13 @@ TEST_CASE("vtp points: the bytes depend on the points only, not on how they were
         w.commit();
         return slurp(d / name);
     };
-    const std::string one = write("one.vtp", pts.size()), small = write("small.vtp", 77), odd = write("odd.vtp", 4097);
+    o.threads = 1;
+    const std::string one = write("one.vtp", pts.size()), small = write("small.vtp", 77);
+    o.threads = 4;
+    const std::string odd = write("odd.vtp", 4097), big = write("big.vtp", pts.size());
     CHECK(one == small);
     CHECK(one == odd);
+    CHECK(one == big);
     const Parsed P = parse(d / "one.vtp");
     const auto xyz = P.array("Points", 3 * pts.size());
     for (std::size_t i = 0; i < pts.size(); ++i) REQUIRE(xyz[3 * i] == static_cast<double>(pts[i].pos[0]));
