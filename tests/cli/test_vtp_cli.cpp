@@ -69,7 +69,7 @@ print("ok", p.GetNumberOfPoints(), p.GetNumberOfCells())
 
 }  // namespace
 
-TEST_CASE("vtp: isosurface, write and mc -o .vtp; VTK reads what the PLY holds; same bytes for any --threads", "[cli][vtp]") {
+TEST_CASE("vtp: isosurface, write and mc -o .vtp, VTK reads what the PLY holds, same bytes for any --threads", "[cli][vtp]") {
     TempDir d("vtp-cli");
     const std::string vol = write_uint8_analytic_volume(d, "torus", AnalyticField::torus, 40, 200.0, 0.0);
     const std::string D = d.path.string() + "/";
@@ -148,7 +148,7 @@ sys.exit(0 if ok else "differs")
     CHECK(r.code == 0);
 }
 
-TEST_CASE("vtp: outputs are chosen by extension or --format; refused commands write nothing", "[cli][vtp]") {
+TEST_CASE("vtp: outputs are chosen by extension or --format, refused commands write nothing", "[cli][vtp]") {
     TempDir d("vtp-choice");
     const std::string vol = write_uint8_analytic_volume(d, "torus", AnalyticField::torus, 16, 200.0, 0.0);
     const std::string D = d.path.string() + "/";

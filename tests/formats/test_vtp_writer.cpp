@@ -217,7 +217,7 @@ TEST_CASE("vtp points: mixing points with and without block ids is an error", "[
     CHECK_THROWS_AS(w.append(pts, std::vector<std::uint32_t>{1}), FormatError);
 }
 
-TEST_CASE("vtp: a writer that does not commit leaves nothing; a bad path is an IoError", "[vtp]") {
+TEST_CASE("vtp: a writer that does not commit leaves nothing, a bad path is an IoError", "[vtp]") {
     meshless::test::TempDir d("vtp-atomic");
     {
         VtpPointWriter w((d / "a.vtp").string(), {});
