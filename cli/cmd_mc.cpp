@@ -42,7 +42,7 @@ int mc_blocks(const Args& a, double iso, const std::string& out, GeometryFormat 
     warn_if_iso_outside(iso, {lo, hi}, name);
     const double read_s = seconds_since(t0);
     // census -> block cell layers -> per-block marching cubes -> welding PLY mesh writer (+ stats)
-    const NaiveMcResult r = naive_block_marching_cubes(mb, iso, threads(a), out, a.has("stats"), format);
+    const NaiveMcResult r = naive_block_marching_cubes(mb, iso, threads(a), out, a.has("stats"), format, vtp_options(a, threads(a)));
     if (!a.has("stats")) return 0;
     const BlockMcTotals& tot = r.totals;
     const Mesh& mesh = r.mesh;
@@ -133,7 +133,7 @@ int cmd_mc(int argc, char** argv) {
         source = std::make_unique<McSlabSource>(in.volume->grid);
         stage = std::make_unique<MarchingCubesStage>(in.volume->view(), iso);
     }
-    MeshWeldSink sink(out, format, threads(a));
+    MeshWeldSink sink(out, format, vtp_options(a, threads(a)));
     const Stage* stages[] = {stage.get()};
     run_pipeline(*source, stages, sink, {threads(a)});
     const double secs = seconds_since(t0);

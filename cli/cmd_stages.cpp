@@ -158,7 +158,7 @@ int cmd_write(int argc, char** argv) {
     if (reader.kind() != RecordKind::point)
         throw FormatError(in.name + ": holds unprojected samples; run 'meshless project' first");
     reader.read_meta();
-    PointFileSink sink(outpath, format, ply_comments(reader.meta()));
+    PointFileSink sink(outpath, format, ply_comments(reader.meta()), vtp_options(a, 0));
     StreamSource source(reader);
     run_pipeline(source, {}, sink, {1});
     return 0;

@@ -490,7 +490,18 @@ const std::string& require_output_extension(const std::string& path, const char*
 void add_geometry_format_option(Args& a) {
     a.option("format", "", "ply|vtp",
              "format of -o when its name does not end in .ply or .vtp ('-' for stdout: default ply); "
-             "vtp = VTK XML PolyData (zlib-compressed, ParaView/VTK)");
+             "vtp = VTK XML PolyData (zlib-compressed, ParaView/VTK)")
+        .option("vtp-compression", "", "zlib|none",
+                "VTP output: zlib-compressed arrays (smaller, VTK's vtkZLibDataCompressor) or raw (faster to write)", "zlib");
+}
+
+VtpOptions vtp_options(const Args& a, int threads) {
+    VtpOptions o;
+    o.threads = threads;
+    const std::string c = a.get_or("vtp-compression", "zlib");
+    if (c == "none") o.compression = VtpCompression::none;
+    else if (c != "zlib") throw UsageError("--vtp-compression: expected zlib or none, got '" + c + "'");
+    return o;
 }
 
 GeometryFormat geometry_output_format(const Args& a, const std::string& path, const char* what) {
@@ -512,7 +523,7 @@ GeometryFormat geometry_output_format(const Args& a, const std::string& path, co
 std::optional<GeometryOutput> geometry_output(const Args& a, const char* what) {
     const auto out = a.get("output");
     if (!out) return std::nullopt;
-    return GeometryOutput{*out, geometry_output_format(a, *out, what)};
+    return GeometryOutput{*out, geometry_output_format(a, *out, what), vtp_options(a, 0)};
 }
 
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source) {

@@ -11,6 +11,7 @@
 #include "cli/args.hpp"
 #include "cli/render_output.hpp"
 #include "formats/geometry_format.hpp"
+#include "formats/vtp_writer.hpp"
 #include "formats/point_stream.hpp"
 #include "kernels/block_minmax.hpp"
 #include "kernels/cell_sampling.hpp"
@@ -157,7 +158,11 @@ GeometryFormat geometry_output_format(const Args& a, const std::string& path, co
 struct GeometryOutput {
     std::string path;
     GeometryFormat format = GeometryFormat::ply;
+    VtpOptions vtp;  ///< --vtp-compression; threads set by the command
 };
+/// --vtp-compression zlib|none (add_geometry_format_option adds it) as VTP writer settings with
+/// `threads` compressing threads. UsageError for other values.
+VtpOptions vtp_options(const Args& a, int threads);
 /// -o (when given) with its format from geometry_output_format.
 std::optional<GeometryOutput> geometry_output(const Args& a, const char* what);
 /// After a paradigm (C) run: when it found no active cell, warn_if_iso_outside with the input's value

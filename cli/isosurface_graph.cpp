@@ -47,13 +47,19 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
                            const StreamMeta& meta, const RenderSettings& rs, int nthreads, const GraphRun& run,
                            IsoSplatResult& r, bool parallel_draw) {
     if (!png) {
-        PointFileSink sink(out->path, out->format, ply_comments(meta), nthreads);
+        VtpOptions vo = out->vtp;
+        if (vo.threads == 0) vo.threads = nthreads;
+        PointFileSink sink(out->path, out->format, ply_comments(meta), vo);
         r = run(nullptr, sink);
         return sink.count();
     }
     SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
     std::optional<PointFileSink> ply;
-    if (out) ply.emplace(out->path, out->format, ply_comments(meta), nthreads);
+    if (out) {
+        VtpOptions vo = out->vtp;
+        if (vo.threads == 0) vo.threads = nthreads;
+        ply.emplace(out->path, out->format, ply_comments(meta), vo);
+    }
     std::optional<TeeSink> tee;
     if (ply) tee.emplace(splat, *ply);
     r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);

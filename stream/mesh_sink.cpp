@@ -39,9 +39,7 @@ void MeshWeldSink::consume(Batch&& b) {
 
 void MeshWeldSink::finish() {
     if (path_.empty()) return;
-    VtpOptions o;
-    o.threads = threads_;
-    if (format_ == GeometryFormat::vtp) write_vtp_mesh(mesh_, path_, {"meshless marching cubes"}, o);
+    if (format_ == GeometryFormat::vtp) write_vtp_mesh(mesh_, path_, {"meshless marching cubes"}, vtp_);
     else write_ply_mesh(mesh_, path_);
 }
 

@@ -11,15 +11,16 @@
 #include <unordered_map>
 
 #include "formats/geometry_format.hpp"
+#include "formats/vtp_writer.hpp"
 #include "stream/stage.hpp"
 
 namespace meshless {
 
 class MeshWeldSink final : public Sink {
 public:
-    /// threads: the VTP compressor's threads (0: all cores; the bytes do not depend on it).
-    explicit MeshWeldSink(std::string path = {}, GeometryFormat format = GeometryFormat::ply, int threads = 0)
-        : path_(std::move(path)), format_(format), threads_(threads) {}
+    /// vtp: the VTP writer's settings (compression, compressing threads), unused for PLY.
+    explicit MeshWeldSink(std::string path = {}, GeometryFormat format = GeometryFormat::ply, VtpOptions vtp = {})
+        : path_(std::move(path)), format_(format), vtp_(vtp) {}
     void consume(Batch&& b) override;
     void finish() override;
     const Mesh& mesh() const { return mesh_; }
@@ -27,7 +28,7 @@ public:
 private:
     std::string path_;
     GeometryFormat format_;
-    int threads_;
+    VtpOptions vtp_;
     Mesh mesh_;
     std::unordered_map<std::uint64_t, std::uint32_t> seam_;
     std::vector<std::uint32_t> remap_;

@@ -11,10 +11,8 @@ void VtpSink::observe(const Batch& b) {
 }
 
 PointFileSink::PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments,
-                             int threads) {
-    VtpOptions o;
-    o.threads = threads;
-    if (format == GeometryFormat::vtp) vtp_.emplace(path, comments, o);
+                             VtpOptions vtp) {
+    if (format == GeometryFormat::vtp) vtp_.emplace(path, comments, vtp);
     else ply_.emplace(path, comments);
 }
 

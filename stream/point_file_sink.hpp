@@ -32,8 +32,9 @@ private:
 
 class PointFileSink final : public Sink {
 public:
-    /// threads: the VTP compressor's threads (0: all cores; the bytes do not depend on it).
-    PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments, int threads = 0);
+    /// vtp: the VTP writer's settings (compression, compressing threads), unused for PLY.
+    PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments,
+                  VtpOptions vtp = {});
     void consume(Batch&& b) override;
     void observe(const Batch& b) override;
     void finish() override;

@@ -80,6 +80,9 @@ TEST_CASE("vtp: isosurface, write and mc -o .vtp, VTK reads what the PLY holds, 
     REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project --threads 2 | MESHLESS write -o " + D + "c.vtp", d).code == 0);
     REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project | MESHLESS write -o - --format vtp > " + D + "d.vtp", d).code == 0);
     REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "points.out --format vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "raw.vtp --vtp-compression none", d).code == 0);
+    CHECK(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "bad.vtp --vtp-compression lz4", d).code == 1);
+    CHECK(slurp(d / "raw.vtp").find("compressor=") == std::string::npos);
     const std::string a = slurp(d / "a.vtp");
     CHECK(a.size() > 1000);
     CHECK(a.rfind("<?xml", 0) == 0);
@@ -101,6 +104,9 @@ TEST_CASE("vtp: isosurface, write and mc -o .vtp, VTK reads what the PLY holds, 
     }
     spit(d / "compare.py", kCompare);
     auto r = sh(py + " " + D + "compare.py points " + D + "a.vtp " + D + "a.ply", d);
+    INFO(r.err << r.out);
+    CHECK(r.code == 0);
+    r = sh(py + " " + D + "compare.py points " + D + "raw.vtp " + D + "a.ply", d);
     INFO(r.err << r.out);
     CHECK(r.code == 0);
     r = sh(py + " " + D + "compare.py mesh " + D + "m.vtp " + D + "m.ply", d);
