@@ -26,6 +26,8 @@ namespace meshless::cli {
 
 namespace {
 
+constexpr const char* kPointsWhat = "an oriented point set";
+
 void print_stats(const std::string& path, double iso, Projection mode, const IsoSplatResult& r, std::size_t points,
                  int nthreads, int ranks) {
     std::fprintf(stderr,
@@ -49,7 +51,7 @@ int isosurface_sample_store(const Args& a, double iso, Projection mode, const Sa
     SampleStoreSource source(*store, iso, sp);
     const ProjectStage project(iso, mode);
     IsoSplatResult r;
-    const std::size_t points = run_to_outputs(a.get("output"), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
         const auto t0 = std::chrono::steady_clock::now();
         const Stage* stages[] = {&project, draw};
         run_pipeline(source, std::span<const Stage* const>(stages, draw ? 2 : 1), sink, {nthreads});
@@ -66,19 +68,21 @@ int isosurface_sample_store(const Args& a, double iso, Projection mode, const Sa
 }  // namespace
 
 int cmd_isosurface(int argc, char** argv) {
-    Args a("isosurface", "VOLUME --iso V -o out.ply [--png out.png] [options]",
+    Args a("isosurface", "VOLUME --iso V -o out.ply|out.vtp [--png out.png] [options]",
            "Paradigm (C) iso-splatting: one sample per active cell (cell centre), value and gradient by\n"
            "trilinear interpolation, projected onto the isosurface; writes an oriented point set\n"
-           "(binary PLY: x y z nx ny nz radius value) and/or a surface-splatted picture.\n"
+           "(binary PLY: x y z nx ny nz radius value, or VTK XML PolyData .vtp with vertex cells, Normals,\n"
+           "radius, value) and/or a surface-splatted picture.\n"
            "VOLUME: raw (name_XxYxZ_type.raw or --dims/--type), NRRD (.nrrd/.nhdr), MetaImage (.mhd/.mha),\n"
            "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI, or a brick store (.mlb,\n"
            "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory,\n"
            "or a paradigm (A) sample store (.mls, see meshless generate --all): only its candidate cell rows.");
     a.option("iso", "", "V", "isovalue (required)")
-        .option("output", "o", "FILE", "point set output (.ply, '-' for stdout)")
+        .option("output", "o", "FILE", "point set output (.ply binary PLY, .vtp VTK XML PolyData; '-' for stdout)")
         .option("png", "", "FILE", "also render the points to this PNG")
         .option("projection", "", "MODE", "approx (one Newton step, Eq. 3.5) | exact (ray-trilinear cubic, Eq. 3.3) | none", "approx")
         .flag("stats", "print counts (active cells, discarded samples) and timing to stderr");
+    add_geometry_format_option(a);
     add_sampling_options(a);
     add_volume_options(a);
     add_memory_option(a);
@@ -96,6 +100,7 @@ int cmd_isosurface(int argc, char** argv) {
         add_field_options(blocks);
         add_camera_options(blocks);
         add_color_options(blocks);
+        add_geometry_format_option(blocks);
         blocks.option("samples", "", "", "").option("tolerance", "", "", "").option("max-iterations", "", "", "")
             .option("max-travel", "", "", "");
         if (blocks_invocation(scan_positionals(argc, argv, 2, {&a, &blocks}))) return isosurface_blocks(argc, argv);
@@ -105,7 +110,7 @@ int cmd_isosurface(int argc, char** argv) {
     const auto out = a.get("output");
     const auto png = a.get("png");
     if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
-    if (out) require_output_extension(*out, ".ply", "-o", "an oriented point set (binary PLY)");
+    if (out) geometry_output_format(a, *out, kPointsWhat);
     if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
     if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
         throw UsageError("-o and --png name the same output '" + *out + "'");
@@ -129,7 +134,7 @@ int cmd_isosurface(int argc, char** argv) {
         const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads,
                                                      [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
                                                          IsoSplatResult unused;
-                                                         return run_to_outputs(a.get("output"), a.get("png"), meta, rs, nthreads, [&](const Stage*, Sink& sink) {
+                                                         return run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, rs, nthreads, [&](const Stage*, Sink& sink) {
                                                              produce(sink);
                                                              return IsoSplatResult{};
                                                          }, unused, /*parallel_draw=*/false);
@@ -151,7 +156,7 @@ int cmd_isosurface(int argc, char** argv) {
     meta.set("projection", to_string(mode));
 
     IsoSplatResult r;
-    const std::size_t points = run_to_outputs(a.get("output"), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
         return run_isosurface_graph(in, iso, mode, sp, draw, sink, nthreads);
     }, r);
     if (a.has("stats")) print_stats(in.path, iso, mode, r, points, nthreads, 1);

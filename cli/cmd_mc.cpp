@@ -28,7 +28,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 /// The naive per-block marching cubes of a multiblock input (section 4.2).
-int mc_blocks(const Args& a, double iso, const std::string& out) {
+int mc_blocks(const Args& a, double iso, const std::string& out, GeometryFormat format) {
     const auto t0 = std::chrono::steady_clock::now();
     const Multiblock mb = read_multiblock(a.positional(), point_set_options(a));
     const std::string& name = a.positional().size() == 1 ? a.positional()[0] : a.positional()[0] + " ...";
@@ -42,7 +42,7 @@ int mc_blocks(const Args& a, double iso, const std::string& out) {
     warn_if_iso_outside(iso, {lo, hi}, name);
     const double read_s = seconds_since(t0);
     // census -> block cell layers -> per-block marching cubes -> welding PLY mesh writer (+ stats)
-    const NaiveMcResult r = naive_block_marching_cubes(mb, iso, threads(a), out, a.has("stats"));
+    const NaiveMcResult r = naive_block_marching_cubes(mb, iso, threads(a), out, a.has("stats"), format, vtp_options(a, threads(a)));
     if (!a.has("stats")) return 0;
     const BlockMcTotals& tot = r.totals;
     const Mesh& mesh = r.mesh;
@@ -81,7 +81,7 @@ int mc_blocks(const Args& a, double iso, const std::string& out) {
 }  // namespace
 
 int cmd_mc(int argc, char** argv) {
-    Args a("mc", "VOLUME --iso V -o mesh.ply | BLOCKS... --iso V -o naive.ply [--stats]",
+    Args a("mc", "VOLUME --iso V -o mesh.ply|mesh.vtp | BLOCKS... --iso V -o naive.ply [--stats]",
            "Marching cubes (full 256-case table, shared vertices, gradient normals): the triangle-mesh\n"
            "baseline iso-splatting is compared against. Writes a binary PLY mesh. Runs as a stage graph:\n"
            "z-slabs of the volume (or the active bricks of a brick store, .mlb, within --memory) are\n"
@@ -104,8 +104,9 @@ int cmd_mc(int argc, char** argv) {
            "    same three vertices (overlapping blocks with coincident nodes) are counted apart as\n"
            "    duplicated pairs.");
     a.option("iso", "", "V", "isovalue (required)")
-        .option("output", "o", "FILE", "PLY mesh output (required; '-' = stdout)")
+        .option("output", "o", "FILE", "mesh output (required): .ply binary PLY or .vtp VTK XML PolyData (polygons, Normals, per-cell 'block'); '-' = stdout")
         .flag("stats", "print counts and timing to stderr (BLOCKS: also crack edges and intersecting pairs)");
+    add_geometry_format_option(a);
     add_volume_options(a);
     add_point_set_options(a, false);
     add_memory_option(a);
@@ -115,8 +116,9 @@ int cmd_mc(int argc, char** argv) {
              "          meshless mc multicomb_0.vts multicomb_1.vts multicomb_2.vts --iso 0.4 -o naive.ply --stats\n");
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_finite(a.require("iso"), "--iso");
-    const std::string out = require_output_extension(a.require("output"), ".ply", "-o", "a triangle mesh (binary PLY)");
-    if (a.positional().size() > 1 || looks_like_multiblock(a.positional()[0])) return mc_blocks(a, iso, out);
+    const std::string out = a.require("output");
+    const GeometryFormat format = geometry_output_format(a, out, "a triangle mesh");
+    if (a.positional().size() > 1 || looks_like_multiblock(a.positional()[0])) return mc_blocks(a, iso, out, format);
     VolumeInput in = open_volume_input(a);
     const std::string& path = in.path;
     warn_if_iso_outside(iso, in.value_range(), path);
@@ -131,7 +133,7 @@ int cmd_mc(int argc, char** argv) {
         source = std::make_unique<McSlabSource>(in.volume->grid);
         stage = std::make_unique<MarchingCubesStage>(in.volume->view(), iso);
     }
-    MeshWeldSink sink(out);
+    MeshWeldSink sink(out, format, vtp_options(a, threads(a)));
     const Stage* stages[] = {stage.get()};
     run_pipeline(*source, stages, sink, {threads(a)});
     const double secs = seconds_since(t0);

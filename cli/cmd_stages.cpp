@@ -16,7 +16,7 @@
 #include "ooc/sample_store_writer.hpp"
 #include "stream/cell_row_source.hpp"
 #include "stream/generate_stage.hpp"
-#include "stream/point_sinks.hpp"
+#include "stream/point_file_sink.hpp"
 #include "stream/project_stage.hpp"
 #include "stream/runner.hpp"
 #include "stream/stream_endpoints.hpp"
@@ -157,20 +157,23 @@ int cmd_project(int argc, char** argv) {
 }
 
 int cmd_write(int argc, char** argv) {
-    Args a("write", "[INPUT|-] -o out.ply",
+    Args a("write", "[INPUT|-] -o out.ply|out.vtp",
            "Writes a point stream (from `meshless project`) as a binary little-endian PLY with\n"
            "x y z nx ny nz radius value (and block, for multiblock points: the id of the block each point was\n"
-           "seeded in), which MeshLab, ParaView and VTK open.");
-    a.option("output", "o", "FILE", "PLY output (required; '-' = stdout)");
+           "seeded in; MeshLab, ParaView, VTK), or as VTK XML PolyData (.vtp: vertex cells, Normals, radius,\n"
+           "value, block, zlib-compressed; ParaView and VTK open it as it is).");
+    a.option("output", "o", "FILE", "output (required): .ply or .vtp ('-' = stdout, PLY unless --format vtp)");
+    add_geometry_format_option(a);
     if (!a.parse(argc, argv, 2)) return 0;
-    const std::string outpath = require_output_extension(a.require("output"), ".ply", "-o", "an oriented point set (binary PLY)");
+    const std::string outpath = a.require("output");
+    const GeometryFormat format = geometry_output_format(a, outpath, "an oriented point set");
     InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
     StreamReader reader(in.f, in.name);
     if (reader.kind() != RecordKind::point)
         throw FormatError(in.name + (reader.kind() == RecordKind::seed ? ": holds unprojected seeds; run 'meshless project --field KIND BLOCKS...' first"
                                                                       : ": holds unprojected samples; run 'meshless project' first"));
     reader.read_meta();
-    PlySink sink(outpath, ply_comments(reader.meta()), reader.has_blocks());
+    PointFileSink sink(outpath, format, ply_comments(reader.meta()), vtp_options(a, 0), reader.has_blocks());
     StreamSource source(reader);
     run_pipeline(source, {}, sink, {1});
     return 0;

@@ -498,6 +498,45 @@ const std::string& require_output_extension(const std::string& path, const char*
     return path;
 }
 
+void add_geometry_format_option(Args& a) {
+    a.option("format", "", "ply|vtp",
+             "format of -o when its name does not end in .ply or .vtp ('-' for stdout: default ply); "
+             "vtp = VTK XML PolyData (zlib-compressed, ParaView/VTK)")
+        .option("vtp-compression", "", "zlib|none",
+                "VTP output: zlib-compressed arrays (smaller, VTK's vtkZLibDataCompressor) or raw (faster to write)", "zlib");
+}
+
+VtpOptions vtp_options(const Args& a, int threads) {
+    VtpOptions o;
+    o.threads = threads;
+    const std::string c = a.get_or("vtp-compression", "zlib");
+    if (c == "none") o.compression = VtpCompression::none;
+    else if (c != "zlib") throw UsageError("--vtp-compression: expected zlib or none, got '" + c + "'");
+    return o;
+}
+
+GeometryFormat geometry_output_format(const Args& a, const std::string& path, const char* what) {
+    const auto by_name = geometry_format_of(path);
+    if (const auto f = a.get("format")) {
+        const auto given = parse_geometry_format(*f);
+        if (!given) throw UsageError("--format: expected ply or vtp, got '" + *f + "'");
+        if (by_name && *by_name != *given)
+            throw UsageError("-o '" + path + "': the name says " + to_string(*by_name) + " but --format says " + *f);
+        return *given;
+    }
+    if (by_name) return *by_name;
+    if (path == "-" || is_streaming_output(path)) return GeometryFormat::ply;
+    throw UsageError("-o '" + path + "': this output is " + what +
+                     ", written to a .ply (binary PLY) or .vtp (VTK XML PolyData) file (outputs are chosen by extension; "
+                     "--format ply|vtp for other names, '-' for stdout)");
+}
+
+std::optional<GeometryOutput> geometry_output(const Args& a, const char* what) {
+    const auto out = a.get("output");
+    if (!out) return std::nullopt;
+    return GeometryOutput{*out, geometry_output_format(a, *out, what), vtp_options(a, 0)};
+}
+
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source) {
     if (std::isnan(range[0]))
         std::fprintf(stderr, "meshless: warning: %s has no finite samples; the outputs will be empty\n", source.c_str());

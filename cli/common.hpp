@@ -10,6 +10,8 @@
 
 #include "cli/args.hpp"
 #include "cli/render_output.hpp"
+#include "formats/geometry_format.hpp"
+#include "formats/vtp_writer.hpp"
 #include "formats/point_stream.hpp"
 #include "kernels/block_minmax.hpp"
 #include "kernels/cell_sampling.hpp"
@@ -146,6 +148,25 @@ void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const s
 /// the option, the path and what it writes (a file named out.vtp must not receive PLY bytes).
 const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
                                             const char* what);
+/// --format ply|vtp: the geometry format of -o when its name does not say it (stdout, odd names).
+void add_geometry_format_option(Args& a);
+/// The one place geometry outputs (points, meshes) are chosen: `path`'s extension (.ply or .vtp,
+/// any case) or --format. --format given: the path must not end in the other format's extension;
+/// a stream ("-", a device, a FIFO) without --format is PLY (what pipes always got). Any other
+/// name without --format, or --format other than ply|vtp, is a UsageError naming -o, the path and
+/// `what` (e.g. "an oriented point set").
+GeometryFormat geometry_output_format(const Args& a, const std::string& path, const char* what);
+/// A geometry output: where and in which format.
+struct GeometryOutput {
+    std::string path;
+    GeometryFormat format = GeometryFormat::ply;
+    VtpOptions vtp;  ///< --vtp-compression; threads set by the command
+};
+/// --vtp-compression zlib|none (add_geometry_format_option adds it) as VTP writer settings with
+/// `threads` compressing threads. UsageError for other values.
+VtpOptions vtp_options(const Args& a, int threads);
+/// -o (when given) with its format from geometry_output_format.
+std::optional<GeometryOutput> geometry_output(const Args& a, const char* what);
 /// After a paradigm (C) run: when it found no active cell, warn_if_iso_outside with the input's value
 /// range (computed only then). A run that found an active cell has iso inside the range, so the
 /// volume is not read an extra time to say nothing.

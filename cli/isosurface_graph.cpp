@@ -9,7 +9,7 @@
 #include "stream/brick_source.hpp"
 #include "stream/cell_row_source.hpp"
 #include "stream/generate_project_stage.hpp"
-#include "stream/point_sinks.hpp"
+#include "stream/point_file_sink.hpp"
 #include "stream/runner.hpp"
 #include "stream/slab_source.hpp"
 #include "stream/splat_sink.hpp"
@@ -43,17 +43,23 @@ IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode
     return r;
 }
 
-std::size_t run_to_outputs(const std::optional<std::string>& out, const std::optional<std::string>& png,
+std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::optional<std::string>& png,
                            const StreamMeta& meta, const RenderSettings& rs, int nthreads, const GraphRun& run,
                            IsoSplatResult& r, bool parallel_draw, bool with_blocks) {
     if (!png) {
-        PlySink sink(*out, ply_comments(meta), with_blocks);
+        VtpOptions vo = out->vtp;
+        if (vo.threads == 0) vo.threads = nthreads;
+        PointFileSink sink(out->path, out->format, ply_comments(meta), vo, with_blocks);
         r = run(nullptr, sink);
         return sink.count();
     }
     SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
-    std::optional<PlySink> ply;
-    if (out) ply.emplace(*out, ply_comments(meta), with_blocks);
+    std::optional<PointFileSink> ply;
+    if (out) {
+        VtpOptions vo = out->vtp;
+        if (vo.threads == 0) vo.threads = nthreads;
+        ply.emplace(out->path, out->format, ply_comments(meta), vo, with_blocks);
+    }
     std::optional<TeeSink> tee;
     if (ply) tee.emplace(splat, *ply);
     r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);
@@ -62,7 +68,7 @@ std::size_t run_to_outputs(const std::optional<std::string>& out, const std::opt
         decorate_picture(rs, picture);
         write_png(picture, *png);
     } catch (...) {
-        if (out && *out != "-" && !is_streaming_output(*out)) std::remove(out->c_str());
+        if (out && !is_streaming_output(out->path)) std::remove(out->path.c_str());
         throw;
     }
     return splat.points();

@@ -1,7 +1,7 @@
 // The graph of `meshless isosurface` and `meshless demo` (paradigm C, dissertation chapter 3):
 // cell rows of a volume in memory, slab-streamed slices or the active bricks of a store (Morton
 // order) -> generate + project (fused) -> [splat draw, in the runner's parallel section] -> sink,
-// and the outputs it ends in: a PLY (-o), a PNG (--png, stream/splat_sink.hpp), or both through a
+// and the outputs it ends in: a point set (-o: PLY or VTP, stream/point_file_sink.hpp), a PNG (--png, stream/splat_sink.hpp), or both through a
 // tee. Nothing is collected: memory = the image buffers + the batches in flight. Both commands
 // build the same graph, so the demo's files equal `meshless isosurface` on the same volume.
 // Throws what the sources, stages and sinks throw (FormatError, IoError naming the file).
@@ -23,13 +23,15 @@ IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode
 /// A graph to run into the outputs: run(draw, sink), draw = the splat stage or null.
 using GraphRun = std::function<IsoSplatResult(const Stage* draw, Sink& sink)>;
 
-/// Runs `run` into the PLY `out` and/or the PNG `png` (at least one given). Each batch is drawn as it
-/// is produced and, with `out`, written to the PLY. The splat sink finishes (renders) before the
-/// PLY is committed, and a PNG that cannot be written removes the PLY: one outcome. Returns the
+/// Runs `run` into the point set `out` (PLY or VTP: the one place the point sink is chosen, from
+/// GeometryOutput::format, see geometry_output) and/or the PNG `png` (at least one given). Each
+/// batch is drawn as it is produced and, with `out`, written to the point file. The splat sink
+/// finishes (renders) before the point file is committed, and a PNG that cannot be written removes
+/// the point file: one outcome. Returns the
 /// number of points; the run's result goes to r. parallel_draw = false (the MPI root: batches arrive
 /// already made): draw is null and the splat sink draws in consume(). with_blocks: the PLY gets the
 /// `block` property from the batches' point_block (the multiblock path).
-std::size_t run_to_outputs(const std::optional<std::string>& out, const std::optional<std::string>& png,
+std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::optional<std::string>& png,
                            const StreamMeta& meta, const RenderSettings& rs, int nthreads, const GraphRun& run,
                            IsoSplatResult& r, bool parallel_draw = true, bool with_blocks = false);
 

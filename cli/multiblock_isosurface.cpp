@@ -249,8 +249,9 @@ int isosurface_blocks(int argc, char** argv) {
            "2(1 + d/l) sqrt(2A/(pi N(N+1))), block = the block the point was seeded in) and/or a splatted PNG.\n"
            "BLOCKS: PLOT3D xyz (+ q/function file), .vts pieces, .vtm/.vthb (see meshless info).");
     a.option("iso", "", "V", "isovalue (required)")
-        .option("output", "o", "FILE", "point set output (.ply, '-' for stdout)")
+        .option("output", "o", "FILE", "point set output: .ply or .vtp (ParaView: vertex cells, Normals, radius, value, block); '-' = stdout")
         .option("png", "", "FILE", "also render the points to this PNG");
+    add_geometry_format_option(a);
     add_samples_option(a);
     add_newton_options(a);
     add_field_options(a, /*with_coverage=*/false);
@@ -267,7 +268,7 @@ int isosurface_blocks(int argc, char** argv) {
     const auto out = a.get("output");
     const auto png = a.get("png");
     if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
-    if (out) require_output_extension(*out, ".ply", "-o", "an oriented point set (binary PLY)");
+    if (out) geometry_output_format(a, *out, "an oriented point set");
     if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
     if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
         throw UsageError("-o and --png name the same output '" + *out + "'");
@@ -302,7 +303,7 @@ int isosurface_blocks(int argc, char** argv) {
     std::optional<FieldProjectStage> project;
     IsoSplatResult unused;
     t0 = Clock::now();
-    const std::size_t points = run_to_outputs(out, png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+    const std::size_t points = run_to_outputs(geometry_output(a, "an oriented point set"), png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
         const auto g0 = Clock::now();
         if (!field.field) {
             RecordVectorSource empty(std::vector<PointRecord>{});

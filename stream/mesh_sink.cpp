@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "formats/ply_mesh.hpp"
+#include "formats/vtp_writer.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -37,7 +38,9 @@ void MeshWeldSink::consume(Batch&& b) {
 }
 
 void MeshWeldSink::finish() {
-    if (!path_.empty()) write_ply_mesh(mesh_, path_);
+    if (path_.empty()) return;
+    if (format_ == GeometryFormat::vtp) write_vtp_mesh(mesh_, path_, {"meshless marching cubes"}, vtp_);
+    else write_ply_mesh(mesh_, path_);
 }
 
 }  // namespace meshless

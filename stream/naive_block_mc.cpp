@@ -40,12 +40,13 @@ CrackEdgeStats multiblock_crack_edges(const Multiblock& mb, const WeldedMesh& w)
 }
 
 NaiveMcResult naive_block_marching_cubes(const Multiblock& mb, double iso, int threads, const std::string& ply_path,
-                                         bool stats) {
+                                         bool stats, GeometryFormat format, VtpOptions vtp) {
     NaiveMcResult r;
     auto t0 = std::chrono::steady_clock::now();
     BlockMcSource source(mb);
     const BlockMcStage stage(mb, iso, block_census(mb, threads));
-    MeshWeldSink sink(ply_path);
+    if (vtp.threads == 0) vtp.threads = threads;
+    MeshWeldSink sink(ply_path, format, vtp);
     const Stage* stages[] = {&stage};
     run_pipeline(source, stages, sink, {threads});
     r.mc_seconds = seconds_since(t0);

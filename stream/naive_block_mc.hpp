@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "formats/geometry_format.hpp"
+#include "formats/vtp_writer.hpp"
 #include "kernels/crack_edges.hpp"
 #include "kernels/triangle_pair_intersections.hpp"
 #include "stream/block_mc_stage.hpp"
@@ -27,9 +29,10 @@ struct NaiveMcResult {
     double mc_seconds = 0, crack_seconds = 0, pair_seconds = 0;
 };
 
-/// ply_path: also write the mesh there (empty: no file). stats: also the crack and pair statistics.
+/// ply_path: also write the mesh there (empty: no file), as `format` (PLY or VTP). stats: also the
+/// crack and pair statistics.
 NaiveMcResult naive_block_marching_cubes(const Multiblock& mb, double iso, int threads, const std::string& ply_path = {},
-                                         bool stats = false);
+                                         bool stats = false, GeometryFormat format = GeometryFormat::ply, VtpOptions vtp = {});
 
 /// Crack edges of a welded mesh of `mb`'s blocks (block ids = indices into mb.blocks).
 CrackEdgeStats multiblock_crack_edges(const Multiblock& mb, const WeldedMesh& w);

@@ -120,13 +120,13 @@ TEST_CASE("bad volumes and bad arguments: one-line errors and documented exit co
     r = sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/dir.ply", d);
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Catch::Contains("is a directory"));
-    // outputs are chosen by extension: PLY bytes never go to a .vtp, a PNG never to a .jpg
-    for (const std::string& args : {std::string(" -o ") + D + "/x.vtp", std::string(" --png ") + D + "/x.jpg"}) {
+    // outputs are chosen by extension: point sets go to .ply or .vtp only, a PNG never to a .jpg
+    for (const std::string& args : {std::string(" -o ") + D + "/x.xyz", std::string(" --png ") + D + "/x.jpg"}) {
         r = sh("MESHLESS isosurface " + vol + " --iso 50.5" + args, d);
         CHECK(r.code == 1);
         CHECK_THAT(r.err, Catch::Contains("chosen by extension"));
     }
-    CHECK(!fs::exists(d / "x.vtp"));
+    CHECK(!fs::exists(d / "x.xyz"));
     CHECK(!fs::exists(d / "x.jpg"));
     r = sh("MESHLESS mc " + vol + " --iso 50.5 -o " + D + "/m.obj", d);
     CHECK(r.code == 1);

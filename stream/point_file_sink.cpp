@@ -1,0 +1,34 @@
+#include "stream/point_file_sink.hpp"
+
+#include "kernels/errors.hpp"
+
+namespace meshless {
+
+void VtpSink::observe(const Batch& b) {
+    if (b.kind != RecordKind::point)
+        throw FormatError("point writer: input holds unprojected samples; run 'meshless project' first");
+    w_.append(b.points, b.point_block);
+}
+
+PointFileSink::PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments,
+                             VtpOptions vtp, bool with_blocks) {
+    if (format == GeometryFormat::vtp) vtp_.emplace(path, comments, vtp);
+    else ply_.emplace(path, comments, with_blocks);
+}
+
+void PointFileSink::consume(Batch&& b) {
+    if (ply_) ply_->consume(std::move(b));
+    else vtp_->observe(b);
+}
+
+void PointFileSink::observe(const Batch& b) {
+    if (ply_) ply_->observe(b);
+    else vtp_->observe(b);
+}
+
+void PointFileSink::finish() {
+    if (ply_) ply_->finish();
+    else vtp_->finish();
+}
+
+}  // namespace meshless

@@ -1,0 +1,51 @@
+// The sinks that write a point pipeline's points to a file in a chosen geometry format
+// (formats/geometry_format.hpp): VtpSink streams them into VTK XML PolyData
+// (formats/vtp_writer.hpp, bounded memory, temporary name + rename on finish), with the per-point
+// block ids (Batch::point_block) as a `block` array when the points carry them; PointFileSink
+// is the one sink the commands build for `-o FILE` (PlySink for PLY, stream/point_sinks.hpp;
+// VtpSink for VTP). Both require point batches (FormatError on samples). Not thread-safe (the
+// runner calls sinks serially).
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "formats/geometry_format.hpp"
+#include "formats/vtp_writer.hpp"
+#include "stream/point_sinks.hpp"
+#include "stream/stage.hpp"
+
+namespace meshless {
+
+class VtpSink final : public Sink {
+public:
+    VtpSink(const std::string& path, const std::vector<std::string>& comments, VtpOptions options = {})
+        : w_(path, comments, options) {}
+    void consume(Batch&& b) override { observe(b); }
+    void observe(const Batch& b) override;
+    void finish() override { w_.commit(); }
+    std::uint64_t count() const { return w_.count(); }
+
+private:
+    VtpPointWriter w_;
+};
+
+class PointFileSink final : public Sink {
+public:
+    /// vtp: the VTP writer's settings (compression, compressing threads), unused for PLY.
+    /// with_blocks: the PLY declares the `block` property (the multiblock path; VTP writes the
+    /// `block` array whenever the batches carry block ids).
+    PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments,
+                  VtpOptions vtp = {}, bool with_blocks = false);
+    void consume(Batch&& b) override;
+    void observe(const Batch& b) override;
+    void finish() override;
+    /// Points consumed so far.
+    std::uint64_t count() const { return ply_ ? ply_->count() : vtp_->count(); }
+
+private:
+    std::optional<PlySink> ply_;
+    std::optional<VtpSink> vtp_;
+};
+
+}  // namespace meshless

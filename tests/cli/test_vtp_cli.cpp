@@ -1,0 +1,181 @@
+// VTP outputs end to end (formats/vtp_writer.hpp through `isosurface`, `write`, `mc`): VTK's own
+// reader (vtkXMLPolyDataReader, python3-vtk9; skipped with a warning when no python3 imports vtk)
+// reads the files, and every array equals the PLY written by the same command (the oracle: the
+// PLY path, parsed independently in Python); identical bytes for any --threads and through
+// pipes; the choice by extension and --format; nothing left by a refused command.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "cli/cli_harness.hpp"
+
+using namespace meshless;
+using namespace meshless::test;
+
+namespace {
+
+/// A python3 that imports vtk ("" when none): the PATH one, else Debian's.
+std::string vtk_python(const TempDir& d) {
+    for (const char* py : {"python3", "/usr/bin/python3"})
+        if (sh(std::string(py) + " -c \"import vtk\"", d).code == 0) return py;
+    return "";
+}
+
+// Reads A.vtp with VTK and A.ply by hand (binary little endian, the layouts the writers use);
+// exits 1 with a message on any difference. argv: kind (points|mesh) vtp ply
+const char* kCompare = R"PY(
+import sys, struct, numpy as np, vtk
+from vtk.util.numpy_support import vtk_to_numpy as v2n
+kind, vtp, ply = sys.argv[1:4]
+r = vtk.vtkXMLPolyDataReader(); r.SetFileName(vtp); r.Update()
+if r.GetErrorCode() != 0: sys.exit("vtk reader error %d" % r.GetErrorCode())
+p = r.GetOutput()
+data = open(ply, "rb").read()
+end = data.index(b"end_header\n") + len(b"end_header\n")
+head = data[:end].decode()
+counts = {l.split()[1]: int(l.split()[2]) for l in head.splitlines() if l.startswith("element")}
+props = [l.split()[-1] for l in head.splitlines() if l.startswith("property") and "list" not in l]
+def check(name, a, b):
+    a = np.asarray(a); b = np.asarray(b)
+    if a.shape != b.shape or not np.array_equal(a, b, equal_nan=True):
+        sys.exit("%s differs: %s vs %s" % (name, a.shape, b.shape))
+pd = p.GetPointData()
+if kind == "points":
+    n = counts["vertex"]
+    rec = np.frombuffer(data, dtype="<f4", count=8 * n, offset=end).reshape(n, 8)
+    if p.GetNumberOfPoints() != n or p.GetNumberOfVerts() != n: sys.exit("counts %d %d vs %d" % (p.GetNumberOfPoints(), p.GetNumberOfVerts(), n))
+    check("points", v2n(p.GetPoints().GetData()), rec[:, 0:3])
+    if pd.GetNormals() is None or pd.GetNormals().GetName() != "Normals": sys.exit("no Normals attribute")
+    if pd.GetScalars() is None or pd.GetScalars().GetName() != "value": sys.exit("no value Scalars attribute")
+    check("Normals", v2n(pd.GetNormals()), rec[:, 3:6])
+    check("radius", v2n(pd.GetArray("radius")), rec[:, 6])
+    check("value", v2n(pd.GetArray("value")), rec[:, 7])
+    cells = v2n(p.GetVerts().GetConnectivityArray()); offs = v2n(p.GetVerts().GetOffsetsArray())
+    check("verts", cells, np.arange(n)); check("vert offsets", offs, np.arange(n + 1))
+else:
+    nv, nf = counts["vertex"], counts["face"]
+    blocks = "block" in props
+    vr = np.frombuffer(data, dtype="<f4", count=6 * nv, offset=end).reshape(nv, 6)
+    fdt = np.dtype([("n", "u1"), ("i", "<i4", 3)] + ([("b", "<u4")] if blocks else []))
+    fr = np.frombuffer(data, dtype=fdt, count=nf, offset=end + 24 * nv)
+    if p.GetNumberOfPoints() != nv or p.GetNumberOfPolys() != nf: sys.exit("counts")
+    check("points", v2n(p.GetPoints().GetData()), vr[:, 0:3])
+    check("Normals", v2n(pd.GetNormals()), vr[:, 3:6])
+    check("triangles", v2n(p.GetPolys().GetConnectivityArray()).reshape(nf, 3), fr["i"])
+    if blocks: check("block", v2n(p.GetCellData().GetArray("block")), fr["b"])
+print("ok", p.GetNumberOfPoints(), p.GetNumberOfCells())
+)PY";
+
+}  // namespace
+
+TEST_CASE("vtp: isosurface, write and mc -o .vtp, VTK reads what the PLY holds, same bytes for any --threads", "[cli][vtp]") {
+    TempDir d("vtp-cli");
+    const std::string vol = write_uint8_analytic_volume(d, "torus", AnalyticField::torus, 40, 200.0, 0.0);
+    const std::string D = d.path.string() + "/";
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 --threads 1 -o " + D + "a.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 --threads 1 -o " + D + "a.vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 --threads 3 -o " + D + "b.VTP --png " + D + "b.png --size 64x64", d).code == 0);
+    // the pipe path and stdout
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project --threads 2 | MESHLESS write -o " + D + "c.vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project | MESHLESS write -o - --format vtp > " + D + "d.vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "points.out --format vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "raw.vtp --vtp-compression none", d).code == 0);
+    CHECK(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "bad.vtp --vtp-compression lz4", d).code == 1);
+    CHECK(slurp(d / "raw.vtp").find("compressor=") == std::string::npos);
+    const std::string a = slurp(d / "a.vtp");
+    CHECK(a.size() > 1000);
+    CHECK(a.rfind("<?xml", 0) == 0);
+    CHECK(a == slurp(d / "b.VTP"));
+    CHECK(a == slurp(d / "points.out"));
+    CHECK(slurp(d / "c.vtp") == slurp(d / "d.vtp"));
+    CHECK(slurp(d / "c.vtp") == a);  // the same points and provenance lines
+    // meshes
+    REQUIRE(sh("MESHLESS mc " + vol + " --iso 50.5 --threads 1 -o " + D + "m.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS mc " + vol + " --iso 50.5 --threads 1 -o " + D + "m.vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS mc " + vol + " --iso 50.5 --threads 2 -o " + D + "m2.vtp", d).code == 0);
+    CHECK(slurp(d / "m.vtp") == slurp(d / "m2.vtp"));
+    CHECK(slurp(d / "m.vtp").find("<Polys>") != std::string::npos);
+
+    const std::string py = vtk_python(d);
+    if (py.empty()) {
+        WARN("no python3 imports vtk (python3-vtk9): VTK reader checks skipped");
+        return;
+    }
+    spit(d / "compare.py", kCompare);
+    auto r = sh(py + " " + D + "compare.py points " + D + "a.vtp " + D + "a.ply", d);
+    INFO(r.err << r.out);
+    CHECK(r.code == 0);
+    r = sh(py + " " + D + "compare.py points " + D + "raw.vtp " + D + "a.ply", d);
+    INFO(r.err << r.out);
+    CHECK(r.code == 0);
+    r = sh(py + " " + D + "compare.py mesh " + D + "m.vtp " + D + "m.ply", d);
+    INFO(r.err << r.out);
+    CHECK(r.code == 0);
+}
+
+TEST_CASE("vtp: mc on multiblock grids writes the per-cell block array VTK reads", "[cli][vtp][real]") {
+    if (!have_shared_data()) {
+        WARN("../shared/data absent: multiblock VTP test skipped");
+        return;
+    }
+    TempDir d("vtp-blocks");
+    const std::string P = (shared_data() / "plot3d").string() + "/";
+    const std::string blocks = P + "multicomb_0.vts " + P + "multicomb_1.vts " + P + "multicomb_2.vts";
+    const std::string D = d.path.string() + "/";
+    REQUIRE(sh("MESHLESS mc " + blocks + " --iso 0.4 -o " + D + "n.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS mc " + blocks + " --iso 0.4 -o " + D + "n.vtp", d).code == 0);
+    const std::string v = slurp(d / "n.vtp");
+    CHECK(v.find("<CellData Scalars=\"block\">") != std::string::npos);
+    CHECK(v.find("<PointData") == std::string::npos);  // the naive mesh has no normals
+    const std::string py = vtk_python(d);
+    if (py.empty()) {
+        WARN("no python3 imports vtk (python3-vtk9): VTK reader check skipped");
+        return;
+    }
+    // no normals in the naive mesh: compare positions, triangles and blocks
+    spit(d / "c.py", R"PY(
+import sys, numpy as np, vtk
+from vtk.util.numpy_support import vtk_to_numpy as v2n
+r = vtk.vtkXMLPolyDataReader(); r.SetFileName(sys.argv[1]); r.Update(); p = r.GetOutput()
+data = open(sys.argv[2], "rb").read(); end = data.index(b"end_header\n") + 11
+head = data[:end].decode()
+c = {l.split()[1]: int(l.split()[2]) for l in head.splitlines() if l.startswith("element")}
+nv, nf = c["vertex"], c["face"]
+vr = np.frombuffer(data, dtype="<f4", count=3 * nv, offset=end).reshape(nv, 3)
+fr = np.frombuffer(data, dtype=np.dtype([("n", "u1"), ("i", "<i4", 3), ("b", "<u4")]), count=nf, offset=end + 12 * nv)
+ok = (p.GetNumberOfPoints() == nv and p.GetNumberOfPolys() == nf and np.array_equal(v2n(p.GetPoints().GetData()), vr)
+      and np.array_equal(v2n(p.GetPolys().GetConnectivityArray()).reshape(nf, 3), fr["i"])
+      and np.array_equal(v2n(p.GetCellData().GetArray("block")), fr["b"]) and len(set(fr["b"])) == 3)
+sys.exit(0 if ok else "differs")
+)PY");
+    const auto r = sh(py + " " + D + "c.py " + D + "n.vtp " + D + "n.ply", d);
+    INFO(r.err);
+    CHECK(r.code == 0);
+}
+
+TEST_CASE("vtp: outputs are chosen by extension or --format, refused commands write nothing", "[cli][vtp]") {
+    TempDir d("vtp-choice");
+    const std::string vol = write_uint8_analytic_volume(d, "torus", AnalyticField::torus, 16, 200.0, 0.0);
+    const std::string D = d.path.string() + "/";
+    for (const std::string& bad : {std::string("-o ") + D + "p.xyz", "-o " + D + "p.ply --format vtp",
+                                   "-o " + D + "p.out --format obj", "-o " + D + "p.vtp --format ply"}) {
+        INFO(bad);
+        for (const char* cmd : {"isosurface", "mc"}) {
+            const auto r = sh(std::string("MESHLESS ") + cmd + " " + vol + " --iso 50.5 " + bad, d);
+            CHECK(r.code == 1);
+            CHECK(r.err.find("meshless") != std::string::npos);
+            CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        }
+    }
+    const auto r = sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "p.xyz", d);
+    CHECK(r.err.find(".vtp") != std::string::npos);  // the message names the formats it writes
+    // only the volume and the captured streams are in the directory
+    for (const auto& e : std::filesystem::directory_iterator(d.path)) {
+        const std::string n = e.path().filename().string();
+        CHECK((n.find(".raw") != std::string::npos || n == "stderr.txt" || n == "stdout.txt"));
+    }
+    // stdout without --format stays PLY (what pipes always got)
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o - > " + D + "s.out", d).code == 0);
+    CHECK(slurp(d / "s.out").rfind("ply\n", 0) == 0);
+}
