@@ -15,26 +15,15 @@
 #include "kernels/block_cell_seeds.hpp"
 #include "kernels/errors.hpp"
 
+#include "multiblock_fixtures.hpp"
+
 using namespace meshless;
 
 namespace {
 
 using Map = std::function<Vec3(double, double, double)>;
 using Fn = std::function<double(const Vec3&)>;
-
-/// A block of dims nodes, node (i,j,k) at map(i,j,k), value f(position).
-StructuredBlock make_block(std::array<std::int64_t, 3> dims, const Map& map, const Fn& f) {
-    StructuredBlock b;
-    b.dims = dims;
-    for (std::int64_t k = 0; k < dims[2]; ++k)
-        for (std::int64_t j = 0; j < dims[1]; ++j)
-            for (std::int64_t i = 0; i < dims[0]; ++i) {
-                const Vec3 p = map(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
-                b.node.push_back(p);
-                b.value.push_back(f(p));
-            }
-    return b;
-}
+using test::mapped_block;
 
 Map cube_map(double lo, double h) {
     return [=](double i, double j, double k) { return Vec3{lo + h * i, lo + h * j, lo + h * k}; };
@@ -56,7 +45,7 @@ Vec3 nrm(const SeedRecord& s) { return {s.normal[0], s.normal[1], s.normal[2]}; 
 
 TEST_CASE("block seeds of a sampled sphere: near the sphere, outward normals, n(n+1)/2 per triangle", "[block-seeds]") {
     const double h = 2.0 / 16;
-    const StructuredBlock b = make_block({17, 17, 17}, cube_map(-1, h), sphere);
+    const StructuredBlock b = mapped_block({17, 17, 17}, cube_map(-1, h), sphere);
     CHECK(block_cell_count(b) == 16 * 16 * 16);
     CHECK_FALSE(block_orientation(b).left_handed());
     for (int n : {1, 3}) {
@@ -82,8 +71,8 @@ TEST_CASE("block seeds of a sampled sphere: near the sphere, outward normals, n(
 
 TEST_CASE("block seeds: a mirrored (left-handed) block is detected and still gives outward normals", "[block-seeds]") {
     const double h = 2.0 / 12;
-    const StructuredBlock right = make_block({13, 13, 13}, cube_map(-1, h), sphere);
-    const StructuredBlock left = make_block({13, 13, 13}, [&](double i, double j, double k) {
+    const StructuredBlock right = mapped_block({13, 13, 13}, cube_map(-1, h), sphere);
+    const StructuredBlock left = mapped_block({13, 13, 13}, [&](double i, double j, double k) {
         return Vec3{1 - h * i, -1 + h * j, -1 + h * k};  // x reversed
     }, sphere);
     CHECK(block_orientation(left).left_handed());
@@ -103,7 +92,7 @@ TEST_CASE("block seeds: a mirrored (left-handed) block is detected and still giv
 
 TEST_CASE("block seeds: cells with a blanked or NaN corner are skipped and counted", "[block-seeds]") {
     const double h = 0.25;
-    StructuredBlock b = make_block({9, 9, 9}, cube_map(-1, h), sphere);
+    StructuredBlock b = mapped_block({9, 9, 9}, cube_map(-1, h), sphere);
     BlockSeedStats clean;
     seeds_of(b, 0.6, 2, clean);
     b.valid.assign(b.node.size(), 1);
@@ -128,7 +117,7 @@ TEST_CASE("block seeds: collapsed and inverted cells are skipped and counted", "
     // f = x; iso between node columns i = 5 and 6: every cell with i = 5 is crossed
     const Fn fx = [](const Vec3& p) { return p.x; };
     for (double shift : {1.0, 1.5}) {  // 1.0: node (5,5,5) onto (6,5,5) (collapsed), 1.5: past it (inverted)
-        StructuredBlock b = make_block({11, 11, 11}, cube_map(0, 1), fx);
+        StructuredBlock b = mapped_block({11, 11, 11}, cube_map(0, 1), fx);
         const auto at = static_cast<std::size_t>(b.index(5, 5, 5));
         b.node[at].x += shift;  // the value stays: only the geometry breaks
         BlockSeedStats st;
@@ -141,7 +130,7 @@ TEST_CASE("block seeds: collapsed and inverted cells are skipped and counted", "
 }
 
 TEST_CASE("block seeds: split cell ranges give the seeds of one range, blocks without cells give none", "[block-seeds]") {
-    const StructuredBlock b = make_block({10, 7, 6}, [](double i, double j, double k) {
+    const StructuredBlock b = mapped_block({10, 7, 6}, [](double i, double j, double k) {
         return Vec3{i * 0.3 + 0.05 * j, j * 0.25, k * 0.4 + 0.02 * i * i};  // curvilinear
     }, [](const Vec3& p) { return std::sin(2 * p.x) + std::cos(3 * p.y) * p.z; });
     const auto lattice = barycentric_lattice(3);
@@ -157,15 +146,15 @@ TEST_CASE("block seeds: split cell ranges give the seeds of one range, blocks wi
     CHECK(s1.cells == s2.cells);
     CHECK(s1.triangles == s2.triangles);
 
-    const StructuredBlock flat = make_block({5, 5, 1}, cube_map(0, 1), [](const Vec3& p) { return p.x; });
+    const StructuredBlock flat = mapped_block({5, 5, 1}, cube_map(0, 1), [](const Vec3& p) { return p.x; });
     CHECK(block_cell_count(flat) == 0);
 }
 
 TEST_CASE("block seed plan: value range, crossed cells, bounds, global cell numbering", "[block-seeds]") {
     Multiblock mb;
-    mb.blocks.push_back(make_block({5, 5, 5}, cube_map(0, 1), [](const Vec3& p) { return p.x; }));
-    mb.blocks.push_back(make_block({3, 3, 1}, cube_map(0, 1), [](const Vec3& p) { return p.x; }));  // no cells
-    mb.blocks.push_back(make_block({3, 4, 5}, cube_map(10, 0.5), [](const Vec3& p) { return p.x - 9; }));
+    mb.blocks.push_back(mapped_block({5, 5, 5}, cube_map(0, 1), [](const Vec3& p) { return p.x; }));
+    mb.blocks.push_back(mapped_block({3, 3, 1}, cube_map(0, 1), [](const Vec3& p) { return p.x; }));  // no cells
+    mb.blocks.push_back(mapped_block({3, 4, 5}, cube_map(10, 0.5), [](const Vec3& p) { return p.x - 9; }));
     const BlockSeedPlan plan = plan_block_seeds(mb, 1.5);
     REQUIRE(plan.first_cell.size() == 4);
     CHECK(plan.first_cell[1] == 64);
@@ -186,10 +175,10 @@ TEST_CASE("block seed plan: value range, crossed cells, bounds, global cell numb
 
 TEST_CASE("block seed plan: blocks whose arrays do not match their dims are refused", "[block-seeds]") {
     Multiblock mb;
-    mb.blocks.push_back(make_block({3, 3, 3}, cube_map(0, 1), sphere));
+    mb.blocks.push_back(mapped_block({3, 3, 3}, cube_map(0, 1), sphere));
     mb.blocks[0].value.pop_back();
     CHECK_THROWS_AS(plan_block_seeds(mb, 1.0), InvalidArgument);
-    mb.blocks[0] = make_block({3, 3, 3}, cube_map(0, 1), sphere);
+    mb.blocks[0] = mapped_block({3, 3, 3}, cube_map(0, 1), sphere);
     mb.blocks[0].valid.assign(5, 1);
     CHECK_THROWS_AS(plan_block_seeds(mb, 1.0), InvalidArgument);
     mb.blocks[0].valid.clear();

@@ -16,22 +16,13 @@
 #include "stream/point_sinks.hpp"
 #include "stream/record_vector_source.hpp"
 
+#include "stream/sphere_distance_field.hpp"
+
 using namespace meshless;
 
 namespace {
 
-/// |p|: the sphere of radius iso; implemented as a Field here, evaluating point by point.
-class SphereDistance final : public Field {
-public:
-    void evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const override {
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            value[i] = norm(p[i]);
-            if (!grad.empty()) grad[i] = normalized(p[i]);
-        }
-    }
-    std::array<Vec3, 2> bounds() const override { return {Vec3{-1, -1, -1}, Vec3{1, 1, 1}}; }
-    std::string name() const override { return "sphere-distance"; }
-};
+using test::SphereDistance;
 
 std::vector<PointRecord> seeds(std::size_t n, unsigned seed) {
     std::mt19937_64 rng(seed);

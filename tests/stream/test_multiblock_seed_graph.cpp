@@ -29,40 +29,18 @@
 #include "stream/runner.hpp"
 #include "stream/stream_endpoints.hpp"
 
+#include "kernels/multiblock_fixtures.hpp"
+#include "stream/sphere_distance_field.hpp"
+
 using namespace meshless;
 
 namespace {
 
-using Map = std::function<Vec3(double, double, double)>;
 using Fn = std::function<double(const Vec3&)>;
-
-StructuredBlock make_block(std::array<std::int64_t, 3> dims, const Map& map, const Fn& f) {
-    StructuredBlock b;
-    b.dims = dims;
-    for (std::int64_t k = 0; k < dims[2]; ++k)
-        for (std::int64_t j = 0; j < dims[1]; ++j)
-            for (std::int64_t i = 0; i < dims[0]; ++i) {
-                const Vec3 p = map(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
-                b.node.push_back(p);
-                b.value.push_back(f(p));
-            }
-    return b;
-}
+using test::mapped_block;
+using test::SphereDistance;
 
 double sphere(const Vec3& p) { return norm(p); }
-
-/// |p|: the sphere of radius iso; gradient 0 at the centre.
-class SphereDistance final : public Field {
-public:
-    void evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const override {
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            value[i] = norm(p[i]);
-            if (!grad.empty()) grad[i] = normalized(p[i]);
-        }
-    }
-    std::array<Vec3, 2> bounds() const override { return {Vec3{-1, -1, -1}, Vec3{1, 1, 1}}; }
-    std::string name() const override { return "sphere-distance"; }
-};
 
 /// Keeps points and their block ids, in order.
 struct BlockCollect final : Sink {
@@ -114,7 +92,7 @@ Vec3 normal_of(const SeedRecord& p) { return {p.normal[0], p.normal[1], p.normal
 Multiblock sphere_block(std::int64_t cells, double lo = -1, double hi = 1) {
     Multiblock mb;
     const double h = (hi - lo) / static_cast<double>(cells);
-    mb.blocks.push_back(make_block({cells + 1, cells + 1, cells + 1}, [=](double i, double j, double k) {
+    mb.blocks.push_back(mapped_block({cells + 1, cells + 1, cells + 1}, [=](double i, double j, double k) {
         return Vec3{lo + h * i, lo + h * j, lo + h * k};
     }, sphere));
     return mb;
@@ -243,9 +221,9 @@ TEST_CASE("seam test: overlapping rotated blocks of different resolutions give p
     // surfaces disagree in the overlap |x| < 0.3.
     const Fn f = [](const Vec3& p) { return norm(p) + 0.08 * std::sin(5 * p.x) * std::cos(4 * p.y) * std::sin(3 * p.z + 1); };
     Multiblock mb;
-    mb.blocks.push_back(make_block({14, 21, 21}, [](double i, double j, double k) { return Vec3{-1 + 0.1 * i, -1 + 0.1 * j, -1 + 0.1 * k}; }, f));
+    mb.blocks.push_back(mapped_block({14, 21, 21}, [](double i, double j, double k) { return Vec3{-1 + 0.1 * i, -1 + 0.1 * j, -1 + 0.1 * k}; }, f));
     const double a = 17 * 3.14159265358979 / 180;
-    mb.blocks.push_back(make_block({9, 14, 14}, [=](double i, double j, double k) {
+    mb.blocks.push_back(mapped_block({9, 14, 14}, [=](double i, double j, double k) {
         const Vec3 q{-0.3 + 1.3 / 8 * i, -1.04 + 0.16 * j, -1.04 + 0.16 * k};
         return Vec3{q.x, std::cos(a) * q.y - std::sin(a) * q.z, std::sin(a) * q.y + std::cos(a) * q.z};
     }, f));
