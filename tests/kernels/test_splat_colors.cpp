@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <set>
 #include <vector>
 
@@ -14,24 +13,18 @@
 #include "kernels/colormap.hpp"
 #include "kernels/splat_rasterizer.hpp"
 
+#include "fibonacci_sphere.hpp"
+
 using namespace meshless;
 
 namespace {
 
 /// Points on the unit sphere (Fibonacci lattice), value = z, block = 0 for x < 0 else 1.
 void sphere_points(int n, std::vector<PointRecord>& pts, std::vector<std::uint32_t>& blocks) {
-    const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
     for (int i = 0; i < n; ++i) {
-        const double z = 1 - 2 * (i + 0.5) / n, r = std::sqrt(1 - z * z), phi = golden * i;
-        PointRecord p{};
-        const double x = r * std::cos(phi), y = r * std::sin(phi);
-        p.pos[0] = p.normal[0] = static_cast<float>(x);
-        p.pos[1] = p.normal[1] = static_cast<float>(y);
-        p.pos[2] = p.normal[2] = static_cast<float>(z);
-        p.radius = static_cast<float>(2.2 / std::sqrt(n));
-        p.value = static_cast<float>(z);
-        pts.push_back(p);
-        blocks.push_back(x < 0 ? 0 : 1);
+        const test::SpherePoint p = test::fibonacci_sphere_point(i, n);
+        pts.push_back(p.rec);
+        blocks.push_back(p.at.x < 0 ? 0 : 1);
     }
 }
 

@@ -5,13 +5,14 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <numbers>
 #include <vector>
 
 #include "kernels/errors.hpp"
 #include "stream/point_spool.hpp"
 #include "stream/runner.hpp"
 #include "stream/splat_sink.hpp"
+
+#include "kernels/fibonacci_sphere.hpp"
 
 using namespace meshless;
 
@@ -24,17 +25,8 @@ struct Points {
 
 Points sphere(int n) {
     Points s;
-    const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
     for (int i = 0; i < n; ++i) {
-        const double z = 1 - 2 * (i + 0.5) / n, r = std::sqrt(1 - z * z), phi = golden * i;
-        PointRecord p{};
-        const double x = r * std::cos(phi), y = r * std::sin(phi);
-        p.pos[0] = p.normal[0] = static_cast<float>(x);
-        p.pos[1] = p.normal[1] = static_cast<float>(y);
-        p.pos[2] = p.normal[2] = static_cast<float>(z);
-        p.radius = static_cast<float>(2.2 / std::sqrt(n));
-        p.value = static_cast<float>(3 * z);
-        s.pts.push_back(p);
+        s.pts.push_back(test::fibonacci_sphere_point(i, n, 3).rec);
         s.blocks.push_back(static_cast<std::uint32_t>(i % 3));
     }
     return s;
