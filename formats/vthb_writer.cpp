@@ -3,8 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "formats/atomic_file.hpp"
-#include "formats/vts_writer.hpp"
+#include "formats/vtk_xml_output.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -38,8 +37,7 @@ void write_vti_cells(const std::string& path, const std::array<std::int64_t, 3>&
     const std::string name = vtk_xml_escape(value_name);
     std::string app;
     vtk_xml_append_raw(app, value.data(), value.size() * sizeof(double));
-    const std::string x = "<?xml version=\"1.0\"?>\n"
-                          "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+    const std::string x = vtk_xml_prologue("ImageData", "1.0") +
                           "  <ImageData WholeExtent=\"" + ext + "\" Origin=\"" + triple(origin) + "\" Spacing=\"" +
                           triple(spacing) + "\">\n"
                           "    <Piece Extent=\"" + ext + "\">\n"
@@ -49,13 +47,8 @@ void write_vti_cells(const std::string& path, const std::array<std::int64_t, 3>&
                           "        <DataArray type=\"Float64\" Name=\"" + name + "\" format=\"appended\" offset=\"0\"/>\n"
                           "      </CellData>\n"
                           "    </Piece>\n"
-                          "  </ImageData>\n"
-                          "  <AppendedData encoding=\"raw\">\n   _";
-    AtomicFile f(path);
-    f.write(x);
-    f.write(app);
-    f.write(std::string("\n  </AppendedData>\n</VTKFile>\n"));
-    f.commit();
+                          "  </ImageData>\n";
+    write_vtk_xml_appended(path, x, app);
 }
 
 std::vector<std::string> write_vthb(const std::string& path, const AmrHierarchy& h) {
@@ -67,14 +60,9 @@ std::vector<std::string> write_vthb(const std::string& path, const AmrHierarchy&
         if (b.level < 0 || b.level >= h.levels)
             throw InvalidArgument(path + ": a box has level " + std::to_string(b.level) + " outside 0.." +
                                   std::to_string(h.levels - 1));
-    const std::string stem = p.stem().string();
-    const fs::path dir = p.parent_path() / stem;
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (!fs::is_directory(dir, ec)) throw IoError(dir.string() + ": cannot create the folder for the pieces");
+    const VtkPieceFolder pieces(path);
     std::vector<std::string> written;
-    std::string x = "<?xml version=\"1.0\"?>\n"
-                    "<VTKFile type=\"vtkOverlappingAMR\" version=\"1.1\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+    std::string x = vtk_xml_prologue("vtkOverlappingAMR", "1.1") +
                     "  <vtkOverlappingAMR origin=\"" + triple(h.origin) + "\" grid_description=\"XYZ\">\n";
     std::size_t n = 0;
     for (int level = 0; level < h.levels; ++level) {
@@ -82,10 +70,10 @@ std::vector<std::string> write_vthb(const std::string& path, const AmrHierarchy&
         int index = 0;
         for (const AmrBox& b : h.boxes) {
             if (b.level != level) continue;
-            const std::string rel = stem + "/" + stem + "_" + std::to_string(n++) + ".vti";
-            const fs::path piece = p.parent_path() / rel;
-            write_vti_cells(piece.string(), b.lo, b.cells(), h.origin, h.spacing(level), b.value, h.value_name);
-            written.push_back(piece.string());
+            const std::string rel = pieces.relative(n++, ".vti");
+            const std::string piece = pieces.path_of(rel);
+            write_vti_cells(piece, b.lo, b.cells(), h.origin, h.spacing(level), b.value, h.value_name);
+            written.push_back(piece);
             x += "      <DataSet index=\"" + std::to_string(index++) + "\" amr_box=\"" + std::to_string(b.lo[0]) + " " +
                  std::to_string(b.hi[0]) + " " + std::to_string(b.lo[1]) + " " + std::to_string(b.hi[1]) + " " +
                  std::to_string(b.lo[2]) + " " + std::to_string(b.hi[2]) + "\" file=\"" + vtk_xml_escape(rel) + "\"/>\n";
@@ -93,9 +81,7 @@ std::vector<std::string> write_vthb(const std::string& path, const AmrHierarchy&
         x += "    </Block>\n";
     }
     x += "  </vtkOverlappingAMR>\n</VTKFile>\n";
-    AtomicFile f(path);
-    f.write(x);
-    f.commit();
+    write_vtk_xml(path, x);
     return written;
 }
 

@@ -1,39 +1,12 @@
 #include "formats/vts_writer.hpp"
 
-#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
-#include "formats/atomic_file.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
-
-static_assert(std::endian::native == std::endian::little, "the VTK XML writers assume a little-endian host");
-
-std::string vtk_xml_escape(std::string_view s) {
-    std::string r;
-    r.reserve(s.size());
-    for (const char ch : s) {
-        const auto c = static_cast<unsigned char>(ch);
-        switch (ch) {
-            case '&': r += "&amp;"; break;
-            case '<': r += "&lt;"; break;
-            case '>': r += "&gt;"; break;
-            case '"': r += "&quot;"; break;
-            case '\'': r += "&apos;"; break;
-            default: r += (c < 0x20 || c == 0x7f) ? '?' : ch;
-        }
-    }
-    return r;
-}
-
-void vtk_xml_append_raw(std::string& out, const void* data, std::size_t bytes) {
-    const std::uint64_t n = bytes;
-    out.append(reinterpret_cast<const char*>(&n), sizeof n);
-    if (bytes) out.append(static_cast<const char*>(data), bytes);
-}
 
 void write_vts(const std::string& path, const StructuredBlock& b, const std::string& value_name) {
     const std::int64_t n = b.node_count();
@@ -62,8 +35,7 @@ void write_vts(const std::string& path, const StructuredBlock& b, const std::str
     const std::size_t off_points = app.size();
     vtk_xml_append_raw(app, pts.data(), pts.size() * sizeof(double));
 
-    std::string x = "<?xml version=\"1.0\"?>\n"
-                    "<VTKFile type=\"StructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+    std::string x = vtk_xml_prologue("StructuredGrid", "1.0") +
                     "  <StructuredGrid WholeExtent=\"" + ext + "\">\n"
                     "    <Piece Extent=\"" + ext + "\">\n"
                     "      <PointData Scalars=\"" + name + "\">\n"
@@ -80,13 +52,8 @@ void write_vts(const std::string& path, const StructuredBlock& b, const std::str
          std::to_string(off_points) + "\"/>\n"
          "      </Points>\n"
          "    </Piece>\n"
-         "  </StructuredGrid>\n"
-         "  <AppendedData encoding=\"raw\">\n   _";
-    AtomicFile f(path);
-    f.write(x);
-    f.write(app);
-    f.write(std::string("\n  </AppendedData>\n</VTKFile>\n"));
-    f.commit();
+         "  </StructuredGrid>\n";
+    write_vtk_xml_appended(path, x, app);
 }
 
 }  // namespace meshless

@@ -14,21 +14,13 @@
 // Throws IoError naming the path; InvalidArgument when the block's arrays disagree with its dims.
 // Thread-safety: reentrant (one file per call).
 #pragma once
-#include <cstddef>
 #include <string>
-#include <string_view>
+
+#include "formats/vtk_xml_output.hpp"  // vtk_xml_escape, vtk_xml_append_raw
 
 #include "kernels/structured_block.hpp"
 
 namespace meshless {
 
 void write_vts(const std::string& path, const StructuredBlock& block, const std::string& value_name);
-
-/// XML attribute value escaping shared by the VTK XML writers: & < > " ' as entities, control bytes
-/// (< 0x20, 0x7f) as '?'.
-std::string vtk_xml_escape(std::string_view s);
-
-/// Appends one raw appended-data record (UInt64 little-endian byte count, then the bytes) to `out`.
-void vtk_xml_append_raw(std::string& out, const void* data, std::size_t bytes);
-
 }  // namespace meshless
