@@ -1,7 +1,6 @@
 #include "formats/vtk_multiblock.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -21,27 +20,6 @@ std::string esc(const std::string& s, std::size_t max = 96) { return ply_escape(
 
 bool is_amr_type(const std::string& t) {
     return t == "vtkOverlappingAMR" || t == "vtkHierarchicalBoxDataSet" || t == "vtkUniformGridAMR";
-}
-
-template <class T>
-std::vector<T> numbers(const std::string& text, std::size_t n, const std::string& path, const std::string& what) {
-    std::vector<T> out;
-    const char* p = text.data();
-    const char* e = text.data() + text.size();
-    auto sep = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ','; };
-    for (;;) {
-        while (p < e && sep(*p)) ++p;
-        if (p == e) break;
-        T v{};
-        auto r = std::from_chars(p, e, v);
-        if (r.ec != std::errc() || (r.ptr < e && !sep(*r.ptr))) throw FormatError(path + ": bad " + what + " '" + esc(text) + "'");
-        out.push_back(v);
-        p = r.ptr;
-        if (out.size() > n) break;
-    }
-    if (out.size() != n)
-        throw FormatError(path + ": bad " + what + " '" + esc(text) + "': expected " + std::to_string(n) + " numbers");
-    return out;
 }
 
 std::string lower_ext(const std::string& p) {
@@ -153,7 +131,7 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
     std::optional<std::array<double, 3>> origin;
     std::size_t empty = 0;
     auto level_of = [&](const std::string& t, const char* what) {
-        const auto v = numbers<std::int64_t>(t, 1, path, what);
+        const auto v = vtk_xml_numbers<std::int64_t>(t, 1, path, what);
         if (v[0] < 0 || v[0] >= kMaxLevels) throw FormatError(path + ": " + what + " '" + esc(t) + "' out of 0.." + std::to_string(kMaxLevels - 1));
         return static_cast<int>(v[0]);
     };
@@ -166,7 +144,7 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
         Box b;
         b.level = level, b.index = index, b.file = file;
         const std::string where = "amr_box of level " + std::to_string(level) + " box " + esc(index);
-        const auto v = numbers<std::int64_t>(ds.attr("amr_box"), 6, path, where);
+        const auto v = vtk_xml_numbers<std::int64_t>(ds.attr("amr_box"), 6, path, where);
         for (int a = 0; a < 3; ++a)
             if (v[2 * a + 1] < v[2 * a] || v[2 * a] < -(std::int64_t(1) << 40) || v[2 * a + 1] > (std::int64_t(1) << 40))
                 throw FormatError(path + ": bad " + where + " '" + esc(ds.attr("amr_box")) + "'");
@@ -177,7 +155,7 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
     const bool v1 = vtk_xml_find_tag(doc, "Block", top.end, close, path).found();
     if (v1) {
         if (top.attrs.count("origin")) {
-            const auto org = numbers<double>(top.attr("origin"), 3, path, "origin");
+            const auto org = vtk_xml_numbers<double>(top.attr("origin"), 3, path, "origin");
             for (double x : org)
                 if (!std::isfinite(x)) throw FormatError(path + ": non-finite origin '" + esc(top.attr("origin")) + "'");
             origin = std::array<double, 3>{org[0], org[1], org[2]};
@@ -187,7 +165,7 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
             if (!blk.found()) break;
             const int level = level_of(blk.attr("level"), "Block level");
             if (spacing.count(level)) throw FormatError(path + ": level " + std::to_string(level) + " appears twice");
-            const auto sp = numbers<double>(blk.attr("spacing"), 3, path, "spacing of level " + std::to_string(level));
+            const auto sp = vtk_xml_numbers<double>(blk.attr("spacing"), 3, path, "spacing of level " + std::to_string(level));
             for (double s : sp)
                 if (!std::isfinite(s) || s <= 0)
                     throw FormatError(path + ": bad spacing of level " + std::to_string(level) + " '" + esc(blk.attr("spacing")) +
@@ -212,7 +190,7 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
             if (!rr.found()) break;
             from = rr.end;
             const int level = level_of(rr.attr("level"), "RefinementRatio level");
-            const auto r = numbers<std::int64_t>(rr.attr("refinement"), 1, path, "refinement");
+            const auto r = vtk_xml_numbers<std::int64_t>(rr.attr("refinement"), 1, path, "refinement");
             if (r[0] < 1 || r[0] > 1024) throw FormatError(path + ": bad refinement '" + esc(rr.attr("refinement")) + "'");
             declared_ratio[level] = static_cast<int>(r[0]);
         }

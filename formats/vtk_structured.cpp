@@ -17,29 +17,6 @@ std::string esc(const std::string& s) { return ply_escape(s, 96); }
 
 bool mul_ok(std::uint64_t a, std::uint64_t b, std::uint64_t& out) { return !__builtin_mul_overflow(a, b, &out); }
 
-// Whitespace-separated numbers of an attribute, exactly n of them.
-template <class T>
-std::vector<T> numbers(const std::string& text, std::size_t n, const std::string& path, const std::string& what) {
-    std::vector<T> out;
-    const char* p = text.data();
-    const char* e = text.data() + text.size();
-    for (;;) {
-        while (p < e && (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r' || *p == ',')) ++p;
-        if (p == e) break;
-        T v{};
-        auto r = std::from_chars(p, e, v);
-        if (r.ec != std::errc() || (r.ptr < e && !(*r.ptr == ' ' || *r.ptr == '\t' || *r.ptr == '\n' || *r.ptr == '\r' ||
-                                                   *r.ptr == ',')))
-            throw FormatError(path + ": bad " + what + " '" + esc(text) + "'");
-        out.push_back(v);
-        p = r.ptr;
-        if (out.size() > n) break;
-    }
-    if (out.size() != n)
-        throw FormatError(path + ": bad " + what + " '" + esc(text) + "': expected " + std::to_string(n) + " numbers");
-    return out;
-}
-
 struct Cand {
     VtkXmlTag tag;
     VtkArrayDesc desc;
@@ -158,8 +135,8 @@ VtkStructuredFile read_vtk_structured(const std::string& path, const PointSetOpt
     std::array<double, 9> dir{1, 0, 0, 0, 1, 0, 0, 0, 1};
     bool axis_aligned = true;
     if (image) {
-        const auto org = numbers<double>(top.attr("Origin", "0 0 0"), 3, path, "Origin");
-        const auto sp = numbers<double>(top.attr("Spacing", "1 1 1"), 3, path, "Spacing");
+        const auto org = vtk_xml_numbers<double>(top.attr("Origin", "0 0 0"), 3, path, "Origin");
+        const auto sp = vtk_xml_numbers<double>(top.attr("Spacing", "1 1 1"), 3, path, "Spacing");
         for (int a = 0; a < 3; ++a) {
             if (!std::isfinite(org[a])) throw FormatError(path + ": non-finite Origin '" + esc(top.attr("Origin")) + "'");
             if (!std::isfinite(sp[a]) || sp[a] == 0)
@@ -167,7 +144,7 @@ VtkStructuredFile read_vtk_structured(const std::string& path, const PointSetOpt
             origin[a] = org[a], spacing[a] = sp[a];
         }
         if (top.attrs.count("Direction")) {
-            const auto d = numbers<double>(top.attr("Direction"), 9, path, "Direction");
+            const auto d = vtk_xml_numbers<double>(top.attr("Direction"), 9, path, "Direction");
             for (int i = 0; i < 9; ++i) {
                 if (!std::isfinite(d[i])) throw FormatError(path + ": non-finite Direction");
                 dir[i] = d[i];
@@ -189,7 +166,7 @@ VtkStructuredFile read_vtk_structured(const std::string& path, const PointSetOpt
         from = piece_close;
         VtkStructuredPiece P;
         const std::string ext_text = piece.attr("Extent", top.attr("WholeExtent"));
-        const auto ext = numbers<std::int64_t>(ext_text, 6, path, where + " Extent");
+        const auto ext = vtk_xml_numbers<std::int64_t>(ext_text, 6, path, where + " Extent");
         std::array<std::int64_t, 3> dims{}, cells{};
         std::uint64_t npoints = 1, ncells = 1;
         for (int a = 0; a < 3; ++a) {

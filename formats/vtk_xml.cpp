@@ -1,6 +1,7 @@
 #include "formats/vtk_xml.hpp"
 
 #include <cctype>
+#include <charconv>
 #include <cstring>
 
 #include "formats/base64.hpp"
@@ -232,5 +233,31 @@ std::vector<double> vtk_xml_read_array(std::string_view doc, const VtkXmlFile& f
     }
     return out;
 }
+
+template <class T>
+std::vector<T> vtk_xml_numbers(const std::string& text, std::size_t n, const std::string& path, const std::string& what) {
+    std::vector<T> out;
+    const char* p = text.data();
+    const char* e = text.data() + text.size();
+    auto sep = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ','; };
+    for (;;) {
+        while (p < e && sep(*p)) ++p;
+        if (p == e) break;
+        T v{};
+        auto r = std::from_chars(p, e, v);
+        if (r.ec != std::errc() || (r.ptr < e && !sep(*r.ptr)))
+            throw FormatError(path + ": bad " + what + " '" + ply_escape(text, 96) + "'");
+        out.push_back(v);
+        p = r.ptr;
+        if (out.size() > n) break;
+    }
+    if (out.size() != n)
+        throw FormatError(path + ": bad " + what + " '" + ply_escape(text, 96) + "': expected " + std::to_string(n) + " numbers");
+    return out;
+}
+
+template std::vector<double> vtk_xml_numbers<double>(const std::string&, std::size_t, const std::string&, const std::string&);
+template std::vector<std::int64_t> vtk_xml_numbers<std::int64_t>(const std::string&, std::size_t, const std::string&,
+                                                                 const std::string&);
 
 }  // namespace meshless

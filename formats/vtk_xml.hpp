@@ -65,4 +65,10 @@ std::vector<std::byte> vtk_xml_decode_binary(const std::byte* bin, std::size_t n
 std::vector<double> vtk_xml_read_array(std::string_view doc, const VtkXmlFile& f, const VtkXmlTag& array,
                                        std::uint64_t count, const std::string& path);
 
+/// The numbers of an attribute value `text` (separated by spaces, tabs, newlines or commas), exactly
+/// n of them. T: double or std::int64_t. FormatError "path: bad <what> '<text>'" (escaped) on a
+/// non-number or a count other than n.
+template <class T>
+std::vector<T> vtk_xml_numbers(const std::string& text, std::size_t n, const std::string& path, const std::string& what);
+
 }  // namespace meshless
