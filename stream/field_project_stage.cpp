@@ -9,6 +9,33 @@
 
 namespace meshless {
 
+namespace {
+
+// The point of a converged projection: position, unit normal along the gradient (converged implies
+// a non-zero gradient), the given radius, value = iso.
+PointRecord projected_point(const Vec3& pos, const Vec3& grad, float radius, double iso) {
+    const Vec3 nrm = grad * (1.0 / norm(grad));
+    PointRecord r;
+    r.pos[0] = static_cast<float>(pos.x);
+    r.pos[1] = static_cast<float>(pos.y);
+    r.pos[2] = static_cast<float>(pos.z);
+    r.normal[0] = static_cast<float>(nrm.x);
+    r.normal[1] = static_cast<float>(nrm.y);
+    r.normal[2] = static_cast<float>(nrm.z);
+    r.radius = radius;
+    r.value = static_cast<float>(iso);
+    return r;
+}
+
+// A projected batch holds points now: no cell range or brick of its own.
+void mark_point_batch(Batch& b) {
+    b.kind = RecordKind::point;
+    b.cells = {};
+    b.brick = -1;
+}
+
+}  // namespace
+
 void AtomicFieldNewtonStats::add(const FieldNewtonStats& s) {
     const std::int64_t x[8] = {s.input, s.converged, s.flat, s.too_far, s.not_converged, s.stalled, s.nonfinite, s.evaluations};
     for (int i = 0; i < 8; ++i) v_[i].fetch_add(x[i], std::memory_order_relaxed);
@@ -66,26 +93,14 @@ void FieldProjectStage::process(Batch& b) const {
     for (std::size_t i = 0; i < n; ++i) {
         if (status[i] != FieldNewtonStatus::converged) continue;
         if (blocks) b.point_block[kept++] = b.point_block[i];
-        const Vec3 nrm = grad[i] * (1.0 / norm(grad[i]));  // converged implies a non-zero gradient
-        PointRecord r;
-        r.pos[0] = static_cast<float>(pos[i].x);
-        r.pos[1] = static_cast<float>(pos[i].y);
-        r.pos[2] = static_cast<float>(pos[i].z);
-        r.normal[0] = static_cast<float>(nrm.x);
-        r.normal[1] = static_cast<float>(nrm.y);
-        r.normal[2] = static_cast<float>(nrm.z);
-        r.radius = radius[i];
-        r.value = static_cast<float>(iso_);
-        out.push_back(r);
+        out.push_back(projected_point(pos[i], grad[i], radius[i], iso_));
     }
     b.points = std::move(out);
     if (blocks) b.point_block.resize(kept);
     else b.point_block.clear();
     b.samples.clear();
     b.samples.shrink_to_fit();
-    b.kind = RecordKind::point;
-    b.cells = {};
-    b.brick = -1;
+    mark_point_batch(b);
     stats_.add(st);
 }
 
@@ -116,24 +131,13 @@ void FieldProjectStage::process_seeds(Batch& b) const {
     for (std::size_t i = 0; i < n; ++i) {
         if (status[i] != FieldNewtonStatus::converged) continue;
         const SeedRecord& s = b.seeds[i];
-        const Vec3 nrm = grad[i] * (1.0 / norm(grad[i]));  // converged implies a non-zero gradient
-        PointRecord r;
-        r.pos[0] = static_cast<float>(pos[i].x);
-        r.pos[1] = static_cast<float>(pos[i].y);
-        r.pos[2] = static_cast<float>(pos[i].z);
-        r.normal[0] = static_cast<float>(nrm.x);
-        r.normal[1] = static_cast<float>(nrm.y);
-        r.normal[2] = static_cast<float>(nrm.z);
-        r.radius = static_cast<float>(multiblock_splat_radius(s.base_radius, norm(pos[i] - seeds[i]), s.cell_diagonal));
-        r.value = static_cast<float>(iso_);
-        out.push_back(r);
+        const double radius = multiblock_splat_radius(s.base_radius, norm(pos[i] - seeds[i]), s.cell_diagonal);
+        out.push_back(projected_point(pos[i], grad[i], static_cast<float>(radius), iso_));
         block.push_back(s.block);
     }
     b.seeds.clear();
     b.seeds.shrink_to_fit();
-    b.kind = RecordKind::point;
-    b.cells = {};
-    b.brick = -1;
+    mark_point_batch(b);
     stats_.add(st);
 }
 
