@@ -9,6 +9,7 @@
 #pragma once
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,10 @@ private:
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
 /// Bytes as "12.3 MiB" / "45.6 KiB".
 std::string bytes_str(double bytes);
+/// `s` single-quoted for /bin/sh (an embedded ' written as '\'').
+std::string shell_quote(const std::string& s);
+/// The whole content of file `p` ("" when it cannot be read).
+std::string read_file_bytes(const std::filesystem::path& p);
 
 /// K isovalues spread over the data: evenly spaced quantiles (k+1)/(K+1) of the sample
 /// histogram; integer sample types snap to "between grey levels" (floor + 0.5) so no sample

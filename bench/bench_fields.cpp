@@ -194,12 +194,6 @@ struct FieldsScratch {
     FieldsScratch& operator=(const FieldsScratch&) = delete;
 };
 
-std::string shq(const std::string& s) {
-    std::string out = "'";
-    for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return out + "'";
-}
-
 /// Runs a command, returns its stdout and exit status (-1 when it could not start).
 std::pair<std::string, int> capture(const std::string& cmd) {
     std::FILE* p = ::popen(cmd.c_str(), "r");
@@ -241,7 +235,7 @@ public:
             why_ = "rbf_reference.py not found in '" + o.bench_dir + "' (give --bench-dir): SciPy reference skipped";
             return;
         }
-        const auto [text, code] = capture(shq(python_) + " " + shq(script_) + " --check 2>/dev/null");
+        const auto [text, code] = capture(shell_quote(python_) + " " + shell_quote(script_) + " --check 2>/dev/null");
         if (code != 0) {
             why_ = "SciPy not installed (apt-get install python3-scipy): reference skipped";
             return;
@@ -264,11 +258,11 @@ public:
                        out = scratch_.path / "pred";
         write_records(pts, ps.pos, &ps.value);
         write_records(tst, tests, nullptr);
-        std::string cmd = shq(python_) + " " + shq(script_) + " --points " + shq(pts.string()) + " --tests " +
-                          shq(tst.string()) + " --out " + shq(out.string()) + fmt(" --neighbors %d", kScipyNeighbors);
+        std::string cmd = shell_quote(python_) + " " + shell_quote(script_) + " --points " + shell_quote(pts.string()) + " --tests " +
+                          shell_quote(tst.string()) + " --out " + shell_quote(out.string()) + fmt(" --neighbors %d", kScipyNeighbors);
         for (const RefConfig& c : ref_configs())
             cmd += fmt(" --config %s:%.17g:%d", c.kernel.c_str(), c.hardy ? 1.0 / c_world : 1.0, c.degree);
-        cmd += " 2>" + shq((scratch_.path / "stderr.txt").string());
+        cmd += " 2>" + shell_quote((scratch_.path / "stderr.txt").string());
         Stopwatch sw;
         const auto [text, code] = capture(cmd);
         RefRun rr;

@@ -77,25 +77,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string shq(const std::string& s) {
-    std::string r = "'";
-    for (char c : s) r += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return r + "'";
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 std::string first_line(const std::string& s) {
     std::string l = s.substr(0, s.find('\n'));
     if (l.size() > 100) l = l.substr(0, 100) + "...";
     for (char& c : l)
         if (static_cast<unsigned char>(c) < 0x20 || c == '|') c = ' ';
     return l;
+}
+
+// Adds `row` (its leading cells) with `why` in the next cell and "-" in the rest.
+void add_na_row(Table& t, std::vector<std::string> row, const std::string& why) {
+    row.push_back(why);
+    row.resize(t.header.size(), "-");
+    t.add(std::move(row));
 }
 
 struct Proc {
@@ -111,14 +105,14 @@ struct Proc {
 /// Runs `bash -c CMD` with stdout/stderr captured in files under `work`; wall clock around it.
 Proc run(const std::string& cmd, const fs::path& work) {
     const fs::path o = work / "cmd.out", e = work / "cmd.err";
-    const std::string full = "bash -c " + shq(cmd) + " </dev/null >" + shq(o.string()) + " 2>" + shq(e.string());
+    const std::string full = "bash -c " + shell_quote(cmd) + " </dev/null >" + shell_quote(o.string()) + " 2>" + shell_quote(e.string());
     Proc p;
     const Stopwatch sw;
     const int st = std::system(full.c_str());
     p.seconds = sw.ms() / 1000;
     p.code = st == -1 ? -1 : WEXITSTATUS(st);
-    p.out = slurp(o);
-    p.err = slurp(e);
+    p.out = read_file_bytes(o);
+    p.err = read_file_bytes(e);
     return p;
 }
 
@@ -183,7 +177,7 @@ std::pair<long long, long long> split_counts(const std::string& out) {
 }
 
 std::string body_after_header(const fs::path& p) {
-    const std::string s = slurp(p);
+    const std::string s = read_file_bytes(p);
     const std::size_t h = s.find("end_header\n");
     return h == std::string::npos ? s : s.substr(h + 11);
 }
@@ -298,8 +292,8 @@ VtkContour vtk_contour(const BenchOptions& o, const std::string& inputs, double 
         v.why = "n/a (vtk_block_contour.py not found)";
         return v;
     }
-    const Proc p = run(shq(o.python) + " " + shq(script) + " " + inputs + fmt(" --iso %.17g --reps %d", iso, reps) +
-                           (ply_out.empty() ? std::string() : " --ply-out " + shq(ply_out.string())),
+    const Proc p = run(shell_quote(o.python) + " " + shell_quote(script) + " " + inputs + fmt(" --iso %.17g --reps %d", iso, reps) +
+                           (ply_out.empty() ? std::string() : " --ply-out " + shell_quote(ply_out.string())),
                        work);
     if (!p.ok()) {
         v.why = p.why();
@@ -373,13 +367,11 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
             if (!lopt.empty()) {
                 const bool amr = lname == "amr";
                 const fs::path idx = dir / (fname + "-" + lname + (amr ? ".vthb" : ".vtm"));
-                const Proc sp = run(shq(o.meshless) + " split " + shq(vol.string()) + " " + lopt +
-                                        (amr ? fmt(" --iso %.17g", iso) : std::string()) + " -o " + shq(idx.string()),
+                const Proc sp = run(shell_quote(o.meshless) + " split " + shell_quote(vol.string()) + " " + lopt +
+                                        (amr ? fmt(" --iso %.17g", iso) : std::string()) + " -o " + shell_quote(idx.string()),
                                     dir);
                 if (!sp.ok()) {
-                    row.push_back(sp.why());
-                    row.resize(t.header.size(), "-");
-                    t.add(row);
+                    add_na_row(t, std::move(row), sp.why());
                     continue;
                 }
                 input = idx.string();
@@ -391,9 +383,9 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
             row.push_back(nodes);
             const fs::path pts = dir / (fname + "-" + lname + ".ply");
             fs::remove(pts);
-            const Proc iso_run = run(shq(o.meshless) + " isosurface " + shq(input) + fmt(" --iso %.17g", iso) +
+            const Proc iso_run = run(shell_quote(o.meshless) + " isosurface " + shell_quote(input) + fmt(" --iso %.17g", iso) +
                                          (lopt.empty() ? std::string() : std::string(" --field rbf-grid --stats")) +
-                                         " -o " + shq(pts.string()),
+                                         " -o " + shell_quote(pts.string()),
                                      dir);
             if (!iso_run.ok()) {
                 row.push_back(iso_run.why());
@@ -417,8 +409,8 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
             }
             const fs::path naive = dir / (fname + "-" + lname + "-mc.ply");
             fs::remove(naive);
-            const Proc mc = run(shq(o.meshless) + " mc " + shq(input) + fmt(" --iso %.17g", iso) + " --stats -o " +
-                                    shq(naive.string()),
+            const Proc mc = run(shell_quote(o.meshless) + " mc " + shell_quote(input) + fmt(" --iso %.17g", iso) + " --stats -o " +
+                                    shell_quote(naive.string()),
                                 dir);
             if (!mc.ok()) {
                 row.push_back(mc.why());
@@ -443,7 +435,7 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
                 row.push_back("-");
             } else if (vtk) {
                 const fs::path vply = dir / (fname + "-" + lname + "-vtk.ply");
-                const VtkContour vc = vtk_contour(o, "--input " + shq(input), iso, 1, dir, vply);
+                const VtkContour vc = vtk_contour(o, "--input " + shell_quote(input), iso, 1, dir, vply);
                 row.push_back(vc.ok ? fmt("%lld (of %lld open)", vc.cracks, vc.boundary) : vc.why);
                 std::string why;
                 const auto vcov = vc.ok ? mesh_coverage(vply, samples, h, h / 4, why) : std::nullopt;
@@ -486,14 +478,14 @@ SpeedSet split_set(const BenchOptions& o, const fs::path& dir, const std::string
         return s;
     }
     const fs::path idx = dir / (label + ".vtm");
-    const Proc sp = run(shq(o.meshless) + " split " + shq(vol.string()) + " " + split_args + " -o " + shq(idx.string()), dir);
+    const Proc sp = run(shell_quote(o.meshless) + " split " + shell_quote(vol.string()) + " " + split_args + " -o " + shell_quote(idx.string()), dir);
     if (!sp.ok()) {
         s.why = sp.why();
         return s;
     }
     std::tie(s.blocks, s.nodes) = split_counts(sp.out);
     s.inputs = {idx.string()};
-    s.vtk_input = "--input " + shq(idx.string());
+    s.vtk_input = "--input " + shell_quote(idx.string());
     // iso: the middle of the value range of the resampled volume the blocks hold (`split --resample`)
     const Volume v = resample_volume(read_volume(vol.string()).view(), resample);
     const auto rg = v.value_range();
@@ -526,7 +518,7 @@ void part_b(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
             c.why = "n/a (plot3d/combxyz.bin, combq.bin not in the data folder)";
         } else {
             c.inputs = {xyz.string(), "--q", q.string()};
-            c.vtk_input = "--plot3d " + shq(xyz.string()) + " " + shq(q.string());
+            c.vtk_input = "--plot3d " + shell_quote(xyz.string()) + " " + shell_quote(q.string());
             try {
                 PointSetOptions opt;
                 opt.q_file = q.string();
@@ -551,9 +543,7 @@ void part_b(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
     for (const SpeedSet& s : sets) {
         std::vector<std::string> row{s.label, s.paper};
         if (!s.why.empty()) {
-            row.push_back(s.why);
-            row.resize(t.header.size(), "-");
-            t.add(row);
+            add_na_row(t, std::move(row), s.why);
             continue;
         }
         row.push_back(fmt("%lld", s.blocks));
@@ -562,13 +552,13 @@ void part_b(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
         std::string in;
         for (const auto& p : s.inputs) {
             in += ' ';
-            in += shq(p);
+            in += shell_quote(p);
         }
         Proc t1, t2;
         const fs::path o1 = dir / (s.label + "-t1.ply"), o2 = dir / (s.label + "-t2.ply");
         for (int th : {1, 2}) {
-            (th == 1 ? t1 : t2) = best_of(shq(o.meshless) + " isosurface" + in + fmt(" --iso %.17g --field rbf-grid --stats --threads %d -o ", s.iso, th) +
-                                              shq((th == 1 ? o1 : o2).string()),
+            (th == 1 ? t1 : t2) = best_of(shell_quote(o.meshless) + " isosurface" + in + fmt(" --iso %.17g --field rbf-grid --stats --threads %d -o ", s.iso, th) +
+                                              shell_quote((th == 1 ? o1 : o2).string()),
                                           o.process_reps, dir);
         }
         if (!t1.ok()) {
@@ -663,22 +653,18 @@ void part_c(const BenchOptions& o, Report& r, const fs::path& work) {
         std::string in;
         for (const auto& p : s.paths) {
             present = present && fs::exists(p);
-            in += " " + shq(p);
+            in += " " + shell_quote(p);
         }
         if (!present) {
-            row.push_back("n/a (data not found)");
-            row.resize(t.header.size(), "-");
-            t.add(row);
+            add_na_row(t, std::move(row), "n/a (data not found)");
             continue;
         }
         const fs::path out = dir / "seam.ply";
-        const Proc p = run(shq(o.meshless) + " isosurface" + in + s.options + fmt(" --iso %.17g --field rbf-grid -o ", s.iso) +
-                               shq(out.string()),
+        const Proc p = run(shell_quote(o.meshless) + " isosurface" + in + s.options + fmt(" --iso %.17g --field rbf-grid -o ", s.iso) +
+                               shell_quote(out.string()),
                            dir);
         if (!p.ok()) {
-            row.push_back(p.why());
-            row.resize(t.header.size(), "-");
-            t.add(row);
+            add_na_row(t, std::move(row), p.why());
             continue;
         }
         PointSetOptions opt;

@@ -56,12 +56,6 @@ constexpr double kMiB = 1024.0 * 1024.0;
 
 // ---- small helpers ----------------------------------------------------------------------------
 
-std::string shq(const std::string& s) {
-    std::string out = "'";
-    for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return out + "'";
-}
-
 std::string dims_str(const GridSpec& g) {
     return fmt("%lldx%lldx%lld", static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
                static_cast<long long>(g.dims[2]));
@@ -82,13 +76,6 @@ std::uint64_t free_bytes(const fs::path& p) {
     std::error_code ec;
     const fs::space_info s = fs::space(p, ec);
     return ec ? 0 : s.available;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 bool same_bytes(const fs::path& a, const fs::path& b) {
@@ -120,7 +107,7 @@ double mem_total() {
 }
 
 bool command_exists(const std::string& name) {
-    const std::string cmd = "command -v " + shq(name) + " >/dev/null 2>&1";
+    const std::string cmd = "command -v " + shell_quote(name) + " >/dev/null 2>&1";
     const int st = std::system(cmd.c_str());
     return st != -1 && WIFEXITED(st) && WEXITSTATUS(st) == 0;
 }
@@ -133,13 +120,13 @@ struct Proc {
 
 /// Runs a shell command line with stdin/stdout on /dev/null and stderr captured; wall time.
 Proc run_shell(const std::string& cmd, const fs::path& errfile) {
-    const std::string full = "( " + cmd + " ) </dev/null >/dev/null 2>" + shq(errfile.string());
+    const std::string full = "( " + cmd + " ) </dev/null >/dev/null 2>" + shell_quote(errfile.string());
     Proc p;
     Stopwatch sw;
     const int st = std::system(full.c_str());
     p.ms = sw.ms();
     p.code = st == -1 ? -1 : WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-    p.err = slurp(errfile);
+    p.err = read_file_bytes(errfile);
     return p;
 }
 
@@ -469,8 +456,8 @@ void run_paradigms(const Lung& lung, const std::vector<double>& isos, int reps, 
                 mc.add(sw.ms());
             }
             const std::string iso_s = fmt("%.17g", iso);
-            const Proc pa = run_shell(shq(exe) + " extract " + shq(mls.string()) + " --iso " + iso_s + " -o /dev/null", err);
-            const Proc pc = run_shell(shq(exe) + " generate " + shq(lung.store.string()) + " --iso " + iso_s +
+            const Proc pa = run_shell(shell_quote(exe) + " extract " + shell_quote(mls.string()) + " --iso " + iso_s + " -o /dev/null", err);
+            const Proc pc = run_shell(shell_quote(exe) + " generate " + shell_quote(lung.store.string()) + " --iso " + iso_s +
                                           " --memory 256M -o /dev/null",
                                       err);
             if (pa.code == 0) la.add(pa.ms);
@@ -543,7 +530,7 @@ struct ScalingCase {
 void run_threads_ranks(const ScalingCase& c, int reps, bool mpi, const OocScratch& scratch, const std::string& exe,
                        Report& r) {
     const fs::path err = scratch / "threads.err";
-    const std::string head = shq(exe) + " isosurface " + shq(c.store.string()) + " --memory 256M";
+    const std::string head = shell_quote(exe) + " isosurface " + shell_quote(c.store.string()) + " --memory 256M";
     const std::string base = head + fmt(" --iso %.17g", c.iso);
     const std::string root_flag = ::geteuid() == 0 ? " --allow-run-as-root" : "";
     const std::string mpirun = "mpirun" + root_flag + " --oversubscribe -np ";
@@ -553,19 +540,19 @@ void run_threads_ranks(const ScalingCase& c, int reps, bool mpi, const OocScratc
         bool mpi = false;
     };
     std::vector<Run> runs = {
-        {"--threads 1", base + " --threads 1 -o " + shq((scratch / "t1.ply").string()), scratch / "t1.ply"},
-        {"--threads 2", base + " --threads 2 -o " + shq((scratch / "t2.ply").string()), scratch / "t2.ply"},
+        {"--threads 1", base + " --threads 1 -o " + shell_quote((scratch / "t1.ply").string()), scratch / "t1.ply"},
+        {"--threads 2", base + " --threads 2 -o " + shell_quote((scratch / "t2.ply").string()), scratch / "t2.ply"},
     };
     if (mpi) {
         for (int np : {1, 2}) {
             const fs::path out = scratch / fmt("np%d.ply", np);
             runs.push_back({fmt("mpirun -np %d", np),
-                            mpirun + std::to_string(np) + " " + base + " --threads 1 -o " + shq(out.string()), out, true});
+                            mpirun + std::to_string(np) + " " + base + " --threads 1 -o " + shell_quote(out.string()), out, true});
         }
         for (int np : {1, 2})
             runs.push_back({fmt("mpirun -np %d, no active brick (start-up cost)", np),
                             mpirun + std::to_string(np) + " " + head + fmt(" --iso %.17g", c.empty_iso) +
-                                " --threads 1 -o " + shq((scratch / "empty.ply").string()),
+                                " --threads 1 -o " + shell_quote((scratch / "empty.ply").string()),
                             {}, true});
     }
     r.note(fmt("%s, iso %g (%s); wall time of the whole command (process start, store open, brick interval tree, "
@@ -626,11 +613,11 @@ struct TimeV {
 /// line ("N active cells, M points") from the command's stderr.
 TimeV time_v(const std::string& cmd, const OocScratch& scratch) {
     const fs::path tf = scratch / "time.txt", ef = scratch / "time.err";
-    const Proc p = run_shell("/usr/bin/time -v -o " + shq(tf.string()) + " " + cmd, ef);
+    const Proc p = run_shell("/usr/bin/time -v -o " + shell_quote(tf.string()) + " " + cmd, ef);
     TimeV t;
     t.err = first_line(p.err);
     if (p.code != 0) return t;
-    const std::string tv = slurp(tf);
+    const std::string tv = read_file_bytes(tf);
     if (const auto k = tv.find("Maximum resident set size (kbytes):"); k != std::string::npos)
         t.rss_kib = std::strtod(tv.c_str() + k + 35, nullptr);
     t.wall_s = p.ms / 1e3;
@@ -669,7 +656,7 @@ void run_peak_rss(const BenchOptions& o, const Lung& lung, const OocScratch& scr
         }
         big = scratch / "big.mlb";
         std::fprintf(stderr, "bench ooc: meshless synth --upsample 8 (about 4.4 GB of voxels)...\n");
-        const TimeV s = time_v(shq(exe) + " synth --upsample 8 " + shq(lidc_path) + " -o " + shq(big.string()), scratch);
+        const TimeV s = time_v(shell_quote(exe) + " synth --upsample 8 " + shell_quote(lidc_path) + " -o " + shell_quote(big.string()), scratch);
         if (!s.ok) {
             r.note("meshless synth --upsample 8 failed: " + s.err);
             return;
@@ -710,8 +697,8 @@ void run_peak_rss(const BenchOptions& o, const Lung& lung, const OocScratch& scr
                held ? "n/a (output held)" : bud > 0 ? (over <= kOverheadTargetMiB ? "PASS" : "FAIL") : ""});
     };
     std::fprintf(stderr, "bench ooc: peak RSS runs on %s...\n", label.c_str());
-    row("meshless --version (binary + libraries)", time_v(shq(exe) + " --version", scratch), 0, false);
-    const std::string cmd = shq(exe) + " isosurface " + shq(big.string()) + iso_s + " --stats";
+    row("meshless --version (binary + libraries)", time_v(shell_quote(exe) + " --version", scratch), 0, false);
+    const std::string cmd = shell_quote(exe) + " isosurface " + shell_quote(big.string()) + iso_s + " --stats";
     const TimeV dn = time_v(cmd + mem + " -o /dev/null", scratch);
     row("isosurface" + mem + " -o /dev/null", dn, static_cast<double>(budget), true);
     const double ply_bytes = dn.points > 0 ? static_cast<double>(dn.points) * 32.0 + 4096 : 0;
@@ -719,12 +706,12 @@ void run_peak_rss(const BenchOptions& o, const Lung& lung, const OocScratch& scr
         r.note(fmt("Not enough free space in %s for the %s PLY: -o FILE runs skipped.", scratch.path.c_str(),
                    bytes_str(ply_bytes).c_str()));
     } else {
-        row("isosurface" + mem + " -o FILE.ply", time_v(cmd + mem + " -o " + shq(ply.string()), scratch),
+        row("isosurface" + mem + " -o FILE.ply", time_v(cmd + mem + " -o " + shell_quote(ply.string()), scratch),
             static_cast<double>(budget), false);
         std::error_code ec;
         fs::remove(ply, ec);
         if (!o.quick) {
-            row("isosurface --memory 64M -o FILE.ply", time_v(cmd + " --memory 64M -o " + shq(ply.string()), scratch),
+            row("isosurface --memory 64M -o FILE.ply", time_v(cmd + " --memory 64M -o " + shell_quote(ply.string()), scratch),
                 64.0 * kMiB, false);
             fs::remove(ply, ec);
         }

@@ -51,19 +51,6 @@ constexpr double kPi = 3.14159265358979323846;
 
 // ---- running processes --------------------------------------------------------------------------
 
-std::string shq(const std::string& s) {
-    std::string out = "'";
-    for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return out + "'";
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 std::string first_line(const std::string& s) {
     std::string t = s;
     while (!t.empty() && (t.back() == '\n' || t.back() == '\r')) t.pop_back();
@@ -152,8 +139,8 @@ Run run_sh(const std::string& cmd, const fs::path& err_file, const fs::path& out
         if (f >> kib) r.maxrss_kib = kib;
     }
     fs::remove(rss_file, ec);
-    r.err = slurp(err_file);
-    if (!out_file.empty()) r.out = slurp(out_file);
+    r.err = read_file_bytes(err_file);
+    if (!out_file.empty()) r.out = read_file_bytes(out_file);
     return r;
 }
 
@@ -198,7 +185,7 @@ struct PlyBody {
 
 PlyBody read_ply_body(const fs::path& p) {
     PlyBody b;
-    const std::string all = slurp(p);
+    const std::string all = read_file_bytes(p);
     try {
         const PlyHeader h = parse_ply_header(all, p.string());  // the codec's header parser
         const int vi = h.find("vertex");
@@ -217,7 +204,7 @@ PlyBody read_ply_body(const fs::path& p) {
 /// "DIFFERENT (...)", or "n/a (...)" when a file is missing.
 std::string compare_points(const fs::path& a, const fs::path& b) {
     if (!fs::exists(a) || !fs::exists(b)) return "n/a (missing output)";
-    const std::string sa = slurp(a), sb = slurp(b);
+    const std::string sa = read_file_bytes(a), sb = read_file_bytes(b);
     if (sa == sb) return "SAME";
     PlyBody pa = read_ply_body(a), pb = read_ply_body(b);
     if (!pa.ok || !pb.ok) return "DIFFERENT (not comparable as binary PLY)";
@@ -332,8 +319,8 @@ Lung make_lung(const BenchOptions& o, const fs::path& work, const fs::path& scra
     l.raw = work / (tag + ".raw");
     l.nhdr = work / (tag + ".nhdr");
     if (!fs::exists(l.mlb)) {
-        const std::string cmd = shq(o.meshless) + " synth --upsample " + std::to_string(factor) + " " +
-                                shq(lidc.string()) + " -o " + shq(l.mlb.string());
+        const std::string cmd = shell_quote(o.meshless) + " synth --upsample " + std::to_string(factor) + " " +
+                                shell_quote(lidc.string()) + " -o " + shell_quote(l.mlb.string());
         std::fprintf(stderr, "bench process: %s\n", cmd.c_str());
         const Run s = run_sh(cmd, scratch / "stderr.txt");
         if (!s.ok()) {
@@ -414,7 +401,7 @@ struct Ctx {
     int reps;
     std::string m;  ///< quoted meshless path
     Timed run(const std::string& cmd) const { return best_of(cmd, reps, work); }
-    std::string out(const std::string& name) const { return shq((work / name).string()); }
+    std::string out(const std::string& name) const { return shell_quote((work / name).string()); }
 };
 
 const std::vector<std::string> kProcessHeader = {"row", "seconds", "peak RSS MiB", "baseline", "baseline s", "ratio",
@@ -464,7 +451,7 @@ FeResult flying_edges(const Ctx& c, const Lung& l, const std::vector<double>& is
         fe.why = "flying_edges.py not found in " + c.o.bench_dir + " (give --bench-dir)";
         return fe;
     }
-    const Run probe = run_sh(shq(c.o.python) + " -c 'import vtk'", c.work / "stderr.txt");
+    const Run probe = run_sh(shell_quote(c.o.python) + " -c 'import vtk'", c.work / "stderr.txt");
     if (!probe.ok()) {
         fe.why = "`import vtk` fails under " + c.o.python + " (apt-get install python3-vtk9)";
         return fe;
@@ -472,7 +459,7 @@ FeResult flying_edges(const Ctx& c, const Lung& l, const std::vector<double>& is
     std::string iso_list;
     for (double v : isos) iso_list += (iso_list.empty() ? "" : ",") + fmt("%g", v);
     const auto& g = l.grid;
-    const std::string cmd = shq(c.o.python) + " " + shq(script.string()) + " --raw " + shq(l.raw.string()) +
+    const std::string cmd = shell_quote(c.o.python) + " " + shell_quote(script.string()) + " --raw " + shell_quote(l.raw.string()) +
                             fmt(" --dims %lld,%lld,%lld --type uint8 --spacing %.17g,%.17g,%.17g --origin %.17g,%.17g,%.17g",
                                 static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
                                 static_cast<long long>(g.dims[2]), g.spacing[0], g.spacing[1], g.spacing[2],
@@ -550,7 +537,7 @@ void part_a(const Ctx& c, const Lung& l, const std::vector<double>& isos) {
                  fe.ok ? (": VTK " + fe.version).c_str() : ""));
     if (!fe.ok) c.r.note("VTK rows skipped: " + fe.why);
     const double base = fe.ok ? fe.sum_best : kNone;
-    const std::string vol = shq(l.nhdr.string());
+    const std::string vol = shell_quote(l.nhdr.string());
     Table t{kProcessHeader, {}};
     const SumTimed ply = sum_over(c, isos, [&](double v, int i) {
         return c.m + " isosurface " + vol + fmt(" --iso %g", v) + " -o " + c.out(fmt("a_%d.ply", i)) + " --threads 1 --stats";
@@ -581,7 +568,7 @@ void part_b(const Ctx& c, const Lung& l, double iso) {
     c.r.note("`meshless generate VOL --iso V --threads 1 | meshless project --threads 1 | meshless write -o pipe.ply` "
              "(a /bin/sh pipeline; its peak RSS is the largest of the three processes) vs "
              "`meshless isosurface VOL --iso V -o inproc.ply --threads 1`; output = byte comparison of the two PLY files.");
-    const std::string vol = shq(l.nhdr.string()), iso_s = fmt(" --iso %g", iso);
+    const std::string vol = shell_quote(l.nhdr.string()), iso_s = fmt(" --iso %g", iso);
     const Timed in = c.run(c.m + " isosurface " + vol + iso_s + " -o " + c.out("b_inproc.ply") + " --threads 1");
     const Timed pipe = c.run(c.m + " generate " + vol + iso_s + " --threads 1 | " + c.m + " project --threads 1 | " + c.m +
                              " write -o " + c.out("b_pipe.ply"));
@@ -599,7 +586,7 @@ void part_c(const Ctx& c, const Lung& l, double iso, const fs::path& splat_point
                  "The splat rows render %llu points (the synthetic sphere of (e)) at 1024x1024, quad kernel. Output = "
                  "byte comparison of the two outputs.",
                  static_cast<unsigned long long>(splat_n)));
-    const std::string vol = shq(l.nhdr.string()), iso_s = fmt(" --iso %g", iso);
+    const std::string vol = shell_quote(l.nhdr.string()), iso_s = fmt(" --iso %g", iso);
     Table t{kProcessHeader, {}};
     const Timed i1 = c.run(c.m + " isosurface " + vol + iso_s + " -o " + c.out("c_t1.ply") + " --threads 1");
     const Timed i2 = c.run(c.m + " isosurface " + vol + iso_s + " -o " + c.out("c_t2.ply") + " --threads 2");
@@ -613,16 +600,16 @@ void part_c(const Ctx& c, const Lung& l, double iso, const fs::path& splat_point
                                " --threads 2");
         add_row(t, "isosurface --png --threads 1", p1, "-", kNone, kNone, true);
         add_row(t, "isosurface --png --threads 2", p2, "--threads 1", p1.ok ? p1.seconds : kNone,
-                1.8, false, true, p1.ok && p2.ok ? (slurp(c.work / "c_t1.png") == slurp(c.work / "c_t2.png") ? "SAME png" : "DIFFERENT png") : "-");
+                1.8, false, true, p1.ok && p2.ok ? (read_file_bytes(c.work / "c_t1.png") == read_file_bytes(c.work / "c_t2.png") ? "SAME png" : "DIFFERENT png") : "-");
     }
     if (!splat_points.empty()) {
-        const std::string in = shq(splat_points.string());
+        const std::string in = shell_quote(splat_points.string());
         const Timed s1 = c.run(c.m + " splat " + in + " -o " + c.out("c_s1.png") + " --kernel quad --size 1024x1024 --threads 1");
         const Timed s2 = c.run(c.m + " splat " + in + " -o " + c.out("c_s2.png") + " --kernel quad --size 1024x1024 --threads 2");
         add_row(t, "splat --threads 1", s1, "-", kNone, kNone, true);
         add_row(t, "splat --threads 2", s2, "--threads 1", s1.ok ? s1.seconds : kNone, 1.8,
                 false, true,
-                s1.ok && s2.ok ? (slurp(c.work / "c_s1.png") == slurp(c.work / "c_s2.png") ? "SAME png" : "DIFFERENT png") : "-");
+                s1.ok && s2.ok ? (read_file_bytes(c.work / "c_s1.png") == read_file_bytes(c.work / "c_s2.png") ? "SAME png" : "DIFFERENT png") : "-");
     }
     c.r.table(t);
 }
@@ -634,7 +621,7 @@ void part_d(const Ctx& c, const Lung& l, double iso) {
     fs::remove(mls, ec);  // made fresh each run: the binary measured decides its format
     Table t{kProcessHeader, {}};
     std::fprintf(stderr, "bench process: generate --all (paradigm A's sample store)\n");
-    const Run g = run_sh(c.m + " generate " + shq(l.mlb.string()) + " --all -o " + shq(mls.string()), c.work / "stderr.txt");
+    const Run g = run_sh(c.m + " generate " + shell_quote(l.mlb.string()) + " --all -o " + shell_quote(mls.string()), c.work / "stderr.txt");
     Timed gt;
     gt.ok = g.ok();
     gt.seconds = g.seconds;
@@ -644,11 +631,11 @@ void part_d(const Ctx& c, const Lung& l, double iso) {
 
     const std::string iso_s = fmt(" --iso %g", iso);
     const std::string tail = " | " + c.m + " project --threads 1 | " + c.m + " write -o ";
-    const Timed C = c.run(c.m + " generate " + shq(l.mlb.string()) + iso_s + " --threads 1" + tail + c.out("d_c.ply"));
-    const Timed A = g.ok() ? c.run(c.m + " extract " + shq(mls.string()) + iso_s + tail + c.out("d_a.ply")) : gt;
-    const Timed I = c.run(c.m + " isosurface " + shq(l.mlb.string()) + iso_s + " -o " + c.out("d_i.ply") +
+    const Timed C = c.run(c.m + " generate " + shell_quote(l.mlb.string()) + iso_s + " --threads 1" + tail + c.out("d_c.ply"));
+    const Timed A = g.ok() ? c.run(c.m + " extract " + shell_quote(mls.string()) + iso_s + tail + c.out("d_a.ply")) : gt;
+    const Timed I = c.run(c.m + " isosurface " + shell_quote(l.mlb.string()) + iso_s + " -o " + c.out("d_i.ply") +
                           " --threads 1 --stats");
-    const Timed M = g.ok() ? c.run(c.m + " isosurface " + shq(mls.string()) + iso_s + " -o " + c.out("d_m.ply") + " --threads 1")
+    const Timed M = g.ok() ? c.run(c.m + " isosurface " + shell_quote(mls.string()) + iso_s + " -o " + c.out("d_m.ply") + " --threads 1")
                            : gt;
     const double cs = C.ok ? C.seconds : kNone;
     add_row(t, "C: generate STORE.mlb | project | write", C, "-", kNone, kNone, true);
@@ -689,7 +676,7 @@ void part_e(const Ctx& c, const std::vector<std::pair<std::uint64_t, fs::path>>&
              "render M points/s", "target"},
             {}};
     for (const auto& [n, p] : sets) {
-        const std::string in = shq(p.string());
+        const std::string in = shell_quote(p.string());
         const std::string base = c.m + " splat " + in + " --kernel quad --size 1024x1024";
         std::string threads = " --threads 1";
         Timed s = c.run(base + threads + " -o " + c.out("e.png"));
@@ -757,7 +744,7 @@ void run_process(const BenchOptions& o, Report& r) {
         std::error_code ec;
         fs::remove_all(own_work ? work : out, ec);
     };
-    const Run version = run_sh(shq(o.meshless) + " --version", out / "stderr.txt", out / "version.txt");
+    const Run version = run_sh(shell_quote(o.meshless) + " --version", out / "stderr.txt", out / "version.txt");
     if (!version.ok()) {
         r.note("`" + o.meshless + " --version` failed (" + version.why() + "): process section skipped (give --meshless PATH).");
         clean_up();
@@ -770,7 +757,7 @@ void run_process(const BenchOptions& o, Report& r) {
                "ratios within this run.",
                o.meshless.c_str(), first_line(version.out).c_str(), reps, work.c_str(),
                own_work ? " (temporary)" : " (kept; reused by later runs)"));
-    Ctx c{o, r, out, reps, shq(o.meshless)};
+    Ctx c{o, r, out, reps, shell_quote(o.meshless)};
 
     // the splat point sets (no data needed)
     std::vector<std::pair<std::uint64_t, fs::path>> sets;
