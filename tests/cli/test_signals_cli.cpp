@@ -197,7 +197,7 @@ TEST_CASE("info, verify and --help on a full device (/dev/full): exit 2 with a m
     spit(raw, std::string(64, '\x07'));
     const std::string mlb = (dir / "v.mlb").string();
     REQUIRE(sh("MESHLESS convert " + raw + " -o " + mlb, dir).code == 0);
-    for (const std::string    for (const std::string cmd : {"MESHLESS info " + raw, "MESHLESS verify " + mlb, "MESHLESS --help", cmd : std::vector<std::string>{"MESHLESS info " + raw, "MESHLESS verify " + mlb, "MESHLESS --help",
+    for (const std::string& cmd : std::vector<std::string>{"MESHLESS info " + raw, "MESHLESS verify " + mlb, "MESHLESS --help",
                                   "MESHLESS info --help", "MESHLESS --version", "MESHLESS isosurface --help"}) {
         INFO(cmd);
         REQUIRE(sh(cmd, dir).code == 0);  // fine on a real stdout
