@@ -1,3 +1,7 @@
+#include <poll.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -53,6 +57,14 @@ void print_usage(std::FILE* out) {
 
 int run_command(int argc, char** argv);
 
+/// True when standard output is a pipe or socket whose reading end has been closed.
+bool stdout_reader_gone() {
+    struct stat st {};
+    if (::fstat(STDOUT_FILENO, &st) != 0 || !(S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode))) return false;
+    pollfd p{STDOUT_FILENO, POLLOUT, 0};
+    return ::poll(&p, 1, 0) == 1 && (p.revents & (POLLERR | POLLHUP)) != 0;
+}
+
 /// Flushes and closes standard output; a write error that nothing reported yet (a full device,
 /// an I/O error) turns a successful exit into exit code 2 with a message. A reader that has gone
 /// (EPIPE) stays the quiet exit it is for every other write.
@@ -60,10 +72,13 @@ int finish_stdout(int code, const char* name) {
     const bool failed = std::ferror(stdout) != 0;
     errno = 0;
     const bool flush_failed = std::fflush(stdout) != 0;
-    int err = errno;
+    int err = flush_failed ? errno : 0;
+    // the error flag may stem from an earlier EPIPE whose bytes were dropped: ask the pipe itself
+    const bool reader_gone = stdout_reader_gone();
+    errno = 0;
     const bool close_failed = std::fclose(stdout) != 0;
     if (close_failed && err == 0) err = errno;
-    if (!(failed || flush_failed || close_failed) || code != kExitOk || err == EPIPE) return code;
+    if (!(failed || flush_failed || close_failed) || code != kExitOk || err == EPIPE || reader_gone) return code;
     std::fprintf(stderr, "meshless%s%s: cannot write standard output (%s)\n", name ? " " : "", name ? name : "",
                  err ? std::strerror(err) : "write error");
     return kExitData;
