@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <thread>
@@ -213,8 +214,9 @@ TEST_CASE("info, verify and --help on a full device (/dev/full): exit 2 with a m
         REQUIRE(sh(cmd, dir).code == 0);  // fine on a real stdout
         const auto r = sh(cmd + " >/dev/full", dir);
         CHECK(r.code == 2);
-        CHECK(r.err.find("cannot write standard output") != std::string::npos);
-        CHECK(r.err.find("No space left on device") != std::string::npos);
+        // "(No space left on device)", or "(write error)" when the command flushed by itself
+        CHECK(r.err.find("cannot write standard output (") != std::string::npos);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     }
     // a reader that has gone stays a quiet success
     const auto r = sh("MESHLESS --help | head -c 1 >/dev/null", dir);
