@@ -57,7 +57,7 @@ build() {
 EXTRA_CMAKE=()
 
 # The sanitizer tier: every target built with AddressSanitizer + UndefinedBehaviorSanitizer (any
-# report fails its test; the ctest entries carry ASAN_OPTIONS/UBSAN_OPTIONS, tests/CMakeLists.txt),
+# report fails its test; tests/CMakeLists.txt says what differs under it),
 # in its own folder, without meshless-bench.
 sanitize() {
   local DIR="$BUILD_DIR-asan" EXTRA_CMAKE=(-DMESHLESS_SANITIZE=address,undefined)
