@@ -139,7 +139,7 @@ TEST_CASE("SIGINT/SIGTERM/SIGHUP mid-run: exit 128+signal, no temporaries, no ou
         }
 }
 
-TEST_CASE("SIGXFSZ (ulimit -f): exit 153, no temporaries; ignored SIGXFSZ is a write error", "[cli][signals]") {
+TEST_CASE("SIGXFSZ (ulimit -f): exit 153 and no temporaries, an ignored SIGXFSZ is a write error", "[cli][signals]") {
     if (!have_shared_data()) return;
     TempDir dir("signals-xfsz");
     const std::string tooth = (shared_data() / "tooth" / "tooth_103x94x161_uint8.raw").string();
