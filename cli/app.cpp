@@ -1,3 +1,8 @@
+#include <poll.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -6,6 +11,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/errors.hpp"
+#include "cli/signals.hpp"
 
 namespace meshless::cli {
 
@@ -49,11 +55,49 @@ void print_usage(std::FILE* out) {
                out);
 }
 
+int run_command(int argc, char** argv);
+
+/// True when standard output is a pipe or socket whose reading end has been closed.
+bool stdout_reader_gone() {
+    struct stat st {};
+    if (::fstat(STDOUT_FILENO, &st) != 0 || !(S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode))) return false;
+    pollfd p{STDOUT_FILENO, POLLOUT, 0};
+    return ::poll(&p, 1, 0) == 1 && (p.revents & (POLLERR | POLLHUP)) != 0;
+}
+
+/// Flushes and closes standard output; a write error that nothing reported yet (a full device,
+/// an I/O error) turns a successful exit into exit code 2 with a message. A reader that has gone
+/// (EPIPE) stays the quiet exit it is for every other write.
+int finish_stdout(int code, const char* name) {
+    const bool failed = std::ferror(stdout) != 0;
+    errno = 0;
+    const bool flush_failed = std::fflush(stdout) != 0;
+    int err = flush_failed ? errno : 0;
+    // the error flag may stem from an earlier EPIPE whose bytes were dropped: ask the pipe itself
+    const bool reader_gone = stdout_reader_gone();
+    errno = 0;
+    const bool close_failed = std::fclose(stdout) != 0;
+    if (close_failed && err == 0) err = errno;
+    if (!(failed || flush_failed || close_failed) || code != kExitOk || err == EPIPE || reader_gone) return code;
+    std::fprintf(stderr, "meshless%s%s: cannot write standard output (%s)\n", name ? " " : "", name ? name : "",
+                 err ? std::strerror(err) : "write error");
+    return kExitData;
+}
+
 }  // namespace
 
 int cli_main(int argc, char** argv) {
     // A closed downstream pipe surfaces as EPIPE from write(), mapped to a quiet exit.
     std::signal(SIGPIPE, SIG_IGN);
+    // SIGINT, SIGTERM, SIGHUP, SIGXFSZ: remove this process's temporaries, exit 128 + signal.
+    install_signal_cleanup();
+    const char* name = argc >= 2 && argv[1][0] != '-' ? argv[1] : nullptr;
+    return finish_stdout(run_command(argc, argv), name);
+}
+
+namespace {
+
+int run_command(int argc, char** argv) {
     if (argc < 2) {
         print_usage(stderr);
         return 1;
@@ -80,5 +124,7 @@ int cli_main(int argc, char** argv) {
     std::fprintf(stderr, "meshless: unknown command '%s' (see meshless --help)\n", name.c_str());
     return 1;
 }
+
+}  // namespace
 
 }  // namespace meshless::cli

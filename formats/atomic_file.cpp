@@ -40,7 +40,10 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
         return;
     }
     target_ = target;
+    remove_stale_temporaries(target);
     tmp_ = target + ".tmp-" + std::to_string(::getpid());
+    // registered before it exists: a signal between fopen and the registration would leave it
+    registration_.reset(tmp_);
     file_ = std::fopen(tmp_.c_str(), "wb+");
     if (!file_) throw IoError(path_ + ": cannot create (" + std::strerror(errno) + ")");
 }
@@ -53,6 +56,7 @@ AtomicFile::~AtomicFile() {
     }
     if (file_) std::fclose(file_);
     if (!committed_ && !tmp_.empty()) std::remove(tmp_.c_str());
+    registration_.release();
 }
 
 void AtomicFile::write(const void* data, std::size_t n) {
@@ -109,6 +113,7 @@ void AtomicFile::commit() {
     if (!flush_ok) throw IoError(path_ + ": write failed (" + std::strerror(err) + ")");
     if (std::rename(tmp_.c_str(), target_.c_str()) != 0)
         throw IoError(path_ + ": cannot rename temporary file into place (" + std::strerror(errno) + ")");
+    registration_.release();
     committed_ = true;
 }
 

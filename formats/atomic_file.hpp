@@ -8,7 +8,10 @@
 // AtomicFile writes to "<path>.tmp-<pid>" in the same directory and renames it over <path> on
 // commit(); if the object is destroyed without commit() (an exception, an early return) the
 // temporary is removed. A process killed by a signal leaves only the temporary, never a file that
-// looks complete. The path "-" means standard output, and an existing path that is not a regular
+// looks complete, and the CLI's handlers for SIGINT, SIGTERM, SIGHUP and SIGXFSZ remove even that
+// (the temporary is registered in formats/temporary_files.hpp). Before creating its temporary,
+// AtomicFile removes the stale temporaries of <path> left by processes that no longer exist
+// (remove_stale_temporaries). The path "-" means standard output, and an existing path that is not a regular
 // file (a device such as /dev/null, a FIFO) is written directly, never replaced; a symbolic link
 // is followed (the temporary goes beside its target, which is replaced).
 // Throws IoError naming the path when the file cannot be created, written or renamed, or when the
@@ -17,6 +20,8 @@
 #include <cstddef>
 #include <cstdio>
 #include <string>
+
+#include "formats/temporary_files.hpp"
 
 namespace meshless {
 
@@ -46,6 +51,7 @@ public:
 private:
     std::string path_, target_, tmp_;
     std::FILE* file_ = nullptr;
+    TemporaryRegistration registration_;  ///< tmp_, for the signal handlers
     bool committed_ = false;
     bool direct_ = false;  ///< writing straight into a non-regular file
     std::size_t written_ = 0, synced_ = 0;  ///< bytes appended; bytes whose write-back was started

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "formats/atomic_file.hpp"
+#include "formats/temporary_files.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/morton.hpp"
 #include "ooc/brick_store.hpp"
@@ -34,7 +35,8 @@ namespace {
 /// The spool of compressed frames in slab order: "<out>.tmp-<pid>.spool", removed by the destructor.
 class Spool {
 public:
-    explicit Spool(const std::string& out) : out_(out), path_(out + ".tmp-" + std::to_string(::getpid()) + ".spool") {
+    explicit Spool(const std::string& out)
+        : out_(out), path_(out + ".tmp-" + std::to_string(::getpid()) + ".spool"), registration_(path_) {
         fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
         if (fd_ < 0) throw IoError(out_ + ": cannot create temporary file " + path_ + " (" + std::strerror(errno) + ")");
     }
@@ -71,29 +73,10 @@ public:
 
 private:
     std::string out_, path_;
+    TemporaryRegistration registration_;  ///< path_, for the signal handlers
     int fd_ = -1;
     std::uint64_t size_ = 0;
 };
-
-/// Removes "<out>.tmp-<pid>" and "<out>.tmp-<pid>.spool" left by conversions that were killed
-/// (their process no longer exists), so reruns do not pile up temporaries.
-void remove_stale_temporaries(const std::string& out) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const fs::path op(out);
-    const fs::path dir = op.has_parent_path() ? op.parent_path() : fs::path(".");
-    const std::string prefix = op.filename().string() + ".tmp-";
-    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-        const std::string name = it->path().filename().string();
-        if (name.compare(0, prefix.size(), prefix) != 0) continue;
-        std::string rest = name.substr(prefix.size());
-        if (rest.size() > 6 && rest.compare(rest.size() - 6, 6, ".spool") == 0) rest.resize(rest.size() - 6);
-        if (rest.empty() || rest.size() > 9 || rest.find_first_not_of("0123456789") != std::string::npos) continue;
-        const long pid = std::stol(rest);
-        if (pid <= 0 || pid == ::getpid()) continue;
-        if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) fs::remove(it->path(), ec);
-    }
-}
 
 struct CompressedBrick {
     std::vector<std::byte> frame;

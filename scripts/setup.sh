@@ -2,10 +2,14 @@
 # meshless set-up on a fresh Debian 12 machine: installs the Debian packages the project needs,
 # builds in Release what the task needs, then runs it.
 #   scripts/setup.sh demo    install + build the `meshless` executable only + `meshless demo -o out/demo`
-#   scripts/setup.sh test    install + build everything, tests and meshless-bench included + ctest
+#   scripts/setup.sh test    install + build everything, tests and meshless-bench included + ctest,
+#                            then the sanitizer tier (what `sanitize` does)
+#   scripts/setup.sh sanitize  install + build meshless and the tests with -fsanitize=address,undefined
+#                            in $BUILD_DIR-asan (no meshless-bench) + ctest there
 #   scripts/setup.sh bench   install (+ VTK and SciPy, the baselines) + build meshless and meshless-bench
 #   scripts/setup.sh deps    install only;   scripts/setup.sh build   install + build meshless and the tests
-# Environment: BUILD_DIR (default build), JOBS (default nproc), SKIP_APT=1 to skip apt-get.
+# Environment: BUILD_DIR (default build), JOBS (default nproc), SKIP_APT=1 to skip apt-get,
+# SKIP_SANITIZE=1 to leave the sanitizer tier out of `test`. ccache is used when installed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 what="${1:-demo}"
@@ -33,29 +37,46 @@ install_deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
+LAUNCHER=()
+command -v ccache >/dev/null 2>&1 && LAUNCHER=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+
 # configure TESTS BENCH [TARGET...]: configures with the tests and meshless-bench ON or OFF, then
-# builds the given targets (all when none).
+# builds the given targets (all when none). EXTRA_CMAKE (an array) adds options; DIR, when set,
+# is the build folder instead of BUILD_DIR.
 build() {
-  local tests="$1" bench="$2"
+  local tests="$1" bench="$2" dir="${DIR:-$BUILD_DIR}"
   shift 2
-  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release "${LAUNCHER[@]}" "${EXTRA_CMAKE[@]}" \
         -DMESHLESS_BUILD_TESTS="$tests" -DMESHLESS_BUILD_BENCH="$bench" >/dev/null
   if [ $# -eq 0 ]; then
-    cmake --build "$BUILD_DIR" -j "$JOBS"
+    cmake --build "$dir" -j "$JOBS"
   else
-    cmake --build "$BUILD_DIR" -j "$JOBS" --target "$@"
+    cmake --build "$dir" -j "$JOBS" --target "$@"
   fi
+}
+EXTRA_CMAKE=()
+
+# The sanitizer tier: every target built with AddressSanitizer + UndefinedBehaviorSanitizer (any
+# report fails its test; tests/CMakeLists.txt says what differs under it),
+# in its own folder, without meshless-bench.
+sanitize() {
+  local DIR="$BUILD_DIR-asan" EXTRA_CMAKE=(-DMESHLESS_SANITIZE=address,undefined)
+  build ON OFF
+  ctest --test-dir "$BUILD_DIR-asan" --output-on-failure -j "$JOBS"
 }
 
 case "$what" in
   deps) install_deps ;;
   build) install_deps; build ON OFF ;;
   demo) install_deps; build OFF OFF meshless; "$BUILD_DIR/cli/meshless" demo -o out/demo ;;
-  test) install_deps; build ON ON; ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" ;;
+  test)
+    install_deps; build ON ON; ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS"
+    [ "${SKIP_SANITIZE:-0}" = 1 ] || sanitize ;;
+  sanitize) install_deps; sanitize ;;
   bench)
     install_deps "${BENCH_PACKAGES[@]}"
     build OFF ON meshless meshless-bench
     echo "setup: built $BUILD_DIR/bench/meshless-bench; e.g. $BUILD_DIR/bench/meshless-bench process --markdown /tmp/process.md" >&2
     echo "       ($BUILD_DIR/bench/meshless-bench --help lists the sections; bench/README.md explains the rows)" >&2 ;;
-  *) echo "usage: scripts/setup.sh demo|test|bench|deps|build" >&2; exit 1 ;;
+  *) echo "usage: scripts/setup.sh demo|test|sanitize|bench|deps|build" >&2; exit 1 ;;
 esac

@@ -218,7 +218,8 @@ TEST_CASE("batch killed with SIGKILL and run again ends identical to a clean run
         sh("MESHLESS batch " + arch.string() + " -o " + out.string() + args + " > /dev/null & pid=$!; sleep " + delay +
                "; kill -9 $pid; wait $pid; true",
            d);
-        if (snapshot(out) != clean) ++interrupted;
+        // (killed before it made its output folder: the sanitizer build starts slower)
+        if (!fs::exists(out) || snapshot(out) != clean) ++interrupted;
         const auto r = sh("MESHLESS batch " + arch.string() + " -o " + out.string() + args, d);
         CHECK(r.code == 0);
         CHECK(snapshot(out) == clean);

@@ -44,6 +44,16 @@ void operator delete(void* p) noexcept {
     std::free(p);
 }
 void operator delete(void* p, std::size_t) noexcept { operator delete(p); }
+// The nothrow forms too: AddressSanitizer brings its own, whose memory the free() above would
+// release (alloc-dealloc mismatch; Catch2 allocates with new(std::nothrow)).
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+    try {
+        return operator new(n);
+    } catch (...) {
+        return nullptr;
+    }
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept { operator delete(p); }
 
 using namespace meshless;
 

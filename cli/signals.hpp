@@ -1,0 +1,15 @@
+// What the meshless executable does on SIGINT, SIGTERM, SIGHUP and SIGXFSZ: remove the temporary
+// files this process is writing (formats/temporary_files.hpp, registered by AtomicFile and the
+// brick converter's spool) and exit with status 128 + signal, as a shell reports a killed command.
+// A signal that is ignored when meshless starts (nohup, `trap "" XFSZ`) stays ignored: with
+// SIGXFSZ ignored, a write over `ulimit -f` fails with EFBIG and the command reports it as an
+// error (batch goes on with the next volume), still removing its temporaries.
+// Also installs the reporter that says on stderr which stale temporaries of dead processes were
+// removed before an output is written. Call once, from main's thread, before anything is written.
+#pragma once
+
+namespace meshless::cli {
+
+void install_signal_cleanup();
+
+}  // namespace meshless::cli

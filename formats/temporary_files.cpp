@@ -1,0 +1,97 @@
+#include "formats/temporary_files.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+namespace meshless {
+
+namespace {
+
+enum SlotState : int { kFree = 0, kFilling = 1, kLive = 2 };
+
+struct Slot {
+    std::atomic<int> state{kFree};
+    char path[kMaxTemporaryPath]{};
+};
+
+struct Registry {
+    Slot slots[kMaxLiveTemporaries];
+    std::atomic<StaleTemporaryReporter> reporter{nullptr};
+};
+
+// Constant-initialised (constexpr constructors, trivial destructors): no guard, nothing runs, so
+// the signal handler may touch it at any time.
+Registry& registry() noexcept {
+    static constinit Registry r;
+    return r;
+}
+
+}  // namespace
+
+int register_temporary(const std::string& path) noexcept {
+    if (path.empty() || path.size() >= kMaxTemporaryPath) return -1;
+    Registry& r = registry();
+    for (std::size_t i = 0; i < kMaxLiveTemporaries; ++i) {
+        int expected = kFree;
+        if (!r.slots[i].state.compare_exchange_strong(expected, kFilling, std::memory_order_acquire)) continue;
+        std::memcpy(r.slots[i].path, path.c_str(), path.size() + 1);
+        r.slots[i].state.store(kLive, std::memory_order_release);
+        return static_cast<int>(i);
+    }
+    return -1;
+}
+
+void unregister_temporary(int slot) noexcept {
+    if (slot < 0 || static_cast<std::size_t>(slot) >= kMaxLiveTemporaries) return;
+    registry().slots[slot].state.store(kFree, std::memory_order_release);
+}
+
+void remove_live_temporaries() noexcept {
+    Registry& r = registry();
+    for (std::size_t i = 0; i < kMaxLiveTemporaries; ++i)
+        if (r.slots[i].state.load(std::memory_order_acquire) == kLive) ::unlink(r.slots[i].path);
+}
+
+std::size_t live_temporary_count() noexcept {
+    std::size_t n = 0;
+    for (const Slot& s : registry().slots) n += s.state.load(std::memory_order_acquire) == kLive;
+    return n;
+}
+
+void set_stale_temporary_reporter(StaleTemporaryReporter rep) noexcept { registry().reporter.store(rep); }
+
+std::vector<std::string> remove_stale_temporaries(const std::string& out) noexcept {
+    namespace fs = std::filesystem;
+    std::vector<std::string> removed;
+    try {
+        std::error_code ec;
+        const fs::path op(out);
+        const fs::path dir = op.has_parent_path() ? op.parent_path() : fs::path(".");
+        const std::string prefix = op.filename().string() + ".tmp-";
+        if (prefix.size() == 5) return removed;  // no file name
+        for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+            const std::string name = it->path().filename().string();
+            if (name.compare(0, prefix.size(), prefix) != 0) continue;
+            std::string rest = name.substr(prefix.size());
+            if (rest.size() > 6 && rest.compare(rest.size() - 6, 6, ".spool") == 0) rest.resize(rest.size() - 6);
+            if (rest.empty() || rest.size() > 9 || rest.find_first_not_of("0123456789") != std::string::npos) continue;
+            const long pid = std::stol(rest);
+            if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
+            if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+            std::error_code rec;
+            if (!fs::remove(it->path(), rec)) continue;
+            removed.push_back(it->path().string());
+            if (auto rep = registry().reporter.load()) rep(removed.back().c_str(), pid);
+        }
+    } catch (...) {
+        // out of memory while listing: the sweep is best effort
+    }
+    return removed;
+}
+
+}  // namespace meshless
