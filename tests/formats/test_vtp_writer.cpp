@@ -273,7 +273,9 @@ TEST_CASE("vtp points: memory does not grow with the point count (10^6 points)",
                              << " KiB of data)");
     // holding the arrays would take 35 MiB more for 10^6 points; the spools need a few MiB of buffers
     CHECK(big < small + 2048);
-    CHECK(big < 12 * 1024);
+#ifndef MESHLESS_SANITIZED
+    CHECK(big < 12 * 1024);  // (under ASan the first run's growth is shadow memory and quarantine: only the difference counts)
+#endif
     CHECK(parse(d / "m.vtp").points == 1000000);
 }
 
