@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace meshless::cli {
 
@@ -92,6 +93,13 @@ Args& Args::flag(const std::string& name, const std::string& help) {
     return *this;
 }
 
+Args& Args::repeatable() {
+    if (specs_.empty() || !specs_.back().takes_value)
+        throw std::logic_error("Args::repeatable() must follow an option() declaration");
+    specs_.back().repeatable = true;
+    return *this;
+}
+
 Args& Args::positionals(std::size_t min, std::size_t max) {
     min_positional_ = min;
     max_positional_ = max;
@@ -142,6 +150,11 @@ bool Args::parse(int argc, char** argv, int first) {
                 if (i + 1 >= argc) throw UsageError("option --" + s->name + " needs a value (" + s->metavar + ")");
                 value = argv[++i];
             }
+            if (!s->repeatable)
+                for (const auto& [k, v] : values_)
+                    if (k == s->name)
+                        throw UsageError("option --" + s->name + " given twice ('" + v + "' and '" + value +
+                                         "'); it takes one value (see meshless " + command_ + " --help)");
             values_.emplace_back(s->name, value);
         } else {
             if (inline_value) throw UsageError("option --" + s->name + " takes no value");
@@ -169,7 +182,7 @@ bool Args::declared(const std::string& name) const {
 std::optional<std::string> Args::get(const std::string& name) const {
     std::optional<std::string> r;
     for (const auto& [k, v] : values_)
-        if (k == name) r = v;  // last one wins
+        if (k == name) r = v;  // at most one unless repeatable(): parse() refuses duplicates
     return r;
 }
 

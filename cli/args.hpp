@@ -20,6 +20,9 @@ public:
     /// Declares an option taking a value. `short_name` may be empty. Default shown in --help only.
     Args& option(const std::string& name, const std::string& short_name, const std::string& metavar,
                  const std::string& help, const std::string& default_text = "");
+    /// Marks the option declared last as repeatable (read with get_all). Any other option given
+    /// twice is a UsageError at parse(): a duplicated single-valued option is never silently the last.
+    Args& repeatable();
     /// Declares a boolean flag.
     Args& flag(const std::string& name, const std::string& help);
     /// Adds a paragraph (examples, exit codes) at the end of --help.
@@ -60,6 +63,7 @@ private:
     struct Spec {
         std::string name, short_name, metavar, help, default_text;
         bool takes_value;
+        bool repeatable = false;
     };
     const Spec* find(const std::string& token) const;
     std::string command_, synopsis_, description_, epilog_, command_line_;

@@ -399,7 +399,7 @@ int cmd_batch(int argc, char** argv) {
            "ends the run (stdout); progress is shown on stderr when it is a terminal.");
     a.positionals(0, 1);
     a.option("output", "o", "DIR", "output folder (created when missing; required)")
-        .option("iso", "", "V", "isovalue; repeat for several (none: brick stores only)")
+        .option("iso", "", "V", "isovalue; repeat for several (none: brick stores only)").repeatable()
         .option("formats", "", "LIST", "point set outputs: ply, stream, ply,stream or none", "ply")
         .flag("stream", "also write point streams (same as adding 'stream' to --formats)")
         .option("brick", "", "B", "brick edge in cells", std::to_string(defaults.brick_edge))

@@ -74,7 +74,7 @@ int cmd_probe(int argc, char** argv) {
            "Value and gradient of a meshless field built from scattered points, at world positions.\n"
            "Writes CSV with the header x,y,z,value,gx,gy,gz (stdout by default). NaN marks positions the\n"
            "data does not reach (see --max-gap).");
-    a.option("at", "", "X,Y,Z", "a position (repeatable)")
+    a.option("at", "", "X,Y,Z", "a position (repeatable)").repeatable()
         .option("at-file", "", "FILE", "positions, three numbers per line (CSV or whitespace; header allowed)")
         .option("output", "o", "FILE", "CSV output, '-' = stdout", "-");
     add_field_options(a);
