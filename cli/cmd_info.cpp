@@ -1,11 +1,14 @@
 // meshless info: describes any file meshless reads or writes (volumes, point/sample streams,
 // PLY point sets and meshes, PNG pictures).
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
@@ -44,23 +47,87 @@ void info_stream(const std::string& path) {
     for (const auto& [k, v] : r.meta().kv) std::printf("  %s: %s\n", k.c_str(), v.c_str());
 }
 
+// Per-property minimum, maximum and non-finite count of an element without lists, read in chunks.
+struct PropertyRange {
+    double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+    std::uint64_t non_finite = 0;
+};
+
+std::vector<PropertyRange> scan_ranges(PlyReader& r, std::size_t nprops, std::uint64_t count) {
+    std::vector<PropertyRange> ranges(nprops);
+    std::vector<double> chunk;
+    // stop at the element's last record: one more read would step into the next element
+    for (std::uint64_t left = count; left > 0;) {
+        const std::size_t n = r.read_values(chunk, static_cast<std::size_t>(std::min<std::uint64_t>(left, 1u << 16)));
+        if (n == 0) break;
+        left -= n;
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t p = 0; p < nprops; ++p) {
+                const double v = chunk[i * nprops + p];
+                PropertyRange& g = ranges[p];
+                if (!std::isfinite(v)) {
+                    ++g.non_finite;
+                    continue;
+                }
+                g.lo = std::min(g.lo, v);
+                g.hi = std::max(g.hi, v);
+            }
+    }
+    return ranges;
+}
+
 void info_ply(const std::string& path) {
     // the header through the PLY codec, then the whole body read through (a truncated or corrupt
-    // body is reported, not just the header)
+    // body is reported, not just the header); the vertex element is summarised: count, bounds,
+    // the range of every other property, non-finite values
     PlyReader r(path);
     const PlyHeader h = r.header();
-    r.finish();
     bool faces = false;
+    for (const auto& e : h.elements) faces = faces || e.name != "vertex";
+    std::string summary;
+    const int vi = h.find("vertex");
+    if (vi >= 0 && !h.elements[vi].has_lists()) {
+        const PlyElement& ve = h.elements[vi];
+        r.skip_to(static_cast<std::size_t>(vi));
+        const std::vector<PropertyRange> ranges = scan_ranges(r, ve.props.size(), ve.count);
+        char line[512];
+        std::snprintf(line, sizeof line, "  %llu vertices\n", static_cast<unsigned long long>(ve.count));
+        summary += line;
+        const int ix = ve.find("x"), iy = ve.find("y"), iz = ve.find("z");
+        if (ve.count > 0 && ix >= 0 && iy >= 0 && iz >= 0) {
+            std::snprintf(line, sizeof line, "  bounds: x %.9g .. %.9g, y %.9g .. %.9g, z %.9g .. %.9g\n", ranges[ix].lo,
+                          ranges[ix].hi, ranges[iy].lo, ranges[iy].hi, ranges[iz].lo, ranges[iz].hi);
+            summary += line;
+        }
+        for (std::size_t p = 0; p < ve.props.size(); ++p) {
+            const int ip = static_cast<int>(p);
+            if (ip == ix || ip == iy || ip == iz) continue;
+            if (ranges[p].lo <= ranges[p].hi) {
+                std::snprintf(line, sizeof line, "  %s: %.9g .. %.9g\n", ply_escape(ve.props[p].name).c_str(), ranges[p].lo,
+                              ranges[p].hi);
+                summary += line;
+            } else if (ve.count > 0) {
+                summary += "  " + ply_escape(ve.props[p].name) + ": no finite value\n";
+            }
+        }
+        std::uint64_t non_finite = 0;
+        for (const auto& g : ranges) non_finite += g.non_finite;
+        if (non_finite > 0) {
+            std::snprintf(line, sizeof line, "  non-finite values: %llu\n", static_cast<unsigned long long>(non_finite));
+            summary += line;
+        }
+    }
+    r.finish();
     std::string text = format_ply_header(h, false);
     text = text.substr(4, text.size() - 4 - std::string("end_header\n").size());  // between "ply" and end_header
-    for (const auto& e : h.elements) faces = faces || e.name != "vertex";
     std::string indented;
     for (std::size_t i = 0; i < text.size();) {
         const std::size_t nl = text.find('\n', i);
         indented += "  " + ply_escape(text.substr(i, nl - i), 4096) + "\n";
         i = nl + 1;
     }
-    std::printf("%s: PLY%s (body checked)\n%s  end_header\n", path.c_str(), faces ? "" : " point set", indented.c_str());
+    std::printf("%s: PLY%s (body checked)\n%s%s  end_header\n", path.c_str(), faces ? "" : " point set", summary.c_str(),
+                indented.c_str());
 }
 
 void info_png(const std::string& path, const unsigned char* h, std::size_t n) {

@@ -103,3 +103,23 @@ TEST_CASE("info: point sets show points, blocks, value range, bounds and dropped
     CHECK(r.out.find("40 x 32 x 32") != std::string::npos);
     CHECK(r.out.find("484 bytes after the q data ignored") != std::string::npos);
 }
+
+TEST_CASE("info on a PLY point set: count, bounds, the range of every property, non-finite values", "[scatter][cli]") {
+    TempDir d("info-ply");
+    spit(d / "p.ply",
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "property float value\nend_header\n1 -2 3 nan\n4 5 -6 7\n-0.5 0 0.25 -1.5\n");
+    const auto r = sh("MESHLESS info " + (d / "p.ply").string(), d);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("3 vertices"));
+    CHECK_THAT(r.out, Catch::Contains("bounds: x -0.5 .. 4, y -2 .. 5, z -6 .. 3"));
+    CHECK_THAT(r.out, Catch::Contains("value: -1.5 .. 7"));
+    CHECK_THAT(r.out, Catch::Contains("non-finite values: 1"));
+    CHECK_THAT(r.out, Catch::Contains("element vertex 3"));
+    // a body shorter than the header claims is still refused
+    spit(d / "short.ply",
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n");
+    const auto s = sh("MESHLESS info " + (d / "short.ply").string(), d);
+    CHECK(s.code == 2);
+    CHECK_THAT(s.err, Catch::Contains("short.ply"));
+}
