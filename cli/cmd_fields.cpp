@@ -17,6 +17,7 @@
 #include "formats/atomic_file.hpp"
 #include "formats/nrrd_writer.hpp"
 #include "formats/png_writer.hpp"
+#include "kernels/colorbar.hpp"
 #include "kernels/colormap.hpp"
 #include "kernels/errors.hpp"
 #include "stream/field_evaluate_stage.hpp"
@@ -115,7 +116,8 @@ int cmd_slice(int argc, char** argv) {
         .option("size", "", "WxH", "largest image size; the aspect follows the bounding box", "1024x1024")
         .option("range", "", "LO,HI", "values mapped to the ends of the colour map (default: the data's range)")
         .option("colormap", "", "NAME", "coolwarm | viridis | gray", "coolwarm")
-        .option("near", "", "D", "overlay data points within D of the plane (default: half the mean point spacing)");
+        .option("near", "", "D", "overlay data points within D of the plane (default: half the mean point spacing)")
+        .flag("colorbar", "draw the colour map and its value range (--range or the data's) as a legend bar at the right edge");
     add_field_options(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
@@ -179,6 +181,7 @@ int cmd_slice(int argc, char** argv) {
                 px8[0] = px8[1] = px8[2] = (dr == 0 && dc == 0) ? 255 : 20;
             }
     }
+    if (a.has("colorbar")) draw_colorbar(img, cmap, range[0], range[1]);
     write_png(img, png);
     if (a.has("stats"))
         std::fprintf(stderr, "slice: %dx%d pixels, %g world units per pixel, %zu data points within %g of the plane\n", w, h, px,

@@ -9,6 +9,8 @@
 #include "cli/cli_harness.hpp"
 #include "formats/png_writer.hpp"
 #include "formats/volume_reader.hpp"
+#include "kernels/colorbar.hpp"
+#include "kernels/colormap.hpp"
 
 using namespace meshless;
 using namespace meshless::test;
@@ -91,6 +93,22 @@ TEST_CASE("slice renders the plane with the bounding box's aspect", "[cli][field
     CHECK(std::abs(img.height - 180) <= 2);
     CHECK(sh("MESHLESS slice " + pts + " --plane w=1 -o " + D + "/x.png", d).code == 1);
     CHECK(sh("MESHLESS slice " + pts + " --plane z=1 -o " + D + "/x.png --colormap jet", d).code == 1);
+}
+
+TEST_CASE("slice --colorbar: the legend shows the colour map over --range", "[cli][fields]") {
+    TempDir d("slicebar");
+    const std::string pts = write_points(d), D = d.path.string();
+    REQUIRE(sh("MESHLESS slice " + pts + " --plane y=102 --size 300x300 --range 0,30 --colormap viridis --colorbar -o " + D + "/b.png", d).code == 0);
+    REQUIRE(sh("MESHLESS slice " + pts + " --plane y=102 --size 300x300 --range 0,30 --colormap viridis -o " + D + "/p.png", d).code == 0);
+    const Image bar = read_png(D + "/b.png"), plain = read_png(D + "/p.png");
+    const ColorbarLayout l = colorbar_layout(bar.width, bar.height);
+    REQUIRE(l.drawn);
+    const int n = l.y1 - l.y0;
+    for (int y : {l.y0, (l.y0 + l.y1) / 2, l.y1 - 1}) {
+        INFO("row " << y);
+        CHECK(bar.at((l.x0 + l.x1) / 2, y) == map_color(Colormap::viridis, 30 - (y - l.y0 + 0.5) / n * 30, 0, 30));
+        CHECK(plain.at((l.x0 + l.x1) / 2, y) != bar.at((l.x0 + l.x1) / 2, y));
+    }
 }
 
 TEST_CASE("positions the data does not reach are NaN, unless --max-gap 0", "[cli][fields]") {
