@@ -29,6 +29,14 @@ namespace meshless::cli {
 
 namespace {
 
+/// --stats: how many positions lay outside the data and how many values were kept within its range.
+void report_support(const Args& a, const BuiltField& f, const FieldEvaluateStage& e) {
+    if (!a.has("stats") || !f.coverage) return;
+    static constexpr const char* kModes[] = {"NaN", "clamped", "the nearest data value"};
+    std::fprintf(stderr, "%s: %zu positions outside the data (%s), %zu values kept within the data range\n",
+                 a.command().c_str(), e.uncovered(), kModes[static_cast<int>(f.extrapolate)], e.clamped());
+}
+
 /// Positions from a CSV/whitespace file: three numbers per line (an optional header line is skipped).
 std::vector<Vec3> read_positions(const std::string& path) {
     std::error_code ec;
@@ -99,10 +107,11 @@ int cmd_probe(int argc, char** argv) {
     const auto field = build_field(a, pts);
     // query positions -> field -> CSV
     QueryListSource source(std::move(at), /*want_grad=*/true);
-    FieldEvaluateStage evaluate(*field.field, field.coverage.get());
+    FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
     ProbeCsvSink sink(a.get_or("output", "-"));
     const Stage* stages[] = {&evaluate};
     run_pipeline(source, stages, sink, {threads(a)});
+    report_support(a, field, evaluate);
     return 0;
 }
 
@@ -149,10 +158,11 @@ int cmd_slice(int argc, char** argv) {
     raster.width = w;
     raster.height = h;
     PlaneRasterSource source(raster);
-    FieldEvaluateStage evaluate(*field.field, field.coverage.get());
+    FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
     SliceImageSink sink(w, h, cmap, range[0], range[1]);
     const Stage* stages[] = {&evaluate};
     run_pipeline(source, stages, sink, {threads(a)});
+    report_support(a, field, evaluate);
     if (evaluate.uncovered() == static_cast<std::size_t>(w) * static_cast<std::size_t>(h))
         std::fprintf(stderr, "meshless slice: warning: the plane %c=%g does not meet the data (every pixel is outside it)\n",
                      'x' + plane.axis, plane.at);
@@ -215,10 +225,11 @@ int cmd_resample(int argc, char** argv) {
     }
     // grid samples -> field -> NRRD
     GridRasterSource source(g);
-    FieldEvaluateStage evaluate(*field.field, field.coverage.get());
+    FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
     NrrdVolumeSink sink(g, out, "meshless resample: " + std::string(field.field->name()) + " field of " + std::to_string(pts.size()) + " points");
     const Stage* stages[] = {&evaluate};
     run_pipeline(source, stages, sink, {threads(a)});
+    report_support(a, field, evaluate);
     return 0;
 }
 

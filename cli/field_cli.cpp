@@ -84,7 +84,11 @@ void add_field_options(Args& a, bool with_coverage) {
         .flag("normalise-axes", "scale each axis so the bounding box is a cube (axes in unrelated units)");
     if (with_coverage)
         a.option("max-gap", "", "F", "positions farther than F x the local point spacing (8th-neighbour distance) "
-                 "from the data are NaN, not extrapolated; 0 keeps every value", "1");
+                 "from the data, and not surrounded by it, are outside it (see --extrapolate); every value is kept "
+                 "within the data's value range; 0: the field's raw values everywhere", "1")
+            .option("extrapolate", "", "nan|clamp|nearest",
+                    "outside the data: NaN, the field's value kept within the data range (where the field has one), or "
+                    "the nearest data value", "nan");
     a.flag("stats", "print what building (or loading) the field did (merged points, fallbacks, sizes, time) to stderr");
     add_point_set_options(a, /*with_endian=*/true);
     add_thread_option(a);
@@ -152,7 +156,14 @@ BuiltField build_field(const Args& a, const PointSet& points) {
     if (a.declared("max-gap")) {
         const double gap = parse_finite(a.get_or("max-gap", "1"), "--max-gap");
         if (gap < 0) throw UsageError("--max-gap: expected a factor >= 0");
-        if (gap > 0) f.coverage = std::make_unique<PointCoverage>(points.pos, gap);
+        if (gap > 0) f.coverage = std::make_unique<PointCoverage>(points.pos, points.value, gap);
+        const std::string e = a.get_or("extrapolate", "nan");
+        if (e == "nan") f.extrapolate = Extrapolate::nan;
+        else if (e == "clamp") f.extrapolate = Extrapolate::clamp;
+        else if (e == "nearest") f.extrapolate = Extrapolate::nearest;
+        else throw UsageError("--extrapolate: expected nan, clamp or nearest, got '" + e + "'");
+        if (gap == 0 && a.has("extrapolate"))
+            throw UsageError("--extrapolate needs a support test: it has no effect with --max-gap 0");
     }
     return f;
 }

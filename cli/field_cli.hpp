@@ -21,7 +21,8 @@
 
 namespace meshless::cli {
 
-/// with_coverage: also --max-gap (commands that evaluate the field where the data may not reach).
+/// with_coverage: also --max-gap and --extrapolate (commands that evaluate the field where the data
+/// may not reach: probe, slice, resample).
 void add_field_options(Args& a, bool with_coverage = true);
 /// The field parameters of the options; UsageError when --field names a .mlf (see field_file_arg).
 FieldParams field_params(const Args& a);
@@ -36,10 +37,12 @@ PointSet read_field_points(const std::vector<std::string>& paths, const Args& a)
 /// read_field_points of the positional POINTS files.
 PointSet read_points_arg(const Args& a);
 
-/// A field and where its data covers space (--max-gap; null when --max-gap 0 or not declared).
+/// A field and where its data covers space (--max-gap; null when --max-gap 0 or not declared: then
+/// values are the field's own, neither masked nor kept within the data's range).
 struct BuiltField {
     std::unique_ptr<Field> field;
-    std::unique_ptr<PointCoverage> coverage;
+    std::unique_ptr<PointCoverage> coverage;  ///< with the data values: support test and value band
+    Extrapolate extrapolate = Extrapolate::nan;  ///< --extrapolate
     std::optional<FieldFileInfo> file;  ///< set when the field was loaded from a .mlf
 };
 

@@ -3,8 +3,12 @@
 #include <nanoflann.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <string>
+
+#include "kernels/errors.hpp"
 
 namespace meshless {
 
@@ -20,43 +24,92 @@ struct Cloud {
 
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3>;
 
+constexpr std::size_t kSpacingNeighbours = 8;   ///< h_i: distance to the 8th neighbour
+constexpr std::size_t kSurroundNeighbours = 12; ///< K of test (b)
+constexpr double kSurroundMaxMean = 0.5;        ///< |mean unit vector| of a surrounded position
+constexpr double kSurroundReach = 1.5;          ///< test (b) reaches 1.5 x factor x mean(h)
+
 }  // namespace
 
 struct PointCoverage::Impl {
     Cloud cloud;
     std::unique_ptr<Tree> tree;
-    std::vector<double> reach2;  ///< (factor * h_i)^2
+    std::vector<double> reach;  ///< factor * h_i
+    std::vector<double> values; ///< empty: no range, no nearest values
+    double global_lo = 0, global_hi = 0;
+
+    void build(double factor) {
+        const std::size_t n = cloud.pts.size();
+        if (n == 0) return;
+        tree = std::make_unique<Tree>(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+        tree->buildIndex();
+        const std::size_t k = std::min<std::size_t>(kSpacingNeighbours + 1, n);  // the point itself + 8
+        std::vector<unsigned> idx(k);
+        std::vector<double> d2(k);
+        reach.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const Vec3& p = cloud.pts[i];
+            const double q[3] = {p.x, p.y, p.z};
+            const std::size_t got = tree->knnSearch(q, k, idx.data(), d2.data());
+            reach[i] = factor * (got > 1 ? std::sqrt(d2[got - 1]) : 0.0);
+        }
+    }
+
+    bool covered(const Vec3& x) const {
+        if (!tree) return false;
+        const double q[3] = {x.x, x.y, x.z};
+        std::array<unsigned, kSurroundNeighbours> idx{};
+        std::array<double, kSurroundNeighbours> d2{};
+        const std::size_t got = tree->knnSearch(q, std::min(kSurroundNeighbours, cloud.pts.size()), idx.data(), d2.data());
+        if (got == 0) return false;
+        const double d0 = std::sqrt(d2[0]);
+        if (d0 <= reach[idx[0]]) return true;  // (a)
+        if (got < 4) return false;
+        double mean_reach = 0;
+        Vec3 m{0, 0, 0};
+        for (std::size_t j = 0; j < got; ++j) {
+            mean_reach += reach[idx[j]];
+            const Vec3 v = cloud.pts[idx[j]] - x;
+            const double len = std::sqrt(d2[j]);
+            if (len > 0) m = m + v * (1.0 / len);
+        }
+        mean_reach /= static_cast<double>(got);
+        if (d0 > kSurroundReach * mean_reach) return false;
+        m = m * (1.0 / static_cast<double>(got));
+        return std::sqrt(m.x * m.x + m.y * m.y + m.z * m.z) <= kSurroundMaxMean;  // (b)
+    }
+
+    double nearest_value(const Vec3& x) const {
+        const double q[3] = {x.x, x.y, x.z};
+        unsigned i = 0;
+        double d2 = 0;
+        return tree->knnSearch(q, 1, &i, &d2) ? values[i] : std::numeric_limits<double>::quiet_NaN();
+    }
 };
 
 PointCoverage::PointCoverage(std::span<const Vec3> points, double factor) : impl_(std::make_unique<Impl>()) {
     impl_->cloud.pts.assign(points.begin(), points.end());
-    const std::size_t n = impl_->cloud.pts.size();
-    if (n == 0) return;
-    impl_->tree = std::make_unique<Tree>(3, impl_->cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-    impl_->tree->buildIndex();
-    const std::size_t k = std::min<std::size_t>(9, n);  // the point itself + 8 neighbours
-    std::vector<unsigned> idx(k);
-    std::vector<double> d2(k);
-    impl_->reach2.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec3& p = impl_->cloud.pts[i];
-        const double q[3] = {p.x, p.y, p.z};
-        const std::size_t got = impl_->tree->knnSearch(q, k, idx.data(), d2.data());
-        const double h = got > 1 ? std::sqrt(d2[got - 1]) : 0.0;
-        impl_->reach2[i] = (factor * h) * (factor * h);
+    impl_->build(factor);
+}
+
+PointCoverage::PointCoverage(std::span<const Vec3> points, std::span<const double> values, double factor)
+    : impl_(std::make_unique<Impl>()) {
+    if (values.size() != points.size())
+        throw InvalidArgument("PointCoverage: " + std::to_string(values.size()) + " values for " +
+                              std::to_string(points.size()) + " points");
+    impl_->cloud.pts.assign(points.begin(), points.end());
+    impl_->values.assign(values.begin(), values.end());
+    if (!values.empty()) {
+        const auto [mn, mx] = std::minmax_element(values.begin(), values.end());
+        impl_->global_lo = *mn;
+        impl_->global_hi = *mx;
     }
+    impl_->build(factor);
 }
 
 PointCoverage::~PointCoverage() = default;
 
-bool PointCoverage::covered(const Vec3& x) const {
-    if (!impl_->tree) return false;
-    const double q[3] = {x.x, x.y, x.z};
-    unsigned i = 0;
-    double d2 = std::numeric_limits<double>::infinity();
-    impl_->tree->knnSearch(q, 1, &i, &d2);
-    return d2 <= impl_->reach2[i];
-}
+bool PointCoverage::covered(const Vec3& x) const { return impl_->covered(x); }
 
 std::size_t PointCoverage::mask(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
     std::size_t masked = 0;
@@ -68,6 +121,36 @@ std::size_t PointCoverage::mask(std::span<const Vec3> p, std::span<double> value
         ++masked;
     }
     return masked;
+}
+
+SupportCounts PointCoverage::apply(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad,
+                                   Extrapolate mode) const {
+    SupportCounts c;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const bool with_values = !impl_->values.empty() && impl_->tree;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const bool in = covered(p[i]);
+        if (!in) ++c.uncovered;
+        if (!in && (mode == Extrapolate::nan || !with_values)) {
+            value[i] = nan;
+            if (!grad.empty()) grad[i] = {nan, nan, nan};
+            continue;
+        }
+        if (!with_values) continue;
+        if (!in && (mode == Extrapolate::nearest || std::isnan(value[i]))) {  // clamp: a field undefined here
+            value[i] = impl_->nearest_value(p[i]);
+            if (!grad.empty()) grad[i] = {0, 0, 0};
+            continue;
+        }
+        const double v = value[i];
+        const double kept = std::isnan(v) ? v : std::clamp(v, impl_->global_lo, impl_->global_hi);
+        if (kept != v) {
+            value[i] = kept;
+            if (!grad.empty()) grad[i] = {0, 0, 0};
+            ++c.clamped;
+        }
+    }
+    return c;
 }
 
 }  // namespace meshless

@@ -10,7 +10,10 @@ void FieldEvaluateStage::process(Batch& b) const {
     q.value.resize(q.at.size());
     q.grad.assign(q.want_grad ? q.at.size() : 0, Vec3{});
     f_.evaluate(q.at, q.value, q.grad);
-    if (coverage_) masked_ += coverage_->mask(q.at, q.value, q.grad);
+    if (!coverage_) return;
+    const SupportCounts c = coverage_->apply(q.at, q.value, q.grad, mode_);
+    uncovered_ += c.uncovered;
+    clamped_ += c.clamped;
 }
 
 }  // namespace meshless

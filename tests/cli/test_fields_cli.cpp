@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 #include "cli/cli_harness.hpp"
 #include "formats/png_writer.hpp"
@@ -122,6 +123,38 @@ TEST_CASE("positions the data does not reach are NaN, unless --max-gap 0", "[cli
     REQUIRE(sh("MESHLESS probe " + pts + " --field global-rbf --at 40,102,3 --max-gap 0 -o " + D + "/q.csv", d).code == 0);
     CHECK(slurp(d / "q.csv").find("nan") == std::string::npos);
     CHECK(sh("MESHLESS probe " + pts + " --at 1,1,1 --max-gap -1", d).code == 1);
+}
+
+TEST_CASE("--extrapolate: NaN, the field kept within the data range, or the nearest value; --stats counts", "[cli][fields]") {
+    TempDir d("extrapolate");
+    const std::string pts = write_points(d), D = d.path.string();
+    // data values: 2x - y + z/2 + 3 over x 0..10, y 100..104, z 0..6 -> about -101 .. -74
+    const std::string far = " --at 5,102,3 --at 60,102,3";
+    auto probe = [&](const std::string& opt) {
+        const auto r = sh("MESHLESS probe " + pts + far + opt + " --stats -o " + D + "/p.csv", d);
+        REQUIRE(r.code == 0);
+        std::istringstream in(slurp(d / "p.csv"));
+        std::string header, a, b;
+        std::getline(in, header);
+        std::getline(in, a);
+        std::getline(in, b);
+        return std::make_tuple(a, b, r.err);
+    };
+    const auto [a0, b0, e0] = probe("");
+    CHECK(b0.find(",nan") != std::string::npos);
+    CHECK_THAT(e0, Catch::Contains("1 positions outside the data (NaN)"));
+    const auto [a1, b1, e1] = probe(" --extrapolate clamp");
+    CHECK(a1 == a0);
+    CHECK(b1.find("nan") == std::string::npos);
+    const double v1 = std::stod(b1.substr(b1.find(',', b1.find(',', b1.find(',') + 1) + 1) + 1));
+    CHECK(v1 <= -74.0);  // the linear field extrapolates to 2*60 - 102 + 1.5 + 3 = 22.5: kept within the data
+    CHECK_THAT(e1, Catch::Contains("(clamped)"));
+    const auto [a2, b2, e2] = probe(" --extrapolate nearest");
+    const double v2 = std::stod(b2.substr(b2.find(',', b2.find(',', b2.find(',') + 1) + 1) + 1));
+    CHECK(v2 > -80.0);  // the nearest data point has x close to 10
+    CHECK(v2 <= -74.0);
+    CHECK(sh("MESHLESS probe " + pts + " --at 1,101,1 --extrapolate zero", d).code == 1);
+    CHECK(sh("MESHLESS probe " + pts + " --at 1,101,1 --max-gap 0 --extrapolate clamp", d).code == 1);
 }
 
 TEST_CASE("probe, slice and resample run as graphs: the same bytes for any --threads", "[cli][fields]") {
