@@ -10,6 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/progress_meter.hpp"
 #include "cli/errors.hpp"
 #include "ooc/brick_converter.hpp"
 #include "ooc/slice_source.hpp"
@@ -47,6 +48,7 @@ void add_store_options(Args& a) {
         .option("level", "", "N", "zstd level, 1..19 (1: fastest; on noisy 8-bit CT as small as 3)", kDefaultLevel)
         .flag("stats", "print bricks, throughput (MB/s) and compression ratio to stderr");
     add_thread_option(a);
+    add_quiet_option(a);
 }
 
 ConvertParams convert_params(const Args& a) {
@@ -68,21 +70,9 @@ std::string output_path(const Args& a) {
 }
 
 ConvertStats run_conversion(SliceSource& src, const std::string& out, const ConvertParams& p, const Args& a) {
-    const bool tty = stderr_is_tty();
-    std::function<void(double)> progress;
-    if (tty)
-        progress = [&](double f) {
-            std::fprintf(stderr, "\r%s: %3.0f%%", a.command().c_str(), 100 * f);
-            std::fflush(stderr);
-        };
-    ConvertStats st;
-    try {
-        st = convert_to_brick_store(src, out, p, progress);
-    } catch (...) {
-        if (tty) std::fputc('\n', stderr);
-        throw;
-    }
-    if (tty) std::fprintf(stderr, "\r%s: done\n", a.command().c_str());
+    ProgressMeter meter("meshless " + a.command(), "slices", static_cast<double>(src.grid().dims[2]), progress_wanted(a));
+    const ConvertStats st = convert_to_brick_store(src, out, p, [&](double f) { meter.set_fraction(f); });
+    meter.done();
     if (a.has("stats")) {
         const GridSpec& g = src.grid();
         std::fprintf(stderr,

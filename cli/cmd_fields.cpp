@@ -14,6 +14,8 @@
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/field_cli.hpp"
+#include "cli/progress_meter.hpp"
+#include "stream/progress_stage.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/nrrd_writer.hpp"
 #include "formats/png_writer.hpp"
@@ -87,6 +89,7 @@ int cmd_probe(int argc, char** argv) {
         .option("at-file", "", "FILE", "positions, three numbers per line (CSV or whitespace; header allowed)")
         .option("output", "o", "FILE", "CSV output, '-' = stdout", "-");
     add_field_options(a);
+    add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
     std::vector<Vec3> at;
@@ -106,11 +109,14 @@ int cmd_probe(int argc, char** argv) {
     const PointSet pts = read_points_arg(a);
     const auto field = build_field(a, pts);
     // query positions -> field -> CSV
+    ProgressMeter meter("meshless probe", "positions", static_cast<double>(at.size()), progress_wanted(a));
     QueryListSource source(std::move(at), /*want_grad=*/true);
     FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
     ProbeCsvSink sink(a.get_or("output", "-"));
-    const Stage* stages[] = {&evaluate};
+    ProgressStage progress([&](double n) { meter.add(n); });
+    const Stage* stages[] = {&evaluate, &progress};
     run_pipeline(source, stages, sink, {threads(a)});
+    meter.done();
     report_support(a, field, evaluate);
     return 0;
 }
@@ -128,6 +134,7 @@ int cmd_slice(int argc, char** argv) {
         .option("near", "", "D", "overlay data points within D of the plane (default: half the mean point spacing)")
         .flag("colorbar", "draw the colour map and its value range (--range or the data's) as a legend bar at the right edge");
     add_field_options(a);
+    add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
     const Plane plane = parse_plane(a.require("plane"));
@@ -158,10 +165,13 @@ int cmd_slice(int argc, char** argv) {
     raster.width = w;
     raster.height = h;
     PlaneRasterSource source(raster);
+    ProgressMeter meter("meshless slice", "pixels", static_cast<double>(w) * h, progress_wanted(a));
     FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
     SliceImageSink sink(w, h, cmap, range[0], range[1]);
-    const Stage* stages[] = {&evaluate};
+    ProgressStage progress([&](double n) { meter.add(n); });
+    const Stage* stages[] = {&evaluate, &progress};
     run_pipeline(source, stages, sink, {threads(a)});
+    meter.done();
     report_support(a, field, evaluate);
     if (evaluate.uncovered() == static_cast<std::size_t>(w) * static_cast<std::size_t>(h))
         std::fprintf(stderr, "meshless slice: warning: the plane %c=%g does not meet the data (every pixel is outside it)\n",
@@ -206,6 +216,7 @@ int cmd_resample(int argc, char** argv) {
            "not reach (see --max-gap) are NaN.");
     a.option("dims", "", "X,Y,Z", "grid samples along x, y, z (required)").option("output", "o", "FILE", "NRRD output (required)");
     add_field_options(a);
+    add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
     const auto d = a.get_triple("dims");
@@ -225,10 +236,13 @@ int cmd_resample(int argc, char** argv) {
     }
     // grid samples -> field -> NRRD
     GridRasterSource source(g);
+    ProgressMeter meter("meshless resample", "voxels", static_cast<double>(g.voxel_count()), progress_wanted(a));
     FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
     NrrdVolumeSink sink(g, out, "meshless resample: " + std::string(field.field->name()) + " field of " + std::to_string(pts.size()) + " points");
-    const Stage* stages[] = {&evaluate};
+    ProgressStage progress([&](double n) { meter.add(n); });
+    const Stage* stages[] = {&evaluate, &progress};
     run_pipeline(source, stages, sink, {threads(a)});
+    meter.done();
     report_support(a, field, evaluate);
     return 0;
 }

@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/progress_meter.hpp"
 #include "cli/errors.hpp"
 #include "cli/multiblock_isosurface.hpp"
 #include "cli/point_set_cli.hpp"
@@ -54,7 +55,12 @@ int generate_all(const Args& a) {
     if (!in.store)
         throw UsageError("--all needs a brick store (.mlb), which the sample store recomputes samples from: "
                          "meshless convert " + in.path + " -o vol.mlb");
-    const SampleStoreBuildStats st = write_sample_store(*in.store, out);
+    ProgressMeter meter("meshless generate --all", "bricks", static_cast<double>(in.store->bricks().size()) * 2,
+                        progress_wanted(a));
+    SampleStoreParams params;
+    params.progress = [&](double f) { meter.set_fraction(f); };
+    const SampleStoreBuildStats st = write_sample_store(*in.store, out, params);
+    meter.done();
     if (a.has("stats"))
         std::fprintf(stderr, "generate --all: %s: %llu non-constant cells as %llu cell-row keys in %llu span-space buckets "
                      "(%u levels%s), %llu constant and %llu NaN/Inf cells skipped, %.1f MiB\n",
@@ -84,6 +90,7 @@ int cmd_generate(int argc, char** argv) {
     add_volume_options(a);
     add_memory_option(a);
     add_thread_option(a);
+    add_quiet_option(a);
     a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png\n"
              "BLOCKS (PLOT3D, .vts pieces, .vtm/.vthb, or several files): multiblock seeds (meshless generate BLOCKS... --help)\n");
     {

@@ -80,13 +80,17 @@ void visit_brick_cells(const T* d, const GridSpec& g, std::uint64_t key0, const 
 }
 
 /// One pass over every brick (Morton order); constant and all-NaN bricks are counted unread.
+/// progress (optional) gets the fraction of bricks visited, mapped into [at, at + span].
 template <class F>
-CellCounts visit_all_cells(const BrickStore& store, const SpanSpaceLevels& L, F&& f) {
+CellCounts visit_all_cells(const BrickStore& store, const SpanSpaceLevels& L, F&& f,
+                           const std::function<void(double)>& progress = {}, double at = 0, double span = 1) {
     CellCounts c;
     const BrickStoreInfo& bi = store.info();
     const std::uint64_t B = bi.brick_edge;
     std::vector<std::byte> buf;
-    for (std::size_t n = 0; n < store.bricks().size(); ++n) {
+    const std::size_t nb = store.bricks().size();
+    for (std::size_t n = 0; n < nb; ++n) {
+        if (progress) progress(at + span * static_cast<double>(n) / static_cast<double>(nb));
         const BrickEntry& e = store.bricks()[n];
         const GridSpec g = store.brick_grid(n);
         const std::uint64_t cells = static_cast<std::uint64_t>(std::max<std::int64_t>(0, g.dims[0] - 1)) *
@@ -153,7 +157,7 @@ SampleStoreBuildStats write_sample_store(const BrickStore& store, const std::str
         x.bytes += varint_bytes(key + 1 - x.last);
         ++x.count;
         x.last = key + 1;
-    });
+    }, params.progress, 0.0, 0.5);
     std::vector<SampleBucket> table;
     for (std::uint32_t a = 0; a < L.count; ++a)
         for (std::uint32_t b = a; b < L.count; ++b) {
@@ -208,7 +212,7 @@ SampleStoreBuildStats write_sample_store(const BrickStore& store, const std::str
         pending.emplace_back(b, key + 1 - x.last);
         x.last = key + 1;
         if (pending.size() >= cap) flush();
-    });
+    }, params.progress, 0.5, 0.5);
     flush();
     if (c2.cells != c1.cells) throw std::logic_error(path + ": sample store writer: the two passes disagree");
 

@@ -11,6 +11,7 @@
 // writes one file); the store must not change while it runs.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "ooc/brick_store.hpp"
@@ -20,6 +21,7 @@ namespace meshless {
 struct SampleStoreParams {
     std::uint32_t levels = 256;             ///< span-space levels L (1..1024); integer data with <= L values: exact
     std::size_t buffer_keys = 1u << 20;     ///< pending keys before a sorted flush (memory: 16 bytes each)
+    std::function<void(double)> progress;   ///< optional: the fraction done (0..1), after each brick of each pass
 };
 
 struct SampleStoreBuildStats {

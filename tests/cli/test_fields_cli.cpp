@@ -93,6 +93,10 @@ TEST_CASE("slice renders the plane with the bounding box's aspect", "[cli][field
     CHECK(img.width == 300);  // x extent 10 vs z extent 6: the width is the long side
     CHECK(std::abs(img.height - 180) <= 2);
     CHECK(sh("MESHLESS slice " + pts + " --plane w=1 -o " + D + "/x.png", d).code == 1);
+    // --quiet is accepted; stderr is not a terminal here, so nothing is drawn either way
+    const auto q = sh("MESHLESS slice " + pts + " --plane y=102 --size 64x64 --quiet -o " + D + "/q.png", d);
+    CHECK(q.code == 0);
+    CHECK(q.err.empty());
     CHECK(sh("MESHLESS slice " + pts + " --plane z=1 -o " + D + "/x.png --colormap jet", d).code == 1);
 }
 

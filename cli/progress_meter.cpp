@@ -1,0 +1,89 @@
+#include "cli/progress_meter.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cli/common.hpp"
+
+namespace meshless::cli {
+
+void add_quiet_option(Args& a) { a.flag("quiet", "no progress line on stderr (it is shown only when stderr is a terminal)"); }
+
+bool progress_wanted(const Args& a) { return stderr_is_tty() && !(a.declared("quiet") && a.has("quiet")); }
+
+namespace {
+double steady_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+std::string clock_text(double s) {
+    const long long t = std::llround(std::max(0.0, s));
+    char b[32];
+    if (t >= 3600) std::snprintf(b, sizeof b, "%lld:%02lld:%02lld", t / 3600, t / 60 % 60, t % 60);
+    else std::snprintf(b, sizeof b, "%lld:%02lld", t / 60, t % 60);
+    return b;
+}
+
+std::string rate_text(double r) {
+    char b[32];
+    if (r >= 1e9) std::snprintf(b, sizeof b, "%.3gG ", r / 1e9);
+    else if (r >= 1e6) std::snprintf(b, sizeof b, "%.3gM ", r / 1e6);
+    else if (r >= 1e3) std::snprintf(b, sizeof b, "%.3gk ", r / 1e3);
+    else std::snprintf(b, sizeof b, "%.3g ", r);
+    return b;
+}
+}  // namespace
+
+ProgressMeter::ProgressMeter(std::string label, std::string unit, double total, bool enabled, double delay, std::FILE* out,
+                             Clock clock)
+    : label_(std::move(label)), unit_(std::move(unit)), total_(std::max(total, 1e-300)), enabled_(enabled), delay_(delay),
+      out_(out), clock_(clock ? std::move(clock) : Clock(steady_seconds)), start_(clock_()) {}
+
+ProgressMeter::~ProgressMeter() { done(); }
+
+std::string ProgressMeter::line(double done, double elapsed) const {
+    const double f = std::clamp(done / total_, 0.0, 1.0);
+    char b[64];
+    std::snprintf(b, sizeof b, "%3.0f%%", 100 * f);
+    std::string s = label_ + ": " + b;
+    if (elapsed > 0 && done > 0) {
+        s += " " + rate_text(done / elapsed) + unit_ + "/s";
+        s += ", ETA " + clock_text(elapsed * (1 - f) / std::max(f, 1e-12));
+    }
+    return s;
+}
+
+void ProgressMeter::add(double units) {
+    if (!enabled_) return;
+    done_milli_.fetch_add(static_cast<std::uint64_t>(std::max(0.0, units) * 1000.0), std::memory_order_relaxed);
+    maybe_draw();
+}
+
+void ProgressMeter::set_fraction(double f) {
+    if (!enabled_) return;
+    done_milli_.store(static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * total_ * 1000.0), std::memory_order_relaxed);
+    maybe_draw();
+}
+
+void ProgressMeter::maybe_draw() {
+    std::unique_lock lock(draw_, std::try_to_lock);
+    if (!lock.owns_lock()) return;  // another thread is drawing
+    const double now = clock_() - start_;
+    if (now < delay_ || (last_draw_ >= 0 && now - last_draw_ < 0.25)) return;
+    last_draw_ = now;
+    drawn_ = true;
+    std::fprintf(out_, "\r\033[K%s", line(done_milli_.load(std::memory_order_relaxed) / 1000.0, now).c_str());
+    std::fflush(out_);
+}
+
+void ProgressMeter::done() {
+    std::lock_guard lock(draw_);
+    if (drawn_) {
+        std::fputs("\r\033[K", out_);
+        std::fflush(out_);
+    }
+    drawn_ = false;
+    enabled_ = false;
+}
+
+}  // namespace meshless::cli

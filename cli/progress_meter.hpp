@@ -1,0 +1,63 @@
+// A progress line on stderr for runs longer than about a second (issue 12, "Unix habits"):
+//   "meshless slice: 42% 1.31 M/s, ETA 0:07"
+// shown only when enabled (stderr is a terminal and no --quiet: progress_wanted()), first after
+// `delay` seconds, then at most 4 times a second, and cleared by done() or the destructor. Work is
+// counted in units (positions, bricks, records) against a known total; add() is thread-safe (an
+// atomic counter; one thread at a time draws, the others skip), so stages running concurrently can
+// report. The clock and the output stream are parameters for the tests.
+#pragma once
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <mutex>
+#include <string>
+
+#include "cli/args.hpp"
+
+namespace meshless::cli {
+
+/// Declares --quiet (no progress line) on a command that shows progress.
+void add_quiet_option(Args& a);
+/// stderr is a terminal and --quiet (when declared) was not given.
+bool progress_wanted(const Args& a);
+
+class ProgressMeter {
+public:
+    using Clock = std::function<double()>;  ///< seconds, monotonic
+    /// `label` heads the line ("meshless slice"); `unit` names the rate ("positions"); total > 0.
+    ProgressMeter(std::string label, std::string unit, double total, bool enabled, double delay = 1.0,
+                  std::FILE* out = stderr, Clock clock = {});
+    ~ProgressMeter();
+    ProgressMeter(const ProgressMeter&) = delete;
+    ProgressMeter& operator=(const ProgressMeter&) = delete;
+
+    /// `units` more done (any thread).
+    void add(double units);
+    /// Sets the fraction done (0..1) directly (single-threaded producers such as convert).
+    void set_fraction(double f);
+    /// Clears the line (idempotent).
+    void done();
+
+    /// Units done so far (0 when disabled: a disabled meter counts nothing).
+    double done_units() const { return done_milli_.load() / 1000.0; }
+    /// The line drawn for `done` of the total after `elapsed` seconds (no "\r"): exposed for tests.
+    std::string line(double done, double elapsed) const;
+
+private:
+    void maybe_draw();
+    std::string label_, unit_;
+    double total_;
+    bool enabled_;
+    double delay_;
+    std::FILE* out_;
+    Clock clock_;
+    double start_;
+    std::atomic<std::uint64_t> done_milli_{0};  ///< units x 1000 (fractional units from set_fraction)
+    std::mutex draw_;
+    double last_draw_ = -1;
+    bool drawn_ = false;
+};
+
+}  // namespace meshless::cli
