@@ -255,8 +255,11 @@ int threads(const Args& a) {
 
 void add_camera_options(Args& a) {
     a.option("size", "", "WxH", "image size in pixels", "800x800")
-        .option("azimuth", "", "DEG", "camera rotation about the y axis", "30")
-        .option("elevation", "", "DEG", "camera elevation", "20")
+        .option("azimuth", "", "DEG", "camera rotation about the up axis", "30")
+        .option("elevation", "", "DEG", "camera elevation above the plane normal to the up axis", "20")
+        .option("up", "", "AXIS", "the world axis that points up in the picture: x, y, z, -x, -y or -z", "y")
+        .option("view", "", "NAME", "a named view instead of --azimuth/--elevation: +x -x +y -y +z -z (the camera looks "
+                                    "along that axis) or iso (looks along -1,-1,-1)")
         .option("zoom", "", "Z", "zoom factor (1 frames the surface: its bounds from the stream, PLY or active bricks/blocks)", "1")
         .option("kernel", "", "quad|ewa", "splat kernel: quadrilateral or elliptical (EWA)", "ewa")
         .option("shading", "", "phong|lambert", "lighting of the splats (a headlight)", "phong")
@@ -329,6 +332,31 @@ Camera camera_from(const Args& a) {
     c.height = wh[1];
     c.azimuth_deg = parse_finite(a.get_or("azimuth", "30"), "--azimuth");
     c.elevation_deg = parse_finite(a.get_or("elevation", "20"), "--elevation");
+    if (a.declared("up")) {
+        const std::string up = a.get_or("up", "y");
+        const bool neg = !up.empty() && up[0] == '-';
+        const std::string axis = up.substr(neg || (!up.empty() && up[0] == '+') ? 1 : 0);
+        if (axis != "x" && axis != "y" && axis != "z")
+            throw UsageError("--up: expected x, y, z, -x, -y or -z, got '" + up + "'");
+        c.up_axis = axis[0] - 'x';
+        c.up_negative = neg;
+    }
+    if (auto view = a.get("view")) {
+        if (a.has("azimuth") || a.has("elevation"))
+            throw UsageError("--view " + *view + " sets the camera's direction: drop --azimuth/--elevation");
+        Vec3 dir;
+        if (*view == "iso") dir = {-1, -1, -1};
+        else if (view->size() == 2 && (view->at(0) == '+' || view->at(0) == '-') && view->at(1) >= 'x' && view->at(1) <= 'z') {
+            dir = {0, 0, 0};
+            const double s = view->at(0) == '+' ? 1.0 : -1.0;
+            if (view->at(1) == 'x') dir.x = s;
+            else if (view->at(1) == 'y') dir.y = s;
+            else dir.z = s;
+        } else {
+            throw UsageError("--view: expected +x, -x, +y, -y, +z, -z or iso, got '" + *view + "'");
+        }
+        view_angles(dir, c.up_axis, c.up_negative, c.azimuth_deg, c.elevation_deg);
+    }
     c.zoom = parse_finite(a.get_or("zoom", "1"), "--zoom");
     if (!(c.zoom > 0)) throw UsageError("--zoom: must be positive");
     c.perspective = !a.has("ortho");

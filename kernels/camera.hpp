@@ -3,8 +3,9 @@
 //
 // Conventions and units:
 //  - World space: the records' coordinates. The camera orbits the centre of the bounding sphere of
-//    the box [lo, hi]; azimuth rotates about the world y axis, elevation tilts the camera above
-//    (positive) or below the horizontal plane. Angles in degrees; azimuth is reduced modulo 360,
+//    the box [lo, hi]; azimuth rotates about the up axis (world +y by default; `up_axis` and
+//    `up_negative` choose any of +-x, +-y, +-z, which then points up in the picture at elevation 0),
+//    elevation tilts the camera above (positive) or below the plane normal to it. Angles in degrees; azimuth is reduced modulo 360,
 //    so 0 and 360 give bit-identical transforms.
 //  - Camera space: x right, y up, z towards the viewer; the eye sits at (0, 0, distance) and looks
 //    down -z. depth = distance - z_camera (> 0 in front of the eye).
@@ -28,7 +29,14 @@ struct Camera {
     int width = 800, height = 800;
     bool perspective = true;
     double fov_deg = 30;  ///< full vertical/horizontal field of view of the smaller image side
+    int up_axis = 1;            ///< 0 x, 1 y, 2 z: the world axis that points up
+    bool up_negative = false;   ///< up is the negative direction of up_axis
 };
+
+/// The azimuth and elevation (degrees) of a camera with the given up axis that looks along the world
+/// direction `dir` (need not be unit; nonzero): the named views (--view +x ... iso) in any up frame.
+/// A view along the up axis gets elevation -+90 and azimuth 0.
+void view_angles(const Vec3& dir, int up_axis, bool up_negative, double& azimuth_deg, double& elevation_deg);
 
 struct ViewTransform {
     float rot[3][3] = {};  ///< world -> camera rotation; rows are the camera x, y, z axes in world space

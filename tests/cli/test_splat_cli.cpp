@@ -154,3 +154,21 @@ TEST_CASE("splat --turntable: frame i is the picture at azimuth + 360 i / N, fro
         }
     }
 }
+
+TEST_CASE("splat --view and --up: named views are the azimuth/elevation they stand for, bad values refused", "[cli][splat]") {
+    TempDir d("splatview");
+    const std::string vol = corner_ball(d), D = d.path.string() + "/";
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "b.ply", d).code == 0);
+    auto png = [&](const std::string& opt, const std::string& name) {
+        REQUIRE(sh("MESHLESS splat " + D + "b.ply --size 96x64" + opt + " -o " + D + name, d).code == 0);
+        return slurp(d / name);
+    };
+    CHECK(png(" --view +z", "vz.png") == png(" --azimuth 180 --elevation 0", "a180.png"));
+    CHECK(png(" --view -z", "vmz.png") == png(" --azimuth 0 --elevation 0", "a0.png"));
+    CHECK(png(" --view -z --up y", "vmzy.png") == slurp(d / "a0.png"));
+    CHECK(png(" --up z", "upz.png") != png("", "default.png"));
+    CHECK(png(" --up -y", "upmy.png") != slurp(d / "default.png"));
+    CHECK(sh("MESHLESS splat " + D + "b.ply --up w -o " + D + "x.png", d).code == 1);
+    CHECK(sh("MESHLESS splat " + D + "b.ply --view +q -o " + D + "x.png", d).code == 1);
+    CHECK(sh("MESHLESS splat " + D + "b.ply --view iso --azimuth 10 -o " + D + "x.png", d).code == 1);
+}
