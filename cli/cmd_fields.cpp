@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 
 #include "cli/commands.hpp"
@@ -39,12 +40,17 @@ void report_support(const Args& a, const BuiltField& f, const FieldEvaluateStage
                  a.command().c_str(), e.uncovered(), kModes[static_cast<int>(f.extrapolate)], e.clamped());
 }
 
-/// Positions from a CSV/whitespace file: three numbers per line (an optional header line is skipped).
+/// Positions from a CSV/whitespace file ("-": standard input): three numbers per line (an optional
+/// header line is skipped).
 std::vector<Vec3> read_positions(const std::string& path) {
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a file of positions");
-    std::ifstream in(path);
-    if (!in) throw IoError(path + ": cannot open");
+    if (path != "-" && std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a file of positions");
+    std::ifstream file;
+    if (path != "-") {
+        file.open(path);
+        if (!file) throw IoError(path + ": cannot open");
+    }
+    std::istream& in = path == "-" ? std::cin : file;
     std::vector<Vec3> out;
     std::string line;
     for (std::size_t n = 1; std::getline(in, line); ++n) {
@@ -63,6 +69,7 @@ std::vector<Vec3> read_positions(const std::string& path) {
             throw FormatError(path + ":" + std::to_string(n) + ": non-finite position");
         out.push_back({v[0], v[1], v[2]});
     }
+    if (in.bad()) throw IoError(path + ": read error");
     return out;
 }
 
@@ -86,7 +93,7 @@ int cmd_probe(int argc, char** argv) {
            "Writes CSV with the header x,y,z,value,gx,gy,gz (stdout by default). NaN marks positions the\n"
            "data does not reach (see --max-gap).");
     a.option("at", "", "X,Y,Z", "a position (repeatable)").repeatable()
-        .option("at-file", "", "FILE", "positions, three numbers per line (CSV or whitespace; header allowed)")
+        .option("at-file", "", "FILE", "positions, three numbers per line (CSV or whitespace; header allowed); - = stdin")
         .option("output", "o", "FILE", "CSV output, '-' = stdout", "-");
     add_field_options(a);
     add_quiet_option(a);

@@ -1,4 +1,5 @@
 #include "cli/common.hpp"
+#include "cli/stdin_spool.hpp"
 
 #include <unistd.h>
 
@@ -75,8 +76,12 @@ void warn_if_raw_options_ignored(const Args& a, const std::string& path, const R
 Volume load_volume(const Args& a, bool map) {
     if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
     const std::string& path = a.positional()[0];
-    if (is_brick_store(path)) return read_brick_store_volume(path);  // commands that need the volume whole
     const RawOptions raw = raw_options(a);
+    if (path == "-") {  // a mapping outlives the spool's descriptor; a read copies
+        const StdinSpool spool;
+        return spool.readable_errors([&] { return map ? map_volume(spool.path(), raw) : read_volume(spool.path(), raw); });
+    }
+    if (is_brick_store(path)) return read_brick_store_volume(path);  // commands that need the volume whole
     warn_if_raw_options_ignored(a, path, raw);
     return map ? map_volume(path, raw) : read_volume(path, raw);
 }
@@ -210,6 +215,21 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
     if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
     VolumeInput in;
     in.path = a.positional()[0];
+    if (in.path == "-") {  // standard input: spooled, then read as a file (no brick store: it needs its path)
+        in.spool = std::make_shared<const StdinSpool>();
+        const RawOptions raw = raw_options(a);
+        in.threads = threads(a);
+        in.spool->readable_errors([&] {
+            if (stream && streamable(in.spool->path(), raw)) {
+                in.slices = open_slice_source(in.spool->path(), raw);
+                if (probe_volume(in.spool->path(), raw).encoding == "raw")
+                    in.reopen = [spool = in.spool, raw] { return open_slice_source(spool->path(), raw); };
+            } else {
+                in.volume = map_volume(in.spool->path(), raw);
+            }
+        });
+        return in;
+    }
     const bool mlb_name = in.path.size() > 4 && in.path.compare(in.path.size() - 4, 4, ".mlb") == 0;
     if (is_brick_store(in.path) || mlb_name) {  // a damaged .mlb gets the brick store's own diagnosis
         in.store = BrickStore::open(in.path);

@@ -26,6 +26,8 @@
 
 namespace meshless::cli {
 
+class StdinSpool;
+
 /// --dims --type --endian --spacing for raw volumes.
 void add_volume_options(Args& a);
 /// The raw-volume options given on the command line.
@@ -50,6 +52,7 @@ struct VolumeInput {
     std::unique_ptr<BrickStore> store;
     std::unique_ptr<BrickCache> cache;
     std::unique_ptr<BrickIndex> index;
+    std::shared_ptr<const StdinSpool> spool;  ///< path "-": standard input spooled (cli/stdin_spool.hpp)
     const GridSpec& grid() const;
     SampleType type() const;
     /// The value range (computed once, on first use: the store's header, or blocks().range()).

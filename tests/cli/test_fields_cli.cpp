@@ -158,6 +158,10 @@ TEST_CASE("--extrapolate: NaN, the field kept within the data range, or the near
     CHECK(v2 > -80.0);  // the nearest data point has x close to 10
     CHECK(v2 <= -74.0);
     CHECK(sh("MESHLESS probe " + pts + " --at 1,101,1 --extrapolate zero", d).code == 1);
+    // --at-file - reads the positions from standard input
+    REQUIRE(sh("printf \"x,y,z\\n5,102,3\\n\" | MESHLESS probe " + pts + " --at-file - -o " + D + "/stdin.csv", d).code == 0);
+    REQUIRE(sh("MESHLESS probe " + pts + " --at 5,102,3 -o " + D + "/arg.csv", d).code == 0);
+    CHECK(slurp(d / "stdin.csv") == slurp(d / "arg.csv"));
     CHECK(sh("MESHLESS probe " + pts + " --at 1,101,1 --max-gap 0 --extrapolate clamp", d).code == 1);
 }
 

@@ -19,7 +19,7 @@ TEST_CASE("VolumeInput::blocks: the same blocks for any thread count, streamed o
     TempDir d("blocks");
     // 70 x 50 x 99: three full layers of 32-cell blocks and a partial one; random bytes with a
     // bright corner so that blocks differ
-    std::string bytes(70 * 50 * 99, '\\0');
+    std::string bytes(70 * 50 * 99, '\0');
     std::mt19937 rng(4);
     for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>(rng() % 200);
     bytes[bytes.size() - 1] = static_cast<char>(255);
