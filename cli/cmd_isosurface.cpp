@@ -83,6 +83,7 @@ int cmd_isosurface(int argc, char** argv) {
         .option("projection", "", "MODE", "approx (one Newton step, Eq. 3.5) | exact (ray-trilinear cubic, Eq. 3.3) | none", "approx")
         .flag("stats", "print counts (active cells, discarded samples) and timing to stderr");
     add_geometry_format_option(a);
+    add_ply_color_option(a);
     add_sampling_options(a);
     add_volume_options(a);
     add_memory_option(a);
@@ -101,6 +102,7 @@ int cmd_isosurface(int argc, char** argv) {
         add_camera_options(blocks);
         add_color_options(blocks);
         add_geometry_format_option(blocks);
+        add_ply_color_option(blocks);
         blocks.option("samples", "", "", "").option("tolerance", "", "", "").option("max-iterations", "", "", "")
             .option("max-travel", "", "", "");
         if (blocks_invocation(scan_positionals(argc, argv, 2, {&a, &blocks}))) return isosurface_blocks(argc, argv);

@@ -169,18 +169,38 @@ int cmd_write(int argc, char** argv) {
            "x y z nx ny nz radius value (and block, for multiblock points: the id of the block each point was\n"
            "seeded in; MeshLab, ParaView, VTK), or as VTK XML PolyData (.vtp: vertex cells, Normals, radius,\n"
            "value, block, zlib-compressed; ParaView and VTK open it as it is).");
-    a.option("output", "o", "FILE", "output (required): .ply or .vtp ('-' = stdout, PLY unless --format vtp)");
+    a.option("output", "o", "FILE", "output (required): .ply or .vtp ('-' = stdout, PLY unless --format vtp)")
+        .option("colormap", "", "NAME", "--ply-color value: viridis | coolwarm | gray", "viridis")
+        .option("range", "", "LO,HI", "--ply-color value: the colour map's value range (default: the volume's, as the stream records it)");
     add_geometry_format_option(a);
+    add_ply_color_option(a);
     if (!a.parse(argc, argv, 2)) return 0;
-    const std::string outpath = a.require("output");
-    const GeometryFormat format = geometry_output_format(a, outpath, "an oriented point set");
+    a.require("output");
+    const GeometryOutput out = *geometry_output(a, "an oriented point set");
     InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
     StreamReader reader(in.f, in.name);
     if (reader.kind() != RecordKind::point)
         throw FormatError(in.name + (reader.kind() == RecordKind::seed ? ": holds unprojected seeds; run 'meshless project --field KIND BLOCKS...' first"
                                                                       : ": holds unprojected samples; run 'meshless project' first"));
     reader.read_meta();
-    PointFileSink sink(outpath, format, ply_comments(reader.meta()), vtp_options(a, 0), reader.has_blocks());
+    std::optional<ShadingParams> colors;
+    if (out.ply_color) {
+        const ColorChoice cc = color_choice(a);
+        colors.emplace();
+        colors->color_by = *out.ply_color;
+        colors->colormap = cc.colormap;
+        const auto lo = reader.meta().get_double("value_min"), hi = reader.meta().get_double("value_max");
+        if (cc.range) {
+            colors->value_lo = (*cc.range)[0];
+            colors->value_hi = (*cc.range)[1];
+        } else if (lo && hi) {
+            colors->value_lo = *lo;
+            colors->value_hi = *hi;
+        } else if (*out.ply_color == ColorBy::value) {
+            throw UsageError("--ply-color value: " + in.name + " records no value range; give --range LO,HI");
+        }
+    }
+    PointFileSink sink(out.path, out.format, ply_comments(reader.meta()), vtp_options(a, 0), reader.has_blocks(), colors);
     StreamSource source(reader);
     run_pipeline(source, {}, sink, {1});
     return 0;

@@ -579,10 +579,25 @@ GeometryFormat geometry_output_format(const Args& a, const std::string& path, co
                      "--format ply|vtp for other names, '-' for stdout)");
 }
 
+void add_ply_color_option(Args& a) {
+    a.option("ply-color", "", "value|block|normal",
+             "PLY output: also write red green blue per point (the colour map of --colormap/--range over the values, the "
+             "block palette, or (n + 1) / 2 of the normal), for readers that drop other properties (vtkPLYReader)");
+}
+
 std::optional<GeometryOutput> geometry_output(const Args& a, const char* what) {
     const auto out = a.get("output");
     if (!out) return std::nullopt;
-    return GeometryOutput{*out, geometry_output_format(a, *out, what), vtp_options(a, 0)};
+    GeometryOutput g{*out, geometry_output_format(a, *out, what), vtp_options(a, 0), std::nullopt};
+    if (auto c = a.get("ply-color")) {
+        if (*c == "value") g.ply_color = ColorBy::value;
+        else if (*c == "block") g.ply_color = ColorBy::block;
+        else if (*c == "normal") g.ply_color = ColorBy::normal;
+        else throw UsageError("--ply-color: expected value, block or normal, got '" + *c + "'");
+        if (g.format != GeometryFormat::ply)
+            throw UsageError("--ply-color: colours are for PLY output; VTP carries the arrays themselves (colour by them in ParaView)");
+    }
+    return g;
 }
 
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source) {

@@ -164,7 +164,11 @@ struct GeometryOutput {
     std::string path;
     GeometryFormat format = GeometryFormat::ply;
     VtpOptions vtp;  ///< --vtp-compression; threads set by the command
+    std::optional<ColorBy> ply_color;  ///< --ply-color: PLY `red green blue` by value, block or normal
 };
+/// --ply-color value|block|normal (point outputs): colours in the PLY for readers that keep only
+/// x y z, normals and red green blue (vtkPLYReader; MeshLab shows them too).
+void add_ply_color_option(Args& a);
 /// --vtp-compression zlib|none (add_geometry_format_option adds it) as VTP writer settings with
 /// `threads` compressing threads. UsageError for other values.
 VtpOptions vtp_options(const Args& a, int threads);

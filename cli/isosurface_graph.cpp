@@ -43,13 +43,23 @@ IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode
     return r;
 }
 
+namespace {
+/// The picture's colour settings with the colouring --ply-color asks for (range, colour map as the picture's).
+std::optional<ShadingParams> ply_colors(const GeometryOutput& out, const RenderSettings& rs) {
+    if (!out.ply_color) return std::nullopt;
+    ShadingParams s = rs.shading;
+    s.color_by = *out.ply_color;
+    return s;
+}
+}  // namespace
+
 std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::optional<std::string>& png,
                            const StreamMeta& meta, const RenderSettings& rs, int nthreads, const GraphRun& run,
                            IsoSplatResult& r, bool parallel_draw, bool with_blocks) {
     if (!png) {
         VtpOptions vo = out->vtp;
         if (vo.threads == 0) vo.threads = nthreads;
-        PointFileSink sink(out->path, out->format, ply_comments(meta), vo, with_blocks);
+        PointFileSink sink(out->path, out->format, ply_comments(meta), vo, with_blocks, ply_colors(*out, rs));
         r = run(nullptr, sink);
         return sink.count();
     }
@@ -58,7 +68,7 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
     if (out) {
         VtpOptions vo = out->vtp;
         if (vo.threads == 0) vo.threads = nthreads;
-        ply.emplace(out->path, out->format, ply_comments(meta), vo, with_blocks);
+        ply.emplace(out->path, out->format, ply_comments(meta), vo, with_blocks, ply_colors(*out, rs));
     }
     std::optional<TeeSink> tee;
     if (ply) tee.emplace(splat, *ply);

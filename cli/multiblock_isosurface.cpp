@@ -252,6 +252,7 @@ int isosurface_blocks(int argc, char** argv) {
         .option("output", "o", "FILE", "point set output: .ply or .vtp (ParaView: vertex cells, Normals, radius, value, block); '-' = stdout")
         .option("png", "", "FILE", "also render the points to this PNG");
     add_geometry_format_option(a);
+    add_ply_color_option(a);
     add_samples_option(a);
     add_newton_options(a);
     add_field_options(a, /*with_coverage=*/false);

@@ -45,7 +45,9 @@ std::string ProgressMeter::line(double done, double elapsed) const {
     const double f = std::clamp(done / total_, 0.0, 1.0);
     char b[64];
     std::snprintf(b, sizeof b, "%3.0f%%", 100 * f);
-    std::string s = label_ + ": " + b;
+    std::string s = label_;  // appended piecewise: GCC 12's -Wrestrict misfires on label_ + ": " + b
+    s += ": ";
+    s += b;
     if (elapsed > 0 && done > 0) {
         s += " " + rate_text(done / elapsed) + unit_ + "/s";
         s += ", ETA " + clock_text(elapsed * (1 - f) / std::max(f, 1e-12));

@@ -16,7 +16,7 @@ namespace {
 static_assert(sizeof(PointRecord) == 32);
 constexpr const char* kNames[8] = {"x", "y", "z", "nx", "ny", "nz", "radius", "value"};
 
-PlyHeader point_header(const std::vector<std::string>& comments, std::uint64_t n, bool with_blocks) {
+PlyHeader point_header(const std::vector<std::string>& comments, std::uint64_t n, bool with_blocks, bool with_colors = false) {
     PlyHeader h;
     h.encoding = PlyEncoding::binary_little_endian;
     h.comments = comments;
@@ -25,39 +25,62 @@ PlyHeader point_header(const std::vector<std::string>& comments, std::uint64_t n
     v.count = n;
     for (const char* name : kNames) v.props.push_back(PlyProperty{name, StoredType::f32, false, StoredType::u8});
     if (with_blocks) v.props.push_back(PlyProperty{"block", StoredType::u32, false, StoredType::u8});
+    if (with_colors)
+        for (const char* name : {"red", "green", "blue"}) v.props.push_back(PlyProperty{name, StoredType::u8, false, StoredType::u8});
     h.elements.push_back(std::move(v));
     return h;
 }
 
-}  // namespace
-
-/// Points and block ids packed as the 36-byte vertex records of the `block` layout.
-void pack_point_blocks(std::span<const PointRecord> pts, std::span<const std::uint32_t> blocks, std::vector<char>& out) {
-    if (blocks.size() != pts.size())
+/// Points, optional block ids (4 bytes) and optional colours (3 bytes) packed as vertex records.
+void pack_points(std::span<const PointRecord> pts, std::span<const std::uint32_t> blocks, std::span<const std::uint8_t> rgb,
+                 bool with_blocks, bool with_colors, std::vector<char>& out) {
+    if (with_blocks && blocks.size() != pts.size())
         throw std::invalid_argument("PLY point writer: " + std::to_string(pts.size()) + " points with " +
                                     std::to_string(blocks.size()) + " block ids");
-    constexpr std::size_t rec = sizeof(PointRecord) + sizeof(std::uint32_t);
+    if (with_colors && rgb.size() != 3 * pts.size())
+        throw std::invalid_argument("PLY point writer: " + std::to_string(pts.size()) + " points with " +
+                                    std::to_string(rgb.size()) + " colour bytes");
+    const std::size_t rec = sizeof(PointRecord) + (with_blocks ? 4 : 0) + (with_colors ? 3 : 0);
     out.resize(pts.size() * rec);
     for (std::size_t i = 0; i < pts.size(); ++i) {
-        std::memcpy(out.data() + i * rec, &pts[i], sizeof(PointRecord));
-        std::memcpy(out.data() + i * rec + sizeof(PointRecord), &blocks[i], sizeof(std::uint32_t));
+        char* o = out.data() + i * rec;
+        std::memcpy(o, &pts[i], sizeof(PointRecord));
+        o += sizeof(PointRecord);
+        if (with_blocks) {
+            std::memcpy(o, &blocks[i], 4);
+            o += 4;
+        }
+        if (with_colors) std::memcpy(o, &rgb[3 * i], 3);
     }
 }
 
-PlyPointWriter::PlyPointWriter(const std::string& path, const std::vector<std::string>& comments, bool with_blocks)
-    : w_(std::make_unique<PlyWriter>(path, point_header(comments, 0, with_blocks), PlyCounts::patched)), blocks_(with_blocks) {}
+}  // namespace
+
+PlyPointWriter::PlyPointWriter(const std::string& path, const std::vector<std::string>& comments, bool with_blocks,
+                               bool with_colors)
+    : w_(std::make_unique<PlyWriter>(path, point_header(comments, 0, with_blocks, with_colors), PlyCounts::patched)),
+      blocks_(with_blocks), colors_(with_colors) {}
 
 PlyPointWriter::~PlyPointWriter() = default;
 
+void PlyPointWriter::append(std::span<const PointRecord> pts, std::span<const std::uint32_t> blocks,
+                            std::span<const std::uint8_t> rgb) {
+    pack_points(pts, blocks, rgb, blocks_, colors_, packed_);
+    w_->append(packed_.data(), packed_.size());
+    count_ += pts.size();
+}
+
 void PlyPointWriter::append(std::span<const PointRecord> pts) {
+    if (colors_) throw std::invalid_argument("PLY point writer: points without colours for a file with colour properties");
     if (blocks_) throw std::invalid_argument("PLY point writer: points without block ids for a file with a block property");
     w_->append(pts.data(), pts.size_bytes());
     count_ += pts.size();
 }
 
 void PlyPointWriter::append(std::span<const PointRecord> pts, std::span<const std::uint32_t> blocks) {
+    if (colors_) throw std::invalid_argument("PLY point writer: points without colours for a file with colour properties");
     if (!blocks_) throw std::invalid_argument("PLY point writer: block ids for a file without a block property");
-    pack_point_blocks(pts, blocks, packed_);
+    pack_points(pts, blocks, {}, true, false, packed_);
     w_->append(packed_.data(), packed_.size());
     count_ += pts.size();
 }
@@ -65,11 +88,16 @@ void PlyPointWriter::append(std::span<const PointRecord> pts, std::span<const st
 void PlyPointWriter::commit() { w_->commit(); }
 
 void write_ply_points(const std::string& path, std::span<const PointRecord> pts,
-                      const std::vector<std::string>& comments, std::optional<std::span<const std::uint32_t>> blocks) {
-    PlyWriter w(path, point_header(comments, pts.size(), blocks.has_value()), PlyCounts::declared_padded);
-    if (blocks) {
+                      const std::vector<std::string>& comments, std::optional<std::span<const std::uint32_t>> blocks,
+                      std::optional<std::span<const std::uint8_t>> rgb) {
+    PlyWriter w(path, point_header(comments, pts.size(), blocks.has_value(), rgb.has_value()), PlyCounts::declared_padded);
+    if (rgb) {
         std::vector<char> packed;
-        pack_point_blocks(pts, *blocks, packed);
+        pack_points(pts, blocks.value_or(std::span<const std::uint32_t>{}), *rgb, blocks.has_value(), true, packed);
+        w.append(packed.data(), packed.size());
+    } else if (blocks) {
+        std::vector<char> packed;
+        pack_points(pts, *blocks, {}, true, false, packed);
         w.append(packed.data(), packed.size());
     } else {
         w.append(pts.data(), pts.size_bytes());

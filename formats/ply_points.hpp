@@ -10,6 +10,8 @@
 // Multiblock/AMR point sets (dissertation chapter 4) add a ninth property, `uint block`: the id of
 // the block each point was seeded in (ParaView and MeshLab colour by it); such files are written
 // with_blocks, and read back with their block ids (PlyPoints::block, PlyPointReader::read).
+// `--ply-color` adds `uchar red green blue` last (readers that drop unknown properties, such as
+// vtkPLYReader, keep these); the point reader ignores them.
 // The reader accepts binary little/big endian and ASCII PLY (formats/ply.hpp) whose vertex
 // element has at least x y z (any numeric types, no lists); missing nx ny nz, radius or value read
 // as 0; elements before the vertices are skipped, elements after them are not read. A binary
@@ -32,7 +34,12 @@ class PlyReader;
 class PlyPointWriter {
 public:
     /// comments: extra "comment" lines (no newlines inside). with_blocks: a `uint block` property.
-    PlyPointWriter(const std::string& path, const std::vector<std::string>& comments, bool with_blocks = false);
+    /// with_colors: `uchar red green blue` after it (the colours vtkPLYReader and MeshLab show).
+    PlyPointWriter(const std::string& path, const std::vector<std::string>& comments, bool with_blocks = false,
+                   bool with_colors = false);
+    /// Any layout: blocks (pts.size(), or empty without blocks) and rgb (3 bytes a point, or empty
+    /// without colours) as the writer was made; std::invalid_argument on a size mismatch.
+    void append(std::span<const PointRecord> pts, std::span<const std::uint32_t> blocks, std::span<const std::uint8_t> rgb);
     ~PlyPointWriter();
     /// Without blocks; std::invalid_argument when the writer was made with_blocks.
     void append(std::span<const PointRecord> pts);
@@ -44,16 +51,17 @@ public:
 
 private:
     std::unique_ptr<PlyWriter> w_;
-    bool blocks_ = false;
+    bool blocks_ = false, colors_ = false;
     std::vector<char> packed_;
     std::uint64_t count_ = 0;
 };
 
 /// Whole point set at once (works for "-" too). `blocks` given (size pts.size(); empty when there
-/// are no points) adds the `block` property.
+/// are no points) adds the `block` property; `rgb` given (3 bytes a point) the colours.
 void write_ply_points(const std::string& path, std::span<const PointRecord> pts,
                       const std::vector<std::string>& comments,
-                      std::optional<std::span<const std::uint32_t>> blocks = std::nullopt);
+                      std::optional<std::span<const std::uint32_t>> blocks = std::nullopt,
+                      std::optional<std::span<const std::uint8_t>> rgb = std::nullopt);
 
 struct PlyPoints {
     std::vector<PointRecord> points;

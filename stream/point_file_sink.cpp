@@ -11,9 +11,9 @@ void VtpSink::observe(const Batch& b) {
 }
 
 PointFileSink::PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments,
-                             VtpOptions vtp, bool with_blocks) {
+                             VtpOptions vtp, bool with_blocks, std::optional<ShadingParams> ply_colors) {
     if (format == GeometryFormat::vtp) vtp_.emplace(path, comments, vtp);
-    else ply_.emplace(path, comments, with_blocks);
+    else ply_.emplace(path, comments, with_blocks, ply_colors);
 }
 
 void PointFileSink::consume(Batch&& b) {

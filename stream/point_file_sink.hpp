@@ -35,8 +35,10 @@ public:
     /// vtp: the VTP writer's settings (compression, compressing threads), unused for PLY.
     /// with_blocks: the PLY declares the `block` property (the multiblock path; VTP writes the
     /// `block` array whenever the batches carry block ids).
+    /// ply_colors: PLY output gets `red green blue` (PlySink); VTP ignores it (ParaView colours by
+    /// the arrays it has).
     PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments,
-                  VtpOptions vtp = {}, bool with_blocks = false);
+                  VtpOptions vtp = {}, bool with_blocks = false, std::optional<ShadingParams> ply_colors = std::nullopt);
     void consume(Batch&& b) override;
     void observe(const Batch& b) override;
     void finish() override;

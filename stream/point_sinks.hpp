@@ -3,10 +3,12 @@
 // pictures stream through stream/splat_sink.hpp, turntables replay a stream/point_spool.hpp). Both require point batches (throw FormatError on samples). Not thread-safe.
 #pragma once
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "formats/ply_points.hpp"
+#include "kernels/splat_rasterizer.hpp"
 #include "stream/stage.hpp"
 
 namespace meshless {
@@ -15,7 +17,10 @@ class PlySink final : public Sink {
 public:
     /// with_blocks: the PLY gets the `block` property from Batch::point_block (multiblock points; a
     /// batch without block ids is then a FormatError).
-    PlySink(const std::string& path, const std::vector<std::string>& comments, bool with_blocks = false);
+    /// colors: the PLY gets `red green blue`, each point's base colour under these settings
+    /// (kernels/splat_rasterizer.hpp splat_base_color: by value, block or normal; unlit).
+    PlySink(const std::string& path, const std::vector<std::string>& comments, bool with_blocks = false,
+            std::optional<ShadingParams> colors = std::nullopt);
     void consume(Batch&& b) override;
     void finish() override;
     std::uint64_t count() const { return count_; }
@@ -26,7 +31,9 @@ private:
     std::unique_ptr<PlyPointWriter> w_;   // file output
     std::vector<PointRecord> held_;       // stdout output (count needed up front)
     std::vector<std::uint32_t> held_blocks_;
+    std::vector<std::uint8_t> rgb_, held_rgb_;
     bool blocks_ = false;
+    std::optional<ShadingParams> colors_;
     std::uint64_t count_ = 0;
 };
 
