@@ -223,3 +223,48 @@ TEST_CASE("info, verify and --help on a full device (/dev/full): exit 2 with a m
     CHECK(r.code == 0);
     CHECK(r.err.empty());
 }
+
+TEST_CASE("batch killed mid-run: exit 128+signal, no temporaries; the rerun finishes what is left", "[cli][signals]") {
+    TempDir dir("signals-batch");
+    fs::create_directories(dir / "archive");
+    // two volumes, so that the run is caught converting or extracting one of them
+    for (const char* name : {"a", "b"}) {
+        const std::string v = write_uint8_analytic_volume(dir, name, AnalyticField::torus, 192, 200.0, 0.0);
+        fs::rename(v, dir / "archive" / fs::path(v).filename());
+    }
+    const fs::path out = dir / "nightly";
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        INFO(strsignal(sig));
+        fs::remove_all(out);
+        const pid_t pid = spawn({"batch", (dir / "archive").string(), "-o", out.string(), "--iso", "50.5", "-j", "1"}, dir);
+        // wait for the first temporary anywhere in the output folder
+        bool caught = false;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(5);
+        while (!caught && std::chrono::steady_clock::now() < deadline) {
+            std::error_code ec;
+            if (fs::is_directory(out, ec))
+                for (const auto& e : fs::directory_iterator(out, ec))
+                    caught = caught || e.path().filename().string().find(".tmp-" + std::to_string(pid)) != std::string::npos;
+            int status = 0;
+            if (!caught && ::waitpid(pid, &status, WNOHANG) == pid) break;
+            if (!caught) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        REQUIRE(caught);
+        ::kill(pid, sig);
+        const Exit e = wait_for(pid);
+        INFO(slurp(dir / "stderr.txt"));
+        CHECK(e.code == 128 + sig);
+        CHECK_FALSE(e.signalled);
+        CHECK(temporaries(out).empty());
+    }
+    // the rerun completes; a third run finds everything up to date
+    const auto r = sh("MESHLESS batch " + (dir / "archive").string() + " -o " + out.string() + " --iso 50.5", dir);
+    INFO(r.err << r.out);
+    CHECK(r.code == 0);
+    CHECK(fs::exists(out / "a_192x192x192_uint8.mlb"));
+    CHECK(fs::exists(out / "b_192x192x192_uint8_iso50.5.ply"));
+    CHECK(temporaries(out).empty());
+    const auto again = sh("MESHLESS batch " + (dir / "archive").string() + " -o " + out.string() + " --iso 50.5", dir);
+    CHECK(again.code == 0);
+    CHECK(again.out.find("0 done, 2 up to date") != std::string::npos);
+}
