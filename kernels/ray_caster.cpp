@@ -123,6 +123,8 @@ public:
     Caster(const Field& f, const std::array<Vec3, 2>& box, const ViewTransform& view, const TransferFunction& tf,
            const RayCastParams& p, const ValueBoundsGrid* skip)
         : field_(f), box_(box), view_(view), p_(p), table_(tf, p.step / p.ref_step), skip_(skip) {
+        if (p.shininess >= 0 && p.shininess <= 1024 && p.shininess == std::floor(p.shininess))
+            int_shininess_ = static_cast<int>(p.shininess);
         if (skip_) {
             transparent_.resize(static_cast<std::size_t>(skip_->count()));
             for (std::size_t c = 0; c < transparent_.size(); ++c)
@@ -147,18 +149,22 @@ public:
         std::int64_t k = 0;
         int batch = 8;
         const bool shade = p_.shade;
+        // The macro cell the samples are in, and where the ray leaves it: cells are looked up only
+        // when a sample passes that exit (a few times per cell, not once per sample).
+        double cell_end = -std::numeric_limits<double>::infinity();
         while (k < n) {
             int m = 0;
             while (m < batch && k < n) {
                 const double tk = t0 + static_cast<double>(k) * step;
                 const double len = std::min(step, t1 - tk);
-                const Vec3 pos = r.o + r.d * (tk + 0.5 * len);
-                if (skip_) {
+                const double tm = tk + 0.5 * len;
+                const Vec3 pos = r.o + r.d * tm;
+                if (skip_ && tm >= cell_end) {
                     const std::int64_t c = cell_of(pos);
+                    cell_end = cell_exit(r, c);
                     if (transparent_[static_cast<std::size_t>(c)]) {
                         // the first sample whose midpoint lies beyond the cell's exit
-                        const double te = cell_exit(r, c);
-                        const double next = std::ceil((te - t0) / step - 0.5);
+                        const double next = std::ceil((cell_end - t0) / step - 0.5);
                         const std::int64_t k2 = std::max<std::int64_t>(k + 1, next < static_cast<double>(n) ? static_cast<std::int64_t>(next) : n);
                         st.skipped += static_cast<std::uint64_t>(k2 - k);
                         k = k2;
@@ -228,13 +234,22 @@ private:
         return te;
     }
 
+    /// x^shininess; an integer exponent by repeated squaring (no pow per sample).
+    double power(double x) const {
+        if (int_shininess_ < 0) return std::pow(x, p_.shininess);
+        double r = 1.0, b = x;
+        for (int e = int_shininess_; e; e >>= 1, b *= b)
+            if (e & 1) r *= b;
+        return r;
+    }
+
     void shade_colour(const Vec3& g, const Vec3& d, double c[3]) const {
         const double gl = norm(g);
         double lum = p_.ambient + p_.diffuse, spec = 0;
         if (gl > 0 && std::isfinite(gl)) {
             const double ndl = std::abs(dot(g, d)) / gl;  // two-sided, light = -d
             lum = p_.ambient + p_.diffuse * ndl;
-            spec = p_.specular > 0 ? p_.specular * std::pow(ndl, p_.shininess) : 0.0;
+            spec = p_.specular > 0 ? p_.specular * power(ndl) : 0.0;
         }
         for (int i = 0; i < 3; ++i) c[i] = std::clamp(c[i] * lum + spec, 0.0, 1.0);
     }
@@ -246,6 +261,7 @@ private:
     TfTable table_;
     const ValueBoundsGrid* skip_;
     std::vector<char> transparent_;
+    int int_shininess_ = -1;
 };
 
 }  // namespace
