@@ -183,6 +183,11 @@ int cmd_render(int argc, char** argv) {
         .option("tf", "", "PRESET|FILE", "transfer function: grey | viridis | ct-bone | ct-skin | FILE of 'value r g b a' rows", "grey")
         .option("range", "", "LO,HI", "presets: the value range they span (default: the data's)")
         .option("step", "", "S", "world units between samples along a ray (default: half the data spacing)")
+        .option("ref-step", "", "S", "the slab thickness the transfer function's opacities are for (default: the default\n"
+                                    "                            step); give two renderings the same to compare them (a LOD and its original)")
+        .option("bounds", "", "X0,Y0,Z0,X1,Y1,Z1", "frame this box instead of the data's bounding box (the same frame\n"
+                                                   "                            for a LOD and its original): fields of points are rendered over it,\n"
+                                                   "                            volumes over the part their grid covers")
         .flag("shade", "headlight Phong shading with the field's gradient as the normal")
         .flag("no-skip", "evaluate every sample (no empty-space skipping; for comparison)")
         .option("background", "", "R,G,B", "background colour, components in [0, 1]", "0,0,0")
@@ -232,8 +237,32 @@ int cmd_render(int argc, char** argv) {
     RenderInput in = open_render_input(a);
     const TransferFunction tf = transfer_function_arg(a, in.range);
     rp.ref_step = 0.5 * in.spacing;
-    rp.step = step ? *step : rp.ref_step;
-    const ViewTransform view = make_view(cam, in.box[0], in.box[1]);
+    if (auto r = a.get("ref-step")) {
+        rp.ref_step = parse_finite(*r, "--ref-step");
+        if (!(rp.ref_step > 0)) throw UsageError("--ref-step: must be positive");
+    }
+    rp.step = step ? *step : 0.5 * in.spacing;
+    std::array<Vec3, 2> frame = in.box;
+    if (auto b = a.get("bounds")) {
+        double v[6], lo[3], hi[3];
+        char tail;
+        if (std::sscanf(b->c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &tail) != 6)
+            throw UsageError("--bounds: expected X0,Y0,Z0,X1,Y1,Z1, got '" + *b + "'");
+        for (int i = 0; i < 3; ++i)
+            if (!std::isfinite(v[i]) || !std::isfinite(v[i + 3]) || !(v[i] < v[i + 3]))
+                throw UsageError("--bounds: expected finite X0 < X1, Y0 < Y1, Z0 < Z1, got '" + *b + "'");
+        frame = {Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]}};
+        if (in.volume) {  // a grid has no values beyond its samples: render the part of the box it covers
+            for (int i = 0; i < 3; ++i) {
+                lo[i] = std::max(in.box[0][i], frame[0][i]);
+                hi[i] = std::min(in.box[1][i], frame[1][i]);
+            }
+            in.box = {Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}};
+        } else {
+            in.box = frame;  // the field extrapolates beyond its points
+        }
+    }
+    const ViewTransform view = make_view(cam, frame[0], frame[1]);
     const bool tty = stderr_is_tty();
     int shown = -1;
     auto progress = [&](double f) {
