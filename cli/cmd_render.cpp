@@ -189,7 +189,7 @@ int cmd_render(int argc, char** argv) {
                                                    "                            for a LOD and its original): fields of points are rendered over it,\n"
                                                    "                            volumes over the part their grid covers")
         .flag("shade", "headlight Phong shading with the field's gradient as the normal")
-        .flag("no-skip", "evaluate every sample (no empty-space skipping; for comparison)")
+        .flag("no-skip", "evaluate every sample where there is data (no empty-space skipping; for comparison)")
         .option("background", "", "R,G,B", "background colour, components in [0, 1]", "0,0,0")
         .option("compare", "", "REF.png", "print RMSE and PSNR of the picture against REF.png")
         .option("diff", "", "FILE.png", "with --compare: write the difference picture")
@@ -275,7 +275,13 @@ int cmd_render(int argc, char** argv) {
     };
     const auto t0 = std::chrono::steady_clock::now();
     RayCastStats st;
-    const RgbaImage rgba = ray_cast_rgba(*in.field, in.box, view, tf, rp, a.has("no-skip") || !in.skip ? nullptr : &*in.skip, nthreads,
+    if (a.has("no-skip") && in.skip) {
+        // every box with data becomes "unknown" (evaluated); boxes without data (scattered points that do
+        // not reach them: kernels/value_bounds_grid.hpp) stay outside the picture, as with skipping
+        for (std::size_t c = 0; c < in.skip->vmin.size(); ++c)
+            if (!(in.skip->vmin[c] > in.skip->vmax[c])) in.skip->vmin[c] = in.skip->vmax[c] = std::nan("");
+    }
+    const RgbaImage rgba = ray_cast_rgba(*in.field, in.box, view, tf, rp, in.skip ? &*in.skip : nullptr, nthreads,
                                          &st, tty ? std::function<void(double)>(progress) : std::function<void(double)>());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (tty) std::fputs("\r", stderr);

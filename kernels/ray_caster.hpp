@@ -15,7 +15,8 @@
 // Early ray termination: a ray stops once A >= termination. Empty-space skipping: with a
 // ValueBoundsGrid, samples inside a macro cell whose value interval the transfer function maps to
 // opacity 0 are not evaluated (they would add nothing; kernels/value_bounds_grid.hpp says how exact
-// the intervals are). Samples stay at the same positions whether or not cells are skipped.
+// the intervals are; an empty interval, vmin > vmax, marks a cell without data, never sampled).
+// Samples stay at the same positions whether or not cells are skipped.
 // Shading (optional): headlight Phong with the field's gradient as the normal (two-sided):
 //     c' = c (ambient + diffuse |n.l|) + specular |n.l|^shininess,  l = -d
 // (a sample whose gradient vanishes is unshaded: c' = c (ambient + diffuse)).

@@ -69,10 +69,7 @@ ValueBoundsGrid value_bounds_from_points(std::span<const Vec3> pos, std::span<co
                 }
     }
     for (std::size_t c = 0; c < count; ++c) {
-        if (out.vmin[c] > out.vmax[c]) {  // no point within pad: unknown
-            out.vmin[c] = out.vmax[c] = std::numeric_limits<double>::quiet_NaN();
-            continue;
-        }
+        if (out.vmin[c] > out.vmax[c]) continue;  // no point within pad: no data (the empty interval)
         out.vmin[c] -= margin;
         out.vmax[c] += margin;
     }

@@ -14,7 +14,10 @@
 //    widened by `margin` on each side. Meshless interpolants (multiquadrics blended by partition of
 //    unity) may overshoot their data, so these bounds are a documented heuristic, not a proof: the
 //    tests compare pictures rendered with and without skipping. A box with no point within pad
-//    gets NaN bounds (unknown): never skipped.
+//    gets the empty interval (vmin = +inf > vmax = -inf): the data does not reach it, the field there
+//    is extrapolation (the role of --max-gap's NaN in probe/slice), and the ray caster treats it as
+//    empty space. For a box-filling point set no box is empty; for curvilinear grids (PLOT3D) and
+//    clouds with holes this keeps the extrapolated shell out of the picture.
 // Units: world coordinates, the data's values. Thread-safety: plain data; builders are reentrant.
 // Throws InvalidArgument for a non-positive cell edge or a grid of more than 2^27 boxes.
 #pragma once
@@ -33,7 +36,8 @@ struct ValueBoundsGrid {
     Vec3 origin;                                ///< low corner of box (0, 0, 0)
     Vec3 cell{1, 1, 1};                         ///< box edge lengths (world), > 0
     std::array<std::int64_t, 3> dims{0, 0, 0};  ///< boxes per axis
-    std::vector<double> vmin, vmax;             ///< per box, x fastest; NaN: unknown (never skipped)
+    /// per box, x fastest; NaN: unknown (never skipped); vmin > vmax: no data (always skipped)
+    std::vector<double> vmin, vmax;
 
     std::int64_t count() const { return dims[0] * dims[1] * dims[2]; }
     std::int64_t index(std::int64_t i, std::int64_t j, std::int64_t k) const { return i + dims[0] * (j + dims[1] * k); }

@@ -310,3 +310,47 @@ TEST_CASE("ray caster parameters are checked", "[render]") {
     p.termination = 0;
     CHECK_THROWS_AS(ray_cast_rgba(f, box, view, tf, p, nullptr, 1), InvalidArgument);
 }
+
+TEST_CASE("cells no scattered point reaches stay outside the picture, with or without skipping", "[render]") {
+    // points fill x < 0 of the box [-1, 1]^3; the field extrapolates into x > 0
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> u(-1, 1), half(-1, 0);
+    PointSet pts;
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 q{half(rng), u(rng), u(rng)};
+        pts.pos.push_back(q);
+        pts.value.push_back(1 + q.x);
+    }
+    pts.blocks.push_back({"points", {2000, 1, 1}, 0, 2000});
+    FieldParams fp;
+    fp.kind = FieldKind::mpu;
+    const auto field = make_field(pts, fp);
+    const std::array<Vec3, 2> box{Vec3{-1, -1, -1}, Vec3{1, 1, 1}};
+    const double h = mean_point_spacing(pts.pos);
+    ValueBoundsGrid grid = value_bounds_from_points(pts.pos, pts.value, box, 4 * h, 3 * h, 0.05);
+    const TransferFunction tf({{-10, 1, 1, 1, 0.3}, {10, 1, 1, 1, 0.3}});  // everything shows
+    const ViewTransform view = make_view(ortho_front(40, 40), box[0], box[1]);
+    RayCastParams p;
+    p.ref_step = p.step = 0.5 * h;
+    const RgbaImage with = ray_cast_rgba(*field, box, view, tf, p, &grid, 1);
+    const RgbaImage without = ray_cast_rgba(*field, box, view, tf, p, nullptr, 1);
+    // every cell with data "unknown" (what meshless render --no-skip passes): the same picture
+    for (std::size_t c = 0; c < grid.vmin.size(); ++c)
+        if (!(grid.vmin[c] > grid.vmax[c])) grid.vmin[c] = grid.vmax[c] = std::nan("");
+    const RgbaImage unknown = ray_cast_rgba(*field, box, view, tf, p, &grid, 1);
+    CHECK(unknown.rgba == with.rgba);
+    int far = 0, shell = 0;
+    for (int j = 0; j < 40; ++j)
+        for (int i = 0; i < 40; ++i) {
+            const Vec3 w = pixel_world(view, i, j);
+            if (w.y < -0.95 || w.y > 0.95 || std::abs(w.x) > 0.95) continue;
+            if (w.x < -0.3) CHECK(px(with, i, j)[3] > 0.5f);  // data: drawn
+            if (w.x > 0.8) {                                   // beyond pad + a cell: nothing
+                ++far;
+                CHECK(px(with, i, j)[3] == 0.0f);
+                shell += px(without, i, j)[3] > 0.5f;  // the extrapolated shell the cells keep out
+            }
+        }
+    CHECK(far > 10);
+    CHECK(shell > far / 2);
+}
