@@ -12,6 +12,7 @@ int cmd_project(int argc, char** argv);
 int cmd_write(int argc, char** argv);
 int cmd_extract(int argc, char** argv);
 int cmd_splat(int argc, char** argv);
+int cmd_render(int argc, char** argv);
 int cmd_mc(int argc, char** argv);
 int cmd_info(int argc, char** argv);
 int cmd_fit(int argc, char** argv);
@@ -24,7 +25,6 @@ int cmd_verify(int argc, char** argv);
 int cmd_synth(int argc, char** argv);
 int cmd_sample(int argc, char** argv);
 int cmd_split(int argc, char** argv);
-int cmd_render(int argc, char** argv);
 
 /// The whole program: dispatch and exception -> exit code mapping.
 int cli_main(int argc, char** argv);
