@@ -353,7 +353,6 @@ SplatKernel kernel_from(const Args& a) {
 }  // namespace
 
 RenderSettings render_settings(const Args& a) { return {camera_from(a), kernel_from(a), shading_from(a)}; }
-Camera camera_settings(const Args& a) { return camera_from(a); }
 
 namespace {
 std::string triple(double a, double b, double c) {

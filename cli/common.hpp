@@ -83,9 +83,6 @@ int threads(const Args& a);
 void add_camera_options(Args& a);
 /// Camera, kernel and shading from the camera options.
 RenderSettings render_settings(const Args& a);
-/// The camera alone (--size --azimuth --elevation --zoom --ortho, as add_camera_options declares
-/// them): for renderers without splat kernels (meshless render).
-Camera camera_settings(const Args& a);
 
 /// --color value|block|normal|none (default auto), --colormap, --range LO,HI, --colorbar: the
 /// splat colours of `meshless splat` and `meshless isosurface --png`.
