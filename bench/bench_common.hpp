@@ -103,6 +103,10 @@ std::vector<DataVolume> speed_volumes();
 // The sections; each prints its tables into the report. Missing data is reported, not thrown.
 /// Accuracy of the projected points against analytic surfaces (bench/bench_accuracy.cpp).
 void run_accuracy(const BenchOptions& o, Report& r);
+/// Issue 9's volume rendering (bench/bench_render.cpp): LIDC2 512x512 trilinear ray casting on 1 and 2
+/// threads, samples per second, skipping on/off; scattered samples of it through the mpu field, PSNR
+/// against the volume's picture.
+void run_render(const BenchOptions& o, Report& r);
 /// Extraction time and memory, iso-splatting vs marching cubes vs VTK Flying Edges (bench/bench_speed.cpp).
 void run_speed(const BenchOptions& o, Report& r);
 /// Thread scaling of iso-splatting and identical output across thread counts (bench/bench_speed.cpp).

@@ -31,6 +31,7 @@ constexpr Command kCommands[] = {
     {"write", cmd_write, "point stream -> binary PLY"},
     {"extract", cmd_extract, "sample store (.mls, paradigm A) -> samples of the active cells of one isovalue"},
     {"splat", cmd_splat, "point stream or PLY -> surface-splatted PNG (quad or EWA kernels)"},
+    {"render", cmd_render, "volume, brick store or scattered points -> direct volume rendering by ray casting (PNG)"},
     {"mc", cmd_mc, "volume -> marching-cubes triangle mesh (PLY), the baseline"},
     {"convert", cmd_convert, "volume -> Morton-ordered zstd brick store (.mlb) for out-of-core work"},
     {"verify", cmd_verify, "check every brick of a brick store; names the first bad one"},

@@ -12,6 +12,7 @@ int cmd_project(int argc, char** argv);
 int cmd_write(int argc, char** argv);
 int cmd_extract(int argc, char** argv);
 int cmd_splat(int argc, char** argv);
+int cmd_render(int argc, char** argv);
 int cmd_mc(int argc, char** argv);
 int cmd_info(int argc, char** argv);
 int cmd_fit(int argc, char** argv);

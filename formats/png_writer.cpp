@@ -2,8 +2,6 @@
 
 #include <png.h>
 
-#include <cerrno>
-
 #include <cstring>
 #include <vector>
 
@@ -74,27 +72,6 @@ void write_png(const Image& image, const std::string& path) {
     AtomicFile out(path);
     out.write(buf.bytes.data(), buf.used);
     out.commit();
-}
-
-Image read_png(const std::string& path) {
-    std::FILE* fp = std::fopen(path.c_str(), "rb");
-    if (!fp) throw IoError(path + ": cannot open (" + std::strerror(errno) + ")");
-    png_image img;
-    std::memset(&img, 0, sizeof img);
-    img.version = PNG_IMAGE_VERSION;
-    if (!png_image_begin_read_from_stdio(&img, fp)) {
-        std::fclose(fp);
-        throw FormatError(path + ": not a valid PNG (" + img.message + ")");
-    }
-    img.format = PNG_FORMAT_RGB;
-    Image out;
-    out.width = static_cast<int>(img.width);
-    out.height = static_cast<int>(img.height);
-    out.rgb.resize(PNG_IMAGE_SIZE(img));
-    const bool ok = png_image_finish_read(&img, nullptr, out.rgb.data(), 0, nullptr) != 0;
-    std::fclose(fp);
-    if (!ok) throw FormatError(path + ": corrupt PNG data (" + img.message + ")");
-    return out;
 }
 
 }  // namespace meshless

@@ -81,3 +81,15 @@ TEST_CASE("meshless-bench smoke: process and accuracy --quick, markdown where to
     CHECK(help.code == 0);
     CHECK(contains(help.out, "usage: meshless-bench"));
 }
+
+TEST_CASE("meshless-bench smoke: render --quick ray casts, compares and keeps the bytes across threads", "[bench]") {
+    TempDir dir("bench-render");
+    const RunResult r = sh(kBench + " render --quick --data " + shared_data().string(), dir);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(contains(r.out, "Volume rendering: ray casting fields"));
+    CHECK(contains(r.out, "M samples/s"));
+    CHECK(contains(r.out, "PSNR vs volume dB"));
+    CHECK(contains(r.out, "yes"));
+    CHECK_FALSE(contains(r.out, "DIFFERENT"));
+}

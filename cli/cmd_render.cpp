@@ -1,0 +1,312 @@
+// meshless render: direct volume rendering by ray casting a field (dissertation section 6.6 /
+// Figure 6.6: LOD fields volume rendered and differenced against the original; section 7.4: volume
+// rendering of scattered data). Volumes and brick stores are sampled trilinearly (stores through the
+// brick cache, within --memory); scattered points and multiblock grids through a meshless field
+// (rbf-grid, mpu, global-rbf, or a fitted .mlf). Nothing is resampled onto a grid first.
+// The algorithm is kernels/ray_caster.hpp; this file picks the field, the transfer function, the
+// step, the empty-space boxes and the camera, and writes / compares the picture.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cli/errors.hpp"
+#include "cli/field_cli.hpp"
+#include "formats/multiblock_reader.hpp"
+#include "formats/png_reader.hpp"
+#include "formats/png_writer.hpp"
+#include "formats/transfer_function_file.hpp"
+#include "formats/volume_reader.hpp"
+#include "kernels/block_minmax.hpp"
+#include "kernels/errors.hpp"
+#include "kernels/image_compare.hpp"
+#include "kernels/merge_near_duplicates.hpp"
+#include "kernels/ray_caster.hpp"
+#include "kernels/trilinear_field.hpp"
+#include "ooc/brick_field.hpp"
+#include "ooc/brick_store.hpp"
+
+namespace meshless::cli {
+
+namespace {
+
+/// Edge, in cells, of the empty-space boxes of a volume in memory (a store uses its bricks).
+constexpr int kVolumeMacroCells = 8;
+/// Scattered data: empty-space boxes of this many mean point spacings, bounded by the points within
+/// kPointPad spacings (the reach of the fields' local fits: an mpu leaf's sphere or an RBF-grid cell's
+/// data sphere holds its few dozen nearest points, 2-3 spacings), widened by kPointMargin of the
+/// data's value range (multiquadric interpolants overshoot their data a little).
+constexpr double kPointMacroCell = 8, kPointPad = 3, kPointMargin = 0.05;
+
+bool ends_with(const std::string& s, const char* ext) {
+    const std::size_t n = std::char_traits<char>::length(ext);
+    if (s.size() < n) return false;
+    for (std::size_t i = 0; i < n; ++i) {
+        char c = s[s.size() - n + i];
+        if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+        if (c != ext[i]) return false;
+    }
+    return true;
+}
+
+std::array<double, 3> parse_rgb(const std::string& s, const char* what) {
+    double v[3];
+    char tail;
+    if (std::sscanf(s.c_str(), "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) != 3)
+        throw UsageError(std::string(what) + ": expected R,G,B in [0, 1], got '" + s + "'");
+    for (double x : v)
+        if (!(x >= 0 && x <= 1)) throw UsageError(std::string(what) + ": expected R,G,B in [0, 1], got '" + s + "'");
+    return {v[0], v[1], v[2]};
+}
+
+/// What the command renders: a field over a box, its value range, its natural spacing, and the
+/// empty-space boxes; plus whatever the field keeps alive.
+struct RenderInput {
+    std::optional<VolumeInput> volume;
+    std::unique_ptr<Field> owned;  ///< trilinear / brick-store field
+    BuiltField built;              ///< meshless field
+    const Field* field = nullptr;
+    std::array<Vec3, 2> box;
+    std::array<double, 2> range{0, 1};
+    double spacing = 1;            ///< default step = spacing / 2
+    std::optional<ValueBoundsGrid> skip;
+    std::string what;              ///< for the stats line
+};
+
+RenderInput open_render_input(const Args& a) {
+    RenderInput in;
+    const auto& pos = a.positional();
+    const std::string& first = pos[0];
+    const bool store = is_brick_store(first) || ends_with(first, ".mlb");
+    const bool volume = store || (pos.size() == 1 && !looks_like_multiblock(first) && looks_like_volume(first));
+    const std::string kind = a.get_or("field", volume ? "trilinear" : "rbf-grid");
+    if (volume) {
+        if (pos.size() > 1) throw UsageError("render takes one volume (got " + std::to_string(pos.size()) + " inputs)");
+        if (kind != "trilinear")
+            throw UsageError("--field " + kind + ": " + first +
+                             " is a volume, rendered with --field trilinear (meshless sample makes scattered points of it)");
+        in.volume = open_volume_input(a, /*stream=*/false);
+        const GridSpec& g = in.volume->grid();
+        if (in.volume->store) {
+            in.owned = std::make_unique<BrickStoreField>(*in.volume->store, *in.volume->cache);
+            in.skip = store_value_bounds(*in.volume->store);
+            const auto& info = in.volume->store->info();
+            in.range = {info.value_min, info.value_max};
+            in.what = "brick store, trilinear";
+        } else {
+            const VolumeView v = in.volume->volume->view();
+            in.owned = std::make_unique<TrilinearField>(v);
+            const BlockMinMax b = block_minmax(v, kVolumeMacroCells);
+            in.range = b.range();
+            in.skip = value_bounds_from_blocks(b, g);
+            in.what = "volume, trilinear";
+        }
+        in.field = in.owned.get();
+        in.box = in.field->bounds();
+        in.spacing = std::min({g.spacing[0], g.spacing[1], g.spacing[2]});
+        in.what += " " + std::to_string(g.dims[0]) + "x" + std::to_string(g.dims[1]) + "x" + std::to_string(g.dims[2]);
+    } else {
+        if (kind == "trilinear")
+            throw UsageError("--field trilinear: " + first + " is not a volume; scattered points and multiblock grids render "
+                             "through rbf-grid, mpu, global-rbf or a fitted .mlf");
+        const PointSet pts = read_field_points(pos, a);
+        if (pts.size() == 0) throw FormatError(first + ": no points to render");
+        in.built = build_field(a, pts);
+        in.field = in.built.field.get();
+        in.box = pts.bounds();
+        in.range = pts.value_range();
+        in.spacing = mean_point_spacing(pts.pos);
+        if (!(in.spacing > 0)) throw FormatError(first + ": all points coincide; nothing to render");
+        const double margin = kPointMargin * (in.range[1] - in.range[0]);
+        in.skip = value_bounds_from_points(pts.pos, pts.value, in.box, kPointMacroCell * in.spacing, kPointPad * in.spacing, margin);
+        in.what = std::to_string(pts.size()) + " points, " + in.field->name() + " field";
+    }
+    return in;
+}
+
+TransferFunction transfer_function_arg(const Args& a, const std::array<double, 2>& data_range) {
+    const std::string tf = a.get_or("tf", "grey");
+    std::array<double, 2> range = data_range;
+    if (auto r = a.get("range")) {
+        const auto comma = r->find(',');
+        if (comma == std::string::npos) throw UsageError("--range: expected LO,HI, got '" + *r + "'");
+        range = {parse_finite(r->substr(0, comma), "--range"), parse_finite(r->substr(comma + 1), "--range")};
+        if (!(range[0] < range[1])) throw UsageError("--range: LO must be less than HI, got '" + *r + "'");
+    }
+    if (is_transfer_function_preset(tf)) {
+        if (!(range[0] < range[1])) range = {range[0], range[0] + 1};  // constant data
+        if (!std::isfinite(range[0]) || !std::isfinite(range[1])) range = {0, 1};
+        return transfer_function_preset(tf, range[0], range[1]);
+    }
+    if (a.has("range")) throw UsageError("--range applies to the transfer-function presets; " + tf + " gives its own values");
+    std::error_code ec;
+    if (!std::filesystem::exists(tf, ec)) {
+        std::string names;
+        for (auto n : transfer_function_preset_names()) names += (names.empty() ? "" : ", ") + std::string(n);
+        throw UsageError("--tf " + tf + ": neither a preset (" + names + ") nor an existing file of 'value r g b a' rows");
+    }
+    return read_transfer_function_file(tf);
+}
+
+std::string psnr_text(double psnr) {
+    if (std::isinf(psnr)) return "inf";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", psnr);
+    return buf;
+}
+
+}  // namespace
+
+int cmd_render(int argc, char** argv) {
+    Args a("render", "INPUT... -o img.png [--field KIND|FILE.mlf] [--tf PRESET|FILE] [camera options] [--compare REF.png]",
+           "Direct volume rendering by ray casting the field itself (dissertation section 6.6, Figure 6.6;\n"
+           "section 7.4): front-to-back emission-absorption compositing with the opacity corrected for the\n"
+           "step (a' = 1 - (1 - a)^(step / ref_step)), early ray termination, empty-space skipping from the\n"
+           "field's value bounds, optional headlight shading from the field's gradient.\n"
+           "INPUT: a volume (every format meshless reads) or a brick store (.mlb, read through the brick cache\n"
+           "within --memory), sampled trilinearly; or scattered points / multiblock grids, sampled through a\n"
+           "meshless field (--field rbf-grid | mpu | global-rbf | FILE.mlf; default rbf-grid). Nothing is\n"
+           "resampled onto a grid first.\n"
+           "Transfer function (--tf): a preset spanning the data's value range (or --range LO,HI): grey,\n"
+           "viridis, ct-bone, ct-skin; or a text file of rows 'value r g b a' sorted by value, components in\n"
+           "[0, 1]. Opacities are per reference step = the default step: half the smallest voxel spacing\n"
+           "(volumes) or half the mean point spacing (points); --step changes the sampling, not the opacity.\n"
+           "--compare REF.png prints RMSE and PSNR of the picture against REF (PSNR 'inf' when identical) on\n"
+           "stdout and --diff writes the difference picture (|a - b| x --diff-gain).\n"
+           "The picture's bytes do not depend on --threads.");
+    a.option("output", "o", "FILE", "PNG output (required)")
+        .option("tf", "", "PRESET|FILE", "transfer function: grey | viridis | ct-bone | ct-skin | FILE of 'value r g b a' rows", "grey")
+        .option("range", "", "LO,HI", "presets: the value range they span (default: the data's)")
+        .option("step", "", "S", "world units between samples along a ray (default: half the data spacing)")
+        .option("ref-step", "", "S", "the slab thickness the transfer function's opacities are for (default: the default\n"
+                                    "                            step); give two renderings the same to compare them (a LOD and its original)")
+        .option("bounds", "", "X0,Y0,Z0,X1,Y1,Z1", "frame this box instead of the data's bounding box (the same frame\n"
+                                                   "                            for a LOD and its original): fields of points are rendered over it,\n"
+                                                   "                            volumes over the part their grid covers")
+        .flag("shade", "headlight Phong shading with the field's gradient as the normal")
+        .flag("no-skip", "evaluate every sample where there is data (no empty-space skipping; for comparison)")
+        .option("background", "", "R,G,B", "background colour, components in [0, 1]", "0,0,0")
+        .option("compare", "", "REF.png", "print RMSE and PSNR of the picture against REF.png")
+        .option("diff", "", "FILE.png", "with --compare: write the difference picture")
+        .option("diff-gain", "", "G", "--diff: multiply the differences by G", "1")
+        .option("size", "", "WxH", "image size in pixels, 1..16384 per side", "512x512")
+        .option("azimuth", "", "DEG", "camera rotation about the y axis", "30")
+        .option("elevation", "", "DEG", "camera elevation", "20")
+        .option("zoom", "", "Z", "zoom factor (1 frames the data's bounding box)", "1")
+        .flag("ortho", "orthographic instead of perspective projection");
+    add_field_options(a, /*with_coverage=*/false);  // --field ... --stats, point-set options, --threads
+    a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z")
+        .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
+        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing in world units", "1,1,1");
+    add_memory_option(a);
+    a.positionals(1, 1000);
+    a.epilog("examples: meshless render chest.vti --tf ct-bone --shade -o chest.png\n"
+             "          meshless render points.ply --field mpu -o lod.png --compare chest.png --diff diff.png\n");
+    if (!a.parse(argc, argv, 2)) return 0;
+    const std::string png = require_output_extension(a.require("output"), ".png", "-o", "a PNG image");
+    if (a.has("diff") && !a.has("compare")) throw UsageError("--diff needs --compare REF.png");
+    const double gain = parse_finite(a.get_or("diff-gain", "1"), "--diff-gain");
+    if (!(gain > 0)) throw UsageError("--diff-gain: must be positive");
+    if (auto d = a.get("diff")) require_output_extension(*d, ".png", "--diff", "a PNG image");
+    Camera cam;
+    {
+        const auto wh = parse_size(a.get_or("size", "512x512"), "--size", 1, 16384);
+        cam.width = wh[0];
+        cam.height = wh[1];
+        cam.azimuth_deg = parse_finite(a.get_or("azimuth", "30"), "--azimuth");
+        cam.elevation_deg = parse_finite(a.get_or("elevation", "20"), "--elevation");
+        cam.zoom = parse_finite(a.get_or("zoom", "1"), "--zoom");
+        if (!(cam.zoom > 0)) throw UsageError("--zoom: must be positive");
+        cam.perspective = !a.has("ortho");
+    }
+    RayCastParams rp;
+    rp.shade = a.has("shade");
+    rp.background = parse_rgb(a.get_or("background", "0,0,0"), "--background");
+    std::optional<double> step;
+    if (auto s = a.get("step")) {
+        step = parse_finite(*s, "--step");
+        if (!(*step > 0)) throw UsageError("--step: must be positive");
+    }
+    const int nthreads = threads(a);
+
+    RenderInput in = open_render_input(a);
+    const TransferFunction tf = transfer_function_arg(a, in.range);
+    rp.ref_step = 0.5 * in.spacing;
+    if (auto r = a.get("ref-step")) {
+        rp.ref_step = parse_finite(*r, "--ref-step");
+        if (!(rp.ref_step > 0)) throw UsageError("--ref-step: must be positive");
+    }
+    rp.step = step ? *step : 0.5 * in.spacing;
+    std::array<Vec3, 2> frame = in.box;
+    if (auto b = a.get("bounds")) {
+        double v[6], lo[3], hi[3];
+        char tail;
+        if (std::sscanf(b->c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &tail) != 6)
+            throw UsageError("--bounds: expected X0,Y0,Z0,X1,Y1,Z1, got '" + *b + "'");
+        for (int i = 0; i < 3; ++i)
+            if (!std::isfinite(v[i]) || !std::isfinite(v[i + 3]) || !(v[i] < v[i + 3]))
+                throw UsageError("--bounds: expected finite X0 < X1, Y0 < Y1, Z0 < Z1, got '" + *b + "'");
+        frame = {Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]}};
+        if (in.volume) {  // a grid has no values beyond its samples: render the part of the box it covers
+            for (int i = 0; i < 3; ++i) {
+                lo[i] = std::max(in.box[0][i], frame[0][i]);
+                hi[i] = std::min(in.box[1][i], frame[1][i]);
+            }
+            in.box = {Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}};
+        } else {
+            in.box = frame;  // the field extrapolates beyond its points
+        }
+    }
+    const ViewTransform view = make_view(cam, frame[0], frame[1]);
+    const bool tty = stderr_is_tty();
+    int shown = -1;
+    auto progress = [&](double f) {
+        const int pct = static_cast<int>(100 * f);
+        if (pct != shown) {
+            shown = pct;
+            std::fprintf(stderr, "\rmeshless render: %3d%%", pct);
+            std::fflush(stderr);
+        }
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    RayCastStats st;
+    if (a.has("no-skip") && in.skip) {
+        // every box with data becomes "unknown" (evaluated); boxes without data (scattered points that do
+        // not reach them: kernels/value_bounds_grid.hpp) stay outside the picture, as with skipping
+        for (std::size_t c = 0; c < in.skip->vmin.size(); ++c)
+            if (!(in.skip->vmin[c] > in.skip->vmax[c])) in.skip->vmin[c] = in.skip->vmax[c] = std::nan("");
+    }
+    const RgbaImage rgba = ray_cast_rgba(*in.field, in.box, view, tf, rp, in.skip ? &*in.skip : nullptr, nthreads,
+                                         &st, tty ? std::function<void(double)>(progress) : std::function<void(double)>());
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (tty) std::fputs("\r", stderr);
+    const Image picture = compose_over_background(rgba, rp.background);
+    write_png(picture, png);
+    if (tty || a.has("stats"))
+        std::fprintf(stderr,
+                     "render: %s, %dx%d, step %g (ref %g), %d thread(s): %.3f s; %llu rays hit, %llu samples (%.2f M/s), "
+                     "%llu skipped as empty, %llu rays terminated early\n",
+                     in.what.c_str(), cam.width, cam.height, rp.step, rp.ref_step, nthreads, seconds,
+                     static_cast<unsigned long long>(st.rays_hit), static_cast<unsigned long long>(st.samples),
+                     1e-6 * static_cast<double>(st.samples) / std::max(seconds, 1e-9), static_cast<unsigned long long>(st.skipped),
+                     static_cast<unsigned long long>(st.terminated));
+    if (auto ref_path = a.get("compare")) {
+        const Image ref = read_png(*ref_path);
+        if (ref.width != picture.width || ref.height != picture.height)
+            throw FormatError(*ref_path + ": " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
+                              " pixels, the rendering is " + std::to_string(picture.width) + "x" + std::to_string(picture.height));
+        const ImageDifference d = compare_images(picture, ref);
+        std::printf("RMSE %.4f PSNR %s dB (max difference %d, %llu of %llu pixels differ)\n", d.rmse, psnr_text(d.psnr).c_str(),
+                    d.max_abs, static_cast<unsigned long long>(d.differing_pixels),
+                    static_cast<unsigned long long>(picture.width) * static_cast<unsigned long long>(picture.height));
+        if (auto diff = a.get("diff")) write_png(difference_image(picture, ref, gain), *diff);
+    }
+    return 0;
+}
+
+}  // namespace meshless::cli
