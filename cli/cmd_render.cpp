@@ -193,12 +193,8 @@ int cmd_render(int argc, char** argv) {
         .option("background", "", "R,G,B", "background colour, components in [0, 1]", "0,0,0")
         .option("compare", "", "REF.png", "print RMSE and PSNR of the picture against REF.png")
         .option("diff", "", "FILE.png", "with --compare: write the difference picture")
-        .option("diff-gain", "", "G", "--diff: multiply the differences by G", "1")
-        .option("size", "", "WxH", "image size in pixels, 1..16384 per side", "512x512")
-        .option("azimuth", "", "DEG", "camera rotation about the y axis", "30")
-        .option("elevation", "", "DEG", "camera elevation", "20")
-        .option("zoom", "", "Z", "zoom factor (1 frames the data's bounding box)", "1")
-        .flag("ortho", "orthographic instead of perspective projection");
+        .option("diff-gain", "", "G", "--diff: multiply the differences by G", "1");
+    add_orbit_options(a, "512x512");
     add_field_options(a, /*with_coverage=*/false);  // --field ... --stats, point-set options, --threads
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z")
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
@@ -213,17 +209,7 @@ int cmd_render(int argc, char** argv) {
     const double gain = parse_finite(a.get_or("diff-gain", "1"), "--diff-gain");
     if (!(gain > 0)) throw UsageError("--diff-gain: must be positive");
     if (auto d = a.get("diff")) require_output_extension(*d, ".png", "--diff", "a PNG image");
-    Camera cam;
-    {
-        const auto wh = parse_size(a.get_or("size", "512x512"), "--size", 1, 16384);
-        cam.width = wh[0];
-        cam.height = wh[1];
-        cam.azimuth_deg = parse_finite(a.get_or("azimuth", "30"), "--azimuth");
-        cam.elevation_deg = parse_finite(a.get_or("elevation", "20"), "--elevation");
-        cam.zoom = parse_finite(a.get_or("zoom", "1"), "--zoom");
-        if (!(cam.zoom > 0)) throw UsageError("--zoom: must be positive");
-        cam.perspective = !a.has("ortho");
-    }
+    const Camera cam = camera_from(a, "512x512");
     RayCastParams rp;
     rp.shade = a.has("shade");
     rp.background = parse_rgb(a.get_or("background", "0,0,0"), "--background");

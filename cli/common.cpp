@@ -273,17 +273,21 @@ int threads(const Args& a) {
     return n == 0 ? available_cpus() : static_cast<int>(n);
 }
 
-void add_camera_options(Args& a) {
-    a.option("size", "", "WxH", "image size in pixels", "800x800")
+void add_orbit_options(Args& a, const char* default_size) {
+    a.option("size", "", "WxH", "image size in pixels, 1..16384 per side", default_size)
         .option("azimuth", "", "DEG", "camera rotation about the up axis", "30")
         .option("elevation", "", "DEG", "camera elevation above the plane normal to the up axis", "20")
         .option("up", "", "AXIS", "the world axis that points up in the picture: x, y, z, -x, -y or -z", "y")
         .option("view", "", "NAME", "a named view instead of --azimuth/--elevation: +x -x +y -y +z -z (the camera looks "
                                     "along that axis) or iso (looks along -1,-1,-1)")
         .option("zoom", "", "Z", "zoom factor (1 frames the surface: its bounds from the stream, PLY or active bricks/blocks)", "1")
-        .option("kernel", "", "quad|ewa", "splat kernel: quadrilateral or elliptical (EWA)", "ewa")
-        .option("shading", "", "phong|lambert", "lighting of the splats (a headlight)", "phong")
         .flag("ortho", "orthographic instead of perspective projection");
+}
+
+void add_camera_options(Args& a) {
+    add_orbit_options(a, "800x800");
+    a.option("kernel", "", "quad|ewa", "splat kernel: quadrilateral or elliptical (EWA)", "ewa")
+        .option("shading", "", "phong|lambert", "lighting of the splats (a headlight)", "phong");
 }
 
 void add_color_options(Args& a) {
@@ -343,11 +347,9 @@ void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std
         std::fprintf(stderr, "warning: --colorbar: the picture is coloured by neither value nor block; no legend drawn\n");
 }
 
-namespace {
-
-Camera camera_from(const Args& a) {
+Camera camera_from(const Args& a, const char* default_size) {
     Camera c;
-    const auto wh = parse_size(a.get_or("size", "800x800"), "--size", 1, 16384);
+    const auto wh = parse_size(a.get_or("size", default_size), "--size", 1, 16384);
     c.width = wh[0];
     c.height = wh[1];
     c.azimuth_deg = parse_finite(a.get_or("azimuth", "30"), "--azimuth");
@@ -383,6 +385,8 @@ Camera camera_from(const Args& a) {
     return c;
 }
 
+namespace {
+
 ShadingParams shading_from(const Args& a) {
     ShadingParams s;
     const std::string m = a.get_or("shading", "phong");
@@ -400,7 +404,7 @@ SplatKernel kernel_from(const Args& a) {
 
 }  // namespace
 
-RenderSettings render_settings(const Args& a) { return {camera_from(a), kernel_from(a), shading_from(a)}; }
+RenderSettings render_settings(const Args& a) { return {camera_from(a, "800x800"), kernel_from(a), shading_from(a)}; }
 
 namespace {
 std::string triple(double a, double b, double c) {

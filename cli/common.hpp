@@ -82,7 +82,11 @@ SamplingParams sampling_params(const Args& a);
 void add_thread_option(Args& a);
 int threads(const Args& a);
 
-/// --size WxH --azimuth --elevation --zoom --kernel quad|ewa --ortho
+/// --size WxH --azimuth --elevation --up --view --zoom --ortho: where the camera looks from.
+void add_orbit_options(Args& a, const char* default_size);
+/// The camera of add_orbit_options (UsageError for bad values, --view with --azimuth/--elevation).
+Camera camera_from(const Args& a, const char* default_size);
+/// add_orbit_options (800x800) and --kernel quad|ewa --shading: the splat pictures' options.
 void add_camera_options(Args& a);
 /// Camera, kernel and shading from the camera options.
 RenderSettings render_settings(const Args& a);
