@@ -14,6 +14,10 @@
 
 namespace meshless {
 
+/// Deflate's largest expansion (zlib technical details: 1032:1). Readers refuse a header whose
+/// decompressed size exceeds this many times the compressed bytes before allocating anything.
+inline constexpr std::uint64_t kMaxDeflateRatio = 1032;
+
 /// Streams decompressed bytes from a compressed file region starting at `offset`.
 class InflateReader {
 public:

@@ -6,6 +6,7 @@
 #include "formats/binary_file.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
+#include "kernels/flip_axes.hpp"
 
 namespace meshless {
 
@@ -50,12 +51,12 @@ PayloadPlan plan_metaimage(const std::string& path) {
         const auto eq = line.find('=');
         if (eq == std::string::npos)
             throw FormatError(path + ": bad MetaImage header line " + std::to_string(li + 1) + " '" +
-                              line.substr(0, 60) + "': expected 'Key = Value'");
+                              escape_field(line) + "': expected 'Key = Value'");
         const std::string key = to_lower(trim(line.substr(0, eq)));
         const std::string val = trim(line.substr(eq + 1));
         if (key == "ndims") {
             ndims = parse_int(val, path, "NDims");
-            if (ndims < 1 || ndims > 4) throw FormatError(path + ": unsupported NDims " + val + " (1..4 supported)");
+            if (ndims < 1 || ndims > 4) throw FormatError(path + ": unsupported NDims " + escape_field(val) + " (1..4 supported)");
         } else if (key == "dimsize") {
             for (const auto& t : split_ws(val)) dims.push_back(parse_int(t, path, "DimSize"));
         } else if (key == "elementspacing") {
@@ -76,7 +77,7 @@ PayloadPlan plan_metaimage(const std::string& path) {
             binary = parse_bool(val, path, "BinaryData");
         } else if (key == "headersize") {
             header_size = parse_int(val, path, "HeaderSize");
-            if (header_size < -1) throw FormatError(path + ": bad HeaderSize '" + val + "'");
+            if (header_size < -1) throw FormatError(path + ": bad HeaderSize '" + escape_field(val) + "'");
         } else if (key == "elementdatafile") {
             have_data_file = true;
             data_file = val;
@@ -91,9 +92,7 @@ PayloadPlan plan_metaimage(const std::string& path) {
                 const std::int64_t a = parse_int(tk[1], path, "ElementDataFile min");
                 const std::int64_t b = parse_int(tk[2], path, "ElementDataFile max");
                 const std::int64_t s = parse_int(tk[3], path, "ElementDataFile step");
-                if (s == 0 || (b - a) / s < 0 || (b - a) / s > 10000000)
-                    throw FormatError(path + ": bad ElementDataFile range '" + val + "'");
-                for (std::int64_t i = a; s > 0 ? i <= b : i >= b; i += s)
+                for (const std::int64_t i : file_range_indices(a, b, s, path, "ElementDataFile"))
                     list_files.push_back(resolve_relative(path, format_file_pattern(tk[0], i, path)));
             }
             break;  // ElementDataFile is the last header field
@@ -113,20 +112,23 @@ PayloadPlan plan_metaimage(const std::string& path) {
         throw FormatError(path + ": unsupported ElementNumberOfChannels " + std::to_string(channels) + " (1 supported)");
     if (type_v.empty()) throw FormatError(path + ": missing ElementType");
     const auto t = met_type(type_v);
-    if (!t) throw FormatError(path + ": unsupported ElementType '" + type_v + "'");
+    if (!t) throw FormatError(path + ": unsupported ElementType '" + escape_field(type_v) + "'");
     plan.type = *t;
     const std::string& sp = !spacing_v.empty() ? spacing_v : size_v;
+    std::array<double, 3> signed_spacing{1.0, 1.0, 1.0};
     if (!sp.empty()) {
         const auto s = parse_doubles(sp, static_cast<std::size_t>(ndims), path, "ElementSpacing");
         for (std::size_t a = 0; a < 3 && a < s.size(); ++a) {
-            if (!(s[a] != 0)) throw FormatError(path + ": bad ElementSpacing '" + sp + "': zero spacing");
-            plan.grid.spacing[a] = std::fabs(s[a]);
+            if (!(s[a] != 0) || !std::isfinite(s[a]))
+                throw FormatError(path + ": bad ElementSpacing '" + escape_field(sp) + "': zero or non-finite spacing");
+            signed_spacing[a] = s[a];
         }
     }
     if (!origin_v.empty()) {
         const auto o = parse_doubles(origin_v, static_cast<std::size_t>(ndims), path, "Offset");
         for (std::size_t a = 0; a < 3 && a < o.size(); ++a) plan.grid.origin[a] = o[a];
     }
+    for (int a = 0; a < 3; ++a) honour_signed_spacing(plan.grid, plan.flip, a, signed_spacing[a]);  // negative: flipped
     plan.encoding = compressed ? PayloadEncoding::gzip : (binary ? PayloadEncoding::raw : PayloadEncoding::ascii);
     if (compressed && header_size == -1) throw FormatError(path + ": HeaderSize -1 with CompressedData is not supported");
     const auto tk = split_ws(data_file);

@@ -7,6 +7,7 @@
 #include "formats/binary_file.hpp"
 #include "formats/gzip.hpp"
 #include "formats/payload.hpp"
+#include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -99,7 +100,8 @@ NiftiHeader parse_header(const unsigned char* h, const std::string& path) {
         r.grid.spacing[a] = (s > 0 && std::isfinite(s)) ? s : 1.0;
     }
     const float vo = f32(108);
-    if (!(vo >= 0) || !std::isfinite(vo)) throw FormatError(path + ": bad NIfTI vox_offset");
+    if (!(vo >= 0) || !std::isfinite(vo) || vo > static_cast<float>(kMaxPayloadBytes))
+        throw FormatError(path + ": bad NIfTI vox_offset at byte 108");
     r.vox_offset = static_cast<std::uint64_t>(vo);
     if (!r.pair && r.vox_offset < kHeaderBytes) r.vox_offset = 352;  // n+1 data never overlaps the header
     r.slope = f32(112);
@@ -110,6 +112,7 @@ NiftiHeader parse_header(const unsigned char* h, const std::string& path) {
     } else if (qform > 0) {
         for (int a = 0; a < 3; ++a) r.grid.origin[a] = f32(268 + 4 * a);
     }
+    validate_grid(r.grid, path);
     return r;
 }
 
@@ -166,12 +169,13 @@ Volume read_nifti(const std::string& path) {
     const NiftiHeader h = read_header(path);
     const std::string data = h.pair ? image_file_for(path) : path;
     if (is_gz_path(data)) {
-        const std::uint64_t bytes = static_cast<std::uint64_t>(h.grid.voxel_count()) * stored_size(h.type);
-        // deflate cannot expand more than ~1032:1; reject absurd headers before allocating
-        if (bytes / 1100 > regular_file_size(data) + (1 << 20))
+        const std::uint64_t bytes = checked_mul(static_cast<std::uint64_t>(h.grid.voxel_count()), stored_size(h.type),
+                                                data + ": NIfTI payload size");
+        // deflate cannot expand more than 1032:1; reject absurd headers before allocating
+        if (checked_add(bytes, h.vox_offset, data + ": NIfTI vox_offset") / kMaxDeflateRatio > regular_file_size(data) + 64)
             throw FormatError(data + ": NIfTI header claims " + std::to_string(bytes) +
                               " payload bytes, more than the compressed file can hold");
-        std::vector<std::byte> payload(static_cast<std::size_t>(bytes));
+        SampleBytes payload = SampleBytes::lazy_zeroed(static_cast<std::size_t>(bytes));  // resident as data arrives
         InflateReader r(data);
         r.skip(h.vox_offset);
         r.read_exact(payload.data(), payload.size(), "NIfTI payload");

@@ -7,6 +7,7 @@
 #include "formats/binary_file.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
+#include "kernels/flip_axes.hpp"
 
 namespace meshless {
 
@@ -47,7 +48,7 @@ PayloadPlan plan_nrrd(const std::string& path) {
         throw FormatError(path + ": not a NRRD file (wrong magic, expected NRRD000N)");
     const std::string magic = trim(lines[0]);
     if (magic.size() != 8 || magic.compare(0, 7, "NRRD000") != 0 || magic[7] < '1' || magic[7] > '5')
-        throw FormatError(path + ": unsupported NRRD version '" + magic + "' (NRRD0001..NRRD0005 supported)");
+        throw FormatError(path + ": unsupported NRRD version '" + escape_field(magic) + "' (NRRD0001..NRRD0005 supported)");
 
     PayloadPlan plan;
     plan.format = "nrrd";
@@ -64,13 +65,13 @@ PayloadPlan plan_nrrd(const std::string& path) {
         const auto colon = line.find(": ");
         const auto colon2 = colon == std::string::npos ? line.find(':') : colon;
         if (colon2 == std::string::npos)
-            throw FormatError(path + ": bad NRRD header line " + std::to_string(li + 1) + " '" + line.substr(0, 60) +
+            throw FormatError(path + ": bad NRRD header line " + std::to_string(li + 1) + " '" + escape_field(line) +
                               "': expected 'field: value'");
         const std::string key = to_lower(trim(line.substr(0, colon2)));
         const std::string val = trim(line.substr(colon2 + 1));
         if (key == "dimension") {
             dimension = parse_int(val, path, "dimension");
-            if (dimension < 1 || dimension > 16) throw FormatError(path + ": bad dimension '" + val + "'");
+            if (dimension < 1 || dimension > 16) throw FormatError(path + ": bad dimension '" + escape_field(val) + "'");
         } else if (key == "type") {
             type_tok = val;
         } else if (key == "sizes") {
@@ -99,10 +100,10 @@ PayloadPlan plan_nrrd(const std::string& path) {
             endian_tok = to_lower(val);
         } else if (key == "byte skip" || key == "byteskip") {
             plan.byte_skip = parse_int(val, path, "byte skip");
-            if (plan.byte_skip < -1) throw FormatError(path + ": bad byte skip '" + val + "'");
+            if (plan.byte_skip < -1) throw FormatError(path + ": bad byte skip '" + escape_field(val) + "'");
         } else if (key == "line skip" || key == "lineskip") {
             plan.line_skip = parse_int(val, path, "line skip");
-            if (plan.line_skip < 0) throw FormatError(path + ": bad line skip '" + val + "'");
+            if (plan.line_skip < 0) throw FormatError(path + ": bad line skip '" + escape_field(val) + "'");
         } else if (key == "data file" || key == "datafile") {
             have_data_file = true;
             const auto tk = split_ws(val);
@@ -117,14 +118,12 @@ PayloadPlan plan_nrrd(const std::string& path) {
                 const std::int64_t a = parse_int(tk[1], path, "data file min");
                 const std::int64_t b = parse_int(tk[2], path, "data file max");
                 const std::int64_t s = parse_int(tk[3], path, "data file step");
-                if (s == 0 || (b - a) / s < 0 || (b - a) / s > 10000000)
-                    throw FormatError(path + ": bad data file range '" + val + "'");
-                for (std::int64_t i = a; s > 0 ? i <= b : i >= b; i += s)
+                for (const std::int64_t i : file_range_indices(a, b, s, path, "data file"))
                     files.push_back(resolve_relative(path, format_file_pattern(tk[0], i, path)));
             } else if (tk.size() == 1) {
                 files.push_back(resolve_relative(path, tk[0]));
             } else {
-                throw FormatError(path + ": bad data file field '" + val + "'");
+                throw FormatError(path + ": bad data file field '" + escape_field(val) + "'");
             }
         }
         // other fields (kinds, centers, space, content, units, ...) are ignored
@@ -138,7 +137,7 @@ PayloadPlan plan_nrrd(const std::string& path) {
         if (s < 1) throw FormatError(path + ": bad sizes: every size must be >= 1");
     if (type_tok == "block") throw FormatError(path + ": unsupported NRRD type 'block'");
     const auto st = parse_stored_type(type_tok);
-    if (!st) throw FormatError(path + ": unknown NRRD type '" + type_tok + "'");
+    if (!st) throw FormatError(path + ": unknown NRRD type '" + escape_field(type_tok) + "'");
     plan.type = *st;
 
     if (encoding_tok.empty()) throw FormatError(path + ": missing NRRD field 'encoding'");
@@ -149,13 +148,13 @@ PayloadPlan plan_nrrd(const std::string& path) {
     else if (encoding_tok == "ascii" || encoding_tok == "text" || encoding_tok == "txt")
         plan.encoding = PayloadEncoding::ascii;
     else
-        throw FormatError(path + ": unsupported NRRD encoding '" + encoding_tok + "' (raw, gzip, ascii supported)");
+        throw FormatError(path + ": unsupported NRRD encoding '" + escape_field(encoding_tok) + "' (raw, gzip, ascii supported)");
     if (endian_tok.empty() || endian_tok == "little")
         plan.big_endian = false;
     else if (endian_tok == "big")
         plan.big_endian = true;
     else
-        throw FormatError(path + ": bad endian '" + endian_tok + "'");
+        throw FormatError(path + ": bad endian '" + escape_field(endian_tok) + "'");
 
     // Per-axis spacing; an axis is spatial unless its direction is "none".
     const std::size_t d = sizes.size();
@@ -172,7 +171,7 @@ PayloadPlan plan_nrrd(const std::string& path) {
             }
             std::string v = directions_tok[a];
             if (v.size() < 2 || v.front() != '(' || v.back() != ')')
-                throw FormatError(path + ": bad space direction '" + v + "'");
+                throw FormatError(path + ": bad space direction '" + escape_field(v) + "'");
             v = v.substr(1, v.size() - 2);
             double n2 = 0;
             std::string w = v;
@@ -182,7 +181,7 @@ PayloadPlan plan_nrrd(const std::string& path) {
                 const double x = parse_double(t, path, "space directions");
                 n2 += x * x;
             }
-            if (!(n2 > 0)) throw FormatError(path + ": zero-length space direction '" + directions_tok[a] + "'");
+            if (!(n2 > 0)) throw FormatError(path + ": zero-length space direction '" + escape_field(directions_tok[a]) + "'");
             spacing[a] = std::sqrt(n2);
         }
     } else if (!spacings_tok.empty()) {
@@ -191,9 +190,9 @@ PayloadPlan plan_nrrd(const std::string& path) {
                               std::to_string(d));
         for (std::size_t a = 0; a < d; ++a) {
             if (to_lower(spacings_tok[a]) == "nan") continue;
-            spacing[a] = parse_double(spacings_tok[a], path, "spacings");
-            if (!(spacing[a] > 0)) spacing[a] = std::fabs(spacing[a]);
-            if (!(spacing[a] > 0)) throw FormatError(path + ": bad spacings: zero spacing");
+            spacing[a] = parse_double(spacings_tok[a], path, "spacings");  // negative: a flipped axis (below)
+            if (!(spacing[a] != 0) || !std::isfinite(spacing[a]))
+                throw FormatError(path + ": bad spacings: zero or non-finite spacing '" + escape_field(spacings_tok[a]) + "'");
         }
     }
     // Keep spatial axes; drop size-1 non-spatial axes; a non-spatial axis with size > 1 is a
@@ -225,7 +224,6 @@ PayloadPlan plan_nrrd(const std::string& path) {
     }
     for (std::size_t i = 0; i < 3; ++i) {
         plan.grid.dims[i] = i < keep.size() ? sizes[keep[i]] : 1;
-        plan.grid.spacing[i] = i < keep.size() ? spacing[keep[i]] : 1.0;
     }
     if (!origin_tok.empty()) {
         std::string w = origin_tok;
@@ -234,6 +232,8 @@ PayloadPlan plan_nrrd(const std::string& path) {
         const auto tk = split_ws(w);
         for (std::size_t i = 0; i < 3 && i < tk.size(); ++i) plan.grid.origin[i] = parse_double(tk[i], path, "space origin");
     }
+    for (std::size_t i = 0; i < 3; ++i)
+        honour_signed_spacing(plan.grid, plan.flip, static_cast<int>(i), i < keep.size() ? spacing[keep[i]] : 1.0);
 
     if (have_data_file) {
         if (files.empty()) throw FormatError(path + ": 'data file' lists no files");

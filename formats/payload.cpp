@@ -10,6 +10,9 @@
 #include "formats/binary_file.hpp"
 #include "formats/gzip.hpp"
 #include "formats/mapped_file.hpp"
+#include "formats/ply.hpp"
+#include "kernels/checked_size.hpp"
+#include "kernels/flip_axes.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -24,6 +27,7 @@ const char* to_string(PayloadEncoding e) {
 }
 
 VolumeInfo info_from_plan(const PayloadPlan& plan) {
+    validate_grid(plan.grid, plan.files.empty() ? std::string("?") : plan.files.front());
     VolumeInfo i;
     i.format = plan.format;
     i.grid = plan.grid;
@@ -60,6 +64,9 @@ void put(std::byte* out, std::size_t i, T v) {
 
 std::vector<std::byte> parse_ascii_samples(std::string_view text, StoredType t, std::size_t count,
                                            const std::string& path) {
+    if (count > text.size() / 2 + 1)  // every value takes a digit and a separator
+        throw FormatError(path + ": ascii data of " + std::to_string(text.size()) + " bytes cannot hold the " +
+                          std::to_string(count) + " values the header claims");
     std::vector<std::byte> out(count * stored_size(t));
     const char* p = text.data();
     const char* end = text.data() + text.size();
@@ -74,7 +81,7 @@ std::vector<std::byte> parse_ascii_samples(std::string_view text, StoredType t, 
             // from_chars rejects a leading '+', accept it
             if (*p == '+') r = std::from_chars(p + 1, end, v);
             if (r.ec != std::errc())
-                throw FormatError(path + ": bad ascii value '" + std::string(p, std::min<std::size_t>(end - p, 16)) +
+                throw FormatError(path + ": bad ascii value '" + ply_escape(std::string_view(p, std::min<std::size_t>(end - p, 16))) +
                                   "' at value " + std::to_string(i));
         }
         p = r.ptr;
@@ -94,23 +101,19 @@ std::vector<std::byte> parse_ascii_samples(std::string_view text, StoredType t, 
     return out;
 }
 
-Volume read_payload(const PayloadPlan& plan, bool map_raw) {
+std::vector<std::uint64_t> check_payload_plan(const PayloadPlan& plan) {
     const std::string& head = plan.files.empty() ? std::string("?") : plan.files.front();
     if (plan.files.empty()) throw FormatError("(no data file): empty payload plan");
-    for (int a = 0; a < 3; ++a)
-        if (plan.grid.dims[a] < 1)
-            throw FormatError(head + ": invalid dimensions " + dims_string(plan.grid));
+    validate_grid(plan.grid, head);
     const std::uint64_t n = static_cast<std::uint64_t>(plan.grid.voxel_count());
     const std::uint64_t elem = stored_size(plan.type);
-    if (n > (std::numeric_limits<std::uint64_t>::max() / elem) / 2)
-        throw FormatError(head + ": dimensions " + dims_string(plan.grid) + " are too large");
-    const std::uint64_t total = n * elem;
+    const std::uint64_t total = checked_mul(n, elem, head + ": payload size (" + dims_string(plan.grid) + " " +
+                                                         to_string(plan.type) + ")");
     const std::uint64_t k = plan.files.size();
     if (n % k != 0)
         throw FormatError(head + ": " + std::to_string(n) + " samples do not split evenly over " + std::to_string(k) +
                           " data files");
     const std::uint64_t share = total / k;
-    const bool swapped_host_order = plan.encoding == PayloadEncoding::ascii;
 
     // Validate raw sizes before allocating.
     std::vector<std::uint64_t> starts(k);
@@ -126,7 +129,7 @@ Volume read_payload(const PayloadPlan& plan, bool map_raw) {
                                       ", file has " + std::to_string(size));
                 start = size - share;
             } else {
-                start += static_cast<std::uint64_t>(plan.byte_skip);
+                start = checked_add(start, static_cast<std::uint64_t>(plan.byte_skip), file + ": byte skip");
             }
             const bool ok = plan.exact_size ? size == start + share : size >= start && size - start >= share;
             if (!ok) {
@@ -141,12 +144,41 @@ Volume read_payload(const PayloadPlan& plan, bool map_raw) {
             if (plan.byte_skip < 0)
                 throw FormatError(file + ": byte skip -1 is only allowed with raw encoding");
             starts[f] = skip_lines(file, plan.file_offset, plan.line_skip);
+            const std::uint64_t size = regular_file_size(file);
+            const std::uint64_t avail = size - std::min(size, starts[f]);
+            if (plan.encoding == PayloadEncoding::gzip) {
+                // deflate expands at most 1032:1 (zlib's technical note): a header that claims more
+                // than the compressed bytes can hold is refused before anything is allocated
+                const std::uint64_t claimed = checked_add(share, static_cast<std::uint64_t>(plan.byte_skip),
+                                                          file + ": byte skip");
+                if (claimed / kMaxDeflateRatio > avail + 64)
+                    throw FormatError(file + ": header claims " + std::to_string(claimed) + " decompressed bytes for " +
+                                      dims_string(plan.grid) + " " + to_string(plan.type) + ", more than the " +
+                                      std::to_string(avail) + " compressed bytes after offset " +
+                                      std::to_string(starts[f]) + " can hold");
+            } else if (n / k > avail / 2 + 1) {  // ascii: every value takes a digit and a separator
+                throw FormatError(file + ": header claims " + std::to_string(n / k) + " ascii values for " +
+                                  dims_string(plan.grid) + ", the " + std::to_string(avail) + " bytes after offset " +
+                                  std::to_string(starts[f]) + " hold at most " + std::to_string(avail / 2 + 1));
+            }
         }
     }
+    return starts;
+}
+
+Volume read_payload(const PayloadPlan& plan, bool map_raw) {
+    const std::vector<std::uint64_t> starts = check_payload_plan(plan);  // sizes proven before allocating
+    const std::string& head = plan.files.front();
+    const std::uint64_t n = static_cast<std::uint64_t>(plan.grid.voxel_count());
+    const std::uint64_t total = n * stored_size(plan.type);
+    const std::uint64_t k = plan.files.size();
+    const std::uint64_t share = total / k;
+    const bool swapped_host_order = plan.encoding == PayloadEncoding::ascii;
 
     const bool native = plan.type == StoredType::u8 || plan.type == StoredType::u16 || plan.type == StoredType::i16 ||
                         plan.type == StoredType::f32;
-    if (map_raw && plan.encoding == PayloadEncoding::raw && k == 1 && native &&
+    const bool flipped = plan.flip[0] || plan.flip[1] || plan.flip[2];
+    if (map_raw && !flipped && plan.encoding == PayloadEncoding::raw && k == 1 && native &&
         (plan.big_endian != host_is_little_endian() || stored_size(plan.type) == 1)) {
         Volume v;
         v.grid = plan.grid;
@@ -155,7 +187,10 @@ Volume read_payload(const PayloadPlan& plan, bool map_raw) {
         return v;
     }
 
-    std::vector<std::byte> payload(static_cast<std::size_t>(total));
+    // gzip: zero pages that become resident only as the inflated data arrives (a stream that ends
+    // early costs what it delivered); raw and ascii sizes were proven against the files above
+    SampleBytes payload = plan.encoding == PayloadEncoding::gzip ? SampleBytes::lazy_zeroed(static_cast<std::size_t>(total))
+                                                                 : SampleBytes(static_cast<std::size_t>(total));
     for (std::uint64_t f = 0; f < k; ++f) {
         const std::string& file = plan.files[f];
         std::byte* dst = payload.data() + f * share;
@@ -178,7 +213,9 @@ Volume read_payload(const PayloadPlan& plan, bool map_raw) {
         }
     }
     const bool big = swapped_host_order ? !host_is_little_endian() : plan.big_endian;
-    return make_volume(std::move(payload), plan.type, big, plan.grid, head);
+    Volume v = make_volume(std::move(payload), plan.type, big, plan.grid, head);
+    flip_axes(v, plan.flip);
+    return v;
 }
 
 }  // namespace meshless

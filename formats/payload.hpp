@@ -8,6 +8,7 @@
 // compression), messages start with the file's path. Thread-safety: reentrant.
 // Dissertation: none (input plumbing for chapter 3).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -30,6 +31,8 @@ struct PayloadPlan {
     std::int64_t line_skip = 0;       ///< lines skipped after file_offset
     std::int64_t byte_skip = 0;       ///< bytes skipped after that; -1: data ends at end of file (raw only)
     bool exact_size = false;          ///< raw: each file must hold exactly offset+share bytes
+    std::array<bool, 3> flip{false, false, false};  ///< axes whose file spacing was negative: samples reversed
+                                                    ///< after reading (kernels/flip_axes.hpp; grid already positive)
 };
 
 /// Executes the plan. map_raw: when the samples are one uncompressed file in host byte order and
@@ -37,6 +40,12 @@ struct PayloadPlan {
 /// (formats/mapped_file.hpp: no copy; the file must not be truncated while the Volume lives).
 Volume read_payload(const PayloadPlan& plan, bool map_raw = false);
 VolumeInfo info_from_plan(const PayloadPlan& plan);
+/// Proves a plan's sizes against its files before anything is allocated, and returns where each
+/// file's data starts (after offset, line skip and byte skip): the grid is valid (validate_grid),
+/// sizes are checked (kernels/checked_size.hpp), raw files hold exactly/at least their share,
+/// gzip files hold enough compressed bytes for their share (deflate expands at most
+/// kMaxDeflateRatio:1), ascii files enough bytes for their values. FormatError naming the file.
+std::vector<std::uint64_t> check_payload_plan(const PayloadPlan& plan);
 const char* to_string(PayloadEncoding e);
 
 /// Parses whitespace-separated numbers into `count` samples of type t in host order.

@@ -1,5 +1,7 @@
 #include "formats/points_raw.hpp"
 
+#include "kernels/checked_size.hpp"
+
 #include <cmath>
 #include <cstring>
 
@@ -135,10 +137,10 @@ PointSet read_points_npy(const std::string& path, const PointSetOptions& o, std:
         for (const auto& t : split_ws(s)) dims.push_back(parse_int(t, path, "shape"));
     }
     if (dims.size() != 2 || dims[1] < 3 || dims[0] < 0)
-        throw FormatError(path + ": .npy shape " + shape + ", expected (N, 3) positions or (N, k>=4) x,y,z,value...");
+        throw FormatError(path + ": .npy shape " + escape_field(shape) + ", expected (N, 3) positions or (N, k>=4) x,y,z,value...");
     const auto N = static_cast<std::uint64_t>(dims[0]), K = static_cast<std::uint64_t>(dims[1]);
     const std::size_t data = hstart + hlen;
-    const std::uint64_t need = N * K * es;
+    const std::uint64_t need = checked_mul(checked_mul(N, K, path + ": .npy shape"), es, path + ": .npy shape");
     if (bytes.size() - data < need)
         throw FormatError(path + ": truncated .npy data: " + std::to_string(bytes.size() - data) + " of " + std::to_string(need) + " bytes");
     if (bytes.size() - data > need) {

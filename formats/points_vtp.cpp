@@ -6,6 +6,7 @@
 #include "formats/binary_file.hpp"
 #include "formats/text_header.hpp"
 #include "formats/vtk_xml.hpp"
+#include "kernels/checked_size.hpp"
 
 namespace meshless {
 
@@ -20,7 +21,7 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
     const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     const VtkXmlFile F = vtk_xml_file(doc, path);
     if (F.type != vtk_type)
-        throw FormatError(path + ": VTK XML type '" + F.type + "', expected " + vtk_type);
+        throw FormatError(path + ": VTK XML type '" + escape_field(F.type) + "', expected " + vtk_type);
     const VtkXmlTag top = vtk_xml_find_tag(doc, vtk_type, 0, doc.size(), path);
     if (!top.found()) throw FormatError(path + ": missing <" + vtk_type + ">");
     const std::size_t top_close = doc.find("</" + vtk_type + ">", top.end);
@@ -42,18 +43,15 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
         std::uint64_t n = 0;
         if (structured) {
             const auto ext = parse_ints(piece.attr("Extent", top.attr("WholeExtent")), 6, path, "Extent");
-            for (int a = 0; a < 3; ++a) {
-                dims[a] = ext[2 * a + 1] - ext[2 * a] + 1;
-                if (dims[a] < 1) throw FormatError(path + ": bad Extent in piece " + std::to_string(piece_no));
-            }
-            n = static_cast<std::uint64_t>(dims[0] * dims[1] * dims[2]);
+            const std::string ctx = path + ": Extent of piece " + std::to_string(piece_no);
+            for (int a = 0; a < 3; ++a) dims[a] = checked_extent(ext[2 * a], ext[2 * a + 1], ctx);
+            n = checked_volume(dims[0], dims[1], dims[2], ctx);
         } else {
             const auto np = parse_int(piece.attr("NumberOfPoints", "0"), path, "NumberOfPoints");
-            if (np < 0) throw FormatError(path + ": negative NumberOfPoints");
-            n = static_cast<std::uint64_t>(np);
+            n = checked_count(np, path + ": NumberOfPoints of piece " + std::to_string(piece_no));
             dims = {np, 1, 1};
         }
-        if (n > bytes.size() * 8)  // a compressed float triple still takes some bits
+        if (n / 8 > bytes.size())  // a compressed float triple still takes some bits
             throw FormatError(path + ": implausible point count " + std::to_string(n) + " for a " + std::to_string(bytes.size()) + "-byte file");
         // Points
         const VtkXmlTag pts = vtk_xml_find_tag(doc, "Points", piece.end, piece_close, path);
@@ -61,8 +59,9 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
         const VtkXmlTag parr = vtk_xml_find_tag(doc, "DataArray", pts.end, piece_close, path);
         if (!parr.found()) throw FormatError(path + ": <Points> without a DataArray");
         if (parr.attr("NumberOfComponents", "1") != "3")
-            throw FormatError(path + ": <Points> DataArray has " + parr.attr("NumberOfComponents", "1") + " components, expected 3");
-        const std::vector<double> xyz = vtk_xml_read_array(doc, F, parr, 3 * n, path);
+            throw FormatError(path + ": <Points> DataArray has " + escape_field(parr.attr("NumberOfComponents", "1")) +
+                              " components, expected 3");
+        const std::vector<double> xyz = vtk_xml_read_array(doc, F, parr, checked_mul(3, n, path + ": <Points> size"), path);
         // PointData
         VtkXmlTag chosen;
         int ncomp = 1;
@@ -77,14 +76,18 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
                 arrays.push_back(a);
                 f2 = a.end;
             }
-            auto comps = [](const VtkXmlTag& a) { return std::atoi(a.attr("NumberOfComponents", "1").c_str()); };
+            auto comps = [&](const VtkXmlTag& a) {
+                const std::int64_t c = parse_int(a.attr("NumberOfComponents", "1"), path, "NumberOfComponents");
+                return c < 1 || c > 1024 ? 0 : static_cast<int>(c);  // 0: refused below when chosen
+            };
             if (!o.value_name.empty()) {
                 for (const auto& a : arrays)
                     if (a.attr("Name") == o.value_name) chosen = a;
                 if (!chosen.found()) {
                     std::string s;
-                    for (const auto& a : arrays) s += (s.empty() ? "" : ", ") + a.attr("Name");
-                    throw FormatError(path + ": no PointData array '" + o.value_name + "' (arrays: " + (s.empty() ? "none" : s) + ")");
+                    for (const auto& a : arrays) s += (s.empty() ? "" : ", ") + escape_field(a.attr("Name"));
+                    throw FormatError(path + ": no PointData array '" + escape_field(o.value_name) + "' (arrays: " +
+                                      (s.empty() ? "none" : s) + ")");
                 }
             } else {
                 const std::string want = pd.attr("Scalars");
@@ -94,16 +97,19 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
                     if (!chosen.found() && comps(a) == 1) chosen = a;
             }
             if (chosen.found()) ncomp = comps(chosen);
-            if (ncomp < 1) throw FormatError(path + ": bad NumberOfComponents in array '" + chosen.attr("Name") + "'");
+            if (ncomp < 1)
+                throw FormatError(path + ": bad NumberOfComponents in array '" + escape_field(chosen.attr("Name")) +
+                                  "' (1..1024)");
         } else if (!o.value_name.empty()) {
             throw FormatError(path + ": no PointData array '" + o.value_name + "' (the piece has no PointData)");
         }
         std::vector<double> vals;
-        if (chosen.found()) vals = vtk_xml_read_array(doc, F, chosen, n * static_cast<std::uint64_t>(ncomp), path);
+        if (chosen.found())
+            vals = vtk_xml_read_array(doc, F, chosen, checked_mul(n, static_cast<std::uint64_t>(ncomp), path + ": PointData size"), path);
         const std::string vname = chosen.found() ? chosen.attr("Name") : "";
         if (!first_piece && (vname != value_name || chosen.found() != has_values))
-            throw FormatError(path + ": piece " + std::to_string(piece_no) + " has scalar '" + vname + "', piece 0 has '" +
-                              value_name + "'");
+            throw FormatError(path + ": piece " + std::to_string(piece_no) + " has scalar '" + escape_field(vname) +
+                              "', piece 0 has '" + escape_field(value_name) + "'");
         value_name = vname;
         has_values = chosen.found();
         first_piece = false;

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 
 #include "formats/binary_file.hpp"
+#include "formats/stored_type.hpp"
 #include "formats/text_header.hpp"
+#include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -42,17 +45,19 @@ struct SlcHeader {
 
 SlcHeader parse_header(Scanner& s) {
     const std::string magic = s.token("magic");
-    if (magic != "11111") throw FormatError(s.path + ": not an SLC file (wrong magic '" + magic.substr(0, 16) + "', expected 11111)");
+    if (magic != "11111") throw FormatError(s.path + ": not an SLC file (wrong magic '" + escape_field(magic, 16) + "', expected 11111)");
     SlcHeader h;
     for (int a = 0; a < 3; ++a) {
         h.grid.dims[a] = s.integer("dimensions");
-        if (h.grid.dims[a] < 1 || h.grid.dims[a] > (1 << 20)) throw FormatError(s.path + ": bad SLC dimensions");
+        if (h.grid.dims[a] < 1 || h.grid.dims[a] > (1 << 20))
+            throw FormatError(s.path + ": bad SLC dimensions (" + std::to_string(h.grid.dims[a]) + " along axis " +
+                              std::to_string(a) + ", 1.." + std::to_string(1 << 20) + ")");
     }
     const std::int64_t bits = s.integer("bits per voxel");
     if (bits != 8) throw FormatError(s.path + ": unsupported SLC bits per voxel " + std::to_string(bits) + " (8 supported)");
     for (int a = 0; a < 3; ++a) {
         const double v = s.real("spacing");
-        if (!(v > 0)) throw FormatError(s.path + ": bad SLC spacing");
+        if (!(v > 0) || !std::isfinite(v)) throw FormatError(s.path + ": bad SLC spacing (must be finite and > 0)");
         h.grid.spacing[a] = v;
     }
     s.integer("unit type");
@@ -61,6 +66,7 @@ SlcHeader parse_header(Scanner& s) {
     h.compression = s.integer("data compression");
     if (h.compression != 0 && h.compression != 1)
         throw FormatError(s.path + ": unsupported SLC compression " + std::to_string(h.compression));
+    validate_grid(h.grid, s.path);
     return h;
 }
 
@@ -85,11 +91,25 @@ Volume read_slc(const std::string& path) {
     const SlcHeader h = parse_header(s);
     const std::int64_t iw = s.integer("icon width"), ih = s.integer("icon height");
     s.expect_x("icon size");
-    if (iw < 0 || ih < 0 || static_cast<std::uint64_t>(iw * ih * 3) > file.size() - s.pos)
-        throw FormatError(path + ": SLC icon " + std::to_string(iw) + "x" + std::to_string(ih) + " runs past the end of the file");
-    s.pos += static_cast<std::size_t>(iw * ih * 3);
+    const std::string icon_ctx = path + ": SLC icon size";
+    const std::uint64_t icon = checked_mul(checked_mul(checked_count(iw, icon_ctx), checked_count(ih, icon_ctx), icon_ctx), 3, icon_ctx);
+    if (icon > file.size() - s.pos)
+        throw FormatError(path + ": SLC icon " + std::to_string(iw) + "x" + std::to_string(ih) + " at offset " +
+                          std::to_string(s.pos) + " runs past the end of the file");
+    s.pos += static_cast<std::size_t>(icon);
 
-    Volume v(h.grid, SampleType::u8);
+    // Before allocating: a slice decodes to at least half its plane (the tolerated shortfall is at
+    // most half a plane, see below) and run-length coding expands at most 127 bytes per 2, so
+    // the file must hold at least voxels/254 slice bytes (raw slices: every voxel).
+    const std::uint64_t voxels = static_cast<std::uint64_t>(h.grid.voxel_count());
+    const std::uint64_t rest = file.size() - s.pos;
+    if ((h.compression == 0 && voxels > rest) || (h.compression == 1 && voxels / 254 > rest))
+        throw FormatError(path + ": SLC header claims " + dims_string(h.grid) + " voxels, more than the " +
+                          std::to_string(rest) + " slice bytes after offset " + std::to_string(s.pos) + " can hold");
+    Volume v;
+    v.grid = h.grid;
+    v.type = SampleType::u8;
+    v.bytes = SampleBytes::lazy_zeroed(static_cast<std::size_t>(voxels));  // resident as slices decode
     const std::size_t nx = static_cast<std::size_t>(h.grid.dims[0]);
     const std::size_t plane = nx * static_cast<std::size_t>(h.grid.dims[1]);
     const auto* in = reinterpret_cast<const unsigned char*>(file.data());
@@ -131,10 +151,10 @@ Volume read_slc(const std::string& path) {
             }
         }
         if (filled < plane) {
-            if (plane - filled > nx)
+            if (plane - filled > std::min(nx, plane / 2))
                 throw FormatError(path + ": slice " + zs + " decodes to " + std::to_string(filled) + " bytes, expected " +
                                   std::to_string(plane));
-            std::memset(dst + filled, 0, plane - filled);  // tolerated short slice (see header)
+            // tolerated short slice (see header): the rest stays zero (fresh lazily zeroed pages)
         }
         s.pos += static_cast<std::size_t>(n);
     }

@@ -5,7 +5,9 @@
 // "N X" and N bytes: RLE when compression = 1 (byte c: run = c & 0x7f, 0 ends; high bit set ->
 // copy `run` literal bytes, else repeat the next byte `run` times), raw when 0.
 // Only 8-bit voxels. A slice that decodes short by at most one row is padded with zeros (VTK's
-// embryo.slc decodes every slice one byte short); a larger shortfall or an overflow is an error.
+// embryo.slc decodes every slice one byte short); a larger shortfall (more than a row or half a
+// plane) or an overflow is an error. Sizes are checked (kernels/checked_size.hpp) and a header
+// claiming more voxels than the slice bytes can decode to is refused before anything is allocated.
 // Throws IoError (cannot open), FormatError (wrong magic, bad header, truncated or corrupt RLE).
 // Thread-safety: reentrant. Dissertation: chapter 3 input volumes.
 #pragma once

@@ -143,7 +143,7 @@ void convert(const std::byte* in, std::byte* out, std::size_t n) {
 }
 }  // namespace
 
-Volume make_volume(std::vector<std::byte>&& payload, StoredType t, bool big_endian, const GridSpec& grid,
+Volume make_volume(SampleBytes&& payload, StoredType t, bool big_endian, const GridSpec& grid,
                    const std::string& path) {
     for (int a = 0; a < 3; ++a)
         if (grid.dims[a] < 1)

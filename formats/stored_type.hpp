@@ -42,7 +42,7 @@ void byte_swap_in_place(std::byte* data, std::size_t n_bytes, std::size_t elem);
 /// Turns a stored payload into a Volume: checks the size (FormatError "PATH: expected N bytes for
 /// DIMS TYPE, got M"), swaps to host order when `big_endian` says so, converts to the volume type.
 /// `payload` is consumed (moved into the Volume when no conversion is needed).
-Volume make_volume(std::vector<std::byte>&& payload, StoredType t, bool big_endian, const GridSpec& grid,
+Volume make_volume(SampleBytes&& payload, StoredType t, bool big_endian, const GridSpec& grid,
                    const std::string& path);
 
 /// "64x64x64" for messages.

@@ -1,15 +1,32 @@
 #include "formats/text_header.hpp"
 
-#include "formats/ply.hpp"
-
 #include <cctype>
 #include <charconv>
 #include <cstdlib>
 #include <filesystem>
 
+#include "formats/ply.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
+
+std::vector<std::int64_t> file_range_indices(std::int64_t a, std::int64_t b, std::int64_t s, const std::string& path,
+                                             const char* field) {
+    constexpr std::int64_t kMaxFiles = std::int64_t{1} << 20;
+    std::int64_t span = 0;
+    const bool bad = s == 0 || __builtin_sub_overflow(b, a, &span) || span == INT64_MIN || (span != 0 && (span < 0) != (s < 0)) ||
+                     (s == INT64_MIN ? 0 : span / s) >= kMaxFiles;
+    if (bad)
+        throw FormatError(path + ": bad " + field + " range " + std::to_string(a) + " " + std::to_string(b) + " " +
+                          std::to_string(s) + " (a step toward max, at most " + std::to_string(kMaxFiles) + " files)");
+    const std::int64_t count = (s == INT64_MIN ? 0 : span / s) + 1;
+    std::vector<std::int64_t> out;
+    out.reserve(static_cast<std::size_t>(count));
+    for (std::int64_t c = 0; c < count; ++c) out.push_back(a + c * s);  // within [min, max]: no overflow
+    return out;
+}
+
+std::string escape_field(std::string_view s, std::size_t max) { return ply_escape(s, max); }
 
 std::string trim(std::string_view s) {
     std::size_t a = 0, b = s.size();
@@ -127,7 +144,7 @@ std::string format_file_pattern(const std::string& fmt, std::int64_t i, const st
         int width = 0;
         while (q < fmt.size() && std::isdigit(static_cast<unsigned char>(fmt[q]))) width = width * 10 + (fmt[q++] - '0');
         if (q >= fmt.size() || (fmt[q] != 'd' && fmt[q] != 'i' && fmt[q] != 'u') || width > 32)
-            throw FormatError(path + ": bad data file pattern '" + fmt + "': expected one %d conversion");
+            throw FormatError(path + ": bad data file pattern '" + ply_escape(fmt) + "': expected one %d conversion");
         std::string num = std::to_string(i < 0 ? -i : i);
         const std::size_t len = num.size() + (i < 0 ? 1 : 0);
         if (static_cast<std::size_t>(width) > len) num.insert(0, width - len, zero ? '0' : ' ');
@@ -137,7 +154,7 @@ std::string format_file_pattern(const std::string& fmt, std::int64_t i, const st
         p = q;
     }
     if (conversions != 1)
-        throw FormatError(path + ": bad data file pattern '" + fmt + "': expected exactly one %d conversion");
+        throw FormatError(path + ": bad data file pattern '" + ply_escape(fmt) + "': expected exactly one %d conversion");
     return out;
 }
 

@@ -11,6 +11,9 @@
 namespace meshless {
 
 std::string trim(std::string_view s);
+/// Bytes taken from a file, made safe to quote in a message: printable ASCII kept, everything else
+/// (control bytes, ESC, DEL, non-ASCII, backslash) written as \xNN, cut to `max` bytes with "...".
+std::string escape_field(std::string_view s, std::size_t max = 64);
 std::string to_lower(std::string_view s);
 /// Splits on runs of whitespace.
 std::vector<std::string> split_ws(std::string_view s);
@@ -31,6 +34,12 @@ bool parse_bool(const std::string& tok, const std::string& path, const char* fie
 /// optional 0 flag and width, %% for a literal %), e.g. "quarter.%d" or "slice%03d.raw".
 /// Anything else is rejected with FormatError (no general printf on header text).
 std::string format_file_pattern(const std::string& fmt, std::int64_t i, const std::string& path);
+
+/// The indices min, min+step, ... up to max of a "PATTERN min max step" file list (NRRD's data
+/// file, MetaImage's ElementDataFile), in checked arithmetic; FormatError "PATH: bad FIELD range"
+/// for a zero step, a step pointing away from max, or more than 2^20 files.
+std::vector<std::int64_t> file_range_indices(std::int64_t min, std::int64_t max, std::int64_t step,
+                                             const std::string& path, const char* field);
 
 /// Directory part of a path ("" -> ".").
 std::string parent_dir(const std::string& path);

@@ -1,6 +1,7 @@
 #include "formats/volume_reader.hpp"
 
 #include <cstring>
+#include <new>
 #include <filesystem>
 
 #include "formats/binary_file.hpp"
@@ -81,7 +82,31 @@ Fmt detect(const std::string& path, const RawOptions& raw) {
 
 }  // namespace
 
+namespace {
+// An allocation that fails while reading names the file (issue 12: every error names the file).
+template <class F>
+Volume naming_out_of_memory(const std::string& path, F&& read) {
+    try {
+        return read();
+    } catch (const std::bad_alloc&) {
+        throw IoError(path + ": out of memory while reading the volume");
+    }
+}
+Volume read_volume_unnamed(const std::string& path, const RawOptions& raw);
+Volume map_volume_unnamed(const std::string& path, const RawOptions& raw);
+}  // namespace
+
 Volume read_volume(const std::string& path, const RawOptions& raw) {
+    return naming_out_of_memory(path, [&] { return read_volume_unnamed(path, raw); });
+}
+
+Volume map_volume(const std::string& path, const RawOptions& raw) {
+    return naming_out_of_memory(path, [&] { return map_volume_unnamed(path, raw); });
+}
+
+namespace {
+
+Volume read_volume_unnamed(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {
         case Fmt::raw: return read_raw(path, raw);
         case Fmt::nrrd: return read_nrrd(path);
@@ -97,15 +122,17 @@ Volume read_volume(const std::string& path, const RawOptions& raw) {
     throw FormatError(path + ": unrecognized volume format");
 }
 
-Volume map_volume(const std::string& path, const RawOptions& raw) {
+Volume map_volume_unnamed(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {
         case Fmt::raw: return read_payload(plan_raw(path, raw), true);
         case Fmt::nrrd: return read_payload(plan_nrrd(path), true);
         case Fmt::metaimage: return read_payload(plan_metaimage(path), true);
         case Fmt::voreen_dat: return read_payload(plan_voreen_dat(path), true);
-        default: return read_volume(path, raw);
+        default: return read_volume_unnamed(path, raw);
     }
 }
+
+}  // namespace
 
 VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {

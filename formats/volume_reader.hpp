@@ -5,7 +5,13 @@
 // Output: a Volume with samples x fastest, then y, then z, in host (little-endian) order.
 // Types: uint8, int16, uint16, float32 are kept; int8 widens to int16; int32/uint32/int64/
 // uint64/float64 convert to float32 (integers above 2^24 round). Units: spacing/origin in the
-// file's world units (voxels when the file gives none).
+// file's world units (voxels when the file gives none). A negative spacing (NRRD spacings, MetaImage,
+// VTK legacy, VTI, vtk.js) is honoured as a reversed axis: the samples are reversed and the origin
+// moved to the last sample, so every world position keeps its value (kernels/flip_axes.hpp).
+// Hostile headers (issue 12): sizes are checked (kernels/checked_size.hpp), the grid validated
+// (validate_grid: NaN/infinite/zero spacing and NaN origins refused) and a payload's size proven
+// against its file before anything is allocated; compressed payloads are bounded by their coding's
+// largest expansion and decoded into lazily committed pages.
 // Throws: IoError (cannot open, is a directory, missing data file), FormatError (bad or
 // unsupported content: magic, version, encoding, type, sizes, truncation), InvalidArgument (raw
 // options out of range, see raw_volume.hpp); messages are one

@@ -1,5 +1,7 @@
 #include "formats/voreen_dat.hpp"
 
+#include <cmath>
+
 #include "formats/binary_file.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
@@ -19,7 +21,7 @@ PayloadPlan plan_voreen_dat(const std::string& path) {
         if (line.empty() || line[0] == '#') continue;
         const auto colon = line.find(':');
         if (colon == std::string::npos)
-            throw FormatError(path + ": bad .dat line '" + line + "': expected 'Key: value'");
+            throw FormatError(path + ": bad .dat line '" + escape_field(line) + "': expected 'Key: value'");
         const std::string key = to_lower(trim(line.substr(0, colon)));
         const std::string val = trim(line.substr(colon + 1));
         if (key == "objectfilename") {
@@ -27,21 +29,21 @@ PayloadPlan plan_voreen_dat(const std::string& path) {
         } else if (key == "resolution") {
             const auto d = parse_ints(val, 3, path, "Resolution");
             for (int a = 0; a < 3; ++a) {
-                if (d[a] < 1) throw FormatError(path + ": bad Resolution '" + val + "': sizes must be >= 1");
+                if (d[a] < 1) throw FormatError(path + ": bad Resolution '" + escape_field(val) + "': sizes must be >= 1");
                 plan.grid.dims[a] = d[a];
             }
             have_res = true;
         } else if (key == "slicethickness") {
             const auto s = parse_doubles(val, 3, path, "SliceThickness");
             for (int a = 0; a < 3; ++a) {
-                if (!(s[a] > 0)) throw FormatError(path + ": bad SliceThickness '" + val + "': must be > 0");
+                if (!(s[a] > 0) || !std::isfinite(s[a])) throw FormatError(path + ": bad SliceThickness '" + escape_field(val) + "': must be > 0");
                 plan.grid.spacing[a] = s[a];
             }
         } else if (key == "format") {
             std::string f = to_lower(val);
             if (f == "ushort_12") f = "ushort";
             const auto t = parse_stored_type(f);
-            if (!t) throw FormatError(path + ": unknown Format '" + val + "'");
+            if (!t) throw FormatError(path + ": unknown Format '" + escape_field(val) + "'");
             plan.type = *t;
             have_fmt = true;
         } else if (key == "endianness" || key == "byteorder") {
@@ -51,6 +53,7 @@ PayloadPlan plan_voreen_dat(const std::string& path) {
     if (object.empty()) throw FormatError(path + ": missing ObjectFileName");
     if (!have_res) throw FormatError(path + ": missing Resolution");
     if (!have_fmt) throw FormatError(path + ": missing Format");
+    validate_grid(plan.grid, path);
     plan.files = {resolve_relative(path, object)};
     return plan;
 }

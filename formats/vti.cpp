@@ -12,7 +12,9 @@
 #include "formats/payload.hpp"
 #include "formats/text_header.hpp"
 #include "formats/vtk_xml.hpp"
+#include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
+#include "kernels/flip_axes.hpp"
 
 namespace meshless {
 
@@ -32,6 +34,7 @@ struct VtiLayout {
     bool big_endian = false;
     bool compressed = false;
     bool header64 = false;
+    std::array<bool, 3> flip{false, false, false};  // negative Spacing: samples reversed after reading
     std::string format;            // ascii | binary | appended
     std::size_t content_begin = 0; // inline content
     std::size_t content_end = 0;
@@ -47,22 +50,22 @@ VtiLayout parse_layout(std::string_view doc, const std::string& path) {
     const Tag file = find_tag(doc, "VTKFile", 0, doc.size(), path);
     VtiLayout L;
     const std::string type = attr(file, "type");
-    if (type != "ImageData") throw FormatError(path + ": unsupported VTK XML type '" + type + "' (ImageData supported)");
+    if (type != "ImageData") throw FormatError(path + ": unsupported VTK XML type '" + escape_field(type) + "' (ImageData supported)");
     const std::string bo = attr(file, "byte_order", "LittleEndian");
     if (bo == "BigEndian")
         L.big_endian = true;
     else if (bo != "LittleEndian")
-        throw FormatError(path + ": bad byte_order '" + bo + "'");
+        throw FormatError(path + ": bad byte_order '" + escape_field(bo) + "'");
     const std::string ht = attr(file, "header_type", "UInt32");
     if (ht == "UInt64")
         L.header64 = true;
     else if (ht != "UInt32")
-        throw FormatError(path + ": unsupported header_type '" + ht + "'");
+        throw FormatError(path + ": unsupported header_type '" + escape_field(ht) + "'");
     const std::string comp = attr(file, "compressor");
     if (comp == "vtkZLibDataCompressor")
         L.compressed = true;
     else if (!comp.empty())
-        throw FormatError(path + ": unsupported compressor '" + comp + "' (vtkZLibDataCompressor supported)");
+        throw FormatError(path + ": unsupported compressor '" + escape_field(comp) + "' (vtkZLibDataCompressor supported)");
 
     const Tag image = find_tag(doc, "ImageData", file.end, doc.size(), path);
     if (image.begin == std::string::npos) throw FormatError(path + ": missing <ImageData>");
@@ -77,12 +80,12 @@ VtiLayout parse_layout(std::string_view doc, const std::string& path) {
     const auto sp = parse_doubles(attr(image, "Spacing", "1 1 1"), 3, path, "Spacing");
     const auto org = parse_doubles(attr(image, "Origin", "0 0 0"), 3, path, "Origin");
     for (int a = 0; a < 3; ++a) {
-        L.grid.dims[a] = ext[2 * a + 1] - ext[2 * a] + 1;
-        if (L.grid.dims[a] < 1) throw FormatError(path + ": bad Extent '" + extent + "'");
-        if (sp[a] == 0) throw FormatError(path + ": bad Spacing: zero spacing");
-        L.grid.spacing[a] = std::fabs(sp[a]);
+        L.grid.dims[a] = checked_extent(ext[2 * a], ext[2 * a + 1], path + ": Extent");
+        if (sp[a] == 0 || !std::isfinite(sp[a])) throw FormatError(path + ": bad Spacing: zero or non-finite spacing");
         L.grid.origin[a] = org[a] + static_cast<double>(ext[2 * a]) * sp[a];
+        honour_signed_spacing(L.grid, L.flip, a, sp[a]);
     }
+    validate_grid(L.grid, path);
 
     const Tag pd = find_tag(doc, "PointData", piece.end, piece_close, path);
     if (pd.begin == std::string::npos || pd.self_closing) throw FormatError(path + ": no <PointData> arrays");
@@ -100,10 +103,10 @@ VtiLayout parse_layout(std::string_view doc, const std::string& path) {
     }
     if (chosen.begin == std::string::npos) throw FormatError(path + ": no point DataArray");
     const std::string ncomp = attr(chosen, "NumberOfComponents", "1");
-    if (ncomp != "1") throw FormatError(path + ": unsupported DataArray with " + ncomp + " components");
+    if (ncomp != "1") throw FormatError(path + ": unsupported DataArray with " + escape_field(ncomp) + " components");
     const std::string tname = attr(chosen, "type");
     const auto st = vtk_xml_type(tname);
-    if (!st) throw FormatError(path + ": unsupported DataArray type '" + tname + "'");
+    if (!st) throw FormatError(path + ": unsupported DataArray type '" + escape_field(tname) + "'");
     L.type = *st;
     L.format = attr(chosen, "format");
     if (L.format == "ascii" || L.format == "binary") {
@@ -113,20 +116,20 @@ VtiLayout parse_layout(std::string_view doc, const std::string& path) {
         if (L.content_end == std::string_view::npos) throw FormatError(path + ": unterminated <DataArray>");
         L.encoding_name = L.format == "ascii" ? "ascii" : (L.compressed ? "base64+zlib" : "base64");
     } else if (L.format == "appended") {
-        L.offset = static_cast<std::uint64_t>(parse_int(attr(chosen, "offset", "0"), path, "offset"));
+        L.offset = checked_count(parse_int(attr(chosen, "offset", "0"), path, "offset"), path + ": DataArray offset");
         const Tag app = find_tag(doc, "AppendedData", pd_close, doc.size(), path);
         if (app.begin == std::string::npos) throw FormatError(path + ": format=\"appended\" without <AppendedData>");
         const std::string enc = attr(app, "encoding", "raw");
         if (enc == "base64")
             L.appended_base64 = true;
         else if (enc != "raw")
-            throw FormatError(path + ": unsupported AppendedData encoding '" + enc + "'");
+            throw FormatError(path + ": unsupported AppendedData encoding '" + escape_field(enc) + "'");
         const std::size_t us = doc.find('_', app.end);
         if (us == std::string_view::npos) throw FormatError(path + ": <AppendedData> without the '_' marker");
         L.appended_begin = us + 1;
         L.encoding_name = std::string("appended-") + (L.appended_base64 ? "base64" : "raw") + (L.compressed ? "+zlib" : "");
     } else {
-        throw FormatError(path + ": unsupported DataArray format '" + L.format + "'");
+        throw FormatError(path + ": unsupported DataArray format '" + escape_field(L.format) + "'");
     }
     return L;
 }
@@ -170,12 +173,14 @@ Volume read_vti(const std::string& path) {
     const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     const VtiLayout L = parse_layout(doc, path);
     const std::uint64_t count = static_cast<std::uint64_t>(L.grid.voxel_count());
-    const std::uint64_t expected = count * stored_size(L.type);
+    const std::uint64_t expected = checked_mul(count, stored_size(L.type), path + ": payload size");
     std::vector<std::byte> payload;
     if (L.format == "ascii") {
         payload = parse_ascii_samples(doc.substr(L.content_begin, L.content_end - L.content_begin), L.type,
                                       static_cast<std::size_t>(count), path);
-        return make_volume(std::move(payload), L.type, !host_is_little_endian(), L.grid, path);
+        Volume v = make_volume(std::move(payload), L.type, !host_is_little_endian(), L.grid, path);
+        flip_axes(v, L.flip);
+        return v;
     }
     if (L.format == "binary") {
         const auto bin = base64_decode(doc.substr(L.content_begin, L.content_end - L.content_begin), path);
@@ -189,7 +194,9 @@ Volume read_vti(const std::string& path) {
         if (start > bytes.size()) throw FormatError(path + ": appended offset " + std::to_string(L.offset) + " past the end of the file");
         payload = decode_binary(bytes.data() + start, static_cast<std::size_t>(bytes.size() - start), L, expected, path);
     }
-    return make_volume(std::move(payload), L.type, L.big_endian, L.grid, path);
+    Volume v = make_volume(std::move(payload), L.type, L.big_endian, L.grid, path);
+    flip_axes(v, L.flip);
+    return v;
 }
 
 }  // namespace meshless

@@ -5,7 +5,9 @@
 
 #include "formats/binary_file.hpp"
 #include "formats/text_header.hpp"
+#include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
+#include "kernels/flip_axes.hpp"
 
 namespace meshless {
 
@@ -73,14 +75,14 @@ PayloadPlan plan_vtk_legacy(const std::string& path) {
     else if (mode == "ascii")
         binary = false;
     else
-        throw FormatError(path + ": bad VTK file type '" + line.substr(0, 40) + "': expected ASCII or BINARY");
+        throw FormatError(path + ": bad VTK file type '" + escape_field(line) + "': expected ASCII or BINARY");
 
     need("DATASET");
     auto tk = split_ws(line);
     if (tk.size() < 2 || to_lower(tk[0]) != "dataset")
-        throw FormatError(path + ": expected 'DATASET STRUCTURED_POINTS', got '" + line.substr(0, 40) + "'");
+        throw FormatError(path + ": expected 'DATASET STRUCTURED_POINTS', got '" + escape_field(line) + "'");
     if (to_lower(tk[1]) != "structured_points")
-        throw FormatError(path + ": unsupported VTK dataset '" + tk[1] + "' (STRUCTURED_POINTS supported)");
+        throw FormatError(path + ": unsupported VTK dataset '" + escape_field(tk[1]) + "' (STRUCTURED_POINTS supported)");
 
     PayloadPlan plan;
     plan.format = "vtk-legacy";
@@ -89,6 +91,7 @@ PayloadPlan plan_vtk_legacy(const std::string& path) {
     plan.encoding = binary ? PayloadEncoding::raw : PayloadEncoding::ascii;
     bool have_dims = false;
     std::int64_t npoints = -1;
+    std::array<double, 3> signed_spacing{1.0, 1.0, 1.0};
     for (;;) {
         need("the point scalars");
         tk = split_ws(line);
@@ -103,25 +106,25 @@ PayloadPlan plan_vtk_legacy(const std::string& path) {
         } else if (key == "spacing" || key == "aspect_ratio") {
             const auto s = parse_doubles(line.substr(tk[0].size()), 3, path, "SPACING");
             for (int a = 0; a < 3; ++a) {
-                if (s[a] == 0 || !std::isfinite(s[a])) throw FormatError(path + ": bad SPACING: zero spacing");
-                plan.grid.spacing[a] = std::fabs(s[a]);
+                if (s[a] == 0 || !std::isfinite(s[a])) throw FormatError(path + ": bad SPACING: zero or non-finite spacing");
+                signed_spacing[a] = s[a];  // negative: a flipped axis (below)
             }
         } else if (key == "origin") {
             const auto o = parse_doubles(line.substr(tk[0].size()), 3, path, "ORIGIN");
             for (int a = 0; a < 3; ++a) plan.grid.origin[a] = o[a];
         } else if (key == "point_data") {
             if (tk.size() != 2) throw FormatError(path + ": bad POINT_DATA line");
-            npoints = parse_int(tk[1], path, "POINT_DATA");
+            npoints = static_cast<std::int64_t>(checked_count(parse_int(tk[1], path, "POINT_DATA"), path + ": POINT_DATA"));
         } else if (key == "cell_data") {
             throw FormatError(path + ": CELL_DATA before point scalars is not supported");
         } else if (key == "scalars" || key == "field") {
             if (npoints < 0) throw FormatError(path + ": " + tk[0] + " before POINT_DATA (cell data is not supported)");
             std::string type_name;
             if (key == "scalars") {
-                if (tk.size() < 3) throw FormatError(path + ": bad SCALARS line '" + line.substr(0, 60) + "'");
+                if (tk.size() < 3) throw FormatError(path + ": bad SCALARS line '" + escape_field(line) + "'");
                 type_name = tk[2];
                 if (tk.size() >= 4 && parse_int(tk[3], path, "SCALARS components") != 1)
-                    throw FormatError(path + ": unsupported SCALARS with " + tk[3] + " components");
+                    throw FormatError(path + ": unsupported SCALARS with " + escape_field(tk[3]) + " components");
                 // optional LOOKUP_TABLE line
                 const std::size_t save = c.pos;
                 std::string l2;
@@ -133,16 +136,16 @@ PayloadPlan plan_vtk_legacy(const std::string& path) {
             } else {
                 need("the FIELD array");
                 const auto a = split_ws(line);
-                if (a.size() != 4) throw FormatError(path + ": bad FIELD array line '" + line.substr(0, 60) + "'");
+                if (a.size() != 4) throw FormatError(path + ": bad FIELD array line '" + escape_field(line) + "'");
                 if (parse_int(a[1], path, "FIELD components") != 1)
-                    throw FormatError(path + ": unsupported FIELD array with " + a[1] + " components");
+                    throw FormatError(path + ": unsupported FIELD array with " + escape_field(a[1]) + " components");
                 if (parse_int(a[2], path, "FIELD tuples") != npoints)
-                    throw FormatError(path + ": FIELD array has " + a[2] + " tuples, POINT_DATA is " + std::to_string(npoints));
+                    throw FormatError(path + ": FIELD array has " + escape_field(a[2]) + " tuples, POINT_DATA is " + std::to_string(npoints));
                 type_name = a[3];
             }
             if (to_lower(type_name) == "bit") throw FormatError(path + ": unsupported VTK scalar type 'bit'");
             const auto t = vtk_type(type_name);
-            if (!t) throw FormatError(path + ": unknown VTK scalar type '" + type_name + "'");
+            if (!t) throw FormatError(path + ": unknown VTK scalar type '" + escape_field(type_name) + "'");
             plan.type = *t;
             plan.file_offset = c.pos;
             break;
@@ -150,6 +153,8 @@ PayloadPlan plan_vtk_legacy(const std::string& path) {
         // other keywords (e.g. METADATA) are ignored
     }
     if (!have_dims) throw FormatError(path + ": missing DIMENSIONS");
+    for (int a = 0; a < 3; ++a) honour_signed_spacing(plan.grid, plan.flip, a, signed_spacing[a]);
+    validate_grid(plan.grid, path);
     if (npoints != plan.grid.voxel_count())
         throw FormatError(path + ": POINT_DATA " + std::to_string(npoints) + " does not match DIMENSIONS " +
                           dims_string(plan.grid));

@@ -8,6 +8,7 @@
 #include "formats/gzip.hpp"
 #include "formats/ply.hpp"
 #include "formats/text_header.hpp"
+#include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -149,14 +150,33 @@ std::vector<std::byte> vtk_xml_decode_binary(const std::byte* bin, std::size_t n
     const std::uint64_t nblocks = read_uint(bin, f.header64, f.big_endian);
     const std::uint64_t bsize = read_uint(bin + hs, f.header64, f.big_endian);
     const std::uint64_t last = read_uint(bin + 2 * hs, f.header64, f.big_endian);
-    if (nblocks > (n / hs) || (nblocks > 0 && bsize == 0))
-        throw FormatError(path + ": bad compressed DataArray header (" + std::to_string(nblocks) + " blocks)");
-    const std::uint64_t total = nblocks == 0 ? 0 : (nblocks - 1) * bsize + (last == 0 ? bsize : last);
+    if (nblocks > (n / hs) || (nblocks > 0 && bsize == 0) || (last > bsize))
+        throw FormatError(path + ": bad compressed DataArray header (" + std::to_string(nblocks) + " blocks of " +
+                          std::to_string(bsize) + " bytes, last " + std::to_string(last) + ")");
+    const std::string ctx = path + ": compressed DataArray header";
+    const std::uint64_t total =
+        nblocks == 0 ? 0 : checked_add(checked_mul(nblocks - 1, bsize, ctx), last == 0 ? bsize : last, ctx);
     if (total != expected)
         throw FormatError(path + ": DataArray holds " + std::to_string(total) + " bytes, expected " + std::to_string(expected) +
                           " for " + what);
     const std::size_t header_bytes = static_cast<std::size_t>((3 + nblocks) * hs);
     if (n < header_bytes) throw FormatError(path + ": truncated compressed DataArray header");
+    // every block's compressed size, checked against the bytes present and deflate's largest
+    // expansion before the output is allocated (a small file cannot claim a huge array)
+    {
+        std::uint64_t in = header_bytes;
+        for (std::uint64_t b = 0; b < nblocks; ++b) {
+            const std::uint64_t cs = read_uint(bin + (3 + b) * hs, f.header64, f.big_endian);
+            const std::uint64_t us = (b + 1 == nblocks && last != 0) ? last : bsize;
+            if (cs > n - in)
+                throw FormatError(path + ": truncated compressed block " + std::to_string(b) + " (" + std::to_string(cs) +
+                                  " bytes at offset " + std::to_string(in) + ", have " + std::to_string(n - in) + ")");
+            if (us / kMaxDeflateRatio > cs + 64)
+                throw FormatError(path + ": compressed block " + std::to_string(b) + " claims " + std::to_string(us) +
+                                  " bytes, more than its " + std::to_string(cs) + " compressed bytes can hold");
+            in += cs;
+        }
+    }
     std::vector<std::byte> out(static_cast<std::size_t>(total));
     std::uint64_t in_pos = header_bytes;
     for (std::uint64_t b = 0; b < nblocks; ++b) {
@@ -179,7 +199,7 @@ std::vector<double> vtk_xml_read_array(std::string_view doc, const VtkXmlFile& f
     if (!st) throw FormatError(path + ": DataArray '" + name + "' has unsupported type '" + ply_escape(tname) + "'");
     const std::string format = a.attr("format");
     const std::size_t es = stored_size(*st);
-    const std::uint64_t expected = count * es;
+    const std::uint64_t expected = checked_mul(count, es, path + ": DataArray size");
     const std::string what = "DataArray '" + name + "' (" + std::to_string(count) + " " + to_string(*st) + ")";
     std::vector<std::byte> payload;
     if (format == "ascii" || format == "binary") {

@@ -1,13 +1,16 @@
 #include "formats/vtkjs_image.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "formats/binary_file.hpp"
 #include "formats/gzip.hpp"
 #include "formats/json_lite.hpp"
 #include "formats/text_header.hpp"
+#include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
+#include "kernels/flip_axes.hpp"
 
 namespace meshless {
 
@@ -20,6 +23,12 @@ std::string vtkjs_index_path(const std::string& path) {
 }
 
 namespace {
+// A JSON number for a message (no cast: the number may be anything).
+std::string num_text(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return b;
+}
 std::vector<double> numbers(const Json* v, std::size_t n, const std::string& path, const char* what) {
     if (!v || !v->is_array() || v->arr.size() != n)
         throw FormatError(path + ": '" + what + "' must be an array of " + std::to_string(n) + " numbers");
@@ -44,7 +53,7 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path) {
     const Json root = parse_json(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
     if (!root.is_object()) throw FormatError(path + ": index.json is not a JSON object");
     const std::string& cls = str(root.find("vtkClass"), path, "vtkClass");
-    if (cls != "vtkImageData") throw FormatError(path + ": unsupported vtkClass '" + cls + "' (vtkImageData supported)");
+    if (cls != "vtkImageData") throw FormatError(path + ": unsupported vtkClass '" + escape_field(cls) + "' (vtkImageData supported)");
     PayloadPlan plan;
     plan.format = "vtkjs";
     const auto ext = numbers(root.find("extent"), 6, path, "extent");
@@ -54,12 +63,15 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path) {
     const auto org = or_j ? numbers(or_j, 3, path, "origin") : std::vector<double>{0, 0, 0};
     for (int a = 0; a < 3; ++a) {
         const double d = ext[2 * a + 1] - ext[2 * a] + 1;
-        if (!(d >= 1) || d != std::floor(d)) throw FormatError(path + ": bad extent");
+        if (!(d >= 1) || d != std::floor(d) || d > static_cast<double>(kMaxPayloadBytes))
+            throw FormatError(path + ": bad extent (" + std::to_string(ext[2 * a]) + ".." + std::to_string(ext[2 * a + 1]) +
+                              " along axis " + std::to_string(a) + ")");
         plan.grid.dims[a] = static_cast<std::int64_t>(d);
-        if (sp[a] == 0) throw FormatError(path + ": bad spacing: zero spacing");
-        plan.grid.spacing[a] = std::fabs(sp[a]);
+        if (sp[a] == 0 || !std::isfinite(sp[a])) throw FormatError(path + ": bad spacing: zero or non-finite spacing");
         plan.grid.origin[a] = org[a] + ext[2 * a] * sp[a];
+        honour_signed_spacing(plan.grid, plan.flip, a, sp[a]);  // negative: a flipped axis
     }
+    validate_grid(plan.grid, path);
     const Json* pd = root.find("pointData");
     const Json* arrays = pd ? pd->find("arrays") : nullptr;
     if (!arrays || !arrays->is_array() || arrays->arr.empty()) throw FormatError(path + ": no pointData arrays");
@@ -78,7 +90,7 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path) {
     if (!chosen) throw FormatError(path + ": no pointData array with 'data'");
     const Json* nc = chosen->find("numberOfComponents");
     if (nc && (!nc->is_number() || nc->num != 1))
-        throw FormatError(path + ": unsupported array with " + (nc->is_number() ? std::to_string(static_cast<long long>(nc->num)) : std::string("?")) +
+        throw FormatError(path + ": unsupported array with " + (nc->is_number() ? num_text(nc->num) : std::string("?")) +
                           " components");
     const std::string& dt = str(chosen->find("dataType"), path, "dataType");
     struct M { const char* n; StoredType t; };
@@ -90,9 +102,9 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path) {
     bool found = false;
     for (const auto& m : table)
         if (dt == m.n) plan.type = m.t, found = true;
-    if (!found) throw FormatError(path + ": unsupported dataType '" + dt + "'");
+    if (!found) throw FormatError(path + ": unsupported dataType '" + escape_field(dt) + "'");
     if (const Json* sz = chosen->find("size"); sz && sz->is_number() && sz->num != static_cast<double>(plan.grid.voxel_count()))
-        throw FormatError(path + ": array size " + std::to_string(static_cast<long long>(sz->num)) + " does not match extent " +
+        throw FormatError(path + ": array size " + num_text(sz->num) + " does not match extent " +
                           dims_string(plan.grid));
     const Json* ref = chosen->find("ref");
     if (!ref) throw FormatError(path + ": array without 'ref' (inline values are not supported)");
@@ -103,7 +115,7 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path) {
         if (enc->str == "BigEndian")
             plan.big_endian = true;
         else if (enc->str != "LittleEndian")
-            throw FormatError(path + ": bad encode '" + enc->str + "'");
+            throw FormatError(path + ": bad encode '" + escape_field(enc->str) + "'");
     }
     const fs::path dir = fs::path(path).parent_path();
     const fs::path file = dir / base / id;
@@ -117,7 +129,7 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path) {
         plan.encoding = is_gzip_magic(head.data(), head.size()) ? PayloadEncoding::gzip : PayloadEncoding::raw;
         plan.exact_size = true;
     } else {
-        throw IoError(path + ": cannot open the array file " + file.string() + "(.gz)");
+        throw IoError(path + ": cannot open the array file " + escape_field(file.string(), 256) + "(.gz)");
     }
     return plan;
 }

@@ -1,5 +1,8 @@
 #include "kernels/grid.hpp"
 
+#include "kernels/checked_size.hpp"
+#include "kernels/errors.hpp"
+
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -46,9 +49,30 @@ std::optional<SampleType> parse_sample_type(std::string_view s) {
     return std::nullopt;
 }
 
+std::int64_t GridSpec::voxel_count() const {
+    if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1) return 0;  // an empty grid (the default one)
+    return static_cast<std::int64_t>(checked_volume(dims[0], dims[1], dims[2], "grid dims"));
+}
+
 std::int64_t GridSpec::cell_count() const {
     if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2) return 0;
-    return (dims[0] - 1) * (dims[1] - 1) * (dims[2] - 1);
+    return static_cast<std::int64_t>(checked_volume(dims[0] - 1, dims[1] - 1, dims[2] - 1, "grid cells"));
+}
+
+void validate_grid(const GridSpec& g, std::string_view context) {
+    const std::string ctx = std::string(context) + ": dimensions " + std::to_string(g.dims[0]) + "x" +
+                            std::to_string(g.dims[1]) + "x" + std::to_string(g.dims[2]);
+    checked_volume(g.dims[0], g.dims[1], g.dims[2], ctx);
+    static const char* axis[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+        const double s = g.spacing[a];
+        if (!std::isfinite(s) || !(s > 0))
+            throw FormatError(std::string(context) + ": bad spacing along " + axis[a] + " (" + std::to_string(s) +
+                              "): must be finite and > 0");
+        if (!std::isfinite(g.origin[a]))
+            throw FormatError(std::string(context) + ": bad origin along " + axis[a] + " (" +
+                              std::to_string(g.origin[a]) + "): must be finite");
+    }
 }
 
 double VolumeView::at(std::int64_t linear) const {

@@ -29,14 +29,22 @@ struct GridSpec {
     std::array<double, 3> origin{0.0, 0.0, 0.0};  ///< world position of sample (0,0,0)
     std::array<double, 3> spacing{1.0, 1.0, 1.0}; ///< world distance between samples, > 0
 
-    std::int64_t voxel_count() const { return dims[0] * dims[1] * dims[2]; }
-    /// Cells are the (nx-1)(ny-1)(nz-1) boxes between samples.
+    /// nx*ny*nz; FormatError ("grid dims: ... too large") when the product exceeds
+    /// kMaxPayloadBytes (kernels/checked_size.hpp); 0 when a size is < 1 (the default grid).
+    /// Grids from files are checked by validate_grid when read, so this never throws for them.
+    std::int64_t voxel_count() const;
+    /// Cells are the (nx-1)(ny-1)(nz-1) boxes between samples (checked like voxel_count).
     std::int64_t cell_count() const;
     std::int64_t index(std::int64_t i, std::int64_t j, std::int64_t k) const {
         return i + dims[0] * (j + dims[1] * k);
     }
     bool operator==(const GridSpec&) const = default;
 };
+
+/// Checks a grid read from a file before anything is allocated from it: every size >= 1 and the
+/// voxel count within kMaxPayloadBytes (checked arithmetic), spacing finite and > 0, origin
+/// finite. Throws FormatError "CONTEXT: bad FIELD ..." (context: the file's path, conventionally).
+void validate_grid(const GridSpec& g, std::string_view context);
 
 /// Non-owning view of samples in their native type. The viewed memory must outlive the view.
 struct VolumeView {

@@ -12,7 +12,9 @@
 #pragma once
 #include <algorithm>
 #include <cstddef>
+#include <cstdlib>
 #include <cstring>
+#include <new>
 #include <memory>
 #include <span>
 #include <utility>
@@ -37,6 +39,17 @@ public:
         b.ext_size_ = n;
         b.owner_ = std::move(owner);
         return b;
+    }
+
+    /// n zero bytes that become resident only as they are written: calloc's large blocks are
+    /// fresh anonymous pages, so a decoder that fills them from a stream grows its memory as the
+    /// data arrives, not by what a header claims (issue 12: decompression bombs). std::bad_alloc
+    /// when the address space cannot be had.
+    static SampleBytes lazy_zeroed(std::size_t n) {
+        if (n == 0) return SampleBytes();
+        void* p = std::calloc(n, 1);
+        if (!p) throw std::bad_alloc();
+        return adopt(static_cast<std::byte*>(p), n, std::shared_ptr<void>(p, std::free));
     }
 
     SampleBytes(const SampleBytes& o) : vec_(o.begin(), o.end()) {}

@@ -196,6 +196,7 @@ std::unique_ptr<BrickStore> BrickStore::open(const std::string& path) {
     for (int a = 0; a < 3; ++a)
         if (in.grid.dims[a] < 1 || in.grid.dims[a] > (std::int64_t{1} << 40))
             throw FormatError(path + ": invalid dimensions in header");
+    validate_grid(in.grid, path);  // voxel count, finite spacing > 0, finite origin (a header `verify` must not pass)
     if (in.brick_edge < 2 || in.brick_edge > 1024)
         throw FormatError(path + ": invalid brick edge " + std::to_string(in.brick_edge) + " (2..1024)");
     if (in.ghost != 1) throw FormatError(path + ": unsupported ghost width " + std::to_string(in.ghost) + " (expected 1)");
@@ -218,7 +219,7 @@ std::unique_ptr<BrickStore> BrickStore::open(const std::string& path) {
     if (count != in.brick_count)
         throw FormatError(path + ": footer brick count " + std::to_string(count) + " differs from the header's " +
                           std::to_string(in.brick_count));
-    if (index_offset < kBrickStoreHeaderBytes || count > size / kBrickIndexEntryBytes ||
+    if (index_offset < kBrickStoreHeaderBytes || index_offset > size || count > size / kBrickIndexEntryBytes ||
         index_offset + count * kBrickIndexEntryBytes + kBrickStoreFooterBytes != size)
         throw FormatError(path + ": index offset " + std::to_string(index_offset) + " inconsistent with the file size " +
                           std::to_string(size) + " (truncated or corrupt footer)");

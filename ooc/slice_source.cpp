@@ -51,40 +51,10 @@ private:
 class PlanSliceSource final : public SliceSource {
 public:
     PlanSliceSource(PayloadPlan plan, std::string name) : plan_(std::move(plan)), name_(std::move(name)) {
-        const std::string& head = plan_.files.front();
-        for (int a = 0; a < 3; ++a)
-            if (plan_.grid.dims[a] < 1) throw FormatError(head + ": invalid dimensions " + dims_string(plan_.grid));
+        // grid, sizes and files proven before any slab is allocated (formats/payload.hpp)
+        starts_ = check_payload_plan(plan_);
         type_ = volume_type_for(plan_.type);
-        const std::uint64_t n = static_cast<std::uint64_t>(plan_.grid.voxel_count());
-        const std::uint64_t k = plan_.files.size();
-        if (n % k != 0)
-            throw FormatError(head + ": " + std::to_string(n) + " samples do not split evenly over " + std::to_string(k) +
-                              " data files");
-        share_ = n * stored_size(plan_.type) / k;
-        starts_.resize(k);
-        for (std::size_t f = 0; f < k; ++f) {
-            const std::string& file = plan_.files[f];
-            if (plan_.encoding != PayloadEncoding::raw) {
-                starts_[f] = plan_.file_offset;
-                continue;
-            }
-            const std::uint64_t size = regular_file_size(file);
-            std::uint64_t start = plan_.file_offset;
-            if (plan_.byte_skip == -1) {
-                if (size < share_)
-                    throw FormatError(file + ": expected " + std::to_string(share_) + " bytes for " + dims_string(plan_.grid) +
-                                      " " + to_string(plan_.type) + ", file has " + std::to_string(size));
-                start = size - share_;
-            } else {
-                start += static_cast<std::uint64_t>(plan_.byte_skip);
-            }
-            const bool ok = plan_.exact_size ? size == start + share_ : size >= start && size - start >= share_;
-            if (!ok)
-                throw FormatError(file + ": expected " + std::to_string(share_) + " bytes" +
-                                  (start ? " after offset " + std::to_string(start) : std::string()) + " for " +
-                                  dims_string(plan_.grid) + " " + to_string(plan_.type) + ", file has " + std::to_string(size));
-            starts_[f] = start;
-        }
+        share_ = static_cast<std::uint64_t>(plan_.grid.voxel_count()) * stored_size(plan_.type) / plan_.files.size();
     }
     const GridSpec& grid() const override { return plan_.grid; }
     SampleType type() const override { return type_; }
@@ -157,6 +127,7 @@ std::optional<PayloadPlan> streamable_plan(const std::string& path, const RawOpt
     else if (vi.format == "voreen-dat") plan = plan_voreen_dat(path);
     else return std::nullopt;
     if (plan.files.empty() || plan.line_skip != 0) return std::nullopt;
+    if (plan.flip[0] || plan.flip[1] || plan.flip[2]) return std::nullopt;  // read whole, then reversed
     if (plan.encoding != PayloadEncoding::raw && plan.encoding != PayloadEncoding::gzip) return std::nullopt;
     if (plan.encoding == PayloadEncoding::gzip && plan.byte_skip < 0) return std::nullopt;  // read_payload reports it
     return plan;

@@ -1,0 +1,116 @@
+#!/bin/bash
+# Builds every libFuzzer target (tests/fuzz/, Clang + -DMESHLESS_BUILD_FUZZ=ON) and runs each for
+# SECONDS seconds (default 60) on a seed corpus: small inputs generated here plus files of
+# ../shared/data referenced by path (read into the corpus folder under the build folder; nothing is
+# copied into the repository). Findings (crash-*, leak-*, timeout-*, oom-*) land in
+# BUILD/fuzz-out/NAME/; the script exits 1 when any target found something.
+#   scripts/fuzz.sh [SECONDS] [BUILD_DIR] [TARGET...]
+# Needs clang-14 and libclang-rt-14-dev (Debian). Example: scripts/fuzz.sh 30 build-fuzz fuzz_nrrd fuzz_slc
+set -uo pipefail
+secs=${1:-60}
+build=$(realpath -m "${2:-build-fuzz}")
+shift $(( $# > 2 ? 2 : $# ))
+root=$(cd "$(dirname "$0")/.." && pwd)
+data=${MESHLESS_DATA:-$root/../shared/data}
+all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
+     fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_plot3d fuzz_vtp fuzz_vts fuzz_csv fuzz_npy fuzz_point_stream
+     fuzz_mlb fuzz_mls)
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
+
+if [ ! -f "$build/build.ninja" ]; then
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_C_COMPILER=clang-14 \
+        -DMESHLESS_BUILD_FUZZ=ON -DMESHLESS_BUILD_TESTS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo || exit 2
+fi
+cmake --build "$build" --target "${targets[@]}" || exit 2
+
+seeds=$build/fuzz-seeds
+rm -rf "$seeds"
+mkdir -p "$seeds"
+seed() {  # seed TARGET NAME: stdin -> a seed file (at most 64 KiB)
+  mkdir -p "$seeds/$1"
+  head -c 65536 > "$seeds/$1/$2"
+}
+have() { [ -f "$data/$1" ]; }
+gz() { gzip -9 -c; }
+z64() { head -c "$1" /dev/zero; }
+
+printf 'ObjectFileName: v.raw\nResolution: 4 4 2\nSliceThickness: 1 1 1\nFormat: UCHAR\n\0' | cat - <(z64 32) | seed fuzz_raw_sidecar small
+printf 'ObjectFileName: w.raw\nResolution: 4 2 2\nSliceThickness: 1 2 1\nFormat: USHORT\n\0' | cat - <(z64 32) | seed fuzz_voreen small
+have bucky/Bucky_32x32x32_uint8.dat && seed fuzz_voreen bucky < "$data/bucky/Bucky_32x32x32_uint8.dat"
+{ printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 2\nspacings: 1 1 2\nencoding: raw\n\n'; z64 32; } | seed fuzz_nrrd raw
+{ printf 'NRRD0005\ntype: short\ndimension: 3\nsizes: 2 2 2\nendian: big\nspace directions: (1,0,0) (0,1,0) (0,0,1)\nspace origin: (0,0,0)\nencoding: gzip\n\n'; z64 16 | gz; } | seed fuzz_nrrd gzip
+{ printf 'NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 1\nencoding: ascii\n\n1 2 3 4\n'; } | seed fuzz_nrrd ascii
+have vtk_headsq/quarter.nhdr && seed fuzz_nrrd quarter < "$data/vtk_headsq/quarter.nhdr"
+{ printf 'ObjectType = Image\nNDims = 3\nDimSize = 4 4 2\nElementSpacing = 1 1 2\nOffset = 0 0 0\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n'; z64 32; } | seed fuzz_mha raw
+{ printf 'ObjectType = Image\nNDims = 3\nDimSize = 2 2 2\nElementType = MET_SHORT\nCompressedData = True\nElementDataFile = LOCAL\n'; z64 16 | gz; } | seed fuzz_mha gzip
+have vtk_HeadMRVolume/HeadMRVolume.mhd && seed fuzz_mha headmr < "$data/vtk_HeadMRVolume/HeadMRVolume.mhd"
+{ printf '# vtk DataFile Version 3.0\nt\nBINARY\nDATASET STRUCTURED_POINTS\nDIMENSIONS 4 4 2\nSPACING 1 1 1\nORIGIN 0 0 0\nPOINT_DATA 32\nSCALARS s unsigned_char 1\nLOOKUP_TABLE default\n'; z64 32; } | seed fuzz_vtk_legacy binary
+{ printf '# vtk DataFile Version 3.0\nt\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 2 2 1\nSPACING 1 1 1\nORIGIN 0 0 0\nPOINT_DATA 4\nFIELD f 1\ns 1 4 float\n1 2 3 4\n'; } | seed fuzz_vtk_legacy ascii
+have vtk_ironProt/ironProt.vtk && seed fuzz_vtk_legacy ironprot < "$data/vtk_ironProt/ironProt.vtk"
+for f in amr/chombo3d/chombo3d_9.vti amr/HierarchicalBoxDataset.v1.1/HierarchicalBoxDataset.v1.1_0.vti vtk_hydrogen/hydrogen.vti; do
+  have "$f" && seed fuzz_vti "$(basename "$f")" < "$data/$f"
+done
+printf '<?xml version="1.0"?>\n<VTKFile type="ImageData" version="0.1" byte_order="LittleEndian">\n<ImageData WholeExtent="0 1 0 1 0 0" Origin="0 0 0" Spacing="1 1 1">\n<Piece Extent="0 1 0 1 0 0">\n<PointData Scalars="s">\n<DataArray type="Float32" Name="s" format="ascii">1 2 3 4</DataArray>\n</PointData>\n</Piece>\n</ImageData>\n</VTKFile>\n' | seed fuzz_vti ascii
+{ printf '{"vtkClass":"vtkImageData","extent":[0,3,0,3,0,1],"spacing":[1,1,1],"origin":[0,0,0],"pointData":{"arrays":[{"data":{"dataType":"Uint8Array","numberOfComponents":1,"size":32,"ref":{"id":"s","basepath":"data","encode":"LittleEndian","registration":"setScalars"}}}]}}\0'; z64 32 | gz; } | seed fuzz_vtkjs small
+have vtkjs_LIDC2/LIDC2.vti/index.json && { cat "$data/vtkjs_LIDC2/LIDC2.vti/index.json"; printf '\0'; z64 64 | gz; } | seed fuzz_vtkjs lidc2
+{ printf '11111\n4 4 2 8\n1 1 1\n0 0 0 1\n0 0 X\n'; for z in 1 2; do printf '4 X'; printf '\x10\x05\x00\x00'; done; } | seed fuzz_slc rle
+{ printf '11111\n2 2 2 8\n1 1 2\n0 0 0 0\n1 1 X\x01\x02\x03'; for z in 1 2; do printf '4 X'; printf '\x01\x02\x03\x04'; done; } | seed fuzz_slc raw
+for f in nut.slc sphere.slc; do have "vtk_slc/$f" && seed fuzz_slc "$f" < "$data/vtk_slc/$f"; done
+python3 - "$seeds" <<'EOF'
+import gzip, os, struct, sys
+d = sys.argv[1]
+h = bytearray(352)
+struct.pack_into('<i', h, 0, 348)
+struct.pack_into('<8h', h, 40, 3, 4, 4, 2, 1, 1, 1, 1)
+struct.pack_into('<hh', h, 70, 2, 8)
+struct.pack_into('<4f', h, 76, 1, 1, 1, 2)
+struct.pack_into('<fff', h, 108, 352, 1, 0)
+struct.pack_into('<hh', h, 252, 0, 1)
+struct.pack_into('<4f', h, 280, 1, 0, 0, 5)
+h[344:348] = b'n+1\0'
+nii = bytes(h) + bytes(range(32))
+for t, data in (('fuzz_nifti', nii), ('fuzz_nifti_gz', gzip.compress(nii))):
+    os.makedirs(os.path.join(d, t), exist_ok=True)
+    open(os.path.join(d, t, 'small'), 'wb').write(data)
+hdr = "{'descr': '<f4', 'fortran_order': False, 'shape': (3, 4), }"
+hdr += ' ' * ((64 - (10 + len(hdr) + 1) % 64) % 64) + '\n'
+npy = b'\x93NUMPY\x01\x00' + struct.pack('<H', len(hdr)) + hdr.encode() + struct.pack('<12f', *range(12))
+os.makedirs(os.path.join(d, 'fuzz_npy'), exist_ok=True)
+open(os.path.join(d, 'fuzz_npy', 'small'), 'wb').write(npy)
+EOF
+have mni152_brain/avg152T1_RL_nifti.nii.gz && seed fuzz_nifti_gz mni < "$data/mni152_brain/avg152T1_RL_nifti.nii.gz"
+have scattered/dark_matter_halo/halo_low_res.npy && seed fuzz_npy halo < "$data/scattered/dark_matter_halo/halo_low_res.npy"
+have plot3d/mbwavelet_ascii.xyz && { cat "$data/plot3d/mbwavelet_ascii.xyz"; printf '\0'; cat "$data/plot3d/mbwavelet_ascii.q"; } | seed fuzz_plot3d mbwavelet
+have plot3d/multi-bin.xyz && seed fuzz_plot3d multibin < "$data/plot3d/multi-bin.xyz"
+have scattered/probes/probes.vtp && seed fuzz_vtp probes < "$data/scattered/probes/probes.vtp"
+for i in 0 1; do have "plot3d/multicomb_$i.vts" && seed fuzz_vts "comb$i" < "$data/plot3d/multicomb_$i.vts"; done
+have scattered/sparsePoints.txt && seed fuzz_csv sparse < "$data/scattered/sparsePoints.txt"
+have scattered/gravi.txt && head -c 2000 "$data/scattered/gravi.txt" | seed fuzz_csv gravi
+printf 'x,y,z,value\n0,0,0,1\n1,0,0,2\n0,1,0,3\n0,0,1,4\n' | seed fuzz_csv small
+# the stream and store formats: written by a meshless binary when one is built beside (optional)
+exe=${MESHLESS_EXE:-$root/build/cli/meshless}
+if [ -x "$exe" ] && have fuel/fuel_64x64x64_uint8.raw; then
+  tmp=$(mktemp -d)
+  "$exe" isosurface "$data/fuel/fuel_64x64x64_uint8.raw" --iso 100 -o - 2>/dev/null | head -c 65536 | seed fuzz_point_stream fuel
+  "$exe" convert "$data/bucky/Bucky_32x32x32_uint8.raw" -o "$tmp/b.mlb" >/dev/null 2>&1 && seed fuzz_mlb bucky < "$tmp/b.mlb"
+  rm -rf "$tmp"
+fi
+for t in fuzz_point_stream fuzz_mlb fuzz_mls; do mkdir -p "$seeds/$t"; done
+
+status=0
+for t in "${targets[@]}"; do
+  exe_t=$(find "$build/tests/fuzz" -maxdepth 1 -name "$t" -type f | head -1)
+  [ -n "$exe_t" ] || { echo "$t: not built"; status=1; continue; }
+  out=$build/fuzz-out/$t
+  mkdir -p "$out/corpus"
+  mkdir -p "$seeds/$t"
+  (cd "$out" && "$exe_t" corpus "$seeds/$t" -max_total_time="$secs" -rss_limit_mb=2048 \
+        -malloc_limit_mb=1024 -timeout=10 -max_len=65536 -print_final_stats=1 > log.txt 2>&1)
+  rc=$?
+  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$out/log.txt" | grep -o '[0-9]*$')
+  findings=$(ls "$out" | grep -E '^(crash|leak|timeout|oom|slow-unit)-' | wc -l)
+  echo "$t: rc=$rc runs=${runs:-?} findings=$findings (log: $out/log.txt)"
+  [ "$rc" -ne 0 ] || [ "$findings" -ne 0 ] && status=1
+done
+exit $status

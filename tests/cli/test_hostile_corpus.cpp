@@ -1,0 +1,327 @@
+// The must-fail corpus (issue 12): per format, one generated file per defect class (sizes that
+// overflow, a decompression bomb, a truncated or corrupt payload, control bytes in header fields,
+// nonsense geometry), each run through the real `meshless` binary. Every case must exit 2 with a
+// one-line message that names the file, carry no control byte (ESC, CR, ...) to the terminal,
+// leave no output file (nor a temporary) behind, and stay within a bounded resident set.
+// No file is copied from shared data: every byte is written here.
+#include <sys/resource.h>
+#include <zlib.h>
+
+#include <catch2/catch.hpp>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli/cli_harness.hpp"
+
+namespace fs = std::filesystem;
+using namespace meshless::test;
+
+namespace {
+
+const std::string kEsc = "\x1b[31mRED\x1b[0m\x07";
+
+std::string zeros(std::size_t n) { return std::string(n, '\0'); }
+
+// A gzip member holding `plain`.
+std::string gzip_of(const std::string& plain) {
+    z_stream zs{};
+    REQUIRE(deflateInit2(&zs, 9, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) == Z_OK);
+    std::string out(deflateBound(&zs, plain.size()) + 64, '\0');
+    zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(plain.data()));
+    zs.avail_in = static_cast<uInt>(plain.size());
+    zs.next_out = reinterpret_cast<Bytef*>(out.data());
+    zs.avail_out = static_cast<uInt>(out.size());
+    REQUIRE(deflate(&zs, Z_FINISH) == Z_STREAM_END);
+    out.resize(zs.total_out);
+    deflateEnd(&zs);
+    return out;
+}
+
+// A zlib stream holding `plain` (VTK XML's vtkZLibDataCompressor blocks).
+std::string zlib_of(const std::string& plain) {
+    uLongf n = compressBound(plain.size());
+    std::string out(n, '\0');
+    REQUIRE(compress2(reinterpret_cast<Bytef*>(out.data()), &n, reinterpret_cast<const Bytef*>(plain.data()), plain.size(), 9) == Z_OK);
+    out.resize(n);
+    return out;
+}
+
+std::string u32le(std::uint32_t v) {
+    std::string s(4, '\0');
+    std::memcpy(s.data(), &v, 4);
+    return s;
+}
+
+struct Case {
+    std::string label;                                       // format / defect class
+    std::string file;                                        // the file the command reads
+    std::vector<std::pair<std::string, std::string>> files;  // name -> bytes (the first is `file`)
+    bool volume = true;                                      // volume (info + isosurface) or point set (info + fit)
+};
+
+std::string nrrd(const std::string& fields, const std::string& payload) {
+    return "NRRD0004\n" + fields + "\n" + payload;
+}
+
+std::string mha(const std::string& fields, const std::string& payload) {
+    return "ObjectType = Image\n" + fields + "ElementDataFile = LOCAL\n" + payload;
+}
+
+std::string vtk_legacy(const std::string& dims, const std::string& spacing, const std::string& points,
+                       const std::string& dataset, const std::string& payload) {
+    return "# vtk DataFile Version 3.0\ntitle\nBINARY\nDATASET " + dataset + "\nDIMENSIONS " + dims + "\nSPACING " +
+           spacing + "\nORIGIN 0 0 0\nPOINT_DATA " + points + "\nSCALARS s unsigned_char\nLOOKUP_TABLE default\n" + payload;
+}
+
+std::string vti(const std::string& extent, const std::string& spacing, const std::string& origin, const std::string& type,
+                const std::string& array, const std::string& compressor = "") {
+    return "<?xml version=\"1.0\"?>\n<VTKFile type=\"" + type + "\" version=\"0.1\" byte_order=\"LittleEndian\"" +
+           (compressor.empty() ? "" : " compressor=\"" + compressor + "\"") + ">\n<ImageData WholeExtent=\"" + extent +
+           "\" Origin=\"" + origin + "\" Spacing=\"" + spacing + "\">\n<Piece Extent=\"" + extent +
+           "\">\n<PointData Scalars=\"s\">\n" + array + "</PointData>\n</Piece>\n</ImageData>\n</VTKFile>\n";
+}
+
+std::string vtkjs_index(const std::string& extent, const std::string& spacing, const std::string& type) {
+    return "{\"vtkClass\":\"vtkImageData\",\"extent\":[" + extent + "],\"spacing\":[" + spacing +
+           "],\"origin\":[0,0,0],\"pointData\":{\"arrays\":[{\"data\":{\"dataType\":\"" + type +
+           "\",\"numberOfComponents\":1,\"ref\":{\"id\":\"s\",\"basepath\":\"data\",\"encode\":\"LittleEndian\","
+           "\"registration\":\"setScalars\"}}}]}}";
+}
+
+std::string slc(const std::string& dims, const std::string& spacing, const std::string& compression,
+                const std::string& body, const std::string& magic = "11111") {
+    return magic + "\n" + dims + " 8\n" + spacing + "\n0 0 0 " + compression + "\n0 0 X\n" + body;
+}
+
+// NIfTI-1 single file (n+1): dims, datatype uint8, pixdim, sform origin.
+std::string nifti(std::int16_t nx, std::int16_t ny, std::int16_t nz, float sx, float ox, const std::string& payload) {
+    std::string h(352, '\0');
+    auto put16 = [&](std::size_t off, std::int16_t v) { std::memcpy(h.data() + off, &v, 2); };
+    auto put32 = [&](std::size_t off, std::int32_t v) { std::memcpy(h.data() + off, &v, 4); };
+    auto putf = [&](std::size_t off, float v) { std::memcpy(h.data() + off, &v, 4); };
+    put32(0, 348);
+    put16(40, 3);
+    put16(42, nx);
+    put16(44, ny);
+    put16(46, nz);
+    put16(70, 2);   // DT_UINT8
+    put16(72, 8);   // bitpix
+    putf(80, sx);
+    putf(84, 1);
+    putf(88, 1);
+    putf(108, 352);  // vox_offset
+    putf(112, 1);    // scl_slope
+    put16(254, 1);   // sform_code
+    putf(280 + 12, ox);
+    std::memcpy(h.data() + 344, "n+1\0", 4);
+    return h + payload;
+}
+
+std::vector<Case> corpus() {
+    const std::string big = "4294967296 4294967296 1";
+    const std::string gz1 = gzip_of("x");
+    std::vector<Case> c;
+    auto add = [&](std::string label, std::string name, std::string bytes, bool volume = true) {
+        c.push_back(Case{std::move(label), name, {{name, std::move(bytes)}}, volume});
+    };
+    // raw (layout from the name convention)
+    add("raw overflowing dims", "ov_4294967296x4294967296x1_uint8.raw", zeros(100));
+    add("raw truncated payload", "tr_64x64x64_uint8.raw", zeros(1000));
+    // NRRD
+    add("nrrd overflowing dims", "ov.nrrd", nrrd("type: uint8\ndimension: 3\nsizes: " + big + "\nencoding: raw\n", zeros(100)));
+    add("nrrd overflowing dims (2^63)", "ov63.nrrd",
+        nrrd("type: float\ndimension: 3\nsizes: 9223372036854775807 2 2\nencoding: raw\n", zeros(100)));
+    add("nrrd gzip bomb", "bomb.nrrd", nrrd("type: uint8\ndimension: 3\nsizes: 2048 2048 1024\nencoding: gzip\n", gz1));
+    add("nrrd truncated gzip", "trgz.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 16 16 16\nencoding: gzip\n", gzip_of(zeros(1000))));
+    add("nrrd corrupt gzip", "corrupt.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 16 16 16\nencoding: gzip\n", "\x1f\x8b\x08\x00garbage-garbage-garbage"));
+    add("nrrd truncated raw", "trraw.nrrd", nrrd("type: uint8\ndimension: 3\nsizes: 16 16 16\nencoding: raw\n", zeros(100)));
+    add("nrrd truncated ascii", "trascii.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 1024 1024 1024\nencoding: ascii\n", "1 2 3 4\n"));
+    add("nrrd control bytes", "esc.nrrd", nrrd("type: " + kEsc + "\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n", zeros(64)));
+    add("nrrd infinite spacing", "infsp.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nspacings: inf 1 1\nencoding: raw\n", zeros(64)));
+    add("nrrd zero spacing", "zerosp.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nspacings: 0 1 1\nencoding: raw\n", zeros(64)));
+    add("nrrd NaN origin", "nanorg.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nspace origin: (nan,0,0)\nencoding: raw\n", zeros(64)));
+    add("nrrd data file range overflow", "range.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: f%d.raw -9223372036854775807 9223372036854775807 1\n", ""));
+    // MetaImage
+    add("mha overflowing dims", "ov.mha", mha("NDims = 3\nDimSize = " + big + "\nElementType = MET_UCHAR\n", zeros(100)));
+    add("mha compressed bomb", "bomb.mha",
+        mha("NDims = 3\nDimSize = 2048 2048 1024\nElementType = MET_UCHAR\nCompressedData = True\n", gz1));
+    add("mha truncated", "tr.mha", mha("NDims = 3\nDimSize = 16 16 16\nElementType = MET_UCHAR\n", zeros(10)));
+    add("mha control bytes", "esc.mha", mha("NDims = 3\nDimSize = 4 4 4\nElementType = " + kEsc + "\n", zeros(64)));
+    add("mha NaN spacing", "nansp.mha",
+        mha("NDims = 3\nDimSize = 4 4 4\nElementSpacing = nan 1 1\nElementType = MET_UCHAR\n", zeros(64)));
+    add("mha NaN origin", "nanorg.mha",
+        mha("NDims = 3\nDimSize = 4 4 4\nOffset = nan 0 0\nElementType = MET_UCHAR\n", zeros(64)));
+    // VTK legacy
+    add("vtk overflowing dims", "ov.vtk", vtk_legacy(big, "1 1 1", "0", "STRUCTURED_POINTS", zeros(100)));
+    add("vtk truncated", "tr.vtk", vtk_legacy("16 16 16", "1 1 1", "4096", "STRUCTURED_POINTS", zeros(100)));
+    add("vtk control bytes", "esc.vtk", vtk_legacy("4 4 4", "1 1 1", "64", kEsc, zeros(64)));
+    add("vtk NaN spacing", "nansp.vtk", vtk_legacy("4 4 4", "nan 1 1", "64", "STRUCTURED_POINTS", zeros(64)));
+    // VTK XML ImageData
+    const std::string ascii_array = "<DataArray type=\"UInt8\" Name=\"s\" format=\"ascii\">\n1 2 3\n</DataArray>\n";
+    add("vti overflowing extent", "ov.vti", vti("0 4294967295 0 4294967295 0 0", "1 1 1", "0 0 0", "ImageData", ascii_array));
+    add("vti signed extent overflow", "ov63.vti",
+        vti("-9223372036854775808 9223372036854775807 0 0 0 0", "1 1 1", "0 0 0", "ImageData", ascii_array));
+    {
+        // one zlib block whose header claims 2048*2048*1024 bytes: base64 of [1, bsize, last, csize] + data
+        const std::string block = zlib_of("x");
+        const std::string bin = u32le(1) + u32le(0) + u32le(0) + u32le(static_cast<std::uint32_t>(block.size())) + block;
+        // appended raw: the bytes follow '_' directly
+        const std::string doc =
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"0.1\" byte_order=\"LittleEndian\" "
+            "compressor=\"vtkZLibDataCompressor\">\n<ImageData WholeExtent=\"0 2047 0 2047 0 1023\" Origin=\"0 0 0\" "
+            "Spacing=\"1 1 1\">\n<Piece Extent=\"0 2047 0 2047 0 1023\">\n<PointData Scalars=\"s\">\n<DataArray "
+            "type=\"UInt8\" Name=\"s\" format=\"appended\" offset=\"0\"/>\n</PointData>\n</Piece>\n</ImageData>\n"
+            "<AppendedData encoding=\"raw\">\n_";
+        // bsize 2^31 with 2 blocks: 2^32 bytes = 2048*2048*1024
+        const std::string hdr = u32le(2) + u32le(0x80000000u) + u32le(0) + u32le(static_cast<std::uint32_t>(block.size())) +
+                                u32le(static_cast<std::uint32_t>(block.size()));
+        add("vti zlib bomb", "bomb.vti", doc + hdr + block + block + "\n</AppendedData>\n</VTKFile>\n");
+        (void)bin;
+    }
+    add("vti truncated ascii", "tr.vti", vti("0 99 0 99 0 99", "1 1 1", "0 0 0", "ImageData", ascii_array));
+    add("vti control bytes", "esc.vti", vti("0 3 0 3 0 3", "1 1 1", "0 0 0", kEsc, ascii_array));
+    add("vti NaN spacing", "nansp.vti", vti("0 0 0 0 0 2", "nan 1 1", "0 0 0", "ImageData", ascii_array));
+    add("vti NaN origin", "nanorg.vti", vti("0 0 0 0 0 2", "1 1 1", "nan 0 0", "ImageData", ascii_array));
+    // vtk.js (index.json + data/s.gz)
+    c.push_back(Case{"vtkjs gzip bomb", "bomb/index.json",
+                     {{"bomb/index.json", vtkjs_index("0,2047,0,2047,0,1023", "1,1,1", "Uint8Array")}, {"bomb/data/s.gz", gz1}}});
+    c.push_back(Case{"vtkjs overflowing extent", "ovjs/index.json",
+                     {{"ovjs/index.json", vtkjs_index("0,4294967295,0,4294967295,0,0", "1,1,1", "Uint8Array")},
+                      {"ovjs/data/s", zeros(100)}}});
+    c.push_back(Case{"vtkjs huge extent", "hugejs/index.json",
+                     {{"hugejs/index.json", vtkjs_index("0,1e300,0,0,0,0", "1,1,1", "Uint8Array")}, {"hugejs/data/s", zeros(100)}}});
+    c.push_back(Case{"vtkjs control bytes", "escjs/index.json",
+                     {{"escjs/index.json", vtkjs_index("0,3,0,3,0,3", "1,1,1", "\\u001b[31mX")}, {"escjs/data/s", zeros(64)}}});
+    c.push_back(Case{"vtkjs zero spacing", "zerojs/index.json",
+                     {{"zerojs/index.json", vtkjs_index("0,3,0,3,0,3", "0,1,1", "Uint8Array")}, {"zerojs/data/s", zeros(64)}}});
+    // SLC
+    add("slc overflowing dims", "ov.slc", slc("4294967296 4294967296 1", "1 1 1", "1", "2 X\x81\x01"));
+    add("slc rle bomb", "bomb.slc", slc("1048576 1048576 4", "1 1 1", "1", "2 X\x01\x00" "2 X\x01\x00" "2 X\x01\x00" "2 X\x01\x00"));
+    add("slc short slices", "short.slc", slc("1048576 1 64", "1 1 1", "1", [] {
+            std::string s;
+            for (int z = 0; z < 64; ++z) s += "2 X\x81\x07";
+            return s;
+        }()));
+    add("slc truncated", "tr.slc", slc("16 16 16", "1 1 1", "0", "256 X" + zeros(10)));
+    add("slc control bytes", "esc.slc", slc("4 4 4", "1 1 1", "0", "", "11111" + kEsc));
+    add("slc NaN spacing", "nansp.slc", slc("4 4 4", "nan 1 1", "0", "16 X" + zeros(16)));
+    add("slc icon overflow", "icon.slc",
+        "11111\n4 4 4 8\n1 1 1\n0 0 0 0\n4294967296 4294967296 X\n" + zeros(64));
+    // NIfTI-1
+    add("nifti gzip bomb", "bomb.nii.gz", gzip_of(nifti(32767, 32767, 32767, 1, 0, "")));
+    add("nifti truncated", "tr.nii", nifti(64, 64, 64, 1, 0, zeros(100)));
+    add("nifti NaN origin", "nanorg.nii", nifti(4, 4, 4, 1, std::nanf(""), zeros(64)));
+    // Voreen .dat (+ raw)
+    c.push_back(Case{"voreen overflowing dims", "ov.dat",
+                     {{"ov.dat", "ObjectFileName: ov.raw\nResolution: " + big + "\nSliceThickness: 1 1 1\nFormat: UCHAR\n"},
+                      {"ov.raw", zeros(100)}}});
+    c.push_back(Case{"voreen control bytes", "esc.dat",
+                     {{"esc.dat", "ObjectFileName: esc.raw\nResolution: 4 4 4\nSliceThickness: 1 1 1\nFormat: " + kEsc + "\n"},
+                      {"esc.raw", zeros(64)}}});
+    c.push_back(Case{"voreen infinite spacing", "infsp.dat",
+                     {{"infsp.dat", "ObjectFileName: infsp.raw\nResolution: 4 4 4\nSliceThickness: inf 1 1\nFormat: UCHAR\n"},
+                      {"infsp.raw", zeros(64)}}});
+    c.push_back(Case{"voreen truncated", "tr.dat",
+                     {{"tr.dat", "ObjectFileName: tr.raw\nResolution: 16 16 16\nSliceThickness: 1 1 1\nFormat: UCHAR\n"},
+                      {"tr.raw", zeros(64)}}});
+    // point sets
+    add("ply control bytes", "esc.ply", "ply\nformat " + kEsc + " 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n", false);
+    add("ply overflowing count", "ov.ply",
+        "ply\nformat binary_little_endian 1.0\nelement vertex 18446744073709551615\nproperty float x\nproperty float y\n"
+        "property float z\nend_header\n" + zeros(12), false);
+    add("vtp overflowing count", "ov.vtp",
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n<PolyData>\n"
+        "<Piece NumberOfPoints=\"9223372036854775807\">\n<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" "
+        "format=\"ascii\">0 0 0</DataArray>\n</Points>\n</Piece>\n</PolyData>\n</VTKFile>\n", false);
+    add("vts signed extent overflow", "ov.vts",
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"StructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        "<StructuredGrid WholeExtent=\"-9223372036854775808 9223372036854775807 0 0 0 0\">\n"
+        "<Piece Extent=\"-9223372036854775808 9223372036854775807 0 0 0 0\">\n<Points>\n<DataArray type=\"Float32\" "
+        "NumberOfComponents=\"3\" format=\"ascii\">0 0 0</DataArray>\n</Points>\n</Piece>\n</StructuredGrid>\n</VTKFile>\n", false);
+    add("vtp control bytes", "esc.vtp",
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"" + kEsc + "\" version=\"0.1\" byte_order=\"LittleEndian\">\n</VTKFile>\n", false);
+    {
+        std::string dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (4611686018427387904, 4), }";
+        while ((10 + dict.size() + 1) % 64 != 0) dict += ' ';
+        dict += '\n';
+        const auto len = static_cast<std::uint16_t>(dict.size());
+        std::string npy = std::string("\x93NUMPY\x01\x00", 8);
+        npy += static_cast<char>(len & 0xff);
+        npy += static_cast<char>(len >> 8);
+        add("npy overflowing shape", "ov.npy", npy + dict + zeros(48), false);
+    }
+    return c;
+}
+
+// Bytes a terminal would interpret: C0 controls other than the message's final newline, DEL.
+bool has_control_bytes(const std::string& s) {
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const auto ch = static_cast<unsigned char>(s[i]);
+        if ((ch < 0x20 && !(ch == '\n' && i + 1 == s.size())) || ch == 0x7f) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+TEST_CASE("must-fail corpus: every hostile file exits 2 with one clean line naming it, nothing written, bounded memory",
+          "[cli][hostile]") {
+    TempDir d("hostile");
+    const auto cases = corpus();
+    REQUIRE(cases.size() >= 50);
+    for (const Case& k : cases) {
+        for (const auto& [name, bytes] : k.files) {
+            fs::create_directories((d.path / name).parent_path());
+            spit(d.path / name, bytes);
+        }
+        const std::string in = (d.path / k.file).string();
+        const std::string base = fs::path(k.file).filename() == "index.json" ? fs::path(k.file).parent_path().string()
+                                                                             : fs::path(k.file).filename().string();
+        const std::string out = (d.path / "out.ply").string();
+        // `info` reads headers only: it must refuse every header-level defect; payload defects (a
+        // bomb, a truncated or corrupt payload) surface when the data is read
+        const bool payload_defect = k.label.find("bomb") != std::string::npos || k.label.find("truncated") != std::string::npos ||
+                                    k.label.find("corrupt") != std::string::npos || k.label.find("short") != std::string::npos ||
+                                    k.label.find("icon") != std::string::npos;
+        std::vector<std::string> cmds;
+        if (!payload_defect || !k.volume) cmds.push_back("MESHLESS info " + in);
+        cmds.push_back(k.volume ? "MESHLESS isosurface " + in + " --iso 0.5 -o " + out
+                                : "MESHLESS fit " + in + " -o " + (d.path / "out.mlf").string());
+        for (const auto& cmd : cmds) {
+            INFO(k.label << ": " << cmd);
+            const RunResult r = sh(cmd, d);
+            INFO("stderr: " << r.err);
+            CHECK(r.code == 2);
+            CHECK(!r.err.empty());
+            CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+            // the file given, or (a header naming its data file) the data file at fault
+            bool named = r.err.find(base) != std::string::npos;
+            for (const auto& f : k.files) named = named || r.err.find(fs::path(f.first).filename().string()) != std::string::npos;
+            CHECK(named);
+            CHECK(!has_control_bytes(r.err));
+            CHECK(!fs::exists(out));
+            CHECK(!fs::exists(d.path / "out.mlf"));
+            for (const auto& e : fs::directory_iterator(d.path))
+                CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
+        }
+    }
+    // every child (and grandchild) the cases ran, its largest resident set: a header's claim must
+    // never become resident memory (the bombs claim 4 GiB and more)
+    rusage ru{};
+    REQUIRE(getrusage(RUSAGE_CHILDREN, &ru) == 0);
+#ifdef MESHLESS_SANITIZED
+    const long limit_kb = 600 * 1024;  // AddressSanitizer's shadow and quarantine
+#else
+    const long limit_kb = 200 * 1024;
+#endif
+    CHECK(ru.ru_maxrss < limit_kb);
+}
