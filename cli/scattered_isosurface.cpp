@@ -20,6 +20,7 @@
 #include "kernels/errors.hpp"
 #include "kernels/marching_stencils.hpp"
 #include "kernels/scattered_binning_grid.hpp"
+#include "stream/dedup_sink.hpp"
 #include "stream/field_project_stage.hpp"
 #include "stream/record_vector_source.hpp"
 #include "stream/runner.hpp"
@@ -40,6 +41,24 @@ void add_binning_options(Args& a) {
     a.option("max-cells", "", "N", "cap on the binning grid's cells (section 5.3): a finer grid is coarsened, with a warning",
              std::to_string(BinningGridParams{}.max_cells))
         .option("max-level", "", "L", "cap on the binning level l_b (2^L cells per axis)", std::to_string(BinningGridParams{}.max_level));
+}
+
+/// The most data points one 3x3x3 stencil holds (before regularisation).
+std::int64_t largest_stencil(const BinningGrid& g, const BinnedPoints& b) {
+    const StencilGrid sg(g.dims);
+    std::int64_t most = 0;
+    for (std::int64_t s = 0; s < sg.total(); ++s) {
+        const auto m = sg.coords(s);
+        const std::int64_t c[3] = {stencil_centre(m[0], g.dims[0]), stencil_centre(m[1], g.dims[1]), stencil_centre(m[2], g.dims[2])};
+        std::int64_t n = 0;
+        for (std::int64_t k = c[2] - 1; k <= c[2] + 1; ++k)
+            for (std::int64_t j = c[1] - 1; j <= c[1] + 1; ++j) {
+                const std::int64_t row = g.index(c[0] - 1, j, k);
+                n += std::int64_t(b.start[static_cast<std::size_t>(row) + 3]) - std::int64_t(b.start[static_cast<std::size_t>(row)]);
+            }
+        most = std::max(most, n);
+    }
+    return most;
 }
 
 BinningGridParams binning_params(const Args& a) {
@@ -120,6 +139,14 @@ ScatteredInput read_scattered(const Args& a) {
                      name.c_str(), in.grid.rule_level,
                      static_cast<long long>(std::pow(std::ldexp(1.0, in.grid.rule_level) + 2, 3 - degenerate) * std::pow(3.0, degenerate)),
                      in.grid.level, static_cast<long long>(in.grid.cell_count()), static_cast<long long>(bp.max_cells), bp.max_level);
+    // section 5.8: "pathological point distributions ... causing the tetrahedrization of a possibly large
+    // number of points" (e.g. two far-apart clusters: the depth-first rule stops at the root)
+    const std::int64_t most = largest_stencil(in.grid, in.bins);
+    if (most > 20000 && double(most) > 0.25 * double(in.points.size()))
+        std::fprintf(stderr,
+                     "meshless: warning: %s: one 3x3x3 stencil of the level-%d binning grid holds %lld of the %zu points "
+                     "(a pathological distribution for the binning rule, section 5.8): its Delaunay runs on one thread\n",
+                     name.c_str(), in.grid.level, static_cast<long long>(most), in.points.size());
     return in;
 }
 
@@ -180,6 +207,12 @@ void add_scattered_options(Args& a) {
     add_binning_options(a);
 }
 
+double dedup_fraction(const Args& a) {
+    const double f = parse_finite(a.get_or("dedup", "0"), "--dedup");
+    if (f < 0 || f > 10) throw UsageError("--dedup: expected a fraction of the point radius in [0, 10]");
+    return f;
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------ dispatch
@@ -213,6 +246,7 @@ int isosurface_scattered(int argc, char** argv) {
         .option("png", "", "FILE", "also render the points to this PNG");
     add_geometry_format_option(a);
     add_scattered_options(a);
+    a.option("dedup", "", "F", "remove points closer than F x their radius to an earlier point (overlapping stencils; 0 = keep all)", "0");
     add_newton_options(a);
     add_field_options(a, /*with_coverage=*/false);
     add_camera_options(a);
@@ -234,6 +268,7 @@ int isosurface_scattered(int argc, char** argv) {
     const int n = lattice_n(a);
     const FieldProjectParams np = newton_params(a);
     (void)binning_params(a);
+    const double dedup = dedup_fraction(a);
     RenderSettings rs = render_settings(a);
     const ColorChoice cc = color_choice(a);
     if (cc.request == ColorRequest::block) throw UsageError("scattered points have no blocks; --color block needs multiblock input");
@@ -262,10 +297,15 @@ int isosurface_scattered(int argc, char** argv) {
     const StencilGrid sg(in.grid.dims);
     std::optional<StencilSeedStage> seed;
     std::optional<FieldProjectStage> project;
+    std::optional<DedupSink> dedup_sink;
+    if (dedup > 0) meta.set("dedup", dedup);
     IsoSplatResult unused;
     t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), png, meta, rs, nthreads, [&](const Stage* draw, Sink& out_sink) {
         const auto g0 = Clock::now();
+        // --dedup: the removal runs in sequence order on the sink side (the picture is then drawn there too)
+        if (dedup > 0) dedup_sink.emplace(out_sink, dedup, 0.1 * in.grid.diagonal());
+        Sink& sink = dedup_sink ? static_cast<Sink&>(*dedup_sink) : out_sink;
         if (!field.field) {
             RecordVectorSource empty(std::vector<PointRecord>{});
             const Stage* stages[] = {draw};
@@ -280,7 +320,7 @@ int isosurface_scattered(int argc, char** argv) {
         IsoSplatResult r;
         r.seconds = since(g0);
         return r;
-    }, unused, /*parallel_draw=*/true, /*with_blocks=*/false);
+    }, unused, /*parallel_draw=*/dedup == 0, /*with_blocks=*/false);
     const double graph_seconds = since(t0);
 
     if (a.has("stats")) {
@@ -288,6 +328,9 @@ int isosurface_scattered(int argc, char** argv) {
         const StencilSeedStats s = seed ? seed->stats() : StencilSeedStats{};
         print_scattered_stats(cmd, in, s, n);
         if (project) print_newton_stats(cmd, field_name, np, project->stats(), project->busy_seconds());
+        if (dedup_sink)
+            std::fprintf(stderr, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, dedup,
+                         static_cast<long long>(dedup_sink->removed()));
         std::fprintf(stderr,
                      "%s: %zu points; time: read %.3f s, octree + binning %.3f s, field %.3f s, regularisation %.3f s busy, "
                      "isosurface (stencils + Delaunay + seeds + Newton + output) %.3f s (busy: stencils %.3f s of which "
