@@ -94,7 +94,7 @@ int cmd_generate(int argc, char** argv) {
         blocks.option("samples", "", "", "");
         Args scattered("generate", "", "");
         add_field_options(scattered, /*with_coverage=*/false);
-        scattered.option("max-cells", "", "", "").option("max-level", "", "", "");
+        scattered.option("max-cells", "", "", "").option("max-level", "", "", "").option("reg-gap", "", "", "");
         const auto positionals = scan_positionals(argc, argv, 2, {&a, &blocks, &scattered});
         if (blocks_invocation(positionals)) return generate_blocks(argc, argv);
         if (scattered_invocation(positionals)) return generate_scattered(argc, argv);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <optional>
 
 #include "cli/common.hpp"
@@ -19,6 +20,7 @@
 #include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/marching_stencils.hpp"
+#include "kernels/point_coverage.hpp"
 #include "kernels/scattered_binning_grid.hpp"
 #include "stream/dedup_sink.hpp"
 #include "stream/field_project_stage.hpp"
@@ -40,7 +42,16 @@ constexpr const char* kPointsWhat = "an oriented point set";
 void add_binning_options(Args& a) {
     a.option("max-cells", "", "N", "cap on the binning grid's cells (section 5.3): a finer grid is coarsened, with a warning",
              std::to_string(BinningGridParams{}.max_cells))
-        .option("max-level", "", "L", "cap on the binning level l_b (2^L cells per axis)", std::to_string(BinningGridParams{}.max_level));
+        .option("max-level", "", "L", "cap on the binning level l_b (2^L cells per axis)", std::to_string(BinningGridParams{}.max_level))
+        .option("reg-gap", "", "F",
+                "a regularisation point farther than F x the local point spacing (8th-neighbour distance) from the data "
+                "gets no value (no surface where no data is); 0 = every empty cell gets the field's value", "4");
+}
+
+double reg_gap(const Args& a) {
+    const double f = parse_finite(a.get_or("reg-gap", "4"), "--reg-gap");
+    if (f < 0) throw UsageError("--reg-gap: expected a factor >= 0");
+    return f;
 }
 
 /// The most data points one 3x3x3 stencil holds (before regularisation).
@@ -76,6 +87,8 @@ struct ScatteredInput {
     PointSet points;
     BinningGrid grid;
     BinnedPoints bins;
+    std::unique_ptr<PointCoverage> coverage;  ///< --reg-gap > 0
+    double coverage_seconds = 0;
     std::string source;  ///< file names joined by ','
     double read_seconds = 0, octree_seconds = 0;
 };
@@ -122,6 +135,11 @@ ScatteredInput read_scattered(const Args& a) {
     in.grid = make_binning_grid(in.points.pos, bp);
     in.bins = bin_points(in.grid, in.points.pos);
     in.octree_seconds = since(t0);
+    if (const double gap = reg_gap(a); gap > 0) {
+        t0 = Clock::now();
+        in.coverage = std::make_unique<PointCoverage>(in.points.pos, gap);
+        in.coverage_seconds = since(t0);
+    }
     const int degenerate = int(in.grid.degenerate[0]) + int(in.grid.degenerate[1]) + int(in.grid.degenerate[2]);
     if (degenerate > 0) {
         std::string axes;
@@ -192,11 +210,13 @@ void print_scattered_stats(const char* cmd, const ScatteredInput& in, const Sten
                  static_cast<long long>(g.dims[2]), static_cast<long long>(g.cell_count()), static_cast<long long>(in.bins.empty_cells),
                  static_cast<long long>(in.bins.empty_interior_cells), in.bins.max_per_cell);
     std::fprintf(stderr,
-                 "%s: %lld stencils (%lld crossed, largest %lld points), %lld regularisation points made on the fly, "
+                 "%s: %lld stencils (%lld crossed, largest %lld points), %lld regularisation points made on the fly "
+                 "(%lld beyond --reg-gap), "
                  "%lld Delaunay failures, %lld tets (%lld owned, %lld with a NaN value), %lld triangles (%lld of zero area), "
                  "%lld seeds (n = %d, %zu per triangle)\n",
                  cmd, static_cast<long long>(s.stencils), static_cast<long long>(s.crossed_stencils),
                  static_cast<long long>(s.max_stencil_points), static_cast<long long>(s.regularisation_points),
+                 static_cast<long long>(s.uncovered_regularisation),
                  static_cast<long long>(s.delaunay_failures), static_cast<long long>(s.tets), static_cast<long long>(s.owned_tets),
                  static_cast<long long>(s.nonfinite_tets), static_cast<long long>(s.triangles),
                  static_cast<long long>(s.zero_area_triangles), static_cast<long long>(s.seeds), n, lattice_size(n));
@@ -312,7 +332,7 @@ int isosurface_scattered(int argc, char** argv) {
             run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, {nthreads});
         } else {
             StencilSource source(sg);
-            seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field}, iso, n);
+            seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get()}, iso, n);
             project.emplace(*field.field, iso, np);
             const Stage* stages[] = {&*seed, &*project, draw};
             run_pipeline(source, std::span<const Stage* const>(stages, draw ? 3 : 2), sink, {nthreads});
@@ -322,6 +342,15 @@ int isosurface_scattered(int argc, char** argv) {
         return r;
     }, unused, /*parallel_draw=*/dedup == 0, /*with_blocks=*/false);
     const double graph_seconds = since(t0);
+    if (project) {
+        const FieldNewtonStats ns = project->stats();
+        if (ns.input > 0 && 2 * ns.converged < ns.input)
+            std::fprintf(stderr,
+                         "meshless: warning: %s: %lld of %lld seeds did not converge onto the %s field's isosurface (too far %lld, "
+                         "non-finite %lld): the field does not resolve this point distribution there\n",
+                         in.source.c_str(), static_cast<long long>(ns.dropped()), static_cast<long long>(ns.input), field_name.c_str(),
+                         static_cast<long long>(ns.too_far), static_cast<long long>(ns.nonfinite));
+    }
 
     if (a.has("stats")) {
         const char* cmd = "isosurface";
@@ -332,10 +361,10 @@ int isosurface_scattered(int argc, char** argv) {
             std::fprintf(stderr, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, dedup,
                          static_cast<long long>(dedup_sink->removed()));
         std::fprintf(stderr,
-                     "%s: %zu points; time: read %.3f s, octree + binning %.3f s, field %.3f s, regularisation %.3f s busy, "
+                     "%s: %zu points; time: read %.3f s, octree + binning %.3f s, coverage %.3f s, field %.3f s, regularisation %.3f s busy, "
                      "isosurface (stencils + Delaunay + seeds + Newton + output) %.3f s (busy: stencils %.3f s of which "
                      "Delaunay %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
-                     cmd, points, in.read_seconds, in.octree_seconds, field_seconds, 1e-9 * double(s.regularisation_ns), graph_seconds,
+                     cmd, points, in.read_seconds, in.octree_seconds, in.coverage_seconds, field_seconds, 1e-9 * double(s.regularisation_ns), graph_seconds,
                      seed ? seed->busy_seconds() : 0.0, 1e-9 * double(s.delaunay_ns), project ? project->busy_seconds() : 0.0,
                      nthreads, since(t_start));
     }
@@ -369,13 +398,13 @@ int generate_scattered(int argc, char** argv) {
     if (!crossed) warn_if_iso_outside(iso, in.points.value_range(), in.source);
     BuiltField field;
     if (crossed) field = build_field(a, in.points);
-    const double field_seconds = since(t0) - in.read_seconds - in.octree_seconds;
+    const double field_seconds = since(t0) - in.read_seconds - in.octree_seconds - in.coverage_seconds;
     BinaryStreamOutput out(a.get_or("output", "-"));
     StreamSink sink(out.f, out.name, RecordKind::seed, scattered_meta(in, iso, n, a.command_line()), a.has("compress"));
     std::optional<StencilSeedStage> seed;
     if (field.field) {
         StencilSource source{StencilGrid(in.grid.dims)};
-        seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field}, iso, n);
+        seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get()}, iso, n);
         const Stage* stages[] = {&*seed};
         run_pipeline(source, stages, sink, {nthreads});
     } else {

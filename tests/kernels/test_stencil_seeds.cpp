@@ -193,7 +193,8 @@ TEST_CASE("stencil seeds of a sampled sphere: near the sphere, oriented outwards
     for (const SeedRecord& s : seeds) {
         const Vec3 p{s.pos[0], s.pos[1], s.pos[2]};
         CHECK(std::abs(norm(p) - 0.6) < 0.5 * h);
-        CHECK(s.cell_diagonal == Approx(h).epsilon(1e-6));
+        CHECK(s.cell_diagonal <= h * (1 + 1e-6));
+        CHECK(s.cell_diagonal > 0.3 * h);
         CHECK(s.base_radius > 0);
         outward += dot(Vec3{s.normal[0], s.normal[1], s.normal[2]}, p) > 0;
     }
