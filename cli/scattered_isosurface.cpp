@@ -27,6 +27,7 @@
 #include "stream/record_vector_source.hpp"
 #include "stream/runner.hpp"
 #include "stream/stencil_seed_stage.hpp"
+#include "stream/stencil_ranks.hpp"
 #include "stream/stencil_source.hpp"
 #include "stream/stream_endpoints.hpp"
 
@@ -115,7 +116,7 @@ std::size_t distinct_positions(const std::vector<Vec3>& pos, std::size_t enough)
 
 const char* axis_name(int a) { return a == 0 ? "x" : (a == 1 ? "y" : "z"); }
 
-ScatteredInput read_scattered(const Args& a) {
+ScatteredInput read_scattered(const Args& a, bool warn = true) {
     if (a.positional().empty()) throw UsageError("missing POINTS argument (see meshless " + a.command() + " --help)");
     ScatteredInput in;
     in.source = joined_names(a.positional());
@@ -126,7 +127,7 @@ ScatteredInput read_scattered(const Args& a) {
     const std::string& name = a.positional()[0];
     if (!in.points.has_values)
         throw FormatError(name + ": the points carry no values (positions only); there is nothing to contour");
-    if (in.points.dropped_nonfinite > 0)
+    if (warn && in.points.dropped_nonfinite > 0)
         std::fprintf(stderr, "meshless: warning: %s: %llu points with a NaN/Inf position or value dropped\n", name.c_str(),
                      static_cast<unsigned long long>(in.points.dropped_nonfinite));
     if (distinct_positions(in.points.pos, 4) < 4)
@@ -141,7 +142,7 @@ ScatteredInput read_scattered(const Args& a) {
         in.coverage_seconds = since(t0);
     }
     const int degenerate = int(in.grid.degenerate[0]) + int(in.grid.degenerate[1]) + int(in.grid.degenerate[2]);
-    if (degenerate > 0) {
+    if (warn && degenerate > 0) {
         std::string axes;
         for (int ax = 0; ax < 3; ++ax)
             if (in.grid.degenerate[static_cast<std::size_t>(ax)]) axes += std::string(axes.empty() ? "" : ", ") + axis_name(ax);
@@ -150,7 +151,7 @@ ScatteredInput read_scattered(const Args& a) {
                      "cell; the surface is the field's where it defines one off the data\n",
                      name.c_str(), degenerate == 1 ? "plane" : "line", axes.c_str(), degenerate == 1 ? "that axis" : "those axes");
     }
-    if (in.grid.coarsened)
+    if (warn && in.grid.coarsened)
         std::fprintf(stderr,
                      "meshless: warning: %s: the binning rule asks for level %d (%lld cells); coarsened to level %d "
                      "(%lld cells) by --max-cells %lld / --max-level %d: stencils hold more points\n",
@@ -159,7 +160,7 @@ ScatteredInput read_scattered(const Args& a) {
                      in.grid.level, static_cast<long long>(in.grid.cell_count()), static_cast<long long>(bp.max_cells), bp.max_level);
     // section 5.8: "pathological point distributions ... causing the tetrahedrization of a possibly large
     // number of points" (e.g. two far-apart clusters: the depth-first rule stops at the root)
-    const std::int64_t most = largest_stencil(in.grid, in.bins);
+    const std::int64_t most = warn ? largest_stencil(in.grid, in.bins) : 0;
     if (most > 20000 && double(most) > 0.25 * double(in.points.size()))
         std::fprintf(stderr,
                      "meshless: warning: %s: one 3x3x3 stencil of the level-%d binning grid holds %lld of the %zu points "
@@ -257,6 +258,10 @@ bool scattered_invocation(const std::vector<std::string>& positionals) {
 
 // ------------------------------------------------------------------ isosurface POINTS
 
+namespace {
+int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi);
+}  // namespace
+
 int isosurface_scattered(int argc, char** argv) {
     const auto t_start = Clock::now();
     Args a("isosurface", "POINTS --iso V -o out.ply [--png out.png] [--field rbf-grid|mpu|global-rbf|F.mlf] [--samples N] [options]",
@@ -283,8 +288,26 @@ int isosurface_scattered(int argc, char** argv) {
     a.epilog("examples: meshless sample bucky.raw -n 20000 -o bucky.ply && meshless isosurface bucky.ply --iso 100 -o b.ply --png b.png --stats\n"
              "pipes:    meshless fit POINTS -o f.mlf && meshless generate POINTS --iso V | meshless project --field f.mlf | meshless splat -o img.png\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    if (launched_world_size() > 1)
-        throw UsageError("scattered inputs are not split over MPI ranks yet: run meshless isosurface POINTS without mpirun");
+    // under mpirun: the stencil rows are dealt to the ranks, rank 0 writes (stream/stencil_ranks.hpp)
+    std::unique_ptr<MpiSession> mpi;
+    if (launched_world_size() > 1) mpi = std::make_unique<MpiSession>(&argc, &argv);
+    try {
+        return isosurface_scattered_run(a, t_start, mpi.get());
+    } catch (const std::exception& e) {
+        if (!mpi) throw;
+        // one failing rank ends the job: nothing is renamed into place, every rank exits non-zero
+        const int code = exit_code(e);
+        if (code != kExitOk)
+            std::fprintf(stderr, "meshless isosurface (rank %d of %d): %s\n", mpi->rank(), mpi->size(), error_message(e).c_str());
+        mpi->abort(code);
+    }
+}
+
+namespace {
+
+int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
+    const bool root = !mpi || mpi->rank() == 0;
+    const int ranks = mpi ? mpi->size() : 1;
     const double iso = parse_finite(a.require("iso"), "--iso");
     const auto out = a.get("output");
     const auto png = a.get("png");
@@ -303,10 +326,10 @@ int isosurface_scattered(int argc, char** argv) {
     const int nthreads = threads(a);
     if (!field_file_arg(a)) (void)field_params(a);  // option errors before any reading
 
-    ScatteredInput in = read_scattered(a);
+    ScatteredInput in = read_scattered(a, root);
     apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
     const bool crossed = iso_in_range(in, iso);
-    if (!crossed) warn_if_iso_outside(iso, in.points.value_range(), in.source);
+    if (!crossed && root) warn_if_iso_outside(iso, in.points.value_range(), in.source);
     StreamMeta meta = scattered_meta(in, iso, n, a.command_line());
 
     // the field: only when the isovalue is within the data (an empty output needs none)
@@ -325,6 +348,50 @@ int isosurface_scattered(int argc, char** argv) {
     const StencilGrid sg(in.grid.dims);
     std::optional<StencilSeedStage> seed;
     std::optional<FieldProjectStage> project;
+    if (mpi) {
+        std::optional<MpiChannel> channel;
+        if (field.field) channel.emplace(*mpi);
+        std::optional<StencilInput> sin;
+        if (field.field) sin.emplace(in.grid, in.bins, std::span<const Vec3>(in.points.pos), std::span<const double>(in.points.value),
+                                     *field.field, in.coverage.get());
+        StencilRankResult rr;
+        std::optional<DedupSink> dd;
+        std::size_t points = 0;
+        if (root) {
+            IsoSplatResult unused;
+            points = run_to_outputs(geometry_output(a, kPointsWhat), png, meta, rs, nthreads, [&](const Stage*, Sink& out_sink) {
+                if (dedup > 0) dd.emplace(out_sink, dedup, 0.1 * in.grid.diagonal());
+                Sink& sink = dd ? static_cast<Sink&>(*dd) : out_sink;
+                if (field.field) rr = run_stencils_rank(*sin, iso, n, np, 0, ranks, *channel, &sink, {nthreads});
+                else sink.finish();
+                return IsoSplatResult{};
+            }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
+        } else if (field.field) {
+            rr = run_stencils_rank(*sin, iso, n, np, mpi->rank(), ranks, *channel, nullptr, {nthreads});
+        }
+        auto v = rr.seeds.as_array();
+        const FieldNewtonStats& ns = rr.newton;
+        std::vector<std::int64_t> all(v.begin(), v.end());
+        for (std::int64_t x : {ns.input, ns.converged, ns.flat, ns.too_far, ns.not_converged, ns.stalled, ns.nonfinite, ns.evaluations})
+            all.push_back(x);
+        const std::vector<std::int64_t> sums = mpi->sum_to_root(all);
+        if (root && a.has("stats")) {
+            std::array<std::int64_t, StencilSeedStats::kCounters> sv{};
+            std::copy(sums.begin(), sums.begin() + StencilSeedStats::kCounters, sv.begin());
+            sv[StencilSeedStats::kMaxIndex] = v[StencilSeedStats::kMaxIndex];  // (rank 0's)
+            print_scattered_stats("isosurface", in, StencilSeedStats::from_array(sv), n);
+            FieldNewtonStats tot;
+            const std::size_t k = StencilSeedStats::kCounters;
+            tot.input = sums[k]; tot.converged = sums[k + 1]; tot.flat = sums[k + 2]; tot.too_far = sums[k + 3];
+            tot.not_converged = sums[k + 4]; tot.stalled = sums[k + 5]; tot.nonfinite = sums[k + 6]; tot.evaluations = sums[k + 7];
+            print_newton_stats("isosurface", field_name, np, tot, 0.0);
+            std::fprintf(stderr, "isosurface: %zu points over %d ranks x %d thread(s); time: read %.3f s, octree + binning %.3f s, "
+                         "coverage %.3f s, field %.3f s, total %.3f s (rank 0)\n",
+                         points, ranks, nthreads, in.read_seconds, in.octree_seconds, in.coverage_seconds, field_seconds, since(t_start));
+        }
+        return 0;
+    }
+
     std::optional<DedupSink> dedup_sink;
     if (dedup > 0) meta.set("dedup", dedup);
     IsoSplatResult unused;
@@ -378,6 +445,8 @@ int isosurface_scattered(int argc, char** argv) {
     }
     return 0;
 }
+
+}  // namespace
 
 // ------------------------------------------------------------------ generate POINTS
 
