@@ -79,6 +79,11 @@ TEST_CASE("stencil Delaunay: statuses, orientation, hull volume, determinism", "
     CHECK(stencil_delaunay(std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.3, 0.2, 0}}, tets) == DelaunayStatus::flat);
     CHECK(tets.empty());
     CHECK(stencil_delaunay(std::vector<Vec3>{{0, 0, 0}, {0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {0, 1, 0}}, tets) == DelaunayStatus::too_few);
+    // a failure is a status with its reason, never a crash or an exception
+    std::string why;
+    CHECK(stencil_delaunay(std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {NAN, 0.5, 0.5}}, tets, &why) == DelaunayStatus::failed);
+    CHECK(why == "non-finite coordinate");
+    CHECK(tets.empty());
     // the unit cube's corners (cospherical) and interior points: the tetrahedra fill the cube
     std::mt19937_64 rng(5);
     std::uniform_real_distribution<double> u(0, 1);
