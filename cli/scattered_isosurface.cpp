@@ -246,12 +246,19 @@ double dedup_fraction(const Args& a) {
 
 // ------------------------------------------------------------------ dispatch
 
-bool scattered_invocation(const std::vector<std::string>& positionals) {
+bool scattered_invocation(const std::vector<std::string>& positionals, int argc, char** argv) {
     if (positionals.empty() || blocks_invocation(positionals)) return false;
     const std::string& p = positionals[0];
-    if (looks_like_point_set(p)) return true;
     std::string e = std::filesystem::path(p).extension().string();
     std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    // a .raw without the name convention is a volume when --dims describes it
+    if (e == ".raw")
+        for (int i = 2; i < argc; ++i) {
+            const std::string tok = argv[i];
+            if (tok == "--") break;
+            if (tok == "--dims" || tok.rfind("--dims=", 0) == 0) return false;
+        }
+    if (looks_like_point_set(p)) return true;
     std::error_code ec;
     return e == ".ply" && std::filesystem::is_regular_file(p, ec) && !looks_like_volume(p);
 }
