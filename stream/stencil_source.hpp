@@ -4,7 +4,9 @@
 // `per_unit` stencils each. A row's stencils share one regularised block of cells
 // (kernels/stencil_regularisation.hpp), so units never span two rows. Sequence numbers are dense,
 // the order is row by row; the ranges depend only on the grid and per_unit, never on the thread
-// count. Not thread-safe (the runner calls next() serially).
+// count. A batch's seeds are those of its stencils: usually far fewer than kMaxBatchRecords, more
+// only when a stencil holds many thousands of points (pathological distributions, section 5.8).
+// Not thread-safe (the runner calls next() serially).
 #pragma once
 #include <cstdint>
 #include <vector>
