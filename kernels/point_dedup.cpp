@@ -32,21 +32,33 @@ bool PointDedup::keep(const Vec3& p, double radius) {
     const std::int64_t cj = static_cast<std::int64_t>(std::floor(p.y / cell_));
     const std::int64_t ck = static_cast<std::int64_t>(std::floor(p.z / cell_));
     if (d > 0 && std::isfinite(d)) {
-        const std::int64_t r = std::min<std::int64_t>(static_cast<std::int64_t>(std::ceil(d / cell_)), 8);
         const double d2 = d * d;
-        for (std::int64_t k = ck - r; k <= ck + r; ++k)
-            for (std::int64_t j = cj - r; j <= cj + r; ++j)
-                for (std::int64_t i = ci - r; i <= ci + r; ++i) {
-                    const auto it = head_.find(key(i, j, k));
-                    if (it == head_.end()) continue;
-                    for (std::uint32_t q = it->second; q != kNone; q = next_[q]) {
-                        const Vec3 e = pts_[q] - p;
-                        if (dot(e, e) < d2) {
-                            ++removed_;
-                            return false;
+        const double span = 2 * std::ceil(d / cell_) + 1;
+        if (span * span * span > double(pts_.size())) {
+            // a search box of more cells than kept points: look at every kept point
+            for (const Vec3& q : pts_) {
+                const Vec3 e = q - p;
+                if (dot(e, e) < d2) {
+                    ++removed_;
+                    return false;
+                }
+            }
+        } else {
+            const auto r = static_cast<std::int64_t>(std::ceil(d / cell_));
+            for (std::int64_t k = ck - r; k <= ck + r; ++k)
+                for (std::int64_t j = cj - r; j <= cj + r; ++j)
+                    for (std::int64_t i = ci - r; i <= ci + r; ++i) {
+                        const auto it = head_.find(key(i, j, k));
+                        if (it == head_.end()) continue;
+                        for (std::uint32_t q = it->second; q != kNone; q = next_[q]) {
+                            const Vec3 e = pts_[q] - p;
+                            if (dot(e, e) < d2) {
+                                ++removed_;
+                                return false;
+                            }
                         }
                     }
-                }
+        }
     }
     const auto idx = static_cast<std::uint32_t>(pts_.size());
     pts_.push_back(p);
