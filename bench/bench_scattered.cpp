@@ -53,6 +53,7 @@
 #include "formats/json_lite.hpp"
 #include "formats/ply_mesh.hpp"
 #include "formats/ply_points.hpp"
+#include "formats/point_set_reader.hpp"
 #include "formats/point_set_writer.hpp"
 #include "kernels/analytic_volumes.hpp"
 #include "kernels/scattered_test_sets.hpp"
@@ -242,7 +243,62 @@ double median(std::vector<double> v) {
     return v[v.size() / 2];
 }
 
-Measure measure_points(const fs::path& ply, AnalyticField f, double iso, const std::vector<Vec3>& samples) {
+/// Distances of `pts` to the true isosurface: analytic_distance (exact for the sphere; for gyroid and ML a
+/// Newton estimate, an upper bound that can be far off where the gradient is flat), tightened by the
+/// distance to the nearest of `truth` (a dense sampling of the surface, also an upper bound) for points
+/// whose estimate exceeds 2 x `spacing`: a hash grid searched to 0.25, beyond that all samples (at most
+/// 2,000 such points; further ones keep the estimate). Sets mean_distance and max_distance of `e`.
+void tighten_distances(AnalyticField f, double iso, const std::vector<Vec3>& pts, const std::vector<Vec3>& truth, double spacing,
+                       PointErrors& e) {
+    if (pts.empty()) return;
+    constexpr double kCell = 0.05, kReach = 0.25;
+    const int n = static_cast<int>(std::ceil(2.0 / kCell)) + 1;
+    auto cell = [&](double x) { return std::clamp(static_cast<int>(std::floor((x + 1.0) / kCell)), 0, n - 1); };
+    std::vector<std::uint32_t> start(static_cast<std::size_t>(n) * n * n + 1, 0), order(truth.size());
+    auto key = [&](const Vec3& p) { return (static_cast<std::size_t>(cell(p.z)) * n + cell(p.y)) * n + cell(p.x); };
+    for (const Vec3& t : truth) ++start[key(t) + 1];
+    for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+    {
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (std::size_t i = 0; i < truth.size(); ++i) order[fill[key(truth[i])]++] = static_cast<std::uint32_t>(i);
+    }
+    double sum = 0, mx = 0;
+    std::size_t counted = 0, brute = 0;
+    for (const Vec3& p : pts) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+        double d = analytic_distance(f, iso, p);
+        if (f != AnalyticField::sphere && !truth.empty() && !(d <= 2 * spacing)) {
+            double best2 = kReach * kReach;
+            const int r = static_cast<int>(std::ceil(kReach / kCell));
+            const int cx = cell(p.x), cy = cell(p.y), cz = cell(p.z);
+            for (int z = std::max(0, cz - r); z <= std::min(n - 1, cz + r); ++z)
+                for (int y = std::max(0, cy - r); y <= std::min(n - 1, cy + r); ++y)
+                    for (int x = std::max(0, cx - r); x <= std::min(n - 1, cx + r); ++x) {
+                        const std::size_t k = (static_cast<std::size_t>(z) * n + y) * n + x;
+                        for (std::uint32_t a = start[k]; a < start[k + 1]; ++a) {
+                            const Vec3 q = truth[order[a]] - p;
+                            best2 = std::min(best2, dot(q, q));
+                        }
+                    }
+            if (best2 < kReach * kReach) {
+                d = std::min(d, std::sqrt(best2));
+            } else if (brute < 2000) {
+                ++brute;
+                for (const Vec3& t : truth) best2 = std::min(best2, dot(t - p, t - p));
+                d = std::min(d, std::sqrt(best2));
+            }
+        }
+        if (!std::isfinite(d)) continue;
+        sum += d;
+        mx = std::max(mx, d);
+        ++counted;
+    }
+    e.mean_distance = counted ? sum / static_cast<double>(counted) : 0;
+    e.max_distance = mx;
+}
+
+Measure measure_points(const fs::path& ply, AnalyticField f, double iso, const std::vector<Vec3>& samples,
+                       const std::vector<Vec3>& truth, double spacing) {
     Measure m;
     try {
         const PlyPoints pts = read_ply_points(ply.string());
@@ -258,6 +314,7 @@ Measure measure_points(const fs::path& ply, AnalyticField f, double iso, const s
         m.elements = pos.size();
         m.median_radius = median(r);
         m.err = point_errors(f, iso, pos, nor);
+        tighten_distances(f, iso, pos, truth, spacing, m.err);
         m.coverage = surface_coverage(samples, pos, rad).fraction();
         m.ok = true;
     } catch (const std::exception& e) {
@@ -268,7 +325,8 @@ Measure measure_points(const fs::path& ply, AnalyticField f, double iso, const s
 
 /// A peer's triangle mesh: vertex distances and area-weighted vertex normals against the truth;
 /// coverage = surface samples within `tol` of a lattice point of the triangles (spacing <= tol / 4).
-Measure measure_mesh(const fs::path& ply, AnalyticField f, double iso, const std::vector<Vec3>& samples, double tol) {
+Measure measure_mesh(const fs::path& ply, AnalyticField f, double iso, const std::vector<Vec3>& samples, double tol,
+                     const std::vector<Vec3>& truth, double spacing) {
     Measure m;
     try {
         const Mesh mesh = read_ply_mesh(ply.string());
@@ -290,6 +348,7 @@ Measure measure_mesh(const fs::path& ply, AnalyticField f, double iso, const std
         }
         m.elements = mesh.triangle_count();
         m.err = point_errors(f, iso, pos, nor);
+        tighten_distances(f, iso, pos, truth, spacing, m.err);
         const std::vector<float> radii(lattice.size(), static_cast<float>(tol));
         m.coverage = surface_coverage(samples, lattice, radii).fraction();
         m.ok = true;
@@ -343,7 +402,8 @@ void part_a(Ctx& c) {
                  "Seconds: whole process, wall clock (peers: interpreter start and imports included; their own compute "
                  "time after the slash), limit %.0f s per peer run (\"> T s\": stopped; not run on larger sizes of that set). "
                  "Distances to the true isosurface in world units (cube [-1,1]^3), mean / max over the points (peers: "
-                 "mesh vertices); normal error mean, degrees, sign-agnostic (peers: area-weighted vertex normals); "
+                 "mesh vertices; sphere exact, gyroid and ML the smaller of a Newton estimate and the distance to the "
+                 "nearest true-surface sample, both upper bounds); normal error mean, degrees, sign-agnostic (peers: area-weighted vertex normals); "
                  "coverage: true-surface samples (jittered grid spacing %.2g, Newton-projected, 2/cbrt(N) from the cube's "
                  "faces left out) within one splat radius of a meshless point (target >= 99%%), for a peer's mesh within the "
                  "median meshless splat radius of the set of its triangles. Ratios: peer / meshless (time > 1: meshless "
@@ -391,7 +451,7 @@ void part_a(Ctx& c) {
                                              c.out, c.own_limit);
                 Measure mine;
                 if (own.ok()) {
-                    mine = measure_points(pts, f, iso, samples);
+                    mine = measure_points(pts, f, iso, samples, all_samples, spacing);
                 } else {
                     mine.why = own.why(c.own_limit);
                 }
@@ -450,7 +510,7 @@ void part_a(Ctx& c) {
                     } catch (const std::exception&) {
                         compute = -1;
                     }
-                    const Measure pm = measure_mesh(mesh, f, iso, samples, tol);
+                    const Measure pm = measure_mesh(mesh, f, iso, samples, tol, all_samples, spacing);
                     if (!pm.ok) {
                         row.push_back(pm.why);
                         row.resize(t.header.size(), "-");
@@ -513,6 +573,10 @@ bool binary_has_command(const Ctx& c, const std::string& cmd) {
 }
 
 /// `meshless sample VOL --count N` (cached in the work folder).
+std::size_t read_point_set_count(const fs::path& ply) {
+    return read_point_set(ply.string(), PointSetOptions{}).size();
+}
+
 void sample_set(Ctx& c, Set51& s, const std::string& vol, const std::string& vol_opts, std::size_t n, std::uint64_t seed) {
     s.count = n;
     s.ply = c.work / fmt("%s-%zu.ply", s.label.c_str(), n);
@@ -522,6 +586,53 @@ void sample_set(Ctx& c, Set51& s, const std::string& vol, const std::string& vol
                                    shell_quote(s.ply.string()),
                                c.out, c.own_limit);
     if (!p.ok()) s.why = p.why(c.own_limit);
+}
+
+/// A level of detail of `meshless hierarchy` (issue 9, chapter 6): a tree of n - 1 splits (n clusters when
+/// no split is skipped) and its finest LOD (`lod --error 0`), cached in the work folder. False (with
+/// s.why) when a command fails or runs out of time; the caller falls back to random samples.
+bool lod_set(Ctx& c, Set51& s, const std::string& vol, const std::string& vol_opts, std::size_t n) {
+    const fs::path tree = c.work / fmt("%s-%zu.mlh", s.label.c_str(), n);
+    s.ply = c.work / fmt("%s-lod-%zu.ply", s.label.c_str(), n);
+    if (!fs::exists(s.ply)) {
+        if (!fs::exists(tree)) {
+            const Proc h = run_limited(c.ml + " hierarchy " + shell_quote(vol) + vol_opts + fmt(" --max-splits %zu --threads 2 -o ", n - 1) +
+                                           shell_quote(tree.string()),
+                                       c.out, c.own_limit);
+            if (!h.ok()) {
+                s.why = "hierarchy: " + h.why(c.own_limit);
+                return false;
+            }
+        }
+        const Proc l = run_limited(c.ml + " lod " + shell_quote(tree.string()) + " --error 0 -o " + shell_quote(s.ply.string()), c.out,
+                                   c.own_limit);
+        if (!l.ok()) {
+            s.why = "lod: " + l.why(c.own_limit);
+            return false;
+        }
+    }
+    try {
+        s.count = read_point_set_count(s.ply);
+    } catch (const std::exception& e) {
+        s.why = "n/a (" + first_line(e.what()) + ")";
+        return false;
+    }
+    s.how = fmt("the finest level of detail of `meshless hierarchy --max-splits %zu` (%zu points)", n - 1, s.count);
+    return true;
+}
+
+/// Random samples when the binary has no hierarchy command, or when it failed (said in s.how).
+void lod_or_sample(Ctx& c, Set51& s, bool hierarchy, const std::string& vol, const std::string& vol_opts, std::size_t n,
+                   std::uint64_t seed, const std::string& what) {
+    std::string failed;
+    if (hierarchy) {
+        if (lod_set(c, s, vol, vol_opts, n)) return;
+        failed = s.why;
+        s.why.clear();
+    }
+    s.how = fmt("%zu uniform random samples of %s (%s)", n, what.c_str(),
+                hierarchy ? ("`meshless hierarchy` failed: " + failed).c_str() : "no `meshless hierarchy` in this binary");
+    sample_set(c, s, vol, vol_opts, n, seed);
 }
 
 void part_b(Ctx& c) {
@@ -563,8 +674,7 @@ void part_b(Ctx& c) {
             s.why = "n/a (silicium not in the data folder)";
         } else {
             const std::size_t n = o.quick ? 2000 : 17532;
-            s.how = hierarchy ? "" : fmt("%zu uniform random samples (no `meshless hierarchy` in this binary)", n);
-            sample_set(c, s, vol, " --dims 98,34,34" + raw_u8, n, 2);
+            lod_or_sample(c, s, hierarchy && !o.quick, vol, " --dims 98,34,34" + raw_u8, n, 2, "the silicium volume");
         }
         sets.push_back(s);
     }
@@ -579,15 +689,11 @@ void part_b(Ctx& c) {
             if (!fs::exists(vol)) {
                 s.why = "n/a (vtk_headsq/quarter.nhdr not in the data folder)";
             } else {
-                s.how = fmt("%zu uniform random samples of the headsq quarter CT (64x64x93)%s", n,
-                            hierarchy ? "" : "; no `meshless hierarchy` in this binary");
-                sample_set(c, s, vol, "", n, 3);
+                lod_or_sample(c, s, hierarchy, vol, "", n, 3, "the headsq quarter CT (64x64x93)");
             }
             sets.push_back(s);
         }
     }
-    // `meshless hierarchy` (issue 9) is not driven here: its options were not settled when this bench was
-    // written; the sets above say how they were made.
     c.r.note("`meshless isosurface SET.ply --iso V --stats --threads 2 -o pts.ply`, best of " + fmt("%d", o.process_reps) +
              ", figures from --stats (\"?\": not printed by this binary). Paper: eleven 2.8-3.2 GHz PCs over MPI; its times "
              "are octree / local RBF construction / regularisation / isosurface generation. Isovalues: bucky and silicium "
