@@ -35,6 +35,8 @@ struct BenchOptions {
     std::string scattered_field;  ///< scattered: --field given to `meshless isosurface` (empty: its default)
     double peer_timeout = 0;      ///< scattered: seconds per peer run (0: 120, --quick 30)
     bool no_peers = false;        ///< scattered: skip the Python/VTK peers
+    bool all_peers = false;       ///< scattered: peers on every set (default: fewer on the large sizes)
+    bool reuse_peers = false;     ///< scattered: take peer results kept in the work folder by earlier runs
 };
 
 /// Free space in the scratch folder above which "bench all" includes the ooc section (its 4.4 GB

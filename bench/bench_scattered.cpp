@@ -361,6 +361,7 @@ Measure measure_mesh(const fs::path& ply, AnalyticField f, double iso, const std
 // ---- the sections ---------------------------------------------------------------------------------
 
 struct Ctx {
+    Ctx(const BenchOptions& opt, Report& rep) : o(opt), r(rep) {}
     const BenchOptions& o;
     Report& r;
     fs::path work;       ///< inputs (kept with --work)
@@ -369,6 +370,8 @@ struct Ctx {
     bool peers = false;  ///< python3 with numpy, scipy, vtk
     double peer_limit = 120;
     double own_limit = 600;
+    int peers_reused = 0;           ///< peer rows taken from WORK/peers (--reuse-peers)
+    std::string peers_reused_from;  ///< the dates of those runs
 };
 
 struct PeerDef {
@@ -384,6 +387,55 @@ constexpr PeerDef kPeers[] = {
 
 std::string pct(double f) { return fmt("%.2f", 100 * f); }
 
+/// Which sets get the peers: --quick the sphere's uniform set; --all-peers every set; else every set up to
+/// 20,000 points, below 500,000 the sphere's three distributions and each field's uniform set, above that
+/// the sphere's uniform set (a global Delaunay of 10^6 points takes minutes per run).
+bool peers_here(const BenchOptions& o, AnalyticField f, ScatterDistribution d, std::size_t n) {
+    const bool sphere = f == AnalyticField::sphere, uniform = d == ScatterDistribution::uniform;
+    if (o.quick) return sphere && uniform;
+    if (o.all_peers || n <= 20000) return true;
+    if (n < 500000) return sphere || uniform;
+    return sphere && uniform;
+}
+
+/// One peer run, or with --reuse-peers its record from an earlier run in WORK/peers (kept there after every
+/// run: the mesh and a small text record of exit code, time, limit, stdout and the first line of stderr).
+/// A cached time-out under a smaller limit than this run's is run again. `mesh` receives the mesh's path.
+Proc run_peer(Ctx& c, const PeerDef& p, const fs::path& set, const std::string& name, double iso, int grid, fs::path& mesh) {
+    const fs::path dir = c.work / "peers";
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    const std::string key = fmt("%s-%s-g%d", name.c_str(), p.method, grid);
+    mesh = dir / (key + ".ply");
+    const fs::path rec = dir / (key + ".txt");
+    if (c.o.reuse_peers && fs::exists(rec)) {
+        std::ifstream in(rec);
+        Proc q;
+        double limit = 0;
+        int timed = 0;
+        std::string when, line;
+        if (in >> q.code >> timed >> q.seconds >> limit >> q.maxrss_kib && std::getline(in, line) && std::getline(in, when) &&
+            std::getline(in, q.out) && std::getline(in, q.err)) {
+            q.timed_out = timed != 0;
+            if (!(q.timed_out && limit < c.peer_limit) && (!q.ok() || fs::exists(mesh))) {
+                ++c.peers_reused;
+                if (c.peers_reused_from.find(when) == std::string::npos)
+                    c.peers_reused_from += (c.peers_reused_from.empty() ? "" : ", ") + when;
+                return q;
+            }
+        }
+    }
+    fs::remove(mesh, ec);
+    const Proc pr = run_limited(shell_quote(c.o.python) + " " + shell_quote((fs::path(c.o.bench_dir) / "scattered_peers.py").string()) +
+                                    " --method " + p.method + " --input " + shell_quote(set.string()) +
+                                    fmt(" --iso %.17g --grid %d --out ", iso, grid) + shell_quote(mesh.string()),
+                                c.out, c.peer_limit);
+    if (std::ofstream out(rec); out)
+        out << pr.code << ' ' << (pr.timed_out ? 1 : 0) << ' ' << fmt("%.6f", pr.seconds) << ' ' << c.peer_limit << ' ' << pr.maxrss_kib
+            << '\n' << now_string() << '\n' << pr.out.substr(0, pr.out.find('\n')) << '\n' << first_line(pr.err) << '\n';
+    return pr;
+}
+
 void part_a(Ctx& c) {
     const BenchOptions& o = c.o;
     const std::vector<std::size_t> sizes = !o.scattered_sizes.empty() ? parse_scattered_sizes(o.scattered_sizes)
@@ -396,7 +448,7 @@ void part_a(Ctx& c) {
     const double spacing = o.quick ? 0.02 : 0.01;
     c.r.section("(a) Accuracy against truth and the peers: analytic fields at scattered points");
     c.r.note(fmt("meshless: `meshless isosurface SET.ply --iso V --stats --threads 1%s -o pts.ply` (one thread: the peers are "
-                 "single-threaded Python/VTK). Peers (bench/scattered_peers.py, %s): SciPy griddata linear (Qhull) onto an "
+                 "single-threaded Python/VTK). Peers (bench/scattered_peers.py, %s; %s): SciPy griddata linear (Qhull) onto an "
                  "n^3 grid (n = clamp(round(cbrt(N)), 16, 128)) over the points' bounding box + vtkFlyingEdges3D; vtkDelaunay3D "
                  "+ vtkContourFilter; vtkPointInterpolator (Gaussian kernel, 8 closest) onto the same grid + vtkFlyingEdges3D. "
                  "Seconds: whole process, wall clock (peers: interpreter start and imports included; their own compute "
@@ -410,7 +462,11 @@ void part_a(Ctx& c) {
                  "faster; mean distance > 1: meshless more accurate). The machine is shared with other builds and "
                  "benchmarks: compare within this run.",
                  o.scattered_field.empty() ? "" : (" --field " + o.scattered_field).c_str(),
-                 c.peers ? "python3-scipy, python3-vtk9" : "not run: numpy/scipy/vtk not importable", c.peer_limit, spacing));
+                 c.peers ? "python3-scipy, python3-vtk9" : "not run: numpy/scipy/vtk not importable",
+                 o.quick ? "on the sphere's uniform set" : o.all_peers ? "on every set"
+                         : "on every set up to 20,000 points, below 500,000 on the sphere's three distributions and each "
+                           "field's uniform set, above on the sphere's uniform set (--all-peers: every set)",
+                 c.peer_limit, spacing));
     Table t;
     t.header = {"set", "N", "method", "points / triangles", "seconds", "mean dist", "max dist", "normal err deg",
                 "coverage %", "time ratio", "mean dist ratio"};
@@ -469,7 +525,7 @@ void part_a(Ctx& c) {
                 if (mine.ok && mine.coverage >= 0.99) ++ty.covered;
                 bool best = mine.ok;
                 const double tol = mine.ok && mine.median_radius > 0 ? mine.median_radius : 2.0 / std::cbrt(static_cast<double>(n));
-                if (!c.peers || (o.quick && (d != ScatterDistribution::uniform || f != AnalyticField::sphere))) continue;  // no peers here
+                if (!c.peers || !peers_here(o, f, d, n)) continue;
                 ++ty.compared;
                 const int grid = static_cast<int>(std::clamp(std::lround(std::cbrt(static_cast<double>(n))), 16L, 128L));
                 for (const PeerDef& p : kPeers) {
@@ -482,12 +538,8 @@ void part_a(Ctx& c) {
                         if (p.delaunay && mine.ok) ++ty.delaunay_rows, ++ty.faster_than_delaunay;
                         continue;
                     }
-                    const fs::path mesh = c.out / (std::string(p.method) + ".ply");
-                    fs::remove(mesh);
-                    const Proc pr = run_limited(shell_quote(o.python) + " " + shell_quote((fs::path(o.bench_dir) / "scattered_peers.py").string()) +
-                                                    " --method " + p.method + " --input " + shell_quote(set.string()) +
-                                                    fmt(" --iso %.17g --grid %d --out ", iso, grid) + shell_quote(mesh.string()),
-                                                c.out, c.peer_limit);
+                    fs::path mesh;
+                    const Proc pr = run_peer(c, p, set, name, iso, grid, mesh);
                     if (!pr.ok()) {
                         if (pr.timed_out) peer_gave_up[key] = true;
                         row.push_back("-");
@@ -541,6 +593,10 @@ void part_a(Ctx& c) {
             }
     }
     c.r.table(t);
+    if (c.peers_reused)
+        c.r.note(fmt("--reuse-peers: %d peer rows were taken from earlier runs of this bench on this machine (%s), kept in ",
+                     c.peers_reused, c.peers_reused_from.c_str()) + (c.work / "peers").string() +
+                 "; their times were not measured in this run.");
     Table s;
     s.header = {"N", "sets", "meshless coverage >= 99%", "meshless mean distance below every peer's (sets with peers)",
                 "meshless faster than the Delaunay peers (runs)"};
@@ -875,9 +931,10 @@ std::vector<std::size_t> parse_scattered_sizes(const std::string& s) {
 void run_scattered(const BenchOptions& o, Report& r) {
     r.section("Isosurfaces straight from scattered data (issue 10; dissertation chapter 5, Table 5.1)");
     const bool own_work = o.work_dir.empty();
-    Ctx c{o, r, own_work ? fs::temp_directory_path() / fmt("meshless-bench-scattered-%d", static_cast<int>(::getpid()))
-                         : fs::path(o.work_dir) / "scattered",
-          {}, shell_quote(o.meshless)};
+    Ctx c(o, r);
+    c.work = own_work ? fs::temp_directory_path() / fmt("meshless-bench-scattered-%d", static_cast<int>(::getpid()))
+                      : fs::path(o.work_dir) / "scattered";
+    c.ml = shell_quote(o.meshless);
     c.out = c.work / fmt("out-%d", static_cast<int>(::getpid()));
     std::error_code ec;
     fs::create_directories(c.out, ec);

@@ -102,6 +102,8 @@ int bench_main(int argc, char** argv) {
         .option("field", "", "NAME", "scattered: --field passed to `meshless isosurface` (default: the command's own)")
         .option("peer-timeout", "", "S", "scattered: seconds allowed per peer run (default 120; --quick 30)")
         .flag("no-peers", "scattered: skip the SciPy / VTK peers")
+        .flag("all-peers", "scattered: peers on every set and size (default: all up to 20,000 points, fewer above)")
+        .flag("reuse-peers", "scattered: reuse the peer results an earlier run kept in --work (said in the output)")
         .flag("large", "process: also the 10^8-point splat row (3.2 GB of PLY in --work)")
         .flag("keep", "ooc: keep the scratch files (stores, the 4.4 GB volume's store)")
         .flag("with-ooc", "all: include the ooc section whatever the free space")
@@ -147,6 +149,8 @@ int bench_main(int argc, char** argv) {
     o.peer_timeout = a.get_double_or("peer-timeout", 0);
     if (!(o.peer_timeout >= 0) || o.peer_timeout > 86400) throw UsageError("--peer-timeout: expected 0..86400 seconds");
     o.no_peers = a.has("no-peers");
+    o.all_peers = a.has("all-peers");
+    o.reuse_peers = a.has("reuse-peers");
     if (!o.scratch_dir.empty() && !fs::is_directory(o.scratch_dir))
         throw UsageError("--scratch: '" + o.scratch_dir + "' is not a folder");
 
