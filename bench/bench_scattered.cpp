@@ -462,7 +462,7 @@ void part_a(Ctx& c) {
                  "faster; mean distance > 1: meshless more accurate). The machine is shared with other builds and "
                  "benchmarks: compare within this run.",
                  o.scattered_field.empty() ? "" : (" --field " + o.scattered_field).c_str(),
-                 c.peers ? "python3-scipy, python3-vtk9" : "not run: numpy/scipy/vtk not importable",
+                 c.peers ? "python3-scipy, python3-vtk9" : o.no_peers ? "not run: --no-peers" : "not run: numpy/scipy/vtk not importable",
                  o.quick ? "on the sphere's uniform set" : o.all_peers ? "on every set"
                          : "on every set up to 20,000 points, below 500,000 on the sphere's three distributions and each "
                            "field's uniform set, above on the sphere's uniform set (--all-peers: every set)",
