@@ -13,6 +13,7 @@
 #include "cli/isosurface_mpi.hpp"
 #include "cli/multiblock_isosurface.hpp"
 #include "cli/mpi_session.hpp"
+#include "cli/scattered_isosurface.hpp"
 #include "cli/render_output.hpp"
 #include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
@@ -91,6 +92,8 @@ int cmd_isosurface(int argc, char** argv) {
     add_color_options(a);
     a.epilog("BLOCKS (PLOT3D, .vts pieces, .vtm/.vthb, or several files): the multiblock/AMR isosurface of chapter 4\n"
              "          (meshless isosurface BLOCKS... --help for its options).\n"
+             "POINTS (scattered: CSV/TSV, PLY, VTP, raw records, .npy): the isosurface of chapter 5\n"
+             "          (meshless isosurface POINTS --help for its options).\n"
              "examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
              "          meshless isosurface vol.mlb --iso 100.5 --memory 256M -o out.ply\n"
              "          mpirun -np 4 meshless isosurface vol.mlb --iso 100.5 -o out.ply   (ranks split the active bricks)\n");
@@ -103,7 +106,11 @@ int cmd_isosurface(int argc, char** argv) {
         add_geometry_format_option(blocks);
         blocks.option("samples", "", "", "").option("tolerance", "", "", "").option("max-iterations", "", "", "")
             .option("max-travel", "", "", "");
-        if (blocks_invocation(scan_positionals(argc, argv, 2, {&a, &blocks}))) return isosurface_blocks(argc, argv);
+        blocks.option("max-cells", "", "", "").option("max-level", "", "", "").option("dedup", "", "", "");
+        const auto positionals = scan_positionals(argc, argv, 2, {&a, &blocks});
+        if (blocks_invocation(positionals)) return isosurface_blocks(argc, argv);
+        // scattered point sets (chapter 5)
+        if (scattered_invocation(positionals)) return isosurface_scattered(argc, argv);
     }
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_finite(a.require("iso"), "--iso");

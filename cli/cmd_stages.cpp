@@ -9,7 +9,9 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
+#include "cli/field_cli.hpp"
 #include "cli/multiblock_isosurface.hpp"
+#include "cli/scattered_isosurface.hpp"
 #include "cli/point_set_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "kernels/errors.hpp"
@@ -90,7 +92,12 @@ int cmd_generate(int argc, char** argv) {
         Args blocks("generate", "", "");
         add_point_set_options(blocks, /*with_endian=*/false);
         blocks.option("samples", "", "", "");
-        if (blocks_invocation(scan_positionals(argc, argv, 2, {&a, &blocks}))) return generate_blocks(argc, argv);
+        Args scattered("generate", "", "");
+        add_field_options(scattered, /*with_coverage=*/false);
+        scattered.option("max-cells", "", "", "").option("max-level", "", "", "");
+        const auto positionals = scan_positionals(argc, argv, 2, {&a, &blocks, &scattered});
+        if (blocks_invocation(positionals)) return generate_blocks(argc, argv);
+        if (scattered_invocation(positionals)) return generate_scattered(argc, argv);
     }
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.has("all")) return generate_all(a);

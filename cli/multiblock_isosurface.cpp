@@ -33,11 +33,6 @@
 
 namespace meshless::cli {
 
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
 // ------------------------------------------------------------------ options
 
 void add_samples_option(Args& a) {
@@ -70,6 +65,33 @@ FieldProjectParams newton_params(const Args& a) {
     p.seed_max_travel = travel == 0 ? std::numeric_limits<double>::infinity() : travel;
     return p;
 }
+
+void print_newton_stats(const char* cmd, const std::string& field, const FieldProjectParams& p, const FieldNewtonStats& s,
+                        double busy_seconds) {
+    std::fprintf(stderr,
+                 "%s: Newton onto %s (tolerance %g x cell diagonal, <= %d iterations): %lld seeds -> %lld converged; "
+                 "dropped %lld (flat gradient %lld, too far %lld, not converged %lld, stalled %lld, non-finite %lld); "
+                 "%.2f evaluations/seed; %.0f points/s per core (%.3f s busy)\n",
+                 cmd, field.c_str(), p.seed_tolerance, p.newton.max_iterations, static_cast<long long>(s.input),
+                 static_cast<long long>(s.converged), static_cast<long long>(s.dropped()), static_cast<long long>(s.flat),
+                 static_cast<long long>(s.too_far), static_cast<long long>(s.not_converged), static_cast<long long>(s.stalled),
+                 static_cast<long long>(s.nonfinite), s.input ? double(s.evaluations) / double(s.input) : 0.0,
+                 busy_seconds > 0 ? double(s.converged) / busy_seconds : 0.0, busy_seconds);
+}
+
+BinaryStreamOutput::BinaryStreamOutput(const std::string& path) : name(path) {
+    file = std::make_unique<AtomicFile>(path);
+    if (file->is_stdout() && ::isatty(1))
+        throw UsageError("refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
+    f = file->handle();
+}
+
+void BinaryStreamOutput::commit() { file->commit(); }
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // ------------------------------------------------------------------ inputs and metadata
 
@@ -162,33 +184,6 @@ void print_seed_stats(const char* cmd, const BlockInput& in, const BlockSeedStat
                  static_cast<long long>(s.triangles), static_cast<long long>(s.zero_area_triangles),
                  static_cast<long long>(s.seeds), n, lattice_size(n));
 }
-
-void print_newton_stats(const char* cmd, const std::string& field, const FieldProjectParams& p, const FieldNewtonStats& s,
-                        double busy_seconds) {
-    std::fprintf(stderr,
-                 "%s: Newton onto %s (tolerance %g x cell diagonal, <= %d iterations): %lld seeds -> %lld converged; "
-                 "dropped %lld (flat gradient %lld, too far %lld, not converged %lld, stalled %lld, non-finite %lld); "
-                 "%.2f evaluations/seed; %.0f points/s per core (%.3f s busy)\n",
-                 cmd, field.c_str(), p.seed_tolerance, p.newton.max_iterations, static_cast<long long>(s.input),
-                 static_cast<long long>(s.converged), static_cast<long long>(s.dropped()), static_cast<long long>(s.flat),
-                 static_cast<long long>(s.too_far), static_cast<long long>(s.not_converged), static_cast<long long>(s.stalled),
-                 static_cast<long long>(s.nonfinite), s.input ? double(s.evaluations) / double(s.input) : 0.0,
-                 busy_seconds > 0 ? double(s.converged) / busy_seconds : 0.0, busy_seconds);
-}
-
-/// Stream output: stdout when "-" (refused on a terminal), else an AtomicFile.
-struct StreamOutput {
-    std::unique_ptr<AtomicFile> file;
-    std::FILE* f = nullptr;
-    std::string name;
-    explicit StreamOutput(const std::string& path) : name(path) {
-        file = std::make_unique<AtomicFile>(path);
-        if (file->is_stdout() && ::isatty(1))
-            throw UsageError("refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
-        f = file->handle();
-    }
-    void commit() { file->commit(); }
-};
 
 }  // namespace
 
@@ -360,7 +355,7 @@ int generate_blocks(int argc, char** argv) {
     const auto t0 = Clock::now();
     BlockInput in = read_blocks(a, iso);
     warn_if_inactive(in, iso);
-    StreamOutput out(a.get_or("output", "-"));
+    BinaryStreamOutput out(a.get_or("output", "-"));
     StreamSink sink(out.f, out.name, RecordKind::seed, block_meta(in, iso, n, a.command_line()), a.has("compress"));
     BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
     BlockSeedStage seed(in.seed_blocks(), in.plan, iso, n);
@@ -409,8 +404,10 @@ int project_seeds(int argc, char** argv) {
                                                                    : build_field(a, read_points_arg(a));
     const double field_seconds = since(t1);
     add_projection_meta(meta, field.field->name(), np);
-    StreamOutput out(a.get_or("output", "-"));
-    StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"), /*with_blocks=*/true);
+    BinaryStreamOutput out(a.get_or("output", "-"));
+    // multiblock seeds carry block ids; scattered ones (cli/scattered_isosurface.hpp) do not
+    const bool with_blocks = meta.get("method").value_or("") != "scattered";
+    StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"), with_blocks);
     StreamSource source(reader);
     FieldProjectStage project(*field.field, iso, np);
     const Stage* stages[] = {&project};

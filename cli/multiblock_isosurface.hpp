@@ -10,9 +10,15 @@
 // project_seeds_invocation() say so. Throws UsageError for bad options, what the readers and
 // stages throw otherwise (cli/app.cpp maps them to exit codes).
 #pragma once
+#include <cstdio>
 #include <initializer_list>
+#include <memory>
+#include <string>
 
 #include "cli/args.hpp"
+#include "formats/atomic_file.hpp"
+#include "kernels/field_newton_projection.hpp"
+#include "stream/field_project_stage.hpp"
 
 namespace meshless::cli {
 
@@ -31,6 +37,26 @@ namespace meshless::cli {
 /// more than n = 2 on the combustor (~10% of the whole process, the field build dominating); n = 4
 /// costs 67% more points for 15-25% less deviation.
 inline constexpr int kDefaultLatticeN = 3;
+
+// Shared with the scattered-data isosurface (cli/scattered_isosurface.hpp), which seeds and
+// projects the same way:
+/// --samples N (the barycentric lattice parameter, default kDefaultLatticeN) and its value.
+void add_samples_option(Args& a);
+int lattice_n(const Args& a);
+/// --tolerance --max-iterations --max-travel (Newton onto the field, relative to each seed's cell).
+void add_newton_options(Args& a);
+FieldProjectParams newton_params(const Args& a);
+/// The --stats line of the Newton projection.
+void print_newton_stats(const char* cmd, const std::string& field, const FieldProjectParams& p, const FieldNewtonStats& s,
+                        double busy_seconds);
+/// Stream output: stdout when "-" (UsageError on a terminal), else an AtomicFile committed by commit().
+struct BinaryStreamOutput {
+    std::unique_ptr<AtomicFile> file;
+    std::FILE* f = nullptr;
+    std::string name;
+    explicit BinaryStreamOutput(const std::string& path);
+    void commit();
+};
 
 /// The positional arguments of argv[first..argc) under the option declarations of `parsers`
 /// (an option that takes a value in any of them consumes the next argument).

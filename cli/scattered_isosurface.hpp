@@ -1,0 +1,27 @@
+// The isosurface straight from scattered data (dissertation chapter 5, sections 5.3-5.6) on the
+// command line:
+//   meshless isosurface POINTS --iso V -o out.ply|out.vtp [--png out.png] [--field KIND|F.mlf] ...
+//   meshless generate POINTS --iso V [--samples N]            (a seed stream)
+//   meshless project --field F.mlf|KIND [POINTS] [< seeds]    (seed stream -> points; the multiblock
+//                                                              command, cli/multiblock_isosurface.hpp)
+// as one graph: the binning grid (kernels/scattered_binning_grid.hpp) -> marching stencils, each
+// regularised on the fly, tetrahedralised by CGAL and contoured by marching tetrahedra, seeded on the
+// barycentric lattice (stream/stencil_source.hpp, stream/stencil_seed_stage.hpp) -> Newton onto the
+// meshless field (stream/field_project_stage.hpp) -> PLY/VTP and/or PNG. The pipe gives the same
+// bytes as the in-process command for any --threads. POINTS: any point set meshless reads (CSV/TSV,
+// PLY, VTP, raw float32 records, .npy; formats/point_set_reader.hpp).
+// Throws UsageError for bad options, FormatError for unusable data (fewer than 4 distinct points),
+// what the readers and stages throw otherwise (cli/app.cpp maps them to exit codes).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace meshless::cli {
+
+/// True when the positionals name one scattered point set (not blocks, not a volume).
+bool scattered_invocation(const std::vector<std::string>& positionals);
+
+int isosurface_scattered(int argc, char** argv);
+int generate_scattered(int argc, char** argv);
+
+}  // namespace meshless::cli

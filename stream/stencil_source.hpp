@@ -1,0 +1,34 @@
+// Source of the scattered-data seed work (dissertation sections 5.4-5.6, the "marching stencil"):
+// batches naming a range of stencils of one stencil row, as linear stencil indices
+// [cells.k0, cells.k1) (kernels/marching_stencils.hpp: s = sx + Sx (sy + Sy sz)), at most
+// `per_unit` stencils each. A row's stencils share one regularised block of cells
+// (kernels/stencil_regularisation.hpp), so units never span two rows. Sequence numbers are dense,
+// the order is row by row; the ranges depend only on the grid and per_unit, never on the thread
+// count. Not thread-safe (the runner calls next() serially).
+#pragma once
+#include <cstdint>
+
+#include "kernels/marching_stencils.hpp"
+#include "stream/stage.hpp"
+
+namespace meshless {
+
+/// Stencils per work unit: 8 (a few Delaunay tetrahedrizations; small units balance the threads,
+/// and each unit regularises its cells in one Field::evaluate call).
+inline constexpr std::int64_t kStencilsPerUnit = 8;
+
+class StencilSource final : public Source {
+public:
+    /// The work of stencil range [first, last) in whole rows: first and last are multiples of the
+    /// row length Sx (the MPI ranks' ranges), or 0 and grid.total() for all.
+    StencilSource(const StencilGrid& grid, std::int64_t per_unit = kStencilsPerUnit);
+    StencilSource(const StencilGrid& grid, std::int64_t first, std::int64_t last, std::int64_t per_unit = kStencilsPerUnit);
+    std::optional<Batch> next() override;
+    std::uint64_t emitted() const { return seq_; }
+
+private:
+    std::int64_t row_, per_, at_, end_;
+    std::uint64_t seq_ = 0;
+};
+
+}  // namespace meshless
