@@ -35,6 +35,9 @@ struct BenchOptions {
     std::string scattered_field;  ///< scattered: --field given to `meshless isosurface` (empty: its default)
     double peer_timeout = 0;      ///< scattered: seconds per peer run (0: 120, --quick 30)
     bool no_peers = false;        ///< scattered: skip the Python/VTK peers
+    std::string scattered_fields;         ///< scattered (a): "sphere,gyroid,ml" subset (empty: all three)
+    std::string scattered_distributions;  ///< scattered (a): "uniform,clustered,layered" subset (empty: all)
+    std::string scattered_parts;          ///< scattered: "a,b,c" subset (empty: all)
     bool all_peers = false;       ///< scattered: peers on every set (default: fewer on the large sizes)
     bool reuse_peers = false;     ///< scattered: take peer results kept in the work folder by earlier runs
 };
@@ -143,6 +146,10 @@ void run_multiblock(const BenchOptions& o, Report& r);
 void run_scattered(const BenchOptions& o, Report& r);
 /// "N1,N2,..." -> counts (each 10..1e8); throws std::invalid_argument naming --sizes otherwise.
 std::vector<std::size_t> parse_scattered_sizes(const std::string& s);
+/// "a,b" -> {"a", "b"}.
+std::vector<std::string> split_list(const std::string& s);
+/// Checks --sizes, --fields, --distributions, --parts; throws std::invalid_argument naming the option.
+void check_scattered_lists(const BenchOptions& o);
 /// `meshless-bench --rusage-wrapper RSSFILE PROGRAM ARGS...` (used by run_process, not by users): runs
 /// PROGRAM as a child, writes the child's ru_maxrss (KiB, its waited-for descendants included) to
 /// RSSFILE and exits with the child's status. A fresh process, so the child's peak RSS is its own.

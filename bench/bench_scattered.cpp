@@ -443,8 +443,16 @@ void part_a(Ctx& c) {
                                                      : std::vector<std::size_t>{10000, 100000, 1000000};
     std::vector<AnalyticField> fields = {AnalyticField::sphere, AnalyticField::gyroid, AnalyticField::marschner_lobb};
     if (o.quick) fields = {AnalyticField::sphere, AnalyticField::gyroid};
-    const std::vector<ScatterDistribution> dists = {ScatterDistribution::uniform, ScatterDistribution::clustered,
-                                                    ScatterDistribution::layered};
+    std::vector<ScatterDistribution> dists = {ScatterDistribution::uniform, ScatterDistribution::clustered,
+                                              ScatterDistribution::layered};
+    if (!o.scattered_fields.empty()) {
+        fields.clear();
+        for (const std::string& w : split_list(o.scattered_fields)) fields.push_back(*parse_analytic_field(w));
+    }
+    if (!o.scattered_distributions.empty()) {
+        dists.clear();
+        for (const std::string& w : split_list(o.scattered_distributions)) dists.push_back(*parse_scatter_distribution(w));
+    }
     const double spacing = o.quick ? 0.02 : 0.01;
     c.r.section("(a) Accuracy against truth and the peers: analytic fields at scattered points");
     c.r.note(fmt("meshless: `meshless isosurface SET.ply --iso V --stats --threads 1%s -o pts.ply` (one thread: the peers are "
@@ -911,6 +919,32 @@ void part_c(Ctx& c) {
 
 }  // namespace
 
+std::vector<std::string> split_list(const std::string& s) {
+    std::vector<std::string> v;
+    std::size_t at = 0;
+    while (at <= s.size()) {
+        const std::size_t c = s.find(',', at);
+        v.push_back(s.substr(at, c == std::string::npos ? std::string::npos : c - at));
+        if (c == std::string::npos) break;
+        at = c + 1;
+    }
+    return v;
+}
+
+void check_scattered_lists(const BenchOptions& o) {
+    if (!o.scattered_fields.empty())
+        for (const std::string& w : split_list(o.scattered_fields))
+            if (!parse_analytic_field(w)) throw std::invalid_argument("--fields: expected sphere, torus, gyroid or ml (got '" + w + "')");
+    if (!o.scattered_distributions.empty())
+        for (const std::string& w : split_list(o.scattered_distributions))
+            if (!parse_scatter_distribution(w))
+                throw std::invalid_argument("--distributions: expected uniform, clustered or layered (got '" + w + "')");
+    if (!o.scattered_parts.empty())
+        for (const std::string& w : split_list(o.scattered_parts))
+            if (w != "a" && w != "b" && w != "c") throw std::invalid_argument("--parts: expected a, b, c separated by ',' (got '" + w + "')");
+    if (!o.scattered_sizes.empty()) parse_scattered_sizes(o.scattered_sizes);
+}
+
 std::vector<std::size_t> parse_scattered_sizes(const std::string& s) {
     std::vector<std::size_t> v;
     std::size_t at = 0;
@@ -959,9 +993,10 @@ void run_scattered(const BenchOptions& o, Report& r) {
            (own_work ? " (temporary)." : " (inputs kept and reused).") +
            (c.peers ? " Peers: " + o.python + " " + script + "."
                     : o.no_peers ? " Peers: skipped (--no-peers)." : " Peers: not run (python3 with numpy, scipy and vtk not found)."));
-    part_a(c);
-    part_b(c);
-    part_c(c);
+    const std::string parts = o.scattered_parts.empty() ? "a,b,c" : o.scattered_parts;
+    if (parts.find('a') != std::string::npos) part_a(c);
+    if (parts.find('b') != std::string::npos) part_b(c);
+    if (parts.find('c') != std::string::npos) part_c(c);
     fs::remove_all(own_work ? c.work : c.out, ec);
 }
 

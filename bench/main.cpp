@@ -101,6 +101,9 @@ int bench_main(int argc, char** argv) {
         .option("sizes", "", "N1,N2,...", "scattered: point counts of the accuracy part (default 10000,100000,1000000; --quick 3000)")
         .option("field", "", "NAME", "scattered: --field passed to `meshless isosurface` (default: the command's own)")
         .option("peer-timeout", "", "S", "scattered: seconds allowed per peer run (default 120; --quick 30)")
+        .option("fields", "", "LIST", "scattered (a): analytic fields, e.g. sphere,gyroid,ml (default: those three)")
+        .option("distributions", "", "LIST", "scattered (a): uniform,clustered,layered or a subset (default: all)")
+        .option("parts", "", "LIST", "scattered: a (accuracy and peers), b (Table 5.1), c (scaling) or a subset (default: all)")
         .flag("no-peers", "scattered: skip the SciPy / VTK peers")
         .flag("all-peers", "scattered: peers on every set and size (default: all up to 20,000 points, fewer above)")
         .flag("reuse-peers", "scattered: reuse the peer results an earlier run kept in --work (said in the output)")
@@ -140,11 +143,14 @@ int bench_main(int argc, char** argv) {
     o.work_dir = a.get_or("work", "");
     o.large = a.has("large");
     o.scattered_sizes = a.get_or("sizes", "");
-    if (!o.scattered_sizes.empty()) try {
-            parse_scattered_sizes(o.scattered_sizes);
-        } catch (const std::invalid_argument& e) {
-            throw UsageError(e.what());
-        }
+    o.scattered_fields = a.get_or("fields", "");
+    o.scattered_distributions = a.get_or("distributions", "");
+    o.scattered_parts = a.get_or("parts", "");
+    try {
+        check_scattered_lists(o);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
     o.scattered_field = a.get_or("field", "");
     o.peer_timeout = a.get_double_or("peer-timeout", 0);
     if (!(o.peer_timeout >= 0) || o.peer_timeout > 86400) throw UsageError("--peer-timeout: expected 0..86400 seconds");
