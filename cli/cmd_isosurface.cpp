@@ -106,11 +106,11 @@ int cmd_isosurface(int argc, char** argv) {
         add_geometry_format_option(blocks);
         blocks.option("samples", "", "", "").option("tolerance", "", "", "").option("max-iterations", "", "", "")
             .option("max-travel", "", "", "");
-        blocks.option("max-cells", "", "", "").option("max-level", "", "", "").option("dedup", "", "", "");
+        blocks.option("max-cells", "", "", "").option("max-level", "", "", "").option("dedup", "", "", "").option("reg-gap", "", "", "");
         const auto positionals = scan_positionals(argc, argv, 2, {&a, &blocks});
         if (blocks_invocation(positionals)) return isosurface_blocks(argc, argv);
         // scattered point sets (chapter 5)
-        if (scattered_invocation(positionals)) return isosurface_scattered(argc, argv);
+        if (scattered_invocation(positionals, argc, argv)) return isosurface_scattered(argc, argv);
     }
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_finite(a.require("iso"), "--iso");

@@ -35,14 +35,14 @@ namespace meshless::cli {
 
 // ------------------------------------------------------------------ options
 
-void add_samples_option(Args& a) {
+void add_samples_option(Args& a, int default_n) {
     a.option("samples", "", "N",
              "seeds per marching-cubes triangle: the barycentric lattice of N(N+1)/2 interior points (section 4.4)",
-             std::to_string(kDefaultLatticeN));
+             std::to_string(default_n));
 }
 
-int lattice_n(const Args& a) {
-    const long long n = a.get_int_or("samples", kDefaultLatticeN);
+int lattice_n(const Args& a, int default_n) {
+    const long long n = a.get_int_or("samples", default_n);
     if (n < 1 || n > kMaxLatticeN) throw UsageError("--samples: expected 1.." + std::to_string(kMaxLatticeN) + ", got " + std::to_string(n));
     return static_cast<int>(n);
 }

@@ -41,8 +41,8 @@ inline constexpr int kDefaultLatticeN = 3;
 // Shared with the scattered-data isosurface (cli/scattered_isosurface.hpp), which seeds and
 // projects the same way:
 /// --samples N (the barycentric lattice parameter, default kDefaultLatticeN) and its value.
-void add_samples_option(Args& a);
-int lattice_n(const Args& a);
+void add_samples_option(Args& a, int default_n = kDefaultLatticeN);
+int lattice_n(const Args& a, int default_n = kDefaultLatticeN);
 /// --tolerance --max-iterations --max-travel (Newton onto the field, relative to each seed's cell).
 void add_newton_options(Args& a);
 FieldProjectParams newton_params(const Args& a);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <optional>
 
 #include "cli/common.hpp"
@@ -19,11 +20,14 @@
 #include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/marching_stencils.hpp"
+#include "kernels/point_coverage.hpp"
 #include "kernels/scattered_binning_grid.hpp"
+#include "stream/dedup_sink.hpp"
 #include "stream/field_project_stage.hpp"
 #include "stream/record_vector_source.hpp"
 #include "stream/runner.hpp"
 #include "stream/stencil_seed_stage.hpp"
+#include "stream/stencil_ranks.hpp"
 #include "stream/stencil_source.hpp"
 #include "stream/stream_endpoints.hpp"
 
@@ -39,7 +43,34 @@ constexpr const char* kPointsWhat = "an oriented point set";
 void add_binning_options(Args& a) {
     a.option("max-cells", "", "N", "cap on the binning grid's cells (section 5.3): a finer grid is coarsened, with a warning",
              std::to_string(BinningGridParams{}.max_cells))
-        .option("max-level", "", "L", "cap on the binning level l_b (2^L cells per axis)", std::to_string(BinningGridParams{}.max_level));
+        .option("max-level", "", "L", "cap on the binning level l_b (2^L cells per axis)", std::to_string(BinningGridParams{}.max_level))
+        .option("reg-gap", "", "F",
+                "a regularisation point farther than F x the local point spacing (8th-neighbour distance) from the data "
+                "gets no value (no surface where no data is); 0 = every empty cell gets the field's value", "4");
+}
+
+double reg_gap(const Args& a) {
+    const double f = parse_finite(a.get_or("reg-gap", "4"), "--reg-gap");
+    if (f < 0) throw UsageError("--reg-gap: expected a factor >= 0");
+    return f;
+}
+
+/// The most data points one 3x3x3 stencil holds (before regularisation).
+std::int64_t largest_stencil(const BinningGrid& g, const BinnedPoints& b) {
+    const StencilGrid sg(g.dims);
+    std::int64_t most = 0;
+    for (std::int64_t s = 0; s < sg.total(); ++s) {
+        const auto m = sg.coords(s);
+        const std::int64_t c[3] = {stencil_centre(m[0], g.dims[0]), stencil_centre(m[1], g.dims[1]), stencil_centre(m[2], g.dims[2])};
+        std::int64_t n = 0;
+        for (std::int64_t k = c[2] - 1; k <= c[2] + 1; ++k)
+            for (std::int64_t j = c[1] - 1; j <= c[1] + 1; ++j) {
+                const std::int64_t row = g.index(c[0] - 1, j, k);
+                n += std::int64_t(b.start[static_cast<std::size_t>(row) + 3]) - std::int64_t(b.start[static_cast<std::size_t>(row)]);
+            }
+        most = std::max(most, n);
+    }
+    return most;
 }
 
 BinningGridParams binning_params(const Args& a) {
@@ -57,6 +88,8 @@ struct ScatteredInput {
     PointSet points;
     BinningGrid grid;
     BinnedPoints bins;
+    std::unique_ptr<PointCoverage> coverage;  ///< --reg-gap > 0
+    double coverage_seconds = 0;
     std::string source;  ///< file names joined by ','
     double read_seconds = 0, octree_seconds = 0;
 };
@@ -83,7 +116,7 @@ std::size_t distinct_positions(const std::vector<Vec3>& pos, std::size_t enough)
 
 const char* axis_name(int a) { return a == 0 ? "x" : (a == 1 ? "y" : "z"); }
 
-ScatteredInput read_scattered(const Args& a) {
+ScatteredInput read_scattered(const Args& a, bool warn = true) {
     if (a.positional().empty()) throw UsageError("missing POINTS argument (see meshless " + a.command() + " --help)");
     ScatteredInput in;
     in.source = joined_names(a.positional());
@@ -94,7 +127,7 @@ ScatteredInput read_scattered(const Args& a) {
     const std::string& name = a.positional()[0];
     if (!in.points.has_values)
         throw FormatError(name + ": the points carry no values (positions only); there is nothing to contour");
-    if (in.points.dropped_nonfinite > 0)
+    if (warn && in.points.dropped_nonfinite > 0)
         std::fprintf(stderr, "meshless: warning: %s: %llu points with a NaN/Inf position or value dropped\n", name.c_str(),
                      static_cast<unsigned long long>(in.points.dropped_nonfinite));
     if (distinct_positions(in.points.pos, 4) < 4)
@@ -103,8 +136,13 @@ ScatteredInput read_scattered(const Args& a) {
     in.grid = make_binning_grid(in.points.pos, bp);
     in.bins = bin_points(in.grid, in.points.pos);
     in.octree_seconds = since(t0);
+    if (const double gap = reg_gap(a); gap > 0) {
+        t0 = Clock::now();
+        in.coverage = std::make_unique<PointCoverage>(in.points.pos, gap);
+        in.coverage_seconds = since(t0);
+    }
     const int degenerate = int(in.grid.degenerate[0]) + int(in.grid.degenerate[1]) + int(in.grid.degenerate[2]);
-    if (degenerate > 0) {
+    if (warn && degenerate > 0) {
         std::string axes;
         for (int ax = 0; ax < 3; ++ax)
             if (in.grid.degenerate[static_cast<std::size_t>(ax)]) axes += std::string(axes.empty() ? "" : ", ") + axis_name(ax);
@@ -113,13 +151,21 @@ ScatteredInput read_scattered(const Args& a) {
                      "cell; the surface is the field's where it defines one off the data\n",
                      name.c_str(), degenerate == 1 ? "plane" : "line", axes.c_str(), degenerate == 1 ? "that axis" : "those axes");
     }
-    if (in.grid.coarsened)
+    if (warn && in.grid.coarsened)
         std::fprintf(stderr,
                      "meshless: warning: %s: the binning rule asks for level %d (%lld cells); coarsened to level %d "
                      "(%lld cells) by --max-cells %lld / --max-level %d: stencils hold more points\n",
                      name.c_str(), in.grid.rule_level,
                      static_cast<long long>(std::pow(std::ldexp(1.0, in.grid.rule_level) + 2, 3 - degenerate) * std::pow(3.0, degenerate)),
                      in.grid.level, static_cast<long long>(in.grid.cell_count()), static_cast<long long>(bp.max_cells), bp.max_level);
+    // section 5.8: "pathological point distributions ... causing the tetrahedrization of a possibly large
+    // number of points" (e.g. two far-apart clusters: the depth-first rule stops at the root)
+    const std::int64_t most = warn ? largest_stencil(in.grid, in.bins) : 0;
+    if (most > 20000 && double(most) > 0.25 * double(in.points.size()))
+        std::fprintf(stderr,
+                     "meshless: warning: %s: one 3x3x3 stencil of the level-%d binning grid holds %lld of the %zu points "
+                     "(a pathological distribution for the binning rule, section 5.8): its Delaunay runs on one thread\n",
+                     name.c_str(), in.grid.level, static_cast<long long>(most), in.points.size());
     return in;
 }
 
@@ -165,36 +211,63 @@ void print_scattered_stats(const char* cmd, const ScatteredInput& in, const Sten
                  static_cast<long long>(g.dims[2]), static_cast<long long>(g.cell_count()), static_cast<long long>(in.bins.empty_cells),
                  static_cast<long long>(in.bins.empty_interior_cells), in.bins.max_per_cell);
     std::fprintf(stderr,
-                 "%s: %lld stencils (%lld crossed, largest %lld points), %lld regularisation points made on the fly, "
+                 "%s: %lld stencils (%lld crossed, largest %lld points), %lld regularisation points made on the fly "
+                 "(%lld beyond --reg-gap), "
                  "%lld Delaunay failures, %lld tets (%lld owned, %lld with a NaN value), %lld triangles (%lld of zero area), "
                  "%lld seeds (n = %d, %zu per triangle)\n",
                  cmd, static_cast<long long>(s.stencils), static_cast<long long>(s.crossed_stencils),
                  static_cast<long long>(s.max_stencil_points), static_cast<long long>(s.regularisation_points),
+                 static_cast<long long>(s.uncovered_regularisation),
                  static_cast<long long>(s.delaunay_failures), static_cast<long long>(s.tets), static_cast<long long>(s.owned_tets),
                  static_cast<long long>(s.nonfinite_tets), static_cast<long long>(s.triangles),
                  static_cast<long long>(s.zero_area_triangles), static_cast<long long>(s.seeds), n, lattice_size(n));
 }
 
+/// The default --samples of the scattered path, by measurement (2026-11-23, 20,000 samples of the
+/// bucky volume, iso 100, rbf-grid field, 800 x 800 picture): the marching-tetrahedra triangles are
+/// about the data's spacing, smaller than the multiblock cells of kDefaultLatticeN's measurement;
+/// n = 1 (56 K points) leaves visible blotches at silhouettes where one disc stands for a whole
+/// triangle, n = 2 (169 K points) gives a picture indistinguishable from n = 3 (339 K points) for
+/// half the Newton work.
+constexpr int kScatteredLatticeN = 2;
+
 void add_scattered_options(Args& a) {
-    add_samples_option(a);
+    add_samples_option(a, kScatteredLatticeN);
     add_binning_options(a);
+}
+
+double dedup_fraction(const Args& a) {
+    const double f = parse_finite(a.get_or("dedup", "0"), "--dedup");
+    if (f < 0 || f > 10) throw UsageError("--dedup: expected a fraction of the point radius in [0, 10]");
+    return f;
 }
 
 }  // namespace
 
 // ------------------------------------------------------------------ dispatch
 
-bool scattered_invocation(const std::vector<std::string>& positionals) {
+bool scattered_invocation(const std::vector<std::string>& positionals, int argc, char** argv) {
     if (positionals.empty() || blocks_invocation(positionals)) return false;
     const std::string& p = positionals[0];
-    if (looks_like_point_set(p)) return true;
     std::string e = std::filesystem::path(p).extension().string();
     std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    // a .raw without the name convention is a volume when --dims describes it
+    if (e == ".raw")
+        for (int i = 2; i < argc; ++i) {
+            const std::string tok = argv[i];
+            if (tok == "--") break;
+            if (tok == "--dims" || tok.rfind("--dims=", 0) == 0) return false;
+        }
+    if (looks_like_point_set(p)) return true;
     std::error_code ec;
     return e == ".ply" && std::filesystem::is_regular_file(p, ec) && !looks_like_volume(p);
 }
 
 // ------------------------------------------------------------------ isosurface POINTS
+
+namespace {
+int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi);
+}  // namespace
 
 int isosurface_scattered(int argc, char** argv) {
     const auto t_start = Clock::now();
@@ -213,6 +286,7 @@ int isosurface_scattered(int argc, char** argv) {
         .option("png", "", "FILE", "also render the points to this PNG");
     add_geometry_format_option(a);
     add_scattered_options(a);
+    a.option("dedup", "", "F", "remove points closer than F x their radius to an earlier point (overlapping stencils; 0 = keep all)", "0");
     add_newton_options(a);
     add_field_options(a, /*with_coverage=*/false);
     add_camera_options(a);
@@ -221,8 +295,26 @@ int isosurface_scattered(int argc, char** argv) {
     a.epilog("examples: meshless sample bucky.raw -n 20000 -o bucky.ply && meshless isosurface bucky.ply --iso 100 -o b.ply --png b.png --stats\n"
              "pipes:    meshless fit POINTS -o f.mlf && meshless generate POINTS --iso V | meshless project --field f.mlf | meshless splat -o img.png\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    if (launched_world_size() > 1)
-        throw UsageError("scattered inputs are not split over MPI ranks yet: run meshless isosurface POINTS without mpirun");
+    // under mpirun: the stencil rows are dealt to the ranks, rank 0 writes (stream/stencil_ranks.hpp)
+    std::unique_ptr<MpiSession> mpi;
+    if (launched_world_size() > 1) mpi = std::make_unique<MpiSession>(&argc, &argv);
+    try {
+        return isosurface_scattered_run(a, t_start, mpi.get());
+    } catch (const std::exception& e) {
+        if (!mpi) throw;
+        // one failing rank ends the job: nothing is renamed into place, every rank exits non-zero
+        const int code = exit_code(e);
+        if (code != kExitOk)
+            std::fprintf(stderr, "meshless isosurface (rank %d of %d): %s\n", mpi->rank(), mpi->size(), error_message(e).c_str());
+        mpi->abort(code);
+    }
+}
+
+namespace {
+
+int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
+    const bool root = !mpi || mpi->rank() == 0;
+    const int ranks = mpi ? mpi->size() : 1;
     const double iso = parse_finite(a.require("iso"), "--iso");
     const auto out = a.get("output");
     const auto png = a.get("png");
@@ -231,19 +323,20 @@ int isosurface_scattered(int argc, char** argv) {
     if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
     if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
         throw UsageError("-o and --png name the same output '" + *out + "'");
-    const int n = lattice_n(a);
+    const int n = lattice_n(a, kScatteredLatticeN);
     const FieldProjectParams np = newton_params(a);
     (void)binning_params(a);
+    const double dedup = dedup_fraction(a);
     RenderSettings rs = render_settings(a);
     const ColorChoice cc = color_choice(a);
     if (cc.request == ColorRequest::block) throw UsageError("scattered points have no blocks; --color block needs multiblock input");
     const int nthreads = threads(a);
     if (!field_file_arg(a)) (void)field_params(a);  // option errors before any reading
 
-    ScatteredInput in = read_scattered(a);
+    ScatteredInput in = read_scattered(a, root);
     apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
     const bool crossed = iso_in_range(in, iso);
-    if (!crossed) warn_if_iso_outside(iso, in.points.value_range(), in.source);
+    if (!crossed && root) warn_if_iso_outside(iso, in.points.value_range(), in.source);
     StreamMeta meta = scattered_meta(in, iso, n, a.command_line());
 
     // the field: only when the isovalue is within the data (an empty output needs none)
@@ -262,17 +355,66 @@ int isosurface_scattered(int argc, char** argv) {
     const StencilGrid sg(in.grid.dims);
     std::optional<StencilSeedStage> seed;
     std::optional<FieldProjectStage> project;
+    if (mpi) {
+        std::optional<MpiChannel> channel;
+        if (field.field) channel.emplace(*mpi);
+        std::optional<StencilInput> sin;
+        if (field.field) sin.emplace(in.grid, in.bins, std::span<const Vec3>(in.points.pos), std::span<const double>(in.points.value),
+                                     *field.field, in.coverage.get());
+        StencilRankResult rr;
+        std::optional<DedupSink> dd;
+        std::size_t points = 0;
+        if (root) {
+            IsoSplatResult unused;
+            points = run_to_outputs(geometry_output(a, kPointsWhat), png, meta, rs, nthreads, [&](const Stage*, Sink& out_sink) {
+                if (dedup > 0) dd.emplace(out_sink, dedup, 0.1 * in.grid.diagonal());
+                Sink& sink = dd ? static_cast<Sink&>(*dd) : out_sink;
+                if (field.field) rr = run_stencils_rank(*sin, iso, n, np, 0, ranks, *channel, &sink, {nthreads});
+                else sink.finish();
+                return IsoSplatResult{};
+            }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
+        } else if (field.field) {
+            rr = run_stencils_rank(*sin, iso, n, np, mpi->rank(), ranks, *channel, nullptr, {nthreads});
+        }
+        auto v = rr.seeds.as_array();
+        const FieldNewtonStats& ns = rr.newton;
+        std::vector<std::int64_t> all(v.begin(), v.end());
+        for (std::int64_t x : {ns.input, ns.converged, ns.flat, ns.too_far, ns.not_converged, ns.stalled, ns.nonfinite, ns.evaluations})
+            all.push_back(x);
+        const std::vector<std::int64_t> sums = mpi->sum_to_root(all);
+        if (root && a.has("stats")) {
+            std::array<std::int64_t, StencilSeedStats::kCounters> sv{};
+            std::copy(sums.begin(), sums.begin() + StencilSeedStats::kCounters, sv.begin());
+            sv[StencilSeedStats::kMaxIndex] = v[StencilSeedStats::kMaxIndex];  // (rank 0's)
+            print_scattered_stats("isosurface", in, StencilSeedStats::from_array(sv), n);
+            FieldNewtonStats tot;
+            const std::size_t k = StencilSeedStats::kCounters;
+            tot.input = sums[k]; tot.converged = sums[k + 1]; tot.flat = sums[k + 2]; tot.too_far = sums[k + 3];
+            tot.not_converged = sums[k + 4]; tot.stalled = sums[k + 5]; tot.nonfinite = sums[k + 6]; tot.evaluations = sums[k + 7];
+            print_newton_stats("isosurface", field_name, np, tot, 0.0);
+            std::fprintf(stderr, "isosurface: %zu points over %d ranks x %d thread(s); time: read %.3f s, octree + binning %.3f s, "
+                         "coverage %.3f s, field %.3f s, total %.3f s (rank 0)\n",
+                         points, ranks, nthreads, in.read_seconds, in.octree_seconds, in.coverage_seconds, field_seconds, since(t_start));
+        }
+        return 0;
+    }
+
+    std::optional<DedupSink> dedup_sink;
+    if (dedup > 0) meta.set("dedup", dedup);
     IsoSplatResult unused;
     t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), png, meta, rs, nthreads, [&](const Stage* draw, Sink& out_sink) {
         const auto g0 = Clock::now();
+        // --dedup: the removal runs in sequence order on the sink side (the picture is then drawn there too)
+        if (dedup > 0) dedup_sink.emplace(out_sink, dedup, 0.1 * in.grid.diagonal());
+        Sink& sink = dedup_sink ? static_cast<Sink&>(*dedup_sink) : out_sink;
         if (!field.field) {
             RecordVectorSource empty(std::vector<PointRecord>{});
             const Stage* stages[] = {draw};
             run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, {nthreads});
         } else {
             StencilSource source(sg);
-            seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field}, iso, n);
+            seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get()}, iso, n);
             project.emplace(*field.field, iso, np);
             const Stage* stages[] = {&*seed, &*project, draw};
             run_pipeline(source, std::span<const Stage* const>(stages, draw ? 3 : 2), sink, {nthreads});
@@ -280,24 +422,38 @@ int isosurface_scattered(int argc, char** argv) {
         IsoSplatResult r;
         r.seconds = since(g0);
         return r;
-    }, unused, /*parallel_draw=*/true, /*with_blocks=*/false);
+    }, unused, /*parallel_draw=*/dedup == 0, /*with_blocks=*/false);
     const double graph_seconds = since(t0);
+    if (project) {
+        const FieldNewtonStats ns = project->stats();
+        if (ns.input > 0 && 2 * ns.converged < ns.input)
+            std::fprintf(stderr,
+                         "meshless: warning: %s: %lld of %lld seeds did not converge onto the %s field's isosurface (too far %lld, "
+                         "non-finite %lld): the field does not resolve this point distribution there\n",
+                         in.source.c_str(), static_cast<long long>(ns.dropped()), static_cast<long long>(ns.input), field_name.c_str(),
+                         static_cast<long long>(ns.too_far), static_cast<long long>(ns.nonfinite));
+    }
 
     if (a.has("stats")) {
         const char* cmd = "isosurface";
         const StencilSeedStats s = seed ? seed->stats() : StencilSeedStats{};
         print_scattered_stats(cmd, in, s, n);
         if (project) print_newton_stats(cmd, field_name, np, project->stats(), project->busy_seconds());
+        if (dedup_sink)
+            std::fprintf(stderr, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, dedup,
+                         static_cast<long long>(dedup_sink->removed()));
         std::fprintf(stderr,
-                     "%s: %zu points; time: read %.3f s, octree + binning %.3f s, field %.3f s, regularisation %.3f s busy, "
+                     "%s: %zu points; time: read %.3f s, octree + binning %.3f s, coverage %.3f s, field %.3f s, regularisation %.3f s busy, "
                      "isosurface (stencils + Delaunay + seeds + Newton + output) %.3f s (busy: stencils %.3f s of which "
                      "Delaunay %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
-                     cmd, points, in.read_seconds, in.octree_seconds, field_seconds, 1e-9 * double(s.regularisation_ns), graph_seconds,
+                     cmd, points, in.read_seconds, in.octree_seconds, in.coverage_seconds, field_seconds, 1e-9 * double(s.regularisation_ns), graph_seconds,
                      seed ? seed->busy_seconds() : 0.0, 1e-9 * double(s.delaunay_ns), project ? project->busy_seconds() : 0.0,
                      nthreads, since(t_start));
     }
     return 0;
 }
+
+}  // namespace
 
 // ------------------------------------------------------------------ generate POINTS
 
@@ -316,7 +472,7 @@ int generate_scattered(int argc, char** argv) {
     a.epilog("example: meshless fit pts.ply -o f.mlf && meshless generate pts.ply --iso 0.5 --field f.mlf | meshless project --field f.mlf | meshless splat -o img.png\n");
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_finite(a.require("iso"), "--iso");
-    const int n = lattice_n(a);
+    const int n = lattice_n(a, kScatteredLatticeN);
     (void)binning_params(a);
     const int nthreads = threads(a);
     if (!field_file_arg(a)) (void)field_params(a);
@@ -326,13 +482,13 @@ int generate_scattered(int argc, char** argv) {
     if (!crossed) warn_if_iso_outside(iso, in.points.value_range(), in.source);
     BuiltField field;
     if (crossed) field = build_field(a, in.points);
-    const double field_seconds = since(t0) - in.read_seconds - in.octree_seconds;
+    const double field_seconds = since(t0) - in.read_seconds - in.octree_seconds - in.coverage_seconds;
     BinaryStreamOutput out(a.get_or("output", "-"));
     StreamSink sink(out.f, out.name, RecordKind::seed, scattered_meta(in, iso, n, a.command_line()), a.has("compress"));
     std::optional<StencilSeedStage> seed;
     if (field.field) {
         StencilSource source{StencilGrid(in.grid.dims)};
-        seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field}, iso, n);
+        seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get()}, iso, n);
         const Stage* stages[] = {&*seed};
         run_pipeline(source, stages, sink, {nthreads});
     } else {

@@ -18,8 +18,9 @@
 
 namespace meshless::cli {
 
-/// True when the positionals name one scattered point set (not blocks, not a volume).
-bool scattered_invocation(const std::vector<std::string>& positionals);
+/// True when the positionals name one scattered point set (not blocks, not a volume; a .raw given
+/// with --dims in argv is a volume).
+bool scattered_invocation(const std::vector<std::string>& positionals, int argc, char** argv);
 
 int isosurface_scattered(int argc, char** argv);
 int generate_scattered(int argc, char** argv);

@@ -6,6 +6,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
+#include <cmath>
 #include <exception>
 #include <utility>
 
@@ -23,6 +24,11 @@ using Delaunay = CGAL::Delaunay_triangulation_3<K, Tds>;
 DelaunayStatus stencil_delaunay(std::span<const Vec3> pts, std::vector<std::array<std::uint32_t, 4>>& tets, std::string* what) {
     tets.clear();
     if (pts.size() < 4) return DelaunayStatus::too_few;
+    for (const Vec3& p : pts)
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            if (what) *what = "non-finite coordinate";
+            return DelaunayStatus::failed;
+        }
     try {
         // one by one in input order (callers pass cell-ordered points, so the previous vertex is a
         // good hint): the range insertion's spatial sort shuffles with a random generator, and the

@@ -9,8 +9,8 @@
 // a deterministic order (the triangulation's cell order for this input; CGAL's spatial sort with a
 // fixed seed), each positively oriented. Duplicate positions keep one vertex (the first in the
 // input). Returns the status: ok; too_few (fewer than 4 distinct points) or flat (all points
-// coplanar: the triangulation has dimension < 3), both with no tetrahedra; failed when CGAL threw
-// (its message in *what when given). Never throws but std::bad_alloc.
+// coplanar: the triangulation has dimension < 3), both with no tetrahedra; failed when a coordinate
+// is not finite or CGAL threw (the reason in *what when given). Never throws but std::bad_alloc.
 // Pure and reentrant (no shared state); allocates its result.
 #pragma once
 #include <array>

@@ -7,7 +7,7 @@
 namespace meshless {
 
 void regularise_block(const BinningGrid& g, const BinnedPoints& bins, const Field& f, const std::array<std::int64_t, 3>& lo,
-                      const std::array<std::int64_t, 3>& hi, RegularisedBlock& out) {
+                      const std::array<std::int64_t, 3>& hi, RegularisedBlock& out, const PointCoverage* coverage) {
     for (int a = 0; a < 3; ++a) assert(0 <= lo[static_cast<std::size_t>(a)] && lo[static_cast<std::size_t>(a)] <= hi[static_cast<std::size_t>(a)] &&
                                        hi[static_cast<std::size_t>(a)] < g.dims[static_cast<std::size_t>(a)]);
     out.lo = lo;
@@ -26,9 +26,11 @@ void regularise_block(const BinningGrid& g, const BinnedPoints& bins, const Fiel
                 slot.push_back(s);
             }
     out.evaluations = static_cast<std::int64_t>(at.size());
+    out.uncovered = 0;
     if (at.empty()) return;
     std::vector<double> v(at.size());
     f.evaluate(at, v, {});
+    if (coverage) out.uncovered = static_cast<std::int64_t>(coverage->mask(at, v, {}));
     for (std::size_t i = 0; i < at.size(); ++i) out.value[slot[i]] = v[i];
 }
 

@@ -93,13 +93,15 @@ void stencil_seeds(const StencilInput& in, double iso, int n, std::span<const st
     // the row's cells, regularised once for all its stencils
     auto t0 = std::chrono::steady_clock::now();
     RegularisedBlock reg;
-    regularise_block(g, in.bins, in.field, {c0[0] - 1, c0[1] - 1, c0[2] - 1}, {c1[0] + 1, c1[1] + 1, c1[2] + 1}, reg);
+    regularise_block(g, in.bins, in.field, {c0[0] - 1, c0[1] - 1, c0[2] - 1}, {c1[0] + 1, c1[1] + 1, c1[2] + 1}, reg, in.coverage);
     st.regularisation_ns += ns_since(t0);
     st.regularisation_points += reg.evaluations;
+    st.uncovered_regularisation += reg.uncovered;
 
     const double diagonal = g.diagonal();
     StencilPoints sp;
     std::vector<std::array<std::uint32_t, 4>> tets;
+    std::vector<double> edges;
     std::array<MtTriangle, 2> tri;
     for (std::int64_t s = s0; s < s1; ++s) {
         ++st.stencils;
@@ -122,6 +124,16 @@ void stencil_seeds(const StencilInput& in, double iso, int n, std::span<const st
         auto world = [&](const Vec3& l) {
             return Vec3{g.origin.x + (l.x + base.x) * g.cell.x, g.origin.y + (l.y + base.y) * g.cell.y, g.origin.z + (l.z + base.z) * g.cell.z};
         };
+        // the local scale l of the Newton tolerance and travel limit (section 4.4's cell diagonal)
+        edges.clear();
+        for (const auto& t : tets)
+            for (int a = 0; a < 4; ++a)
+                for (int b2 = a + 1; b2 < 4; ++b2) {
+                    const Vec3 e = sp.local[t[static_cast<std::size_t>(a)]] - sp.local[t[static_cast<std::size_t>(b2)]];
+                    edges.push_back(norm(Vec3{e.x * g.cell.x, e.y * g.cell.y, e.z * g.cell.z}));
+                }
+        std::nth_element(edges.begin(), edges.begin() + static_cast<std::ptrdiff_t>(edges.size() / 2), edges.end());
+        const double scale = std::min(diagonal, 2.0 * edges[edges.size() / 2]);
         for (const auto& t : tets) {
             const std::array<Vec3, 4> p{sp.local[t[0]], sp.local[t[1]], sp.local[t[2]], sp.local[t[3]]};
             if (!owns(own, p)) continue;
@@ -155,7 +167,7 @@ void stencil_seeds(const StencilInput& in, double iso, int n, std::span<const st
                     r.normal[2] = static_cast<float>(un.z);
                     r.value = static_cast<float>(iso);
                     r.base_radius = base_radius;
-                    r.cell_diagonal = static_cast<float>(diagonal);
+                    r.cell_diagonal = static_cast<float>(scale);
                     r.block = 0;
                     out.push_back(r);
                     ++st.seeds;
@@ -174,7 +186,7 @@ bool stencil_owned_tets(const StencilInput& in, std::int64_t s, std::vector<std:
     const auto m = sg.coords(s);
     const auto c = centre_of(g, m);
     RegularisedBlock reg;
-    regularise_block(g, in.bins, in.field, {c[0] - 1, c[1] - 1, c[2] - 1}, {c[0] + 1, c[1] + 1, c[2] + 1}, reg);
+    regularise_block(g, in.bins, in.field, {c[0] - 1, c[1] - 1, c[2] - 1}, {c[0] + 1, c[1] + 1, c[2] + 1}, reg, in.coverage);
     StencilPoints sp;
     gather(in, reg, c, sp);
     std::vector<std::array<std::uint32_t, 4>> tets;

@@ -11,8 +11,12 @@
 //
 // Seed fields: position (world), the triangle's unit normal (wound towards increasing values by
 // marching tetrahedra), value = iso, base_radius = sqrt(2A / (pi n (n+1))) for the triangle's world
-// area A, cell_diagonal = the binning cell's world diagonal (the Newton tolerance and travel limit
-// are relative to it), block = 0.
+// area A, cell_diagonal = the stencil's local scale l = min(the binning cell's world diagonal,
+// twice the median edge length of the stencil's tetrahedrization) (the Newton tolerance and travel
+// limit are relative to it: section 4.4's cell diagonal; the median edge keeps them at the data's
+// spacing where the binning grid is coarse for the distribution, e.g. far-apart clusters, section
+// 5.8, so seeds of tetrahedra spanning empty space are dropped rather than accepted where they lie),
+// block = 0.
 // A stencil whose point values (data and regularisation, NaN ignored) are all >= iso or all < iso
 // is not tetrahedralised (no tetrahedron of it can be crossed). Delaunay failures (too few distinct
 // points, all coplanar, a CGAL exception) are counted and the stencil skipped. The tetrahedrization
@@ -29,6 +33,7 @@
 #include <vector>
 
 #include "kernels/field.hpp"
+#include "kernels/point_coverage.hpp"
 #include "kernels/records.hpp"
 #include "kernels/scattered_binning_grid.hpp"
 
@@ -38,6 +43,7 @@ struct StencilSeedStats {
     std::int64_t stencils = 0;              ///< stencils visited
     std::int64_t crossed_stencils = 0;      ///< stencils whose values straddle iso (tetrahedralised)
     std::int64_t regularisation_points = 0; ///< field evaluations at empty cell centres (with repeats across rows)
+    std::int64_t uncovered_regularisation = 0;  ///< of those, NaN because the data does not cover them
     std::int64_t delaunay_failures = 0;     ///< crossed stencils skipped: flat, too few points or CGAL failure
     std::int64_t tets = 0;                  ///< tetrahedra of the crossed stencils
     std::int64_t owned_tets = 0;            ///< of those, the ones the stencils own (contoured)
@@ -48,13 +54,16 @@ struct StencilSeedStats {
     std::int64_t max_stencil_points = 0;    ///< largest point count of one tetrahedralised stencil
     std::int64_t regularisation_ns = 0;     ///< time in regularise_block
     std::int64_t delaunay_ns = 0;           ///< time in stencil_delaunay
-    static constexpr int kCounters = 13;
+    static constexpr int kCounters = 14;
+    static constexpr int kMaxIndex = 10;  ///< as_array index of max_stencil_points (a maximum, not a sum)
     std::array<std::int64_t, kCounters> as_array() const {
         return {stencils, crossed_stencils, regularisation_points, delaunay_failures, tets, owned_tets, nonfinite_tets,
-                triangles, zero_area_triangles, seeds, max_stencil_points, regularisation_ns, delaunay_ns};
+                triangles, zero_area_triangles, seeds, max_stencil_points, regularisation_ns, delaunay_ns, uncovered_regularisation};
     }
     static StencilSeedStats from_array(const std::array<std::int64_t, kCounters>& v) {
-        return {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10], v[11], v[12]};
+        StencilSeedStats s{v[0], v[1], v[2], 0, v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10], v[11], v[12]};
+        s.uncovered_regularisation = v[13];
+        return s;
     }
 };
 
@@ -65,6 +74,8 @@ struct StencilInput {
     std::span<const Vec3> pos;
     std::span<const double> value;
     const Field& field;
+    /// Optional: regularisation points the data does not cover get NaN (kernels/stencil_regularisation.hpp).
+    const PointCoverage* coverage = nullptr;
 };
 
 /// Seeds of stencils [s0, s1) (linear stencil indices of one row: same sy and sz), appended to `out`;

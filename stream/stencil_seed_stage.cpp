@@ -18,7 +18,7 @@ void StencilSeedStage::process(Batch& b) const {
     stencil_seeds(in_, iso_, n_, lattice_, b.cells.k0, b.cells.k1, b.seeds, st);
     const auto v = st.as_array();
     for (std::size_t i = 0; i < v.size(); ++i) {
-        if (i == 10) {  // max_stencil_points: a maximum, not a sum
+        if (i == StencilSeedStats::kMaxIndex) {  // max_stencil_points: a maximum, not a sum
             std::int64_t cur = st_[i].load(std::memory_order_relaxed);
             while (v[i] > cur && !st_[i].compare_exchange_weak(cur, v[i], std::memory_order_relaxed)) {
             }

@@ -10,7 +10,16 @@ StencilSource::StencilSource(const StencilGrid& grid, std::int64_t first, std::i
     : row_(std::max<std::int64_t>(1, grid.count[0])), per_(std::max<std::int64_t>(1, per_unit)), at_(std::max<std::int64_t>(0, first)),
       end_(std::min(last, grid.total())) {}
 
+StencilSource::StencilSource(const StencilGrid& grid, std::vector<std::size_t> rows, std::int64_t per_unit)
+    : row_(std::max<std::int64_t>(1, grid.count[0])), per_(std::max<std::int64_t>(1, per_unit)), at_(0), end_(0), rows_(std::move(rows)),
+      listed_(true) {}
+
 std::optional<Batch> StencilSource::next() {
+    if (listed_ && at_ >= end_) {
+        if (next_row_ >= rows_.size()) return std::nullopt;
+        at_ = static_cast<std::int64_t>(rows_[next_row_++]) * row_;
+        end_ = at_ + row_;
+    }
     if (at_ >= end_) return std::nullopt;
     Batch b;
     b.seq = seq_++;

@@ -4,9 +4,12 @@
 // `per_unit` stencils each. A row's stencils share one regularised block of cells
 // (kernels/stencil_regularisation.hpp), so units never span two rows. Sequence numbers are dense,
 // the order is row by row; the ranges depend only on the grid and per_unit, never on the thread
-// count. Not thread-safe (the runner calls next() serially).
+// count. A batch's seeds are those of its stencils: usually far fewer than kMaxBatchRecords, more
+// only when a stencil holds many thousands of points (pathological distributions, section 5.8).
+// Not thread-safe (the runner calls next() serially).
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "kernels/marching_stencils.hpp"
 #include "stream/stage.hpp"
@@ -23,11 +26,17 @@ public:
     /// row length Sx (the MPI ranks' ranges), or 0 and grid.total() for all.
     StencilSource(const StencilGrid& grid, std::int64_t per_unit = kStencilsPerUnit);
     StencilSource(const StencilGrid& grid, std::int64_t first, std::int64_t last, std::int64_t per_unit = kStencilsPerUnit);
+    /// The work of the listed stencil rows only (increasing row indices r = sy + Sy sz: the units an
+    /// MPI rank owns, stream/stencil_ranks.hpp), each split as above.
+    StencilSource(const StencilGrid& grid, std::vector<std::size_t> rows, std::int64_t per_unit = kStencilsPerUnit);
     std::optional<Batch> next() override;
     std::uint64_t emitted() const { return seq_; }
 
 private:
     std::int64_t row_, per_, at_, end_;
+    std::vector<std::size_t> rows_;  ///< when listed: the rows still to emit after the current one
+    std::size_t next_row_ = 0;
+    bool listed_ = false;
     std::uint64_t seq_ = 0;
 };
 
