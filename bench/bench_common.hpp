@@ -31,6 +31,15 @@ struct BenchOptions {
     std::string work_dir;     ///< process: cache folder for its volumes and point sets (empty: a temp folder)
     int process_reps = 3;     ///< process: best of this many runs per row
     bool large = false;       ///< process: also the 10^8-point splat row
+    std::string scattered_sizes;  ///< scattered: point counts of part (a), "N1,N2,..." (empty: 10^4, 10^5, 10^6)
+    std::string scattered_field;  ///< scattered: --field given to `meshless isosurface` (empty: its default)
+    double peer_timeout = 0;      ///< scattered: seconds per peer run (0: 120, --quick 30)
+    bool no_peers = false;        ///< scattered: skip the Python/VTK peers
+    std::string scattered_fields;         ///< scattered (a): "sphere,gyroid,ml" subset (empty: all three)
+    std::string scattered_distributions;  ///< scattered (a): "uniform,clustered,layered" subset (empty: all)
+    std::string scattered_parts;          ///< scattered: "a,b,c" subset (empty: all)
+    bool all_peers = false;       ///< scattered: peers on every set (default: fewer on the large sizes)
+    bool reuse_peers = false;     ///< scattered: take peer results kept in the work folder by earlier runs
 };
 
 /// Free space in the scratch folder above which "bench all" includes the ooc section (its 4.4 GB
@@ -133,6 +142,18 @@ void run_process(const BenchOptions& o, Report& r);
 /// sets and the combustor at 1 and 2 threads; VTK's per-block contour when python3-vtk9 is installed.
 /// Commands that fail are "n/a (...)" cells; o.work_dir/multiblock (else a temp folder) holds the files.
 void run_multiblock(const BenchOptions& o, Report& r);
+/// Issue 10's numbers (bench/bench_scattered.cpp): `meshless isosurface POINTS` on analytic fields at scattered
+/// points (uniform, clustered, layered; 10^4..10^6) against the truth and against SciPy griddata, vtkDelaunay3D and
+/// vtkPointInterpolator (bench/scattered_peers.py) in the same run; Table 5.1 rebuilt from --stats; whole-process
+/// time, peak RSS, thread and MPI-rank speed-ups on head samples of 10^5..10^6 points. Failing commands are
+/// "n/a (...)" cells; o.work_dir/scattered (else a temp folder) holds the generated sets.
+void run_scattered(const BenchOptions& o, Report& r);
+/// "N1,N2,..." -> counts (each 10..1e8); throws std::invalid_argument naming --sizes otherwise.
+std::vector<std::size_t> parse_scattered_sizes(const std::string& s);
+/// "a,b" -> {"a", "b"}.
+std::vector<std::string> split_list(const std::string& s);
+/// Checks --sizes, --fields, --distributions, --parts; throws std::invalid_argument naming the option.
+void check_scattered_lists(const BenchOptions& o);
 /// `meshless-bench --rusage-wrapper RSSFILE PROGRAM ARGS...` (used by run_process, not by users): runs
 /// PROGRAM as a child, writes the child's ru_maxrss (KiB, its waited-for descendants included) to
 /// RSSFILE and exits with the child's status. A fresh process, so the child's peak RSS is its own.

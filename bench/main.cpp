@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 
 #include "cli/args.hpp"
@@ -66,7 +67,7 @@ std::string own_name(std::string text) {
 }
 
 int bench_main(int argc, char** argv) {
-    Args a("bench", "[accuracy|speed|threads|splat|ooc|fields|process|multiblock|render|all] [options]",
+    Args a("bench", "[accuracy|speed|threads|splat|ooc|fields|process|multiblock|render|scattered|all] [options]",
            "Benchmarks, printed as tables on stdout (progress on stderr); ratios are against baselines\n"
            "measured in the same run. Results are written to a file only with --markdown FILE.\n"
            "  accuracy  distance / normal / value errors of the projected points on analytic fields, coverage\n"
@@ -85,6 +86,10 @@ int bench_main(int argc, char** argv) {
            "            cracks; Table 4.1 sets and the combustor at 1 and 2 threads; VTK per-block contour\n"
            "  render    issue 9: volume rendering by ray casting: LIDC2 512x512 trilinear (1, 2 threads, transfer\n"
            "            functions, skipping on/off), scattered samples of it through the mpu field, PSNR vs the volume\n"
+
+           "  scattered  issue 10: isosurface from scattered points (analytic fields, uniform / clustered / layered,\n"
+           "            10^4..10^6 points) against the truth and SciPy griddata, vtkDelaunay3D, vtkPointInterpolator in the\n"
+           "            same run; Table 5.1 rebuilt from --stats; time, peak RSS, threads and MPI ranks up to 10^6 points\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
     a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
         .option("reps", "", "N", "repetitions per isosurface (default 10); process: best of N runs (default 3)")
@@ -96,11 +101,21 @@ int bench_main(int argc, char** argv) {
         .option("meshless", "", "PATH", "the meshless executable the whole-process rows run (default: the one built beside this)")
         .option("work", "", "DIR", "process: cache folder for the lung-sized volume, its store and point sets, kept and "
                                    "reused (default: a temporary folder, removed at the end)")
+        .option("sizes", "", "N1,N2,...", "scattered: point counts of the accuracy part (default 10000,100000,1000000; --quick 3000)")
+        .option("field", "", "NAME", "scattered: --field passed to `meshless isosurface` (default: the command's own)")
+        .option("peer-timeout", "", "S", "scattered: seconds allowed per peer run (default 120; --quick 30)")
+        .option("fields", "", "LIST", "scattered (a): analytic fields, e.g. sphere,gyroid,ml (default: those three)")
+        .option("distributions", "", "LIST", "scattered (a): uniform,clustered,layered or a subset (default: all)")
+        .option("parts", "", "LIST", "scattered: a (accuracy and peers), b (Table 5.1), c (scaling) or a subset (default: all)")
+        .flag("no-peers", "scattered: skip the SciPy / VTK peers")
+        .flag("all-peers", "scattered: peers on every set and size (default: all up to 20,000 points, fewer above)")
+        .flag("reuse-peers", "scattered: reuse the peer results an earlier run kept in --work (said in the output)")
         .flag("large", "process: also the 10^8-point splat row (3.2 GB of PLY in --work)")
         .flag("keep", "ooc: keep the scratch files (stores, the 4.4 GB volume's store)")
         .flag("with-ooc", "all: include the ooc section whatever the free space")
         .flag("quick", "smoke test: 2 reps, 4 isovalues, no large volumes (ooc: LIDC2 x1, no 4 GiB volume, no MPI; "
-                       "fields: N = 1K, 10K, no 1M; process: LIDC2 x1, 1 isovalue, 10^4/10^5-point splats)");
+                       "fields: N = 1K, 10K, no 1M; process: LIDC2 x1, 1 isovalue, 10^4/10^5-point splats; scattered: 3,000 "
+                       "points, sphere and gyroid, peers on the sphere's uniform set, 2,000-point Table 5.1 sets, no MPI)");
     a.epilog("examples: meshless-bench process --work /tmp/mb-cache --markdown /tmp/process.md\n"
              "          meshless-bench speed --data ../shared/data --markdown bench/RESULTS.md\n");
     for (int i = 1; i < argc; ++i)
@@ -111,8 +126,10 @@ int bench_main(int argc, char** argv) {
     a.parse(argc, argv, 1);
     const std::string what = a.positional().empty() ? "all" : a.positional()[0];
     if (what != "all" && what != "accuracy" && what != "speed" && what != "threads" && what != "splat" &&
-        what != "ooc" && what != "fields" && what != "process" && what != "multiblock" && what != "render")
-        throw UsageError("unknown section '" + what + "' (accuracy, speed, threads, splat, ooc, fields, process, multiblock, render, all)");
+        what != "ooc" && what != "fields" && what != "process" && what != "multiblock" && what != "render" &&
+        what != "scattered")
+        throw UsageError("unknown section '" + what +
+                         "' (accuracy, speed, threads, splat, ooc, fields, process, multiblock, render, scattered, all)");
 
     BenchOptions o;
     o.quick = a.has("quick");
@@ -130,6 +147,21 @@ int bench_main(int argc, char** argv) {
     o.meshless = a.get_or("meshless", default_meshless());
     o.work_dir = a.get_or("work", "");
     o.large = a.has("large");
+    o.scattered_sizes = a.get_or("sizes", "");
+    o.scattered_fields = a.get_or("fields", "");
+    o.scattered_distributions = a.get_or("distributions", "");
+    o.scattered_parts = a.get_or("parts", "");
+    try {
+        check_scattered_lists(o);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
+    o.scattered_field = a.get_or("field", "");
+    o.peer_timeout = a.get_double_or("peer-timeout", 0);
+    if (!(o.peer_timeout >= 0) || o.peer_timeout > 86400) throw UsageError("--peer-timeout: expected 0..86400 seconds");
+    o.no_peers = a.has("no-peers");
+    o.all_peers = a.has("all-peers");
+    o.reuse_peers = a.has("reuse-peers");
     if (!o.scratch_dir.empty() && !fs::is_directory(o.scratch_dir))
         throw UsageError("--scratch: '" + o.scratch_dir + "' is not a folder");
 
@@ -150,6 +182,8 @@ int bench_main(int argc, char** argv) {
     if (what == "all" || what == "process") run_process(o, r);
     if (what == "all" || what == "multiblock") run_multiblock(o, r);
     if (what == "all" || what == "render") run_render(o, r);
+
+    if (what == "all" || what == "scattered") run_scattered(o, r);
     if (auto md = a.get("markdown")) r.write_markdown(*md);
     return 0;
 }

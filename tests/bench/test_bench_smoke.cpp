@@ -93,3 +93,46 @@ TEST_CASE("meshless-bench smoke: render --quick ray casts, compares and keeps th
     CHECK(contains(r.out, "yes"));
     CHECK_FALSE(contains(r.out, "DIFFERENT"));
 }
+
+TEST_CASE("meshless-bench smoke: scattered --quick runs every part, peers in the same run, bad options refused", "[bench]") {
+    TempDir dir("bench-scattered");
+    const std::string md = (dir / "scattered.md").string();
+    const std::filesystem::path work = dir / "work";
+    std::filesystem::create_directories(work);
+    const RunResult r = sh(kBench + " scattered --quick --peer-timeout 60 --data " + shared_data().string() + " --meshless " +
+                               meshless_exe() + " --work " + work.string() + " --markdown " + md,
+                           dir);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string text = r.out;
+    INFO(text);
+    CHECK(contains(text, "(a) Accuracy against truth"));
+    CHECK(contains(text, "(b) Table 5.1 rebuilt"));
+    CHECK(contains(text, "(c) Scaling"));
+    // every meshless command succeeded (a failing one is an "n/a (exit N: ...)" cell) and was measured
+    CHECK_FALSE(contains(text, "n/a ("));
+    CHECK(contains(text, "sphere uniform"));
+    CHECK(contains(text, "gyroid layered"));
+    CHECK(contains(text, "meshless"));
+    const bool peers = sh("/usr/bin/python3 -c 'import numpy, scipy, vtk'", dir).code == 0;
+    if (peers) {
+        CHECK(contains(text, "SciPy griddata linear + flying edges"));
+        CHECK(contains(text, "vtkDelaunay3D + vtkContourFilter"));
+        CHECK(contains(text, "vtkPointInterpolator Gaussian + flying edges"));
+        CHECK(contains(text, "x  "));  // ratios against meshless, "1.23x"
+    }
+    if (have_shared_data()) {
+        CHECK(contains(text, "bucky"));
+        CHECK(contains(text, "silicium"));
+        CHECK(contains(text, "SAME"));  // 1 and 2 threads write the same point bytes
+        CHECK_FALSE(contains(text, "DIFFERENT"));
+    }
+    // markdown only where told; the generated sets stay in the work folder, the outputs do not
+    CHECK(contains(slurp(md), "| set | N | method |"));
+    CHECK(std::filesystem::exists(work / "scattered" / "sets" / "sphere-uniform-3000.ply"));
+    for (const auto& e : std::filesystem::directory_iterator(work / "scattered"))
+        CHECK(e.path().filename().string().rfind("out-", 0) != 0);
+
+    CHECK(sh(kBench + " scattered --sizes 5", dir).code == 1);
+    CHECK(sh(kBench + " scattered --peer-timeout -1", dir).code == 1);
+}
