@@ -23,6 +23,7 @@
 #include "formats/vtp_writer.hpp"
 #include "kernels/cluster_binary_tree.hpp"
 #include "kernels/cluster_lod.hpp"
+#include "kernels/errors.hpp"
 #include "kernels/records.hpp"
 
 namespace meshless::cli {
@@ -140,7 +141,13 @@ int cmd_hierarchy(int argc, char** argv) {
     {
         oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism,
                                           static_cast<std::size_t>(nthreads));
-        tree = build_cluster_tree(points.pos, points.value, p);
+        try {
+            tree = build_cluster_tree(points.pos, points.value, p);
+        } catch (const InvalidArgument& e) {  // the data cannot make a tree: a data error naming the input
+            std::string msg = e.what();
+            if (msg.rfind("cluster tree: ", 0) == 0) msg = msg.substr(14);
+            throw FormatError(a.positional().front() + ": " + msg);
+        }
     }
     tree.stats.dropped_nonfinite += points.dropped_nonfinite;
     tree.value_name = points.value_name;
