@@ -25,6 +25,8 @@
 #include "kernels/cluster_lod.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/records.hpp"
+#include "ooc/brick_store.hpp"
+#include "ooc/brick_store_point_set.hpp"
 
 namespace meshless::cli {
 
@@ -83,7 +85,8 @@ void info_cluster_tree(const std::string& path) {
 int cmd_hierarchy(int argc, char** argv) {
     Args a("hierarchy", "INPUT... -o tree.mlh [options]",
            "Builds the cluster binary tree of dissertation chapter 6 (sections 6.1, 6.3) of any scalar data:\n"
-           "a volume (each voxel a sample), scattered points or multiblock grids. One cluster of every sample\n"
+           "a volume (each voxel a sample; a .mlb brick store is read brick by brick), scattered points or\n"
+           "multiblock grids. One cluster of every sample\n"
            "is refined by splitting the cluster of largest error sigma_c = max |f_j - f_c| along the plane\n"
            "through its centre normal to the dominant principal axis of its (x, y, z, f) samples; f_c is a\n"
            "local multiquadric over the min(|C|, k) samples nearest the centre. Splits that leave a side empty\n"
@@ -135,7 +138,9 @@ int cmd_hierarchy(int argc, char** argv) {
     const int nthreads = threads(a);
 
     const auto t0 = std::chrono::steady_clock::now();
-    const PointSet points = read_points_arg(a);
+    const PointSet points = a.positional().size() == 1 && is_brick_store(a.positional().front())
+                                ? point_set_from_brick_store(a.positional().front())
+                                : read_points_arg(a);
     const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ClusterTree tree;
     {

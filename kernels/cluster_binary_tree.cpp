@@ -124,6 +124,12 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
         const CbtNode& d = nodes[id];
         if (d.count >= params.min_cluster && d.error > params.max_error) queue.push({d.error, id});
     };
+    {  // reserve what the refinement can make: pages never written cost no memory
+        const std::uint64_t most = std::min<std::uint64_t>(params.max_splits, n - 1);
+        nodes.reserve(2 * most + 1);
+        first.reserve(2 * most + 1);
+        mean_value.reserve(2 * most + 1);
+    }
     add_node(evaluate(0, static_cast<std::uint32_t>(n)), 0, static_cast<std::uint32_t>(n), 0);
     offer(0);
 
@@ -202,8 +208,7 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
     st.error_reached = 0;
     for (const CbtNode& d : nodes)
         if (d.leaf()) st.error_reached = std::max(st.error_reached, d.error);
-    st.memory_bytes = idx.capacity() * 4 + nodes.capacity() * sizeof(CbtNode) + first.capacity() * 4 +
-                      mean_value.capacity() * 8;
+    st.memory_bytes = idx.size() * 4 + nodes.size() * (sizeof(CbtNode) + 12);
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return tree;
 }

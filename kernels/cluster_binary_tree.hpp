@@ -25,8 +25,8 @@
 // samples or more are themselves processed in fixed chunks in parallel. The tree is identical, bit
 // for bit, for any thread count. Limit threads with tbb::global_control.
 // Memory: the samples are not copied: one u32 permutation of the sample numbers (4 bytes/sample),
-// the nodes (56 bytes each, 2 x splits + 1), their index ranges (8 bytes/node) and the queue;
-// a split of a cluster of >= 65536 samples borrows a 4-byte/sample buffer for its partition.
+// the nodes (56 bytes each, 2 x splits + 1), their index range starts and value means (12
+// bytes/node) and the queue; partitions are in place.
 // Thread-safety: reentrant. Throws InvalidArgument (above) or std::bad_alloc.
 #pragma once
 #include <span>

@@ -59,35 +59,36 @@ std::size_t partition_by_plane(std::span<const Vec3> pos, std::span<std::uint32_
         auto mid = std::partition(idx.begin(), idx.end(), behind);
         return static_cast<std::size_t>(mid - idx.begin());
     }
-    // chunked stable partition: count per chunk, then scatter through a buffer
+    // chunked, in place: each chunk partitioned by std::partition (in parallel), then neighbouring
+    // runs merged pairwise, [L1 R1][L2 R2] -> [L1 L2 R1 R2] by one rotate, in a fixed tree order
     const std::size_t c = chunks::count(n);
-    std::vector<std::size_t> nb(c);
+    struct Run {
+        std::size_t begin, end, behind;  // [begin, begin + behind) behind the plane
+    };
+    std::vector<Run> runs(c);
     chunks::for_each(n, [&](std::size_t k, std::size_t b, std::size_t e) {
-        std::size_t m = 0;
-        for (std::size_t i = b; i < e; ++i) m += behind(idx[i]) ? 1 : 0;
-        nb[k] = m;
+        auto mid = std::partition(idx.begin() + static_cast<std::ptrdiff_t>(b), idx.begin() + static_cast<std::ptrdiff_t>(e), behind);
+        runs[k] = {b, e, static_cast<std::size_t>(mid - idx.begin()) - b};
     });
-    std::vector<std::size_t> front(c), back(c);
-    std::size_t total = 0;
-    for (std::size_t k = 0; k < c; ++k) {
-        front[k] = total;
-        total += nb[k];
+    while (runs.size() > 1) {
+        std::vector<Run> next((runs.size() + 1) / 2);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, next.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t q = r.begin(); q != r.end(); ++q) {
+                if (2 * q + 1 == runs.size()) {
+                    next[q] = runs[2 * q];
+                    continue;
+                }
+                const Run& x = runs[2 * q];
+                const Run& y = runs[2 * q + 1];
+                std::rotate(idx.begin() + static_cast<std::ptrdiff_t>(x.begin + x.behind),
+                            idx.begin() + static_cast<std::ptrdiff_t>(y.begin),
+                            idx.begin() + static_cast<std::ptrdiff_t>(y.begin + y.behind));
+                next[q] = {x.begin, y.end, x.behind + y.behind};
+            }
+        });
+        runs.swap(next);
     }
-    std::size_t b2 = total;
-    for (std::size_t k = 0; k < c; ++k) {
-        back[k] = b2;
-        b2 += std::min(n, (k + 1) * chunks::kChunk) - k * chunks::kChunk - nb[k];
-    }
-    std::vector<std::uint32_t> tmp(n);
-    chunks::for_each(n, [&](std::size_t k, std::size_t b, std::size_t e) {
-        std::size_t f = front[k], r = back[k];
-        for (std::size_t i = b; i < e; ++i) {
-            const std::uint32_t j = idx[i];
-            if (behind(j)) tmp[f++] = j;
-            else tmp[r++] = j;
-        }
-    });
-    chunks::for_each(n, [&](std::size_t, std::size_t b, std::size_t e) { std::copy(tmp.begin() + b, tmp.begin() + e, idx.begin() + b); });
+    const std::size_t total = runs[0].behind;
     return total;
 }
 

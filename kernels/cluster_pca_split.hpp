@@ -8,9 +8,10 @@
 // covariance (kernels/cluster_tree.hpp, PcaScaling). The position scale is isotropic, so the
 // plane normal in world space is the xyz part of the eigenvector as it is.
 // Determinism: sums run in fixed chunks (kernels/fixed_chunks.hpp); the partition of a cluster of
-// fewer than chunks::kParallelItems samples is std::partition in place, of a larger one a chunked
-// stable partition through a temporary buffer (parallel on oneTBB). The choice depends only on the
-// cluster size, so the result is the same for any thread count.
+// fewer than chunks::kParallelItems samples is std::partition in place; a larger one is partitioned
+// chunk by chunk (std::partition, in parallel) and the runs are merged pairwise by rotations in a
+// fixed tree order, in place too (no buffer). Chunks, merge order and hence the permutation depend
+// only on the cluster size, so the result is the same for any thread count.
 // Units: world for positions, data units for values. Throws only std::bad_alloc.
 // Thread-safety: reentrant; concurrent calls on disjoint index ranges are safe.
 #pragma once

@@ -59,7 +59,7 @@ struct CbtStats {
     double error_reached = 0;             ///< max error over the leaves (the finest LOD's error)
     double hardy_c_world = 0;             ///< c used
     double seconds = 0;                   ///< build time (not stored in files)
-    std::uint64_t memory_bytes = 0;       ///< peak bytes the builder allocated (indices, nodes, queue)
+    std::uint64_t memory_bytes = 0;       ///< bytes of the permutation and the nodes (with their ranges) at the end
 };
 
 struct ClusterTree {

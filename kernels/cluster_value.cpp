@@ -64,10 +64,11 @@ ClusterValue ClusterValueEvaluator::evaluate(std::span<const Vec3> pos, std::spa
     } else {
         std::vector<std::vector<Cand>> best(chunks::count(n));
         chunks::for_each(n, [&](std::size_t k, std::size_t b, std::size_t e) {
-            std::vector<Cand>& v = best[k];
+            std::vector<Cand> v;  // one chunk's candidates; only its `want` best are kept
             v.reserve(e - b);
             for (std::size_t i = b; i < e; ++i) v.push_back({d2(idx[i]), idx[i]});
             keep_smallest(v, want);
+            best[k].assign(v.begin(), v.end());
         });
         for (const auto& v : best) cand_.insert(cand_.end(), v.begin(), v.end());
         keep_smallest(cand_, want);

@@ -9,6 +9,8 @@
 #include <numeric>
 #include <vector>
 
+#include <tbb/global_control.h>
+
 #include "kernels/cluster_pca_split.hpp"
 
 using namespace meshless;
@@ -107,18 +109,27 @@ TEST_CASE("PCA split of a cluster without extent has no normal, collinear and co
     CHECK(partition_by_plane(line.pos, idx, line.centre, p1.normal) == 10);
 }
 
-TEST_CASE("partition_by_plane: the chunked path of large clusters is a stable partition", "[kernels][cbt]") {
+TEST_CASE("partition_by_plane: the chunked path of large clusters partitions, the same for any thread count", "[kernels][cbt]") {
     std::vector<Vec3> pos;
     const std::size_t n = 200000;
     for (std::size_t i = 0; i < n; ++i) pos.push_back({std::sin(i * 0.37), std::cos(i * 0.11), double(i % 7)});
-    std::vector<std::uint32_t> idx(n);
-    std::iota(idx.begin(), idx.end(), 0u);
-    std::reverse(idx.begin(), idx.end());
+    std::vector<std::uint32_t> start(n);
+    std::iota(start.begin(), start.end(), 0u);
+    std::reverse(start.begin(), start.end());
     const Vec3 c{0.1, 0, 3}, nrm = normalized(Vec3{1, 2, 0.3});
-    std::vector<std::uint32_t> expect = idx;
     auto behind = [&](std::uint32_t j) { return dot(pos[j] - c, nrm) < 0; };
-    const auto mid = std::stable_partition(expect.begin(), expect.end(), behind);
-    const std::size_t m = partition_by_plane(pos, idx, c, nrm);
-    CHECK(m == static_cast<std::size_t>(mid - expect.begin()));
-    CHECK(idx == expect);
+    const auto expect = static_cast<std::size_t>(std::count_if(start.begin(), start.end(), behind));
+    std::vector<std::uint32_t> ref;
+    for (int t : {1, 2, 4}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, t);
+        std::vector<std::uint32_t> idx = start;
+        const std::size_t m = partition_by_plane(pos, idx, c, nrm);
+        CHECK(m == expect);
+        for (std::size_t i = 0; i < n; ++i) REQUIRE(behind(idx[i]) == (i < m));
+        std::vector<std::uint32_t> sorted = idx;
+        std::sort(sorted.begin(), sorted.end());
+        for (std::size_t i = 0; i < n; ++i) REQUIRE(sorted[i] == i);  // a permutation
+        if (ref.empty()) ref = idx;
+        else CHECK(idx == ref);
+    }
 }
