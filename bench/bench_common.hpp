@@ -129,6 +129,8 @@ void run_process(const BenchOptions& o, Report& r);
 /// sets and the combustor at 1 and 2 threads; VTK's per-block contour when python3-vtk9 is installed.
 /// Commands that fail are "n/a (...)" cells; o.work_dir/multiblock (else a temp folder) holds the files.
 void run_multiblock(const BenchOptions& o, Report& r);
+/// Issue 9: cluster binary trees (bench/bench_hierarchy.cpp).
+void run_hierarchy(const BenchOptions& o, Report& r);
 /// `meshless-bench --rusage-wrapper RSSFILE PROGRAM ARGS...` (used by run_process, not by users): runs
 /// PROGRAM as a child, writes the child's ru_maxrss (KiB, its waited-for descendants included) to
 /// RSSFILE and exits with the child's status. A fresh process, so the child's peak RSS is its own.

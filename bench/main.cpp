@@ -66,7 +66,7 @@ std::string own_name(std::string text) {
 }
 
 int bench_main(int argc, char** argv) {
-    Args a("bench", "[accuracy|speed|threads|splat|ooc|fields|process|multiblock|all] [options]",
+    Args a("bench", "[accuracy|speed|threads|splat|ooc|fields|process|multiblock|hierarchy|all] [options]",
            "Benchmarks, printed as tables on stdout (progress on stderr); ratios are against baselines\n"
            "measured in the same run. Results are written to a file only with --markdown FILE.\n"
            "  accuracy  distance / normal / value errors of the projected points on analytic fields, coverage\n"
@@ -83,6 +83,8 @@ int bench_main(int argc, char** argv) {
            "  multiblock  issue 8: split + isosurface from blocks on analytic fields in every multiblock / AMR layout:\n"
            "            coverage of the true isosurface, distance and normal errors vs the naive per-block MC's\n"
            "            cracks; Table 4.1 sets and the combustor at 1 and 2 threads; VTK per-block contour\n"
+           "  hierarchy issue 9: cluster binary trees (chapter 6): silicium and head Tables 6.1-6.2, speed, threads,\n"
+           "            LOD extraction rate, peak RSS, CBT LOD vs random subsample vs decimation (RMSE of the mpu field)\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
     a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
         .option("reps", "", "N", "repetitions per isosurface (default 10); process: best of N runs (default 3)")
@@ -109,8 +111,8 @@ int bench_main(int argc, char** argv) {
     a.parse(argc, argv, 1);
     const std::string what = a.positional().empty() ? "all" : a.positional()[0];
     if (what != "all" && what != "accuracy" && what != "speed" && what != "threads" && what != "splat" &&
-        what != "ooc" && what != "fields" && what != "process" && what != "multiblock")
-        throw UsageError("unknown section '" + what + "' (accuracy, speed, threads, splat, ooc, fields, process, multiblock, all)");
+        what != "ooc" && what != "fields" && what != "process" && what != "multiblock" && what != "hierarchy")
+        throw UsageError("unknown section '" + what + "' (accuracy, speed, threads, splat, ooc, fields, process, multiblock, hierarchy, all)");
 
     BenchOptions o;
     o.quick = a.has("quick");
@@ -147,6 +149,7 @@ int bench_main(int argc, char** argv) {
                "or run `meshless-bench ooc`).");
     if (what == "all" || what == "process") run_process(o, r);
     if (what == "all" || what == "multiblock") run_multiblock(o, r);
+    if (what == "all" || what == "hierarchy") run_hierarchy(o, r);
     if (auto md = a.get("markdown")) r.write_markdown(*md);
     return 0;
 }
