@@ -6,23 +6,22 @@ namespace meshless {
 
 namespace {
 
+/// The depth-first selection of section 6.4 as one pass in node-number order: a child is numbered
+/// after its parent, so when node i is reached every ancestor has been decided; `covered` marks the
+/// nodes below a node already taken. Sequential over the nodes (a DFS jumps through them).
 template <class Take>
 void traverse(std::span<const CbtNode> nodes, Take&& take_here, std::vector<std::uint32_t>* out, std::uint64_t* count) {
-    if (nodes.empty()) return;
-    std::vector<std::uint32_t> stack;
-    stack.reserve(128);
-    stack.push_back(0);
-    while (!stack.empty()) {
-        const std::uint32_t i = stack.back();
-        stack.pop_back();
+    const std::size_t n = nodes.size();
+    std::vector<std::uint8_t> covered(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
         const CbtNode& d = nodes[i];
-        if (d.leaf() || take_here(d)) {
-            if (out) out->push_back(i);
+        bool below = covered[i] != 0;
+        if (!below && (d.leaf() || take_here(d))) {
+            if (out) out->push_back(static_cast<std::uint32_t>(i));
             if (count) ++*count;
-        } else {
-            stack.push_back(d.child + 1);  // second child after the first
-            stack.push_back(d.child);
+            below = true;
         }
+        if (below && !d.leaf()) covered[d.child] = covered[d.child + 1] = 1;
     }
 }
 

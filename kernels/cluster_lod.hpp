@@ -6,8 +6,11 @@
 // set of the field at that resolution (section 6.5).
 // A level beyond the depth, or an error below the finest LOD's error, gives the finest LOD (every
 // leaf); the caller warns (LodRequest::clamped tells it).
-// Preconditions: a valid tree (kernels/cluster_tree.hpp validate_cluster_tree). Cost: O(nodes
-// visited), an explicit stack (no recursion). Thread-safety: pure functions. Throws only bad_alloc.
+// The selection is the depth-first one, computed in one sequential pass over the nodes in number
+// order (children are numbered after their parents), so a LOD comes out in node-number order
+// (the order of refinement), not in depth-first order; as a scattered data set the order is
+// immaterial. Preconditions: a valid tree (kernels/cluster_tree.hpp validate_cluster_tree).
+// Cost: O(nodes), one byte per node of scratch. Thread-safety: pure functions. Throws only bad_alloc.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -20,7 +23,7 @@ namespace meshless {
 
 enum class LodMode { level, error };
 
-/// The node numbers of the LOD, in depth-first order.
+/// The node numbers of the LOD, ascending.
 std::vector<std::uint32_t> lod_nodes(std::span<const CbtNode> nodes, LodMode mode, double threshold);
 
 /// The LOD as a point set (centres, values; one block "lod"); value_name as given.

@@ -1,8 +1,9 @@
 // kernels/cluster_lod: the level- and error-based depth-first traversals of dissertation section
-// 6.4 against a brute-force (recursive) traversal, the per-level and per-error sizes against the
+// 6.4 against a brute-force (recursive depth-first) traversal (the same nodes), the per-level and per-error sizes against the
 // traversals, and the finest LOD for requests beyond the tree.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <vector>
@@ -39,6 +40,7 @@ std::vector<std::uint32_t> brute(const std::vector<CbtNode>& nodes, const std::f
         rec(nodes[i].child + 1);
     };
     rec(0);
+    std::sort(out.begin(), out.end());  // lod_nodes gives node-number order
     return out;
 }
 
