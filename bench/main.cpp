@@ -84,7 +84,8 @@ int bench_main(int argc, char** argv) {
            "            coverage of the true isosurface, distance and normal errors vs the naive per-block MC's\n"
            "            cracks; Table 4.1 sets and the combustor at 1 and 2 threads; VTK per-block contour\n"
            "  hierarchy issue 9: cluster binary trees (chapter 6): silicium and head Tables 6.1-6.2, speed, threads,\n"
-           "            LOD extraction rate, peak RSS, CBT LOD vs random subsample vs decimation (RMSE of the mpu field)\n"
+           "            LOD extraction rate, peak RSS, CBT LOD vs random subsample vs decimation (RMSE of the mpu field;\n"
+           "            that part alone: hierarchy-rmse)\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
     a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
         .option("reps", "", "N", "repetitions per isosurface (default 10); process: best of N runs (default 3)")
@@ -111,7 +112,8 @@ int bench_main(int argc, char** argv) {
     a.parse(argc, argv, 1);
     const std::string what = a.positional().empty() ? "all" : a.positional()[0];
     if (what != "all" && what != "accuracy" && what != "speed" && what != "threads" && what != "splat" &&
-        what != "ooc" && what != "fields" && what != "process" && what != "multiblock" && what != "hierarchy")
+        what != "ooc" && what != "fields" && what != "process" && what != "multiblock" && what != "hierarchy" &&
+        what != "hierarchy-rmse")
         throw UsageError("unknown section '" + what + "' (accuracy, speed, threads, splat, ooc, fields, process, multiblock, hierarchy, all)");
 
     BenchOptions o;
@@ -150,6 +152,7 @@ int bench_main(int argc, char** argv) {
     if (what == "all" || what == "process") run_process(o, r);
     if (what == "all" || what == "multiblock") run_multiblock(o, r);
     if (what == "all" || what == "hierarchy") run_hierarchy(o, r);
+    if (what == "hierarchy-rmse") run_hierarchy_rmse(o, r);
     if (auto md = a.get("markdown")) r.write_markdown(*md);
     return 0;
 }
