@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "kernels/grid.hpp"
+#include "kernels/point_set.hpp"
 
 namespace meshless::bench {
 
@@ -154,6 +155,11 @@ std::vector<std::size_t> parse_scattered_sizes(const std::string& s);
 std::vector<std::string> split_list(const std::string& s);
 /// Checks --sizes, --fields, --distributions, --parts; throws std::invalid_argument naming the option.
 void check_scattered_lists(const BenchOptions& o);
+
+/// Issue 9: cluster binary trees (bench/bench_hierarchy.cpp).
+void run_hierarchy(const BenchOptions& o, Report& r);
+/// Its part (e) alone (`meshless-bench hierarchy-rmse`); `silicium` may be empty (read here).
+void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& silicium = {});
 /// `meshless-bench --rusage-wrapper RSSFILE PROGRAM ARGS...` (used by run_process, not by users): runs
 /// PROGRAM as a child, writes the child's ru_maxrss (KiB, its waited-for descendants included) to
 /// RSSFILE and exits with the child's status. A fresh process, so the child's peak RSS is its own.

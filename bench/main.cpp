@@ -67,7 +67,7 @@ std::string own_name(std::string text) {
 }
 
 int bench_main(int argc, char** argv) {
-    Args a("bench", "[accuracy|speed|threads|splat|ooc|fields|process|multiblock|render|scattered|all] [options]",
+    Args a("bench", "[accuracy|speed|threads|splat|ooc|fields|process|multiblock|render|scattered|hierarchy|all] [options]",
            "Benchmarks, printed as tables on stdout (progress on stderr); ratios are against baselines\n"
            "measured in the same run. Results are written to a file only with --markdown FILE.\n"
            "  accuracy  distance / normal / value errors of the projected points on analytic fields, coverage\n"
@@ -86,10 +86,12 @@ int bench_main(int argc, char** argv) {
            "            cracks; Table 4.1 sets and the combustor at 1 and 2 threads; VTK per-block contour\n"
            "  render    issue 9: volume rendering by ray casting: LIDC2 512x512 trilinear (1, 2 threads, transfer\n"
            "            functions, skipping on/off), scattered samples of it through the mpu field, PSNR vs the volume\n"
-
            "  scattered  issue 10: isosurface from scattered points (analytic fields, uniform / clustered / layered,\n"
            "            10^4..10^6 points) against the truth and SciPy griddata, vtkDelaunay3D, vtkPointInterpolator in the\n"
            "            same run; Table 5.1 rebuilt from --stats; time, peak RSS, threads and MPI ranks up to 10^6 points\n"
+           "  hierarchy issue 9: cluster binary trees (chapter 6): silicium and head Tables 6.1-6.2, speed, threads,\n"
+           "            LOD extraction rate, peak RSS, CBT LOD vs random subsample vs decimation (RMSE of the mpu field;\n"
+           "            that part alone: hierarchy-rmse)\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
     a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
         .option("reps", "", "N", "repetitions per isosurface (default 10); process: best of N runs (default 3)")
@@ -127,9 +129,10 @@ int bench_main(int argc, char** argv) {
     const std::string what = a.positional().empty() ? "all" : a.positional()[0];
     if (what != "all" && what != "accuracy" && what != "speed" && what != "threads" && what != "splat" &&
         what != "ooc" && what != "fields" && what != "process" && what != "multiblock" && what != "render" &&
-        what != "scattered")
+        what != "scattered" && what != "hierarchy" && what != "hierarchy-rmse")
         throw UsageError("unknown section '" + what +
-                         "' (accuracy, speed, threads, splat, ooc, fields, process, multiblock, render, scattered, all)");
+                         "' (accuracy, speed, threads, splat, ooc, fields, process, multiblock, render, scattered, hierarchy, "
+                         "hierarchy-rmse, all)");
 
     BenchOptions o;
     o.quick = a.has("quick");
@@ -182,8 +185,9 @@ int bench_main(int argc, char** argv) {
     if (what == "all" || what == "process") run_process(o, r);
     if (what == "all" || what == "multiblock") run_multiblock(o, r);
     if (what == "all" || what == "render") run_render(o, r);
-
     if (what == "all" || what == "scattered") run_scattered(o, r);
+    if (what == "all" || what == "hierarchy") run_hierarchy(o, r);
+    if (what == "hierarchy-rmse") run_hierarchy_rmse(o, r);
     if (auto md = a.get("markdown")) r.write_markdown(*md);
     return 0;
 }

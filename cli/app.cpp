@@ -42,6 +42,8 @@ constexpr Command kCommands[] = {
     {"probe", cmd_probe, "scattered points -> value and gradient of a meshless field at positions (CSV)"},
     {"slice", cmd_slice, "scattered points -> colour-mapped slice of a meshless field (PNG)"},
     {"resample", cmd_resample, "scattered points -> a meshless field on a regular grid (NRRD)"},
+    {"hierarchy", cmd_hierarchy, "volume or scattered data -> cluster binary tree (.mlh, chapter 6 multiresolution)"},
+    {"lod", cmd_lod, "cluster tree (.mlh) -> a level of detail as scattered points (.ply/.csv/.vtp)"},
     {"info", cmd_info, "describe any file meshless reads or writes"},
     {"batch", cmd_batch, "nightly job: archive of volumes -> brick stores + point sets, skipping what is up to date"},
 };

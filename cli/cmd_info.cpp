@@ -11,10 +11,12 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/cluster_tree_cli.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/point_set_cli.hpp"
 #include "formats/multiblock_reader.hpp"
+#include "formats/cluster_tree_file.hpp"
 #include "formats/field_file.hpp"
 #include "formats/ply.hpp"
 #include "formats/point_set_reader.hpp"
@@ -361,6 +363,8 @@ void describe(const std::string& path, const Args& a) {
         info_sample_store(path);
     } else if (n >= 8 && std::memcmp(h, kFieldFileMagic, 8) == 0) {
         info_field_file(path);
+    } else if (n >= 8 && std::memcmp(h, kClusterTreeMagic, 8) == 0) {
+        info_cluster_tree(path);
     } else if (n >= 8 && std::memcmp(h, "\x89PNG", 4) == 0) {
         info_png(path, h, n);
     } else if (is_collection(path)) {

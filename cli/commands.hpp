@@ -25,6 +25,8 @@ int cmd_verify(int argc, char** argv);
 int cmd_synth(int argc, char** argv);
 int cmd_sample(int argc, char** argv);
 int cmd_split(int argc, char** argv);
+int cmd_hierarchy(int argc, char** argv);
+int cmd_lod(int argc, char** argv);
 
 /// The whole program: dispatch and exception -> exit code mapping.
 int cli_main(int argc, char** argv);

@@ -10,6 +10,7 @@
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/point_set_cli.hpp"
+#include "formats/cluster_tree_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
 #include "kernels/make_field.hpp"
@@ -132,6 +133,11 @@ PointSet read_field_points(const std::vector<std::string>& paths, const Args& a)
     bool blocks = !paths.empty();
     for (const auto& p : paths) blocks = blocks && looks_like_multiblock(p);
     if (blocks) return to_point_set(read_multiblock(paths, point_set_options(a)));
+    for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so
+        if (is_cluster_tree_file(p)) {
+            const ClusterTreeLodRequest r = cluster_tree_lod_request(read_cluster_tree_file(p), point_set_options(a));
+            if (r.clamped) std::fprintf(stderr, "meshless %s: warning: %s: %s\n", a.command().c_str(), p.c_str(), r.note.c_str());
+        }
     return read_point_set(paths, point_set_options(a));
 }
 

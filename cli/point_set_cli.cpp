@@ -12,7 +12,9 @@ void add_point_set_options(Args& a, bool with_endian) {
         .option("function", "", "FILE", "PLOT3D: function file (.f) giving the values")
         .flag("allow-trailing", "point sets: ignore bytes after the data the header describes (noted)")
         .flag("strict", "point sets: refuse NaN/Inf samples (with the line) instead of dropping them")
-        .flag("merge-blocks", "point sets: one block instead of one per grid/piece/file");
+        .flag("merge-blocks", "point sets: one block instead of one per grid/piece/file")
+        .option("lod-level", "", "L", "cluster trees (.mlh): the level-based level of detail at depth L (default: the finest)")
+        .option("lod-error", "", "E", "cluster trees (.mlh): the error-based level of detail at error E");
     if (with_endian) a.option("endian", "", "little|big", "binary point sets: byte order (default: detected)");
 }
 
@@ -38,6 +40,16 @@ PointSetOptions point_set_options(const Args& a) {
     o.allow_trailing = a.has("allow-trailing");
     o.strict = a.has("strict");
     o.merge_blocks = a.has("merge-blocks");
+    if (a.has("lod-level") && a.has("lod-error")) throw UsageError("--lod-level and --lod-error: give one of them");
+    if (auto v = a.get("lod-level")) {
+        const long long L = parse_int(*v, "--lod-level");
+        if (L < 0 || L > 0xFFFFFFFFll) throw UsageError("--lod-level: expected a depth >= 0");
+        o.lod_level = static_cast<std::uint32_t>(L);
+    }
+    if (auto v = a.get("lod-error")) {
+        o.lod_error = parse_finite(*v, "--lod-error");
+        if (*o.lod_error < 0) throw UsageError("--lod-error: expected a number >= 0");
+    }
     return o;
 }
 

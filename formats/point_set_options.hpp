@@ -44,6 +44,11 @@ struct PointSetOptions {
     bool merge_blocks = false;
     /// Refuse NaN/Inf coordinates or values (with the line/record) instead of dropping them.
     bool strict = false;
+    /// .mlh cluster trees (formats/cluster_tree_file.hpp): the level of detail read (dissertation
+    /// section 6.4): level-based at depth lod_level, or error-based at lod_error; neither: the finest
+    /// (every leaf). A level beyond the depth or an error below the reached one gives the finest.
+    std::optional<std::uint32_t> lod_level;
+    std::optional<double> lod_error;
 };
 
 /// Accumulates samples and blocks for one reader call.

@@ -1,8 +1,11 @@
 #include "formats/point_set_reader.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "formats/binary_file.hpp"
+#include "formats/cluster_tree_file.hpp"
 #include "formats/plot3d.hpp"
 #include "formats/points_ply.hpp"
 #include "formats/points_raw.hpp"
@@ -30,12 +33,13 @@ bool volume_claims(const std::string& path) {
     }
 }
 
-enum class Fmt { text, ply, vtp, vts, raw, npy, plot3d, p3d, volume };
+enum class Fmt { text, ply, vtp, vts, raw, npy, plot3d, p3d, volume, mlh };
 
 Fmt choose(const std::string& path) {
     const std::string e = ext_of(path);
     if (e == ".csv" || e == ".tsv" || e == ".txt" || e == ".pts" || e == ".asc" || e == ".xyzv") return Fmt::text;
     if (e == ".ply") return Fmt::ply;
+    if (e == ".mlh" || is_cluster_tree_file(path)) return Fmt::mlh;
     if (e == ".vtp") return Fmt::vtp;
     if (e == ".vts") return Fmt::vts;
     if (e == ".npy") return Fmt::npy;
@@ -67,6 +71,7 @@ const char* fmt_name(Fmt f) {
         case Fmt::plot3d: return "plot3d";
         case Fmt::p3d: return "plot3d-meta";
         case Fmt::volume: return "volume";
+        case Fmt::mlh: return "cluster-tree-lod";
     }
     return "?";
 }
@@ -100,6 +105,7 @@ PointSet read_one(const std::string& path, const PointSetOptions& o, Fmt f, std:
         case Fmt::plot3d: ps = read_plot3d(path, o, notes); break;
         case Fmt::p3d: ps = read_plot3d_meta(path, o, notes); break;
         case Fmt::volume: ps = point_set_from_volume(path, o); break;
+        case Fmt::mlh: ps = point_set_from_cluster_tree(path, o, notes); break;
     }
     if (ps.blocks.size() == 1 && ps.blocks[0].name == "points")
         ps.blocks[0].name = std::filesystem::path(path).filename().string();
@@ -166,6 +172,41 @@ PointSetInfo probe_point_set(const std::string& path, const PointSetOptions& o) 
     return info;
 }
 
+PointSet point_set_from_cluster_tree(const std::string& path, const PointSetOptions& o, std::vector<std::string>* notes) {
+    const ClusterTree t = read_cluster_tree_file(path);
+    const ClusterTreeLodRequest r = cluster_tree_lod_request(t, o);
+    if (notes && !r.note.empty()) notes->push_back(r.note);
+    PointSet ps = lod_point_set(t.nodes, r.mode, r.threshold, t.value_name);
+    ps.blocks[0].name = std::filesystem::path(path).filename().string();
+    return ps;
+}
+
+ClusterTreeLodRequest cluster_tree_lod_request(const ClusterTree& t, const PointSetOptions& o) {
+    if (o.lod_level && o.lod_error) throw InvalidArgument("a level of detail is chosen by level or by error, not both");
+    ClusterTreeLodRequest r;
+    if (o.lod_error) {
+        if (!std::isfinite(*o.lod_error) || *o.lod_error < 0) throw InvalidArgument("LOD error: expected a finite number >= 0");
+        r.mode = LodMode::error;
+        r.threshold = *o.lod_error;
+        r.clamped = *o.lod_error < t.stats.error_reached;
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "error %g", *o.lod_error);
+        r.description = buf;
+        if (r.clamped)
+            r.note = "error " + std::to_string(*o.lod_error) + " is below the error the hierarchy reached (" +
+                     std::to_string(t.stats.error_reached) + "): the finest level of detail";
+    } else {
+        r.mode = LodMode::level;
+        r.threshold = o.lod_level ? *o.lod_level : t.stats.depth;
+        r.clamped = o.lod_level && *o.lod_level > t.stats.depth;
+        r.description = o.lod_level ? "level " + std::to_string(*o.lod_level) : "finest";
+        if (r.clamped)
+            r.note = "level " + std::to_string(*o.lod_level) + " is beyond the depth " + std::to_string(t.stats.depth) +
+                     ": the finest level of detail";
+    }
+    return r;
+}
+
 bool looks_like_point_set(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) return false;
@@ -173,6 +214,7 @@ bool looks_like_point_set(const std::string& path) {
     if (e == ".csv" || e == ".tsv" || e == ".txt" || e == ".pts" || e == ".asc" || e == ".xyzv" || e == ".vtp" ||
         e == ".vts" || e == ".npy" || e == ".p3d" || e == ".xyz" || e == ".x" || e == ".g")
         return true;
+    if (e == ".mlh") return true;
     if (e == ".raw") return !volume_claims(path);
     if (e == ".bin") return looks_like_plot3d_xyz(path);
     return false;

@@ -5,6 +5,7 @@
 //
 // Dispatch: .csv .tsv .txt .dat(text) .pts .asc -> text; .ply -> PLY; .vtp -> VTK PolyData;
 // .vts -> VTK StructuredGrid; .npy -> NumPy; .p3d (JSON meta) .xyz .x .bin(PLOT3D) .q? -> PLOT3D;
+// .mlh: a level of detail of a cluster tree (point_set_from_cluster_tree);
 // .raw: a regular volume when the volume readers can describe it, else float32 records; other
 // files the volume readers claim -> one point per voxel (block dims = volume dims).
 // Units: positions and values as the file stores them, kept in double precision.
@@ -18,6 +19,8 @@
 #include <vector>
 
 #include "formats/point_set_options.hpp"
+#include "kernels/cluster_lod.hpp"
+#include "kernels/cluster_tree.hpp"
 #include "kernels/point_set.hpp"
 
 namespace meshless {
@@ -47,5 +50,21 @@ bool looks_like_point_set(const std::string& path);
 
 /// Every voxel of a regular volume as a point (value = sample, block dims = volume dims).
 PointSet point_set_from_volume(const std::string& path, const PointSetOptions& options = {});
+
+/// A level of detail of a cluster tree (.mlh, formats/cluster_tree_file.hpp) as a point set: the
+/// cluster centres and values of the LOD that options.lod_level / lod_error choose (the finest
+/// without either). notes (if given) gets a line when the request was beyond the tree.
+PointSet point_set_from_cluster_tree(const std::string& path, const PointSetOptions& options = {},
+                                     std::vector<std::string>* notes = nullptr);
+
+/// The traversal that options choose for tree t (InvalidArgument for both or a bad error).
+struct ClusterTreeLodRequest {
+    LodMode mode = LodMode::level;
+    double threshold = 0;
+    bool clamped = false;     ///< beyond the tree: the finest LOD
+    std::string description;  ///< "level 15", "error 4.5", "finest"
+    std::string note;         ///< the warning when clamped
+};
+ClusterTreeLodRequest cluster_tree_lod_request(const ClusterTree& t, const PointSetOptions& options);
 
 }  // namespace meshless

@@ -1,0 +1,237 @@
+// `meshless hierarchy` and `meshless lod` (dissertation sections 6.3-6.5): a cluster binary tree of
+// any volume or scattered data set, saved as .mlh (formats/cluster_tree_file.hpp), and its levels
+// of detail as scattered point sets.
+#include <oneapi/tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+
+#include "cli/args.hpp"
+#include "cli/cluster_tree_cli.hpp"
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cli/errors.hpp"
+#include "cli/field_cli.hpp"
+#include "cli/point_set_cli.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/cluster_tree_file.hpp"
+#include "formats/point_set_reader.hpp"
+#include "formats/point_set_writer.hpp"
+#include "formats/vtp_writer.hpp"
+#include "kernels/cluster_binary_tree.hpp"
+#include "kernels/cluster_lod.hpp"
+#include "kernels/errors.hpp"
+#include "kernels/records.hpp"
+#include "ooc/brick_store.hpp"
+#include "ooc/brick_store_point_set.hpp"
+
+namespace meshless::cli {
+
+namespace {
+
+std::string lower_ext(const std::string& path) {
+    const auto dot = path.find_last_of('.');
+    if (dot == std::string::npos || path.find('/', dot) != std::string::npos) return "";
+    std::string e = path.substr(dot);
+    for (char& c : e) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
+    return e;
+}
+
+const char* scaling_name(PcaScaling s) { return s == PcaScaling::raw ? "raw" : "normalised"; }
+
+/// Error thresholds for the info table: the root's error times 1/2^k down to the reached error.
+std::vector<double> error_thresholds(const ClusterTree& t) {
+    std::vector<double> e;
+    const double top = t.nodes[0].error;
+    for (double v = top; v > t.stats.error_reached && e.size() < 10; v *= 0.5) e.push_back(v);
+    e.push_back(t.stats.error_reached);
+    return e;
+}
+
+}  // namespace
+
+void info_cluster_tree(const std::string& path) {
+    const ClusterTree t = read_cluster_tree_file(path);
+    const CbtStats& s = t.stats;
+    const CbtParams& p = t.params;
+    std::printf("%s: cluster binary tree (.mlh version %u, dissertation chapter 6)\n", path.c_str(), kClusterTreeFileVersion);
+    std::printf("  samples: %" PRIu64 " (%" PRIu64 " NaN/Inf dropped), value '%s' %g .. %g\n", s.samples, s.dropped_nonfinite,
+                t.value_name.c_str(), t.value_range[0], t.value_range[1]);
+    std::printf("  bounds: (%g, %g, %g) .. (%g, %g, %g)\n", t.bounds[0].x, t.bounds[0].y, t.bounds[0].z, t.bounds[1].x,
+                t.bounds[1].y, t.bounds[1].z);
+    std::printf("  nodes: %zu, splits: %" PRIu64 ", skipped splits: %" PRIu64 ", depth: %u\n", t.nodes.size(), s.splits,
+                s.skipped, s.depth);
+    std::printf("  error: root %g, reached %g (the finest level of detail, %" PRIu64 " leaves)\n", t.nodes[0].error,
+                s.error_reached, (t.nodes.size() + 1) / 2);
+    std::printf("  built with: neighbours %u, Hardy's c %g (world), min cluster %u, PCA scaling %s, ", p.neighbours,
+                s.hardy_c_world, p.min_cluster, scaling_name(p.scaling));
+    if (p.max_splits == UINT64_MAX) std::printf("max splits none, ");
+    else std::printf("max splits %" PRIu64 ", ", p.max_splits);
+    std::printf("max error %g\n", p.max_error);
+    const auto per_level = lod_sizes_per_level(t.nodes);
+    std::printf("  level-based LODs (meshless lod --level L):\n    %6s %12s %9s\n", "level", "points", "% samples");
+    for (std::size_t L = 0; L < per_level.size(); ++L)
+        std::printf("    %6zu %12" PRIu64 " %8.2f%%\n", L, per_level[L], 100.0 * per_level[L] / s.samples);
+    std::printf("  error-based LODs (meshless lod --error E):\n    %12s %12s %9s\n", "error", "points", "% samples");
+    for (double e : error_thresholds(t)) {
+        const std::uint64_t n = lod_size_at_error(t.nodes, e);
+        std::printf("    %12.6g %12" PRIu64 " %8.2f%%\n", e, n, 100.0 * n / s.samples);
+    }
+}
+
+int cmd_hierarchy(int argc, char** argv) {
+    Args a("hierarchy", "INPUT... -o tree.mlh [options]",
+           "Builds the cluster binary tree of dissertation chapter 6 (sections 6.1, 6.3) of any scalar data:\n"
+           "a volume (each voxel a sample; a .mlb brick store is read brick by brick), scattered points or\n"
+           "multiblock grids. One cluster of every sample\n"
+           "is refined by splitting the cluster of largest error sigma_c = max |f_j - f_c| along the plane\n"
+           "through its centre normal to the dominant principal axis of its (x, y, z, f) samples; f_c is a\n"
+           "local multiquadric over the min(|C|, k) samples nearest the centre. Splits that leave a side empty\n"
+           "are skipped (counted). The tree (.mlh) is the same for any --threads; meshless lod, meshless info\n"
+           "and every command reading point sets (--lod-level/--lod-error) take it.");
+    a.option("output", "o", "FILE", "the tree (.mlh, required)")
+        .option("max-splits", "", "N", "stop after N splits (default: none)")
+        .option("max-error", "", "E", "stop when the worst cluster error is <= E", "0")
+        .option("min-cluster", "", "N", "clusters with fewer samples are not split (>= 2)", "2")
+        .option("neighbours", "", "K", "f_c from the min(|C|, K) samples nearest the centre", "25")
+        .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal", "0.025")
+        .option("hardy-c-world", "", "C", "Hardy's constant in world units (overrides --hardy-c)")
+        .option("pca-scaling", "", "normalised|raw",
+                "PCA of (x,y,z,f) in units scaled to the bounding-box diagonal and the value range, or in the data's units",
+                "normalised")
+        .flag("stats", "print splits, skipped splits, depth, error, time and memory to stderr");
+    add_point_set_options(a, /*with_endian=*/true);
+    add_thread_option(a);
+    a.positionals(1, 1000);
+    a.epilog("examples:\n  meshless hierarchy silicium_98x34x34_uint8.raw -o si.mlh --stats\n"
+             "  meshless lod si.mlh --level 15 -o si15.ply\n  meshless info si.mlh");
+    if (!a.parse(argc, argv, 2)) return 0;
+    const std::string out = require_output_extension(a.require("output"), ".mlh", "-o", "a cluster tree");
+    if (is_streaming_output(out)) throw UsageError("-o " + out + ": a cluster tree is written to a regular file (.mlh)");
+    CbtParams p;
+    if (auto v = a.get("max-splits")) {
+        const long long n = parse_int(*v, "--max-splits");
+        if (n < 0) throw UsageError("--max-splits: expected a count >= 0");
+        p.max_splits = static_cast<std::uint64_t>(n);
+    }
+    p.max_error = parse_finite(a.get_or("max-error", "0"), "--max-error");
+    if (p.max_error < 0) throw UsageError("--max-error: expected a number >= 0");
+    const long long mc = a.get_int_or("min-cluster", 2);
+    if (mc < 2 || mc > 1000000000) throw UsageError("--min-cluster: expected 2..10^9");
+    p.min_cluster = static_cast<std::uint32_t>(mc);
+    const long long k = a.get_int_or("neighbours", 25);
+    if (k < 1 || k > 1000) throw UsageError("--neighbours: expected 1..1000");
+    p.neighbours = static_cast<std::uint32_t>(k);
+    p.hardy_c_rel = parse_finite(a.get_or("hardy-c", "0.025"), "--hardy-c");
+    if (p.hardy_c_rel < 0) throw UsageError("--hardy-c: expected a number >= 0");
+    if (auto c = a.get("hardy-c-world")) {
+        p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
+        if (p.hardy_c_world <= 0) throw UsageError("--hardy-c-world: expected a number > 0");
+    }
+    const std::string sc = a.get_or("pca-scaling", "normalised");
+    if (sc == "raw") p.scaling = PcaScaling::raw;
+    else if (sc == "normalised" || sc == "normalized") p.scaling = PcaScaling::normalised;
+    else throw UsageError("--pca-scaling: expected normalised or raw, got '" + sc + "'");
+    const int nthreads = threads(a);
+
+    const auto t0 = std::chrono::steady_clock::now();
+    const PointSet points = a.positional().size() == 1 && is_brick_store(a.positional().front())
+                                ? point_set_from_brick_store(a.positional().front())
+                                : read_points_arg(a);
+    const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ClusterTree tree;
+    {
+        oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism,
+                                          static_cast<std::size_t>(nthreads));
+        try {
+            tree = build_cluster_tree(points.pos, points.value, p);
+        } catch (const InvalidArgument& e) {  // the data cannot make a tree: a data error naming the input
+            std::string msg = e.what();
+            if (msg.rfind("cluster tree: ", 0) == 0) msg = msg.substr(14);
+            throw FormatError(a.positional().front() + ": " + msg);
+        }
+    }
+    tree.stats.dropped_nonfinite += points.dropped_nonfinite;
+    tree.value_name = points.value_name;
+    const auto t1 = std::chrono::steady_clock::now();
+    write_cluster_tree_file(out, tree);
+    const double write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    const CbtStats& s = tree.stats;
+    if (s.dropped_nonfinite)
+        std::fprintf(stderr, "meshless hierarchy: warning: %" PRIu64 " samples with NaN/Inf positions or values dropped\n",
+                     s.dropped_nonfinite);
+    if (tree.nodes.size() == 1)
+        std::fprintf(stderr, "meshless hierarchy: note: one cluster (error %g <= --max-error %g, or nothing to split): a one-node tree\n",
+                     tree.nodes[0].error, p.max_error);
+    if (a.has("stats"))
+        std::fprintf(stderr,
+                     "hierarchy: %" PRIu64 " samples, %" PRIu64 " splits, %" PRIu64 " skipped, depth %u, %zu nodes, error %g -> %g, "
+                     "c = %g, PCA %s, %d thread%s: read %.3f s, build %.3f s, write %.3f s, %.1f MiB in the builder\n",
+                     s.samples, s.splits, s.skipped, s.depth, tree.nodes.size(), tree.nodes[0].error, s.error_reached,
+                     s.hardy_c_world, scaling_name(p.scaling), nthreads, nthreads == 1 ? "" : "s", read_s, s.seconds, write_s,
+                     s.memory_bytes / 1048576.0);
+    return 0;
+}
+
+int cmd_lod(int argc, char** argv) {
+    Args a("lod", "tree.mlh (--level L | --error E) -o lod.ply|lod.csv|lod.vtp",
+           "Extracts a level of detail from a cluster binary tree (dissertation section 6.4): a depth-first\n"
+           "traversal taking the clusters at depth L (level-based) or the first clusters of error <= E on\n"
+           "every path (error-based); a leaf met before is taken as it is. The cluster centres and values are\n"
+           "a scattered data set (section 6.5): every command reading point sets takes it, or the .mlh itself\n"
+           "with --lod-level/--lod-error. A level beyond the depth or an error below the one reached gives the\n"
+           "finest level of detail (with a warning).");
+    a.option("output", "o", "FILE", "the points: .ply (binary, double), .csv or .vtp (required)")
+        .option("level", "", "L", "level-based: clusters at depth L (0 = the root)")
+        .option("error", "", "E", "error-based: clusters whose error is <= E")
+        .flag("stats", "print the LOD's size and the extraction time to stderr");
+    a.positionals(1, 1);
+    if (!a.parse(argc, argv, 2)) return 0;
+    const std::string out = a.require("output");
+    const std::string ext = lower_ext(out);
+    if (ext != ".ply" && ext != ".csv" && ext != ".vtp" && out != "-")
+        throw UsageError("-o " + out + ": expected a .ply, .csv or .vtp file ('-' = CSV on stdout)");
+    if (a.has("level") == a.has("error")) throw UsageError("give one of --level L or --error E");
+    PointSetOptions o;
+    if (auto v = a.get("level")) {
+        const long long L = parse_int(*v, "--level");
+        if (L < 0 || L > 0xFFFFFFFFll) throw UsageError("--level: expected a depth >= 0");
+        o.lod_level = static_cast<std::uint32_t>(L);
+    } else {
+        o.lod_error = parse_finite(*a.get("error"), "--error");
+        if (*o.lod_error < 0) throw UsageError("--error: expected a number >= 0");
+    }
+    const std::string& path = a.positional().front();
+    const ClusterTree t = read_cluster_tree_file(path);
+    const ClusterTreeLodRequest r = cluster_tree_lod_request(t, o);
+    if (r.clamped) std::fprintf(stderr, "meshless lod: warning: %s: %s\n", path.c_str(), r.note.c_str());
+    const auto t0 = std::chrono::steady_clock::now();
+    PointSet ps = lod_point_set(t.nodes, r.mode, r.threshold, t.value_name);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + path};
+    if (ext == ".vtp") {
+        VtpPointWriter w(out, comments);
+        std::vector<PointRecord> recs(ps.size());
+        for (std::size_t i = 0; i < ps.size(); ++i) {
+            PointRecord& q = recs[i];
+            q = PointRecord{};
+            q.pos[0] = static_cast<float>(ps.pos[i].x);
+            q.pos[1] = static_cast<float>(ps.pos[i].y);
+            q.pos[2] = static_cast<float>(ps.pos[i].z);
+            q.value = static_cast<float>(ps.value[i]);
+        }
+        w.append(recs);
+        w.commit();
+    } else {
+        write_point_set(out, ps, comments);
+    }
+    if (a.has("stats"))
+        std::fprintf(stderr, "lod: %s of %s: %zu points (%.2f%% of %" PRIu64 " samples), %.4f s\n", r.description.c_str(),
+                     path.c_str(), ps.size(), 100.0 * ps.size() / t.stats.samples, t.stats.samples, s);
+    return 0;
+}
+
+}  // namespace meshless::cli

@@ -1,0 +1,61 @@
+// The cluster-binary-tree file (".mlh", magic "\x89MLH\r\n\x1a\n"), version 1: the hierarchy of
+// dissertation chapter 6 (kernels/cluster_tree.hpp) built once by `meshless hierarchy` and read by
+// `meshless lod`, `meshless info` and every command that reads a point set (a level of detail of
+// it, formats/point_set_reader.hpp).
+//
+// Layout, all little endian:
+//   header (64 bytes): magic[8] | u32 version (1) | u32 header bytes (64) | u64 file bytes |
+//       u64 meta bytes (M) | u64 node count (N) | zero padding to 60 | u32 CRC-32 of bytes [0, 60)
+//   meta (M bytes, at 64): u64 samples | u64 dropped non-finite | u64 splits | u64 skipped splits |
+//       u32 depth | u32 neighbours (k) | u32 min cluster | u32 PCA scaling (0 raw, 1 normalised) |
+//       u64 max splits | f64 max error | f64 hardy_c_rel | f64 hardy_c_world (requested, 0 = relative) |
+//       f64 Hardy's c used (world) | f64 error reached | f64 bounds lo[3], hi[3] | f64 value min, max |
+//       u32 name bytes (<= 1024) | name (the value's name)            -> M = 164 + name bytes
+//   u32 CRC-32 of the meta bytes
+//   nodes (N x 56 bytes): f64 centre[3] | f64 value | f64 error | u32 count | u32 depth |
+//       u32 first child (0 = leaf) | u32 flags (bit 0: skipped split)
+//   u32 CRC-32 of the node bytes
+//   file bytes = 64 + M + 4 + 56 N + 4 exactly. The file holds no time or path: the same input and
+//   options give the same bytes, for any thread count.
+// Decoding checks, in order: the magic, the version ("made by a newer/older version"), the header
+// CRC, the header fields (header bytes, zero padding), the exact file size (truncated or appended
+// bytes) against the declared meta and node sizes (no allocation before the bytes are there), the
+// meta CRC and fields, the node CRC, then the tree (kernels/cluster_tree.hpp validate_cluster_tree:
+// children in range and after their parent, each referenced once, so no cycles; depths; counts that
+// add up to the samples) and the counts the meta claims (splits, skipped, depth, error reached)
+// against the nodes.
+// Errors: FormatError "PATH: offset N: what" (or "PATH: node I: what"), one line; IoError when the
+// file cannot be read or written. Writing is atomic (formats/atomic_file.hpp).
+// Thread-safety: reentrant functions.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "kernels/cluster_tree.hpp"
+
+namespace meshless {
+
+inline constexpr std::uint32_t kClusterTreeFileVersion = 1;
+inline constexpr std::size_t kClusterTreeHeaderBytes = 64;
+inline constexpr std::size_t kClusterTreeMetaFixedBytes = 164;
+inline constexpr std::size_t kClusterTreeNodeBytes = 56;
+inline constexpr char kClusterTreeMagic[8] = {'\x89', 'M', 'L', 'H', '\r', '\n', '\x1a', '\n'};
+
+/// Writes `tree` to `path` atomically (tree.stats.seconds and memory_bytes are not stored).
+/// InvalidArgument for "-" or a non-regular output; IoError when it cannot be written.
+void write_cluster_tree_file(const std::string& path, const ClusterTree& tree);
+
+/// Reads and validates a .mlh (see the checks above); stats.seconds is 0.
+ClusterTree read_cluster_tree_file(const std::string& path);
+
+/// The same from bytes in memory (tests, the fuzz target); `name` starts the messages.
+ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> bytes, const std::string& name);
+
+/// The file's bytes (what write_cluster_tree_file writes).
+std::string cluster_tree_bytes(const ClusterTree& tree);
+
+/// True when the file starts with the .mlh magic (false for a missing or short file).
+bool is_cluster_tree_file(const std::string& path);
+
+}  // namespace meshless

@@ -1,0 +1,41 @@
+// Level-of-detail extraction from a cluster binary tree (dissertation section 6.4): a depth-first
+// traversal (first child before the second) that, in the level-based mode, takes every node at
+// depth L and every leaf above it, and in the error-based mode takes every node whose error is
+// <= E, descending otherwise; a leaf met on the way is taken as it is ("we use the cluster at the
+// leaf and continue traversal"). The nodes taken, their centres and values, are a scattered data
+// set of the field at that resolution (section 6.5).
+// A level beyond the depth, or an error below the finest LOD's error, gives the finest LOD (every
+// leaf); the caller warns (LodRequest::clamped tells it).
+// The selection is the depth-first one, computed in one sequential pass over the nodes in number
+// order (children are numbered after their parents), so a LOD comes out in node-number order
+// (the order of refinement), not in depth-first order; as a scattered data set the order is
+// immaterial. Preconditions: a valid tree (kernels/cluster_tree.hpp validate_cluster_tree).
+// Cost: O(nodes), one byte per node of scratch. Thread-safety: pure functions. Throws only bad_alloc.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "kernels/cluster_tree.hpp"
+#include "kernels/point_set.hpp"
+
+namespace meshless {
+
+enum class LodMode { level, error };
+
+/// The node numbers of the LOD, ascending.
+std::vector<std::uint32_t> lod_nodes(std::span<const CbtNode> nodes, LodMode mode, double threshold);
+
+/// The LOD as a point set (centres, values; one block "lod"); value_name as given.
+PointSet lod_point_set(std::span<const CbtNode> nodes, LodMode mode, double threshold, const std::string& value_name);
+
+/// LOD sizes for every level 0..depth (index = level), in one pass over the nodes.
+std::vector<std::uint64_t> lod_sizes_per_level(std::span<const CbtNode> nodes);
+
+/// The size of the error-based LOD at E, without building it.
+std::uint64_t lod_size_at_error(std::span<const CbtNode> nodes, double error);
+
+/// True when the request goes beyond the tree (level > depth, or error < the finest LOD's error).
+bool lod_request_clamped(std::span<const CbtNode> nodes, LodMode mode, double threshold);
+
+}  // namespace meshless

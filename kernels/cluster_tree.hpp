@@ -1,0 +1,84 @@
+// The cluster binary tree (CBT) of dissertation chapter 6 as data: one node per cluster, the root
+// (node 0) holding every sample, each split adding two children (section 6.3). What the builder
+// (kernels/cluster_binary_tree.hpp) makes, the .mlh file (formats/cluster_tree_file.hpp) stores and
+// the level-of-detail traversal (kernels/cluster_lod.hpp) reads.
+//
+// Node numbering: the root is 0; split number s (0-based, in refinement order) gives its two
+// children the numbers 2s + 1 (the side behind the splitting plane) and 2s + 2 (on or in front of
+// it), so a child's number is always larger than its parent's and the tree holds 2 x splits + 1
+// nodes. Units: centres in the input's world units; value and error in its data units.
+// Thread-safety: plain data; validate_cluster_tree is reentrant.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "kernels/vec3.hpp"
+
+namespace meshless {
+
+/// Node flags.
+inline constexpr std::uint32_t kCbtSkippedSplit = 1;  ///< split attempted, one side was empty: a leaf for good
+
+struct CbtNode {
+    Vec3 centre;              ///< p_c, mean of the cluster's sample positions
+    double value = 0;         ///< f_c, local multiquadric over the min(|C|, k) samples nearest p_c
+    double error = 0;         ///< sigma_c = max_j |f_j - f_c| over the cluster, >= 0
+    std::uint32_t count = 0;  ///< samples in the cluster, >= 1
+    std::uint32_t depth = 0;  ///< root 0
+    std::uint32_t child = 0;  ///< first child (the second is child + 1); 0 for a leaf
+    std::uint32_t flags = 0;  ///< kCbtSkippedSplit
+    bool leaf() const { return child == 0; }
+};
+static_assert(sizeof(CbtNode) == 56);
+
+/// How the PCA of a cluster's (x, y, z, f) samples weighs position against value (section 6.3).
+/// raw: the data's units, as in the dissertation (for 0..255 values over a 100-voxel grid the value
+/// dominates); normalised: positions divided by the input's bounding-box diagonal and values by its
+/// value range, so both span about 1.
+enum class PcaScaling : std::uint32_t { raw = 0, normalised = 1 };
+
+struct CbtParams {
+    std::uint64_t max_splits = UINT64_MAX;  ///< stop after this many splits
+    double max_error = 0;                   ///< stop when the worst queued error is <= this
+    std::uint32_t min_cluster = 2;          ///< clusters with fewer samples are never split (>= 2)
+    std::uint32_t neighbours = 25;          ///< k: f_c from the min(|C|, k) samples nearest p_c (>= 1)
+    double hardy_c_rel = 0.025;             ///< Hardy's c relative to the input's bounding-box diagonal
+    double hardy_c_world = 0;               ///< > 0: Hardy's c in world units (overrides hardy_c_rel)
+    PcaScaling scaling = PcaScaling::normalised;  ///< default chosen by measurement, see cluster_binary_tree.hpp
+};
+
+struct CbtStats {
+    std::uint64_t samples = 0;            ///< samples in the tree (finite ones)
+    std::uint64_t dropped_nonfinite = 0;  ///< samples with a NaN/Inf coordinate or value, left out
+    std::uint64_t splits = 0;             ///< successful splits (nodes = 2 x splits + 1)
+    std::uint64_t skipped = 0;            ///< splits that left one side empty (not re-queued)
+    std::uint32_t depth = 0;              ///< deepest node
+    double error_reached = 0;             ///< max error over the leaves (the finest LOD's error)
+    double hardy_c_world = 0;             ///< c used
+    double seconds = 0;                   ///< build time (not stored in files)
+    std::uint64_t memory_bytes = 0;       ///< bytes of the permutation and the nodes (with their ranges) at the end
+};
+
+struct ClusterTree {
+    std::vector<CbtNode> nodes;
+    CbtParams params;
+    CbtStats stats;
+    std::array<Vec3, 2> bounds{};           ///< of the samples
+    std::array<double, 2> value_range{0, 0};
+    std::string value_name;
+};
+
+/// Checks the structure: at least one node; children in range, numbered after their parent and
+/// referenced once (no cycles, no sharing), child depth = depth + 1, child counts summing to the
+/// parent's, counts >= 1, finite centres/values, errors >= 0, flags known (skipped only on
+/// leaves), the root's count = `samples`. Returns "" when valid, else what is wrong (node number
+/// first: "node 12: ...").
+std::string validate_cluster_tree(std::span<const CbtNode> nodes, std::uint64_t samples);
+
+/// splits, skipped, depth and error_reached recomputed from the nodes (a valid tree).
+CbtStats cluster_tree_stats(std::span<const CbtNode> nodes);
+
+}  // namespace meshless

@@ -1,0 +1,133 @@
+// meshless hierarchy / lod / info on .mlh files from the command line: the tree file does not
+// depend on --threads, lod writes the LOD the library traverses (and warns, giving the finest,
+// beyond the tree), point-set commands read a .mlh LOD (--lod-level/--lod-error) as they read the
+// same points from a file, and bad input gets a one-line error and a non-zero exit with nothing
+// written.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "cli/cli_harness.hpp"
+#include "formats/cluster_tree_file.hpp"
+#include "kernels/cluster_lod.hpp"
+
+using namespace meshless;
+using namespace meshless::test;
+
+namespace {
+
+bool one_line(const std::string& err) { return !err.empty() && err.find('\n') == err.size() - 1; }
+
+std::string write_csv(const TempDir& d, const std::string& name, const std::string& rows) {
+    const auto p = d / name;
+    spit(p, "x,y,z,value\n" + rows);
+    return p.string();
+}
+
+}  // namespace
+
+TEST_CASE("meshless hierarchy: the same .mlh for 1 and 2 threads, lod and info read it", "[cli][cbt]") {
+    TempDir d("hier_cli");
+    const std::string vol = write_uint8_analytic_volume(d, "ml", AnalyticField::marschner_lobb, 24, 200, 20);
+    const std::string D = d.path.string();
+    REQUIRE(sh("MESHLESS hierarchy " + vol + " -o " + D + "/t1.mlh --threads 1 --max-splits 3000", d).code == 0);
+    const auto r2 = sh("MESHLESS hierarchy " + vol + " -o " + D + "/t2.mlh --threads 2 --max-splits 3000 --stats", d);
+    REQUIRE(r2.code == 0);
+    CHECK(r2.err.find("3000 splits") != std::string::npos);
+    CHECK(slurp(d / "t1.mlh") == slurp(d / "t2.mlh"));
+    const ClusterTree t = read_cluster_tree_file(D + "/t1.mlh");
+    CHECK(t.stats.samples == 24 * 24 * 24);
+
+    const auto info = sh("MESHLESS info " + D + "/t1.mlh", d);
+    REQUIRE(info.code == 0);
+    CHECK(info.out.find("splits: 3000") != std::string::npos);
+    CHECK(info.out.find("level-based LODs") != std::string::npos);
+
+    // lod --level 8 as CSV: exactly the library's traversal
+    REQUIRE(sh("MESHLESS lod " + D + "/t1.mlh --level 8 -o " + D + "/l8.csv", d).code == 0);
+    const auto ids = lod_nodes(t.nodes, LodMode::level, 8);
+    std::istringstream csv(slurp(d / "l8.csv"));
+    std::string line;
+    std::getline(csv, line);
+    std::size_t rows = 0;
+    while (std::getline(csv, line)) {
+        double x, y, z, v;
+        char c;
+        std::istringstream ls(line);
+        ls >> x >> c >> y >> c >> z >> c >> v;
+        REQUIRE(rows < ids.size());
+        CHECK(x == t.nodes[ids[rows]].centre.x);
+        CHECK(v == t.nodes[ids[rows]].value);
+        ++rows;
+    }
+    CHECK(rows == ids.size());
+    for (const char* ext : {"ply", "vtp"}) CHECK(sh("MESHLESS lod " + D + "/t1.mlh --error 30 -o " + D + "/e." + ext, d).code == 0);
+
+    // beyond the tree: warn, finest LOD
+    const auto deep = sh("MESHLESS lod " + D + "/t1.mlh --level 999 -o " + D + "/deep.csv", d);
+    CHECK(deep.code == 0);
+    CHECK(deep.err.find("beyond the depth") != std::string::npos);
+    const auto low = sh("MESHLESS lod " + D + "/t1.mlh --error 0 -o " + D + "/low.csv", d);
+    CHECK(low.code == 0);
+    CHECK((t.stats.error_reached == 0 || low.err.find("below the error") != std::string::npos));
+    CHECK(slurp(d / "deep.csv").size() > 0);
+
+    // a point-set command reads the .mlh LOD as it reads the same points from a file
+    const std::string at = " --at 10,10,10 --at 5.5,12,3 --field mpu";
+    const auto from_tree = sh("MESHLESS probe " + D + "/t1.mlh --lod-level 8" + at, d);
+    const auto from_csv = sh("MESHLESS probe " + D + "/l8.csv" + at, d);
+    REQUIRE(from_tree.code == 0);
+    REQUIRE(from_csv.code == 0);
+    CHECK(from_tree.out == from_csv.out);
+    const auto warned = sh("MESHLESS probe " + D + "/t1.mlh --lod-level 500" + at, d);
+    CHECK(warned.code == 0);
+    CHECK(warned.err.find("beyond the depth") != std::string::npos);
+}
+
+TEST_CASE("meshless hierarchy: bad input is one line, non-zero, nothing written", "[cli][cbt]") {
+    TempDir d("hier_bad");
+    const std::string D = d.path.string();
+    auto refused = [&](const std::string& input, const std::string& what) {
+        const auto r = sh("MESHLESS hierarchy " + input + " -o " + D + "/bad.mlh", d);
+        INFO(input << ": " << r.err);
+        CHECK(r.code != 0);
+        CHECK(one_line(r.err));
+        CHECK(r.err.find(what) != std::string::npos);
+        CHECK_FALSE(std::filesystem::exists(d / "bad.mlh"));
+    };
+    refused(write_csv(d, "one.csv", "1,2,3,4\n"), "valid point");
+    refused(write_csv(d, "same.csv", "1,2,3,4\n1,2,3,5\n1,2,3,6\n1,2,3,7\n1,2,3,8\n"), "one position");
+    refused(write_csv(d, "nan.csv", "1,2,3,4\nnan,2,3,5\n1,inf,3,6\n1,2,3,nan\n2,2,3,nan\n"), "NaN/Inf");
+    // NaN rows dropped and counted, the rest builds
+    const auto nan = sh("MESHLESS hierarchy " + write_csv(d, "nan2.csv", "0,0,0,1\nnan,2,3,5\n1,0,0,2\n0,1,0,3\n0,0,1,4\n1,1,1,nan\n") +
+                            " -o " + D + "/nan.mlh",
+                        d);
+    CHECK(nan.code == 0);
+    CHECK(nan.err.find("2 samples with NaN/Inf") != std::string::npos);
+    CHECK(read_cluster_tree_file(D + "/nan.mlh").stats.dropped_nonfinite == 2);
+    // a constant field: a one-node tree
+    const auto flat = sh("MESHLESS hierarchy " + write_csv(d, "flat.csv", "0,0,0,5\n1,0,0,5\n0,1,0,5\n0,0,1,5\n1,1,1,5\n") + " -o " + D +
+                             "/flat.mlh",
+                         d);
+    CHECK(flat.code == 0);
+    CHECK(read_cluster_tree_file(D + "/flat.mlh").nodes.size() == 1);
+    // collinear samples
+    CHECK(sh("MESHLESS hierarchy " + write_csv(d, "line.csv", "0,0,0,1\n1,1,1,2\n2,2,2,0\n3,3,3,7\n4,4,4,1\n") + " -o " + D + "/line.mlh", d)
+              .code == 0);
+    // usage errors
+    CHECK(sh("MESHLESS hierarchy " + D + "/line.csv -o " + D + "/x.ply", d).code == 1);
+    CHECK(sh("MESHLESS hierarchy " + D + "/line.csv -o " + D + "/x.mlh --min-cluster 1", d).code == 1);
+    CHECK(sh("MESHLESS lod " + D + "/line.mlh -o " + D + "/x.csv", d).code == 1);
+    CHECK(sh("MESHLESS lod " + D + "/line.mlh --level 1 --error 2 -o " + D + "/x.csv", d).code == 1);
+    // a damaged .mlh: exit 2, one line naming the file
+    std::string bytes = slurp(d / "line.mlh");
+    bytes.resize(bytes.size() - 3);
+    spit(d / "cut.mlh", bytes);
+    const auto cut = sh("MESHLESS lod " + D + "/cut.mlh --level 1 -o " + D + "/x.csv", d);
+    CHECK(cut.code == 2);
+    CHECK(one_line(cut.err));
+    CHECK(cut.err.find("cut.mlh") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(d / "x.csv"));
+}

@@ -1,0 +1,220 @@
+// kernels/cluster_binary_tree + cluster_value: the refinement of dissertation section 6.3 against
+// oracles: cluster values reproduce a linear field and the error is the brute-force maximum; the
+// splits happen in error-queue order (every prefix of the refinement is the tree a smaller
+// --max-splits builds, and each split takes the worst splittable leaf); skipped splits are
+// counted and not re-queued; the tree has the same bytes for 1, 2 and 4 threads; bad input.
+#include <catch2/catch.hpp>
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <set>
+#include <vector>
+
+#include "kernels/cluster_binary_tree.hpp"
+#include "kernels/cluster_lod.hpp"
+#include "kernels/cluster_value.hpp"
+#include "kernels/errors.hpp"
+
+using namespace meshless;
+
+namespace {
+
+struct Samples {
+    std::vector<Vec3> pos;
+    std::vector<double> value;
+};
+
+/// An n0 x n1 x n2 grid of a smooth field with a sharp feature (a ball of higher values).
+Samples grid(int n0, int n1, int n2) {
+    Samples s;
+    for (int k = 0; k < n2; ++k)
+        for (int j = 0; j < n1; ++j)
+            for (int i = 0; i < n0; ++i) {
+                const double x = i, y = j, z = k;
+                s.pos.push_back({x, y, z});
+                const double r = std::sqrt((x - n0 * 0.4) * (x - n0 * 0.4) + (y - n1 * 0.5) * (y - n1 * 0.5) + (z - n2 * 0.6) * (z - n2 * 0.6));
+                s.value.push_back(std::round(100 * std::sin(0.3 * x) * std::cos(0.2 * y) + (r < n0 * 0.25 ? 120 : 0) + 0.5 * z));
+            }
+    return s;
+}
+
+std::string bytes_of(const ClusterTree& t) {
+    return std::string(reinterpret_cast<const char*>(t.nodes.data()), t.nodes.size() * sizeof(CbtNode));
+}
+
+}  // namespace
+
+TEST_CASE("cluster value: centre, multiquadric value and error against oracles", "[kernels][cbt]") {
+    Samples s;
+    for (int i = 0; i < 200; ++i) {
+        const Vec3 p{std::sin(i * 1.3) * 5, std::cos(i * 0.7) * 3, (i % 13) * 0.4};
+        s.pos.push_back(p);
+        s.value.push_back(2 + 3 * p.x - p.y + 0.5 * p.z);  // linear: the multiquadric reproduces it
+    }
+    std::vector<std::uint32_t> idx(s.pos.size());
+    std::iota(idx.begin(), idx.end(), 0u);
+    ClusterValueEvaluator ev(25, 0.3);
+    const ClusterValue v = ev.evaluate(s.pos, s.value, idx);
+    Vec3 c{};
+    for (const Vec3& p : s.pos) c += p;
+    c = c * (1.0 / s.pos.size());
+    CHECK(norm(v.centre - c) < 1e-12);
+    CHECK(std::abs(v.value - (2 + 3 * c.x - c.y + 0.5 * c.z)) < 1e-8);
+    double e = 0;
+    for (double f : s.value) e = std::max(e, std::abs(f - v.value));
+    CHECK(v.error == e);
+    // the 25 neighbours are the 25 nearest to the centre (brute force)
+    std::vector<std::pair<double, std::uint32_t>> d;
+    for (std::uint32_t j = 0; j < s.pos.size(); ++j) d.push_back({dot(s.pos[j] - c, s.pos[j] - c), j});
+    std::sort(d.begin(), d.end());
+    REQUIRE(ev.last_neighbours().size() == 25);
+    for (int i = 0; i < 25; ++i) CHECK(ev.last_neighbours()[i] == d[i].second);
+    // a cluster smaller than k uses all its samples, and the order of idx does not matter
+    std::vector<std::uint32_t> few = {7, 3, 11, 5}, few2 = {5, 11, 3, 7};
+    const ClusterValue a = ev.evaluate(s.pos, s.value, few), b = ev.evaluate(s.pos, s.value, few2);
+    CHECK(ev.last_neighbours().size() == 4);
+    CHECK(a.value == b.value);
+}
+
+TEST_CASE("cluster tree: splits follow the error queue, prefixes equal smaller --max-splits", "[kernels][cbt]") {
+    const Samples s = grid(20, 14, 10);
+    CbtParams p;
+    p.max_splits = 400;
+    const ClusterTree full = build_cluster_tree(s.pos, s.value, p);
+    REQUIRE(full.stats.skipped == 0);
+    REQUIRE(full.stats.splits == 400);
+    REQUIRE(validate_cluster_tree(full.nodes, full.stats.samples).empty());
+    // split number t made nodes 2t+1, 2t+2: its parent was the worst splittable leaf at that time
+    std::vector<std::uint32_t> parent(full.nodes.size(), 0);
+    for (std::uint32_t i = 0; i < full.nodes.size(); ++i)
+        if (!full.nodes[i].leaf()) parent[full.nodes[i].child] = parent[full.nodes[i].child + 1] = i;
+    std::set<std::uint32_t> leaves = {0};
+    for (std::uint32_t t = 0; t < 400; ++t) {
+        const std::uint32_t split = parent[2 * t + 1];
+        // worst: largest error, then smallest number, among leaves with >= 2 samples
+        std::uint32_t worst = UINT32_MAX;
+        for (std::uint32_t l : leaves) {
+            if (full.nodes[l].count < 2) continue;
+            if (worst == UINT32_MAX || full.nodes[l].error > full.nodes[worst].error) worst = l;
+        }
+        REQUIRE(split == worst);
+        leaves.erase(split);
+        leaves.insert(2 * t + 1);
+        leaves.insert(2 * t + 2);
+    }
+    for (std::uint64_t m : {0ull, 1ull, 17ull, 250ull}) {
+        p.max_splits = m;
+        const ClusterTree part = build_cluster_tree(s.pos, s.value, p);
+        REQUIRE(part.nodes.size() == 2 * m + 1);
+        for (std::size_t i = 0; i < part.nodes.size(); ++i) {
+            CbtNode a = part.nodes[i], b = full.nodes[i];
+            if (b.child > 2 * m) b.child = 0;  // not split yet in the smaller run
+            CHECK(std::memcmp(&a, &b, sizeof a) == 0);
+        }
+    }
+    // --max-error: stops when the worst leaf is <= E, and every leaf that could still be split is <= E
+    p.max_splits = UINT64_MAX;
+    p.max_error = 20;
+    const ClusterTree e = build_cluster_tree(s.pos, s.value, p);
+    for (const CbtNode& d : e.nodes)
+        if (d.leaf() && d.count >= 2) CHECK(d.error <= 20);
+}
+
+TEST_CASE("cluster tree: the same bytes for 1, 2 and 4 threads", "[kernels][cbt]") {
+    const Samples s = grid(70, 50, 40);  // 140,000 samples: the first clusters take the chunked parallel paths
+    CbtParams p;
+    p.max_splits = 3000;
+    std::string ref;
+    for (int t : {1, 2, 4}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, t);
+        const ClusterTree tr = build_cluster_tree(s.pos, s.value, p);
+        INFO(t << " threads");
+        REQUIRE(tr.stats.splits == 3000);
+        if (ref.empty()) ref = bytes_of(tr);
+        else CHECK(bytes_of(tr) == ref);
+    }
+}
+
+TEST_CASE("cluster tree: full refinement reaches error 0 with a valid tree", "[kernels][cbt]") {
+    const Samples s = grid(12, 9, 7);
+    const ClusterTree t = build_cluster_tree(s.pos, s.value, CbtParams{});
+    CHECK(validate_cluster_tree(t.nodes, s.pos.size()).empty());
+    CHECK(t.stats.error_reached == 0);
+    const CbtStats c = cluster_tree_stats(t.nodes);
+    CHECK(c.splits == t.stats.splits);
+    CHECK(c.depth == t.stats.depth);
+    // raw scaling gives another valid tree
+    CbtParams raw;
+    raw.scaling = PcaScaling::raw;
+    const ClusterTree r = build_cluster_tree(s.pos, s.value, raw);
+    CHECK(validate_cluster_tree(r.nodes, s.pos.size()).empty());
+    CHECK(r.stats.error_reached == 0);
+}
+
+TEST_CASE("cluster tree: skipped splits are counted, flagged and not re-queued", "[kernels][cbt]") {
+    // two samples at one position with different values: their cluster cannot be split
+    Samples s;
+    s.pos = {{0, 0, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+    s.value = {0, 100, 50, 50};
+    const ClusterTree t = build_cluster_tree(s.pos, s.value, CbtParams{});
+    CHECK(t.stats.skipped == 1);
+    CHECK(cluster_tree_stats(t.nodes).skipped == 1);
+    CHECK(validate_cluster_tree(t.nodes, 4).empty());
+    int flagged = 0;
+    for (const CbtNode& d : t.nodes)
+        if (d.flags & kCbtSkippedSplit) {
+            ++flagged;
+            CHECK(d.leaf());
+            CHECK(d.count == 2);
+            CHECK(d.error > 0);
+        }
+    CHECK(flagged == 1);
+    CHECK(t.stats.error_reached > 0);
+}
+
+TEST_CASE("cluster tree: bad and degenerate input", "[kernels][cbt]") {
+    Samples one;
+    one.pos = {{0, 0, 0}};
+    one.value = {1};
+    CHECK_THROWS_AS(build_cluster_tree(one.pos, one.value, CbtParams{}), InvalidArgument);
+    Samples same;
+    same.pos = {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}};
+    same.value = {1, 2, 3};
+    CHECK_THROWS_WITH(build_cluster_tree(same.pos, same.value, CbtParams{}), Catch::Contains("one position"));
+    // NaN/Inf dropped and counted; two NaN leave one sample: refused
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    Samples bad = {{{0, 0, 0}, {nan, 0, 0}, {1, 0, 0}, {2, inf, 0}, {3, 0, 0}}, {0, 1, nan, 3, 4}};
+    const ClusterTree t = build_cluster_tree(bad.pos, bad.value, CbtParams{});
+    CHECK(t.stats.dropped_nonfinite == 3);
+    CHECK(t.stats.samples == 2);
+    CHECK(t.nodes[0].count == 2);
+    // constant field: one node, error 0, no hang
+    const Samples g = grid(10, 10, 10);
+    const std::vector<double> flat(g.pos.size(), 7.0);
+    const ClusterTree c = build_cluster_tree(g.pos, flat, CbtParams{});
+    CHECK(c.nodes.size() == 1);
+    CHECK(c.nodes[0].error == 0);
+    CHECK(c.nodes[0].value == Approx(7.0).margin(1e-9));
+    // collinear and coplanar samples (degenerate covariance) refine to error 0
+    for (int dims : {1, 2}) {
+        Samples s;
+        for (int i = 0; i < 30; ++i)
+            for (int j = 0; j < (dims == 2 ? 30 : 1); ++j) {
+                s.pos.push_back({i * 0.5 + j * 0.1, i * 0.25 - j, 2.0});
+                s.value.push_back(std::round(10 * std::sin(i * 0.4) + j));
+            }
+        const ClusterTree l = build_cluster_tree(s.pos, s.value, CbtParams{});
+        INFO(dims << "-D samples");
+        CHECK(validate_cluster_tree(l.nodes, s.pos.size()).empty());
+        CHECK(l.stats.error_reached == 0);
+        CHECK(l.stats.splits > 10);
+    }
+    CbtParams p;
+    p.min_cluster = 1;
+    CHECK_THROWS_AS(build_cluster_tree(g.pos, g.value, p), InvalidArgument);
+}
