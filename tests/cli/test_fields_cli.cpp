@@ -129,7 +129,7 @@ TEST_CASE("positions the data does not reach are NaN, unless --max-gap 0", "[cli
     CHECK(sh("MESHLESS probe " + pts + " --at 1,1,1 --max-gap -1", d).code == 1);
 }
 
-TEST_CASE("--extrapolate: NaN, the field kept within the data range, or the nearest value; --stats counts", "[cli][fields]") {
+TEST_CASE("extrapolate: NaN, the field kept within the data range, or the nearest value, --stats counts", "[cli][fields]") {
     TempDir d("extrapolate");
     const std::string pts = write_points(d), D = d.path.string();
     // data values: 2x - y + z/2 + 3 over x 0..10, y 100..104, z 0..6 -> about -101 .. -74

@@ -60,7 +60,7 @@ TEST_CASE("progress line: nothing in the first second, at most 4 lines a second,
     std::fclose(f);
 }
 
-TEST_CASE("progress: disabled draws nothing; counts from many threads add up", "[cli][progress]") {
+TEST_CASE("progress: disabled draws nothing, counts from many threads add up", "[cli][progress]") {
     std::FILE* f = std::tmpfile();
     REQUIRE(f);
     double now = 5;

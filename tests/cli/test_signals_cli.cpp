@@ -224,7 +224,7 @@ TEST_CASE("info, verify and --help on a full device (/dev/full): exit 2 with a m
     CHECK(r.err.empty());
 }
 
-TEST_CASE("batch killed mid-run: exit 128+signal, no temporaries; the rerun finishes what is left", "[cli][signals]") {
+TEST_CASE("batch killed mid-run: exit 128+signal, no temporaries, the rerun finishes what is left", "[cli][signals]") {
     TempDir dir("signals-batch");
     fs::create_directories(dir / "archive");
     // two volumes, so that the run is caught converting or extracting one of them

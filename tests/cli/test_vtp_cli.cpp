@@ -185,7 +185,7 @@ TEST_CASE("vtp: outputs are chosen by extension or --format, refused commands wr
     CHECK(slurp(d / "s.out").rfind("ply\n", 0) == 0);
 }
 
-TEST_CASE("--ply-color: red green blue per point (normal, value, block), kept by vtkPLYReader", "[cli][vtp]") {
+TEST_CASE("ply-color: red green blue per point (normal, value, block), kept by vtkPLYReader", "[cli][vtp]") {
     TempDir d("ply-color");
     const std::string vol = write_uint8_analytic_volume(d, "torus", AnalyticField::torus, 32, 200.0, 0.0);
     const std::string D = d.path.string() + "/";

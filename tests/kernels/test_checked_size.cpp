@@ -31,7 +31,7 @@ TEST_CASE("checked_extent: hi - lo + 1 without signed overflow", "[kernels][chec
     CHECK_THROWS_AS(checked_extent(0, std::numeric_limits<std::int64_t>::max(), "f"), FormatError);
 }
 
-TEST_CASE("GridSpec::voxel_count never wraps; validate_grid refuses nonsense geometry", "[kernels][checked]") {
+TEST_CASE("GridSpec::voxel_count never wraps, validate_grid refuses nonsense geometry", "[kernels][checked]") {
     GridSpec g;
     g.dims = {std::int64_t{1} << 32, std::int64_t{1} << 32, 1};
     CHECK_THROWS_AS(g.voxel_count(), FormatError);  // used to wrap to 0
