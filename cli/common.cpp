@@ -406,12 +406,14 @@ SplatKernel kernel_from(const Args& a) {
 
 RenderSettings render_settings(const Args& a) { return {camera_from(a, "800x800"), kernel_from(a), shading_from(a)}; }
 
-namespace {
 std::string triple(double a, double b, double c) {
     char buf[128];
     std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g", a, b, c);
     return buf;
 }
+std::string triple(const Vec3& v) { return triple(v.x, v.y, v.z); }
+
+namespace {
 std::optional<Vec3> parse_triple_meta(const StreamMeta& m, const std::string& key) {
     auto s = m.get(key);
     if (!s) return std::nullopt;

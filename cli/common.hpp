@@ -82,6 +82,10 @@ SamplingParams sampling_params(const Args& a);
 void add_thread_option(Args& a);
 int threads(const Args& a);
 
+/// "x,y,z" with 9 significant digits (stream metadata: bounds, spacing).
+std::string triple(double a, double b, double c);
+std::string triple(const Vec3& v);
+
 /// --size WxH --azimuth --elevation --up --view --zoom --ortho: where the camera looks from.
 void add_orbit_options(Args& a, const char* default_size);
 /// The camera of add_orbit_options (UsageError for bad values, --view with --azimuth/--elevation).

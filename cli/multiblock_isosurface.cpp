@@ -132,12 +132,6 @@ BlockInput read_blocks(const Args& a, double iso) {
     return in;
 }
 
-std::string triple(const Vec3& v) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g", v.x, v.y, v.z);
-    return buf;
-}
-
 /// What generate writes and isosurface records: the same keys on both paths, so the PLY comments
 /// (ply_comments) are the same bytes.
 StreamMeta block_meta(const BlockInput& in, double iso, int n, const std::string& producer) {

@@ -169,12 +169,6 @@ ScatteredInput read_scattered(const Args& a, bool warn = true) {
     return in;
 }
 
-std::string triple(const Vec3& v) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g", v.x, v.y, v.z);
-    return buf;
-}
-
 /// What generate writes and isosurface records (the same keys on both paths).
 StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std::string& producer) {
     StreamMeta m;
