@@ -49,12 +49,15 @@ T get_at(const std::string& b, std::size_t at) {
     return v;
 }
 
-/// Recomputes the three checksums of an edited file.
+/// Recomputes the checksums of an edited file: the header's always, the sections' where the
+/// (possibly lying) header sizes keep them inside the bytes.
 void fix_crcs(std::string& b) {
     const std::uint64_t meta = get_at<std::uint64_t>(b, 24), n = get_at<std::uint64_t>(b, 32);
     put_at<std::uint32_t>(b, 60, crc32_ieee(0, b.data(), 60));
+    if (meta > b.size() || 64 + meta + 4 > b.size()) return;
     put_at<std::uint32_t>(b, 64 + meta, crc32_ieee(0, b.data() + 64, meta));
     const std::size_t at = 64 + meta + 4;
+    if (n > (b.size() - at) / 56 || at + n * 56 + 4 > b.size()) return;
     put_at<std::uint32_t>(b, at + n * 56, crc32_ieee(0, b.data() + at, n * 56));
 }
 
