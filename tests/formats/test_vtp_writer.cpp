@@ -272,7 +272,8 @@ TEST_CASE("vtp points: memory does not grow with the point count (10^6 points)",
     INFO("peak RSS grew by " << small << " KiB writing 10^5 points, " << big << " KiB writing 10^6 points (" << 1000000 * 36 / 1024
                              << " KiB of data)");
     // holding the arrays would take 35 MiB more for 10^6 points; the spools need a few MiB of buffers
-    CHECK(big < small + 2048);
+    // (the allocator's high-water mark varies by a few MiB between runs: 8 MiB of slack, a quarter of 35)
+    CHECK(big < small + 8192);
 #ifndef MESHLESS_SANITIZED
     CHECK(big < 12 * 1024);  // (under ASan the first run's growth is shadow memory and quarantine: only the difference counts)
 #endif
