@@ -406,6 +406,15 @@ SplatKernel kernel_from(const Args& a) {
 
 RenderSettings render_settings(const Args& a) { return {camera_from(a, "800x800"), kernel_from(a), shading_from(a)}; }
 
+std::string joined_names(const std::vector<std::string>& paths) {
+    std::string s;
+    for (const auto& p : paths) {
+        if (!s.empty()) s += ',';
+        s += std::filesystem::path(p).filename().string();
+    }
+    return s;
+}
+
 std::string triple(double a, double b, double c) {
     char buf[128];
     std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g", a, b, c);

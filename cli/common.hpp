@@ -82,6 +82,8 @@ SamplingParams sampling_params(const Args& a);
 void add_thread_option(Args& a);
 int threads(const Args& a);
 
+/// The files' names (no folders) joined by ',' (the `source` of multi-file inputs).
+std::string joined_names(const std::vector<std::string>& paths);
 /// "x,y,z" with 9 significant digits (stream metadata: bounds, spacing).
 std::string triple(double a, double b, double c);
 std::string triple(const Vec3& v);

@@ -105,15 +105,6 @@ struct BlockInput {
     double read_seconds = 0, plan_seconds = 0;
 };
 
-std::string joined_names(const std::vector<std::string>& paths) {
-    std::string s;
-    for (const auto& p : paths) {
-        if (!s.empty()) s += ',';
-        s += std::filesystem::path(p).filename().string();
-    }
-    return s;
-}
-
 BlockInput read_blocks(const Args& a, double iso) {
     if (a.positional().empty()) throw UsageError("missing BLOCKS argument (see meshless " + a.command() + " --help)");
     BlockInput in;

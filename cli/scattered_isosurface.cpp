@@ -94,15 +94,6 @@ struct ScatteredInput {
     double read_seconds = 0, octree_seconds = 0;
 };
 
-std::string joined_names(const std::vector<std::string>& paths) {
-    std::string s;
-    for (const auto& p : paths) {
-        if (!s.empty()) s += ',';
-        s += std::filesystem::path(p).filename().string();
-    }
-    return s;
-}
-
 std::size_t distinct_positions(const std::vector<Vec3>& pos, std::size_t enough) {
     std::vector<Vec3> p(pos);
     std::sort(p.begin(), p.end(), [](const Vec3& a, const Vec3& b) {

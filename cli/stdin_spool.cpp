@@ -9,19 +9,16 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include "formats/temporary_files.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless::cli {
 
 StdinSpool::StdinSpool() {
     if (::isatty(0) == 1) throw IoError("-: standard input is a terminal; pipe a volume in (e.g. < vol.nrrd)");
-    const char* dir = std::getenv("TMPDIR");
-    std::string tmpl = std::string(dir && *dir ? dir : "/tmp") + "/meshless-stdin-XXXXXX";
-    std::vector<char> name(tmpl.begin(), tmpl.end());
-    name.push_back('\0');
-    fd_ = ::mkstemp(name.data());
-    if (fd_ < 0) throw IoError("-: cannot make a temporary file in " + tmpl.substr(0, tmpl.rfind('/')) + ": " + std::strerror(errno));
-    ::unlink(name.data());  // nothing stays behind, whatever ends the process
+    std::string name;
+    file_ = unlinked_temporary("stdin", name);  // nothing stays behind, whatever ends the process
+    fd_ = ::fileno(file_);
     path_ = "/proc/self/fd/" + std::to_string(fd_);
     std::vector<char> buf(1 << 20);
     for (;;) {
@@ -30,7 +27,7 @@ StdinSpool::StdinSpool() {
         if (n < 0) {
             if (errno == EINTR) continue;
             const int e = errno;
-            ::close(fd_);
+            std::fclose(file_);
             throw IoError("-: cannot read standard input: " + std::string(std::strerror(e)));
         }
         for (ssize_t done = 0; done < n;) {
@@ -38,7 +35,7 @@ StdinSpool::StdinSpool() {
             if (w < 0 && errno == EINTR) continue;
             if (w < 0) {
                 const int e = errno;
-                ::close(fd_);
+                std::fclose(file_);
                 throw IoError("-: cannot spool standard input to a temporary file: " + std::string(std::strerror(e)));
             }
             done += w;
@@ -47,7 +44,7 @@ StdinSpool::StdinSpool() {
 }
 
 StdinSpool::~StdinSpool() {
-    if (fd_ >= 0) ::close(fd_);
+    if (file_) std::fclose(file_);
 }
 
 void StdinSpool::rethrow_renamed() const {

@@ -6,6 +6,7 @@
 // rewrites the spool's path in library errors to "- (stdin)". Memory: a 1 MiB copy buffer.
 // Throws IoError when the temporary cannot be made or written, or when stdin is a terminal.
 #pragma once
+#include <cstdio>
 #include <functional>
 #include <string>
 
@@ -25,6 +26,7 @@ public:
 
 private:
     [[noreturn]] void rethrow_renamed() const;
+    std::FILE* file_ = nullptr;  ///< formats/temporary_files.hpp unlinked_temporary; written through fd_
     int fd_ = -1;
     std::string path_;
 };

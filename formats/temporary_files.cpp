@@ -1,5 +1,10 @@
 #include "formats/temporary_files.hpp"
 
+#include <fcntl.h>
+#include <cstdlib>
+
+#include "kernels/errors.hpp"
+
 #include <signal.h>
 #include <unistd.h>
 
@@ -92,6 +97,22 @@ std::vector<std::string> remove_stale_temporaries(const std::string& out) noexce
         // out of memory while listing: the sweep is best effort
     }
     return removed;
+}
+
+std::FILE* unlinked_temporary(const std::string& purpose, std::string& name) {
+    const char* dir = std::getenv("TMPDIR");
+    std::string tmpl = std::string(dir && *dir ? dir : "/tmp") + "/meshless-" + purpose + "-XXXXXX";
+    const int fd = ::mkstemp(tmpl.data());
+    if (fd < 0) throw IoError(tmpl + ": cannot create a temporary file: " + std::strerror(errno));
+    name = tmpl;
+    ::unlink(name.c_str());  // unlinked: the space is freed whatever happens to the process
+    std::FILE* f = ::fdopen(fd, "w+b");
+    if (!f) {
+        const int e = errno;
+        ::close(fd);
+        throw IoError(name + ": cannot open a temporary file: " + std::strerror(e));
+    }
+    return f;
 }
 
 }  // namespace meshless

@@ -18,6 +18,7 @@
 // never prints). Never throws; a directory that cannot be listed is skipped.
 #pragma once
 #include <cstddef>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,10 @@ using StaleTemporaryReporter = void (*)(const char* path, long pid);
 /// Sets the reporter (nullptr: none). Thread-safe.
 void set_stale_temporary_reporter(StaleTemporaryReporter r) noexcept;
 
+/// A scratch file in $TMPDIR (or /tmp) named "meshless-<purpose>-XXXXXX", unlinked at once (its
+/// space is freed however the process ends; nothing to register), opened "w+b". `name` gets the
+/// name it had, for messages. Throws IoError naming it when it cannot be made or opened.
+std::FILE* unlinked_temporary(const std::string& purpose, std::string& name);
 /// Removes the stale temporaries of <out> (see above); returns the paths removed.
 std::vector<std::string> remove_stale_temporaries(const std::string& out) noexcept;
 

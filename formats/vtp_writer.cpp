@@ -1,5 +1,7 @@
 #include "formats/vtp_writer.hpp"
 
+#include "formats/temporary_files.hpp"
+
 #include <unistd.h>
 #include <zlib.h>
 
@@ -84,18 +86,7 @@ public:
     ArraySpool(std::string name, std::string type, int components, const VtpOptions& o, bool may_skip_matching = false)
         : name_(std::move(name)), type_(std::move(type)), components_(components), o_(o), may_skip_(may_skip_matching) {
         if (o_.block_size == 0 || o_.block_size > (std::size_t{1} << 30)) throw std::invalid_argument("VTP writer: bad block size");
-        const char* dir = std::getenv("TMPDIR");
-        std::string tmpl = std::string(dir && *dir ? dir : "/tmp") + "/meshless-vtp-" + name_ + "-XXXXXX";
-        const int fd = ::mkstemp(tmpl.data());
-        if (fd < 0) throw IoError(tmpl + ": cannot create the temporary VTP array spool: " + std::strerror(errno));
-        spool_name_ = tmpl;
-        ::unlink(spool_name_.c_str());  // freed however the process ends
-        f_ = ::fdopen(fd, "w+b");
-        if (!f_) {
-            const int e = errno;
-            ::close(fd);
-            throw IoError(spool_name_ + ": cannot open the temporary VTP array spool: " + std::strerror(e));
-        }
+        f_ = unlinked_temporary("vtp-" + name_, spool_name_);
     }
     ~ArraySpool() {
         if (f_) std::fclose(f_);

@@ -1,5 +1,7 @@
 #include "stream/point_spool.hpp"
 
+#include "formats/temporary_files.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,21 +15,7 @@
 
 namespace meshless {
 
-std::FILE* PointSpool::create(const std::string& purpose, std::string& name) {
-    const char* dir = std::getenv("TMPDIR");
-    std::string tmpl = std::string(dir && *dir ? dir : "/tmp") + "/meshless-" + purpose + "-XXXXXX";
-    const int fd = ::mkstemp(tmpl.data());
-    if (fd < 0) throw IoError(tmpl + ": cannot create the temporary point spool: " + std::strerror(errno));
-    name = tmpl;
-    ::unlink(name.c_str());  // unlinked: the space is freed whatever happens to the process
-    std::FILE* f = ::fdopen(fd, "w+b");
-    if (!f) {
-        const int e = errno;
-        ::close(fd);
-        throw IoError(name + ": cannot open the temporary point spool: " + std::strerror(e));
-    }
-    return f;
-}
+std::FILE* PointSpool::create(const std::string& purpose, std::string& name) { return unlinked_temporary(purpose, name); }
 
 PointSpool::PointSpool(const std::string& purpose) : purpose_(purpose) { f_ = create(purpose, name_); }
 
