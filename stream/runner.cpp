@@ -76,32 +76,48 @@ void run_pipeline(Source& source, std::span<const Stage* const> stages, Sink& si
     oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism,
                                       static_cast<std::size_t>(threads));
     oneapi::tbb::task_arena arena(threads);
+    // The batches in flight live here, not in TBB's filter buffers: when a stage or the sink throws,
+    // TBB cancels the pipeline without destroying the items it holds between filters (LeakSanitizer
+    // caught it under `ulimit -f`), while these are destroyed with the vector. Tokens bound the
+    // batches in flight, so a free slot is always there when the input filter runs.
+    std::vector<Batch> slots(tokens);
+    std::vector<Batch*> free_slots;
+    for (Batch& b : slots) free_slots.push_back(&b);
+    std::mutex free_mutex;
     arena.execute([&] {
         oneapi::tbb::parallel_pipeline(
             tokens,
-            oneapi::tbb::make_filter<void, std::shared_ptr<Batch>>(
+            oneapi::tbb::make_filter<void, Batch*>(
                 oneapi::tbb::filter_mode::serial_in_order,
-                [&](oneapi::tbb::flow_control& fc) -> std::shared_ptr<Batch> {
+                [&](oneapi::tbb::flow_control& fc) -> Batch* {
                     auto b = source.next();
                     if (!b) {
                         fc.stop();
                         return nullptr;
                     }
-                    auto p = std::make_shared<Batch>(std::move(*b));
+                    Batch* p = nullptr;
+                    {
+                        std::lock_guard lock(free_mutex);
+                        p = free_slots.back();
+                        free_slots.pop_back();
+                    }
+                    *p = std::move(*b);
                     pool.refill(*p);
                     return p;
                 }) &
-                oneapi::tbb::make_filter<std::shared_ptr<Batch>, std::shared_ptr<Batch>>(
+                oneapi::tbb::make_filter<Batch*, Batch*>(
                     oneapi::tbb::filter_mode::parallel,
-                    [&](std::shared_ptr<Batch> b) {
+                    [&](Batch* b) {
                         for (const Stage* s : stages) s->process(*b);
                         return b;
                     }) &
-                oneapi::tbb::make_filter<std::shared_ptr<Batch>, void>(
+                oneapi::tbb::make_filter<Batch*, void>(
                     oneapi::tbb::filter_mode::serial_in_order,
-                    [&](std::shared_ptr<Batch> b) {
+                    [&](Batch* b) {
                         sink.consume(std::move(*b));
                         if (!source.recycle(*b)) pool.reclaim(*b);
+                        std::lock_guard lock(free_mutex);
+                        free_slots.push_back(b);
                     }));
     });
     sink.finish();
