@@ -270,6 +270,7 @@ int isosurface_scattered(int argc, char** argv) {
         .option("output", "o", "FILE", "point set output: .ply or .vtp; '-' = stdout")
         .option("png", "", "FILE", "also render the points to this PNG");
     add_geometry_format_option(a);
+    add_ply_color_option(a);
     add_scattered_options(a);
     a.option("dedup", "", "F", "remove points closer than F x their radius to an earlier point (overlapping stencils; 0 = keep all)", "0");
     add_newton_options(a);

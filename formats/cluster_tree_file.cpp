@@ -19,16 +19,6 @@ namespace {
 
 constexpr std::size_t kMaxNameBytes = 1024;
 
-/// Checksums compare equal, except in a fuzzing build (tests/fuzz/fuzz_cluster_tree_file.cpp).
-bool crc_matches(std::uint32_t stored, std::uint32_t computed) {
-#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
-    (void)stored;
-    (void)computed;
-    return true;
-#else
-    return stored == computed;
-#endif
-}
 
 template <class T>
 void put(std::string& s, T v) {

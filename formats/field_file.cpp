@@ -28,17 +28,6 @@ constexpr std::uint32_t kFlagZstd = 1, kFlagShuffled = 2;
 constexpr std::size_t kParamsBytes = 80, kStatsBytes = 168, kIdentityFixedBytes = 104, kMaxNameBytes = 1024;
 constexpr std::size_t kNameBytes = 16;
 
-/// Checksums compare equal, except in a fuzzing build (tests/fuzz/fuzz_field_file.cpp), where
-/// mutated inputs must reach the decoders and validators behind the checksums.
-bool crc_matches(std::uint32_t stored, std::uint32_t computed) {
-#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
-    (void)stored;
-    (void)computed;
-    return true;
-#else
-    return stored == computed;
-#endif
-}
 
 std::size_t element_size(std::uint32_t type) { return type == kTypeBytes ? 1 : state_type_size(type); }
 
