@@ -1,5 +1,11 @@
+// cli/args.hpp on CLI11 (Debian libcli11-dev, header-only): CLI11 matches the options, collects
+// their values, enforces single-valued options (MultiOptionPolicy::Throw) and formats --help; this
+// file maps its outcomes onto one-line UsageErrors that name the option.
 #include "cli/args.hpp"
 
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -77,120 +83,223 @@ std::uint64_t parse_memory_size(const std::string& s) {
     return v;
 }
 
-Args::Args(std::string command, std::string synopsis, std::string description)
-    : command_(std::move(command)), synopsis_(std::move(synopsis)), description_(std::move(description)) {
-    flag("help", "show this help and exit");
+namespace {
+
+constexpr const char* kExitCodes =
+    "exit codes: 0 success (also when a downstream pipe closes early), 1 usage error,\n"
+    "            2 bad input data or I/O failure, 3 internal error.";
+
+/// Positional arguments CLI11 may collect: more than any command allows (each checks its own
+/// maximum with a message of ours), below CLI11's "unlimited" marker.
+constexpr int kPositionalCapacity = 1 << 28;
+
+/// Width of --help: option descriptions are wrapped to it (the usage text, the description and
+/// the epilog keep their own line breaks).
+constexpr std::size_t kHelpWidth = 100, kHelpColumn = 28;
+
+/// The words of `text` (its line breaks and indentation are spaces) wrapped into lines of at most
+/// `width` characters (longer words stay whole).
+std::string wrap(const std::string& text, std::size_t width) {
+    std::string out;
+    std::size_t line = 0;  // length of the line being filled
+    for (std::size_t i = 0; i < text.size();) {
+        if (text[i] == ' ' || text[i] == '\n') {
+            ++i;
+            continue;
+        }
+        const std::size_t end = std::min(text.find_first_of(" \n", i), text.size());
+        const std::size_t n = end - i;
+        if (line > 0 && line + 1 + n > width) {
+            out += '\n';
+            line = 0;
+        } else if (line > 0) {
+            out += ' ';
+            ++line;
+        }
+        out.append(text, i, n);
+        line += n;
+        i = end;
+    }
+    return out;
 }
+
+/// CLI11's option layout (name column, metavar, description) in the order of a Unix usage text:
+/// the usage line, the description, the options with their defaults, the epilog.
+class HelpFormatter final : public CLI::Formatter {
+public:
+    explicit HelpFormatter(std::string synopsis) : synopsis_(std::move(synopsis)) { column_width(kHelpColumn); }
+
+    std::string make_help(const CLI::App* app, std::string name, CLI::AppFormatMode mode) const override {
+        return make_usage(app, std::move(name)) + make_description(app) + make_groups(app, mode) + "\n" +
+               make_footer(app);
+    }
+    std::string make_usage(const CLI::App*, std::string name) const override {
+        return "usage: " + name + (synopsis_.empty() ? "" : " " + synopsis_) + "\n\n";
+    }
+    std::string make_option_name(const CLI::Option* opt, bool positional) const override {
+        std::string names = CLI::Formatter::make_option_name(opt, positional);  // "-o,--output"
+        for (std::size_t p = 0; (p = names.find(',', p)) != std::string::npos; p += 2) names.insert(p + 1, " ");
+        return names;
+    }
+    std::string make_option_opts(const CLI::Option* opt) const override {
+        return opt->get_items_expected_max() > 0 ? " " + opt->get_type_name() : std::string();
+    }
+    std::string make_option_desc(const CLI::Option* opt) const override {
+        const std::string& def = opt->get_default_str();
+        return wrap(opt->get_description() + (def.empty() ? std::string() : " (default " + def + ")"),
+                    kHelpWidth - kHelpColumn);
+    }
+
+private:
+    std::string synopsis_;
+};
+
+bool is_flag(const CLI::Option* o) { return o->get_items_expected_max() == 0; }
+
+/// "--name" of an option (its first long name; every option here has one).
+std::string long_name(const CLI::Option* o) { return "--" + o->get_lnames().front(); }
+
+}  // namespace
+
+struct Args::Impl {
+    CLI::App app;
+    CLI::Option* positional = nullptr;
+    CLI::Option* last = nullptr;  // the option or flag declared last (repeatable())
+    std::string epilog;
+
+    Impl(const std::string& command, std::string synopsis, std::string description)
+        : app(std::move(description), "meshless " + command) {
+        app.formatter(std::make_shared<HelpFormatter>(std::move(synopsis)));
+        // the positionals first: their group "" (hidden from --help) then precedes "options"
+        positional = app.add_option("ARGS", CLI::callback_t{}, "", false);
+        positional->expected(kPositionalCapacity)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)->group("");
+        app.option_defaults()->group("options");
+        app.set_help_flag("--help", "show this help and exit");
+        app.allow_extras(true);  // unknown options are reported by parse(), in our words
+        app.footer(kExitCodes);
+    }
+
+    /// The option named by `token` ("--name" or "-x"), or nullptr.
+    const CLI::Option* find(const std::string& token) const {
+        const bool long_form = token.size() > 2 && token.compare(0, 2, "--") == 0;
+        const bool short_form = token.size() == 2 && token[0] == '-' && token[1] != '-';
+        if (!long_form && !short_form) return nullptr;
+        const CLI::Option* o = app.get_option_no_throw(token);
+        return o && !o->get_positional() ? o : nullptr;
+    }
+
+    /// Our one-line message for a CLI11 parse error (an argument mismatch: a single-valued option
+    /// given twice, or an option at the end of the line without its value).
+    UsageError usage_error(const CLI::ParseError& e, int argc, char** argv, int first, const std::string& command) const {
+        const std::string see = " (see meshless " + command + " --help)";
+        for (const CLI::Option* o : app.get_options()) {
+            if (o->get_positional() || is_flag(o) || o->get_multi_option_policy() != CLI::MultiOptionPolicy::Throw)
+                continue;
+            if (const auto& r = o->results(); r.size() > 1)
+                return UsageError("option " + long_name(o) + " given twice ('" + r[0] + "' and '" + r[1] +
+                                  "'); it takes one value" + see);
+        }
+        if (argc > first) {
+            // an option's value is always the next argument, so only the last one can lack it
+            std::string tok = argv[argc - 1];
+            if (tok.size() > 2 && tok.back() == '=') tok.pop_back();
+            if (const CLI::Option* o = find(tok); o && !is_flag(o))
+                return UsageError("option " + long_name(o) + " needs a value (" + o->get_type_name() + ")");
+        }
+        return UsageError(e.what() + see);
+    }
+};
+
+Args::Args(std::string command, std::string synopsis, std::string description)
+    : impl_(std::make_unique<Impl>(command, std::move(synopsis), std::move(description))), command_(std::move(command)) {}
+
+Args::~Args() = default;
 
 Args& Args::option(const std::string& name, const std::string& short_name, const std::string& metavar,
                    const std::string& help, const std::string& default_text) {
-    specs_.push_back({name, short_name, metavar, help, default_text, true});
+    const std::string names = (short_name.empty() ? "" : "-" + short_name + ",") + "--" + name;
+    CLI::Option* o = impl_->app.add_option(names, CLI::callback_t{}, help, false);
+    o->type_name(metavar)->default_str(default_text)->multi_option_policy(CLI::MultiOptionPolicy::Throw);
+    impl_->last = o;
     return *this;
 }
 
 Args& Args::flag(const std::string& name, const std::string& help) {
-    specs_.push_back({name, "", "", help, "", false});
+    impl_->last = impl_->app.add_flag("--" + name, help);
     return *this;
 }
 
 Args& Args::repeatable() {
-    if (specs_.empty() || !specs_.back().takes_value)
+    if (!impl_->last || is_flag(impl_->last))
         throw std::logic_error("Args::repeatable() must follow an option() declaration");
-    specs_.back().repeatable = true;
+    impl_->last->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     return *this;
 }
 
-Args& Args::positionals(std::size_t min, std::size_t max) {
-    min_positional_ = min;
+Args& Args::positionals(std::size_t /*min: the commands name what is missing*/, std::size_t max) {
     max_positional_ = max;
     return *this;
 }
 
 Args& Args::epilog(const std::string& text) {
-    epilog_ += text;
+    impl_->epilog += text;
+    impl_->app.footer(impl_->epilog + "\n" + kExitCodes);
     return *this;
 }
 
-const Args::Spec* Args::find(const std::string& token) const {
-    for (const auto& s : specs_)
-        if (token == "--" + s.name || (!s.short_name.empty() && token == "-" + s.short_name)) return &s;
-    return nullptr;
+bool Args::takes_value(const std::string& token) const {
+    const CLI::Option* o = impl_->find(token);
+    return o && !is_flag(o);
 }
 
 bool Args::parse(int argc, char** argv, int first) {
     command_line_.clear();
     for (int i = 0; i < argc; ++i) command_line_ += (i ? " " : "") + std::string(argv[i]);
-    bool only_positional = false;
-    for (int i = first; i < argc; ++i) {
-        std::string tok = argv[i];
-        if (only_positional || tok == "-" || tok.size() < 2 || tok[0] != '-' ||
-            (tok[0] == '-' && (std::isdigit(static_cast<unsigned char>(tok[1])) || tok[1] == '.'))) {
-            positional_.push_back(tok);
-            continue;
-        }
-        if (tok == "--") {
-            only_positional = true;
-            continue;
-        }
-        std::string value;
-        bool inline_value = false;
-        if (auto eq = tok.find('='); tok.rfind("--", 0) == 0 && eq != std::string::npos) {
-            value = tok.substr(eq + 1);
-            tok = tok.substr(0, eq);
-            inline_value = true;
-        }
-        const Spec* s = find(tok);
-        if (!s) throw UsageError("unknown option '" + tok + "' (see meshless " + command_ + " --help)");
-        if (s->name == "help") {
+    CLI::App& app = impl_->app;
+    std::vector<std::string> args(argv + std::min(first, argc), argv + argc);
+    std::reverse(args.begin(), args.end());  // CLI11 takes them last first
+    try {
+        app.parse(std::move(args));
+    } catch (const CLI::ParseError& e) {  // CallForHelp included
+        if (app.get_help_ptr()->count() > 0) {
             std::fputs(help_text().c_str(), stdout);
             return false;
         }
-        if (s->takes_value) {
-            if (!inline_value) {
-                if (i + 1 >= argc) throw UsageError("option --" + s->name + " needs a value (" + s->metavar + ")");
-                value = argv[++i];
-            }
-            if (!s->repeatable)
-                for (const auto& [k, v] : values_)
-                    if (k == s->name)
-                        throw UsageError("option --" + s->name + " given twice ('" + v + "' and '" + value +
-                                         "'); it takes one value (see meshless " + command_ + " --help)");
-            values_.emplace_back(s->name, value);
-        } else {
-            if (inline_value) throw UsageError("option --" + s->name + " takes no value");
-            values_.emplace_back(s->name, "1");
-        }
+        throw impl_->usage_error(e, argc, argv, first, command_);
     }
+    const std::string see = " (see meshless " + command_ + " --help)";
+    for (std::string tok : app.remaining()) {
+        if (tok == "--") continue;  // CLI11 keeps the end-of-options mark among the extras
+        if (tok.compare(0, 2, "--") == 0) tok = tok.substr(0, tok.find('='));
+        throw UsageError("unknown option '" + tok + "'" + see);
+    }
+    for (const CLI::Option* o : app.get_options())
+        if (!o->get_positional() && is_flag(o))
+            for (const auto& r : o->results())
+                if (r != "true") throw UsageError("option " + long_name(o) + " takes no value");
+    positional_ = impl_->positional->results();
     if (positional_.size() > max_positional_)
-        throw UsageError("unexpected argument '" + positional_[max_positional_] + "' (see meshless " + command_ + " --help)");
-    (void)min_positional_;  // commands report their own missing arguments, with their names
+        throw UsageError("unexpected argument '" + positional_[max_positional_] + "'" + see);
     return true;
 }
 
 bool Args::has(const std::string& name) const {
-    for (const auto& [k, v] : values_)
-        if (k == name) return true;
-    return false;
+    const CLI::Option* o = impl_->find("--" + name);
+    return o && o->count() > 0;
 }
 
-bool Args::declared(const std::string& name) const {
-    for (const auto& s : specs_)
-        if (s.name == name) return true;
-    return false;
-}
+bool Args::declared(const std::string& name) const { return impl_->find("--" + name) != nullptr; }
 
 std::optional<std::string> Args::get(const std::string& name) const {
-    std::optional<std::string> r;
-    for (const auto& [k, v] : values_)
-        if (k == name) r = v;  // at most one unless repeatable(): parse() refuses duplicates
-    return r;
+    const CLI::Option* o = impl_->find("--" + name);
+    if (!o || is_flag(o) || o->results().empty()) return std::nullopt;
+    return o->results().back();  // the only one unless repeatable(): parse() refuses duplicates
 }
 
 std::vector<std::string> Args::get_all(const std::string& name) const {
-    std::vector<std::string> r;
-    for (const auto& [k, v] : values_)
-        if (k == name) r.push_back(v);
-    return r;
+    const CLI::Option* o = impl_->find("--" + name);
+    if (!o || is_flag(o)) return {};
+    return o->results();
 }
 
 std::string Args::get_or(const std::string& name, const std::string& def) const { return get(name).value_or(def); }
@@ -229,23 +338,6 @@ std::optional<std::array<double, 3>> Args::get_triple(const std::string& name) c
     return r;
 }
 
-std::string Args::help_text() const {
-    std::string h = "usage: meshless " + command_ + " " + synopsis_ + "\n\n" + description_ + "\n\noptions:\n";
-    for (const auto& s : specs_) {
-        std::string left = "  ";
-        if (!s.short_name.empty()) left += "-" + s.short_name + ", ";
-        left += "--" + s.name;
-        if (s.takes_value) left += " " + s.metavar;
-        if (left.size() < 28) left += std::string(28 - left.size(), ' ');
-        else left += "\n" + std::string(28, ' ');
-        h += left + s.help;
-        if (!s.default_text.empty()) h += " (default " + s.default_text + ")";
-        h += "\n";
-    }
-    if (!epilog_.empty()) h += "\n" + epilog_;
-    h += "\nexit codes: 0 success (also when a downstream pipe closes early), 1 usage error,\n"
-         "            2 bad input data or I/O failure, 3 internal error.\n";
-    return h;
-}
+std::string Args::help_text() const { return impl_->app.help(); }
 
 }  // namespace meshless::cli

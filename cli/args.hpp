@@ -1,10 +1,15 @@
-// A small command-line parser for the meshless subcommands: long options ("--iso 100.5" or
-// "--iso=100.5"), short aliases ("-o"), boolean flags, repeatable options, positionals, and a
-// generated --help text. Throws UsageError (exit code 1) with a one-line message on unknown
-// options, missing values or malformed numbers. No globals; one Args per subcommand invocation.
+// The command line of the meshless subcommands: long options ("--iso 100.5" or "--iso=100.5"),
+// short aliases ("-o"), boolean flags, repeatable options, positionals, and a generated --help
+// text. Parsing and help formatting are CLI11's (libcli11-dev), kept behind this interface so that
+// only args.cpp includes that header. An option's value is always the next argument, even when it
+// starts with '-' ("--up -z", "--range -5,5"). Throws UsageError (exit code 1) with a one-line
+// message of ours on unknown options, missing values, a single-valued option given twice, a flag
+// given a value, too many positionals and malformed numbers. No globals; one Args per subcommand
+// invocation.
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +21,9 @@ namespace meshless::cli {
 class Args {
 public:
     Args(std::string command, std::string synopsis, std::string description);
+    ~Args();
+    Args(const Args&) = delete;
+    Args& operator=(const Args&) = delete;
 
     /// Declares an option taking a value. `short_name` may be empty. Default shown in --help only.
     Args& option(const std::string& name, const std::string& short_name, const std::string& metavar,
@@ -27,10 +35,12 @@ public:
     Args& flag(const std::string& name, const std::string& help);
     /// Adds a paragraph (examples, exit codes) at the end of --help.
     Args& epilog(const std::string& text);
-    /// Allowed number of positional arguments (default 0..1); parse() throws UsageError otherwise.
+    /// Allowed number of positional arguments (default 0..1); parse() throws UsageError on more
+    /// than `max`. Fewer than `min` is left to the command, which names what is missing.
     Args& positionals(std::size_t min, std::size_t max);
 
-    /// Parses argv[first..argc). Returns false when --help was requested (help text printed).
+    /// Parses argv[first..argc). Returns false when --help was requested (help text printed on
+    /// stdout; --help wins over any other error on the line).
     bool parse(int argc, char** argv, int first);
 
     bool has(const std::string& name) const;
@@ -50,27 +60,18 @@ public:
     /// True when `token` ("--name" or "-x", no "=value") names a declared option that takes a
     /// value (so the next argument is its value, not a positional): lets a command look at its
     /// positionals before choosing which options to declare.
-    bool takes_value(const std::string& token) const {
-        const Spec* s = find(token);
-        return s && s->takes_value;
-    }
+    bool takes_value(const std::string& token) const;
     std::string help_text() const;
     const std::string& command() const { return command_; }
     /// The command line as given (for provenance in stream metadata).
     const std::string& command_line() const { return command_line_; }
 
 private:
-    struct Spec {
-        std::string name, short_name, metavar, help, default_text;
-        bool takes_value;
-        bool repeatable = false;
-    };
-    const Spec* find(const std::string& token) const;
-    std::string command_, synopsis_, description_, epilog_, command_line_;
-    std::vector<Spec> specs_;
-    std::vector<std::pair<std::string, std::string>> values_;
+    struct Impl;  // the CLI11 application (args.cpp)
+    std::unique_ptr<Impl> impl_;
+    std::string command_, command_line_;
     std::vector<std::string> positional_;
-    std::size_t min_positional_ = 0, max_positional_ = 1;
+    std::size_t max_positional_ = 1;
 };
 
 /// Parses a number with full-string validation; throws UsageError naming `what`.

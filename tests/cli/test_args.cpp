@@ -48,3 +48,138 @@ TEST_CASE("a single-valued option given twice is a usage error, a repeatable one
     b.flag("stats", "");
     CHECK_THROWS_AS(b.repeatable(), std::logic_error);
 }
+
+namespace {
+/// The option set of a rendering command, small: values that start with '-' are common here.
+void declare_camera(Args& a) {
+    a.option("output", "o", "FILE", "output", "out.png")
+        .option("up", "", "AXIS", "up axis", "y")
+        .option("view", "", "NAME", "named view")
+        .option("range", "", "LO,HI", "value range")
+        .option("iso", "", "V", "isovalue")
+        .option("at", "", "X,Y,Z", "position")
+        .repeatable()
+        .flag("ortho", "orthographic");
+}
+}  // namespace
+
+TEST_CASE("Args: --name value, --name=value, short aliases, flags and positionals", "[cli]") {
+    Args a("splat", "[INPUT|-]", "");
+    declare_camera(a);
+    a.positionals(0, 2);
+    REQUIRE(parse_tokens(a, {"splat", "-", "-o", "x.png", "--up=z", "--ortho", "--iso", "2.5", "in.ply"}));
+    CHECK(a.get("output") == std::optional<std::string>("x.png"));
+    CHECK(a.get("up") == std::optional<std::string>("z"));
+    CHECK(a.get_double("iso") == std::optional<double>(2.5));
+    CHECK(a.has("ortho"));
+    CHECK(!a.has("view"));
+    CHECK(!a.get("view"));
+    CHECK(a.get_or("view", "iso") == "iso");
+    CHECK(a.positional() == std::vector<std::string>{"-", "in.ply"});
+    CHECK(a.declared("view"));
+    CHECK(a.declared("help"));
+    CHECK(!a.declared("bogus"));
+    CHECK(!a.has("bogus"));
+    CHECK(a.command_line() == "splat - -o x.png --up=z --ortho --iso 2.5 in.ply");
+}
+
+TEST_CASE("Args: an option's value may start with '-'", "[cli]") {
+    Args a("splat", "", "");
+    declare_camera(a);
+    a.positionals(0, 3);
+    REQUIRE(parse_tokens(a, {"splat", "--up", "-z", "--range", "-5,5", "--iso", "-0.5", "--view", "-x", "--at", "-1,-2,-3",
+                             "--at=-4,5,6", "-o", "-", "-7", "--", "--ortho", "-y"}));
+    CHECK(a.get("up") == std::optional<std::string>("-z"));
+    CHECK(a.get("range") == std::optional<std::string>("-5,5"));
+    CHECK(a.get_double("iso") == std::optional<double>(-0.5));
+    CHECK(a.get("view") == std::optional<std::string>("-x"));
+    CHECK(a.get_all("at") == std::vector<std::string>{"-1,-2,-3", "-4,5,6"});
+    CHECK(a.get_triple("at").has_value());  // the last one
+    CHECK(a.get("output") == std::optional<std::string>("-"));
+    // a negative number is a positional; after "--" everything is
+    CHECK(a.positional() == std::vector<std::string>{"-7", "--ortho", "-y"});
+    CHECK(!a.has("ortho"));
+    // an empty value is a value
+    Args b("splat", "", "");
+    declare_camera(b);
+    REQUIRE(parse_tokens(b, {"splat", "--view", "", "--up", "--ortho"}));
+    CHECK(b.get("view") == std::optional<std::string>(""));
+    CHECK(b.get("up") == std::optional<std::string>("--ortho"));  // the next argument, whatever it is
+    CHECK(!b.has("ortho"));
+    // bytes CLI11 gives meaning elsewhere ("[a,b]" lists, "{}", quotes) are plain values and positionals here
+    Args c("splat", "", "");
+    declare_camera(c);
+    c.positionals(0, 2);
+    REQUIRE(parse_tokens(c, {"splat", "[a,b]", "--view", "{}", "--up=[x]", "--range", "\"1,2\"", "--at", "[1,2,3]", "'q'"}));
+    CHECK(c.positional() == std::vector<std::string>{"[a,b]", "'q'"});
+    CHECK(c.get("view") == std::optional<std::string>("{}"));
+    CHECK(c.get("up") == std::optional<std::string>("[x]"));
+    CHECK(c.get("range") == std::optional<std::string>("\"1,2\""));
+    CHECK(c.get_all("at") == std::vector<std::string>{"[1,2,3]"});
+}
+
+TEST_CASE("Args: usage errors are one line naming the option", "[cli]") {
+    auto error_of = [](std::vector<std::string> tokens, std::size_t max_positionals = 1) {
+        Args a("splat", "", "");
+        declare_camera(a);
+        a.positionals(0, max_positionals);
+        try {
+            parse_tokens(a, std::move(tokens));
+        } catch (const UsageError& e) {
+            return std::string(e.what());
+        }
+        return std::string("(no error)");
+    };
+    CHECK(error_of({"splat", "--bogus", "1"}) == "unknown option '--bogus' (see meshless splat --help)");
+    CHECK(error_of({"splat", "--bogus=1"}) == "unknown option '--bogus' (see meshless splat --help)");
+    CHECK(error_of({"splat", "-q"}) == "unknown option '-q' (see meshless splat --help)");
+    CHECK(error_of({"splat", "--iso"}) == "option --iso needs a value (V)");
+    CHECK(error_of({"splat", "x", "-o"}) == "option --output needs a value (FILE)");
+    CHECK(error_of({"splat", "--up", "x", "--up", "-y"}) ==
+          "option --up given twice ('x' and '-y'); it takes one value (see meshless splat --help)");
+    CHECK(error_of({"splat", "-o", "a.png", "--output=b.png"}) ==
+          "option --output given twice ('a.png' and 'b.png'); it takes one value (see meshless splat --help)");
+    CHECK(error_of({"splat", "--ortho=1"}) == "option --ortho takes no value");
+    CHECK(error_of({"splat", "a", "b"}) == "unexpected argument 'b' (see meshless splat --help)");
+    CHECK(error_of({"splat", "a", "b", "c"}, 2) == "unexpected argument 'c' (see meshless splat --help)");
+    CHECK(error_of({"splat", "--ortho", "--ortho", "a"}) == "(no error)");  // a flag twice is the flag
+    for (const auto& msg : {error_of({"splat", "--iso", "1", "--iso", "2"}), error_of({"splat", "--bogus"})})
+        CHECK(msg.find('\n') == std::string::npos);
+    // malformed numbers, read by the getters
+    Args a("splat", "", "");
+    declare_camera(a);
+    REQUIRE(parse_tokens(a, {"splat", "--iso", "1e", "--at", "1,2"}));
+    CHECK_THROWS_WITH(a.get_double("iso"), "--iso: expected a number, got '1e'");
+    CHECK_THROWS_WITH(a.get_triple("at"), Catch::Contains("--at: expected three comma-separated numbers"));
+    CHECK_THROWS_WITH(a.require("view"), Catch::Contains("missing required option --view"));
+}
+
+TEST_CASE("Args: --help and takes_value", "[cli]") {
+    Args a("splat", "[INPUT|-] -o img.png", "Renders points.");
+    declare_camera(a);
+    a.epilog("example: meshless splat in.ply -o x.png\n");
+    CHECK(a.takes_value("--up"));
+    CHECK(a.takes_value("-o"));
+    CHECK(!a.takes_value("--ortho"));
+    CHECK(!a.takes_value("--help"));
+    CHECK(!a.takes_value("--bogus"));
+    CHECK(!a.takes_value("-"));
+    CHECK(!a.takes_value("--up=z"));
+    const std::string h = a.help_text();
+    CHECK(h.rfind("usage: meshless splat [INPUT|-] -o img.png\n\nRenders points.\n", 0) == 0);
+    CHECK_THAT(h, Catch::Contains("  -o, --output FILE         output (default out.png)\n"));
+    CHECK_THAT(h, Catch::Contains("  --up AXIS                 up axis (default y)\n"));
+    CHECK_THAT(h, Catch::Contains("  --ortho                   orthographic\n"));
+    CHECK_THAT(h, Catch::Contains("\nexample: meshless splat in.ply -o x.png\n\nexit codes: 0 success"));
+    // --help wins over the errors on its line; parse() says so by returning false
+    Args b("splat", "", "");
+    declare_camera(b);
+    CHECK(!parse_tokens(b, {"splat", "--help", "--iso", "1", "--iso", "2", "--bogus"}));
+}
+
+TEST_CASE("Args: a long option description is wrapped under its column", "[cli]") {
+    Args a("x", "", "");
+    a.option("long", "", "N", std::string(50, 'a') + " " + std::string(30, 'b') + "\n                   " + "c");
+    CHECK_THAT(a.help_text(), Catch::Contains("  --long N                  " + std::string(50, 'a') + "\n" +
+                                              std::string(28, ' ') + std::string(30, 'b') + " c\n"));
+}
