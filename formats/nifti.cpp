@@ -165,22 +165,18 @@ VolumeInfo probe_nifti(const std::string& path) {
     return i;
 }
 
-Volume read_nifti(const std::string& path) {
-    const NiftiHeader h = read_header(path);
-    const std::string data = h.pair ? image_file_for(path) : path;
-    if (is_gz_path(data)) {
-        const std::uint64_t bytes = checked_mul(static_cast<std::uint64_t>(h.grid.voxel_count()), stored_size(h.type),
-                                                data + ": NIfTI payload size");
-        // deflate cannot expand more than 1032:1; reject absurd headers before allocating
-        if (checked_add(bytes, h.vox_offset, data + ": NIfTI vox_offset") / kMaxDeflateRatio > regular_file_size(data) + 64)
-            throw FormatError(data + ": NIfTI header claims " + std::to_string(bytes) +
-                              " payload bytes, more than the compressed file can hold");
-        SampleBytes payload = SampleBytes::lazy_zeroed(static_cast<std::size_t>(bytes));  // resident as data arrives
-        InflateReader r(data);
-        r.skip(h.vox_offset);
-        r.read_exact(payload.data(), payload.size(), "NIfTI payload");
-        return apply_scaling(make_volume(std::move(payload), h.type, h.big_endian, h.grid, data), h);
-    }
+namespace {
+// A gzipped payload's size, proven against deflate's largest expansion before anything is allocated.
+std::uint64_t gz_payload_bytes(const NiftiHeader& h, const std::string& data) {
+    const std::uint64_t bytes = checked_mul(static_cast<std::uint64_t>(h.grid.voxel_count()), stored_size(h.type),
+                                            data + ": NIfTI payload size");
+    if (checked_add(bytes, h.vox_offset, data + ": NIfTI vox_offset") / kMaxDeflateRatio > regular_file_size(data) + 64)
+        throw FormatError(data + ": NIfTI header claims " + std::to_string(bytes) +
+                          " payload bytes, more than the compressed file can hold");
+    return bytes;
+}
+
+PayloadPlan raw_plan(const NiftiHeader& h, const std::string& data) {
     PayloadPlan plan;
     plan.format = "nifti";
     plan.grid = h.grid;
@@ -188,7 +184,31 @@ Volume read_nifti(const std::string& path) {
     plan.big_endian = h.big_endian;
     plan.files = {data};
     plan.file_offset = h.vox_offset;
-    return apply_scaling(read_payload(plan), h);
+    return plan;
+}
+}  // namespace
+
+void prove_nifti(const std::string& path) {
+    const NiftiHeader h = read_header(path);
+    const std::string data = h.pair ? image_file_for(path) : path;
+    if (!is_gz_path(data)) return prove_payload(raw_plan(h, data));
+    const std::uint64_t bytes = gz_payload_bytes(h, data);
+    InflateReader r(data);
+    r.skip(h.vox_offset + bytes);  // streamed through a small buffer: nothing kept
+}
+
+Volume read_nifti(const std::string& path) {
+    const NiftiHeader h = read_header(path);
+    const std::string data = h.pair ? image_file_for(path) : path;
+    if (is_gz_path(data)) {
+        const std::uint64_t bytes = gz_payload_bytes(h, data);  // deflate expands at most 1032:1
+        SampleBytes payload = SampleBytes::lazy_zeroed(static_cast<std::size_t>(bytes));  // resident as data arrives
+        InflateReader r(data);
+        r.skip(h.vox_offset);
+        r.read_exact(payload.data(), payload.size(), "NIfTI payload");
+        return apply_scaling(make_volume(std::move(payload), h.type, h.big_endian, h.grid, data), h);
+    }
+    return apply_scaling(read_payload(raw_plan(h, data)), h);
 }
 
 }  // namespace meshless

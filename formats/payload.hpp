@@ -46,6 +46,14 @@ VolumeInfo info_from_plan(const PayloadPlan& plan);
 /// gzip files hold enough compressed bytes for their share (deflate expands at most
 /// kMaxDeflateRatio:1), ascii files enough bytes for their values. FormatError naming the file.
 std::vector<std::uint64_t> check_payload_plan(const PayloadPlan& plan);
+/// What `meshless info` runs: check_payload_plan, then proves the payload can be decoded without
+/// keeping it: gzip streams are inflated through a 64 KiB buffer and must deliver byte skip +
+/// their share (truncated or corrupt streams are refused), ascii values are parsed (their count
+/// was bounded by the file above); raw payloads need no more than their sizes. Memory: O(1) for
+/// raw and gzip, the text's size for ascii. FormatError/IoError naming the file, as read_payload.
+void prove_payload(const PayloadPlan& plan);
+/// True when read_payload(plan, map_raw = true) maps the file instead of decoding it into memory.
+bool payload_maps(const PayloadPlan& plan);
 const char* to_string(PayloadEncoding e);
 
 /// Parses whitespace-separated numbers into `count` samples of type t in host order.
