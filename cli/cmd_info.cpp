@@ -183,6 +183,8 @@ void info_volume(const std::string& path, const Args& a) {
     if (!vi.data_files.empty())
         std::printf("  data files: %zu (%s%s)\n", vi.data_files.size(), vi.data_files.front().c_str(),
                     vi.data_files.size() > 1 ? ", ..." : "");
+    if (vi.frame)
+        std::printf("  patient axes: %s (%s)\n", describe_frame(*vi.frame).c_str(), vi.frame->source.c_str());
     std::printf("  payload: checked, %llu bytes decoded%s\n", static_cast<unsigned long long>(decoded_bytes(vi, path)),
                 vi.maps ? " (mapped from the file when read)" : "");
 }

@@ -158,6 +158,7 @@ int cmd_isosurface(int argc, char** argv) {
         return isosurface_sample_store(a, iso, mode, sp, rs, nthreads);
 
     VolumeInput in = open_volume_input(a, /*stream=*/true);
+    if (png) apply_anatomical_default(a, in, rs.camera);  // head up, face to the viewer, where the header says
     StreamMeta meta = volume_meta(in, iso, a.command_line());  // value range and surface bounds, one pass
     if (!cc.range) {
         rs.shading.value_lo = meta.get_double("value_min").value_or(iso);

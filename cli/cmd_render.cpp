@@ -211,7 +211,7 @@ int cmd_render(int argc, char** argv) {
     const double gain = parse_finite(a.get_or("diff-gain", "1"), "--diff-gain");
     if (!(gain > 0)) throw UsageError("--diff-gain: must be positive");
     if (auto d = a.get("diff")) require_output_extension(*d, ".png", "--diff", "a PNG image");
-    const Camera cam = camera_from(a, "512x512");
+    Camera cam = camera_from(a, "512x512");
     RayCastParams rp;
     rp.shade = a.has("shade");
     rp.background = parse_rgb(a.get_or("background", "0,0,0"), "--background");
@@ -223,6 +223,7 @@ int cmd_render(int argc, char** argv) {
     const int nthreads = threads(a);
 
     RenderInput in = open_render_input(a);
+    if (in.volume) apply_anatomical_default(a, *in.volume, cam);  // head up, face to the viewer, where the header says
     const TransferFunction tf = transfer_function_arg(a, in.range);
     rp.ref_step = 0.5 * in.spacing;
     if (auto r = a.get("ref-step")) {

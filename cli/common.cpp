@@ -21,6 +21,7 @@
 
 #include "formats/atomic_file.hpp"
 #include "formats/volume_reader.hpp"
+#include "kernels/anatomical_view.hpp"
 #include "kernels/block_minmax.hpp"
 #include "ooc/brick_slice_source.hpp"
 #include "kernels/errors.hpp"
@@ -421,6 +422,21 @@ Camera camera_from(const Args& a, const char* default_size) {
     if (!(c.zoom > 0)) throw UsageError("--zoom: must be positive");
     c.perspective = !a.has("ortho");
     return c;
+}
+
+std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c) {
+    for (const char* o : {"up", "view", "azimuth", "elevation"})
+        if (a.declared(o) && a.has(o)) return std::nullopt;  // the user chose the camera
+    if (in.store) return std::nullopt;                        // a brick store keeps no orientation
+    const std::string path = in.spool ? in.spool->path() : in.path;
+    std::optional<AnatomicalFrame> f;
+    try {
+        f = probe_volume(path, raw_options(a)).frame;
+    } catch (const std::exception&) {
+        return std::nullopt;  // (the volume was read already: nothing new to say)
+    }
+    if (f) apply_view(anatomical_view(f->axis), c);
+    return f;
 }
 
 namespace {

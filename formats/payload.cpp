@@ -34,6 +34,7 @@ VolumeInfo info_from_plan(const PayloadPlan& plan) {
     i.type = volume_type_for(plan.type);
     i.encoding = to_string(plan.encoding);
     i.data_files = plan.files;
+    i.frame = plan.frame;
     return i;
 }
 

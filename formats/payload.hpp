@@ -10,9 +10,11 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "formats/anatomical_frame.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/volume_reader.hpp"
 
@@ -33,6 +35,7 @@ struct PayloadPlan {
     bool exact_size = false;          ///< raw: each file must hold exactly offset+share bytes
     std::array<bool, 3> flip{false, false, false};  ///< axes whose file spacing was negative: samples reversed
                                                     ///< after reading (kernels/flip_axes.hpp; grid already positive)
+    std::optional<AnatomicalFrame> frame;           ///< what the header says about the patient's axes (after flips)
 };
 
 /// Executes the plan. map_raw: when the samples are one uncompressed file in host byte order and

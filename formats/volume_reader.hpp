@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/anatomical_frame.hpp"
 #include "kernels/grid.hpp"
 
 namespace meshless {
@@ -56,6 +57,7 @@ struct VolumeInfo {
     std::string encoding;                 ///< "raw", "gzip", "ascii", "rle", "base64", "base64+zlib", "appended-raw", ...
     std::vector<std::string> data_files;  ///< files holding the payload (the path itself when attached)
     bool maps = false;                    ///< map_volume maps the file: the samples cost no memory of their own
+    std::optional<AnatomicalFrame> frame; ///< the patient's axes, where the header says them (formats/anatomical_frame.hpp)
 };
 
 /// Parses headers only (no payload read, no decompression beyond a NIfTI .gz header).
