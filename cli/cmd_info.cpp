@@ -380,6 +380,7 @@ void describe(const std::string& path, const Args& a) {
     } else {
         info_volume(path, a);
         if (a.has("range")) {
+            check_volume_fits(a, path, probe_volume(path, raw_options(a)), /*map=*/false);  // read whole
             const Volume v = read_volume(path, raw_options(a));
             const auto r = v.value_range();
             std::printf("  value range: %g .. %g\n", r[0], r[1]);
