@@ -70,7 +70,7 @@ std::string output_path(const Args& a) {
 }
 
 ConvertStats run_conversion(SliceSource& src, const std::string& out, const ConvertParams& p, const Args& a) {
-    ProgressMeter meter("meshless " + a.command(), "slices", static_cast<double>(src.grid().dims[2]), progress_wanted(a));
+    ProgressMeter meter("meshless " + a.command(), "slices", static_cast<double>(src.grid().dims[2]), progress_wanted(a), progress_delay());
     const ConvertStats st = convert_to_brick_store(src, out, p, [&](double f) { meter.set_fraction(f); });
     meter.done();
     if (a.has("stats")) {

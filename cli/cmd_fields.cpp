@@ -116,7 +116,7 @@ int cmd_probe(int argc, char** argv) {
     const PointSet pts = read_points_arg(a);
     const auto field = build_field(a, pts);
     // query positions -> field -> CSV
-    ProgressMeter meter("meshless probe", "positions", static_cast<double>(at.size()), progress_wanted(a));
+    ProgressMeter meter("meshless probe", "positions", static_cast<double>(at.size()), progress_wanted(a), progress_delay());
     QueryListSource source(std::move(at), /*want_grad=*/true);
     FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
     ProbeCsvSink sink(a.get_or("output", "-"));
@@ -172,7 +172,7 @@ int cmd_slice(int argc, char** argv) {
     raster.width = w;
     raster.height = h;
     PlaneRasterSource source(raster);
-    ProgressMeter meter("meshless slice", "pixels", static_cast<double>(w) * h, progress_wanted(a));
+    ProgressMeter meter("meshless slice", "pixels", static_cast<double>(w) * h, progress_wanted(a), progress_delay());
     FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
     SliceImageSink sink(w, h, cmap, range[0], range[1]);
     ProgressStage progress([&](double n) { meter.add(n); });
@@ -243,7 +243,7 @@ int cmd_resample(int argc, char** argv) {
     }
     // grid samples -> field -> NRRD
     GridRasterSource source(g);
-    ProgressMeter meter("meshless resample", "voxels", static_cast<double>(g.voxel_count()), progress_wanted(a));
+    ProgressMeter meter("meshless resample", "voxels", static_cast<double>(g.voxel_count()), progress_wanted(a), progress_delay());
     FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
     NrrdVolumeSink sink(g, out, "meshless resample: " + std::string(field.field->name()) + " field of " + std::to_string(pts.size()) + " points");
     ProgressStage progress([&](double n) { meter.add(n); });

@@ -13,6 +13,7 @@
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/field_cli.hpp"
+#include "cli/progress_meter.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/binary_file.hpp"
 #include "formats/field_file.hpp"
@@ -32,6 +33,7 @@ int cmd_fit(int argc, char** argv) {
     a.option("output", "o", "FILE", "the fitted field (.mlf, required)")
         .option("level", "", "L", "zstd level of the arrays, 0 = stored raw", "1");
     add_field_options(a, /*with_coverage=*/false);
+    add_quiet_option(a);
     a.positionals(1, 1000);
     a.epilog("example:\n  meshless fit combxyz.bin --q combq.bin --field mpu -o comb.mlf\n"
              "  meshless probe combxyz.bin --q combq.bin --field comb.mlf --at 3,0,0");
@@ -53,7 +55,8 @@ int cmd_fit(int argc, char** argv) {
     {
         oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism,
                                           static_cast<std::size_t>(threads(a)));
-        field = make_field(points, params, &st);
+        ProgressMeter meter = ProgressMeter::of(a, "local fits", 1);  // the total comes with the first report
+        field = make_field(points, params, &st, field_progress(meter));
     }
     const auto t_write = now();
     FittedData data;

@@ -16,6 +16,7 @@
 #include "cli/errors.hpp"
 #include "cli/field_cli.hpp"
 #include "cli/point_set_cli.hpp"
+#include "cli/progress_meter.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/cluster_tree_file.hpp"
 #include "formats/point_set_reader.hpp"
@@ -105,6 +106,7 @@ int cmd_hierarchy(int argc, char** argv) {
         .flag("stats", "print splits, skipped splits, depth, error, time and memory to stderr");
     add_point_set_options(a, /*with_endian=*/true);
     add_thread_option(a);
+    add_quiet_option(a);
     a.positionals(1, 1000);
     a.epilog("examples:\n  meshless hierarchy silicium_98x34x34_uint8.raw -o si.mlh --stats\n"
              "  meshless lod si.mlh --level 15 -o si15.ply\n  meshless info si.mlh");
@@ -146,8 +148,17 @@ int cmd_hierarchy(int argc, char** argv) {
     {
         oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism,
                                           static_cast<std::size_t>(nthreads));
+        // splits against their most: a leaf per sample (or --max-splits); --max-error may stop sooner
+        const double most = std::min<double>(static_cast<double>(p.max_splits),
+                                             std::max<double>(1, static_cast<double>(points.size()) - 1));
+        ProgressMeter meter = ProgressMeter::of(a, "splits", most);
+        struct Report final : CbtProgress {
+            ProgressMeter& m;
+            explicit Report(ProgressMeter& meter) : m(meter) {}
+            void splits_done(std::uint64_t splits) override { m.set_fraction(static_cast<double>(splits) / m.total()); }
+        } report(meter);
         try {
-            tree = build_cluster_tree(points.pos, points.value, p);
+            tree = build_cluster_tree(points.pos, points.value, p, &report);
         } catch (const InvalidArgument& e) {  // the data cannot make a tree: a data error naming the input
             std::string msg = e.what();
             if (msg.rfind("cluster tree: ", 0) == 0) msg = msg.substr(14);

@@ -169,7 +169,9 @@ void info_brick_store(const std::string& path) {
 }
 
 void info_volume(const std::string& path, const Args& a) {
-    const VolumeInfo vi = probe_volume(path, raw_options(a));
+    // the payload proven as the readers would before allocating it, and decoded through a small
+    // buffer: a bomb, a truncated or a corrupt payload fails here as it fails every reading command
+    const VolumeInfo vi = prove_volume(path, raw_options(a));
     const GridSpec& g = vi.grid;
     std::printf("%s: %s volume\n", path.c_str(), vi.format.c_str());
     std::printf("  dims: %lld x %lld x %lld (%lld voxels, %lld cells)\n", static_cast<long long>(g.dims[0]),
@@ -181,6 +183,10 @@ void info_volume(const std::string& path, const Args& a) {
     if (!vi.data_files.empty())
         std::printf("  data files: %zu (%s%s)\n", vi.data_files.size(), vi.data_files.front().c_str(),
                     vi.data_files.size() > 1 ? ", ..." : "");
+    if (vi.frame)
+        std::printf("  patient axes: %s (%s)\n", describe_frame(*vi.frame).c_str(), vi.frame->source.c_str());
+    std::printf("  payload: checked, %llu bytes decoded%s\n", static_cast<unsigned long long>(decoded_bytes(vi, path)),
+                vi.maps ? " (mapped from the file when read)" : "");
 }
 
 void info_sample_store(const std::string& path) {
@@ -374,6 +380,7 @@ void describe(const std::string& path, const Args& a) {
     } else {
         info_volume(path, a);
         if (a.has("range")) {
+            check_volume_fits(a, path, probe_volume(path, raw_options(a)), /*map=*/false);  // read whole
             const Volume v = read_volume(path, raw_options(a));
             const auto r = v.value_range();
             std::printf("  value range: %g .. %g\n", r[0], r[1]);
@@ -385,7 +392,8 @@ void describe(const std::string& path, const Args& a) {
 
 int cmd_info(int argc, char** argv) {
     Args a("info", "FILE...",
-           "Describes files meshless reads or writes: volumes (format, dims, type, spacing, value range),\n"
+           "Describes files meshless reads or writes: volumes (format, dims, type, spacing, value range; the payload\n"
+           "is checked and decoded through a small buffer, so bombs, truncated or corrupt data are reported),\n"
            "point/sample streams (records, frames, metadata; checks the END frame), brick stores (.mlb),\n"
            "sample stores (.mls), fitted fields (.mlf: kind, parameters, the data it was fitted to), PLY (point sets are read through, so truncation is reported), PNG, and\n"
            "scattered/multiblock point sets (CSV/TSV/text, .vtp, .vts, PLOT3D .bin/.xyz/.p3d, raw float32\n"

@@ -13,12 +13,14 @@
 #include "cli/isosurface_mpi.hpp"
 #include "cli/multiblock_isosurface.hpp"
 #include "cli/mpi_session.hpp"
+#include "cli/progress_meter.hpp"
 #include "cli/scattered_isosurface.hpp"
 #include "cli/render_output.hpp"
 #include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "kernels/errors.hpp"
+#include "stream/progress_stage.hpp"
 #include "stream/project_stage.hpp"
 #include "stream/runner.hpp"
 #include "stream/sample_store_source.hpp"
@@ -89,6 +91,7 @@ int cmd_isosurface(int argc, char** argv) {
     add_volume_options(a);
     add_memory_option(a);
     add_thread_option(a);
+    add_quiet_option(a);
     add_camera_options(a);
     add_color_options(a);
     a.epilog("BLOCKS (PLOT3D, .vts pieces, .vtm/.vthb, or several files): the multiblock/AMR isosurface of chapter 4\n"
@@ -155,6 +158,7 @@ int cmd_isosurface(int argc, char** argv) {
         return isosurface_sample_store(a, iso, mode, sp, rs, nthreads);
 
     VolumeInput in = open_volume_input(a, /*stream=*/true);
+    if (png) apply_anatomical_default(a, in, rs.camera);  // head up, face to the viewer, where the header says
     StreamMeta meta = volume_meta(in, iso, a.command_line());  // value range and surface bounds, one pass
     if (!cc.range) {
         rs.shading.value_lo = meta.get_double("value_min").value_or(iso);
@@ -165,9 +169,12 @@ int cmd_isosurface(int argc, char** argv) {
     meta.set("projection", to_string(mode));
 
     IsoSplatResult r;
+    ProgressMeter meter = ProgressMeter::of(a, "cell rows", isosurface_work(in, iso));
+    const ProgressStage progress([&](double n) { meter.add(n); }, work_units);
     const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
-        return run_isosurface_graph(in, iso, mode, sp, draw, sink, nthreads);
+        return run_isosurface_graph(in, iso, mode, sp, draw, sink, nthreads, &progress);
     }, r);
+    meter.done();
     if (a.has("stats")) print_stats(in.path, iso, mode, r, points, nthreads, 1);
     return 0;
 }

@@ -1,6 +1,7 @@
 // meshless mc: standard marching cubes, the baseline of section 3.6 and the tests' reference
 // surface; on multiblock inputs, the naive per-block marching cubes of section 4.2 (Figures
 // 4.6-4.8) with its crack and intersection statistics.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,12 +12,14 @@
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/point_set_cli.hpp"
+#include "cli/progress_meter.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/ply_mesh.hpp"
 #include "kernels/errors.hpp"
 #include "stream/marching_cubes_stage.hpp"
 #include "stream/naive_block_mc.hpp"
 #include "stream/mesh_sink.hpp"
+#include "stream/progress_stage.hpp"
 #include "stream/runner.hpp"
 
 namespace meshless::cli {
@@ -111,6 +114,7 @@ int cmd_mc(int argc, char** argv) {
     add_point_set_options(a, false);
     add_memory_option(a);
     add_thread_option(a);
+    add_quiet_option(a);
     a.positionals(1, 4096);
     a.epilog("examples: meshless mc vol.nrrd --iso 100.5 -o mesh.ply\n"
              "          meshless mc multicomb_0.vts multicomb_1.vts multicomb_2.vts --iso 0.4 -o naive.ply --stats\n");
@@ -134,8 +138,13 @@ int cmd_mc(int argc, char** argv) {
         stage = std::make_unique<MarchingCubesStage>(in.volume->view(), iso);
     }
     MeshWeldSink sink(out, format, vtp_options(a, threads(a)));
-    const Stage* stages[] = {stage.get()};
+    // the work as the source hands it out: active bricks, or cell layers of the volume in memory
+    ProgressMeter meter = in.store ? ProgressMeter::of(a, "bricks", static_cast<double>(in.index->active(iso).size()))
+                                   : ProgressMeter::of(a, "cell layers", static_cast<double>(std::max<std::int64_t>(0, in.volume->grid.dims[2] - 1)));
+    const ProgressStage progress([&](double n) { meter.add(n); }, work_units);
+    const Stage* stages[] = {&progress, stage.get()};
     run_pipeline(*source, stages, sink, {threads(a)});
+    meter.done();
     const double secs = seconds_since(t0);
     const McStats st = stage->stats();
     const Mesh& mesh = sink.mesh();

@@ -15,6 +15,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/progress_meter.hpp"
 #include "cli/errors.hpp"
 #include "cli/field_cli.hpp"
 #include "formats/multiblock_reader.hpp"
@@ -200,6 +201,7 @@ int cmd_render(int argc, char** argv) {
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
         .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing in world units", "1,1,1");
     add_memory_option(a);
+    add_quiet_option(a);
     a.positionals(1, 1000);
     a.epilog("examples: meshless render chest.vti --tf ct-bone --shade -o chest.png\n"
              "          meshless render points.ply --field mpu -o lod.png --compare chest.png --diff diff.png\n");
@@ -209,7 +211,7 @@ int cmd_render(int argc, char** argv) {
     const double gain = parse_finite(a.get_or("diff-gain", "1"), "--diff-gain");
     if (!(gain > 0)) throw UsageError("--diff-gain: must be positive");
     if (auto d = a.get("diff")) require_output_extension(*d, ".png", "--diff", "a PNG image");
-    const Camera cam = camera_from(a, "512x512");
+    Camera cam = camera_from(a, "512x512");
     RayCastParams rp;
     rp.shade = a.has("shade");
     rp.background = parse_rgb(a.get_or("background", "0,0,0"), "--background");
@@ -221,6 +223,7 @@ int cmd_render(int argc, char** argv) {
     const int nthreads = threads(a);
 
     RenderInput in = open_render_input(a);
+    if (in.volume) apply_anatomical_default(a, *in.volume, cam);  // head up, face to the viewer, where the header says
     const TransferFunction tf = transfer_function_arg(a, in.range);
     rp.ref_step = 0.5 * in.spacing;
     if (auto r = a.get("ref-step")) {
@@ -250,15 +253,10 @@ int cmd_render(int argc, char** argv) {
     }
     const ViewTransform view = make_view(cam, frame[0], frame[1]);
     const bool tty = stderr_is_tty();
-    int shown = -1;
-    auto progress = [&](double f) {
-        const int pct = static_cast<int>(100 * f);
-        if (pct != shown) {
-            shown = pct;
-            std::fprintf(stderr, "\rmeshless render: %3d%%", pct);
-            std::fflush(stderr);
-        }
-    };
+    // rays (pixels) as the tiles finish; the ray caster reports the finished fraction, serialised
+    ProgressMeter meter = ProgressMeter::of(a, "rays", static_cast<double>(cam.width) * cam.height);
+    const bool show = progress_wanted(a);
+    auto progress = [&](double f) { meter.set_fraction(f); };
     const auto t0 = std::chrono::steady_clock::now();
     RayCastStats st;
     if (a.has("no-skip") && in.skip) {
@@ -268,12 +266,12 @@ int cmd_render(int argc, char** argv) {
             if (!(in.skip->vmin[c] > in.skip->vmax[c])) in.skip->vmin[c] = in.skip->vmax[c] = std::nan("");
     }
     const RgbaImage rgba = ray_cast_rgba(*in.field, in.box, view, tf, rp, in.skip ? &*in.skip : nullptr, nthreads,
-                                         &st, tty ? std::function<void(double)>(progress) : std::function<void(double)>());
+                                         &st, show ? std::function<void(double)>(progress) : std::function<void(double)>());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (tty) std::fputs("\r", stderr);
+    meter.done();
     const Image picture = compose_over_background(rgba, rp.background);
     write_png(picture, png);
-    if (tty || a.has("stats"))
+    if ((tty && !a.has("quiet")) || a.has("stats"))
         std::fprintf(stderr,
                      "render: %s, %dx%d, step %g (ref %g), %d thread(s): %.3f s; %llu rays hit, %llu samples (%.2f M/s), "
                      "%llu skipped as empty, %llu rays terminated early\n",

@@ -58,7 +58,7 @@ int generate_all(const Args& a) {
         throw UsageError("--all needs a brick store (.mlb), which the sample store recomputes samples from: "
                          "meshless convert " + in.path + " -o vol.mlb");
     ProgressMeter meter("meshless generate --all", "bricks", static_cast<double>(in.store->bricks().size()) * 2,
-                        progress_wanted(a));
+                        progress_wanted(a), progress_delay());
     SampleStoreParams params;
     params.progress = [&](double f) { meter.set_fraction(f); };
     const SampleStoreBuildStats st = write_sample_store(*in.store, out, params);

@@ -21,10 +21,13 @@
 
 #include "formats/atomic_file.hpp"
 #include "formats/volume_reader.hpp"
+#include "kernels/anatomical_view.hpp"
 #include "kernels/block_minmax.hpp"
 #include "ooc/brick_slice_source.hpp"
 #include "kernels/errors.hpp"
 #include "stream/available_cpus.hpp"
+#include "stream/available_memory.hpp"
+#include "formats/stored_type.hpp"
 #include "stream/large_page_allocator.hpp"
 
 namespace meshless::cli {
@@ -79,13 +82,48 @@ Volume load_volume(const Args& a, bool map) {
     const RawOptions raw = raw_options(a);
     if (path == "-") {  // a mapping outlives the spool's descriptor; a read copies
         const StdinSpool spool;
-        return spool.readable_errors([&] { return map ? map_volume(spool.path(), raw) : read_volume(spool.path(), raw); });
+        return spool.readable_errors([&] {
+            check_volume_fits(a, "- (stdin)", probe_volume(spool.path(), raw), map);
+            return map ? map_volume(spool.path(), raw) : read_volume(spool.path(), raw);
+        });
     }
-    if (is_brick_store(path)) return read_brick_store_volume(path);  // commands that need the volume whole
+    if (is_brick_store(path)) {  // commands that need the volume whole
+        const auto store = BrickStore::open(path);
+        VolumeInfo vi;
+        vi.grid = store->info().grid;
+        vi.type = store->info().type;
+        check_volume_fits(a, path, vi, false);
+        return read_brick_store_volume(path);
+    }
     warn_if_raw_options_ignored(a, path, raw);
+    check_volume_fits(a, path, probe_volume(path, raw), map);
     return map ? map_volume(path, raw) : read_volume(path, raw);
 }
 }  // namespace
+
+std::string byte_size_text(std::uint64_t bytes) {
+    static const char* const kUnit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+    double v = static_cast<double>(bytes);
+    int u = 0;
+    while (v >= 1024 && u < 6) v /= 1024, ++u;
+    char b[48];
+    if (u == 0) std::snprintf(b, sizeof b, "%llu bytes", static_cast<unsigned long long>(bytes));
+    else std::snprintf(b, sizeof b, "%.1f %s", v, kUnit[u]);
+    return b;
+}
+
+void check_volume_fits(const Args& a, const std::string& path, const VolumeInfo& vi, bool map) {
+    if (map && vi.maps) return;  // the samples stay in the file (page cache), not in this process's memory
+    const std::uint64_t need = decoded_bytes(vi, path);
+    const bool given = a.declared("memory") && a.has("memory");
+    const std::uint64_t budget = given ? parse_memory_size(*a.get("memory")) : available_memory();
+    if (need <= budget) return;
+    throw IoError(path + ": the volume takes " + byte_size_text(need) + " (" + dims_string(vi.grid) + " " +
+                  to_string(vi.type) + ") in memory, more than " +
+                  (given ? "--memory " + byte_size_text(budget)
+                         : "the " + byte_size_text(budget) + " this process may use (physical memory, cgroup limit; --memory sets it)") +
+                  "; a brick store streams it: meshless convert " + path + " -o vol.mlb");
+}
 
 Volume load_volume(const Args& a) { return load_volume(a, false); }
 
@@ -225,6 +263,7 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
                 if (probe_volume(in.spool->path(), raw).encoding == "raw")
                     in.reopen = [spool = in.spool, raw] { return open_slice_source(spool->path(), raw); };
             } else {
+                check_volume_fits(a, "- (stdin)", probe_volume(in.spool->path(), raw), true);
                 in.volume = map_volume(in.spool->path(), raw);
             }
         });
@@ -236,12 +275,12 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
         in.cache = std::make_unique<BrickCache>(*in.store, parse_memory_size(a.get_or("memory", "256M")));
         in.index = std::make_unique<BrickIndex>(*in.store);
     } else {
-        if (a.has("memory"))
-            std::fprintf(stderr, "meshless %s: warning: --memory applies to brick stores (.mlb); %s is read whole "
-                         "(meshless convert makes a store)\n", a.command().c_str(), in.path.c_str());
         const RawOptions raw = raw_options(a);
         in.threads = threads(a);
         if (stream && streamable(in.path, raw)) {
+            if (a.has("memory"))
+                std::fprintf(stderr, "meshless %s: warning: --memory bounds brick stores (.mlb) and volumes read whole; "
+                             "%s is streamed slab by slab\n", a.command().c_str(), in.path.c_str());
             warn_if_raw_options_ignored(a, in.path, raw);
             in.slices = open_slice_source(in.path, raw);
             if (probe_volume(in.path, raw).encoding == "raw")  // any k, any reader: parallel passes
@@ -383,6 +422,21 @@ Camera camera_from(const Args& a, const char* default_size) {
     if (!(c.zoom > 0)) throw UsageError("--zoom: must be positive");
     c.perspective = !a.has("ortho");
     return c;
+}
+
+std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c) {
+    for (const char* o : {"up", "view", "azimuth", "elevation"})
+        if (a.declared(o) && a.has(o)) return std::nullopt;  // the user chose the camera
+    if (in.store) return std::nullopt;                        // a brick store keeps no orientation
+    const std::string path = in.spool ? in.spool->path() : in.path;
+    std::optional<AnatomicalFrame> f;
+    try {
+        f = probe_volume(path, raw_options(a)).frame;
+    } catch (const std::exception&) {
+        return std::nullopt;  // (the volume was read already: nothing new to say)
+    }
+    if (f) apply_view(anatomical_view(f->axis), c);
+    return f;
 }
 
 namespace {

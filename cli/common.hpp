@@ -35,8 +35,17 @@ RawOptions raw_options(const Args& a);
 /// Loads the volume named by the first positional argument (throws UsageError if none).
 Volume load_volume(const Args& a);
 
-/// --memory BYTES: the brick cache budget when VOLUME is a brick store (.mlb).
+/// --memory BYTES: the brick cache budget when VOLUME is a brick store (.mlb), and the most a volume
+/// read whole into memory may take (check_volume_fits).
 void add_memory_option(Args& a);
+/// Refuses, before anything is read, a volume whose decoded samples exceed the memory budget: --memory
+/// when the command declares it and the user gave it, else available_memory() (physical memory capped
+/// by the cgroup limit, stream/available_memory.hpp). A volume that `map` lets map_volume map costs
+/// no memory of its own and always fits. IoError (exit 2) naming `path`, the size and the budget, and
+/// suggesting `meshless convert` to a brick store (which streams).
+void check_volume_fits(const Args& a, const std::string& path, const VolumeInfo& vi, bool map);
+/// "1.5 GiB" (binary units; "512 bytes" below 1 KiB).
+std::string byte_size_text(std::uint64_t bytes);
 
 /// A VOLUME argument: a volume in memory (mapped from the file when it is raw samples, see
 /// map_volume), or a brick store (.mlb) read brick by brick
@@ -92,6 +101,11 @@ std::string triple(const Vec3& v);
 void add_orbit_options(Args& a, const char* default_size);
 /// The camera of add_orbit_options (UsageError for bad values, --view with --azimuth/--elevation).
 Camera camera_from(const Args& a, const char* default_size);
+/// The default camera of a volume (kernels/anatomical_view.hpp): when none of --up, --view, --azimuth,
+/// --elevation was given and the volume's header gives the patient's axes (formats/anatomical_frame.hpp:
+/// NIfTI sform/qform, NRRD space, MetaImage), the head goes up and the face towards the viewer; otherwise
+/// (brick stores, formats that say nothing) the camera is left as it is. Returns the frame used, if any.
+std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c);
 /// add_orbit_options (800x800) and --kernel quad|ewa --shading: the splat pictures' options.
 void add_camera_options(Args& a);
 /// Camera, kernel and shading from the camera options.

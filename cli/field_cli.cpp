@@ -1,4 +1,5 @@
 #include "cli/field_cli.hpp"
+#include "cli/progress_meter.hpp"
 
 #include <oneapi/tbb/global_control.h>
 
@@ -146,6 +147,13 @@ PointSet read_points_arg(const Args& a) {
     return read_field_points(a.positional(), a);
 }
 
+FieldProgress field_progress(ProgressMeter& meter) {
+    return [&meter](double done, double total) {
+        meter.set_total(total);
+        meter.add(done);
+    };
+}
+
 BuiltField build_field(const Args& a, const PointSet& points) {
     BuiltField f;
     if (const auto path = field_file_arg(a)) {
@@ -156,7 +164,10 @@ BuiltField build_field(const Args& a, const PointSet& points) {
         const int n = threads(a);
         oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(n));
         FieldBuildStats st;
-        f.field = make_field(points, params, &st);
+        // the commands that show progress (they declare --quiet) show the local fits too
+        ProgressMeter meter = ProgressMeter::of(a, "local fits", 1);  // the total comes with the first report
+        f.field = make_field(points, params, &st, a.declared("quiet") ? field_progress(meter) : FieldProgress());
+        meter.done();
         if (a.has("stats")) print_field_build_stats(a, params, points, st);
     }
     if (a.declared("max-gap")) {

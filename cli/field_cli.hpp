@@ -50,6 +50,9 @@ struct BuiltField {
 /// checking that it was fitted to exactly `points` (FormatError otherwise; options that shape a fit,
 /// like --binning, are then a UsageError). Prints a summary on stderr with --stats.
 BuiltField build_field(const Args& a, const PointSet& points);
+class ProgressMeter;
+/// A FieldProgress that sets the meter's total from the build's report and counts the local fits.
+FieldProgress field_progress(ProgressMeter& meter);
 
 /// The --stats line of a field built from `points`.
 void print_field_build_stats(const Args& a, const FieldParams& params, const PointSet& points, const FieldBuildStats& st);

@@ -17,8 +17,13 @@ namespace meshless::cli {
 
 /// One run of the graph on `in`; draw (the splat stage, or null) goes after generate + project.
 /// Same batches, hence same bytes, as run_isosplat_input with PipelineShape::fused.
+/// progress (optional, e.g. a ProgressStage with work_units) goes first, ahead of generate: it
+/// sees the source's cell rows, isosurface_work(in, iso) of them in all.
 IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
-                                    const Stage* draw, Sink& sink, int nthreads);
+                                    const Stage* draw, Sink& sink, int nthreads, const Stage* progress = nullptr);
+/// The cell rows run_isosurface_graph hands out: the volume's (in memory or slab-streamed), or those
+/// of the active bricks of a store.
+double isosurface_work(const VolumeInput& in, double iso);
 
 /// A graph to run into the outputs: run(draw, sink), draw = the splat stage or null.
 using GraphRun = std::function<IsoSplatResult(const Stage* draw, Sink& sink)>;

@@ -1,4 +1,5 @@
 #include "cli/multiblock_isosurface.hpp"
+#include "cli/progress_meter.hpp"
 
 #include <unistd.h>
 
@@ -28,6 +29,7 @@
 #include "stream/block_seed_stage.hpp"
 #include "stream/field_project_stage.hpp"
 #include "stream/record_vector_source.hpp"
+#include "stream/progress_stage.hpp"
 #include "stream/runner.hpp"
 #include "stream/stream_endpoints.hpp"
 
@@ -236,6 +238,7 @@ int isosurface_blocks(int argc, char** argv) {
     add_samples_option(a);
     add_newton_options(a);
     add_field_options(a, /*with_coverage=*/false);
+    add_quiet_option(a);
     add_camera_options(a);
     add_color_options(a);
     a.positionals(1, 1u << 20);
@@ -294,8 +297,12 @@ int isosurface_blocks(int argc, char** argv) {
             BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
             seed.emplace(in.seed_blocks(), in.plan, iso, n);
             project.emplace(*field.field, iso, np);
-            const Stage* stages[] = {&*seed, &*project, draw};
-            run_pipeline(source, std::span<const Stage* const>(stages, draw ? 3 : 2), sink, {nthreads});
+            // the blocks' cells as the source hands them out, counted ahead of seeding
+            ProgressMeter meter = ProgressMeter::of(
+                a, "cells", static_cast<double>(in.plan.first_cell.back() - in.plan.first_cell.front()));
+            const ProgressStage progress([&](double k) { meter.add(k); }, work_units);
+            const Stage* stages[] = {&progress, &*seed, &*project, draw};
+            run_pipeline(source, std::span<const Stage* const>(stages, draw ? 4 : 3), sink, {nthreads});
         }
         IsoSplatResult r;
         r.seconds = since(g0);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <string_view>
 
 #include "cli/common.hpp"
 
@@ -9,7 +11,22 @@ namespace meshless::cli {
 
 void add_quiet_option(Args& a) { a.flag("quiet", "no progress line on stderr (it is shown only when stderr is a terminal)"); }
 
-bool progress_wanted(const Args& a) { return stderr_is_tty() && !(a.declared("quiet") && a.has("quiet")); }
+namespace {
+bool progress_forced() {
+    const char* e = std::getenv("MESHLESS_PROGRESS");
+    return e && std::string_view(e) == "always";
+}
+}  // namespace
+
+bool progress_wanted(const Args& a) {
+    return (stderr_is_tty() || progress_forced()) && !(a.declared("quiet") && a.has("quiet"));
+}
+
+double progress_delay() { return progress_forced() ? 0.0 : 1.0; }
+
+ProgressMeter ProgressMeter::of(const Args& a, std::string unit, double total) {
+    return ProgressMeter("meshless " + a.command(), std::move(unit), total, progress_wanted(a), progress_delay());
+}
 
 namespace {
 double steady_seconds() {
@@ -42,7 +59,7 @@ ProgressMeter::ProgressMeter(std::string label, std::string unit, double total, 
 ProgressMeter::~ProgressMeter() { done(); }
 
 std::string ProgressMeter::line(double done, double elapsed) const {
-    const double f = std::clamp(done / total_, 0.0, 1.0);
+    const double f = std::clamp(done / total(), 0.0, 1.0);
     char b[64];
     std::snprintf(b, sizeof b, "%3.0f%%", 100 * f);
     std::string s = label_;  // appended piecewise: GCC 12's -Wrestrict misfires on label_ + ": " + b
@@ -61,9 +78,11 @@ void ProgressMeter::add(double units) {
     maybe_draw();
 }
 
+void ProgressMeter::set_total(double total) { total_.store(std::max(total, 1e-300), std::memory_order_relaxed); }
+
 void ProgressMeter::set_fraction(double f) {
     if (!enabled_) return;
-    done_milli_.store(static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * total_ * 1000.0), std::memory_order_relaxed);
+    done_milli_.store(static_cast<std::uint64_t>(std::clamp(f, 0.0, 1.0) * total() * 1000.0), std::memory_order_relaxed);
     maybe_draw();
 }
 

@@ -4,7 +4,8 @@
 // `delay` seconds, then at most 4 times a second, and cleared by done() or the destructor. Work is
 // counted in units (positions, bricks, records) against a known total; add() is thread-safe (an
 // atomic counter; one thread at a time draws, the others skip), so stages running concurrently can
-// report. The clock and the output stream are parameters for the tests.
+// report. The clock and the output stream are parameters for the tests; MESHLESS_PROGRESS=always
+// forces the line on (no terminal needed, no first-second delay) for logs and the CLI tests.
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -20,8 +21,11 @@ namespace meshless::cli {
 
 /// Declares --quiet (no progress line) on a command that shows progress.
 void add_quiet_option(Args& a);
-/// stderr is a terminal and --quiet (when declared) was not given.
+/// stderr is a terminal and --quiet (when declared) was not given; or MESHLESS_PROGRESS=always in
+/// the environment (logs, tests) and no --quiet.
 bool progress_wanted(const Args& a);
+/// The seconds before the first line: 1, or 0 with MESHLESS_PROGRESS=always.
+double progress_delay();
 
 class ProgressMeter {
 public:
@@ -39,7 +43,14 @@ public:
     void set_fraction(double f);
     /// Clears the line (idempotent).
     void done();
+    /// A progress meter of a command: "meshless COMMAND" heads the line, enabled and delayed as
+    /// progress_wanted(a) and progress_delay() say.
+    static ProgressMeter of(const Args& a, std::string unit, double total);
 
+    /// The total (given at construction, or by set_total).
+    double total() const { return total_.load(std::memory_order_relaxed); }
+    /// Sets the total when it is known only once the work has started (any thread; > 0).
+    void set_total(double total);
     /// Units done so far (0 when disabled: a disabled meter counts nothing).
     double done_units() const { return done_milli_.load() / 1000.0; }
     /// The line drawn for `done` of the total after `elapsed` seconds (no "\r"): exposed for tests.
@@ -48,7 +59,7 @@ public:
 private:
     void maybe_draw();
     std::string label_, unit_;
-    double total_;
+    std::atomic<double> total_;
     bool enabled_;
     double delay_;
     std::FILE* out_;

@@ -1,4 +1,5 @@
 #include "cli/scattered_isosurface.hpp"
+#include "cli/progress_meter.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -25,6 +26,7 @@
 #include "stream/dedup_sink.hpp"
 #include "stream/field_project_stage.hpp"
 #include "stream/record_vector_source.hpp"
+#include "stream/progress_stage.hpp"
 #include "stream/runner.hpp"
 #include "stream/stencil_seed_stage.hpp"
 #include "stream/stencil_ranks.hpp"
@@ -275,6 +277,7 @@ int isosurface_scattered(int argc, char** argv) {
     a.option("dedup", "", "F", "remove points closer than F x their radius to an earlier point (overlapping stencils; 0 = keep all)", "0");
     add_newton_options(a);
     add_field_options(a, /*with_coverage=*/false);
+    add_quiet_option(a);
     add_camera_options(a);
     add_color_options(a);
     a.positionals(1, 1u << 20);
@@ -402,8 +405,11 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
             StencilSource source(sg);
             seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get()}, iso, n);
             project.emplace(*field.field, iso, np);
-            const Stage* stages[] = {&*seed, &*project, draw};
-            run_pipeline(source, std::span<const Stage* const>(stages, draw ? 3 : 2), sink, {nthreads});
+            // the stencils as the source hands them out, counted ahead of seeding
+            ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(sg.total()));
+            const ProgressStage progress([&](double k) { meter.add(k); }, work_units);
+            const Stage* stages[] = {&progress, &*seed, &*project, draw};
+            run_pipeline(source, std::span<const Stage* const>(stages, draw ? 4 : 3), sink, {nthreads});
         }
         IsoSplatResult r;
         r.seconds = since(g0);

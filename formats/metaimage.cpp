@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "formats/binary_file.hpp"
 #include "formats/text_header.hpp"
@@ -34,7 +35,7 @@ PayloadPlan plan_metaimage(const std::string& path) {
     plan.format = "metaimage";
     std::int64_t ndims = -1;
     std::vector<std::int64_t> dims;
-    std::string spacing_v, size_v, origin_v, type_v, data_file;
+    std::string spacing_v, size_v, origin_v, type_v, data_file, transform_v, anatomical_v;
     std::int64_t header_size = 0, channels = 1;
     bool compressed = false, binary = true, have_data_file = false;
     std::uint64_t pos = 0, data_offset = 0;
@@ -65,6 +66,10 @@ PayloadPlan plan_metaimage(const std::string& path) {
             size_v = val;
         } else if (key == "offset" || key == "position" || key == "origin") {
             origin_v = val;
+        } else if (key == "transformmatrix" || key == "orientation" || key == "rotation") {
+            transform_v = val;
+        } else if (key == "anatomicalorientation") {
+            anatomical_v = val;
         } else if (key == "elementtype") {
             type_v = val;
         } else if (key == "elementbyteordermsb" || key == "binarydatabyteordermsb") {
@@ -129,6 +134,17 @@ PayloadPlan plan_metaimage(const std::string& path) {
         for (std::size_t a = 0; a < 3 && a < o.size(); ++a) plan.grid.origin[a] = o[a];
     }
     for (int a = 0; a < 3; ++a) honour_signed_spacing(plan.grid, plan.flip, a, signed_spacing[a]);  // negative: flipped
+    if (ndims == 3) {  // the patient's axes (a malformed matrix is no frame, not an error: it only frames the picture)
+        std::vector<double> tm;
+        for (const auto& t : split_ws(transform_v)) {
+            char* end = nullptr;
+            const double v = std::strtod(t.c_str(), &end);
+            if (end == t.c_str() || *end) break;
+            tm.push_back(v);
+        }
+        plan.frame = metaimage_frame(tm.size() == 9 ? tm : std::vector<double>{}, trim(anatomical_v));
+        flip_frame(plan.frame, plan.flip);
+    }
     plan.encoding = compressed ? PayloadEncoding::gzip : (binary ? PayloadEncoding::raw : PayloadEncoding::ascii);
     if (compressed && header_size == -1) throw FormatError(path + ": HeaderSize -1 with CompressedData is not supported");
     const auto tk = split_ws(data_file);

@@ -1,5 +1,7 @@
 #include "formats/nifti.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -23,6 +25,7 @@ struct NiftiHeader {
     std::uint64_t vox_offset = 0;
     float slope = 0, inter = 0;
     bool pair = false;  // "ni1": data in a separate .img
+    std::optional<AnatomicalFrame> frame;  // sform, else qform
 };
 
 bool ends_with(const std::string& s, const std::string& suf) {
@@ -109,8 +112,20 @@ NiftiHeader parse_header(const unsigned char* h, const std::string& path) {
     const int qform = i16(252), sform = i16(254);
     if (sform > 0) {
         for (int a = 0; a < 3; ++a) r.grid.origin[a] = f32(280 + 16 * a + 12);
+        // srow_x/y/z: column i of their 3x3 is index axis i in RAS
+        std::array<Vec3, 3> col;
+        for (int i = 0; i < 3; ++i) col[i] = Vec3{f32(280 + 4 * i), f32(296 + 4 * i), f32(312 + 4 * i)};
+        r.frame = ras_frame(col, "NIfTI sform");
     } else if (qform > 0) {
         for (int a = 0; a < 3; ++a) r.grid.origin[a] = f32(268 + 4 * a);
+        // quaternion (b, c, d), a = sqrt(1 - b^2 - c^2 - d^2); qfac = pixdim[0] (-1 reverses the third axis)
+        const double b = f32(256), c = f32(260), d = f32(264);
+        const double a = std::sqrt(std::max(0.0, 1.0 - (b * b + c * c + d * d)));
+        const double qfac = f32(76) < 0 ? -1.0 : 1.0;
+        const std::array<Vec3, 3> col{Vec3{a * a + b * b - c * c - d * d, 2 * (b * c + a * d), 2 * (b * d - a * c)},
+                                      Vec3{2 * (b * c - a * d), a * a + c * c - b * b - d * d, 2 * (c * d + a * b)},
+                                      Vec3{qfac * 2 * (b * d + a * c), qfac * 2 * (c * d - a * b), qfac * (a * a + d * d - c * c - b * b)}};
+        r.frame = ras_frame(col, "NIfTI qform");
     }
     validate_grid(r.grid, path);
     return r;
@@ -162,25 +177,22 @@ VolumeInfo probe_nifti(const std::string& path) {
                                                                                          : volume_type_for(h.type);
     i.encoding = is_gz_path(data) ? "gzip" : "raw";
     i.data_files = {data};
+    i.frame = h.frame;
     return i;
 }
 
-Volume read_nifti(const std::string& path) {
-    const NiftiHeader h = read_header(path);
-    const std::string data = h.pair ? image_file_for(path) : path;
-    if (is_gz_path(data)) {
-        const std::uint64_t bytes = checked_mul(static_cast<std::uint64_t>(h.grid.voxel_count()), stored_size(h.type),
-                                                data + ": NIfTI payload size");
-        // deflate cannot expand more than 1032:1; reject absurd headers before allocating
-        if (checked_add(bytes, h.vox_offset, data + ": NIfTI vox_offset") / kMaxDeflateRatio > regular_file_size(data) + 64)
-            throw FormatError(data + ": NIfTI header claims " + std::to_string(bytes) +
-                              " payload bytes, more than the compressed file can hold");
-        SampleBytes payload = SampleBytes::lazy_zeroed(static_cast<std::size_t>(bytes));  // resident as data arrives
-        InflateReader r(data);
-        r.skip(h.vox_offset);
-        r.read_exact(payload.data(), payload.size(), "NIfTI payload");
-        return apply_scaling(make_volume(std::move(payload), h.type, h.big_endian, h.grid, data), h);
-    }
+namespace {
+// A gzipped payload's size, proven against deflate's largest expansion before anything is allocated.
+std::uint64_t gz_payload_bytes(const NiftiHeader& h, const std::string& data) {
+    const std::uint64_t bytes = checked_mul(static_cast<std::uint64_t>(h.grid.voxel_count()), stored_size(h.type),
+                                            data + ": NIfTI payload size");
+    if (checked_add(bytes, h.vox_offset, data + ": NIfTI vox_offset") / kMaxDeflateRatio > regular_file_size(data) + 64)
+        throw FormatError(data + ": NIfTI header claims " + std::to_string(bytes) +
+                          " payload bytes, more than the compressed file can hold");
+    return bytes;
+}
+
+PayloadPlan raw_plan(const NiftiHeader& h, const std::string& data) {
     PayloadPlan plan;
     plan.format = "nifti";
     plan.grid = h.grid;
@@ -188,7 +200,31 @@ Volume read_nifti(const std::string& path) {
     plan.big_endian = h.big_endian;
     plan.files = {data};
     plan.file_offset = h.vox_offset;
-    return apply_scaling(read_payload(plan), h);
+    return plan;
+}
+}  // namespace
+
+void prove_nifti(const std::string& path) {
+    const NiftiHeader h = read_header(path);
+    const std::string data = h.pair ? image_file_for(path) : path;
+    if (!is_gz_path(data)) return prove_payload(raw_plan(h, data));
+    const std::uint64_t bytes = gz_payload_bytes(h, data);
+    InflateReader r(data);
+    r.skip(h.vox_offset + bytes);  // streamed through a small buffer: nothing kept
+}
+
+Volume read_nifti(const std::string& path) {
+    const NiftiHeader h = read_header(path);
+    const std::string data = h.pair ? image_file_for(path) : path;
+    if (is_gz_path(data)) {
+        const std::uint64_t bytes = gz_payload_bytes(h, data);  // deflate expands at most 1032:1
+        SampleBytes payload = SampleBytes::lazy_zeroed(static_cast<std::size_t>(bytes));  // resident as data arrives
+        InflateReader r(data);
+        r.skip(h.vox_offset);
+        r.read_exact(payload.data(), payload.size(), "NIfTI payload");
+        return apply_scaling(make_volume(std::move(payload), h.type, h.big_endian, h.grid, data), h);
+    }
+    return apply_scaling(read_payload(raw_plan(h, data)), h);
 }
 
 }  // namespace meshless

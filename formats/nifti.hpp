@@ -20,5 +20,7 @@ namespace meshless {
 
 VolumeInfo probe_nifti(const std::string& path);
 Volume read_nifti(const std::string& path);
+/// read_nifti's checks, a gzipped payload inflated through a small buffer (meshless info). Throws as read_nifti.
+void prove_nifti(const std::string& path);
 
 }  // namespace meshless

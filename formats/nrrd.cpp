@@ -55,7 +55,7 @@ PayloadPlan plan_nrrd(const std::string& path) {
     std::int64_t dimension = -1;
     std::vector<std::int64_t> sizes;
     std::vector<std::string> spacings_tok, directions_tok;
-    std::string origin_tok, type_tok, encoding_tok = "", endian_tok;
+    std::string origin_tok, type_tok, encoding_tok = "", endian_tok, space_tok;
     std::vector<std::string> files;
     bool have_data_file = false;
     for (std::size_t li = 1; li < lines.size(); ++li) {
@@ -92,6 +92,8 @@ PayloadPlan plan_nrrd(const std::string& path) {
                 }
             }
             if (!cur.empty()) directions_tok.push_back(cur);
+        } else if (key == "space") {
+            space_tok = to_lower(val);
         } else if (key == "space origin") {
             origin_tok = val;
         } else if (key == "encoding") {
@@ -126,7 +128,7 @@ PayloadPlan plan_nrrd(const std::string& path) {
                 throw FormatError(path + ": bad data file field '" + escape_field(val) + "'");
             }
         }
-        // other fields (kinds, centers, space, content, units, ...) are ignored
+        // other fields (kinds, centers, content, units, ...) are ignored
     }
     if (dimension < 0) throw FormatError(path + ": missing NRRD field 'dimension'");
     if (type_tok.empty()) throw FormatError(path + ": missing NRRD field 'type'");
@@ -234,6 +236,21 @@ PayloadPlan plan_nrrd(const std::string& path) {
     }
     for (std::size_t i = 0; i < 3; ++i)
         honour_signed_spacing(plan.grid, plan.flip, static_cast<int>(i), i < keep.size() ? spacing[keep[i]] : 1.0);
+    if (!space_tok.empty()) {
+        std::vector<Vec3> dirs;  // of the kept axes, when given for three of them
+        if (!directions_tok.empty() && keep.size() == 3)
+            for (const std::size_t a : keep) {
+                std::string w = directions_tok[a];
+                for (auto& c : w)
+                    if (c == '(' || c == ')' || c == ',') c = ' ';
+                const auto tk = split_ws(w);
+                if (tk.size() != 3) break;
+                dirs.push_back(Vec3{parse_double(tk[0], path, "space directions"), parse_double(tk[1], path, "space directions"),
+                                    parse_double(tk[2], path, "space directions")});
+            }
+        plan.frame = nrrd_frame(space_tok, dirs.size() == 3 ? dirs : std::vector<Vec3>{});
+        flip_frame(plan.frame, plan.flip);
+    }
 
     if (have_data_file) {
         if (files.empty()) throw FormatError(path + ": 'data file' lists no files");

@@ -34,6 +34,7 @@ VolumeInfo info_from_plan(const PayloadPlan& plan) {
     i.type = volume_type_for(plan.type);
     i.encoding = to_string(plan.encoding);
     i.data_files = plan.files;
+    i.frame = plan.frame;
     return i;
 }
 
@@ -166,6 +167,34 @@ std::vector<std::uint64_t> check_payload_plan(const PayloadPlan& plan) {
     return starts;
 }
 
+bool payload_maps(const PayloadPlan& plan) {
+    const bool native = plan.type == StoredType::u8 || plan.type == StoredType::u16 || plan.type == StoredType::i16 ||
+                        plan.type == StoredType::f32;
+    const bool flipped = plan.flip[0] || plan.flip[1] || plan.flip[2];
+    return !flipped && plan.encoding == PayloadEncoding::raw && plan.files.size() == 1 && native &&
+           (plan.big_endian != host_is_little_endian() || stored_size(plan.type) == 1);
+}
+
+void prove_payload(const PayloadPlan& plan) {
+    const std::vector<std::uint64_t> starts = check_payload_plan(plan);
+    if (plan.encoding == PayloadEncoding::raw) return;  // sizes are all a raw payload can get wrong
+    const std::uint64_t n = static_cast<std::uint64_t>(plan.grid.voxel_count());
+    const std::uint64_t k = plan.files.size();
+    const std::uint64_t share = n * stored_size(plan.type) / k;
+    for (std::uint64_t f = 0; f < k; ++f) {
+        const std::string& file = plan.files[f];
+        if (plan.encoding == PayloadEncoding::gzip) {
+            InflateReader r(file, starts[f]);
+            r.skip(static_cast<std::uint64_t>(plan.byte_skip) + share);  // bounded above: no overflow
+        } else {
+            const std::uint64_t size = regular_file_size(file);
+            const auto bytes = read_file_range(file, starts[f], size - std::min(size, starts[f]));
+            const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+            parse_ascii_samples(text, plan.type, static_cast<std::size_t>(n / k), file);
+        }
+    }
+}
+
 Volume read_payload(const PayloadPlan& plan, bool map_raw) {
     const std::vector<std::uint64_t> starts = check_payload_plan(plan);  // sizes proven before allocating
     const std::string& head = plan.files.front();
@@ -175,11 +204,7 @@ Volume read_payload(const PayloadPlan& plan, bool map_raw) {
     const std::uint64_t share = total / k;
     const bool swapped_host_order = plan.encoding == PayloadEncoding::ascii;
 
-    const bool native = plan.type == StoredType::u8 || plan.type == StoredType::u16 || plan.type == StoredType::i16 ||
-                        plan.type == StoredType::f32;
-    const bool flipped = plan.flip[0] || plan.flip[1] || plan.flip[2];
-    if (map_raw && !flipped && plan.encoding == PayloadEncoding::raw && k == 1 && native &&
-        (plan.big_endian != host_is_little_endian() || stored_size(plan.type) == 1)) {
+    if (map_raw && payload_maps(plan)) {
         Volume v;
         v.grid = plan.grid;
         v.type = volume_type_for(plan.type);

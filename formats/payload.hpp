@@ -10,9 +10,11 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "formats/anatomical_frame.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/volume_reader.hpp"
 
@@ -33,6 +35,7 @@ struct PayloadPlan {
     bool exact_size = false;          ///< raw: each file must hold exactly offset+share bytes
     std::array<bool, 3> flip{false, false, false};  ///< axes whose file spacing was negative: samples reversed
                                                     ///< after reading (kernels/flip_axes.hpp; grid already positive)
+    std::optional<AnatomicalFrame> frame;           ///< what the header says about the patient's axes (after flips)
 };
 
 /// Executes the plan. map_raw: when the samples are one uncompressed file in host byte order and
@@ -46,6 +49,14 @@ VolumeInfo info_from_plan(const PayloadPlan& plan);
 /// gzip files hold enough compressed bytes for their share (deflate expands at most
 /// kMaxDeflateRatio:1), ascii files enough bytes for their values. FormatError naming the file.
 std::vector<std::uint64_t> check_payload_plan(const PayloadPlan& plan);
+/// What `meshless info` runs: check_payload_plan, then proves the payload can be decoded without
+/// keeping it: gzip streams are inflated through a 64 KiB buffer and must deliver byte skip +
+/// their share (truncated or corrupt streams are refused), ascii values are parsed (their count
+/// was bounded by the file above); raw payloads need no more than their sizes. Memory: O(1) for
+/// raw and gzip, the text's size for ascii. FormatError/IoError naming the file, as read_payload.
+void prove_payload(const PayloadPlan& plan);
+/// True when read_payload(plan, map_raw = true) maps the file instead of decoding it into memory.
+bool payload_maps(const PayloadPlan& plan);
 const char* to_string(PayloadEncoding e);
 
 /// Parses whitespace-separated numbers into `count` samples of type t in host order.

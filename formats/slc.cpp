@@ -85,10 +85,11 @@ VolumeInfo probe_slc(const std::string& path) {
     return i;
 }
 
-Volume read_slc(const std::string& path) {
-    const std::vector<std::byte> file = read_file_bytes(path);
-    Scanner s{path, file.data(), file.size()};
-    const SlcHeader h = parse_header(s);
+namespace {
+
+// After the header: skips the icon and proves the slice bytes can hold the claimed voxels
+// (before anything is allocated). Returns the voxel count.
+std::uint64_t check_body(const std::vector<std::byte>& file, Scanner& s, const SlcHeader& h, const std::string& path) {
     const std::int64_t iw = s.integer("icon width"), ih = s.integer("icon height");
     s.expect_x("icon size");
     const std::string icon_ctx = path + ": SLC icon size";
@@ -106,14 +107,16 @@ Volume read_slc(const std::string& path) {
     if ((h.compression == 0 && voxels > rest) || (h.compression == 1 && voxels / 254 > rest))
         throw FormatError(path + ": SLC header claims " + dims_string(h.grid) + " voxels, more than the " +
                           std::to_string(rest) + " slice bytes after offset " + std::to_string(s.pos) + " can hold");
-    Volume v;
-    v.grid = h.grid;
-    v.type = SampleType::u8;
-    v.bytes = SampleBytes::lazy_zeroed(static_cast<std::size_t>(voxels));  // resident as slices decode
+    return voxels;
+}
+
+// Decodes every slice; slice z goes to plane(z) (a zeroed plane: a tolerated short slice leaves
+// the rest as it is).
+template <class Plane>
+void decode_slices(const std::vector<std::byte>& file, Scanner& s, const SlcHeader& h, const std::string& path, Plane&& plane_at) {
     const std::size_t nx = static_cast<std::size_t>(h.grid.dims[0]);
     const std::size_t plane = nx * static_cast<std::size_t>(h.grid.dims[1]);
     const auto* in = reinterpret_cast<const unsigned char*>(file.data());
-    auto* out = reinterpret_cast<unsigned char*>(v.bytes.data());
     for (std::int64_t z = 0; z < h.grid.dims[2]; ++z) {
         const std::string zs = std::to_string(z);
         const std::int64_t n = s.integer("slice size");
@@ -123,7 +126,7 @@ Volume read_slc(const std::string& path) {
                               std::to_string(s.pos) + ", file has " + std::to_string(file.size()));
         const unsigned char* p = in + s.pos;
         const unsigned char* end = p + n;
-        unsigned char* dst = out + static_cast<std::size_t>(z) * plane;
+        unsigned char* dst = plane_at(z);
         std::size_t filled = 0;
         if (h.compression == 0) {
             if (static_cast<std::size_t>(n) != plane)
@@ -154,11 +157,37 @@ Volume read_slc(const std::string& path) {
             if (plane - filled > std::min(nx, plane / 2))
                 throw FormatError(path + ": slice " + zs + " decodes to " + std::to_string(filled) + " bytes, expected " +
                                   std::to_string(plane));
-            // tolerated short slice (see header): the rest stays zero (fresh lazily zeroed pages)
+            // tolerated short slice (see header): the rest stays as it was (zero)
         }
         s.pos += static_cast<std::size_t>(n);
     }
+}
+
+}  // namespace
+
+Volume read_slc(const std::string& path) {
+    const std::vector<std::byte> file = read_file_bytes(path);
+    Scanner s{path, file.data(), file.size()};
+    const SlcHeader h = parse_header(s);
+    const std::uint64_t voxels = check_body(file, s, h, path);
+    Volume v;
+    v.grid = h.grid;
+    v.type = SampleType::u8;
+    v.bytes = SampleBytes::lazy_zeroed(static_cast<std::size_t>(voxels));  // resident as slices decode
+    const std::size_t plane = static_cast<std::size_t>(h.grid.dims[0] * h.grid.dims[1]);
+    auto* out = reinterpret_cast<unsigned char*>(v.bytes.data());
+    decode_slices(file, s, h, path, [&](std::int64_t z) { return out + static_cast<std::size_t>(z) * plane; });
     return v;
+}
+
+void prove_slc(const std::string& path) {
+    const std::vector<std::byte> file = read_file_bytes(path);
+    Scanner s{path, file.data(), file.size()};
+    const SlcHeader h = parse_header(s);
+    check_body(file, s, h, path);
+    // one plane, reused (its size was bounded by the file above)
+    SampleBytes plane = SampleBytes::lazy_zeroed(static_cast<std::size_t>(h.grid.dims[0] * h.grid.dims[1]));
+    decode_slices(file, s, h, path, [&](std::int64_t) { return reinterpret_cast<unsigned char*>(plane.data()); });
 }
 
 }  // namespace meshless

@@ -19,5 +19,7 @@ namespace meshless {
 
 VolumeInfo probe_slc(const std::string& path);
 Volume read_slc(const std::string& path);
+/// read_slc's checks and slice decoding into one reused plane (meshless info). Throws as read_slc.
+void prove_slc(const std::string& path);
 
 }  // namespace meshless

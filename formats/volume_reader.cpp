@@ -17,6 +17,7 @@
 #include "formats/vti.hpp"
 #include "formats/vtk_legacy.hpp"
 #include "formats/vtkjs_image.hpp"
+#include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -134,20 +135,51 @@ Volume map_volume_unnamed(const std::string& path, const RawOptions& raw) {
 
 }  // namespace
 
+namespace {
+// The formats map_volume may map: their info says whether it does.
+VolumeInfo mappable_info(const PayloadPlan& plan) {
+    VolumeInfo i = info_from_plan(plan);
+    i.maps = payload_maps(plan);
+    return i;
+}
+}  // namespace
+
 VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {
-        case Fmt::raw: return probe_raw(path, raw);
-        case Fmt::nrrd: return probe_nrrd(path);
-        case Fmt::metaimage: return probe_metaimage(path);
+        case Fmt::raw: return mappable_info(plan_raw(path, raw));
+        case Fmt::nrrd: return mappable_info(plan_nrrd(path));
+        case Fmt::metaimage: return mappable_info(plan_metaimage(path));
+        case Fmt::voreen_dat: return mappable_info(plan_voreen_dat(path));
         case Fmt::vtk_legacy: return probe_vtk_legacy(path);
         case Fmt::vti: return probe_vti(path);
         case Fmt::vtkjs: return probe_vtkjs_image(path);
         case Fmt::slc: return probe_slc(path);
         case Fmt::nifti: return probe_nifti(path);
-        case Fmt::voreen_dat: return probe_voreen_dat(path);
         case Fmt::unknown: break;
     }
     throw FormatError(path + ": unrecognized volume format");
+}
+
+VolumeInfo prove_volume(const std::string& path, const RawOptions& raw) {
+    const Fmt f = detect(path, raw);
+    switch (f) {
+        case Fmt::raw: prove_payload(plan_raw(path, raw)); break;
+        case Fmt::nrrd: prove_payload(plan_nrrd(path)); break;
+        case Fmt::metaimage: prove_payload(plan_metaimage(path)); break;
+        case Fmt::voreen_dat: prove_payload(plan_voreen_dat(path)); break;
+        case Fmt::vtk_legacy: prove_payload(plan_vtk_legacy(path)); break;
+        case Fmt::vtkjs: prove_payload(plan_vtkjs_image(path)); break;
+        case Fmt::vti: prove_vti(path); break;
+        case Fmt::slc: prove_slc(path); break;
+        case Fmt::nifti: prove_nifti(path); break;
+        case Fmt::unknown: throw FormatError(path + ": unrecognized volume format");
+    }
+    return probe_volume(path, raw);
+}
+
+std::uint64_t decoded_bytes(const VolumeInfo& vi, const std::string& path) {
+    return checked_mul(static_cast<std::uint64_t>(vi.grid.voxel_count()), sample_size(vi.type),
+                       path + ": decoded size (" + dims_string(vi.grid) + ")");
 }
 
 bool looks_like_volume(const std::string& path) {

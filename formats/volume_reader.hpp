@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/anatomical_frame.hpp"
 #include "kernels/grid.hpp"
 
 namespace meshless {
@@ -55,10 +56,23 @@ struct VolumeInfo {
     SampleType type = SampleType::u8;     ///< the type read_volume returns
     std::string encoding;                 ///< "raw", "gzip", "ascii", "rle", "base64", "base64+zlib", "appended-raw", ...
     std::vector<std::string> data_files;  ///< files holding the payload (the path itself when attached)
+    bool maps = false;                    ///< map_volume maps the file: the samples cost no memory of their own
+    std::optional<AnatomicalFrame> frame; ///< the patient's axes, where the header says them (formats/anatomical_frame.hpp)
 };
 
 /// Parses headers only (no payload read, no decompression beyond a NIfTI .gz header).
 VolumeInfo probe_volume(const std::string& path, const RawOptions& raw = {});
+
+/// probe_volume, then proves the payload as the readers would before allocating it, and decodes it
+/// without keeping it (what `meshless info` runs): sizes against the files (check_payload_plan),
+/// deflate's 1032:1 and SLC run-length bounds, then gzip/zlib streams inflated through a small
+/// buffer (one VTI block at a time), SLC slices decoded into one reused plane, ascii values parsed.
+/// A bomb, a truncated or corrupt payload throws here exactly as read_volume would. Memory: a small
+/// buffer, except the document of a VTI or SLC file (read whole, as their readers do) and ascii text.
+VolumeInfo prove_volume(const std::string& path, const RawOptions& raw = {});
+
+/// The bytes the samples of `vi` take once decoded into memory (voxels x sample size, checked).
+std::uint64_t decoded_bytes(const VolumeInfo& vi, const std::string& path);
 
 /// By extension: .raw .nrrd .nhdr .mhd .mha .vtk .vti .slc .nii .nii.gz .dat, a .json that is
 /// a vtk-js index, or a directory holding index.json. Does not open the payload.

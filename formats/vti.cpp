@@ -134,14 +134,30 @@ VtiLayout parse_layout(std::string_view doc, const std::string& path) {
     return L;
 }
 
-// Decodes [header][data] laid out in `bin` (raw bytes) into the payload.
-std::vector<std::byte> decode_binary(const std::byte* bin, std::size_t n, const VtiLayout& L, std::uint64_t expected,
-                                     const std::string& path) {
+VtkXmlFile xml_file(const VtiLayout& L) {
     VtkXmlFile f;
     f.big_endian = L.big_endian;
     f.header64 = L.header64;
     f.compressed = L.compressed;
-    return vtk_xml_decode_binary(bin, n, f, expected, path, dims_string(L.grid) + " " + to_string(L.type));
+    return f;
+}
+
+// The chosen array's [header][data] bytes (binary and appended formats): base64 decoded into
+// `owned`, or a view into the document (appended raw).
+std::pair<const std::byte*, std::size_t> binary_bytes(std::string_view doc, const VtiLayout& L, const std::string& path,
+                                                      std::vector<std::byte>& owned) {
+    if (L.format == "binary") {
+        owned = base64_decode(doc.substr(L.content_begin, L.content_end - L.content_begin), path);
+        return {owned.data(), owned.size()};
+    }
+    if (L.appended_base64) {
+        if (L.appended_begin + L.offset > doc.size()) throw FormatError(path + ": appended offset past the end of the file");
+        owned = base64_decode(doc.substr(static_cast<std::size_t>(L.appended_begin + L.offset)), path, true);
+        return {owned.data(), owned.size()};
+    }
+    const std::uint64_t start = L.appended_begin + L.offset;
+    if (start > doc.size()) throw FormatError(path + ": appended offset " + std::to_string(L.offset) + " past the end of the file");
+    return {reinterpret_cast<const std::byte*>(doc.data()) + start, static_cast<std::size_t>(doc.size() - start)};
 }
 
 }  // namespace
@@ -182,21 +198,28 @@ Volume read_vti(const std::string& path) {
         flip_axes(v, L.flip);
         return v;
     }
-    if (L.format == "binary") {
-        const auto bin = base64_decode(doc.substr(L.content_begin, L.content_end - L.content_begin), path);
-        payload = decode_binary(bin.data(), bin.size(), L, expected, path);
-    } else if (L.appended_base64) {
-        if (L.appended_begin + L.offset > doc.size()) throw FormatError(path + ": appended offset past the end of the file");
-        const auto bin = base64_decode(doc.substr(static_cast<std::size_t>(L.appended_begin + L.offset)), path, true);
-        payload = decode_binary(bin.data(), bin.size(), L, expected, path);
-    } else {
-        const std::uint64_t start = L.appended_begin + L.offset;
-        if (start > bytes.size()) throw FormatError(path + ": appended offset " + std::to_string(L.offset) + " past the end of the file");
-        payload = decode_binary(bytes.data() + start, static_cast<std::size_t>(bytes.size() - start), L, expected, path);
-    }
+    std::vector<std::byte> owned;
+    const auto [bin, n] = binary_bytes(doc, L, path, owned);
+    payload = vtk_xml_decode_binary(bin, n, xml_file(L), expected, path, dims_string(L.grid) + " " + to_string(L.type));
     Volume v = make_volume(std::move(payload), L.type, L.big_endian, L.grid, path);
     flip_axes(v, L.flip);
     return v;
+}
+
+void prove_vti(const std::string& path) {
+    const std::vector<std::byte> bytes = read_file_bytes(path);
+    const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    const VtiLayout L = parse_layout(doc, path);
+    const std::uint64_t count = static_cast<std::uint64_t>(L.grid.voxel_count());
+    const std::uint64_t expected = checked_mul(count, stored_size(L.type), path + ": payload size");
+    if (L.format == "ascii") {  // the values' count is bounded by the text: parsing keeps at most 4x its size
+        parse_ascii_samples(doc.substr(L.content_begin, L.content_end - L.content_begin), L.type,
+                            static_cast<std::size_t>(count), path);
+        return;
+    }
+    std::vector<std::byte> owned;
+    const auto [bin, n] = binary_bytes(doc, L, path, owned);
+    vtk_xml_prove_binary(bin, n, xml_file(L), expected, path, dims_string(L.grid) + " " + to_string(L.type));
 }
 
 }  // namespace meshless

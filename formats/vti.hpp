@@ -20,5 +20,8 @@ namespace meshless {
 
 VolumeInfo probe_vti(const std::string& path);
 Volume read_vti(const std::string& path);
+/// read_vti's checks and decoding without keeping the samples (meshless info): compressed blocks
+/// inflated one at a time. Throws as read_vti.
+void prove_vti(const std::string& path);
 
 }  // namespace meshless

@@ -133,9 +133,21 @@ void widen(const std::byte* src, std::size_t n, double* dst) {
 
 }  // namespace
 
-std::vector<std::byte> vtk_xml_decode_binary(const std::byte* bin, std::size_t n, const VtkXmlFile& f,
-                                             std::uint64_t expected, const std::string& path, const std::string& what) {
-    const std::size_t hs = f.header64 ? 8 : 4;
+namespace {
+// The layout of [header][data] after every check that needs no decoding: sizes against `expected`,
+// blocks against the bytes present and deflate's largest expansion (nothing allocated yet).
+struct BinaryLayout {
+    std::size_t hs = 4;
+    std::uint64_t nblocks = 0, bsize = 0, last = 0, total = 0;
+    std::size_t header_bytes = 0;
+    std::uint64_t block_raw(std::uint64_t b) const { return (b + 1 == nblocks && last != 0) ? last : bsize; }
+};
+
+BinaryLayout check_binary(const std::byte* bin, std::size_t n, const VtkXmlFile& f, std::uint64_t expected,
+                          const std::string& path, const std::string& what) {
+    BinaryLayout L;
+    L.hs = f.header64 ? 8 : 4;
+    const std::size_t hs = L.hs;
     if (!f.compressed) {
         if (n < hs) throw FormatError(path + ": truncated DataArray header");
         const std::uint64_t nbytes = read_uint(bin, f.header64, f.big_endian);
@@ -144,51 +156,70 @@ std::vector<std::byte> vtk_xml_decode_binary(const std::byte* bin, std::size_t n
                               std::to_string(expected) + " for " + what);
         if (n - hs < nbytes)
             throw FormatError(path + ": truncated DataArray: " + std::to_string(n - hs) + " of " + std::to_string(nbytes) + " bytes");
-        return std::vector<std::byte>(bin + hs, bin + hs + nbytes);
+        L.total = nbytes;
+        L.header_bytes = hs;
+        return L;
     }
     if (n < 3 * hs) throw FormatError(path + ": truncated compressed DataArray header");
-    const std::uint64_t nblocks = read_uint(bin, f.header64, f.big_endian);
-    const std::uint64_t bsize = read_uint(bin + hs, f.header64, f.big_endian);
-    const std::uint64_t last = read_uint(bin + 2 * hs, f.header64, f.big_endian);
-    if (nblocks > (n / hs) || (nblocks > 0 && bsize == 0) || (last > bsize))
-        throw FormatError(path + ": bad compressed DataArray header (" + std::to_string(nblocks) + " blocks of " +
-                          std::to_string(bsize) + " bytes, last " + std::to_string(last) + ")");
+    L.nblocks = read_uint(bin, f.header64, f.big_endian);
+    L.bsize = read_uint(bin + hs, f.header64, f.big_endian);
+    L.last = read_uint(bin + 2 * hs, f.header64, f.big_endian);
+    if (L.nblocks > (n / hs) || (L.nblocks > 0 && L.bsize == 0) || (L.last > L.bsize))
+        throw FormatError(path + ": bad compressed DataArray header (" + std::to_string(L.nblocks) + " blocks of " +
+                          std::to_string(L.bsize) + " bytes, last " + std::to_string(L.last) + ")");
     const std::string ctx = path + ": compressed DataArray header";
-    const std::uint64_t total =
-        nblocks == 0 ? 0 : checked_add(checked_mul(nblocks - 1, bsize, ctx), last == 0 ? bsize : last, ctx);
-    if (total != expected)
-        throw FormatError(path + ": DataArray holds " + std::to_string(total) + " bytes, expected " + std::to_string(expected) +
+    L.total = L.nblocks == 0 ? 0 : checked_add(checked_mul(L.nblocks - 1, L.bsize, ctx), L.last == 0 ? L.bsize : L.last, ctx);
+    if (L.total != expected)
+        throw FormatError(path + ": DataArray holds " + std::to_string(L.total) + " bytes, expected " + std::to_string(expected) +
                           " for " + what);
-    const std::size_t header_bytes = static_cast<std::size_t>((3 + nblocks) * hs);
-    if (n < header_bytes) throw FormatError(path + ": truncated compressed DataArray header");
+    L.header_bytes = static_cast<std::size_t>((3 + L.nblocks) * hs);
+    if (n < L.header_bytes) throw FormatError(path + ": truncated compressed DataArray header");
     // every block's compressed size, checked against the bytes present and deflate's largest
     // expansion before the output is allocated (a small file cannot claim a huge array)
-    {
-        std::uint64_t in = header_bytes;
-        for (std::uint64_t b = 0; b < nblocks; ++b) {
-            const std::uint64_t cs = read_uint(bin + (3 + b) * hs, f.header64, f.big_endian);
-            const std::uint64_t us = (b + 1 == nblocks && last != 0) ? last : bsize;
-            if (cs > n - in)
-                throw FormatError(path + ": truncated compressed block " + std::to_string(b) + " (" + std::to_string(cs) +
-                                  " bytes at offset " + std::to_string(in) + ", have " + std::to_string(n - in) + ")");
-            if (us / kMaxDeflateRatio > cs + 64)
-                throw FormatError(path + ": compressed block " + std::to_string(b) + " claims " + std::to_string(us) +
-                                  " bytes, more than its " + std::to_string(cs) + " compressed bytes can hold");
-            in += cs;
-        }
-    }
-    std::vector<std::byte> out(static_cast<std::size_t>(total));
-    std::uint64_t in_pos = header_bytes;
-    for (std::uint64_t b = 0; b < nblocks; ++b) {
+    std::uint64_t in = L.header_bytes;
+    for (std::uint64_t b = 0; b < L.nblocks; ++b) {
         const std::uint64_t cs = read_uint(bin + (3 + b) * hs, f.header64, f.big_endian);
-        if (cs > n - in_pos)
+        const std::uint64_t us = L.block_raw(b);
+        if (cs > n - in)
             throw FormatError(path + ": truncated compressed block " + std::to_string(b) + " (" + std::to_string(cs) +
-                              " bytes at " + std::to_string(in_pos) + ", have " + std::to_string(n - in_pos) + ")");
-        const std::uint64_t us = (b + 1 == nblocks && last != 0) ? last : bsize;
-        inflate_into(bin + in_pos, static_cast<std::size_t>(cs), out.data() + b * bsize, static_cast<std::size_t>(us), path);
+                              " bytes at offset " + std::to_string(in) + ", have " + std::to_string(n - in) + ")");
+        if (us / kMaxDeflateRatio > cs + 64)
+            throw FormatError(path + ": compressed block " + std::to_string(b) + " claims " + std::to_string(us) +
+                              " bytes, more than its " + std::to_string(cs) + " compressed bytes can hold");
+        in += cs;
+    }
+    return L;
+}
+
+// Inflates every block of a checked layout; block b goes to dst(b) (us bytes).
+template <class Dst>
+void inflate_blocks(const std::byte* bin, const VtkXmlFile& f, const BinaryLayout& L, const std::string& path, Dst&& dst) {
+    std::uint64_t in_pos = L.header_bytes;
+    for (std::uint64_t b = 0; b < L.nblocks; ++b) {
+        const std::uint64_t cs = read_uint(bin + (3 + b) * L.hs, f.header64, f.big_endian);
+        const std::uint64_t us = L.block_raw(b);
+        inflate_into(bin + in_pos, static_cast<std::size_t>(cs), dst(b), static_cast<std::size_t>(us), path);
         in_pos += cs;
     }
+}
+}  // namespace
+
+std::vector<std::byte> vtk_xml_decode_binary(const std::byte* bin, std::size_t n, const VtkXmlFile& f,
+                                             std::uint64_t expected, const std::string& path, const std::string& what) {
+    const BinaryLayout L = check_binary(bin, n, f, expected, path, what);
+    if (!f.compressed) return std::vector<std::byte>(bin + L.hs, bin + L.hs + L.total);
+    std::vector<std::byte> out(static_cast<std::size_t>(L.total));
+    inflate_blocks(bin, f, L, path, [&](std::uint64_t b) { return out.data() + b * L.bsize; });
     return out;
+}
+
+void vtk_xml_prove_binary(const std::byte* bin, std::size_t n, const VtkXmlFile& f, std::uint64_t expected,
+                          const std::string& path, const std::string& what) {
+    const BinaryLayout L = check_binary(bin, n, f, expected, path, what);
+    if (!f.compressed || L.nblocks == 0) return;
+    // one block at a time (bsize is bounded by its compressed bytes, checked above)
+    std::vector<std::byte> scratch(static_cast<std::size_t>(L.bsize));
+    inflate_blocks(bin, f, L, path, [&](std::uint64_t) { return scratch.data(); });
 }
 
 std::vector<double> vtk_xml_read_array(std::string_view doc, const VtkXmlFile& f, const VtkXmlTag& a,

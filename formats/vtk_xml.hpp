@@ -59,6 +59,10 @@ VtkXmlFile vtk_xml_file(std::string_view doc, const std::string& path, bool find
 /// order). `what` names the array in messages (e.g. "64x64x64 float32").
 std::vector<std::byte> vtk_xml_decode_binary(const std::byte* bin, std::size_t n, const VtkXmlFile& f,
                                              std::uint64_t expected, const std::string& path, const std::string& what);
+/// The same checks and decoding as vtk_xml_decode_binary without keeping the payload: compressed
+/// blocks are inflated one at a time into one block-sized buffer (`meshless info`'s proof).
+void vtk_xml_prove_binary(const std::byte* bin, std::size_t n, const VtkXmlFile& f, std::uint64_t expected,
+                          const std::string& path, const std::string& what);
 
 /// The payload of one DataArray (any format) as `count` values of its stored type, converted to
 /// double. `doc` is the whole file. FormatError on unsupported formats or size mismatches.

@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -100,6 +101,10 @@ inline bool parse_field_kind(std::string_view s, FieldKind& out) {
         if (s == field_kind_name(k)) { out = k; return true; }
     return false;
 }
+
+/// A field build's progress: called with the local fits just finished and the locals in all, from
+/// the building threads, concurrently (must be thread-safe). It observes; the field does not depend on it.
+using FieldProgress = std::function<void(double done, double total)>;
 
 /// What happened while building a field (counts are over local interpolants unless stated).
 struct FieldBuildStats {

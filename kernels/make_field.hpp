@@ -20,6 +20,9 @@
 
 namespace meshless {
 
-std::unique_ptr<Field> make_field(const PointSet& points, const FieldParams& params, FieldBuildStats* stats = nullptr);
+/// progress (optional): the local fits of rbf-grid and mpu as they finish (FieldProgress; global-rbf
+/// is one solve and reports nothing).
+std::unique_ptr<Field> make_field(const PointSet& points, const FieldParams& params, FieldBuildStats* stats = nullptr,
+                                  const FieldProgress& progress = {});
 
 }  // namespace meshless

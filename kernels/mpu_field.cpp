@@ -117,7 +117,8 @@ struct OctreeBuilder {
 
 }  // namespace
 
-MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats) {
+MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats,
+                   const FieldProgress& progress) {
     if (params.mpu_max_points < 8) throw InvalidArgument("mpu: N (mpu_max_points) must be >= 8");
     if (params.mpu_min_points < 1 || params.mpu_min_points > params.mpu_max_points)
         throw InvalidArgument("mpu: mpu_min_points must be in 1..N");
@@ -178,6 +179,7 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
             outcome[l] = res.outcome;
             rank_def[l] = res.poly_rank < 4;
         }
+        if (progress) progress(static_cast<double>(r.size()), static_cast<double>(locals_.size()));
     });
 
     // Centres copied structure-of-arrays in leaf order (the lambda order): leaf l's run is

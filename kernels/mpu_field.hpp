@@ -44,7 +44,9 @@ namespace meshless {
 
 class MpuField final : public Field {
 public:
-    MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats = nullptr);
+    /// progress (optional): the local fits as they finish (kernels/field_params.hpp, FieldProgress).
+    MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats = nullptr,
+             const FieldProgress& progress = {});
     void evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const override;
     std::array<Vec3, 2> bounds() const override { return bounds_; }
     std::string name() const override { return "mpu"; }

@@ -17,7 +17,8 @@
 
 namespace meshless {
 
-RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats) {
+RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats,
+                           const FieldProgress& progress) {
     if (!(params.binning_m > 0) || !std::isfinite(params.binning_m))
         throw InvalidArgument("rbf-grid: binning constant m must be > 0");
     if (params.rbf_grid_max_local < 8) throw InvalidArgument("rbf-grid: rbf_grid_max_local must be >= 8");
@@ -265,6 +266,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                 }
             }
         }
+        if (progress) progress(static_cast<double>(r.size()), static_cast<double>(locals_.size()));
     });
 
 

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <thread>
 
+#include "stream/cgroup_limit.hpp"
+
 namespace meshless {
 
 std::optional<int> cpu_quota_limit(const std::string& text) {
@@ -23,57 +25,20 @@ std::optional<int> cpu_quota_limit(const std::string& text) {
 
 namespace {
 
-std::string read_small(const std::string& path) {
-    std::ifstream f(path);
-    std::ostringstream s;
-    if (f) s << f.rdbuf();
-    return s.str();
-}
-
-std::optional<int> min_limit(std::optional<int> a, std::optional<int> b) {
-    if (a && b) return std::min(*a, *b);
-    return a ? a : b;
-}
-
-/// The smallest limit over a cgroup directory and its ancestors up to `root`.
-template <class Read>
-std::optional<int> walk_up(const std::string& root, std::string dir, Read&& read) {
-    std::optional<int> best;
-    for (;;) {
-        best = min_limit(best, read(root + (dir == "/" ? std::string() : dir)));
-        if (dir.empty() || dir == "/") break;
-        const auto slash = dir.find_last_of('/');
-        dir = slash == std::string::npos || slash == 0 ? std::string() : dir.substr(0, slash);
-    }
-    return best;
-}
-
-/// The CPU quota of this process's cgroup: v2 (cpu.max in the unified hierarchy, mounted at
-/// /sys/fs/cgroup or, on hybrid systems, /sys/fs/cgroup/unified) and v1 (cpu.cfs_quota_us /
-/// cpu.cfs_period_us of the "cpu" controller), each directory up to the root; the smallest wins.
-std::optional<int> cgroup_limit() {
-    std::optional<int> best;
-    std::istringstream lines(read_small("/proc/self/cgroup"));
-    for (std::string line; std::getline(lines, line);) {
-        const auto c1 = line.find(':'), c2 = c1 == std::string::npos ? c1 : line.find(':', c1 + 1);
-        if (c2 == std::string::npos) continue;
-        const std::string controllers = "," + line.substr(c1 + 1, c2 - c1 - 1) + ",", path = line.substr(c2 + 1);
-        if (line.rfind("0::", 0) == 0) {
-            for (const char* root : {"/sys/fs/cgroup", "/sys/fs/cgroup/unified"})
-                best = min_limit(best, walk_up(root, path, [](const std::string& d) {
-                                     return cpu_quota_limit(read_small(d + "/cpu.max"));
-                                 }));
-        } else if (controllers.find(",cpu,") != std::string::npos) {
-            for (const char* root : {"/sys/fs/cgroup/cpu", "/sys/fs/cgroup/cpu,cpuacct"})
-                best = min_limit(best, walk_up(root, path, [](const std::string& d) {
-                                     const std::string q = read_small(d + "/cpu.cfs_quota_us");
-                                     const std::string p = read_small(d + "/cpu.cfs_period_us");
-                                     if (q.empty() || p.empty()) return std::optional<int>();
-                                     return cpu_quota_limit(q + " " + p);
-                                 }));
-        }
-    }
-    return best;
+/// The CPU quota of this process's cgroup: v2 cpu.max, v1 cpu.cfs_quota_us / cpu.cfs_period_us
+/// of the "cpu" controller (stream/cgroup_limit.hpp walks the hierarchies).
+std::optional<int> cgroup_cpu_limit() {
+    const auto as_u64 = [](std::optional<int> v) { return v ? std::optional<std::uint64_t>(*v) : std::nullopt; };
+    const auto lim = cgroup_limit(
+        [&](const std::string& d) { return as_u64(cpu_quota_limit(read_small_file(d + "/cpu.max"))); }, "cpu",
+        {"/sys/fs/cgroup/cpu", "/sys/fs/cgroup/cpu,cpuacct"}, [&](const std::string& d) {
+            const std::string q = read_small_file(d + "/cpu.cfs_quota_us");
+            const std::string p = read_small_file(d + "/cpu.cfs_period_us");
+            if (q.empty() || p.empty()) return std::optional<std::uint64_t>();
+            return as_u64(cpu_quota_limit(q + " " + p));
+        });
+    if (!lim) return std::nullopt;
+    return static_cast<int>(std::min<std::uint64_t>(*lim, 1 << 20));
 }
 
 }  // namespace
@@ -84,7 +49,7 @@ int available_cpus() {
     CPU_ZERO(&set);
     if (sched_getaffinity(0, sizeof set, &set) == 0) n = CPU_COUNT(&set);
     if (n <= 0) n = static_cast<int>(std::thread::hardware_concurrency());
-    if (auto lim = cgroup_limit()) n = std::min(n, *lim);
+    if (auto lim = cgroup_cpu_limit()) n = std::min(n, *lim);
     return std::max(1, n);
 }
 

@@ -2,6 +2,8 @@
 // points and samples, in the same order, for chunk sizes from one cell slab to the whole volume
 // and any thread count; recycled chunk buffers; degenerate grids. Also the runner's CPU count
 // (stream/available_cpus.hpp).
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 
 #include <sched.h>
@@ -12,6 +14,7 @@
 
 #include "kernels/analytic_volumes.hpp"
 #include "stream/available_cpus.hpp"
+#include "stream/available_memory.hpp"
 #include "stream/generate_project_stage.hpp"
 #include "stream/generate_stage.hpp"
 #include "stream/isosplat_pipeline.hpp"
@@ -153,6 +156,20 @@ TEST_CASE("available CPUs: the affinity mask, capped by cgroup quotas", "[runner
     CHECK(cpu_quota_limit("") == std::nullopt);
     CHECK(cpu_quota_limit("abc 100000") == std::nullopt);
     CHECK(cpu_quota_limit("100000 0") == std::nullopt);
+}
+
+TEST_CASE("available memory: physical memory, capped by cgroup limits", "[runner]") {
+    const std::uint64_t phys = static_cast<std::uint64_t>(sysconf(_SC_PHYS_PAGES)) * static_cast<std::uint64_t>(sysconf(_SC_PAGE_SIZE));
+    const std::uint64_t m = available_memory();
+    CHECK(m >= 4096);
+    CHECK(m <= phys);
+    CHECK(memory_limit_value("1073741824\n") == 1073741824u);
+    CHECK(memory_limit_value("9223372036854771712") == 9223372036854771712u);  // v1's "no limit": above any machine
+    CHECK(memory_limit_value("max\n") == std::nullopt);
+    CHECK(memory_limit_value("") == std::nullopt);
+    CHECK(memory_limit_value("-1") == std::nullopt);
+    CHECK(memory_limit_value("12abc") == std::nullopt);
+    CHECK(memory_limit_value("99999999999999999999999") == std::nullopt);
 }
 
 TEST_CASE("RunOptions threads <= 0 runs on the available CPUs with the same bytes", "[runner]") {
