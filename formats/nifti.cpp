@@ -171,15 +171,9 @@ Volume read_nifti(const std::string& path) {
     if (is_gz_path(data)) {
         const std::uint64_t bytes = checked_mul(static_cast<std::uint64_t>(h.grid.voxel_count()), stored_size(h.type),
                                                 data + ": NIfTI payload size");
-        // deflate cannot expand more than 1032:1; reject absurd headers before allocating
-        if (checked_add(bytes, h.vox_offset, data + ": NIfTI vox_offset") / kMaxDeflateRatio > regular_file_size(data) + 64)
-            throw FormatError(data + ": NIfTI header claims " + std::to_string(bytes) +
-                              " payload bytes, more than the compressed file can hold");
-        SampleBytes payload = SampleBytes::lazy_zeroed(static_cast<std::size_t>(bytes));  // resident as data arrives
-        InflateReader r(data);
-        r.skip(h.vox_offset);
-        r.read_exact(payload.data(), payload.size(), "NIfTI payload");
-        return apply_scaling(make_volume(std::move(payload), h.type, h.big_endian, h.grid, data), h);
+        // deflate cannot expand more than 1032:1: inflate_file rejects absurd headers before
+        // allocating, and its output pages become resident as the data arrives
+        return apply_scaling(make_volume(inflate_file(data, 0, h.vox_offset, bytes), h.type, h.big_endian, h.grid, data), h);
     }
     PayloadPlan plan;
     plan.format = "nifti";
