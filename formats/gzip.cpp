@@ -134,8 +134,8 @@ void inflate_into(const std::byte* data, std::size_t n, std::byte* dst, std::siz
         if (r == LIBDEFLATE_INSUFFICIENT_SPACE)
             throw FormatError(path + ": compressed data decompresses to more than " + std::to_string(expected) + " bytes");
         if (r != LIBDEFLATE_SUCCESS)
-            throw FormatError(path + ": corrupt compressed data (a bad or truncated " + (gzip ? "gzip" : "zlib") +
-                              " stream after " + std::to_string(out) + " decompressed bytes)");
+            throw FormatError(path + ": corrupt compressed data (a damaged or truncated " + (gzip ? "gzip member" : "zlib stream") +
+                              (out ? " after " + std::to_string(out) + " decompressed bytes)" : ")"));
         in += used;
         out += made;
         if (out == expected) return;  // bytes after the member that completes the data are padding
