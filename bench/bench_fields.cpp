@@ -34,7 +34,7 @@
 
 #include "bench/bench_common.hpp"
 #include "formats/atomic_file.hpp"
-#include "formats/json_lite.hpp"
+#include "formats/json.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/analytic_volumes.hpp"

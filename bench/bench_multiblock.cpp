@@ -58,7 +58,7 @@
 #include <vector>
 
 #include "bench/bench_common.hpp"
-#include "formats/json_lite.hpp"
+#include "formats/json.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/nrrd_writer.hpp"
 #include "formats/ply_mesh.hpp"

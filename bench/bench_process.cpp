@@ -35,7 +35,7 @@
 #include <sstream>
 
 #include "bench/bench_common.hpp"
-#include "formats/json_lite.hpp"
+#include "formats/json.hpp"
 #include "formats/ply.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/brick_slice_source.hpp"

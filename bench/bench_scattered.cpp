@@ -50,7 +50,7 @@
 #include <vector>
 
 #include "bench/bench_common.hpp"
-#include "formats/json_lite.hpp"
+#include "formats/json.hpp"
 #include "formats/ply_mesh.hpp"
 #include "formats/ply_points.hpp"
 #include "formats/point_set_reader.hpp"

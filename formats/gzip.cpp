@@ -1,12 +1,19 @@
 #include "formats/gzip.hpp"
 
+#include <libdeflate.h>
 #include <zlib.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <cstdlib>
 #include <filesystem>
+#include <limits>
+#include <new>
 
+#include "formats/binary_file.hpp"
+#include "formats/mapped_file.hpp"
+#include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -103,30 +110,58 @@ void InflateReader::skip(std::uint64_t n) {
     }
 }
 
+namespace {
+
+struct DecompressorFree {
+    void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
+};
+
+}  // namespace
+
 void inflate_into(const std::byte* data, std::size_t n, std::byte* dst, std::size_t expected, const std::string& path) {
-    z_stream zs{};
-    if (inflateInit2(&zs, 15 + 32) != Z_OK) throw IoError(path + ": zlib init failed");
-    zs.next_in = reinterpret_cast<Bytef*>(const_cast<std::byte*>(data));
-    zs.avail_in = static_cast<uInt>(n);
-    zs.next_out = reinterpret_cast<Bytef*>(dst);
-    zs.avail_out = static_cast<uInt>(expected);
-    const int r = inflate(&zs, Z_FINISH);
-    const std::size_t got = expected - zs.avail_out;
-    std::string msg = zs.msg ? zs.msg : "";
-    inflateEnd(&zs);
-    if (r == Z_STREAM_END && got == expected) return;
-    if (r == Z_STREAM_END || (r == Z_BUF_ERROR && zs.avail_in == 0))
-        throw FormatError(path + ": compressed block decompresses to " + std::to_string(got) + " bytes, expected " +
-                          std::to_string(expected));
-    if (r == Z_BUF_ERROR && zs.avail_out == 0)
-        throw FormatError(path + ": compressed block decompresses to more than " + std::to_string(expected) + " bytes");
-    throw FormatError(path + ": corrupt compressed data: " + (msg.empty() ? "inflate error" : msg));
+    const std::unique_ptr<libdeflate_decompressor, DecompressorFree> d(libdeflate_alloc_decompressor());
+    if (!d) throw std::bad_alloc();
+    const bool gzip = is_gzip_magic(data, n);
+    std::size_t in = 0, out = 0;
+    for (;;) {
+        if (in == n)
+            throw FormatError(path + ": compressed data ends after " + std::to_string(out) + " decompressed bytes, expected " +
+                              std::to_string(expected));
+        std::size_t used = 0, made = 0;
+        const libdeflate_result r =
+            gzip ? libdeflate_gzip_decompress_ex(d.get(), data + in, n - in, dst + out, expected - out, &used, &made)
+                 : libdeflate_zlib_decompress_ex(d.get(), data + in, n - in, dst + out, expected - out, &used, &made);
+        if (r == LIBDEFLATE_INSUFFICIENT_SPACE)
+            throw FormatError(path + ": compressed data decompresses to more than " + std::to_string(expected) + " bytes");
+        if (r != LIBDEFLATE_SUCCESS)
+            throw FormatError(path + ": corrupt compressed data (a damaged or truncated " + (gzip ? "gzip member" : "zlib stream") +
+                              (out ? " after " + std::to_string(out) + " decompressed bytes)" : ")"));
+        in += used;
+        out += made;
+        if (out == expected) return;  // bytes after the member that completes the data are padding
+        if (!gzip || !is_gzip_magic(data + in, n - in))  // no further gzip member
+            throw FormatError(path + ": compressed data ends after " + std::to_string(out) + " decompressed bytes, expected " +
+                              std::to_string(expected));
+    }
 }
 
-std::vector<std::byte> inflate_exact(const std::byte* data, std::size_t n, std::size_t expected, const std::string& path) {
-    std::vector<std::byte> out(expected);
-    inflate_into(data, n, out.data(), expected, path);
-    return out;
+SampleBytes inflate_file(const std::string& path, std::uint64_t offset, std::uint64_t skip, std::uint64_t n) {
+    const std::uint64_t size = regular_file_size(path);
+    const std::uint64_t avail = size - std::min(size, offset);
+    const std::uint64_t total = checked_add(skip, n, path + ": decompressed size");
+    if (total / kMaxDeflateRatio > avail + 64)
+        throw FormatError(path + ": " + std::to_string(total) + " decompressed bytes claimed, more than the " +
+                          std::to_string(avail) + " compressed bytes after offset " + std::to_string(offset) + " can hold");
+    if (total > std::numeric_limits<std::size_t>::max()) throw FormatError(path + ": decompressed size too large");
+    const SampleBytes in = map_file_range(path, std::min(size, offset), avail);
+    // zero pages that become resident only as libdeflate writes the inflated data into them
+    void* p = total ? std::calloc(static_cast<std::size_t>(total), 1) : nullptr;
+    if (total && !p) throw std::bad_alloc();
+    const std::shared_ptr<void> owner(p, std::free);
+    auto* out = static_cast<std::byte*>(p);
+    inflate_into(in.data(), in.size(), out, static_cast<std::size_t>(total), path);
+    if (n == 0) return SampleBytes();
+    return SampleBytes::adopt(out + skip, static_cast<std::size_t>(n), owner);
 }
 
 bool is_gzip_magic(const void* data, std::size_t n) {

@@ -218,11 +218,8 @@ Volume read_nifti(const std::string& path) {
     const std::string data = h.pair ? image_file_for(path) : path;
     if (is_gz_path(data)) {
         const std::uint64_t bytes = gz_payload_bytes(h, data);  // deflate expands at most 1032:1
-        SampleBytes payload = SampleBytes::lazy_zeroed(static_cast<std::size_t>(bytes));  // resident as data arrives
-        InflateReader r(data);
-        r.skip(h.vox_offset);
-        r.read_exact(payload.data(), payload.size(), "NIfTI payload");
-        return apply_scaling(make_volume(std::move(payload), h.type, h.big_endian, h.grid, data), h);
+        // inflate_file's output pages become resident as the data arrives
+        return apply_scaling(make_volume(inflate_file(data, 0, h.vox_offset, bytes), h.type, h.big_endian, h.grid, data), h);
     }
     return apply_scaling(read_payload(raw_plan(h, data)), h);
 }

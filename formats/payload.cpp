@@ -212,19 +212,25 @@ Volume read_payload(const PayloadPlan& plan, bool map_raw) {
         return v;
     }
 
-    // gzip: zero pages that become resident only as the inflated data arrives (a stream that ends
-    // early costs what it delivered); raw and ascii sizes were proven against the files above
-    SampleBytes payload = plan.encoding == PayloadEncoding::gzip ? SampleBytes::lazy_zeroed(static_cast<std::size_t>(total))
-                                                                 : SampleBytes(static_cast<std::size_t>(total));
+    // gzip: inflated whole (libdeflate) into zero pages that become resident only as the data
+    // arrives (a stream that ends early costs what it delivered), one file's share in place
+    const bool gzip = plan.encoding == PayloadEncoding::gzip;
+    const auto skip = static_cast<std::uint64_t>(std::max<std::int64_t>(plan.byte_skip, 0));
+    if (gzip && k == 1) {
+        Volume v = make_volume(inflate_file(head, starts.front(), skip, total), plan.type, plan.big_endian, plan.grid, head);
+        flip_axes(v, plan.flip);
+        return v;
+    }
+    // raw and ascii sizes were proven against the files above
+    SampleBytes payload = gzip ? SampleBytes::lazy_zeroed(static_cast<std::size_t>(total)) : SampleBytes(static_cast<std::size_t>(total));
     for (std::uint64_t f = 0; f < k; ++f) {
         const std::string& file = plan.files[f];
         std::byte* dst = payload.data() + f * share;
         switch (plan.encoding) {
             case PayloadEncoding::raw: read_file_range_into(file, starts[f], share, dst); break;
             case PayloadEncoding::gzip: {
-                InflateReader r(file, starts[f]);
-                r.skip(static_cast<std::uint64_t>(plan.byte_skip));
-                r.read_exact(dst, static_cast<std::size_t>(share), "payload");
+                const SampleBytes part = inflate_file(file, starts[f], skip, share);
+                std::memcpy(dst, part.data(), part.size());
                 break;
             }
             case PayloadEncoding::ascii: {

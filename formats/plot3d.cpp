@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "formats/binary_file.hpp"
-#include "formats/json_lite.hpp"
+#include "formats/json.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/text_header.hpp"
 #include "formats/ply.hpp"

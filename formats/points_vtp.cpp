@@ -18,14 +18,12 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
                              std::vector<std::string>* notes) {
     const auto bytes = read_file_bytes(path);
     if (bytes.empty()) throw FormatError(path + ": empty file");
-    const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    const VtkXmlFile F = vtk_xml_file(doc, path);
+    const VtkXmlDocument X(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
+    const VtkXmlFile& F = X.file();
     if (F.type != vtk_type)
         throw FormatError(path + ": VTK XML type '" + escape_field(F.type) + "', expected " + vtk_type);
-    const VtkXmlTag top = vtk_xml_find_tag(doc, vtk_type, 0, doc.size(), path);
+    const VtkXmlElement top = X.root().child(vtk_type.c_str());
     if (!top.found()) throw FormatError(path + ": missing <" + vtk_type + ">");
-    const std::size_t top_close = doc.find("</" + vtk_type + ">", top.end);
-    if (top_close == std::string_view::npos) throw FormatError(path + ": unterminated <" + vtk_type + ">");
     const bool structured = vtk_type == "StructuredGrid";
     const std::string file_name = std::filesystem::path(path).filename().string();
 
@@ -33,12 +31,7 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
     std::string value_name;
     bool has_values = false, first_piece = true;
     int piece_no = 0;
-    for (std::size_t from = top.end;;) {
-        const VtkXmlTag piece = vtk_xml_find_tag(doc, "Piece", from, top_close, path);
-        if (!piece.found()) break;
-        const std::size_t piece_close = piece.self_closing ? piece.end : doc.find("</Piece>", piece.end);
-        if (piece_close == std::string_view::npos) throw FormatError(path + ": unterminated <Piece>");
-        from = piece_close;
+    for (const VtkXmlElement& piece : top.children("Piece")) {
         std::array<std::int64_t, 3> dims{0, 1, 1};
         std::uint64_t n = 0;
         if (structured) {
@@ -54,29 +47,21 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
         if (n / 8 > bytes.size())  // a compressed float triple still takes some bits
             throw FormatError(path + ": implausible point count " + std::to_string(n) + " for a " + std::to_string(bytes.size()) + "-byte file");
         // Points
-        const VtkXmlTag pts = vtk_xml_find_tag(doc, "Points", piece.end, piece_close, path);
-        if (!pts.found() || pts.self_closing) throw FormatError(path + ": piece " + std::to_string(piece_no) + " has no <Points>");
-        const VtkXmlTag parr = vtk_xml_find_tag(doc, "DataArray", pts.end, piece_close, path);
+        const VtkXmlElement pts = piece.child("Points");
+        if (!pts.found() || pts.empty()) throw FormatError(path + ": piece " + std::to_string(piece_no) + " has no <Points>");
+        const VtkXmlElement parr = pts.child("DataArray");
         if (!parr.found()) throw FormatError(path + ": <Points> without a DataArray");
         if (parr.attr("NumberOfComponents", "1") != "3")
             throw FormatError(path + ": <Points> DataArray has " + escape_field(parr.attr("NumberOfComponents", "1")) +
                               " components, expected 3");
-        const std::vector<double> xyz = vtk_xml_read_array(doc, F, parr, checked_mul(3, n, path + ": <Points> size"), path);
+        const std::vector<double> xyz = vtk_xml_read_array(X, parr, checked_mul(3, n, path + ": <Points> size"), path);
         // PointData
-        VtkXmlTag chosen;
+        VtkXmlElement chosen;
         int ncomp = 1;
-        const VtkXmlTag pd = vtk_xml_find_tag(doc, "PointData", piece.end, piece_close, path);
-        if (pd.found() && !pd.self_closing) {
-            const std::size_t pd_close = doc.find("</PointData>", pd.end);
-            if (pd_close == std::string_view::npos) throw FormatError(path + ": unterminated <PointData>");
-            std::vector<VtkXmlTag> arrays;
-            for (std::size_t f2 = pd.end;;) {
-                const VtkXmlTag a = vtk_xml_find_tag(doc, "DataArray", f2, pd_close, path);
-                if (!a.found()) break;
-                arrays.push_back(a);
-                f2 = a.end;
-            }
-            auto comps = [&](const VtkXmlTag& a) {
+        const VtkXmlElement pd = piece.child("PointData");
+        if (pd.found() && !pd.empty()) {
+            const std::vector<VtkXmlElement> arrays = pd.children("DataArray");
+            auto comps = [&](const VtkXmlElement& a) {
                 const std::int64_t c = parse_int(a.attr("NumberOfComponents", "1"), path, "NumberOfComponents");
                 return c < 1 || c > 1024 ? 0 : static_cast<int>(c);  // 0: refused below when chosen
             };
@@ -105,7 +90,7 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
         }
         std::vector<double> vals;
         if (chosen.found())
-            vals = vtk_xml_read_array(doc, F, chosen, checked_mul(n, static_cast<std::uint64_t>(ncomp), path + ": PointData size"), path);
+            vals = vtk_xml_read_array(X, chosen, checked_mul(n, static_cast<std::uint64_t>(ncomp), path + ": PointData size"), path);
         const std::string vname = chosen.found() ? chosen.attr("Name") : "";
         if (!first_piece && (vname != value_name || chosen.found() != has_values))
             throw FormatError(path + ": piece " + std::to_string(piece_no) + " has scalar '" + escape_field(vname) +

@@ -20,11 +20,7 @@ namespace meshless {
 
 namespace {
 
-using Tag = VtkXmlTag;
-
-Tag find_tag(std::string_view doc, std::string_view name, std::size_t from, std::size_t limit, const std::string& path) {
-    return vtk_xml_find_tag(doc, name, from, limit, path);
-}
+using Tag = VtkXmlElement;
 
 std::string attr(const Tag& t, const char* k, const std::string& def = "") { return t.attr(k, def); }
 
@@ -36,45 +32,27 @@ struct VtiLayout {
     bool header64 = false;
     std::array<bool, 3> flip{false, false, false};  // negative Spacing: samples reversed after reading
     std::string format;            // ascii | binary | appended
-    std::size_t content_begin = 0; // inline content
-    std::size_t content_end = 0;
+    std::string_view content;      // inline content (in the parsed document)
     std::size_t appended_begin = 0;  // first byte after '_'
     bool appended_base64 = false;
     std::uint64_t offset = 0;
     std::string encoding_name;
 };
 
-VtiLayout parse_layout(std::string_view doc, const std::string& path) {
-    if (doc.find("<VTKFile") == std::string_view::npos)
-        throw FormatError(path + ": not a VTK XML file (no <VTKFile> element)");
-    const Tag file = find_tag(doc, "VTKFile", 0, doc.size(), path);
+VtiLayout parse_layout(const VtkXmlDocument& X, const std::string& path) {
+    const VtkXmlFile& F = X.file();
     VtiLayout L;
-    const std::string type = attr(file, "type");
-    if (type != "ImageData") throw FormatError(path + ": unsupported VTK XML type '" + escape_field(type) + "' (ImageData supported)");
-    const std::string bo = attr(file, "byte_order", "LittleEndian");
-    if (bo == "BigEndian")
-        L.big_endian = true;
-    else if (bo != "LittleEndian")
-        throw FormatError(path + ": bad byte_order '" + escape_field(bo) + "'");
-    const std::string ht = attr(file, "header_type", "UInt32");
-    if (ht == "UInt64")
-        L.header64 = true;
-    else if (ht != "UInt32")
-        throw FormatError(path + ": unsupported header_type '" + escape_field(ht) + "'");
-    const std::string comp = attr(file, "compressor");
-    if (comp == "vtkZLibDataCompressor")
-        L.compressed = true;
-    else if (!comp.empty())
-        throw FormatError(path + ": unsupported compressor '" + escape_field(comp) + "' (vtkZLibDataCompressor supported)");
+    if (F.type != "ImageData") throw FormatError(path + ": unsupported VTK XML type '" + escape_field(F.type) + "' (ImageData supported)");
+    L.big_endian = F.big_endian;
+    L.header64 = F.header64;
+    L.compressed = F.compressed;
 
-    const Tag image = find_tag(doc, "ImageData", file.end, doc.size(), path);
-    if (image.begin == std::string::npos) throw FormatError(path + ": missing <ImageData>");
-    const Tag piece = find_tag(doc, "Piece", image.end, doc.size(), path);
-    if (piece.begin == std::string::npos) throw FormatError(path + ": missing <Piece>");
-    const std::size_t piece_close = doc.find("</Piece>", piece.end);
-    if (piece_close == std::string_view::npos) throw FormatError(path + ": unterminated <Piece>");
-    if (find_tag(doc, "Piece", piece_close, doc.find("</ImageData>", piece_close), path).begin != std::string::npos)
-        throw FormatError(path + ": several <Piece> elements are not supported");
+    const Tag image = X.root().child("ImageData");
+    if (!image.found()) throw FormatError(path + ": missing <ImageData>");
+    const std::vector<Tag> pieces = image.children("Piece");
+    if (pieces.empty()) throw FormatError(path + ": missing <Piece>");
+    if (pieces.size() > 1) throw FormatError(path + ": several <Piece> elements are not supported");
+    const Tag piece = pieces.front();
     std::string extent = attr(piece, "Extent", attr(image, "WholeExtent"));
     const auto ext = parse_ints(extent, 6, path, "Extent");
     const auto sp = parse_doubles(attr(image, "Spacing", "1 1 1"), 3, path, "Spacing");
@@ -87,21 +65,13 @@ VtiLayout parse_layout(std::string_view doc, const std::string& path) {
     }
     validate_grid(L.grid, path);
 
-    const Tag pd = find_tag(doc, "PointData", piece.end, piece_close, path);
-    if (pd.begin == std::string::npos || pd.self_closing) throw FormatError(path + ": no <PointData> arrays");
-    const std::size_t pd_close = doc.find("</PointData>", pd.end);
-    if (pd_close == std::string_view::npos) throw FormatError(path + ": unterminated <PointData>");
+    const Tag pd = piece.child("PointData");
+    if (!pd.found() || pd.empty()) throw FormatError(path + ": no <PointData> arrays");
     const std::string want = attr(pd, "Scalars");
     Tag chosen;
-    for (std::size_t from = pd.end;;) {
-        const Tag a = find_tag(doc, "DataArray", from, pd_close, path);
-        if (a.begin == std::string::npos) break;
-        if (chosen.begin == std::string::npos || (!want.empty() && attr(a, "Name") == want &&
-                                                  attr(chosen, "Name") != want))
-            chosen = a;
-        from = a.end;
-    }
-    if (chosen.begin == std::string::npos) throw FormatError(path + ": no point DataArray");
+    for (const Tag& a : pd.children("DataArray"))
+        if (!chosen.found() || (!want.empty() && attr(a, "Name") == want && attr(chosen, "Name") != want)) chosen = a;
+    if (!chosen.found()) throw FormatError(path + ": no point DataArray");
     const std::string ncomp = attr(chosen, "NumberOfComponents", "1");
     if (ncomp != "1") throw FormatError(path + ": unsupported DataArray with " + escape_field(ncomp) + " components");
     const std::string tname = attr(chosen, "type");
@@ -110,23 +80,14 @@ VtiLayout parse_layout(std::string_view doc, const std::string& path) {
     L.type = *st;
     L.format = attr(chosen, "format");
     if (L.format == "ascii" || L.format == "binary") {
-        if (chosen.self_closing) throw FormatError(path + ": empty DataArray");
-        L.content_begin = chosen.end;
-        L.content_end = doc.find("</DataArray>", chosen.end);
-        if (L.content_end == std::string_view::npos) throw FormatError(path + ": unterminated <DataArray>");
+        if (chosen.empty()) throw FormatError(path + ": empty DataArray");
+        L.content = chosen.text();
         L.encoding_name = L.format == "ascii" ? "ascii" : (L.compressed ? "base64+zlib" : "base64");
     } else if (L.format == "appended") {
         L.offset = checked_count(parse_int(attr(chosen, "offset", "0"), path, "offset"), path + ": DataArray offset");
-        const Tag app = find_tag(doc, "AppendedData", pd_close, doc.size(), path);
-        if (app.begin == std::string::npos) throw FormatError(path + ": format=\"appended\" without <AppendedData>");
-        const std::string enc = attr(app, "encoding", "raw");
-        if (enc == "base64")
-            L.appended_base64 = true;
-        else if (enc != "raw")
-            throw FormatError(path + ": unsupported AppendedData encoding '" + escape_field(enc) + "'");
-        const std::size_t us = doc.find('_', app.end);
-        if (us == std::string_view::npos) throw FormatError(path + ": <AppendedData> without the '_' marker");
-        L.appended_begin = us + 1;
+        if (F.appended_begin == std::string::npos) throw FormatError(path + ": format=\"appended\" without <AppendedData>");
+        L.appended_base64 = F.appended_base64;
+        L.appended_begin = F.appended_begin;
         L.encoding_name = std::string("appended-") + (L.appended_base64 ? "base64" : "raw") + (L.compressed ? "+zlib" : "");
     } else {
         throw FormatError(path + ": unsupported DataArray format '" + escape_field(L.format) + "'");
@@ -147,7 +108,7 @@ VtkXmlFile xml_file(const VtiLayout& L) {
 std::pair<const std::byte*, std::size_t> binary_bytes(std::string_view doc, const VtiLayout& L, const std::string& path,
                                                       std::vector<std::byte>& owned) {
     if (L.format == "binary") {
-        owned = base64_decode(doc.substr(L.content_begin, L.content_end - L.content_begin), path);
+        owned = base64_decode(L.content, path);
         return {owned.data(), owned.size()};
     }
     if (L.appended_base64) {
@@ -169,11 +130,11 @@ VolumeInfo probe_vti(const std::string& path) {
     std::string doc = read_file_prefix(path, static_cast<std::size_t>(std::min<std::uint64_t>(size, 1 << 20)));
     VtiLayout L;
     try {
-        L = parse_layout(doc, path);
+        L = parse_layout(VtkXmlDocument(doc, path), path);
     } catch (const FormatError&) {
         if (doc.size() == size) throw;
         doc = read_file_prefix(path, static_cast<std::size_t>(size));
-        L = parse_layout(doc, path);
+        L = parse_layout(VtkXmlDocument(doc, path), path);
     }
     VolumeInfo i;
     i.format = "vti";
@@ -187,12 +148,13 @@ VolumeInfo probe_vti(const std::string& path) {
 Volume read_vti(const std::string& path) {
     const std::vector<std::byte> bytes = read_file_bytes(path);
     const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    const VtiLayout L = parse_layout(doc, path);
+    const VtkXmlDocument X(doc, path);
+    const VtiLayout L = parse_layout(X, path);
     const std::uint64_t count = static_cast<std::uint64_t>(L.grid.voxel_count());
     const std::uint64_t expected = checked_mul(count, stored_size(L.type), path + ": payload size");
     std::vector<std::byte> payload;
     if (L.format == "ascii") {
-        payload = parse_ascii_samples(doc.substr(L.content_begin, L.content_end - L.content_begin), L.type,
+        payload = parse_ascii_samples(L.content, L.type,
                                       static_cast<std::size_t>(count), path);
         Volume v = make_volume(std::move(payload), L.type, !host_is_little_endian(), L.grid, path);
         flip_axes(v, L.flip);
@@ -209,11 +171,12 @@ Volume read_vti(const std::string& path) {
 void prove_vti(const std::string& path) {
     const std::vector<std::byte> bytes = read_file_bytes(path);
     const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    const VtiLayout L = parse_layout(doc, path);
+    const VtkXmlDocument X(doc, path);
+    const VtiLayout L = parse_layout(X, path);
     const std::uint64_t count = static_cast<std::uint64_t>(L.grid.voxel_count());
     const std::uint64_t expected = checked_mul(count, stored_size(L.type), path + ": payload size");
     if (L.format == "ascii") {  // the values' count is bounded by the text: parsing keeps at most 4x its size
-        parse_ascii_samples(doc.substr(L.content_begin, L.content_end - L.content_begin), L.type,
+        parse_ascii_samples(L.content, L.type,
                             static_cast<std::size_t>(count), path);
         return;
     }

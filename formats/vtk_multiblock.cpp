@@ -80,17 +80,14 @@ void add_blocks(Multiblock& mb, VtkStructuredFile& f, const std::string& name, i
     }
 }
 
-Multiblock read_plain(const std::string& path, std::string_view doc, const VtkXmlTag& top, std::size_t close,
-                      const PointSetOptions& o, MultiblockDetails* details) {
+Multiblock read_plain(const std::string& path, const VtkXmlElement& top, const PointSetOptions& o,
+                      MultiblockDetails* details) {
     Multiblock mb;
     mb.format = "vtm";
     Chosen chosen;
     std::set<std::string> seen;
     std::size_t empty = 0, count = 0;
-    for (std::size_t from = top.end;;) {
-        const VtkXmlTag ds = vtk_xml_find_tag(doc, "DataSet", from, close, path);
-        if (!ds.found()) break;
-        from = ds.end;
+    for (const VtkXmlElement& ds : top.descendants("DataSet")) {  // in nested <Block>s too
         const std::string file = ds.attr("file");
         if (file.empty()) {
             ++empty;
@@ -122,8 +119,8 @@ struct Box {
 
 double rel_diff(double a, double b) { return std::fabs(a - b) / std::max({std::fabs(a), std::fabs(b), 1e-300}); }
 
-Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlTag& file_tag, const VtkXmlTag& top,
-                    std::size_t close, const PointSetOptions& o, MultiblockDetails* details) {
+Multiblock read_amr(const std::string& path, const VtkXmlElement& file_tag, const VtkXmlElement& top,
+                    const PointSetOptions& o, MultiblockDetails* details) {
     constexpr int kMaxLevels = 64;
     std::vector<Box> boxes;
     std::map<int, std::array<double, 3>> spacing;  // declared (1.x) or from the first piece (0.1)
@@ -135,7 +132,7 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
         if (v[0] < 0 || v[0] >= kMaxLevels) throw FormatError(path + ": " + what + " '" + esc(t) + "' out of 0.." + std::to_string(kMaxLevels - 1));
         return static_cast<int>(v[0]);
     };
-    auto add_box = [&](const VtkXmlTag& ds, int level, const std::string& index) {
+    auto add_box = [&](const VtkXmlElement& ds, int level, const std::string& index) {
         const std::string file = ds.attr("file");
         if (file.empty()) {
             ++empty;
@@ -152,17 +149,16 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
         boxes.push_back(std::move(b));
         if (boxes.size() > 1000000) throw FormatError(path + ": more than a million AMR boxes");
     };
-    const bool v1 = vtk_xml_find_tag(doc, "Block", top.end, close, path).found();
+    const std::vector<VtkXmlElement> blocks = top.descendants("Block");
+    const bool v1 = !blocks.empty();
     if (v1) {
-        if (top.attrs.count("origin")) {
+        if (top.has_attr("origin")) {
             const auto org = vtk_xml_numbers<double>(top.attr("origin"), 3, path, "origin");
             for (double x : org)
                 if (!std::isfinite(x)) throw FormatError(path + ": non-finite origin '" + esc(top.attr("origin")) + "'");
             origin = std::array<double, 3>{org[0], org[1], org[2]};
         }
-        for (std::size_t from = top.end;;) {
-            const VtkXmlTag blk = vtk_xml_find_tag(doc, "Block", from, close, path);
-            if (!blk.found()) break;
+        for (const VtkXmlElement& blk : blocks) {
             const int level = level_of(blk.attr("level"), "Block level");
             if (spacing.count(level)) throw FormatError(path + ": level " + std::to_string(level) + " appears twice");
             const auto sp = vtk_xml_numbers<double>(blk.attr("spacing"), 3, path, "spacing of level " + std::to_string(level));
@@ -171,35 +167,18 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
                     throw FormatError(path + ": bad spacing of level " + std::to_string(level) + " '" + esc(blk.attr("spacing")) +
                                       "': zero, negative or non-finite");
             spacing[level] = {sp[0], sp[1], sp[2]};
-            std::size_t blk_close = blk.end;
-            if (!blk.self_closing) {
-                blk_close = doc.find("</Block>", blk.end);
-                if (blk_close == std::string_view::npos || blk_close > close) throw FormatError(path + ": unterminated <Block>");
-                for (std::size_t f = blk.end;;) {
-                    const VtkXmlTag ds = vtk_xml_find_tag(doc, "DataSet", f, blk_close, path);
-                    if (!ds.found()) break;
-                    f = ds.end;
-                    add_box(ds, level, ds.attr("index", std::to_string(boxes.size())));
-                }
-            }
-            from = blk_close;
+            for (const VtkXmlElement& ds : blk.children("DataSet"))
+                add_box(ds, level, ds.attr("index", std::to_string(boxes.size())));
         }
     } else {
-        for (std::size_t from = top.end;;) {
-            const VtkXmlTag rr = vtk_xml_find_tag(doc, "RefinementRatio", from, close, path);
-            if (!rr.found()) break;
-            from = rr.end;
+        for (const VtkXmlElement& rr : top.descendants("RefinementRatio")) {
             const int level = level_of(rr.attr("level"), "RefinementRatio level");
             const auto r = vtk_xml_numbers<std::int64_t>(rr.attr("refinement"), 1, path, "refinement");
             if (r[0] < 1 || r[0] > 1024) throw FormatError(path + ": bad refinement '" + esc(rr.attr("refinement")) + "'");
             declared_ratio[level] = static_cast<int>(r[0]);
         }
-        for (std::size_t from = top.end;;) {
-            const VtkXmlTag ds = vtk_xml_find_tag(doc, "DataSet", from, close, path);
-            if (!ds.found()) break;
-            from = ds.end;
+        for (const VtkXmlElement& ds : top.descendants("DataSet"))
             add_box(ds, level_of(ds.attr("group", "0"), "DataSet group"), ds.attr("dataset", std::to_string(boxes.size())));
-        }
     }
     if (boxes.empty()) throw FormatError(path + ": no AMR box with a file");
 
@@ -286,7 +265,12 @@ Multiblock read_amr(const std::string& path, std::string_view doc, const VtkXmlT
 bool is_vtk_amr(const std::string& path) {
     try {
         const std::string head = read_file_prefix(path, 4096);
-        const VtkXmlTag t = vtk_xml_find_tag(head, "VTKFile", 0, head.size(), path);
+        // the <VTKFile> start tag (a prefix: the rest of the document is not needed)
+        const std::size_t at = head.find("<VTKFile"), gt = head.find('>', at);
+        if (at == std::string::npos || gt == std::string::npos) return false;
+        const std::string tag = head.substr(at, gt - at) + (head[gt - 1] == '/' ? ">" : "/>");
+        const VtkXmlDocument X(tag, path);
+        const VtkXmlElement t = X.root();
         return t.found() && is_amr_type(t.attr("type"));
     } catch (const std::exception&) {
         return false;
@@ -296,26 +280,20 @@ bool is_vtk_amr(const std::string& path) {
 Multiblock read_vtk_collection(const std::string& path, const PointSetOptions& o, MultiblockDetails* details) {
     const auto bytes = read_file_bytes(path);
     if (bytes.empty()) throw FormatError(path + ": empty file");
-    const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    const VtkXmlFile F = vtk_xml_file(doc, path, false);
-    const VtkXmlTag file_tag = vtk_xml_find_tag(doc, "VTKFile", 0, doc.size(), path);
+    const VtkXmlDocument X(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
+    const VtkXmlFile& F = X.file();
+    const VtkXmlElement file_tag = X.root();
     const bool amr = is_amr_type(F.type);
     if (!amr && F.type != "vtkMultiBlockDataSet")
         throw FormatError(path + ": VTK XML type '" + esc(F.type) +
                           "' is not a collection (vtkMultiBlockDataSet, vtkOverlappingAMR, vtkHierarchicalBoxDataSet)");
     // the element under <VTKFile>: named after the type (older files: vtkHierarchicalBoxDataSet for AMR)
-    VtkXmlTag top = vtk_xml_find_tag(doc, F.type, file_tag.end, doc.size(), path);
-    std::string top_name = F.type;
+    VtkXmlElement top = file_tag.child(F.type.c_str());
     if (!top.found() && amr)
         for (const char* n : {"vtkOverlappingAMR", "vtkHierarchicalBoxDataSet", "vtkUniformGridAMR"})
-            if (!top.found()) top = vtk_xml_find_tag(doc, n, file_tag.end, doc.size(), path), top_name = n;
+            if (!top.found()) top = file_tag.child(n);
     if (!top.found()) throw FormatError(path + ": missing <" + esc(F.type) + "> element");
-    std::size_t close = top.end;
-    if (!top.self_closing) {
-        close = doc.find("</" + top_name + ">", top.end);
-        if (close == std::string_view::npos) throw FormatError(path + ": unterminated <" + top_name + ">");
-    }
-    return amr ? read_amr(path, doc, file_tag, top, close, o, details) : read_plain(path, doc, top, close, o, details);
+    return amr ? read_amr(path, file_tag, top, o, details) : read_plain(path, top, o, details);
 }
 
 }  // namespace meshless

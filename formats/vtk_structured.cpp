@@ -18,11 +18,11 @@ std::string esc(const std::string& s) { return ply_escape(s, 96); }
 bool mul_ok(std::uint64_t a, std::uint64_t b, std::uint64_t& out) { return !__builtin_mul_overflow(a, b, &out); }
 
 struct Cand {
-    VtkXmlTag tag;
+    VtkXmlElement tag;
     VtkArrayDesc desc;
 };
 
-int components_of(const VtkXmlTag& a, const std::string& path) {
+int components_of(const VtkXmlElement& a, const std::string& path) {
     const std::string c = a.attr("NumberOfComponents", "1");
     int n = 0;
     auto r = std::from_chars(c.data(), c.data() + c.size(), n);
@@ -32,20 +32,14 @@ int components_of(const VtkXmlTag& a, const std::string& path) {
 }
 
 // The DataArrays of a <PointData>/<CellData> section of the piece (none when absent).
-std::vector<Cand> section_arrays(std::string_view doc, const char* section, std::size_t from, std::size_t limit,
-                                 bool cell, const std::string& path, std::string& scalars) {
+std::vector<Cand> section_arrays(const VtkXmlElement& piece, const char* section, bool cell, const std::string& path,
+                                 std::string& scalars) {
     std::vector<Cand> out;
-    const VtkXmlTag s = vtk_xml_find_tag(doc, section, from, limit, path);
+    const VtkXmlElement s = piece.child(section);
     if (!s.found()) return out;
     scalars = s.attr("Scalars");
-    if (s.self_closing) return out;
-    const std::size_t close = doc.find(std::string("</") + section + ">", s.end);
-    if (close == std::string_view::npos || close > limit) throw FormatError(path + ": unterminated <" + section + ">");
-    for (std::size_t f = s.end;;) {
-        const VtkXmlTag a = vtk_xml_find_tag(doc, "DataArray", f, close, path);
-        if (!a.found()) break;
+    for (const VtkXmlElement& a : s.children("DataArray")) {
         out.push_back(Cand{a, VtkArrayDesc{a.attr("Name"), components_of(a, path), cell}});
-        f = a.end;
         if (out.size() > 100000) throw FormatError(path + ": more than 100000 arrays in <" + section + ">");
     }
     return out;
@@ -83,7 +77,7 @@ const Cand& choose(const std::vector<Cand>& all, const std::string& pd_scalars, 
 }
 
 // Refuses an array whose payload cannot fit the file before it is decoded (and allocated).
-void check_fits(const VtkXmlTag& a, std::uint64_t count, const VtkXmlFile& F, std::size_t file_bytes,
+void check_fits(const VtkXmlElement& a, std::uint64_t count, const VtkXmlFile& F, std::size_t file_bytes,
                 const std::string& path, const std::string& what) {
     const std::string t = a.attr("type");
     const auto st = vtk_xml_type(t);
@@ -119,18 +113,16 @@ std::string describe_arrays(const std::vector<VtkArrayDesc>& arrays, bool scalar
 VtkStructuredFile read_vtk_structured(const std::string& path, const PointSetOptions& o) {
     const auto bytes = read_file_bytes(path);
     if (bytes.empty()) throw FormatError(path + ": empty file");
-    const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    const VtkXmlFile F = vtk_xml_file(doc, path);
+    const VtkXmlDocument X(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
+    const VtkXmlFile& F = X.file();
     VtkStructuredFile out;
     out.type = F.type;
     const bool image = F.type == "ImageData", curvilinear = F.type == "StructuredGrid", rectilinear = F.type == "RectilinearGrid";
     if (!image && !curvilinear && !rectilinear)
         throw FormatError(path + ": VTK XML type '" + esc(F.type) +
                           "' is not a structured grid (ImageData, StructuredGrid, RectilinearGrid)");
-    const VtkXmlTag top = vtk_xml_find_tag(doc, F.type, 0, doc.size(), path);
+    const VtkXmlElement top = X.root().child(F.type.c_str());
     if (!top.found()) throw FormatError(path + ": missing <" + F.type + ">");
-    const std::size_t top_close = doc.find("</" + F.type + ">", top.end);
-    if (top_close == std::string_view::npos) throw FormatError(path + ": unterminated <" + F.type + ">");
     std::array<double, 3> origin{0, 0, 0}, spacing{1, 1, 1};
     std::array<double, 9> dir{1, 0, 0, 0, 1, 0, 0, 0, 1};
     bool axis_aligned = true;
@@ -143,7 +135,7 @@ VtkStructuredFile read_vtk_structured(const std::string& path, const PointSetOpt
                 throw FormatError(path + ": bad Spacing '" + esc(top.attr("Spacing")) + "': zero or non-finite");
             origin[a] = org[a], spacing[a] = sp[a];
         }
-        if (top.attrs.count("Direction")) {
+        if (top.has_attr("Direction")) {
             const auto d = vtk_xml_numbers<double>(top.attr("Direction"), 9, path, "Direction");
             for (int i = 0; i < 9; ++i) {
                 if (!std::isfinite(d[i])) throw FormatError(path + ": non-finite Direction");
@@ -156,14 +148,9 @@ VtkStructuredFile read_vtk_structured(const std::string& path, const PointSetOpt
     std::string value_name;
     bool value_cell = false;
     int piece_no = 0;
-    for (std::size_t from = top.end;;) {
-        const VtkXmlTag piece = vtk_xml_find_tag(doc, "Piece", from, top_close, path);
-        if (!piece.found()) break;
+    for (const VtkXmlElement& piece : top.children("Piece")) {
         const std::string where = "piece " + std::to_string(piece_no);
-        if (piece.self_closing) throw FormatError(path + ": " + where + " is empty");
-        const std::size_t piece_close = doc.find("</Piece>", piece.end);
-        if (piece_close == std::string_view::npos || piece_close > top_close) throw FormatError(path + ": unterminated <Piece>");
-        from = piece_close;
+        if (piece.empty()) throw FormatError(path + ": " + where + " is empty");
         VtkStructuredPiece P;
         const std::string ext_text = piece.attr("Extent", top.attr("WholeExtent"));
         const auto ext = vtk_xml_numbers<std::int64_t>(ext_text, 6, path, where + " Extent");
@@ -182,8 +169,8 @@ VtkStructuredFile read_vtk_structured(const std::string& path, const PointSetOpt
         }
         // the scalar
         std::string pd_scalars, cd_scalars;
-        std::vector<Cand> all = section_arrays(doc, "PointData", piece.end, piece_close, false, path, pd_scalars);
-        for (auto& c : section_arrays(doc, "CellData", piece.end, piece_close, true, path, cd_scalars)) all.push_back(std::move(c));
+        std::vector<Cand> all = section_arrays(piece, "PointData", false, path, pd_scalars);
+        for (auto& c : section_arrays(piece, "CellData", true, path, cd_scalars)) all.push_back(std::move(c));
         const Cand& chosen = choose(all, pd_scalars, cd_scalars, o, path + ": " + where);
         const bool cell = chosen.desc.cell;
         if (piece_no == 0) {
@@ -195,38 +182,38 @@ VtkStructuredFile read_vtk_structured(const std::string& path, const PointSetOpt
         }
         const std::uint64_t count = cell ? ncells : npoints;
         check_fits(chosen.tag, count, F, bytes.size(), path, where);
-        const std::vector<double> vals = vtk_xml_read_array(doc, F, chosen.tag, count, path);
+        const std::vector<double> vals = vtk_xml_read_array(X, chosen.tag, count, path);
         std::vector<double> ghost;
         for (const auto& c : all)
             if (c.desc.name == "vtkGhostType" && c.desc.cell == cell && c.desc.components == 1) {
                 check_fits(c.tag, count, F, bytes.size(), path, where);
-                ghost = vtk_xml_read_array(doc, F, c.tag, count, path);
+                ghost = vtk_xml_read_array(X, c.tag, count, path);
             }
         // the point positions
         std::vector<double> xyz;
         std::array<std::vector<double>, 3> coord;
         if (curvilinear) {
-            const VtkXmlTag pts = vtk_xml_find_tag(doc, "Points", piece.end, piece_close, path);
-            if (!pts.found() || pts.self_closing) throw FormatError(path + ": " + where + " has no <Points>");
-            const VtkXmlTag parr = vtk_xml_find_tag(doc, "DataArray", pts.end, piece_close, path);
+            const VtkXmlElement pts = piece.child("Points");
+            if (!pts.found() || pts.empty()) throw FormatError(path + ": " + where + " has no <Points>");
+            const VtkXmlElement parr = pts.child("DataArray");
             if (!parr.found()) throw FormatError(path + ": " + where + ": <Points> without a DataArray");
             if (components_of(parr, path) != 3)
                 throw FormatError(path + ": " + where + ": <Points> DataArray has " + esc(parr.attr("NumberOfComponents", "1")) +
                                   " components, expected 3");
             check_fits(parr, 3 * npoints, F, bytes.size(), path, where + " Points");
-            xyz = vtk_xml_read_array(doc, F, parr, 3 * npoints, path);
+            xyz = vtk_xml_read_array(X, parr, 3 * npoints, path);
         } else if (rectilinear) {
-            const VtkXmlTag cs = vtk_xml_find_tag(doc, "Coordinates", piece.end, piece_close, path);
-            if (!cs.found() || cs.self_closing) throw FormatError(path + ": " + where + " has no <Coordinates>");
-            std::size_t f = cs.end;
+            const VtkXmlElement cs = piece.child("Coordinates");
+            if (!cs.found() || cs.empty()) throw FormatError(path + ": " + where + " has no <Coordinates>");
+            const std::vector<VtkXmlElement> cas = cs.children("DataArray");
             for (int a = 0; a < 3; ++a) {
-                const VtkXmlTag ca = vtk_xml_find_tag(doc, "DataArray", f, piece_close, path);
-                if (!ca.found()) throw FormatError(path + ": " + where + ": <Coordinates> needs 3 DataArrays, found " + std::to_string(a));
+                if (static_cast<std::size_t>(a) >= cas.size())
+                    throw FormatError(path + ": " + where + ": <Coordinates> needs 3 DataArrays, found " + std::to_string(a));
+                const VtkXmlElement& ca = cas[static_cast<std::size_t>(a)];
                 if (components_of(ca, path) != 1)
                     throw FormatError(path + ": " + where + ": <Coordinates> DataArray " + std::to_string(a) + " has several components");
                 check_fits(ca, static_cast<std::uint64_t>(dims[a]), F, bytes.size(), path, where + " Coordinates");
-                coord[a] = vtk_xml_read_array(doc, F, ca, static_cast<std::uint64_t>(dims[a]), path);
-                f = ca.end;
+                coord[a] = vtk_xml_read_array(X, ca, static_cast<std::uint64_t>(dims[a]), path);
             }
         } else {
             P.origin = origin, P.spacing = spacing, P.axis_aligned = axis_aligned;

@@ -1,8 +1,11 @@
 #include "formats/vtk_xml.hpp"
 
-#include <cctype>
+#include <pugixml.hpp>
+
+#include <algorithm>
 #include <charconv>
 #include <cstring>
+#include <map>
 
 #include "formats/base64.hpp"
 #include "formats/gzip.hpp"
@@ -13,48 +16,109 @@
 
 namespace meshless {
 
-VtkXmlTag vtk_xml_find_tag(std::string_view doc, std::string_view name, std::size_t from, std::size_t limit,
-                           const std::string& path) {
-    VtkXmlTag t;
-    std::size_t p = from;
-    for (;;) {
-        p = doc.find(name, p);
-        if (p == std::string_view::npos || p >= limit) return t;
-        if (p > 0 && doc[p - 1] == '<' && p + name.size() < doc.size() &&
-            (std::isspace(static_cast<unsigned char>(doc[p + name.size()])) || doc[p + name.size()] == '>' ||
-             doc[p + name.size()] == '/'))
-            break;
-        p += name.size();
+std::string VtkXmlElement::name() const { return pugi::xml_node(node_).name(); }
+
+std::string VtkXmlElement::attr(const char* k, const std::string& def) const {
+    const pugi::xml_attribute a = pugi::xml_node(node_).attribute(k);
+    return a ? std::string(a.value()) : def;
+}
+
+bool VtkXmlElement::has_attr(const char* k) const { return static_cast<bool>(pugi::xml_node(node_).attribute(k)); }
+
+VtkXmlElement VtkXmlElement::child(const char* name) const {
+    return VtkXmlElement(pugi::xml_node(node_).child(name).internal_object());
+}
+
+std::vector<VtkXmlElement> VtkXmlElement::children(const char* name) const {
+    std::vector<VtkXmlElement> out;
+    for (const pugi::xml_node c : pugi::xml_node(node_).children(name)) out.push_back(VtkXmlElement(c.internal_object()));
+    return out;
+}
+
+std::vector<VtkXmlElement> VtkXmlElement::descendants(const char* name) const {
+    std::vector<VtkXmlElement> out;
+    const pugi::xml_node top(node_);
+    pugi::xml_node n = top.first_child();
+    while (n && n != top) {  // pre-order walk without recursion (the nesting depth is the file's choice)
+        if (n.type() == pugi::node_element && std::strcmp(n.name(), name) == 0) out.push_back(VtkXmlElement(n.internal_object()));
+        if (n.first_child()) {
+            n = n.first_child();
+            continue;
+        }
+        while (n != top && !n.next_sibling()) n = n.parent();
+        if (n != top) n = n.next_sibling();
     }
-    t.begin = p - 1;
-    std::size_t i = p + name.size();
-    for (;;) {
-        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
-        if (i >= doc.size()) throw FormatError(path + ": unterminated <" + std::string(name) + "> tag");
-        if (doc[i] == '>') {
-            t.end = i + 1;
-            return t;
-        }
-        if (doc[i] == '/' && i + 1 < doc.size() && doc[i + 1] == '>') {
-            t.self_closing = true;
-            t.end = i + 2;
-            return t;
-        }
-        const std::size_t ks = i;
-        while (i < doc.size() && doc[i] != '=' && doc[i] != '>' && !std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
-        std::string key(doc.substr(ks, i - ks));
-        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
-        if (i >= doc.size() || doc[i] != '=') throw FormatError(path + ": bad attribute '" + ply_escape(key) + "' in <" + std::string(name) + ">");
-        ++i;
-        while (i < doc.size() && std::isspace(static_cast<unsigned char>(doc[i]))) ++i;
-        if (i >= doc.size() || (doc[i] != '"' && doc[i] != '\''))
-            throw FormatError(path + ": unquoted attribute '" + ply_escape(key) + "' in <" + std::string(name) + ">");
-        const char q = doc[i++];
-        const std::size_t vs = i;
-        const std::size_t ve = doc.find(q, vs);
-        if (ve == std::string_view::npos) throw FormatError(path + ": unterminated attribute '" + ply_escape(key) + "'");
-        t.attrs[key] = std::string(doc.substr(vs, ve - vs));
-        i = ve + 1;
+    return out;
+}
+
+std::string_view VtkXmlElement::text() const { return pugi::xml_node(node_).child_value(); }
+
+bool VtkXmlElement::empty() const { return !pugi::xml_node(node_).first_child(); }
+
+struct VtkXmlDocument::Impl {
+    pugi::xml_document xml;
+    std::string_view bytes;
+    VtkXmlFile file;
+    pugi::xml_node root;
+};
+
+VtkXmlDocument::~VtkXmlDocument() = default;
+VtkXmlDocument::VtkXmlDocument(VtkXmlDocument&&) noexcept = default;
+VtkXmlDocument& VtkXmlDocument::operator=(VtkXmlDocument&&) noexcept = default;
+const VtkXmlFile& VtkXmlDocument::file() const { return impl_->file; }
+VtkXmlElement VtkXmlDocument::root() const { return VtkXmlElement(impl_->root.internal_object()); }
+std::string_view VtkXmlDocument::bytes() const { return impl_->bytes; }
+
+VtkXmlDocument::VtkXmlDocument(std::string_view doc, const std::string& path) : impl_(std::make_unique<Impl>()) {
+    impl_->bytes = doc;
+    if (doc.find("<VTKFile") == std::string_view::npos)
+        throw FormatError(path + ": not a VTK XML file (no <VTKFile> element)");
+    // the markup ends at <AppendedData>'s '_' marker: the binary after it is not XML
+    std::size_t cut = doc.size();
+    if (const std::size_t app = doc.find("<AppendedData"); app != std::string_view::npos)
+        if (const std::size_t gt = doc.find('>', app); gt != std::string_view::npos)
+            if (const std::size_t us = doc.find('_', gt); us != std::string_view::npos) cut = us;
+    const pugi::xml_parse_result r =
+        impl_->xml.load_buffer(doc.data(), cut, pugi::parse_default, pugi::encoding_utf8);
+    // cut at the marker, the elements around the appended data are closed only after it
+    // (pugixml reports the mismatch at the last byte it was given)
+    const bool open_at_cut = r.status == pugi::status_end_element_mismatch && cut < doc.size() &&
+                             static_cast<std::size_t>(r.offset) + 1 >= cut;
+    if (!r && !open_at_cut) {
+        const std::size_t at = std::min(static_cast<std::size_t>(r.offset), doc.size());
+        throw FormatError(path + ": malformed XML at offset " + std::to_string(at) + " (" + r.description() + ") near '" +
+                          ply_escape(doc.substr(at, 24), 24) + "'");
+    }
+    impl_->root = impl_->xml.document_element();
+    if (std::string_view(impl_->root.name()) != "VTKFile")
+        throw FormatError(path + ": not a VTK XML file (no <VTKFile> element)");
+    const VtkXmlElement file = root();
+    VtkXmlFile& f = impl_->file;
+    f.type = file.attr("type");
+    const std::string bo = file.attr("byte_order", "LittleEndian");
+    if (bo == "BigEndian")
+        f.big_endian = true;
+    else if (bo != "LittleEndian")
+        throw FormatError(path + ": bad byte_order '" + ply_escape(bo) + "' in <VTKFile>");
+    const std::string ht = file.attr("header_type", "UInt32");
+    if (ht == "UInt64")
+        f.header64 = true;
+    else if (ht != "UInt32")
+        throw FormatError(path + ": unsupported header_type '" + ply_escape(ht) + "' in <VTKFile>");
+    const std::string comp = file.attr("compressor");
+    if (comp == "vtkZLibDataCompressor")
+        f.compressed = true;
+    else if (!comp.empty())
+        throw FormatError(path + ": unsupported compressor '" + ply_escape(comp) + "' (vtkZLibDataCompressor supported)");
+    const VtkXmlElement app = file.child("AppendedData");
+    if (app.found()) {
+        const std::string enc = app.attr("encoding", "raw");
+        if (enc == "base64")
+            f.appended_base64 = true;
+        else if (enc != "raw")
+            throw FormatError(path + ": unsupported AppendedData encoding '" + ply_escape(enc) + "'");
+        if (cut == doc.size()) throw FormatError(path + ": <AppendedData> without the '_' marker");
+        f.appended_begin = cut + 1;
     }
 }
 
@@ -67,44 +131,6 @@ std::optional<StoredType> vtk_xml_type(const std::string& t) {
     const auto it = m.find(t);
     if (it == m.end()) return std::nullopt;
     return it->second;
-}
-
-VtkXmlFile vtk_xml_file(std::string_view doc, const std::string& path, bool find_appended) {
-    if (doc.find("<VTKFile") == std::string_view::npos)
-        throw FormatError(path + ": not a VTK XML file (no <VTKFile> element)");
-    const VtkXmlTag file = vtk_xml_find_tag(doc, "VTKFile", 0, doc.size(), path);
-    if (!file.found()) throw FormatError(path + ": not a VTK XML file (no <VTKFile> element)");
-    VtkXmlFile f;
-    f.type = file.attr("type");
-    const std::string bo = file.attr("byte_order", "LittleEndian");
-    if (bo == "BigEndian")
-        f.big_endian = true;
-    else if (bo != "LittleEndian")
-        throw FormatError(path + ": bad byte_order '" + ply_escape(bo) + "'");
-    const std::string ht = file.attr("header_type", "UInt32");
-    if (ht == "UInt64")
-        f.header64 = true;
-    else if (ht != "UInt32")
-        throw FormatError(path + ": unsupported header_type '" + ply_escape(ht) + "'");
-    const std::string comp = file.attr("compressor");
-    if (comp == "vtkZLibDataCompressor")
-        f.compressed = true;
-    else if (!comp.empty())
-        throw FormatError(path + ": unsupported compressor '" + ply_escape(comp) + "' (vtkZLibDataCompressor supported)");
-    if (find_appended) {
-        const VtkXmlTag app = vtk_xml_find_tag(doc, "AppendedData", file.end, doc.size(), path);
-        if (app.found()) {
-            const std::string enc = app.attr("encoding", "raw");
-            if (enc == "base64")
-                f.appended_base64 = true;
-            else if (enc != "raw")
-                throw FormatError(path + ": unsupported AppendedData encoding '" + ply_escape(enc) + "'");
-            const std::size_t us = doc.find('_', app.end);
-            if (us == std::string_view::npos) throw FormatError(path + ": <AppendedData> without the '_' marker");
-            f.appended_begin = us + 1;
-        }
-    }
-    return f;
 }
 
 namespace {
@@ -222,8 +248,10 @@ void vtk_xml_prove_binary(const std::byte* bin, std::size_t n, const VtkXmlFile&
     inflate_blocks(bin, f, L, path, [&](std::uint64_t) { return scratch.data(); });
 }
 
-std::vector<double> vtk_xml_read_array(std::string_view doc, const VtkXmlFile& f, const VtkXmlTag& a,
-                                       std::uint64_t count, const std::string& path) {
+std::vector<double> vtk_xml_read_array(const VtkXmlDocument& d, const VtkXmlElement& a, std::uint64_t count,
+                                       const std::string& path) {
+    const VtkXmlFile& f = d.file();
+    const std::string_view doc = d.bytes();
     const std::string name = ply_escape(a.attr("Name", "(unnamed)"));
     const std::string tname = a.attr("type");
     const auto st = vtk_xml_type(tname);
@@ -234,11 +262,9 @@ std::vector<double> vtk_xml_read_array(std::string_view doc, const VtkXmlFile& f
     const std::string what = "DataArray '" + name + "' (" + std::to_string(count) + " " + to_string(*st) + ")";
     std::vector<std::byte> payload;
     if (format == "ascii" || format == "binary") {
-        if (a.self_closing) throw FormatError(path + ": empty DataArray '" + name + "'");
-        // the content ends at the next tag: </DataArray>, or nested <InformationKey> elements
-        const std::size_t ce = doc.find('<', a.end);
-        if (ce == std::string_view::npos) throw FormatError(path + ": unterminated <DataArray> '" + name + "'");
-        const std::string_view text = doc.substr(a.end, ce - a.end);
+        if (a.empty()) throw FormatError(path + ": empty DataArray '" + name + "'");
+        // the content ends at the first child element (VTK writes nested <InformationKey> elements)
+        const std::string_view text = a.text();
         if (format == "ascii") {
             const auto toks = split_ws(text);
             if (toks.size() != count)

@@ -1,17 +1,21 @@
-// Shared machinery of the VTK XML readers (.vti ImageData, .vtp PolyData, .vts StructuredGrid):
-// a minimal tag/attribute scanner and the DataArray payload decoder.
+// Shared machinery of the VTK XML readers (.vti ImageData, .vtp PolyData, .vts StructuredGrid,
+// .vtm/.vthb collections): the document's element structure, parsed by pugixml (kept inside
+// vtk_xml.cpp, so this header stays light), and the DataArray payload decoder.
 //
-// Data formats: ascii, binary (inline base64) and appended (raw or base64); compressor
-// vtkZLibDataCompressor or none; header_type UInt32 (default) or UInt64; byte_order
-// LittleEndian or BigEndian (headers and data). Compressed layout: header [nblocks, blocksize,
-// last_blocksize, csize_0..csize_{n-1}], then the zlib blocks.
-// Units: byte offsets in the document. Throws FormatError naming `path` (unterminated tags, bad
-// attributes, truncated or corrupt payloads, size mismatches). Thread-safety: pure, reentrant.
+// Only the markup is parsed: a file with <AppendedData> is cut at its '_' marker, and the binary
+// after it (often hundreds of MB) is never given to the XML parser; appended arrays are decoded
+// from the file's bytes at their offsets. Data formats: ascii, binary (inline base64) and appended
+// (raw or base64); compressor vtkZLibDataCompressor or none; header_type UInt32 (default) or
+// UInt64; byte_order LittleEndian or BigEndian (headers and data). Compressed layout: header
+// [nblocks, blocksize, last_blocksize, csize_0..csize_{n-1}], then the zlib blocks.
+// Units: byte offsets in the file. Throws FormatError naming `path` (malformed XML with its offset
+// and the bytes there escaped, bad attributes naming the element, truncated or corrupt payloads,
+// size mismatches). Thread-safety: a parsed document is read-only; distinct documents are independent.
 // Dissertation: input plumbing (chapter 3 volumes, chapters 4-5 scattered and multiblock data).
 #pragma once
 #include <cstddef>
 #include <cstdint>
-#include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -19,23 +23,39 @@
 
 #include "formats/stored_type.hpp"
 
+namespace pugi {
+struct xml_node_struct;
+}
+
 namespace meshless {
 
-struct VtkXmlTag {
-    std::size_t begin = std::string::npos;  ///< offset of '<' (npos: not found)
-    std::size_t end = 0;                    ///< offset after '>'
-    std::map<std::string, std::string> attrs;
-    bool self_closing = false;
-    bool found() const { return begin != std::string::npos; }
-    std::string attr(const char* k, const std::string& def = "") const {
-        const auto it = attrs.find(k);
-        return it == attrs.end() ? def : it->second;
-    }
-};
+/// An element of a parsed VTK XML document: a handle, valid while its VtkXmlDocument lives.
+/// A default (not found) element has no attributes and no children.
+class VtkXmlElement {
+public:
+    VtkXmlElement() = default;
+    bool found() const { return node_ != nullptr; }
+    std::string name() const;
+    /// The attribute's value (entities decoded), or `def` when absent.
+    std::string attr(const char* k, const std::string& def = "") const;
+    bool has_attr(const char* k) const;
+    /// The first child element called `name` (not found when there is none).
+    VtkXmlElement child(const char* name) const;
+    /// Every child element called `name`, in document order.
+    std::vector<VtkXmlElement> children(const char* name) const;
+    /// Every element called `name` below this one at any depth, in document order.
+    std::vector<VtkXmlElement> descendants(const char* name) const;
+    /// The character data before the first child element (inline DataArray content).
+    std::string_view text() const;
+    /// True when the element holds neither elements nor text (`<X/>` or `<X></X>`).
+    bool empty() const;
+    bool operator==(const VtkXmlElement& o) const { return node_ == o.node_; }
 
-/// Finds the next <name ...> at or after `from` (before `limit`) and parses its attributes.
-VtkXmlTag vtk_xml_find_tag(std::string_view doc, std::string_view name, std::size_t from, std::size_t limit,
-                           const std::string& path);
+private:
+    friend class VtkXmlDocument;
+    explicit VtkXmlElement(pugi::xml_node_struct* n) : node_(n) {}
+    pugi::xml_node_struct* node_ = nullptr;
+};
 
 /// VTK XML type name ("Float32", "UInt8", "Char", ...) -> stored type; nullopt if unknown.
 std::optional<StoredType> vtk_xml_type(const std::string& t);
@@ -51,9 +71,28 @@ struct VtkXmlFile {
     bool appended_base64 = false;
 };
 
-/// Parses <VTKFile> (and locates <AppendedData> when `find_appended`). FormatError when the
-/// document has no <VTKFile>, or an unsupported byte_order/header_type/compressor/encoding.
-VtkXmlFile vtk_xml_file(std::string_view doc, const std::string& path, bool find_appended = true);
+/// A VTK XML file's markup, parsed. `bytes` is the whole file (or a prefix of it, for probing) and
+/// must outlive the document: appended arrays are read from it.
+class VtkXmlDocument {
+public:
+    /// FormatError when the bytes hold no <VTKFile> root element, the markup is malformed, or
+    /// <VTKFile> has an unsupported byte_order/header_type/compressor or <AppendedData> an
+    /// unsupported encoding or no '_' marker.
+    VtkXmlDocument(std::string_view bytes, const std::string& path);
+    ~VtkXmlDocument();
+    VtkXmlDocument(VtkXmlDocument&&) noexcept;
+    VtkXmlDocument& operator=(VtkXmlDocument&&) noexcept;
+
+    const VtkXmlFile& file() const;
+    /// <VTKFile>.
+    VtkXmlElement root() const;
+    /// The file's bytes.
+    std::string_view bytes() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 /// Decodes [header][data] laid out in `bin` (raw bytes) into `expected` payload bytes (file byte
 /// order). `what` names the array in messages (e.g. "64x64x64 float32").
@@ -64,10 +103,10 @@ std::vector<std::byte> vtk_xml_decode_binary(const std::byte* bin, std::size_t n
 void vtk_xml_prove_binary(const std::byte* bin, std::size_t n, const VtkXmlFile& f, std::uint64_t expected,
                           const std::string& path, const std::string& what);
 
-/// The payload of one DataArray (any format) as `count` values of its stored type, converted to
-/// double. `doc` is the whole file. FormatError on unsupported formats or size mismatches.
-std::vector<double> vtk_xml_read_array(std::string_view doc, const VtkXmlFile& f, const VtkXmlTag& array,
-                                       std::uint64_t count, const std::string& path);
+/// The payload of one DataArray element of `d` (any format) as `count` values of its stored
+/// type, converted to double. FormatError on unsupported formats or size mismatches.
+std::vector<double> vtk_xml_read_array(const VtkXmlDocument& d, const VtkXmlElement& array, std::uint64_t count,
+                                       const std::string& path);
 
 /// The numbers of an attribute value `text` (separated by spaces, tabs, newlines or commas), exactly
 /// n of them. T: double or std::int64_t. FormatError "path: bad <what> '<text>'" (escaped) on a

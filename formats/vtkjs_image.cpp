@@ -6,7 +6,7 @@
 
 #include "formats/binary_file.hpp"
 #include "formats/gzip.hpp"
-#include "formats/json_lite.hpp"
+#include "formats/json.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"

@@ -18,7 +18,8 @@ JOBS="${JOBS:-$(nproc)}"
 
 PACKAGES=(build-essential cmake ninja-build pkg-config git
           libeigen3-dev libnanoflann-dev libboost-iostreams-dev libzstd-dev libcgal-dev
-          catch2 libtbb-dev libpng-dev zlib1g-dev libcli11-dev
+          catch2 libtbb-dev libpng-dev zlib1g-dev libcli11-dev libdeflate-dev
+          libpugixml-dev libsimdjson-dev
           libopenmpi-dev openmpi-bin)
 # the benchmarks' baselines (bench/flying_edges.py, bench/rbf_reference.py) and /usr/bin/time
 BENCH_PACKAGES=(python3-vtk9 python3-scipy time)

@@ -155,7 +155,7 @@ TEST_CASE("bad volumes: wrong magic, versions, encodings, types, garbage headers
         {"notxml.vti", "\x89PNG garbage", "no <VTKFile>"},
         {"poly.vti", "<VTKFile type=\"PolyData\"></VTKFile>", "unsupported VTK XML type 'PolyData'"},
         {"lz4.vti", "<VTKFile type=\"ImageData\" compressor=\"vtkLZ4DataCompressor\"></VTKFile>", "unsupported compressor"},
-        {"bad.json", "{\"vtkClass\": \"vtkImageData\", \"extent\": [0, 1,, 2]}", "bad JSON at offset"},
+        {"bad.json", "{\"vtkClass\": \"vtkImageData\", \"extent\": [0, 1,, 2]}", "bad JSON: The JSON document has an improper structure"},
         {"poly.json", "{\"vtkClass\": \"vtkPolyData\"}", "unsupported vtkClass"},
         {"fmt.dat", "ObjectFileName: x.raw\nResolution: 4 4 4\nFormat: BOGUS\n", "unknown Format 'BOGUS'"},
         {"nores.dat", "ObjectFileName: x.raw\nFormat: UCHAR\n", "missing Resolution"},

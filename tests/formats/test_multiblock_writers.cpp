@@ -120,10 +120,12 @@ TEST_CASE("vthb writer: the index names levels, spacings and boxes, the pieces h
     const std::string doc = slurp(out);
     const std::string path = out.string();
     CHECK(doc.find("type=\"vtkOverlappingAMR\" version=\"1.1\"") != std::string::npos);
-    std::size_t at = 0, piece = 0;
+    const VtkXmlDocument X(doc, path);
+    const std::vector<VtkXmlElement> blocks = X.root().child("vtkOverlappingAMR").children("Block");
+    REQUIRE(blocks.size() >= 3);
+    std::size_t piece = 0;
     for (int level = 0; level < 3; ++level) {
-        const VtkXmlTag blk = vtk_xml_find_tag(doc, "Block", at, doc.size(), path);
-        REQUIRE(blk.found());
+        const VtkXmlElement blk = blocks[static_cast<std::size_t>(level)];
         CHECK(blk.attr("level") == std::to_string(level));
         const auto s = h.spacing(level);
         double sx, sy, sz;
@@ -131,12 +133,12 @@ TEST_CASE("vthb writer: the index names levels, spacings and boxes, the pieces h
         CHECK(sx == s[0]);
         CHECK(sy == s[1]);
         CHECK(sz == s[2]);
-        at = blk.end;
+        const std::vector<VtkXmlElement> sets = blk.children("DataSet");
+        std::size_t next = 0;
         for (const AmrBox& b : h.boxes) {
             if (b.level != level) continue;
-            const VtkXmlTag ds = vtk_xml_find_tag(doc, "DataSet", at, doc.size(), path);
-            REQUIRE(ds.found());
-            at = ds.end;
+            REQUIRE(next < sets.size());
+            const VtkXmlElement ds = sets[next++];
             long long box[6];
             REQUIRE(std::sscanf(ds.attr("amr_box").c_str(), "%lld %lld %lld %lld %lld %lld", &box[0], &box[1], &box[2],
                                 &box[3], &box[4], &box[5]) == 6);
@@ -148,18 +150,19 @@ TEST_CASE("vthb writer: the index names levels, spacings and boxes, the pieces h
             CHECK(vti == fs::path(pieces[piece++]));
             // the piece: extent lo..hi+1, the cell array equal to the box's values
             const std::string pd = slurp(vti);
-            const VtkXmlFile f = vtk_xml_file(pd, vti.string());
-            CHECK(f.type == "ImageData");
-            const VtkXmlTag pc = vtk_xml_find_tag(pd, "Piece", 0, pd.size(), vti.string());
+            const VtkXmlDocument P(pd, vti.string());
+            CHECK(P.file().type == "ImageData");
+            const VtkXmlElement pc = P.root().child("ImageData").child("Piece");
             CHECK(pc.attr("Extent") == std::to_string(b.lo[0]) + " " + std::to_string(b.hi[0] + 1) + " " +
                                            std::to_string(b.lo[1]) + " " + std::to_string(b.hi[1] + 1) + " " +
                                            std::to_string(b.lo[2]) + " " + std::to_string(b.hi[2] + 1));
-            const VtkXmlTag cd = vtk_xml_find_tag(pd, "CellData", 0, pd.size(), vti.string());
+            const VtkXmlElement cd = pc.child("CellData");
             CHECK(cd.attr("Scalars") == "phi");
-            const VtkXmlTag arr = vtk_xml_find_tag(pd, "DataArray", cd.end, pd.size(), vti.string());
-            const auto values = vtk_xml_read_array(pd, f, arr, b.value.size(), vti.string());
+            const VtkXmlElement arr = cd.child("DataArray");
+            const auto values = vtk_xml_read_array(P, arr, b.value.size(), vti.string());
             REQUIRE(values == b.value);
         }
+        CHECK(next == sets.size());
     }
     CHECK(no_temporaries(dir.path));
 }

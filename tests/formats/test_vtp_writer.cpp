@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -47,16 +48,14 @@ PointRecord point(std::uint64_t i) {
 
 /// Every array of a written file, read back with the project's VTK XML reader.
 struct Parsed {
-    std::string doc;
+    std::unique_ptr<const std::string> bytes;  // the document reads appended arrays from them
+    std::unique_ptr<const VtkXmlDocument> x;
+    std::string_view doc;
     VtkXmlFile f;
     std::uint64_t points = 0, verts = 0, polys = 0;
     std::vector<double> array(const std::string& name, std::uint64_t count) const {
-        for (std::size_t from = 0;;) {
-            const VtkXmlTag t = vtk_xml_find_tag(doc, "DataArray", from, doc.size(), "t.vtp");
-            if (!t.found()) break;
-            if (t.attr("Name") == name) return vtk_xml_read_array(doc, f, t, count, "t.vtp");
-            from = t.end;
-        }
+        for (const VtkXmlElement& t : x->root().descendants("DataArray"))
+            if (t.attr("Name") == name) return vtk_xml_read_array(*x, t, count, "t.vtp");
         FAIL("no array " << name);
         return {};
     }
@@ -65,11 +64,13 @@ struct Parsed {
 
 Parsed parse(const fs::path& p) {
     Parsed r;
-    r.doc = slurp(p);
-    r.f = vtk_xml_file(r.doc, p.string());
+    r.bytes = std::make_unique<const std::string>(slurp(p));
+    r.doc = *r.bytes;
+    r.x = std::make_unique<const VtkXmlDocument>(r.doc, p.string());
+    r.f = r.x->file();
     REQUIRE(r.f.type == "PolyData");
     REQUIRE(r.f.header64);
-    const VtkXmlTag piece = vtk_xml_find_tag(r.doc, "Piece", 0, r.doc.size(), p.string());
+    const VtkXmlElement piece = r.x->root().child("PolyData").child("Piece");
     REQUIRE(piece.found());
     r.points = std::stoull(piece.attr("NumberOfPoints"));
     r.verts = std::stoull(piece.attr("NumberOfVerts"));
@@ -139,7 +140,7 @@ TEST_CASE("vtp points: every array round trips, compressed or not, across many b
             }
             // the attributes ParaView picks up, the comment made legal XML
             CHECK(P.doc.find("<PointData Normals=\"Normals\" Scalars=\"value\">") != std::string::npos);
-            const std::string head = P.doc.substr(0, P.doc.find("<VTKFile"));
+            const std::string head(P.doc.substr(0, P.doc.find("<VTKFile")));
             CHECK(head.find("has -\\x2d dashes, <tags> & a \\xff byte- ") != std::string::npos);
             for (std::size_t c = head.find("<!--"); c != std::string::npos; c = head.find("<!--", c + 4)) {
                 const std::size_t e = head.find("-->", c + 4);

@@ -77,6 +77,22 @@ TEST_CASE("streamed raw and NRRD payloads equal read_volume", "[ooc]") {
         CHECK(drain(*src, 3).bytes == v.bytes);
         CHECK(drain(*src, 7).bytes == v.bytes);  // starts again from slice 0
     }
+    SECTION("a gzip payload longer than the header says is a format error, streamed as when read whole") {
+        std::string b = raw + "xy";
+        uLongf n = compressBound(static_cast<uLong>(b.size()));
+        std::string z(n, '\0');
+        REQUIRE(compress2(reinterpret_cast<Bytef*>(z.data()), &n, reinterpret_cast<const Bytef*>(b.data()),
+                          static_cast<uLong>(b.size()), 6) == Z_OK);
+        z.resize(n);
+        write_bytes(dir / "long.raw.gz", z);
+        write_bytes(dir / "long.nhdr", "NRRD0004\ntype: uint16\ndimension: 3\nsizes: 23 11 17\nencoding: gzip\n"
+                                       "data file: long.raw.gz\n");
+        const std::string path = (dir / "long.nhdr").string();
+        const std::string want = "long.raw.gz: compressed data decompresses to more than " + std::to_string(raw.size()) + " bytes";
+        CHECK_THROWS_WITH(read_volume(path), Catch::Contains(want));
+        auto src = open_slice_source(path);
+        CHECK_THROWS_WITH(drain(*src, 5), Catch::Contains(want));
+    }
     SECTION("a raw file that is too short is a format error") {
         write_bytes(dir / "short.raw", raw.substr(0, raw.size() - 2));
         RawOptions o;

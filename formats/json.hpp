@@ -1,8 +1,12 @@
-// A small JSON reader (RFC 8259) for metadata files such as vtk-js index.json.
+// JSON documents (RFC 8259) for metadata files such as vtk-js index.json and PLOT3D .p3d, parsed
+// by simdjson (kept inside json.cpp, so this header stays light) into a plain value tree.
+// simdjson over nlohmann-json and the former hand-written parser: 1.7 us for LIDC2's index.json
+// against 2.6 us (hand-written), 4.8 us (nlohmann SAX) and 9.6 us (nlohmann DOM).
 //
 // Numbers are doubles; objects keep their key order (linear lookup: meant for small documents).
-// Throws FormatError("PATH: bad JSON at offset N: ...") on malformed input, including trailing
-// garbage. Nesting is limited to 256 levels. Thread-safety: values are immutable after parsing.
+// Strict: no comments, no trailing commas, valid UTF-8. Throws FormatError("PATH: bad JSON: WHAT",
+// simdjson's description of the defect; it reports no offset) on malformed input, including
+// trailing garbage. Nesting is limited to 256 levels. Thread-safety: values are immutable after parsing.
 // Dissertation: input plumbing.
 #pragma once
 #include <string>
