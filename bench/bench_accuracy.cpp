@@ -92,7 +92,7 @@ private:
 struct Metrics {
     std::size_t n = 0;
     double mean_dist = 0, max_dist = 0;    // voxels
-    double mean_normal_deg = 0;            // vs analytic gradient
+    double mean_normal_deg = 0;            // vs the analytic normal -grad f (VTK's convention)
     double max_rel_value = 0;              // max |value - iso| / range
 };
 
@@ -118,7 +118,7 @@ Metrics measure(std::size_t n, Get get, AnalyticField f, double iso, double voxe
         const double d = analytic_distance(f, iso, p) / voxel;
         sum_d += d;
         m.max_dist = std::max(m.max_dist, d);
-        const double a = angle_deg(nrm, analytic_gradient(f, p));
+        const double a = angle_deg(nrm, -analytic_gradient(f, p));  // VTK's normal: -grad f
         if (a >= 0) {
             sum_a += a;
             ++na;
@@ -137,7 +137,7 @@ std::string pass(bool ok) { return ok ? "PASS" : "FAIL"; }
 void run_accuracy(const BenchOptions& o, Report& r) {
     r.section("Accuracy: iso-splatted points vs analytic isosurfaces (dissertation 3.3)");
     r.note(fmt("Distances in voxels (analytic distance / grid spacing; exact for sphere and torus, a Newton "
-               "estimate for gyroid and Marschner-Lobb); normal error = mean angle to the analytic gradient; "
+               "estimate for gyroid and Marschner-Lobb); normal error = mean angle to the analytic normal -grad f (VTK's convention, towards decreasing values); "
                "|f-iso|/range uses the trilinear value stored with each point; coverage = fraction of "
                "marching-cubes vertices within one splat radius of some point. Targets: sphere approx mean "
                "<= %.2f voxel, exact max |f-iso|/range <= %.0e, coverage >= %.0f%%. 'MC (ref)' rows measure the "

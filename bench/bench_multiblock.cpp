@@ -13,8 +13,8 @@
 //       the box of the finest cell centres, h/2 inside it) that lies within one splat radius of an
 //       output point (target >= 99.9%);
 //       mean and max distance of the points to the true surface in units of the finest cell edge h
-//       (target mean <= 0.05); mean normal error in degrees (sign-agnostic, normals against the
-//       gradient counted apart). Next to them, the naive per-block marching cubes' crack edges and
+//       (target mean <= 0.05); mean normal error in degrees against -grad f (VTK's convention;
+//       normals pointing to increasing values counted apart as "reversed"). Next to them, the naive per-block marching cubes' crack edges and
 //       intersecting pairs as `mc --stats` prints them ("N crack edges", "N intersecting"; with, as a
 //       cross-check, the open edges of its PLY mesh after merging equal vertices, and those off the
 //       domain's faces), and its coverage: the fraction of surface samples within h/4 of a mesh
@@ -328,7 +328,7 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
            "Coverage: fraction of a dense sampling of the true isosurface (jittered grid, spacing h/4, Newton-projected; "
            "samples within h/2 of the data domain's faces left out; amr: the data domain is the box of the finest cell "
            "centres, h/2 inside the volume's) within one splat radius of an output point, target >= 99.9%. "
-           "Distances to the true surface in units of h (target mean <= 0.05). Normal error: sign-agnostic, degrees. "
+           "Distances to the true surface in units of h (target mean <= 0.05). Normal error: degrees from -grad f (VTK's convention; normals towards increasing values counted as reversed). "
            "Naive MC: `meshless mc BLOCKS --iso V --stats` (crack edges, intersecting pairs as it prints them; coverage = "
            "samples within h/4 of a triangle).");
     const fs::path dir = work / "analytic";
@@ -400,7 +400,7 @@ void part_a(const BenchOptions& o, Report& r, const fs::path& work, bool vtk) {
                     row.push_back(fmt("%.4f", pe.mean_distance / h));
                     row.push_back(fmt("%.3f", pe.max_distance / h));
                     row.push_back(fmt("%.2f", pe.mean_normal_deg) +
-                                  (pe.against_gradient ? fmt(" (%zu against grad)", pe.against_gradient) : std::string()));
+                                  (pe.reversed ? fmt(" (%zu reversed)", pe.reversed) : std::string()));
                     row.push_back(fmt("%.3f", iso_run.seconds));
                 } catch (const std::exception& e) {
                     row.push_back("n/a (" + first_line(e.what()) + ")");

@@ -10,7 +10,7 @@
 //       under a time limit (--peer-timeout; a peer that ran out of time is not run on the larger sizes of
 //       the same field and distribution: "> T s"). The same measures on every output: mean and max distance
 //       of the points (peers: mesh vertices) to the true isosurface (kernels/surface_coverage point_errors:
-//       exact for the sphere, a Newton estimate for gyroid and ML), the mean normal error (sign-agnostic, degrees;
+//       exact for the sphere, a Newton estimate for gyroid and ML), the mean normal error (degrees from -grad f, VTK's convention;
 //       peers: area-weighted vertex normals of their triangles), and coverage: the fraction of a dense sampling
 //       of the true isosurface (jittered grid spacing --quick 0.02 / 0.01, Newton-projected, samples within
 //       2 / cbrt(N) of the cube's faces left out) within one splat radius of a meshless point; for the peers'
@@ -463,7 +463,7 @@ void part_a(Ctx& c) {
                  "time after the slash), limit %.0f s per peer run (\"> T s\": stopped; not run on larger sizes of that set). "
                  "Distances to the true isosurface in world units (cube [-1,1]^3), mean / max over the points (peers: "
                  "mesh vertices; sphere exact, gyroid and ML the smaller of a Newton estimate and the distance to the "
-                 "nearest true-surface sample, both upper bounds); normal error mean, degrees, sign-agnostic (peers: area-weighted vertex normals); "
+                 "nearest true-surface sample, both upper bounds); normal error mean, degrees from -grad f, VTK's convention (peers: area-weighted vertex normals of their triangles' winding); "
                  "coverage: true-surface samples (jittered grid spacing %.2g, Newton-projected, 2/cbrt(N) from the cube's "
                  "faces left out) within one splat radius of a meshless point (target >= 99%%), for a peer's mesh within the "
                  "median meshless splat radius of the set of its triangles. Ratios: peer / meshless (time > 1: meshless "

@@ -85,8 +85,10 @@ int mc_blocks(const Args& a, double iso, const std::string& out, GeometryFormat 
 
 int cmd_mc(int argc, char** argv) {
     Args a("mc", "VOLUME --iso V -o mesh.ply|mesh.vtp | BLOCKS... --iso V -o naive.ply [--stats]",
-           "Marching cubes (full 256-case table, shared vertices, gradient normals): the triangle-mesh\n"
-           "baseline iso-splatting is compared against. Writes a binary PLY mesh. Runs as a stage graph:\n"
+           "Marching cubes (full 256-case table, shared vertices, normals -grad f/|grad f| pointing to\n"
+           "decreasing values and triangles counter-clockwise seen from the normal side, as VTK's: a closed\n"
+           "surface around high values has positive signed volume): the triangle-mesh baseline\n"
+           "iso-splatting is compared against. Writes a binary PLY mesh. Runs as a stage graph:\n"
            "z-slabs of the volume (or the active bricks of a brick store, .mlb, within --memory) are\n"
            "triangulated in parallel and welded along their shared edges: the mesh of one pass, the same\n"
            "bytes for any --threads.\n"

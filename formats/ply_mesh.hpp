@@ -3,7 +3,8 @@
 //
 // write_ply_mesh: binary little endian; element vertex with float x y z and, when the mesh has
 // normals (normals.size() == xyz.size()), float nx ny nz; element face with
-// "property list uchar int vertex_indices" (3 per face) and, when the mesh has block ids
+// "property list uchar int vertex_indices" (3 per face, in the mesh's winding: marching cubes winds
+// counter-clockwise seen from the normal side, VTK's convention) and, when the mesh has block ids
 // (Mesh::block, one per triangle), "property uint block". Goes through AtomicFile ("-" = stdout).
 // Throws IoError (BrokenPipe on a closed stdout) naming the path, std::invalid_argument when the
 // mesh arrays are inconsistent (xyz not a multiple of 3, normals of another size, an index out of

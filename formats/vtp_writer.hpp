@@ -16,7 +16,8 @@
 //            1..n, Int32 below 2^31 points, else Int64); PointData Normals (Float32 x3, the
 //            Normals attribute), radius (Float32, splat radius, world units), value (Float32, the
 //            Scalars attribute) and, when the points carry block ids, block (UInt32).
-//   Meshes:  Points (Float32 x3); Polys (triangles: connectivity = Mesh::tri, offsets 3, 6, ...);
+//   Meshes:  Points (Float32 x3); Polys (triangles: connectivity = Mesh::tri, offsets 3, 6, ...,
+//            in the mesh's winding: counter-clockwise seen from the normal side, VTK's convention);
 //            PointData Normals when the mesh has normals; CellData block (UInt32) when it has
 //            per-triangle block ids.
 // Comments (the stream's provenance: command line, isovalue, bounds) go into XML comments before

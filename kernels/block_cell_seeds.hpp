@@ -2,7 +2,7 @@
 // hexahedral cell of a structured block (kernels/structured_block.hpp), its marching-cubes triangles
 // in physical space (kernels/hex_marching_cubes.hpp), and inside each triangle the barycentric
 // lattice of n(n+1)/2 samples (kernels/barycentric_lattice.hpp), each one SeedRecord: position,
-// the triangle's unit normal (pointing to increasing values), value = iso (the block interpolant is
+// the triangle's unit normal (pointing to decreasing values, VTK's convention), value = iso (the block interpolant is
 // linear along the triangle), base radius sqrt(2A/(pi n(n+1))) (kernels/multiblock_splat_radius.hpp),
 // the cell's diagonal and the block id. The seeds are then projected onto one continuous meshless
 // field (stream/field_project_stage.hpp).
@@ -20,7 +20,7 @@
 //     turned inside out against the rest of its block.
 // Orientation: a block is right-handed (+1) or left-handed (-1, e.g. some PLOT3D grids) by the
 // census of kernels/block_cells.hpp (block_orientation); triangles of left-handed blocks are wound the other way, so every normal points to
-// increasing values in world space. Zero-area triangles (crossings at a shared corner) give no seed
+// decreasing values in world space. Zero-area triangles (crossings at a shared corner) give no seed
 // and are counted.
 // Units: world positions, the data's values. Pure and reentrant; allocates only in `out`.
 // block_cell_seeds throws nothing but std::bad_alloc (preconditions are asserted); plan_block_seeds

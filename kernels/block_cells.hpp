@@ -8,7 +8,7 @@
 // hex_jacobian_range): +1 / -1 when all eight are of one strict sign, 0 when collapsed or inverted.
 // A block is left-handed (e.g. some PLOT3D grids) when more of its usable cells are negative than
 // positive (the census; ties: right-handed); its triangles are then wound the other way so that
-// every block's normals point to increasing values.
+// every block's normals point to decreasing values (VTK's convention) in world space.
 // Units: world positions. Pure, reentrant, no allocation; throws nothing.
 #pragma once
 #include <array>

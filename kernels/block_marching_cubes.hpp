@@ -10,7 +10,8 @@
 //   inverted): skipped_degenerate (a hole in the naive surface). Every other cell is contoured.
 // Orientation: block_orientation (kernels/block_cells.hpp) counts every valid cell by Jacobian sign;
 //   a left-handed block is contoured with flipped winding, so every block's triangles face
-//   increasing values.
+//   decreasing values (VTK's convention: counter-clockwise seen from the low side, positive signed
+//   volume around high values).
 // Vertices: one per block edge crossed (welded within the piece by the edge's key
 //   3 * node(i,j,k) + axis, the edge's lower node and axis 0/1/2), positions as hex_marching_cubes
 //   computes them (bit-identical for the cells sharing the edge), stored as float.

@@ -5,9 +5,9 @@
 // 4dz in the block's (i,j,k) index offsets). An edge crossing is placed at
 //   p = a + t (b - a),  t = (iso - v_a) / (v_b - v_a),
 // with a the edge's lower-offset corner, so two cells of one block that share an edge compute
-// bit-identical crossings. Triangle (p0,p1,p2) has normal (p1-p0) x (p2-p0) pointing to increasing
-// values when the cell is right-handed (positive Jacobian); hex_marching_cubes flips the winding
-// when asked (left_handed), so callers orient every block alike.
+// bit-identical crossings. Triangle (p0,p1,p2) has normal (p1-p0) x (p2-p0) pointing to decreasing
+// values (VTK's convention) when the cell is right-handed (positive Jacobian); hex_marching_cubes
+// flips the winding when asked (left_handed), so callers orient every block alike.
 //
 // hex_jacobian_range: the determinants of the three edge vectors at each of the 8 corners (the
 // trilinear map's Jacobian there, in world units^3 per unit cell): a cell whose determinants are not

@@ -264,7 +264,7 @@ private:
             nrm[axis] = vb > va ? 1.0 : -1.0;
             len2 = 1;
         }
-        const double inv = 1.0 / std::sqrt(len2);
+        const double inv = -1.0 / std::sqrt(len2);  // -grad: towards decreasing value (VTK)
         Mesh& m = *mesh_;
         for (int d = 0; d < 3; ++d) {
             m.xyz.push_back(static_cast<float>(g_.origin[d] + g_.spacing[d] * pos[d]));

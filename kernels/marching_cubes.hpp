@@ -8,12 +8,14 @@
 // Output (Mesh):
 //   xyz      3 floats per vertex, world units: origin + spacing * (grid index + t * edge direction),
 //            t = (iso - v0) / (v1 - v0) on the grid edge.
-//   normals  3 floats per vertex, unit gradient pointing towards increasing value: per-sample
-//            gradient by central differences (one-sided at the volume border or next to a non-finite
-//            neighbour), in value per world unit, interpolated linearly along the edge with t and
-//            normalised; where that is zero, the edge direction towards the above end.
-//   tri      3 vertex indices per triangle, counter-clockwise seen from the above side (normal by
-//            right-hand rule points towards increasing value).
+//   normals  3 floats per vertex, VTK's convention -grad f / |grad f| (towards decreasing value, out
+//            of the region >= iso): per-sample gradient by central differences (one-sided at the
+//            volume border or next to a non-finite neighbour), in value per world unit, interpolated
+//            linearly along the edge with t, normalised and negated; where that is zero, the edge
+//            direction towards the below end.
+//   tri      3 vertex indices per triangle, counter-clockwise seen from the normal side, the below
+//            side (normal by right-hand rule points towards decreasing value, as the vertex normals):
+//            a closed surface around high values has positive signed volume.
 //   Every grid edge crossing is exactly one vertex (shared by all cells around the edge).
 //   Vertex and triangle order is deterministic (cells in x-fastest order).
 // Cells with a NaN/Inf corner produce nothing and are counted in McStats::skipped_nonfinite;

@@ -125,11 +125,14 @@ constexpr McTable build_table() {
                     if (mc_edges_share_face(poly[s], poly[(s + k) % n])) ok = false;
                 if (ok) apex = s;
             }
+            // The polygons run counter-clockwise seen from the above side; a triangle is stored
+            // reversed, (a, c, b), so that it faces the below side (VTK's convention: normals
+            // towards decreasing value, out of the region >= iso).
             auto emit = [&](int a, int b, int c) {
                 if (ntri >= kMcMaxTriangles) throw std::logic_error("marching cubes table: too many triangles");
                 mc.edges[3 * ntri + 0] = static_cast<std::uint8_t>(a);
-                mc.edges[3 * ntri + 1] = static_cast<std::uint8_t>(b);
-                mc.edges[3 * ntri + 2] = static_cast<std::uint8_t>(c);
+                mc.edges[3 * ntri + 1] = static_cast<std::uint8_t>(c);
+                mc.edges[3 * ntri + 2] = static_cast<std::uint8_t>(b);
                 ++ntri;
             };
             if (apex >= 0) {

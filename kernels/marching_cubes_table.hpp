@@ -17,9 +17,10 @@
 //   in bit 0:   x-edges (0..3): b = dy + 2*dz;  y-edges (4..7): b = dx + 2*dz;  z-edges (8..11): b = dx + 2*dy.
 //   Explicitly: e0 0-1, e1 2-3, e2 4-5, e3 6-7, e4 0-2, e5 1-3, e6 4-6, e7 5-7, e8 0-4, e9 1-5,
 //   e10 2-6, e11 3-7 (corner pairs, the lower-offset corner first).
-//   Orientation: triangle (a,b,c) has normal (b-a) x (c-a) (right-hand rule) pointing towards the
-//   above side, i.e. along the gradient (towards increasing value), for a right-handed grid with
-//   positive spacing.
+//   Orientation (VTK's convention, as vtkMarchingCubes / vtkFlyingEdges3D): triangle (a,b,c) has
+//   normal (b-a) x (c-a) (right-hand rule) pointing towards the below side, i.e. against the
+//   gradient (towards decreasing value, out of the region >= iso), for a right-handed grid with
+//   positive spacing: a closed surface around high values has positive signed volume.
 // Thread-safety: the table is an immutable constant. Nothing here throws.
 #pragma once
 #include <array>

@@ -14,9 +14,9 @@ Vec3 crossing(const Vec3& pa, double va, const Vec3& pb, double vb, double iso) 
     return pa + (pb - pa) * t;
 }
 
-/// Winds `t` so that its normal has a non-negative component along `up`.
-void orient(MtTriangle& t, const Vec3& up) {
-    if (dot(cross(t[1] - t[0], t[2] - t[0]), up) < 0) std::swap(t[1], t[2]);
+/// Winds `t` so that its normal has a non-negative component along `down`.
+void orient(MtTriangle& t, const Vec3& down) {
+    if (dot(cross(t[1] - t[0], t[2] - t[0]), down) < 0) std::swap(t[1], t[2]);
 }
 
 }  // namespace
@@ -30,11 +30,12 @@ int marching_tetrahedron(const std::array<Vec3, 4>& p, const std::array<double, 
         else out_[no++] = i;
     }
     if (ni == 0 || no == 0) return 0;
-    // direction of increasing values: from the outside vertices' centroid to the inside ones'
+    // direction of decreasing values (VTK's normal convention): from the inside vertices' centroid
+    // to the outside ones'
     Vec3 ci{0, 0, 0}, co{0, 0, 0};
     for (int i = 0; i < ni; ++i) ci += p[static_cast<std::size_t>(in[i])];
     for (int i = 0; i < no; ++i) co += p[static_cast<std::size_t>(out_[i])];
-    const Vec3 up = ci * (1.0 / ni) - co * (1.0 / no);
+    const Vec3 down = co * (1.0 / no) - ci * (1.0 / ni);
     auto x = [&](int a, int b) {
         return crossing(p[static_cast<std::size_t>(a)], v[static_cast<std::size_t>(a)], p[static_cast<std::size_t>(b)],
                         v[static_cast<std::size_t>(b)], iso);
@@ -43,7 +44,7 @@ int marching_tetrahedron(const std::array<Vec3, 4>& p, const std::array<double, 
         const int apex = ni == 1 ? in[0] : out_[0];
         const int* rest = ni == 1 ? out_ : in;
         out[0] = {x(apex, rest[0]), x(apex, rest[1]), x(apex, rest[2])};
-        orient(out[0], up);
+        orient(out[0], down);
         return 1;
     }
     // two and two: the quadrilateral in0-out0, in0-out1, in1-out1, in1-out0 (a cycle)
@@ -56,8 +57,8 @@ int marching_tetrahedron(const std::array<Vec3, 4>& p, const std::array<double, 
         out[0] = {q1, q2, q3};
         out[1] = {q1, q3, q0};
     }
-    orient(out[0], up);
-    orient(out[1], up);
+    orient(out[0], down);
+    orient(out[1], down);
     return 2;
 }
 

@@ -7,9 +7,9 @@
 // one triangle; two and two give a quadrilateral, split into two triangles along its shorter
 // diagonal. Crossing points lie on the edges joining an inside and an outside vertex, at the linear
 // interpolation parameter t = (iso - v_a) / (v_b - v_a) in [0, 1].
-// Orientation: every triangle is wound so that its right-hand normal (b - a) x (c - a) points to
-// increasing values of the tetrahedron's linear interpolant (from the outside vertices towards the
-// inside ones), whatever the tetrahedron's own orientation.
+// Orientation (VTK's convention): every triangle is wound so that its right-hand normal
+// (b - a) x (c - a) points to decreasing values of the tetrahedron's linear interpolant (from the
+// inside vertices towards the outside ones), whatever the tetrahedron's own orientation.
 // Returns the number of triangles written to out[0..n) (n <= 2). A tetrahedron with a non-finite
 // value gives none (the caller counts it). Units: positions as given; values in the data's units.
 // Pure, reentrant, allocation-free; throws nothing.

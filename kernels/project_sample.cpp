@@ -29,7 +29,7 @@ bool project_sample_cell(const SampleRecord& s, double iso, Projection mode, Poi
         if (mode == Projection::exact)
             throw FormatError("samples from a paradigm (A) sample store carry no cell corners: --projection exact needs "
                               "them (use approx, or generate the samples from the volume)");
-        const Vec3 n = normalized(Vec3{s.grad[0], s.grad[1], s.grad[2]});
+        const Vec3 n = -normalized(Vec3{s.grad[0], s.grad[1], s.grad[2]});  // towards decreasing values
         out = PointRecord{{s.pos[0], s.pos[1], s.pos[2]},
                           {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)},
                           s.radius,
@@ -57,6 +57,7 @@ bool project_sample_cell(const SampleRecord& s, double iso, Projection mode, Poi
     const ValueGrad vg = trilinear(c, (q.x - lo.x) / size.x, (q.y - lo.y) / size.y, (q.z - lo.z) / size.z);
     Vec3 n = normalized(to_world_gradient(vg.grad, size));
     if (dot(n, n) == 0.0) n = normalized(Vec3{s.grad[0], s.grad[1], s.grad[2]});
+    n = -n;  // towards decreasing values (VTK's convention)
     out.pos[0] = static_cast<float>(q.x);
     out.pos[1] = static_cast<float>(q.y);
     out.pos[2] = static_cast<float>(q.z);

@@ -3,12 +3,15 @@
 // (Eq. 3.5, section 3.3.2), `exact` = ray-trilinear intersection by the cubic of Eq. 3.3 (section
 // 3.3.1), `none` = the unprojected sample (left image of Fig. 3.4).
 //
-// Normals point towards increasing values. `approx` reuses the sample's gradient for the normal, as
-// section 3.4 suggests ("the gradient can be reused for shading"), and records value = iso, the
-// value the Newton step aims at (first-order exact: f(p) + grad f(p) . step = iso); this keeps the
-// step to one division and one square root per sample. `exact` and `none` record the unit gradient
-// and the value of the cell's trilinear interpolant at the output position (falling back to the
-// sample's gradient where that vanishes). Rejected samples return false and are counted.
+// Normals follow VTK's convention (vtkFlyingEdges3D, vtkContourFilter with ComputeNormals): the unit
+// normal is -grad f / |grad f|, pointing towards decreasing values (out of a dense object).
+// `approx` reuses the sample's gradient for the normal, as section 3.4 suggests ("the gradient can
+// be reused for shading"), and records value = iso, the value the Newton step aims at (first-order
+// exact: f(p) + grad f(p) . step = iso); this keeps the step to one division and one square root
+// per sample. `exact` and `none` record the negated unit gradient and the value of the cell's
+// trilinear interpolant at the output position (falling back to the sample's gradient where that
+// vanishes). The normal is the float rounding of the negated double unit gradient; negation is exact,
+// so every path that projects a sample (fused or two-stage) gives the same bytes. Rejected samples return false and are counted.
 // Samples of a paradigm (A) store carry no corners (corner[] is NaN): `none` then keeps the
 // sample's own position, gradient and value, and `exact` throws FormatError.
 // Pure and reentrant.
@@ -57,7 +60,7 @@ inline bool project_sample(const SampleRecord& s, double iso, Projection mode, P
     const NewtonResult r = newton_step(p, s.value, g, iso, displacement_threshold(size));
     if (r.status == NewtonStatus::flat) { ++stats.flat; return false; }
     if (r.status == NewtonStatus::too_far) { ++stats.too_far; return false; }
-    const Vec3 n = g * (1.0 / std::sqrt(dot(g, g)));  // dot(g, g) > 0, or the step was flat
+    const Vec3 n = g * (-1.0 / std::sqrt(dot(g, g)));  // dot(g, g) > 0, or the step was flat; -grad: VTK
     out.pos[0] = static_cast<float>(r.pos.x);
     out.pos[1] = static_cast<float>(r.pos.y);
     out.pos[2] = static_cast<float>(r.pos.z);

@@ -17,7 +17,8 @@
 // opacity 0 are not evaluated (they would add nothing; kernels/value_bounds_grid.hpp says how exact
 // the intervals are; an empty interval, vmin > vmax, marks a cell without data, never sampled).
 // Samples stay at the same positions whether or not cells are skipped.
-// Shading (optional): headlight Phong with the field's gradient as the normal (two-sided):
+// Shading (optional): headlight Phong with the normal -grad f / |grad f| (VTK's convention; two-sided,
+// so the lighting does not depend on the sign):
 //     c' = c (ambient + diffuse |n.l|) + specular |n.l|^shininess,  l = -d
 // (a sample whose gradient vanishes is unshaded: c' = c (ambient + diffuse)).
 // Transfer-function lookups go through a table of 4096 entries over the control points' value range,

@@ -13,7 +13,7 @@ namespace meshless {
 
 struct PointRecord {
     float pos[3];     ///< world position
-    float normal[3];  ///< unit normal (gradient direction, pointing to increasing values)
+    float normal[3];  ///< unit normal -grad f / |grad f|, pointing to decreasing values (VTK's convention)
     float radius;     ///< splat radius, world units
     float value;      ///< field value at pos (== iso when projected exactly)
 };
@@ -37,7 +37,7 @@ static_assert(sizeof(SampleRecord) == 88 && std::is_trivially_copyable_v<SampleR
 ///   (d the distance travelled, l = cell_diagonal).
 struct SeedRecord {
     float pos[3];         ///< seed position, world units
-    float normal[3];      ///< the triangle's unit normal, pointing to increasing values
+    float normal[3];      ///< the triangle's unit normal, pointing to decreasing values (VTK's convention)
     float value;          ///< the block interpolant's value at pos (== iso up to rounding)
     float base_radius;    ///< sqrt(2A / (pi n (n+1))), world units
     float cell_diagonal;  ///< diagonal of the seeding cell (l of section 4.4), world units

@@ -9,8 +9,8 @@
 // (kernels/barycentric_lattice.hpp) gives one SeedRecord each, for the Newton projection onto the
 // field (stream/field_project_stage.hpp), exactly as the multiblock seeds (section 4.4).
 //
-// Seed fields: position (world), the triangle's unit normal (wound towards increasing values by
-// marching tetrahedra), value = iso, base_radius = sqrt(2A / (pi n (n+1))) for the triangle's world
+// Seed fields: position (world), the triangle's unit normal (wound towards decreasing values by
+// marching tetrahedra, VTK's convention), value = iso, base_radius = sqrt(2A / (pi n (n+1))) for the triangle's world
 // area A, cell_diagonal = the stencil's local scale l = min(the binning cell's world diagonal,
 // twice the median edge length of the stencil's tetrahedrization) (the Newton tolerance and travel
 // limit are relative to it: section 4.4's cell diagonal; the median edge keeps them at the data's

@@ -145,9 +145,9 @@ PointErrors point_errors(AnalyticField f, double iso, std::span<const Vec3> poin
         const Vec3 g = analytic_gradient(f, points[i]);
         const double ng = norm(normals[i]) * norm(g);
         if (!(ng > 0) || !std::isfinite(ng)) continue;
-        const double c = dot(normals[i], g) / ng;
-        if (c < 0) ++e.against_gradient;
-        const double deg = std::acos(std::min(1.0, std::abs(c))) * 180.0 / std::numbers::pi;
+        const double c = -dot(normals[i], g) / ng;  // cosine to -grad f, VTK's normal
+        if (c < 0) ++e.reversed;
+        const double deg = std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / std::numbers::pi;
         ++e.normals;
         sum_a += deg;
         e.max_normal_deg = std::max(e.max_normal_deg, deg);

@@ -19,10 +19,10 @@
 //    (no kd-tree: nanoflann stays in one file of the project), 27 neighbour cells per query.
 // 3. point_errors: per output point, the distance to the true surface (analytic_distance: exact for
 //    sphere and torus, an upper-bound estimate for gyroid / ML) and the normal error in degrees
-//    against the analytic gradient, SIGN-AGNOSTIC: acos(|n . g| / (|n||g|)) (the orientation
-//    convention of a field's normals, towards higher or lower values, is not an error of the
-//    surface); the number of normals pointing against grad f (n . g < 0) is reported apart as
-//    `against_gradient`, so a consistently flipped set is visible.
+//    against the analytic normal of VTK's convention, -grad f (towards decreasing values):
+//    acos(-n . g / (|n||g|)), 0..180 (a flipped normal is an error of 180 - its tilt); the number
+//    of normals pointing towards increasing values (n . g > 0, against the convention) is also
+//    reported apart as `reversed`, so a consistently flipped set is named as such.
 // Units: world units, degrees. Points or radii that are not finite are counted in `nonfinite` and
 // take no part. Throws InvalidArgument on spacing <= 0, an empty/inverted box, or points and radii
 // (normals) of different lengths. Reentrant, single-threaded.
@@ -63,9 +63,9 @@ CoverageResult surface_coverage(std::span<const Vec3> samples, std::span<const V
 struct PointErrors {
     std::size_t points = 0;          ///< finite points measured
     double mean_distance = 0, max_distance = 0;
-    double mean_normal_deg = 0, max_normal_deg = 0;  ///< sign-agnostic, over points with a finite unit normal
+    double mean_normal_deg = 0, max_normal_deg = 0;  ///< angle to -grad f, over points with a finite unit normal
     std::size_t normals = 0;         ///< points whose normal and gradient are non-zero
-    std::size_t against_gradient = 0;
+    std::size_t reversed = 0;        ///< normals with n . grad f > 0 (towards increasing values)
 };
 
 /// `normals` may be empty (no normal statistics).

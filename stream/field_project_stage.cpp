@@ -11,10 +11,10 @@ namespace meshless {
 
 namespace {
 
-// The point of a converged projection: position, unit normal along the gradient (converged implies
-// a non-zero gradient), the given radius, value = iso.
+// The point of a converged projection: position, unit normal -grad / |grad| (towards decreasing
+// values, VTK's convention; converged implies a non-zero gradient), the given radius, value = iso.
 PointRecord projected_point(const Vec3& pos, const Vec3& grad, float radius, double iso) {
-    const Vec3 nrm = grad * (1.0 / norm(grad));
+    const Vec3 nrm = grad * (-1.0 / norm(grad));
     PointRecord r;
     r.pos[0] = static_cast<float>(pos.x);
     r.pos[1] = static_cast<float>(pos.y);

@@ -4,7 +4,7 @@
 //
 // Input: a batch of points (seed = position) or of samples (seed = sample position). Output: a point
 // batch, in input order, holding the seeds that converged: position on the surface, unit normal
-// = grad f / |grad f| (pointing to increasing values, as every PointRecord in this project: see
+// = -grad f / |grad f| (pointing to decreasing values, VTK's convention, as every PointRecord in this project: see
 // kernels/records.hpp and kernels/project_sample.hpp), the seed's radius passed through, value = iso.
 // Seeds that did not converge are dropped and counted (stats()); a point batch's block ids
 // (Batch::point_block) follow the points that stay. With `limit_to_cell`, a sample's

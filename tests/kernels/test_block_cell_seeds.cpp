@@ -1,7 +1,7 @@
 // kernels/block_cell_seeds.hpp: marching-cubes seeds of structured blocks (dissertation section 4.4)
-// against oracles: a sampled sphere (seeds near the sphere, value = iso, normals outward = towards
-// increasing values, counts = triangles x n(n+1)/2), the same block mirrored (left-handed: detected,
-// same seeds mirrored, normals still outward), blanked / NaN nodes (the 8 cells around an interior
+// against oracles: a sampled sphere (seeds near the sphere, value = iso, normals inward = towards
+// decreasing values of |p|, VTK's convention, counts = triangles x n(n+1)/2), the same block mirrored
+// (left-handed: detected, same seeds mirrored, normals still inward), blanked / NaN nodes (the 8 cells around an interior
 // node skipped and counted), collapsed and inverted cells (skipped and counted), split cell ranges
 // giving the same seeds as one range, and the plan's ranges and bounds.
 #include <catch2/catch.hpp>
@@ -43,7 +43,7 @@ Vec3 nrm(const SeedRecord& s) { return {s.normal[0], s.normal[1], s.normal[2]}; 
 
 }  // namespace
 
-TEST_CASE("block seeds of a sampled sphere: near the sphere, outward normals, n(n+1)/2 per triangle", "[block-seeds]") {
+TEST_CASE("block seeds of a sampled sphere: near the sphere, normals to decreasing |p|, n(n+1)/2 per triangle", "[block-seeds]") {
     const double h = 2.0 / 16;
     const StructuredBlock b = mapped_block({17, 17, 17}, cube_map(-1, h), sphere);
     CHECK(block_cell_count(b) == 16 * 16 * 16);
@@ -59,7 +59,7 @@ TEST_CASE("block seeds of a sampled sphere: near the sphere, outward normals, n(
         REQUIRE(static_cast<std::int64_t>(s.size()) == st.seeds);
         for (const auto& r : s) {
             CHECK(std::abs(norm(pos(r)) - 0.6) < 0.25 * h);  // the trilinear MC surface's distance is O(h^2)
-            CHECK(dot(nrm(r), normalized(pos(r))) > 0.8);    // towards increasing |p|
+            CHECK(dot(nrm(r), normalized(pos(r))) < -0.8);   // towards decreasing |p| (VTK's convention)
             CHECK_THAT(norm(nrm(r)), Catch::WithinAbs(1.0, 1e-6));
             CHECK(r.value == 0.6f);
             CHECK(r.base_radius > 0);
@@ -69,7 +69,7 @@ TEST_CASE("block seeds of a sampled sphere: near the sphere, outward normals, n(
     }
 }
 
-TEST_CASE("block seeds: a mirrored (left-handed) block is detected and still gives outward normals", "[block-seeds]") {
+TEST_CASE("block seeds: a mirrored (left-handed) block is detected and still gives normals to decreasing values", "[block-seeds]") {
     const double h = 2.0 / 12;
     const StructuredBlock right = mapped_block({13, 13, 13}, cube_map(-1, h), sphere);
     const StructuredBlock left = mapped_block({13, 13, 13}, [&](double i, double j, double k) {
@@ -81,8 +81,8 @@ TEST_CASE("block seeds: a mirrored (left-handed) block is detected and still giv
     const auto l = seeds_of(left, 0.55, 2, sl);
     CHECK(sl.degenerate_cells == 0);
     CHECK(sl.seeds == sr.seeds);
-    for (const auto& s : l) CHECK(dot(nrm(s), normalized(pos(s))) > 0.8);
-    // without the orientation the normals would point inwards
+    for (const auto& s : l) CHECK(dot(nrm(s), normalized(pos(s))) < -0.8);
+    // without the orientation the normals would point outwards (towards increasing |p|)
     std::vector<SeedRecord> wrong;
     BlockSeedStats sw;
     block_cell_seeds(left, 0, +1, 0, block_cell_count(left), 0.55, 2, barycentric_lattice(2), wrong, sw);

@@ -1,5 +1,6 @@
-// Tests for kernels/block_marching_cubes.hpp: a closed, outward-oriented sphere from one block
-// (every edge shared by exactly two triangles), left-handed blocks oriented alike, block ids,
+// Tests for kernels/block_marching_cubes.hpp: a closed sphere from one block (every edge shared by
+// exactly two triangles) facing decreasing values (VTK's convention: inwards for the distance |p|,
+// outwards for a ball with high values inside), left-handed blocks oriented alike, block ids,
 // skipped cells (invalid corner, collapsed cell) counted, and pieces of cell layers that weld to the
 // one-piece mesh.
 #include <catch2/catch.hpp>
@@ -48,7 +49,7 @@ double signed_volume6(const Mesh& m) {
 
 }  // namespace
 
-TEST_CASE("block marching cubes: a sphere inside one block is closed and faces outwards", "[block_mc]") {
+TEST_CASE("block marching cubes: a sphere inside one block is closed and faces decreasing values", "[block_mc]") {
     const StructuredBlock b = sphere_block();
     BlockMcStats st;
     const Mesh m = whole(b, 0.6, 7, st);
@@ -57,8 +58,9 @@ TEST_CASE("block marching cubes: a sphere inside one block is closed and faces o
         INFO("edge " << e.first << "-" << e.second);
         REQUIRE(n == 2);
     }
+    // |p| grows outwards: the triangles face the centre (VTK's convention), negative signed volume
     const double volume = signed_volume6(m) / 6;
-    CHECK(volume == Approx(4.0 / 3.0 * M_PI * 0.216).epsilon(0.05));
+    CHECK(volume == Approx(-4.0 / 3.0 * M_PI * 0.216).epsilon(0.05));
     CHECK(std::all_of(m.block.begin(), m.block.end(), [](std::uint32_t id) { return id == 7; }));
     CHECK(m.block.size() == m.triangle_count());
     CHECK(st.cells == 20 * 20 * 20);
@@ -72,22 +74,24 @@ TEST_CASE("block marching cubes: a sphere inside one block is closed and faces o
     }
 }
 
-TEST_CASE("block marching cubes: a left-handed block gives the same outward surface", "[block_mc]") {
-    const StructuredBlock right = sphere_block(11);
-    const StructuredBlock left = lattice_block("flipped", {11, 11, 11}, {-1, -1, -1}, {0.2, 0.2, 0.2}, sphere_field, true);
+TEST_CASE("block marching cubes: a left-handed block gives the same outward surface around high values", "[block_mc]") {
+    // a ball: high values inside (2 - |p|), iso 1.4 at |p| = 0.6; VTK's convention faces it outwards
+    const auto ball = [](const Vec3& p) { return 2.0 - sphere_field(p); };
+    const StructuredBlock right = lattice_block("ball", {11, 11, 11}, {-1, -1, -1}, {0.2, 0.2, 0.2}, ball);
+    const StructuredBlock left = lattice_block("flipped", {11, 11, 11}, {-1, -1, -1}, {0.2, 0.2, 0.2}, ball, true);
     CHECK_FALSE(block_orientation(right).left_handed());
     const BlockOrientation o = block_orientation(left);
     CHECK(o.left_handed());
     CHECK(o.negative == 1000);
     BlockMcStats s1, s2;
-    const Mesh a = whole(right, 0.6, 0, s1), b = whole(left, 0.6, 0, s2);
+    const Mesh a = whole(right, 1.4, 0, s1), b = whole(left, 1.4, 0, s2);
     CHECK(a.triangle_count() == b.triangle_count());
-    CHECK(signed_volume6(a) > 0);
+    CHECK(signed_volume6(a) / 6 == Approx(4.0 / 3.0 * M_PI * 0.216).epsilon(0.1));
     CHECK(signed_volume6(b) == Approx(signed_volume6(a)).epsilon(1e-3));  // crossings from the other end: rounding
     // forced the wrong way, the same block faces inwards
     std::vector<std::uint64_t> keys;
     BlockMcStats s3;
-    CHECK(signed_volume6(block_marching_cubes(left, 0.6, false, 0, 10, 0, s3, keys)) < 0);
+    CHECK(signed_volume6(block_marching_cubes(left, 1.4, false, 0, 10, 0, s3, keys)) < 0);
 }
 
 TEST_CASE("block marching cubes: cells with an invalid corner or collapsed are skipped and counted", "[block_mc]") {

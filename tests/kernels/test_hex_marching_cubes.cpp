@@ -21,7 +21,7 @@ HexCell unit_cell(Vec3 lo, Vec3 size, double (*f)(const Vec3&)) {
 
 }  // namespace
 
-TEST_CASE("hex marching cubes: a plane x = 0.3 through an axis-aligned cell gives its exact cut, normals along +x", "[hex_mc]") {
+TEST_CASE("hex marching cubes: a plane x = 0.3 through an axis-aligned cell gives its exact cut, normals along -x", "[hex_mc]") {
     const HexCell c = unit_cell({0, 0, 0}, {1, 2, 3}, [](const Vec3& p) { return p.x; });
     std::array<HexTriangle, kMcMaxTriangles> t;
     const int n = hex_marching_cubes(c, 0.3, false, t);
@@ -31,14 +31,14 @@ TEST_CASE("hex marching cubes: a plane x = 0.3 through an axis-aligned cell give
         for (const auto& v : t[static_cast<std::size_t>(i)].v) CHECK_THAT(v.x, Catch::WithinAbs(0.3, 1e-15));
         const Vec3 nrm = cross(t[static_cast<std::size_t>(i)].v[1] - t[static_cast<std::size_t>(i)].v[0],
                                t[static_cast<std::size_t>(i)].v[2] - t[static_cast<std::size_t>(i)].v[0]);
-        CHECK(nrm.x > 0);
+        CHECK(nrm.x < 0);  // towards decreasing values (VTK's convention)
         area += 0.5 * norm(nrm);
     }
     CHECK_THAT(area, Catch::WithinRel(6.0, 1e-12));
     // Flipped winding for a left-handed block.
     std::array<HexTriangle, kMcMaxTriangles> f;
     REQUIRE(hex_marching_cubes(c, 0.3, true, f) == 2);
-    CHECK(cross(f[0].v[1] - f[0].v[0], f[0].v[2] - f[0].v[0]).x < 0);
+    CHECK(cross(f[0].v[1] - f[0].v[0], f[0].v[2] - f[0].v[0]).x > 0);
 }
 
 TEST_CASE("hex marching cubes: crossings on a sheared cell lie on its edges, no sign change gives no triangle", "[hex_mc]") {

@@ -1,6 +1,6 @@
 // Tests for kernels/marching_cubes_table.hpp and kernels/marching_cubes.hpp (dissertation §3.6 baseline).
 // Oracles: the corner signs of every one of the 256 cases (crossing edges, orientation towards the
-// above corner), closed-surface topology (every edge shared by two triangles, each directed edge once,
+// below corner: VTK's convention, normals towards decreasing value), closed-surface topology (every edge shared by two triangles, each directed edge once,
 // Euler characteristic 2 for a sphere and 0 for a torus), analytic distance fields, linear fields
 // (planar surfaces), brute-force counts of crossing edges and active cells, complement symmetry.
 #include <catch2/catch.hpp>
@@ -190,9 +190,9 @@ TEST_CASE("mc: each of the 256 cases in a 2x2x2 volume", "[mc]") {
             CHECK(seen.insert(edge_of_vertex[i]).second);
             CHECK(std::abs(norm(vnormal(m, i)) - 1.0) < 1e-5);
         }
-        // every vertex normal faces the above end of its edge; every triangle faces the above ends
-        // of its three edges on balance (a single one may be perpendicular or slightly behind for a
-        // triangle of a non-planar polygon)
+        // every vertex normal faces the below end of its edge (VTK: towards decreasing value); every
+        // triangle faces the below ends of its three edges on balance (a single one may be
+        // perpendicular or slightly behind for a triangle of a non-planar polygon)
         for (std::size_t f = 0; f < m.triangle_count(); ++f) {
             const Vec3 n = normalized(tri_cross(m, f));
             REQUIRE(norm(tri_cross(m, f)) > 1e-6);
@@ -201,16 +201,16 @@ TEST_CASE("mc: each of the 256 cases in a 2x2x2 volume", "[mc]") {
                 const std::uint32_t vi = m.tri[3 * f + k];
                 const int e = edge_of_vertex[vi];
                 const int a = kMcEdgeCorners[e][0], b = kMcEdgeCorners[e][1];
-                const Vec3 up = ((cs >> b) & 1) ? corner_pos(b) - corner_pos(a) : corner_pos(a) - corner_pos(b);
-                sum += dot(n, up);
-                CHECK(dot(vnormal(m, vi), up) > 0);
+                const Vec3 down = ((cs >> b) & 1) ? corner_pos(a) - corner_pos(b) : corner_pos(b) - corner_pos(a);
+                sum += dot(n, down);
+                CHECK(dot(vnormal(m, vi), down) > 0);
             }
             CHECK(sum > 0.5);
         }
     }
 }
 
-TEST_CASE("mc: each case embedded in a 4x4x4 volume gives a closed, inward-oriented surface", "[mc]") {
+TEST_CASE("mc: each case embedded in a 4x4x4 volume gives a closed surface facing the low values", "[mc]") {
     for (int cs = 1; cs < 256; ++cs) {
         for (double sign : {1.0, -1.0}) {
             INFO("case " << cs << " sign " << sign);
@@ -224,11 +224,11 @@ TEST_CASE("mc: each case embedded in a 4x4x4 volume gives a closed, inward-orien
             CHECK(t.closed());
             CHECK(t.oriented());
             CHECK(vertex_manifold(m));
-            // normals point towards increasing value: into the above blobs (sign=+1), out of the
-            // below blobs (sign=-1)
+            // normals point towards decreasing value (VTK): out of the above blobs (sign=+1), into
+            // the below blobs (sign=-1)
             const double vol = signed_volume(m);
-            if (sign > 0) CHECK(vol < 0);
-            else CHECK(vol > 0);
+            if (sign > 0) CHECK(vol > 0);
+            else CHECK(vol < 0);
         }
     }
 }
@@ -270,14 +270,15 @@ TEST_CASE("mc: sphere distance field is closed, genus 0, accurate", "[mc]") {
     for (std::size_t f = 0; f < m.triangle_count(); ++f) area += 0.5 * norm(tri_cross(m, f));
     const double exact_area = 4.0 * M_PI * r * r;
     CHECK(std::abs(area - exact_area) < 0.01 * exact_area);
-    // outward normals (value increases outwards): positive enclosed volume ~ 4/3 pi r^3
+    // inward normals (value increases outwards, VTK's normals point to decreasing value): negative
+    // enclosed volume ~ -4/3 pi r^3
     const double vol = signed_volume(m);
-    CHECK(std::abs(vol - 4.0 / 3.0 * M_PI * r * r * r) < 0.01 * (4.0 / 3.0 * M_PI * r * r * r));
+    CHECK(std::abs(vol + 4.0 / 3.0 * M_PI * r * r * r) < 0.01 * (4.0 / 3.0 * M_PI * r * r * r));
     double max_dist = 0, sum_angle = 0;
     for (std::uint32_t i = 0; i < m.vertex_count(); ++i) {
         const Vec3 p = vertex(m, i);
         max_dist = std::max(max_dist, analytic_distance(AnalyticField::sphere, r, p) / h);
-        const double c = std::clamp(dot(vnormal(m, i), normalized(p)), -1.0, 1.0);
+        const double c = std::clamp(dot(vnormal(m, i), -normalized(p)), -1.0, 1.0);
         sum_angle += std::acos(c) * 180.0 / M_PI;
     }
     CHECK(max_dist < 0.05);
@@ -382,13 +383,13 @@ TEST_CASE("mc: a linear field gives a planar surface with constant normal", "[mc
     const Vec3 an = normalized(a);
     for (std::uint32_t i = 0; i < m.vertex_count(); ++i) {
         CHECK(std::abs(dot(a, vertex(m, i)) - iso) < 1e-5);
-        CHECK(dot(vnormal(m, i), an) > 1 - 1e-5);
+        CHECK(dot(vnormal(m, i), -an) > 1 - 1e-5);  // VTK: -grad f
     }
     for (std::size_t f = 0; f < m.triangle_count(); ++f) {
         const Vec3 n = tri_cross(m, f);
         INFO("triangle area " << 0.5 * norm(n));
         if (norm(n) < 1e-4) continue;  // slivers: float rounding dominates their direction
-        CHECK(dot(normalized(n), an) > 1 - 1e-4);
+        CHECK(dot(normalized(n), -an) > 1 - 1e-4);
     }
     CHECK(topology(m).oriented());
 }

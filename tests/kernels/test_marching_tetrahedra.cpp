@@ -2,7 +2,8 @@
 // inside/outside cases on random tetrahedra, the triangles' corners are exactly the crossings of the
 // linear interpolant along the edges (found by bisection), their total area is the area of the
 // convex crossing polygon, the interpolant equals iso at their centroids, and every normal points to
-// increasing values (the interpolant's gradient), whatever the tetrahedron's orientation.
+// decreasing values (against the interpolant's gradient, VTK's convention), whatever the
+// tetrahedron's orientation.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -87,8 +88,9 @@ TEST_CASE("marching tetrahedra: every case against brute force", "[kernels][scat
             const MtTriangle& T = tri[static_cast<std::size_t>(t)];
             const Vec3 n = cross(T[1] - T[0], T[2] - T[0]);
             area += 0.5 * norm(n);
-            // towards increasing values (a vertex exactly at iso may collapse a triangle to a point)
-            if (norm(n) > 1e-12) CHECK(dot(n, g) > 0);
+            // towards decreasing values, VTK's convention (a vertex exactly at iso may collapse a
+            // triangle to a point)
+            if (norm(n) > 1e-12) CHECK(dot(n, g) < 0);
             const Vec3 c = (T[0] + T[1] + T[2]) * (1.0 / 3);
             CHECK(interp(p, v, c) == Approx(iso).margin(1e-9));
             for (const Vec3& x : T) {
@@ -116,7 +118,7 @@ TEST_CASE("marching tetrahedra: every case against brute force", "[kernels][scat
         for (int t = 0; t < nt; ++t) {
             const MtTriangle& T = tri2[static_cast<std::size_t>(t)];
             const Vec3 n = cross(T[1] - T[0], T[2] - T[0]);
-            if (norm(n) > 1e-12) CHECK(dot(n, g) > 0);
+            if (norm(n) > 1e-12) CHECK(dot(n, g) < 0);
         }
         ++checked;
     }

@@ -139,11 +139,10 @@ TEST_CASE("point errors: distances and normal angles of displaced points", "[sur
     for (const Vec3& q : on) {
         const Vec3 u = normalized(q);
         p.push_back(q + u * (rng.unit() < 0.5 ? d : -d));
-        // a unit normal tilted by exactly `tilt` from the radial direction; every other one flipped
+        // a unit normal tilted by exactly `tilt` from VTK's normal -grad f (the sphere field grows
+        // outwards, so -grad f points to the centre)
         const Vec3 t = normalized(cross(u, std::abs(u.z) < 0.9 ? Vec3{0, 0, 1} : Vec3{1, 0, 0}));
-        Vec3 m = u * std::cos(tilt) + t * std::sin(tilt);
-        if (p.size() % 2 == 0) m = -m;
-        nrm.push_back(m);
+        nrm.push_back(-(u * std::cos(tilt) + t * std::sin(tilt)));
     }
     const PointErrors e = point_errors(AnalyticField::sphere, kR, p, nrm);
     CHECK(e.points == p.size());
@@ -152,7 +151,14 @@ TEST_CASE("point errors: distances and normal angles of displaced points", "[sur
     CHECK(e.normals == p.size());
     CHECK(e.mean_normal_deg == Approx(10.0).epsilon(1e-6));
     CHECK(e.max_normal_deg == Approx(10.0).epsilon(1e-6));
-    CHECK(e.against_gradient == p.size() / 2);
+    CHECK(e.reversed == 0);
+    // every other normal flipped (pointing towards increasing values): an error of 180 - 10 degrees
+    std::vector<Vec3> half = nrm;
+    for (std::size_t i = 0; i < half.size(); i += 2) half[i] = -half[i];
+    const PointErrors h = point_errors(AnalyticField::sphere, kR, p, half);
+    CHECK(h.reversed == (p.size() + 1) / 2);
+    CHECK(h.max_normal_deg == Approx(170.0).epsilon(1e-6));
+    CHECK(h.mean_normal_deg == Approx(10.0 + 160.0 * static_cast<double>((p.size() + 1) / 2) / static_cast<double>(p.size())).epsilon(1e-6));
     // torus: exact distance too
     const auto ton = sample_isosurface(AnalyticField::torus, 0.25, kCube, s);
     std::vector<Vec3> tp;

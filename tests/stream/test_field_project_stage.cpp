@@ -71,9 +71,9 @@ TEST_CASE("FieldProjectStage: points on the sphere, radius through, value = iso,
         REQUIRE(o.value == 0.6f);
         const double r = std::sqrt(double(o.pos[0]) * o.pos[0] + double(o.pos[1]) * o.pos[1] + double(o.pos[2]) * o.pos[2]);
         REQUIRE(r == Approx(0.6).margin(1e-6));
-        // unit normal pointing to increasing values: outward
+        // unit normal pointing to decreasing values (VTK's convention): inward, |p| grows outwards
         const double dn = (o.normal[0] * o.pos[0] + o.normal[1] * o.pos[1] + o.normal[2] * o.pos[2]) / r;
-        REQUIRE(dn == Approx(1.0).margin(1e-5));
+        REQUIRE(dn == Approx(-1.0).margin(1e-5));
     }
 }
 
@@ -137,8 +137,8 @@ TEST_CASE("FieldProjectStage on trilinear samples: on the trilinear surface, nor
         const double val = f.value(x, &g);
         REQUIRE(std::abs(val - iso) <= 1e-6 * norm(g) + 1e-5 * norm(g) * h);  // float positions
         REQUIRE(std::abs(analytic_distance(AnalyticField::torus, iso, x)) < h * h);
-        // same orientation as the sample's gradient (ProjectStage's normal: towards increasing values)
+        // against the sample's gradient (ProjectStage's normal, VTK's: towards decreasing values)
         const double d = o.normal[0] * s.grad[0] + o.normal[1] * s.grad[1] + o.normal[2] * s.grad[2];
-        REQUIRE(d > 0);
+        REQUIRE(d < 0);
     }
 }

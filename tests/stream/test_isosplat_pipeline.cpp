@@ -70,7 +70,7 @@ TEST_CASE("approximate projection lands on the sphere", "[isosplat]") {
         const double d = analytic_distance(AnalyticField::sphere, iso, q) / voxel;
         sum += d;
         worst = std::max(worst, d);
-        const Vec3 n = normalized(analytic_gradient(AnalyticField::sphere, q));
+        const Vec3 n = -normalized(analytic_gradient(AnalyticField::sphere, q));  // VTK: -grad f
         angle += std::acos(std::clamp(dot(n, Vec3{p.normal[0], p.normal[1], p.normal[2]}), -1.0, 1.0));
         CHECK(std::abs(std::sqrt(p.normal[0] * p.normal[0] + p.normal[1] * p.normal[1] + p.normal[2] * p.normal[2]) - 1) < 1e-5);
     }

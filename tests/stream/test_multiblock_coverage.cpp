@@ -4,8 +4,9 @@
 // cell-centred AMR hierarchy (covered coarse cells marked as the readers do); one MPU field over
 // every block's data; seeds -> Newton through the stage graph. Oracles (kernels/surface_coverage):
 // >= 99.9% of a dense sampling of the true isosurface inside the data domain lies within one splat
-// radius of an output point, and the mean distance of the points to the true surface is <= 0.05 of
-// the cell edge. The control: the same AMR hierarchy seeded on its unpadded lattices of cell centres
+// radius of an output point, the mean distance of the points to the true surface is <= 0.05 of
+// the cell edge, and every normal follows VTK's convention (-grad f: none reversed, mean angle to
+// -grad f under 2 degrees). The control: the same AMR hierarchy seeded on its unpadded lattices of cell centres
 // leaves bands at box seams and domain faces unseeded and misses the coverage bound, so the test can
 // fail.
 #include <catch2/catch.hpp>
@@ -41,8 +42,8 @@ struct Collect final : Sink {
 };
 
 struct Outcome {
-    double coverage = 0, mean_distance = 0;
-    std::size_t points = 0;
+    double coverage = 0, mean_distance = 0, mean_normal_deg = 0;
+    std::size_t points = 0, reversed = 0;
 };
 
 Outcome run(AnalyticField f, SplitLayout layout, bool pad = true) {
@@ -77,7 +78,10 @@ Outcome run(AnalyticField f, SplitLayout layout, bool pad = true) {
     Outcome o;
     o.points = sink.pos.size();
     o.coverage = surface_coverage(samples, sink.pos, sink.radius).fraction();
-    o.mean_distance = point_errors(f, iso, sink.pos, sink.normal).mean_distance / h;
+    const PointErrors e = point_errors(f, iso, sink.pos, sink.normal);
+    o.mean_distance = e.mean_distance / h;
+    o.mean_normal_deg = e.mean_normal_deg;
+    o.reversed = e.reversed;
     return o;
 }
 
@@ -89,10 +93,13 @@ TEST_CASE("multiblock isosurface: crack-free coverage of analytic surfaces in ev
                               SplitLayout::rotated, SplitLayout::amr}) {
             const Outcome o = run(f, l);
             INFO(to_string(f) << " / " << to_string(l) << ": " << o.points << " points, coverage " << o.coverage
-                              << ", mean distance " << o.mean_distance << " cell edges");
+                              << ", mean distance " << o.mean_distance << " cell edges, normals: mean "
+                              << o.mean_normal_deg << " deg from -grad f, " << o.reversed << " reversed");
             CHECK(o.points > 0);
             CHECK(o.coverage >= 0.999);
             CHECK(o.mean_distance <= 0.05);
+            CHECK(o.reversed == 0);
+            CHECK(o.mean_normal_deg < 2.0);
         }
 }
 

@@ -135,7 +135,7 @@ TEST_CASE("seeds of a sampled sphere projected onto the distance field lie on th
     for (std::size_t i = 0; i < r.out.points.size(); ++i) {
         const PointRecord& q = r.out.points[i];
         CHECK(std::abs(norm(at(q)) - 0.6) < 0.01 * diag + 1e-6);  // tolerance, plus float rounding
-        CHECK(dot(normal_of(q), normalized(at(q))) > 0.9999);
+        CHECK(dot(normal_of(q), normalized(at(q))) < -0.9999);  // -grad f: the distance grows outwards
         CHECK(q.value == 0.6f);
         CHECK(r.out.block[i] == 0u);
     }

@@ -90,8 +90,8 @@ TEST_CASE("stencil graph: a sampled sphere onto the distance field, same bytes f
             for (const PointRecord& p : sink.points) {
                 const Vec3 x{p.pos[0], p.pos[1], p.pos[2]};
                 CHECK(std::abs(norm(x) - iso) < 0.01 * g.diagonal() + 1e-6);
-                // the projection stage's normal: the field's gradient direction
-                CHECK(dot(Vec3{p.normal[0], p.normal[1], p.normal[2]}, normalized(x)) == Approx(1).margin(1e-5));
+                // the projection stage's normal: against the field's gradient (VTK's convention)
+                CHECK(dot(Vec3{p.normal[0], p.normal[1], p.normal[2]}, normalized(x)) == Approx(-1).margin(1e-5));
                 CHECK(p.value == Approx(iso));
                 CHECK(p.radius > 0);
             }
