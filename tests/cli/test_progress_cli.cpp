@@ -43,7 +43,7 @@ void check_progress(const std::string& cmd, const std::string& label, const std:
 
 }  // namespace
 
-TEST_CASE("progress lines: isosurface, mc and render on volumes and brick stores; --quiet silences them", "[cli][progress]") {
+TEST_CASE("progress lines: isosurface, mc and render on volumes and brick stores, and --quiet silences them", "[cli][progress]") {
     TempDir d("progress_cli");
     const std::string D = d.path.string();
     const std::string raw = write_uint8_analytic_volume(d, "ball", AnalyticField::sphere, 24, 200, 20);
