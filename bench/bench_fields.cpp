@@ -333,7 +333,7 @@ void run_field_accuracy(const BenchOptions& o, const Scipy& scipy, Report& r) {
                "[-1,1]^3), values exact. Errors against the exact function at %zu random test points in the inner 90%% "
                "of the box ([0.05,0.95]^3 and [-0.9,0.9]^3: the fields and SciPy extrapolate near the hull, which "
                "is left out). Default parameters: Hardy c = %.3g x bounding-box diagonal (c_world ~ %.4g for Franke, "
-               "%.4g for M-L), binning m = %g, MPU N = %u, alpha = %g; global-rbf only for N <= %u. "
+               "%.4g for M-L), binning m = %g, MPU N = %u, min points %u, alpha = %g, blend alpha %g; global-rbf only for N <= %u. "
                "SciPy: RBFInterpolator(neighbors=%d) on the same points: 'multiquadric' with epsilon = 1/c_world "
                "and degree 1 (the same Hardy multiquadric + linear polynomial), and 'thin_plate_spline' (degree 1). "
                "ratio = our RMS error / SciPy multiquadric's RMS error; target <= %.0f for rbf-grid and mpu. "
@@ -343,7 +343,7 @@ void run_field_accuracy(const BenchOptions& o, const Scipy& scipy, Report& r) {
                "Errors are absolute (the value ranges at the test points follow the table).",
                kTestPoints, defaults.hardy_c_rel, defaults.hardy_c_rel * std::sqrt(3.0),
                defaults.hardy_c_rel * 2 * std::sqrt(3.0), defaults.binning_m, defaults.mpu_max_points,
-               defaults.mpu_alpha, kGlobalMax, kScipyNeighbors, kAccuracyTarget, kTestPoints));
+               defaults.mpu_min_points, defaults.mpu_alpha, defaults.mpu_blend_alpha, kGlobalMax, kScipyNeighbors, kAccuracyTarget, kTestPoints));
     if (scipy.ok()) r.note("SciPy " + scipy.version() + " (" + o.python + ").");
     else r.note(scipy.why());
 

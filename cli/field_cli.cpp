@@ -79,7 +79,7 @@ void add_field_options(Args& a, bool with_coverage) {
         .option("local-points", "", "K",
                 "rbf-grid: a local fit keeps its nearest max(K, points within its weight radius) points; 0 = all in its 27 cells",
                 std::to_string(FieldParams{}.rbf_grid_local_points))
-        .option("max-points", "", "N", "mpu: subdivide while a node's sphere holds more than N points", "100")
+        .option("max-points", "", "N", "mpu: subdivide while a node's sphere holds more than N points", "140")
         .option("alpha", "", "A", "mpu: sphere of influence = A x node diagonal", "0.75")
         .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal", "0.025")
         .option("hardy-c-world", "", "C", "Hardy's constant in world units (overrides --hardy-c)")
@@ -116,7 +116,7 @@ FieldParams field_params(const Args& a) {
     if (support == "27") p.rbf_grid_support = RbfGridSupport::neighbours27;
     else if (support == "paper") p.rbf_grid_support = RbfGridSupport::paper_radius;
     else throw UsageError("--support: expected 27 or paper, got '" + support + "'");
-    const long long n = a.get_int_or("max-points", 100);
+    const long long n = a.get_int_or("max-points", FieldParams{}.mpu_max_points);
     if (n < 8 || n > 100000) throw UsageError("--max-points: expected 8..100000");
     p.mpu_max_points = static_cast<std::uint32_t>(n);
     p.mpu_min_points = std::min(p.mpu_min_points, p.mpu_max_points);  // grown leaves never exceed N

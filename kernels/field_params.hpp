@@ -59,12 +59,22 @@ struct FieldParams {
     /// cubic in its points; see kernels/rbf_grid_field.hpp for the choice of the default.
     std::uint32_t rbf_grid_local_points = 160;
     // --- MPU octree (section 5.5)
-    std::uint32_t mpu_max_points = 100;  ///< N: subdivide while a node's sphere holds more, >= 8
-    /// leaves with fewer points grow their sphere to this many, 1..N. 50, not fewer: with ~25 points per
-    /// local fit (what alpha = 0.75 and N = 100 give on uniform data) mpu was up to 2.5x less accurate than
-    /// SciPy's multiquadric with 50 neighbours; 50 brings it to 0.6-0.9x (bench/RESULTS-fields.md).
-    std::uint32_t mpu_min_points = 50;
-    double mpu_alpha = 0.75;             ///< sphere radius = alpha * node diagonal, > 0.5 (covers the cube)
+    std::uint32_t mpu_max_points = 140;  ///< N: subdivide while a node's sphere holds more, >= 8
+    /// leaves with fewer points grow their sphere to this many, 1..N. With ~25 points per local fit
+    /// (alpha = 0.75, N = 100 on uniform data) mpu was up to 2.5x less accurate than SciPy's
+    /// multiquadric with 50 neighbours; 50 brought it to 0.6-0.9x. 70 (with N = 140 and the blend
+    /// spheres below) is as accurate as that or better on the bench's Franke and Marschner-Lobb sets
+    /// (RMS -26% .. +2%) and evaluates 2-3x faster; construction costs ~1.6x (bench/RESULTS-fields.md).
+    std::uint32_t mpu_min_points = 70;
+    double mpu_alpha = 0.75;             ///< fit sphere radius = alpha * node diagonal, > 0.5 (covers the cube)
+    /// Blend (weight) sphere of a leaf: radius min(fit sphere radius, mpu_blend_alpha * node
+    /// diagonal), > 0.5: it covers the leaf's cube and lies inside the fit sphere (grown or not), so a
+    /// local is only blended where it was fitted (a huge value blends over the whole fit spheres,
+    /// as MPU does: grown spheres then extrapolate far beyond the data). Smaller than the fit sphere, a query blends ~5 leaves instead of
+    /// ~10-30 (grown leaves' spheres are large), each near its centre. 0.52-0.55 are faster still but
+    /// up to 7% / 4% less accurate on Franke's function at 1M points. Not in a .mlf's params block:
+    /// the fitted state carries the leaves' blend radii.
+    double mpu_blend_alpha = 0.6;
     std::uint32_t mpu_max_depth = 40;    ///< octree depth limit (a deeper leaf keeps its N nearest points)
     // --- global RBF
     std::uint32_t global_max_points = 4000;  ///< refuse larger sets (dense O(n^3) solve, O(n) evaluation)

@@ -1,28 +1,34 @@
 // The multi-level partition-of-unity field of dissertation section 5.5 (after Ohtake et al.'s MPU
 // implicits): an octree over the points; every node has a sphere of influence centred at the node
 // (cube) centre with radius alpha * d (d = the node's diagonal, alpha = 0.75); a node whose sphere
-// holds more than N points (N = 100) is subdivided, so the leaves ("interpolation nodes") hold at
+// holds more than N points (N = 140) is subdivided, so the leaves ("interpolation nodes") hold at
 // most N points and each gets a local multiquadric (kernels/multiquadric.hpp) over the points in its
-// sphere. The locals are blended with Franke-Nielson weights over their spheres
-// (kernels/partition_of_unity.hpp); evaluation blends the leaves whose sphere holds x (see
-// "Evaluation" below). Only the original points are used.
+// sphere (the fit sphere). The locals are blended with Franke-Nielson weights
+// (kernels/partition_of_unity.hpp) over blend spheres of radius blend_alpha * d (0.6; at most the
+// fit sphere): each covers its cube and lies inside the fit sphere, so a local weighs only where
+// it was fitted, and a query blends ~5 leaves, each near its centre (MPU's own blend sphere is its
+// fit sphere; with grown leaves that made 10-30 overlapping locals per query, slower and no more
+// accurate: FieldParams::mpu_blend_alpha). Evaluation blends the leaves whose blend sphere holds x
+// (see "Evaluation" below). Only the original points are used.
 //
-// Coverage: alpha > 0.5 makes every leaf's sphere contain its cube, and the leaves tile the root
-// cube (the bounding box grown to a cube), so F is finite everywhere in the bounding box. A leaf
-// whose sphere holds fewer than mpu_min_points points (sparse regions, empty octants) grows its
-// sphere until it holds that many (counted in FieldBuildStats::grown). Outside the union of the
-// spheres evaluate() gives NaN (value and gradient). A leaf at mpu_max_depth with more than N points
-// keeps its N nearest (FieldBuildStats::capped). F interpolates the data: every sphere that weighs
-// at a data point holds that point (up to the solver's 1e-8 residual), unless a local was capped,
-// regularised or fell back.
+// Coverage: blend_alpha > 0.5 makes every leaf's blend sphere contain its cube, and the leaves tile
+// the root cube (the bounding box grown to a cube), so F is finite everywhere in the bounding box. A
+// leaf whose fit sphere holds fewer than mpu_min_points points (70; sparse regions, empty octants)
+// grows it until it holds that many (counted in FieldBuildStats::grown). Outside the union of the
+// blend spheres evaluate() gives NaN (value and gradient). A leaf at mpu_max_depth with more than N
+// points keeps its N nearest (FieldBuildStats::capped). F interpolates the data: every local that
+// weighs at a data point was fitted to that point (up to the solver's 1e-8 residual), unless a
+// local was capped, regularised or fell back.
 // Evaluation: each leaf's centres are copied structure-of-arrays with its lambdas (the sum runs
 // SIMD-wide, kernels/multiquadric_sum.hpp); inside the root cube a uniform lookup grid (about one
-// cell per leaf) lists, per cell, the leaves whose sphere meets it, so a query tests only those
-// instead of descending the tree (outside the root cube it descends the tree). Batches of >=
-// kBatchOrderMin queries are evaluated lookup cell by lookup cell (kernels/batch_order.hpp) and
+// cell per leaf) lists, per cell, the leaves whose blend sphere meets it, so a query tests only
+// those (branch-free) instead of descending the tree (outside the root cube it descends the tree),
+// then sums the selected leaves in one multiquadric_sums() call. Batches of >= kBatchOrderMin
+// queries are evaluated lookup cell by lookup cell in Morton order (kernels/batch_order.hpp) and
 // written back in place: every query's bits equal its single-point result.
-// Units: world in, data units out, gradient per world unit. Memory: ~N/2 points per leaf x 32 bytes
-// plus the lookup lists, ~500 bytes per input point (FieldBuildStats::memory_bytes at 1M uniform). Construction: sequential octree,
+// Units: world in, data units out, gradient per world unit. Memory: ~mpu_min_points (70) points per
+// leaf x 32 bytes plus the lookup lists, ~640 bytes per input point (FieldBuildStats::memory_bytes
+// at 1M uniform; 500 with 50-point fits). Construction: sequential octree,
 // parallel fits (oneTBB; the result does not depend on the thread count); evaluate() is
 // thread-safe (const).
 // Throws FormatError/InvalidArgument (see make_field.hpp). save_state/load_state carry the fitted
@@ -54,10 +60,10 @@ public:
     struct LeafInfo {
         Vec3 centre;    ///< world
         double half;    ///< half edge of the node cube
-        double radius;  ///< sphere of influence
+        double radius;  ///< blend sphere (where the local weighs)
     };
     /// The interpolation nodes (tests and diagnostics; half and radius in frame units, i.e. world
-    /// units unless params.normalise_axes).
+    /// units unless params.normalise_axes; radius: the blend sphere's).
     std::vector<LeafInfo> leaves() const;
 
     /// The fitted state (kernels/field_state.hpp): the octree, the locals, their centres (each
@@ -72,7 +78,7 @@ private:
     struct Node {
         Vec3 c;              // centre (frame)
         double half = 0;     // half edge
-        double r = 0;        // leaf: weight radius
+        double r = 0;        // leaf: blend (weight) radius
         double rsub = 0;     // bounding radius of the spheres in the subtree
         std::int32_t child = -1;  // first of 8 children, -1 for a leaf
         std::int32_t local = -1;  // leaf: index into locals_
@@ -85,8 +91,23 @@ private:
     void compute_subtree_radii();  // Node::rsub from the children (children follow their parent)
     void lookup_geometry();        // leaf_ and the lookup grid's g_, g_lo_, g_cell_, g_inv_
     std::uint32_t batch_key(const Vec3& world) const;  // lookup cell of a query (kernels/batch_order.hpp)
-    void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend) const;
-    void add_leaf(std::size_t l, const Vec3& x, bool want_grad, PuBlend& blend) const;
+    // Per-evaluate() scratch: the leaves whose sphere holds the query (in blend order), their
+    // squared distances (then distances), runs and multiquadric sums.
+    struct EvalScratch {
+        std::vector<std::uint32_t> leaf;
+        std::vector<double> dist;
+        std::vector<MqRun> runs;
+        std::vector<MqLocalTerms> terms;
+        std::vector<MqSum> sums;
+        void clear() {
+            leaf.clear();
+            dist.clear();
+        }
+    };
+    void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend, EvalScratch& sc) const;
+    void add_leaf(std::size_t l, const Vec3& x, EvalScratch& sc) const;  // selects leaf l when its sphere holds x
+    void select_leaves(const std::uint32_t* cand, std::size_t n, const Vec3& x, EvalScratch& sc) const;  // the same for n
+    void blend_leaves(const Vec3& x, bool want_grad, EvalScratch& sc, PuBlend& blend) const;
 
     Vec3 origin_, scale_{1, 1, 1};  // frame = (world - origin_) * scale_
     std::array<Vec3, 2> bounds_;

@@ -12,121 +12,202 @@
 namespace meshless {
 namespace {
 
-using SumFn = void (*)(const double*, const double*, const double*, const MqRun*, std::size_t, const double*, double,
-                       const Vec3&, bool, MqSum&);
+using SumsFn = void (*)(const double*, const double*, const double*, const MqLocalTerms*, std::size_t, const Vec3&,
+                        bool, MqSum*);
 
-void sum_scalar(const double* px, const double* py, const double* pz, const MqRun* runs, std::size_t nruns,
-                const double* lam, double c2, const Vec3& x, bool grad, MqSum& out) {
+// One local, plain loop (left to right); out is overwritten.
+void local_scalar(const double* px, const double* py, const double* pz, const MqLocalTerms& L, const Vec3& x, bool grad,
+                  MqSum& out) {
     double v = 0, gx = 0, gy = 0, gz = 0;
-    for (std::size_t r = 0; r < nruns; ++r)
-    for (std::size_t k = runs[r].start, e = runs[r].start + runs[r].count; k < e; ++k, ++lam) {
-        const double ex = x.x - px[k], ey = x.y - py[k], ez = x.z - pz[k];
-        const double phi = std::sqrt(ex * ex + ey * ey + ez * ez + c2);
-        v += *lam * phi;
-        if (grad) {
-            const double s = phi > 0 ? *lam / phi : 0.0;
-            gx += s * ex;
-            gy += s * ey;
-            gz += s * ez;
+    const double* lam = L.lambda;
+    for (std::size_t r = 0; r < L.nruns; ++r)
+        for (std::size_t k = L.runs[r].start, e = L.runs[r].start + L.runs[r].count; k < e; ++k, ++lam) {
+            const double ex = x.x - px[k], ey = x.y - py[k], ez = x.z - pz[k];
+            const double phi = std::sqrt(ex * ex + ey * ey + ez * ez + L.c2);
+            v += *lam * phi;
+            if (grad) {
+                const double s = phi > 0 ? *lam / phi : 0.0;
+                gx += s * ex;
+                gy += s * ey;
+                gz += s * ez;
+            }
         }
-    }
-    out.v += v;
-    out.gx += gx;
-    out.gy += gy;
-    out.gz += gz;
+    out = MqSum{v, gx, gy, gz};
+}
+
+void sums_scalar(const double* px, const double* py, const double* pz, const MqLocalTerms* locals, std::size_t n,
+                 const Vec3& x, bool grad, MqSum* out) {
+    for (std::size_t i = 0; i < n; ++i) local_scalar(px, py, pz, locals[i], x, grad, out[i]);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define MESHLESS_MQ_X86 1
 
-__attribute__((target("avx2,fma"))) inline double hsum4(__m256d a) {
-    const __m128d lo = _mm256_castpd256_pd128(a), hi = _mm256_extractf128_pd(a, 1);
-    const __m128d s = _mm_add_pd(lo, hi);
-    return _mm_cvtsd_f64(_mm_add_sd(s, _mm_unpackhi_pd(s, s)));
+// The four lane sums of v, gx, gy, gz (4 lanes each) into out, each as (a0 + a1) + (a2 + a3).
+__attribute__((target("avx2,fma"))) inline void reduce4(__m256d v, __m256d gx, __m256d gy, __m256d gz, MqSum& out) {
+    const __m256d ab = _mm256_hadd_pd(v, gx);   // v0+v1, gx0+gx1, v2+v3, gx2+gx3
+    const __m256d cd = _mm256_hadd_pd(gy, gz);  // gy0+gy1, gz0+gz1, gy2+gy3, gz2+gz3
+    const __m256d lo = _mm256_permute2f128_pd(ab, cd, 0x20), hi = _mm256_permute2f128_pd(ab, cd, 0x31);
+    alignas(32) double s[4];
+    _mm256_store_pd(s, _mm256_add_pd(lo, hi));
+    out = MqSum{s[0], s[1], s[2], s[3]};
+}
+// The value alone, with the same additions as reduce4.
+__attribute__((target("avx2,fma"))) inline double reduce1(__m256d v) {
+    const __m256d h = _mm256_hadd_pd(v, v);  // v0+v1, v0+v1, v2+v3, v2+v3
+    return _mm_cvtsd_f64(_mm_add_sd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1)));
 }
 
-__attribute__((target("avx2,fma"))) void sum_avx2(const double* px, const double* py, const double* pz,
-                                                  const MqRun* runs, std::size_t nruns, const double* lam, double c2,
-                                                  const Vec3& x, bool grad, MqSum& out) {
-    const __m256d X = _mm256_set1_pd(x.x), Y = _mm256_set1_pd(x.y), Z = _mm256_set1_pd(x.z), C2 = _mm256_set1_pd(c2);
+// 4-lane mask of the first `left` lanes (left >= 4: all).
+__attribute__((target("avx2,fma"))) inline __m256i lanes4(std::size_t left) {
+    const __m256i idx = _mm256_setr_epi64x(0, 1, 2, 3);
+    return _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(left < 4 ? left : 4)), idx);
+}
+
+// AVX2, exact square root and division (the fallback for r^2 outside the float range).
+__attribute__((target("avx2,fma"))) void local_avx2_exact(const double* px, const double* py, const double* pz,
+                                                          const MqLocalTerms& L, const Vec3& x, bool grad, MqSum& out) {
+    const __m256d X = _mm256_set1_pd(x.x), Y = _mm256_set1_pd(x.y), Z = _mm256_set1_pd(x.z), C2 = _mm256_set1_pd(L.c2);
     const __m256d zero = _mm256_setzero_pd();
     __m256d v = zero, gx = zero, gy = zero, gz = zero;
-    MqSum tail;
-    for (std::size_t r = 0; r < nruns; ++r) {
-    const std::size_t n = runs[r].start + runs[r].count;
-    std::size_t k = runs[r].start;
-    for (; k + 4 <= n; k += 4, lam += 4) {
-        const __m256d ex = _mm256_sub_pd(X, _mm256_loadu_pd(px + k));
-        const __m256d ey = _mm256_sub_pd(Y, _mm256_loadu_pd(py + k));
-        const __m256d ez = _mm256_sub_pd(Z, _mm256_loadu_pd(pz + k));
-        const __m256d r2 = _mm256_fmadd_pd(ex, ex, _mm256_fmadd_pd(ey, ey, _mm256_fmadd_pd(ez, ez, C2)));
-        const __m256d phi = _mm256_sqrt_pd(r2);
-        const __m256d l = _mm256_loadu_pd(lam);
-        v = _mm256_fmadd_pd(l, phi, v);
-        if (grad) {
+    const double* lam = L.lambda;
+    for (std::size_t r = 0; r < L.nruns; ++r) {
+        const std::size_t n = L.runs[r].start + L.runs[r].count;
+        for (std::size_t k = L.runs[r].start; k < n; k += 4, lam += 4) {
+            const __m256i m = lanes4(n - k);
+            const __m256d ex = _mm256_sub_pd(X, _mm256_maskload_pd(px + k, m));
+            const __m256d ey = _mm256_sub_pd(Y, _mm256_maskload_pd(py + k, m));
+            const __m256d ez = _mm256_sub_pd(Z, _mm256_maskload_pd(pz + k, m));
+            const __m256d r2 = _mm256_fmadd_pd(ex, ex, _mm256_fmadd_pd(ey, ey, _mm256_fmadd_pd(ez, ez, C2)));
+            const __m256d phi = _mm256_sqrt_pd(r2);
+            const __m256d l = _mm256_maskload_pd(lam, m);
             const __m256d pos = _mm256_cmp_pd(phi, zero, _CMP_GT_OQ);
-            const __m256d s = _mm256_and_pd(_mm256_div_pd(l, phi), pos);
-            gx = _mm256_fmadd_pd(s, ex, gx);
-            gy = _mm256_fmadd_pd(s, ey, gy);
-            gz = _mm256_fmadd_pd(s, ez, gz);
+            v = _mm256_fmadd_pd(l, _mm256_and_pd(phi, pos), v);
+            if (grad) {
+                const __m256d s = _mm256_and_pd(_mm256_div_pd(l, phi), pos);
+                gx = _mm256_fmadd_pd(s, ex, gx);
+                gy = _mm256_fmadd_pd(s, ey, gy);
+                gz = _mm256_fmadd_pd(s, ez, gz);
+            }
         }
+        lam -= (4 - (L.runs[r].count % 4)) % 4;  // the last step went past the run's end
     }
-    const MqRun rest{static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(n - k)};
-    sum_scalar(px, py, pz, &rest, 1, lam, c2, x, grad, tail);
-    lam += n - k;
-    }
-    out.v += hsum4(v) + tail.v;
-    if (grad) {
-        out.gx += hsum4(gx) + tail.gx;
-        out.gy += hsum4(gy) + tail.gy;
-        out.gz += hsum4(gz) + tail.gz;
-    }
+    if (grad) reduce4(v, gx, gy, gz, out);
+    else out.v = reduce1(v);
 }
 
-__attribute__((target("avx512f,avx512vl,avx512dq,fma"))) void sum_avx512(const double* px, const double* py,
-                                                                         const double* pz, const MqRun* runs,
-                                                                         std::size_t nruns, const double* lam, double c2,
-                                                                         const Vec3& x, bool grad, MqSum& out) {
-    const __m512d X = _mm512_set1_pd(x.x), Y = _mm512_set1_pd(x.y), Z = _mm512_set1_pd(x.z), C2 = _mm512_set1_pd(c2);
-    const __m512d zero = _mm512_setzero_pd(), half = _mm512_set1_pd(0.5), threehalf = _mm512_set1_pd(1.5);
-    __m512d v = zero, gx = zero, gy = zero, gz = zero;
-    for (std::size_t r = 0; r < nruns; ++r) {
-    const std::size_t n = runs[r].start + runs[r].count;
-    for (std::size_t k = runs[r].start; k < n; k += 8, lam += 8) {
-        const __mmask8 m = n - k >= 8 ? __mmask8(0xFF) : static_cast<__mmask8>((1u << (n - k)) - 1u);
-        const __m512d ex = _mm512_sub_pd(X, _mm512_maskz_loadu_pd(m, px + k));
-        const __m512d ey = _mm512_sub_pd(Y, _mm512_maskz_loadu_pd(m, py + k));
-        const __m512d ez = _mm512_sub_pd(Z, _mm512_maskz_loadu_pd(m, pz + k));
-        const __m512d r2 = _mm512_fmadd_pd(ex, ex, _mm512_fmadd_pd(ey, ey, _mm512_fmadd_pd(ez, ez, C2)));
-        // y = 1/sqrt(r2): 14-bit estimate, two Newton steps (error ~ 2^-56 + a few ulp)
-        __m512d y = _mm512_rsqrt14_pd(r2);
-        const __m512d hr2 = _mm512_mul_pd(half, r2);
-        y = _mm512_mul_pd(y, _mm512_fnmadd_pd(hr2, _mm512_mul_pd(y, y), threehalf));
-        y = _mm512_mul_pd(y, _mm512_fnmadd_pd(hr2, _mm512_mul_pd(y, y), threehalf));
-        const __mmask8 pos = _mm512_mask_cmp_pd_mask(m, r2, zero, _CMP_GT_OQ);  // r2 == 0: phi = 0, no slope
-        const __m512d phi = _mm512_maskz_mul_pd(pos, r2, y);
-        const __m512d l = _mm512_maskz_loadu_pd(m, lam);  // 0 in the masked-off lanes
-        v = _mm512_fmadd_pd(l, phi, v);
-        if (grad) {
-            const __m512d s = _mm512_maskz_mul_pd(pos, l, y);
-            gx = _mm512_fmadd_pd(s, ex, gx);
-            gy = _mm512_fmadd_pd(s, ey, gy);
-            gz = _mm512_fmadd_pd(s, ez, gz);
+// AVX2: y0 = vrsqrtps of r^2 rounded to float, one 4th-degree Taylor step (module comment).
+// Returns false (out untouched) when some r^2 left [1e-30, 1e30], where the float estimate fails.
+__attribute__((target("avx2,fma"))) bool local_avx2_fast(const double* px, const double* py, const double* pz,
+                                                         const MqLocalTerms& L, const Vec3& x, bool grad, MqSum& out) {
+    if (!(L.c2 >= 1e-30)) return false;
+    const __m256d X = _mm256_set1_pd(x.x), Y = _mm256_set1_pd(x.y), Z = _mm256_set1_pd(x.z), C2 = _mm256_set1_pd(L.c2);
+    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+    const __m256d t4 = _mm256_set1_pd(35.0 / 128), t3 = _mm256_set1_pd(5.0 / 16), t2 = _mm256_set1_pd(3.0 / 8),
+                  t1 = _mm256_set1_pd(0.5);
+    __m256d v = zero, gx = zero, gy = zero, gz = zero, rmax = zero;
+    const double* lam = L.lambda;
+    for (std::size_t r = 0; r < L.nruns; ++r) {
+        const std::size_t n = L.runs[r].start + L.runs[r].count;
+        for (std::size_t k = L.runs[r].start; k < n; k += 4, lam += 4) {
+            const __m256i m = lanes4(n - k);
+            const __m256d ex = _mm256_sub_pd(X, _mm256_maskload_pd(px + k, m));
+            const __m256d ey = _mm256_sub_pd(Y, _mm256_maskload_pd(py + k, m));
+            const __m256d ez = _mm256_sub_pd(Z, _mm256_maskload_pd(pz + k, m));
+            const __m256d r2 = _mm256_fmadd_pd(ex, ex, _mm256_fmadd_pd(ey, ey, _mm256_fmadd_pd(ez, ez, C2)));
+            rmax = _mm256_max_pd(rmax, r2);
+            const __m256d y0 = _mm256_cvtps_pd(_mm_rsqrt_ps(_mm256_cvtpd_ps(r2)));
+            const __m256d t = _mm256_mul_pd(r2, y0);
+            const __m256d e = _mm256_fnmadd_pd(t, y0, one);  // 1 - r2 y0^2
+            __m256d p = _mm256_fmadd_pd(e, t4, t3);
+            p = _mm256_fmadd_pd(p, e, t2);
+            p = _mm256_fmadd_pd(p, e, t1);
+            const __m256d q = _mm256_mul_pd(p, e);
+            const __m256d phi = _mm256_fmadd_pd(t, q, t);
+            const __m256d l = _mm256_maskload_pd(lam, m);  // 0 in the masked-off lanes
+            v = _mm256_fmadd_pd(l, phi, v);
+            if (grad) {
+                const __m256d s = _mm256_mul_pd(l, _mm256_fmadd_pd(y0, q, y0));
+                gx = _mm256_fmadd_pd(s, ex, gx);
+                gy = _mm256_fmadd_pd(s, ey, gy);
+                gz = _mm256_fmadd_pd(s, ez, gz);
+            }
         }
+        lam -= (4 - (L.runs[r].count % 4)) % 4;
     }
-    lam -= (8 - (runs[r].count % 8)) % 8;  // the last step went past the run's end
+    if (_mm256_movemask_pd(_mm256_cmp_pd(rmax, _mm256_set1_pd(1e30), _CMP_NLE_UQ)) != 0) return false;
+    if (grad) reduce4(v, gx, gy, gz, out);
+    else out.v = reduce1(v);
+    return true;
+}
+
+__attribute__((target("avx2,fma"))) void sums_avx2(const double* px, const double* py, const double* pz,
+                                                   const MqLocalTerms* locals, std::size_t n, const Vec3& x, bool grad,
+                                                   MqSum* out) {
+    for (std::size_t i = 0; i < n; ++i)
+        if (!local_avx2_fast(px, py, pz, locals[i], x, grad, out[i])) local_avx2_exact(px, py, pz, locals[i], x, grad, out[i]);
+}
+
+// 8 lanes -> 4: lane i + lane i+4.
+__attribute__((target("avx512f,avx512vl,avx512dq,fma"))) inline __m256d fold(__m512d a) {
+    return _mm256_add_pd(_mm512_castpd512_pd256(a), _mm512_extractf64x4_pd(a, 1));
+}
+
+// AVX-512: y0 = vrsqrt14pd, one 3rd-degree Taylor step (module comment).
+__attribute__((target("avx512f,avx512vl,avx512dq,fma"))) void local_avx512(const double* px, const double* py,
+                                                                           const double* pz, const MqLocalTerms& L,
+                                                                           const __m512d X, const __m512d Y,
+                                                                           const __m512d Z, bool grad, MqSum& out) {
+    const __m512d C2 = _mm512_set1_pd(L.c2), zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0);
+    const __m512d t3 = _mm512_set1_pd(5.0 / 16), t2 = _mm512_set1_pd(3.0 / 8), t1 = _mm512_set1_pd(0.5);
+    const bool guard = !(L.c2 > 0);  // r2 may be 0: such a term has phi = 0 and no slope
+    __m512d v = zero, gx = zero, gy = zero, gz = zero;
+    const double* lam = L.lambda;
+    for (std::size_t r = 0; r < L.nruns; ++r) {
+        const std::size_t n = L.runs[r].start + L.runs[r].count;
+        for (std::size_t k = L.runs[r].start; k < n; k += 8, lam += 8) {
+            const __mmask8 m = n - k >= 8 ? __mmask8(0xFF) : static_cast<__mmask8>((1u << (n - k)) - 1u);
+            const __m512d ex = _mm512_sub_pd(X, _mm512_maskz_loadu_pd(m, px + k));
+            const __m512d ey = _mm512_sub_pd(Y, _mm512_maskz_loadu_pd(m, py + k));
+            const __m512d ez = _mm512_sub_pd(Z, _mm512_maskz_loadu_pd(m, pz + k));
+            const __m512d r2 = _mm512_fmadd_pd(ex, ex, _mm512_fmadd_pd(ey, ey, _mm512_fmadd_pd(ez, ez, C2)));
+            const __m512d y0 = _mm512_rsqrt14_pd(r2);
+            const __m512d t = _mm512_mul_pd(r2, y0);
+            const __m512d e = _mm512_fnmadd_pd(t, y0, one);  // 1 - r2 y0^2, |e| <= 2^-13
+            const __m512d q = _mm512_mul_pd(_mm512_fmadd_pd(_mm512_fmadd_pd(e, t3, t2), e, t1), e);
+            __m512d phi = _mm512_fmadd_pd(t, q, t);
+            __m512d y = _mm512_fmadd_pd(y0, q, y0);
+            if (guard) {
+                const __mmask8 pos = _mm512_mask_cmp_pd_mask(m, r2, zero, _CMP_GT_OQ);
+                phi = _mm512_maskz_mov_pd(pos, phi);
+                y = _mm512_maskz_mov_pd(pos, y);
+            }
+            const __m512d l = _mm512_maskz_loadu_pd(m, lam);  // 0 in the masked-off lanes
+            v = _mm512_fmadd_pd(l, phi, v);
+            if (grad) {
+                const __m512d s = _mm512_mul_pd(l, y);
+                gx = _mm512_fmadd_pd(s, ex, gx);
+                gy = _mm512_fmadd_pd(s, ey, gy);
+                gz = _mm512_fmadd_pd(s, ez, gz);
+            }
+        }
+        lam -= (8 - (L.runs[r].count % 8)) % 8;  // the last step went past the run's end
     }
-    out.v += _mm512_reduce_add_pd(v);
-    if (grad) {
-        out.gx += _mm512_reduce_add_pd(gx);
-        out.gy += _mm512_reduce_add_pd(gy);
-        out.gz += _mm512_reduce_add_pd(gz);
-    }
+    if (grad) reduce4(fold(v), fold(gx), fold(gy), fold(gz), out);
+    else out.v = reduce1(fold(v));
+}
+
+__attribute__((target("avx512f,avx512vl,avx512dq,fma"))) void sums_avx512(const double* px, const double* py,
+                                                                          const double* pz, const MqLocalTerms* locals,
+                                                                          std::size_t n, const Vec3& x, bool grad,
+                                                                          MqSum* out) {
+    const __m512d X = _mm512_set1_pd(x.x), Y = _mm512_set1_pd(x.y), Z = _mm512_set1_pd(x.z);
+    for (std::size_t i = 0; i < n; ++i) local_avx512(px, py, pz, locals[i], X, Y, Z, grad, out[i]);
 }
 #endif
 
 struct Choice {
-    SumFn fn;
+    SumsFn fn;
     const char* name;
 };
 
@@ -134,10 +215,10 @@ Choice choose() {
 #ifdef MESHLESS_MQ_X86
     __builtin_cpu_init();
     if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq"))
-        return {sum_avx512, "avx512"};
-    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return {sum_avx2, "avx2"};
+        return {sums_avx512, "avx512"};
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return {sums_avx2, "avx2"};
 #endif
-    return {sum_scalar, "scalar"};
+    return {sums_scalar, "scalar"};
 }
 
 const Choice& chosen() {
@@ -145,11 +226,28 @@ const Choice& chosen() {
     return c;
 }
 
+void add_to(const MqSum& s, bool grad, MqSum& out) {
+    out.v += s.v;
+    if (grad) {
+        out.gx += s.gx;
+        out.gy += s.gy;
+        out.gz += s.gz;
+    }
+}
+
 }  // namespace
+
+void multiquadric_sums(const double* px, const double* py, const double* pz, std::span<const MqLocalTerms> locals,
+                       const Vec3& x, bool grad, MqSum* out) {
+    chosen().fn(px, py, pz, locals.data(), locals.size(), x, grad, out);
+}
 
 void multiquadric_sum(const double* px, const double* py, const double* pz, std::span<const MqRun> runs,
                       const double* lambda, double c2, const Vec3& x, bool grad, MqSum& out) {
-    chosen().fn(px, py, pz, runs.data(), runs.size(), lambda, c2, x, grad, out);
+    const MqLocalTerms L{runs.data(), static_cast<std::uint32_t>(runs.size()), lambda, c2};
+    MqSum s;
+    chosen().fn(px, py, pz, &L, 1, x, grad, &s);
+    add_to(s, grad, out);
 }
 
 const char* multiquadric_sum_isa() { return chosen().name; }
@@ -169,12 +267,15 @@ bool multiquadric_sum_isa_available(std::string_view isa) {
 void multiquadric_sum_with(std::string_view isa, const double* px, const double* py, const double* pz,
                            std::span<const MqRun> runs, const double* lambda, double c2, const Vec3& x, bool grad,
                            MqSum& out) {
-    SumFn fn = sum_scalar;
+    SumsFn fn = sums_scalar;
 #ifdef MESHLESS_MQ_X86
-    if (isa == "avx2") fn = sum_avx2;
-    if (isa == "avx512") fn = sum_avx512;
+    if (isa == "avx2") fn = sums_avx2;
+    if (isa == "avx512") fn = sums_avx512;
 #endif
-    fn(px, py, pz, runs.data(), runs.size(), lambda, c2, x, grad, out);
+    const MqLocalTerms L{runs.data(), static_cast<std::uint32_t>(runs.size()), lambda, c2};
+    MqSum s;
+    fn(px, py, pz, &L, 1, x, grad, &s);
+    add_to(s, grad, out);
 }
 
 }  // namespace meshless

@@ -8,7 +8,14 @@
 // per process with __builtin_cpu_supports; otherwise a plain loop. The lanes are reduced in a fixed
 // order, so on one machine the result is deterministic (independent of threads, batch sizes and
 // call order); it differs from a scalar left-to-right sum by rounding only (~1e-16 relative to
-// sum |lambda_k| phi_k). Units: those of the caller (frame coordinates, data units).
+// sum |lambda_k| phi_k). The SIMD paths compute no square root nor division: y = 1/sqrt(r^2 + c^2)
+// starts from the hardware estimate (AVX-512 vrsqrt14pd, relative error <= 2^-14; AVX2 vrsqrtps on
+// the value rounded to float, <= 1.5 x 2^-12) and is refined by one step of the Taylor series of
+// (1 - e)^(-1/2), e = 1 - r^2 y0^2, to the degree that leaves a truncation below 1e-16 (3rd: 35/128
+// e^4 <= 6e-17; 4th on AVX2: 63/256 e^5 <= 6e-17); then phi = r^2 y and the gradient's weight
+// lambda y. The AVX2 path falls back to sqrt and division for a local whose r^2 leaves the float
+// range [1e-30, 1e30] (never with the default Hardy c). Units: those of the caller (frame
+// coordinates, data units).
 // Thread-safety: pure functions. Throws nothing.
 #pragma once
 #include <cstddef>
@@ -35,6 +42,21 @@ struct MqRun {
 /// c2 = c^2 >= 0. With grad == false only out.v changes. Arrays need not be aligned or padded.
 void multiquadric_sum(const double* px, const double* py, const double* pz, std::span<const MqRun> runs,
                       const double* lambda, double c2, const Vec3& x, bool grad, MqSum& out);
+
+/// One local's terms for multiquadric_sums(): runs[0 .. nruns) of the px/py/pz arrays with the
+/// coefficients lambda[0], lambda[1], ... (consecutive across runs), c2 = c^2 >= 0.
+struct MqLocalTerms {
+    const MqRun* runs = nullptr;
+    std::uint32_t nruns = 0;
+    const double* lambda = nullptr;
+    double c2 = 0;
+};
+
+/// out[i] = the sums of locals[i] at x (out[i] is overwritten, not added to), for every i: the
+/// same bits as multiquadric_sum() into a zeroed MqSum, one dispatch for all the locals a query
+/// blends. With grad == false only out[i].v is set (the gradients are left unspecified).
+void multiquadric_sums(const double* px, const double* py, const double* pz, std::span<const MqLocalTerms> locals,
+                       const Vec3& x, bool grad, MqSum* out);
 
 /// Which implementation multiquadric_sum() uses on this machine: "avx512", "avx2" or "scalar".
 const char* multiquadric_sum_isa();

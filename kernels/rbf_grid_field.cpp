@@ -294,23 +294,30 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
 std::uint32_t RbfGridField::batch_key(const Vec3& pw) const {
     const Vec3 dw = pw - origin_;
     const Vec3 x{dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z};
-    std::int64_t ci[3];
+    std::uint32_t ci[3];
+    const int shift = morton_shift(std::max({n_[0], n_[1], n_[2]}));
     for (int a = 0; a < 3; ++a) {
         const double u = (x[a] - lo_[a]) * inv_s_[a];
         if (!(u == u)) return 0xFFFFFFFFu;
-        ci[a] = static_cast<std::int64_t>(std::clamp(std::floor(u), 0.0, static_cast<double>(n_[a] - 1)));
+        ci[a] = static_cast<std::uint32_t>(std::clamp(std::floor(u), 0.0, static_cast<double>(n_[a] - 1))) >> shift;
     }
-    return static_cast<std::uint32_t>(ci[0] + n_[0] * (ci[1] + n_[1] * ci[2]));
+    return morton_key(ci[0], ci[1], ci[2]);
 }
 
 void RbfGridField::evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
-    PuBlend sc;
+    PuBlend blend;
+    EvalScratch sc;
     const bool want_grad = !grad.empty();
     for_each_in_key_order(p.size(), [&](std::size_t t) { return batch_key(p[t]); },
-                          [&](std::size_t t) { eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, sc); });
+                          [&](std::size_t t) { eval_one(p[t], value[t], want_grad ? &grad[t] : nullptr, blend, sc); },
+                          [&](std::size_t t) {
+                              __builtin_prefetch(&p[t]);
+                              __builtin_prefetch(&value[t], 1);
+                              if (want_grad) __builtin_prefetch(&grad[t], 1);
+                          });
 }
 
-void RbfGridField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blend) const {
+void RbfGridField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blend, EvalScratch& sc) const {
     const bool want_grad = grad != nullptr;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     {
@@ -334,27 +341,48 @@ void RbfGridField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& 
             c1[a] = static_cast<std::int64_t>(std::clamp(std::floor(u + reach_[a] + 1e-6), -1.0, top));
         }
         blend.reset();
+        // branch-free selection of the locals whose weight sphere holds x
+        const std::size_t span = static_cast<std::size_t>(std::max<std::int64_t>(0, c1[0] - c0[0] + 1) *
+                                                          std::max<std::int64_t>(0, c1[1] - c0[1] + 1) *
+                                                          std::max<std::int64_t>(0, c1[2] - c0[2] + 1));
+        sc.local.resize(span);
+        sc.centre.resize(span);
+        sc.dist.resize(span);
+        std::size_t m = 0;
+        const double rw2 = r_w_ * r_w_;
         for (std::int64_t k = c0[2]; k <= c1[2]; ++k)
             for (std::int64_t j = c0[1]; j <= c1[1]; ++j) {
                 const std::int32_t* row = cell_local_.data() + n_[0] * (j + n_[1] * k);
                 for (std::int64_t i = c0[0]; i <= c1[0]; ++i) {
                     const std::int32_t l = row[i];
-                    if (l < 0) continue;
                     const Vec3 cc{lo_.x + (i + 0.5) * s_.x, lo_.y + (j + 0.5) * s_.y, lo_.z + (k + 0.5) * s_.z};
-                    double d;
-                    if (!PuBlend::covers(x, cc, r_w_, &d)) continue;
-                    const MultiquadricLocal& h = locals_[static_cast<std::size_t>(l)];
-                    MqSum acc;
-                    if (h.count > 0)
-                        multiquadric_sum(px_.data(), py_.data(), pz_.data(),
-                                         std::span<const MqRun>(runs_.data() + run_first_[l],
-                                                                run_first_[l + 1] - run_first_[l]),
-                                         lambda_.data() + h.first, h.c2, x, want_grad, acc);
-                    const Vec3 dx = x - h.origin;
-                    const double q = h.a0 + dot(h.a, dx) + acc.v;
-                    blend.add(x, cc, r_w_, d, q, h.a + Vec3{acc.gx, acc.gy, acc.gz});
+                    const Vec3 e = x - cc;
+                    const double d2 = dot(e, e);
+                    sc.local[m] = l;
+                    sc.centre[m] = cc;
+                    sc.dist[m] = d2;
+                    m += l >= 0 && d2 < rw2;
                 }
             }
+        sc.local.resize(m);
+        sc.terms.resize(m);
+        for (std::size_t t = 0; t < m; ++t) {
+            const std::int32_t l = sc.local[t];
+            const MultiquadricLocal& h = locals_[static_cast<std::size_t>(l)];
+            const std::uint32_t r0 = run_first_[l], nr = h.count > 0 ? run_first_[l + 1] - r0 : 0;
+            sc.terms[t] = MqLocalTerms{runs_.data() + r0, nr, lambda_.data() + h.first, h.c2};
+            sc.dist[t] = std::sqrt(sc.dist[t]);
+            __builtin_prefetch(lambda_.data() + h.first);  // the misses of all the locals overlap
+        }
+        const std::size_t nl = sc.local.size();
+        sc.sums.resize(nl);
+        multiquadric_sums(px_.data(), py_.data(), pz_.data(), sc.terms, x, want_grad, sc.sums.data());
+        for (std::size_t t = 0; t < nl; ++t) {
+            const MultiquadricLocal& h = locals_[static_cast<std::size_t>(sc.local[t])];
+            const MqSum& acc = sc.sums[t];
+            const double q = h.a0 + dot(h.a, x - h.origin) + acc.v;
+            blend.add(x, sc.centre[t], r_w_, sc.dist[t], q, want_grad ? h.a + Vec3{acc.gx, acc.gy, acc.gz} : h.a);
+        }
         value = blend.finish(grad);
         if (want_grad) *grad = {grad->x * scale_.x, grad->y * scale_.y, grad->z * scale_.z};
     }

@@ -40,7 +40,8 @@
 // one per (y, z) row of the block, with its lambdas contiguous in the same order, so there is no
 // per-centre index and the sum runs SIMD-wide (kernels/multiquadric_sum.hpp). Grown or capped
 // locals get their own copied run. A query visits only the cells whose centre lies within R_w on
-// every axis. Batches of >= kBatchOrderMin queries are evaluated cell by cell (kernels/
+// every axis, selects (branch-free) those within R_w, and sums them in one multiquadric_sums() call.
+// Batches of >= kBatchOrderMin queries are evaluated cell by cell in Morton order (kernels/
 // batch_order.hpp) and written back in place: every query's bits equal its single-point result.
 // Memory: ~27 m lambdas per local x 8 bytes + 24 bytes per point: ~1.1 KB per cell at m = 5
 // (~260 bytes per input point). Construction is parallel (oneTBB parallel_for over cells; the
@@ -89,7 +90,16 @@ public:
 private:
     RbfGridField() = default;
     std::uint32_t batch_key(const Vec3& world) const;  // cell of a query (kernels/batch_order.hpp)
-    void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend) const;
+    // Per-evaluate() scratch: the locals weighing at the query (in blend order), their cell
+    // centres, distances, terms and multiquadric sums.
+    struct EvalScratch {
+        std::vector<std::int32_t> local;
+        std::vector<Vec3> centre;
+        std::vector<double> dist;
+        std::vector<MqLocalTerms> terms;
+        std::vector<MqSum> sums;
+    };
+    void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend, EvalScratch& sc) const;
 
     Vec3 origin_, scale_{1, 1, 1};  // frame = (world - origin_) * scale_                 // world position of the frame of pos_
     std::array<Vec3, 2> bounds_;

@@ -324,6 +324,7 @@ TEST_CASE("cells no scattered point reaches stay outside the picture, with or wi
     pts.blocks.push_back({"points", {2000, 1, 1}, 0, 2000});
     FieldParams fp;
     fp.kind = FieldKind::mpu;
+    fp.mpu_blend_alpha = 1e9;  // blend over the whole (grown) fit spheres: the field reaches far into x > 0
     const auto field = make_field(pts, fp);
     const std::array<Vec3, 2> box{Vec3{-1, -1, -1}, Vec3{1, 1, 1}};
     const double h = mean_point_spacing(pts.pos);
