@@ -613,7 +613,7 @@ TEST_CASE("morton_key interleaves the cell indices, morton_shift fits them into 
     CHECK(morton_shift(std::int64_t{1} << 31) == 21);
 }
 
-TEST_CASE("multiquadric_sums gives each local the bits of multiquadric_sum; the fast paths stay accurate", "[rbf]") {
+TEST_CASE("multiquadric_sums gives each local the bits of multiquadric_sum, and the fast paths stay accurate", "[rbf]") {
     const auto pts = random_points(200, {-1, -1, -1}, {1, 1, 1}, 81);
     std::vector<double> px, py, pz, lam;
     std::mt19937_64 rng(82);
