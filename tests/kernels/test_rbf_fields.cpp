@@ -48,6 +48,23 @@ std::vector<Vec3> random_points(std::size_t n, const Vec3& lo, const Vec3& hi, u
     return out;
 }
 
+/// The centres `pts` as structure-of-arrays, with random coefficients in [-1,1].
+struct Centres {
+    std::vector<double> px, py, pz, lam;
+};
+Centres random_centres(const std::vector<Vec3>& pts, unsigned coefficient_seed) {
+    Centres c;
+    std::mt19937_64 rng(coefficient_seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (const Vec3& p : pts) {
+        c.px.push_back(p.x);
+        c.py.push_back(p.y);
+        c.pz.push_back(p.z);
+        c.lam.push_back(u(rng));
+    }
+    return c;
+}
+
 PointSet make_points(const std::vector<Vec3>& pos, const Fn& f) {
     PointSet ps;
     ps.pos = pos;
@@ -543,15 +560,7 @@ TEST_CASE("order_by_key sorts stably", "[rbf]") {
 
 TEST_CASE("multiquadric_sum over runs matches the scalar multiquadric", "[rbf]") {
     const auto pts = random_points(300, {-1, -1, -1}, {1, 1, 1}, 71);
-    std::vector<double> px, py, pz, lam;
-    std::mt19937_64 rng(72);
-    std::uniform_real_distribution<double> u(-1, 1);
-    for (const Vec3& p : pts) {
-        px.push_back(p.x);
-        py.push_back(p.y);
-        pz.push_back(p.z);
-        lam.push_back(u(rng));
-    }
+    const auto [px, py, pz, lam] = random_centres(pts, 72);
     // runs of every length 0..20 and one long run, in a scrambled order
     std::vector<MqRun> runs;
     std::uint32_t at = 0;
@@ -615,15 +624,7 @@ TEST_CASE("morton_key interleaves the cell indices, morton_shift fits them into 
 
 TEST_CASE("multiquadric_sums gives each local the bits of multiquadric_sum, and the fast paths stay accurate", "[rbf]") {
     const auto pts = random_points(200, {-1, -1, -1}, {1, 1, 1}, 81);
-    std::vector<double> px, py, pz, lam;
-    std::mt19937_64 rng(82);
-    std::uniform_real_distribution<double> u(-1, 1);
-    for (const Vec3& p : pts) {
-        px.push_back(p.x);
-        py.push_back(p.y);
-        pz.push_back(p.z);
-        lam.push_back(u(rng));
-    }
+    const auto [px, py, pz, lam] = random_centres(pts, 82);
     // locals of 0..3 runs of assorted lengths, one with c = 0 (a centre at the query: phi = 0, no slope)
     const std::vector<MqRun> runs = {{0, 13}, {20, 1}, {30, 8}, {50, 0}, {60, 50}, {120, 7}, {150, 9}};
     std::vector<MqLocalTerms> locals = {{runs.data(), 2, lam.data(), 0.01},    {runs.data() + 2, 3, lam.data() + 14, 0.5},
