@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
-#include <sys/uio.h>
 #include <unistd.h>
 #include <zstd.h>
 
@@ -41,18 +40,14 @@ std::uint64_t get_u64(const unsigned char* p) {
 }
 std::uint32_t crc_of(const void* p, std::size_t n) { return crc32_ieee(0, p, n); }
 
-bool is_pipe(std::FILE* f) {
-    struct stat st {};
-    const int fd = fileno(f);
-    return fd >= 0 && ::fstat(fd, &st) == 0 && S_ISFIFO(st.st_mode);
-}
-
 /// A pipe's buffer grown to 1 MiB (Linux F_SETPIPE_SZ; the default 64 KiB makes the stages of a
 /// pipeline wake each other ~16 times per megabyte). Not a pipe, or refused: left as it is.
 void widen_pipe(std::FILE* f) {
 #ifdef F_SETPIPE_SZ
+    struct stat st {};
     const int fd = fileno(f);
-    if (is_pipe(f) && ::fcntl(fd, F_GETPIPE_SZ) < (1 << 20)) (void)::fcntl(fd, F_SETPIPE_SZ, 1 << 20);
+    if (fd >= 0 && ::fstat(fd, &st) == 0 && S_ISFIFO(st.st_mode) && ::fcntl(fd, F_GETPIPE_SZ) < (1 << 20))
+        (void)::fcntl(fd, F_SETPIPE_SZ, 1 << 20);
 #else
     (void)f;
 #endif
@@ -142,16 +137,6 @@ StreamWriter::StreamWriter(std::FILE* f, std::string name, RecordKind kind, bool
     if ((flags & ~kStreamFlagBlocks) != 0 || ((flags & kStreamFlagBlocks) && kind != RecordKind::point))
         throw InvalidArgument(name_ + ": stream flags " + std::to_string(flags) + " are not valid for this record kind");
     widen_pipe(f_);
-    if (is_pipe(f_)) {
-        // frames go to the pipe with one writev each (header + payload), past stdio's 4 KiB buffer,
-        // which would split every frame into two or three write calls; whatever the FILE holds
-        // already goes first
-        if (std::fflush(f_) != 0) {
-            if (errno == EPIPE) throw BrokenPipe();
-            throw IoError(name_ + ": write failed (" + std::strerror(errno) + ")");
-        }
-        fd_ = fileno(f_);
-    }
     unsigned char h[32] = {};
     std::memcpy(h, kMagic, 8);
     put_u32(h + 8, kStreamVersion);
@@ -161,42 +146,10 @@ StreamWriter::StreamWriter(std::FILE* f, std::string name, RecordKind kind, bool
     put(h, sizeof h);
 }
 
-void StreamWriter::put(const void* p, std::size_t n) { put2(p, n, nullptr, 0); }
-
-void StreamWriter::put2(const void* a, std::size_t na, const void* b, std::size_t nb) {
-    const auto failed = [&] {
+void StreamWriter::put(const void* p, std::size_t n) {
+    if (n && std::fwrite(p, 1, n, f_) != n) {
         if (errno == EPIPE) throw BrokenPipe();
         throw IoError(name_ + ": write failed (" + std::strerror(errno) + ")");
-    };
-    if (fd_ < 0) {
-        if (na && std::fwrite(a, 1, na, f_) != na) failed();
-        if (nb && std::fwrite(b, 1, nb, f_) != nb) failed();
-        return;
-    }
-    iovec v[2] = {{const_cast<void*>(a), na}, {const_cast<void*>(b), nb}};
-    iovec* at = v;
-    int left = nb ? 2 : 1;
-    while (left > 0) {
-        if (at->iov_len == 0) {
-            ++at;
-            --left;
-            continue;
-        }
-        const ssize_t w = ::writev(fd_, at, left);
-        if (w < 0) {
-            if (errno == EINTR) continue;
-            failed();
-        }
-        auto done = static_cast<std::size_t>(w);
-        while (left > 0 && done >= at->iov_len) {  // partial write: step over what went
-            done -= at->iov_len;
-            ++at;
-            --left;
-        }
-        if (left > 0) {
-            at->iov_base = static_cast<char*>(at->iov_base) + done;
-            at->iov_len -= done;
-        }
     }
 }
 
@@ -209,7 +162,8 @@ void StreamWriter::write_frame(std::uint32_t type, std::uint32_t flags, std::uin
     put_u64(h + 16, count);
     put_u32(h + 24, bytes);
     put_u32(h + 28, crc_of(payload, bytes));
-    put2(h, sizeof h, payload, bytes);
+    put(h, sizeof h);
+    put(payload, bytes);
 }
 
 void StreamWriter::write_meta(const StreamMeta& m) {

@@ -73,10 +73,7 @@ private:
     void write_frame(std::uint32_t type, std::uint32_t flags, std::uint64_t seq, std::uint64_t count,
                      const void* payload, std::uint32_t bytes);
     void put(const void* p, std::size_t n);
-    /// a then b; on a pipe one writev (partial writes resumed), else through the FILE.
-    void put2(const void* a, std::size_t na, const void* b, std::size_t nb);
     std::FILE* f_;
-    int fd_ = -1;  ///< the pipe written past stdio, or -1 (not a pipe: the FILE)
     std::string name_;
     RecordKind kind_;
     std::size_t rsize_;
