@@ -1,8 +1,9 @@
 // CRC-32 (IEEE 802.3, the polynomial of zlib, gzip and PNG): the same values as zlib's crc32(),
-// computed with carry-less multiplication (PCLMULQDQ folding, Gopal et al., "Fast CRC Computation
-// for Generic Polynomials Using PCLMULQDQ Instruction", Intel 2009) where the CPU has it, about
-// 10x zlib's table-driven speed, else by zlib. Used by the stream codec, whose frames are
-// checksummed in every stage process of a pipe. Reentrant.
+// computed by libdeflate's libdeflate_crc32 (carry-less multiplication folding with PCLMULQDQ /
+// VPCLMULQDQ where the CPU has it). Measured on the 2-core AMD EPYC (AVX-512) machine: 20 GB/s on
+// 100 KB frames and 6 GB/s on 32-byte headers, against 20 GB/s and 0.7 GB/s for the hand-written
+// PCLMUL folding it replaced and 3.7 GB/s for zlib. Used by the stream codec, whose frames are
+// checksummed in every stage process of a pipe, and by the binary file formats. Reentrant.
 #pragma once
 #include <cstddef>
 #include <cstdint>

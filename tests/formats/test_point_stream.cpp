@@ -2,9 +2,13 @@
 // record size, truncation at every byte, flipped bits, wrong END totals).
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "formats/point_stream.hpp"
@@ -245,4 +249,57 @@ TEST_CASE("unknown header flags, block flags on samples or seeds, and seed recor
     std::string mesh = s;
     mesh[12] = 3;  // mesh batches never go on a pipe
     CHECK_THROWS_WITH(decode(mesh), Catch::Contains("unknown record kind 3"));
+}
+
+TEST_CASE("a stream written to a pipe has the bytes of one written to memory", "[stream-codec]") {
+    // frames larger than the pipe's buffer (widened to 1 MiB), small ones and the header before them
+    const std::vector<std::vector<PointRecord>> batches = {some_points(3, 1), some_points(70000, 2), some_points(1, 3),
+                                                           {}, some_points(40000, 4)};
+    StreamMeta meta;
+    meta.set("iso", 0.5);
+    for (const bool compress : {false, true}) {
+        const std::string expected = encode(batches, compress, meta);
+        int fds[2];
+        REQUIRE(::pipe(fds) == 0);
+        std::string got;
+        std::thread reader([&] {
+            char buf[65536];
+            for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) > 0;) got.append(buf, static_cast<std::size_t>(n));
+            ::close(fds[0]);
+        });
+        std::FILE* f = ::fdopen(fds[1], "wb");
+        REQUIRE(f != nullptr);
+        {
+            StreamWriter w(f, "pipe", RecordKind::point, compress);
+            w.write_meta(meta);
+            std::uint64_t seq = 0;
+            for (const auto& b : batches) w.write_data(seq++, b.data(), b.size());
+            w.finish();
+        }
+        std::fclose(f);
+        reader.join();
+        CHECK(got == expected);
+        const Decoded d = decode(got);
+        REQUIRE(d.batches.size() == 4);
+        CHECK(same(d.batches[1], batches[1]));
+    }
+}
+
+TEST_CASE("a pipe whose reader has gone is a BrokenPipe, not an I/O error", "[stream-codec]") {
+    const auto old = std::signal(SIGPIPE, SIG_IGN);
+    int fds[2];
+    REQUIRE(::pipe(fds) == 0);
+    ::close(fds[0]);
+    std::FILE* f = ::fdopen(fds[1], "wb");
+    REQUIRE(f != nullptr);
+    const auto pts = some_points(1000, 1);
+    CHECK_THROWS_AS(
+        [&] {
+            StreamWriter w(f, "pipe", RecordKind::point);
+            w.write_data(0, pts.data(), pts.size());
+            w.finish();
+        }(),
+        BrokenPipe);
+    std::fclose(f);
+    std::signal(SIGPIPE, old);
 }
