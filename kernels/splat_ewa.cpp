@@ -7,6 +7,10 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "kernels/shading.hpp"
 #include "kernels/splat_rasterizer.hpp"
 
@@ -16,16 +20,7 @@ namespace {
 constexpr int kTable = 1024;           // Gaussian lookup entries over q in [0, cutoff^2]
 constexpr float kFixed = 1048576.0f;  // 2^20: fixed-point scale of weights and weighted normals
 
-// Screen-space footprint of one splat; identical in both passes (same code, same inputs).
-struct Footprint {
-    float sx, sy;            // centre, pixels
-    float q00, q01, q11;     // conic V^-1
-    float depth, gx, gy;     // plane depth at the centre and its screen gradient
-    float zlo, zhi;          // depth clamp: the disk spans at most +-radius in depth
-    float eps;               // accumulation depth tolerance
-    float n[3];              // oriented unit normal, camera space
-    int x0, x1, y0, y1;      // clipped pixel range
-};
+using Footprint = EwaFootprint;  // identical in both passes (same code, same inputs)
 
 struct Setup {
     detail::FloatView fv;
@@ -102,11 +97,10 @@ bool footprint(const Setup& s, const PointRecord& rec, Footprint& f) {
     f.q01 = -v01 / det;
     f.q11 = v00 / det;
 
-    // Depth of the splat plane, linear in the screen offset: depth(s,t) = D - (s u_z + t w_z).
+    // Depth of the splat plane, linear in the screen offset: depth(s,t) = D - (s u_z + t w_z),
+    // clamped to [max(D - r, 0), D + r] (DepthRange).
     f.depth = D;
-    f.zlo = std::max(D - r, 0.0f);  // non-negative: depth bits order the visibility keys
-    f.zhi = D + r;
-    f.eps = s.depth_eps * r;
+    f.radius = r;
     const float detj = j00 * j11 - j01 * j10;
     if (std::fabs(detj) > 1e-6f * (std::fabs(j00 * j11) + std::fabs(j01 * j10)) && detj != 0.0f) {
         // (s,t) = J^-1 d
@@ -121,11 +115,171 @@ bool footprint(const Setup& s, const PointRecord& rec, Footprint& f) {
     const float fx0 = std::ceil(f.sx - ex - 0.5f), fx1 = std::floor(f.sx + ex - 0.5f);
     const float fy0 = std::ceil(f.sy - ey - 0.5f), fy1 = std::floor(f.sy + ey - 0.5f);
     if (!(fx1 >= 0 && fy1 >= 0 && fx0 <= s.W - 1 && fy0 <= s.H - 1 && fx0 <= fx1 && fy0 <= fy1)) return false;
-    f.x0 = static_cast<int>(std::max(fx0, 0.0f));
-    f.x1 = static_cast<int>(std::min(fx1, float(s.W - 1)));
-    f.y0 = static_cast<int>(std::max(fy0, 0.0f));
-    f.y1 = static_cast<int>(std::min(fy1, float(s.H - 1)));
+    // image sides are at most 16384 (cli/common.cpp): the range fits 16 bits
+    f.x0 = static_cast<std::uint16_t>(std::max(fx0, 0.0f));
+    f.x1 = static_cast<std::uint16_t>(std::min(fx1, float(s.W - 1)));
+    f.y0 = static_cast<std::uint16_t>(std::max(fy0, 0.0f));
+    f.y1 = static_cast<std::uint16_t>(std::min(fy1, float(s.H - 1)));
+    f.base = 0;
     return true;
+}
+
+// The depth clamp and blending tolerance of a footprint: the disk spans at most +-radius in depth;
+// zlo is non-negative, so depth bits order the visibility keys.
+struct DepthRange {
+    float zlo, zhi, eps;
+    DepthRange(const Setup& s, const Footprint& f)
+        : zlo(std::max(f.depth - f.radius, 0.0f)), zhi(f.depth + f.radius), eps(s.depth_eps * f.radius) {}
+};
+
+// True when no fragment of f can pass pass 2's depth test (z > visible + eps rejects): every
+// fragment depth is >= zlo (the depth plane cannot give NaN: finite, bounded gradient), and zlo
+// exceeds the largest visible depth of every tile under f's bounding box by more than eps (float
+// addition is monotonic, so visible + eps <= tile max + eps < zlo <= z at every pixel).
+bool plane_is_bounded(const Footprint& f) {
+    return std::isfinite(f.depth) && std::fabs(f.gx) < 1e30f && std::fabs(f.gy) < 1e30f;
+}
+
+bool hidden(const VisibleDepthTiles& t, const Footprint& f, const DepthRange& d) {
+    if (!plane_is_bounded(f)) return false;
+    constexpr int sh = VisibleDepthTiles::kShift;
+    float m = 0.0f;
+    for (int ty = f.y0 >> sh; ty <= f.y1 >> sh; ++ty) {
+        const float* row = t.max_depth.data() + static_cast<std::size_t>(ty) * t.tiles_x;
+        for (int tx = f.x0 >> sh; tx <= f.x1 >> sh; ++tx) m = std::max(m, row[tx]);
+    }
+    return d.zlo > m + d.eps;
+}
+
+// Pass 1 on one row of f's bounding box (dy: the row's centre offset): each pixel inside the
+// cut-off ellipse takes min(key, (depth bits << 32) | packed). Returns the fragments drawn. With
+// SSE2, four pixels at a time: the same float operations in the same order as the scalar loop (no
+// contraction, IEEE rounding per operation), so the same bits; the keys' minimum stays scalar.
+std::int64_t draw_row(const Setup& s, const Footprint& f, const DepthRange& d, float dy, std::uint64_t packed,
+                      std::uint64_t* row) {
+    constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+    std::int64_t frags = 0;
+    int x = f.x0;
+#if defined(__SSE2__)
+    const __m128 sx = _mm_set1_ps(f.sx), half = _mm_set1_ps(0.5f), c2 = _mm_set1_ps(s.c2);
+    const __m128 q00 = _mm_set1_ps(f.q00), q01x2 = _mm_set1_ps(2.0f * f.q01), vdy = _mm_set1_ps(dy);
+    const __m128 q11dydy = _mm_set1_ps(f.q11 * dy * dy);
+    const __m128 depth = _mm_set1_ps(f.depth), gx = _mm_set1_ps(f.gx), gydy = _mm_set1_ps(f.gy * dy);
+    const __m128 zlo = _mm_set1_ps(d.zlo), zhi = _mm_set1_ps(d.zhi);
+    for (; x <= f.x1; x += 4) {
+        const __m128 dx = _mm_sub_ps(_mm_add_ps(_mm_cvtepi32_ps(_mm_setr_epi32(x, x + 1, x + 2, x + 3)), half), sx);
+        // q = q00 dx dx + 2 q01 dx dy + q11 dy dy, evaluated left to right as in C++
+        const __m128 q = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(q00, dx), dx), _mm_mul_ps(_mm_mul_ps(q01x2, dx), vdy)),
+                                    q11dydy);
+        // std::clamp(v, lo, hi) = v < lo ? lo : (hi < v ? hi : v); max_ps(a, b) = a > b ? a : b
+        const __m128 v = _mm_add_ps(_mm_add_ps(depth, _mm_mul_ps(gx, dx)), gydy);
+        const __m128 z = _mm_min_ps(zhi, _mm_max_ps(zlo, v));
+        const int inside = _mm_movemask_ps(_mm_cmpngt_ps(q, c2));  // !(q > c2), NaN included
+        alignas(16) std::uint32_t zb[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(zb), _mm_castps_si128(z));
+        const int n = std::min(4, f.x1 - x + 1);
+        for (int i = 0; i < n; ++i) {
+            const bool in = (inside >> i) & 1;
+            frags += in;
+            const std::uint64_t key = (std::uint64_t{zb[i]} << 32) | packed;
+            row[x + i] = std::min(row[x + i], in ? key : kEmpty);
+        }
+    }
+#endif
+    for (; x <= f.x1; ++x) {
+        const float dx = x + 0.5f - f.sx;
+        const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
+        const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, d.zlo, d.zhi);
+        // Branch-free (the ellipse's edge is unpredictable): outside it, the candidate is the
+        // empty key, which the minimum ignores.
+        const bool inside = !(q > s.c2);
+        frags += inside;
+        const std::uint64_t key = (std::uint64_t{std::bit_cast<std::uint32_t>(z)} << 32) | packed;
+        row[x] = std::min(row[x], inside ? key : kEmpty);
+    }
+    return frags;
+}
+
+// Pass 2 for one footprint: adds its fragments near the visible surface; returns fragments tested.
+// Adds one accepted fragment (weight from q, aligned normal, colour) to the pixel's accumulators.
+inline void add_fragment(const Footprint& f, const float* colour, float q, std::uint64_t key, const float* gauss,
+                         float qscale, std::int64_t* a, bool coloured) {
+    // Align with the visible fragment's orientation before blending.
+    const float wgt = gauss[static_cast<int>(q * qscale)] * kFixed;
+    const float wn = agrees(key, f.n) ? wgt : -wgt;
+    a[0] += static_cast<std::int64_t>(wgt);
+    a[1] += static_cast<std::int64_t>(std::lrint(wn * f.n[0]));
+    a[2] += static_cast<std::int64_t>(std::lrint(wn * f.n[1]));
+    a[3] += static_cast<std::int64_t>(std::lrint(wn * f.n[2]));
+    if (coloured) {
+        a[4] += static_cast<std::int64_t>(std::lrint(wgt * colour[0]));
+        a[5] += static_cast<std::int64_t>(std::lrint(wgt * colour[1]));
+        a[6] += static_cast<std::int64_t>(std::lrint(wgt * colour[2]));
+    }
+}
+
+// Pass 2 for one footprint: adds its fragments near the visible surface; returns fragments tested.
+// With SSE2, q, z and the depth test run four pixels at a time with the float operations of the
+// scalar loop in the same order (the same bits); accepted fragments are added one by one.
+std::int64_t accumulate_one(const Setup& s, const Footprint& f, const DepthRange& d, const float* gauss, float qscale,
+                            const std::uint64_t* kb, std::int64_t* acc, std::size_t words) {
+    const bool coloured = words == 7;
+    float colour[3] = {0, 0, 0};
+    if (coloured) {
+        colour[0] = static_cast<float>(f.base >> 16) / 255.0f;
+        colour[1] = static_cast<float>((f.base >> 8) & 255u) / 255.0f;
+        colour[2] = static_cast<float>(f.base & 255u) / 255.0f;
+    }
+    const int W = s.W;
+    std::int64_t frags = 0;
+#if defined(__SSE2__)
+    const __m128 sx = _mm_set1_ps(f.sx), half = _mm_set1_ps(0.5f), c2 = _mm_set1_ps(s.c2);
+    const __m128 q00 = _mm_set1_ps(f.q00), q01x2 = _mm_set1_ps(2.0f * f.q01);
+    const __m128 depth = _mm_set1_ps(f.depth), gx = _mm_set1_ps(f.gx), eps = _mm_set1_ps(d.eps);
+    const __m128 zlo = _mm_set1_ps(d.zlo), zhi = _mm_set1_ps(d.zhi);
+#endif
+    for (int y = f.y0; y <= f.y1; ++y) {
+        const float dy = y + 0.5f - f.sy;
+        const std::size_t rowi = static_cast<std::size_t>(y) * W;
+        int x = f.x0;
+#if defined(__SSE2__)
+        const __m128 vdy = _mm_set1_ps(dy), q11dydy = _mm_set1_ps(f.q11 * dy * dy), gydy = _mm_set1_ps(f.gy * dy);
+        for (; x <= f.x1; x += 4) {
+            const int n = std::min(4, f.x1 - x + 1);
+            const __m128 dx = _mm_sub_ps(_mm_add_ps(_mm_cvtepi32_ps(_mm_setr_epi32(x, x + 1, x + 2, x + 3)), half), sx);
+            const __m128 q = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(q00, dx), dx), _mm_mul_ps(_mm_mul_ps(q01x2, dx), vdy)),
+                                        q11dydy);
+            const int lanes = (1 << n) - 1;
+            const int inside = _mm_movemask_ps(_mm_cmpngt_ps(q, c2)) & lanes;  // !(q > c2)
+            if (!inside) continue;
+            frags += std::popcount(static_cast<unsigned>(inside));
+            const __m128 z = _mm_min_ps(zhi, _mm_max_ps(zlo, _mm_add_ps(_mm_add_ps(depth, _mm_mul_ps(gx, dx)), gydy)));
+            alignas(16) std::uint32_t vis[4] = {0, 0, 0, 0};
+            const std::uint64_t* key = kb + rowi + x;
+            for (int i = 0; i < n; ++i) vis[i] = static_cast<std::uint32_t>(key[i] >> 32);
+            const __m128 limit = _mm_add_ps(_mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(vis))), eps);
+            int accept = inside & _mm_movemask_ps(_mm_cmpngt_ps(z, limit));  // !(z > visible + eps)
+            if (!accept) continue;
+            alignas(16) float qs[4];
+            _mm_store_ps(qs, q);
+            for (; accept; accept &= accept - 1) {
+                const int i = std::countr_zero(static_cast<unsigned>(accept));
+                add_fragment(f, colour, qs[i], key[i], gauss, qscale, acc + words * (rowi + x + i), coloured);
+            }
+        }
+#endif
+        for (; x <= f.x1; ++x) {
+            const float dx = x + 0.5f - f.sx;
+            const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
+            if (q > s.c2) continue;
+            ++frags;
+            const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, d.zlo, d.zhi);
+            const std::uint64_t key = kb[rowi + x];
+            if (z > std::bit_cast<float>(static_cast<std::uint32_t>(key >> 32)) + d.eps) continue;
+            add_fragment(f, colour, q, key, gauss, qscale, acc + words * (rowi + x), coloured);
+        }
+    }
+    return frags;
 }
 
 float ewa_c2(const ShadingParams& sh) {
@@ -152,41 +306,56 @@ void SplatFrame::init_ewa() {
     for (int i = 0; i <= kTable; ++i) gauss_[i] = std::exp(-0.5f * c2 * static_cast<float>(i) / kTable);
 }
 
-void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb, SplatStats& st) const {
+void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb, SplatStats& st,
+                          std::span<const std::uint32_t> blocks, std::vector<EwaFootprint>* out) const {
     const Setup s = make_setup(view_, shading_);
+    const bool coloured = acc_words() == 7;
     const int W = s.W;
     std::int64_t drawn = 0, frags = 0;
     Footprint f;
     // Pass 1: visibility. Key = (depth bits << 32) | packed normal of the nearest fragment, so the
     // minimum is independent of the drawing order, ties included.
-    for (const PointRecord& rec : points) {
-        if (!footprint(s, rec, f)) continue;
+    for (std::size_t pi = 0; pi < points.size(); ++pi) {
+        if (!footprint(s, points[pi], f)) continue;
         ++drawn;
+        const DepthRange d(s, f);
         const std::uint64_t packed = pack_normal(f.n);
-        for (int y = f.y0; y <= f.y1; ++y) {
-            const float dy = y + 0.5f - f.sy;
-            std::uint64_t* row = kb + static_cast<std::size_t>(y) * W;
-            for (int x = f.x0; x <= f.x1; ++x) {
-                const float dx = x + 0.5f - f.sx;
-                const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
-                if (q > s.c2) continue;
-                ++frags;
-                const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, f.zlo, f.zhi);
-                row[x] = std::min(row[x], (std::uint64_t{std::bit_cast<std::uint32_t>(z)} << 32) | packed);
-            }
+        for (int y = f.y0; y <= f.y1; ++y)
+            frags += draw_row(s, f, d, y + 0.5f - f.sy, packed, kb + static_cast<std::size_t>(y) * W);
+        if (out) {
+            if (coloured) f.base = splat_base_color(shading_, points[pi], blocks, pi);
+            out->push_back(f);
         }
     }
     st.splats_drawn += drawn;
     st.fragments += frags;
 }
 
+VisibleDepthTiles SplatFrame::depth_tiles(const std::uint64_t* keys) const {
+    constexpr int sh = VisibleDepthTiles::kShift;
+    const int W = view_.width, H = view_.height;
+    VisibleDepthTiles t;
+    t.tiles_x = (W + VisibleDepthTiles::kSize - 1) >> sh;
+    t.tiles_y = (H + VisibleDepthTiles::kSize - 1) >> sh;
+    std::vector<std::uint32_t> bits(static_cast<std::size_t>(t.tiles_x) * t.tiles_y, 0);
+    for (int y = 0; y < H; ++y) {
+        std::uint32_t* trow = bits.data() + static_cast<std::size_t>(y >> sh) * t.tiles_x;
+        const std::uint64_t* row = keys + static_cast<std::size_t>(y) * W;
+        for (int x = 0; x < W; ++x) trow[x >> sh] = std::max(trow[x >> sh], static_cast<std::uint32_t>(row[x] >> 32));
+    }
+    // Non-negative finite floats order like their bits; anything else (an empty pixel, a negative
+    // zero, infinity, NaN) has larger bits and makes the tile never hide anything.
+    t.max_depth.resize(bits.size());
+    for (std::size_t i = 0; i < bits.size(); ++i)
+        t.max_depth[i] = bits[i] < 0x7F800000u ? std::bit_cast<float>(bits[i]) : std::numeric_limits<float>::infinity();
+    return t;
+}
+
 void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint64_t* kb, std::int64_t* acc,
-                            SplatStats& st, std::span<const std::uint32_t> blocks) const {
+                            SplatStats& st, std::span<const std::uint32_t> blocks, const VisibleDepthTiles* tiles) const {
     const std::size_t words = acc_words();
     const bool coloured = words == 7;
     const Setup s = make_setup(view_, shading_);
-    const int W = s.W;
-    const float* gauss = gauss_.data();
     const float qscale = kTable / s.c2;
     std::int64_t frags = 0;
     Footprint f;
@@ -194,39 +363,24 @@ void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint
     for (std::size_t pi = 0; pi < points.size(); ++pi) {
         const PointRecord& rec = points[pi];
         if (!footprint(s, rec, f)) continue;
-        float colour[3] = {0, 0, 0};
-        if (coloured) {
-            const std::uint32_t c = splat_base_color(shading_, rec, blocks, pi);
-            colour[0] = static_cast<float>(c >> 16) / 255.0f;
-            colour[1] = static_cast<float>((c >> 8) & 255u) / 255.0f;
-            colour[2] = static_cast<float>(c & 255u) / 255.0f;
-        }
-        for (int y = f.y0; y <= f.y1; ++y) {
-            const float dy = y + 0.5f - f.sy;
-            const std::size_t rowi = static_cast<std::size_t>(y) * W;
-            for (int x = f.x0; x <= f.x1; ++x) {
-                const float dx = x + 0.5f - f.sx;
-                const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
-                if (q > s.c2) continue;
-                ++frags;
-                const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, f.zlo, f.zhi);
-                const std::uint64_t key = kb[rowi + x];
-                if (z > std::bit_cast<float>(static_cast<std::uint32_t>(key >> 32)) + f.eps) continue;
-                // Align with the visible fragment's orientation before blending.
-                const float wgt = gauss[static_cast<int>(q * qscale)] * kFixed;
-                const float wn = agrees(key, f.n) ? wgt : -wgt;
-                std::int64_t* a = acc + words * (rowi + x);
-                a[0] += static_cast<std::int64_t>(wgt);
-                a[1] += static_cast<std::int64_t>(std::lrint(wn * f.n[0]));
-                a[2] += static_cast<std::int64_t>(std::lrint(wn * f.n[1]));
-                a[3] += static_cast<std::int64_t>(std::lrint(wn * f.n[2]));
-                if (coloured) {
-                    a[4] += static_cast<std::int64_t>(std::lrint(wgt * colour[0]));
-                    a[5] += static_cast<std::int64_t>(std::lrint(wgt * colour[1]));
-                    a[6] += static_cast<std::int64_t>(std::lrint(wgt * colour[2]));
-                }
-            }
-        }
+        const DepthRange d(s, f);
+        if (tiles && hidden(*tiles, f, d)) continue;
+        if (coloured) f.base = splat_base_color(shading_, rec, blocks, pi);
+        frags += accumulate_one(s, f, d, gauss_.data(), qscale, kb, acc, words);
+    }
+    st.fragments += frags;
+}
+
+void SplatFrame::accumulate(std::span<const EwaFootprint> footprints, const std::uint64_t* kb, std::int64_t* acc,
+                            SplatStats& st, const VisibleDepthTiles* tiles) const {
+    const std::size_t words = acc_words();
+    const Setup s = make_setup(view_, shading_);
+    const float qscale = kTable / s.c2;
+    std::int64_t frags = 0;
+    for (const Footprint& f : footprints) {
+        const DepthRange d(s, f);
+        if (tiles && hidden(*tiles, f, d)) continue;
+        frags += accumulate_one(s, f, d, gauss_.data(), qscale, kb, acc, words);
     }
     st.fragments += frags;
 }
