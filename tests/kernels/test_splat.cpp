@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -418,6 +419,21 @@ TEST_CASE("EWA pass 2 from spooled footprints and with hidden splats skipped: th
         const auto more = sphere_points(3000, rho, 1.4);
         pts.insert(pts.end(), more.begin(), more.end());
     }
+    // and records every early exit of the footprint meets: NaN / infinite positions, zero and NaN
+    // normals, zero, negative, NaN and infinite radii, a point behind the eye, one far off screen
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    for (int i = 0; i < 8; ++i) {
+        pts.push_back(rec({NAN, 0, 0}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({0.1, inf, 0}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({0.2, 0.1 * i, 0.85}, {0, 0, 0}, 0.05f));
+        pts.push_back(rec({-0.2, 0.1 * i, 0.85}, {nan, 0, 1}, 0.05f));
+        pts.push_back(rec({0.3, -0.1 * i, 0.85}, {0, 1, 1}, 0.0f));
+        pts.push_back(rec({0.3, -0.1 * i, 0.86}, {1, 0, 1}, -0.05f));
+        pts.push_back(rec({0.35, 0.1 * i, 0.86}, {1, 0, 1}, nan));
+        pts.push_back(rec({0.35, 0.1 * i, 0.87}, {1, 1, 0}, inf));
+        pts.push_back(rec({0, 0, 50}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({40, 0, 0}, {0, 0, 1}, 0.05f));
+    }
     std::mt19937 rng(11);
     std::shuffle(pts.begin(), pts.end(), rng);
     for (ColorBy colour : {ColorBy::none, ColorBy::normal})
@@ -438,6 +454,19 @@ TEST_CASE("EWA pass 2 from spooled footprints and with hidden splats skipped: th
             f.draw(std::span(pts).subspan(cut), keys.data(), st, {}, &part);
             fps.insert(fps.end(), part.begin(), part.end());
             REQUIRE(static_cast<std::int64_t>(fps.size()) == st.splats_drawn);
+            {
+                // one point at a time (the scalar footprint) gives the bytes of the batched (SIMD) one
+                std::vector<std::uint64_t> k1(n, SplatFrame::kEmptyKey);
+                std::vector<EwaFootprint> one, all;
+                SplatStats s1;
+                for (std::size_t i = 0; i < pts.size(); ++i) {
+                    f.draw(std::span(pts).subspan(i, 1), k1.data(), s1, {}, &one);
+                    all.insert(all.end(), one.begin(), one.end());
+                }
+                REQUIRE(all.size() == fps.size());
+                CHECK(std::memcmp(all.data(), fps.data(), fps.size() * sizeof(EwaFootprint)) == 0);
+                CHECK(k1 == keys);
+            }
             REQUIRE(st.splats_drawn > 10000);
             // the visibility pass equals its plain per-pixel form
             CHECK(plain_visibility(fps, f.width(), f.height(), float(sh.ewa_cutoff * sh.ewa_cutoff)) == keys);
