@@ -252,7 +252,7 @@ std::int64_t accumulate_one(const Setup& s, const Footprint& f, const DepthRange
             const int lanes = (1 << n) - 1;
             const int inside = _mm_movemask_ps(_mm_cmpngt_ps(q, c2)) & lanes;  // !(q > c2)
             if (!inside) continue;
-            frags += std::popcount(static_cast<unsigned>(inside));
+            frags += (0x4332322132212110ull >> (4 * inside)) & 15u;  // popcount of 4 bits (no POPCNT in baseline x86-64)
             const __m128 z = _mm_min_ps(zhi, _mm_max_ps(zlo, _mm_add_ps(_mm_add_ps(depth, _mm_mul_ps(gx, dx)), gydy)));
             alignas(16) std::uint32_t vis[4] = {0, 0, 0, 0};
             const std::uint64_t* key = kb + rowi + x;
@@ -510,16 +510,26 @@ void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint
     const Setup s = make_setup(view_, shading_);
     const float qscale = kTable / s.c2;
     std::int64_t frags = 0;
-    Footprint f;
     // Pass 2: accumulation of fragments near the visible surface.
-    for (std::size_t pi = 0; pi < points.size(); ++pi) {
-        const PointRecord& rec = points[pi];
-        if (!footprint(s, rec, f)) continue;
+    auto add_one = [&](Footprint& f, std::size_t pi) {
         const DepthRange d(s, f);
-        if (tiles && hidden(*tiles, f, d)) continue;
-        if (coloured) f.base = splat_base_color(shading_, rec, blocks, pi);
+        if (tiles && hidden(*tiles, f, d)) return;
+        if (coloured) f.base = splat_base_color(shading_, points[pi], blocks, pi);
         frags += accumulate_one(s, f, d, gauss_.data(), qscale, kb, acc, words);
+    };
+    std::size_t pi = 0;
+#if defined(__SSE2__)
+    Footprint f4[4];
+    bool ok[4];
+    for (; pi + 4 <= points.size(); pi += 4) {
+        footprint4(s, points.data() + pi, f4, ok);
+        for (int i = 0; i < 4; ++i)
+            if (ok[i]) add_one(f4[i], pi + static_cast<std::size_t>(i));
     }
+#endif
+    Footprint f;
+    for (; pi < points.size(); ++pi)
+        if (footprint(s, points[pi], f)) add_one(f, pi);
     st.fragments += frags;
 }
 
