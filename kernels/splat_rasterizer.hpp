@@ -127,7 +127,7 @@ static_assert(sizeof(EwaFootprint) == 60 && std::is_trivially_copyable_v<EwaFoot
 /// every tile its footprint touches by more than its blending tolerance: none of its fragments
 /// could pass the per-pixel depth test, so the skip changes no byte of the image.
 struct VisibleDepthTiles {
-    static constexpr int kShift = 3, kSize = 1 << kShift;
+    static constexpr int kShift = 2, kSize = 1 << kShift;
     int tiles_x = 0, tiles_y = 0;
     std::vector<float> max_depth;  ///< tiles_x * tiles_y, row-major
 };

@@ -493,17 +493,30 @@ TEST_CASE("EWA pass 2 from spooled footprints and with hidden splats skipped: th
 }
 
 TEST_CASE("visible-depth tiles: the largest depth per tile, empty pixels never hide", "[splat]") {
-    const Camera cam = front_camera(20, true);  // 20x20: tiles of 8 -> 3x3, the last ones partial
+    const Camera cam = front_camera(21, true);  // 21 is no multiple of the tile size: partial tiles
     const SplatFrame f(cam, SplatKernel::ewa, test_shading(), kUnitBox);
+    const int W = 21, T = VisibleDepthTiles::kSize;
     std::vector<std::uint64_t> keys(f.npix(), 0);
-    for (int y = 0; y < 20; ++y)
-        for (int x = 0; x < 20; ++x) keys[static_cast<std::size_t>(y) * 20 + x] = std::uint64_t{std::bit_cast<std::uint32_t>(float(x + 100 * y))} << 32 | 7u;
-    keys[5] = SplatFrame::kEmptyKey;  // tile (0, 0)
+    for (int y = 0; y < W; ++y)
+        for (int x = 0; x < W; ++x)
+            keys[static_cast<std::size_t>(y) * W + x] = std::uint64_t{std::bit_cast<std::uint32_t>(float((x * 7) % 11 + 100 * y))} << 32 | 7u;
+    keys[1] = SplatFrame::kEmptyKey;                                                  // tile (0, 0)
+    keys[static_cast<std::size_t>(T) * W + T] = std::uint64_t{0x80000000u} << 32;  // -0.0: tile (1, 1)
     const VisibleDepthTiles t = f.depth_tiles(keys.data());
-    REQUIRE(t.tiles_x == 3);
-    REQUIRE(t.tiles_y == 3);
-    CHECK(std::isinf(t.max_depth[0]));
-    CHECK(t.max_depth[1] == float(15 + 700));
-    CHECK(t.max_depth[2] == float(19 + 700));
-    CHECK(t.max_depth[8] == float(19 + 1900));
+    const int n = (W + T - 1) / T;
+    REQUIRE(t.tiles_x == n);
+    REQUIRE(t.tiles_y == n);
+    for (int ty = 0; ty < n; ++ty)
+        for (int tx = 0; tx < n; ++tx) {
+            INFO("tile " << tx << ", " << ty);
+            const float got = t.max_depth[static_cast<std::size_t>(ty) * n + tx];
+            if ((tx == 0 && ty == 0) || (tx == 1 && ty == 1)) {
+                CHECK(std::isinf(got));
+                continue;
+            }
+            float want = 0;
+            for (int y = ty * T; y < std::min(W, ty * T + T); ++y)
+                for (int x = tx * T; x < std::min(W, tx * T + T); ++x) want = std::max(want, float((x * 7) % 11 + 100 * y));
+            CHECK(got == want);
+        }
 }
