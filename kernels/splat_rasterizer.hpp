@@ -25,6 +25,10 @@
 //   drawn in any split: SplatFrame draws any subset into a partial buffer, partial buffers are
 //   merged by min (keys) and integer sum (EWA accumulators), and the result equals one pass over all
 //   points, byte for byte, whatever the split or the thread count (stream/splat_sink.hpp).
+// Speed (EWA, same bytes as the plain per-pixel loops): footprints four points at a time and rows four
+//   pixels at a time (SSE2, the scalar float operations in the same order); pass 2 may take the
+//   footprints pass 1 handed out (EwaFootprint) and skip splats hidden behind the visible depth of
+//   every tile they touch (VisibleDepthTiles).
 // Cost: O(points + covered fragments), no per-splat allocation; buffers live in SplatRenderer and
 //   are reused across frames (a 36-frame turntable allocates once).
 // Thread-safety: render_splats is reentrant; a SplatRenderer is used by one thread at a time.
