@@ -7,6 +7,10 @@
 #include <cmath>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "kernels/shading.hpp"
 #include "kernels/splat_rasterizer.hpp"
 
@@ -16,16 +20,7 @@ namespace {
 constexpr int kTable = 1024;           // Gaussian lookup entries over q in [0, cutoff^2]
 constexpr float kFixed = 1048576.0f;  // 2^20: fixed-point scale of weights and weighted normals
 
-// Screen-space footprint of one splat; identical in both passes (same code, same inputs).
-struct Footprint {
-    float sx, sy;            // centre, pixels
-    float q00, q01, q11;     // conic V^-1
-    float depth, gx, gy;     // plane depth at the centre and its screen gradient
-    float zlo, zhi;          // depth clamp: the disk spans at most +-radius in depth
-    float eps;               // accumulation depth tolerance
-    float n[3];              // oriented unit normal, camera space
-    int x0, x1, y0, y1;      // clipped pixel range
-};
+using Footprint = EwaFootprint;  // identical in both passes (same code, same inputs)
 
 struct Setup {
     detail::FloatView fv;
@@ -102,11 +97,10 @@ bool footprint(const Setup& s, const PointRecord& rec, Footprint& f) {
     f.q01 = -v01 / det;
     f.q11 = v00 / det;
 
-    // Depth of the splat plane, linear in the screen offset: depth(s,t) = D - (s u_z + t w_z).
+    // Depth of the splat plane, linear in the screen offset: depth(s,t) = D - (s u_z + t w_z),
+    // clamped to [max(D - r, 0), D + r] (DepthRange).
     f.depth = D;
-    f.zlo = std::max(D - r, 0.0f);  // non-negative: depth bits order the visibility keys
-    f.zhi = D + r;
-    f.eps = s.depth_eps * r;
+    f.radius = r;
     const float detj = j00 * j11 - j01 * j10;
     if (std::fabs(detj) > 1e-6f * (std::fabs(j00 * j11) + std::fabs(j01 * j10)) && detj != 0.0f) {
         // (s,t) = J^-1 d
@@ -121,12 +115,313 @@ bool footprint(const Setup& s, const PointRecord& rec, Footprint& f) {
     const float fx0 = std::ceil(f.sx - ex - 0.5f), fx1 = std::floor(f.sx + ex - 0.5f);
     const float fy0 = std::ceil(f.sy - ey - 0.5f), fy1 = std::floor(f.sy + ey - 0.5f);
     if (!(fx1 >= 0 && fy1 >= 0 && fx0 <= s.W - 1 && fy0 <= s.H - 1 && fx0 <= fx1 && fy0 <= fy1)) return false;
-    f.x0 = static_cast<int>(std::max(fx0, 0.0f));
-    f.x1 = static_cast<int>(std::min(fx1, float(s.W - 1)));
-    f.y0 = static_cast<int>(std::max(fy0, 0.0f));
-    f.y1 = static_cast<int>(std::min(fy1, float(s.H - 1)));
+    // image sides are at most 16384 (cli/common.cpp): the range fits 16 bits
+    f.x0 = static_cast<std::uint16_t>(std::max(fx0, 0.0f));
+    f.x1 = static_cast<std::uint16_t>(std::min(fx1, float(s.W - 1)));
+    f.y0 = static_cast<std::uint16_t>(std::max(fy0, 0.0f));
+    f.y1 = static_cast<std::uint16_t>(std::min(fy1, float(s.H - 1)));
+    f.base = 0;
     return true;
 }
+
+// The depth clamp and blending tolerance of a footprint: the disk spans at most +-radius in depth;
+// zlo is non-negative, so depth bits order the visibility keys.
+struct DepthRange {
+    float zlo, zhi, eps;
+    DepthRange(const Setup& s, const Footprint& f)
+        : zlo(std::max(f.depth - f.radius, 0.0f)), zhi(f.depth + f.radius), eps(s.depth_eps * f.radius) {}
+};
+
+// True when no fragment of f can pass pass 2's depth test (z > visible + eps rejects): every
+// fragment depth is >= zlo (the depth plane cannot give NaN: finite, bounded gradient), and zlo
+// exceeds the largest visible depth of every tile under f's bounding box by more than eps (float
+// addition is monotonic, so visible + eps <= tile max + eps < zlo <= z at every pixel).
+bool plane_is_bounded(const Footprint& f) {
+    return std::isfinite(f.depth) && std::fabs(f.gx) < 1e30f && std::fabs(f.gy) < 1e30f;
+}
+
+bool hidden(const VisibleDepthTiles& t, const Footprint& f, const DepthRange& d) {
+    if (!plane_is_bounded(f)) return false;
+    constexpr int sh = VisibleDepthTiles::kShift;
+    float m = 0.0f;
+    for (int ty = f.y0 >> sh; ty <= f.y1 >> sh; ++ty) {
+        const float* row = t.max_depth.data() + static_cast<std::size_t>(ty) * t.tiles_x;
+        for (int tx = f.x0 >> sh; tx <= f.x1 >> sh; ++tx) m = std::max(m, row[tx]);
+    }
+    return d.zlo > m + d.eps;
+}
+
+// Pass 1 on one row of f's bounding box (dy: the row's centre offset): each pixel inside the
+// cut-off ellipse takes min(key, (depth bits << 32) | packed). Returns the fragments drawn. With
+// SSE2, four pixels at a time: the same float operations in the same order as the scalar loop (no
+// contraction, IEEE rounding per operation), so the same bits; the keys' minimum stays scalar.
+std::int64_t draw_row(const Setup& s, const Footprint& f, const DepthRange& d, float dy, std::uint64_t packed,
+                      std::uint64_t* row) {
+    constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+    std::int64_t frags = 0;
+    int x = f.x0;
+#if defined(__SSE2__)
+    const __m128 sx = _mm_set1_ps(f.sx), half = _mm_set1_ps(0.5f), c2 = _mm_set1_ps(s.c2);
+    const __m128 q00 = _mm_set1_ps(f.q00), q01x2 = _mm_set1_ps(2.0f * f.q01), vdy = _mm_set1_ps(dy);
+    const __m128 q11dydy = _mm_set1_ps(f.q11 * dy * dy);
+    const __m128 depth = _mm_set1_ps(f.depth), gx = _mm_set1_ps(f.gx), gydy = _mm_set1_ps(f.gy * dy);
+    const __m128 zlo = _mm_set1_ps(d.zlo), zhi = _mm_set1_ps(d.zhi);
+    for (; x <= f.x1; x += 4) {
+        const __m128 dx = _mm_sub_ps(_mm_add_ps(_mm_cvtepi32_ps(_mm_setr_epi32(x, x + 1, x + 2, x + 3)), half), sx);
+        // q = q00 dx dx + 2 q01 dx dy + q11 dy dy, evaluated left to right as in C++
+        const __m128 q = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(q00, dx), dx), _mm_mul_ps(_mm_mul_ps(q01x2, dx), vdy)),
+                                    q11dydy);
+        // std::clamp(v, lo, hi) = v < lo ? lo : (hi < v ? hi : v); max_ps(a, b) = a > b ? a : b
+        const __m128 v = _mm_add_ps(_mm_add_ps(depth, _mm_mul_ps(gx, dx)), gydy);
+        const __m128 z = _mm_min_ps(zhi, _mm_max_ps(zlo, v));
+        const int inside = _mm_movemask_ps(_mm_cmpngt_ps(q, c2));  // !(q > c2), NaN included
+        alignas(16) std::uint32_t zb[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(zb), _mm_castps_si128(z));
+        const int n = std::min(4, f.x1 - x + 1);
+        for (int i = 0; i < n; ++i) {
+            const bool in = (inside >> i) & 1;
+            frags += in;
+            const std::uint64_t key = (std::uint64_t{zb[i]} << 32) | packed;
+            row[x + i] = std::min(row[x + i], in ? key : kEmpty);
+        }
+    }
+#endif
+    for (; x <= f.x1; ++x) {
+        const float dx = x + 0.5f - f.sx;
+        const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
+        const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, d.zlo, d.zhi);
+        // Branch-free (the ellipse's edge is unpredictable): outside it, the candidate is the
+        // empty key, which the minimum ignores.
+        const bool inside = !(q > s.c2);
+        frags += inside;
+        const std::uint64_t key = (std::uint64_t{std::bit_cast<std::uint32_t>(z)} << 32) | packed;
+        row[x] = std::min(row[x], inside ? key : kEmpty);
+    }
+    return frags;
+}
+
+// Pass 2 for one footprint: adds its fragments near the visible surface; returns fragments tested.
+// Adds one accepted fragment (weight from q, aligned normal, colour) to the pixel's accumulators.
+inline void add_fragment(const Footprint& f, const float* colour, float q, std::uint64_t key, const float* gauss,
+                         float qscale, std::int64_t* a, bool coloured) {
+    // Align with the visible fragment's orientation before blending.
+    const float wgt = gauss[static_cast<int>(q * qscale)] * kFixed;
+    const float wn = agrees(key, f.n) ? wgt : -wgt;
+    a[0] += static_cast<std::int64_t>(wgt);
+    a[1] += static_cast<std::int64_t>(std::lrint(wn * f.n[0]));
+    a[2] += static_cast<std::int64_t>(std::lrint(wn * f.n[1]));
+    a[3] += static_cast<std::int64_t>(std::lrint(wn * f.n[2]));
+    if (coloured) {
+        a[4] += static_cast<std::int64_t>(std::lrint(wgt * colour[0]));
+        a[5] += static_cast<std::int64_t>(std::lrint(wgt * colour[1]));
+        a[6] += static_cast<std::int64_t>(std::lrint(wgt * colour[2]));
+    }
+}
+
+// Pass 2 for one footprint: adds its fragments near the visible surface; returns fragments tested.
+// With SSE2, q, z and the depth test run four pixels at a time with the float operations of the
+// scalar loop in the same order (the same bits); accepted fragments are added one by one.
+std::int64_t accumulate_one(const Setup& s, const Footprint& f, const DepthRange& d, const float* gauss, float qscale,
+                            const std::uint64_t* kb, std::int64_t* acc, std::size_t words) {
+    const bool coloured = words == 7;
+    float colour[3] = {0, 0, 0};
+    if (coloured) {
+        colour[0] = static_cast<float>(f.base >> 16) / 255.0f;
+        colour[1] = static_cast<float>((f.base >> 8) & 255u) / 255.0f;
+        colour[2] = static_cast<float>(f.base & 255u) / 255.0f;
+    }
+    const int W = s.W;
+    std::int64_t frags = 0;
+#if defined(__SSE2__)
+    const __m128 sx = _mm_set1_ps(f.sx), half = _mm_set1_ps(0.5f), c2 = _mm_set1_ps(s.c2);
+    const __m128 q00 = _mm_set1_ps(f.q00), q01x2 = _mm_set1_ps(2.0f * f.q01);
+    const __m128 depth = _mm_set1_ps(f.depth), gx = _mm_set1_ps(f.gx), eps = _mm_set1_ps(d.eps);
+    const __m128 zlo = _mm_set1_ps(d.zlo), zhi = _mm_set1_ps(d.zhi);
+#endif
+    for (int y = f.y0; y <= f.y1; ++y) {
+        const float dy = y + 0.5f - f.sy;
+        const std::size_t rowi = static_cast<std::size_t>(y) * W;
+        int x = f.x0;
+#if defined(__SSE2__)
+        const __m128 vdy = _mm_set1_ps(dy), q11dydy = _mm_set1_ps(f.q11 * dy * dy), gydy = _mm_set1_ps(f.gy * dy);
+        for (; x <= f.x1; x += 4) {
+            const int n = std::min(4, f.x1 - x + 1);
+            const __m128 dx = _mm_sub_ps(_mm_add_ps(_mm_cvtepi32_ps(_mm_setr_epi32(x, x + 1, x + 2, x + 3)), half), sx);
+            const __m128 q = _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(q00, dx), dx), _mm_mul_ps(_mm_mul_ps(q01x2, dx), vdy)),
+                                        q11dydy);
+            const int lanes = (1 << n) - 1;
+            const int inside = _mm_movemask_ps(_mm_cmpngt_ps(q, c2)) & lanes;  // !(q > c2)
+            if (!inside) continue;
+            frags += (0x4332322132212110ull >> (4 * inside)) & 15u;  // popcount of 4 bits (no POPCNT in baseline x86-64)
+            const __m128 z = _mm_min_ps(zhi, _mm_max_ps(zlo, _mm_add_ps(_mm_add_ps(depth, _mm_mul_ps(gx, dx)), gydy)));
+            alignas(16) std::uint32_t vis[4] = {0, 0, 0, 0};
+            const std::uint64_t* key = kb + rowi + x;
+            for (int i = 0; i < n; ++i) vis[i] = static_cast<std::uint32_t>(key[i] >> 32);
+            const __m128 limit = _mm_add_ps(_mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(vis))), eps);
+            int accept = inside & _mm_movemask_ps(_mm_cmpngt_ps(z, limit));  // !(z > visible + eps)
+            if (!accept) continue;
+            alignas(16) float qs[4];
+            _mm_store_ps(qs, q);
+            for (; accept; accept &= accept - 1) {
+                const int i = std::countr_zero(static_cast<unsigned>(accept));
+                add_fragment(f, colour, qs[i], key[i], gauss, qscale, acc + words * (rowi + x + i), coloured);
+            }
+        }
+#endif
+        for (; x <= f.x1; ++x) {
+            const float dx = x + 0.5f - f.sx;
+            const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
+            if (q > s.c2) continue;
+            ++frags;
+            const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, d.zlo, d.zhi);
+            const std::uint64_t key = kb[rowi + x];
+            if (z > std::bit_cast<float>(static_cast<std::uint32_t>(key >> 32)) + d.eps) continue;
+            add_fragment(f, colour, q, key, gauss, qscale, acc + words * (rowi + x), coloured);
+        }
+    }
+    return frags;
+}
+
+#if defined(__SSE2__)
+// footprint() for four points at once (SSE2): the same float operations in the same order, each
+// rounded alone (no contraction), so every lane gives footprint()'s bits; the lanes' early exits
+// become masks, the bounding box (ceil, floor) is computed per lane as in footprint(). ok[i]: as
+// footprint()'s result for rec[i].
+inline __m128 sel(__m128 m, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }
+inline __m128 finite(__m128 x) { return _mm_cmpeq_ps(_mm_sub_ps(x, x), _mm_setzero_ps()); }
+inline __m128 fabs4(__m128 x) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), x); }
+
+void footprint4(const Setup& s, const PointRecord* rec, Footprint* f, bool* ok) {
+    const detail::FloatView& fv = s.fv;
+    alignas(16) float in[8][4];
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            in[j][i] = rec[i].pos[j];
+            in[3 + j][i] = rec[i].normal[j];
+        }
+        in[6][i] = rec[i].radius;
+    }
+    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+    const __m128 px = _mm_load_ps(in[0]), py = _mm_load_ps(in[1]), pz = _mm_load_ps(in[2]);
+    __m128 good = _mm_and_ps(_mm_and_ps(finite(px), finite(py)), finite(pz));
+    // pc = rotate(p - centre): ((r0 d0 + r1 d1) + r2 d2)
+    const __m128 d0 = _mm_sub_ps(px, _mm_set1_ps(fv.c[0])), d1 = _mm_sub_ps(py, _mm_set1_ps(fv.c[1])),
+                 d2 = _mm_sub_ps(pz, _mm_set1_ps(fv.c[2]));
+    auto rot = [&](int i, __m128 a, __m128 b, __m128 c) {
+        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(fv.r[i][0]), a), _mm_mul_ps(_mm_set1_ps(fv.r[i][1]), b)),
+                          _mm_mul_ps(_mm_set1_ps(fv.r[i][2]), c));
+    };
+    const __m128 pc0 = rot(0, d0, d1, d2), pc1 = rot(1, d0, d1, d2), pc2 = rot(2, d0, d1, d2);
+    const __m128 D = _mm_sub_ps(_mm_set1_ps(fv.distance), pc2);
+    good = _mm_and_ps(good, _mm_cmpgt_ps(D, _mm_set1_ps(fv.near_depth)));
+    const __m128 focal = _mm_set1_ps(fv.focal);
+    const __m128 k = fv.perspective ? _mm_div_ps(focal, D) : focal;
+    const __m128 sx = _mm_add_ps(_mm_set1_ps(fv.cx), _mm_mul_ps(k, pc0));
+    const __m128 sy = _mm_sub_ps(_mm_set1_ps(fv.cy), _mm_mul_ps(k, pc1));
+    const __m128 rad = _mm_load_ps(in[6]);
+    const __m128 r = _mm_and_ps(finite(rad), _mm_max_ps(zero, rad));  // std::max(radius, 0) = 0 > radius ? 0 : radius
+
+    // oriented_normal(two_sided = false)
+    __m128 v0 = zero, v1 = zero, v2 = one;
+    if (fv.perspective) {
+        const __m128 inv = _mm_div_ps(one, _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(pc0, pc0), _mm_mul_ps(pc1, pc1)), _mm_mul_ps(D, D))));
+        const __m128 neg = _mm_set1_ps(-0.0f);
+        v0 = _mm_mul_ps(_mm_xor_ps(pc0, neg), inv);
+        v1 = _mm_mul_ps(_mm_xor_ps(pc1, neg), inv);
+        v2 = _mm_mul_ps(D, inv);
+    }
+    const __m128 nr0 = _mm_load_ps(in[3]), nr1 = _mm_load_ps(in[4]), nr2 = _mm_load_ps(in[5]);
+    __m128 n0 = rot(0, nr0, nr1, nr2), n1 = rot(1, nr0, nr1, nr2), n2 = rot(2, nr0, nr1, nr2);
+    const __m128 len2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(n0, n0), _mm_mul_ps(n1, n1)), _mm_mul_ps(n2, n2));
+    const __m128 usable = _mm_and_ps(_mm_cmpgt_ps(len2, _mm_set1_ps(1e-20f)), finite(len2));
+    const __m128 ninv = _mm_div_ps(one, _mm_sqrt_ps(len2));
+    n0 = sel(usable, _mm_mul_ps(n0, ninv), v0);
+    n1 = sel(usable, _mm_mul_ps(n1, ninv), v1);
+    n2 = sel(usable, _mm_mul_ps(n2, ninv), v2);
+
+    // tangent axes
+    const __m128 ax = fabs4(n0), ay = fabs4(n1), az = fabs4(n2);
+    const __m128 m0 = _mm_and_ps(_mm_cmple_ps(ax, ay), _mm_cmple_ps(ax, az));
+    const __m128 m1 = _mm_andnot_ps(m0, _mm_cmple_ps(ay, az));
+    const __m128 m2 = _mm_andnot_ps(_mm_or_ps(m0, m1), _mm_castsi128_ps(_mm_set1_epi32(-1)));
+    const __m128 a0 = _mm_and_ps(m0, one), a1 = _mm_and_ps(m1, one), a2 = _mm_and_ps(m2, one);
+    __m128 u0 = _mm_sub_ps(_mm_mul_ps(n1, a2), _mm_mul_ps(n2, a1));
+    __m128 u1 = _mm_sub_ps(_mm_mul_ps(n2, a0), _mm_mul_ps(n0, a2));
+    __m128 u2 = _mm_sub_ps(_mm_mul_ps(n0, a1), _mm_mul_ps(n1, a0));
+    const __m128 ul = _mm_div_ps(r, _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(u0, u0), _mm_mul_ps(u1, u1)), _mm_mul_ps(u2, u2))));
+    u0 = _mm_mul_ps(u0, ul);
+    u1 = _mm_mul_ps(u1, ul);
+    u2 = _mm_mul_ps(u2, ul);
+    const __m128 w0 = _mm_sub_ps(_mm_mul_ps(n1, u2), _mm_mul_ps(n2, u1));
+    const __m128 w1 = _mm_sub_ps(_mm_mul_ps(n2, u0), _mm_mul_ps(n0, u2));
+    const __m128 w2 = _mm_sub_ps(_mm_mul_ps(n0, u1), _mm_mul_ps(n1, u0));
+
+    // Jacobian
+    __m128 j00, j01, j10, j11;
+    const __m128 nk = _mm_xor_ps(k, _mm_set1_ps(-0.0f));
+    if (fv.perspective) {
+        const __m128 ex = _mm_div_ps(pc0, D), ey = _mm_div_ps(pc1, D);
+        j00 = _mm_mul_ps(k, _mm_add_ps(u0, _mm_mul_ps(ex, u2)));
+        j01 = _mm_mul_ps(k, _mm_add_ps(w0, _mm_mul_ps(ex, w2)));
+        j10 = _mm_mul_ps(nk, _mm_add_ps(u1, _mm_mul_ps(ey, u2)));
+        j11 = _mm_mul_ps(nk, _mm_add_ps(w1, _mm_mul_ps(ey, w2)));
+    } else {
+        j00 = _mm_mul_ps(k, u0);
+        j01 = _mm_mul_ps(k, w0);
+        j10 = _mm_mul_ps(nk, u1);
+        j11 = _mm_mul_ps(nk, w1);
+    }
+    const __m128 inv_c2 = _mm_set1_ps(s.inv_c2), lowpass = _mm_set1_ps(s.lowpass);
+    const __m128 v00 = _mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(j00, j00), _mm_mul_ps(j01, j01)), inv_c2), lowpass);
+    const __m128 v01 = _mm_mul_ps(_mm_add_ps(_mm_mul_ps(j00, j10), _mm_mul_ps(j01, j11)), inv_c2);
+    const __m128 v11 = _mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(j10, j10), _mm_mul_ps(j11, j11)), inv_c2), lowpass);
+    const __m128 det = _mm_sub_ps(_mm_mul_ps(v00, v11), _mm_mul_ps(v01, v01));
+    good = _mm_and_ps(good, _mm_and_ps(_mm_cmpgt_ps(det, zero), finite(det)));
+    const __m128 q00 = _mm_div_ps(v11, det), q01 = _mm_div_ps(_mm_xor_ps(v01, _mm_set1_ps(-0.0f)), det),
+                 q11 = _mm_div_ps(v00, det);
+
+    const __m128 detj = _mm_sub_ps(_mm_mul_ps(j00, j11), _mm_mul_ps(j01, j10));
+    const __m128 plane = _mm_and_ps(
+        _mm_cmpgt_ps(fabs4(detj), _mm_mul_ps(_mm_set1_ps(1e-6f), _mm_add_ps(fabs4(_mm_mul_ps(j00, j11)), fabs4(_mm_mul_ps(j01, j10))))),
+        _mm_cmpneq_ps(detj, zero));
+    const __m128 neg = _mm_set1_ps(-0.0f);
+    const __m128 gx = _mm_and_ps(plane, _mm_div_ps(_mm_xor_ps(_mm_sub_ps(_mm_mul_ps(u2, j11), _mm_mul_ps(w2, j10)), neg), detj));
+    const __m128 gy = _mm_and_ps(plane, _mm_div_ps(_mm_xor_ps(_mm_sub_ps(_mm_mul_ps(w2, j00), _mm_mul_ps(u2, j01)), neg), detj));
+    const __m128 c = _mm_set1_ps(std::sqrt(s.c2));
+    const __m128 exv = _mm_mul_ps(c, _mm_sqrt_ps(v00)), eyv = _mm_mul_ps(c, _mm_sqrt_ps(v11));
+
+    alignas(16) float o[18][4];
+    const __m128 outs[18] = {sx, sy, q00, q01, q11, D, gx, gy, r, n0, n1, n2, exv, eyv, good, zero, zero, zero};
+    for (int j = 0; j < 15; ++j) _mm_store_ps(o[j], outs[j]);
+    for (int i = 0; i < 4; ++i) {
+        ok[i] = false;
+        if (std::bit_cast<std::uint32_t>(o[14][i]) == 0) continue;
+        Footprint& g = f[i];
+        g.sx = o[0][i];
+        g.sy = o[1][i];
+        g.q00 = o[2][i];
+        g.q01 = o[3][i];
+        g.q11 = o[4][i];
+        g.depth = o[5][i];
+        g.gx = o[6][i];
+        g.gy = o[7][i];
+        g.radius = o[8][i];
+        g.n[0] = o[9][i];
+        g.n[1] = o[10][i];
+        g.n[2] = o[11][i];
+        const float ex = o[12][i], ey = o[13][i];
+        const float fx0 = std::ceil(g.sx - ex - 0.5f), fx1 = std::floor(g.sx + ex - 0.5f);
+        const float fy0 = std::ceil(g.sy - ey - 0.5f), fy1 = std::floor(g.sy + ey - 0.5f);
+        if (!(fx1 >= 0 && fy1 >= 0 && fx0 <= s.W - 1 && fy0 <= s.H - 1 && fx0 <= fx1 && fy0 <= fy1)) continue;
+        g.x0 = static_cast<std::uint16_t>(std::max(fx0, 0.0f));
+        g.x1 = static_cast<std::uint16_t>(std::min(fx1, float(s.W - 1)));
+        g.y0 = static_cast<std::uint16_t>(std::max(fy0, 0.0f));
+        g.y1 = static_cast<std::uint16_t>(std::min(fy1, float(s.H - 1)));
+        g.base = 0;
+        ok[i] = true;
+    }
+}
+#endif
 
 float ewa_c2(const ShadingParams& sh) {
     const float cutoff = static_cast<float>(std::max(sh.ewa_cutoff, 1e-3));
@@ -152,81 +447,102 @@ void SplatFrame::init_ewa() {
     for (int i = 0; i <= kTable; ++i) gauss_[i] = std::exp(-0.5f * c2 * static_cast<float>(i) / kTable);
 }
 
-void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb, SplatStats& st) const {
+void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb, SplatStats& st,
+                          std::span<const std::uint32_t> blocks, std::vector<EwaFootprint>* out) const {
     const Setup s = make_setup(view_, shading_);
+    const bool coloured = acc_words() == 7;
     const int W = s.W;
     std::int64_t drawn = 0, frags = 0;
     Footprint f;
     // Pass 1: visibility. Key = (depth bits << 32) | packed normal of the nearest fragment, so the
     // minimum is independent of the drawing order, ties included.
-    for (const PointRecord& rec : points) {
-        if (!footprint(s, rec, f)) continue;
+    auto draw_one = [&](const Footprint& fp, std::size_t pi) {
         ++drawn;
-        const std::uint64_t packed = pack_normal(f.n);
-        for (int y = f.y0; y <= f.y1; ++y) {
-            const float dy = y + 0.5f - f.sy;
-            std::uint64_t* row = kb + static_cast<std::size_t>(y) * W;
-            for (int x = f.x0; x <= f.x1; ++x) {
-                const float dx = x + 0.5f - f.sx;
-                const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
-                if (q > s.c2) continue;
-                ++frags;
-                const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, f.zlo, f.zhi);
-                row[x] = std::min(row[x], (std::uint64_t{std::bit_cast<std::uint32_t>(z)} << 32) | packed);
-            }
+        const DepthRange d(s, fp);
+        const std::uint64_t packed = pack_normal(fp.n);
+        for (int y = fp.y0; y <= fp.y1; ++y)
+            frags += draw_row(s, fp, d, y + 0.5f - fp.sy, packed, kb + static_cast<std::size_t>(y) * W);
+        if (out) {
+            out->push_back(fp);
+            if (coloured) out->back().base = splat_base_color(shading_, points[pi], blocks, pi);
         }
+    };
+    std::size_t pi = 0;
+#if defined(__SSE2__)
+    Footprint f4[4];
+    bool ok[4];
+    for (; pi + 4 <= points.size(); pi += 4) {
+        footprint4(s, points.data() + pi, f4, ok);
+        for (int i = 0; i < 4; ++i)
+            if (ok[i]) draw_one(f4[i], pi + static_cast<std::size_t>(i));
     }
+#endif
+    for (; pi < points.size(); ++pi)
+        if (footprint(s, points[pi], f)) draw_one(f, pi);
     st.splats_drawn += drawn;
     st.fragments += frags;
 }
 
+VisibleDepthTiles SplatFrame::depth_tiles(const std::uint64_t* keys) const {
+    constexpr int sh = VisibleDepthTiles::kShift;
+    const int W = view_.width, H = view_.height;
+    VisibleDepthTiles t;
+    t.tiles_x = (W + VisibleDepthTiles::kSize - 1) >> sh;
+    t.tiles_y = (H + VisibleDepthTiles::kSize - 1) >> sh;
+    std::vector<std::uint32_t> bits(static_cast<std::size_t>(t.tiles_x) * t.tiles_y, 0);
+    for (int y = 0; y < H; ++y) {
+        std::uint32_t* trow = bits.data() + static_cast<std::size_t>(y >> sh) * t.tiles_x;
+        const std::uint64_t* row = keys + static_cast<std::size_t>(y) * W;
+        for (int x = 0; x < W; ++x) trow[x >> sh] = std::max(trow[x >> sh], static_cast<std::uint32_t>(row[x] >> 32));
+    }
+    // Non-negative finite floats order like their bits; anything else (an empty pixel, a negative
+    // zero, infinity, NaN) has larger bits and makes the tile never hide anything.
+    t.max_depth.resize(bits.size());
+    for (std::size_t i = 0; i < bits.size(); ++i)
+        t.max_depth[i] = bits[i] < 0x7F800000u ? std::bit_cast<float>(bits[i]) : std::numeric_limits<float>::infinity();
+    return t;
+}
+
 void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint64_t* kb, std::int64_t* acc,
-                            SplatStats& st, std::span<const std::uint32_t> blocks) const {
+                            SplatStats& st, std::span<const std::uint32_t> blocks, const VisibleDepthTiles* tiles) const {
     const std::size_t words = acc_words();
     const bool coloured = words == 7;
     const Setup s = make_setup(view_, shading_);
-    const int W = s.W;
-    const float* gauss = gauss_.data();
     const float qscale = kTable / s.c2;
     std::int64_t frags = 0;
-    Footprint f;
     // Pass 2: accumulation of fragments near the visible surface.
-    for (std::size_t pi = 0; pi < points.size(); ++pi) {
-        const PointRecord& rec = points[pi];
-        if (!footprint(s, rec, f)) continue;
-        float colour[3] = {0, 0, 0};
-        if (coloured) {
-            const std::uint32_t c = splat_base_color(shading_, rec, blocks, pi);
-            colour[0] = static_cast<float>(c >> 16) / 255.0f;
-            colour[1] = static_cast<float>((c >> 8) & 255u) / 255.0f;
-            colour[2] = static_cast<float>(c & 255u) / 255.0f;
-        }
-        for (int y = f.y0; y <= f.y1; ++y) {
-            const float dy = y + 0.5f - f.sy;
-            const std::size_t rowi = static_cast<std::size_t>(y) * W;
-            for (int x = f.x0; x <= f.x1; ++x) {
-                const float dx = x + 0.5f - f.sx;
-                const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
-                if (q > s.c2) continue;
-                ++frags;
-                const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, f.zlo, f.zhi);
-                const std::uint64_t key = kb[rowi + x];
-                if (z > std::bit_cast<float>(static_cast<std::uint32_t>(key >> 32)) + f.eps) continue;
-                // Align with the visible fragment's orientation before blending.
-                const float wgt = gauss[static_cast<int>(q * qscale)] * kFixed;
-                const float wn = agrees(key, f.n) ? wgt : -wgt;
-                std::int64_t* a = acc + words * (rowi + x);
-                a[0] += static_cast<std::int64_t>(wgt);
-                a[1] += static_cast<std::int64_t>(std::lrint(wn * f.n[0]));
-                a[2] += static_cast<std::int64_t>(std::lrint(wn * f.n[1]));
-                a[3] += static_cast<std::int64_t>(std::lrint(wn * f.n[2]));
-                if (coloured) {
-                    a[4] += static_cast<std::int64_t>(std::lrint(wgt * colour[0]));
-                    a[5] += static_cast<std::int64_t>(std::lrint(wgt * colour[1]));
-                    a[6] += static_cast<std::int64_t>(std::lrint(wgt * colour[2]));
-                }
-            }
-        }
+    auto add_one = [&](Footprint& f, std::size_t pi) {
+        const DepthRange d(s, f);
+        if (tiles && hidden(*tiles, f, d)) return;
+        if (coloured) f.base = splat_base_color(shading_, points[pi], blocks, pi);
+        frags += accumulate_one(s, f, d, gauss_.data(), qscale, kb, acc, words);
+    };
+    std::size_t pi = 0;
+#if defined(__SSE2__)
+    Footprint f4[4];
+    bool ok[4];
+    for (; pi + 4 <= points.size(); pi += 4) {
+        footprint4(s, points.data() + pi, f4, ok);
+        for (int i = 0; i < 4; ++i)
+            if (ok[i]) add_one(f4[i], pi + static_cast<std::size_t>(i));
+    }
+#endif
+    Footprint f;
+    for (; pi < points.size(); ++pi)
+        if (footprint(s, points[pi], f)) add_one(f, pi);
+    st.fragments += frags;
+}
+
+void SplatFrame::accumulate(std::span<const EwaFootprint> footprints, const std::uint64_t* kb, std::int64_t* acc,
+                            SplatStats& st, const VisibleDepthTiles* tiles) const {
+    const std::size_t words = acc_words();
+    const Setup s = make_setup(view_, shading_);
+    const float qscale = kTable / s.c2;
+    std::int64_t frags = 0;
+    for (const Footprint& f : footprints) {
+        const DepthRange d(s, f);
+        if (tiles && hidden(*tiles, f, d)) continue;
+        frags += accumulate_one(s, f, d, gauss_.data(), qscale, kb, acc, words);
     }
     st.fragments += frags;
 }

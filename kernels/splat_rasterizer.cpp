@@ -51,7 +51,8 @@ const Image& SplatRenderer::render(std::span<const PointRecord> points, SplatKer
     frame.draw(points, key_.data(), st, blocks);
     if (frame.two_pass()) {
         acc_.assign(frame.acc_words() * npix, 0);
-        frame.accumulate(points, key_.data(), acc_.data(), st, blocks);
+        const VisibleDepthTiles tiles = frame.depth_tiles(key_.data());
+        frame.accumulate(points, key_.data(), acc_.data(), st, blocks, &tiles);
     }
     frame.resolve(key_.data(), acc_.data(), image_);
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -96,9 +97,10 @@ void SplatFrame::merge_acc(std::int64_t* dst, const std::int64_t* src, std::size
 }
 
 void SplatFrame::draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
-                      std::span<const std::uint32_t> blocks) const {
+                      std::span<const std::uint32_t> blocks, std::vector<EwaFootprint>* footprints) const {
+    if (footprints) footprints->clear();
     if (kernel_ == SplatKernel::quad) draw_quad(points, keys, stats, blocks);
-    else draw_ewa(points, keys, stats);
+    else draw_ewa(points, keys, stats, blocks, footprints);
 }
 
 void SplatFrame::resolve(const std::uint64_t* keys, const std::int64_t* acc, Image& img) const {

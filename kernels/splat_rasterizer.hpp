@@ -25,6 +25,10 @@
 //   drawn in any split: SplatFrame draws any subset into a partial buffer, partial buffers are
 //   merged by min (keys) and integer sum (EWA accumulators), and the result equals one pass over all
 //   points, byte for byte, whatever the split or the thread count (stream/splat_sink.hpp).
+// Speed (EWA, same bytes as the plain per-pixel loops): footprints four points at a time and rows four
+//   pixels at a time (SSE2, the scalar float operations in the same order); pass 2 may take the
+//   footprints pass 1 handed out (EwaFootprint) and skip splats hidden behind the visible depth of
+//   every tile they touch (VisibleDepthTiles).
 // Cost: O(points + covered fragments), no per-splat allocation; buffers live in SplatRenderer and
 //   are reused across frames (a 36-frame turntable allocates once).
 // Thread-safety: render_splats is reentrant; a SplatRenderer is used by one thread at a time.
@@ -35,6 +39,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include "kernels/camera.hpp"
@@ -104,6 +109,33 @@ private:
     double lo_[3] = {kInf, kInf, kInf}, hi_[3] = {-kInf, -kInf, -kInf};
 };
 
+/// The screen-space footprint of one EWA splat, as pass 1 computes it from its point: pass 2 may
+/// take it instead of the point (the streaming sink spools footprints, stream/splat_sink.hpp), with
+/// the same bytes as recomputing it. 60 bytes, trivially copyable (written raw to a spool file).
+/// Depth plane: depth(dx, dy) = depth + gx dx + gy dy (dx, dy: pixel-centre offsets from (sx, sy)),
+/// clamped to [max(depth - radius, 0), depth + radius]; normal: camera space, unit (raw orientation).
+struct EwaFootprint {
+    float sx, sy;           ///< centre, pixels
+    float q00, q01, q11;    ///< conic V^-1, pixel^-2
+    float depth, gx, gy;    ///< splat-plane depth at the centre (world units) and its screen gradient
+    float radius;           ///< splat radius (world units; non-finite / negative radii are 0)
+    float n[3];             ///< unit normal, camera space
+    std::uint16_t x0, x1, y0, y1;  ///< pixel range of the cut-off ellipse's bounding box, inside the image
+    std::uint32_t base;     ///< base colour 0xRRGGBB (splat_base_color), used with ColorBy other than none
+};
+static_assert(sizeof(EwaFootprint) == 60 && std::is_trivially_copyable_v<EwaFootprint>);
+
+/// The largest visible depth (the float depth of the final EWA visibility keys) over square tiles
+/// of kSize x kSize pixels, +infinity where a tile holds a pixel without a finite non-negative
+/// depth. Pass 2 skips a splat whose nearest possible depth lies beyond the largest visible depth of
+/// every tile its footprint touches by more than its blending tolerance: none of its fragments
+/// could pass the per-pixel depth test, so the skip changes no byte of the image.
+struct VisibleDepthTiles {
+    static constexpr int kShift = 2, kSize = 1 << kShift;
+    int tiles_x = 0, tiles_y = 0;
+    std::vector<float> max_depth;  ///< tiles_x * tiles_y, row-major
+};
+
 /// One frame's fixed set-up (view, shading, kernel) and the pieces of the render, for drawing the
 /// points in parts (streaming, threads). Buffers are the caller's, npix() entries each:
 ///   keys: uint64 per pixel, start at kEmptyKey; quad: draw() leaves min((depth << 32) | rgb);
@@ -128,11 +160,20 @@ public:
 
     /// Quad: the only pass; ewa: pass 1 (visibility). Adds to stats.splats_drawn / fragments.
     /// blocks: empty, or the block id of each point (ColorBy::block).
+    /// footprints (ewa, may be null): cleared, then receives the footprint of every splat drawn, in
+    /// order, for accumulate() on footprints (quad: left empty).
     void draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
-              std::span<const std::uint32_t> blocks = {}) const;
-    /// EWA pass 2 against the final visibility keys; acc has acc_words() per pixel.
+              std::span<const std::uint32_t> blocks = {}, std::vector<EwaFootprint>* footprints = nullptr) const;
+    /// The visible-depth tiles of the final visibility keys (ewa), for accumulate()'s skipping.
+    VisibleDepthTiles depth_tiles(const std::uint64_t* keys) const;
+    /// EWA pass 2 against the final visibility keys; acc has acc_words() per pixel. tiles (may be
+    /// null): depth_tiles(keys), to skip splats hidden everywhere (the same image, faster).
     void accumulate(std::span<const PointRecord> points, const std::uint64_t* keys, std::int64_t* acc,
-                    SplatStats& stats, std::span<const std::uint32_t> blocks = {}) const;
+                    SplatStats& stats, std::span<const std::uint32_t> blocks = {},
+                    const VisibleDepthTiles* tiles = nullptr) const;
+    /// As above on the footprints draw() gave (any order, any split): the same sums.
+    void accumulate(std::span<const EwaFootprint> footprints, const std::uint64_t* keys, std::int64_t* acc,
+                    SplatStats& stats, const VisibleDepthTiles* tiles = nullptr) const;
     /// Shades the buffers into img (resized to width x height); acc is unused by the quad kernel.
     void resolve(const std::uint64_t* keys, const std::int64_t* acc, Image& img) const;
 
@@ -144,7 +185,8 @@ private:
     void init_ewa();
     void draw_quad(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
                    std::span<const std::uint32_t> blocks) const;
-    void draw_ewa(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats) const;
+    void draw_ewa(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
+                  std::span<const std::uint32_t> blocks, std::vector<EwaFootprint>* footprints) const;
     void resolve_quad(const std::uint64_t* keys, Image& img) const;
     void resolve_ewa(const std::int64_t* acc, Image& img) const;
 

@@ -22,15 +22,25 @@ struct SplatSink::Canvas {
     LargeBuffer<std::int64_t> acc;
     std::vector<PointRecord> batch;  // EWA pass 2: the spooled batch being replayed
     std::vector<std::uint32_t> blocks;  // ... and its block ids (when the spool has them)
+    std::vector<EwaFootprint> footprints;   // EWA: the footprints of the batch drawn (pass 1) or replayed (pass 2)
+    std::unique_ptr<FootprintSpool> spool;  // EWA without `replay`: this thread's pass-1 footprints
     SplatStats stats;
 };
 
 struct SplatSink::Canvases {
     oneapi::tbb::enumerable_thread_specific<Canvas> per_thread;
+    bool spool_footprints = false;
     Canvas& local(const SplatFrame& f) {
         Canvas& c = per_thread.local();
         if (c.keys.empty()) c.keys.assign(f.npix(), SplatFrame::kEmptyKey);
+        if (spool_footprints && !c.spool) c.spool = std::make_unique<FootprintSpool>("splat-spool");
         return c;
+    }
+    /// Pass 1 on a batch: draws it and spools the footprints of the splats drawn.
+    void draw(const SplatFrame& f, const Batch& b) {
+        Canvas& c = local(f);
+        f.draw(b.points, c.keys.data(), c.stats, b.point_block, c.spool ? &c.footprints : nullptr);
+        if (c.spool) c.spool->append(c.footprints);
     }
 };
 
@@ -48,8 +58,7 @@ public:
     explicit DrawStage(SplatSink& s) : s_(s) {}
     void process(Batch& b) const override {
         require_points(b, s_.shading_);
-        Canvas& c = s_.canvases_->local(s_.frame_);
-        s_.frame_.draw(b.points, c.keys.data(), c.stats, b.point_block);
+        s_.canvases_->draw(s_.frame_, b);
     }
 
 private:
@@ -60,8 +69,11 @@ SplatSink::SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams&
                      const std::array<Vec3, 2>& bounds, int threads, const PointSpool* replay)
     : frame_(cam, kernel, shading, bounds), shading_(shading), threads_(std::max(threads, 1)), canvases_(std::make_unique<Canvases>()) {
     if (!frame_.two_pass()) return;
-    if (!replay) own_spool_ = std::make_unique<PointSpool>("splat-spool");
-    pass2_ = replay ? replay : own_spool_.get();
+    pass2_ = replay;
+    // Without a replay spool, pass 1 spools footprints (one file per drawing thread); this thread's
+    // is made now, so that an unusable temporary directory fails before the first point.
+    canvases_->spool_footprints = replay == nullptr;
+    if (!replay) canvases_->per_thread.local().spool = std::make_unique<FootprintSpool>("splat-spool");
 }
 
 SplatSink::~SplatSink() = default;
@@ -75,13 +87,7 @@ const Stage& SplatSink::stage() {
 void SplatSink::observe(const Batch& b) {
     require_points(b, shading_);
     points_ += b.points.size();
-    if (!staged_) {
-        Canvas& c = canvases_->local(frame_);
-        frame_.draw(b.points, c.keys.data(), c.stats, b.point_block);
-    }
-    // block ids are only needed again (pass 2) when the colour depends on them
-    if (own_spool_) own_spool_->append(b.points, shading_.color_by == ColorBy::block ? std::span<const std::uint32_t>(b.point_block)
-                                                                                      : std::span<const std::uint32_t>());
+    if (!staged_) canvases_->draw(frame_, b);
 }
 
 void SplatSink::finish() {
@@ -89,10 +95,12 @@ void SplatSink::finish() {
     const std::size_t npix = frame_.npix();
     // Merge the partial visibility / colour buffers by min.
     LargeBuffer<std::uint64_t> keys;
+    std::vector<std::unique_ptr<FootprintSpool>> spools;  // pass 1's footprints, one spool per thread
     for (Canvas& c : canvases_->per_thread) {
         stats_.splats_drawn += c.stats.splats_drawn;
         stats_.fragments += c.stats.fragments;
         c.stats = {};
+        if (c.spool) spools.push_back(std::move(c.spool));
         if (c.keys.empty()) continue;
         if (keys.empty()) keys = std::move(c.keys);
         else SplatFrame::merge_keys(keys.data(), c.keys.data(), npix);
@@ -104,39 +112,59 @@ void SplatSink::finish() {
 
     LargeBuffer<std::int64_t> acc;
     if (frame_.two_pass()) {
-        if (own_spool_) own_spool_->flush();
-        if (pass2_->size() != points_)
-            throw std::logic_error("SplatSink: the replay spool holds " + std::to_string(pass2_->size()) +
-                                   " points, the sink was given " + std::to_string(points_));
-        // Pass 2 replays the spool in batches; each task reads its own batch (pread), so threads
-        // meet only at the end, and memory is one batch + one accumulator per thread.
-        const std::uint64_t nbatch = (points_ + kMaxBatchRecords - 1) / kMaxBatchRecords;
         const std::size_t words = frame_.acc_words();
-        if (shading_.color_by == ColorBy::block && points_ > 0 && !pass2_->has_blocks())
-            throw FormatError("splat: colouring by block (--color block), but the spooled points carry no block ids");
+        const VisibleDepthTiles tiles = frame_.depth_tiles(keys.data());
+        // Pass 2 replays the spools in batches; each task reads its own batch (pread), so threads
+        // meet only at the end, and memory is one batch + one accumulator per thread.
+        struct Part {
+            const FootprintSpool* spool;  // null: the replay spool's points
+            std::uint64_t first, count;
+        };
+        std::vector<Part> parts;
+        if (pass2_) {
+            if (pass2_->size() != points_)
+                throw std::logic_error("SplatSink: the replay spool holds " + std::to_string(pass2_->size()) +
+                                       " points, the sink was given " + std::to_string(points_));
+            if (shading_.color_by == ColorBy::block && points_ > 0 && !pass2_->has_blocks())
+                throw FormatError("splat: colouring by block (--color block), but the spooled points carry no block ids");
+            for (std::uint64_t first = 0; first < points_; first += kMaxBatchRecords)
+                parts.push_back({nullptr, first, std::min<std::uint64_t>(kMaxBatchRecords, points_ - first)});
+        } else {
+            for (const auto& sp : spools) {
+                sp->flush();
+                for (std::uint64_t first = 0; first < sp->size(); first += kMaxBatchRecords)
+                    parts.push_back({sp.get(), first, std::min<std::uint64_t>(kMaxBatchRecords, sp->size() - first)});
+            }
+        }
         const bool with_blocks = shading_.color_by == ColorBy::block;
         oneapi::tbb::enumerable_thread_specific<Canvas> accs;
-        auto replay = [&](std::uint64_t i) {
+        auto replay = [&](std::size_t i) {
             Canvas& c = accs.local();
             if (c.acc.empty()) c.acc.assign(words * npix, 0);
-            const std::uint64_t first = i * kMaxBatchRecords;
-            c.batch.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kMaxBatchRecords, points_ - first)));
-            pass2_->read(first, c.batch);
+            const Part& p = parts[i];
+            if (p.spool) {
+                c.footprints.resize(static_cast<std::size_t>(p.count));
+                p.spool->read(p.first, c.footprints);
+                frame_.accumulate(c.footprints, keys.data(), c.acc.data(), c.stats, &tiles);
+                return;
+            }
+            c.batch.resize(static_cast<std::size_t>(p.count));
+            pass2_->read(p.first, c.batch);
             c.blocks.clear();
             if (with_blocks) {
                 c.blocks.resize(c.batch.size());
-                pass2_->read_blocks(first, c.blocks);
+                pass2_->read_blocks(p.first, c.blocks);
             }
-            frame_.accumulate(c.batch, keys.data(), c.acc.data(), c.stats, c.blocks);
+            frame_.accumulate(c.batch, keys.data(), c.acc.data(), c.stats, c.blocks, &tiles);
         };
         if (threads_ == 1) {
-            for (std::uint64_t i = 0; i < nbatch; ++i) replay(i);
+            for (std::size_t i = 0; i < parts.size(); ++i) replay(i);
         } else {
             oneapi::tbb::task_arena arena(threads_);
             arena.execute([&] {
-                oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::uint64_t>(0, nbatch, 1),
-                                          [&](const oneapi::tbb::blocked_range<std::uint64_t>& r) {
-                                              for (std::uint64_t i = r.begin(); i != r.end(); ++i) replay(i);
+                oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::size_t>(0, parts.size(), 1),
+                                          [&](const oneapi::tbb::blocked_range<std::size_t>& r) {
+                                              for (std::size_t i = r.begin(); i != r.end(); ++i) replay(i);
                                           });
             });
         }
@@ -148,7 +176,6 @@ void SplatSink::finish() {
             c.acc = {};
         }
         if (acc.empty()) acc.assign(words * npix, 0);
-        own_spool_.reset();
     }
     frame_.resolve(keys.data(), acc.data(), image_);
     stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -157,7 +184,8 @@ void SplatSink::finish() {
 std::size_t SplatSink::retained_bytes() const {
     std::size_t n = image_.rgb.capacity();
     for (const Canvas& c : canvases_->per_thread)
-        n += c.keys.capacity() * sizeof(std::uint64_t) + c.acc.capacity() * sizeof(std::int64_t);
+        n += c.keys.capacity() * sizeof(std::uint64_t) + c.acc.capacity() * sizeof(std::int64_t) +
+             c.footprints.capacity() * sizeof(EwaFootprint);
     return n;
 }
 

@@ -8,11 +8,15 @@
 //  - quad: one pass; each pixel keeps min((depth << 32) | colour), which does not depend on the
 //    order or the split of the points.
 //  - ewa: two passes (visibility, then accumulation against the final visibility). Pass 1 draws the
-//    batches as they arrive and appends their points to a point spool (stream/point_spool.hpp: an
-//    unlinked temporary file in $TMPDIR or /tmp); finish() replays the spool in batches of
-//    kMaxBatchRecords for pass 2. A caller whose points are already in a spool (a turntable replays
-//    one spool per frame) passes it as `replay`: the sink then spools nothing and reads pass 2 from
-//    it. The accumulators are 64-bit fixed point, so the sum is exact in any order.
+//    batches as they arrive and appends the screen footprints of the splats it drew (conic, bounding
+//    box, depth plane, normal, base colour: kernels/splat_rasterizer.hpp EwaFootprint, 60 bytes) to a
+//    footprint spool per drawing thread (stream/footprint_spool.hpp: unlinked temporary files in
+//    $TMPDIR or /tmp), so pass 2 does not recompute them; finish() replays the spools in batches of
+//    kMaxBatchRecords for pass 2, skipping the splats hidden everywhere behind the final visible
+//    depth (SplatFrame::depth_tiles; the same bytes). A caller whose points are already in a spool (a
+//    turntable replays one spool per frame) passes it as `replay`: the sink then spools nothing and
+//    pass 2 recomputes the footprints from it. The accumulators are 64-bit fixed point, so the sum
+//    is exact in any order and any split.
 // The image is byte-identical to render_splats() on all the points at once, for any batch split
 // and any thread count (the tests check both kernels).
 //
@@ -21,7 +25,7 @@
 // min (keys) and integer sum (EWA accumulators) in finish(). Without stage(), consume() draws
 // (serial). finish() replays the EWA spool with `threads` threads (its own task arena).
 // Colours (ShadingParams::color_by, kernels/splat_rasterizer.hpp): block colours read each batch's
-// Batch::point_block (and the spool keeps them for pass 2); a non-empty batch without them is a
+// Batch::point_block (the footprints keep the base colour for pass 2; a replay spool its block ids); a non-empty batch without them is a
 // FormatError when colouring by block.
 // Errors: FormatError on sample batches; IoError naming the spool file when it cannot be created,
 // written or read back; std::logic_error when a `replay` spool does not hold the points drawn. Not thread-safe apart from the stage (Sink rules, stream/stage.hpp).
@@ -30,6 +34,7 @@
 #include <memory>
 
 #include "kernels/splat_rasterizer.hpp"
+#include "stream/footprint_spool.hpp"
 #include "stream/point_spool.hpp"
 #include "stream/stage.hpp"
 
@@ -71,8 +76,7 @@ private:
     std::unique_ptr<Canvases> canvases_;
     std::unique_ptr<DrawStage> stage_;
     bool staged_ = false;
-    std::unique_ptr<PointSpool> own_spool_;  // ewa without `replay`: pass 1 spools here
-    const PointSpool* pass2_ = nullptr;      // what pass 2 reads (own_spool_ or replay)
+    const PointSpool* pass2_ = nullptr;      // ewa: the replay spool pass 2 reads, else the footprint spools
     std::uint64_t points_ = 0;
     SplatStats stats_;
     Image image_;

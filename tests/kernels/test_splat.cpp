@@ -2,11 +2,13 @@
 // splats, hole-free planes, the silhouette and shading of a sphere, depth order, permutation
 // invariance, turntable periodicity.
 #include <algorithm>
+#include <bit>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -385,4 +387,136 @@ TEST_CASE("SplatFrame: partial buffers over any split of the points, merged, equ
         f.resolve(k1.data(), a1.data(), part);
         CHECK(part.rgb != ref.rgb);
     }
+}
+
+namespace {
+// Pass 1 written out plainly, one pixel at a time, from the footprints draw() hands out: the oracle
+// of the (vectorised) visibility pass.
+std::vector<std::uint64_t> plain_visibility(const std::vector<EwaFootprint>& fps, int W, int H, float c2) {
+    std::vector<std::uint64_t> keys(static_cast<std::size_t>(W) * H, SplatFrame::kEmptyKey);
+    for (const EwaFootprint& f : fps) {
+        std::uint64_t packed = 0;
+        for (float c : f.n) packed = (packed << 10) | static_cast<std::uint64_t>(std::lrint(std::clamp(c, -1.0f, 1.0f) * 511.0f + 511.0f));
+        const float zlo = std::max(f.depth - f.radius, 0.0f), zhi = f.depth + f.radius;
+        for (int y = f.y0; y <= f.y1; ++y)
+            for (int x = f.x0; x <= f.x1; ++x) {
+                const float dx = x + 0.5f - f.sx, dy = y + 0.5f - f.sy;
+                const float q = f.q00 * dx * dx + 2.0f * f.q01 * dx * dy + f.q11 * dy * dy;
+                if (q > c2) continue;
+                const float z = std::clamp(f.depth + f.gx * dx + f.gy * dy, zlo, zhi);
+                std::uint64_t& k = keys[static_cast<std::size_t>(y) * W + x];
+                k = std::min(k, (std::uint64_t{std::bit_cast<std::uint32_t>(z)} << 32) | packed);
+            }
+    }
+    return keys;
+}
+}  // namespace
+
+TEST_CASE("EWA pass 2 from spooled footprints and with hidden splats skipped: the same sums as from the points", "[splat]") {
+    // three nested spheres seen from outside, shuffled: most splats are hidden behind the outer one
+    std::vector<PointRecord> pts = sphere_points(6000, 0.8, 1.3);
+    for (double rho : {0.6, 0.4}) {
+        const auto more = sphere_points(3000, rho, 1.4);
+        pts.insert(pts.end(), more.begin(), more.end());
+    }
+    // and records every early exit of the footprint meets: NaN / infinite positions, zero and NaN
+    // normals, zero, negative, NaN and infinite radii, a point behind the eye, one far off screen
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    for (int i = 0; i < 8; ++i) {
+        pts.push_back(rec({NAN, 0, 0}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({0.1, inf, 0}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({0.2, 0.1 * i, 0.85}, {0, 0, 0}, 0.05f));
+        pts.push_back(rec({-0.2, 0.1 * i, 0.85}, {nan, 0, 1}, 0.05f));
+        pts.push_back(rec({0.3, -0.1 * i, 0.85}, {0, 1, 1}, 0.0f));
+        pts.push_back(rec({0.3, -0.1 * i, 0.86}, {1, 0, 1}, -0.05f));
+        pts.push_back(rec({0.35, 0.1 * i, 0.86}, {1, 0, 1}, nan));
+        pts.push_back(rec({0.35, 0.1 * i, 0.87}, {1, 1, 0}, inf));
+        pts.push_back(rec({0, 0, 50}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({40, 0, 0}, {0, 0, 1}, 0.05f));
+    }
+    std::mt19937 rng(11);
+    std::shuffle(pts.begin(), pts.end(), rng);
+    for (ColorBy colour : {ColorBy::none, ColorBy::normal})
+        for (bool perspective : {true, false}) {
+            INFO("colour " << int(colour) << " perspective " << perspective);
+            ShadingParams sh = test_shading();
+            sh.color_by = colour;
+            const Camera cam = front_camera(150, perspective);
+            const SplatFrame f(cam, SplatKernel::ewa, sh, kUnitBox);
+            const std::size_t n = f.npix(), words = f.acc_words();
+            std::vector<std::uint64_t> keys(n, SplatFrame::kEmptyKey);
+            std::vector<EwaFootprint> fps, part;
+            SplatStats st;
+            // drawn in two parts: the footprints of each part, concatenated
+            const std::size_t cut = 5000;
+            f.draw(std::span(pts).first(cut), keys.data(), st, {}, &part);
+            fps = part;
+            f.draw(std::span(pts).subspan(cut), keys.data(), st, {}, &part);
+            fps.insert(fps.end(), part.begin(), part.end());
+            REQUIRE(static_cast<std::int64_t>(fps.size()) == st.splats_drawn);
+            {
+                // one point at a time (the scalar footprint) gives the bytes of the batched (SIMD) one
+                std::vector<std::uint64_t> k1(n, SplatFrame::kEmptyKey);
+                std::vector<EwaFootprint> one, all;
+                SplatStats s1;
+                for (std::size_t i = 0; i < pts.size(); ++i) {
+                    f.draw(std::span(pts).subspan(i, 1), k1.data(), s1, {}, &one);
+                    all.insert(all.end(), one.begin(), one.end());
+                }
+                REQUIRE(all.size() == fps.size());
+                CHECK(std::memcmp(all.data(), fps.data(), fps.size() * sizeof(EwaFootprint)) == 0);
+                CHECK(k1 == keys);
+            }
+            REQUIRE(st.splats_drawn > 10000);
+            // the visibility pass equals its plain per-pixel form
+            CHECK(plain_visibility(fps, f.width(), f.height(), float(sh.ewa_cutoff * sh.ewa_cutoff)) == keys);
+
+            const VisibleDepthTiles tiles = f.depth_tiles(keys.data());
+            std::vector<std::int64_t> ref(words * n, 0), a(words * n, 0), b(words * n, 0), c(words * n, 0);
+            SplatStats s_ref, s_a, s_b, s_c;
+            f.accumulate(pts, keys.data(), ref.data(), s_ref);                    // every splat, from the points
+            f.accumulate(pts, keys.data(), a.data(), s_a, {}, &tiles);             // hidden ones skipped
+            f.accumulate(fps, keys.data(), b.data(), s_b);                         // from the footprints
+            std::reverse(fps.begin(), fps.end());                                  // any order
+            f.accumulate(fps, keys.data(), c.data(), s_c, &tiles);
+            CHECK(a == ref);
+            CHECK(b == ref);
+            CHECK(c == ref);
+            CHECK(s_b.fragments == s_ref.fragments);
+            // the skip does skip (most fragments are behind the outer sphere), and the sums are not trivial
+            CHECK(s_a.fragments < s_ref.fragments / 2);
+            CHECK(s_c.fragments == s_a.fragments);
+            std::int64_t covered_px = 0;
+            for (std::size_t i = 0; i < n; ++i) covered_px += ref[words * i] != 0;
+            CHECK(covered_px > 3000);  // covered pixels (the outer disc: about 4000 of 22500)
+        }
+}
+
+TEST_CASE("visible-depth tiles: the largest depth per tile, empty pixels never hide", "[splat]") {
+    const Camera cam = front_camera(21, true);  // 21 is no multiple of the tile size: partial tiles
+    const SplatFrame f(cam, SplatKernel::ewa, test_shading(), kUnitBox);
+    const int W = 21, T = VisibleDepthTiles::kSize;
+    std::vector<std::uint64_t> keys(f.npix(), 0);
+    for (int y = 0; y < W; ++y)
+        for (int x = 0; x < W; ++x)
+            keys[static_cast<std::size_t>(y) * W + x] = std::uint64_t{std::bit_cast<std::uint32_t>(float((x * 7) % 11 + 100 * y))} << 32 | 7u;
+    keys[1] = SplatFrame::kEmptyKey;                                                  // tile (0, 0)
+    keys[static_cast<std::size_t>(T) * W + T] = std::uint64_t{0x80000000u} << 32;  // -0.0: tile (1, 1)
+    const VisibleDepthTiles t = f.depth_tiles(keys.data());
+    const int n = (W + T - 1) / T;
+    REQUIRE(t.tiles_x == n);
+    REQUIRE(t.tiles_y == n);
+    for (int ty = 0; ty < n; ++ty)
+        for (int tx = 0; tx < n; ++tx) {
+            INFO("tile " << tx << ", " << ty);
+            const float got = t.max_depth[static_cast<std::size_t>(ty) * n + tx];
+            if ((tx == 0 && ty == 0) || (tx == 1 && ty == 1)) {
+                CHECK(std::isinf(got));
+                continue;
+            }
+            float want = 0;
+            for (int y = ty * T; y < std::min(W, ty * T + T); ++y)
+                for (int x = tx * T; x < std::min(W, tx * T + T); ++x) want = std::max(want, float((x * 7) % 11 + 100 * y));
+            CHECK(got == want);
+        }
 }
