@@ -500,6 +500,47 @@ TEST_CASE("construction is deterministic across thread counts", "[rbf]") {
     }
 }
 
+TEST_CASE("mpu: the octree built by parallel subtrees is the same for any thread count and interpolates", "[rbf]") {
+    // 40K points: the root and its children hold more than the 8192 points from which subtrees are
+    // built in parallel (kernels/mpu_field.cpp) and appended in depth-first order
+    const auto pos = random_points(40000, {0, 0, 0}, {1, 0.5, 1}, 131);
+    const PointSet ps = make_points(pos, franke3);
+    FieldParams params;
+    params.kind = FieldKind::mpu;
+    const auto at = random_points(400, {0, 0, 0}, {1, 0.5, 1}, 132);
+    std::vector<std::unique_ptr<Field>> fields;
+    std::vector<FieldBuildStats> stats(2);
+    for (int t : {1, 4}) {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(t));
+        fields.push_back(make_field(ps, params, &stats[fields.size()]));
+    }
+    const auto& a = dynamic_cast<const MpuField&>(*fields[0]);
+    const auto& b = dynamic_cast<const MpuField&>(*fields[1]);
+    const auto la = a.leaves(), lb = b.leaves();
+    REQUIRE(la.size() == lb.size());
+    CHECK(la.size() > 512);
+    for (std::size_t i = 0; i < la.size(); ++i) {
+        CHECK(std::memcmp(&la[i].centre, &lb[i].centre, sizeof(Vec3)) == 0);
+        CHECK(la[i].radius == lb[i].radius);
+    }
+    CHECK(stats[0].octree_nodes == stats[1].octree_nodes);
+    CHECK(stats[0].grown == stats[1].grown);
+    CHECK(stats[0].mean_local_points == stats[1].mean_local_points);
+    std::vector<double> v1(at.size()), v4(at.size());
+    std::vector<Vec3> g1(at.size()), g4(at.size());
+    a.evaluate(at, v1, g1);
+    b.evaluate(at, v4, g4);
+    CHECK(std::memcmp(v1.data(), v4.data(), v1.size() * sizeof(double)) == 0);
+    CHECK(std::memcmp(g1.data(), g4.data(), g1.size() * sizeof(Vec3)) == 0);
+    // every leaf was fitted to the points of its sphere: F interpolates the data
+    REQUIRE(stats[1].regularised + stats[1].linear_fallback + stats[1].capped == 0);
+    std::vector<double> v(pos.size());
+    b.evaluate(pos, v, {});
+    double worst = 0;
+    for (std::size_t i = 0; i < pos.size(); ++i) worst = std::max(worst, std::abs(v[i] - ps.value[i]));
+    CHECK(worst <= 1e-7);
+}
+
 TEST_CASE("bad input: too few points, non-finite values, oversized global sets, bad parameters", "[rbf]") {
     PointSet tiny = make_points(random_points(3, {0, 0, 0}, {1, 1, 1}, 1), franke3);
     CHECK_THROWS_AS(make_field(tiny, params_for(FieldKind::mpu)), InvalidArgument);
