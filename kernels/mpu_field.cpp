@@ -50,7 +50,8 @@ struct OctreeBuilder {
 
     double radius_of(double half) const { return alpha * 2.0 * std::sqrt(3.0) * half; }
 
-    // Appends the subtree built by `sub` (its node 0 is this builder's node `at`) in DFS order.
+    // Appends the subtree built by `sub` (its node 0 is this builder's node `at`) in DFS order and
+    // frees sub's arrays (the point lists are held twice only for the subtree being appended).
     void append(std::int32_t at, OctreeBuilder& sub) {
         const std::int32_t base = static_cast<std::int32_t>(nodes.size()) - 1;  // sub's node i >= 1 -> base + i
         const std::int32_t lbase = static_cast<std::int32_t>(leaf_range.size());
@@ -63,7 +64,10 @@ struct OctreeBuilder {
         nodes[static_cast<std::size_t>(at)] = moved(sub.nodes[0]);
         for (std::size_t i = 1; i < sub.nodes.size(); ++i) nodes.push_back(moved(sub.nodes[i]));
         for (const auto& [first, count] : sub.leaf_range) leaf_range.emplace_back(first + fbase, count);
-        flat.insert(flat.end(), sub.flat.begin(), sub.flat.end());
+        if (flat.empty()) flat.swap(sub.flat);
+        else flat.insert(flat.end(), sub.flat.begin(), sub.flat.end());
+        std::vector<std::uint32_t>().swap(sub.flat);
+        std::vector<NodeRec>().swap(sub.nodes);
         grown += sub.grown;
         capped += sub.capped;
         depth_reached = std::max(depth_reached, sub.depth_reached);
