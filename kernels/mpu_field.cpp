@@ -177,11 +177,12 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
     origin_ = mp.origin;
     scale_ = mp.scale;
     bounds_ = points.bounds();
+    const double c = hardy_c_world_for(params, bounds_);
+    const auto [lo, hi] = bounding_box(mp.pos);
+    morton_order_points(mp, lo, hi);  // cache-friendly node lists and fits
     const std::vector<Vec3> pts = std::move(mp.pos);
     const std::vector<double>& val = mp.value;
-    const double c = hardy_c_world_for(params, bounds_);
 
-    const auto [lo, hi] = bounding_box(pts);
     const Vec3 w = hi - lo;
     const double wmax = std::max({w.x, w.y, w.z});
     OctreeBuilder b{pts, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha, {}, {}, {}, {}, {}};
