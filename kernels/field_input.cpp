@@ -5,7 +5,11 @@
 #include <cmath>
 #include <string>
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include "kernels/errors.hpp"
+#include "kernels/morton.hpp"
 
 namespace meshless {
 
@@ -55,6 +59,32 @@ MergedPoints prepare_field_points(const PointSet& points, const FieldParams& par
         stats->hardy_c_world = hardy_c_world_for(params, points.bounds());
     }
     return m;
+}
+
+void morton_order_points(MergedPoints& m, const Vec3& lo, const Vec3& hi) {
+    const std::size_t n = m.pos.size();
+    const Vec3 w = hi - lo;
+    const double wm = std::max({w.x, w.y, w.z});
+    const double k = wm > 0 ? 2097151.0 / wm : 0.0;  // 21 bits per axis
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> key(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const Vec3 u = (m.pos[i] - lo) * k;
+            auto axis = [](double v) { return static_cast<std::uint32_t>(std::clamp(v, 0.0, 2097151.0)); };
+            key[i] = {morton_encode(axis(u.x), axis(u.y), axis(u.z)), static_cast<std::uint32_t>(i)};
+        }
+    });
+    tbb::parallel_sort(key.begin(), key.end());  // the (key, index) pairs are distinct: deterministic
+    std::vector<Vec3> pos(n);
+    std::vector<double> value(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            pos[i] = m.pos[key[i].second];
+            value[i] = m.value[key[i].second];
+        }
+    });
+    m.pos.swap(pos);
+    m.value.swap(value);
 }
 
 }  // namespace meshless

@@ -20,6 +20,12 @@ namespace {
 
 constexpr int kMaxStack = 512;
 
+// The octree of section 5.5, depth first. Subtrees of nodes whose sphere holds at least
+// kParallelPoints points are built in parallel (oneTBB), each by a builder of its own, and
+// appended to the parent's arrays in child order: the nodes, leaves and point lists come out in
+// exactly the order of a sequential depth-first build, for any thread count.
+constexpr std::size_t kParallelPoints = 8192;
+
 struct OctreeBuilder {
     const std::vector<Vec3>& pos;
     std::uint32_t max_pts, min_pts, max_depth;
@@ -29,15 +35,43 @@ struct OctreeBuilder {
         double half, r, rsub;
         std::int32_t child, local;
     };
+    struct Ancestor {
+        Vec3 c;
+        double r;                                   // its sphere (an inner node's never changes)
+        const std::vector<std::uint32_t>* points;  // the points inside it
+    };
     std::vector<NodeRec> nodes{};
     std::vector<std::uint32_t> flat{};                       // leaf point lists, DFS order
     std::vector<std::pair<std::uint64_t, std::uint32_t>> leaf_range{};  // (first, count) per local
-    std::vector<std::pair<std::int32_t, const std::vector<std::uint32_t>*>> path{};  // ancestors and their points
+    std::vector<Ancestor> path{};                            // ancestors, root first
     std::vector<std::pair<double, std::uint32_t>> near{};
     std::uint64_t grown = 0, capped = 0;
     std::uint32_t depth_reached = 0;
 
     double radius_of(double half) const { return alpha * 2.0 * std::sqrt(3.0) * half; }
+
+    // Appends the subtree built by `sub` (its node 0 is this builder's node `at`) in DFS order and
+    // frees sub's arrays (the point lists are held twice only for the subtree being appended).
+    void append(std::int32_t at, OctreeBuilder& sub) {
+        const std::int32_t base = static_cast<std::int32_t>(nodes.size()) - 1;  // sub's node i >= 1 -> base + i
+        const std::int32_t lbase = static_cast<std::int32_t>(leaf_range.size());
+        const std::uint64_t fbase = flat.size();
+        auto moved = [&](NodeRec n) {
+            if (n.child >= 0) n.child += base;
+            if (n.local >= 0) n.local += lbase;
+            return n;
+        };
+        nodes[static_cast<std::size_t>(at)] = moved(sub.nodes[0]);
+        for (std::size_t i = 1; i < sub.nodes.size(); ++i) nodes.push_back(moved(sub.nodes[i]));
+        for (const auto& [first, count] : sub.leaf_range) leaf_range.emplace_back(first + fbase, count);
+        if (flat.empty()) flat.swap(sub.flat);
+        else flat.insert(flat.end(), sub.flat.begin(), sub.flat.end());
+        std::vector<std::uint32_t>().swap(sub.flat);
+        std::vector<NodeRec>().swap(sub.nodes);
+        grown += sub.grown;
+        capped += sub.capped;
+        depth_reached = std::max(depth_reached, sub.depth_reached);
+    }
 
     void build(std::int32_t node, const std::vector<std::uint32_t>& cand, std::uint32_t depth) {
         depth_reached = std::max(depth_reached, depth);
@@ -63,8 +97,19 @@ struct OctreeBuilder {
                 ch.local = -1;
                 nodes.push_back(ch);
             }
-            path.emplace_back(node, &inside);
-            for (int q = 0; q < 8; ++q) build(first + q, inside, depth + 1);
+            path.push_back(Ancestor{c, r, &inside});
+            if (inside.size() >= kParallelPoints) {
+                std::vector<OctreeBuilder> sub;
+                sub.reserve(8);
+                for (int q = 0; q < 8; ++q) {
+                    sub.push_back(OctreeBuilder{pos, max_pts, min_pts, max_depth, alpha, {}, {}, {}, path, {}});
+                    sub.back().nodes.push_back(nodes[static_cast<std::size_t>(first + q)]);
+                }
+                tbb::parallel_for(0, 8, [&](int q) { sub[q].build(0, inside, depth + 1); });
+                for (int q = 0; q < 8; ++q) append(first + q, sub[q]);
+            } else {
+                for (int q = 0; q < 8; ++q) build(first + q, inside, depth + 1);
+            }
             path.pop_back();
             return;
         }
@@ -86,7 +131,7 @@ struct OctreeBuilder {
             // Grow the sphere to hold min_pts points, searching the nearest ancestor whose sphere
             // is guaranteed to contain the grown one (the root contains every point).
             for (std::size_t a = path.size(); a-- > 0;) {
-                const std::vector<std::uint32_t>& list = *path[a].second;
+                const std::vector<std::uint32_t>& list = *path[a].points;
                 if (list.size() < min_pts && a > 0) continue;
                 near.clear();
                 for (std::uint32_t i : list) {
@@ -97,8 +142,7 @@ struct OctreeBuilder {
                 std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(k), near.end());
                 const double rk = std::sqrt(near[k].first) * (1 + 1e-9) + 1e-300;
                 const double rnew = std::max(r, rk);
-                const NodeRec& an = nodes[path[a].first];
-                if (a > 0 && rnew + norm(an.c - c) > an.r) continue;
+                if (a > 0 && rnew + norm(path[a].c - c) > path[a].r) continue;
                 const double rn2 = rnew * rnew;
                 inside.clear();
                 for (const auto& [d2, i] : near)
@@ -133,11 +177,12 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
     origin_ = mp.origin;
     scale_ = mp.scale;
     bounds_ = points.bounds();
+    const double c = hardy_c_world_for(params, bounds_);
+    const auto [lo, hi] = bounding_box(mp.pos);
+    morton_order_points(mp, lo, hi);  // cache-friendly node lists and fits
     const std::vector<Vec3> pts = std::move(mp.pos);
     const std::vector<double>& val = mp.value;
-    const double c = hardy_c_world_for(params, bounds_);
 
-    const auto [lo, hi] = bounding_box(pts);
     const Vec3 w = hi - lo;
     const double wmax = std::max({w.x, w.y, w.z});
     OctreeBuilder b{pts, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha, {}, {}, {}, {}, {}};

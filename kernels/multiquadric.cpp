@@ -1,191 +1,80 @@
 #include "kernels/multiquadric.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <vector>
+#include <type_traits>
 
-#include <Eigen/Cholesky>
-#include <Eigen/Dense>
-#include <Eigen/QR>
+#include "kernels/multiquadric_fit_isa.hpp"
 
 namespace meshless {
 
+static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_standard_layout_v<Vec3>,
+              "the fit kernels read an array of Vec3 as x, y, z triples");
+
 namespace {
-constexpr double kGrowthMax = 1e8;        // sum|lambda| * max phi over the data range: bounds the
-                                          // cancellation error of evaluating H to ~1e-8 of the range
-constexpr double kRcondRidge = 1e-10;     // a ridge-regularised system must be at least this well conditioned
-constexpr double kLinearRel = 1e-12;      // data this close to its least-squares linear fit is linear
-constexpr double kResidualRel = 1e-8;     // exact solve must interpolate to this fraction of the data range
-constexpr double kRankThreshold = 1e-10;  // relative pivot threshold of the polynomial QR
+bool cpu_has_avx2_fma() {
+#if MESHLESS_MQ_FIT_AVX2
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+    return false;
+#endif
+}
+// The build of the fit this process runs (kernels/multiquadric_fit_isa.hpp), chosen once.
+const meshless_mqfit::Kernel& fit_kernel() {
+#if MESHLESS_MQ_FIT_AVX2
+    static const meshless_mqfit::Kernel& k = cpu_has_avx2_fma() ? meshless_mqfit::avx2_kernel()
+                                                                : meshless_mqfit::generic_kernel();
+    return k;
+#else
+    return meshless_mqfit::generic_kernel();
+#endif
+}
+const meshless_mqfit::Kernel& kernel_named(std::string_view isa) {
+#if MESHLESS_MQ_FIT_AVX2
+    if (isa == "avx2") return meshless_mqfit::avx2_kernel();
+#endif
+    (void)isa;
+    return meshless_mqfit::generic_kernel();
+}
 }  // namespace
 
-using MapM = Eigen::Map<Eigen::MatrixXd>;
+const char* multiquadric_fit_isa() { return fit_kernel().isa; }
 
-// Scratch kept at the largest size seen: the n x n matrices live in buffers that only grow, viewed
-// through Maps, so consecutive fits of different sizes neither reallocate nor touch fresh pages
-// (per-fit reallocation of the ~n^2 x 8-byte matrices cost ~40% of a fit in page faults).
+bool multiquadric_fit_isa_available(std::string_view isa) {
+    return isa == "generic" || (isa == "avx2" && cpu_has_avx2_fma());
+}
+
 struct MultiquadricSolver::Impl {
-    std::vector<double> a_buf, m_buf, s_buf;
-    Eigen::MatrixXd P;
-    Eigen::VectorXd g, rhs, mu, lam, t, r, v, p;
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
-    static double* square(std::vector<double>& b, Eigen::Index n) {
-        const std::size_t need = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
-        if (b.size() < need) b.resize(need);
-        return b.data();
-    }
+    const meshless_mqfit::Kernel& kernel;
+    void* workspace = kernel.create();
+    explicit Impl(const meshless_mqfit::Kernel& k) : kernel(k) {}
+    Impl(const Impl&) = delete;
+    Impl& operator=(const Impl&) = delete;
+    ~Impl() { kernel.destroy(workspace); }
 };
 
-MultiquadricSolver::MultiquadricSolver() : impl_(std::make_unique<Impl>()) {}
+MultiquadricSolver::MultiquadricSolver() : impl_(std::make_unique<Impl>(fit_kernel())) {}
+MultiquadricSolver::MultiquadricSolver(std::string_view isa) : impl_(std::make_unique<Impl>(kernel_named(isa))) {}
 MultiquadricSolver::~MultiquadricSolver() = default;
 
 MultiquadricFitResult MultiquadricSolver::fit(std::span<const Vec3> pos, std::span<const double> value,
                                               std::span<const std::uint32_t> idx, double c,
                                               MultiquadricLocal& out, std::span<double> lambda) {
-    Impl& w = *impl_;
-    const Eigen::Index n = static_cast<Eigen::Index>(idx.size());
+    meshless_mqfit::Io io;
+    io.pos = reinterpret_cast<const double*>(pos.data());
+    io.value = value.data();
+    io.idx = idx.data();
+    io.n = static_cast<std::uint32_t>(idx.size());
+    io.c = c;
+    io.lambda = lambda.data();
+    impl_->kernel.fit(impl_->workspace, io);
+    out.origin = {io.origin[0], io.origin[1], io.origin[2]};
+    out.a0 = io.a0;
+    out.a = {io.a[0], io.a[1], io.a[2]};
+    out.c2 = io.c2;
+    out.count = io.count;
     MultiquadricFitResult res;
-    out.c2 = c * c;
-    out.count = 0;
-    out.a = {0, 0, 0};
-
-    // Centre and scale.
-    Vec3 o{0, 0, 0};
-    double fbar = 0;
-    for (std::uint32_t i : idx) { o += pos[i]; fbar += value[i]; }
-    o = o * (1.0 / static_cast<double>(n));
-    fbar /= static_cast<double>(n);
-    double L = 0, gmax = 0;
-    for (std::uint32_t i : idx) {
-        L = std::max(L, norm(pos[i] - o));
-        gmax = std::max(gmax, std::abs(value[i] - fbar));
-    }
-    out.origin = o;
-    out.a0 = fbar;
-    if (n == 1 || !(L > 0)) {
-        res.outcome = MultiquadricOutcome::polynomial_only;
-        res.poly_rank = 1;
-        return res;
-    }
-    const double invL = 1.0 / L;
-    w.P.resize(n, 4);
-    w.g.resize(n);
-    for (Eigen::Index k = 0; k < n; ++k) {
-        const Vec3 q = (pos[idx[k]] - o) * invL;
-        w.P(k, 0) = 1;
-        w.P(k, 1) = q.x;
-        w.P(k, 2) = q.y;
-        w.P(k, 3) = q.z;
-        w.g(k) = value[idx[k]] - fbar;
-    }
-    w.qr.setThreshold(kRankThreshold);
-    w.qr.compute(w.P);
-    const Eigen::Index r = w.qr.rank();
-    res.poly_rank = static_cast<int>(r);
-
-    auto set_poly = [&](const Eigen::VectorXd& rhs) {
-        const Eigen::Vector4d a = w.qr.solve(rhs);
-        out.a0 = fbar + a(0);
-        out.a = Vec3{a(1), a(2), a(3)} * invL;
-    };
-    if (gmax == 0) {  // constant data: exact with the constant alone
-        res.outcome = MultiquadricOutcome::interpolated;
-        return res;
-    }
-    if (n <= r) {
-        set_poly(w.g);
-        res.outcome = MultiquadricOutcome::polynomial_only;
-        return res;
-    }
-    {   // Linear data (to rounding): the polynomial alone interpolates it exactly. Solving the
-        // (possibly ill-conditioned) RBF part would only amplify rounding noise.
-        const Eigen::Vector4d a = w.qr.solve(w.g);
-        if ((w.P * a - w.g).cwiseAbs().maxCoeff() <= kLinearRel * (std::abs(fbar) + gmax)) {
-            set_poly(w.g);
-            res.outcome = MultiquadricOutcome::interpolated;
-            return res;
-        }
-    }
-
-    // Multiquadric matrix in scaled coordinates.
-    const double cs2 = (c * invL) * (c * invL);
-    MapM A(Impl::square(w.a_buf, n), n, n);
-    MapM M(Impl::square(w.m_buf, n), n, n);
-    {   // lower triangle column by column, packet-wide (sqrt is correctly rounded in every lane,
-        // the sum is left to right as written: the same bits as a scalar loop)
-        const auto qx = w.P.col(1).array(), qy = w.P.col(2).array(), qz = w.P.col(3).array();
-        for (Eigen::Index j = 0; j < n; ++j) {
-            const Eigen::Index len = n - j;
-            A.col(j).tail(len).array() = ((qx.tail(len) - qx(j)).square() + (qy.tail(len) - qy(j)).square() +
-                                          (qz.tail(len) - qz(j)).square() + cs2)
-                                             .sqrt();
-        }
-    }  // only the lower triangle of A (and of M below) is ever read
-    // Null-space reduction: Z = trailing n-r columns of Q; S = -Z^T A Z is SPD.
-    const auto Q = w.qr.householderQ();
-    // M = Q^T A Q, applying each reflector H_k = I - tau v v^T from both sides as one symmetric
-    // rank-2 update of the lower triangle: H A H = A - v w^T - w v^T, w = p - (tau/2)(p.v) v, p = tau A v.
-    M.triangularView<Eigen::Lower>() = A;
-    for (Eigen::Index k = 0; k < w.qr.hCoeffs().size(); ++k) {
-        const double tau = w.qr.hCoeffs()(k);
-        if (tau == 0) continue;
-        w.v.setZero(n);
-        w.v(k) = 1;
-        w.v.tail(n - k - 1) = w.qr.matrixQR().col(k).tail(n - k - 1);
-        w.p.noalias() = tau * (M.selfadjointView<Eigen::Lower>() * w.v);
-        w.p -= (0.5 * tau * w.p.dot(w.v)) * w.v;
-        M.selfadjointView<Eigen::Lower>().rankUpdate(w.v, w.p, -1.0);
-    }
-    const Eigen::Index m = n - r;
-    w.t = Q.adjoint() * w.g;
-    w.rhs = -w.t.tail(m);
-    const double diag_mean = -M.bottomRightCorner(m, m).diagonal().mean();
-
-    MapM S(Impl::square(w.s_buf, m), m, m);
-    using InPlaceLlt = Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>>;  // factors S in place (lower triangle)
-    auto fill_s = [&](double ridge) {
-        S.triangularView<Eigen::Lower>() = -M.bottomRightCorner(m, m);
-        if (ridge != 0) S.diagonal().array() += ridge;
-    };
-    auto finish = [&](const InPlaceLlt& llt, MultiquadricOutcome oc) -> bool {
-        w.mu = llt.solve(w.rhs);
-        if (!w.mu.allFinite()) return false;
-        w.t.setZero(n);
-        w.t.tail(m) = w.mu;
-        w.lam = Q * w.t;
-        w.r = w.g - A.selfadjointView<Eigen::Lower>() * w.lam;  // what the polynomial must carry
-        const Eigen::Vector4d a = w.qr.solve(w.r);
-        if (!a.allFinite() || !w.lam.allFinite()) return false;
-        // Amplified rounding noise shows up as large, cancelling coefficients.
-        if (!(w.lam.cwiseAbs().sum() * (3.0 + std::sqrt(cs2)) <= kGrowthMax * gmax)) return false;
-        if (oc == MultiquadricOutcome::interpolated) {
-            const double resid = (w.P * a - w.r).cwiseAbs().maxCoeff();
-            if (!(resid <= kResidualRel * gmax)) return false;
-        }
-        out.a0 = fbar + a(0);
-        out.a = Vec3{a(1), a(2), a(3)} * invL;
-        out.count = static_cast<std::uint32_t>(n);
-        for (Eigen::Index k = 0; k < n; ++k) lambda[static_cast<std::size_t>(k)] = w.lam(k) * invL;
-        res.outcome = oc;
-        return true;
-    };
-
-    fill_s(0);
-    {
-        InPlaceLlt llt(S);
-        if (llt.info() == Eigen::Success && finish(llt, MultiquadricOutcome::interpolated)) return res;
-    }
-    for (double eps : {1e-12, 1e-10, 1e-8, 1e-6, 1e-4}) {
-        fill_s(eps * std::max(diag_mean, 1e-300));
-        InPlaceLlt llt(S);
-        if (llt.info() != Eigen::Success) continue;
-        res.rcond = llt.rcond();
-        if (res.rcond >= kRcondRidge && finish(llt, MultiquadricOutcome::regularised)) return res;
-    }
-    // Linear least squares.
-    set_poly(w.g);
-    out.count = 0;
-    res.outcome = MultiquadricOutcome::linear_fallback;
+    res.outcome = static_cast<MultiquadricOutcome>(io.outcome);
+    res.poly_rank = io.poly_rank;
+    res.rcond = io.rcond;
     return res;
 }
 

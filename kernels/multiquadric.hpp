@@ -29,12 +29,16 @@
 // solved on the remaining null space, so data on a line/plane is still interpolated. Never
 // returns NaN for finite input.
 //
+// Speed: the fit runs in the AVX2 + FMA build of kernels/multiquadric_fit_isa.hpp where the CPU
+// has both (chosen once per process), else in the generic one.
+//
 // Thread-safety: MultiquadricSolver holds scratch matrices, use one per thread. Evaluation is a
 // pure function. Throws only std::bad_alloc.
 #pragma once
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string_view>
 
 #include "kernels/vec3.hpp"
 
@@ -62,6 +66,9 @@ struct MultiquadricFitResult {
 class MultiquadricSolver {
 public:
     MultiquadricSolver();
+    /// Tests: a solver running build `isa` ("generic" or "avx2") of the fit; precondition:
+    /// multiquadric_fit_isa_available(isa).
+    explicit MultiquadricSolver(std::string_view isa);
     ~MultiquadricSolver();
     MultiquadricSolver(const MultiquadricSolver&) = delete;
     MultiquadricSolver& operator=(const MultiquadricSolver&) = delete;
@@ -77,6 +84,11 @@ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
+
+/// Which build of the fit this process runs (kernels/multiquadric_fit_isa.hpp): "avx2" or "generic".
+const char* multiquadric_fit_isa();
+/// Whether this build and CPU can run build `isa` of the fit ("generic" always).
+bool multiquadric_fit_isa_available(std::string_view isa);
 
 /// H(x) and, when grad != nullptr, its gradient. idx and lambda are the owner's full arrays.
 inline double multiquadric_evaluate(const MultiquadricLocal& h, const Vec3* pos, const std::uint32_t* idx,

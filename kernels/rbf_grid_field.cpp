@@ -30,6 +30,10 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
     origin_ = mp.origin;
     scale_ = mp.scale;
     bounds_ = points.bounds();
+    {
+        const auto [plo, phi] = bounding_box(mp.pos);
+        morton_order_points(mp, plo, phi);  // cache-friendly neighbourhoods and fits
+    }
     const std::vector<Vec3> pts = std::move(mp.pos);
     const std::vector<double>& val = mp.value;
     const double c = hardy_c_world_for(params, bounds_);
@@ -81,7 +85,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
     if (!(r_w_ > 0)) r_w_ = r_data_ = 1;  // a single point (after merging): one constant local
     for (int a = 0; a < 3; ++a) reach_[a] = n_[a] < 2 ? 0.0 : r_w_ / sc[a];
 
-    // ---- Bin the points (counting sort by cell, input order within a cell).
+    // ---- Bin the points (counting sort by cell; within a cell in the Morton order given above).
     auto cell_of = [&](const Vec3& p, std::int64_t ci[3]) {
         for (int a = 0; a < 3; ++a) {
             const double u = (p[a] - lo_[a]) * inv_s_[a];

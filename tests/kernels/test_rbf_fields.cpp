@@ -151,6 +151,53 @@ TEST_CASE("multiquadric local fit reproduces linear data and interpolates, also 
     run(line, franke3, 2);
 }
 
+TEST_CASE("both builds of the local fit (generic, AVX2 + FMA) interpolate and agree to rounding", "[rbf]") {
+    INFO("this process fits with " << multiquadric_fit_isa());
+    CHECK(multiquadric_fit_isa_available("generic"));
+    CHECK_FALSE(multiquadric_fit_isa_available("sse9"));
+    const auto pts = random_points(150, {0, 0, 0}, {0.4, 0.3, 0.35}, 11);  // the size of an rbf-grid local
+    std::vector<double> val;
+    for (const Vec3& p : pts) val.push_back(franke3(p));
+    std::vector<std::uint32_t> idx(pts.size());
+    for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<std::uint32_t>(i);
+    std::vector<std::vector<double>> lams;
+    std::vector<MultiquadricLocal> locals;
+    for (const char* isa : {"generic", "avx2"}) {
+        if (!multiquadric_fit_isa_available(isa)) {
+            WARN(isa << " not available on this CPU/build: not compared");
+            continue;
+        }
+        INFO(isa);
+        MultiquadricSolver solver(isa);
+        std::vector<double> lam(pts.size());
+        MultiquadricLocal h;
+        const auto res = solver.fit(pts, val, idx, 0.05, h, lam);
+        CHECK(res.outcome == MultiquadricOutcome::interpolated);
+        for (std::size_t i = 0; i < pts.size(); ++i)
+            CHECK(multiquadric_evaluate(h, pts.data(), idx.data(), lam.data(), pts[i], nullptr) ==
+                  Approx(val[i]).margin(1e-9));
+        // the same solver again (reused scratch): the same bits
+        std::vector<double> lam2(pts.size());
+        MultiquadricLocal h2;
+        solver.fit(pts, val, idx, 0.05, h2, lam2);
+        CHECK(lam2 == lam);
+        lams.push_back(lam);
+        locals.push_back(h);
+    }
+    if (lams.size() == 2) {
+        double scale = 0, diff = 0;
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            scale = std::max(scale, std::abs(lams[0][i]));
+            diff = std::max(diff, std::abs(lams[0][i] - lams[1][i]));
+        }
+        CHECK(diff <= 1e-6 * scale);  // rounding (FMA) amplified by the condition number only
+        CHECK(locals[0].a0 == Approx(locals[1].a0).epsilon(1e-8));
+        for (const Vec3& x : random_points(50, {0, 0, 0}, {0.4, 0.3, 0.35}, 12))
+            CHECK(multiquadric_evaluate(locals[0], pts.data(), idx.data(), lams[0].data(), x, nullptr) ==
+                  Approx(multiquadric_evaluate(locals[1], pts.data(), idx.data(), lams[1].data(), x, nullptr)).margin(1e-9));
+    }
+}
+
 TEST_CASE("every field reproduces linear functions inside the hull, with exact gradients", "[rbf]") {
     const Fn lin = [](const Vec3& p) { return 3 * p.x - 2 * p.y + 0.5 * p.z + 7; };
     for (const Vec3 shift : {Vec3{0, 0, 0}, Vec3{1e6, -1e6, 1e6}}) {
@@ -468,6 +515,47 @@ TEST_CASE("construction is deterministic across thread counts", "[rbf]") {
         CHECK(std::memcmp(v1.data(), v4.data(), v1.size() * sizeof(double)) == 0);
         CHECK(std::memcmp(g1.data(), g4.data(), g1.size() * sizeof(Vec3)) == 0);
     }
+}
+
+TEST_CASE("mpu: the octree built by parallel subtrees is the same for any thread count and interpolates", "[rbf]") {
+    // 40K points: the root and its children hold more than the 8192 points from which subtrees are
+    // built in parallel (kernels/mpu_field.cpp) and appended in depth-first order
+    const auto pos = random_points(40000, {0, 0, 0}, {1, 0.5, 1}, 131);
+    const PointSet ps = make_points(pos, franke3);
+    FieldParams params;
+    params.kind = FieldKind::mpu;
+    const auto at = random_points(400, {0, 0, 0}, {1, 0.5, 1}, 132);
+    std::vector<std::unique_ptr<Field>> fields;
+    std::vector<FieldBuildStats> stats(2);
+    for (int t : {1, 4}) {
+        tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(t));
+        fields.push_back(make_field(ps, params, &stats[fields.size()]));
+    }
+    const auto& a = dynamic_cast<const MpuField&>(*fields[0]);
+    const auto& b = dynamic_cast<const MpuField&>(*fields[1]);
+    const auto la = a.leaves(), lb = b.leaves();
+    REQUIRE(la.size() == lb.size());
+    CHECK(la.size() > 512);
+    for (std::size_t i = 0; i < la.size(); ++i) {
+        CHECK(std::memcmp(&la[i].centre, &lb[i].centre, sizeof(Vec3)) == 0);
+        CHECK(la[i].radius == lb[i].radius);
+    }
+    CHECK(stats[0].octree_nodes == stats[1].octree_nodes);
+    CHECK(stats[0].grown == stats[1].grown);
+    CHECK(stats[0].mean_local_points == stats[1].mean_local_points);
+    std::vector<double> v1(at.size()), v4(at.size());
+    std::vector<Vec3> g1(at.size()), g4(at.size());
+    a.evaluate(at, v1, g1);
+    b.evaluate(at, v4, g4);
+    CHECK(std::memcmp(v1.data(), v4.data(), v1.size() * sizeof(double)) == 0);
+    CHECK(std::memcmp(g1.data(), g4.data(), g1.size() * sizeof(Vec3)) == 0);
+    // every leaf was fitted to the points of its sphere: F interpolates the data
+    REQUIRE(stats[1].regularised + stats[1].linear_fallback + stats[1].capped == 0);
+    std::vector<double> v(pos.size());
+    b.evaluate(pos, v, {});
+    double worst = 0;
+    for (std::size_t i = 0; i < pos.size(); ++i) worst = std::max(worst, std::abs(v[i] - ps.value[i]));
+    CHECK(worst <= 1e-7);
 }
 
 TEST_CASE("bad input: too few points, non-finite values, oversized global sets, bad parameters", "[rbf]") {

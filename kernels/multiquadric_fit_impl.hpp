@@ -1,0 +1,209 @@
+// The body of MultiquadricSolver::fit (kernels/multiquadric.hpp: the method, its outcomes and
+// bounds), included by the instruction-set builds of kernels/multiquadric_fit_isa.hpp only:
+// multiquadric_fit_generic.cpp and multiquadric_fit_avx2.cpp. Everything here has internal
+// linkage; the including file defines its Kernel from mqfit_create/mqfit_destroy/mqfit_fit.
+// Uses only Eigen's storage (no std::vector), so the AVX2 build instantiates no std template.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+#include <Eigen/QR>
+
+#include "kernels/multiquadric_fit_isa.hpp"
+#include "kernels/vec3.hpp"
+
+namespace meshless {
+namespace {
+
+constexpr double kGrowthMax = 1e8;        // sum|lambda| * max phi over the data range: bounds the
+                                          // cancellation error of evaluating H to ~1e-8 of the range
+constexpr double kRcondRidge = 1e-10;     // a ridge-regularised system must be at least this well conditioned
+constexpr double kLinearRel = 1e-12;      // data this close to its least-squares linear fit is linear
+constexpr double kResidualRel = 1e-8;     // exact solve must interpolate to this fraction of the data range
+constexpr double kRankThreshold = 1e-10;  // relative pivot threshold of the polynomial QR
+// outcomes, as meshless::MultiquadricOutcome
+constexpr int kInterpolated = 0, kRegularised = 1, kLinearFallback = 2, kPolynomialOnly = 3;
+
+using MapM = Eigen::Map<Eigen::MatrixXd>;
+
+// Scratch kept at the largest size seen: the n x n matrices live in buffers that only grow, viewed
+// through Maps, so consecutive fits of different sizes neither reallocate nor touch fresh pages
+// (per-fit reallocation of the ~n^2 x 8-byte matrices cost ~40% of a fit in page faults).
+struct Workspace {
+    Eigen::VectorXd a_buf, m_buf, s_buf;
+    Eigen::MatrixXd P;
+    Eigen::VectorXd g, rhs, mu, lam, t, r, v, p;
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
+    static double* square(Eigen::VectorXd& b, Eigen::Index n) {
+        if (b.size() < n * n) b.resize(n * n);
+        return b.data();
+    }
+};
+
+void* mqfit_create() { return new Workspace; }
+void mqfit_destroy(void* w) { delete static_cast<Workspace*>(w); }
+
+inline Vec3 point_at(const meshless_mqfit::Io& io, std::uint32_t i) {
+    const double* q = io.pos + 3 * static_cast<std::size_t>(i);
+    return {q[0], q[1], q[2]};
+}
+
+void mqfit_fit(void* ws, meshless_mqfit::Io& io) {
+    Workspace& w = *static_cast<Workspace*>(ws);
+    const Eigen::Index n = static_cast<Eigen::Index>(io.n);
+    const std::uint32_t* idx = io.idx;
+    const double c = io.c;
+    io.c2 = c * c;
+    io.count = 0;
+    io.a[0] = io.a[1] = io.a[2] = 0;
+    io.outcome = kInterpolated;
+    io.poly_rank = 4;
+    io.rcond = 0;
+    auto set_a = [&](const Vec3& a) { io.a[0] = a.x; io.a[1] = a.y; io.a[2] = a.z; };
+
+    // Centre and scale.
+    Vec3 o{0, 0, 0};
+    double fbar = 0;
+    for (Eigen::Index k = 0; k < n; ++k) { o += point_at(io, idx[k]); fbar += io.value[idx[k]]; }
+    o = o * (1.0 / static_cast<double>(n));
+    fbar /= static_cast<double>(n);
+    double L = 0, gmax = 0;
+    for (Eigen::Index k = 0; k < n; ++k) {
+        L = std::max(L, norm(point_at(io, idx[k]) - o));
+        gmax = std::max(gmax, std::abs(io.value[idx[k]] - fbar));
+    }
+    io.origin[0] = o.x;
+    io.origin[1] = o.y;
+    io.origin[2] = o.z;
+    io.a0 = fbar;
+    if (n == 1 || !(L > 0)) {
+        io.outcome = kPolynomialOnly;
+        io.poly_rank = 1;
+        return;
+    }
+    const double invL = 1.0 / L;
+    w.P.resize(n, 4);
+    w.g.resize(n);
+    for (Eigen::Index k = 0; k < n; ++k) {
+        const Vec3 q = (point_at(io, idx[k]) - o) * invL;
+        w.P(k, 0) = 1;
+        w.P(k, 1) = q.x;
+        w.P(k, 2) = q.y;
+        w.P(k, 3) = q.z;
+        w.g(k) = io.value[idx[k]] - fbar;
+    }
+    w.qr.setThreshold(kRankThreshold);
+    w.qr.compute(w.P);
+    const Eigen::Index r = w.qr.rank();
+    io.poly_rank = static_cast<int>(r);
+
+    auto set_poly = [&](const Eigen::VectorXd& rhs) {
+        const Eigen::Vector4d a = w.qr.solve(rhs);
+        io.a0 = fbar + a(0);
+        set_a(Vec3{a(1), a(2), a(3)} * invL);
+    };
+    if (gmax == 0) {  // constant data: exact with the constant alone
+        io.outcome = kInterpolated;
+        return;
+    }
+    if (n <= r) {
+        set_poly(w.g);
+        io.outcome = kPolynomialOnly;
+        return;
+    }
+    {   // Linear data (to rounding): the polynomial alone interpolates it exactly. Solving the
+        // (possibly ill-conditioned) RBF part would only amplify rounding noise.
+        const Eigen::Vector4d a = w.qr.solve(w.g);
+        if ((w.P * a - w.g).cwiseAbs().maxCoeff() <= kLinearRel * (std::abs(fbar) + gmax)) {
+            set_poly(w.g);
+            io.outcome = kInterpolated;
+            return;
+        }
+    }
+
+    // Multiquadric matrix in scaled coordinates.
+    const double cs2 = (c * invL) * (c * invL);
+    MapM A(Workspace::square(w.a_buf, n), n, n);
+    MapM M(Workspace::square(w.m_buf, n), n, n);
+    {   // lower triangle column by column, packet-wide (sqrt is correctly rounded in every lane,
+        // the sum is left to right as written: the same bits as a scalar loop)
+        const auto qx = w.P.col(1).array(), qy = w.P.col(2).array(), qz = w.P.col(3).array();
+        for (Eigen::Index j = 0; j < n; ++j) {
+            const Eigen::Index len = n - j;
+            A.col(j).tail(len).array() = ((qx.tail(len) - qx(j)).square() + (qy.tail(len) - qy(j)).square() +
+                                          (qz.tail(len) - qz(j)).square() + cs2)
+                                             .sqrt();
+        }
+    }  // only the lower triangle of A (and of M below) is ever read
+    // Null-space reduction: Z = trailing n-r columns of Q; S = -Z^T A Z is SPD.
+    const auto Q = w.qr.householderQ();
+    // M = Q^T A Q, applying each reflector H_k = I - tau v v^T from both sides as one symmetric
+    // rank-2 update of the lower triangle: H A H = A - v w^T - w v^T, w = p - (tau/2)(p.v) v, p = tau A v.
+    M.triangularView<Eigen::Lower>() = A;
+    for (Eigen::Index k = 0; k < w.qr.hCoeffs().size(); ++k) {
+        const double tau = w.qr.hCoeffs()(k);
+        if (tau == 0) continue;
+        w.v.setZero(n);
+        w.v(k) = 1;
+        w.v.tail(n - k - 1) = w.qr.matrixQR().col(k).tail(n - k - 1);
+        w.p.noalias() = tau * (M.selfadjointView<Eigen::Lower>() * w.v);
+        w.p -= (0.5 * tau * w.p.dot(w.v)) * w.v;
+        M.selfadjointView<Eigen::Lower>().rankUpdate(w.v, w.p, -1.0);
+    }
+    const Eigen::Index m = n - r;
+    w.t = Q.adjoint() * w.g;
+    w.rhs = -w.t.tail(m);
+    const double diag_mean = -M.bottomRightCorner(m, m).diagonal().mean();
+
+    MapM S(Workspace::square(w.s_buf, m), m, m);
+    using InPlaceLlt = Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>>;  // factors S in place (lower triangle)
+    auto fill_s = [&](double ridge) {
+        S.triangularView<Eigen::Lower>() = -M.bottomRightCorner(m, m);
+        if (ridge != 0) S.diagonal().array() += ridge;
+    };
+    auto finish = [&](const InPlaceLlt& llt, int oc) -> bool {
+        w.mu = llt.solve(w.rhs);
+        if (!w.mu.allFinite()) return false;
+        w.t.setZero(n);
+        w.t.tail(m) = w.mu;
+        w.lam = Q * w.t;
+        w.r = w.g - A.selfadjointView<Eigen::Lower>() * w.lam;  // what the polynomial must carry
+        const Eigen::Vector4d a = w.qr.solve(w.r);
+        if (!a.allFinite() || !w.lam.allFinite()) return false;
+        // Amplified rounding noise shows up as large, cancelling coefficients.
+        if (!(w.lam.cwiseAbs().sum() * (3.0 + std::sqrt(cs2)) <= kGrowthMax * gmax)) return false;
+        if (oc == kInterpolated) {
+            const double resid = (w.P * a - w.r).cwiseAbs().maxCoeff();
+            if (!(resid <= kResidualRel * gmax)) return false;
+        }
+        io.a0 = fbar + a(0);
+        set_a(Vec3{a(1), a(2), a(3)} * invL);
+        io.count = static_cast<std::uint32_t>(n);
+        for (Eigen::Index k = 0; k < n; ++k) io.lambda[k] = w.lam(k) * invL;
+        io.outcome = oc;
+        return true;
+    };
+
+    fill_s(0);
+    {
+        InPlaceLlt llt(S);
+        if (llt.info() == Eigen::Success && finish(llt, kInterpolated)) return;
+    }
+    for (double eps : {1e-12, 1e-10, 1e-8, 1e-6, 1e-4}) {
+        fill_s(eps * std::max(diag_mean, 1e-300));
+        InPlaceLlt llt(S);
+        if (llt.info() != Eigen::Success) continue;
+        io.rcond = llt.rcond();
+        if (io.rcond >= kRcondRidge && finish(llt, kRegularised)) return;
+    }
+    // Linear least squares.
+    set_poly(w.g);
+    io.count = 0;
+    io.outcome = kLinearFallback;
+}
+
+}  // namespace
+}  // namespace meshless
