@@ -9,8 +9,10 @@
 #include "cli/common.hpp"
 #include "cli/render_output.hpp"
 #include "formats/ply.hpp"
+#include "formats/ply_mesh.hpp"
 #include "formats/png_writer.hpp"
 #include "kernels/errors.hpp"
+#include "kernels/triangle_rasterizer.hpp"
 #include "stream/ply_source.hpp"
 #include "stream/point_spool.hpp"
 #include "stream/project_stage.hpp"
@@ -36,10 +38,66 @@ bool ply_has_vertex_property(const std::string& path, const char* name) {
     return v >= 0 && r.header().elements[static_cast<std::size_t>(v)].find(name) >= 0;
 }
 
+/// True when the PLY has a non-empty face element: a mesh (meshless mc), drawn as its triangles.
+bool ply_has_faces(const std::string& path) {
+    PlyReader r(path);
+    const int f = r.header().find("face");
+    return f >= 0 && r.header().elements[static_cast<std::size_t>(f)].count > 0;
+}
+
+/// splat MESH.ply: the triangles, rasterised with the splat camera, shading and colours
+/// (kernels/triangle_rasterizer.hpp); single-threaded, so every --threads gives the same bytes.
+int splat_mesh(const Args& a, const std::string& input, const std::string& png, RenderSettings rs,
+               const ColorChoice& cc, long long frames) {
+    if (a.has("iso")) throw UsageError("--iso applies to sample streams; " + input + " holds a triangle mesh");
+    if (cc.request == ColorRequest::value)
+        throw UsageError(input + ": a triangle mesh carries no per-vertex values; --color value needs points "
+                         "(use --color none, normal or block)");
+    const auto t0 = std::chrono::steady_clock::now();
+    const Mesh mesh = read_ply_mesh(input);
+    if (cc.request == ColorRequest::block && mesh.block.empty())
+        throw UsageError(input + ": the triangles carry no block ids (no face property 'block'); --color block needs "
+                         "a multiblock mesh");
+    const ColorBy by = color_by(cc, ColorBy::none);
+    apply_color(rs, by, cc, cc.range ? *cc.range : std::array<double, 2>{0, 1});
+    if (by == ColorBy::block)
+        rs.legend_blocks = mesh.block.empty() ? 0 : *std::max_element(mesh.block.begin(), mesh.block.end()) + 1;
+    const std::array<Vec3, 2> bounds = mesh_bounds(mesh);
+    const Camera& cam = rs.camera;
+    if (frames > 0) {
+        double sum = 0, lo = 1e300, hi = 0;
+        for (long long i = 0; i < frames; ++i) {
+            Camera c = cam;
+            c.azimuth_deg = cam.azimuth_deg + 360.0 * static_cast<double>(i) / static_cast<double>(frames);
+            const auto f0 = std::chrono::steady_clock::now();
+            Image img = render_triangles(mesh, c, rs.shading, bounds);
+            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
+            sum += s;
+            lo = std::min(lo, s);
+            hi = std::max(hi, s);
+            decorate_picture(rs, img);
+            write_png(img, frame_path(png, static_cast<int>(i)));
+        }
+        std::fprintf(stderr, "splat: turntable of %lld frames, %zu triangles, %dx%d: %.2f ms/frame (min %.2f, max %.2f)\n",
+                     frames, mesh.triangle_count(), cam.width, cam.height, 1e3 * sum / static_cast<double>(frames),
+                     1e3 * lo, 1e3 * hi);
+        return 0;
+    }
+    TriangleStats st;
+    Image picture = render_triangles(mesh, cam, rs.shading, bounds, &st);
+    decorate_picture(rs, picture);
+    write_png(picture, png);
+    if (stderr_is_tty() || a.has("stats"))
+        std::fprintf(stderr, "splat: %zu triangles (%lld drawn, %lld fragments), %dx%d: %.3f s\n", mesh.triangle_count(),
+                     static_cast<long long>(st.triangles_drawn), static_cast<long long>(st.fragments), cam.width, cam.height,
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    return 0;
+}
+
 }  // namespace
 
 int cmd_splat(int argc, char** argv) {
-    Args a("splat", "[INPUT|-] -o img.png [--kernel quad|ewa] [--turntable N] [camera options]",
+    Args a("splat", "[INPUT|-|MESH.ply] -o img.png [--kernel quad|ewa] [--turntable N] [camera options]",
            "Renders oriented points by surface splatting (software): quadrilateral (QSplat-style) or\n"
            "elliptical EWA kernels with depth-tested, normalised accumulation and Phong shading.\n"
            "INPUT is a point stream (stdin by default) or a .ply point set. Given a sample stream (from\n"
@@ -54,7 +112,11 @@ int cmd_splat(int argc, char** argv) {
            "isovalue (an isosurface's points all carry it), else none (the uniform surface colour). Colouring\n"
            "by value without --range, by default, or by block from a stream first spools the points (their\n"
            "value range, block ids). --colorbar draws the value range as a legend bar (or the block colours\n"
-           "with their ids) into the picture.");
+           "with their ids) into the picture.\n"
+           "A .ply with faces (a triangle mesh, `meshless mc`) is drawn as its triangles instead: z-buffered,\n"
+           "the vertex normals interpolated (perspective-correct) and lit as the splats are, the camera\n"
+           "framing the mesh's bounds; --kernel is ignored, --color takes none (default), normal or block\n"
+           "(the faces' block ids; a mesh has no values for --color value); single-threaded.");
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("iso", "", "V", "sample streams: isovalue to project onto (default: the stream's)")
         .option("projection", "", "MODE", "sample streams: approx | exact | none", "approx")
@@ -77,6 +139,7 @@ int cmd_splat(int argc, char** argv) {
     const int nthreads = threads(a);
     const bool is_ply = input.size() > 4 && input.substr(input.size() - 4) == ".ply";
     // The graph: PLY file or point/sample stream -> [project] -> draw (parallel) -> splat sink.
+    if (is_ply && ply_has_faces(input)) return splat_mesh(a, input, png, rs, cc, frames);
     std::unique_ptr<StreamReader> reader;
     std::optional<InputFile> in;
     std::optional<PointSpool> spool;  // see below; outlives the source that may replay it
