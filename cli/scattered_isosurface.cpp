@@ -348,8 +348,8 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
         std::optional<MpiChannel> channel;
         if (field.field) channel.emplace(*mpi);
         std::optional<StencilInput> sin;
-        if (field.field) sin.emplace(in.grid, in.bins, std::span<const Vec3>(in.points.pos), std::span<const double>(in.points.value),
-                                     *field.field, in.coverage.get());
+        if (field.field) sin.emplace(StencilInput{in.grid, in.bins, std::span<const Vec3>(in.points.pos),
+                                                 std::span<const double>(in.points.value), *field.field, in.coverage.get()});
         StencilRankResult rr;
         std::optional<DedupSink> dd;
         std::size_t points = 0;

@@ -67,8 +67,10 @@ Json convert(simdjson::dom::element e, int depth, const std::string& path) {
 Json parse_json(std::string_view text, const std::string& path) {
     simdjson::dom::parser parser;
     simdjson::dom::element root;
-    // copies the text into a padded buffer (simdjson reads in SIMD-wide blocks)
-    if (const simdjson::error_code err = parser.parse(text.data(), text.size()).get(root))
+    // copies the text into a padded buffer (simdjson reads in SIMD-wide blocks); an empty view may
+    // hold a null pointer, which simdjson would pass to memcpy (undefined even for 0 bytes)
+    const char* bytes = text.empty() ? "" : text.data();
+    if (const simdjson::error_code err = parser.parse(bytes, text.size()).get(root))
         throw FormatError(path + ": bad JSON: " + ply_escape(simdjson::error_message(err), 200));
     return convert(root, 0, path);
 }

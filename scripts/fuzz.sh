@@ -3,9 +3,12 @@
 # SECONDS seconds (default 60) on a seed corpus: small inputs generated here plus files of
 # ../shared/data referenced by path (read into the corpus folder under the build folder; nothing is
 # copied into the repository). Findings (crash-*, leak-*, timeout-*, oom-*) land in
-# BUILD/fuzz-out/NAME/; the script exits 1 when any target found something.
+# BUILD/fuzz-out/NAME/; the script exits 1 when any target found something (and prints the tail of
+# its log: the report and the input that triggered it).
 #   scripts/fuzz.sh [SECONDS] [BUILD_DIR] [TARGET...]
 # Needs clang-14 and libclang-rt-14-dev (Debian). Example: scripts/fuzz.sh 30 build-fuzz fuzz_nrrd fuzz_slc
+# BUILD_DIR may also be an existing sanitizer-tier folder configured with -DMESHLESS_BUILD_FUZZ=ON
+# (scripts/setup.sh test/sanitize do that with Clang and run every target FUZZ_SECONDS each).
 set -uo pipefail
 secs=${1:-60}
 build=$(realpath -m "${2:-build-fuzz}")
@@ -14,7 +17,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 data=${MESHLESS_DATA:-$root/../shared/data}
 all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
      fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_plot3d fuzz_vtp fuzz_vts fuzz_csv fuzz_npy fuzz_point_stream
-     fuzz_mlb fuzz_mls)
+     fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file)
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
@@ -88,15 +91,28 @@ for i in 0 1; do have "plot3d/multicomb_$i.vts" && seed fuzz_vts "comb$i" < "$da
 have scattered/sparsePoints.txt && seed fuzz_csv sparse < "$data/scattered/sparsePoints.txt"
 have scattered/gravi.txt && head -c 2000 "$data/scattered/gravi.txt" | seed fuzz_csv gravi
 printf 'x,y,z,value\n0,0,0,1\n1,0,0,2\n0,1,0,3\n0,0,1,4\n' | seed fuzz_csv small
-# the stream and store formats: written by a meshless binary when one is built beside (optional)
-exe=${MESHLESS_EXE:-$root/build/cli/meshless}
-if [ -x "$exe" ] && have fuel/fuel_64x64x64_uint8.raw; then
+# the stream, store, PLY, PNG, .mlf and .mlh formats: written by a meshless binary when one is built
+# (MESHLESS_EXE, else the one of BUILD_DIR, else the one of build/; optional)
+exe=${MESHLESS_EXE:-$build/cli/meshless}
+[ -x "$exe" ] || exe=$root/build/cli/meshless
+if [ -x "$exe" ] && have fuel/fuel_64x64x64_uint8.raw && have bucky/Bucky_32x32x32_uint8.raw; then
   tmp=$(mktemp -d)
+  bucky=$data/bucky/Bucky_32x32x32_uint8.raw
   "$exe" isosurface "$data/fuel/fuel_64x64x64_uint8.raw" --iso 100 -o - 2>/dev/null | head -c 65536 | seed fuzz_point_stream fuel
-  "$exe" convert "$data/bucky/Bucky_32x32x32_uint8.raw" -o "$tmp/b.mlb" >/dev/null 2>&1 && seed fuzz_mlb bucky < "$tmp/b.mlb"
+  "$exe" convert "$bucky" -o "$tmp/b.mlb" >/dev/null 2>&1 && seed fuzz_mlb bucky < "$tmp/b.mlb"
+  "$exe" sample "$bucky" --count 200 -o "$tmp/s.ply" >/dev/null 2>&1 && seed fuzz_ply sample < "$tmp/s.ply"
+  "$exe" render "$bucky" --size 16x16 -o "$tmp/r.png" >/dev/null 2>&1 && seed fuzz_png bucky < "$tmp/r.png"
+  for m in 0 3; do
+    "$exe" hierarchy "$bucky" --max-splits $m -o "$tmp/t$m.mlh" >/dev/null 2>&1 && seed fuzz_cluster_tree_file "t$m" < "$tmp/t$m.mlh"
+  done
+  if have scattered/sparsePoints.txt; then
+    for k in rbf-grid mpu; do
+      "$exe" fit "$data/scattered/sparsePoints.txt" --field $k -o "$tmp/$k.mlf" >/dev/null 2>&1 && seed fuzz_field_file "$k" < "$tmp/$k.mlf"
+    done
+  fi
   rm -rf "$tmp"
 fi
-for t in fuzz_point_stream fuzz_mlb fuzz_mls; do mkdir -p "$seeds/$t"; done
+for t in "${all[@]}"; do mkdir -p "$seeds/$t"; done
 
 status=0
 for t in "${targets[@]}"; do
@@ -111,6 +127,9 @@ for t in "${targets[@]}"; do
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$out/log.txt" | grep -o '[0-9]*$')
   findings=$(ls "$out" | grep -E '^(crash|leak|timeout|oom|slow-unit)-' | wc -l)
   echo "$t: rc=$rc runs=${runs:-?} findings=$findings (log: $out/log.txt)"
-  [ "$rc" -ne 0 ] || [ "$findings" -ne 0 ] && status=1
+  if [ "$rc" -ne 0 ] || [ "$findings" -ne 0 ]; then
+    status=1
+    tail -n 60 "$out/log.txt" | sed "s/^/  $t| /"   # the report (stack, input) for a CI log
+  fi
 done
 exit $status

@@ -4,12 +4,15 @@
 #   scripts/setup.sh demo    install + build the `meshless` executable only + `meshless demo -o out/demo`
 #   scripts/setup.sh test    install + build everything, tests and meshless-bench included + ctest,
 #                            then the sanitizer tier (what `sanitize` does)
-#   scripts/setup.sh sanitize  install + build meshless and the tests with -fsanitize=address,undefined
-#                            in $BUILD_DIR-asan (no meshless-bench) + ctest there
+#   scripts/setup.sh sanitize  install + build meshless, the tests and the libFuzzer targets with
+#                            Clang and -fsanitize=address,undefined (+ fuzzer-no-link) in $BUILD_DIR-asan
+#                            (no meshless-bench) + ctest there + every fuzzer FUZZ_SECONDS seconds;
+#                            without clang++-14: GCC, the tests only (no fuzzing)
 #   scripts/setup.sh bench   install (+ VTK and SciPy, the baselines) + build meshless and meshless-bench
 #   scripts/setup.sh deps    install only;   scripts/setup.sh build   install + build meshless and the tests
 # Environment: BUILD_DIR (default build), JOBS (default nproc), SKIP_APT=1 to skip apt-get,
-# SKIP_SANITIZE=1 to leave the sanitizer tier out of `test`. ccache is used when installed.
+# SKIP_SANITIZE=1 to leave the sanitizer tier out of `test`, FUZZ_SECONDS (default 5; 0: no fuzzing)
+# per libFuzzer target in the sanitizer tier. ccache is used when installed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 what="${1:-demo}"
@@ -23,6 +26,8 @@ PACKAGES=(build-essential cmake ninja-build pkg-config git
           libopenmpi-dev openmpi-bin)
 # the benchmarks' baselines (bench/flying_edges.py, bench/rbf_reference.py) and /usr/bin/time
 BENCH_PACKAGES=(python3-vtk9 python3-scipy time)
+# the sanitizer tier's compiler and its libFuzzer runtime (test, sanitize)
+SANITIZE_PACKAGES=(clang-14 libclang-rt-14-dev)
 
 install_deps() {
   [ "${SKIP_APT:-0}" = 1 ] && return 0
@@ -59,11 +64,36 @@ EXTRA_CMAKE=()
 
 # The sanitizer tier: every target built with AddressSanitizer + UndefinedBehaviorSanitizer (any
 # report fails its test; tests/CMakeLists.txt says what differs under it),
-# in its own folder, without meshless-bench.
+# in its own folder, without meshless-bench. With Clang and its libFuzzer runtime, the same build
+# also carries libFuzzer's coverage instrumentation (-DMESHLESS_BUILD_FUZZ=ON) and links the fuzz
+# targets (tests/fuzz/); after the suite, scripts/fuzz.sh runs each FUZZ_SECONDS seconds from its
+# seed corpus, and any crash, leak, timeout or OOM fails the tier.
 sanitize() {
-  local DIR="$BUILD_DIR-asan" EXTRA_CMAKE=(-DMESHLESS_SANITIZE=address,undefined)
+  local DIR="$BUILD_DIR-asan" EXTRA_CMAKE=(-DMESHLESS_SANITIZE=address,undefined) fuzz=0
+  local secs="${FUZZ_SECONDS:-5}" clang
+  clang=$(command -v clang++-14 || true)
+  if [ -n "$clang" ] && ls "$("$clang" --print-runtime-dir)"/libclang_rt.fuzzer-*.a >/dev/null 2>&1; then
+    EXTRA_CMAKE+=(-DCMAKE_CXX_COMPILER="$clang" -DMESHLESS_BUILD_FUZZ=ON)
+    fuzz=1
+  else
+    echo "setup: clang++-14 with its libFuzzer runtime (clang-14 libclang-rt-14-dev) not found: the sanitizer" >&2
+    echo "       tier builds with $(command -v c++) and runs the tests only, without the fuzzers" >&2
+    EXTRA_CMAKE+=(-DMESHLESS_BUILD_FUZZ=OFF)
+  fi
+  # a folder configured with another compiler: start it again (CMake cannot switch in place)
+  if [ -f "$DIR/CMakeCache.txt" ]; then
+    local was
+    was=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$DIR/CMakeCache.txt")
+    if { [ "$fuzz" = 1 ] && [ "$was" != "$clang" ]; } || { [ "$fuzz" = 0 ] && [[ "$was" == *clang* ]]; }; then
+      rm -rf "$DIR/CMakeCache.txt" "$DIR/CMakeFiles"
+    fi
+  fi
   build ON OFF
-  ctest --test-dir "$BUILD_DIR-asan" --output-on-failure -j "$JOBS"
+  ctest --test-dir "$DIR" --output-on-failure -j "$JOBS"
+  if [ "$fuzz" = 1 ] && [ "$secs" != 0 ]; then
+    echo "setup: running every fuzzer for $secs s (scripts/fuzz.sh $secs $DIR)" >&2
+    scripts/fuzz.sh "$secs" "$DIR"
+  fi
 }
 
 case "$what" in
@@ -71,9 +101,10 @@ case "$what" in
   build) install_deps; build ON OFF ;;
   demo) install_deps; build OFF OFF meshless; "$BUILD_DIR/cli/meshless" demo -o out/demo ;;
   test)
-    install_deps; build ON ON; ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS"
+    if [ "${SKIP_SANITIZE:-0}" = 1 ]; then install_deps; else install_deps "${SANITIZE_PACKAGES[@]}"; fi
+    build ON ON; ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS"
     [ "${SKIP_SANITIZE:-0}" = 1 ] || sanitize ;;
-  sanitize) install_deps; sanitize ;;
+  sanitize) install_deps "${SANITIZE_PACKAGES[@]}"; sanitize ;;
   bench)
     install_deps "${BENCH_PACKAGES[@]}"
     build OFF ON meshless meshless-bench

@@ -30,7 +30,7 @@ std::string corner_ball(const TempDir& d) {
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i) {
                 const double r = std::sqrt((i - 15.0) * (i - 15.0) + (j - 18.0) * (j - 18.0) + (k - 50.0) * (k - 50.0));
-                bytes[static_cast<std::size_t>(i + n * (j + n * k))] = static_cast<char>(std::clamp(200.0 - 10.0 * r, 0.0, 255.0));
+                bytes[static_cast<std::size_t>(i + n * (j + n * k))] = static_cast<char>(static_cast<unsigned char>(std::clamp(200.0 - 10.0 * r, 0.0, 255.0)));
             }
     const std::string path = (d / "ball_70x70x70_uint8.raw").string();
     spit(path, bytes);

@@ -25,7 +25,7 @@ std::string ball(const TempDir& d) {
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i) {
                 const double r = std::sqrt((i - 20.0) * (i - 20.0) + (j - 19.0) * (j - 19.0) + (k - 21.0) * (k - 21.0));
-                bytes[static_cast<std::size_t>(i + n * (j + n * k))] = static_cast<char>(std::clamp(220.0 - 10.0 * r, 0.0, 255.0));
+                bytes[static_cast<std::size_t>(i + n * (j + n * k))] = static_cast<char>(static_cast<unsigned char>(std::clamp(220.0 - 10.0 * r, 0.0, 255.0)));
             }
     const std::string path = (d / "ball_40x40x40_uint8.raw").string();
     spit(path, bytes);

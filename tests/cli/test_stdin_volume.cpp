@@ -22,7 +22,7 @@ std::string ball_bytes() {
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i) {
                 const double r = std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.0) * (j - 11.0) + (k - 12.0) * (k - 12.0));
-                b[static_cast<std::size_t>(i + n * (j + n * k))] = static_cast<char>(std::max(0.0, 200.0 - 10.0 * r));
+                b[static_cast<std::size_t>(i + n * (j + n * k))] = static_cast<char>(static_cast<unsigned char>(std::max(0.0, 200.0 - 10.0 * r)));
             }
     return b;
 }
