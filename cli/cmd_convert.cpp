@@ -113,11 +113,17 @@ int cmd_verify(int argc, char** argv) {
            "Checks a brick store completely: header, index and footer checksums, then every brick's\n"
            "CRC-32, decompressed size and value range. Prints \"ok: N bricks\", or names the first bad\n"
            "brick by index and voxel range and exits with status 2.");
+    add_quiet_option(a);
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().empty()) throw UsageError("verify: missing brick store argument");
     int rc = 0;
     for (const std::string& path : a.positional()) {
-        const VerifyReport r = verify_brick_store(path);
+        ProgressMeter meter = ProgressMeter::of(a, "bricks", 1);
+        const VerifyReport r = verify_brick_store(path, [&](std::uint64_t done, std::uint64_t total) {
+            if (done == 1) meter.set_total(static_cast<double>(total));
+            meter.add(1);
+        });
+        meter.done();
         if (r.ok) {
             if (a.positional().size() > 1) std::printf("%s: %s\n", path.c_str(), r.message.c_str());
             else std::printf("%s\n", r.message.c_str());

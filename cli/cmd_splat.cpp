@@ -20,6 +20,7 @@
 #include "stream/splat_sink.hpp"
 #include "stream/stream_endpoints.hpp"
 #include "stream/turntable.hpp"
+#include "cli/progress_meter.hpp"
 
 namespace meshless::cli {
 
@@ -65,6 +66,7 @@ int splat_mesh(const Args& a, const std::string& input, const std::string& png, 
     const std::array<Vec3, 2> bounds = mesh_bounds(mesh);
     const Camera& cam = rs.camera;
     if (frames > 0) {
+        ProgressMeter meter = ProgressMeter::of(a, "frames", static_cast<double>(frames));
         double sum = 0, lo = 1e300, hi = 0;
         for (long long i = 0; i < frames; ++i) {
             Camera c = cam;
@@ -77,7 +79,9 @@ int splat_mesh(const Args& a, const std::string& input, const std::string& png, 
             hi = std::max(hi, s);
             decorate_picture(rs, img);
             write_png(img, frame_path(png, static_cast<int>(i)));
+            meter.add(1);
         }
+        meter.done();
         std::fprintf(stderr, "splat: turntable of %lld frames, %zu triangles, %dx%d: %.2f ms/frame (min %.2f, max %.2f)\n",
                      frames, mesh.triangle_count(), cam.width, cam.height, 1e3 * sum / static_cast<double>(frames),
                      1e3 * lo, 1e3 * hi);
@@ -125,6 +129,7 @@ int cmd_splat(int argc, char** argv) {
     add_camera_options(a);
     add_color_options(a);
     add_thread_option(a);
+    add_quiet_option(a);
     a.epilog("example: meshless generate vol.raw --iso 100.5 | meshless project | meshless splat -o img.png --turntable 36\n");
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string png = require_output_extension(a.require("output"), ".png", "-o", "a PNG image");
@@ -197,12 +202,15 @@ int cmd_splat(int argc, char** argv) {
     }
     if (spool) {
         if (frames > 0) {
+            ProgressMeter meter = ProgressMeter::of(a, "frames", static_cast<double>(frames));
             const auto t = render_turntable(*spool, *bounds, cam, rs.kernel, rs.shading, static_cast<int>(frames), nthreads,
                                             [&](int i, const Image& img) {
                                                 Image framed = img;
                                                 decorate_picture(rs, framed);
                                                 write_png(framed, frame_path(png, i));
+                                                meter.add(1);
                                             });
+            meter.done();
             std::fprintf(stderr, "splat: turntable of %d frames, %llu points, %dx%d %s: %.2f ms/frame (min %.2f, max %.2f)\n",
                          t.frames, static_cast<unsigned long long>(spool->size()), cam.width, cam.height,
                          rs.kernel == SplatKernel::quad ? "quad" : "ewa", 1e3 * t.mean_seconds, 1e3 * t.min_seconds,

@@ -40,7 +40,8 @@ std::array<double, 2> finite_range(const VolumeView& v) {
 
 }  // namespace
 
-VerifyReport verify_brick_store(const std::string& path) {
+VerifyReport verify_brick_store(const std::string& path,
+                                const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
     VerifyReport rep;
     std::unique_ptr<BrickStore> store;
     try {
@@ -54,6 +55,7 @@ VerifyReport verify_brick_store(const std::string& path) {
     std::vector<std::byte> buf;
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (std::size_t i = 0; i < bricks.size(); ++i) {
+        if (progress && i > 0) progress(i, bricks.size());
         try {
             store->read_brick(i, buf);
         } catch (const FormatError& e) {

@@ -4,6 +4,7 @@
 // cannot be read at all.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -16,6 +17,8 @@ struct VerifyReport {
     std::string message;  ///< one line: "ok: N bricks" or what is wrong and where
 };
 
-VerifyReport verify_brick_store(const std::string& path);
+/// `progress`, when given, is called after each brick with (bricks checked, bricks in the store).
+VerifyReport verify_brick_store(const std::string& path,
+                                const std::function<void(std::uint64_t, std::uint64_t)>& progress = {});
 
 }  // namespace meshless

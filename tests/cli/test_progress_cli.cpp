@@ -1,6 +1,6 @@
 // Progress lines of the long-running commands (issue 12, "Unix habits"): isosurface (volume in
 // memory, slab-streamed, brick store, multiblock, scattered), mc (volume, brick store), render,
-// hierarchy and fit draw "meshless CMD: NN% RATE UNIT/s, ETA" on stderr and clear it at the end;
+// verify, splat --turntable, hierarchy and fit draw "meshless CMD: NN% RATE UNIT/s, ETA" on stderr and clear it at the end;
 // --quiet draws nothing. MESHLESS_PROGRESS=always stands in for a terminal and drops the first
 // second's delay (cli/progress_meter.hpp), so the line shows however fast the run is.
 #include <catch2/catch.hpp>
@@ -55,6 +55,19 @@ TEST_CASE("progress lines: isosurface, mc and render on volumes and brick stores
     check_progress("MESHLESS mc " + raw + " --iso 100.5 -o " + D + "/m.ply", "mc", "cell layers", d);
     check_progress("MESHLESS mc " + D + "/b.mlb --iso 100.5 -o " + D + "/m.ply", "mc", "bricks", d);
     check_progress("MESHLESS render " + raw + " -o " + D + "/r.png --size 32x32", "render", "rays", d);
+    check_progress("MESHLESS verify " + D + "/b.mlb", "verify", "bricks", d);
+    // splat --turntable counts frames (points and a mesh); its timing line follows the cleared progress line
+    for (const std::string in : {D + "/p.ply", D + "/m.ply"}) {
+        const std::string cmd = "MESHLESS splat " + in + " -o " + D + "/t.png --size 32x32 --turntable 3";
+        INFO(cmd);
+        const RunResult r = sh(kForce + cmd, d);
+        CHECK(r.code == 0);
+        CHECK(r.err.find("\r\033[Kmeshless splat: ") != std::string::npos);
+        CHECK(r.err.find(" frames/s") != std::string::npos);
+        const RunResult q = sh(kForce + cmd + " --quiet", d);
+        CHECK(q.code == 0);
+        CHECK(q.err.find('\r') == std::string::npos);
+    }
     // without the forcing variable stderr is no terminal here: nothing drawn
     const RunResult plain = sh("MESHLESS isosurface " + raw + " --iso 100.5 -o " + D + "/p.ply", d);
     CHECK(plain.code == 0);
