@@ -439,6 +439,25 @@ Setup make_setup(const ViewTransform& view, const ShadingParams& sh) {
                  view.height};
 }
 
+// Calls fn(footprint, index) for every point with a footprint, in order: four points at a time
+// (SSE2; the same bits as one at a time), the rest one by one.
+template <class Fn>
+void for_each_footprint(const Setup& s, std::span<const PointRecord> points, Fn&& fn) {
+    std::size_t pi = 0;
+#if defined(__SSE2__)
+    Footprint f4[4];
+    bool ok[4];
+    for (; pi + 4 <= points.size(); pi += 4) {
+        footprint4(s, points.data() + pi, f4, ok);
+        for (int i = 0; i < 4; ++i)
+            if (ok[i]) fn(f4[i], pi + static_cast<std::size_t>(i));
+    }
+#endif
+    Footprint f;
+    for (; pi < points.size(); ++pi)
+        if (footprint(s, points[pi], f)) fn(f, pi);
+}
+
 }  // namespace
 
 void SplatFrame::init_ewa() {
@@ -453,7 +472,6 @@ void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb
     const bool coloured = acc_words() == 7;
     const int W = s.W;
     std::int64_t drawn = 0, frags = 0;
-    Footprint f;
     // Pass 1: visibility. Key = (depth bits << 32) | packed normal of the nearest fragment, so the
     // minimum is independent of the drawing order, ties included.
     auto draw_one = [&](const Footprint& fp, std::size_t pi) {
@@ -467,18 +485,7 @@ void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb
             if (coloured) out->back().base = splat_base_color(shading_, points[pi], blocks, pi);
         }
     };
-    std::size_t pi = 0;
-#if defined(__SSE2__)
-    Footprint f4[4];
-    bool ok[4];
-    for (; pi + 4 <= points.size(); pi += 4) {
-        footprint4(s, points.data() + pi, f4, ok);
-        for (int i = 0; i < 4; ++i)
-            if (ok[i]) draw_one(f4[i], pi + static_cast<std::size_t>(i));
-    }
-#endif
-    for (; pi < points.size(); ++pi)
-        if (footprint(s, points[pi], f)) draw_one(f, pi);
+    for_each_footprint(s, points, draw_one);
     st.splats_drawn += drawn;
     st.fragments += frags;
 }
@@ -517,19 +524,7 @@ void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint
         if (coloured) f.base = splat_base_color(shading_, points[pi], blocks, pi);
         frags += accumulate_one(s, f, d, gauss_.data(), qscale, kb, acc, words);
     };
-    std::size_t pi = 0;
-#if defined(__SSE2__)
-    Footprint f4[4];
-    bool ok[4];
-    for (; pi + 4 <= points.size(); pi += 4) {
-        footprint4(s, points.data() + pi, f4, ok);
-        for (int i = 0; i < 4; ++i)
-            if (ok[i]) add_one(f4[i], pi + static_cast<std::size_t>(i));
-    }
-#endif
-    Footprint f;
-    for (; pi < points.size(); ++pi)
-        if (footprint(s, points[pi], f)) add_one(f, pi);
+    for_each_footprint(s, points, add_one);
     st.fragments += frags;
 }
 
