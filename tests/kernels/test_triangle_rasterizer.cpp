@@ -103,7 +103,7 @@ TEST_CASE("triangle rasterizer: triangles sharing edges cover each pixel of thei
     // vertices are jittered, so edges run at every slope, and some vertices sit on pixel centres.
     const int n = 10;
     Mesh m;
-    SplitMix rng(7);
+    SplitMix rng{7};
     for (int j = 0; j <= n; ++j)
         for (int i = 0; i <= n; ++i) {
             double x = i, y = j;
