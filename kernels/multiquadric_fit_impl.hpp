@@ -192,7 +192,10 @@ void mqfit_fit(void* ws, meshless_mqfit::Io& io) {
         InPlaceLlt llt(S);
         if (llt.info() == Eigen::Success && finish(llt, kInterpolated)) return;
     }
-    for (double eps : {1e-12, 1e-10, 1e-8, 1e-6, 1e-4}) {
+    // a plain array, not an initializer_list: the AVX2 build of this file may define no std:: symbol
+    // (an -O1 sanitizer build leaves initializer_list<double>::end() out of line, a weak symbol)
+    static constexpr double kRidges[] = {1e-12, 1e-10, 1e-8, 1e-6, 1e-4};
+    for (double eps : kRidges) {
         fill_s(eps * std::max(diag_mean, 1e-300));
         InPlaceLlt llt(S);
         if (llt.info() != Eigen::Success) continue;
