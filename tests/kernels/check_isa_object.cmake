@@ -24,6 +24,11 @@ foreach(line IN LISTS lines)
     # lower case (t, d, r, b) is local except u (unique global); V/W weak, T/D/B/R global
     if(type MATCHES "^[TDBRVWGSui]$")
       math(EXPR checked "${checked} + 1")
+      # a sanitized -O1 build also leaves type information (UBSan's function checks) and small std::
+      # inlines (initializer_list, bad_alloc) out of line as weak symbols: the test build, not the product
+      if(SANITIZED AND sym MATCHES "^(_ZTI|_ZTS|_ZNSt|_ZNKSt|_ZSt)")
+        continue()
+      endif()
       if(NOT sym MATCHES "meshless_avx2|meshless_mqfit" AND NOT sym STREQUAL "DW.ref.__gxx_personality_v0")
         message(FATAL_ERROR "the AVX2 object defines ${sym} (${type}), which the generic build may define too")
       endif()
