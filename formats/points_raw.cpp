@@ -112,6 +112,7 @@ PointSet read_points_npy(const std::string& path, const PointSetOptions& o, std:
         if (c == std::string::npos) throw FormatError(path + ": malformed .npy header");
         ++c;
         while (c < h.size() && h[c] == ' ') ++c;
+        if (c >= h.size()) throw FormatError(path + ": malformed .npy header (no value for '" + key + "')");
         std::size_t e = c;
         if (h[c] == '(') e = h.find(')', c) + 1;
         else if (h[c] == '\'') e = h.find('\'', c + 1) + 1;
@@ -128,9 +129,11 @@ PointSet read_points_npy(const std::string& path, const PointSetOptions& o, std:
     else if (descr == "'>f4'") es = 4, big = true;
     else if (descr == "'<f8'") es = 8;
     else if (descr == "'>f8'") es = 8, big = true;
-    else throw FormatError(path + ": unsupported .npy dtype " + descr + " (float32/float64 supported)");
+    else throw FormatError(path + ": unsupported .npy dtype " + escape_field(descr) + " (float32/float64 supported)");
     std::vector<std::int64_t> dims;
     {
+        if (shape.size() < 2 || shape.front() != '(' || shape.back() != ')')
+            throw FormatError(path + ": .npy shape " + escape_field(shape) + " is not a tuple");
         std::string s = shape.substr(1, shape.size() - 2);
         for (char& c : s)
             if (c == ',') c = ' ';

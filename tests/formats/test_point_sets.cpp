@@ -487,6 +487,23 @@ TEST_CASE("npy: (N,3) positions only, (N,4) with values, Fortran order, trailing
     CHECK_THAT(error_of([&] { read_point_set(P(d, "c.npy")); }), Catch::Contains("1 trailing bytes"));
     spit_bytes(P(d, "d.npy"), npy(3, false, "<i4"));
     CHECK_THAT(error_of([&] { read_point_set(P(d, "d.npy")); }), Catch::Contains("unsupported .npy dtype"));
+    // headers the fuzzer found (fuzz_npy): a key with nothing after its colon, a shape that is not a tuple;
+    // each a one-line FormatError naming the file, never std::out_of_range
+    auto with_header = [](const std::string& h) {
+        std::string text = "\x93NUMPY";
+        text += '\x01';
+        text += '\x00';
+        text += static_cast<char>(h.size() & 0xff);
+        text += static_cast<char>(h.size() >> 8);
+        text += h;
+        std::vector<std::byte> b;
+        for (char c : text) b.push_back(static_cast<std::byte>(c));
+        return b;
+    };
+    spit_bytes(P(d, "e.npy"), with_header("{'descr': '<f4', 'fortran_order': False, 'shape':"));
+    CHECK_THAT(error_of([&] { read_point_set(P(d, "e.npy")); }), Catch::Contains("e.npy: malformed .npy header"));
+    spit_bytes(P(d, "f.npy"), with_header("{'descr': '<f4', 'fortran_order': False, 'shape': , }"));
+    CHECK_THAT(error_of([&] { read_point_set(P(d, "f.npy")); }), Catch::Contains("is not a tuple"));
 }
 
 // ---------------------------------------------------------------- PLOT3D
