@@ -114,7 +114,9 @@ PointSet read_points_text(const std::string& path, const PointSetOptions& o, std
     if (f.size() == 1 && all_numeric && lines.size() >= 1) {
         double c = 0;
         parse_number(f[0], c);
-        if (c < 0 || c != std::floor(c)) throw FormatError(path + ": line " + std::to_string(lines[0].number) + ": bad point count '" + std::string(f[0]) + "'");
+        // a count is a whole number a file can hold (below 2^53: exact as a double, and no overflow converting it)
+        if (!(c >= 0) || c != std::floor(c) || c > 9007199254740992.0)
+            throw FormatError(path + ": line " + std::to_string(lines[0].number) + ": bad point count " + escape_field(f[0]));
         declared_count = static_cast<std::uint64_t>(c);
         data_begin = 1;
     } else if (f.size() >= 2 && !is_number(f[0]) && f[0].size() == 1 && std::isalpha(static_cast<unsigned char>(f[0][0])) &&

@@ -162,6 +162,11 @@ TEST_CASE("text: count line, tagged .pts lines, positions only", "[scatter]") {
     CHECK(c.pos[4].z == -4);
     spit(P(d, "bad.txt"), "6\n" + cnt.substr(2));
     CHECK_THAT(error_of([&] { read_point_set(P(d, "bad.txt")); }), Catch::Contains("says 6 points, the file has 5"));
+    // counts no file can hold or that are not whole (fuzz_csv: 1.1e53 overflowed the conversion to an integer)
+    for (const char* count : {"1.11111e53", "1e300", "2.5", "-1"}) {
+        spit(P(d, "huge.txt"), std::string(count) + "\n" + cnt.substr(2));
+        CHECK_THAT(error_of([&] { read_point_set(P(d, "huge.txt")); }), Catch::Contains("huge.txt: line 1: bad point count"));
+    }
 }
 
 TEST_CASE("text: bad input gives one-line errors naming the file", "[scatter]") {
