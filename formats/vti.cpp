@@ -145,44 +145,55 @@ VolumeInfo probe_vti(const std::string& path) {
     return i;
 }
 
+namespace {
+// A .vti file read and its layout parsed: what read_vti and prove_vti share. Built in place (the
+// document and the layout point into `bytes`), so neither copied nor moved.
+struct VtiFile {
+    const std::vector<std::byte> bytes;
+    const std::string_view doc;
+    const VtkXmlDocument xml;
+    const VtiLayout L;
+    const std::uint64_t count, expected;  // samples, payload bytes
+    explicit VtiFile(const std::string& path)
+        : bytes(read_file_bytes(path)),
+          doc(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+          xml(doc, path),
+          L(parse_layout(xml, path)),
+          count(static_cast<std::uint64_t>(L.grid.voxel_count())),
+          expected(checked_mul(count, stored_size(L.type), path + ": payload size")) {}
+    VtiFile(const VtiFile&) = delete;
+    VtiFile& operator=(const VtiFile&) = delete;
+    std::string what() const { return dims_string(L.grid) + " " + to_string(L.type); }
+};
+}  // namespace
+
 Volume read_vti(const std::string& path) {
-    const std::vector<std::byte> bytes = read_file_bytes(path);
-    const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    const VtkXmlDocument X(doc, path);
-    const VtiLayout L = parse_layout(X, path);
-    const std::uint64_t count = static_cast<std::uint64_t>(L.grid.voxel_count());
-    const std::uint64_t expected = checked_mul(count, stored_size(L.type), path + ": payload size");
-    std::vector<std::byte> payload;
+    const VtiFile F(path);
+    const VtiLayout& L = F.L;
     if (L.format == "ascii") {
-        payload = parse_ascii_samples(L.content, L.type,
-                                      static_cast<std::size_t>(count), path);
-        Volume v = make_volume(std::move(payload), L.type, !host_is_little_endian(), L.grid, path);
+        Volume v = make_volume(parse_ascii_samples(L.content, L.type, static_cast<std::size_t>(F.count), path), L.type,
+                               !host_is_little_endian(), L.grid, path);
         flip_axes(v, L.flip);
         return v;
     }
     std::vector<std::byte> owned;
-    const auto [bin, n] = binary_bytes(doc, L, path, owned);
-    payload = vtk_xml_decode_binary(bin, n, xml_file(L), expected, path, dims_string(L.grid) + " " + to_string(L.type));
-    Volume v = make_volume(std::move(payload), L.type, L.big_endian, L.grid, path);
+    const auto [bin, n] = binary_bytes(F.doc, L, path, owned);
+    Volume v = make_volume(vtk_xml_decode_binary(bin, n, xml_file(L), F.expected, path, F.what()), L.type, L.big_endian,
+                           L.grid, path);
     flip_axes(v, L.flip);
     return v;
 }
 
 void prove_vti(const std::string& path) {
-    const std::vector<std::byte> bytes = read_file_bytes(path);
-    const std::string_view doc(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    const VtkXmlDocument X(doc, path);
-    const VtiLayout L = parse_layout(X, path);
-    const std::uint64_t count = static_cast<std::uint64_t>(L.grid.voxel_count());
-    const std::uint64_t expected = checked_mul(count, stored_size(L.type), path + ": payload size");
+    const VtiFile F(path);
+    const VtiLayout& L = F.L;
     if (L.format == "ascii") {  // the values' count is bounded by the text: parsing keeps at most 4x its size
-        parse_ascii_samples(L.content, L.type,
-                            static_cast<std::size_t>(count), path);
+        parse_ascii_samples(L.content, L.type, static_cast<std::size_t>(F.count), path);
         return;
     }
     std::vector<std::byte> owned;
-    const auto [bin, n] = binary_bytes(doc, L, path, owned);
-    vtk_xml_prove_binary(bin, n, xml_file(L), expected, path, dims_string(L.grid) + " " + to_string(L.type));
+    const auto [bin, n] = binary_bytes(F.doc, L, path, owned);
+    vtk_xml_prove_binary(bin, n, xml_file(L), F.expected, path, F.what());
 }
 
 }  // namespace meshless
