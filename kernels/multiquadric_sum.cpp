@@ -64,6 +64,19 @@ __attribute__((target("avx2,fma"))) inline __m256i lanes4(std::size_t left) {
     return _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(left < 4 ? left : 4)), idx);
 }
 
+// x - p and |x - p|^2 + c^2 for the centres k..k+3 (masked lanes read nothing), as both AVX2 sums use them.
+struct Offsets4 {
+    __m256d ex, ey, ez, r2;
+};
+__attribute__((target("avx2,fma"))) inline Offsets4 offsets4(const double* px, const double* py, const double* pz,
+                                                             std::size_t k, __m256i m, __m256d X, __m256d Y, __m256d Z,
+                                                             __m256d C2) {
+    const __m256d ex = _mm256_sub_pd(X, _mm256_maskload_pd(px + k, m));
+    const __m256d ey = _mm256_sub_pd(Y, _mm256_maskload_pd(py + k, m));
+    const __m256d ez = _mm256_sub_pd(Z, _mm256_maskload_pd(pz + k, m));
+    return {ex, ey, ez, _mm256_fmadd_pd(ex, ex, _mm256_fmadd_pd(ey, ey, _mm256_fmadd_pd(ez, ez, C2)))};
+}
+
 // AVX2, exact square root and division (the fallback for r^2 outside the float range).
 __attribute__((target("avx2,fma"))) void local_avx2_exact(const double* px, const double* py, const double* pz,
                                                           const MqLocalTerms& L, const Vec3& x, bool grad, MqSum& out) {
@@ -75,10 +88,7 @@ __attribute__((target("avx2,fma"))) void local_avx2_exact(const double* px, cons
         const std::size_t n = L.runs[r].start + L.runs[r].count;
         for (std::size_t k = L.runs[r].start; k < n; k += 4, lam += 4) {
             const __m256i m = lanes4(n - k);
-            const __m256d ex = _mm256_sub_pd(X, _mm256_maskload_pd(px + k, m));
-            const __m256d ey = _mm256_sub_pd(Y, _mm256_maskload_pd(py + k, m));
-            const __m256d ez = _mm256_sub_pd(Z, _mm256_maskload_pd(pz + k, m));
-            const __m256d r2 = _mm256_fmadd_pd(ex, ex, _mm256_fmadd_pd(ey, ey, _mm256_fmadd_pd(ez, ez, C2)));
+            const auto [ex, ey, ez, r2] = offsets4(px, py, pz, k, m, X, Y, Z, C2);
             const __m256d phi = _mm256_sqrt_pd(r2);
             const __m256d l = _mm256_maskload_pd(lam, m);
             const __m256d pos = _mm256_cmp_pd(phi, zero, _CMP_GT_OQ);
@@ -111,10 +121,7 @@ __attribute__((target("avx2,fma"))) bool local_avx2_fast(const double* px, const
         const std::size_t n = L.runs[r].start + L.runs[r].count;
         for (std::size_t k = L.runs[r].start; k < n; k += 4, lam += 4) {
             const __m256i m = lanes4(n - k);
-            const __m256d ex = _mm256_sub_pd(X, _mm256_maskload_pd(px + k, m));
-            const __m256d ey = _mm256_sub_pd(Y, _mm256_maskload_pd(py + k, m));
-            const __m256d ez = _mm256_sub_pd(Z, _mm256_maskload_pd(pz + k, m));
-            const __m256d r2 = _mm256_fmadd_pd(ex, ex, _mm256_fmadd_pd(ey, ey, _mm256_fmadd_pd(ez, ez, C2)));
+            const auto [ex, ey, ez, r2] = offsets4(px, py, pz, k, m, X, Y, Z, C2);
             rmax = _mm256_max_pd(rmax, r2);
             const __m256d y0 = _mm256_cvtps_pd(_mm_rsqrt_ps(_mm256_cvtpd_ps(r2)));
             const __m256d t = _mm256_mul_pd(r2, y0);
