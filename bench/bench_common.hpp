@@ -41,6 +41,9 @@ struct BenchOptions {
     std::string scattered_parts;          ///< scattered: "a,b,c" subset (empty: all)
     bool all_peers = false;       ///< scattered: peers on every set (default: fewer on the large sizes)
     bool reuse_peers = false;     ///< scattered: take peer results kept in the work folder by earlier runs
+    /// hierarchy-rmse: Hardy's c of the mpu fields, relative to each point set's bounding-box diagonal,
+    /// one table per value, "C1,C2,..." (empty: the field's default, FieldParams::hardy_c_rel)
+    std::string hardy_c;
 };
 
 /// Free space in the scratch folder above which "bench all" includes the ooc section (its 4.4 GB
@@ -160,6 +163,27 @@ void check_scattered_lists(const BenchOptions& o);
 void run_hierarchy(const BenchOptions& o, Report& r);
 /// Its part (e) alone (`meshless-bench hierarchy-rmse`); `silicium` may be empty (read here).
 void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& silicium = {});
+
+// ---- running processes (bench/process_run.cpp) ---------------------------------------------------
+
+/// One process run: exit status, wall seconds, peak RSS (KiB) and its stderr.
+struct Run {
+    int code = -1;
+    double seconds = 0;
+    long maxrss_kib = 0;
+    std::string err, out;
+    bool ok() const { return code == 0; }
+    /// "exit 1: unknown option '--threads'" for n/a rows: the first line of stderr without the
+    /// "meshless CMD: " prefix and the "(see ... --help)" hint, work-folder paths as WORK/, short.
+    std::string why(const std::string& work = {}) const;
+};
+
+/// Runs `/bin/sh -c cmd` with stdin on /dev/null, stdout into out_file (or /dev/null), stderr into
+/// err_file; wall time from before fork() to after wait4(); peak RSS of the shell and its children
+/// alone (through run_rusage_wrapper: a process forked from this one would start with this
+/// process's resident set as its high-water mark).
+Run run_sh(const std::string& cmd, const std::filesystem::path& err_file, const std::filesystem::path& out_file = {});
+
 /// `meshless-bench --rusage-wrapper RSSFILE PROGRAM ARGS...` (used by run_process, not by users): runs
 /// PROGRAM as a child, writes the child's ru_maxrss (KiB, its waited-for descendants included) to
 /// RSSFILE and exits with the child's status. A fresh process, so the child's peak RSS is its own.

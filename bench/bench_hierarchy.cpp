@@ -1,6 +1,8 @@
 // `meshless-bench hierarchy`: issue 9's numbers for the cluster binary tree (dissertation chapter 6,
 // Tables 6.1-6.2), measured in process on the library (kernels/cluster_binary_tree.hpp) except the
-// peak memory, which is the `meshless hierarchy` process's own (wait4's ru_maxrss):
+// peak memory, which is the `meshless hierarchy` process's own (run_sh: its ru_maxrss, measured from a
+// fresh wrapper process; a child forked from the bench itself would inherit the bench's resident set
+// as its high-water mark — the 61-66 bytes/sample reported before were the bench's own ~180 MiB):
 //   (a) silicium 98x34x34 (113,288 samples): full refinement on 1 thread (splits, skipped, depth,
 //       wall and CPU time, best of --reps), level-based LOD sizes at 15 and 16 (Table 6.2: 18.52%,
 //       34.71%).
@@ -81,19 +83,6 @@ Timed build_timed(const PointSet& ps, const CbtParams& p, int threads, int reps)
 
 std::string pct_of(std::uint64_t a, std::uint64_t n) { return fmt("%.2f%%", 100.0 * a / n); }
 
-/// Runs a shell command line; its exit code and peak RSS (bytes) from wait4.
-std::pair<int, double> run_rss(const std::string& cmd) {
-    const pid_t pid = fork();
-    if (pid == 0) {
-        execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
-        _exit(127);
-    }
-    int status = 0;
-    rusage ru{};
-    wait4(pid, &status, 0, &ru);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, ru.ru_maxrss * 1024.0};
-}
-
 /// The error threshold whose error-based LOD is closest to m points (bisection).
 double error_for_size(const ClusterTree& t, std::uint64_t m) {
     double lo = 0, hi = t.nodes[0].error;
@@ -122,7 +111,7 @@ struct Rmse {
 };
 
 void compare_row(const std::string& name, const PointSet& all, const ClusterTree& tree, const ClusterTree& raw_tree, double frac,
-                 std::size_t eval_stride, Table& t) {
+                 std::size_t eval_stride, double hardy_c_rel, Table& t) {
     const std::size_t n = all.size();
     const std::uint64_t target = static_cast<std::uint64_t>(std::llround(frac * n));
     const double e = error_for_size(tree, target);
@@ -150,6 +139,7 @@ void compare_row(const std::string& name, const PointSet& all, const ClusterTree
     for (int s = 0; s < 4; ++s) {
         FieldParams fp;
         fp.kind = FieldKind::mpu;
+        if (hardy_c_rel > 0) fp.hardy_c_rel = hardy_c_rel;
         Stopwatch sw;
         auto f = make_field(sets[s], fp);
         build_s += sw.ms() / 1000;
@@ -276,8 +266,11 @@ void run_hierarchy(const BenchOptions& o, Report& r) {
         // (d) peak RSS of the process
         if (!o.quick) {
             const std::string out = (work / "head.mlh").string();
-            const auto [code, rss] = run_rss(shell_quote(o.meshless) + " hierarchy " + shell_quote(store) + " -o " + shell_quote(out) +
-                                             " --max-splits 300000 --threads 2");
+            const Run run = run_sh(shell_quote(o.meshless) + " hierarchy " + shell_quote(store) + " -o " + shell_quote(out) +
+                                       " --max-splits 300000 --threads 2",
+                                   work / "hierarchy.err");
+            const int code = run.code;
+            const double rss = 1024.0 * static_cast<double>(run.maxrss_kib);
             Table mt;
             mt.header = {"process", "exit", "peak RSS", "bytes / sample", "target"};
             mt.add({"meshless hierarchy head2.mlb --max-splits 300000 --threads 2", fmt("%d", code), bytes_str(rss),
@@ -300,8 +293,17 @@ void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& sil_gi
     const fs::path lidc = data / "vtkjs_LIDC2" / "LIDC2.vti";
     const PointSet sil = !sil_given.pos.empty() || !fs::exists(si) ? sil_given : point_set_from_volume(si.string());
     // (e) reconstruction error at equal point counts
-    r.note("(e) mpu field (defaults) of each point set evaluated at the original voxels; RMSE in data units; equal "
-           "point counts (the CBT LOD's size); one table per data set.");
+    std::vector<double> cs;
+    if (!o.hardy_c.empty())
+        for (const std::string& w : split_list(o.hardy_c)) {
+            const double c = std::stod(w);
+            if (!(c > 0) || !std::isfinite(c)) throw std::runtime_error("--hardy-c: '" + w + "' is not a positive number");
+            cs.push_back(c);
+        }
+    if (cs.empty()) cs.push_back(0);  // the field's default
+    r.note("(e) mpu field of each point set evaluated at the original voxels; RMSE in data units; equal point counts "
+           "(the CBT LOD's size); one table per data set and Hardy c (relative to the point set's bounding-box diagonal; "
+           "the same c for all four sets of a row).");
     Table ct;
     ct.header = {"data", "points", "count", "CBT error E", "RMSE CBT", "RMSE random", "RMSE decimation", "max err C/R/D", "best",
                  "CBT raw PCA: count: RMSE", "voxels evaluated"};
@@ -312,9 +314,13 @@ void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& sil_gi
         const ClusterTree t = build_cluster_tree(ps.pos, ps.value, p);
         p.scaling = PcaScaling::raw;
         const ClusterTree raw = build_cluster_tree(ps.pos, ps.value, p);
-        for (double f : {0.01, 0.05, 0.15}) compare_row(name, ps, t, raw, f, stride, ct);
-        r.table(ct);
-        ct.rows.clear();
+        for (double c : cs) {
+            r.note(name + ", mpu Hardy c = " + (c > 0 ? fmt("%g", c) : fmt("%g (default)", FieldParams{}.hardy_c_rel)) +
+                   " x bounding-box diagonal");
+            for (double f : {0.01, 0.05, 0.15}) compare_row(name, ps, t, raw, f, stride, c, ct);
+            r.table(ct);
+            ct.rows.clear();
+        }
     };
     if (!sil.pos.empty()) compare("silicium", sil, 1);
     if (!o.quick && fs::exists(head)) compare("head x1 (64x64x93)", point_set_from_volume(head.string()), 1);

@@ -49,8 +49,6 @@ namespace fs = std::filesystem;
 constexpr double kMiB = 1024.0 * 1024.0;
 constexpr double kPi = 3.14159265358979323846;
 
-// ---- running processes --------------------------------------------------------------------------
-
 std::string first_line(const std::string& s) {
     std::string t = s;
     while (!t.empty() && (t.back() == '\n' || t.back() == '\r')) t.pop_back();
@@ -62,86 +60,6 @@ std::uint64_t file_bytes(const fs::path& p) {
     std::error_code ec;
     const auto n = fs::file_size(p, ec);
     return ec ? 0 : n;
-}
-
-/// One process run: exit status, wall seconds, peak RSS (KiB) and its stderr.
-struct Run {
-    int code = -1;
-    double seconds = 0;
-    long maxrss_kib = 0;
-    std::string err, out;
-    bool ok() const { return code == 0; }
-    /// "exit 1: unknown option '--threads'" for n/a rows: the first line of stderr without the
-    /// "meshless CMD: " prefix and the "(see ... --help)" hint, work-folder paths as WORK/, short.
-    std::string why(const std::string& work = {}) const {
-        std::string e = first_line(err);
-        if (e.rfind("meshless ", 0) == 0)
-            if (const auto colon = e.find(": "); colon != std::string::npos && colon < 40) e = e.substr(colon + 2);
-        if (const auto see = e.find(" (see meshless"); see != std::string::npos) e = e.substr(0, see);
-        if (!work.empty())
-            for (std::size_t p; (p = e.find(work + "/")) != std::string::npos;) e.replace(p, work.size() + 1, "WORK/");
-        if (e.size() > 64) e = e.substr(0, 61) + "...";
-        return (code >= 128 ? fmt("signal %d", code - 128) : fmt("exit %d", code)) + (e.empty() ? "" : ": " + e);
-    }
-};
-
-/// This executable (the rusage wrapper below is this program re-executed), empty when unknown.
-const std::string& self_exe() {
-    static const std::string path = [] {
-        std::error_code ec;
-        const fs::path p = fs::read_symlink("/proc/self/exe", ec);
-        return ec ? std::string() : p.string();
-    }();
-    return path;
-}
-
-/// Runs `/bin/sh -c cmd` with stdin on /dev/null, stdout into out_file (or /dev/null), stderr into
-/// err_file; wall time from before fork() to after wait4(). Peak RSS: a process forked from this one
-/// starts with this process's resident set as its high-water mark (Linux copies it at fork and keeps
-/// it across exec), so the shell runs under a freshly executed copy of this program
-/// (run_rusage_wrapper, a few MiB) that forks it, waits and reports the shell's ru_maxrss (which
-/// includes the shell's children). Without /proc/self/exe: wait4's own figure, an upper bound.
-Run run_sh(const std::string& cmd, const fs::path& err_file, const fs::path& out_file = {}) {
-    Run r;
-    const std::string rss_file = err_file.string() + ".rss";
-    std::error_code ec;
-    fs::remove(rss_file, ec);
-    const std::string& self = self_exe();
-    const auto t0 = std::chrono::steady_clock::now();
-    const pid_t pid = ::fork();
-    if (pid < 0) {
-        r.err = std::string("fork failed: ") + std::strerror(errno);
-        return r;
-    }
-    if (pid == 0) {
-        const int in = ::open("/dev/null", O_RDONLY);
-        const int out = ::open(out_file.empty() ? "/dev/null" : out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int err = ::open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (in < 0 || out < 0 || err < 0) ::_exit(126);
-        ::dup2(in, 0);
-        ::dup2(out, 1);
-        ::dup2(err, 2);
-        if (!self.empty())
-            ::execl(self.c_str(), self.c_str(), kRusageWrapperFlag, rss_file.c_str(), "/bin/sh", "-c", cmd.c_str(),
-                    static_cast<char*>(nullptr));
-        ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-        ::_exit(127);
-    }
-    int st = 0;
-    struct rusage ru {};
-    while (::wait4(pid, &st, 0, &ru) < 0 && errno == EINTR) {
-    }
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.code = WIFEXITED(st) ? WEXITSTATUS(st) : WIFSIGNALED(st) ? 128 + WTERMSIG(st) : -1;
-    r.maxrss_kib = ru.ru_maxrss;
-    if (std::ifstream f(rss_file); f) {
-        long kib = 0;
-        if (f >> kib) r.maxrss_kib = kib;
-    }
-    fs::remove(rss_file, ec);
-    r.err = read_file_bytes(err_file);
-    if (!out_file.empty()) r.out = read_file_bytes(out_file);
-    return r;
 }
 
 /// Best of n runs of one command: the fastest successful run (its stderr and RSS); the first
@@ -710,26 +628,6 @@ void part_e(const Ctx& c, const std::vector<std::pair<std::uint64_t, fs::path>>&
 }
 
 }  // namespace
-
-int run_rusage_wrapper(int argc, char** argv) {
-    if (argc < 4) return 126;
-    std::signal(SIGPIPE, SIG_DFL);  // the bench ignores SIGPIPE; the commands measured get the default
-    const pid_t pid = ::fork();
-    if (pid < 0) return 126;
-    if (pid == 0) {
-        ::execv(argv[3], argv + 3);
-        ::_exit(127);
-    }
-    int st = 0;
-    struct rusage ru {};
-    while (::wait4(pid, &st, 0, &ru) < 0 && errno == EINTR) {
-    }
-    if (std::FILE* f = std::fopen(argv[2], "w")) {
-        std::fprintf(f, "%ld\n", ru.ru_maxrss);
-        std::fclose(f);
-    }
-    return WIFEXITED(st) ? WEXITSTATUS(st) : WIFSIGNALED(st) ? 128 + WTERMSIG(st) : 126;
-}
 
 void run_process(const BenchOptions& o, Report& r) {
     r.section("Whole processes (issue 11): `meshless` as users run it");

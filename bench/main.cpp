@@ -109,6 +109,8 @@ int bench_main(int argc, char** argv) {
         .option("fields", "", "LIST", "scattered (a): analytic fields, e.g. sphere,gyroid,ml (default: those three)")
         .option("distributions", "", "LIST", "scattered (a): uniform,clustered,layered or a subset (default: all)")
         .option("parts", "", "LIST", "scattered: a (accuracy and peers), b (Table 5.1), c (scaling) or a subset (default: all)")
+        .option("hardy-c", "", "C1,C2,...", "hierarchy-rmse: Hardy's c of the mpu fields relative to the bounding-box "
+                                            "diagonal, one table per value (default: the field's own, 0.025)")
         .flag("no-peers", "scattered: skip the SciPy / VTK peers")
         .flag("all-peers", "scattered: peers on every set and size (default: all up to 20,000 points, fewer above)")
         .flag("reuse-peers", "scattered: reuse the peer results an earlier run kept in --work (said in the output)")
@@ -160,6 +162,7 @@ int bench_main(int argc, char** argv) {
         throw UsageError(e.what());
     }
     o.scattered_field = a.get_or("field", "");
+    o.hardy_c = a.get_or("hardy-c", "");
     o.peer_timeout = a.get_double_or("peer-timeout", 0);
     if (!(o.peer_timeout >= 0) || o.peer_timeout > 86400) throw UsageError("--peer-timeout: expected 0..86400 seconds");
     o.no_peers = a.has("no-peers");

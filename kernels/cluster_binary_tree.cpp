@@ -3,6 +3,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -37,6 +38,10 @@ struct SplitResult {
 };
 
 constexpr std::size_t kBatch = 64;
+constexpr std::size_t kPadPerThread = 4;
+// split results waiting past their turn: at most this many, and 1/8 of the splits still allowed
+// (bounds the memory and the splits made and never applied when max_splits ends the refinement)
+constexpr std::size_t kReadyMax = 1024;
 
 }  // namespace
 
@@ -168,11 +173,19 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
     std::priority_queue<Ready, std::vector<Ready>, decltype(ready_less)> ready(ready_less);
     std::vector<QueueEntry> batch;
     std::vector<SplitResult> results;
+    const std::size_t pad = kPadPerThread * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
     while ((!queue.empty() || !ready.empty()) && st.splits < params.max_splits) {
         if (ready.empty() || (!queue.empty() && WorseFirst{}(ready.top().e, queue.top()))) {
             // the next cluster in serial order has no result yet: split it and the next worst ones
             batch.clear();
-            while (!queue.empty() && batch.size() < kBatch) {
+            const std::uint64_t left = params.max_splits - st.splits;  // splits still allowed
+            while (!queue.empty() && batch.size() < kBatch && batch.size() < left) {
+                // the entries ahead of ready.top() in serial order are split for certain; past them
+                // only enough to keep the threads busy (speculation past the last split is waste)
+                const bool ahead = !ready.empty() && WorseFirst{}(ready.top().e, queue.top());
+                if (!batch.empty() && !ahead &&
+                    (batch.size() >= pad || ready.size() + batch.size() >= std::min<std::uint64_t>(kReadyMax, left / 8)))
+                    break;  // (the first is the next cluster in serial order: always split)
                 batch.push_back(queue.top());
                 queue.pop();
             }
@@ -205,6 +218,7 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
         offer(a);
         offer(b);
     }
+    st.speculative_unused = ready.size();
     st.error_reached = 0;
     for (const CbtNode& d : nodes)
         if (d.leaf()) st.error_reached = std::max(st.error_reached, d.error);

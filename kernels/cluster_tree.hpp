@@ -59,6 +59,9 @@ struct CbtStats {
     double error_reached = 0;             ///< max error over the leaves (the finest LOD's error)
     double hardy_c_world = 0;             ///< c used
     double seconds = 0;                   ///< build time (not stored in files)
+    /// splits computed ahead for the threads whose results were never applied because max_splits
+    /// ended the refinement first: wasted work (not stored in files)
+    std::uint64_t speculative_unused = 0;
     std::uint64_t memory_bytes = 0;       ///< bytes of the permutation and the nodes (with their ranges) at the end
 };
 
