@@ -171,8 +171,9 @@ struct Run {
     int code = -1;
     double seconds = 0;
     long maxrss_kib = 0;
+    bool timed_out = false;  ///< killed (with its process group) at run_sh's time limit
     std::string err, out;
-    bool ok() const { return code == 0; }
+    bool ok() const { return code == 0 && !timed_out; }
     /// "exit 1: unknown option '--threads'" for n/a rows: the first line of stderr without the
     /// "meshless CMD: " prefix and the "(see ... --help)" hint, work-folder paths as WORK/, short.
     std::string why(const std::string& work = {}) const;
@@ -181,8 +182,10 @@ struct Run {
 /// Runs `/bin/sh -c cmd` with stdin on /dev/null, stdout into out_file (or /dev/null), stderr into
 /// err_file; wall time from before fork() to after wait4(); peak RSS of the shell and its children
 /// alone (through run_rusage_wrapper: a process forked from this one would start with this
-/// process's resident set as its high-water mark).
-Run run_sh(const std::string& cmd, const std::filesystem::path& err_file, const std::filesystem::path& out_file = {});
+/// process's resident set as its high-water mark). limit_s > 0: the command runs in a process group
+/// of its own, killed whole after limit_s seconds (Run::timed_out).
+Run run_sh(const std::string& cmd, const std::filesystem::path& err_file, const std::filesystem::path& out_file = {},
+           double limit_s = 0);
 
 /// `meshless-bench --rusage-wrapper RSSFILE PROGRAM ARGS...` (used by run_process, not by users): runs
 /// PROGRAM as a child, writes the child's ru_maxrss (KiB, its waited-for descendants included) to

@@ -89,71 +89,18 @@ struct Proc {
     }
 };
 
-const std::string& self_exe() {
-    static const std::string path = [] {
-        std::error_code ec;
-        const fs::path p = fs::read_symlink("/proc/self/exe", ec);
-        return ec ? std::string() : p.string();
-    }();
-    return path;
-}
-
-/// `/bin/sh -c cmd` in a process group of its own, stdin /dev/null, stdout and stderr captured in
-/// files under `dir`; wall clock from fork to wait; after `limit` seconds the whole group is killed.
-/// Peak RSS from a freshly executed copy of this program (--rusage-wrapper, bench_process.cpp) that
-/// runs the shell: ru_maxrss of the largest process of the command.
+/// `/bin/sh -c cmd` (run_sh: stdin /dev/null, its own peak RSS) with stdout and stderr captured in
+/// files under `dir`; after `limit` seconds its whole process group is killed.
 Proc run_limited(const std::string& cmd, const fs::path& dir, double limit) {
-    Proc p;
-    const fs::path o = dir / "cmd.out", e = dir / "cmd.err", rss = dir / "cmd.rss";
-    std::error_code ec;
-    fs::remove(rss, ec);
     std::fprintf(stderr, "bench scattered: %s\n", cmd.c_str());
-    const auto t0 = std::chrono::steady_clock::now();
-    const pid_t pid = ::fork();
-    if (pid < 0) {
-        p.err = std::string("fork failed: ") + std::strerror(errno);
-        return p;
-    }
-    if (pid == 0) {
-        ::setpgid(0, 0);
-        const int in = ::open("/dev/null", O_RDONLY);
-        const int out = ::open(o.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        const int err = ::open(e.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (in < 0 || out < 0 || err < 0) ::_exit(126);
-        ::dup2(in, 0);
-        ::dup2(out, 1);
-        ::dup2(err, 2);
-        const std::string& self = self_exe();
-        if (!self.empty())
-            ::execl(self.c_str(), self.c_str(), kRusageWrapperFlag, rss.c_str(), "/bin/sh", "-c", cmd.c_str(),
-                    static_cast<char*>(nullptr));
-        ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-        ::_exit(127);
-    }
-    ::setpgid(pid, pid);
-    int st = 0;
-    struct rusage ru {};
-    for (;;) {
-        const pid_t w = ::wait4(pid, &st, WNOHANG, &ru);
-        if (w == pid) break;
-        if (w < 0 && errno != EINTR) break;
-        const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (!p.timed_out && t > limit) {
-            p.timed_out = true;
-            ::kill(-pid, SIGKILL);
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(t < 1 ? 2 : 20));
-    }
-    p.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    p.code = WIFEXITED(st) ? WEXITSTATUS(st) : WIFSIGNALED(st) ? 128 + WTERMSIG(st) : -1;
-    p.maxrss_kib = ru.ru_maxrss;
-    if (std::ifstream f(rss); f) {
-        long kib = 0;
-        if (f >> kib) p.maxrss_kib = kib;
-    }
-    fs::remove(rss, ec);
-    p.out = read_file_bytes(o);
-    p.err = read_file_bytes(e);
+    const Run r = run_sh(cmd, dir / "cmd.err", dir / "cmd.out", limit);
+    Proc p;
+    p.code = r.code;
+    p.timed_out = r.timed_out;
+    p.seconds = r.seconds;
+    p.maxrss_kib = r.maxrss_kib;
+    p.out = r.out;
+    p.err = r.err;
     // messages name the work folder (the parent of `dir`) as WORK/, to keep the table cells short
     const std::string wk = dir.parent_path().string() + "/";
     for (std::string* s : {&p.out, &p.err})

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "bench/bench_common.hpp"
 
@@ -58,7 +59,7 @@ std::string Run::why(const std::string& work) const {
 /// it across exec), so the shell runs under a freshly executed copy of this program
 /// (run_rusage_wrapper, a few MiB) that forks it, waits and reports the shell's ru_maxrss (which
 /// includes the shell's children). Without /proc/self/exe: wait4's own figure, an upper bound.
-Run run_sh(const std::string& cmd, const fs::path& err_file, const fs::path& out_file) {
+Run run_sh(const std::string& cmd, const fs::path& err_file, const fs::path& out_file, double limit_s) {
     Run r;
     const std::string rss_file = err_file.string() + ".rss";
     std::error_code ec;
@@ -71,6 +72,7 @@ Run run_sh(const std::string& cmd, const fs::path& err_file, const fs::path& out
         return r;
     }
     if (pid == 0) {
+        if (limit_s > 0) ::setpgid(0, 0);  // a group of its own, killed whole at the limit
         const int in = ::open("/dev/null", O_RDONLY);
         const int out = ::open(out_file.empty() ? "/dev/null" : out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         const int err = ::open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -86,7 +88,22 @@ Run run_sh(const std::string& cmd, const fs::path& err_file, const fs::path& out
     }
     int st = 0;
     struct rusage ru {};
-    while (::wait4(pid, &st, 0, &ru) < 0 && errno == EINTR) {
+    if (limit_s > 0) {
+        ::setpgid(pid, pid);
+        for (;;) {
+            const pid_t w = ::wait4(pid, &st, WNOHANG, &ru);
+            if (w == pid) break;
+            if (w < 0 && errno != EINTR) break;
+            const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            if (!r.timed_out && t > limit_s) {
+                r.timed_out = true;
+                ::kill(-pid, SIGKILL);
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(t < 1 ? 2 : 20));
+        }
+    } else {
+        while (::wait4(pid, &st, 0, &ru) < 0 && errno == EINTR) {
+        }
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.code = WIFEXITED(st) ? WEXITSTATUS(st) : WIFSIGNALED(st) ? 128 + WTERMSIG(st) : -1;
