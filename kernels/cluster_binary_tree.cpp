@@ -38,10 +38,7 @@ struct SplitResult {
 };
 
 constexpr std::size_t kBatch = 64;
-constexpr std::size_t kPadPerThread = 4;
-// split results waiting past their turn: at most this many, and 1/8 of the splits still allowed
-// (bounds the memory and the splits made and never applied when max_splits ends the refinement)
-constexpr std::size_t kReadyMax = 1024;
+constexpr std::size_t kPadPerThread = 16;  // clusters per batch, per core of the task arena (with the certain ones)
 
 }  // namespace
 
@@ -184,7 +181,7 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
                 // only enough to keep the threads busy (speculation past the last split is waste)
                 const bool ahead = !ready.empty() && WorseFirst{}(ready.top().e, queue.top());
                 if (!batch.empty() && !ahead &&
-                    (batch.size() >= pad || ready.size() + batch.size() >= std::min<std::uint64_t>(kReadyMax, left / 8)))
+                    (batch.size() >= pad || ready.size() + batch.size() >= left / 8))
                     break;  // (the first is the next cluster in serial order: always split)
                 batch.push_back(queue.top());
                 queue.pop();

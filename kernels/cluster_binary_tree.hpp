@@ -24,12 +24,12 @@
 // occupy disjoint ranges of the index permutation), then the splits are applied in exactly the
 // serial order, numbering the nodes as a serial run would. A batch takes the next cluster in serial
 // order, the queued clusters that come before the worst one already split (they are split for
-// certain), and pads up to 4 per core of the task arena (the same for any --threads, so every
-// thread count does the same work) while fewer than min(1024, splits left / 8) results wait: fixed
-// batches of 64 left ~204,000 splits made and never applied at 300,000 splits of the x2 head
-// (~40 % more work, ~30 MB of waiting results); now at most 1024 + a batch (CbtStats::
-// speculative_unused, in hierarchy --stats). Clusters of chunks::kParallelItems samples or more are themselves processed in fixed chunks in parallel. The tree is identical, bit
-// for bit, for any thread count. Limit threads with tbb::global_control.
+// certain), and pads up to 16 per core of the task arena (the same for any --threads, so every
+// thread count does the same work) while fewer than (splits left) / 8 results wait: fixed batches
+// of 64 left ~204,000 splits made and never applied at 300,000 splits of the x2 head (~40 % more
+// work, ~30 MB of waiting results); now ~1,800 (0.6 %; CbtStats::speculative_unused, in hierarchy
+// --stats). Clusters of chunks::kParallelItems samples or more are themselves processed in fixed
+// chunks in parallel. The tree is identical, bit for bit, for any thread count. Limit threads with tbb::global_control.
 // Memory: the samples are not copied: one u32 permutation of the sample numbers (4 bytes/sample),
 // the nodes (56 bytes each, 2 x splits + 1), their index range starts and value means (12
 // bytes/node), the queue and the split results waiting for their turn (~120 bytes each, a few
