@@ -29,11 +29,12 @@
 // of 64 left ~204,000 splits made and never applied at 300,000 splits of the x2 head (~40 % more
 // work, ~30 MB of waiting results); now ~1,800 (0.6 %; CbtStats::speculative_unused, in hierarchy
 // --stats). Clusters of chunks::kParallelItems samples or more are themselves processed in fixed
-// chunks in parallel. The tree is identical, bit for bit, for any thread count. Limit threads with tbb::global_control.
+// chunks in parallel. The tree is identical, bit for bit, for any thread count. Limit threads
+// with tbb::global_control.
 // Memory: the samples are not copied: one u32 permutation of the sample numbers (4 bytes/sample),
 // the nodes (56 bytes each, 2 x splits + 1), their index range starts and value means (12
-// bytes/node), the queue and the split results waiting for their turn (~120 bytes each, a few
-// batches); partitions are in place.
+// bytes/node), the queue and the split results waiting for their turn (~120 bytes each, fewer than
+// (splits left) / 8 + a batch); partitions are in place.
 // Thread-safety: reentrant. Throws InvalidArgument (above) or std::bad_alloc.
 #pragma once
 #include <span>
