@@ -81,7 +81,8 @@ void add_field_options(Args& a, bool with_coverage) {
                 std::to_string(FieldParams{}.rbf_grid_local_points))
         .option("max-points", "", "N", "mpu: subdivide while a node's sphere holds more than N points", "140")
         .option("alpha", "", "A", "mpu: sphere of influence = A x node diagonal", "0.75")
-        .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal", "0.025")
+        .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal (0.003 for a "
+                                     ".mlh level of detail)", "0.025")
         .option("hardy-c-world", "", "C", "Hardy's constant in world units (overrides --hardy-c)")
         .flag("normalise-axes", "scale each axis so the bounding box is a cube (axes in unrelated units)");
     if (with_coverage)
@@ -121,7 +122,10 @@ FieldParams field_params(const Args& a) {
     p.mpu_max_points = static_cast<std::uint32_t>(n);
     p.mpu_min_points = std::min(p.mpu_min_points, p.mpu_max_points);  // grown leaves never exceed N
     p.mpu_alpha = parse_finite(a.get_or("alpha", "0.75"), "--alpha");
-    p.hardy_c_rel = parse_finite(a.get_or("hardy-c", "0.025"), "--hardy-c");
+    // a cluster tree's level of detail gets its own default c (kernels/field_params.hpp, kLodHardyCRel)
+    bool lod = false;
+    for (const std::string& in : a.positional()) lod = lod || is_cluster_tree_file(in);
+    p.hardy_c_rel = a.get("hardy-c") ? parse_finite(*a.get("hardy-c"), "--hardy-c") : lod ? kLodHardyCRel : FieldParams{}.hardy_c_rel;
     if (auto c = a.get("hardy-c-world")) p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
     p.normalise_axes = a.has("normalise-axes");
     const long long k = a.get_int_or("local-points", FieldParams{}.rbf_grid_local_points);

@@ -74,13 +74,27 @@ TEST_CASE("meshless hierarchy: the same .mlh for 1 and 2 threads, lod and info r
     CHECK((t.stats.error_reached == 0 || low.err.find("below the error") != std::string::npos));
     CHECK(slurp(d / "deep.csv").size() > 0);
 
-    // a point-set command reads the .mlh LOD as it reads the same points from a file
+    // a point-set command reads the .mlh LOD as it reads the same points from a file; a LOD's
+    // default Hardy c is 0.003 x the diagonal (kLodHardyCRel), a file's 0.025, --hardy-c wins
     const std::string at = " --at 10,10,10 --at 5.5,12,3 --field mpu";
-    const auto from_tree = sh("MESHLESS probe " + D + "/t1.mlh --lod-level 8" + at, d);
-    const auto from_csv = sh("MESHLESS probe " + D + "/l8.csv" + at, d);
+    const auto from_tree = sh("MESHLESS probe " + D + "/t1.mlh --lod-level 8 --stats" + at, d);
+    const auto from_csv = sh("MESHLESS probe " + D + "/l8.csv --hardy-c 0.003 --stats" + at, d);
     REQUIRE(from_tree.code == 0);
     REQUIRE(from_csv.code == 0);
     CHECK(from_tree.out == from_csv.out);
+    auto c_of = [](const std::string& err) {
+        const auto at_c = err.find("c = ");
+        return at_c == std::string::npos ? -1.0 : std::stod(err.substr(at_c + 4));
+    };
+    CHECK(c_of(from_tree.err) > 0);
+    CHECK(c_of(from_tree.err) == c_of(from_csv.err));
+    const auto tree_025 = sh("MESHLESS probe " + D + "/t1.mlh --lod-level 8 --hardy-c 0.025 --stats" + at, d);
+    const auto csv_default = sh("MESHLESS probe " + D + "/l8.csv --stats" + at, d);
+    REQUIRE(tree_025.code == 0);
+    REQUIRE(csv_default.code == 0);
+    CHECK(tree_025.out == csv_default.out);
+    CHECK(c_of(csv_default.err) == Approx(c_of(from_tree.err) * 0.025 / 0.003).epsilon(1e-4));
+    CHECK(tree_025.out != from_tree.out);
     const auto warned = sh("MESHLESS probe " + D + "/t1.mlh --lod-level 500" + at, d);
     CHECK(warned.code == 0);
     CHECK(warned.err.find("beyond the depth") != std::string::npos);
