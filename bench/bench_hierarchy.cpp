@@ -25,7 +25,6 @@
 //       RMSE of the LOD of a tree built with raw PCA scaling at about the same count (the measurement
 //       behind the default scaling). --quick: silicium only.
 #include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <tbb/global_control.h>

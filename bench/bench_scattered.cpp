@@ -75,13 +75,8 @@ std::string first_line(const std::string& s) {
 
 // ---- whole processes with a time limit and their peak RSS -----------------------------------------
 
-struct Proc {
-    int code = -1;
-    bool timed_out = false;
-    double seconds = 0;
-    long maxrss_kib = 0;
-    std::string out, err;
-    bool ok() const { return code == 0 && !timed_out; }
+/// run_sh's result (bench/bench_common.hpp) with this bench's table-cell reason.
+struct Proc : Run {
     std::string why(double limit) const {
         if (timed_out) return fmt("> %.0f s", limit);
         const std::string e = first_line(err.empty() ? out : err);
@@ -93,14 +88,8 @@ struct Proc {
 /// files under `dir`; after `limit` seconds its whole process group is killed.
 Proc run_limited(const std::string& cmd, const fs::path& dir, double limit) {
     std::fprintf(stderr, "bench scattered: %s\n", cmd.c_str());
-    const Run r = run_sh(cmd, dir / "cmd.err", dir / "cmd.out", limit);
     Proc p;
-    p.code = r.code;
-    p.timed_out = r.timed_out;
-    p.seconds = r.seconds;
-    p.maxrss_kib = r.maxrss_kib;
-    p.out = r.out;
-    p.err = r.err;
+    static_cast<Run&>(p) = run_sh(cmd, dir / "cmd.err", dir / "cmd.out", limit);
     // messages name the work folder (the parent of `dir`) as WORK/, to keep the table cells short
     const std::string wk = dir.parent_path().string() + "/";
     for (std::string* s : {&p.out, &p.err})

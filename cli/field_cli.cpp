@@ -122,10 +122,10 @@ FieldParams field_params(const Args& a) {
     p.mpu_max_points = static_cast<std::uint32_t>(n);
     p.mpu_min_points = std::min(p.mpu_min_points, p.mpu_max_points);  // grown leaves never exceed N
     p.mpu_alpha = parse_finite(a.get_or("alpha", "0.75"), "--alpha");
-    // a cluster tree's level of detail gets its own default c (kernels/field_params.hpp, kLodHardyCRel)
-    bool lod = false;
-    for (const std::string& in : a.positional()) lod = lod || is_cluster_tree_file(in);
-    p.hardy_c_rel = a.get("hardy-c") ? parse_finite(*a.get("hardy-c"), "--hardy-c") : lod ? kLodHardyCRel : FieldParams{}.hardy_c_rel;
+    if (const auto c = a.get("hardy-c")) p.hardy_c_rel = parse_finite(*c, "--hardy-c");
+    else  // a cluster tree's level of detail gets its own default c (kernels/field_params.hpp)
+        for (const std::string& in : a.positional())
+            if (is_cluster_tree_file(in)) p.hardy_c_rel = kLodHardyCRel;
     if (auto c = a.get("hardy-c-world")) p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
     p.normalise_axes = a.has("normalise-axes");
     const long long k = a.get_int_or("local-points", FieldParams{}.rbf_grid_local_points);
