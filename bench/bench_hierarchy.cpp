@@ -7,8 +7,8 @@
 //       wall and CPU time, best of --reps), level-based LOD sizes at 15 and 16 (Table 6.2: 18.52%,
 //       34.71%).
 //   (b) the head: vtk_headsq upsampled x2 with `meshless synth` (127x127x185 = 2,983,865 samples),
-//       read brick by brick, refined to 300,000 splits on 2 threads and on 1 (speed-up, identical
-//       nodes), error-based LOD sizes at 60 and 4.5 in the data's units (0..3926) and at the same
+//       read brick by brick, refined to 300,000 splits on 1 thread and on 2, alternating, --reps
+//       pairs (at most 7) (speed-up: best of each, and the median of the pairs' ratios; identical nodes), error-based LOD sizes at 60 and 4.5 in the data's units (0..3926) and at the same
 //       thresholds scaled to a 0..255 range (the dissertation's head was 0..255).
 //       --quick: the head x1 (380,928 samples) to 30,000 splits.
 //   (c) LOD extraction rate: the finest level- and error-based LODs of the head tree, nodes visited
@@ -217,8 +217,24 @@ void run_hierarchy(const BenchOptions& o, Report& r) {
         }
         CbtParams p;
         p.max_splits = o.quick ? 30000 : 300000;
-        const Timed t2 = build_timed(hp, p, 2, reps);
-        const Timed t1 = build_timed(hp, p, 1, o.quick ? 1 : 1);
+        // alternating 1- and 2-thread builds: this kind of VM drifts by +-30 % between identical runs,
+        // so the speed-up is the median of the pairs' ratios (best-of times beside it)
+        Timed t1, t2;
+        std::vector<double> pair_ratio;
+        const int pairs = o.quick ? 1 : std::clamp(o.reps, 1, 7);
+        for (int i = 0; i < pairs; ++i) {
+            Timed a = build_timed(hp, p, 1, 1), b = build_timed(hp, p, 2, 1);
+            pair_ratio.push_back(a.wall_s / b.wall_s);
+            t1.wall_s = std::min(t1.wall_s, a.wall_s);
+            t1.cpu_s = std::min(t1.cpu_s, a.cpu_s);
+            t2.wall_s = std::min(t2.wall_s, b.wall_s);
+            t2.cpu_s = std::min(t2.cpu_s, b.cpu_s);
+            t1.tree = std::move(a.tree);
+            t2.tree = std::move(b.tree);
+        }
+        std::sort(pair_ratio.begin(), pair_ratio.end());
+        const double median_ratio = pair_ratio.size() % 2 ? pair_ratio[pair_ratio.size() / 2]
+                                                          : 0.5 * (pair_ratio[pair_ratio.size() / 2 - 1] + pair_ratio[pair_ratio.size() / 2]);
         const bool same = t1.tree.nodes.size() == t2.tree.nodes.size() &&
                           std::memcmp(t1.tree.nodes.data(), t2.tree.nodes.data(), t1.tree.nodes.size() * sizeof(CbtNode)) == 0;
         const double range = hp.value_range()[1] - hp.value_range()[0];
@@ -228,11 +244,12 @@ void run_hierarchy(const BenchOptions& o, Report& r) {
         };
         Table tab;
         tab.header = {"data", "samples", "splits", "skipped", "depth", "error reached", "wall s 2 threads", "wall s 1 thread",
-                      "speed-up", "CPU s (2 thr)", "same nodes"};
+                      "speed-up (best of)", "speed-up (median of pairs)", "CPU s (2 thr)", "same nodes"};
         tab.add({what, fmt("%zu", hp.size()), fmt("%llu", (unsigned long long)t2.tree.stats.splits),
                  fmt("%llu", (unsigned long long)t2.tree.stats.skipped), fmt("%u", t2.tree.stats.depth),
                  fmt("%.4g", t2.tree.stats.error_reached), fmt("%.2f", t2.wall_s), fmt("%.2f", t1.wall_s),
-                 fmt("%.2fx", t1.wall_s / t2.wall_s), fmt("%.2f", t2.cpu_s), same ? "yes" : "NO"});
+                 fmt("%.2fx", t1.wall_s / t2.wall_s), fmt("%.2fx (%zu pairs, %.2f-%.2f)", median_ratio, pair_ratio.size(), pair_ratio.front(), pair_ratio.back()),
+                 fmt("%.2f", t2.cpu_s), same ? "yes" : "NO"});
         r.table(tab);
         Table lt;
         lt.header = {"error threshold", "LOD points (data units 0..3926)", "threshold x range/255", "LOD points (scaled)",

@@ -181,10 +181,10 @@ int cmd_hierarchy(int argc, char** argv) {
         std::fprintf(stderr,
                      "hierarchy: %" PRIu64 " samples, %" PRIu64 " splits, %" PRIu64 " skipped, depth %u, %zu nodes, error %g -> %g, "
                      "c = %g, PCA %s, %d thread%s: read %.3f s, build %.3f s, write %.3f s, %.1f MiB in the builder, "
-                     "%" PRIu64 " splits made ahead and not applied\n",
+                     "%" PRIu64 " splits made ahead and not applied, %" PRIu64 " rounds\n",
                      s.samples, s.splits, s.skipped, s.depth, tree.nodes.size(), tree.nodes[0].error, s.error_reached,
                      s.hardy_c_world, scaling_name(p.scaling), nthreads, nthreads == 1 ? "" : "s", read_s, s.seconds, write_s,
-                     s.memory_bytes / 1048576.0, s.speculative_unused);
+                     s.memory_bytes / 1048576.0, s.speculative_unused, s.rounds);
     return 0;
 }
 

@@ -1,14 +1,17 @@
 #include "kernels/cluster_binary_tree.hpp"
 
+#include <tbb/concurrent_vector.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <queue>
+#include <functional>
+#include <limits>
 #include <vector>
 
 #include "kernels/cluster_pca_split.hpp"
@@ -23,6 +26,7 @@ namespace {
 struct QueueEntry {
     double error;
     std::uint32_t node;
+    double prio;  // min of the errors from the root down to this node: the serial order splits in falling prio
 };
 struct WorseFirst {  // priority_queue's "less": the top is the largest error, then the smallest node
     bool operator()(const QueueEntry& a, const QueueEntry& b) const {
@@ -37,8 +41,9 @@ struct SplitResult {
     ClusterValue child[2];
 };
 
-constexpr std::size_t kBatch = 64;
-constexpr std::size_t kPadPerThread = 16;  // clusters per batch, per core of the task arena (with the certain ones)
+constexpr std::uint32_t kNoSpec = 0xFFFFFFFFu;
+constexpr std::uint64_t kPadSplits = 64;  // a round computes at most the splits left + this
+constexpr std::uint64_t kRoundsAtLeast = 16;  // a round splits about most splits / 32 of certain ones: bounds the waiting results
 
 }  // namespace
 
@@ -121,10 +126,23 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
         mean_value.push_back(v.mean_value);
         return static_cast<std::uint32_t>(nodes.size() - 1);
     };
-    std::priority_queue<QueueEntry, std::vector<QueueEntry>, WorseFirst> queue;
-    auto offer = [&](std::uint32_t id) {
+    // The queue in two tiers: a heap (WorseFirst) of the entries with prio >= theta, and the others
+    // unordered. The serial order pops the largest prio in the queue (see the header), so while the
+    // heap has entries its top is the queue's top, and the heap stays small (a round's worth).
+    auto offerable = [&](std::uint32_t count, double error) { return count >= params.min_cluster && error > params.max_error; };
+    std::vector<QueueEntry> queue, below;
+    double theta = -std::numeric_limits<double>::infinity();
+    auto offer = [&](std::uint32_t id, double parent_prio) {
         const CbtNode& d = nodes[id];
-        if (d.count >= params.min_cluster && d.error > params.max_error) queue.push({d.error, id});
+        if (offerable(d.count, d.error)) {
+            const QueueEntry q{d.error, id, std::min(parent_prio, d.error)};
+            if (q.prio >= theta) {
+                queue.push_back(q);
+                std::push_heap(queue.begin(), queue.end(), WorseFirst{});
+            } else {
+                below.push_back(q);
+            }
+        }
     };
     {  // reserve what the refinement can make: pages never written cost no memory
         const std::uint64_t most = std::min<std::uint64_t>(params.max_splits, n - 1);
@@ -133,93 +151,165 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
         mean_value.reserve(2 * most + 1);
     }
     add_node(evaluate(0, static_cast<std::uint32_t>(n)), 0, static_cast<std::uint32_t>(n), 0);
-    offer(0);
+    offer(0, std::numeric_limits<double>::infinity());
 
-    auto split = [&](std::uint32_t id) {
+    // splits the cluster idx[start, start + count): a pure function of its samples
+    auto split = [&](std::uint32_t start, std::uint32_t count, const Vec3& centre, double mean) {
         SplitResult r;
-        const CbtNode d = nodes[id];
-        const std::uint32_t start = first[id];
-        std::span<std::uint32_t> range(idx.data() + start, d.count);
-        const ClusterSplitPlane plane =
-            pca_split_plane(pos, value, range, d.centre, mean_value[id], pos_scale, value_scale);
+        std::span<std::uint32_t> range(idx.data() + start, count);
+        const ClusterSplitPlane plane = pca_split_plane(pos, value, range, centre, mean, pos_scale, value_scale);
         const std::size_t behind = plane.normal.x == 0 && plane.normal.y == 0 && plane.normal.z == 0
                                        ? 0
-                                       : partition_by_plane(pos, range, d.centre, plane.normal);
-        if (behind == 0 || behind == d.count) {
+                                       : partition_by_plane(pos, range, centre, plane.normal);
+        if (behind == 0 || behind == count) {
             r.skipped = true;
             return r;
         }
         r.behind = static_cast<std::uint32_t>(behind);
         const std::uint32_t m = r.behind;
-        if (d.count >= chunks::kParallelItems) {
-            tbb::parallel_invoke([&] { r.child[0] = evaluate(start, m); }, [&] { r.child[1] = evaluate(start + m, d.count - m); });
+        if (count >= chunks::kParallelItems) {
+            tbb::parallel_invoke([&] { r.child[0] = evaluate(start, m); }, [&] { r.child[1] = evaluate(start + m, count - m); });
         } else {
             r.child[0] = evaluate(start, m);
-            r.child[1] = evaluate(start + m, d.count - m);
+            r.child[1] = evaluate(start + m, count - m);
         }
         return r;
     };
 
-    // Clusters taken from the queue and split speculatively wait in `ready` (same order as the
-    // queue) until the serial order reaches them.
-    struct Ready {
-        QueueEntry e;
+    // Rounds of speculation (see the header): every split computed ahead is a Spec, found from the
+    // queued node it belongs to (spec_of) or from its parent's Spec (child_spec).
+    struct Spec {
         SplitResult r;
+        std::uint32_t child_spec[2] = {kNoSpec, kNoSpec};
     };
-    auto ready_less = [](const Ready& a, const Ready& b) { return WorseFirst{}(a.e, b.e); };
-    std::priority_queue<Ready, std::vector<Ready>, decltype(ready_less)> ready(ready_less);
-    std::vector<QueueEntry> batch;
-    std::vector<SplitResult> results;
-    const std::size_t pad = kPadPerThread * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
-    while ((!queue.empty() || !ready.empty()) && st.splits < params.max_splits) {
-        if (ready.empty() || (!queue.empty() && WorseFirst{}(ready.top().e, queue.top()))) {
-            // the next cluster in serial order has no result yet: split it and the next worst ones
-            batch.clear();
-            const std::uint64_t left = params.max_splits - st.splits;  // splits still allowed
-            while (!queue.empty() && batch.size() < kBatch && batch.size() < left) {
-                // the entries ahead of ready.top() in serial order are split for certain; past them
-                // only enough to keep the threads busy (speculation past the last split is waste)
-                const bool ahead = !ready.empty() && WorseFirst{}(ready.top().e, queue.top());
-                if (!batch.empty() && !ahead &&
-                    (batch.size() >= pad || ready.size() + batch.size() >= left / 8))
-                    break;  // (the first is the next cluster in serial order: always split)
-                batch.push_back(queue.top());
-                queue.pop();
+    tbb::concurrent_vector<Spec> specs;
+    std::vector<std::uint32_t> free_specs;  // slots of applied Specs, reused by the next round
+    std::vector<std::uint32_t> spec_of(1, kNoSpec);
+    spec_of.reserve(nodes.capacity());
+    std::uint64_t computed = 0;  // splits computed (applied or not)
+
+    const std::uint64_t most_splits = std::min<std::uint64_t>(params.max_splits, n - 1);
+
+    // One round: every queued cluster whose priority is >= tau, and each one's descendants down to
+    // priority tau, get their split computed (in parallel, subtrees on their own tasks).
+    auto expand_round = [&](double tau, std::int64_t budget_splits) {
+        std::atomic<std::size_t> next_free{0};
+        std::atomic<std::int64_t> budget{budget_splits};
+        std::atomic<std::uint64_t> made{0};
+        auto alloc = [&]() -> std::uint32_t {
+            const std::size_t f = next_free.fetch_add(1, std::memory_order_relaxed);
+            if (f < free_specs.size()) return free_specs[f];
+            return static_cast<std::uint32_t>(specs.grow_by(1) - specs.begin());
+        };
+        // node: the cluster [start, start + count) with its centre and value mean; slot: where its Spec goes
+        std::function<void(std::uint32_t, std::uint32_t, const Vec3&, double, double, std::uint32_t&)> visit;
+        visit = [&](std::uint32_t start, std::uint32_t count, const Vec3& centre, double mean, double prio,
+                    std::uint32_t& slot) {
+            if (slot == kNoSpec) {
+                if (budget.fetch_sub(1, std::memory_order_relaxed) <= 0) return;
+                const std::uint32_t s = alloc();
+                specs[s] = Spec{split(start, count, centre, mean), {kNoSpec, kNoSpec}};
+                made.fetch_add(1, std::memory_order_relaxed);
+                slot = s;
             }
-            results.assign(batch.size(), SplitResult{});
-            if (batch.size() == 1) {
-                results[0] = split(batch[0].node);
-            } else {
-                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.size(), 1), [&](const tbb::blocked_range<std::size_t>& br) {
-                    for (std::size_t i = br.begin(); i != br.end(); ++i) results[i] = split(batch[i].node);
-                });
+            Spec& sp = specs[slot];
+            if (sp.r.skipped) return;
+            const std::uint32_t cnt[2] = {sp.r.behind, count - sp.r.behind};
+            const std::uint32_t st0[2] = {start, start + sp.r.behind};
+            bool go[2];
+            double pr[2];
+            for (int k = 0; k < 2; ++k) {
+                pr[k] = std::min(prio, sp.r.child[k].error);
+                go[k] = offerable(cnt[k], sp.r.child[k].error) && pr[k] >= tau;
             }
-            for (std::size_t i = 0; i < batch.size(); ++i) ready.push(Ready{batch[i], results[i]});
+            auto child = [&](int k) {
+                visit(st0[k], cnt[k], sp.r.child[k].centre, sp.r.child[k].mean_value, pr[k], sp.child_spec[k]);
+            };
+            if (go[0] && go[1])
+                tbb::parallel_invoke([&] { child(0); }, [&] { child(1); });
+            else if (go[0])
+                child(0);
+            else if (go[1])
+                child(1);
+        };
+        // the heap holds exactly the queued clusters with priority >= tau
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queue.size(), 1), [&](const tbb::blocked_range<std::size_t>& br) {
+            for (std::size_t i = br.begin(); i != br.end(); ++i) {
+                const QueueEntry& e = queue[i];
+                visit(first[e.node], nodes[e.node].count, nodes[e.node].centre, mean_value[e.node], e.prio, spec_of[e.node]);
+            }
+        });
+        free_specs.erase(free_specs.begin(), free_specs.begin() + std::min(free_specs.size(), next_free.load()));
+        computed += made.load();
+    };
+
+    std::vector<double> prios;
+    double growth = 1;       // splits a round made per queued cluster it started from (the last round's)
+    std::size_t last_m = 1;  // the last round's m
+    while (st.splits < params.max_splits) {
+        if (queue.empty() || spec_of[queue.front().node] == kNoSpec) {
+            // the heap is spent or its top (the next split in serial order) is not computed: a new
+            // threshold tau, the tiers split at it, and a round if the top is not computed. tau is
+            // -infinity when no split can be left out (max_splits at least all there can be);
+            // otherwise the prio of the m-th worst queued cluster, m chosen so that the round makes
+            // about half the splits left (at most most_splits / 2 kRoundsAtLeast) at the last
+            // round's growth, and at most twice the last m
+            if (queue.empty() && below.empty()) break;
+            below.insert(below.end(), queue.begin(), queue.end());
+            queue.clear();
+            const std::uint64_t left = params.max_splits - st.splits;
+            double tau = -std::numeric_limits<double>::infinity();
+            if (params.max_splits < n - 1) {
+                prios.clear();
+                for (const QueueEntry& q : below) prios.push_back(q.prio);
+                const double want = 0.5 * static_cast<double>(std::min<std::uint64_t>(
+                                              left, std::max<std::uint64_t>(most_splits / kRoundsAtLeast, 4096)));
+                const std::size_t m = std::clamp<std::size_t>(static_cast<std::size_t>(want / growth), 1,
+                                                              std::min(prios.size(), 2 * last_m));
+                last_m = m;
+                std::nth_element(prios.begin(), prios.begin() + (m - 1), prios.end(), std::greater<>());
+                tau = prios[m - 1];
+            }
+            theta = tau;
+            const auto mid = std::partition(below.begin(), below.end(), [&](const QueueEntry& q) { return q.prio >= tau; });
+            queue.assign(below.begin(), mid);
+            below.erase(below.begin(), mid);
+            std::make_heap(queue.begin(), queue.end(), WorseFirst{});
+            if (spec_of[queue.front().node] != kNoSpec) continue;
+            const std::uint64_t before = computed;
+            expand_round(tau, static_cast<std::int64_t>(std::min(left, most_splits) + kPadSplits));
+            growth = std::max(1.0, static_cast<double>(computed - before) / static_cast<double>(queue.size()));
+            ++st.rounds;
             if (progress) progress->splits_done(st.splits);
             continue;
         }
-        const QueueEntry e = ready.top().e;
-        const SplitResult r = ready.top().r;
-        ready.pop();
-        if (r.skipped) {
+        const QueueEntry e = queue.front();
+        const std::uint32_t s = spec_of[e.node];
+        std::pop_heap(queue.begin(), queue.end(), WorseFirst{});
+        queue.pop_back();
+        const Spec& sp = specs[s];  // (specs grow only in rounds; the slot is reused only by the next)
+        free_specs.push_back(s);
+        if (sp.r.skipped) {
             nodes[e.node].flags |= kCbtSkippedSplit;
             ++st.skipped;
             continue;
         }
         const std::uint32_t start = first[e.node], count = nodes[e.node].count, depth = nodes[e.node].depth + 1;
-        const std::uint32_t a = add_node(r.child[0], start, r.behind, depth);
-        const std::uint32_t b = add_node(r.child[1], start + r.behind, count - r.behind, depth);
+        const std::uint32_t a = add_node(sp.r.child[0], start, sp.r.behind, depth);
+        const std::uint32_t b = add_node(sp.r.child[1], start + sp.r.behind, count - sp.r.behind, depth);
+        spec_of.push_back(sp.child_spec[0]);
+        spec_of.push_back(sp.child_spec[1]);
         nodes[e.node].child = a;
         ++st.splits;
         st.depth = std::max(st.depth, depth);
-        offer(a);
-        offer(b);
+        offer(a, e.prio);
+        offer(b, e.prio);
     }
-    st.speculative_unused = ready.size();
+    st.speculative_unused = computed - st.splits - st.skipped;
     st.error_reached = 0;
     for (const CbtNode& d : nodes)
         if (d.leaf()) st.error_reached = std::max(st.error_reached, d.error);
-    st.memory_bytes = idx.size() * 4 + nodes.size() * (sizeof(CbtNode) + 12);
+    st.memory_bytes = idx.size() * 4 + nodes.size() * (sizeof(CbtNode) + 16) + specs.size() * sizeof(Spec);
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return tree;
 }

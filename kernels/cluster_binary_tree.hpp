@@ -19,22 +19,28 @@
 // 409 vs 443, 418 vs 496, 256 vs 316; LIDC2 1347 vs 1414, 638 vs 576, 457 vs 383: normalised lower
 // in 6 of 9. raw stays available.
 //
-// Threads: the per-cluster work runs on oneTBB. The worst clusters of the queue are split
-// speculatively in batches (each split is a pure function of its cluster's samples, and clusters
-// occupy disjoint ranges of the index permutation), then the splits are applied in exactly the
-// serial order, numbering the nodes as a serial run would. A batch takes the next cluster in serial
-// order, the queued clusters that come before the worst one already split (they are split for
-// certain), and pads up to 16 per core of the task arena (the same for any --threads, so every
-// thread count does the same work) while fewer than (splits left) / 8 results wait: fixed batches
-// of 64 left ~204,000 splits made and never applied at 300,000 splits of the x2 head (~40 % more
-// work, ~30 MB of waiting results); now ~1,800 (0.6 %; CbtStats::speculative_unused, in hierarchy
-// --stats). Clusters of chunks::kParallelItems samples or more are themselves processed in fixed
-// chunks in parallel. The tree is identical, bit for bit, for any thread count. Limit threads
-// with tbb::global_control.
+// Threads: the per-cluster work runs on oneTBB. Splits are computed ahead in rounds and applied
+// in exactly the serial order, numbering the nodes as a serial run would; each split is a pure
+// function of its cluster's samples, and clusters occupy disjoint ranges of the index permutation.
+// The serial order splits clusters in falling priority p = the smallest error on the path from the
+// root (a best-first search pops its nodes in falling path minimum), so a round picks a threshold
+// tau and computes, on parallel tasks, every queued cluster with p >= tau and every descendant with
+// p >= tau (subtrees are independent); the serial loop then applies results until it reaches a
+// cluster not computed, and the next round starts. tau is the p of the m-th worst queued cluster,
+// m sized from the last round's growth (splits made per queued cluster started from) so that a
+// round makes about half the splits left (at most max(4096, splits / 16) / 2), never more than
+// twice the last m; a round computes at most the splits left + 64. The rounds depend only on the
+// data, not on the thread count (the budget aside), so every thread count does the same work.
+// Measured on the x2 head (2,983,865 samples, 300,000 splits): 56 rounds, 1 split computed and
+// never applied (CbtStats::speculative_unused, rounds; in hierarchy --stats); the batches of 16
+// clusters per core this replaced made ~40,000 barriers and 1.44x on 2 threads, rounds 1.84x.
+// When max_splits allows every split, one round computes the whole tree. Clusters of
+// chunks::kParallelItems samples or more are themselves processed in fixed chunks in parallel. The
+// tree is identical, bit for bit, for any thread count. Limit threads with tbb::global_control.
 // Memory: the samples are not copied: one u32 permutation of the sample numbers (4 bytes/sample),
-// the nodes (56 bytes each, 2 x splits + 1), their index range starts and value means (12
-// bytes/node), the queue and the split results waiting for their turn (~120 bytes each, fewer than
-// (splits left) / 8 + a batch); partitions are in place.
+// the nodes (56 bytes each, 2 x splits + 1), their index range starts, value means and computed
+// split (16 bytes/node), the queue (24 bytes per entry) and the splits computed and not yet applied
+// (112 bytes each, at most a round's); partitions are in place.
 // Thread-safety: reentrant. Throws InvalidArgument (above) or std::bad_alloc.
 #pragma once
 #include <span>

@@ -62,6 +62,7 @@ struct CbtStats {
     /// splits computed ahead for the threads whose results were never applied because max_splits
     /// ended the refinement first: wasted work (not stored in files)
     std::uint64_t speculative_unused = 0;
+    std::uint64_t rounds = 0;             ///< rounds of speculative splitting (not stored in files)
     std::uint64_t memory_bytes = 0;       ///< bytes of the permutation and the nodes (with their ranges) at the end
 };
 
