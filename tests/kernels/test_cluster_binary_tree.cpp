@@ -150,7 +150,7 @@ TEST_CASE("cluster tree: rounds give the serial tree for any max_splits, max_err
     // (max_splits, max_error) must give a valid tree with the same bytes on 1 and 3 threads, at
     // most 64 splits computed in vain, and one round when no split can be left out
     const Samples s = grid(40, 30, 20);
-    for (std::uint64_t ms : {1ull, 7ull, 64ull, 500ull, 4000ull, 23999ull, UINT64_MAX}) {
+    for (std::uint64_t ms : std::initializer_list<std::uint64_t>{1, 7, 64, 500, 4000, 23999, UINT64_MAX}) {
         for (double me : {0.0, 0.5}) {
             CbtParams p;
             p.max_splits = ms;
