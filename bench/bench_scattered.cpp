@@ -674,7 +674,8 @@ void part_b(Ctx& c) {
             s.why = "n/a (silicium not in the data folder)";
         } else {
             const std::size_t n = o.quick ? 2000 : 17532;
-            lod_or_sample(c, s, hierarchy && !o.quick, vol, " --dims 98,34,34" + raw_u8, n, 2, "the silicium volume");
+            // the file's name gives its dims and type (`hierarchy` reads volumes as point sets, without --dims)
+            lod_or_sample(c, s, hierarchy && !o.quick, vol, "", n, 2, "the silicium volume");
         }
         sets.push_back(s);
     }
@@ -813,7 +814,8 @@ void part_c(Ctx& c) {
         if (!mpi_done && p1.ok() && (o.quick || n >= 345000)) {
             mpi_done = true;
             mpi_row_set = s.ply.string();
-            mpi_ply = o1;
+            mpi_ply = c.out / "mpi_base.ply";  // o1 is overwritten by the next size's run
+            fs::copy_file(o1, mpi_ply, fs::copy_options::overwrite_existing);
             mpi_base = p1;
         }
     }
