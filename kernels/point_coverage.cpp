@@ -1,6 +1,7 @@
 #include "kernels/point_coverage.hpp"
 
 #include <nanoflann.hpp>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
@@ -44,15 +45,18 @@ struct PointCoverage::Impl {
         tree = std::make_unique<Tree>(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
         tree->buildIndex();
         const std::size_t k = std::min<std::size_t>(kSpacingNeighbours + 1, n);  // the point itself + 8
-        std::vector<unsigned> idx(k);
-        std::vector<double> d2(k);
         reach.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const Vec3& p = cloud.pts[i];
-            const double q[3] = {p.x, p.y, p.z};
-            const std::size_t got = tree->knnSearch(q, k, idx.data(), d2.data());
-            reach[i] = factor * (got > 1 ? std::sqrt(d2[got - 1]) : 0.0);
-        }
+        // each reach is its own query: on every core (the same values for any thread count)
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::array<unsigned, kSpacingNeighbours + 1> idx{};
+            std::array<double, kSpacingNeighbours + 1> d2{};
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const Vec3& p = cloud.pts[i];
+                const double q[3] = {p.x, p.y, p.z};
+                const std::size_t got = tree->knnSearch(q, k, idx.data(), d2.data());
+                reach[i] = factor * (got > 1 ? std::sqrt(d2[got - 1]) : 0.0);
+            }
+        });
     }
 
     bool covered(const Vec3& x) const {
