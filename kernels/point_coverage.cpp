@@ -46,11 +46,15 @@ struct PointCoverage::Impl {
         tree->buildIndex();
         const std::size_t k = std::min<std::size_t>(kSpacingNeighbours + 1, n);  // the point itself + 8
         reach.resize(n);
-        // each reach is its own query: on every core (the same values for any thread count)
+        // each reach is its own query: on every core (the same values for any thread count), the
+        // points taken in the tree's leaf order (vAcc) so that consecutive queries walk the same
+        // nodes (1 M points in random order, 2 threads: 3.9 -> 1.1 s)
+        const auto& order = tree->vAcc;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
             std::array<unsigned, kSpacingNeighbours + 1> idx{};
             std::array<double, kSpacingNeighbours + 1> d2{};
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            for (std::size_t j = r.begin(); j != r.end(); ++j) {
+                const std::size_t i = order[j];
                 const Vec3& p = cloud.pts[i];
                 const double q[3] = {p.x, p.y, p.z};
                 const std::size_t got = tree->knnSearch(q, k, idx.data(), d2.data());
