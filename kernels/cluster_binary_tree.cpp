@@ -12,6 +12,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <mutex>
 #include <vector>
 
 #include "kernels/cluster_pca_split.hpp"
@@ -43,6 +44,7 @@ struct SplitResult {
 
 constexpr std::uint32_t kNoSpec = 0xFFFFFFFFu;
 constexpr std::uint64_t kPadSplits = 64;  // a round computes at most the splits left + this
+constexpr std::uint64_t kProgressEvery = 1024;  // splits computed between progress reports
 constexpr std::uint64_t kRoundsAtLeast = 16;  // a round splits about most splits / 32 of certain ones: bounds the waiting results
 
 }  // namespace
@@ -187,6 +189,7 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
     std::vector<std::uint32_t> spec_of(1, kNoSpec);
     spec_of.reserve(nodes.capacity());
     std::uint64_t computed = 0;  // splits computed (applied or not)
+    std::mutex progress_mutex;   // the progress callback is called by one thread at a time
 
     const std::uint64_t most_splits = std::min<std::uint64_t>(params.max_splits, n - 1);
 
@@ -209,7 +212,11 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
                 if (budget.fetch_sub(1, std::memory_order_relaxed) <= 0) return;
                 const std::uint32_t s = alloc();
                 specs[s] = Spec{split(start, count, centre, mean), {kNoSpec, kNoSpec}};
-                made.fetch_add(1, std::memory_order_relaxed);
+                const std::uint64_t m = made.fetch_add(1, std::memory_order_relaxed) + 1;
+                if (progress && m % kProgressEvery == 0) {  // one round may be the whole tree: report within it
+                    const std::lock_guard<std::mutex> lock(progress_mutex);
+                    progress->splits_done(computed + m);
+                }
                 slot = s;
             }
             Spec& sp = specs[slot];
@@ -280,7 +287,7 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
             expand_round(tau, static_cast<std::int64_t>(std::min(left, most_splits) + kPadSplits));
             growth = std::max(1.0, static_cast<double>(computed - before) / static_cast<double>(queue.size()));
             ++st.rounds;
-            if (progress) progress->splits_done(st.splits);
+            if (progress) progress->splits_done(computed);
             continue;
         }
         const QueueEntry e = queue.front();

@@ -50,7 +50,9 @@
 
 namespace meshless {
 
-/// Optional progress callback: called between batches with the splits done so far.
+/// Optional progress callback: called with the splits computed so far (rising; at the end the
+/// splits made plus the few computed in vain), every 1,024 splits and after each round, by one
+/// thread at a time but not always the caller's.
 struct CbtProgress {
     virtual ~CbtProgress() = default;
     virtual void splits_done(std::uint64_t splits) = 0;
