@@ -105,6 +105,9 @@ int cmd_hierarchy(int argc, char** argv) {
                 "normalised")
         .flag("stats", "print splits, skipped splits, depth, error, time and memory to stderr");
     add_point_set_options(a, /*with_endian=*/true);
+    a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z (a raw file whose name does not give them)")
+        .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
+        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing in world units", "1,1,1");
     add_thread_option(a);
     add_quiet_option(a);
     a.positionals(1, 1000);
@@ -140,9 +143,13 @@ int cmd_hierarchy(int argc, char** argv) {
     const int nthreads = threads(a);
 
     const auto t0 = std::chrono::steady_clock::now();
+    // a raw volume described on the command line (--dims; --endian gives its byte order)
+    const bool raw_volume = a.has("dims") || a.has("type");
+    if (raw_volume && a.positional().size() != 1) throw UsageError("--dims/--type: one raw volume, not " + std::to_string(a.positional().size()) + " inputs");
     const PointSet points = a.positional().size() == 1 && is_brick_store(a.positional().front())
                                 ? point_set_from_brick_store(a.positional().front())
-                                : read_points_arg(a);
+                            : raw_volume ? point_set_from_volume(a.positional().front(), point_set_options(a), raw_options(a))
+                                         : read_points_arg(a);
     const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ClusterTree tree;
     {

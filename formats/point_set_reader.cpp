@@ -116,8 +116,8 @@ PointSet read_one(const std::string& path, const PointSetOptions& o, Fmt f, std:
 
 }  // namespace
 
-PointSet point_set_from_volume(const std::string& path, const PointSetOptions& o) {
-    const Volume v = read_volume(path);
+PointSet point_set_from_volume(const std::string& path, const PointSetOptions& o, const RawOptions& raw) {
+    const Volume v = read_volume(path, raw);
     const GridSpec& g = v.grid;
     const VolumeView view = v.view();
     PointSetBuilder b(path, o);

@@ -14,6 +14,7 @@
 // dims, trailing bytes unless allow_trailing). NaN/Inf samples are dropped and counted unless
 // options.strict. Thread-safety: reentrant, no shared state.
 #pragma once
+#include "formats/volume_reader.hpp"
 #include <array>
 #include <string>
 #include <vector>
@@ -48,8 +49,9 @@ PointSetInfo probe_point_set(const std::string& path, const PointSetOptions& opt
 /// only when the volume readers cannot describe it; a .bin only when it has a PLOT3D header).
 bool looks_like_point_set(const std::string& path);
 
-/// Every voxel of a regular volume as a point (value = sample, block dims = volume dims).
-PointSet point_set_from_volume(const std::string& path, const PointSetOptions& options = {});
+/// Every voxel of a regular volume as a point (value = sample, block dims = volume dims); raw gives
+/// the dims, type, byte order and spacing of a raw file that does not describe itself.
+PointSet point_set_from_volume(const std::string& path, const PointSetOptions& options = {}, const RawOptions& raw = {});
 
 /// A level of detail of a cluster tree (.mlh, formats/cluster_tree_file.hpp) as a point set: the
 /// cluster centres and values of the LOD that options.lod_level / lod_error choose (the finest

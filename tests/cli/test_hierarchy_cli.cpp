@@ -145,3 +145,34 @@ TEST_CASE("meshless hierarchy: bad input is one line, non-zero, nothing written"
     CHECK(cut.err.find("cut.mlh") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(d / "x.csv"));
 }
+
+TEST_CASE("meshless hierarchy: a raw volume described by --dims/--type gives the tree of the same voxels from NRRD",
+          "[cli][cbt]") {
+    TempDir d("hier_cli_raw");
+    const std::string D = d.path.string();
+    // 6 x 5 x 4 uint8 voxels, the same bytes as a headerless raw file and behind an NRRD header
+    std::string bytes;
+    for (int i = 0; i < 6 * 5 * 4; ++i) bytes += static_cast<char>((i * 37) % 251);
+    spit(d / "v.dat", bytes);
+    spit(d / "v.nhdr", "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 6 5 4\nspacings: 2 1 1\nencoding: raw\ndata file: v.dat\n");
+    spit(d / "plain.raw", bytes);
+    REQUIRE(sh("MESHLESS hierarchy " + D + "/v.nhdr -o " + D + "/n.mlh", d).code == 0);
+    const auto r = sh("MESHLESS hierarchy " + D + "/plain.raw --dims 6,5,4 --type uint8 --spacing 2,1,1 -o " + D + "/r.mlh", d);
+    REQUIRE(r.code == 0);
+    const ClusterTree a = read_cluster_tree_file(D + "/n.mlh"), b = read_cluster_tree_file(D + "/r.mlh");
+    CHECK(a.stats.samples == 120);
+    REQUIRE(a.nodes.size() == b.nodes.size());
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+        CHECK(a.nodes[i].centre.x == b.nodes[i].centre.x);
+        CHECK(a.nodes[i].value == b.nodes[i].value);
+        CHECK(a.nodes[i].child == b.nodes[i].child);
+    }
+    // dims that do not match the file: one line naming it, nothing written
+    const auto bad = sh("MESHLESS hierarchy " + D + "/plain.raw --dims 6,5,5 --type uint8 -o " + D + "/bad.mlh", d);
+    CHECK(bad.code != 0);
+    CHECK(one_line(bad.err));
+    CHECK(bad.err.find("plain.raw") != std::string::npos);
+    CHECK(!std::filesystem::exists(d / "bad.mlh"));
+    // --dims with two inputs is a usage error
+    CHECK(sh("MESHLESS hierarchy " + D + "/plain.raw " + D + "/plain.raw --dims 6,5,4 --type uint8 -o " + D + "/x.mlh", d).code != 0);
+}
