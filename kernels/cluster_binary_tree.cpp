@@ -4,7 +4,6 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -45,7 +44,7 @@ struct SplitResult {
 constexpr std::uint32_t kNoSpec = 0xFFFFFFFFu;
 constexpr std::uint64_t kPadSplits = 64;  // a round computes at most the splits left + this
 constexpr std::uint64_t kProgressEvery = 1024;  // splits computed between progress reports
-constexpr std::uint64_t kRoundsAtLeast = 16;  // a round splits about most splits / 32 of certain ones: bounds the waiting results
+constexpr std::uint64_t kRoundsAtLeast = 16;  // a round aims at max(4096, most splits / 16) / 2 splits at most: bounds the waiting results
 
 }  // namespace
 
@@ -250,7 +249,6 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
         computed += made.load();
     };
 
-    std::vector<double> prios;
     double growth = 1;       // splits a round made per queued cluster it started from (the last round's)
     std::size_t last_m = 1;  // the last round's m
     while (st.splits < params.max_splits) {
@@ -266,19 +264,22 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
             queue.clear();
             const std::uint64_t left = params.max_splits - st.splits;
             double tau = -std::numeric_limits<double>::infinity();
+            auto mid = below.end();
             if (params.max_splits < n - 1) {
-                prios.clear();
-                for (const QueueEntry& q : below) prios.push_back(q.prio);
                 const double want = 0.5 * static_cast<double>(std::min<std::uint64_t>(
                                               left, std::max<std::uint64_t>(most_splits / kRoundsAtLeast, 4096)));
                 const std::size_t m = std::clamp<std::size_t>(static_cast<std::size_t>(want / growth), 1,
-                                                              std::min(prios.size(), 2 * last_m));
+                                                              std::min(below.size(), 2 * last_m));
                 last_m = m;
-                std::nth_element(prios.begin(), prios.begin() + (m - 1), prios.end(), std::greater<>());
-                tau = prios[m - 1];
+                // the m largest prios first; then the ties of the m-th from the rest (the heap's
+                // pops do not depend on where its entries start: WorseFirst is a total order)
+                const auto higher = [](const QueueEntry& a, const QueueEntry& b) { return a.prio > b.prio; };
+                std::nth_element(below.begin(), below.begin() + static_cast<std::ptrdiff_t>(m - 1), below.end(), higher);
+                tau = below[m - 1].prio;
+                mid = std::partition(below.begin() + static_cast<std::ptrdiff_t>(m), below.end(),
+                                     [&](const QueueEntry& q) { return q.prio >= tau; });
             }
             theta = tau;
-            const auto mid = std::partition(below.begin(), below.end(), [&](const QueueEntry& q) { return q.prio >= tau; });
             queue.assign(below.begin(), mid);
             below.erase(below.begin(), mid);
             std::make_heap(queue.begin(), queue.end(), WorseFirst{});
