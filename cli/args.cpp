@@ -304,6 +304,11 @@ std::vector<std::string> Args::get_all(const std::string& name) const {
 
 std::string Args::get_or(const std::string& name, const std::string& def) const { return get(name).value_or(def); }
 
+std::string Args::default_of(const std::string& name) const {
+    const CLI::Option* o = impl_->find("--" + name);
+    return o ? o->get_default_str() : std::string();
+}
+
 std::string Args::require(const std::string& name) const {
     auto v = get(name);
     if (!v) throw UsageError("missing required option --" + name + " (see meshless " + command_ + " --help)");

@@ -49,6 +49,8 @@ public:
     std::optional<std::string> get(const std::string& name) const;
     std::vector<std::string> get_all(const std::string& name) const;
     std::string get_or(const std::string& name, const std::string& def) const;
+    /// The default text declared with option `name` ("" when none or not declared).
+    std::string default_of(const std::string& name) const;
     std::string require(const std::string& name) const;
     std::optional<double> get_double(const std::string& name) const;
     double get_double_or(const std::string& name, double def) const;

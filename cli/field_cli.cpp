@@ -69,11 +69,11 @@ void print_field_build_stats(const Args& a, const FieldParams& params, const Poi
                  static_cast<unsigned long long>(st.linear_fallback), st.memory_bytes / 1048576.0, st.build_seconds);
 }
 
-void add_field_options(Args& a, bool with_coverage) {
+void add_field_options(Args& a, bool with_coverage, const std::string& default_kind) {
     a.option("field", "", "NAME|FILE.mlf",
              "rbf-grid (section 4.3) | mpu (section 5.5) | global-rbf (small sets), or a field fitted by "
              "meshless fit (.mlf; it must have been fitted to these points)",
-             "rbf-grid")
+             default_kind)
         .option("binning", "", "M", "rbf-grid: binning constant m, about points per RBF-grid cell", "5")
         .option("support", "", "27|paper", "rbf-grid: blend the 27 neighbour cells (continuous) or the paper's radius 2|s|", "27")
         .option("local-points", "", "K",
@@ -106,9 +106,16 @@ std::optional<std::string> field_file_arg(const Args& a) {
     return std::nullopt;
 }
 
-FieldParams field_params(const Args& a) {
+std::string field_kind_arg(const Args& a, const std::string& default_kind) {
+    if (const auto v = a.get("field")) return *v;
+    if (!default_kind.empty()) return default_kind;
+    const std::string d = a.default_of("field");
+    return d.empty() ? kBlocksFieldDefault : d;
+}
+
+FieldParams field_params(const Args& a, const std::string& default_kind) {
     FieldParams p;
-    const std::string kind = a.get_or("field", "rbf-grid");
+    const std::string kind = field_kind_arg(a, default_kind);
     if (field_file_arg(a)) throw UsageError("--field " + kind + ": a fitted field file, not a field to build");
     if (!parse_field_kind(kind, p.kind))
         throw UsageError("--field: expected rbf-grid, mpu, global-rbf or a fitted field file (.mlf), got '" + kind + "'");
@@ -158,13 +165,13 @@ FieldProgress field_progress(ProgressMeter& meter) {
     };
 }
 
-BuiltField build_field(const Args& a, const PointSet& points) {
+BuiltField build_field(const Args& a, const PointSet& points, const std::string& default_kind) {
     BuiltField f;
     if (const auto path = field_file_arg(a)) {
         f = load_file(a, *path);
         check_fitted_to(*f.file, point_set_identity(points), *path);
     } else {
-        const FieldParams params = field_params(a);
+        const FieldParams params = field_params(a, default_kind);
         const int n = threads(a);
         oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(n));
         FieldBuildStats st;

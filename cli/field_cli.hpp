@@ -21,11 +21,25 @@
 
 namespace meshless::cli {
 
+/// The field built when --field is not given, by what the data is: chapter 5 projects the isosurface
+/// of scattered points onto the MPU field (section 5.5); chapter 4 blends the RBF grid (section 4.3)
+/// over multiblock nodes. Scattered points got rbf-grid until 2026-11-27; measured then
+/// (`meshless-bench scattered --parts a --no-peers --sizes 10000,100000 [--field mpu]`, README):
+/// mpu is as accurate against the analytic truths (mean distance within 0.5-2.5x of rbf-grid's,
+/// smaller on the gyroid and Marschner-Lobb sets, coverage >= 99 % on one set more) and 2-3x
+/// faster end to end.
+inline constexpr const char* kPointsFieldDefault = "mpu";
+inline constexpr const char* kBlocksFieldDefault = "rbf-grid";
+
 /// with_coverage: also --max-gap and --extrapolate (commands that evaluate the field where the data
-/// may not reach: probe, slice, resample).
-void add_field_options(Args& a, bool with_coverage = true);
-/// The field parameters of the options; UsageError when --field names a .mlf (see field_file_arg).
-FieldParams field_params(const Args& a);
+/// may not reach: probe, slice, resample). default_kind: the --field default shown in --help and
+/// built when --field is absent (unless the command passes another to field_params/build_field).
+void add_field_options(Args& a, bool with_coverage = true, const std::string& default_kind = kBlocksFieldDefault);
+/// --field as given, else `default_kind` when not empty, else the default add_field_options declared.
+std::string field_kind_arg(const Args& a, const std::string& default_kind = {});
+/// The field parameters of the options (the kind: field_kind_arg(a, default_kind)); UsageError when
+/// --field names a .mlf (see field_file_arg).
+FieldParams field_params(const Args& a, const std::string& default_kind = {});
 /// The .mlf named by --field, if it names one (ends in .mlf, or an existing file with the .mlf magic);
 /// nullopt for a field kind (rbf-grid, mpu, global-rbf).
 std::optional<std::string> field_file_arg(const Args& a);
@@ -49,7 +63,8 @@ struct BuiltField {
 /// Builds the field from `points` with --threads workers, or loads the .mlf named by --field after
 /// checking that it was fitted to exactly `points` (FormatError otherwise; options that shape a fit,
 /// like --binning, are then a UsageError). Prints a summary on stderr with --stats.
-BuiltField build_field(const Args& a, const PointSet& points);
+/// default_kind: as for field_params.
+BuiltField build_field(const Args& a, const PointSet& points, const std::string& default_kind = {});
 class ProgressMeter;
 /// A FieldProgress that sets the meter's total from the build's report and counts the local fits.
 FieldProgress field_progress(ProgressMeter& meter);

@@ -258,15 +258,16 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
 
 int isosurface_scattered(int argc, char** argv) {
     const auto t_start = Clock::now();
-    Args a("isosurface", "POINTS --iso V -o out.ply [--png out.png] [--field rbf-grid|mpu|global-rbf|F.mlf] [--samples N] [options]",
+    Args a("isosurface", "POINTS --iso V -o out.ply [--png out.png] [--field mpu|rbf-grid|global-rbf|F.mlf] [--samples N] [options]",
            "Isosurface straight from scattered data (dissertation chapter 5): the points are binned in the grid\n"
            "of section 5.3 (octree, median of the depth-first levels, one surrounding layer of cells); a 3x3x3\n"
            "stencil marches over alternate cells: its points, plus one regularisation point with the field's value\n"
            "at the centre of each empty cell (made on the fly, never stored), are tetrahedralised by CGAL's Delaunay\n"
            "(section 5.4), marching tetrahedra contours the tetrahedra the stencil owns, the triangles are sampled\n"
            "on a barycentric lattice of N(N+1)/2 interior points, and every sample is projected onto the field's\n"
-           "isosurface by safeguarded Newton iteration (section 5.6). Writes an oriented point set (binary PLY:\n"
-           "x y z nx ny nz radius value, or .vtp) and/or a splatted PNG.\n"
+           "isosurface by safeguarded Newton iteration (section 5.6), of the MPU field (section 5.5) unless\n"
+           "--field names another. Writes an oriented point set (binary PLY: x y z nx ny nz radius value, or\n"
+           ".vtp) and/or a splatted PNG.\n"
            "POINTS: CSV/TSV/text, PLY, VTP, raw float32 records, .npy (see meshless info).");
     a.option("iso", "", "V", "isovalue (required)")
         .option("output", "o", "FILE", "point set output: .ply or .vtp; '-' = stdout")
@@ -276,7 +277,7 @@ int isosurface_scattered(int argc, char** argv) {
     add_scattered_options(a);
     a.option("dedup", "", "F", "remove points closer than F x their radius to an earlier point (overlapping stencils; 0 = keep all)", "0");
     add_newton_options(a);
-    add_field_options(a, /*with_coverage=*/false);
+    add_field_options(a, /*with_coverage=*/false, kPointsFieldDefault);
     add_quiet_option(a);
     add_camera_options(a);
     add_color_options(a);
@@ -331,7 +332,7 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
     // the field: only when the isovalue is within the data (an empty output needs none)
     auto t0 = Clock::now();
     BuiltField field;
-    std::string field_name = a.get_or("field", "rbf-grid");
+    std::string field_name = field_kind_arg(a);
     if (crossed) {
         field = build_field(a, in.points);
         field_name = field.field->name();
@@ -459,7 +460,7 @@ int generate_scattered(int argc, char** argv) {
         .option("output", "o", "FILE", "stream output, '-' = stdout", "-")
         .flag("compress", "zstd-compress the stream's DATA frames");
     add_scattered_options(a);
-    add_field_options(a, /*with_coverage=*/false);
+    add_field_options(a, /*with_coverage=*/false, kPointsFieldDefault);
     a.positionals(1, 1u << 20);
     a.epilog("example: meshless fit pts.ply -o f.mlf && meshless generate pts.ply --iso 0.5 --field f.mlf | meshless project --field f.mlf | meshless splat -o img.png\n");
     if (!a.parse(argc, argv, 2)) return 0;

@@ -102,6 +102,34 @@ TEST_CASE("isosurface POINTS: in-process, piped and any --threads give the same 
     CHECK(worst_sphere_error((d / "a.ply").string(), 0.6) < 0.02);
 }
 
+TEST_CASE("isosurface POINTS builds chapter 5's MPU field by default, fit chooses by the data", "[cli][scattered][fit]") {
+    TempDir d("scdefault");
+    const std::string pts = write_csv(d, "sphere.csv", sphere_points(3000, 5));
+    const std::string D = d.path.string();
+    auto r = sh("MESHLESS isosurface " + pts + " --iso 0.6 -o " + D + "/a.ply --stats", d);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("mpu field from 3000 points"));
+    CHECK_THAT(r.err, Catch::Contains("Newton onto mpu"));
+    CHECK_THAT(slurp(d / "a.ply"), Catch::Contains("comment field mpu"));
+    CHECK(worst_sphere_error((d / "a.ply").string(), 0.6) < 0.02);
+    // the same bytes as naming it, and as the pipe through a field fitted with fit's default
+    REQUIRE(sh("MESHLESS isosurface " + pts + " --iso 0.6 --field mpu -o " + D + "/b.ply", d).code == 0);
+    CHECK(slurp(d / "a.ply") == slurp(d / "b.ply"));
+    REQUIRE(sh("MESHLESS fit " + pts + " -o " + D + "/f.mlf", d).code == 0);
+    CHECK_THAT(sh("MESHLESS info " + D + "/f.mlf", d).out, Catch::Contains("field: mpu"));
+    REQUIRE(sh("MESHLESS generate " + pts + " --iso 0.6 | MESHLESS project --field " + D + "/f.mlf | MESHLESS write -o " + D + "/c.ply", d)
+                .code == 0);
+    CHECK(slurp(d / "a.ply") == slurp(d / "c.ply"));
+    // the help says which field is built
+    CHECK_THAT(sh("MESHLESS isosurface " + pts + " --help", d).out, Catch::Contains("(default mpu)"));
+    // multiblock inputs keep chapter 4's RBF grid
+    if (have_shared_data()) {
+        const std::string P = (shared_data() / "plot3d").string();
+        REQUIRE(sh("MESHLESS fit " + P + "/multicomb_0.vts -o " + D + "/mb.mlf", d).code == 0);
+        CHECK_THAT(sh("MESHLESS info " + D + "/mb.mlf", d).out, Catch::Contains("field: rbf-grid"));
+    }
+}
+
 TEST_CASE("isosurface POINTS --dedup: fewer points, still on the surface, same bytes for any --threads", "[cli][scattered]") {
     TempDir d("scdedup");
     const std::string pts = write_csv(d, "sphere.csv", sphere_points(3000, 2));
