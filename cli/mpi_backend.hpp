@@ -4,10 +4,14 @@
 // CPU per process, measured: 13 ms with, 7 ms without), which pipes of stages and nightly batches
 // pay once per process. cli/mpi_session.cpp loads the plugin (dlopen, RTLD_GLOBAL so that Open MPI
 // finds its own components) only when the process was launched by mpirun.
-// Header-only and ABI-neutral apart from std::vector (plugin and executable come from one build).
+// Header-only and ABI-neutral apart from std::vector and std::optional (plugin and executable come
+// from one build; the symbol's version changes with the interface). Thread-safety: the plugin
+// serialises its MPI calls (MPI_THREAD_SERIALIZED and one mutex, never held while waiting), so the
+// deal's requests and grants may run on other threads than the stream's sends and receives.
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace meshless::cli {
@@ -27,12 +31,16 @@ public:
     virtual void send_to_root(std::vector<std::byte> message) = 0;
     virtual void receive_from(int rank, std::vector<std::byte>& message) = 0;
     virtual void flush() = 0;
+    /// The dynamic deal (stream/unit_deal.hpp, RankChannel's contract).
+    virtual std::optional<std::size_t> request_unit() = 0;
+    virtual std::optional<int> poll_request() = 0;
+    virtual void grant(int rank, std::optional<std::size_t> unit) = 0;
 };
 
 /// The plugin's one exported function (extern "C", this name): MPI_Init (if not yet) and a backend
 /// owned by the caller; deleting it calls MPI_Finalize.
 using MpiBackendFactory = MpiBackend* (*)(int* argc, char*** argv);
-inline constexpr const char* kMpiBackendSymbol = "meshless_mpi_backend_v1";
+inline constexpr const char* kMpiBackendSymbol = "meshless_mpi_backend_v2";
 /// The plugin's file name, looked up beside the executable.
 inline constexpr const char* kMpiPluginFile = "libmeshless_mpi.so";
 

@@ -68,5 +68,8 @@ MpiChannel::~MpiChannel() { backend_.close_channel(); }
 void MpiChannel::send_to_root(std::vector<std::byte> message) { backend_.send_to_root(std::move(message)); }
 void MpiChannel::receive_from(int rank, std::vector<std::byte>& message) { backend_.receive_from(rank, message); }
 void MpiChannel::flush() { backend_.flush(); }
+std::optional<std::size_t> MpiChannel::request_unit() { return backend_.request_unit(); }
+std::optional<int> MpiChannel::poll_request() { return backend_.poll_request(); }
+void MpiChannel::grant(int rank, std::optional<std::size_t> unit) { backend_.grant(rank, unit); }
 
 }  // namespace meshless::cli

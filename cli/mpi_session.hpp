@@ -51,7 +51,8 @@ private:
 /// Byte messages to rank 0 in synchronous mode (MPI_Issend) with at most `window` unreceived
 /// messages per sender: a sender blocks on its oldest message once the window is full, so neither
 /// side buffers more than window messages whatever the output size. Receives probe for the size.
-/// One channel per rank; not thread-safe (the sinks call it from one thread).
+/// One channel per rank; the stream's calls (send_to_root, receive_from, flush) come from one thread,
+/// the deal's (request_unit, poll_request, grant) may come from another (the plugin serialises MPI).
 class MpiChannel final : public RankChannel {
 public:
     explicit MpiChannel(const MpiSession& s, int window = 4);
@@ -59,6 +60,9 @@ public:
     void send_to_root(std::vector<std::byte> message) override;
     void receive_from(int rank, std::vector<std::byte>& message) override;
     void flush() override;
+    std::optional<std::size_t> request_unit() override;
+    std::optional<int> poll_request() override;
+    void grant(int rank, std::optional<std::size_t> unit) override;
 
 private:
     MpiBackend& backend_;

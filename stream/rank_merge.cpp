@@ -37,6 +37,19 @@ std::vector<std::size_t> units_of_rank(std::size_t units, int rank, int ranks) {
     return u;
 }
 
+void UnitList::push(std::size_t unit) {
+    std::lock_guard lock(mu_);
+    if (!u_.empty() && unit <= u_.back())
+        throw FormatError("rank merge: unit " + std::to_string(unit) + " dealt after unit " + std::to_string(u_.back()));
+    u_.push_back(unit);
+}
+
+std::optional<std::size_t> UnitList::at(std::size_t i) const {
+    std::lock_guard lock(mu_);
+    if (i >= u_.size()) return std::nullopt;
+    return u_[i];
+}
+
 void UnitTags::push(std::size_t unit) {
     std::lock_guard lock(mu_);
     q_.push_back(unit);
@@ -57,17 +70,20 @@ std::optional<Batch> TaggingSource::next() {
 }
 
 RankSendSink::RankSendSink(RankChannel& ch, UnitTags& tags, int rank, std::vector<std::size_t> my_units)
-    : ch_(ch), tags_(tags), rank_(rank), units_(std::move(my_units)) {}
+    : ch_(ch), tags_(tags), rank_(rank), own_(std::move(my_units)), units_(own_) {}
+
+RankSendSink::RankSendSink(RankChannel& ch, UnitTags& tags, int rank, const UnitList& my_units)
+    : ch_(ch), tags_(tags), rank_(rank), units_(my_units) {}
 
 void RankSendSink::end_units_before(std::size_t unit) {
-    while (next_ < units_.size() && units_[next_] < unit) ch_.send_to_root(message(kEnd, rank_, units_[next_++], nullptr));
+    for (auto u = units_.at(next_); u && *u < unit; u = units_.at(++next_)) ch_.send_to_root(message(kEnd, rank_, *u, nullptr));
 }
 
 void RankSendSink::consume(Batch&& b) {
     const std::size_t unit = tags_.pop();
     if (b.kind != RecordKind::point) throw FormatError("rank merge: rank " + std::to_string(rank_) + " produced samples, expected points");
     end_units_before(unit);
-    if (next_ >= units_.size() || units_[next_] != unit)
+    if (units_.at(next_) != unit)
         throw std::logic_error("rank merge: rank " + std::to_string(rank_) + " got a batch of unit " + std::to_string(unit) +
                                " it does not own or already closed");
     ch_.send_to_root(message(kData, rank_, unit, &b.points));
@@ -85,7 +101,7 @@ void RankMergeSink::deliver(Batch&& b) {
 }
 
 void RankMergeSink::receive_unit(std::size_t unit) {
-    const int from = unit_owner(unit, ranks_);
+    const int from = owner_(unit);
     const std::string who = "MPI stream from rank " + std::to_string(from) + ", unit " + std::to_string(unit);
     for (;;) {
         ch_.receive_from(from, buf_);
@@ -110,13 +126,13 @@ void RankMergeSink::receive_unit(std::size_t unit) {
 void RankMergeSink::write_units_before(std::size_t unit) {
     // rank 0's own units before `unit` are complete (their batches came earlier); others' come now
     for (; next_unit_ < unit && next_unit_ < units_; ++next_unit_)
-        if (unit_owner(next_unit_, ranks_) != 0) receive_unit(next_unit_);
+        if (owner_(next_unit_) != 0) receive_unit(next_unit_);
 }
 
 void RankMergeSink::consume(Batch&& b) {
     const std::size_t unit = tags_.pop();
     if (b.kind != RecordKind::point) throw FormatError("rank merge: rank 0 produced samples, expected points");
-    if (unit < next_unit_ || unit_owner(unit, ranks_) != 0)
+    if (unit < next_unit_ || owner_(unit) != 0)
         throw std::logic_error("rank merge: rank 0 got a batch of unit " + std::to_string(unit) + " out of order");
     write_units_before(unit);
     deliver(std::move(b));

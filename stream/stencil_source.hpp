@@ -9,6 +9,8 @@
 // Not thread-safe (the runner calls next() serially).
 #pragma once
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <vector>
 
 #include "kernels/marching_stencils.hpp"
@@ -29,14 +31,17 @@ public:
     /// The work of the listed stencil rows only (increasing row indices r = sy + Sy sz: the units an
     /// MPI rank owns, stream/stencil_ranks.hpp), each split as above.
     StencilSource(const StencilGrid& grid, std::vector<std::size_t> rows, std::int64_t per_unit = kStencilsPerUnit);
+    /// The work of the rows next_row() names, asked for one at a time as the last one is used up
+    /// (increasing, < the grid's row count; nullopt: no more): a rank of a dynamic deal
+    /// (stream/unit_deal.hpp). Throws std::out_of_range for a row beyond the grid.
+    StencilSource(const StencilGrid& grid, std::function<std::optional<std::size_t>()> next_row,
+                  std::int64_t per_unit = kStencilsPerUnit);
     std::optional<Batch> next() override;
     std::uint64_t emitted() const { return seq_; }
 
 private:
-    std::int64_t row_, per_, at_, end_;
-    std::vector<std::size_t> rows_;  ///< when listed: the rows still to emit after the current one
-    std::size_t next_row_ = 0;
-    bool listed_ = false;
+    std::int64_t row_, per_, at_, end_, rows_total_ = 0;
+    std::function<std::optional<std::size_t>()> next_row_;  ///< when set: the rows still to emit after the current one
     std::uint64_t seq_ = 0;
 };
 

@@ -9,13 +9,16 @@
 #include <cstdlib>
 #include <deque>
 #include <limits>
+#include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
 namespace meshless::cli {
 
 namespace {
-constexpr int kStreamTag = 11;
+constexpr int kStreamTag = 11, kRequestTag = 12, kGrantTag = 13;
+constexpr std::uint64_t kNoUnit = ~std::uint64_t{0};
 
 /// Waits for `done()` without spinning a core: MPI's blocking calls busy-poll, which on a machine
 /// with fewer free cores than ranks (mpirun --oversubscribe, other jobs) starves the ranks that
@@ -37,7 +40,15 @@ public:
     OpenMpiBackend(int* argc, char*** argv) {
         int inited = 0;
         MPI_Initialized(&inited);
-        if (!inited) MPI_Init(argc, argv);
+        if (!inited) {
+            int provided = MPI_THREAD_SINGLE;
+            MPI_Init_thread(argc, argv, MPI_THREAD_SERIALIZED, &provided);
+            serialized_ = provided >= MPI_THREAD_SERIALIZED;
+        } else {
+            int provided = MPI_THREAD_SINGLE;
+            MPI_Query_thread(&provided);
+            serialized_ = provided >= MPI_THREAD_SERIALIZED;
+        }
         MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
         MPI_Comm_size(MPI_COMM_WORLD, &size_);
     }
@@ -70,43 +81,91 @@ public:
         if (message.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
             throw std::logic_error("MPI channel: message larger than INT_MAX bytes");
         while (q_.size() >= static_cast<std::size_t>(window_)) {
-            MPI_Request* req = &q_.front().request;
-            wait_politely([&] {
-                int flag = 0;
-                MPI_Test(req, &flag, MPI_STATUS_IGNORE);
-                return flag != 0;
-            });
+            wait_politely([&] { return test(q_.front().request); });
             q_.pop_front();
         }
         auto& m = q_.emplace_back();
         m.bytes = std::move(message);
+        std::lock_guard lock(mu_);
         MPI_Issend(m.bytes.data(), static_cast<int>(m.bytes.size()), MPI_BYTE, 0, kStreamTag, MPI_COMM_WORLD, &m.request);
     }
 
     void receive_from(int rank, std::vector<std::byte>& message) override {
         MPI_Status st;
         wait_politely([&] {
+            std::lock_guard lock(mu_);
             int flag = 0;
             MPI_Iprobe(rank, kStreamTag, MPI_COMM_WORLD, &flag, &st);
             return flag != 0;
         });
         int n = 0;
+        std::lock_guard lock(mu_);
         MPI_Get_count(&st, MPI_BYTE, &n);
         message.resize(static_cast<std::size_t>(n));
         MPI_Recv(message.data(), n, MPI_BYTE, rank, kStreamTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     }
 
     void flush() override {
-        for (auto& m : q_)
-            wait_politely([&] {
-                int flag = 0;
-                MPI_Test(&m.request, &flag, MPI_STATUS_IGNORE);
-                return flag != 0;
-            });
+        for (auto& m : q_) wait_politely([&] { return test(m.request); });
         q_.clear();
     }
 
+    std::optional<std::size_t> request_unit() override {
+        require_serialized();
+        const std::uint64_t ask = 0;
+        MPI_Request req;
+        {
+            std::lock_guard lock(mu_);
+            MPI_Isend(&ask, 1, MPI_UINT64_T, 0, kRequestTag, MPI_COMM_WORLD, &req);
+        }
+        std::uint64_t unit = kNoUnit;
+        MPI_Request got;
+        {
+            std::lock_guard lock(mu_);
+            MPI_Irecv(&unit, 1, MPI_UINT64_T, 0, kGrantTag, MPI_COMM_WORLD, &got);
+        }
+        wait_politely([&] { return test(req); });
+        wait_politely([&] { return test(got); });
+        if (unit == kNoUnit) return std::nullopt;
+        return static_cast<std::size_t>(unit);
+    }
+
+    std::optional<int> poll_request() override {
+        require_serialized();
+        std::lock_guard lock(mu_);
+        int flag = 0;
+        MPI_Status st;
+        MPI_Iprobe(MPI_ANY_SOURCE, kRequestTag, MPI_COMM_WORLD, &flag, &st);
+        if (!flag) return std::nullopt;
+        std::uint64_t ask = 0;
+        MPI_Recv(&ask, 1, MPI_UINT64_T, st.MPI_SOURCE, kRequestTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        return st.MPI_SOURCE;
+    }
+
+    void grant(int rank, std::optional<std::size_t> unit) override {
+        require_serialized();
+        const std::uint64_t u = unit ? static_cast<std::uint64_t>(*unit) : kNoUnit;
+        MPI_Request req;
+        {
+            std::lock_guard lock(mu_);
+            MPI_Isend(&u, 1, MPI_UINT64_T, rank, kGrantTag, MPI_COMM_WORLD, &req);
+        }
+        wait_politely([&] { return test(req); });  // the rank waits for it in request_unit
+    }
+
 private:
+    bool test(MPI_Request& req) {
+        std::lock_guard lock(mu_);
+        int flag = 0;
+        MPI_Test(&req, &flag, MPI_STATUS_IGNORE);
+        return flag != 0;
+    }
+    void require_serialized() const {
+        if (!serialized_)
+            throw std::runtime_error("this MPI library does not provide MPI_THREAD_SERIALIZED, which the dynamic deal of work needs");
+    }
+    std::mutex mu_;  // every MPI call (MPI_THREAD_SERIALIZED); never held while waiting
+    bool serialized_ = false;
     struct Message {
         std::vector<std::byte> bytes;
         MPI_Request request;
@@ -118,6 +177,6 @@ private:
 
 }  // namespace meshless::cli
 
-extern "C" __attribute__((visibility("default"))) meshless::cli::MpiBackend* meshless_mpi_backend_v1(int* argc, char*** argv) {
+extern "C" __attribute__((visibility("default"))) meshless::cli::MpiBackend* meshless_mpi_backend_v2(int* argc, char*** argv) {
     return new meshless::cli::OpenMpiBackend(argc, argv);
 }

@@ -18,48 +18,14 @@
 #include "stream/point_sinks.hpp"
 #include "test_paths.hpp"
 
+#include "stream/hub_channel.hpp"
+
 using namespace meshless;
 using namespace meshless::test;
+using meshless::test::Hub;
+using meshless::test::HubChannel;
 
 namespace {
-
-/// Message queues of every rank to rank 0, each holding at most `window` unreceived messages.
-struct Hub {
-    explicit Hub(int ranks, std::size_t window) : q(static_cast<std::size_t>(ranks)), max_depth(q.size(), 0), window(window) {}
-    std::mutex m;
-    std::condition_variable cv;
-    std::vector<std::deque<std::vector<std::byte>>> q;
-    std::vector<std::size_t> max_depth;
-    std::size_t window;
-};
-
-class HubChannel final : public RankChannel {
-public:
-    HubChannel(Hub& h, int rank) : h_(h), r_(static_cast<std::size_t>(rank)) {}
-    void send_to_root(std::vector<std::byte> m) override {
-        std::unique_lock lock(h_.m);
-        h_.cv.wait(lock, [&] { return h_.q[r_].size() < h_.window; });
-        h_.q[r_].push_back(std::move(m));
-        h_.max_depth[r_] = std::max(h_.max_depth[r_], h_.q[r_].size());
-        h_.cv.notify_all();
-    }
-    void receive_from(int rank, std::vector<std::byte>& m) override {
-        std::unique_lock lock(h_.m);
-        auto& q = h_.q[static_cast<std::size_t>(rank)];
-        h_.cv.wait(lock, [&] { return !q.empty(); });
-        m = std::move(q.front());
-        q.pop_front();
-        h_.cv.notify_all();
-    }
-    void flush() override {
-        std::unique_lock lock(h_.m);
-        h_.cv.wait(lock, [&] { return h_.q[r_].empty(); });
-    }
-
-private:
-    Hub& h_;
-    std::size_t r_;
-};
 
 std::string bytes_of(const std::vector<PointRecord>& p) {
     return {reinterpret_cast<const char*>(p.data()), p.size() * sizeof(PointRecord)};
