@@ -165,7 +165,7 @@ FieldProgress field_progress(ProgressMeter& meter) {
     };
 }
 
-BuiltField build_field(const Args& a, const PointSet& points, const std::string& default_kind) {
+BuiltField build_field(const Args& a, const PointSet& points, const std::string& default_kind, const FitShare* share) {
     BuiltField f;
     if (const auto path = field_file_arg(a)) {
         f = load_file(a, *path);
@@ -177,7 +177,7 @@ BuiltField build_field(const Args& a, const PointSet& points, const std::string&
         FieldBuildStats st;
         // the commands that show progress (they declare --quiet) show the local fits too
         ProgressMeter meter = ProgressMeter::of(a, "local fits", 1);  // the total comes with the first report
-        f.field = make_field(points, params, &st, a.declared("quiet") ? field_progress(meter) : FieldProgress());
+        f.field = make_field(points, params, &st, a.declared("quiet") ? field_progress(meter) : FieldProgress(), share);
         meter.done();
         if (a.has("stats")) print_field_build_stats(a, params, points, st);
     }

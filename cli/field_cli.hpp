@@ -62,8 +62,9 @@ struct BuiltField {
 /// Builds the field from `points` with --threads workers, or loads the .mlf named by --field after
 /// checking that it was fitted to exactly `points` (FormatError otherwise; options that shape a fit,
 /// like --binning, are then a UsageError). Prints a summary on stderr with --stats.
-/// default_kind: as for field_params.
-BuiltField build_field(const Args& a, const PointSet& points, const std::string& default_kind = {});
+/// default_kind: as for field_params. share (optional): the mpu fits shared among MPI ranks
+/// (kernels/field_params.hpp FitShare; a .mlf is loaded whole by every rank).
+BuiltField build_field(const Args& a, const PointSet& points, const std::string& default_kind = {}, const FitShare* share = nullptr);
 class ProgressMeter;
 /// A FieldProgress that sets the meter's total from the build's report and counts the local fits.
 FieldProgress field_progress(ProgressMeter& meter);

@@ -31,6 +31,9 @@ public:
     virtual void send_to_root(std::vector<std::byte> message) = 0;
     virtual void receive_from(int rank, std::vector<std::byte>& message) = 0;
     virtual void flush() = 0;
+    /// Every rank's bytes concatenated in rank order, on every rank (collective; kernels/field_params.hpp
+    /// FitShare). Throws std::runtime_error when a rank's part exceeds INT_MAX bytes.
+    virtual std::vector<std::byte> allgather(const std::byte* mine, std::size_t n) = 0;
     /// The dynamic deal (stream/unit_deal.hpp, RankChannel's contract).
     virtual std::optional<std::size_t> request_unit() = 0;
     virtual std::optional<int> poll_request() = 0;
@@ -40,7 +43,7 @@ public:
 /// The plugin's one exported function (extern "C", this name): MPI_Init (if not yet) and a backend
 /// owned by the caller; deleting it calls MPI_Finalize.
 using MpiBackendFactory = MpiBackend* (*)(int* argc, char*** argv);
-inline constexpr const char* kMpiBackendSymbol = "meshless_mpi_backend_v2";
+inline constexpr const char* kMpiBackendSymbol = "meshless_mpi_backend_v3";
 /// The plugin's file name, looked up beside the executable.
 inline constexpr const char* kMpiPluginFile = "libmeshless_mpi.so";
 

@@ -58,6 +58,8 @@ std::vector<std::int64_t> MpiSession::sum_to_root(const std::vector<std::int64_t
     return out;
 }
 
+std::vector<std::byte> MpiSession::allgather(std::span<const std::byte> mine) { return backend_->allgather(mine.data(), mine.size()); }
+
 void MpiSession::abort(int code) {
     backend_->abort(code);
     std::exit(code);  // not reached: the backend does not return

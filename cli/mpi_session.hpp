@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "cli/mpi_backend.hpp"
@@ -37,6 +38,8 @@ public:
     int size() const { return size_; }
     /// Element-wise sum over ranks, on rank 0. Collective.
     std::vector<std::int64_t> sum_to_root(const std::vector<std::int64_t>& v);
+    /// Every rank's bytes concatenated in rank order, on every rank. Collective.
+    std::vector<std::byte> allgather(std::span<const std::byte> mine);
     /// Ends every rank of the job with this exit code (does not return).
     [[noreturn]] void abort(int code);
 

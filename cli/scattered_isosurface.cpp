@@ -117,8 +117,9 @@ const char* axis_name(int a) { return a == 0 ? "x" : (a == 1 ? "y" : "z"); }
 /// (--reg-gap; in.coverage), built side by side under --threads: each has serial parts (the
 /// support test's kd-tree; the field's merge of near-duplicates and octree root) that the other's
 /// parallel parts overlap (10^6 points, 2 threads: 17.0 -> 15.4 s whole process). The seconds
-/// are each one's own, overlapped; the bits do not depend on the thread count.
-BuiltField build_field_and_coverage(const Args& a, ScatteredInput& in, bool crossed, double& field_seconds) {
+/// are each one's own, overlapped; the bits do not depend on the thread count. share: as for build_field.
+BuiltField build_field_and_coverage(const Args& a, ScatteredInput& in, bool crossed, double& field_seconds,
+                                    const FitShare* share = nullptr) {
     BuiltField field;
     field_seconds = 0;
     if (!crossed) return field;
@@ -126,7 +127,7 @@ BuiltField build_field_and_coverage(const Args& a, ScatteredInput& in, bool cros
     oneapi::tbb::parallel_invoke(
         [&] {
             const auto t0 = Clock::now();
-            field = build_field(a, in.points);
+            field = build_field(a, in.points, {}, share);
             field_seconds = since(t0);
         },
         [&] {
@@ -355,8 +356,12 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
     StreamMeta meta = scattered_meta(in, iso, n, a.command_line());
 
     // the field: only when the isovalue is within the data (an empty output needs none)
+    // under mpirun the ranks share the mpu field's local fits (every rank ends with the whole field)
+    std::optional<FitShare> share;
+    if (mpi)
+        share = FitShare{mpi->rank(), mpi->size(), [mpi](std::span<const std::byte> mine) { return mpi->allgather(mine); }};
     double field_seconds = 0;
-    BuiltField field = build_field_and_coverage(a, in, crossed, field_seconds);
+    BuiltField field = build_field_and_coverage(a, in, crossed, field_seconds, share ? &*share : nullptr);
     const std::string field_name = field.field ? field.field->name() : field_kind_arg(a);
     meta.set("projection", "newton");
     meta.set("field", field_name);

@@ -17,7 +17,10 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstddef>
 #include <functional>
+#include <vector>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -124,6 +127,17 @@ inline bool parse_field_kind(std::string_view s, FieldKind& out) {
 /// A field build's progress: called with the local fits just finished and the locals in all, from
 /// the building threads, concurrently (must be thread-safe). It observes; the field does not depend on it.
 using FieldProgress = std::function<void(double done, double total)>;
+
+/// The local fits of an mpu field shared among cooperating processes that build the same field from
+/// the same points (MPI ranks, `mpirun meshless isosurface POINTS`; chapter 5's "local RBF
+/// construction" of Table 5.1 done by every machine for its part): rank r fits the r-th of `ranks`
+/// equal ranges of the locals (in their octree order), then `allgather` hands every rank every
+/// range. The fits are independent, so every rank ends with the single-process field, bit for bit.
+/// allgather: collective over the ranks; returns every rank's bytes concatenated in rank order.
+struct FitShare {
+    int rank = 0, ranks = 1;
+    std::function<std::vector<std::byte>(std::span<const std::byte> mine)> allgather;
+};
 
 /// What happened while building a field (counts are over local interpolants unless stated).
 struct FieldBuildStats {

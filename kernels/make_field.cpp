@@ -11,7 +11,7 @@
 namespace meshless {
 
 std::unique_ptr<Field> make_field(const PointSet& points, const FieldParams& params, FieldBuildStats* stats,
-                                  const FieldProgress& progress) {
+                                  const FieldProgress& progress, const FitShare* share) {
     const std::string who(field_kind_name(params.kind));
     if (points.pos.size() < 4)
         throw InvalidArgument(who + ": " + std::to_string(points.pos.size()) + " points, at least 4 are needed");
@@ -22,7 +22,7 @@ std::unique_ptr<Field> make_field(const PointSet& points, const FieldParams& par
     std::unique_ptr<Field> f;
     switch (params.kind) {
         case FieldKind::rbf_grid: f = std::make_unique<RbfGridField>(points, params, st, progress); break;
-        case FieldKind::mpu: f = std::make_unique<MpuField>(points, params, st, progress); break;
+        case FieldKind::mpu: f = std::make_unique<MpuField>(points, params, st, progress, share); break;
         case FieldKind::global_rbf: f = std::make_unique<GlobalRbfField>(points, params, st); break;
     }
     st->build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

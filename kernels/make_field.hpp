@@ -22,7 +22,9 @@ namespace meshless {
 
 /// progress (optional): the local fits of rbf-grid and mpu as they finish (FieldProgress; global-rbf
 /// is one solve and reports nothing).
+/// share (optional): the mpu fits shared among ranks (FieldParams' FitShare; every rank must call
+/// make_field with the same points and params); other kinds are built whole on every rank.
 std::unique_ptr<Field> make_field(const PointSet& points, const FieldParams& params, FieldBuildStats* stats = nullptr,
-                                  const FieldProgress& progress = {});
+                                  const FieldProgress& progress = {}, const FitShare* share = nullptr);
 
 }  // namespace meshless

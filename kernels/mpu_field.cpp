@@ -2,6 +2,8 @@
 #include "kernels/mpu_field.hpp"
 
 #include <algorithm>
+#include <cstring>
+#include <type_traits>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -162,7 +164,7 @@ struct OctreeBuilder {
 }  // namespace
 
 MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats,
-                   const FieldProgress& progress) {
+                   const FieldProgress& progress, const FitShare* share) {
     if (params.mpu_max_points < 8) throw InvalidArgument("mpu: N (mpu_max_points) must be >= 8");
     if (params.mpu_min_points < 1 || params.mpu_min_points > params.mpu_max_points)
         throw InvalidArgument("mpu: mpu_min_points must be in 1..N");
@@ -216,8 +218,14 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
 
     std::vector<MultiquadricOutcome> outcome(locals_.size());
     std::vector<std::uint8_t> rank_def(locals_.size(), 0);
+    const bool shared = share && share->ranks > 1;
+    const auto range_of = [&](int r) {  // rank r's locals
+        const std::size_t n = locals_.size(), k = static_cast<std::size_t>(share->ranks);
+        return std::pair<std::size_t, std::size_t>{n * static_cast<std::size_t>(r) / k, n * static_cast<std::size_t>(r + 1) / k};
+    };
+    const auto [fit0, fit1] = shared ? range_of(share->rank) : std::pair<std::size_t, std::size_t>{0, locals_.size()};
     tbb::enumerable_thread_specific<MultiquadricSolver> solvers;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, locals_.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(fit0, fit1, 16), [&](const tbb::blocked_range<std::size_t>& r) {
         MultiquadricSolver& solver = solvers.local();
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
             MultiquadricLocal& h = locals_[l];
@@ -228,8 +236,9 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
             outcome[l] = res.outcome;
             rank_def[l] = res.poly_rank < 4;
         }
-        if (progress) progress(static_cast<double>(r.size()), static_cast<double>(locals_.size()));
+        if (progress) progress(static_cast<double>(r.size()), static_cast<double>(fit1 - fit0));
     });
+    if (shared) gather_fits(*share, range_of, outcome, rank_def);
 
     // Centres copied structure-of-arrays in leaf order (the lambda order): leaf l's run is
     // [first, first + count) of px_/py_/pz_ and of lambda_.
@@ -261,6 +270,55 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
     st.mean_local_points = locals_.empty() ? 0.0 : static_cast<double>(sum) / static_cast<double>(locals_.size());
     st.memory_bytes = nodes_.size() * sizeof(Node) + locals_.size() * (sizeof(MultiquadricLocal) + sizeof(LeafSphere)) +
                       lambda_.size() * 4 * sizeof(double) + (grid_first_.size() + grid_leaf_.size()) * sizeof(std::uint32_t);
+}
+
+void MpuField::gather_fits(const FitShare& share, const std::function<std::pair<std::size_t, std::size_t>(int)>& range_of,
+                           std::vector<MultiquadricOutcome>& outcome, std::vector<std::uint8_t>& rank_def) {
+    // A rank's bytes: its locals, outcomes, rank flags, then its lambdas (contiguous in local order).
+    const auto lambda_at = [&](std::size_t l) { return l < locals_.size() ? locals_[l].first : lambda_.size(); };
+    const auto bytes_of = [&](std::size_t l0, std::size_t l1) {
+        return (l1 - l0) * (sizeof(MultiquadricLocal) + sizeof(MultiquadricOutcome) + 1) + (lambda_at(l1) - lambda_at(l0)) * sizeof(double);
+    };
+    const auto fields = [&](std::size_t l0, std::size_t l1, auto&& visit) {
+        visit(static_cast<void*>(locals_.data() + l0), (l1 - l0) * sizeof(MultiquadricLocal));
+        visit(static_cast<void*>(outcome.data() + l0), (l1 - l0) * sizeof(MultiquadricOutcome));
+        visit(static_cast<void*>(rank_def.data() + l0), l1 - l0);
+        visit(static_cast<void*>(lambda_.data() + lambda_at(l0)), (lambda_at(l1) - lambda_at(l0)) * sizeof(double));
+    };
+    static_assert(std::is_trivially_copyable_v<MultiquadricLocal>);
+    const auto [m0, m1] = range_of(share.rank);
+    std::vector<std::byte> mine(bytes_of(m0, m1));
+    std::byte* to = mine.data();
+    fields(m0, m1, [&](void* f, std::size_t n) {
+        std::memcpy(to, f, n);
+        to += n;
+    });
+    const std::vector<std::byte> all = share.allgather(mine);
+    std::size_t at = 0;
+    for (int r = 0; r < share.ranks; ++r) {
+        const auto [l0, l1] = range_of(r);
+        const std::size_t n = bytes_of(l0, l1);
+        if (all.size() - at < n)
+            throw FormatError("mpu: the ranks' shared fits hold " + std::to_string(all.size()) + " bytes, rank " + std::to_string(r) +
+                              "'s range ends at byte " + std::to_string(at + n));
+        if (r != share.rank) {
+            // the octree is every rank's own: a local's start must be the one this rank computed
+            std::vector<std::uint32_t> firsts(l1 - l0);
+            for (std::size_t l = l0; l < l1; ++l) firsts[l - l0] = locals_[l].first;
+            const std::byte* from = all.data() + at;
+            fields(l0, l1, [&](void* f, std::size_t n) {
+                std::memcpy(f, from, n);
+                from += n;
+            });
+            for (std::size_t l = l0; l < l1; ++l)
+                if (locals_[l].first != firsts[l - l0] || locals_[l].count > lambda_at(l + 1) - firsts[l - l0])
+                    throw FormatError("mpu: rank " + std::to_string(r) + " fitted local " + std::to_string(l) +
+                                      " over other points than this rank's octree gives it");
+        }
+        at += n;
+    }
+    if (at != all.size())
+        throw FormatError("mpu: the ranks' shared fits hold " + std::to_string(all.size()) + " bytes, " + std::to_string(at) + " expected");
 }
 
 std::vector<MpuField::LeafInfo> MpuField::leaves() const {

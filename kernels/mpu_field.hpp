@@ -36,7 +36,9 @@
 // state (kernels/field_state.hpp) to and from a .mlf file.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "kernels/field.hpp"
@@ -52,8 +54,10 @@ namespace meshless {
 class MpuField final : public Field {
 public:
     /// progress (optional): the local fits as they finish (kernels/field_params.hpp, FieldProgress).
+    /// share (optional): fit only this rank's range of the locals and gather the others' (FitShare).
+    /// Throws FormatError when the gathered bytes do not hold the other ranks' ranges.
     MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats = nullptr,
-             const FieldProgress& progress = {});
+             const FieldProgress& progress = {}, const FitShare* share = nullptr);
     void evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const override;
     std::array<Vec3, 2> bounds() const override { return bounds_; }
     std::string name() const override { return "mpu"; }
@@ -88,6 +92,9 @@ private:
         Vec3 c;           // centre (frame)
         double r, r2;     // weight radius and its square
     };
+    // FitShare: hands this rank's fits to the others and takes theirs (locals_, lambda_, outcomes).
+    void gather_fits(const FitShare& share, const std::function<std::pair<std::size_t, std::size_t>(int)>& range_of,
+                     std::vector<MultiquadricOutcome>& outcome, std::vector<std::uint8_t>& rank_def);
     void build_lookup();
     void compute_subtree_radii();  // Node::rsub from the children (children follow their parent)
     void lookup_geometry();        // leaf_ and the lookup grid's g_, g_lo_, g_cell_, g_inv_

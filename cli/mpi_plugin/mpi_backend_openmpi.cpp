@@ -12,6 +12,7 @@
 #include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 namespace meshless::cli {
@@ -110,6 +111,26 @@ public:
         q_.clear();
     }
 
+    std::vector<std::byte> allgather(const std::byte* mine, std::size_t n) override {
+        std::lock_guard lock(mu_);
+        const std::uint64_t mine_n = n;
+        std::vector<std::uint64_t> sizes(static_cast<std::size_t>(size_));
+        MPI_Allgather(&mine_n, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD);
+        std::vector<int> counts(sizes.size()), displs(sizes.size());
+        std::uint64_t total = 0;
+        for (std::size_t r = 0; r < sizes.size(); ++r) {
+            if (sizes[r] > static_cast<std::uint64_t>(std::numeric_limits<int>::max()) ||
+                total + sizes[r] > static_cast<std::uint64_t>(std::numeric_limits<int>::max()))
+                throw std::runtime_error("MPI gather: " + std::to_string(total + sizes[r]) + " bytes, beyond MPI's INT_MAX counts");
+            counts[r] = static_cast<int>(sizes[r]);
+            displs[r] = static_cast<int>(total);
+            total += sizes[r];
+        }
+        std::vector<std::byte> all(total);
+        MPI_Allgatherv(mine, static_cast<int>(n), MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, MPI_COMM_WORLD);
+        return all;
+    }
+
     std::optional<std::size_t> request_unit() override {
         require_serialized();
         const std::uint64_t ask = 0;
@@ -177,6 +198,6 @@ private:
 
 }  // namespace meshless::cli
 
-extern "C" __attribute__((visibility("default"))) meshless::cli::MpiBackend* meshless_mpi_backend_v2(int* argc, char*** argv) {
+extern "C" __attribute__((visibility("default"))) meshless::cli::MpiBackend* meshless_mpi_backend_v3(int* argc, char*** argv) {
     return new meshless::cli::OpenMpiBackend(argc, argv);
 }

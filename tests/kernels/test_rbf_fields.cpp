@@ -10,6 +10,9 @@
 #include <cstring>
 #include <functional>
 #include <random>
+#include <thread>
+#include <condition_variable>
+#include <mutex>
 #include <vector>
 
 #include <tbb/global_control.h>
@@ -556,6 +559,62 @@ TEST_CASE("mpu: the octree built by parallel subtrees is the same for any thread
     double worst = 0;
     for (std::size_t i = 0; i < pos.size(); ++i) worst = std::max(worst, std::abs(v[i] - ps.value[i]));
     CHECK(worst <= 1e-7);
+}
+
+TEST_CASE("mpu: fits shared among ranks give every rank the single-process field, bit for bit", "[rbf][mpi]") {
+    const auto pos = random_points(12000, {0, 0, 0}, {1, 1, 0.5}, 141);
+    const PointSet ps = make_points(pos, franke3);
+    FieldParams params;
+    params.kind = FieldKind::mpu;
+    const auto at = random_points(400, {0, 0, 0}, {1, 1, 0.5}, 142);
+    FieldBuildStats one_st;
+    std::vector<double> v1(at.size());
+    std::vector<Vec3> g1(at.size());
+    make_field(ps, params, &one_st)->evaluate(at, v1, g1);
+    // ranks as threads; the gather is the collective of kernels/field_params.hpp FitShare
+    struct Gather {
+        std::mutex m;
+        std::condition_variable cv;
+        std::vector<std::vector<std::byte>> parts;
+        int in = 0;
+        std::vector<std::byte> operator()(int r, std::span<const std::byte> mine) {
+            std::unique_lock lock(m);
+            parts[static_cast<std::size_t>(r)].assign(mine.begin(), mine.end());
+            ++in;
+            cv.notify_all();
+            cv.wait(lock, [&] { return in == static_cast<int>(parts.size()); });
+            std::vector<std::byte> all;
+            for (const auto& p : parts) all.insert(all.end(), p.begin(), p.end());
+            return all;
+        }
+    };
+    for (int ranks : {2, 3}) {
+        INFO(ranks << " ranks");
+        Gather g;
+        g.parts.resize(static_cast<std::size_t>(ranks));
+        std::vector<std::vector<double>> v(static_cast<std::size_t>(ranks), std::vector<double>(at.size()));
+        std::vector<std::vector<Vec3>> gr(static_cast<std::size_t>(ranks), std::vector<Vec3>(at.size()));
+        std::vector<FieldBuildStats> st(static_cast<std::size_t>(ranks));
+        std::vector<std::thread> th;
+        for (int r = 0; r < ranks; ++r)
+            th.emplace_back([&, r] {
+                const FitShare share{r, ranks, [&g, r](std::span<const std::byte> mine) { return g(r, mine); }};
+                const auto k = static_cast<std::size_t>(r);
+                make_field(ps, params, &st[k], {}, &share)->evaluate(at, v[k], gr[k]);
+            });
+        for (auto& t : th) t.join();
+        for (int r = 0; r < ranks; ++r) {
+            const auto k = static_cast<std::size_t>(r);
+            CHECK(std::memcmp(v[k].data(), v1.data(), v1.size() * sizeof(double)) == 0);
+            CHECK(std::memcmp(gr[k].data(), g1.data(), g1.size() * sizeof(Vec3)) == 0);
+            CHECK(st[k].locals == one_st.locals);
+            CHECK(st[k].interpolated == one_st.interpolated);
+            CHECK(st[k].regularised == one_st.regularised);
+        }
+    }
+    // a gather that lost a rank's bytes is an error naming the shortfall, never a field with holes
+    const FitShare lossy{0, 2, [](std::span<const std::byte> mine) { return std::vector<std::byte>(mine.begin(), mine.end()); }};
+    CHECK_THROWS_WITH(make_field(ps, params, nullptr, {}, &lossy), Catch::Contains("shared fits hold"));
 }
 
 TEST_CASE("bad input: too few points, non-finite values, oversized global sets, bad parameters", "[rbf]") {
