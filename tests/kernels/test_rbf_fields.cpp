@@ -520,14 +520,28 @@ TEST_CASE("construction is deterministic across thread counts", "[rbf]") {
     }
 }
 
+namespace {
+/// Franke's function at n random points in [0, hi], an mpu field's parameters, 400 query points.
+struct MpuCase {
+    std::vector<Vec3> pos;
+    PointSet ps;
+    FieldParams params;
+    std::vector<Vec3> at;
+    MpuCase(std::size_t n, const Vec3& hi, unsigned seed)
+        : pos(random_points(n, {0, 0, 0}, hi, seed)), ps(make_points(pos, franke3)), at(random_points(400, {0, 0, 0}, hi, seed + 1)) {
+        params.kind = FieldKind::mpu;
+    }
+};
+}  // namespace
+
 TEST_CASE("mpu: the octree built by parallel subtrees is the same for any thread count and interpolates", "[rbf]") {
     // 40K points: the root and its children hold more than the 8192 points from which subtrees are
     // built in parallel (kernels/mpu_field.cpp) and appended in depth-first order
-    const auto pos = random_points(40000, {0, 0, 0}, {1, 0.5, 1}, 131);
-    const PointSet ps = make_points(pos, franke3);
-    FieldParams params;
-    params.kind = FieldKind::mpu;
-    const auto at = random_points(400, {0, 0, 0}, {1, 0.5, 1}, 132);
+    const MpuCase mc(40000, {1, 0.5, 1}, 131);
+    const auto& pos = mc.pos;
+    const PointSet& ps = mc.ps;
+    const FieldParams& params = mc.params;
+    const auto& at = mc.at;
     std::vector<std::unique_ptr<Field>> fields;
     std::vector<FieldBuildStats> stats(2);
     for (int t : {1, 4}) {
@@ -562,11 +576,10 @@ TEST_CASE("mpu: the octree built by parallel subtrees is the same for any thread
 }
 
 TEST_CASE("mpu: fits shared among ranks give every rank the single-process field, bit for bit", "[rbf][mpi]") {
-    const auto pos = random_points(12000, {0, 0, 0}, {1, 1, 0.5}, 141);
-    const PointSet ps = make_points(pos, franke3);
-    FieldParams params;
-    params.kind = FieldKind::mpu;
-    const auto at = random_points(400, {0, 0, 0}, {1, 1, 0.5}, 142);
+    const MpuCase mc(12000, {1, 1, 0.5}, 141);
+    const PointSet& ps = mc.ps;
+    const FieldParams& params = mc.params;
+    const auto& at = mc.at;
     FieldBuildStats one_st;
     std::vector<double> v1(at.size());
     std::vector<Vec3> g1(at.size());
