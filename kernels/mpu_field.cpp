@@ -223,7 +223,8 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         const std::size_t n = locals_.size(), k = static_cast<std::size_t>(share->ranks);
         return std::pair<std::size_t, std::size_t>{n * static_cast<std::size_t>(r) / k, n * static_cast<std::size_t>(r + 1) / k};
     };
-    const auto [fit0, fit1] = shared ? range_of(share->rank) : std::pair<std::size_t, std::size_t>{0, locals_.size()};
+    const std::pair<std::size_t, std::size_t> fits = shared ? range_of(share->rank) : std::pair<std::size_t, std::size_t>{0, locals_.size()};
+    const std::size_t fit0 = fits.first, fit1 = fits.second;
     tbb::enumerable_thread_specific<MultiquadricSolver> solvers;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(fit0, fit1, 16), [&](const tbb::blocked_range<std::size_t>& r) {
         MultiquadricSolver& solver = solvers.local();
