@@ -75,16 +75,32 @@ struct OctreeBuilder {
         depth_reached = std::max(depth_reached, sub.depth_reached);
     }
 
-    void build(std::int32_t node, const std::vector<std::uint32_t>& cand, std::uint32_t depth) {
+    // The points of `cand` inside the sphere of each of the 8 children of `first` (one pass over
+    // cand, which each child's own pass would read again: 10^6 points, 1 thread, 4.9 -> ? s).
+    std::array<std::vector<std::uint32_t>, 8> split(std::int32_t first, const std::vector<std::uint32_t>& cand) const {
+        std::array<std::vector<std::uint32_t>, 8> in;
+        Vec3 c[8];
+        for (int q = 0; q < 8; ++q) {
+            c[q] = nodes[static_cast<std::size_t>(first + q)].c;
+            in[static_cast<std::size_t>(q)].reserve(cand.size() / 4);
+        }
+        const double r = nodes[static_cast<std::size_t>(first)].r;  // the same for the 8 (same half edge)
+        const double r2 = r * r;
+        for (std::uint32_t i : cand) {
+            const Vec3 p = pos[i];
+            for (int q = 0; q < 8; ++q) {
+                const Vec3 e = p - c[q];
+                if (dot(e, e) <= r2) in[static_cast<std::size_t>(q)].push_back(i);
+            }
+        }
+        return in;
+    }
+
+    // Builds `node` from the points inside its sphere (ascending indices).
+    void build(std::int32_t node, std::vector<std::uint32_t> inside, std::uint32_t depth) {
         depth_reached = std::max(depth_reached, depth);
         const Vec3 c = nodes[node].c;
         const double r = nodes[node].r;
-        const double r2 = r * r;
-        std::vector<std::uint32_t> inside;
-        for (std::uint32_t i : cand) {
-            const Vec3 e = pos[i] - c;
-            if (dot(e, e) <= r2) inside.push_back(i);
-        }
         if (inside.size() > max_pts && depth < max_depth) {
             const std::int32_t first = static_cast<std::int32_t>(nodes.size());
             nodes[node].child = first;
@@ -100,6 +116,7 @@ struct OctreeBuilder {
                 nodes.push_back(ch);
             }
             path.push_back(Ancestor{c, r, &inside});
+            std::array<std::vector<std::uint32_t>, 8> in = split(first, inside);
             if (inside.size() >= kParallelPoints) {
                 std::vector<OctreeBuilder> sub;
                 sub.reserve(8);
@@ -107,10 +124,10 @@ struct OctreeBuilder {
                     sub.push_back(OctreeBuilder{pos, max_pts, min_pts, max_depth, alpha, {}, {}, {}, path, {}});
                     sub.back().nodes.push_back(nodes[static_cast<std::size_t>(first + q)]);
                 }
-                tbb::parallel_for(0, 8, [&](int q) { sub[q].build(0, inside, depth + 1); });
+                tbb::parallel_for(0, 8, [&](int q) { sub[q].build(0, std::move(in[static_cast<std::size_t>(q)]), depth + 1); });
                 for (int q = 0; q < 8; ++q) append(first + q, sub[q]);
             } else {
-                for (int q = 0; q < 8; ++q) build(first + q, inside, depth + 1);
+                for (int q = 0; q < 8; ++q) build(first + q, std::move(in[static_cast<std::size_t>(q)]), depth + 1);
             }
             path.pop_back();
             return;
@@ -197,9 +214,13 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
     root.local = -1;
     b.nodes.push_back(root);
     {
-        std::vector<std::uint32_t> all(pts.size());
-        for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
-        b.build(0, all, 0);
+        std::vector<std::uint32_t> inside;  // the root's sphere holds every point (radius > half diagonal): tested all the same
+        const double r2 = root.r * root.r;
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            const Vec3 e = pts[i] - root.c;
+            if (dot(e, e) <= r2) inside.push_back(static_cast<std::uint32_t>(i));
+        }
+        b.build(0, std::move(inside), 0);
     }
     if (b.flat.size() > 0xFFFFFFF0ull) throw InvalidArgument("mpu: too many local points (" + std::to_string(b.flat.size()) + ")");
 

@@ -7,7 +7,15 @@
 #include <cmath>
 #include <numbers>
 
+#include <array>
+#include <span>
+#include <string>
+
+#include <tbb/global_control.h>
+
 #include "kernels/errors.hpp"
+#include "kernels/field.hpp"
+#include "kernels/field_isosurface_samples.hpp"
 #include "kernels/splitmix.hpp"
 #include "kernels/surface_coverage.hpp"
 
@@ -167,4 +175,52 @@ TEST_CASE("point errors: distances and normal angles of displaced points", "[sur
     CHECK(te.mean_distance == Approx(0.02).epsilon(1e-6));
     CHECK(te.normals == 0);
     CHECK_THROWS_AS(point_errors(AnalyticField::sphere, kR, p, std::vector<Vec3>(2)), InvalidArgument);
+}
+
+namespace {
+/// An analytic field as a meshless Field (kernels/field.hpp); NaN where x > cut (outside its support).
+class AnalyticAsField final : public Field {
+public:
+    AnalyticAsField(AnalyticField f, double cut) : f_(f), cut_(cut) {}
+    void evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const override {
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const bool out = p[i].x > cut_;
+            value[i] = out ? std::nan("") : analytic_value(f_, p[i]);
+            if (!grad.empty()) grad[i] = out ? Vec3{std::nan(""), 0, 0} : analytic_gradient(f_, p[i]);
+        }
+    }
+    std::array<Vec3, 2> bounds() const override { return {kCube.lo, kCube.hi}; }
+    std::string name() const override { return "analytic"; }
+
+private:
+    AnalyticField f_;
+    double cut_;
+};
+}  // namespace
+
+TEST_CASE("field isosurface sampling: a field's own surface, 2/spacing^2 per unit area, none outside its support", "[surface_coverage]") {
+    SurfaceSampling s;
+    s.spacing = 0.02;
+    const AnalyticAsField sphere(AnalyticField::sphere, 10);
+    const auto samples = sample_field_isosurface(sphere, kR, kCube, s);
+    const double area = 4 * std::numbers::pi * kR * kR;
+    const double expected = 2 * area / (s.spacing * s.spacing);
+    CHECK(std::abs(static_cast<double>(samples.size()) - expected) < 0.03 * expected);
+    double worst = 0;
+    for (const Vec3& p : samples) worst = std::max(worst, std::abs(norm(p) - kR));
+    CHECK(worst < 1e-9);
+    // the same set for any thread count (seeded per slab), another seed another set
+    {
+        tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+        CHECK(same(sample_field_isosurface(sphere, kR, kCube, s), samples));
+    }
+    // where the field is NaN (x > 0.2) nothing is sampled; the rest of the sphere is
+    const AnalyticAsField half(AnalyticField::sphere, 0.2);
+    const auto part = sample_field_isosurface(half, kR, kCube, s);
+    std::size_t beyond = 0;
+    for (const Vec3& p : part) beyond += p.x > 0.2;
+    CHECK(beyond == 0);
+    CHECK(static_cast<double>(part.size()) > 0.5 * static_cast<double>(samples.size()));
+    CHECK(part.size() < samples.size());
+    CHECK_THROWS_AS(sample_field_isosurface(sphere, kR, kCube, SurfaceSampling{0, 0, 1}), InvalidArgument);
 }
