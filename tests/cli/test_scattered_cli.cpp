@@ -204,7 +204,7 @@ TEST_CASE("isosurface POINTS: two clusters 1e6 apart, and a grid bounded by --ma
     REQUIRE(r.code == 0);
     CHECK_THAT(r.err, Catch::Contains("binning level 0"));
     CHECK_THAT(r.err, Catch::Contains("(26 beyond --reg-gap)"));
-    CHECK_THAT(r.err, Catch::Contains("did not converge onto the rbf-grid field"));
+    CHECK_THAT(r.err, Catch::Contains("did not converge onto the mpu field"));
     const PlyPoints c = read_ply_points((d / "c.ply").string());
     for (const auto& q : c.points) {
         const bool second = q.pos[0] > 5e5;
@@ -270,7 +270,7 @@ TEST_CASE("isosurface POINTS: an isovalue outside the value range warns and writ
     CHECK_THAT(e, Catch::Contains("element vertex 0"));
     CHECK(read_ply_points((d / "e.ply").string()).points.empty());
     CHECK(fs::file_size(d / "e.png") > 0);
-    r = sh("MESHLESS generate " + pts + " --iso 7 | MESHLESS project --field rbf-grid " + pts + " | MESHLESS write -o " + D + "/f.ply", d);
+    r = sh("MESHLESS generate " + pts + " --iso 7 | MESHLESS project --field mpu " + pts + " | MESHLESS write -o " + D + "/f.ply", d);
     CHECK(r.code == 0);
     CHECK(slurp(d / "f.ply") == e);
 }
