@@ -6,7 +6,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include "kernels/errors.hpp"
 #include "kernels/splitmix.hpp"
 
 namespace meshless {
@@ -16,19 +15,10 @@ bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) &&
 }  // namespace
 
 std::vector<Vec3> sample_field_isosurface(const Field& f, double iso, const Box3& box, const SurfaceSampling& s) {
-    if (!(s.spacing > 0) || !std::isfinite(s.spacing)) throw InvalidArgument("surface sampling: the spacing must be > 0");
-    if (!(box.hi.x > box.lo.x && box.hi.y > box.lo.y && box.hi.z > box.lo.z) || !finite3(box.lo) || !finite3(box.hi))
-        throw InvalidArgument("surface sampling: empty or inverted box");
-    std::int64_t n[3];
-    for (int a = 0; a < 3; ++a) {
-        const double c = std::ceil((box.hi[a] - box.lo[a]) / s.spacing);
-        if (c > 1e5) throw InvalidArgument("surface sampling: the spacing is too fine for the box (over 1e5 cells per axis)");
-        n[a] = std::max<std::int64_t>(1, static_cast<std::int64_t>(c));
-    }
-    const double diag = norm(box.hi - box.lo);
-    const Vec3 lo{box.lo.x + s.margin, box.lo.y + s.margin, box.lo.z + s.margin};
-    const Vec3 hi{box.hi.x - s.margin, box.hi.y - s.margin, box.hi.z - s.margin};
-    const double max_move = s.spacing * std::sqrt(3.0);
+    const SamplingGrid grid = sampling_grid(box, s);
+    const std::int64_t* n = grid.n;
+    const double diag = grid.diag, max_move = grid.max_move;
+    const Vec3 lo = grid.lo, hi = grid.hi;
     std::vector<std::vector<Vec3>> slab_out(static_cast<std::size_t>(n[2]));
     tbb::parallel_for(std::int64_t{0}, n[2], [&](std::int64_t k) {
         SplitMix rng{s.seed + static_cast<std::uint64_t>(k)};

@@ -16,20 +16,28 @@ bool finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && 
 
 }  // namespace
 
-std::vector<Vec3> sample_isosurface(AnalyticField f, double iso, const Box3& box, const SurfaceSampling& s) {
+SamplingGrid sampling_grid(const Box3& box, const SurfaceSampling& s) {
     if (!(s.spacing > 0) || !std::isfinite(s.spacing)) throw InvalidArgument("surface sampling: the spacing must be > 0");
     if (!(box.hi.x > box.lo.x && box.hi.y > box.lo.y && box.hi.z > box.lo.z) || !finite(box.lo) || !finite(box.hi))
         throw InvalidArgument("surface sampling: empty or inverted box");
-    std::int64_t n[3];
+    SamplingGrid g;
     for (int a = 0; a < 3; ++a) {
         const double c = std::ceil((box.hi[a] - box.lo[a]) / s.spacing);
         if (c > 1e5) throw InvalidArgument("surface sampling: the spacing is too fine for the box (over 1e5 cells per axis)");
-        n[a] = std::max<std::int64_t>(1, static_cast<std::int64_t>(c));
+        g.n[a] = std::max<std::int64_t>(1, static_cast<std::int64_t>(c));
     }
-    const double diag = norm(box.hi - box.lo);
-    const Vec3 lo{box.lo.x + s.margin, box.lo.y + s.margin, box.lo.z + s.margin};
-    const Vec3 hi{box.hi.x - s.margin, box.hi.y - s.margin, box.hi.z - s.margin};
-    const double max_move = s.spacing * std::sqrt(3.0);
+    g.diag = norm(box.hi - box.lo);
+    g.lo = {box.lo.x + s.margin, box.lo.y + s.margin, box.lo.z + s.margin};
+    g.hi = {box.hi.x - s.margin, box.hi.y - s.margin, box.hi.z - s.margin};
+    g.max_move = s.spacing * std::sqrt(3.0);
+    return g;
+}
+
+std::vector<Vec3> sample_isosurface(AnalyticField f, double iso, const Box3& box, const SurfaceSampling& s) {
+    const SamplingGrid grid = sampling_grid(box, s);
+    const std::int64_t* n = grid.n;
+    const double diag = grid.diag, max_move = grid.max_move;
+    const Vec3 lo = grid.lo, hi = grid.hi;
     SplitMix rng{s.seed};
     std::vector<Vec3> out;
     for (std::int64_t k = 0; k < n[2]; ++k)

@@ -49,6 +49,17 @@ struct SurfaceSampling {
 
 std::vector<Vec3> sample_isosurface(AnalyticField f, double iso, const Box3& box, const SurfaceSampling& s = {});
 
+/// The jittered grid both samplers walk (this one and kernels/field_isosurface_samples.hpp): cells per
+/// axis, the box diagonal, the kept region (the box shrunk by the margin) and the largest Newton move.
+/// Throws InvalidArgument on spacing <= 0, an empty/inverted box, over 1e5 cells per axis.
+struct SamplingGrid {
+    std::int64_t n[3] = {1, 1, 1};
+    double diag = 0;
+    Vec3 lo, hi;  ///< kept region
+    double max_move = 0;
+};
+SamplingGrid sampling_grid(const Box3& box, const SurfaceSampling& s);
+
 struct CoverageResult {
     std::size_t samples = 0;    ///< surface samples tested
     std::size_t covered = 0;    ///< within one radius of some point
