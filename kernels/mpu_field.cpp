@@ -301,11 +301,13 @@ void MpuField::gather_fits(const FitShare& share, const std::function<std::pair<
     const auto bytes_of = [&](std::size_t l0, std::size_t l1) {
         return (l1 - l0) * (sizeof(MultiquadricLocal) + sizeof(MultiquadricOutcome) + 1) + (lambda_at(l1) - lambda_at(l0)) * sizeof(double);
     };
+    // (the lambda range from this rank's own octree, taken before a received local overwrites its start)
     const auto fields = [&](std::size_t l0, std::size_t l1, auto&& visit) {
+        const std::size_t lam0 = lambda_at(l0), lam1 = lambda_at(l1);
         visit(static_cast<void*>(locals_.data() + l0), (l1 - l0) * sizeof(MultiquadricLocal));
         visit(static_cast<void*>(outcome.data() + l0), (l1 - l0) * sizeof(MultiquadricOutcome));
         visit(static_cast<void*>(rank_def.data() + l0), l1 - l0);
-        visit(static_cast<void*>(lambda_.data() + lambda_at(l0)), (lambda_at(l1) - lambda_at(l0)) * sizeof(double));
+        visit(static_cast<void*>(lambda_.data() + lam0), (lam1 - lam0) * sizeof(double));
     };
     static_assert(std::is_trivially_copyable_v<MultiquadricLocal>);
     const auto [m0, m1] = range_of(share.rank);
@@ -333,7 +335,8 @@ void MpuField::gather_fits(const FitShare& share, const std::function<std::pair<
                 from += n;
             });
             for (std::size_t l = l0; l < l1; ++l)
-                if (locals_[l].first != firsts[l - l0] || locals_[l].count > lambda_at(l + 1) - firsts[l - l0])
+                if (locals_[l].first != firsts[l - l0] ||
+                    locals_[l].count > (l + 1 < l1 ? firsts[l + 1 - l0] : lambda_at(l1)) - firsts[l - l0])
                     throw FormatError("mpu: rank " + std::to_string(r) + " fitted local " + std::to_string(l) +
                                       " over other points than this rank's octree gives it");
         }

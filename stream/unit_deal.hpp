@@ -54,8 +54,9 @@ void serve_unit_requests(RankChannel& ch, UnitDealer& dealer, int ranks, std::st
 /// it: an error path does not wait for the other ranks).
 class UnitDealService {
 public:
-    /// on_error (optional): called on the service's thread with what it threw (MPI: end the job,
-    /// since the ranks waiting for a unit would wait forever); else finish() rethrows it.
+    /// on_error: called on the service's thread with what it threw; without it finish() rethrows
+    /// it, but the ranks waiting for a unit (and rank 0's merge, waiting for theirs) then wait
+    /// forever, so give it wherever the other ranks are other processes (MPI: end the job).
     UnitDealService(RankChannel& ch, UnitDealer& dealer, int ranks, std::function<void(std::exception_ptr)> on_error = {});
     ~UnitDealService();
     UnitDealService(const UnitDealService&) = delete;

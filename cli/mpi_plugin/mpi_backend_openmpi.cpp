@@ -65,8 +65,11 @@ public:
         MPI_Reduce(in, out, n, MPI_INT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
     }
     [[noreturn]] void abort(int code) override {
+        // possibly from the deal's thread while another waits in a poll loop: serialised like every call,
+        // and no exit handlers run under the other threads' feet
+        std::lock_guard lock(mu_);
         MPI_Abort(MPI_COMM_WORLD, code);
-        std::exit(code);
+        std::_Exit(code);
     }
     void open_channel(int window) override {
         close_channel();
@@ -112,6 +115,7 @@ public:
     }
 
     std::vector<std::byte> allgather(const std::byte* mine, std::size_t n) override {
+        require_serialized();  // called from a oneTBB task, maybe not the main thread
         std::lock_guard lock(mu_);
         const std::uint64_t mine_n = n;
         std::vector<std::uint64_t> sizes(static_cast<std::size_t>(size_));
