@@ -175,6 +175,8 @@ struct Measure {
     double coverage = 0;
     std::optional<double> field_coverage;  ///< meshless only: of the field's own isosurface
     std::string field_why;                 ///< why field_coverage is missing
+    std::vector<Vec3> pos;                 ///< meshless only: the points and radii, kept for field_coverage
+    std::vector<float> rad;
 };
 
 double median(std::vector<double> v) {
@@ -256,6 +258,8 @@ Measure measure_points(const fs::path& ply, AnalyticField f, double iso, const s
         m.err = point_errors(f, iso, pos, nor);
         tighten_distances(f, iso, pos, truth, spacing, m.err);
         m.coverage = surface_coverage(samples, pos, rad).fraction();
+        m.pos = std::move(pos);
+        m.rad = std::move(rad);
         m.ok = true;
     } catch (const std::exception& e) {
         m.why = "n/a (" + first_line(e.what()) + ")";
@@ -318,9 +322,9 @@ constexpr double kFieldSurfaceSpacing = 0.02;  ///< 10^6 field evaluations over 
 
 /// Issue 10's completeness measure: the fraction of a dense sampling of the field's own isosurface
 /// (kernels/field_isosurface_samples.hpp, jittered spacing `spacing`, the same margin as the truth's
-/// samples) within one splat radius of the points `pts` that `meshless isosurface SET` wrote. The
+/// samples) within one splat radius of the points measure_points kept in `m` (released here). The
 /// field is the command's own, fitted again by `meshless fit SET` with the same --field (bit-identical).
-void measure_field_coverage(const Ctx& c, const fs::path& set, const fs::path& pts, double iso, double margin, double spacing, Measure& m) {
+void measure_field_coverage(const Ctx& c, const fs::path& set, double iso, double margin, double spacing, Measure& m) {
     const fs::path mlf = c.out / "field.mlf";
     fs::remove(mlf);
     const Proc fit = run_limited(c.ml + " fit " + shell_quote(set.string()) + " --level 0" +
@@ -337,18 +341,13 @@ void measure_field_coverage(const Ctx& c, const fs::path& set, const fs::path& p
         ss.spacing = spacing;
         ss.margin = margin;
         const std::vector<Vec3> fs_samples = sample_field_isosurface(*ff.field, iso, Box3{{-1, -1, -1}, {1, 1, 1}}, ss);
-        const PlyPoints p = read_ply_points(pts.string());
-        std::vector<Vec3> pos;
-        std::vector<float> rad;
-        for (const PointRecord& r : p.points) {
-            pos.push_back({r.pos[0], r.pos[1], r.pos[2]});
-            rad.push_back(r.radius);
-        }
-        m.field_coverage = surface_coverage(fs_samples, pos, rad).fraction();
+        m.field_coverage = surface_coverage(fs_samples, m.pos, m.rad).fraction();
     } catch (const std::exception& e) {
         m.field_why = first_line(e.what());
     }
     fs::remove(mlf);
+    m.pos = {};
+    m.rad = {};
 }
 
 struct PeerDef {
@@ -497,7 +496,7 @@ void part_a(Ctx& c) {
                 Measure mine;
                 if (own.ok()) {
                     mine = measure_points(pts, f, iso, samples, all_samples, spacing);
-                    if (mine.ok) measure_field_coverage(c, set, pts, iso, margin, kFieldSurfaceSpacing, mine);
+                    if (mine.ok) measure_field_coverage(c, set, iso, margin, kFieldSurfaceSpacing, mine);
                 } else {
                     mine.why = own.why(c.own_limit);
                 }

@@ -17,7 +17,6 @@
 #include "formats/atomic_file.hpp"
 #include "formats/binary_file.hpp"
 #include "formats/field_file.hpp"
-#include "formats/multiblock_reader.hpp"
 #include "kernels/make_field.hpp"
 #include "kernels/point_set_identity.hpp"
 
@@ -41,9 +40,7 @@ int cmd_fit(int argc, char** argv) {
              "  meshless probe combxyz.bin --q combq.bin --field comb.mlf --at 3,0,0");
     if (!a.parse(argc, argv, 2)) return 0;
     // the default field is the one `isosurface DATA` builds (cli/field_cli.hpp)
-    bool blocks = !a.positional().empty();
-    for (const auto& p : a.positional()) blocks = blocks && looks_like_multiblock(p);
-    const FieldParams params = field_params(a, blocks ? kBlocksFieldDefault : kPointsFieldDefault);
+    const FieldParams params = field_params(a, all_multiblock(a.positional()) ? kBlocksFieldDefault : kPointsFieldDefault);
     const std::string out = require_output_extension(a.require("output"), ".mlf", "-o", "a fitted field");
     if (is_streaming_output(out)) throw UsageError("-o " + out + ": a fitted field is written to a regular file (.mlf), not a stream");
     const long long level = a.get_int_or("level", 1);

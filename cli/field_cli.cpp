@@ -141,10 +141,12 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
     return p;
 }
 
+bool all_multiblock(const std::vector<std::string>& paths) {
+    return !paths.empty() && std::all_of(paths.begin(), paths.end(), [](const std::string& p) { return looks_like_multiblock(p); });
+}
+
 PointSet read_field_points(const std::vector<std::string>& paths, const Args& a) {
-    bool blocks = !paths.empty();
-    for (const auto& p : paths) blocks = blocks && looks_like_multiblock(p);
-    if (blocks) return to_point_set(read_multiblock(paths, point_set_options(a)));
+    if (all_multiblock(paths)) return to_point_set(read_multiblock(paths, point_set_options(a)));
     for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so
         if (is_cluster_tree_file(p)) {
             const ClusterTreeLodRequest r = cluster_tree_lod_request(read_cluster_tree_file(p), point_set_options(a));

@@ -43,6 +43,9 @@ FieldParams field_params(const Args& a, const std::string& default_kind = {});
 /// nullopt for a field kind (rbf-grid, mpu, global-rbf).
 std::optional<std::string> field_file_arg(const Args& a);
 
+/// True when every path is a multiblock/AMR input (looks_like_multiblock) and there is one at least:
+/// the data the block commands read, fitted with kBlocksFieldDefault.
+bool all_multiblock(const std::vector<std::string>& paths);
 /// Reads data files as one point set: when every path is a multiblock/AMR input
 /// (looks_like_multiblock: .vts .vtm .vthb, PLOT3D) through read_multiblock and to_point_set (every
 /// valid node, the set the block commands build their field from), else through read_point_set.
