@@ -63,7 +63,7 @@ std::optional<Sidecar> read_sidecar(const std::string& path) {
 void write_sidecar(const std::string& path, const Sidecar& s) {
     std::string text = "# meshless batch: the output beside this file is complete and was made from this input\n";
     for (const auto& [k, v] : s) text += k + "=" + v + "\n";
-    AtomicFile f(path);
+    AtomicFile f(path, Durability::fsync);
     f.write(text);
     f.commit();
 }

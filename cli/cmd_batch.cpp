@@ -330,6 +330,7 @@ private:
     }
 
     void record(const std::string& out, Sidecar side, std::uint32_t crc) {
+        sync_to_disk(out);  // the output on disk before the sidecar that says it is complete
         put_input(side, item_.path, stats_, crc);
         side["output"] = fs::path(out).filename().string();
         side["output_size"] = std::to_string(fs::file_size(out));

@@ -20,7 +20,21 @@ bool is_streaming_output(const std::string& path) {
     return fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st);
 }
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
+void sync_to_disk(const std::string& path) {
+    auto sync_one = [&](const std::string& p, int flags) {
+        const int fd = ::open(p.c_str(), flags | O_CLOEXEC);
+        if (fd < 0) throw IoError(path + ": cannot open to sync (" + std::strerror(errno) + ")");
+        const bool ok = ::fsync(fd) == 0;
+        const int err = errno;
+        ::close(fd);
+        if (!ok) throw IoError(path + ": cannot sync to disk (" + std::strerror(err) + ")");
+    };
+    sync_one(path, O_RDONLY);
+    const fs::path dir = fs::path(path).parent_path();
+    sync_one(dir.empty() ? std::string(".") : dir.string(), O_RDONLY | O_DIRECTORY);
+}
+
+AtomicFile::AtomicFile(std::string path, Durability durability) : path_(std::move(path)), durability_(durability) {
     if (path_ == "-") {
         file_ = stdout;
         return;
@@ -67,7 +81,7 @@ void AtomicFile::write(const void* data, std::size_t n) {
     }
     written_ += n;
     constexpr std::size_t kWriteBackStep = std::size_t{8} << 20;
-    if (!tmp_.empty() && written_ - synced_ >= kWriteBackStep && std::fflush(file_) == 0) {
+    if (durability_ == Durability::fsync && !tmp_.empty() && written_ - synced_ >= kWriteBackStep && std::fflush(file_) == 0) {
         // start write-back of what is written so far (does not wait for it); a failure here is
         // not an error: commit()'s fsync is what guarantees the data
         ::sync_file_range(fileno(file_), static_cast<off_t>(synced_), static_cast<off_t>(written_ - synced_),
@@ -106,7 +120,8 @@ void AtomicFile::commit() {
         committed_ = true;
         return;
     }
-    const bool flush_ok = std::fflush(file_) == 0 && ::fsync(fileno(file_)) == 0;
+    const bool flush_ok =
+        std::fflush(file_) == 0 && (durability_ != Durability::fsync || ::fsync(fileno(file_)) == 0);
     const int err = errno;
     std::fclose(file_);
     file_ = nullptr;

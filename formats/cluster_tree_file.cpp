@@ -99,7 +99,7 @@ void write_cluster_tree_file(const std::string& path, const ClusterTree& tree) {
     const std::string meta = meta_bytes(tree);
     const std::uint64_t n = tree.nodes.size();
     const std::uint64_t total = kClusterTreeHeaderBytes + meta.size() + 4 + n * kClusterTreeNodeBytes + 4;
-    AtomicFile f(path);
+    AtomicFile f(path, Durability::fsync);
     f.write(header_bytes(total, meta.size(), n));
     f.write(meta);
     std::string crc;

@@ -517,7 +517,7 @@ void write_field_file(const std::string& path, const Field& field, const FieldPa
     if (kind != params.kind) throw InvalidArgument(path + ": the field is " + field.name() + ", the parameters say " + std::string(field_kind_name(params.kind)));
     if (is_streaming_output(path)) throw InvalidArgument(path + ": a field file (.mlf) must be a regular file, not a stream or device");
     if (zstd_level < 0 || zstd_level > ZSTD_maxCLevel()) throw InvalidArgument("field file: zstd level out of range");
-    AtomicFile out(path);
+    AtomicFile out(path, Durability::fsync);
     const auto placeholder = encode_header(kind, 0, 0);
     out.write(placeholder.data(), placeholder.size());
     SectionWriter w(out, zstd_level);

@@ -242,7 +242,7 @@ ConvertStats convert_to_brick_store(SliceSource& src, const std::string& out_pat
 
     // Final layout: header, frames in Morton order, index, footer.
     std::sort(entries.begin(), entries.end(), [](const BrickEntry& a, const BrickEntry& b) { return a.key < b.key; });
-    AtomicFile file(out_path);
+    AtomicFile file(out_path, Durability::fsync);
     file.write(encode_brick_store_header(info).data(), kBrickStoreHeaderBytes);
     std::uint64_t at = kBrickStoreHeaderBytes;
     std::vector<std::byte> buf;

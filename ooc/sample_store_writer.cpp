@@ -180,7 +180,7 @@ SampleStoreBuildStats write_sample_store(const BrickStore& store, const std::str
     info.constant_cells = c1.constant;
     info.nonfinite_cells = c1.nonfinite;
 
-    AtomicFile file(path);
+    AtomicFile file(path, Durability::fsync);
     const auto header = encode_sample_store_header(info);
     file.write(header.data(), header.size());
     if (std::fflush(file.handle()) != 0) throw IoError(path + ": write failed (" + std::strerror(errno) + ")");

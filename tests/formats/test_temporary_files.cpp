@@ -10,6 +10,7 @@
 
 #include "formats/atomic_file.hpp"
 #include "formats/temporary_files.hpp"
+#include "kernels/errors.hpp"
 #include "test_paths.hpp"
 
 using namespace meshless;
@@ -82,6 +83,38 @@ TEST_CASE("AtomicFile registers its temporary until commit or destruction", "[fo
         remove_live_temporaries();  // nothing registered: the committed output stays
     }
     CHECK(fs::exists(out));
+}
+
+TEST_CASE("AtomicFile: both durabilities replace the target only at commit, with the same bytes (and sync_to_disk)",
+          "[formats][temporary]") {
+    TempDir dir("tmpreg-durability");
+    const std::string out = (dir / "out.bin").string();
+    std::ofstream(out) << "old";
+    std::string previous = "old";
+    auto contents = [&] {
+        std::ifstream in(out, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    for (Durability d : {Durability::replace, Durability::fsync}) {
+        std::string big(std::size_t{9} << 20, 'x');  // past the 8 MiB write-back step of fsync mode
+        big[12345] = d == Durability::fsync ? 'f' : 'r';
+        {
+            AtomicFile f(out, d);
+            f.write(big);
+            CHECK(contents() == previous);  // not in place before commit
+            f.commit();
+        }
+        CHECK(contents() == big);
+        CHECK_NOTHROW(sync_to_disk(out));
+        previous = big;
+    }
+    const std::string missing = (dir / "missing.ply").string();
+    try {
+        sync_to_disk(missing);
+        FAIL("sync_to_disk of a missing file did not throw");
+    } catch (const IoError& e) {
+        CHECK(std::string(e.what()).find(missing) != std::string::npos);
+    }
 }
 
 TEST_CASE("remove_stale_temporaries: only NAME.tmp-PID[.spool] of processes that are gone", "[formats][temporary]") {
