@@ -1,7 +1,10 @@
 #include "kernels/cell_sampling.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
+#include <vector>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -19,49 +22,152 @@ std::int64_t cell_row_count(const GridSpec& g) {
 
 namespace {
 
-template <class T, class Emit>
-void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0, std::int64_t row1,
-                 const SamplingParams& params, Emit&& emit, SamplingStats& stats) {
-    constexpr bool is_float = std::is_floating_point_v<T>;
+/// above[w] bit b = (p[64 w + b] >= t) for the n samples of one voxel row; bits past n are 0.
+/// A NaN compares false (reads as "below"), as in the active-cell test of the header.
+template <class T>
+void above_bits(const T* p, std::int64_t n, T t, std::uint64_t* above) {
+    const std::int64_t words = (n + 63) / 64;
+    std::int64_t i = 0;
+#if defined(__SSE2__)
+    if constexpr (std::is_same_v<T, std::uint8_t>) {
+        const __m128i vt = _mm_set1_epi8(static_cast<char>(t));
+        for (; i + 16 <= n; i += 16) {  // 16 samples at a time, never past the row
+            const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + i));
+            const auto m = static_cast<std::uint64_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_max_epu8(v, vt), v)));
+            if (i % 64 == 0) above[i / 64] = m;
+            else above[i / 64] |= m << (i % 64);
+        }
+        if (i == n) return;
+        // the last partial group of 16: scalar bits into the word begun above (or a new one)
+        std::uint64_t w = i % 64 == 0 ? 0 : above[i / 64];
+        for (std::int64_t b = i; b < n; ++b) w |= static_cast<std::uint64_t>(p[b] >= t) << (b % 64);
+        above[i / 64] = w;
+        for (std::int64_t q = i / 64 + 1; q < words; ++q) above[q] = 0;
+        return;
+    }
+#endif
+    for (; i < words * 64; i += 64) {
+        std::uint64_t w = 0;
+        const std::int64_t m = std::min<std::int64_t>(64, n - i);
+        for (std::int64_t b = 0; b < m; ++b) w |= static_cast<std::uint64_t>(p[i + b] >= t) << b;
+        above[i / 64] = w;
+    }
+}
+
+/// Visits the active cells of cell rows [row0, row1), row by row in increasing i:
+/// on_row(j, k, p00, p10, p01, p11, idx, n) with the row's four voxel rows (p00 = (0, j, k),
+/// p10 = (0, j+1, k), p01 = (0, j, k+1), p11 = (0, j+1, k+1)) and idx[0..n) the x indices of its
+/// active cells (corners not all on one side of the threshold; float corners not yet checked for
+/// NaN/Inf), which on_row may reorder or shorten. Does nothing when every sample lies on one side.
+template <class T, class OnRow>
+void for_each_active_row(const T* data, const GridSpec& g, double iso, std::int64_t row0, std::int64_t row1,
+                         OnRow&& on_row) {
     const IsoThreshold<T> thr(iso);
     if (thr.none_above || thr.all_above) return;  // every cell on one side: nothing is active
     const T t = thr.t;
     const std::int64_t nx = g.dims[0], ny = g.dims[1];
     const std::int64_t sy = nx, sz = nx * ny;
-    const double sx_w = g.spacing[0], sy_w = g.spacing[1], sz_w = g.spacing[2];
-    const float radius = static_cast<float>(
-        params.radius_scale * 0.5 * std::sqrt(sx_w * sx_w + sy_w * sy_w + sz_w * sz_w));
-    const Vec3 size{sx_w, sy_w, sz_w};
-    // count[i] = how many of the 4 samples of x-column i of this cell row are above iso; a cell
-    // (columns i, i+1) is active unless count[i] + count[i+1] is 0 or 8. The counting loop is
-    // branch-free and vectorises; the scan below tests 16 cells at a time (SSE2) and visits only
-    // the active ones, in increasing i (so the output order is that of a plain loop over i).
-    // Padding of 32 zero counts past nx: the 16-wide scan reads up to cnt[nx + 14].
-    std::vector<std::uint8_t> count(static_cast<std::size_t>(nx) + 32, 0);
+    // One bit per sample (>= iso), 64 samples per word, for the voxel rows of the two slices k and
+    // k+1 the current cell row touches; each voxel row's bits are computed once (on first use) and
+    // kept while its slice is one of the two, so the volume is read about once, not four times. A
+    // cell (columns i, i+1) is active unless its 8 bits are all set or all clear, tested 64 cells
+    // at a time with shifts (a zero padding word past each row).
+    const std::int64_t words = (nx + 63) / 64, stride = words + 1;
+    struct SliceBits {
+        std::int64_t k = -1;
+        std::vector<std::uint64_t> bits;
+        std::vector<char> ready;
+    };
+    SliceBits slice[2];
+    for (SliceBits& sb : slice) {
+        sb.bits.assign(static_cast<std::size_t>(stride * ny), 0);
+        sb.ready.assign(static_cast<std::size_t>(ny), 0);
+    }
+    auto row_bits = [&](std::int64_t kk, std::int64_t jj) -> const std::uint64_t* {
+        SliceBits* sb = slice[0].k == kk ? &slice[0] : slice[1].k == kk ? &slice[1] : nullptr;
+        if (!sb) {  // rows come in increasing order: the slice with the lower k is done with
+            sb = slice[0].k < slice[1].k ? &slice[0] : &slice[1];
+            sb->k = kk;
+            std::fill(sb->ready.begin(), sb->ready.end(), 0);
+        }
+        std::uint64_t* b = sb->bits.data() + stride * jj;
+        if (!sb->ready[static_cast<std::size_t>(jj)]) {
+            above_bits(data + jj * sy + kk * sz, nx, t, b);
+            sb->ready[static_cast<std::size_t>(jj)] = 1;
+        }
+        return b;
+    };
+    std::vector<std::int64_t> active(static_cast<std::size_t>(nx));
+    const std::int64_t cells = nx - 1;
     for (std::int64_t r = row0; r < row1; ++r) {
         const std::int64_t j = r % (ny - 1), k = r / (ny - 1);
         const T* p00 = data + j * sy + k * sz;  // (0, j,   k)
         const T* p10 = p00 + sy;                // (0, j+1, k)
         const T* p01 = p00 + sz;                // (0, j,   k+1)
         const T* p11 = p01 + sy;                // (0, j+1, k+1)
-        std::uint8_t* cnt = count.data();
-        for (std::int64_t i = 0; i < nx; ++i)
-            cnt[i] = static_cast<std::uint8_t>((p00[i] >= t) + (p10[i] >= t) + (p01[i] >= t) + (p11[i] >= t));
-        auto cell = [&](std::int64_t i) {
-            double c[8] = {static_cast<double>(p00[i]), static_cast<double>(p00[i + 1]),
-                           static_cast<double>(p10[i]), static_cast<double>(p10[i + 1]),
-                           static_cast<double>(p01[i]), static_cast<double>(p01[i + 1]),
-                           static_cast<double>(p11[i]), static_cast<double>(p11[i + 1])};
-            if constexpr (is_float) {
-                // NaN compares false (reads as "below"), so only cells whose finite corners
-                // straddle the isovalue get here; those with a NaN/Inf corner are skipped, counted.
-                bool finite = true;
-                for (double x : c) finite = finite && std::isfinite(x);
-                if (!finite) {
-                    ++stats.nonfinite_cells;
-                    return;
-                }
+        const std::uint64_t* m00 = row_bits(k, j);
+        const std::uint64_t* m10 = row_bits(k, j + 1);
+        const std::uint64_t* m01 = row_bits(k + 1, j);
+        const std::uint64_t* m11 = row_bits(k + 1, j + 1);
+        std::int64_t* idx = active.data();
+        std::int64_t n = 0;
+        for (std::int64_t w = 0; w < words; ++w) {
+            // column bits of words w and w+1 (the padding word is 0), cell i uses columns i, i+1
+            const std::uint64_t o0 = m00[w] | m10[w] | m01[w] | m11[w];
+            const std::uint64_t a0 = m00[w] & m10[w] & m01[w] & m11[w];
+            const std::uint64_t o1 = m00[w + 1] | m10[w + 1] | m01[w + 1] | m11[w + 1];
+            const std::uint64_t a1 = m00[w + 1] & m10[w + 1] & m01[w + 1] & m11[w + 1];
+            const std::uint64_t any = o0 | (o0 >> 1) | (o1 << 63);
+            const std::uint64_t all = a0 & ((a0 >> 1) | (a1 << 63));
+            std::uint64_t m = any & ~all;
+            const std::int64_t left = cells - 64 * w;
+            if (left < 64) m &= left > 0 ? (std::uint64_t{1} << left) - 1u : 0u;
+            while (m != 0) {
+                idx[n++] = 64 * w + __builtin_ctzll(m);
+                m &= m - 1;
             }
+        }
+        if (n > 0) on_row(j, k, p00, p10, p01, p11, idx, n);
+    }
+}
+
+/// Drops from idx the cells with a NaN/Inf corner (float samples), counting them; keeps the order.
+template <class T>
+std::int64_t drop_nonfinite(const T* p00, const T* p10, const T* p01, const T* p11, std::int64_t* idx,
+                            std::int64_t n, SamplingStats& stats) {
+    if constexpr (!std::is_floating_point_v<T>) {
+        return n;
+    } else {
+        std::int64_t m = 0;
+        for (std::int64_t a = 0; a < n; ++a) {
+            const std::int64_t i = idx[a];
+            const bool finite = std::isfinite(p00[i]) && std::isfinite(p00[i + 1]) && std::isfinite(p10[i]) &&
+                                std::isfinite(p10[i + 1]) && std::isfinite(p01[i]) && std::isfinite(p01[i + 1]) &&
+                                std::isfinite(p11[i]) && std::isfinite(p11[i + 1]);
+            if (finite) idx[m++] = i;
+            else ++stats.nonfinite_cells;
+        }
+        return m;
+    }
+}
+
+template <class T, class Emit>
+void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0, std::int64_t row1,
+                 const SamplingParams& params, Emit&& emit, SamplingStats& stats) {
+    const double sx_w = g.spacing[0], sy_w = g.spacing[1], sz_w = g.spacing[2];
+    const float radius = static_cast<float>(
+        params.radius_scale * 0.5 * std::sqrt(sx_w * sx_w + sy_w * sy_w + sz_w * sz_w));
+    const Vec3 size{sx_w, sy_w, sz_w};
+    for_each_active_row(data, g, iso, row0, row1,
+                        [&](std::int64_t j, std::int64_t k, const T* p00, const T* p10, const T* p01, const T* p11,
+                            std::int64_t* idx, std::int64_t count) {
+        const std::int64_t n = drop_nonfinite(p00, p10, p01, p11, idx, count, stats);
+        for (std::int64_t a = 0; a < n; ++a) {
+            const std::int64_t i = idx[a];
+            const double c[8] = {static_cast<double>(p00[i]), static_cast<double>(p00[i + 1]),
+                                 static_cast<double>(p10[i]), static_cast<double>(p10[i + 1]),
+                                 static_cast<double>(p01[i]), static_cast<double>(p01[i + 1]),
+                                 static_cast<double>(p11[i]), static_cast<double>(p11[i + 1])};
             const ValueGrad vg = trilinear(c, 0.5, 0.5, 0.5);
             const Vec3 gw = to_world_gradient(vg.grad, size);
             SampleRecord s;
@@ -77,37 +183,106 @@ void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0
             s.grad[2] = static_cast<float>(gw.z);
             s.value = static_cast<float>(vg.value);
             s.radius = radius;
-            for (int a = 0; a < 3; ++a) {
-                s.cell_lo[a] = static_cast<float>(lo[a]);
-                s.cell_size[a] = static_cast<float>(g.spacing[a]);
+            for (int ax = 0; ax < 3; ++ax) {
+                s.cell_lo[ax] = static_cast<float>(lo[ax]);
+                s.cell_size[ax] = static_cast<float>(g.spacing[ax]);
             }
-            for (int a = 0; a < 8; ++a) s.corner[a] = static_cast<float>(c[a]);
+            for (int ax = 0; ax < 8; ++ax) s.corner[ax] = static_cast<float>(c[ax]);
             emit(s);
             ++stats.active_cells;
-        };
-        const std::int64_t cells = nx - 1;
+        }
+    });
+}
+
 #if defined(__SSE2__)
-        const __m128i zero = _mm_setzero_si128(), eight = _mm_set1_epi8(8);
-        for (std::int64_t i0 = 0; i0 < cells; i0 += 16) {
-            const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cnt + i0));
-            const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(cnt + i0 + 1));
-            const __m128i sum = _mm_add_epi8(a, b);
-            const __m128i inactive = _mm_or_si128(_mm_cmpeq_epi8(sum, zero), _mm_cmpeq_epi8(sum, eight));
-            unsigned m = ~static_cast<unsigned>(_mm_movemask_epi8(inactive)) & 0xFFFFu;
-            if (cells - i0 < 16) m &= (1u << (cells - i0)) - 1u;
-            while (m != 0) {
-                cell(i0 + __builtin_ctz(m));
-                m &= m - 1;
+/// The approximate projection fused with the sampling, two cells at a time (SSE2 doubles): the very
+/// operations of sample_rows (trilinear at the centre, to_world_gradient, the float record) followed
+/// by project_sample's approx branch (newton_step, the normal), in the same order on each lane, so
+/// the bytes equal the scalar path's (IEEE add, sub, mul, div, sqrt and conversions round alike in
+/// SSE2 lanes and scalars; no FMA). Integers and finite floats only (drop_nonfinite first).
+template <class T>
+void project_rows_approx(const T* data, const GridSpec& g, double iso, std::int64_t row0, std::int64_t row1,
+                         const SamplingParams& params, std::vector<PointRecord>& out, SamplingStats& stats,
+                         ProjectionStats& pstats) {
+    const double sx_w = g.spacing[0], sy_w = g.spacing[1], sz_w = g.spacing[2];
+    const float radius = static_cast<float>(
+        params.radius_scale * 0.5 * std::sqrt(sx_w * sx_w + sy_w * sy_w + sz_w * sz_w));
+    // project_sample's displacement bound from the record's float cell size
+    const Vec3 fsize{static_cast<float>(sx_w), static_cast<float>(sy_w), static_cast<float>(sz_w)};
+    const double max_d = displacement_threshold(fsize), max_d2 = max_d * max_d;
+    const float iso_f = static_cast<float>(iso);
+    const auto& off = params.index_offset;
+    const __m128d half = _mm_set1_pd(0.5), zero = _mm_setzero_pd(), minus_one = _mm_set1_pd(-1.0);
+    const __m128d vsx = _mm_set1_pd(sx_w), vsy = _mm_set1_pd(sy_w), vsz = _mm_set1_pd(sz_w);
+    const __m128d vox = _mm_set1_pd(g.origin[0]), viso = _mm_set1_pd(iso), vmax_d2 = _mm_set1_pd(max_d2);
+    for_each_active_row(data, g, iso, row0, row1,
+                        [&](std::int64_t j, std::int64_t k, const T* p00, const T* p10, const T* p01, const T* p11,
+                            std::int64_t* idx, std::int64_t count) {
+        const std::int64_t n = drop_nonfinite(p00, p10, p01, p11, idx, count, stats);
+        stats.active_cells += n;
+        pstats.input += n;
+        // y and z of the row, as sample_rows computes them
+        const double lo_y = g.origin[1] + static_cast<double>(j + off[1]) * sy_w;
+        const double lo_z = g.origin[2] + static_cast<double>(k + off[2]) * sz_w;
+        const __m128d py = _mm_set1_pd(static_cast<double>(static_cast<float>(lo_y + 0.5 * sy_w)));
+        const __m128d pz = _mm_set1_pd(static_cast<double>(static_cast<float>(lo_z + 0.5 * sz_w)));
+        for (std::int64_t a = 0; a < n; a += 2) {
+            const std::int64_t ia = idx[a], ib = a + 1 < n ? idx[a + 1] : ia;
+            auto ld = [&](const T* p, std::int64_t d) {
+                return _mm_set_pd(static_cast<double>(p[ib + d]), static_cast<double>(p[ia + d]));
+            };
+            const __m128d c0 = ld(p00, 0), c1 = ld(p00, 1), c2 = ld(p10, 0), c3 = ld(p10, 1);
+            const __m128d c4 = ld(p01, 0), c5 = ld(p01, 1), c6 = ld(p11, 0), c7 = ld(p11, 1);
+            // trilinear(c, 0.5, 0.5, 0.5)
+            const __m128d c00 = _mm_add_pd(c0, _mm_mul_pd(half, _mm_sub_pd(c1, c0)));
+            const __m128d c10 = _mm_add_pd(c2, _mm_mul_pd(half, _mm_sub_pd(c3, c2)));
+            const __m128d c01 = _mm_add_pd(c4, _mm_mul_pd(half, _mm_sub_pd(c5, c4)));
+            const __m128d c11 = _mm_add_pd(c6, _mm_mul_pd(half, _mm_sub_pd(c7, c6)));
+            const __m128d e0 = _mm_add_pd(c00, _mm_mul_pd(half, _mm_sub_pd(c10, c00)));
+            const __m128d e1 = _mm_add_pd(c01, _mm_mul_pd(half, _mm_sub_pd(c11, c01)));
+            const __m128d value = _mm_add_pd(e0, _mm_mul_pd(half, _mm_sub_pd(e1, e0)));
+            const __m128d d00 = _mm_sub_pd(c1, c0), d10 = _mm_sub_pd(c3, c2);
+            const __m128d d01 = _mm_sub_pd(c5, c4), d11 = _mm_sub_pd(c7, c6);
+            const __m128d f0 = _mm_add_pd(d00, _mm_mul_pd(half, _mm_sub_pd(d10, d00)));
+            const __m128d f1 = _mm_add_pd(d01, _mm_mul_pd(half, _mm_sub_pd(d11, d01)));
+            const __m128d lgx = _mm_add_pd(f0, _mm_mul_pd(half, _mm_sub_pd(f1, f0)));
+            const __m128d dy0 = _mm_sub_pd(c10, c00);
+            const __m128d lgy = _mm_add_pd(dy0, _mm_mul_pd(half, _mm_sub_pd(_mm_sub_pd(c11, c01), dy0)));
+            const __m128d lgz = _mm_sub_pd(e1, e0);
+            // the sample record's floats: world gradient, value, x of the centre
+            const __m128d ix = _mm_set_pd(static_cast<double>(ib + off[0]), static_cast<double>(ia + off[0]));
+            const __m128d lo_x = _mm_add_pd(vox, _mm_mul_pd(ix, vsx));
+            const __m128d px = _mm_cvtps_pd(_mm_cvtpd_ps(_mm_add_pd(lo_x, _mm_mul_pd(half, vsx))));
+            const __m128d gx = _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgx, vsx)));
+            const __m128d gy = _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgy, vsy)));
+            const __m128d gz = _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgz, vsz)));
+            const __m128d v = _mm_cvtps_pd(_mm_cvtpd_ps(value));
+            // newton_step and the normal
+            const __m128d gg = _mm_add_pd(_mm_add_pd(_mm_mul_pd(gx, gx), _mm_mul_pd(gy, gy)), _mm_mul_pd(gz, gz));
+            const __m128d t = _mm_div_pd(_mm_sub_pd(viso, v), gg);
+            const __m128d sx = _mm_mul_pd(gx, t), sy = _mm_mul_pd(gy, t), sz = _mm_mul_pd(gz, t);
+            const __m128d ss = _mm_add_pd(_mm_add_pd(_mm_mul_pd(sx, sx), _mm_mul_pd(sy, sy)), _mm_mul_pd(sz, sz));
+            const int ok_flat = _mm_movemask_pd(_mm_cmpgt_pd(gg, zero));    // bit set: not flat
+            const int too_far = _mm_movemask_pd(_mm_cmpgt_pd(ss, vmax_d2));  // bit set: too far
+            const __m128d inv = _mm_div_pd(minus_one, _mm_sqrt_pd(gg));
+            alignas(16) float pos[3][4], nrm[3][4];
+            _mm_store_ps(pos[0], _mm_cvtpd_ps(_mm_add_pd(px, sx)));
+            _mm_store_ps(pos[1], _mm_cvtpd_ps(_mm_add_pd(py, sy)));
+            _mm_store_ps(pos[2], _mm_cvtpd_ps(_mm_add_pd(pz, sz)));
+            _mm_store_ps(nrm[0], _mm_cvtpd_ps(_mm_mul_pd(gx, inv)));
+            _mm_store_ps(nrm[1], _mm_cvtpd_ps(_mm_mul_pd(gy, inv)));
+            _mm_store_ps(nrm[2], _mm_cvtpd_ps(_mm_mul_pd(gz, inv)));
+            const int lanes = a + 1 < n ? 2 : 1;
+            for (int l = 0; l < lanes; ++l) {
+                if (!(ok_flat >> l & 1)) { ++pstats.flat; continue; }
+                if (too_far >> l & 1) { ++pstats.too_far; continue; }
+                out.push_back(PointRecord{{pos[0][l], pos[1][l], pos[2][l]}, {nrm[0][l], nrm[1][l], nrm[2][l]}, radius, iso_f});
+                ++pstats.output;
             }
         }
-#else
-        for (std::int64_t i = 0; i < cells; ++i) {
-            const unsigned sum = cnt[i] + cnt[i + 1];
-            if (sum != 0u && sum != 8u) cell(i);
-        }
-#endif
-    }
+    });
 }
+#endif
 
 }  // namespace
 
@@ -124,6 +299,12 @@ void sample_and_project_active_cells(const VolumeView& v, double iso, std::int64
                                      std::vector<PointRecord>& out, SamplingStats& stats,
                                      ProjectionStats& pstats) {
     if (cell_row_count(v.grid) == 0 || row0 >= row1) return;
+#if defined(__SSE2__)
+    if (mode == Projection::approx) {
+        visit_samples(v, [&](auto* d) { project_rows_approx(d, v.grid, iso, row0, row1, params, out, stats, pstats); });
+        return;
+    }
+#endif
     PointRecord p;
     auto emit = [&](const SampleRecord& s) {
         if (project_sample(s, iso, mode, p, pstats)) out.push_back(p);
