@@ -58,7 +58,7 @@ void above_bits(const T* p, std::int64_t n, T t, std::uint64_t* above) {
 /// on_row(j, k, p00, p10, p01, p11, idx, n) with the row's four voxel rows (p00 = (0, j, k),
 /// p10 = (0, j+1, k), p01 = (0, j, k+1), p11 = (0, j+1, k+1)) and idx[0..n) the x indices of its
 /// active cells (corners not all on one side of the threshold; float corners not yet checked for
-/// NaN/Inf), which on_row may reorder or shorten. Does nothing when every sample lies on one side.
+/// NaN/Inf), which on_row may rewrite (idx has room for nx entries, n <= nx - 1). Does nothing when every sample lies on one side.
 template <class T, class OnRow>
 void for_each_active_row(const T* data, const GridSpec& g, double iso, std::int64_t row0, std::int64_t row1,
                          OnRow&& on_row) {
@@ -215,25 +215,41 @@ void project_rows_approx(const T* data, const GridSpec& g, double iso, std::int6
     const __m128d half = _mm_set1_pd(0.5), zero = _mm_setzero_pd(), minus_one = _mm_set1_pd(-1.0);
     const __m128d vsx = _mm_set1_pd(sx_w), vsy = _mm_set1_pd(sy_w), vsz = _mm_set1_pd(sz_w);
     const __m128d vox = _mm_set1_pd(g.origin[0]), viso = _mm_set1_pd(iso), vmax_d2 = _mm_set1_pd(max_d2);
+    // Per row, three passes over its active cells (two per step), so that the long dependency
+    // chain of one cell (divisions, square root, float roundings) overlaps with the next cells'
+    // instead of being waited for: (1) corners -> the sample's floats, (2) Newton step and normal,
+    // (3) the points, in order. Scratch: doubles for each quantity, two lanes per step.
+    const std::size_t lanes_max = static_cast<std::size_t>(g.dims[0] + 2);
+    std::vector<double> scratch(5 * lanes_max);
+    double* const sgx = scratch.data();
+    double* const sgy = sgx + lanes_max;
+    double* const sgz = sgy + lanes_max;
+    double* const sv = sgz + lanes_max;
+    double* const spx = sv + lanes_max;
+    std::vector<float> fout(6 * lanes_max + 8);
+    std::vector<std::uint8_t> flags(lanes_max);
     for_each_active_row(data, g, iso, row0, row1,
                         [&](std::int64_t j, std::int64_t k, const T* p00, const T* p10, const T* p01, const T* p11,
                             std::int64_t* idx, std::int64_t count) {
         const std::int64_t n = drop_nonfinite(p00, p10, p01, p11, idx, count, stats);
         stats.active_cells += n;
         pstats.input += n;
+        if (n == 0) return;
+        if (n % 2 == 1) idx[n] = idx[n - 1];  // the odd last cell fills both lanes
+        const std::int64_t n2 = (n + 1) / 2 * 2;
         // y and z of the row, as sample_rows computes them
         const double lo_y = g.origin[1] + static_cast<double>(j + off[1]) * sy_w;
         const double lo_z = g.origin[2] + static_cast<double>(k + off[2]) * sz_w;
         const __m128d py = _mm_set1_pd(static_cast<double>(static_cast<float>(lo_y + 0.5 * sy_w)));
         const __m128d pz = _mm_set1_pd(static_cast<double>(static_cast<float>(lo_z + 0.5 * sz_w)));
-        for (std::int64_t a = 0; a < n; a += 2) {
-            const std::int64_t ia = idx[a], ib = a + 1 < n ? idx[a + 1] : ia;
+        // (1) trilinear(c, 0.5, 0.5, 0.5), to_world_gradient, the record's float rounding
+        for (std::int64_t a = 0; a < n2; a += 2) {
+            const std::int64_t ia = idx[a], ib = idx[a + 1];
             auto ld = [&](const T* p, std::int64_t d) {
                 return _mm_set_pd(static_cast<double>(p[ib + d]), static_cast<double>(p[ia + d]));
             };
             const __m128d c0 = ld(p00, 0), c1 = ld(p00, 1), c2 = ld(p10, 0), c3 = ld(p10, 1);
             const __m128d c4 = ld(p01, 0), c5 = ld(p01, 1), c6 = ld(p11, 0), c7 = ld(p11, 1);
-            // trilinear(c, 0.5, 0.5, 0.5)
             const __m128d c00 = _mm_add_pd(c0, _mm_mul_pd(half, _mm_sub_pd(c1, c0)));
             const __m128d c10 = _mm_add_pd(c2, _mm_mul_pd(half, _mm_sub_pd(c3, c2)));
             const __m128d c01 = _mm_add_pd(c4, _mm_mul_pd(half, _mm_sub_pd(c5, c4)));
@@ -249,36 +265,44 @@ void project_rows_approx(const T* data, const GridSpec& g, double iso, std::int6
             const __m128d dy0 = _mm_sub_pd(c10, c00);
             const __m128d lgy = _mm_add_pd(dy0, _mm_mul_pd(half, _mm_sub_pd(_mm_sub_pd(c11, c01), dy0)));
             const __m128d lgz = _mm_sub_pd(e1, e0);
-            // the sample record's floats: world gradient, value, x of the centre
             const __m128d ix = _mm_set_pd(static_cast<double>(ib + off[0]), static_cast<double>(ia + off[0]));
             const __m128d lo_x = _mm_add_pd(vox, _mm_mul_pd(ix, vsx));
-            const __m128d px = _mm_cvtps_pd(_mm_cvtpd_ps(_mm_add_pd(lo_x, _mm_mul_pd(half, vsx))));
-            const __m128d gx = _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgx, vsx)));
-            const __m128d gy = _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgy, vsy)));
-            const __m128d gz = _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgz, vsz)));
-            const __m128d v = _mm_cvtps_pd(_mm_cvtpd_ps(value));
-            // newton_step and the normal
+            _mm_storeu_pd(spx + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_add_pd(lo_x, _mm_mul_pd(half, vsx)))));
+            _mm_storeu_pd(sgx + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgx, vsx))));
+            _mm_storeu_pd(sgy + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgy, vsy))));
+            _mm_storeu_pd(sgz + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgz, vsz))));
+            _mm_storeu_pd(sv + a, _mm_cvtps_pd(_mm_cvtpd_ps(value)));
+        }
+        // (2) newton_step and the normal: float position and normal, and why a lane is dropped
+        float* const fo = fout.data();
+        for (std::int64_t a = 0; a < n2; a += 2) {
+            const __m128d gx = _mm_loadu_pd(sgx + a), gy = _mm_loadu_pd(sgy + a), gz = _mm_loadu_pd(sgz + a);
             const __m128d gg = _mm_add_pd(_mm_add_pd(_mm_mul_pd(gx, gx), _mm_mul_pd(gy, gy)), _mm_mul_pd(gz, gz));
-            const __m128d t = _mm_div_pd(_mm_sub_pd(viso, v), gg);
+            const __m128d t = _mm_div_pd(_mm_sub_pd(viso, _mm_loadu_pd(sv + a)), gg);
             const __m128d sx = _mm_mul_pd(gx, t), sy = _mm_mul_pd(gy, t), sz = _mm_mul_pd(gz, t);
             const __m128d ss = _mm_add_pd(_mm_add_pd(_mm_mul_pd(sx, sx), _mm_mul_pd(sy, sy)), _mm_mul_pd(sz, sz));
-            const int ok_flat = _mm_movemask_pd(_mm_cmpgt_pd(gg, zero));    // bit set: not flat
-            const int too_far = _mm_movemask_pd(_mm_cmpgt_pd(ss, vmax_d2));  // bit set: too far
+            const int not_flat = _mm_movemask_pd(_mm_cmpgt_pd(gg, zero));
+            const int too_far = _mm_movemask_pd(_mm_cmpgt_pd(ss, vmax_d2));
+            flags[static_cast<std::size_t>(a)] = static_cast<std::uint8_t>((not_flat & 1) | (too_far & 1) << 1);
+            flags[static_cast<std::size_t>(a + 1)] = static_cast<std::uint8_t>((not_flat >> 1 & 1) | (too_far >> 1 & 1) << 1);
             const __m128d inv = _mm_div_pd(minus_one, _mm_sqrt_pd(gg));
-            alignas(16) float pos[3][4], nrm[3][4];
-            _mm_store_ps(pos[0], _mm_cvtpd_ps(_mm_add_pd(px, sx)));
-            _mm_store_ps(pos[1], _mm_cvtpd_ps(_mm_add_pd(py, sy)));
-            _mm_store_ps(pos[2], _mm_cvtpd_ps(_mm_add_pd(pz, sz)));
-            _mm_store_ps(nrm[0], _mm_cvtpd_ps(_mm_mul_pd(gx, inv)));
-            _mm_store_ps(nrm[1], _mm_cvtpd_ps(_mm_mul_pd(gy, inv)));
-            _mm_store_ps(nrm[2], _mm_cvtpd_ps(_mm_mul_pd(gz, inv)));
-            const int lanes = a + 1 < n ? 2 : 1;
-            for (int l = 0; l < lanes; ++l) {
-                if (!(ok_flat >> l & 1)) { ++pstats.flat; continue; }
-                if (too_far >> l & 1) { ++pstats.too_far; continue; }
-                out.push_back(PointRecord{{pos[0][l], pos[1][l], pos[2][l]}, {nrm[0][l], nrm[1][l], nrm[2][l]}, radius, iso_f});
-                ++pstats.output;
-            }
+            // lanes (a, a+1) of x, y, z, nx, ny, nz: 6 pairs of floats, 12 floats per step
+            float* o = fo + 6 * a;
+            _mm_storel_pi(reinterpret_cast<__m64*>(o + 0), _mm_cvtpd_ps(_mm_add_pd(_mm_loadu_pd(spx + a), sx)));
+            _mm_storel_pi(reinterpret_cast<__m64*>(o + 2), _mm_cvtpd_ps(_mm_add_pd(py, sy)));
+            _mm_storel_pi(reinterpret_cast<__m64*>(o + 4), _mm_cvtpd_ps(_mm_add_pd(pz, sz)));
+            _mm_storel_pi(reinterpret_cast<__m64*>(o + 6), _mm_cvtpd_ps(_mm_mul_pd(gx, inv)));
+            _mm_storel_pi(reinterpret_cast<__m64*>(o + 8), _mm_cvtpd_ps(_mm_mul_pd(gy, inv)));
+            _mm_storel_pi(reinterpret_cast<__m64*>(o + 10), _mm_cvtpd_ps(_mm_mul_pd(gz, inv)));
+        }
+        // (3) the points, in the row's order
+        for (std::int64_t a = 0; a < n; ++a) {
+            const std::uint8_t f = flags[static_cast<std::size_t>(a)];
+            if (!(f & 1)) { ++pstats.flat; continue; }
+            if (f & 2) { ++pstats.too_far; continue; }
+            const float* o = fo + 6 * (a & ~std::int64_t{1}) + (a & 1);
+            out.push_back(PointRecord{{o[0], o[2], o[4]}, {o[6], o[8], o[10]}, radius, iso_f});
+            ++pstats.output;
         }
     });
 }

@@ -66,6 +66,14 @@ TEST_CASE("block min/max equals brute force for every type and awkward sizes", "
         check_against_brute(random_volume<std::uint16_t>({9, 9, 1}, SampleType::u16, 3, false), edge);
         check_against_brute(random_volume<float>({10, 6, 11}, SampleType::f32, 4, true), edge);
     }
+    // 8-bit volumes wide enough for whole 33-sample segments (the SSE2 path), with partial last blocks
+    for (std::array<std::int64_t, 3> dims : {std::array<std::int64_t, 3>{97, 70, 40}, {64, 33, 33}, {65, 2, 34}, {33, 1, 1}})
+        for (int edge : {32, 4}) {
+            Volume v = random_volume<std::uint8_t>(dims, SampleType::u8, 5, false);
+            v.bytes[static_cast<std::size_t>(dims[0] + 40) % v.bytes.size()] = std::byte{255};  // extremes inside some block
+            v.bytes[v.bytes.size() / 2] = std::byte{0};
+            check_against_brute(v, edge);
+        }
 }
 
 TEST_CASE("active block box: union of the blocks the isovalue crosses, in world units", "[block_minmax]") {
