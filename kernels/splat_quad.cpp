@@ -51,6 +51,17 @@ void draw_quad_points(const detail::FloatView& fv, const detail::Shader& shader,
         y0 = std::max(y0, 0);
         y1 = std::min(y1, H - 1);
 
+        ++drawn;
+        frags += static_cast<std::int64_t>(x1 - x0 + 1) * (y1 - y0 + 1);
+        // Depth test before shading: a splat whose depth is beyond the stored depth of every pixel
+        // it covers changes none of them (min of keys, depth in the high bits), so it is not shaded.
+        const std::uint32_t depth_bits = std::bit_cast<std::uint32_t>(depth);
+        bool reaches = false;
+        for (int y = y0; y <= y1 && !reaches; ++y) {
+            const std::uint64_t* row = key + static_cast<std::size_t>(y) * W;
+            for (int x = x0; x <= x1; ++x) reaches |= static_cast<std::uint32_t>(row[x] >> 32) >= depth_bits;
+        }
+        if (!reaches) continue;
         float n[3], v[3];
         detail::oriented_normal(fv, rec, pc, depth, two_sided, n, v);
         std::uint32_t rgb;
@@ -62,9 +73,7 @@ void draw_quad_points(const detail::FloatView& fv, const detail::Shader& shader,
         } else {
             rgb = shader.shade(n[0], n[1], n[2], v[0], v[1], v[2]);
         }
-        const std::uint64_t kk = (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(depth)) << 32) | rgb;
-        ++drawn;
-        frags += static_cast<std::int64_t>(x1 - x0 + 1) * (y1 - y0 + 1);
+        const std::uint64_t kk = (static_cast<std::uint64_t>(depth_bits) << 32) | rgb;
         for (int y = y0; y <= y1; ++y) {
             std::uint64_t* row = key + static_cast<std::size_t>(y) * W;
             for (int x = x0; x <= x1; ++x) row[x] = std::min(row[x], kk);
