@@ -7,7 +7,7 @@
 //    looks complete; after an operating-system crash the data may not be on disk yet (ext4's
 //    auto_da_alloc writes a file renamed over another before the rename). Measured: fsync was
 //    20-35 % of the wall time of `isosurface -o out.ply` on a 54 MB output (issue 11).
-//  - Durability::fsync (stores and fits, costly to rebuild: .mlb, .mls, .mlf, .mlt): commit()
+//  - Durability::fsync (stores and fits, costly to rebuild: .mlb, .mls, .mlf, .mlh; batch sidecars): commit()
 //    flushes and fsyncs before the rename, so after a crash the file is either the old one or the
 //    complete new one. To keep that wait short, write-back is started every few MiB as the file is
 //    written (sync_file_range, asynchronous), overlapping the disk with the computation; commit()
