@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <type_traits>
 #include <vector>
 
@@ -75,12 +76,12 @@ void for_each_active_row(const T* data, const GridSpec& g, double iso, std::int6
     const std::int64_t words = (nx + 63) / 64, stride = words + 1;
     struct SliceBits {
         std::int64_t k = -1;
-        std::vector<std::uint64_t> bits;
+        std::unique_ptr<std::uint64_t[]> bits;  // not cleared: a row is written before it is read
         std::vector<char> ready;
     };
     SliceBits slice[2];
     for (SliceBits& sb : slice) {
-        sb.bits.assign(static_cast<std::size_t>(stride * ny), 0);
+        sb.bits.reset(new std::uint64_t[static_cast<std::size_t>(stride * ny)]);
         sb.ready.assign(static_cast<std::size_t>(ny), 0);
     }
     auto row_bits = [&](std::int64_t kk, std::int64_t jj) -> const std::uint64_t* {
@@ -90,9 +91,10 @@ void for_each_active_row(const T* data, const GridSpec& g, double iso, std::int6
             sb->k = kk;
             std::fill(sb->ready.begin(), sb->ready.end(), 0);
         }
-        std::uint64_t* b = sb->bits.data() + stride * jj;
+        std::uint64_t* b = sb->bits.get() + stride * jj;
         if (!sb->ready[static_cast<std::size_t>(jj)]) {
             above_bits(data + jj * sy + kk * sz, nx, t, b);
+            b[words] = 0;  // the padding word the shifts read
             sb->ready[static_cast<std::size_t>(jj)] = 1;
         }
         return b;
