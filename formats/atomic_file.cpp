@@ -1,9 +1,11 @@
 #include "formats/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 
@@ -98,6 +100,22 @@ void AtomicFile::pwrite(std::size_t offset, const void* data, std::size_t n) {
         throw IoError(path_ + ": write failed (" + std::strerror(errno) + ")");
 }
 
+bool AtomicFile::replace_by_exchange() {
+    // An existing regular target is swapped with the temporary in one step (renameat2
+    // RENAME_EXCHANGE: readers see the old or the new file, never none) and the old file, now under
+    // the temporary's name, is unlinked. A rename over an existing file makes ext4 (auto_da_alloc)
+    // write the new file out within the rename: 30-80 ms for a 50 MB output, most of a short run.
+    // Not possible (no target yet, another file type, a file system without the flag): false, and
+    // commit() renames as usual.
+    struct stat st{};
+    if (::lstat(target_.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;
+    if (::renameat2(AT_FDCWD, tmp_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0) return false;
+    // the old version; if it cannot be removed it stays as a stale temporary, which the next run
+    // writing this output removes (remove_stale_temporaries)
+    ::unlink(tmp_.c_str());
+    return true;
+}
+
 void AtomicFile::commit() {
     if (committed_) return;
     if (is_stdout()) {
@@ -126,6 +144,11 @@ void AtomicFile::commit() {
     std::fclose(file_);
     file_ = nullptr;
     if (!flush_ok) throw IoError(path_ + ": write failed (" + std::strerror(err) + ")");
+    if (durability_ == Durability::replace && replace_by_exchange()) {
+        registration_.release();
+        committed_ = true;
+        return;
+    }
     if (std::rename(tmp_.c_str(), target_.c_str()) != 0)
         throw IoError(path_ + ": cannot rename temporary file into place (" + std::strerror(errno) + ")");
     registration_.release();

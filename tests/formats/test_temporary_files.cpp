@@ -105,6 +105,9 @@ TEST_CASE("AtomicFile: both durabilities replace the target only at commit, with
             f.commit();
         }
         CHECK(contents() == big);
+        std::size_t entries = 0;  // the old version (swapped out under the temporary's name) is gone
+        for (const auto& e : fs::directory_iterator(dir.path)) entries += e.path().filename() == "out.bin" ? 0 : 1;
+        CHECK(entries == 0);
         CHECK_NOTHROW(sync_to_disk(out));
         previous = big;
     }
