@@ -153,17 +153,123 @@ std::int64_t drop_nonfinite(const T* p00, const T* p10, const T* p01, const T* p
     }
 }
 
+/// The frame of a volume's cell centres, as sample_rows computes positions.
+struct CentreFrame {
+    double origin[3], spacing[3];
+    std::array<std::int64_t, 3> off;
+    float radius;
+    explicit CentreFrame(const GridSpec& g, const SamplingParams& params)
+        : origin{g.origin[0], g.origin[1], g.origin[2]}, spacing{g.spacing[0], g.spacing[1], g.spacing[2]},
+          off(params.index_offset),
+          radius(static_cast<float>(params.radius_scale * 0.5 *
+                                    std::sqrt(g.spacing[0] * g.spacing[0] + g.spacing[1] * g.spacing[1] +
+                                              g.spacing[2] * g.spacing[2]))) {}
+    /// World coordinate of voxel index i (+ offset) on axis a: the cell's low corner.
+    double lo(int a, std::int64_t i) const { return origin[a] + static_cast<double>(i + off[a]) * spacing[a]; }
+};
+
+#if defined(__SSE2__)
+/// The per-row arrays of pass 1 (one entry per active cell): the sample's x and lo_x, gradient and
+/// value as the record's floats (held in double).
+struct CentreArrays {
+    std::vector<double> buf;
+    double *px, *lox, *gx, *gy, *gz, *v;
+    explicit CentreArrays(std::int64_t nx) : buf(static_cast<std::size_t>(6 * (nx + 2))) {
+        const std::size_t m = static_cast<std::size_t>(nx + 2);
+        px = buf.data();
+        lox = px + m;
+        gx = lox + m;
+        gy = gx + m;
+        gz = gy + m;
+        v = gz + m;
+    }
+};
+
+/// Pass 1 over a row's active cells idx[0..n2) (n2 even), two per SSE2 step: trilinear(c, 0.5, 0.5,
+/// 0.5), to_world_gradient and the record's float rounding, the very operations of the scalar
+/// definition (IEEE add, sub, mul, div and conversions round alike in SSE2 lanes and scalars; no FMA).
+template <class T>
+void centre_samples(const T* p00, const T* p10, const T* p01, const T* p11, const std::int64_t* idx, std::int64_t n2,
+                    const CentreFrame& f, CentreArrays& o) {
+    const __m128d half = _mm_set1_pd(0.5);
+    const __m128d vsx = _mm_set1_pd(f.spacing[0]), vsy = _mm_set1_pd(f.spacing[1]), vsz = _mm_set1_pd(f.spacing[2]);
+    const __m128d vox = _mm_set1_pd(f.origin[0]);
+    for (std::int64_t a = 0; a < n2; a += 2) {
+        const std::int64_t ia = idx[a], ib = idx[a + 1];
+        auto ld = [&](const T* p, std::int64_t d) {
+            return _mm_set_pd(static_cast<double>(p[ib + d]), static_cast<double>(p[ia + d]));
+        };
+        const __m128d c0 = ld(p00, 0), c1 = ld(p00, 1), c2 = ld(p10, 0), c3 = ld(p10, 1);
+        const __m128d c4 = ld(p01, 0), c5 = ld(p01, 1), c6 = ld(p11, 0), c7 = ld(p11, 1);
+        const __m128d c00 = _mm_add_pd(c0, _mm_mul_pd(half, _mm_sub_pd(c1, c0)));
+        const __m128d c10 = _mm_add_pd(c2, _mm_mul_pd(half, _mm_sub_pd(c3, c2)));
+        const __m128d c01 = _mm_add_pd(c4, _mm_mul_pd(half, _mm_sub_pd(c5, c4)));
+        const __m128d c11 = _mm_add_pd(c6, _mm_mul_pd(half, _mm_sub_pd(c7, c6)));
+        const __m128d e0 = _mm_add_pd(c00, _mm_mul_pd(half, _mm_sub_pd(c10, c00)));
+        const __m128d e1 = _mm_add_pd(c01, _mm_mul_pd(half, _mm_sub_pd(c11, c01)));
+        const __m128d value = _mm_add_pd(e0, _mm_mul_pd(half, _mm_sub_pd(e1, e0)));
+        const __m128d d00 = _mm_sub_pd(c1, c0), d10 = _mm_sub_pd(c3, c2);
+        const __m128d d01 = _mm_sub_pd(c5, c4), d11 = _mm_sub_pd(c7, c6);
+        const __m128d f0 = _mm_add_pd(d00, _mm_mul_pd(half, _mm_sub_pd(d10, d00)));
+        const __m128d f1 = _mm_add_pd(d01, _mm_mul_pd(half, _mm_sub_pd(d11, d01)));
+        const __m128d lgx = _mm_add_pd(f0, _mm_mul_pd(half, _mm_sub_pd(f1, f0)));
+        const __m128d dy0 = _mm_sub_pd(c10, c00);
+        const __m128d lgy = _mm_add_pd(dy0, _mm_mul_pd(half, _mm_sub_pd(_mm_sub_pd(c11, c01), dy0)));
+        const __m128d lgz = _mm_sub_pd(e1, e0);
+        const __m128d ix = _mm_set_pd(static_cast<double>(ib + f.off[0]), static_cast<double>(ia + f.off[0]));
+        const __m128d lo_x = _mm_add_pd(vox, _mm_mul_pd(ix, vsx));
+        _mm_storeu_pd(o.lox + a, lo_x);
+        _mm_storeu_pd(o.px + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_add_pd(lo_x, _mm_mul_pd(half, vsx)))));
+        _mm_storeu_pd(o.gx + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgx, vsx))));
+        _mm_storeu_pd(o.gy + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgy, vsy))));
+        _mm_storeu_pd(o.gz + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgz, vsz))));
+        _mm_storeu_pd(o.v + a, _mm_cvtps_pd(_mm_cvtpd_ps(value)));
+    }
+}
+#endif
+
+/// The samples of the active cells of rows [row0, row1), emitted in order: emit(const SampleRecord&).
+/// The definition (and the path without SSE2) is the scalar loop; with SSE2 pass 1 runs two cells
+/// per step and gives the same bytes (tests/kernels/test_cell_sampling.cpp checks both against a
+/// scalar reference).
 template <class T, class Emit>
 void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0, std::int64_t row1,
                  const SamplingParams& params, Emit&& emit, SamplingStats& stats) {
-    const double sx_w = g.spacing[0], sy_w = g.spacing[1], sz_w = g.spacing[2];
-    const float radius = static_cast<float>(
-        params.radius_scale * 0.5 * std::sqrt(sx_w * sx_w + sy_w * sy_w + sz_w * sz_w));
-    const Vec3 size{sx_w, sy_w, sz_w};
+    const CentreFrame f(g, params);
+    SampleRecord s{};
+    s.radius = f.radius;
+    for (int ax = 0; ax < 3; ++ax) s.cell_size[ax] = static_cast<float>(g.spacing[ax]);
+#if defined(__SSE2__)
+    CentreArrays arr(g.dims[0]);
+#endif
     for_each_active_row(data, g, iso, row0, row1,
                         [&](std::int64_t j, std::int64_t k, const T* p00, const T* p10, const T* p01, const T* p11,
                             std::int64_t* idx, std::int64_t count) {
         const std::int64_t n = drop_nonfinite(p00, p10, p01, p11, idx, count, stats);
+        if (n == 0) return;
+        const double lo_y = f.lo(1, j), lo_z = f.lo(2, k);
+        s.pos[1] = static_cast<float>(lo_y + 0.5 * f.spacing[1]);
+        s.pos[2] = static_cast<float>(lo_z + 0.5 * f.spacing[2]);
+        s.cell_lo[1] = static_cast<float>(lo_y);
+        s.cell_lo[2] = static_cast<float>(lo_z);
+#if defined(__SSE2__)
+        if (n % 2 == 1) idx[n] = idx[n - 1];  // the odd last cell fills both lanes
+        centre_samples(p00, p10, p01, p11, idx, (n + 1) / 2 * 2, f, arr);
+        for (std::int64_t a = 0; a < n; ++a) {
+            const std::int64_t i = idx[a];
+            s.pos[0] = static_cast<float>(arr.px[a]);
+            s.grad[0] = static_cast<float>(arr.gx[a]);
+            s.grad[1] = static_cast<float>(arr.gy[a]);
+            s.grad[2] = static_cast<float>(arr.gz[a]);
+            s.value = static_cast<float>(arr.v[a]);
+            s.cell_lo[0] = static_cast<float>(arr.lox[a]);
+            const T c[8] = {p00[i], p00[i + 1], p10[i], p10[i + 1], p01[i], p01[i + 1], p11[i], p11[i + 1]};
+            for (int ax = 0; ax < 8; ++ax) s.corner[ax] = static_cast<float>(static_cast<double>(c[ax]));
+            emit(s);
+        }
+        stats.active_cells += n;
+#else
+        const Vec3 size{f.spacing[0], f.spacing[1], f.spacing[2]};
         for (std::int64_t a = 0; a < n; ++a) {
             const std::int64_t i = idx[a];
             const double c[8] = {static_cast<double>(p00[i]), static_cast<double>(p00[i + 1]),
@@ -172,62 +278,41 @@ void sample_rows(const T* data, const GridSpec& g, double iso, std::int64_t row0
                                  static_cast<double>(p11[i]), static_cast<double>(p11[i + 1])};
             const ValueGrad vg = trilinear(c, 0.5, 0.5, 0.5);
             const Vec3 gw = to_world_gradient(vg.grad, size);
-            SampleRecord s;
-            const auto& off = params.index_offset;
-            const double lo[3] = {g.origin[0] + static_cast<double>(i + off[0]) * sx_w,
-                                  g.origin[1] + static_cast<double>(j + off[1]) * sy_w,
-                                  g.origin[2] + static_cast<double>(k + off[2]) * sz_w};
-            s.pos[0] = static_cast<float>(lo[0] + 0.5 * sx_w);
-            s.pos[1] = static_cast<float>(lo[1] + 0.5 * sy_w);
-            s.pos[2] = static_cast<float>(lo[2] + 0.5 * sz_w);
+            const double lo_x = f.lo(0, i);
+            s.pos[0] = static_cast<float>(lo_x + 0.5 * f.spacing[0]);
             s.grad[0] = static_cast<float>(gw.x);
             s.grad[1] = static_cast<float>(gw.y);
             s.grad[2] = static_cast<float>(gw.z);
             s.value = static_cast<float>(vg.value);
-            s.radius = radius;
-            for (int ax = 0; ax < 3; ++ax) {
-                s.cell_lo[ax] = static_cast<float>(lo[ax]);
-                s.cell_size[ax] = static_cast<float>(g.spacing[ax]);
-            }
+            s.cell_lo[0] = static_cast<float>(lo_x);
             for (int ax = 0; ax < 8; ++ax) s.corner[ax] = static_cast<float>(c[ax]);
             emit(s);
             ++stats.active_cells;
         }
+#endif
     });
 }
 
 #if defined(__SSE2__)
-/// The approximate projection fused with the sampling, two cells at a time (SSE2 doubles): the very
-/// operations of sample_rows (trilinear at the centre, to_world_gradient, the float record) followed
-/// by project_sample's approx branch (newton_step, the normal), in the same order on each lane, so
-/// the bytes equal the scalar path's (IEEE add, sub, mul, div, sqrt and conversions round alike in
-/// SSE2 lanes and scalars; no FMA). Integers and finite floats only (drop_nonfinite first).
+/// The approximate projection fused with the sampling: pass 1 (centre_samples), then
+/// project_sample's approx branch (newton_step, the normal) two cells per SSE2 step with the same
+/// operations in the same order, then the points in order; the bytes equal sample_rows followed by
+/// project_sample. Three passes per row so that one cell's long dependency chain (divisions, square
+/// root, float roundings) overlaps with the next cells'. Integers and finite floats only
+/// (drop_nonfinite first).
 template <class T>
 void project_rows_approx(const T* data, const GridSpec& g, double iso, std::int64_t row0, std::int64_t row1,
                          const SamplingParams& params, std::vector<PointRecord>& out, SamplingStats& stats,
                          ProjectionStats& pstats) {
-    const double sx_w = g.spacing[0], sy_w = g.spacing[1], sz_w = g.spacing[2];
-    const float radius = static_cast<float>(
-        params.radius_scale * 0.5 * std::sqrt(sx_w * sx_w + sy_w * sy_w + sz_w * sz_w));
+    const CentreFrame f(g, params);
     // project_sample's displacement bound from the record's float cell size
-    const Vec3 fsize{static_cast<float>(sx_w), static_cast<float>(sy_w), static_cast<float>(sz_w)};
+    const Vec3 fsize{static_cast<float>(g.spacing[0]), static_cast<float>(g.spacing[1]), static_cast<float>(g.spacing[2])};
     const double max_d = displacement_threshold(fsize), max_d2 = max_d * max_d;
     const float iso_f = static_cast<float>(iso);
-    const auto& off = params.index_offset;
-    const __m128d half = _mm_set1_pd(0.5), zero = _mm_setzero_pd(), minus_one = _mm_set1_pd(-1.0);
-    const __m128d vsx = _mm_set1_pd(sx_w), vsy = _mm_set1_pd(sy_w), vsz = _mm_set1_pd(sz_w);
-    const __m128d vox = _mm_set1_pd(g.origin[0]), viso = _mm_set1_pd(iso), vmax_d2 = _mm_set1_pd(max_d2);
-    // Per row, three passes over its active cells (two per step), so that the long dependency
-    // chain of one cell (divisions, square root, float roundings) overlaps with the next cells'
-    // instead of being waited for: (1) corners -> the sample's floats, (2) Newton step and normal,
-    // (3) the points, in order. Scratch: doubles for each quantity, two lanes per step.
+    const __m128d zero = _mm_setzero_pd(), minus_one = _mm_set1_pd(-1.0);
+    const __m128d viso = _mm_set1_pd(iso), vmax_d2 = _mm_set1_pd(max_d2);
     const std::size_t lanes_max = static_cast<std::size_t>(g.dims[0] + 2);
-    std::vector<double> scratch(5 * lanes_max);
-    double* const sgx = scratch.data();
-    double* const sgy = sgx + lanes_max;
-    double* const sgz = sgy + lanes_max;
-    double* const sv = sgz + lanes_max;
-    double* const spx = sv + lanes_max;
+    CentreArrays arr(g.dims[0]);
     std::vector<float> fout(6 * lanes_max + 8);
     std::vector<std::uint8_t> flags(lanes_max);
     for_each_active_row(data, g, iso, row0, row1,
@@ -239,48 +324,16 @@ void project_rows_approx(const T* data, const GridSpec& g, double iso, std::int6
         if (n == 0) return;
         if (n % 2 == 1) idx[n] = idx[n - 1];  // the odd last cell fills both lanes
         const std::int64_t n2 = (n + 1) / 2 * 2;
-        // y and z of the row, as sample_rows computes them
-        const double lo_y = g.origin[1] + static_cast<double>(j + off[1]) * sy_w;
-        const double lo_z = g.origin[2] + static_cast<double>(k + off[2]) * sz_w;
-        const __m128d py = _mm_set1_pd(static_cast<double>(static_cast<float>(lo_y + 0.5 * sy_w)));
-        const __m128d pz = _mm_set1_pd(static_cast<double>(static_cast<float>(lo_z + 0.5 * sz_w)));
-        // (1) trilinear(c, 0.5, 0.5, 0.5), to_world_gradient, the record's float rounding
-        for (std::int64_t a = 0; a < n2; a += 2) {
-            const std::int64_t ia = idx[a], ib = idx[a + 1];
-            auto ld = [&](const T* p, std::int64_t d) {
-                return _mm_set_pd(static_cast<double>(p[ib + d]), static_cast<double>(p[ia + d]));
-            };
-            const __m128d c0 = ld(p00, 0), c1 = ld(p00, 1), c2 = ld(p10, 0), c3 = ld(p10, 1);
-            const __m128d c4 = ld(p01, 0), c5 = ld(p01, 1), c6 = ld(p11, 0), c7 = ld(p11, 1);
-            const __m128d c00 = _mm_add_pd(c0, _mm_mul_pd(half, _mm_sub_pd(c1, c0)));
-            const __m128d c10 = _mm_add_pd(c2, _mm_mul_pd(half, _mm_sub_pd(c3, c2)));
-            const __m128d c01 = _mm_add_pd(c4, _mm_mul_pd(half, _mm_sub_pd(c5, c4)));
-            const __m128d c11 = _mm_add_pd(c6, _mm_mul_pd(half, _mm_sub_pd(c7, c6)));
-            const __m128d e0 = _mm_add_pd(c00, _mm_mul_pd(half, _mm_sub_pd(c10, c00)));
-            const __m128d e1 = _mm_add_pd(c01, _mm_mul_pd(half, _mm_sub_pd(c11, c01)));
-            const __m128d value = _mm_add_pd(e0, _mm_mul_pd(half, _mm_sub_pd(e1, e0)));
-            const __m128d d00 = _mm_sub_pd(c1, c0), d10 = _mm_sub_pd(c3, c2);
-            const __m128d d01 = _mm_sub_pd(c5, c4), d11 = _mm_sub_pd(c7, c6);
-            const __m128d f0 = _mm_add_pd(d00, _mm_mul_pd(half, _mm_sub_pd(d10, d00)));
-            const __m128d f1 = _mm_add_pd(d01, _mm_mul_pd(half, _mm_sub_pd(d11, d01)));
-            const __m128d lgx = _mm_add_pd(f0, _mm_mul_pd(half, _mm_sub_pd(f1, f0)));
-            const __m128d dy0 = _mm_sub_pd(c10, c00);
-            const __m128d lgy = _mm_add_pd(dy0, _mm_mul_pd(half, _mm_sub_pd(_mm_sub_pd(c11, c01), dy0)));
-            const __m128d lgz = _mm_sub_pd(e1, e0);
-            const __m128d ix = _mm_set_pd(static_cast<double>(ib + off[0]), static_cast<double>(ia + off[0]));
-            const __m128d lo_x = _mm_add_pd(vox, _mm_mul_pd(ix, vsx));
-            _mm_storeu_pd(spx + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_add_pd(lo_x, _mm_mul_pd(half, vsx)))));
-            _mm_storeu_pd(sgx + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgx, vsx))));
-            _mm_storeu_pd(sgy + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgy, vsy))));
-            _mm_storeu_pd(sgz + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgz, vsz))));
-            _mm_storeu_pd(sv + a, _mm_cvtps_pd(_mm_cvtpd_ps(value)));
-        }
+        const __m128d py = _mm_set1_pd(static_cast<double>(static_cast<float>(f.lo(1, j) + 0.5 * f.spacing[1])));
+        const __m128d pz = _mm_set1_pd(static_cast<double>(static_cast<float>(f.lo(2, k) + 0.5 * f.spacing[2])));
+        // (1) the samples
+        centre_samples(p00, p10, p01, p11, idx, n2, f, arr);
         // (2) newton_step and the normal: float position and normal, and why a lane is dropped
         float* const fo = fout.data();
         for (std::int64_t a = 0; a < n2; a += 2) {
-            const __m128d gx = _mm_loadu_pd(sgx + a), gy = _mm_loadu_pd(sgy + a), gz = _mm_loadu_pd(sgz + a);
+            const __m128d gx = _mm_loadu_pd(arr.gx + a), gy = _mm_loadu_pd(arr.gy + a), gz = _mm_loadu_pd(arr.gz + a);
             const __m128d gg = _mm_add_pd(_mm_add_pd(_mm_mul_pd(gx, gx), _mm_mul_pd(gy, gy)), _mm_mul_pd(gz, gz));
-            const __m128d t = _mm_div_pd(_mm_sub_pd(viso, _mm_loadu_pd(sv + a)), gg);
+            const __m128d t = _mm_div_pd(_mm_sub_pd(viso, _mm_loadu_pd(arr.v + a)), gg);
             const __m128d sx = _mm_mul_pd(gx, t), sy = _mm_mul_pd(gy, t), sz = _mm_mul_pd(gz, t);
             const __m128d ss = _mm_add_pd(_mm_add_pd(_mm_mul_pd(sx, sx), _mm_mul_pd(sy, sy)), _mm_mul_pd(sz, sz));
             const int not_flat = _mm_movemask_pd(_mm_cmpgt_pd(gg, zero));
@@ -290,7 +343,7 @@ void project_rows_approx(const T* data, const GridSpec& g, double iso, std::int6
             const __m128d inv = _mm_div_pd(minus_one, _mm_sqrt_pd(gg));
             // lanes (a, a+1) of x, y, z, nx, ny, nz: 6 pairs of floats, 12 floats per step
             float* o = fo + 6 * a;
-            _mm_storel_pi(reinterpret_cast<__m64*>(o + 0), _mm_cvtpd_ps(_mm_add_pd(_mm_loadu_pd(spx + a), sx)));
+            _mm_storel_pi(reinterpret_cast<__m64*>(o + 0), _mm_cvtpd_ps(_mm_add_pd(_mm_loadu_pd(arr.px + a), sx)));
             _mm_storel_pi(reinterpret_cast<__m64*>(o + 2), _mm_cvtpd_ps(_mm_add_pd(py, sy)));
             _mm_storel_pi(reinterpret_cast<__m64*>(o + 4), _mm_cvtpd_ps(_mm_add_pd(pz, sz)));
             _mm_storel_pi(reinterpret_cast<__m64*>(o + 6), _mm_cvtpd_ps(_mm_mul_pd(gx, inv)));
@@ -299,11 +352,11 @@ void project_rows_approx(const T* data, const GridSpec& g, double iso, std::int6
         }
         // (3) the points, in the row's order
         for (std::int64_t a = 0; a < n; ++a) {
-            const std::uint8_t f = flags[static_cast<std::size_t>(a)];
-            if (!(f & 1)) { ++pstats.flat; continue; }
-            if (f & 2) { ++pstats.too_far; continue; }
+            const std::uint8_t fl = flags[static_cast<std::size_t>(a)];
+            if (!(fl & 1)) { ++pstats.flat; continue; }
+            if (fl & 2) { ++pstats.too_far; continue; }
             const float* o = fo + 6 * (a & ~std::int64_t{1}) + (a & 1);
-            out.push_back(PointRecord{{o[0], o[2], o[4]}, {o[6], o[8], o[10]}, radius, iso_f});
+            out.push_back(PointRecord{{o[0], o[2], o[4]}, {o[6], o[8], o[10]}, f.radius, iso_f});
             ++pstats.output;
         }
     });

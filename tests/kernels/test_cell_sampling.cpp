@@ -1,4 +1,5 @@
-// kernels/cell_sampling: the active cells against a brute-force classification, and the fused
+// kernels/cell_sampling: the samples against their plain scalar definition (bytes), the active cells
+// against a brute-force classification, and the fused
 // sample + approximate projection (two cells per SSE2 step, active cells found 64 at a time from
 // per-sample bits) against sample_active_cells followed by project_sample, byte for byte, for every
 // sample type, odd row lengths, NaN/Inf corners and any split of the rows.
@@ -13,6 +14,7 @@
 
 #include "kernels/cell_sampling.hpp"
 #include "kernels/iso_threshold.hpp"
+#include "kernels/trilinear.hpp"
 
 using namespace meshless;
 
@@ -66,6 +68,52 @@ std::pair<std::int64_t, std::int64_t> brute_active(const std::vector<T>& v, cons
     return {active, bad};
 }
 
+/// The definition of the samples (kernels/cell_sampling.hpp), written out plainly: every cell in
+/// row-major order, active by the native-type test, non-finite corners skipped, the centre sample by
+/// trilinear() and to_world_gradient() in double, stored as floats.
+template <class T>
+std::vector<SampleRecord> reference_samples(const std::vector<T>& v, const GridSpec& g, double iso,
+                                            const SamplingParams& sp) {
+    std::vector<SampleRecord> out;
+    const T t = IsoThreshold<T>(iso).t;
+    const std::int64_t nx = g.dims[0], ny = g.dims[1];
+    const Vec3 size{g.spacing[0], g.spacing[1], g.spacing[2]};
+    const auto& s = g.spacing;
+    for (std::int64_t k = 0; k + 1 < g.dims[2]; ++k)
+        for (std::int64_t j = 0; j + 1 < ny; ++j)
+            for (std::int64_t i = 0; i + 1 < nx; ++i) {
+                double c[8];
+                int above = 0;
+                bool finite = true;
+                for (int q = 0; q < 8; ++q) {
+                    const T x = v[static_cast<std::size_t>((i + (q & 1)) + nx * ((j + (q >> 1 & 1)) + ny * (k + (q >> 2))))];
+                    above += x >= t;
+                    finite = finite && std::isfinite(static_cast<double>(x));
+                    c[q] = static_cast<double>(x);
+                }
+                if (above == 0 || above == 8 || !finite) continue;
+                const ValueGrad vg = trilinear(c, 0.5, 0.5, 0.5);
+                const Vec3 gw = to_world_gradient(vg.grad, size);
+                const double lo[3] = {g.origin[0] + static_cast<double>(i + sp.index_offset[0]) * s[0],
+                                      g.origin[1] + static_cast<double>(j + sp.index_offset[1]) * s[1],
+                                      g.origin[2] + static_cast<double>(k + sp.index_offset[2]) * s[2]};
+                SampleRecord r;
+                for (int a = 0; a < 3; ++a) {
+                    r.pos[a] = static_cast<float>(lo[a] + 0.5 * s[a]);
+                    r.cell_lo[a] = static_cast<float>(lo[a]);
+                    r.cell_size[a] = static_cast<float>(s[a]);
+                }
+                r.grad[0] = static_cast<float>(gw.x);
+                r.grad[1] = static_cast<float>(gw.y);
+                r.grad[2] = static_cast<float>(gw.z);
+                r.value = static_cast<float>(vg.value);
+                r.radius = static_cast<float>(sp.radius_scale * 0.5 * std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]));
+                for (int q = 0; q < 8; ++q) r.corner[q] = static_cast<float>(c[q]);
+                out.push_back(r);
+            }
+    return out;
+}
+
 template <class T>
 void check_type(SampleType type, const std::vector<double>& isos) {
     std::mt19937 rng(7);
@@ -83,9 +131,13 @@ void check_type(SampleType type, const std::vector<double>& isos) {
                 CAPTURE(nx, specials, iso);
                 SamplingParams sp;
                 sp.index_offset = {3, 0, 2};
+                sp.radius_scale = 1.5;
                 std::vector<SampleRecord> samples;
                 SamplingStats s1;
                 sample_active_cells(view, iso, 0, rows, sp, samples, s1);
+                const std::vector<SampleRecord> ref = reference_samples(data, g, iso, sp);
+                REQUIRE(samples.size() == ref.size());
+                CHECK(std::memcmp(samples.data(), ref.data(), ref.size() * sizeof(SampleRecord)) == 0);
                 std::vector<PointRecord> expect;
                 ProjectionStats p1;
                 for (const SampleRecord& s : samples) {
