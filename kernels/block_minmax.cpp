@@ -98,20 +98,16 @@ void add_rows_u8(const std::uint8_t* data, const GridSpec& g, std::int64_t k0, s
         __m128i v;
     };
     std::vector<Lanes> vlo(static_cast<std::size_t>(bx)), vhi(vlo.size());
-    auto reduce_min = [](__m128i v) {
-        v = _mm_min_epu8(v, _mm_srli_si128(v, 8));
-        v = _mm_min_epu8(v, _mm_srli_si128(v, 4));
-        v = _mm_min_epu8(v, _mm_srli_si128(v, 2));
-        v = _mm_min_epu8(v, _mm_srli_si128(v, 1));
+    // the minimum (or maximum) of the 16 lanes, by halving
+    auto reduce = [](__m128i v, auto op) {
+        v = op(v, _mm_srli_si128(v, 8));
+        v = op(v, _mm_srli_si128(v, 4));
+        v = op(v, _mm_srli_si128(v, 2));
+        v = op(v, _mm_srli_si128(v, 1));
         return static_cast<double>(_mm_cvtsi128_si32(v) & 0xFF);
     };
-    auto reduce_max = [](__m128i v) {
-        v = _mm_max_epu8(v, _mm_srli_si128(v, 8));
-        v = _mm_max_epu8(v, _mm_srli_si128(v, 4));
-        v = _mm_max_epu8(v, _mm_srli_si128(v, 2));
-        v = _mm_max_epu8(v, _mm_srli_si128(v, 1));
-        return static_cast<double>(_mm_cvtsi128_si32(v) & 0xFF);
-    };
+    const auto lane_min = [](__m128i a, __m128i b) { return _mm_min_epu8(a, b); };
+    const auto lane_max = [](__m128i a, __m128i b) { return _mm_max_epu8(a, b); };
     for (std::int64_t k = k0; k < k0 + count; ++k) {
         std::int64_t oz[2];
         int cz = 0;
@@ -148,8 +144,8 @@ void add_rows_u8(const std::uint8_t* data, const GridSpec& g, std::int64_t k0, s
                 }
             }
             for (std::int64_t b = 0; b < bx; ++b) {
-                const double l = reduce_min(vlo[static_cast<std::size_t>(b)].v);
-                const double h = reduce_max(vhi[static_cast<std::size_t>(b)].v);
+                const double l = reduce(vlo[static_cast<std::size_t>(b)].v, lane_min);
+                const double h = reduce(vhi[static_cast<std::size_t>(b)].v, lane_max);
                 for (int zi = 0; zi < cz; ++zi) {
                     const std::size_t at = static_cast<std::size_t>(b + bx * (yb + by * oz[zi]));
                     lo[at] = std::min(lo[at], l);
