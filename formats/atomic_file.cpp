@@ -32,7 +32,10 @@ void sync_to_disk(const std::string& path) {
         if (!ok) throw IoError(path + ": cannot sync to disk (" + std::strerror(err) + ")");
     };
     sync_one(path, O_RDONLY);
-    const fs::path dir = fs::path(path).parent_path();
+    // the directory the file's name is in (a symbolic link's target, as AtomicFile renames there)
+    std::error_code ec;
+    const fs::path real = fs::weakly_canonical(path, ec);
+    const fs::path dir = (ec ? fs::path(path) : real).parent_path();
     sync_one(dir.empty() ? std::string(".") : dir.string(), O_RDONLY | O_DIRECTORY);
 }
 
@@ -110,10 +113,15 @@ bool AtomicFile::replace_by_exchange() {
     struct stat st{};
     if (::lstat(target_.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;
     if (::renameat2(AT_FDCWD, tmp_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0) return false;
-    // the old version; if it cannot be removed it stays as a stale temporary, which the next run
-    // writing this output removes (remove_stale_temporaries)
-    ::unlink(tmp_.c_str());
-    return true;
+    // the old version, now under the temporary's name
+    if (::unlink(tmp_.c_str()) == 0) return true;
+    // Not removable (what was swapped out is not the file lstat saw, e.g. a directory put there
+    // meanwhile): swap back and let commit() rename, which reports such a target as an error.
+    const int err = errno;
+    if (::renameat2(AT_FDCWD, tmp_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0)
+        throw IoError(path_ + ": the previous version, swapped out to " + tmp_ + ", could not be removed (" +
+                      std::strerror(err) + ") nor swapped back (" + std::strerror(errno) + ")");
+    return false;
 }
 
 void AtomicFile::commit() {

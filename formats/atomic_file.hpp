@@ -4,9 +4,11 @@
 //  - Durability::replace (the default, for outputs that a command can make again: points, meshes,
 //    images, streams): the temporary is renamed into place without waiting for the disk, as
 //    sed -i, sort -o and VTK's writers do. A failed or killed process never leaves a file that
-//    looks complete; after an operating-system crash the data may not be on disk yet. An existing
-//    target is swapped with the temporary (renameat2 RENAME_EXCHANGE, atomic) and then unlinked,
-//    because a rename over it makes ext4 (auto_da_alloc) write the new file out inside the rename.
+//    looks complete. An existing target is swapped with the temporary (renameat2 RENAME_EXCHANGE,
+//    atomic: readers see the old or the new file) and the old file then unlinked, because a rename
+//    over it makes ext4 (auto_da_alloc) write the new file out inside the rename; this side-steps
+//    that safety net on purpose, so after an operating-system crash the previous output may be gone
+//    and the new one missing, empty or short (run the command again).
 //    Measured on `isosurface -o out.ply` with a 54 MB output: fsync was 20-35 % of the wall time,
 //    the rename over the old file 30-80 ms.
 //  - Durability::fsync (stores and fits, costly to rebuild: .mlb, .mls, .mlf, .mlh; batch sidecars): commit()
@@ -15,8 +17,8 @@
 //    written (sync_file_range, asynchronous), overlapping the disk with the computation; commit()
 //    then waits only for the tail.
 //
-// AtomicFile writes to "<path>.tmp-<pid>" in the same directory and renames it over <path> on
-// commit(); if the object is destroyed without commit() (an exception, an early return) the
+// AtomicFile writes to "<path>.tmp-<pid>" in the same directory and puts it in place of <path> on
+// commit() (the swap above, else a rename); if the object is destroyed without commit() (an exception, an early return) the
 // temporary is removed. A process killed by a signal leaves only the temporary, never a file that
 // looks complete, and the CLI's handlers for SIGINT, SIGTERM, SIGHUP and SIGXFSZ remove even that
 // (the temporary is registered in formats/temporary_files.hpp). Before creating its temporary,

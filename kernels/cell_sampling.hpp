@@ -51,7 +51,9 @@ void sample_active_cells(const VolumeView& v, double iso, std::int64_t row0, std
 
 /// The same samples, each projected at once by project_sample (no SampleRecord is stored): the
 /// in-process fast path of paradigm (C). Output bytes equal sample_active_cells followed by
-/// project_sample on each record, by construction (the same record is built and projected).
+/// project_sample on each record: for `exact` and `none` the same record is built and projected;
+/// `approx` runs its own two-cells-per-step SSE2 code with the same operations in the same order
+/// (checked byte for byte by tests/kernels/test_cell_sampling.cpp).
 void sample_and_project_active_cells(const VolumeView& v, double iso, std::int64_t row0, std::int64_t row1,
                                      const SamplingParams& params, Projection mode,
                                      std::vector<PointRecord>& out, SamplingStats& stats,

@@ -101,10 +101,13 @@ TEST_CASE("active block box: union of the blocks the isovalue crosses, in world 
 TEST_CASE("BlockMinMaxBuilder: slices added in any grouping and order give block_minmax", "[kernels][block_minmax]") {
     const Volume f = random_volume<float>({13, 9, 21}, SampleType::f32, 7, true);
     const Volume u = random_volume<std::uint16_t>({13, 9, 21}, SampleType::u16, 8, false);
-    for (const Volume* v : {&f, &u})
+    // 8-bit and wide enough for whole 33-sample segments (the SSE2 path), slices added from k0 > 0
+    const Volume b8 = random_volume<std::uint8_t>({97, 9, 21}, SampleType::u8, 9, false);
+    for (const Volume* v : {&f, &u, &b8})
         for (int edge : {1, 4, 8, 32}) {
+            if (v == &b8) check_against_brute(*v, edge);
             const BlockMinMax whole = block_minmax(v->view(), edge);
-            const std::size_t slice = static_cast<std::size_t>(13 * 9) * sample_size(v->type);
+            const std::size_t slice = static_cast<std::size_t>(v->grid.dims[0] * v->grid.dims[1]) * sample_size(v->type);
             BlockMinMaxBuilder b(v->grid, v->type, edge);
             // groups of 5, 1, 5, 1, ... slices, the last group first
             std::vector<std::array<std::int64_t, 2>> groups;
