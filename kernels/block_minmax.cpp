@@ -38,6 +38,16 @@ void segment_minmax(const T* p, std::int64_t n, T& lo, T& hi, bool& any) {
     }
 }
 
+// The blocks (up to 2 per axis: neighbours share a voxel layer) that voxel index i of an axis with
+// nb blocks of edge B belongs to, in o; returns how many.
+int block_owners(std::int64_t i, int B, std::int64_t nb, std::int64_t* o) {
+    int c = 0;
+    const std::int64_t b = i / B;
+    if (b < nb) o[c++] = b;
+    if (i % B == 0 && b > 0) o[c++] = b - 1;
+    return c;
+}
+
 // Adds z-slices [k0, k0 + count) (data: those slices, x fastest) to the per-block doubles lo/hi
 // (+inf/-inf until a finite sample arrives).
 template <class T>
@@ -49,20 +59,12 @@ void add_rows(const T* data, const GridSpec& g, std::int64_t k0, std::int64_t co
     const T tmin = std::numeric_limits<T>::has_infinity ? -std::numeric_limits<T>::infinity() : std::numeric_limits<T>::lowest();
     std::vector<T> rlo(static_cast<std::size_t>(bx)), rhi(rlo.size());
     std::vector<char> rany(rlo.size());
-    // The blocks (up to 2 per axis) a voxel index belongs to.
-    auto owners = [&](std::int64_t i, std::int64_t nb, std::int64_t* o) {
-        int c = 0;
-        const std::int64_t b = i / B;
-        if (b < nb) o[c++] = b;
-        if (i % B == 0 && b > 0) o[c++] = b - 1;
-        return c;
-    };
     for (std::int64_t k = k0; k < k0 + count; ++k) {
         std::int64_t oz[2];
-        const int cz = owners(k, bz, oz);
+        const int cz = block_owners(k, B, bz, oz);
         for (std::int64_t j = 0; j < ny; ++j) {
             std::int64_t oy[2];
-            const int cy = owners(j, by, oy);
+            const int cy = block_owners(j, B, by, oy);
             const T* row = data + nx * (j + ny * (k - k0));
             for (std::int64_t b = 0; b < bx; ++b) {
                 const std::int64_t x0 = b * B, x1 = std::min<std::int64_t>(x0 + B, nx - 1);
@@ -110,9 +112,7 @@ void add_rows_u8(const std::uint8_t* data, const GridSpec& g, std::int64_t k0, s
     const auto lane_max = [](__m128i a, __m128i b) { return _mm_max_epu8(a, b); };
     for (std::int64_t k = k0; k < k0 + count; ++k) {
         std::int64_t oz[2];
-        int cz = 0;
-        if (k / B < bz) oz[cz++] = k / B;
-        if (k % B == 0 && k / B > 0) oz[cz++] = k / B - 1;
+        const int cz = block_owners(k, B, bz, oz);
         if (cz == 0) continue;
         const std::uint8_t* slice = data + nx * ny * (k - k0);
         for (std::int64_t yb = 0; yb < by; ++yb) {
