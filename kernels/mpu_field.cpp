@@ -347,9 +347,10 @@ void MpuField::gather_fits(const FitShare& share, const std::function<std::pair<
 }
 
 std::vector<MpuField::LeafInfo> MpuField::leaves() const {
-    std::vector<LeafInfo> out;
+    std::vector<LeafInfo> out(locals_.size());
     for (const Node& n : nodes_)
-        if (n.child < 0) out.push_back({Vec3{n.c.x / scale_.x, n.c.y / scale_.y, n.c.z / scale_.z} + origin_, n.half, n.r});
+        if (n.child < 0)
+            out[static_cast<std::size_t>(n.local)] = {Vec3{n.c.x / scale_.x, n.c.y / scale_.y, n.c.z / scale_.z} + origin_, n.half, n.r};
     return out;
 }
 
@@ -366,47 +367,53 @@ void MpuField::compute_subtree_radii() {
     }
 }
 
-void MpuField::lookup_geometry() {
-    // Leaf spheres in leaf order; a uniform grid of G^3 cells over the root cube, G^3 ~ the number of leaves.
+int MpuField::lookup_level(std::size_t per_leaf_cells) const {
+    // the finest power-of-two grid with at most per_leaf_cells x (number of leaves) cells, level <= 7
+    int level = 0;
+    const std::size_t cap = std::max<std::size_t>(1, locals_.size()) * per_leaf_cells;
+    while (level < 7 && (std::size_t{1} << (3 * (level + 1))) <= cap) ++level;
+    return level;
+}
+
+void MpuField::lookup_geometry(int level) {
+    // Leaf spheres in leaf order; a uniform grid of 2^level cells a side over the root cube.
     leaf_.resize(locals_.size());
     for (const Node& nd : nodes_)
         if (nd.child < 0) leaf_[static_cast<std::size_t>(nd.local)] = LeafSphere{nd.c, nd.r, nd.r * nd.r};
     const Node& root = nodes_[0];
-    int level = 0;
-    while (level < 7 && (std::size_t{1} << (3 * (level + 1))) <= std::max<std::size_t>(1, locals_.size())) ++level;
     g_ = std::int64_t{1} << level;
     g_lo_ = root.c - Vec3{root.half, root.half, root.half};
     g_cell_ = 2 * root.half / static_cast<double>(g_);
     g_inv_ = 1 / g_cell_;
 }
 
-void MpuField::build_lookup() {
-    // The lookup grid lists, per cell, the leaves whose sphere meets the cell (ascending).
-    lookup_geometry();
-    const std::size_t ncell = static_cast<std::size_t>(g_ * g_ * g_);
+void MpuField::lookup_lists(std::int64_t g, std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& leaves) const {
+    // Per cell of a g^3 grid over the root cube, the leaves whose sphere meets the cell (ascending).
+    const std::size_t ncell = static_cast<std::size_t>(g * g * g);
+    const double cell = 2 * nodes_[0].half / static_cast<double>(g), inv = 1 / cell;
     auto range = [&](const LeafSphere& s, std::int64_t lo[3], std::int64_t hi[3]) {
         for (int a = 0; a < 3; ++a) {
-            lo[a] = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((s.c[a] - s.r - g_lo_[a]) * g_inv_)));
-            hi[a] = std::min<std::int64_t>(g_ - 1, static_cast<std::int64_t>(std::floor((s.c[a] + s.r - g_lo_[a]) * g_inv_)));
+            lo[a] = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((s.c[a] - s.r - g_lo_[a]) * inv)));
+            hi[a] = std::min<std::int64_t>(g - 1, static_cast<std::int64_t>(std::floor((s.c[a] + s.r - g_lo_[a]) * inv)));
         }
     };
     auto meets = [&](const LeafSphere& s, std::int64_t i, std::int64_t j, std::int64_t k) {
         const std::int64_t ci[3] = {i, j, k};
         double d2 = 0;
         for (int a = 0; a < 3; ++a) {
-            const double b0 = g_lo_[a] + static_cast<double>(ci[a]) * g_cell_, b1 = b0 + g_cell_;
+            const double b0 = g_lo_[a] + static_cast<double>(ci[a]) * cell, b1 = b0 + cell;
             const double e = s.c[a] < b0 ? b0 - s.c[a] : s.c[a] > b1 ? s.c[a] - b1 : 0.0;
             d2 += e * e;
         }
         return d2 <= s.r2 * (1 + 1e-9);
     };
-    grid_first_.assign(ncell + 1, 0);
+    first.assign(ncell + 1, 0);
+    std::vector<std::uint32_t> fill;
     for (int pass = 0; pass < 2; ++pass) {
-        std::vector<std::uint32_t> fill;
         if (pass == 1) {
-            for (std::size_t c = 0; c < ncell; ++c) grid_first_[c + 1] += grid_first_[c];
-            grid_leaf_.resize(grid_first_[ncell]);
-            fill.assign(grid_first_.begin(), grid_first_.end() - 1);
+            for (std::size_t c = 0; c < ncell; ++c) first[c + 1] += first[c];
+            leaves.resize(first[ncell]);
+            fill.assign(first.begin(), first.end() - 1);
         }
         for (std::size_t l = 0; l < leaf_.size(); ++l) {
             std::int64_t lo[3], hi[3];
@@ -415,12 +422,17 @@ void MpuField::build_lookup() {
                 for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
                     for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
                         if (!meets(leaf_[l], i, j, k)) continue;
-                        const std::size_t c = static_cast<std::size_t>(i + g_ * (j + g_ * k));
-                        if (pass == 0) ++grid_first_[c + 1];
-                        else grid_leaf_[fill[c]++] = static_cast<std::uint32_t>(l);
+                        const std::size_t c = static_cast<std::size_t>(i + g * (j + g * k));
+                        if (pass == 0) ++first[c + 1];
+                        else leaves[fill[c]++] = static_cast<std::uint32_t>(l);
                     }
         }
     }
+}
+
+void MpuField::build_lookup() {
+    lookup_geometry(lookup_level(kLookupCellsPerLeaf));
+    lookup_lists(g_, grid_first_, grid_leaf_);
 }
 
 inline void MpuField::add_leaf(std::size_t l, const Vec3& x, EvalScratch& sc) const {
@@ -502,42 +514,52 @@ void MpuField::evaluate(std::span<const Vec3> p, std::span<double> value, std::s
                           });
 }
 
+void MpuField::find_leaves(const Vec3& x, EvalScratch& sc) const {
+    const double u[3] = {(x.x - g_lo_.x) * g_inv_, (x.y - g_lo_.y) * g_inv_, (x.z - g_lo_.z) * g_inv_};
+    const double top = static_cast<double>(g_);
+    if (u[0] >= 0 && u[0] < top && u[1] >= 0 && u[1] < top && u[2] >= 0 && u[2] < top) {
+        // inside the root cube: the leaves listed for x's lookup cell
+        const std::size_t c = static_cast<std::size_t>(static_cast<std::int64_t>(u[0]) +
+                                                       g_ * (static_cast<std::int64_t>(u[1]) +
+                                                             g_ * static_cast<std::int64_t>(u[2])));
+        select_leaves(grid_leaf_.data() + grid_first_[c], grid_first_[c + 1] - grid_first_[c], x, sc);
+        return;
+    }
+    // outside: descend the tree (spheres reach beyond the root cube)
+    std::array<std::int32_t, kMaxStack> stack;
+    int top_ = 0;
+    stack[top_++] = 0;
+    while (top_ > 0) {
+        const Node& nd = nodes_[static_cast<std::size_t>(stack[--top_])];
+        const Vec3 e = x - nd.c;
+        if (!(dot(e, e) < nd.rsub * nd.rsub)) continue;
+        if (nd.child >= 0) {
+            for (int q = 7; q >= 0; --q) stack[top_++] = nd.child + q;
+            continue;
+        }
+        add_leaf(static_cast<std::size_t>(nd.local), x, sc);
+    }
+}
+
+std::vector<std::uint32_t> MpuField::blended_leaves(const Vec3& pw) const {
+    const Vec3 dw = pw - origin_;
+    EvalScratch sc;
+    find_leaves({dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z}, sc);
+    return sc.leaf;
+}
+
 void MpuField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blend, EvalScratch& sc) const {
     const bool want_grad = grad != nullptr;
-    std::array<std::int32_t, kMaxStack> stack;
-    {
-        const Vec3 dw = pw - origin_;
-        const Vec3 x{dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z};
-        blend.reset();
-        sc.clear();
-        if (std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z)) {
-            const double u[3] = {(x.x - g_lo_.x) * g_inv_, (x.y - g_lo_.y) * g_inv_, (x.z - g_lo_.z) * g_inv_};
-            const double top = static_cast<double>(g_);
-            if (u[0] >= 0 && u[0] < top && u[1] >= 0 && u[1] < top && u[2] >= 0 && u[2] < top) {
-                // inside the root cube: the leaves listed for x's lookup cell
-                const std::size_t c = static_cast<std::size_t>(static_cast<std::int64_t>(u[0]) +
-                                                               g_ * (static_cast<std::int64_t>(u[1]) +
-                                                                     g_ * static_cast<std::int64_t>(u[2])));
-                select_leaves(grid_leaf_.data() + grid_first_[c], grid_first_[c + 1] - grid_first_[c], x, sc);
-            } else {  // outside: descend the tree (spheres reach beyond the root cube)
-                int top_ = 0;
-                stack[top_++] = 0;
-                while (top_ > 0) {
-                    const Node& nd = nodes_[static_cast<std::size_t>(stack[--top_])];
-                    const Vec3 e = x - nd.c;
-                    if (!(dot(e, e) < nd.rsub * nd.rsub)) continue;
-                    if (nd.child >= 0) {
-                        for (int q = 7; q >= 0; --q) stack[top_++] = nd.child + q;
-                        continue;
-                    }
-                    add_leaf(static_cast<std::size_t>(nd.local), x, sc);
-                }
-            }
-            blend_leaves(x, want_grad, sc, blend);
-        }
-        value = blend.finish(grad);
-        if (want_grad) *grad = {grad->x * scale_.x, grad->y * scale_.y, grad->z * scale_.z};
+    const Vec3 dw = pw - origin_;
+    const Vec3 x{dw.x * scale_.x, dw.y * scale_.y, dw.z * scale_.z};
+    blend.reset();
+    sc.clear();
+    if (std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z)) {
+        find_leaves(x, sc);
+        blend_leaves(x, want_grad, sc, blend);
     }
+    value = blend.finish(grad);
+    if (want_grad) *grad = {grad->x * scale_.x, grad->y * scale_.y, grad->z * scale_.z};
 }
 
 }  // namespace meshless
@@ -559,8 +581,12 @@ void MpuField::save_state(FieldStateWriter& w) const {
     put_locals(w, locals_);
     put_centres(w, px_, py_, pz_);  // a point is a centre of every leaf whose sphere holds it: ~10x repeated
     w.put("lambda", std::span<const double>(lambda_));
-    w.put("lookup_first", std::span<const std::uint32_t>(grid_first_));
-    w.put("lookup_leaves", std::span<const std::uint32_t>(grid_leaf_));
+    // The file keeps the lists of version 1's grid (about one cell per leaf); load_state checks
+    // them and builds the finer grid that evaluation uses.
+    std::vector<std::uint32_t> first, leaves;
+    lookup_lists(std::int64_t{1} << lookup_level(1), first, leaves);
+    w.put("lookup_first", std::span<const std::uint32_t>(first));
+    w.put("lookup_leaves", std::span<const std::uint32_t>(leaves));
 }
 
 std::unique_ptr<MpuField> MpuField::load_state(FieldState& s) {
@@ -621,16 +647,16 @@ std::unique_ptr<MpuField> MpuField::load_state(FieldState& s) {
     if (f->lambda_.size() != np) s.fail("lambda", "not one lambda per centre entry");
     check_local_ranges(s, f->locals_, np);
     f->compute_subtree_radii();
-    f->lookup_geometry();
+    f->lookup_geometry(f->lookup_level(1));  // the file's grid (save_state)
     const std::size_t ncell = static_cast<std::size_t>(f->g_ * f->g_ * f->g_);
-    f->grid_first_ = s.take_u32("lookup_first", ncell + 1);
-    f->grid_leaf_ = s.take_u32("lookup_leaves");
-    if (f->grid_first_[0] != 0 || f->grid_first_[ncell] != f->grid_leaf_.size())
-        s.fail("lookup_first", "lookup lists do not span the leaf entries");
+    const std::vector<std::uint32_t> first = s.take_u32("lookup_first", ncell + 1);
+    const std::vector<std::uint32_t> leaves = s.take_u32("lookup_leaves");
+    if (first[0] != 0 || first[ncell] != leaves.size()) s.fail("lookup_first", "lookup lists do not span the leaf entries");
     for (std::size_t c = 0; c < ncell; ++c)
-        if (f->grid_first_[c] > f->grid_first_[c + 1]) s.fail("lookup_first", "lookup lists not ascending at cell " + std::to_string(c));
-    for (std::size_t k = 0; k < f->grid_leaf_.size(); ++k)
-        if (f->grid_leaf_[k] >= nl) s.fail("lookup_leaves", "entry " + std::to_string(k) + " names leaf " + std::to_string(f->grid_leaf_[k]) + " of " + std::to_string(nl));
+        if (first[c] > first[c + 1]) s.fail("lookup_first", "lookup lists not ascending at cell " + std::to_string(c));
+    for (std::size_t k = 0; k < leaves.size(); ++k)
+        if (leaves[k] >= nl) s.fail("lookup_leaves", "entry " + std::to_string(k) + " names leaf " + std::to_string(leaves[k]) + " of " + std::to_string(nl));
+    f->build_lookup();
     return f;
 }
 

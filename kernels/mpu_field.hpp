@@ -20,9 +20,9 @@
 // weighs at a data point was fitted to that point (up to the solver's 1e-8 residual), unless a
 // local was capped, regularised or fell back.
 // Evaluation: each leaf's centres are copied structure-of-arrays with its lambdas (the sum runs
-// SIMD-wide, kernels/multiquadric_sum.hpp); inside the root cube a uniform lookup grid (about one
-// cell per leaf) lists, per cell, the leaves whose blend sphere meets it, so a query tests only
-// those (branch-free) instead of descending the tree (outside the root cube it descends the tree),
+// SIMD-wide, kernels/multiquadric_sum.hpp); inside the root cube a uniform lookup grid (about 16
+// cells per leaf) lists, per cell, the leaves whose blend sphere meets it, so a query tests only
+// those (branch-free; ~2-3x the ~5 it blends) instead of descending the tree (outside the root cube it descends the tree),
 // then sums the selected leaves in one multiquadric_sums() call. Batches of >= kBatchOrderMin
 // queries are evaluated lookup cell by lookup cell in Morton order (kernels/batch_order.hpp) and
 // written back in place: every query's bits equal its single-point result.
@@ -67,9 +67,12 @@ public:
         double half;    ///< half edge of the node cube
         double radius;  ///< blend sphere (where the local weighs)
     };
-    /// The interpolation nodes (tests and diagnostics; half and radius in frame units, i.e. world
-    /// units unless params.normalise_axes; radius: the blend sphere's).
+    /// The interpolation nodes, indexed by local (tests and diagnostics; half and radius in frame
+    /// units, i.e. world units unless params.normalise_axes; radius: the blend sphere's).
     std::vector<LeafInfo> leaves() const;
+    /// The leaves (indices into leaves()) whose blend sphere holds the world point x, in the order
+    /// evaluate() blends them (ascending), as the lookup grid or the tree descent finds them (tests).
+    std::vector<std::uint32_t> blended_leaves(const Vec3& world) const;
 
     /// The fitted state (kernels/field_state.hpp): the octree, the locals, their centres (each
     /// distinct point once, see put_centres) and lambdas, the lookup lists (the leaf spheres and the subtree radii are recomputed on load).
@@ -95,9 +98,12 @@ private:
     // FitShare: hands this rank's fits to the others and takes theirs (locals_, lambda_, outcomes).
     void gather_fits(const FitShare& share, const std::function<std::pair<std::size_t, std::size_t>(int)>& range_of,
                      std::vector<MultiquadricOutcome>& outcome, std::vector<std::uint8_t>& rank_def);
-    void build_lookup();
+    void build_lookup();  // the evaluation grid: lookup_geometry and the lists at kLookupCellsPerLeaf
+    int lookup_level(std::size_t per_leaf_cells) const;  // the finest grid with <= per_leaf_cells x leaves cells
+    // lists of the g^3 grid over the root cube (g_lo_ set): per cell, the leaves whose sphere meets it
+    void lookup_lists(std::int64_t g, std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& leaves) const;
     void compute_subtree_radii();  // Node::rsub from the children (children follow their parent)
-    void lookup_geometry();        // leaf_ and the lookup grid's g_, g_lo_, g_cell_, g_inv_
+    void lookup_geometry(int level);  // leaf_ and the lookup grid's g_, g_lo_, g_cell_, g_inv_ (2^level a side)
     std::uint32_t batch_key(const Vec3& world) const;  // lookup cell of a query (kernels/batch_order.hpp)
     // Per-evaluate() scratch: the leaves whose sphere holds the query (in blend order), their
     // squared distances (then distances), runs and multiquadric sums.
@@ -113,6 +119,7 @@ private:
         }
     };
     void eval_one(const Vec3& world, double& value, Vec3* grad, PuBlend& blend, EvalScratch& sc) const;
+    void find_leaves(const Vec3& x, EvalScratch& sc) const;  // the leaves whose sphere holds x (frame) into sc
     void add_leaf(std::size_t l, const Vec3& x, EvalScratch& sc) const;  // selects leaf l when its sphere holds x
     void select_leaves(const std::uint32_t* cand, std::size_t n, const Vec3& x, EvalScratch& sc) const;  // the same for n
     void blend_leaves(const Vec3& x, bool want_grad, EvalScratch& sc, PuBlend& blend) const;
@@ -124,7 +131,10 @@ private:
     std::vector<LeafSphere> leaf_;            // per local (leaf order)
     std::vector<double> px_, py_, pz_;        // leaf l's centres: [first, first + count), leaf order
     std::vector<double> lambda_;
-    // Lookup grid over the root cube: cell (i, j, k) lists the leaves whose sphere meets it.
+    // Lookup grid over the root cube: cell (i, j, k) lists the leaves whose sphere meets it. About
+    // kLookupCellsPerLeaf cells per leaf: a cell then lists ~2-3x the leaves a query blends (with
+    // one cell per leaf, as a .mlf stores it, ~6x: testing them was a fifth of an evaluation).
+    static constexpr std::size_t kLookupCellsPerLeaf = 16;
     Vec3 g_lo_;
     double g_cell_ = 1, g_inv_ = 1;
     std::int64_t g_ = 1;

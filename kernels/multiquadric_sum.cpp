@@ -64,95 +64,82 @@ __attribute__((target("avx2,fma"))) inline __m256i lanes4(std::size_t left) {
     return _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(left < 4 ? left : 4)), idx);
 }
 
-// x - p and |x - p|^2 + c^2 for the centres k..k+3 (masked lanes read nothing), as both AVX2 sums use them.
+// x - p and |x - p|^2 + c^2 for the centres k..k+3 from ex, ey, ez.
 struct Offsets4 {
     __m256d ex, ey, ez, r2;
 };
+__attribute__((target("avx2,fma"))) inline Offsets4 offsets4(__m256d ex, __m256d ey, __m256d ez, __m256d C2) {
+    return {ex, ey, ez, _mm256_fmadd_pd(ex, ex, _mm256_fmadd_pd(ey, ey, _mm256_fmadd_pd(ez, ez, C2)))};
+}
+// ... of four whole centres
+__attribute__((target("avx2,fma"))) inline Offsets4 offsets4(const double* px, const double* py, const double* pz,
+                                                             std::size_t k, __m256d X, __m256d Y, __m256d Z, __m256d C2) {
+    return offsets4(_mm256_sub_pd(X, _mm256_loadu_pd(px + k)), _mm256_sub_pd(Y, _mm256_loadu_pd(py + k)),
+                    _mm256_sub_pd(Z, _mm256_loadu_pd(pz + k)), C2);
+}
+// ... of the lanes of mask m (masked lanes read nothing and hold X, Y, Z)
 __attribute__((target("avx2,fma"))) inline Offsets4 offsets4(const double* px, const double* py, const double* pz,
                                                              std::size_t k, __m256i m, __m256d X, __m256d Y, __m256d Z,
                                                              __m256d C2) {
-    const __m256d ex = _mm256_sub_pd(X, _mm256_maskload_pd(px + k, m));
-    const __m256d ey = _mm256_sub_pd(Y, _mm256_maskload_pd(py + k, m));
-    const __m256d ez = _mm256_sub_pd(Z, _mm256_maskload_pd(pz + k, m));
-    return {ex, ey, ez, _mm256_fmadd_pd(ex, ex, _mm256_fmadd_pd(ey, ey, _mm256_fmadd_pd(ez, ez, C2)))};
+    return offsets4(_mm256_sub_pd(X, _mm256_maskload_pd(px + k, m)), _mm256_sub_pd(Y, _mm256_maskload_pd(py + k, m)),
+                    _mm256_sub_pd(Z, _mm256_maskload_pd(pz + k, m)), C2);
 }
 
-// AVX2, exact square root and division (the fallback for r^2 outside the float range).
-__attribute__((target("avx2,fma"))) void local_avx2_exact(const double* px, const double* py, const double* pz,
-                                                          const MqLocalTerms& L, const Vec3& x, bool grad, MqSum& out) {
+template <bool Guard>
+__attribute__((target("avx2,fma"))) inline void add4(const Offsets4& o, __m256d l, bool grad, __m256d& v, __m256d& gx,
+                                                     __m256d& gy, __m256d& gz) {
+    const __m256d phi = _mm256_sqrt_pd(o.r2);
+    if constexpr (Guard) {
+        const __m256d pos = _mm256_cmp_pd(phi, _mm256_setzero_pd(), _CMP_GT_OQ);
+        v = _mm256_fmadd_pd(l, _mm256_and_pd(phi, pos), v);
+        if (grad) {
+            const __m256d s = _mm256_and_pd(_mm256_div_pd(l, phi), pos);
+            gx = _mm256_fmadd_pd(s, o.ex, gx);
+            gy = _mm256_fmadd_pd(s, o.ey, gy);
+            gz = _mm256_fmadd_pd(s, o.ez, gz);
+        }
+    } else {
+        v = _mm256_fmadd_pd(l, phi, v);
+        if (grad) {
+            const __m256d s = _mm256_div_pd(l, phi);
+            gx = _mm256_fmadd_pd(s, o.ex, gx);
+            gy = _mm256_fmadd_pd(s, o.ey, gy);
+            gz = _mm256_fmadd_pd(s, o.ez, gz);
+        }
+    }
+}
+
+// AVX2: square root and division (module comment). Whole groups of four centres with plain loads,
+// the tail of each run with masked loads (the masked-off lanes read 0: lambda 0, and guarded).
+template <bool Guard>
+__attribute__((target("avx2,fma"))) void local_avx2_t(const double* px, const double* py, const double* pz,
+                                                      const MqLocalTerms& L, const Vec3& x, bool grad, MqSum& out) {
     const __m256d X = _mm256_set1_pd(x.x), Y = _mm256_set1_pd(x.y), Z = _mm256_set1_pd(x.z), C2 = _mm256_set1_pd(L.c2);
     const __m256d zero = _mm256_setzero_pd();
     __m256d v = zero, gx = zero, gy = zero, gz = zero;
     const double* lam = L.lambda;
     for (std::size_t r = 0; r < L.nruns; ++r) {
-        const std::size_t n = L.runs[r].start + L.runs[r].count;
-        for (std::size_t k = L.runs[r].start; k < n; k += 4, lam += 4) {
+        const std::size_t start = L.runs[r].start, n = start + L.runs[r].count, whole = start + (L.runs[r].count & ~3u);
+        std::size_t k = start;
+        for (; k < whole; k += 4, lam += 4)
+            add4<Guard>(offsets4(px, py, pz, k, X, Y, Z, C2), _mm256_loadu_pd(lam), grad, v, gx, gy, gz);
+        if (k < n) {
             const __m256i m = lanes4(n - k);
-            const auto [ex, ey, ez, r2] = offsets4(px, py, pz, k, m, X, Y, Z, C2);
-            const __m256d phi = _mm256_sqrt_pd(r2);
-            const __m256d l = _mm256_maskload_pd(lam, m);
-            const __m256d pos = _mm256_cmp_pd(phi, zero, _CMP_GT_OQ);
-            v = _mm256_fmadd_pd(l, _mm256_and_pd(phi, pos), v);
-            if (grad) {
-                const __m256d s = _mm256_and_pd(_mm256_div_pd(l, phi), pos);
-                gx = _mm256_fmadd_pd(s, ex, gx);
-                gy = _mm256_fmadd_pd(s, ey, gy);
-                gz = _mm256_fmadd_pd(s, ez, gz);
-            }
+            add4<true>(offsets4(px, py, pz, k, m, X, Y, Z, C2), _mm256_maskload_pd(lam, m), grad, v, gx, gy, gz);
+            lam += n - k;
         }
-        lam -= (4 - (L.runs[r].count % 4)) % 4;  // the last step went past the run's end
     }
     if (grad) reduce4(v, gx, gy, gz, out);
     else out.v = reduce1(v);
-}
-
-// AVX2: y0 = vrsqrtps of r^2 rounded to float, one 4th-degree Taylor step (module comment).
-// Returns false (out untouched) when some r^2 left [1e-30, 1e30], where the float estimate fails.
-__attribute__((target("avx2,fma"))) bool local_avx2_fast(const double* px, const double* py, const double* pz,
-                                                         const MqLocalTerms& L, const Vec3& x, bool grad, MqSum& out) {
-    if (!(L.c2 >= 1e-30)) return false;
-    const __m256d X = _mm256_set1_pd(x.x), Y = _mm256_set1_pd(x.y), Z = _mm256_set1_pd(x.z), C2 = _mm256_set1_pd(L.c2);
-    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-    const __m256d t4 = _mm256_set1_pd(35.0 / 128), t3 = _mm256_set1_pd(5.0 / 16), t2 = _mm256_set1_pd(3.0 / 8),
-                  t1 = _mm256_set1_pd(0.5);
-    __m256d v = zero, gx = zero, gy = zero, gz = zero, rmax = zero;
-    const double* lam = L.lambda;
-    for (std::size_t r = 0; r < L.nruns; ++r) {
-        const std::size_t n = L.runs[r].start + L.runs[r].count;
-        for (std::size_t k = L.runs[r].start; k < n; k += 4, lam += 4) {
-            const __m256i m = lanes4(n - k);
-            const auto [ex, ey, ez, r2] = offsets4(px, py, pz, k, m, X, Y, Z, C2);
-            rmax = _mm256_max_pd(rmax, r2);
-            const __m256d y0 = _mm256_cvtps_pd(_mm_rsqrt_ps(_mm256_cvtpd_ps(r2)));
-            const __m256d t = _mm256_mul_pd(r2, y0);
-            const __m256d e = _mm256_fnmadd_pd(t, y0, one);  // 1 - r2 y0^2
-            __m256d p = _mm256_fmadd_pd(e, t4, t3);
-            p = _mm256_fmadd_pd(p, e, t2);
-            p = _mm256_fmadd_pd(p, e, t1);
-            const __m256d q = _mm256_mul_pd(p, e);
-            const __m256d phi = _mm256_fmadd_pd(t, q, t);
-            const __m256d l = _mm256_maskload_pd(lam, m);  // 0 in the masked-off lanes
-            v = _mm256_fmadd_pd(l, phi, v);
-            if (grad) {
-                const __m256d s = _mm256_mul_pd(l, _mm256_fmadd_pd(y0, q, y0));
-                gx = _mm256_fmadd_pd(s, ex, gx);
-                gy = _mm256_fmadd_pd(s, ey, gy);
-                gz = _mm256_fmadd_pd(s, ez, gz);
-            }
-        }
-        lam -= (4 - (L.runs[r].count % 4)) % 4;
-    }
-    if (_mm256_movemask_pd(_mm256_cmp_pd(rmax, _mm256_set1_pd(1e30), _CMP_NLE_UQ)) != 0) return false;
-    if (grad) reduce4(v, gx, gy, gz, out);
-    else out.v = reduce1(v);
-    return true;
 }
 
 __attribute__((target("avx2,fma"))) void sums_avx2(const double* px, const double* py, const double* pz,
                                                    const MqLocalTerms* locals, std::size_t n, const Vec3& x, bool grad,
                                                    MqSum* out) {
-    for (std::size_t i = 0; i < n; ++i)
-        if (!local_avx2_fast(px, py, pz, locals[i], x, grad, out[i])) local_avx2_exact(px, py, pz, locals[i], x, grad, out[i]);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (locals[i].c2 > 0) local_avx2_t<false>(px, py, pz, locals[i], x, grad, out[i]);
+        else local_avx2_t<true>(px, py, pz, locals[i], x, grad, out[i]);
+    }
 }
 
 // 8 lanes -> 4: lane i + lane i+4.

@@ -162,7 +162,7 @@ TEST_CASE("mc runs as a graph: same bytes for any --threads, in memory and from 
     TempDir d("mcthreads");
     const std::string vol = gyroid_volume(d), D = d.path.string();
     REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "/g.mlb --brick 16", d).code == 0);
-    for (const std::string in : {vol, D + "/g.mlb"}) {
+    for (const std::string& in : {vol, D + "/g.mlb"}) {
         REQUIRE(sh("MESHLESS mc " + in + " --iso 128.5 -o " + D + "/t1.ply --threads 1", d).code == 0);
         REQUIRE(sh("MESHLESS mc " + in + " --iso 128.5 -o " + D + "/t3.ply --threads 3 --memory 64K", d).code == 0);
         CHECK(slurp(d / "t1.ply") == slurp(d / "t3.ply"));

@@ -57,7 +57,7 @@ TEST_CASE("progress lines: isosurface, mc and render on volumes and brick stores
     check_progress("MESHLESS render " + raw + " -o " + D + "/r.png --size 32x32", "render", "rays", d);
     check_progress("MESHLESS verify " + D + "/b.mlb", "verify", "bricks", d);
     // splat --turntable counts frames (points and a mesh); its timing line follows the cleared progress line
-    for (const std::string in : {D + "/p.ply", D + "/m.ply"}) {
+    for (const std::string& in : {D + "/p.ply", D + "/m.ply"}) {
         const std::string cmd = "MESHLESS splat " + in + " -o " + D + "/t.png --size 32x32 --turntable 3";
         INFO(cmd);
         const RunResult r = sh(kForce + cmd, d);
