@@ -77,12 +77,15 @@ __attribute__((target("avx2,fma"))) inline Offsets4 offsets4(const double* px, c
     return offsets4(_mm256_sub_pd(X, _mm256_loadu_pd(px + k)), _mm256_sub_pd(Y, _mm256_loadu_pd(py + k)),
                     _mm256_sub_pd(Z, _mm256_loadu_pd(pz + k)), C2);
 }
-// ... of the lanes of mask m (masked lanes read nothing and hold X, Y, Z)
+// ... of the lanes of mask m (masked-off lanes read nothing and hold x - p = 0, r^2 = c^2, so that
+// no far query makes them infinite)
 __attribute__((target("avx2,fma"))) inline Offsets4 offsets4(const double* px, const double* py, const double* pz,
                                                              std::size_t k, __m256i m, __m256d X, __m256d Y, __m256d Z,
                                                              __m256d C2) {
-    return offsets4(_mm256_sub_pd(X, _mm256_maskload_pd(px + k, m)), _mm256_sub_pd(Y, _mm256_maskload_pd(py + k, m)),
-                    _mm256_sub_pd(Z, _mm256_maskload_pd(pz + k, m)), C2);
+    const __m256d keep = _mm256_castsi256_pd(m);
+    return offsets4(_mm256_and_pd(keep, _mm256_sub_pd(X, _mm256_maskload_pd(px + k, m))),
+                    _mm256_and_pd(keep, _mm256_sub_pd(Y, _mm256_maskload_pd(py + k, m))),
+                    _mm256_and_pd(keep, _mm256_sub_pd(Z, _mm256_maskload_pd(pz + k, m))), C2);
 }
 
 template <bool Guard>
@@ -110,7 +113,7 @@ __attribute__((target("avx2,fma"))) inline void add4(const Offsets4& o, __m256d 
 }
 
 // AVX2: square root and division (module comment). Whole groups of four centres with plain loads,
-// the tail of each run with masked loads (the masked-off lanes read 0: lambda 0, and guarded).
+// the tail of each run with masked loads (the masked-off lanes: lambda 0, r^2 = c^2, and guarded).
 template <bool Guard>
 __attribute__((target("avx2,fma"))) void local_avx2_t(const double* px, const double* py, const double* pz,
                                                       const MqLocalTerms& L, const Vec3& x, bool grad, MqSum& out) {
