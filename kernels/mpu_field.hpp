@@ -27,8 +27,8 @@
 // queries are evaluated lookup cell by lookup cell in Morton order (kernels/batch_order.hpp) and
 // written back in place: every query's bits equal its single-point result.
 // Units: world in, data units out, gradient per world unit. Memory: ~mpu_min_points (70) points per
-// leaf x 32 bytes plus the lookup lists, ~640 bytes per input point (FieldBuildStats::memory_bytes
-// at 1M uniform; 500 with 50-point fits). Construction: the octree parallel by subtrees (built in
+// leaf x 32 bytes plus the lookup lists, ~730 bytes per input point (FieldBuildStats::memory_bytes
+// at 1M uniform, ~90 of them the lookup lists; 500 with 50-point fits and a coarser lookup). Construction: the octree parallel by subtrees (built in
 // the order of a sequential depth-first build),
 // parallel fits (oneTBB; the result does not depend on the thread count); evaluate() is
 // thread-safe (const).
