@@ -110,7 +110,8 @@ int cmd_splat(int argc, char** argv) {
            "the image buffers + one batch; the EWA kernel spools the points to an unlinked file in $TMPDIR\n"
            "for its second pass); the camera frames the surface bounds recorded in the stream or PLY.\n"
            "Input without recorded bounds, and --turntable, spool the points once to such a file (the\n"
-           "frame is then known; each turntable frame replays the file): memory stays bounded.\n"
+           "frame is then known; each turntable frame replays the file): memory stays bounded. A binary\n"
+           "PLY of the points `isosurface` writes is read twice in place instead of being copied.\n"
            "Colours (--color): value, block (multiblock points' block ids), normal or none, lit by the\n"
            "headlight; by default value when the points' values vary and the input does not record an\n"
            "isovalue (an isosurface's points all carry it), else none (the uniform surface colour). Colouring\n"
@@ -188,8 +189,12 @@ int cmd_splat(int argc, char** argv) {
     // the points before its first one is drawn: the points (projected) go once to a point spool,
     // which is then replayed; memory stays a few batches.
     if (frames > 0 || !bounds || color_pass) {
-        spool.emplace("splat-spool");
-        run_pipeline(*source, stages, *spool, {nthreads});
+        // a PLY file of PointRecords is its own spool (read once here, replayed from the file)
+        if (is_ply && PointSpool::can_be_in_place(input)) spool.emplace(PointSpool::InPlace{}, input, nthreads);
+        else {
+            spool.emplace("splat-spool");
+            run_pipeline(*source, stages, *spool, {nthreads});
+        }
         if (!bounds) bounds = spool->bounds();
         if (cc.request == ColorRequest::block && spool->size() > 0 && !spool->has_blocks())
             throw UsageError(input + ": the points carry no block ids; --color block needs multiblock points");

@@ -151,6 +151,11 @@ std::uint64_t PlyPointReader::count() const { return d_->count; }
 const std::string& PlyPointReader::path() const { return d_->r.name(); }
 bool PlyPointReader::size_known() const { return d_->r.size_known(); }
 bool PlyPointReader::has_blocks() const { return d_->block >= 0; }
+std::optional<std::uint64_t> PlyPointReader::records_offset() const {
+    const Impl& d = *d_;
+    if (!d.native || d.block >= 0 || d.vi != 0 || !d.r.size_known()) return std::nullopt;
+    return d.r.header().header_bytes;
+}
 
 std::size_t PlyPointReader::read(std::vector<PointRecord>& out, std::size_t max, std::vector<std::uint32_t>* blocks) {
     Impl& d = *d_;

@@ -87,6 +87,10 @@ public:
     bool size_known() const;
     /// The vertices have a `block` property (an integer type; values must be 0..2^32-1).
     bool has_blocks() const;
+    /// Byte offset of the first vertex when the file is a regular file whose first element is the
+    /// vertices stored exactly as PointRecords (binary little endian, x y z nx ny nz radius value as
+    /// float, no block): vertex i is then the 32 bytes at offset + 32 i. Else nullopt.
+    std::optional<std::uint64_t> records_offset() const;
     /// Replaces out with the next up to max points; returns how many (0 at the end). With
     /// `blocks`, it is replaced by their block ids when has_blocks() (else cleared); a block value
     /// that is not an integer in 0..2^32-1 is a FormatError.

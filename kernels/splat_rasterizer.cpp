@@ -17,6 +17,13 @@ void PointBounds::add(std::span<const PointRecord> points) {
     }
 }
 
+void PointBounds::merge(const PointBounds& o) {
+    for (int i = 0; i < 3; ++i) {
+        lo_[i] = std::min(lo_[i], o.lo_[i]);
+        hi_[i] = std::max(hi_[i], o.hi_[i]);
+    }
+}
+
 std::array<Vec3, 2> PointBounds::bounds() const {
     if (!(lo_[0] <= hi_[0])) return {Vec3{0, 0, 0}, Vec3{0, 0, 0}};
     return {Vec3{lo_[0], lo_[1], lo_[2]}, Vec3{hi_[0], hi_[1], hi_[2]}};

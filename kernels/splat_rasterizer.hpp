@@ -101,6 +101,8 @@ std::array<Vec3, 2> point_bounds(std::span<const PointRecord> points);
 class PointBounds {
 public:
     void add(std::span<const PointRecord> points);
+    /// As if o's points had been added too.
+    void merge(const PointBounds& o);
     /// {0,0,0},{0,0,0} while no finite position was added.
     std::array<Vec3, 2> bounds() const;
 

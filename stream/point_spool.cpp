@@ -1,8 +1,15 @@
 #include "stream/point_spool.hpp"
 
+#include "formats/mapped_file.hpp"
+#include "formats/ply_points.hpp"
 #include "formats/temporary_files.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -19,22 +26,86 @@ std::FILE* PointSpool::create(const std::string& purpose, std::string& name) { r
 
 PointSpool::PointSpool(const std::string& purpose) : purpose_(purpose) { f_ = create(purpose, name_); }
 
+bool PointSpool::can_be_in_place(const std::string& ply_path) {
+    try {
+        return PlyPointReader(ply_path).records_offset().has_value();
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+PointSpool::PointSpool(InPlace, const std::string& ply_path, int threads)
+    : purpose_("in place"), name_(ply_path), in_place_(true) {
+    PlyPointReader r(ply_path);  // the header, its counts against the file's size
+    const std::optional<std::uint64_t> at = r.records_offset();
+    if (!at) throw std::logic_error("PointSpool: " + ply_path + " cannot be a spool in place");
+    base_ = *at;
+    f_ = std::fopen(ply_path.c_str(), "rb");
+    if (!f_) throw IoError(ply_path + ": cannot open: " + std::strerror(errno));
+    struct stat st {};
+    const std::uint64_t n = r.count();
+    if (::fstat(::fileno(f_), &st) != 0 || static_cast<std::uint64_t>(st.st_size) != base_ + n * sizeof(PointRecord)) {
+        // not exactly the records the header announces: the reader reports what is wrong
+        std::vector<PointRecord> batch;
+        while (r.read(batch, kMaxBatchRecords) > 0) tally_.add(batch);
+        if (n == 0) r.read(batch, 0);
+        count_ = n;
+        return;
+    }
+    count_ = n;  // read() reads [0, n) below
+    const std::uint64_t parts = (n + kMaxBatchRecords - 1) / kMaxBatchRecords;
+    oneapi::tbb::enumerable_thread_specific<std::pair<Tally, std::vector<PointRecord>>> local;
+    auto scan = [&](std::uint64_t i) {
+        auto& [t, batch] = local.local();
+        const std::uint64_t first = i * kMaxBatchRecords;
+        batch.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kMaxBatchRecords, n - first)));
+        read(first, batch);
+        t.add(batch);
+    };
+    if (threads <= 1) {
+        for (std::uint64_t i = 0; i < parts; ++i) scan(i);
+    } else {
+        oneapi::tbb::task_arena arena(threads);
+        arena.execute([&] { oneapi::tbb::parallel_for(std::uint64_t{0}, parts, scan); });
+    }
+    for (const auto& l : local) tally_.merge(l.first);
+}
+
 PointSpool::~PointSpool() {
     if (f_) std::fclose(f_);
     if (blocks_) std::fclose(blocks_);
 }
 
 std::optional<std::array<double, 2>> PointSpool::value_range() const {
-    if (!any_value_) return std::nullopt;
-    return std::array<double, 2>{vlo_, vhi_};
+    if (!tally_.any) return std::nullopt;
+    return std::array<double, 2>{tally_.lo, tally_.hi};
 }
 
 void PointSpool::fail(const char* what, int err) const {
-    throw IoError(name_ + ": cannot " + what + " the point spool (deleted temporary file): " +
-                  (err ? std::strerror(err) : "short file"));
+    throw IoError(name_ + ": cannot " + what + " the point spool (" + kind() + "): " + (err ? std::strerror(err) : "short file"));
+}
+
+void PointSpool::Tally::add(std::span<const PointRecord> points) {
+    bounds.add(points);
+    for (const PointRecord& p : points) {
+        if (!std::isfinite(p.value)) continue;
+        if (!any) lo = hi = p.value;
+        lo = std::min<double>(lo, p.value);
+        hi = std::max<double>(hi, p.value);
+        any = true;
+    }
+}
+
+void PointSpool::Tally::merge(const Tally& o) {
+    bounds.merge(o.bounds);
+    if (!o.any) return;
+    lo = any ? std::min(lo, o.lo) : o.lo;
+    hi = any ? std::max(hi, o.hi) : o.hi;
+    any = true;
 }
 
 void PointSpool::append(std::span<const PointRecord> points, std::span<const std::uint32_t> blocks) {
+    if (in_place_) throw std::logic_error("PointSpool: " + name_ + " is read in place; nothing can be appended");
     if (points.empty()) return;
     if (!blocks.empty() && blocks.size() != points.size())
         throw FormatError("point spool: " + std::to_string(blocks.size()) + " block ids for " + std::to_string(points.size()) + " points");
@@ -46,15 +117,8 @@ void PointSpool::append(std::span<const PointRecord> points, std::span<const std
     if (blocks_ && std::fwrite(blocks.data(), sizeof(std::uint32_t), blocks.size(), blocks_) != blocks.size())
         fail("write to", errno);
     count_ += points.size();
-    bounds_.add(points);
+    tally_.add(points);
     for (std::uint32_t b : blocks) block_count_ = std::max(block_count_, b == ~std::uint32_t{0} ? b : b + 1);
-    for (const PointRecord& p : points) {
-        if (!std::isfinite(p.value)) continue;
-        if (!any_value_) vlo_ = vhi_ = p.value;
-        vlo_ = std::min<double>(vlo_, p.value);
-        vhi_ = std::max<double>(vhi_, p.value);
-        any_value_ = true;
-    }
 }
 
 void PointSpool::observe(const Batch& b) {
@@ -64,20 +128,21 @@ void PointSpool::observe(const Batch& b) {
 }
 
 void PointSpool::flush() {
+    if (in_place_) return;
     errno = 0;
     if (std::fflush(f_) != 0) fail("write to", errno);
     if (blocks_ && std::fflush(blocks_) != 0) fail("write to", errno);
 }
 
-void PointSpool::pread_all(std::FILE* f, const std::string& name, char* dst, std::size_t want, std::uint64_t offset) {
+void PointSpool::pread_all(std::FILE* f, const std::string& name, char* dst, std::size_t want, std::uint64_t offset,
+                           const char* kind) {
     const int fd = ::fileno(f);
-    std::size_t got = 0;
+    std::size_t got = copy_file_bytes(fd, offset, reinterpret_cast<std::byte*>(dst), want);  // pread below if it fails
     while (got < want) {
         const ssize_t r = ::pread(fd, dst + got, want - got, static_cast<off_t>(offset + got));
         if (r < 0 && errno == EINTR) continue;
         if (r <= 0)
-            throw IoError(name + ": cannot read back from the point spool (deleted temporary file): " +
-                          (r < 0 ? std::strerror(errno) : "short file"));
+            throw IoError(name + ": cannot read back from the point spool (" + kind + "): " + (r < 0 ? std::strerror(errno) : "short file"));
         got += static_cast<std::size_t>(r);
     }
 }
@@ -88,14 +153,15 @@ void PointSpool::read_blocks(std::uint64_t first, std::span<std::uint32_t> out) 
         throw IoError(blocks_name_ + ": cannot read block ids " + std::to_string(first) + ".." + std::to_string(first + out.size()) +
                       " back from the point spool (deleted temporary file): it holds " + std::to_string(count_));
     pread_all(blocks_, blocks_name_, reinterpret_cast<char*>(out.data()), out.size() * sizeof(std::uint32_t),
-              first * sizeof(std::uint32_t));
+              first * sizeof(std::uint32_t), "deleted temporary file");
 }
 
 void PointSpool::read(std::uint64_t first, std::span<PointRecord> out) const {
     if (first + out.size() > count_)
         throw IoError(name_ + ": cannot read points " + std::to_string(first) + ".." + std::to_string(first + out.size()) +
-                      " back from the point spool (deleted temporary file): it holds " + std::to_string(count_));
-    pread_all(f_, name_, reinterpret_cast<char*>(out.data()), out.size() * sizeof(PointRecord), first * sizeof(PointRecord));
+                      " back from the point spool (" + kind() + "): it holds " + std::to_string(count_));
+    pread_all(f_, name_, reinterpret_cast<char*>(out.data()), out.size() * sizeof(PointRecord),
+              base_ + first * sizeof(PointRecord), kind());
 }
 
 PointSpoolSource::PointSpoolSource(PointSpool& spool, std::size_t batch_records)

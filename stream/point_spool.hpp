@@ -12,6 +12,13 @@
 // source replays them into Batch::point_block. Either every point has an id or none does (a
 // batch with points and without ids after one with them, or the reverse, is a FormatError).
 //
+// In place: a PLY file whose vertices are stored exactly as PointRecords (formats/ply_points.hpp
+// PlyPointReader::records_offset(), what `isosurface` and `write` make) is its own spool: it is read
+// once on construction (bounds, value range, and the reader's checks: truncated body, trailing
+// bytes) and replayed from the file; nothing is written (a copy of 10^7 points is 305 MB).
+// Reads copy through a transient mapping (formats/mapped_file.hpp copy_file_bytes), pread where
+// that fails.
+//
 // PointSpool is a Sink (requires point batches: FormatError on samples), so a graph can end in it;
 // finish() flushes. PointSpoolSource replays it in batches of at most kMaxBatchRecords, with dense
 // sequence numbers, reading each batch into a recycled array: the source holds at most one batch.
@@ -37,6 +44,14 @@ class PointSpool final : public Sink {
 public:
     /// Creates and unlinks the file; `purpose` goes into its name (e.g. "splat-spool").
     explicit PointSpool(const std::string& purpose = "point-spool");
+    /// Whether the PLY file at path can be a spool in place (see above); false for anything else,
+    /// a file that cannot be opened or parsed included (its reader then reports why).
+    static bool can_be_in_place(const std::string& ply_path);
+    struct InPlace {};
+    /// The PLY file as its own spool (precondition: can_be_in_place), read on `threads` threads
+    /// (the bounds and value range do not depend on the count). Throws FormatError/IoError naming
+    /// it. append() and observe() are refused (std::logic_error).
+    PointSpool(InPlace, const std::string& ply_path, int threads = 1);
     ~PointSpool() override;
     PointSpool(const PointSpool&) = delete;
     PointSpool& operator=(const PointSpool&) = delete;
@@ -50,7 +65,7 @@ public:
 
     std::uint64_t size() const { return count_; }
     /// point_bounds() of every point appended.
-    std::array<Vec3, 2> bounds() const { return bounds_.bounds(); }
+    std::array<Vec3, 2> bounds() const { return tally_.bounds.bounds(); }
     /// {min, max} of the finite values appended; nullopt when there is none.
     std::optional<std::array<double, 2>> value_range() const;
     /// True when the points came with block ids.
@@ -67,16 +82,26 @@ public:
 private:
     [[noreturn]] void fail(const char* what, int err) const;
     static std::FILE* create(const std::string& purpose, std::string& name);
-    static void pread_all(std::FILE* f, const std::string& name, char* dst, std::size_t bytes, std::uint64_t offset);
+    static void pread_all(std::FILE* f, const std::string& name, char* dst, std::size_t bytes, std::uint64_t offset,
+                          const char* kind);
+    const char* kind() const { return in_place_ ? "the input, read in place" : "deleted temporary file"; }
     std::FILE* f_ = nullptr;
     std::FILE* blocks_ = nullptr;
     std::string purpose_, blocks_name_;
-    double vlo_ = 0, vhi_ = 0;
-    bool any_value_ = false;
     std::uint32_t block_count_ = 0;
     std::string name_;
     std::uint64_t count_ = 0;
-    PointBounds bounds_;
+    std::uint64_t base_ = 0;     // byte offset of point 0 in f_
+    bool in_place_ = false;      // f_ is the input PLY file
+    // The running summary of the points: bounds, finite value range.
+    struct Tally {
+        PointBounds bounds;
+        double lo = 0, hi = 0;
+        bool any = false;
+        void add(std::span<const PointRecord> points);
+        void merge(const Tally& o);
+    };
+    Tally tally_;
 };
 
 class PointSpoolSource final : public Source {

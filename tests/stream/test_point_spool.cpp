@@ -8,11 +8,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "kernels/errors.hpp"
+#include "formats/ply_points.hpp"
 #include "stream/point_sinks.hpp"
 #include "stream/point_spool.hpp"
 #include "stream/runner.hpp"
@@ -185,4 +187,79 @@ TEST_CASE("point spool: the replaying source holds at most one batch", "[point_s
         CHECK(reused.retained_bytes() <= kMaxBatchRecords * sizeof(PointRecord));
         CHECK(reused.retained_bytes() > 0);
     }
+}
+
+TEST_CASE("point spool in place: a PLY of PointRecords replays itself, as a written spool would", "[point_spool]") {
+    TempDir d("spool-in-place");
+    auto pts = random_points(3 * kMaxBatchRecords + 123, 21);
+    pts[5].value = NAN;       // not in the value range
+    pts[6].pos[0] = INFINITY;  // not in the bounds
+    pts[7].value = 1e9f;      // widens the value range
+    const std::string ply = (d.path / "p.ply").string();
+    write_ply_points(ply, pts, {"a comment"});
+    REQUIRE(PointSpool::can_be_in_place(ply));
+    PointSpool written("test");
+    written.append(pts);
+    for (int threads : {1, 2, 3}) {
+        INFO("threads " << threads);
+        PointSpool in(PointSpool::InPlace{}, ply, threads);
+        CHECK(in.size() == pts.size());
+        CHECK(in.name() == ply);
+        CHECK_FALSE(in.has_blocks());
+        REQUIRE(in.value_range().has_value());
+        CHECK((*in.value_range())[0] == (*written.value_range())[0]);
+        CHECK((*in.value_range())[1] == 1e9);
+        for (int i = 0; i < 2; ++i) {
+            CHECK(in.bounds()[i].x == written.bounds()[i].x);
+            CHECK(in.bounds()[i].y == written.bounds()[i].y);
+            CHECK(in.bounds()[i].z == written.bounds()[i].z);
+        }
+        PointSpoolSource source(in, 50000);
+        CollectSink out;
+        run_pipeline(source, {}, out, {threads});
+        CHECK(same(out.points, pts));
+        std::vector<PointRecord> mid(3);
+        in.read(pts.size() - 3, mid);
+        CHECK(std::memcmp(mid.data(), pts.data() + pts.size() - 3, sizeof(PointRecord) * 3) == 0);
+        CHECK_THROWS_AS(in.append(std::span(pts).first(1)), std::logic_error);
+        std::vector<PointRecord> past(4);
+        CHECK_THROWS_WITH(in.read(pts.size() - 3, past), Catch::Contains(ply) && Catch::Contains("read in place"));
+    }
+    // an empty set
+    const std::string empty = (d.path / "empty.ply").string();
+    write_ply_points(empty, {}, {});
+    PointSpool none(PointSpool::InPlace{}, empty);
+    CHECK(none.size() == 0);
+    CHECK_FALSE(none.value_range().has_value());
+}
+
+TEST_CASE("point spool in place: other PLY layouts are not, broken files are refused naming them", "[point_spool][mustfail]") {
+    TempDir d("spool-in-place-bad");
+    const auto pts = random_points(1000, 22);
+    const std::string good = (d.path / "good.ply").string();
+    write_ply_points(good, pts, {});
+    const std::vector<std::uint32_t> ids(pts.size(), 3);
+    const std::string blocks = (d.path / "blocks.ply").string();
+    write_ply_points(blocks, pts, {}, std::span<const std::uint32_t>(ids));
+    CHECK_FALSE(PointSpool::can_be_in_place(blocks));                      // 36-byte records
+    CHECK_FALSE(PointSpool::can_be_in_place((d.path / "none.ply").string()));  // no such file
+    const std::string ascii = (d.path / "ascii.ply").string();
+    {
+        std::ofstream f(ascii);
+        f << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n";
+    }
+    CHECK_FALSE(PointSpool::can_be_in_place(ascii));
+    // trailing bytes and a truncated body: the reader's errors, naming the file
+    const std::string trailing = (d.path / "trailing.ply").string();
+    fs::copy_file(good, trailing);
+    {
+        std::ofstream f(trailing, std::ios::app | std::ios::binary);
+        f << "xyz";
+    }
+    REQUIRE(PointSpool::can_be_in_place(trailing));
+    CHECK_THROWS_WITH(PointSpool(PointSpool::InPlace{}, trailing, 2), Catch::Contains(trailing) && Catch::Contains("trailing"));
+    const std::string cut = (d.path / "cut.ply").string();
+    fs::copy_file(good, cut);
+    fs::resize_file(cut, fs::file_size(cut) - 40);
+    CHECK_THROWS_AS(PointSpool(PointSpool::InPlace{}, cut, 2), FormatError);
 }
