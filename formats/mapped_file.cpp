@@ -5,7 +5,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -55,23 +54,6 @@ SampleBytes map_file_range(const std::string& path, std::uint64_t offset, std::u
     ::madvise(m->base, m->length, MADV_WILLNEED);  // start readahead of what is not cached yet
     auto* p = static_cast<std::byte*>(m->base) + skip;
     return SampleBytes::adopt(p, static_cast<std::size_t>(count), std::move(m));
-}
-
-std::size_t copy_file_bytes(int fd, std::uint64_t offset, std::byte* dst, std::size_t n) {
-    struct stat st {};
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) return 0;
-    const auto size = static_cast<std::uint64_t>(st.st_size);
-    if (offset >= size || n == 0) return 0;
-    const std::size_t count = static_cast<std::size_t>(std::min<std::uint64_t>(n, size - offset));
-    const auto page = static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
-    const std::uint64_t start = offset - offset % page, skip = offset - start;
-    Mapping m;
-    m.length = static_cast<std::size_t>(skip + count);
-    m.base = ::mmap(nullptr, m.length, PROT_READ, MAP_PRIVATE, fd, static_cast<off_t>(start));
-    if (m.base == MAP_FAILED) return 0;
-    ::madvise(m.base, m.length, MADV_SEQUENTIAL);
-    std::memcpy(dst, static_cast<const std::byte*>(m.base) + skip, count);
-    return count;
 }
 
 }  // namespace meshless

@@ -12,7 +12,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "formats/mapped_file.hpp"
 #include "formats/ply.hpp"
 #include "kernels/errors.hpp"
 
@@ -336,13 +335,6 @@ struct PlyReader::Impl {
         std::size_t want = n * rs, got = std::min(want, avail);
         std::memcpy(dst, p, got);
         consume(got);
-        if (got < want && fd >= 0 && !eof && size_known) {  // the rest of a regular file: through a mapping
-            const std::size_t more = copy_file_bytes(fd, offset, dst + got, want - got);
-            if (more > 0 && ::lseek(fd, static_cast<off_t>(offset + more), SEEK_SET) >= 0) {
-                got += more;
-                offset += more;
-            }
-        }
         while (got < want && fd >= 0 && !eof) {  // the rest straight into dst
             const std::size_t more = read_some(dst + got, want - got);
             got += more;

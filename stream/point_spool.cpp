@@ -1,6 +1,5 @@
 #include "stream/point_spool.hpp"
 
-#include "formats/mapped_file.hpp"
 #include "formats/ply_points.hpp"
 #include "formats/temporary_files.hpp"
 
@@ -137,7 +136,7 @@ void PointSpool::flush() {
 void PointSpool::pread_all(std::FILE* f, const std::string& name, char* dst, std::size_t want, std::uint64_t offset,
                            const char* kind) {
     const int fd = ::fileno(f);
-    std::size_t got = copy_file_bytes(fd, offset, reinterpret_cast<std::byte*>(dst), want);  // pread below if it fails
+    std::size_t got = 0;
     while (got < want) {
         const ssize_t r = ::pread(fd, dst + got, want - got, static_cast<off_t>(offset + got));
         if (r < 0 && errno == EINTR) continue;

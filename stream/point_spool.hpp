@@ -16,8 +16,6 @@
 // PlyPointReader::records_offset(), what `isosurface` and `write` make) is its own spool: it is read
 // once on construction (bounds, value range, and the reader's checks: truncated body, trailing
 // bytes) and replayed from the file; nothing is written (a copy of 10^7 points is 305 MB).
-// Reads copy through a transient mapping (formats/mapped_file.hpp copy_file_bytes), pread where
-// that fails.
 //
 // PointSpool is a Sink (requires point batches: FormatError on samples), so a graph can end in it;
 // finish() flushes. PointSpoolSource replays it in batches of at most kMaxBatchRecords, with dense
