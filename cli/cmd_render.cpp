@@ -85,7 +85,9 @@ RenderInput open_render_input(const Args& a) {
     const std::string& first = pos[0];
     const bool store = is_brick_store(first) || ends_with(first, ".mlb");
     const bool volume = store || (pos.size() == 1 && !looks_like_multiblock(first) && looks_like_volume(first));
-    const std::string kind = a.get_or("field", volume ? "trilinear" : "rbf-grid");
+    // scattered points: mpu, multiblock grids: rbf-grid, as isosurface and fit build (cli/field_cli.hpp)
+    const std::string data_default = all_multiblock(pos) ? kBlocksFieldDefault : kPointsFieldDefault;
+    const std::string kind = a.get_or("field", volume ? "trilinear" : data_default);
     if (volume) {
         if (pos.size() > 1) throw UsageError("render takes one volume (got " + std::to_string(pos.size()) + " inputs)");
         if (kind != "trilinear")
@@ -117,7 +119,7 @@ RenderInput open_render_input(const Args& a) {
                              "through rbf-grid, mpu, global-rbf or a fitted .mlf");
         const PointSet pts = read_field_points(pos, a);
         if (pts.size() == 0) throw FormatError(first + ": no points to render");
-        in.built = build_field(a, pts);
+        in.built = build_field(a, pts, data_default);
         in.field = in.built.field.get();
         in.box = pts.bounds();
         in.range = pts.value_range();
@@ -171,7 +173,8 @@ int cmd_render(int argc, char** argv) {
            "field's value bounds, optional headlight shading from the field's gradient.\n"
            "INPUT: a volume (every format meshless reads) or a brick store (.mlb, read through the brick cache\n"
            "within --memory), sampled trilinearly; or scattered points / multiblock grids, sampled through a\n"
-           "meshless field (--field rbf-grid | mpu | global-rbf | FILE.mlf; default rbf-grid). Nothing is\n"
+           "meshless field (--field rbf-grid | mpu | global-rbf | FILE.mlf; default mpu for points, rbf-grid\n"
+           "for multiblock grids, the fields isosurface builds). Nothing is\n"
            "resampled onto a grid first.\n"
            "Transfer function (--tf): a preset spanning the data's value range (or --range LO,HI): grey,\n"
            "viridis, ct-bone, ct-skin; or a text file of rows 'value r g b a' sorted by value, components in\n"
@@ -196,7 +199,8 @@ int cmd_render(int argc, char** argv) {
         .option("diff", "", "FILE.png", "with --compare: write the difference picture")
         .option("diff-gain", "", "G", "--diff: multiply the differences by G", "1");
     add_orbit_options(a, "512x512");
-    add_field_options(a, /*with_coverage=*/false);  // --field ... --stats, point-set options, --threads
+    add_field_options(a, /*with_coverage=*/false,  // --field ... --stats, point-set options, --threads
+                      std::string(kPointsFieldDefault) + " for point sets, " + kBlocksFieldDefault + " for multiblock inputs");
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z")
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
         .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing in world units", "1,1,1");

@@ -95,6 +95,21 @@ TEST_CASE("render: scattered points through mpu, and the fields that do not fit 
     CHECK(contains(r.err, "mpu field"));
     REQUIRE(sh("MESHLESS render " + pts + " --field mpu -o " + D + "/p2.png --size 48x48 --tf viridis --threads 2", d).code == 0);
     CHECK(slurp(D + "/p1.png") == slurp(D + "/p2.png"));
+    // points without --field: mpu, as isosurface builds for them
+    const RunResult dflt = sh("MESHLESS render " + pts + " -o " + D + "/p3.png --size 48x48 --tf viridis --threads 1 --stats", d);
+    REQUIRE(dflt.code == 0);
+    CHECK(contains(dflt.err, "mpu field"));
+    CHECK(slurp(D + "/p3.png") == slurp(D + "/p1.png"));
+    const RunResult help = sh("MESHLESS render --help", d);
+    CHECK(contains(help.out, "mpu for point sets, rbf-grid for multiblock inputs"));
+    if (have_shared_data()) {  // multiblock grids without --field: rbf-grid, as isosurface builds for them
+        const std::string P = (shared_data() / "plot3d").string();
+        const std::string vts = P + "/multicomb_0.vts " + P + "/multicomb_1.vts " + P + "/multicomb_2.vts";
+        const RunResult mb = sh("MESHLESS render " + vts + " -o " + D + "/mb.png --size 24x24 --threads 2 --stats", d);
+        INFO(mb.err);
+        CHECK(mb.code == 0);
+        CHECK(contains(mb.err, "rbf-grid field"));
+    }
     const RunResult tri = sh("MESHLESS render " + pts + " --field trilinear -o " + D + "/x.png", d);
     CHECK(tri.code == 1);
     CHECK(contains(tri.err, "not a volume"));
