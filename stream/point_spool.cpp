@@ -41,6 +41,16 @@ PointSpool::PointSpool(InPlace, const std::string& ply_path, int threads)
     base_ = *at;
     f_ = std::fopen(ply_path.c_str(), "rb");
     if (!f_) throw IoError(ply_path + ": cannot open: " + std::strerror(errno));
+    try {
+        scan_in_place(r, threads);
+    } catch (...) {
+        std::fclose(f_);  // the destructor does not run for a constructor that throws
+        f_ = nullptr;
+        throw;
+    }
+}
+
+void PointSpool::scan_in_place(PlyPointReader& r, int threads) {
     struct stat st {};
     const std::uint64_t n = r.count();
     if (::fstat(::fileno(f_), &st) != 0 || static_cast<std::uint64_t>(st.st_size) != base_ + n * sizeof(PointRecord)) {

@@ -38,6 +38,8 @@
 
 namespace meshless {
 
+class PlyPointReader;
+
 class PointSpool final : public Sink {
 public:
     /// Creates and unlinks the file; `purpose` goes into its name (e.g. "splat-spool").
@@ -100,6 +102,7 @@ private:
         void merge(const Tally& o);
     };
     Tally tally_;
+    void scan_in_place(PlyPointReader& r, int threads);  // count, tally of the in-place file f_
 };
 
 class PointSpoolSource final : public Source {
