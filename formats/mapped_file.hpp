@@ -19,5 +19,4 @@ namespace meshless {
 /// The file's bytes [offset, offset + count) as adopted SampleBytes (count 0: empty, owned).
 SampleBytes map_file_range(const std::string& path, std::uint64_t offset, std::uint64_t count);
 
-
 }  // namespace meshless

@@ -387,16 +387,41 @@ void MpuField::lookup_geometry(int level) {
     g_inv_ = 1 / g_cell_;
 }
 
-void MpuField::lookup_lists(std::int64_t g, std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& leaves) const {
+namespace {
+// The lookup cells [lo, hi] (per axis, clamped to the grid of g cells a side) that a leaf sphere's
+// bounding box overlaps; lo > hi when none. Clamped in double first: a sphere far larger than the
+// grid (a hostile .mlf) must not overflow the integer conversion.
+void lookup_range(const Vec3& c, double r, const Vec3& grid_lo, double inv, std::int64_t g, std::int64_t lo[3],
+                  std::int64_t hi[3]) {
+    const double top = static_cast<double>(g);
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = static_cast<std::int64_t>(std::clamp(std::floor((c[a] - r - grid_lo[a]) * inv), 0.0, top));
+        hi[a] = static_cast<std::int64_t>(std::clamp(std::floor((c[a] + r - grid_lo[a]) * inv), -1.0, top - 1));
+    }
+}
+}  // namespace
+
+std::uint64_t MpuField::lookup_work(std::int64_t g) const {
+    const double inv = static_cast<double>(g) / (2 * nodes_[0].half);
+    std::uint64_t total = 0;
+    for (const LeafSphere& s : leaf_) {
+        std::int64_t lo[3], hi[3];
+        lookup_range(s.c, s.r, g_lo_, inv, g, lo, hi);
+        std::uint64_t v = 1;
+        for (int a = 0; a < 3; ++a) v *= static_cast<std::uint64_t>(std::max<std::int64_t>(0, hi[a] - lo[a] + 1));
+        total += v;  // <= 2^21 cells per leaf (level <= 7): no overflow below 2^43 leaves
+    }
+    return total;
+}
+
+void MpuField::lookup_lists(std::int64_t g, std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& list) const {
     // Per cell of a g^3 grid over the root cube, the leaves whose sphere meets the cell (ascending).
     const std::size_t ncell = static_cast<std::size_t>(g * g * g);
+    const std::uint64_t work = lookup_work(g);
+    if (work > kLookupWorkPerCell * (ncell + leaf_.size()) || work > std::numeric_limits<std::uint32_t>::max())
+        throw InvalidArgument("mpu field: " + std::to_string(leaf_.size()) + " leaf spheres cover " + std::to_string(work) +
+                              " cells of a " + std::to_string(g) + "^3 lookup grid (spheres far larger than their leaves)");
     const double cell = 2 * nodes_[0].half / static_cast<double>(g), inv = 1 / cell;
-    auto range = [&](const LeafSphere& s, std::int64_t lo[3], std::int64_t hi[3]) {
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor((s.c[a] - s.r - g_lo_[a]) * inv)));
-            hi[a] = std::min<std::int64_t>(g - 1, static_cast<std::int64_t>(std::floor((s.c[a] + s.r - g_lo_[a]) * inv)));
-        }
-    };
     auto meets = [&](const LeafSphere& s, std::int64_t i, std::int64_t j, std::int64_t k) {
         const std::int64_t ci[3] = {i, j, k};
         double d2 = 0;
@@ -411,27 +436,35 @@ void MpuField::lookup_lists(std::int64_t g, std::vector<std::uint32_t>& first, s
     std::vector<std::uint32_t> fill;
     for (int pass = 0; pass < 2; ++pass) {
         if (pass == 1) {
-            for (std::size_t c = 0; c < ncell; ++c) first[c + 1] += first[c];
-            leaves.resize(first[ncell]);
+            for (std::size_t c = 0; c < ncell; ++c) first[c + 1] += first[c];  // <= work < 2^32
+            list.resize(first[ncell]);
             fill.assign(first.begin(), first.end() - 1);
         }
         for (std::size_t l = 0; l < leaf_.size(); ++l) {
             std::int64_t lo[3], hi[3];
-            range(leaf_[l], lo, hi);
+            lookup_range(leaf_[l].c, leaf_[l].r, g_lo_, inv, g, lo, hi);
             for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
                 for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
                     for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
                         if (!meets(leaf_[l], i, j, k)) continue;
                         const std::size_t c = static_cast<std::size_t>(i + g * (j + g * k));
                         if (pass == 0) ++first[c + 1];
-                        else leaves[fill[c]++] = static_cast<std::uint32_t>(l);
+                        else list[fill[c]++] = static_cast<std::uint32_t>(l);
                     }
         }
     }
 }
 
 void MpuField::build_lookup() {
+    // About kLookupCellsPerLeaf cells per leaf; coarser while the leaves' spheres would cover more
+    // than kLookupWorkPerCell x (cells + leaves) cells (never for a fitted field, whose blend spheres
+    // are ~1 leaf cube: a .mlf with huge radii gets the one-cell grid, correct and slow, not a hang)
     lookup_geometry(lookup_level(kLookupCellsPerLeaf));
+    for (int level = lookup_level(kLookupCellsPerLeaf); level > 0; --level) {
+        const std::uint64_t g = std::uint64_t{1} << level;
+        if (lookup_work(static_cast<std::int64_t>(g)) <= kLookupWorkPerCell * (g * g * g + leaf_.size())) break;
+        lookup_geometry(level - 1);
+    }
     lookup_lists(g_, grid_first_, grid_leaf_);
 }
 
@@ -583,10 +616,10 @@ void MpuField::save_state(FieldStateWriter& w) const {
     w.put("lambda", std::span<const double>(lambda_));
     // The file keeps the lists of version 1's grid (about one cell per leaf); load_state checks
     // them and builds the finer grid that evaluation uses.
-    std::vector<std::uint32_t> first, leaves;
-    lookup_lists(std::int64_t{1} << lookup_level(1), first, leaves);
+    std::vector<std::uint32_t> first, list;
+    lookup_lists(std::int64_t{1} << lookup_level(1), first, list);
     w.put("lookup_first", std::span<const std::uint32_t>(first));
-    w.put("lookup_leaves", std::span<const std::uint32_t>(leaves));
+    w.put("lookup_leaves", std::span<const std::uint32_t>(list));
 }
 
 std::unique_ptr<MpuField> MpuField::load_state(FieldState& s) {
@@ -650,12 +683,12 @@ std::unique_ptr<MpuField> MpuField::load_state(FieldState& s) {
     f->lookup_geometry(f->lookup_level(1));  // the file's grid (save_state)
     const std::size_t ncell = static_cast<std::size_t>(f->g_ * f->g_ * f->g_);
     const std::vector<std::uint32_t> first = s.take_u32("lookup_first", ncell + 1);
-    const std::vector<std::uint32_t> leaves = s.take_u32("lookup_leaves");
-    if (first[0] != 0 || first[ncell] != leaves.size()) s.fail("lookup_first", "lookup lists do not span the leaf entries");
+    const std::vector<std::uint32_t> list = s.take_u32("lookup_leaves");
+    if (first[0] != 0 || first[ncell] != list.size()) s.fail("lookup_first", "lookup lists do not span the leaf entries");
     for (std::size_t c = 0; c < ncell; ++c)
         if (first[c] > first[c + 1]) s.fail("lookup_first", "lookup lists not ascending at cell " + std::to_string(c));
-    for (std::size_t k = 0; k < leaves.size(); ++k)
-        if (leaves[k] >= nl) s.fail("lookup_leaves", "entry " + std::to_string(k) + " names leaf " + std::to_string(leaves[k]) + " of " + std::to_string(nl));
+    for (std::size_t k = 0; k < list.size(); ++k)
+        if (list[k] >= nl) s.fail("lookup_leaves", "entry " + std::to_string(k) + " names leaf " + std::to_string(list[k]) + " of " + std::to_string(nl));
     f->build_lookup();
     return f;
 }

@@ -75,10 +75,16 @@ public:
     std::vector<std::uint32_t> blended_leaves(const Vec3& world) const;
 
     /// The fitted state (kernels/field_state.hpp): the octree, the locals, their centres (each
-    /// distinct point once, see put_centres) and lambdas, the lookup lists (the leaf spheres and the subtree radii are recomputed on load).
+    /// distinct point once, see put_centres) and lambdas, and the lookup lists of a grid of about
+    /// one cell per leaf (file version 1's; the leaf spheres and the subtree radii are recomputed
+    /// on load). Throws InvalidArgument when those lists would be too large (a field loaded from a
+    /// hostile file whose spheres are far larger than their leaves).
     void save_state(FieldStateWriter& w) const;
     /// A field from a saved state, validated (a proper octree of depth <= 60, every index in
-    /// range); evaluates bit-identically to the saved one. FormatError through FieldState::fail.
+    /// range, the stored lookup lists well formed); the finer lookup grid evaluation uses is then
+    /// built from the leaf spheres (a coarser one when the spheres are huge, so that a hostile file
+    /// costs at most ~128 x (cells + leaves) work); evaluates bit-identically to the saved one.
+    /// FormatError through FieldState::fail.
     static std::unique_ptr<MpuField> load_state(FieldState& s);
 
 private:
@@ -101,7 +107,10 @@ private:
     void build_lookup();  // the evaluation grid: lookup_geometry and the lists at kLookupCellsPerLeaf
     int lookup_level(std::size_t per_leaf_cells) const;  // the finest grid with <= per_leaf_cells x leaves cells
     // lists of the g^3 grid over the root cube (g_lo_ set): per cell, the leaves whose sphere meets it
-    void lookup_lists(std::int64_t g, std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& leaves) const;
+    // (InvalidArgument when the spheres' boxes cover more than kLookupWorkPerCell x (cells + leaves)
+    // cells of that grid, or 2^32: build_lookup picks a grid where they do not)
+    void lookup_lists(std::int64_t g, std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& list) const;
+    std::uint64_t lookup_work(std::int64_t g) const;  // cells the leaf spheres' boxes cover in a g^3 grid
     void compute_subtree_radii();  // Node::rsub from the children (children follow their parent)
     void lookup_geometry(int level);  // leaf_ and the lookup grid's g_, g_lo_, g_cell_, g_inv_ (2^level a side)
     std::uint32_t batch_key(const Vec3& world) const;  // lookup cell of a query (kernels/batch_order.hpp)
@@ -135,6 +144,7 @@ private:
     // kLookupCellsPerLeaf cells per leaf: a cell then lists ~2-3x the leaves a query blends (with
     // one cell per leaf, as a .mlf stores it, ~6x: testing them was a fifth of an evaluation).
     static constexpr std::size_t kLookupCellsPerLeaf = 16;
+    static constexpr std::uint64_t kLookupWorkPerCell = 128;  // build_lookup's bound on the lists' size
     Vec3 g_lo_;
     double g_cell_ = 1, g_inv_ = 1;
     std::int64_t g_ = 1;

@@ -113,7 +113,8 @@ __attribute__((target("avx2,fma"))) inline void add4(const Offsets4& o, __m256d 
 }
 
 // AVX2: square root and division (module comment). Whole groups of four centres with plain loads,
-// the tail of each run with masked loads (the masked-off lanes: lambda 0, r^2 = c^2, and guarded).
+// the tail of each run with masked loads (the masked-off lanes: lambda 0 and r^2 = c^2, so they add
+// 0 when c > 0 and are guarded when c == 0).
 template <bool Guard>
 __attribute__((target("avx2,fma"))) void local_avx2_t(const double* px, const double* py, const double* pz,
                                                       const MqLocalTerms& L, const Vec3& x, bool grad, MqSum& out) {
@@ -128,7 +129,7 @@ __attribute__((target("avx2,fma"))) void local_avx2_t(const double* px, const do
             add4<Guard>(offsets4(px, py, pz, k, X, Y, Z, C2), _mm256_loadu_pd(lam), grad, v, gx, gy, gz);
         if (k < n) {
             const __m256i m = lanes4(n - k);
-            add4<true>(offsets4(px, py, pz, k, m, X, Y, Z, C2), _mm256_maskload_pd(lam, m), grad, v, gx, gy, gz);
+            add4<Guard>(offsets4(px, py, pz, k, m, X, Y, Z, C2), _mm256_maskload_pd(lam, m), grad, v, gx, gy, gz);
             lam += n - k;
         }
     }
@@ -164,9 +165,10 @@ __attribute__((target("avx512f,avx512vl,avx512dq,fma"))) void local_avx512(const
         const std::size_t n = L.runs[r].start + L.runs[r].count;
         for (std::size_t k = L.runs[r].start; k < n; k += 8, lam += 8) {
             const __mmask8 m = n - k >= 8 ? __mmask8(0xFF) : static_cast<__mmask8>((1u << (n - k)) - 1u);
-            const __m512d ex = _mm512_sub_pd(X, _mm512_maskz_loadu_pd(m, px + k));
-            const __m512d ey = _mm512_sub_pd(Y, _mm512_maskz_loadu_pd(m, py + k));
-            const __m512d ez = _mm512_sub_pd(Z, _mm512_maskz_loadu_pd(m, pz + k));
+            // masked-off lanes hold x - p = 0 (r^2 = c^2): a far query must not make them infinite
+            const __m512d ex = _mm512_maskz_sub_pd(m, X, _mm512_maskz_loadu_pd(m, px + k));
+            const __m512d ey = _mm512_maskz_sub_pd(m, Y, _mm512_maskz_loadu_pd(m, py + k));
+            const __m512d ez = _mm512_maskz_sub_pd(m, Z, _mm512_maskz_loadu_pd(m, pz + k));
             const __m512d r2 = _mm512_fmadd_pd(ex, ex, _mm512_fmadd_pd(ey, ey, _mm512_fmadd_pd(ez, ez, C2)));
             const __m512d y0 = _mm512_rsqrt14_pd(r2);
             const __m512d t = _mm512_mul_pd(r2, y0);

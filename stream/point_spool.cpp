@@ -37,9 +37,9 @@ PointSpool::PointSpool(InPlace, const std::string& ply_path, int threads)
     : purpose_("in place"), name_(ply_path), in_place_(true) {
     PlyPointReader r(ply_path);  // the header, its counts against the file's size
     const std::optional<std::uint64_t> at = r.records_offset();
-    if (!at) throw std::logic_error("PointSpool: " + ply_path + " cannot be a spool in place");
+    if (!at) throw FormatError(ply_path + ": not a binary PLY of meshless points (x y z nx ny nz radius value, float): cannot be read in place");
     base_ = *at;
-    f_ = std::fopen(ply_path.c_str(), "rb");
+    f_ = std::fopen(ply_path.c_str(), "rbe");  // e: close-on-exec, as the readers open files
     if (!f_) throw IoError(ply_path + ": cannot open: " + std::strerror(errno));
     try {
         scan_in_place(r, threads);
@@ -62,22 +62,24 @@ void PointSpool::scan_in_place(PlyPointReader& r, int threads) {
         return;
     }
     count_ = n;  // read() reads [0, n) below
-    const std::uint64_t parts = (n + kMaxBatchRecords - 1) / kMaxBatchRecords;
-    oneapi::tbb::enumerable_thread_specific<std::pair<Tally, std::vector<PointRecord>>> local;
-    auto scan = [&](std::uint64_t i) {
-        auto& [t, batch] = local.local();
+    // one tally per part, merged in part order: the same bits (signed zeros too) for any thread count
+    const auto parts = static_cast<std::size_t>((n + kMaxBatchRecords - 1) / kMaxBatchRecords);
+    std::vector<Tally> part(parts);
+    oneapi::tbb::enumerable_thread_specific<std::vector<PointRecord>> batches;
+    auto scan = [&](std::size_t i) {
+        std::vector<PointRecord>& batch = batches.local();
         const std::uint64_t first = i * kMaxBatchRecords;
         batch.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kMaxBatchRecords, n - first)));
         read(first, batch);
-        t.add(batch);
+        part[i].add(batch);
     };
     if (threads <= 1) {
-        for (std::uint64_t i = 0; i < parts; ++i) scan(i);
+        for (std::size_t i = 0; i < parts; ++i) scan(i);
     } else {
         oneapi::tbb::task_arena arena(threads);
-        arena.execute([&] { oneapi::tbb::parallel_for(std::uint64_t{0}, parts, scan); });
+        arena.execute([&] { oneapi::tbb::parallel_for(std::size_t{0}, parts, scan); });
     }
-    for (const auto& l : local) tally_.merge(l.first);
+    for (const Tally& t : part) tally_.merge(t);
 }
 
 PointSpool::~PointSpool() {

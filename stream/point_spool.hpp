@@ -20,8 +20,8 @@
 // PointSpool is a Sink (requires point batches: FormatError on samples), so a graph can end in it;
 // finish() flushes. PointSpoolSource replays it in batches of at most kMaxBatchRecords, with dense
 // sequence numbers, reading each batch into a recycled array: the source holds at most one batch.
-// Errors: IoError naming the spool file (and saying it is a deleted temporary) when it cannot be
-// created, written or read back.
+// Errors: IoError naming the spool file (and saying it is a deleted temporary, or the input read in
+// place) when it cannot be created, written or read back.
 // Threads: append/consume/finish from one thread at a time; read() is thread-safe (pread) once the
 // spool is flushed and while nothing is appended.
 #pragma once
@@ -48,9 +48,9 @@ public:
     /// a file that cannot be opened or parsed included (its reader then reports why).
     static bool can_be_in_place(const std::string& ply_path);
     struct InPlace {};
-    /// The PLY file as its own spool (precondition: can_be_in_place), read on `threads` threads
-    /// (the bounds and value range do not depend on the count). Throws FormatError/IoError naming
-    /// it. append() and observe() are refused (std::logic_error).
+    /// The PLY file as its own spool, read on `threads` threads (the bounds and value range do not
+    /// depend on the count). Throws FormatError/IoError naming it (FormatError also when it is not
+    /// such a file: can_be_in_place). append() and observe() are refused (std::logic_error).
     PointSpool(InPlace, const std::string& ply_path, int threads = 1);
     ~PointSpool() override;
     PointSpool(const PointSpool&) = delete;
@@ -64,7 +64,7 @@ public:
     void flush();
 
     std::uint64_t size() const { return count_; }
-    /// point_bounds() of every point appended.
+    /// point_bounds() of every point appended (in place: of the file's points).
     std::array<Vec3, 2> bounds() const { return tally_.bounds.bounds(); }
     /// {min, max} of the finite values appended; nullopt when there is none.
     std::optional<std::array<double, 2>> value_range() const;
@@ -76,7 +76,7 @@ public:
     void read_blocks(std::uint64_t first, std::span<std::uint32_t> out) const;
     /// Reads points [first, first + out.size()) into out; they must all have been appended.
     void read(std::uint64_t first, std::span<PointRecord> out) const;
-    /// The file's name as created (it no longer exists in the directory).
+    /// The file's name as created (it no longer exists in the directory); in place: the PLY's path.
     const std::string& name() const { return name_; }
 
 private:

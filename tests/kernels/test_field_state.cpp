@@ -4,6 +4,7 @@
 // match, missing, surplus or mistyped arrays) is a FormatError naming the array.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -11,7 +12,9 @@
 
 #include "error_of.hpp"
 #include "kernels/field_state.hpp"
+#include "kernels/errors.hpp"
 #include "kernels/make_field.hpp"
+#include "kernels/mpu_field.hpp"
 #include "kernels/splitmix.hpp"
 
 using namespace meshless;
@@ -250,4 +253,34 @@ TEST_CASE("a global RBF state is checked too", "[kernels][field_state][mustfail]
                Catch::Contains("the interpolant does not span the points"));
     CHECK_THAT(with([](Collector& c) { c.get<std::uint32_t>("outcome")[0] = 9; }), Catch::Contains("unknown fit outcome"));
     CHECK_THAT(with([](Collector& c) { c.get<double>("points").pop_back(); }), Catch::Contains("section 'points'"));
+}
+
+TEST_CASE("an MPU state whose leaf spheres are huge loads with a coarse lookup grid and bounded work", "[kernels][field_state][mustfail]") {
+    // A hostile .mlf: every leaf's blend radius 1e300 (finite, so accepted). The lookup lists the
+    // field evaluates with are built from these spheres: without a bound they would list every leaf
+    // in every cell of a fine grid (and overflow 32-bit offsets on large fields).
+    const Saved s = saved(FieldKind::mpu, 6000);
+    Collector c = s.c;
+    auto& nodes = c.get<double>("nodes");
+    const auto& links = c.get<std::int32_t>("node_links");
+    std::size_t leaves = 0;
+    for (std::size_t i = 0; i < nodes.size() / 5; ++i)
+        if (links[2 * i] < 0) {
+            nodes[5 * i + 4] = 1e300;
+            ++leaves;
+        }
+    REQUIRE(leaves > 100);
+    FieldState st = c.state();
+    const auto f = load_field_state(FieldKind::mpu, st);
+    const auto& mpu = dynamic_cast<const MpuField&>(*f);
+    // every leaf blends everywhere now: the lookup (or the tree) finds them all, in order
+    for (const Vec3& x : {Vec3{0.5, 1, 0.5}, Vec3{0.01, 0.02, 0.99}, Vec3{5, -3, 2}}) {
+        const auto got = mpu.blended_leaves(x);
+        CHECK(got.size() == leaves);
+        CHECK(std::is_sorted(got.begin(), got.end()));
+    }
+    CHECK(std::isfinite(f->value({0.5, 1, 0.5})));
+    // saving it again would need the fine lists of version 1's grid: refused, not attempted
+    Collector again;
+    CHECK_THROWS_AS(save_field_state(*f, again), InvalidArgument);
 }

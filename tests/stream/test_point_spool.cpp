@@ -242,6 +242,7 @@ TEST_CASE("point spool in place: other PLY layouts are not, broken files are ref
     const std::string blocks = (d.path / "blocks.ply").string();
     write_ply_points(blocks, pts, {}, std::span<const std::uint32_t>(ids));
     CHECK_FALSE(PointSpool::can_be_in_place(blocks));                      // 36-byte records
+    CHECK_THROWS_WITH(PointSpool(PointSpool::InPlace{}, blocks), Catch::Contains(blocks) && Catch::Contains("cannot be read in place"));
     CHECK_FALSE(PointSpool::can_be_in_place((d.path / "none.ply").string()));  // no such file
     const std::string ascii = (d.path / "ascii.ply").string();
     {
