@@ -459,11 +459,15 @@ void MpuField::build_lookup() {
     // About kLookupCellsPerLeaf cells per leaf; coarser while the leaves' spheres would cover more
     // than kLookupWorkPerCell x (cells + leaves) cells (never for a fitted field, whose blend spheres
     // are ~1 leaf cube: a .mlf with huge radii gets the one-cell grid, correct and slow, not a hang)
-    lookup_geometry(lookup_level(kLookupCellsPerLeaf));
-    for (int level = lookup_level(kLookupCellsPerLeaf); level > 0; --level) {
-        const std::uint64_t g = std::uint64_t{1} << level;
-        if (lookup_work(static_cast<std::int64_t>(g)) <= kLookupWorkPerCell * (g * g * g + leaf_.size())) break;
-        lookup_geometry(level - 1);
+    int level = lookup_level(kLookupCellsPerLeaf);
+    lookup_geometry(level);  // leaf_ and g_lo_, which lookup_work reads, do not depend on the level
+    const auto too_much = [&](int lv) {
+        const std::uint64_t g = std::uint64_t{1} << lv;
+        return lookup_work(static_cast<std::int64_t>(g)) > kLookupWorkPerCell * (g * g * g + leaf_.size());
+    };
+    if (level > 0 && too_much(level)) {
+        while (level > 0 && too_much(level)) --level;
+        lookup_geometry(level);
     }
     lookup_lists(g_, grid_first_, grid_leaf_);
 }

@@ -92,24 +92,13 @@ template <bool Guard>
 __attribute__((target("avx2,fma"))) inline void add4(const Offsets4& o, __m256d l, bool grad, __m256d& v, __m256d& gx,
                                                      __m256d& gy, __m256d& gz) {
     const __m256d phi = _mm256_sqrt_pd(o.r2);
-    if constexpr (Guard) {
-        const __m256d pos = _mm256_cmp_pd(phi, _mm256_setzero_pd(), _CMP_GT_OQ);
-        v = _mm256_fmadd_pd(l, _mm256_and_pd(phi, pos), v);
-        if (grad) {
-            const __m256d s = _mm256_and_pd(_mm256_div_pd(l, phi), pos);
-            gx = _mm256_fmadd_pd(s, o.ex, gx);
-            gy = _mm256_fmadd_pd(s, o.ey, gy);
-            gz = _mm256_fmadd_pd(s, o.ez, gz);
-        }
-    } else {
-        v = _mm256_fmadd_pd(l, phi, v);
-        if (grad) {
-            const __m256d s = _mm256_div_pd(l, phi);
-            gx = _mm256_fmadd_pd(s, o.ex, gx);
-            gy = _mm256_fmadd_pd(s, o.ey, gy);
-            gz = _mm256_fmadd_pd(s, o.ez, gz);
-        }
-    }
+    const __m256d pos = Guard ? _mm256_cmp_pd(phi, _mm256_setzero_pd(), _CMP_GT_OQ) : _mm256_setzero_pd();
+    v = _mm256_fmadd_pd(l, Guard ? _mm256_and_pd(phi, pos) : phi, v);
+    if (!grad) return;
+    const __m256d s = Guard ? _mm256_and_pd(_mm256_div_pd(l, phi), pos) : _mm256_div_pd(l, phi);
+    gx = _mm256_fmadd_pd(s, o.ex, gx);
+    gy = _mm256_fmadd_pd(s, o.ey, gy);
+    gz = _mm256_fmadd_pd(s, o.ez, gz);
 }
 
 // AVX2: square root and division (module comment). Whole groups of four centres with plain loads,
