@@ -95,7 +95,7 @@ int cmd_probe(int argc, char** argv) {
     a.option("at", "", "X,Y,Z", "a position (repeatable)").repeatable()
         .option("at-file", "", "FILE", "positions, three numbers per line (CSV or whitespace; header allowed); - = stdin")
         .option("output", "o", "FILE", "CSV output, '-' = stdout", "-");
-    add_field_options(a);
+    add_field_options(a, /*with_coverage=*/true, kDataFieldDefaultHelp);
     add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
@@ -114,7 +114,7 @@ int cmd_probe(int argc, char** argv) {
     }
     if (at.empty()) throw UsageError("nothing to probe: give --at x,y,z or --at-file FILE");
     const PointSet pts = read_points_arg(a);
-    const auto field = build_field(a, pts);
+    const auto field = build_field(a, pts, data_field_default(a.positional()));
     // query positions -> field -> CSV
     ProgressMeter meter("meshless probe", "positions", static_cast<double>(at.size()), progress_wanted(a), progress_delay());
     QueryListSource source(std::move(at), /*want_grad=*/true);
@@ -140,7 +140,7 @@ int cmd_slice(int argc, char** argv) {
         .option("colormap", "", "NAME", "coolwarm | viridis | gray", "coolwarm")
         .option("near", "", "D", "overlay data points within D of the plane (default: half the mean point spacing)")
         .flag("colorbar", "draw the colour map and its value range (--range or the data's) as a legend bar at the right edge");
-    add_field_options(a);
+    add_field_options(a, /*with_coverage=*/true, kDataFieldDefaultHelp);
     add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
@@ -150,7 +150,7 @@ int cmd_slice(int argc, char** argv) {
     if (!parse_colormap(a.get_or("colormap", "coolwarm"), cmap)) throw UsageError("--colormap: expected coolwarm, viridis or gray");
     const auto [W, H] = parse_size(a.get_or("size", "1024x1024"), "--size", 2, 16384);
     const PointSet pts = read_points_arg(a);
-    const auto field = build_field(a, pts);
+    const auto field = build_field(a, pts, data_field_default(a.positional()));
     const auto [lo, hi] = pts.bounds();
     const int u = (plane.axis + 1) % 3, v = (plane.axis + 2) % 3;  // image axes: u right, v up
     const int ua = std::min(u, v), va = std::max(u, v);             // x before y before z
@@ -222,7 +222,7 @@ int cmd_resample(int argc, char** argv) {
            "bounding box (float32 NRRD), for the isosurface commands and other tools. Voxels the data does\n"
            "not reach (see --max-gap) are NaN.");
     a.option("dims", "", "X,Y,Z", "grid samples along x, y, z (required)").option("output", "o", "FILE", "NRRD output (required)");
-    add_field_options(a);
+    add_field_options(a, /*with_coverage=*/true, kDataFieldDefaultHelp);
     add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
@@ -235,7 +235,7 @@ int cmd_resample(int argc, char** argv) {
     }
     const std::string out = require_output_extension(a.require("output"), ".nrrd", "-o", "a float32 volume (NRRD)");
     const PointSet pts = read_points_arg(a);
-    const auto field = build_field(a, pts);
+    const auto field = build_field(a, pts, data_field_default(a.positional()));
     const auto [lo, hi] = pts.bounds();
     for (int i = 0; i < 3; ++i) {
         g.origin[i] = lo[i];

@@ -32,15 +32,14 @@ int cmd_fit(int argc, char** argv) {
            "is one, multiblock inputs (PLOT3D, .vts, .vtm, .vthb).");
     a.option("output", "o", "FILE", "the fitted field (.mlf, required)")
         .option("level", "", "L", "zstd level of the arrays, 0 = stored raw", "1");
-    add_field_options(a, /*with_coverage=*/false,
-                      std::string(kPointsFieldDefault) + " for point sets, " + kBlocksFieldDefault + " for multiblock inputs");
+    add_field_options(a, /*with_coverage=*/false, kDataFieldDefaultHelp);
     add_quiet_option(a);
     a.positionals(1, 1000);
     a.epilog("example:\n  meshless fit combxyz.bin --q combq.bin --field mpu -o comb.mlf\n"
              "  meshless probe combxyz.bin --q combq.bin --field comb.mlf --at 3,0,0");
     if (!a.parse(argc, argv, 2)) return 0;
     // the default field is the one `isosurface DATA` builds (cli/field_cli.hpp)
-    const FieldParams params = field_params(a, all_multiblock(a.positional()) ? kBlocksFieldDefault : kPointsFieldDefault);
+    const FieldParams params = field_params(a, data_field_default(a.positional()));
     const std::string out = require_output_extension(a.require("output"), ".mlf", "-o", "a fitted field");
     if (is_streaming_output(out)) throw UsageError("-o " + out + ": a fitted field is written to a regular file (.mlf), not a stream");
     const long long level = a.get_int_or("level", 1);

@@ -86,7 +86,7 @@ RenderInput open_render_input(const Args& a) {
     const bool store = is_brick_store(first) || ends_with(first, ".mlb");
     const bool volume = store || (pos.size() == 1 && !looks_like_multiblock(first) && looks_like_volume(first));
     // scattered points: mpu, multiblock grids: rbf-grid, as isosurface and fit build (cli/field_cli.hpp)
-    const std::string data_default = all_multiblock(pos) ? kBlocksFieldDefault : kPointsFieldDefault;
+    const std::string data_default = data_field_default(pos);
     const std::string kind = a.get_or("field", volume ? "trilinear" : data_default);
     if (volume) {
         if (pos.size() > 1) throw UsageError("render takes one volume (got " + std::to_string(pos.size()) + " inputs)");
@@ -199,8 +199,7 @@ int cmd_render(int argc, char** argv) {
         .option("diff", "", "FILE.png", "with --compare: write the difference picture")
         .option("diff-gain", "", "G", "--diff: multiply the differences by G", "1");
     add_orbit_options(a, "512x512");
-    add_field_options(a, /*with_coverage=*/false,  // --field ... --stats, point-set options, --threads
-                      std::string(kPointsFieldDefault) + " for point sets, " + kBlocksFieldDefault + " for multiblock inputs");
+    add_field_options(a, /*with_coverage=*/false, kDataFieldDefaultHelp);  // --field ... --stats, point-set options, --threads
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z")
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
         .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing in world units", "1,1,1");

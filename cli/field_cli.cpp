@@ -145,6 +145,10 @@ bool all_multiblock(const std::vector<std::string>& paths) {
     return !paths.empty() && std::all_of(paths.begin(), paths.end(), [](const std::string& p) { return looks_like_multiblock(p); });
 }
 
+std::string data_field_default(const std::vector<std::string>& paths) {
+    return all_multiblock(paths) ? kBlocksFieldDefault : kPointsFieldDefault;
+}
+
 PointSet read_field_points(const std::vector<std::string>& paths, const Args& a) {
     if (all_multiblock(paths)) return to_point_set(read_multiblock(paths, point_set_options(a)));
     for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so

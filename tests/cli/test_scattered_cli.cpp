@@ -122,11 +122,34 @@ TEST_CASE("isosurface POINTS builds chapter 5's MPU field by default, fit choose
     CHECK(slurp(d / "a.ply") == slurp(d / "c.ply"));
     // the help says which field is built
     CHECK_THAT(sh("MESHLESS isosurface " + pts + " --help", d).out, Catch::Contains("(default mpu)"));
+    // probe, slice and resample build the field fit fits: the same bytes as through the .mlf, not
+    // those of rbf-grid
+    const std::string at = " --at 0.1,0.2,0.3 --at 0.5,0,0 --at 0,0,0.62";
+    auto probe = [&](const std::string& field) { return sh("MESHLESS probe " + pts + at + field, d); };
+    const auto p_default = probe(" --stats");
+    REQUIRE(p_default.code == 0);
+    CHECK_THAT(p_default.err, Catch::Contains("mpu field from 3000 points"));
+    CHECK(p_default.out == probe(" --field " + D + "/f.mlf").out);
+    CHECK(p_default.out != probe(" --field rbf-grid").out);
+    for (const std::string cmd : {"slice " + pts + " --plane z=0.1 --size 40x40 -o " + D + "/s", "resample " + pts + " --dims 9,9,9 -o " + D + "/r"}) {
+        const std::string ext = cmd.rfind("slice", 0) == 0 ? ".png" : ".nrrd";
+        REQUIRE(sh("MESHLESS " + cmd + "1" + ext, d).code == 0);
+        REQUIRE(sh("MESHLESS " + cmd + "2" + ext + " --field " + D + "/f.mlf", d).code == 0);
+        REQUIRE(sh("MESHLESS " + cmd + "3" + ext + " --field rbf-grid", d).code == 0);
+        const std::string base = cmd.substr(cmd.rfind(D));
+        CHECK(slurp(base + "1" + ext) == slurp(base + "2" + ext));
+        CHECK(slurp(base + "1" + ext) != slurp(base + "3" + ext));
+        CHECK_THAT(sh("MESHLESS " + cmd.substr(0, cmd.find(' ')) + " --help", d).out,
+                   Catch::Contains("mpu for point sets, rbf-grid for multiblock inputs"));
+    }
     // multiblock inputs keep chapter 4's RBF grid
     if (have_shared_data()) {
         const std::string P = (shared_data() / "plot3d").string();
         REQUIRE(sh("MESHLESS fit " + P + "/multicomb_0.vts -o " + D + "/mb.mlf", d).code == 0);
         CHECK_THAT(sh("MESHLESS info " + D + "/mb.mlf", d).out, Catch::Contains("field: rbf-grid"));
+        const auto pb = sh("MESHLESS probe " + P + "/multicomb_0.vts --at 3,0,0 --stats", d);
+        REQUIRE(pb.code == 0);
+        CHECK_THAT(pb.err, Catch::Contains("rbf-grid field from"));
     }
 }
 
