@@ -185,7 +185,8 @@ BuiltField build_field(const Args& a, const PointSet& points, const std::string&
         ProgressMeter meter = ProgressMeter::of(a, "local fits", 1);  // the total comes with the first report
         f.field = make_field(points, params, &st, a.declared("quiet") ? field_progress(meter) : FieldProgress(), share);
         meter.done();
-        if (a.has("stats")) print_field_build_stats(a, params, points, st);
+        // under MPI every rank builds the same field (the fits gathered): rank 0 reports it
+        if (a.has("stats") && (!share || share->rank == 0)) print_field_build_stats(a, params, points, st);
     }
     if (a.declared("max-gap")) {
         const double gap = parse_finite(a.get_or("max-gap", "1"), "--max-gap");

@@ -318,6 +318,10 @@ TEST_CASE("mpirun -np 2 isosurface POINTS gives the single-process bytes", "[cli
                 d);
     REQUIRE(r.code == 0);
     CHECK_THAT(r.err, Catch::Contains("over 2 ranks"));
+    // every rank builds the field (the fits shared); rank 0 alone reports it
+    std::size_t reports = 0;
+    for (std::size_t at = r.err.find("mpu field from"); at != std::string::npos; at = r.err.find("mpu field from", at + 1)) ++reports;
+    CHECK(reports == 1);
     CHECK(slurp(d / "one.ply").size() > 10000);
     CHECK(slurp(d / "one.ply") == slurp(d / "two.ply"));
     CHECK(slurp(d / "one.png") == slurp(d / "two.png"));
