@@ -12,12 +12,15 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <exception>
+#include <stdexcept>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/errors.hpp"
 #include "cli/field_cli.hpp"
+#include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/png_reader.hpp"
 #include "formats/png_writer.hpp"
@@ -181,7 +184,8 @@ int cmd_render(int argc, char** argv) {
            "[0, 1]. Opacities are per reference step = the default step: half the smallest voxel spacing\n"
            "(volumes) or half the mean point spacing (points); --step changes the sampling, not the opacity.\n"
            "--compare REF.png prints RMSE and PSNR of the picture against REF (PSNR 'inf' when identical) on\n"
-           "stdout and --diff writes the difference picture (|a - b| x --diff-gain).\n"
+           "stdout (stderr when -o - writes the picture there; a reference of another size than --size is refused\n"
+           "before rendering) and --diff writes the difference picture (|a - b| x --diff-gain).\n"
            "The picture's bytes do not depend on --threads.");
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("tf", "", "PRESET|FILE", "transfer function: grey | viridis | ct-bone | ct-skin | FILE of 'value r g b a' rows", "grey")
@@ -213,7 +217,10 @@ int cmd_render(int argc, char** argv) {
     if (a.has("diff") && !a.has("compare")) throw UsageError("--diff needs --compare REF.png");
     const double gain = parse_finite(a.get_or("diff-gain", "1"), "--diff-gain");
     if (!(gain > 0)) throw UsageError("--diff-gain: must be positive");
-    if (auto d = a.get("diff")) require_output_extension(*d, ".png", "--diff", "a PNG image");
+    if (auto d = a.get("diff")) {
+        require_output_extension(*d, ".png", "--diff", "a PNG image");
+        if (*d == png) throw UsageError("-o and --diff name the same output '" + png + "'");
+    }
     Camera cam = camera_from(a, "512x512");
     RayCastParams rp;
     rp.shade = a.has("shade");
@@ -224,6 +231,19 @@ int cmd_render(int argc, char** argv) {
         if (!(*step > 0)) throw UsageError("--step: must be positive");
     }
     const int nthreads = threads(a);
+    // the reference and the outputs before any work: a reference of another size, or an output
+    // that cannot be created, fails at once and writes nothing
+    std::optional<Image> ref;
+    if (auto ref_path = a.get("compare")) {
+        ref = read_png(*ref_path);
+        if (ref->width != cam.width || ref->height != cam.height)
+            throw FormatError(*ref_path + ": " + std::to_string(ref->width) + "x" + std::to_string(ref->height) +
+                              " pixels, the rendering is " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+                              " (--size)");
+    }
+    AtomicFile png_file(png);
+    std::optional<AtomicFile> diff_file;
+    if (auto d = a.get("diff")) diff_file.emplace(*d);
 
     RenderInput in = open_render_input(a);
     if (in.volume) apply_anatomical_default(a, *in.volume, cam);  // head up, face to the viewer, where the header says
@@ -273,7 +293,18 @@ int cmd_render(int argc, char** argv) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     meter.done();
     const Image picture = compose_over_background(rgba, rp.background);
-    write_png(picture, png);
+    // a closed stdout (-o - | head) still lets --diff be written; then the quiet exit
+    std::exception_ptr closed;
+    auto unless_closed = [&](const auto& step) {
+        try {
+            step();
+            return true;
+        } catch (const BrokenPipe&) {
+            closed = std::current_exception();
+            return false;
+        }
+    };
+    const bool png_live = unless_closed([&] { write_png(picture, png_file); });
     if ((tty && !a.has("quiet")) || a.has("stats"))
         std::fprintf(stderr,
                      "render: %s, %dx%d, step %g (ref %g), %d thread(s): %.3f s; %llu rays hit, %llu samples (%.2f M/s), "
@@ -282,17 +313,21 @@ int cmd_render(int argc, char** argv) {
                      static_cast<unsigned long long>(st.rays_hit), static_cast<unsigned long long>(st.samples),
                      1e-6 * static_cast<double>(st.samples) / std::max(seconds, 1e-9), static_cast<unsigned long long>(st.skipped),
                      static_cast<unsigned long long>(st.terminated));
-    if (auto ref_path = a.get("compare")) {
-        const Image ref = read_png(*ref_path);
-        if (ref.width != picture.width || ref.height != picture.height)
-            throw FormatError(*ref_path + ": " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
-                              " pixels, the rendering is " + std::to_string(picture.width) + "x" + std::to_string(picture.height));
-        const ImageDifference d = compare_images(picture, ref);
-        std::printf("RMSE %.4f PSNR %s dB (max difference %d, %llu of %llu pixels differ)\n", d.rmse, psnr_text(d.psnr).c_str(),
-                    d.max_abs, static_cast<unsigned long long>(d.differing_pixels),
-                    static_cast<unsigned long long>(picture.width) * static_cast<unsigned long long>(picture.height));
-        if (auto diff = a.get("diff")) write_png(difference_image(picture, ref, gain), *diff);
+    if (ref) {
+        if (ref->width != picture.width || ref->height != picture.height)  // checked above against --size
+            throw std::logic_error("render: the picture is not the size the camera asked for");
+        const ImageDifference d = compare_images(picture, *ref);
+        // on stdout, unless the picture is there (-o -)
+        std::fprintf(png == "-" ? stderr : stdout, "RMSE %.4f PSNR %s dB (max difference %d, %llu of %llu pixels differ)\n",
+                     d.rmse, psnr_text(d.psnr).c_str(), d.max_abs, static_cast<unsigned long long>(d.differing_pixels),
+                     static_cast<unsigned long long>(picture.width) * static_cast<unsigned long long>(picture.height));
+        if (diff_file) {
+            write_png(difference_image(picture, *ref, gain), *diff_file);
+            diff_file->commit();
+        }
     }
+    if (png_live) unless_closed([&] { png_file.commit(); });
+    if (closed) std::rethrow_exception(closed);
     return 0;
 }
 

@@ -1,6 +1,7 @@
 #include "cli/isosurface_graph.hpp"
 
 #include <chrono>
+#include <exception>
 #include <cstdio>
 #include <span>
 #include <vector>
@@ -62,6 +63,22 @@ IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode
 }
 
 namespace {
+/// Hands batches on to `to` (or drops them when null) but leaves its finish() to the caller.
+class HeldSink final : public Sink {
+public:
+    explicit HeldSink(Sink* to) : to_(to) {}
+    void consume(Batch&& b) override {
+        if (to_) to_->consume(std::move(b));
+    }
+    void observe(const Batch& b) override {
+        if (to_) to_->observe(b);
+    }
+    void finish() override {}
+
+private:
+    Sink* to_;
+};
+
 /// The picture's colour settings with the colouring --ply-color asks for (range, colour map as the picture's).
 std::optional<ShadingParams> ply_colors(const GeometryOutput& out, const RenderSettings& rs) {
     if (!out.ply_color) return std::nullopt;
@@ -81,6 +98,7 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
         r = run(nullptr, sink);
         return sink.count();
     }
+    AtomicFile png_file(*png);  // before any work: a PNG that cannot be created fails the run at once
     SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
     std::optional<PointFileSink> ply;
     if (out) {
@@ -88,17 +106,33 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
         if (vo.threads == 0) vo.threads = nthreads;
         ply.emplace(out->path, out->format, ply_comments(meta), vo, with_blocks, ply_colors(*out, rs));
     }
+    // the point file is committed after the picture is written (to its temporary), so a failed
+    // picture leaves the previous -o file as it was
+    HeldSink held(ply ? static_cast<Sink*>(&*ply) : nullptr);
     std::optional<TeeSink> tee;
-    if (ply) tee.emplace(splat, *ply);
-    r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);
+    if (ply) tee.emplace(splat, held);
+    std::exception_ptr closed;  // stdout's reader went away: the other output is still completed
     try {
-        Image picture = splat.image();
-        decorate_picture(rs, picture);
-        write_png(picture, *png);
-    } catch (...) {
-        if (out && !is_streaming_output(out->path)) std::remove(out->path.c_str());
-        throw;
+        r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);
+    } catch (const BrokenPipe&) {
+        if (!tee || !tee->live(0)) throw;  // the picture's branch never closes during the run
+        closed = std::current_exception();
     }
+    auto unless_closed = [&](const auto& step) {  // false when stdout's reader has gone
+        try {
+            step();
+            return true;
+        } catch (const BrokenPipe&) {
+            closed = std::current_exception();
+            return false;
+        }
+    };
+    Image picture = splat.image();
+    decorate_picture(rs, picture);
+    const bool png_live = unless_closed([&] { write_png(picture, png_file); });
+    if (ply && tee->live(1)) unless_closed([&] { ply->finish(); });  // stdout's PLY is written here
+    if (png_live) unless_closed([&] { png_file.commit(); });
+    if (closed) std::rethrow_exception(closed);
     return splat.points();
 }
 

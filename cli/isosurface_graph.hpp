@@ -30,9 +30,11 @@ using GraphRun = std::function<IsoSplatResult(const Stage* draw, Sink& sink)>;
 
 /// Runs `run` into the point set `out` (PLY or VTP: the one place the point sink is chosen, from
 /// GeometryOutput::format, see geometry_output) and/or the PNG `png` (at least one given). Each
-/// batch is drawn as it is produced and, with `out`, written to the point file. The splat sink
-/// finishes (renders) before the point file is committed, and a PNG that cannot be written removes
-/// the point file: one outcome. Returns the
+/// batch is drawn as it is produced and, with `out`, written to the point file. The PNG's temporary
+/// is created before the run (a PNG that cannot be created fails at once); the point file is
+/// committed only after the picture is written, then the PNG: a failed picture leaves the previous
+/// files as they were. When one output is stdout and its reader goes away (BrokenPipe), the other
+/// output is still completed and committed, then BrokenPipe is rethrown (quiet exit). Returns the
 /// number of points; the run's result goes to r. parallel_draw = false (the MPI root: batches arrive
 /// already made): draw is null and the splat sink draws in consume(). with_blocks: the PLY gets the
 /// `block` property from the batches' point_block (the multiblock path).

@@ -95,6 +95,13 @@ void AtomicFile::write(const void* data, std::size_t n) {
     }
 }
 
+void AtomicFile::flush() {
+    if (std::fflush(file_) != 0) {
+        if (errno == EPIPE) throw BrokenPipe();
+        throw IoError(path_ + ": write failed (" + std::strerror(errno) + ")");
+    }
+}
+
 void AtomicFile::pwrite(std::size_t offset, const void* data, std::size_t n) {
     if (is_stdout() || direct_) throw IoError(path_ + ": cannot seek in this output (not a regular file)");
     const long here = std::ftell(file_);

@@ -57,6 +57,9 @@ public:
     /// Appends bytes; throws IoError (or BrokenPipe when stdout's reader has gone).
     void write(const void* data, std::size_t n);
     void write(const std::string& s) { write(s.data(), s.size()); }
+    /// Hands the buffered bytes to the file (or stdout, device, FIFO) now, so that a full disk or
+    /// a closed pipe shows before commit(); throws as write().
+    void flush();
     /// Overwrites bytes at an absolute offset already written (not for stdout).
     void pwrite(std::size_t offset, const void* data, std::size_t n);
     /// Flushes, closes and renames into place. After commit() no more writes.

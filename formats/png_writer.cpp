@@ -59,6 +59,13 @@ bool encode_png(const Image& image, PngBuffer& out, std::string& err) {
 }  // namespace
 
 void write_png(const Image& image, const std::string& path) {
+    AtomicFile out(path);
+    write_png(image, out);
+    out.commit();
+}
+
+void write_png(const Image& image, AtomicFile& out) {
+    const std::string& path = out.path();
     if (image.width <= 0 || image.height <= 0 ||
         image.rgb.size() != 3 * static_cast<std::size_t>(image.width) * image.height)
         throw InvalidArgument(path + ": image " + std::to_string(image.width) + "x" + std::to_string(image.height) +
@@ -69,9 +76,8 @@ void write_png(const Image& image, const std::string& path) {
     buf.bytes.resize(static_cast<std::size_t>(raw + raw / 1000 + 64 * (raw / 8192 + 1) + 4096));
     std::string err;
     if (!encode_png(image, buf, err)) throw IoError(path + ": PNG encoding failed (" + err + ")");
-    AtomicFile out(path);
     out.write(buf.bytes.data(), buf.used);
-    out.commit();
+    out.flush();
 }
 
 }  // namespace meshless

@@ -7,11 +7,16 @@
 #pragma once
 #include <string>
 
+#include "formats/atomic_file.hpp"
 #include "formats/png_reader.hpp"  // read_png (callers of the former read_png here)
 #include "kernels/splat_rasterizer.hpp"
 
 namespace meshless {
 
 void write_png(const Image& image, const std::string& path);
+/// Encodes the image into `out` and flushes it (not committed: the caller commits, e.g. after its
+/// other outputs);
+/// errors name out.path(). BrokenPipe when out is stdout and its reader has gone.
+void write_png(const Image& image, AtomicFile& out);
 
 }  // namespace meshless

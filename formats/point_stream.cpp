@@ -133,7 +133,7 @@ StreamMeta StreamMeta::parse(const std::string& text, const std::string& name) {
 // ---------------------------------------------------------------- writer
 
 StreamWriter::StreamWriter(std::FILE* f, std::string name, RecordKind kind, bool compress, std::uint32_t flags)
-    : f_(f), name_(std::move(name)), kind_(kind), rsize_(record_size(kind, flags)), compress_(compress) {
+    : f_(f), name_(std::move(name)), rsize_(record_size(kind, flags)), compress_(compress) {
     if ((flags & ~kStreamFlagBlocks) != 0 || ((flags & kStreamFlagBlocks) && kind != RecordKind::point))
         throw InvalidArgument(name_ + ": stream flags " + std::to_string(flags) + " are not valid for this record kind");
     widen_pipe(f_);

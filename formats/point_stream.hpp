@@ -75,7 +75,6 @@ private:
     void put(const void* p, std::size_t n);
     std::FILE* f_;
     std::string name_;
-    RecordKind kind_;
     std::size_t rsize_;
     bool compress_;
     std::uint64_t total_ = 0;

@@ -5,7 +5,9 @@
 // GCC 12 reports its own AVX-512 intrinsics (_mm512_reduce_add_pd, masked loads) as reading an
 // uninitialised variable (a known false positive of the headers' _mm512_undefined_pd()).
 #pragma GCC diagnostic ignored "-Wuninitialized"
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 #include <cmath>
 

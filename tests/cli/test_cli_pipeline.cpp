@@ -63,6 +63,34 @@ TEST_CASE("closed pipes end quietly, truncated streams are reported", "[cli]") {
     CHECK_THAT(r.err, Catch::Contains("truncated"));
 }
 
+TEST_CASE("isosurface -o and --png: one failing output leaves the other's previous file and a closed stdout the named file complete", "[cli]") {
+    TempDir d("twoout");
+    const std::string vol = write_test_volume(d);
+    const std::string D = d.path.string(), run = "MESHLESS isosurface " + vol + " --iso 50.5 --size 64x64 ";
+    REQUIRE(sh(run + "-o " + D + "/ref.ply --png " + D + "/ref.png", d).code == 0);
+    // a PNG that cannot be created or written: exit 2, the previous -o file untouched, no temporaries
+    spit(d / "keep.ply", "previous");
+    auto r = sh(run + "-o " + D + "/keep.ply --png " + D + "/nodir/x.png", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("nodir/x.png"));
+    CHECK(slurp(d / "keep.ply") == "previous");
+    if (fs::exists("/dev/full")) {
+        r = sh(run + "-o " + D + "/keep.ply --png /dev/full", d);
+        CHECK(r.code == 2);
+        CHECK(slurp(d / "keep.ply") == "previous");
+    }
+    // one output on a pipe whose reader goes away: quiet exit 0, the named file complete
+    r = sh(run + "-o " + D + "/a.ply --png - | head -c 10 > /dev/null", d);
+    CHECK(r.code == 0);
+    CHECK(r.err.empty());
+    CHECK(slurp(d / "a.ply") == slurp(d / "ref.ply"));
+    r = sh(run + "-o - --png " + D + "/a.png | head -c 10 > /dev/null", d);
+    CHECK(r.code == 0);
+    CHECK(r.err.empty());
+    CHECK(slurp(d / "a.png") == slurp(d / "ref.png"));
+    for (const auto& e : fs::directory_iterator(d.path)) CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
+}
+
 TEST_CASE("garbage, wrong-version and wrong-kind streams are refused with exit code 2", "[cli]") {
     TempDir d("garbage");
     const std::string vol = write_test_volume(d);

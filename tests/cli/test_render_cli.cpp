@@ -13,6 +13,7 @@
 
 using namespace meshless;
 using namespace meshless::test;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -78,11 +79,20 @@ TEST_CASE("render --compare prints PSNR inf for identical pictures and writes th
     REQUIRE(other.code == 0);
     CHECK(contains(other.out, "PSNR "));
     CHECK_FALSE(contains(other.out, "PSNR inf"));
-    // sizes differ: exit 2 naming the reference
-    const RunResult wrong = sh("MESHLESS render " + vol + " -o " + D + "/e.png --size 32x32 --compare " + D + "/a.png", d);
+    // sizes differ: exit 2 naming the reference, before rendering, with nothing written
+    const RunResult wrong = sh("MESHLESS render " + vol + " -o " + D + "/e.png --size 32x32 --compare " + D + "/a.png --diff " + D + "/e2.png", d);
     CHECK(wrong.code == 2);
     CHECK(contains(wrong.err, D + "/a.png"));
+    CHECK_FALSE(fs::exists(d / "e.png"));
+    CHECK_FALSE(fs::exists(d / "e2.png"));
     CHECK(sh("MESHLESS render " + vol + " -o " + D + "/f.png --diff " + D + "/g.png", d).code == 1);
+    CHECK(sh("MESHLESS render " + vol + " -o " + D + "/f.png --compare " + D + "/a.png --diff " + D + "/f.png", d).code == 1);
+    // the picture on a pipe whose reader goes away: --diff is still written, quiet exit 0, and the
+    // comparison goes to stderr (stdout holds the picture)
+    const RunResult piped = sh("MESHLESS render " + vol + " -o - --size 64x64 --compare " + D + "/a.png --diff " + D + "/d3.png | head -c 10 > /dev/null", d);
+    CHECK(piped.code == 0);
+    CHECK(contains(piped.err, "RMSE 0.0000 PSNR inf dB"));
+    CHECK(slurp(d / "d3.png") == slurp(d / "d.png"));
 }
 
 TEST_CASE("render: scattered points through mpu, and the fields that do not fit the input refused", "[cli][render]") {

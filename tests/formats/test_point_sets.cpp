@@ -562,7 +562,7 @@ std::string header(Writer& w, int extra = -1) {
 }
 
 void write_p3d(const std::string& xyz, const std::string& q, const std::string& fn, const P3dSpec& s) {
-    Writer w{s}, wq{s}, wf{s};
+    Writer w{s, {}, {}}, wq{s, {}, {}}, wf{s, {}, {}};
     header(w), header(wq), header(wf, 2);
     for (std::size_t g = 0; g < s.dims.size(); ++g) {
         const auto& d = s.dims[g];
