@@ -66,6 +66,7 @@ ConvertParams convert_params(const Args& a) {
 std::string output_path(const Args& a) {
     const std::string out = a.require("output");
     if (out == "-") throw UsageError(a.command() + ": a brick store must be written to a file, not standard output");
+    require_output_extension(out, ".mlb", "-o", "a brick store");
     return out;
 }
 

@@ -13,6 +13,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
+#include "cli/stream_output.hpp"
 #include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "ooc/sample_store.hpp"
@@ -53,13 +54,11 @@ int cmd_extract(int argc, char** argv) {
     warn_if_iso_outside(iso, {info.value_lo, info.value_hi}, path);
 
     SampleStoreSource source(*store, iso, sp);  // reads the candidate buckets: damage shows before any output
-    auto file = std::make_unique<AtomicFile>(a.get_or("output", "-"));
-    if (file->is_stdout() && ::isatty(1))
-        throw UsageError("refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
-    StreamSink sink(file->handle(), file->path(), RecordKind::sample, sample_store_meta(*store, iso, a.command_line()),
+    BinaryStreamOutput out(a.get_or("output", "-"), "a sample stream");
+    StreamSink sink(out.f, out.name, RecordKind::sample, sample_store_meta(*store, iso, a.command_line()),
                     a.has("compress"));
     run_pipeline(source, {}, sink, {1});
-    file->commit();
+    out.commit();
     if (a.has("stats")) {
         const SampleStoreStats s = store->stats();
         std::fprintf(stderr,

@@ -99,6 +99,7 @@ int cmd_probe(int argc, char** argv) {
     add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
+    const std::string csv = require_output_extension(a.get_or("output", "-"), ".csv", "-o", "CSV");
     std::vector<Vec3> at;
     for (const std::string& s : a.get_all("at")) {
         double v[3];
@@ -119,7 +120,7 @@ int cmd_probe(int argc, char** argv) {
     ProgressMeter meter("meshless probe", "positions", static_cast<double>(at.size()), progress_wanted(a), progress_delay());
     QueryListSource source(std::move(at), /*want_grad=*/true);
     FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
-    ProbeCsvSink sink(a.get_or("output", "-"));
+    ProbeCsvSink sink(csv);
     ProgressStage progress([&](double n) { meter.add(n); });
     const Stage* stages[] = {&evaluate, &progress};
     run_pipeline(source, stages, sink, {threads(a)});

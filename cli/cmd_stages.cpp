@@ -10,6 +10,7 @@
 #include "cli/common.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/errors.hpp"
+#include "cli/stream_output.hpp"
 #include "cli/field_cli.hpp"
 #include "cli/multiblock_isosurface.hpp"
 #include "cli/scattered_isosurface.hpp"
@@ -28,20 +29,6 @@ namespace meshless::cli {
 
 namespace {
 
-/// Stream output: stdout when "-" (refused when stdout is a terminal), else an AtomicFile.
-struct StreamOutput {
-    std::unique_ptr<AtomicFile> file;
-    std::FILE* f = nullptr;
-    std::string name;
-    explicit StreamOutput(const std::string& path, const std::string& command) : name(path) {
-        file = std::make_unique<AtomicFile>(path);
-        if (file->is_stdout() && ::isatty(1))
-            throw UsageError("refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
-        f = file->handle();
-    }
-    void commit() { file->commit(); }
-};
-
 void add_compress_option(Args& a) { a.flag("compress", "zstd-compress the stream's DATA frames"); }
 
 }  // namespace
@@ -53,6 +40,7 @@ int generate_all(const Args& a) {
     if (a.has("iso")) throw UsageError("--all precomputes the index for every isovalue: drop --iso");
     const std::string out = a.get_or("output", "-");
     if (out == "-") throw UsageError("--all writes a sample store: give -o FILE.mls");
+    require_output_extension(out, ".mls", "-o", "a sample store");
     VolumeInput in = open_volume_input(a);
     if (!in.store)
         throw UsageError("--all needs a brick store (.mlb), which the sample store recomputes samples from: "
@@ -111,8 +99,8 @@ int cmd_generate(int argc, char** argv) {
     const double iso = parse_finite(a.require("iso"), "--iso");
     const SamplingParams sp = sampling_params(a);
     const int nthreads = threads(a);
+    BinaryStreamOutput out(a.get_or("output", "-"), "a sample stream");
     VolumeInput in = open_volume_input(a, /*stream=*/true);
-    StreamOutput out(a.get_or("output", "-"), "generate");
     StreamSink sink(out.f, out.name, RecordKind::sample, volume_meta(in, iso, a.command_line()), a.has("compress"));
     const IsoSplatResult r = run_isosplat_input(in, iso, Projection::approx, sp, sink, nthreads, PipelineShape::samples_only);
     warn_if_nothing_active(in, iso, r.sampling);
@@ -140,6 +128,7 @@ int cmd_project(int argc, char** argv) {
     if (!a.parse(argc, argv, 2)) return 0;
     const Projection mode = parse_projection(a.get_or("projection", "approx"));
     const int nthreads = threads(a);
+    BinaryStreamOutput out(a.get_or("output", "-"), "a point stream");
     InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
     StreamReader reader(in.f, in.name);
     if (reader.kind() == RecordKind::seed)
@@ -154,7 +143,6 @@ int cmd_project(int argc, char** argv) {
                           "--projection exact needs them, use approx");
     meta.set("iso", iso);
     meta.set("projection", to_string(mode));
-    StreamOutput out(a.get_or("output", "-"), "project");
     StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"));
     StreamSource source(reader);
     ProjectStage project(iso, mode);

@@ -13,6 +13,7 @@
 
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
+#include "cli/stream_output.hpp"
 #include "cli/field_cli.hpp"
 #include "cli/isosurface_graph.hpp"
 #include "cli/mpi_session.hpp"
@@ -81,14 +82,6 @@ void print_newton_stats(const char* cmd, const std::string& field, const FieldPr
                  busy_seconds > 0 ? double(s.converged) / busy_seconds : 0.0, busy_seconds);
 }
 
-BinaryStreamOutput::BinaryStreamOutput(const std::string& path) : name(path) {
-    file = std::make_unique<AtomicFile>(path);
-    if (file->is_stdout() && ::isatty(1))
-        throw UsageError("refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
-    f = file->handle();
-}
-
-void BinaryStreamOutput::commit() { file->commit(); }
 
 namespace {
 
@@ -346,9 +339,9 @@ int generate_blocks(int argc, char** argv) {
     const int n = lattice_n(a);
     const int nthreads = threads(a);
     const auto t0 = Clock::now();
+    BinaryStreamOutput out(a.get_or("output", "-"), "a seed stream");
     BlockInput in = read_blocks(a, iso);
     warn_if_inactive(in, iso);
-    BinaryStreamOutput out(a.get_or("output", "-"));
     StreamSink sink(out.f, out.name, RecordKind::seed, block_meta(in, iso, n, a.command_line()), a.has("compress"));
     BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
     BlockSeedStage seed(in.seed_blocks(), in.plan, iso, n);
@@ -392,12 +385,12 @@ int project_seeds(int argc, char** argv) {
     StreamMeta meta = reader.meta();
     const double iso = stream_iso(a, meta);
     meta.set("iso", iso);
+    BinaryStreamOutput out(a.get_or("output", "-"), "a point stream");
     const auto t1 = Clock::now();
     BuiltField field = field_file_arg(a) && a.positional().empty() ? load_field_arg(a)
                                                                    : build_field(a, read_points_arg(a));
     const double field_seconds = since(t1);
     add_projection_meta(meta, field.field->name(), np);
-    BinaryStreamOutput out(a.get_or("output", "-"));
     // multiblock seeds carry block ids; scattered ones (cli/scattered_isosurface.hpp) do not
     const bool with_blocks = meta.get("method").value_or("") != "scattered";
     StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"), with_blocks);

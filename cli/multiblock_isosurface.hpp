@@ -49,14 +49,6 @@ FieldProjectParams newton_params(const Args& a);
 /// The --stats line of the Newton projection.
 void print_newton_stats(const char* cmd, const std::string& field, const FieldProjectParams& p, const FieldNewtonStats& s,
                         double busy_seconds);
-/// Stream output: stdout when "-" (UsageError on a terminal), else an AtomicFile committed by commit().
-struct BinaryStreamOutput {
-    std::unique_ptr<AtomicFile> file;
-    std::FILE* f = nullptr;
-    std::string name;
-    explicit BinaryStreamOutput(const std::string& path);
-    void commit();
-};
 
 /// The positional arguments of argv[first..argc) under the option declarations of `parsers`
 /// (an option that takes a value in any of them consumes the next argument).

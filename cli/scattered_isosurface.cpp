@@ -14,6 +14,7 @@
 
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
+#include "cli/stream_output.hpp"
 #include "cli/field_cli.hpp"
 #include "cli/isosurface_graph.hpp"
 #include "cli/mpi_session.hpp"
@@ -510,12 +511,12 @@ int generate_scattered(int argc, char** argv) {
     const int nthreads = threads(a);
     if (!field_file_arg(a)) (void)field_params(a);
     const auto t0 = Clock::now();
+    BinaryStreamOutput out(a.get_or("output", "-"), "a seed stream");
     ScatteredInput in = read_scattered(a);
     const bool crossed = iso_in_range(in, iso);
     if (!crossed) warn_if_iso_outside(iso, in.points.value_range(), in.source);
     double field_seconds = 0;
     BuiltField field = build_field_and_coverage(a, in, crossed, field_seconds);
-    BinaryStreamOutput out(a.get_or("output", "-"));
     StreamSink sink(out.f, out.name, RecordKind::seed, scattered_meta(in, iso, n, a.command_line()), a.has("compress"));
     std::optional<StencilSeedStage> seed;
     if (field.field) {

@@ -293,8 +293,8 @@ TEST_CASE("misuse is refused: extra arguments, NaN numbers, same output twice, c
     // the PLY and the PNG are one outcome: a PNG that cannot be written takes the PLY with it
     CHECK(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/x.ply --png " + D + "/no/dir/x.png", d).code == 2);
     CHECK(!fs::exists(d / "x.ply"));
-    REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project -o " + D + "/p.mls", d).code == 0);
-    auto r = sh("cat " + D + "/p.mls " + D + "/p.mls | MESHLESS write -o " + D + "/c.ply", d);
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project -o " + D + "/p.mlp", d).code == 0);
+    auto r = sh("cat " + D + "/p.mlp " + D + "/p.mlp | MESHLESS write -o " + D + "/c.ply", d);
     CHECK(r.code == 2);
     CHECK_THAT(r.err, Catch::Contains("after the END frame"));
     r = sh("MESHLESS generate " + vol + " --iso 50.5 | MESHLESS project --iso 70.5 > /dev/null", d);
@@ -302,6 +302,16 @@ TEST_CASE("misuse is refused: extra arguments, NaN numbers, same output twice, c
     CHECK_THAT(r.err, Catch::Contains("differs from the stream's isovalue"));
     r = sh("MESHLESS isosurface ../x.nhdr --dims 5,5,5 --iso 1 -o " + D + "/x.ply", d);
     CHECK(r.code == 2);
+    // outputs named for another format than the one written: refused before any work, nothing written
+    for (const std::string& cmd : {"generate " + vol + " --iso 50.5 -o " + D + "/s.ply", "project " + D + "/p.mlp -o " + D + "/s.CSV",
+                                   "convert " + vol + " -o " + D + "/s.zip", "probe " + vol + " --at 1,1,1 -o " + D + "/s.json"}) {
+        r = sh("MESHLESS " + cmd, d);
+        CHECK(r.code == 1);
+        CHECK_THAT(r.err, Catch::Contains("-o '" + D + "/s."));
+    }
+    REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "/v.mlb", d).code == 0);
+    CHECK(sh("MESHLESS generate " + D + "/v.mlb --all -o " + D + "/s.bin", d).code == 1);
+    for (const auto& e : fs::directory_iterator(d.path)) CHECK(e.path().filename().string().rfind("s.", 0) != 0);
 }
 
 TEST_CASE("render-time projection (paradigms B/D) and PLY re-renders match the in-process picture", "[cli]") {
