@@ -190,6 +190,24 @@ ScatteredInput read_scattered(const Args& a, bool warn = true) {
 }
 
 /// What generate writes and isosurface records (the same keys on both paths).
+namespace {
+/// The camera's frame: the binning grid with its border layer, where the regularisation points
+/// lie and so the stencils' tetrahedra, the seeds and (within Newton's "too far" bound) the
+/// surface: the points' box alone cut off surfaces that bulge beyond the outermost samples
+/// (boreholes: up to 2 km). Degenerate axes keep the points' extent.
+std::array<Vec3, 2> frame_box(const BinningGrid& g) {
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = g.bounds[0][a];
+        hi[a] = g.bounds[1][a];
+        if (g.degenerate[static_cast<std::size_t>(a)]) continue;
+        lo[a] = std::min(lo[a], g.origin[a]);
+        hi[a] = std::max(hi[a], g.origin[a] + static_cast<double>(g.dims[static_cast<std::size_t>(a)]) * g.cell[a]);
+    }
+    return {Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}};
+}
+}  // namespace
+
 StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std::string& producer) {
     StreamMeta m;
     const auto range = in.points.value_range();
@@ -201,9 +219,9 @@ StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std
     m.set("binning_level", std::to_string(in.grid.level));
     m.set("value_min", range[0]);
     m.set("value_max", range[1]);
-    // the frame: the binning grid's interior (the points' box)
-    m.set("bounds_lo", triple(in.grid.bounds[0]));
-    m.set("bounds_hi", triple(in.grid.bounds[1]));
+    const std::array<Vec3, 2> frame = frame_box(in.grid);
+    m.set("bounds_lo", triple(frame[0]));
+    m.set("bounds_hi", triple(frame[1]));
     m.set("volume_bounds_lo", triple(in.grid.bounds[0]));
     m.set("volume_bounds_hi", triple(in.grid.bounds[1]));
     m.set("producer", producer);

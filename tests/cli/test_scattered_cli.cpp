@@ -153,6 +153,32 @@ TEST_CASE("isosurface POINTS builds chapter 5's MPU field by default, fit choose
     }
 }
 
+TEST_CASE("isosurface POINTS: the recorded frame (bounds_lo/hi) holds every point of the surface", "[cli][scattered]") {
+    TempDir d("scframe");
+    const std::string D = d.path.string();
+    // boreholes: the surface bulges up to ~2 km beyond the outermost samples (cut off in --png when
+    // the frame was the points' box)
+    std::vector<std::string> inputs{write_csv(d, "sphere.csv", sphere_points(3000, 5))};
+    if (have_shared_data()) inputs.push_back((shared_data() / "scattered" / "probes" / "probes.vtp").string());
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        const std::string out = D + "/f" + std::to_string(i) + ".ply";
+        REQUIRE(sh("MESHLESS isosurface " + inputs[i] + (i == 0 ? " --iso 0.6" : " --iso 150") + " -o " + out, d).code == 0);
+        const PlyPoints p = read_ply_points(out);
+        REQUIRE(p.points.size() > 100);
+        Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+        for (const std::string& c : p.comments) {
+            double v[3];
+            if (std::sscanf(c.c_str(), "bounds_lo %lf,%lf,%lf", &v[0], &v[1], &v[2]) == 3) lo = {v[0], v[1], v[2]};
+            if (std::sscanf(c.c_str(), "bounds_hi %lf,%lf,%lf", &v[0], &v[1], &v[2]) == 3) hi = {v[0], v[1], v[2]};
+        }
+        REQUIRE(hi.x > lo.x);
+        std::size_t outside = 0;
+        for (const auto& q : p.points)
+            for (int a = 0; a < 3; ++a) outside += q.pos[a] < lo[a] - 1e-3 * (hi[a] - lo[a]) || q.pos[a] > hi[a] + 1e-3 * (hi[a] - lo[a]);
+        CHECK(outside == 0);
+    }
+}
+
 TEST_CASE("isosurface POINTS --dedup: fewer points, still on the surface, same bytes for any --threads", "[cli][scattered]") {
     TempDir d("scdedup");
     const std::string pts = write_csv(d, "sphere.csv", sphere_points(3000, 2));
