@@ -5,7 +5,8 @@
 // options.columns is "x,y,z"; positions only). Byte order: options.byte_order, else detected:
 // the order in which more numbers are plausible (finite, zero or 1e-12 < |v| < 1e12) wins, ties
 // little endian; a forced order whose numbers are implausible while the other order's are all
-// plausible is refused ("looks big-endian"). A size that is not a whole number of records is
+// plausible is refused ("looks big-endian"); with the order detected, a file whose non-zero
+// coordinates are not 90 % plausible (a raw volume read without --dims) is refused. A size that is not a whole number of records is
 // refused (trailing bytes) unless allow_trailing.
 // NumPy: versions 1-3, dtype <f4 >f4 <f8 >f8, shape (N,3) (positions only, has_values = false)
 // or (N,k>=4) (value = column options.value_index, default 3), C or Fortran order; bytes after

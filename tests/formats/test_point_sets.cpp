@@ -458,6 +458,23 @@ TEST_CASE("raw float32 records: byte order detected, forced wrong order refused,
         o.allow_trailing = true;
         CHECK(read_point_set(path, o).size() == 50);
     }
+    // a uint8 volume's bytes (a CT-like ramp with a blob) are not records: refused, naming the
+    // likely mistake, unless the byte order is given
+    std::vector<std::byte> vol;
+    for (int z = 0; z < 16; ++z)
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x) {
+                const int r2 = (x - 8) * (x - 8) + (y - 8) * (y - 8) + (z - 8) * (z - 8);
+                vol.push_back(static_cast<std::byte>(r2 < 30 ? 200 - 3 * r2 : 10 + x + y));
+            }
+    const std::string path = P(d, "volume.raw");
+    spit_bytes(path, vol);
+    const std::string e = error_of([&] { read_point_set(path); });
+    CHECK_THAT(e, Catch::Contains("volume.raw: not float32 x,y,z,value records"));
+    CHECK_THAT(e, Catch::Contains("--dims"));
+    PointSetOptions o;
+    o.byte_order = ByteOrder::little;
+    CHECK_NOTHROW(read_point_set(path, o));
 }
 
 TEST_CASE("npy: (N,3) positions only, (N,4) with values, Fortran order, trailing bytes", "[scatter]") {
