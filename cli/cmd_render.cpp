@@ -294,17 +294,8 @@ int cmd_render(int argc, char** argv) {
     meter.done();
     const Image picture = compose_over_background(rgba, rp.background);
     // a closed stdout (-o - | head) still lets --diff be written; then the quiet exit
-    std::exception_ptr closed;
-    auto unless_closed = [&](const auto& step) {
-        try {
-            step();
-            return true;
-        } catch (const BrokenPipe&) {
-            closed = std::current_exception();
-            return false;
-        }
-    };
-    const bool png_live = unless_closed([&] { write_png(picture, png_file); });
+    PipeClosure pipe;
+    const bool png_live = pipe.step([&] { write_png(picture, png_file); });
     if ((tty && !a.has("quiet")) || a.has("stats"))
         std::fprintf(stderr,
                      "render: %s, %dx%d, step %g (ref %g), %d thread(s): %.3f s; %llu rays hit, %llu samples (%.2f M/s), "
@@ -326,8 +317,8 @@ int cmd_render(int argc, char** argv) {
             diff_file->commit();
         }
     }
-    if (png_live) unless_closed([&] { png_file.commit(); });
-    if (closed) std::rethrow_exception(closed);
+    if (png_live) pipe.step([&] { png_file.commit(); });
+    pipe.rethrow_if_closed();
     return 0;
 }
 

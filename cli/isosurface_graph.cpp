@@ -1,4 +1,5 @@
 #include "cli/isosurface_graph.hpp"
+#include "cli/errors.hpp"
 
 #include <chrono>
 #include <exception>
@@ -111,28 +112,19 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
     HeldSink held(ply ? static_cast<Sink*>(&*ply) : nullptr);
     std::optional<TeeSink> tee;
     if (ply) tee.emplace(splat, held);
-    std::exception_ptr closed;  // stdout's reader went away: the other output is still completed
+    PipeClosure pipe;  // stdout's reader went away: the other output is still completed
     try {
         r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);
     } catch (const BrokenPipe&) {
         if (!tee || !tee->live(0)) throw;  // the picture's branch never closes during the run
-        closed = std::current_exception();
+        pipe.caught();
     }
-    auto unless_closed = [&](const auto& step) {  // false when stdout's reader has gone
-        try {
-            step();
-            return true;
-        } catch (const BrokenPipe&) {
-            closed = std::current_exception();
-            return false;
-        }
-    };
     Image picture = splat.image();
     decorate_picture(rs, picture);
-    const bool png_live = unless_closed([&] { write_png(picture, png_file); });
-    if (ply && tee->live(1)) unless_closed([&] { ply->finish(); });  // stdout's PLY is written here
-    if (png_live) unless_closed([&] { png_file.commit(); });
-    if (closed) std::rethrow_exception(closed);
+    const bool png_live = pipe.step([&] { write_png(picture, png_file); });
+    if (ply && tee->live(1)) pipe.step([&] { ply->finish(); });  // stdout's PLY is written here
+    if (png_live) pipe.step([&] { png_file.commit(); });
+    pipe.rethrow_if_closed();
     return splat.points();
 }
 
