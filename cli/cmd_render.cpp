@@ -308,14 +308,15 @@ int cmd_render(int argc, char** argv) {
         if (ref->width != picture.width || ref->height != picture.height)  // checked above against --size
             throw std::logic_error("render: the picture is not the size the camera asked for");
         const ImageDifference d = compare_images(picture, *ref);
-        // on stdout, unless the picture is there (-o -)
-        std::fprintf(png == "-" ? stderr : stdout, "RMSE %.4f PSNR %s dB (max difference %d, %llu of %llu pixels differ)\n",
+        // on stdout, unless a picture goes there (-o - or --diff -)
+        std::fprintf(png == "-" || a.get_or("diff", "") == "-" ? stderr : stdout, "RMSE %.4f PSNR %s dB (max difference %d, %llu of %llu pixels differ)\n",
                      d.rmse, psnr_text(d.psnr).c_str(), d.max_abs, static_cast<unsigned long long>(d.differing_pixels),
                      static_cast<unsigned long long>(picture.width) * static_cast<unsigned long long>(picture.height));
-        if (diff_file) {
-            write_png(difference_image(picture, *ref, gain), *diff_file);
-            diff_file->commit();
-        }
+        if (diff_file)
+            pipe.step([&] {
+                write_png(difference_image(picture, *ref, gain), *diff_file);
+                diff_file->commit();
+            });
     }
     if (png_live) pipe.step([&] { png_file.commit(); });
     pipe.rethrow_if_closed();

@@ -49,19 +49,19 @@ StdinSpool::~StdinSpool() {
 
 void StdinSpool::rethrow_renamed() const {
     auto renamed = [&](std::string m) {
-        for (std::size_t at; (at = m.find(path_)) != std::string::npos;) m.replace(at, path_.size(), "- (stdin)");
         // a header naming a separate data file (MetaImage ElementDataFile, detached NRRD) resolves
-        // it beside the spool, where it never is: say so instead of naming that made-up path
-        const std::size_t slash = path_.find_last_of('/');
-        if (slash != std::string::npos) {
-            const std::string dir = path_.substr(0, slash + 1);
-            if (const std::size_t at = m.find(dir); at != std::string::npos) {
-                std::size_t end = at + dir.size();
-                while (end < m.size() && m[end] != ':' && m[end] != ' ' && m[end] != '\'') ++end;
-                return "- (stdin): the header names a separate data file '" + m.substr(at + dir.size(), end - at - dir.size()) +
-                       "', which cannot be found from standard input: give the header's path instead of -";
-            }
+        // it beside the spool (/proc/self/fd/), where it never is: say so instead of naming that
+        // made-up path (any name there but the spool's own, "3d.raw" beside fd 3 included)
+        const std::string dir = path_.substr(0, path_.find_last_of('/') + 1);
+        auto delimiter = [&](std::size_t i) { return i >= m.size() || m[i] == ':' || m[i] == ' ' || m[i] == '\''; };
+        for (std::size_t at = m.find(dir); at != std::string::npos; at = m.find(dir, at + 1)) {
+            std::size_t end = at + dir.size();
+            while (!delimiter(end)) ++end;
+            if (m.compare(at, end - at, path_) == 0) continue;  // the spool itself
+            return "- (stdin): the header names a separate data file '" + m.substr(at + dir.size(), end - at - dir.size()) +
+                   "', which cannot be found from standard input: give the header's path instead of -";
         }
+        for (std::size_t at; (at = m.find(path_)) != std::string::npos;) m.replace(at, path_.size(), "- (stdin)");
         return m;
     };
     try {

@@ -13,7 +13,8 @@ namespace meshless::cli {
 void check_stream_output_name(const std::string& path, const char* what) {
     if (path == "-" || is_streaming_output(path)) return;
     const std::size_t slash = path.find_last_of('/'), dot = path.find_last_of('.');
-    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return;
+    const std::size_t base = slash == std::string::npos ? 0 : slash + 1;
+    if (dot == std::string::npos || dot <= base) return;  // no extension (".ply" alone is a hidden name)
     std::string ext = path.substr(dot + 1);
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     // (.mls is allowed: "meshless samples", the sample store's extension and, in use, sample streams)

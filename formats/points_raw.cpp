@@ -77,7 +77,9 @@ PointSet read_points_raw(const std::string& path, const PointSetOptions& o, std:
                     ++nz;
                     ok += plausible(v);
                 }
-            if (nonzero == 0 || ok * nonzero > fine * nz) nonzero = nz, fine = ok;
+            if (nonzero == 0 || static_cast<double>(ok) * static_cast<double>(nonzero) >
+                                    static_cast<double>(fine) * static_cast<double>(nz))
+                nonzero = nz, fine = ok;
         }
         if (nonzero >= 16 && fine < 0.9 * static_cast<double>(nonzero))
             throw FormatError(path + ": not float32 x,y,z" + (fields == 4 ? ",value" : "") + " records: " +

@@ -23,9 +23,9 @@ public:
         if (live_[0]) guarded(0, [&] { first_.observe(b); });  // no copy when the first sink only reads (SplatSink)
         if (live_[1]) guarded(1, [&] { second_.consume(std::move(b)); });
     }
-    void finish() override {
-        if (live_[0]) first_.finish();
-        if (live_[1]) second_.finish();
+    void finish() override {  // a sink writing stdout may meet the closed pipe only here
+        if (live_[0]) guarded(0, [&] { first_.finish(); });
+        if (live_[1]) guarded(1, [&] { second_.finish(); });
         if (closed_) std::rethrow_exception(closed_);
     }
     /// False once branch i (0 = first, 1 = second) threw BrokenPipe.

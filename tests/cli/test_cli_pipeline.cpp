@@ -79,12 +79,13 @@ TEST_CASE("isosurface -o and --png: one failing output leaves the other's previo
         CHECK(r.code == 2);
         CHECK(slurp(d / "keep.ply") == "previous");
     }
-    // one output on a pipe whose reader goes away: quiet exit 0, the named file complete
-    r = sh(run + "-o " + D + "/a.ply --png - | head -c 10 > /dev/null", d);
+    // one output on a pipe whose reader has gone (`| true` exits before anything is written: the
+    // write meets EPIPE, whatever the pipe buffer holds): quiet, the named file complete
+    r = sh(run + "-o " + D + "/a.ply --png - | true", d);
     CHECK(r.code == 0);
     CHECK(r.err.empty());
     CHECK(slurp(d / "a.ply") == slurp(d / "ref.ply"));
-    r = sh(run + "-o - --png " + D + "/a.png | head -c 10 > /dev/null", d);
+    r = sh(run + "-o - --png " + D + "/a.png | true", d);
     CHECK(r.code == 0);
     CHECK(r.err.empty());
     CHECK(slurp(d / "a.png") == slurp(d / "ref.png"));
@@ -311,6 +312,8 @@ TEST_CASE("misuse is refused: extra arguments, NaN numbers, same output twice, c
     }
     REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "/v.mlb", d).code == 0);
     CHECK(sh("MESHLESS generate " + D + "/v.mlb --all -o " + D + "/s.bin", d).code == 1);
+    CHECK(sh("MESHLESS generate " + vol + " --iso 50.5 -o " + D + "/.ply", d).code == 0);  // a hidden name, no extension
+    fs::remove(d / ".ply");
     for (const auto& e : fs::directory_iterator(d.path)) CHECK(e.path().filename().string().rfind("s.", 0) != 0);
 }
 

@@ -68,11 +68,12 @@ TEST_CASE("volumes from standard input: raw and NRRD piped in, errors name stdin
     CHECK(s.code == 2);
     CHECK_THAT(s.err, Catch::Contains("- (stdin)"));
     // a header naming a separate data file cannot find it from stdin: said so, not a made-up path
-    spit(d / "v.mhd", "ObjectType = Image\nNDims = 3\nDimSize = 24 24 24\nElementType = MET_UCHAR\nElementDataFile = v.raw\n");
-    spit(d / "v.raw", std::string(24 * 24 * 24, 'a'));
-    const auto m = sh(env + "MESHLESS isosurface - --iso 1 -o " + D + "m.ply < " + D + "v.mhd", d);
-    CHECK(m.code == 2);
-    CHECK_THAT(m.err, Catch::Contains("- (stdin): the header names a separate data file 'v.raw'"));
-    CHECK_THAT(m.err, !Catch::Contains("/proc/"));
+    for (const std::string name : {"v.raw", "3d.raw", "4d.raw"}) {  // (a name that begins like the spool's fd)
+        spit(d / "v.mhd", "ObjectType = Image\nNDims = 3\nDimSize = 24 24 24\nElementType = MET_UCHAR\nElementDataFile = " + name + "\n");
+        const auto m = sh(env + "MESHLESS isosurface - --iso 1 -o " + D + "m.ply < " + D + "v.mhd", d);
+        CHECK(m.code == 2);
+        CHECK_THAT(m.err, Catch::Contains("- (stdin): the header names a separate data file '" + name + "'"));
+        CHECK_THAT(m.err, !Catch::Contains("/proc/"));
+    }
     CHECK(std::filesystem::is_empty(d / "tmp"));
 }
