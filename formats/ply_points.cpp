@@ -57,8 +57,9 @@ void pack_points(std::span<const PointRecord> pts, std::span<const std::uint32_t
 }  // namespace
 
 PlyPointWriter::PlyPointWriter(const std::string& path, const std::vector<std::string>& comments, bool with_blocks,
-                               bool with_colors)
-    : w_(std::make_unique<PlyWriter>(path, point_header(comments, 0, with_blocks, with_colors), PlyCounts::patched)),
+                               bool with_colors, std::optional<std::uint64_t> count)
+    : w_(std::make_unique<PlyWriter>(path, point_header(comments, count.value_or(0), with_blocks, with_colors),
+                                     count ? PlyCounts::declared_padded : PlyCounts::patched)),
       blocks_(with_blocks), colors_(with_colors) {}
 
 PlyPointWriter::~PlyPointWriter() = default;

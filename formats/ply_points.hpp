@@ -35,8 +35,11 @@ class PlyPointWriter {
 public:
     /// comments: extra "comment" lines (no newlines inside). with_blocks: a `uint block` property.
     /// with_colors: `uchar red green blue` after it (the colours vtkPLYReader and MeshLab show).
+    /// count: the number of points that will be appended, when known up front: the header then
+    /// declares it (as write_ply_points: the same bytes) and the output need not seek (stdout,
+    /// FIFOs); without it the count is patched on commit().
     PlyPointWriter(const std::string& path, const std::vector<std::string>& comments, bool with_blocks = false,
-                   bool with_colors = false);
+                   bool with_colors = false, std::optional<std::uint64_t> count = std::nullopt);
     /// Any layout: blocks (pts.size(), or empty without blocks) and rgb (3 bytes a point, or empty
     /// without colours) as the writer was made; std::invalid_argument on a size mismatch.
     void append(std::span<const PointRecord> pts, std::span<const std::uint32_t> blocks, std::span<const std::uint8_t> rgb);

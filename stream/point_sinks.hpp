@@ -1,5 +1,7 @@
 // Sinks that end a point pipeline: PlySink streams points into a binary PLY (formats/ply_points.hpp,
-// temporary name + rename on finish), CollectSink keeps them in memory (for tests and benchmarks;
+// temporary name + rename on finish; to stdout, a FIFO or a device, which cannot seek back to the
+// count, the points wait in an unlinked stream/point_spool.hpp file and the PLY is written on finish
+// with its count declared: memory one batch, the same bytes), CollectSink keeps them in memory (for tests and benchmarks;
 // pictures stream through stream/splat_sink.hpp, turntables replay a stream/point_spool.hpp). Both require point batches (throw FormatError on samples). Not thread-safe.
 #pragma once
 #include <memory>
@@ -9,6 +11,7 @@
 
 #include "formats/ply_points.hpp"
 #include "kernels/splat_rasterizer.hpp"
+#include "stream/point_spool.hpp"
 #include "stream/stage.hpp"
 
 namespace meshless {
@@ -26,12 +29,13 @@ public:
     std::uint64_t count() const { return count_; }
 
 private:
+    void colors_of(std::span<const PointRecord> pts, std::span<const std::uint32_t> blocks);  // into rgb_
     std::string path_;
     std::vector<std::string> comments_;
     std::unique_ptr<PlyPointWriter> w_;   // file output
-    std::vector<PointRecord> held_;       // stdout output (count needed up front)
-    std::vector<std::uint32_t> held_blocks_;
-    std::vector<std::uint8_t> rgb_, held_rgb_;
+    std::unique_ptr<PointSpool> spool_;   // stdout, FIFO, device: the count goes up front, so the
+                                          // points wait in an unlinked file (memory: one batch)
+    std::vector<std::uint8_t> rgb_;
     bool blocks_ = false;
     std::optional<ShadingParams> colors_;
     std::uint64_t count_ = 0;

@@ -154,6 +154,12 @@ TEST_CASE("isosurface BLOCKS: the PLY carries the block of each point, points on
     CHECK(per[0] > 100);
     CHECK(per[1] > 100);
     CHECK(worst < 0.02);  // the rbf-grid field of |p| sampled at h <= 0.2 reproduces the sphere closely
+    // stdout (the points wait in an unlinked spool until the count is known): the same bytes, the
+    // block ids and block colours included
+    REQUIRE(sh("MESHLESS isosurface " + xyz + " --iso 0.6 --field rbf-grid --ply-color block -o " + D + "/c.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + xyz + " --iso 0.6 --field rbf-grid --ply-color block -o - | cat > " + D + "/c2.ply", d).code == 0);
+    CHECK(slurp(d / "c.ply") == slurp(d / "c2.ply"));
+    CHECK_THAT(slurp(d / "c.ply"), Catch::Contains("property uint block\nproperty uchar red"));
 }
 
 TEST_CASE("isosurface BLOCKS: an isovalue outside every block's range warns and writes empty valid outputs", "[cli][multiblock]") {
