@@ -181,7 +181,7 @@ BlockMinMax streamed_block_minmax(SliceSource& s, int edge) {
 /// The same, the layers computed in parallel (`threads`), each thread reading its layers (all
 /// edge + 1 slices) through its own reader from `reopen` (a raw payload, read at any k) in pieces of
 /// about 1 MiB into one reused buffer (a whole layer per read meant fresh, zero-filled pages per
-/// thread: ~10% of a 2-thread isosurface), or, without one, straight from the volume in memory
+/// thread: ~5% of a 2-thread isosurface's CPU), or, without one, straight from the volume in memory
 /// `data`. The layers are joined in z order: the same blocks as block_minmax /
 /// streamed_block_minmax whatever the thread count.
 BlockMinMax parallel_block_minmax(const GridSpec& g, SampleType type, int edge, int threads,

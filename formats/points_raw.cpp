@@ -56,10 +56,16 @@ PointSet read_points_raw(const std::string& path, const PointSetOptions& o, std:
                           "-byte float32 records (" + std::to_string(extra) + " trailing bytes; --allow-trailing ignores them)");
     if (extra && notes) notes->push_back(std::to_string(extra) + " trailing bytes ignored");
     const std::size_t nf = n * fields;
-    std::size_t good[2] = {0, 0};  // [little, big]
+    std::size_t good[2] = {0, 0};  // [little, big]: plausible values
+    std::size_t coords[2] = {0, 0}, coords_good[2] = {0, 0};  // non-zero, non-NaN x, y, z; plausible ones
     for (int order = 0; order < 2; ++order) {
         const bool swap = (order == 1) == host_is_little_endian();
-        for (std::size_t i = 0; i < nf; ++i) good[order] += plausible(load_f32(bytes.data() + 4 * i, swap));
+        for (std::size_t i = 0; i < nf; ++i) {
+            const double v = load_f32(bytes.data() + 4 * i, swap);
+            const bool p = plausible(v);
+            good[order] += p;
+            if (i % fields < 3 && v != 0 && !std::isnan(v)) ++coords[order], coords_good[order] += p;
+        }
     }
     bool big = false;
     if (o.byte_order == ByteOrder::detect) {
@@ -67,20 +73,12 @@ PointSet read_points_raw(const std::string& path, const PointSetOptions& o, std:
         // Records, or a raw volume read without --dims? A volume's bytes read as float32 give
         // coordinates of random magnitude (uint8 CT: 11-69 % of the non-zero ones plausible in
         // either order, real records ~100 %).
-        std::size_t nonzero = 0, fine = 0;  // of the order with the larger plausible share
-        for (const bool swap : {false, true}) {
-            std::size_t nz = 0, ok = 0;
-            for (std::size_t i = 0; i < n; ++i)
-                for (std::size_t k = 0; k < 3; ++k) {
-                    const double v = load_f32(bytes.data() + i * rec + 4 * k, swap);
-                    if (v == 0 || std::isnan(v)) continue;
-                    ++nz;
-                    ok += plausible(v);
-                }
-            if (nonzero == 0 || static_cast<double>(ok) * static_cast<double>(nonzero) >
-                                    static_cast<double>(fine) * static_cast<double>(nz))
-                nonzero = nz, fine = ok;
-        }
+        // the order with the larger plausible share of its coordinates
+        const int best = static_cast<double>(coords_good[1]) * static_cast<double>(coords[0]) >
+                                 static_cast<double>(coords_good[0]) * static_cast<double>(coords[1])
+                             ? 1
+                             : 0;
+        const std::size_t nonzero = coords[best], fine = coords_good[best];
         if (nonzero >= 16 && fine < 0.9 * static_cast<double>(nonzero))
             throw FormatError(path + ": not float32 x,y,z" + (fields == 4 ? ",value" : "") + " records: " +
                               std::to_string(nonzero - fine) + " of " + std::to_string(nonzero) +
