@@ -1,5 +1,10 @@
 #include "formats/binary_file.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -35,19 +40,47 @@ std::uint64_t regular_file_size(const std::string& path) {
     return s;
 }
 
+FileRangeReader::FileRangeReader(const std::string& path) : path_(path) {
+    // O_NONBLOCK: a FIFO is refused below instead of blocking the open (no effect on regular files)
+    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd_ < 0) {
+        if (errno == EISDIR) throw IoError(path + ": is a directory, expected a file");
+        throw IoError(path + ": cannot open: " + std::strerror(errno));
+    }
+    struct stat st {};
+    std::string why;
+    if (::fstat(fd_, &st) != 0) why = path + ": cannot open: " + std::strerror(errno);
+    else if (S_ISDIR(st.st_mode)) why = path + ": is a directory, expected a file";
+    else if (!S_ISREG(st.st_mode)) why = path + ": cannot open: not a regular file";
+    if (!why.empty()) {
+        ::close(fd_);
+        throw IoError(why);
+    }
+    size_ = static_cast<std::uint64_t>(st.st_size);
+}
+
+FileRangeReader::~FileRangeReader() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+void FileRangeReader::read_into(std::uint64_t offset, std::uint64_t count, std::byte* dst) const {
+    if (offset > size_ || count > size_ - offset)
+        throw FormatError(path_ + ": truncated: need " + std::to_string(count) + " bytes at offset " +
+                          std::to_string(offset) + ", file has " + std::to_string(size_));
+    std::uint64_t done = 0;
+    while (done < count) {
+        const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(count - done, std::uint64_t{1} << 30));
+        const ssize_t got = ::pread(fd_, dst + done, want, static_cast<off_t>(offset + done));
+        if (got < 0 && errno == EINTR) continue;
+        if (got <= 0)
+            throw IoError(path_ + ": read failed at offset " + std::to_string(offset + done) + ": " +
+                          (got < 0 ? std::strerror(errno) : "unexpected end of file"));
+        done += static_cast<std::uint64_t>(got);
+    }
+}
+
 void read_file_range_into(const std::string& path, std::uint64_t offset, std::uint64_t count, std::byte* dst) {
-    FilePtr f = open_regular(path);
-    const std::uint64_t size = regular_file_size(path);
-    if (offset > size || count > size - offset)
-        throw FormatError(path + ": truncated: need " + std::to_string(count) + " bytes at offset " +
-                          std::to_string(offset) + ", file has " + std::to_string(size));
-    if (count == 0) return;
-    if (fseeko(f.get(), static_cast<off_t>(offset), SEEK_SET) != 0)
-        throw IoError(path + ": cannot seek to " + std::to_string(offset) + ": " + std::strerror(errno));
-    const std::size_t got = std::fread(dst, 1, static_cast<std::size_t>(count), f.get());
-    if (got != count)
-        throw IoError(path + ": read failed at offset " + std::to_string(offset + got) + ": " +
-                      (std::ferror(f.get()) ? std::strerror(errno) : "unexpected end of file"));
+    FileRangeReader(path).read_into(offset, count, dst);
 }
 
 std::vector<std::byte> read_file_range(const std::string& path, std::uint64_t offset, std::uint64_t count) {

@@ -1,4 +1,5 @@
-// Whole-file and byte-range reads with one large fread, with errors that name the path.
+// Whole-file and byte-range reads with one large read, with errors that name the path; and
+// FileRangeReader, which keeps one file open for many range reads (a volume read slab by slab).
 //
 // Units: byte offsets and counts. Throws IoError when the path cannot be opened, is a directory,
 // or a read fails; FormatError ("PATH: truncated: need N bytes at offset O, file has M") when the
@@ -7,6 +8,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,27 @@ std::vector<std::byte> read_file_bytes(const std::string& path);
 std::vector<std::byte> read_file_range(const std::string& path, std::uint64_t offset, std::uint64_t count);
 /// Reads exactly `count` bytes at `offset` into `dst` (which must hold them).
 void read_file_range_into(const std::string& path, std::uint64_t offset, std::uint64_t count, std::byte* dst);
+/// A regular file opened once for any number of range reads (pread(2): no shared file position, so
+/// read_into may run on several threads at once). Its size is taken at open, so a range past it
+/// is the truncation FormatError above; a file that shrinks later gives the IoError of a short read.
+class FileRangeReader {
+public:
+    /// IoError when the path cannot be opened or is not a regular file (a directory, a FIFO).
+    explicit FileRangeReader(const std::string& path);
+    ~FileRangeReader();
+    FileRangeReader(const FileRangeReader&) = delete;
+    FileRangeReader& operator=(const FileRangeReader&) = delete;
+    std::uint64_t size() const { return size_; }
+    const std::string& path() const { return path_; }
+    /// Reads exactly `count` bytes at `offset` into `dst` (which must hold them).
+    void read_into(std::uint64_t offset, std::uint64_t count, std::byte* dst) const;
+
+private:
+    std::string path_;
+    int fd_ = -1;
+    std::uint64_t size_ = 0;
+};
+
 /// Up to `max_bytes` from the start of the file (fewer if the file is shorter), as text.
 std::string read_file_prefix(const std::string& path, std::size_t max_bytes);
 

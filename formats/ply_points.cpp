@@ -91,18 +91,10 @@ void PlyPointWriter::commit() { w_->commit(); }
 void write_ply_points(const std::string& path, std::span<const PointRecord> pts,
                       const std::vector<std::string>& comments, std::optional<std::span<const std::uint32_t>> blocks,
                       std::optional<std::span<const std::uint8_t>> rgb) {
-    PlyWriter w(path, point_header(comments, pts.size(), blocks.has_value(), rgb.has_value()), PlyCounts::declared_padded);
-    if (rgb) {
-        std::vector<char> packed;
-        pack_points(pts, blocks.value_or(std::span<const std::uint32_t>{}), *rgb, blocks.has_value(), true, packed);
-        w.append(packed.data(), packed.size());
-    } else if (blocks) {
-        std::vector<char> packed;
-        pack_points(pts, *blocks, {}, true, false, packed);
-        w.append(packed.data(), packed.size());
-    } else {
-        w.append(pts.data(), pts.size_bytes());
-    }
+    PlyPointWriter w(path, comments, blocks.has_value(), rgb.has_value(), pts.size());
+    if (rgb) w.append(pts, blocks.value_or(std::span<const std::uint32_t>{}), *rgb);
+    else if (blocks) w.append(pts, *blocks);
+    else w.append(pts);
     w.commit();
 }
 

@@ -90,7 +90,12 @@ private:
             const std::uint64_t take = std::min(n, share_ - in_file);
             const std::string& file = plan_.files[f];
             if (plan_.encoding == PayloadEncoding::raw) {
-                read_file_range_into(file, starts_[f] + in_file, take, dst);
+                if (!raw_ || raw_file_ != f) {  // one file open at a time (a stack may hold thousands)
+                    raw_.reset();
+                    raw_ = std::make_unique<FileRangeReader>(file);
+                    raw_file_ = f;
+                }
+                raw_->read_into(starts_[f] + in_file, take, dst);
             } else {
                 if (!inflate_ || inflate_file_ != f || inflate_->position() > in_file + skip_) {
                     inflate_ = std::make_unique<InflateReader>(file, starts_[f]);
@@ -117,6 +122,8 @@ private:
     SampleType type_ = SampleType::u8;
     std::uint64_t share_ = 0;
     std::vector<std::uint64_t> starts_;
+    std::unique_ptr<FileRangeReader> raw_;  // the raw payload file read last, kept open
+    std::size_t raw_file_ = 0;
     std::unique_ptr<InflateReader> inflate_;
     std::size_t inflate_file_ = 0;
     std::uint64_t skip_ = 0;
