@@ -458,7 +458,61 @@ void for_each_footprint(const Setup& s, std::span<const PointRecord> points, Fn&
         if (footprint(s, points[pi], f)) fn(f, pi);
 }
 
+// Pass 1 for one footprint (the rows of its bounding box); returns the fragments drawn.
+std::int64_t draw_footprint(const Setup& s, const Footprint& fp, std::uint64_t* kb) {
+    const DepthRange d(s, fp);
+    const std::uint64_t packed = pack_normal(fp.n);
+    std::int64_t frags = 0;
+    for (int y = fp.y0; y <= fp.y1; ++y)
+        frags += draw_row(s, fp, d, y + 0.5f - fp.sy, packed, kb + static_cast<std::size_t>(y) * s.W);
+    return frags;
+}
+
+// True when every fragment of f lies beyond the largest depth of the tiles under it: its keys all
+// exceed the keys there (depth bits lead the key), so pass 1's minimum would keep them all.
+bool behind(const VisibleDepthTiles& t, const Footprint& f, const DepthRange& d) {
+    if (!plane_is_bounded(f)) return false;
+    constexpr int sh = VisibleDepthTiles::kShift;
+    float m = 0.0f;
+    for (int ty = f.y0 >> sh; ty <= f.y1 >> sh; ++ty) {
+        const float* row = t.max_depth.data() + static_cast<std::size_t>(ty) * t.tiles_x;
+        for (int tx = f.x0 >> sh; tx <= f.x1 >> sh; ++tx) m = std::max(m, row[tx]);
+    }
+    return d.zlo > m;
+}
+
 }  // namespace
+
+void SplatFrame::footprints(std::span<const PointRecord> points, std::vector<EwaFootprint>& out,
+                            std::span<const std::uint32_t> blocks) const {
+    const Setup s = make_setup(view_, shading_);
+    const bool coloured = acc_words() == 7;
+    out.clear();
+    for_each_footprint(s, points, [&](const Footprint& fp, std::size_t pi) {
+        out.push_back(fp);
+        if (coloured) out.back().base = splat_base_color(shading_, points[pi], blocks, pi);
+    });
+}
+
+void SplatFrame::draw(std::span<const EwaFootprint> footprints, std::uint64_t* kb, SplatStats& st, EwaCull* cull) const {
+    const Setup s = make_setup(view_, shading_);
+    const std::int64_t refresh = std::max<std::int64_t>(1024, static_cast<std::int64_t>(npix() / 16));
+    std::int64_t drawn = 0, frags = 0;
+    for (const Footprint& fp : footprints) {
+        if (cull) {
+            if (cull->tiles.max_depth.empty() || cull->drawn_since >= refresh) {
+                cull->tiles = depth_tiles(kb);
+                cull->drawn_since = 0;
+            }
+            if (behind(cull->tiles, fp, DepthRange(s, fp))) continue;
+            ++cull->drawn_since;
+        }
+        ++drawn;
+        frags += draw_footprint(s, fp, kb);
+    }
+    st.splats_drawn += drawn;
+    st.fragments += frags;
+}
 
 void SplatFrame::init_ewa() {
     const float c2 = ewa_c2(shading_);
@@ -470,16 +524,12 @@ void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb
                           std::span<const std::uint32_t> blocks, std::vector<EwaFootprint>* out) const {
     const Setup s = make_setup(view_, shading_);
     const bool coloured = acc_words() == 7;
-    const int W = s.W;
     std::int64_t drawn = 0, frags = 0;
     // Pass 1: visibility. Key = (depth bits << 32) | packed normal of the nearest fragment, so the
     // minimum is independent of the drawing order, ties included.
     auto draw_one = [&](const Footprint& fp, std::size_t pi) {
         ++drawn;
-        const DepthRange d(s, fp);
-        const std::uint64_t packed = pack_normal(fp.n);
-        for (int y = fp.y0; y <= fp.y1; ++y)
-            frags += draw_row(s, fp, d, y + 0.5f - fp.sy, packed, kb + static_cast<std::size_t>(y) * W);
+        frags += draw_footprint(s, fp, kb);
         if (out) {
             out->push_back(fp);
             if (coloured) out->back().base = splat_base_color(shading_, points[pi], blocks, pi);

@@ -138,6 +138,14 @@ struct VisibleDepthTiles {
     std::vector<float> max_depth;  ///< tiles_x * tiles_y, row-major
 };
 
+/// The culling state of one EWA pass-1 key buffer (SplatFrame::draw on footprints): the
+/// visible-depth tiles of the buffer as it was at the last refresh. Keys only decrease, so stale
+/// tiles are conservative; they are refreshed after every npix / 16 splats drawn.
+struct EwaCull {
+    VisibleDepthTiles tiles;
+    std::int64_t drawn_since = 0;
+};
+
 /// One frame's fixed set-up (view, shading, kernel) and the pieces of the render, for drawing the
 /// points in parts (streaming, threads). Buffers are the caller's, npix() entries each:
 ///   keys: uint64 per pixel, start at kEmptyKey; quad: draw() leaves min((depth << 32) | rgb);
@@ -166,6 +174,17 @@ public:
     /// order, for accumulate() on footprints (quad: left empty).
     void draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
               std::span<const std::uint32_t> blocks = {}, std::vector<EwaFootprint>* footprints = nullptr) const;
+    /// EWA: the footprints of the splats that touch the image, in order, with their base colours
+    /// (blocks as in draw()): out is cleared, then filled; nothing is drawn. draw() on them gives the
+    /// keys draw() gives on the points.
+    void footprints(std::span<const PointRecord> points, std::vector<EwaFootprint>& out,
+                    std::span<const std::uint32_t> blocks = {}) const;
+    /// EWA pass 1 on footprints (any order, any split: the keys are a minimum). cull (may be null):
+    /// this key buffer's EwaCull; a splat whose nearest depth lies beyond the largest depth of every
+    /// tile under it is not drawn, which changes no key (so no byte of the image) and saves most of
+    /// the drawing when the footprints come roughly front to back. Adds to stats.splats_drawn
+    /// (splats drawn, culled ones excluded) and stats.fragments.
+    void draw(std::span<const EwaFootprint> footprints, std::uint64_t* keys, SplatStats& stats, EwaCull* cull) const;
     /// The visible-depth tiles of the final visibility keys (ewa), for accumulate()'s skipping.
     VisibleDepthTiles depth_tiles(const std::uint64_t* keys) const;
     /// EWA pass 2 against the final visibility keys; acc has acc_words() per pixel. tiles (may be

@@ -22,8 +22,10 @@ struct SplatSink::Canvas {
     LargeBuffer<std::int64_t> acc;
     std::vector<PointRecord> batch;  // EWA pass 2: the spooled batch being replayed
     std::vector<std::uint32_t> blocks;  // ... and its block ids (when the spool has them)
-    std::vector<EwaFootprint> footprints;   // EWA: the footprints of the batch drawn (pass 1) or replayed (pass 2)
-    std::unique_ptr<FootprintSpool> spool;  // EWA without `replay`: this thread's pass-1 footprints
+    std::vector<EwaFootprint> footprints;   // EWA: the footprints of the batch spooled or replayed
+    std::unique_ptr<FootprintSpool> spool;  // EWA without `replay`: this thread's footprints
+    std::vector<SpoolGroup> groups;         // ... one per batch spooled, in spool order
+    EwaCull cull;                           // EWA pass 1 from the spools: this key buffer's culling
     SplatStats stats;
 };
 
@@ -32,15 +34,25 @@ struct SplatSink::Canvases {
     bool spool_footprints = false;
     Canvas& local(const SplatFrame& f) {
         Canvas& c = per_thread.local();
-        if (c.keys.empty()) c.keys.assign(f.npix(), SplatFrame::kEmptyKey);
         if (spool_footprints && !c.spool) c.spool = std::make_unique<FootprintSpool>("splat-spool");
+        if (!spool_footprints && c.keys.empty()) c.keys.assign(f.npix(), SplatFrame::kEmptyKey);
         return c;
     }
-    /// Pass 1 on a batch: draws it and spools the footprints of the splats drawn.
+    /// A batch as it arrives. EWA with footprint spools: spools its footprints and notes their mean
+    /// depth (finish() draws pass 1 from the spools, nearest groups first). Else draws it (quad, or
+    /// EWA pass 1 when pass 2 replays a point spool).
     void draw(const SplatFrame& f, const Batch& b) {
         Canvas& c = local(f);
-        f.draw(b.points, c.keys.data(), c.stats, b.point_block, c.spool ? &c.footprints : nullptr);
-        if (c.spool) c.spool->append(c.footprints);
+        if (!c.spool) {
+            f.draw(b.points, c.keys.data(), c.stats, b.point_block);
+            return;
+        }
+        f.footprints(b.points, c.footprints, b.point_block);
+        if (c.footprints.empty()) return;
+        double depth = 0;
+        for (const EwaFootprint& fp : c.footprints) depth += fp.depth;
+        c.groups.push_back({c.spool.get(), c.spool->size(), c.footprints.size(), depth / static_cast<double>(c.footprints.size())});
+        c.spool->append(c.footprints);
     }
 };
 
@@ -93,14 +105,33 @@ void SplatSink::observe(const Batch& b) {
 void SplatSink::finish() {
     const auto t0 = std::chrono::steady_clock::now();
     const std::size_t npix = frame_.npix();
+    std::vector<std::unique_ptr<FootprintSpool>> spools;  // the footprints, one spool per thread
+    std::vector<SpoolGroup> groups;
+    for (Canvas& c : canvases_->per_thread) {
+        if (!c.spool) continue;
+        c.spool->flush();
+        spools.push_back(std::move(c.spool));
+        groups.insert(groups.end(), c.groups.begin(), c.groups.end());
+        c.groups.clear();
+    }
+    if (!spools.empty()) {
+        // EWA pass 1 from the spools, nearest groups first, so that most splats hidden behind
+        // nearer ones are culled (EwaCull); the keys are a minimum, so the order changes no byte.
+        std::stable_sort(groups.begin(), groups.end(), [](const SpoolGroup& a, const SpoolGroup& b) { return a.depth < b.depth; });
+        run_parts(groups.size(), [&](std::size_t i) {
+            Canvas& c = canvases_->per_thread.local();
+            if (c.keys.empty()) c.keys.assign(npix, SplatFrame::kEmptyKey);
+            const SpoolGroup& g = groups[i];
+            const FootprintSpool::View v = g.spool->view(g.first, g.count);
+            frame_.draw(v.footprints(), c.keys.data(), c.stats, &c.cull);
+        });
+    }
     // Merge the partial visibility / colour buffers by min.
     LargeBuffer<std::uint64_t> keys;
-    std::vector<std::unique_ptr<FootprintSpool>> spools;  // pass 1's footprints, one spool per thread
     for (Canvas& c : canvases_->per_thread) {
         stats_.splats_drawn += c.stats.splats_drawn;
         stats_.fragments += c.stats.fragments;
         c.stats = {};
-        if (c.spool) spools.push_back(std::move(c.spool));
         if (c.keys.empty()) continue;
         if (keys.empty()) keys = std::move(c.keys);
         else SplatFrame::merge_keys(keys.data(), c.keys.data(), npix);
@@ -131,7 +162,6 @@ void SplatSink::finish() {
                 parts.push_back({nullptr, first, std::min<std::uint64_t>(kMaxBatchRecords, points_ - first)});
         } else {
             for (const auto& sp : spools) {
-                sp->flush();
                 for (std::uint64_t first = 0; first < sp->size(); first += kMaxBatchRecords)
                     parts.push_back({sp.get(), first, std::min<std::uint64_t>(kMaxBatchRecords, sp->size() - first)});
             }
@@ -143,9 +173,8 @@ void SplatSink::finish() {
             if (c.acc.empty()) c.acc.assign(words * npix, 0);
             const Part& p = parts[i];
             if (p.spool) {
-                c.footprints.resize(static_cast<std::size_t>(p.count));
-                p.spool->read(p.first, c.footprints);
-                frame_.accumulate(c.footprints, keys.data(), c.acc.data(), c.stats, &tiles);
+                const FootprintSpool::View v = p.spool->view(p.first, p.count);
+                frame_.accumulate(v.footprints(), keys.data(), c.acc.data(), c.stats, &tiles);
                 return;
             }
             c.batch.resize(static_cast<std::size_t>(p.count));
@@ -157,17 +186,7 @@ void SplatSink::finish() {
             }
             frame_.accumulate(c.batch, keys.data(), c.acc.data(), c.stats, c.blocks, &tiles);
         };
-        if (threads_ == 1) {
-            for (std::size_t i = 0; i < parts.size(); ++i) replay(i);
-        } else {
-            oneapi::tbb::task_arena arena(threads_);
-            arena.execute([&] {
-                oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::size_t>(0, parts.size(), 1),
-                                          [&](const oneapi::tbb::blocked_range<std::size_t>& r) {
-                                              for (std::size_t i = r.begin(); i != r.end(); ++i) replay(i);
-                                          });
-            });
-        }
+        run_parts(parts.size(), replay);
         for (Canvas& c : accs) {
             stats_.fragments += c.stats.fragments;
             if (c.acc.empty()) continue;
@@ -179,6 +198,21 @@ void SplatSink::finish() {
     }
     frame_.resolve(keys.data(), acc.data(), image_);
     stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+template <class Fn>
+void SplatSink::run_parts(std::size_t n, Fn&& fn) const {
+    if (threads_ == 1) {
+        for (std::size_t i = 0; i < n; ++i) fn(i);
+        return;
+    }
+    oneapi::tbb::task_arena arena(threads_);
+    arena.execute([&] {
+        oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::size_t>(0, n, 1),
+                                  [&](const oneapi::tbb::blocked_range<std::size_t>& r) {
+                                      for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
+                                  });
+    });
 }
 
 std::size_t SplatSink::retained_bytes() const {

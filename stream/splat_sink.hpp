@@ -7,23 +7,27 @@
 // PLY comments, see cli/common.hpp surface_bounds). Kernels:
 //  - quad: one pass; each pixel keeps min((depth << 32) | colour), which does not depend on the
 //    order or the split of the points.
-//  - ewa: two passes (visibility, then accumulation against the final visibility). Pass 1 draws the
-//    batches as they arrive and appends the screen footprints of the splats it drew (conic, bounding
-//    box, depth plane, normal, base colour: kernels/splat_rasterizer.hpp EwaFootprint, 60 bytes) to a
-//    footprint spool per drawing thread (stream/footprint_spool.hpp: unlinked temporary files in
-//    $TMPDIR or /tmp), so pass 2 does not recompute them; finish() replays the spools in batches of
-//    kMaxBatchRecords for pass 2, skipping the splats hidden everywhere behind the final visible
-//    depth (SplatFrame::depth_tiles; the same bytes). A caller whose points are already in a spool (a
-//    turntable replays one spool per frame) passes it as `replay`: the sink then spools nothing and
-//    pass 2 recomputes the footprints from it. The accumulators are 64-bit fixed point, so the sum
-//    is exact in any order and any split.
+//  - ewa: two passes (visibility, then accumulation against the final visibility). As the batches
+//    arrive, the sink computes the screen footprints of their splats (conic, bounding box, depth
+//    plane, normal, base colour: kernels/splat_rasterizer.hpp EwaFootprint, 60 bytes) and appends
+//    them to a footprint spool per drawing thread (stream/footprint_spool.hpp: unlinked temporary
+//    files in $TMPDIR or /tmp), noting each batch's mean depth. finish() replays the spools twice:
+//    pass 1 batch by batch, nearest batches first, skipping the splats that lie behind everything
+//    already drawn under them (EwaCull: about half of the splats of a CT isosurface, whose blocks
+//    arrive in Morton order, often back to front); then pass 2 in batches of kMaxBatchRecords,
+//    skipping the splats hidden everywhere behind the final visible depth (SplatFrame::depth_tiles).
+//    Neither skip changes a byte. A caller whose points are already in a spool (a turntable replays
+//    one spool per frame) passes it as `replay`: the sink then draws pass 1 as the batches arrive,
+//    spools nothing, and pass 2 recomputes the footprints from the replay spool. The accumulators
+//    are 64-bit fixed point, so the sum is exact in any order and any split.
 // The image is byte-identical to render_splats() on all the points at once, for any batch split
 // and any thread count (the tests check both kernels).
 //
-// Threads: stage() returns a Stage that draws each batch inside the runner's parallel section into
-// a per-thread partial buffer (the batch passes through unchanged); partial buffers are merged by
-// min (keys) and integer sum (EWA accumulators) in finish(). Without stage(), consume() draws
-// (serial). finish() replays the EWA spool with `threads` threads (its own task arena).
+// Threads: stage() returns a Stage that draws (or spools) each batch inside the runner's parallel
+// section into a per-thread partial buffer (the batch passes through unchanged); partial buffers
+// are merged by min (keys) and integer sum (EWA accumulators) in finish(). Without stage(),
+// consume() draws (serial). finish() replays the EWA spools with `threads` threads (its own task
+// arena), one key buffer per thread in pass 1.
 // Colours (ShadingParams::color_by, kernels/splat_rasterizer.hpp): block colours read each batch's
 // Batch::point_block (the footprints keep the base colour for pass 2; a replay spool its block ids); a non-empty batch without them is a
 // FormatError when colouring by block.
@@ -69,6 +73,15 @@ private:
     struct Canvas;
     struct Canvases;
     class DrawStage;
+    /// Footprints [first, first + count) of one spool, from one batch; depth: their mean depth.
+    struct SpoolGroup {
+        const FootprintSpool* spool;
+        std::uint64_t first, count;
+        double depth;
+    };
+    /// fn(i) for i in [0, n): serially with one thread, else in parallel in an arena of threads_.
+    template <class Fn>
+    void run_parts(std::size_t n, Fn&& fn) const;
 
     SplatFrame frame_;
     ShadingParams shading_;

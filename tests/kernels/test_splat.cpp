@@ -468,6 +468,32 @@ TEST_CASE("EWA pass 2 from spooled footprints and with hidden splats skipped: th
                 CHECK(k1 == keys);
             }
             REQUIRE(st.splats_drawn > 10000);
+            {
+                // footprints() gives the footprints draw() reported, base colours included
+                std::vector<EwaFootprint> only;
+                f.footprints(pts, only);
+                REQUIRE(only.size() == fps.size());
+                CHECK(std::memcmp(only.data(), fps.data(), fps.size() * sizeof(EwaFootprint)) == 0);
+                // pass 1 from the footprints, culled: the same keys nearest first, farthest first and
+                // in two key buffers merged; nearest first skips most splats (the inner ones)
+                std::vector<EwaFootprint> near = fps;
+                std::stable_sort(near.begin(), near.end(), [](const EwaFootprint& a, const EwaFootprint& b) { return a.depth < b.depth; });
+                std::vector<EwaFootprint> far(near.rbegin(), near.rend());
+                std::vector<std::uint64_t> kn(n, SplatFrame::kEmptyKey), kf(n, SplatFrame::kEmptyKey),
+                    k2(n, SplatFrame::kEmptyKey), k3(n, SplatFrame::kEmptyKey);
+                SplatStats sn, sf, s2;
+                EwaCull cn, cf, c2, c3;
+                f.draw(near, kn.data(), sn, &cn);
+                f.draw(far, kf.data(), sf, &cf);
+                f.draw(std::span(far).first(far.size() / 3), k2.data(), s2, &c2);
+                f.draw(std::span(far).subspan(far.size() / 3), k3.data(), s2, &c3);
+                SplatFrame::merge_keys(k2.data(), k3.data(), n);
+                CHECK(kn == keys);
+                CHECK(kf == keys);
+                CHECK(k2 == keys);
+                CHECK(sn.splats_drawn < st.splats_drawn / 2);
+                CHECK(sf.splats_drawn > sn.splats_drawn);
+            }
             // the visibility pass equals its plain per-pixel form
             CHECK(plain_visibility(fps, f.width(), f.height(), float(sh.ewa_cutoff * sh.ewa_cutoff)) == keys);
 
