@@ -43,10 +43,7 @@ std::uint64_t regular_file_size(const std::string& path) {
 FileRangeReader::FileRangeReader(const std::string& path) : path_(path) {
     // O_NONBLOCK: a FIFO is refused below instead of blocking the open (no effect on regular files)
     fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-    if (fd_ < 0) {
-        if (errno == EISDIR) throw IoError(path + ": is a directory, expected a file");
-        throw IoError(path + ": cannot open: " + std::strerror(errno));
-    }
+    if (fd_ < 0) throw IoError(path + ": cannot open: " + std::strerror(errno));
     struct stat st {};
     std::string why;
     if (::fstat(fd_, &st) != 0) why = path + ": cannot open: " + std::strerror(errno);
@@ -57,6 +54,9 @@ FileRangeReader::FileRangeReader(const std::string& path) : path_(path) {
         throw IoError(why);
     }
     size_ = static_cast<std::uint64_t>(st.st_size);
+    // back to blocking reads (some file systems, FUSE among them, pass O_NONBLOCK on to reads)
+    const int flags = ::fcntl(fd_, F_GETFL);
+    if (flags >= 0) (void)::fcntl(fd_, F_SETFL, flags & ~O_NONBLOCK);
 }
 
 FileRangeReader::~FileRangeReader() {

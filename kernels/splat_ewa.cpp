@@ -140,15 +140,26 @@ bool plane_is_bounded(const Footprint& f) {
     return std::isfinite(f.depth) && std::fabs(f.gx) < 1e30f && std::fabs(f.gy) < 1e30f;
 }
 
-bool hidden(const VisibleDepthTiles& t, const Footprint& f, const DepthRange& d) {
-    if (!plane_is_bounded(f)) return false;
+// The largest visible depth of the tiles under f's bounding box.
+float tile_max(const VisibleDepthTiles& t, const Footprint& f) {
     constexpr int sh = VisibleDepthTiles::kShift;
     float m = 0.0f;
     for (int ty = f.y0 >> sh; ty <= f.y1 >> sh; ++ty) {
         const float* row = t.max_depth.data() + static_cast<std::size_t>(ty) * t.tiles_x;
         for (int tx = f.x0 >> sh; tx <= f.x1 >> sh; ++tx) m = std::max(m, row[tx]);
     }
-    return d.zlo > m + d.eps;
+    return m;
+}
+
+bool hidden(const VisibleDepthTiles& t, const Footprint& f, const DepthRange& d) {
+    return plane_is_bounded(f) && d.zlo > tile_max(t, f) + d.eps;
+}
+
+// True when every fragment of f lies beyond the largest depth of the tiles under it: its keys all
+// exceed the keys there (depth bits lead the key; strictly, so ties still meet the normal bits), so
+// pass 1's minimum would keep them all.
+bool behind(const VisibleDepthTiles& t, const Footprint& f, const DepthRange& d) {
+    return plane_is_bounded(f) && d.zlo > tile_max(t, f);
 }
 
 // Pass 1 on one row of f's bounding box (dy: the row's centre offset): each pixel inside the
@@ -468,19 +479,6 @@ std::int64_t draw_footprint(const Setup& s, const Footprint& fp, std::uint64_t* 
     return frags;
 }
 
-// True when every fragment of f lies beyond the largest depth of the tiles under it: its keys all
-// exceed the keys there (depth bits lead the key), so pass 1's minimum would keep them all.
-bool behind(const VisibleDepthTiles& t, const Footprint& f, const DepthRange& d) {
-    if (!plane_is_bounded(f)) return false;
-    constexpr int sh = VisibleDepthTiles::kShift;
-    float m = 0.0f;
-    for (int ty = f.y0 >> sh; ty <= f.y1 >> sh; ++ty) {
-        const float* row = t.max_depth.data() + static_cast<std::size_t>(ty) * t.tiles_x;
-        for (int tx = f.x0 >> sh; tx <= f.x1 >> sh; ++tx) m = std::max(m, row[tx]);
-    }
-    return d.zlo > m;
-}
-
 }  // namespace
 
 void SplatFrame::footprints(std::span<const PointRecord> points, std::vector<EwaFootprint>& out,
@@ -496,15 +494,16 @@ void SplatFrame::footprints(std::span<const PointRecord> points, std::vector<Ewa
 
 void SplatFrame::draw(std::span<const EwaFootprint> footprints, std::uint64_t* kb, SplatStats& st, EwaCull* cull) const {
     const Setup s = make_setup(view_, shading_);
-    const std::int64_t refresh = std::max<std::int64_t>(1024, static_cast<std::int64_t>(npix() / 16));
+    const std::int64_t refresh = EwaCull::refresh_after(npix());
     std::int64_t drawn = 0, frags = 0;
     for (const Footprint& fp : footprints) {
         if (cull) {
-            if (cull->tiles.max_depth.empty() || cull->drawn_since >= refresh) {
+            // no tiles before the first refresh: an empty buffer hides nothing
+            if (cull->drawn_since >= refresh) {
                 cull->tiles = depth_tiles(kb);
                 cull->drawn_since = 0;
             }
-            if (behind(cull->tiles, fp, DepthRange(s, fp))) continue;
+            if (!cull->tiles.max_depth.empty() && behind(cull->tiles, fp, DepthRange(s, fp))) continue;
             ++cull->drawn_since;
         }
         ++drawn;

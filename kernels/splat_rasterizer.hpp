@@ -26,14 +26,16 @@
 //   merged by min (keys) and integer sum (EWA accumulators), and the result equals one pass over all
 //   points, byte for byte, whatever the split or the thread count (stream/splat_sink.hpp).
 // Speed (EWA, same bytes as the plain per-pixel loops): footprints four points at a time and rows four
-//   pixels at a time (SSE2, the scalar float operations in the same order); pass 2 may take the
-//   footprints pass 1 handed out (EwaFootprint) and skip splats hidden behind the visible depth of
-//   every tile they touch (VisibleDepthTiles).
+//   pixels at a time (SSE2, the scalar float operations in the same order); both passes may take
+//   footprints computed once (EwaFootprint, SplatFrame::footprints); pass 1 from footprints may
+//   skip splats behind everything drawn under them so far (EwaCull), pass 2 those hidden behind the
+//   visible depth of every tile they touch (VisibleDepthTiles).
 // Cost: O(points + covered fragments), no per-splat allocation; buffers live in SplatRenderer and
 //   are reused across frames (a 36-frame turntable allocates once).
 // Thread-safety: render_splats is reentrant; a SplatRenderer is used by one thread at a time.
 // Throws nothing but std::bad_alloc.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -88,7 +90,10 @@ struct Image {
 };
 
 struct SplatStats {
-    std::int64_t splats_drawn = 0;  ///< splats in front of the eye whose footprint touches the image
+    /// splats in front of the eye whose footprint touches the image; EWA pass 1 from footprints
+    /// with an EwaCull counts only those not culled, so a sink's count depends on the order and the
+    /// thread count (its image does not)
+    std::int64_t splats_drawn = 0;
     std::int64_t fragments = 0;     ///< pixels tested inside footprints (EWA: per pass, summed)
     double seconds = 0;             ///< wall time of the render call
 };
@@ -111,9 +116,9 @@ private:
     double lo_[3] = {kInf, kInf, kInf}, hi_[3] = {-kInf, -kInf, -kInf};
 };
 
-/// The screen-space footprint of one EWA splat, as pass 1 computes it from its point: pass 2 may
-/// take it instead of the point (the streaming sink spools footprints, stream/splat_sink.hpp), with
-/// the same bytes as recomputing it. 60 bytes, trivially copyable (written raw to a spool file).
+/// The screen-space footprint of one EWA splat, as computed from its point: either pass may take it
+/// instead of the point (the streaming sink spools footprints, stream/splat_sink.hpp), with the
+/// same bytes as recomputing it. 60 bytes, trivially copyable (written raw to a spool file).
 /// Depth plane: depth(dx, dy) = depth + gx dx + gy dy (dx, dy: pixel-centre offsets from (sx, sy)),
 /// clamped to [max(depth - radius, 0), depth + radius]; normal: camera space, unit (raw orientation).
 struct EwaFootprint {
@@ -138,12 +143,14 @@ struct VisibleDepthTiles {
     std::vector<float> max_depth;  ///< tiles_x * tiles_y, row-major
 };
 
-/// The culling state of one EWA pass-1 key buffer (SplatFrame::draw on footprints): the
-/// visible-depth tiles of the buffer as it was at the last refresh. Keys only decrease, so stale
-/// tiles are conservative; they are refreshed after every npix / 16 splats drawn.
+/// The culling state of one EWA pass-1 key buffer (SplatFrame::draw on footprints; one key buffer,
+/// one frame size): the visible-depth tiles of the buffer as it was at the last refresh. Keys only
+/// decrease, so stale tiles are conservative. The first refresh comes after refresh_after(npix)
+/// splats drawn (an empty buffer hides nothing), the next after as many again.
 struct EwaCull {
     VisibleDepthTiles tiles;
     std::int64_t drawn_since = 0;
+    static std::int64_t refresh_after(std::size_t npix) { return std::max<std::int64_t>(1024, static_cast<std::int64_t>(npix / 16)); }
 };
 
 /// One frame's fixed set-up (view, shading, kernel) and the pieces of the render, for drawing the
@@ -174,12 +181,12 @@ public:
     /// order, for accumulate() on footprints (quad: left empty).
     void draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
               std::span<const std::uint32_t> blocks = {}, std::vector<EwaFootprint>* footprints = nullptr) const;
-    /// EWA: the footprints of the splats that touch the image, in order, with their base colours
+    /// EWA only: the footprints of the splats that touch the image, in order, with their base colours
     /// (blocks as in draw()): out is cleared, then filled; nothing is drawn. draw() on them gives the
     /// keys draw() gives on the points.
     void footprints(std::span<const PointRecord> points, std::vector<EwaFootprint>& out,
                     std::span<const std::uint32_t> blocks = {}) const;
-    /// EWA pass 1 on footprints (any order, any split: the keys are a minimum). cull (may be null):
+    /// EWA only: pass 1 on footprints (any order, any split: the keys are a minimum). cull (may be null):
     /// this key buffer's EwaCull; a splat whose nearest depth lies beyond the largest depth of every
     /// tile under it is not drawn, which changes no key (so no byte of the image) and saves most of
     /// the drawing when the footprints come roughly front to back. Adds to stats.splats_drawn

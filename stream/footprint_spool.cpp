@@ -1,6 +1,5 @@
 #include "stream/footprint_spool.hpp"
 
-#include <sys/mman.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -35,33 +34,10 @@ void FootprintSpool::flush() {
     if (std::fflush(f_) != 0) fail("write to", errno);
 }
 
-void FootprintSpool::check_range(std::uint64_t first, std::uint64_t count) const {
-    if (first > count_ || count > count_ - first)
-        throw IoError(name_ + ": cannot read footprints " + std::to_string(first) + ".." + std::to_string(first + count) +
-                      " back from the splat footprint spool (deleted temporary file): it holds " + std::to_string(count_));
-}
-
-FootprintSpool::View::~View() {
-    if (base_) ::munmap(base_, bytes_);
-}
-
-FootprintSpool::View FootprintSpool::view(std::uint64_t first, std::uint64_t count) const {
-    check_range(first, count);
-    if (count == 0) return View(nullptr, 0, {});
-    static const std::uint64_t page = static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
-    const std::uint64_t begin = first * sizeof(EwaFootprint), end = (first + count) * sizeof(EwaFootprint);
-    const std::uint64_t start = begin / page * page;
-    const std::size_t bytes = static_cast<std::size_t>(end - start);
-    // MAP_POPULATE: the range is read whole, so fault it in at once (from the page cache)
-    void* base = ::mmap(nullptr, bytes, PROT_READ, MAP_SHARED | MAP_POPULATE, ::fileno(f_), static_cast<off_t>(start));
-    if (base == MAP_FAILED) fail("map", errno);
-    // offsets are multiples of 4 (60-byte records): the footprints' floats stay aligned
-    const auto* fps = reinterpret_cast<const EwaFootprint*>(static_cast<const char*>(base) + (begin - start));
-    return View(base, bytes, {fps, static_cast<std::size_t>(count)});
-}
-
 void FootprintSpool::read(std::uint64_t first, std::span<EwaFootprint> out) const {
-    check_range(first, out.size());
+    if (first + out.size() > count_)
+        throw IoError(name_ + ": cannot read footprints " + std::to_string(first) + ".." + std::to_string(first + out.size()) +
+                      " back from the splat footprint spool (deleted temporary file): it holds " + std::to_string(count_));
     const int fd = ::fileno(f_);
     char* dst = reinterpret_cast<char*>(out.data());
     const std::size_t want = out.size() * sizeof(EwaFootprint);

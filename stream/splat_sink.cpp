@@ -6,6 +6,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -24,7 +25,8 @@ struct SplatSink::Canvas {
     std::vector<std::uint32_t> blocks;  // ... and its block ids (when the spool has them)
     std::vector<EwaFootprint> footprints;   // EWA: the footprints of the batch spooled or replayed
     std::unique_ptr<FootprintSpool> spool;  // EWA without `replay`: this thread's footprints
-    std::vector<SpoolGroup> groups;         // ... one per batch spooled, in spool order
+    std::vector<SpoolGroup> groups;         // ... consecutive batches of it, in spool order
+    std::uint64_t min_group = kMinGroup;    // ... each of at least this many footprints
     EwaCull cull;                           // EWA pass 1 from the spools: this key buffer's culling
     SplatStats stats;
 };
@@ -34,7 +36,10 @@ struct SplatSink::Canvases {
     bool spool_footprints = false;
     Canvas& local(const SplatFrame& f) {
         Canvas& c = per_thread.local();
-        if (spool_footprints && !c.spool) c.spool = std::make_unique<FootprintSpool>("splat-spool");
+        if (spool_footprints && !c.spool) {
+            c.spool = std::make_unique<FootprintSpool>("splat-spool");
+            c.groups.reserve(kMaxGroups);
+        }
         if (!spool_footprints && c.keys.empty()) c.keys.assign(f.npix(), SplatFrame::kEmptyKey);
         return c;
     }
@@ -51,7 +56,24 @@ struct SplatSink::Canvases {
         if (c.footprints.empty()) return;
         double depth = 0;
         for (const EwaFootprint& fp : c.footprints) depth += fp.depth;
-        c.groups.push_back({c.spool.get(), c.spool->size(), c.footprints.size(), depth / static_cast<double>(c.footprints.size())});
+        // consecutive batches of this thread's spool join the last group until it holds min_group;
+        // at kMaxGroups, neighbours merge pairwise and min_group doubles: bounded for any count
+        if (!c.groups.empty() && c.groups.back().count < c.min_group) {
+            c.groups.back().count += c.footprints.size();
+            c.groups.back().depth_sum += depth;
+        } else {
+            if (c.groups.size() == kMaxGroups) {
+                for (std::size_t i = 0; i < kMaxGroups / 2; ++i) {
+                    SpoolGroup g = c.groups[2 * i];
+                    g.count += c.groups[2 * i + 1].count;
+                    g.depth_sum += c.groups[2 * i + 1].depth_sum;
+                    c.groups[i] = g;
+                }
+                c.groups.resize(kMaxGroups / 2);
+                c.min_group *= 2;
+            }
+            c.groups.push_back({c.spool.get(), c.spool->size(), c.footprints.size(), depth});
+        }
         c.spool->append(c.footprints);
     }
 };
@@ -85,7 +107,7 @@ SplatSink::SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams&
     // Without a replay spool, pass 1 spools footprints (one file per drawing thread); this thread's
     // is made now, so that an unusable temporary directory fails before the first point.
     canvases_->spool_footprints = replay == nullptr;
-    if (!replay) canvases_->per_thread.local().spool = std::make_unique<FootprintSpool>("splat-spool");
+    if (!replay) canvases_->local(frame_);
 }
 
 SplatSink::~SplatSink() = default;
@@ -117,13 +139,19 @@ void SplatSink::finish() {
     if (!spools.empty()) {
         // EWA pass 1 from the spools, nearest groups first, so that most splats hidden behind
         // nearer ones are culled (EwaCull); the keys are a minimum, so the order changes no byte.
-        std::stable_sort(groups.begin(), groups.end(), [](const SpoolGroup& a, const SpoolGroup& b) { return a.depth < b.depth; });
-        run_parts(groups.size(), [&](std::size_t i) {
-            Canvas& c = canvases_->per_thread.local();
-            if (c.keys.empty()) c.keys.assign(npix, SplatFrame::kEmptyKey);
-            const SpoolGroup& g = groups[i];
-            const FootprintSpool::View v = g.spool->view(g.first, g.count);
-            frame_.draw(v.footprints(), c.keys.data(), c.stats, &c.cull);
+        std::stable_sort(groups.begin(), groups.end(),
+                         [](const SpoolGroup& a, const SpoolGroup& b) { return a.mean_depth() < b.mean_depth(); });
+        // each thread takes the nearest group left, so every key buffer fills front to back
+        std::atomic<std::size_t> next{0};
+        run_parts(static_cast<std::size_t>(threads_), [&](std::size_t) {
+            for (std::size_t i; (i = next.fetch_add(1, std::memory_order_relaxed)) < groups.size();) {
+                Canvas& c = canvases_->per_thread.local();
+                if (c.keys.empty()) c.keys.assign(npix, SplatFrame::kEmptyKey);
+                const SpoolGroup& g = groups[i];
+                c.footprints.resize(static_cast<std::size_t>(g.count));
+                g.spool->read(g.first, c.footprints);
+                frame_.draw(c.footprints, c.keys.data(), c.stats, &c.cull);
+            }
         });
     }
     // Merge the partial visibility / colour buffers by min.
@@ -173,8 +201,9 @@ void SplatSink::finish() {
             if (c.acc.empty()) c.acc.assign(words * npix, 0);
             const Part& p = parts[i];
             if (p.spool) {
-                const FootprintSpool::View v = p.spool->view(p.first, p.count);
-                frame_.accumulate(v.footprints(), keys.data(), c.acc.data(), c.stats, &tiles);
+                c.footprints.resize(static_cast<std::size_t>(p.count));
+                p.spool->read(p.first, c.footprints);
+                frame_.accumulate(c.footprints, keys.data(), c.acc.data(), c.stats, &tiles);
                 return;
             }
             c.batch.resize(static_cast<std::size_t>(p.count));
@@ -219,7 +248,7 @@ std::size_t SplatSink::retained_bytes() const {
     std::size_t n = image_.rgb.capacity();
     for (const Canvas& c : canvases_->per_thread)
         n += c.keys.capacity() * sizeof(std::uint64_t) + c.acc.capacity() * sizeof(std::int64_t) +
-             c.footprints.capacity() * sizeof(EwaFootprint);
+             c.footprints.capacity() * sizeof(EwaFootprint) + c.groups.capacity() * sizeof(SpoolGroup);
     return n;
 }
 

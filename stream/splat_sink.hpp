@@ -1,7 +1,8 @@
-// The streaming splat sink (dissertation section 3.6): oriented points are rasterised as their
-// batches arrive, into the renderer's per-pixel buffers (kernels/splat_rasterizer.hpp SplatFrame);
-// nothing is collected. Memory = the image buffers (one set per drawing thread) + one batch, for
-// any number of points.
+// The streaming splat sink (dissertation section 3.6): oriented points are rasterised (quad) or
+// turned into screen footprints and spooled to a file (EWA) as their batches arrive, into the
+// renderer's per-pixel buffers (kernels/splat_rasterizer.hpp SplatFrame); no point is collected.
+// Memory = the image buffers (one set per drawing thread) + one batch, for any number of points
+// (EWA: + 32 KiB per thread for the depth-ordered groups of the spool).
 //
 // The camera must be framed before the first point (the surface bounds of the stream's META or the
 // PLY comments, see cli/common.hpp surface_bounds). Kernels:
@@ -11,8 +12,9 @@
 //    arrive, the sink computes the screen footprints of their splats (conic, bounding box, depth
 //    plane, normal, base colour: kernels/splat_rasterizer.hpp EwaFootprint, 60 bytes) and appends
 //    them to a footprint spool per drawing thread (stream/footprint_spool.hpp: unlinked temporary
-//    files in $TMPDIR or /tmp), noting each batch's mean depth. finish() replays the spools twice:
-//    pass 1 batch by batch, nearest batches first, skipping the splats that lie behind everything
+//    files in $TMPDIR or /tmp), noting the mean depth of each group of consecutive batches (4,096
+//    footprints or more; at most 1,024 groups per thread, coarser for larger spools). finish() replays the spools twice: pass 1 group by group, nearest groups first (each
+//    thread takes the nearest group left), skipping the splats that lie behind everything
 //    already drawn under them (EwaCull: about half of the splats of a CT isosurface, whose blocks
 //    arrive in Morton order, often back to front); then pass 2 in batches of kMaxBatchRecords,
 //    skipping the splats hidden everywhere behind the final visible depth (SplatFrame::depth_tiles).
@@ -26,7 +28,7 @@
 // Threads: stage() returns a Stage that draws (or spools) each batch inside the runner's parallel
 // section into a per-thread partial buffer (the batch passes through unchanged); partial buffers
 // are merged by min (keys) and integer sum (EWA accumulators) in finish(). Without stage(),
-// consume() draws (serial). finish() replays the EWA spools with `threads` threads (its own task
+// consume() draws or spools (serial). finish() replays the EWA spools with `threads` threads (its own task
 // arena), one key buffer per thread in pass 1.
 // Colours (ShadingParams::color_by, kernels/splat_rasterizer.hpp): block colours read each batch's
 // Batch::point_block (the footprints keep the base colour for pass 2; a replay spool its block ids); a non-empty batch without them is a
@@ -63,7 +65,9 @@ public:
 
     const Image& image() const { return image_; }
     const SplatFrame& frame() const { return frame_; }
-    /// Splats drawn and fragments tested, summed over threads and passes; seconds = time in finish().
+    /// Splats drawn and fragments tested, summed over threads and passes (EWA pass 1 from the
+    /// spools: culled splats are not counted, so these depend on the thread count; the image does
+    /// not); seconds = time in finish().
     SplatStats stats() const { return stats_; }
     std::uint64_t points() const { return points_; }
     /// Bytes held by the sink's buffers now (keys, accumulators, image, spool staging), for tests.
@@ -73,12 +77,16 @@ private:
     struct Canvas;
     struct Canvases;
     class DrawStage;
-    /// Footprints [first, first + count) of one spool, from one batch; depth: their mean depth.
+    /// Footprints [first, first + count) of one spool, from consecutive batches; depth_sum: the
+    /// sum of their depths.
     struct SpoolGroup {
         const FootprintSpool* spool;
         std::uint64_t first, count;
-        double depth;
+        double depth_sum;
+        double mean_depth() const { return depth_sum / static_cast<double>(count); }
     };
+    static constexpr std::uint64_t kMinGroup = 4096;  ///< a group takes batches until it holds this many
+    static constexpr std::size_t kMaxGroups = 1024;   ///< per thread; then neighbours merge, kMinGroup x 2
     /// fn(i) for i in [0, n): serially with one thread, else in parallel in an arena of threads_.
     template <class Fn>
     void run_parts(std::size_t n, Fn&& fn) const;
