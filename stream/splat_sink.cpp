@@ -26,7 +26,7 @@ struct SplatSink::Canvas {
     std::vector<EwaFootprint> footprints;   // EWA: the footprints of the batch spooled or replayed
     std::unique_ptr<FootprintSpool> spool;  // EWA without `replay`: this thread's footprints
     std::vector<SpoolGroup> groups;         // ... consecutive batches of it, in spool order
-    std::uint64_t min_group = kMinGroup;    // ... each of at least this many footprints
+    std::uint64_t min_group = 0;            // ... each of at least this many footprints
     EwaCull cull;                           // EWA pass 1 from the spools: this key buffer's culling
     SplatStats stats;
 };
@@ -34,11 +34,14 @@ struct SplatSink::Canvas {
 struct SplatSink::Canvases {
     oneapi::tbb::enumerable_thread_specific<Canvas> per_thread;
     bool spool_footprints = false;
+    std::uint64_t min_group = 4096;  // see SplatSink::set_spool_groups
+    std::size_t max_groups = 1024;
     Canvas& local(const SplatFrame& f) {
         Canvas& c = per_thread.local();
         if (spool_footprints && !c.spool) {
             c.spool = std::make_unique<FootprintSpool>("splat-spool");
-            c.groups.reserve(kMaxGroups);
+            c.groups.reserve(max_groups);
+            c.min_group = min_group;
         }
         if (!spool_footprints && c.keys.empty()) c.keys.assign(f.npix(), SplatFrame::kEmptyKey);
         return c;
@@ -57,19 +60,19 @@ struct SplatSink::Canvases {
         double depth = 0;
         for (const EwaFootprint& fp : c.footprints) depth += fp.depth;
         // consecutive batches of this thread's spool join the last group until it holds min_group;
-        // at kMaxGroups, neighbours merge pairwise and min_group doubles: bounded for any count
+        // at max_groups, neighbours merge pairwise and min_group doubles: bounded for any count
         if (!c.groups.empty() && c.groups.back().count < c.min_group) {
             c.groups.back().count += c.footprints.size();
             c.groups.back().depth_sum += depth;
         } else {
-            if (c.groups.size() == kMaxGroups) {
-                for (std::size_t i = 0; i < kMaxGroups / 2; ++i) {
+            if (c.groups.size() == max_groups) {
+                for (std::size_t i = 0; i < max_groups / 2; ++i) {
                     SpoolGroup g = c.groups[2 * i];
                     g.count += c.groups[2 * i + 1].count;
                     g.depth_sum += c.groups[2 * i + 1].depth_sum;
                     c.groups[i] = g;
                 }
-                c.groups.resize(kMaxGroups / 2);
+                c.groups.resize(max_groups / 2);
                 c.min_group *= 2;
             }
             c.groups.push_back({c.spool.get(), c.spool->size(), c.footprints.size(), depth});
@@ -111,6 +114,17 @@ SplatSink::SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams&
 }
 
 SplatSink::~SplatSink() = default;
+
+void SplatSink::set_spool_groups(std::uint64_t min_group, std::size_t max_groups) {
+    if (min_group < 1 || max_groups < 2 || max_groups % 2 != 0 || points_ != 0)
+        throw std::logic_error("SplatSink::set_spool_groups: min_group >= 1, max_groups even and >= 2, before any point");
+    canvases_->min_group = min_group;
+    canvases_->max_groups = max_groups;
+    for (Canvas& c : canvases_->per_thread) {
+        c.min_group = min_group;
+        c.groups.reserve(max_groups);
+    }
+}
 
 const Stage& SplatSink::stage() {
     if (!stage_) stage_ = std::make_unique<DrawStage>(*this);

@@ -54,6 +54,12 @@ public:
               int threads = 1, const PointSpool* replay = nullptr);
     ~SplatSink() override;
 
+    /// EWA spool groups (tuning, tests): a group takes consecutive batches until it holds min_group
+    /// footprints (default 4096); when a thread has max_groups (default 1024) groups, neighbours
+    /// merge pairwise and its min_group doubles. Call before the first point (std::logic_error
+    /// otherwise, or when min_group < 1 or max_groups is odd or < 2). The image does not change.
+    void set_spool_groups(std::uint64_t min_group, std::size_t max_groups);
+
     /// The parallel drawing stage; put it last in the runner's stage list. Once called, consume()
     /// no longer draws (only counts and spools).
     const Stage& stage();
@@ -85,8 +91,6 @@ private:
         double depth_sum;
         double mean_depth() const { return depth_sum / static_cast<double>(count); }
     };
-    static constexpr std::uint64_t kMinGroup = 4096;  ///< a group takes batches until it holds this many
-    static constexpr std::size_t kMaxGroups = 1024;   ///< per thread; then neighbours merge, kMinGroup x 2
     /// fn(i) for i in [0, n): serially with one thread, else in parallel in an arena of threads_.
     template <class Fn>
     void run_parts(std::size_t n, Fn&& fn) const;

@@ -172,7 +172,8 @@ TEST_CASE("splat sink: EWA pass 1 skips the splats behind nearer ones, whatever 
         for (int threads : {1, 2}) {
             INFO("reversed " << reversed << " threads " << threads);
             SplatSink sink(cam, SplatKernel::ewa, ShadingParams{}, box, threads);
-            VectorSource src(in, {4096});
+            VectorSource src(in, reversed ? std::vector<std::size_t>{97, 300, 4096} : std::vector<std::size_t>{4096});
+            if (reversed) sink.set_spool_groups(100, 4);  // batches of 97..4096: groups merge 2 by 2
             const std::vector<const Stage*> stages{&sink.stage()};
             run_pipeline(src, stages, sink, {threads});
             CHECK(sink.image().rgb == ref.rgb);
