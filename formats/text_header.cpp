@@ -142,10 +142,15 @@ std::string format_file_pattern(const std::string& fmt, std::int64_t i, const st
         bool zero = false;
         if (q < fmt.size() && fmt[q] == '0') zero = true, ++q;
         int width = 0;
-        while (q < fmt.size() && std::isdigit(static_cast<unsigned char>(fmt[q]))) width = width * 10 + (fmt[q++] - '0');
+        // widths above 32 are refused below; stop growing there (a long digit run must not overflow)
+        while (q < fmt.size() && std::isdigit(static_cast<unsigned char>(fmt[q]))) {
+            if (width <= 32) width = width * 10 + (fmt[q] - '0');
+            ++q;
+        }
         if (q >= fmt.size() || (fmt[q] != 'd' && fmt[q] != 'i' && fmt[q] != 'u') || width > 32)
             throw FormatError(path + ": bad data file pattern '" + ply_escape(fmt) + "': expected one %d conversion");
-        std::string num = std::to_string(i < 0 ? -i : i);
+        // the magnitude in unsigned arithmetic: -i overflows for the smallest int64
+        std::string num = std::to_string(i < 0 ? std::uint64_t{0} - static_cast<std::uint64_t>(i) : static_cast<std::uint64_t>(i));
         const std::size_t len = num.size() + (i < 0 ? 1 : 0);
         if (static_cast<std::size_t>(width) > len) num.insert(0, width - len, zero ? '0' : ' ');
         if (i < 0) num.insert(zero ? 0 : num.find_first_not_of(' '), 1, '-');

@@ -137,6 +137,9 @@ TEST_CASE("bad volumes: wrong magic, versions, encodings, types, garbage headers
         {"sizes.nrrd", "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4\nencoding: raw\n\n", "'sizes' has 2 entries"},
         {"nodata.nhdr", "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n", "neither a 'data file'"},
         {"pattern.nhdr", kNrrdHead + "data file: slice%s 1 4 1\n", "bad data file pattern"},
+        // a width of 20 digits: refused, not overflowed (a UBSan finding of fuzz_nrrd)
+        {"width.nhdr", kNrrdHead + "data file: slice%11111111111111111111d 1 4 1\n", "bad data file pattern"},
+        {"width0.nhdr", kNrrdHead + "data file: slice%011111111111111111111 1 4 1\n", "bad data file pattern"},
         {"comp.nrrd", "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 3 4 4\nencoding: raw\nspace directions: none (1,0,0) (0,1,0)\n\n",
          "non-spatial axis of size 3"},
         {"type.mhd", "NDims = 3\nDimSize = 4 4 4\nElementType = MET_QUATERNION\nElementDataFile = LOCAL\n", "unsupported ElementType"},
