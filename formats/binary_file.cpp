@@ -84,18 +84,21 @@ void read_file_range_into(const std::string& path, std::uint64_t offset, std::ui
 }
 
 std::vector<std::byte> read_file_range(const std::string& path, std::uint64_t offset, std::uint64_t count) {
+    const FileRangeReader r(path);
     // validate before allocating (a corrupt header can ask for absurd sizes)
-    const std::uint64_t size = regular_file_size(path);
-    if (offset > size || count > size - offset)
+    if (offset > r.size() || count > r.size() - offset)
         throw FormatError(path + ": truncated: need " + std::to_string(count) + " bytes at offset " +
-                          std::to_string(offset) + ", file has " + std::to_string(size));
+                          std::to_string(offset) + ", file has " + std::to_string(r.size()));
     std::vector<std::byte> out(static_cast<std::size_t>(count));
-    read_file_range_into(path, offset, count, out.data());
+    r.read_into(offset, count, out.data());
     return out;
 }
 
 std::vector<std::byte> read_file_bytes(const std::string& path) {
-    return read_file_range(path, 0, regular_file_size(path));
+    const FileRangeReader r(path);
+    std::vector<std::byte> out(static_cast<std::size_t>(r.size()));
+    r.read_into(0, r.size(), out.data());
+    return out;
 }
 
 std::string read_file_prefix(const std::string& path, std::size_t max_bytes) {

@@ -519,22 +519,15 @@ void SplatFrame::init_ewa() {
     for (int i = 0; i <= kTable; ++i) gauss_[i] = std::exp(-0.5f * c2 * static_cast<float>(i) / kTable);
 }
 
-void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb, SplatStats& st,
-                          std::span<const std::uint32_t> blocks, std::vector<EwaFootprint>* out) const {
+void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb, SplatStats& st) const {
     const Setup s = make_setup(view_, shading_);
-    const bool coloured = acc_words() == 7;
     std::int64_t drawn = 0, frags = 0;
     // Pass 1: visibility. Key = (depth bits << 32) | packed normal of the nearest fragment, so the
     // minimum is independent of the drawing order, ties included.
-    auto draw_one = [&](const Footprint& fp, std::size_t pi) {
+    for_each_footprint(s, points, [&](const Footprint& fp, std::size_t) {
         ++drawn;
         frags += draw_footprint(s, fp, kb);
-        if (out) {
-            out->push_back(fp);
-            if (coloured) out->back().base = splat_base_color(shading_, points[pi], blocks, pi);
-        }
-    };
-    for_each_footprint(s, points, draw_one);
+    });
     st.splats_drawn += drawn;
     st.fragments += frags;
 }

@@ -104,10 +104,9 @@ void SplatFrame::merge_acc(std::int64_t* dst, const std::int64_t* src, std::size
 }
 
 void SplatFrame::draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
-                      std::span<const std::uint32_t> blocks, std::vector<EwaFootprint>* footprints) const {
-    if (footprints) footprints->clear();
+                      std::span<const std::uint32_t> blocks) const {
     if (kernel_ == SplatKernel::quad) draw_quad(points, keys, stats, blocks);
-    else draw_ewa(points, keys, stats, blocks, footprints);
+    else draw_ewa(points, keys, stats);
 }
 
 void SplatFrame::resolve(const std::uint64_t* keys, const std::int64_t* acc, Image& img) const {

@@ -176,11 +176,10 @@ public:
     std::size_t acc_words() const { return shading_.color_by == ColorBy::none ? 4 : 7; }
 
     /// Quad: the only pass; ewa: pass 1 (visibility). Adds to stats.splats_drawn / fragments.
-    /// blocks: empty, or the block id of each point (ColorBy::block).
-    /// footprints (ewa, may be null): cleared, then receives the footprint of every splat drawn, in
-    /// order, for accumulate() on footprints (quad: left empty).
+    /// blocks: empty, or the block id of each point (ColorBy::block; quad only: EWA pass 1 draws no
+    /// colour).
     void draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
-              std::span<const std::uint32_t> blocks = {}, std::vector<EwaFootprint>* footprints = nullptr) const;
+              std::span<const std::uint32_t> blocks = {}) const;
     /// EWA only: the footprints of the splats that touch the image, in order, with their base colours
     /// (blocks as in draw()): out is cleared, then filled; nothing is drawn. draw() on them gives the
     /// keys draw() gives on the points.
@@ -213,8 +212,7 @@ private:
     void init_ewa();
     void draw_quad(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
                    std::span<const std::uint32_t> blocks) const;
-    void draw_ewa(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,
-                  std::span<const std::uint32_t> blocks, std::vector<EwaFootprint>* footprints) const;
+    void draw_ewa(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats) const;
     void resolve_quad(const std::uint64_t* keys, Image& img) const;
     void resolve_ewa(const std::int64_t* acc, Image& img) const;
 

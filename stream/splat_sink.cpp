@@ -29,6 +29,28 @@ struct SplatSink::Canvas {
     std::uint64_t min_group = 0;            // ... each of at least this many footprints
     EwaCull cull;                           // EWA pass 1 from the spools: this key buffer's culling
     SplatStats stats;
+
+    /// Notes count footprints appended to the spool at `first` with depths summing to depth_sum:
+    /// they join the last group until it holds min_group; a thread with max_groups groups merges
+    /// neighbours pairwise (consecutive in its spool) and doubles min_group, so memory is bounded.
+    void add_group(std::uint64_t first, std::uint64_t count, double depth_sum, std::size_t max_groups) {
+        if (!groups.empty() && groups.back().count < min_group) {
+            groups.back().count += count;
+            groups.back().depth_sum += depth_sum;
+            return;
+        }
+        if (groups.size() == max_groups) {
+            for (std::size_t i = 0; i < max_groups / 2; ++i) {
+                SpoolGroup g = groups[2 * i];
+                g.count += groups[2 * i + 1].count;
+                g.depth_sum += groups[2 * i + 1].depth_sum;
+                groups[i] = g;
+            }
+            groups.resize(max_groups / 2);
+            min_group *= 2;
+        }
+        groups.push_back({spool.get(), first, count, depth_sum});
+    }
 };
 
 struct SplatSink::Canvases {
@@ -59,24 +81,7 @@ struct SplatSink::Canvases {
         if (c.footprints.empty()) return;
         double depth = 0;
         for (const EwaFootprint& fp : c.footprints) depth += fp.depth;
-        // consecutive batches of this thread's spool join the last group until it holds min_group;
-        // at max_groups, neighbours merge pairwise and min_group doubles: bounded for any count
-        if (!c.groups.empty() && c.groups.back().count < c.min_group) {
-            c.groups.back().count += c.footprints.size();
-            c.groups.back().depth_sum += depth;
-        } else {
-            if (c.groups.size() == max_groups) {
-                for (std::size_t i = 0; i < max_groups / 2; ++i) {
-                    SpoolGroup g = c.groups[2 * i];
-                    g.count += c.groups[2 * i + 1].count;
-                    g.depth_sum += c.groups[2 * i + 1].depth_sum;
-                    c.groups[i] = g;
-                }
-                c.groups.resize(max_groups / 2);
-                c.min_group *= 2;
-            }
-            c.groups.push_back({c.spool.get(), c.spool->size(), c.footprints.size(), depth});
-        }
+        c.add_group(c.spool->size(), c.footprints.size(), depth, max_groups);
         c.spool->append(c.footprints);
     }
 };

@@ -13,23 +13,24 @@
 //    plane, normal, base colour: kernels/splat_rasterizer.hpp EwaFootprint, 60 bytes) and appends
 //    them to a footprint spool per drawing thread (stream/footprint_spool.hpp: unlinked temporary
 //    files in $TMPDIR or /tmp), noting the mean depth of each group of consecutive batches (4,096
-//    footprints or more; at most 1,024 groups per thread, coarser for larger spools). finish() replays the spools twice: pass 1 group by group, nearest groups first (each
-//    thread takes the nearest group left), skipping the splats that lie behind everything
-//    already drawn under them (EwaCull: about half of the splats of a CT isosurface, whose blocks
-//    arrive in Morton order, often back to front); then pass 2 in batches of kMaxBatchRecords,
-//    skipping the splats hidden everywhere behind the final visible depth (SplatFrame::depth_tiles).
-//    Neither skip changes a byte. A caller whose points are already in a spool (a turntable replays
-//    one spool per frame) passes it as `replay`: the sink then draws pass 1 as the batches arrive,
-//    spools nothing, and pass 2 recomputes the footprints from the replay spool. The accumulators
-//    are 64-bit fixed point, so the sum is exact in any order and any split.
+//    footprints or more; at most 1,024 groups per thread, coarser for larger spools). finish()
+//    replays the spools twice: pass 1 group by group, nearest groups first (each thread takes the
+//    nearest group left), skipping the splats that lie behind everything already drawn under them
+//    (EwaCull: about half of the splats of a CT isosurface, whose blocks arrive in Morton order,
+//    often back to front); then pass 2 in batches of kMaxBatchRecords, skipping the splats hidden
+//    everywhere behind the final visible depth (SplatFrame::depth_tiles). Neither skip changes a
+//    byte. A caller whose points are already in a spool (a turntable replays one spool per frame)
+//    passes it as `replay`: the sink then draws pass 1 as the batches arrive, spools nothing, and
+//    pass 2 recomputes the footprints from the replay spool. The accumulators are 64-bit fixed
+//    point, so the sum is exact in any order and any split.
 // The image is byte-identical to render_splats() on all the points at once, for any batch split
 // and any thread count (the tests check both kernels).
 //
 // Threads: stage() returns a Stage that draws (or spools) each batch inside the runner's parallel
 // section into a per-thread partial buffer (the batch passes through unchanged); partial buffers
 // are merged by min (keys) and integer sum (EWA accumulators) in finish(). Without stage(),
-// consume() draws or spools (serial). finish() replays the EWA spools with `threads` threads (its own task
-// arena), one key buffer per thread in pass 1.
+// consume() draws or spools (serial). finish() replays the EWA spools with `threads` threads (its
+// own task arena), one key buffer per thread in pass 1.
 // Colours (ShadingParams::color_by, kernels/splat_rasterizer.hpp): block colours read each batch's
 // Batch::point_block (the footprints keep the base colour for pass 2; a replay spool its block ids); a non-empty batch without them is a
 // FormatError when colouring by block.

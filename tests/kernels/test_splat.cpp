@@ -447,33 +447,34 @@ TEST_CASE("EWA pass 2 from spooled footprints and with hidden splats skipped: th
             std::vector<std::uint64_t> keys(n, SplatFrame::kEmptyKey);
             std::vector<EwaFootprint> fps, part;
             SplatStats st;
-            // drawn in two parts: the footprints of each part, concatenated
+            // drawn in two parts; the footprints of each part, concatenated
             const std::size_t cut = 5000;
-            f.draw(std::span(pts).first(cut), keys.data(), st, {}, &part);
-            fps = part;
-            f.draw(std::span(pts).subspan(cut), keys.data(), st, {}, &part);
+            f.draw(std::span(pts).first(cut), keys.data(), st);
+            f.footprints(std::span(pts).first(cut), fps);
+            f.draw(std::span(pts).subspan(cut), keys.data(), st);
+            f.footprints(std::span(pts).subspan(cut), part);
             fps.insert(fps.end(), part.begin(), part.end());
             REQUIRE(static_cast<std::int64_t>(fps.size()) == st.splats_drawn);
             {
-                // one point at a time (the scalar footprint) gives the bytes of the batched (SIMD) one
+                // one point at a time (the scalar footprint) gives the bytes of the batched (SIMD) one,
+                // and so do all points at once
                 std::vector<std::uint64_t> k1(n, SplatFrame::kEmptyKey);
-                std::vector<EwaFootprint> one, all;
+                std::vector<EwaFootprint> one, all, whole;
                 SplatStats s1;
                 for (std::size_t i = 0; i < pts.size(); ++i) {
-                    f.draw(std::span(pts).subspan(i, 1), k1.data(), s1, {}, &one);
+                    f.draw(std::span(pts).subspan(i, 1), k1.data(), s1);
+                    f.footprints(std::span(pts).subspan(i, 1), one);
                     all.insert(all.end(), one.begin(), one.end());
                 }
                 REQUIRE(all.size() == fps.size());
                 CHECK(std::memcmp(all.data(), fps.data(), fps.size() * sizeof(EwaFootprint)) == 0);
                 CHECK(k1 == keys);
+                f.footprints(pts, whole);
+                REQUIRE(whole.size() == fps.size());
+                CHECK(std::memcmp(whole.data(), fps.data(), fps.size() * sizeof(EwaFootprint)) == 0);
             }
             REQUIRE(st.splats_drawn > 10000);
             {
-                // footprints() gives the footprints draw() reported, base colours included
-                std::vector<EwaFootprint> only;
-                f.footprints(pts, only);
-                REQUIRE(only.size() == fps.size());
-                CHECK(std::memcmp(only.data(), fps.data(), fps.size() * sizeof(EwaFootprint)) == 0);
                 // pass 1 from the footprints, culled: the same keys nearest first, farthest first and
                 // in two key buffers merged; nearest first skips most splats (the inner ones)
                 std::vector<EwaFootprint> near = fps;
