@@ -10,6 +10,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define MESHLESS_EWA_AVX2 1
+#endif
 
 #include "kernels/shading.hpp"
 #include "kernels/splat_rasterizer.hpp"
@@ -29,6 +33,7 @@ struct Setup {
     float lowpass;  // pixel^2
     float depth_eps;
     int W, H;
+    bool avx2;  // the pixel loops' AVX2 variants (the same bits)
 };
 
 // 10 bits per component of a unit normal, enough to decide which way a fragment faces.
@@ -211,6 +216,54 @@ std::int64_t draw_row(const Setup& s, const Footprint& f, const DepthRange& d, f
     return frags;
 }
 
+#if MESHLESS_EWA_AVX2
+// draw_row with AVX2, eight pixels at a time: the same float operations in the same order as the
+// scalar loop (AVX without FMA: no contraction), so the same bits; the keys' unsigned minimum is
+// vectorised too (sign-flipped signed compares), the lanes past x1 masked off.
+__attribute__((target("avx2"))) std::int64_t draw_rows_avx2(const Setup& s, const Footprint& f, const DepthRange& d,
+                                                           std::uint64_t packed, std::uint64_t* kb) {
+    const __m256 sx = _mm256_set1_ps(f.sx), half = _mm256_set1_ps(0.5f), c2 = _mm256_set1_ps(s.c2);
+    const __m256 q00 = _mm256_set1_ps(f.q00), q01x2 = _mm256_set1_ps(2.0f * f.q01);
+    const __m256 depth = _mm256_set1_ps(f.depth), gx = _mm256_set1_ps(f.gx);
+    const __m256 zlo = _mm256_set1_ps(d.zlo), zhi = _mm256_set1_ps(d.zhi);
+    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i vpacked = _mm256_set1_epi64x(static_cast<long long>(packed));
+    const __m256i sign = _mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull));
+    const __m256i empty = _mm256_set1_epi64x(-1);
+    std::int64_t frags = 0;
+    for (int y = f.y0; y <= f.y1; ++y) {
+    const float dy = y + 0.5f - f.sy;
+    std::uint64_t* row = kb + static_cast<std::size_t>(y) * s.W;
+    const __m256 vdy = _mm256_set1_ps(dy), q11dydy = _mm256_set1_ps(f.q11 * dy * dy), gydy = _mm256_set1_ps(f.gy * dy);
+    for (int x = f.x0; x <= f.x1; x += 8) {
+        const int n = std::min(8, f.x1 - x + 1);
+        const __m256i lanes = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), iota);
+        const __m256 dx = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(x), iota)), half), sx);
+        const __m256 q = _mm256_add_ps(
+            _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, dx), dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, dx), vdy)), q11dydy);
+        const __m256 v = _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, dx)), gydy);
+        const __m256 z = _mm256_min_ps(zhi, _mm256_max_ps(zlo, v));
+        const __m256i inside = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(q, c2, _CMP_NGT_UQ)), lanes);
+        frags += std::popcount(static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(inside))));
+        const __m256i zb = _mm256_castps_si256(z);
+        for (int h = 0; h < 2 && 4 * h < n; ++h) {
+            const __m128i zh = h ? _mm256_extracti128_si256(zb, 1) : _mm256_castsi256_si128(zb);
+            const __m128i ih = h ? _mm256_extracti128_si256(inside, 1) : _mm256_castsi256_si128(inside);
+            const __m128i lh = h ? _mm256_extracti128_si256(lanes, 1) : _mm256_castsi256_si128(lanes);
+            const __m256i key = _mm256_or_si256(_mm256_slli_epi64(_mm256_cvtepu32_epi64(zh), 32), vpacked);
+            const __m256i cand = _mm256_blendv_epi8(empty, key, _mm256_cvtepi32_epi64(ih));
+            const __m256i mask = _mm256_cvtepi32_epi64(lh);
+            long long* p = reinterpret_cast<long long*>(row + x + 4 * h);
+            const __m256i old = _mm256_maskload_epi64(p, mask);
+            const __m256i older = _mm256_cmpgt_epi64(_mm256_xor_si256(old, sign), _mm256_xor_si256(cand, sign));
+            _mm256_maskstore_epi64(p, _mm256_and_si256(mask, older), cand);
+        }
+    }
+    }
+    return frags;
+}
+#endif
+
 // Pass 2 for one footprint: adds its fragments near the visible surface; returns fragments tested.
 // Adds one accepted fragment (weight from q, aligned normal, colour) to the pixel's accumulators.
 inline void add_fragment(const Footprint& f, const float* colour, float q, std::uint64_t key, const float* gauss,
@@ -229,12 +282,101 @@ inline void add_fragment(const Footprint& f, const float* colour, float q, std::
     }
 }
 
+#if MESHLESS_EWA_AVX2
+// accumulate_one with AVX2, eight pixels at a time, for the plain (uncoloured) accumulators: q, z,
+// the depth test, the Gaussian weight, the orientation test against the visible key and the
+// fixed-point conversions run on all lanes with the scalar loop's float operations in the same
+// order (no contraction; lrint = cvtps2dq in the default rounding mode, the weight's truncation =
+// cvttps2dq, every value below 2^21), so the same sums; each accepted pixel's four words are then
+// added as one 256-bit vector.
+__attribute__((target("avx2"))) std::int64_t accumulate_plain_avx2(const Setup& s, const Footprint& f, const DepthRange& d,
+                                                                  const float* gauss, float qscale,
+                                                                  const std::uint64_t* kb, std::int64_t* acc) {
+    const __m256 sx = _mm256_set1_ps(f.sx), half = _mm256_set1_ps(0.5f), c2 = _mm256_set1_ps(s.c2);
+    const __m256 q00 = _mm256_set1_ps(f.q00), q01x2 = _mm256_set1_ps(2.0f * f.q01);
+    const __m256 depth = _mm256_set1_ps(f.depth), gx = _mm256_set1_ps(f.gx), eps = _mm256_set1_ps(d.eps);
+    const __m256 zlo = _mm256_set1_ps(d.zlo), zhi = _mm256_set1_ps(d.zhi);
+    const __m256 n0 = _mm256_set1_ps(f.n[0]), n1 = _mm256_set1_ps(f.n[1]), n2 = _mm256_set1_ps(f.n[2]);
+    const __m256 vqscale = _mm256_set1_ps(qscale), fixed = _mm256_set1_ps(kFixed), c511 = _mm256_set1_ps(511.0f);
+    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), m1023 = _mm256_set1_epi32(1023);
+    const __m256i even = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+    const int W = s.W;
+    std::int64_t frags = 0;
+    for (int y = f.y0; y <= f.y1; ++y) {
+        const float dy = y + 0.5f - f.sy;
+        const std::size_t rowi = static_cast<std::size_t>(y) * W;
+        const __m256 vdy = _mm256_set1_ps(dy), q11dydy = _mm256_set1_ps(f.q11 * dy * dy), gydy = _mm256_set1_ps(f.gy * dy);
+        for (int x = f.x0; x <= f.x1; x += 8) {
+            const int n = std::min(8, f.x1 - x + 1);
+            const __m256i lanes = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), iota);
+            const __m256 dx = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(x), iota)), half), sx);
+            const __m256 q = _mm256_add_ps(
+                _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, dx), dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, dx), vdy)), q11dydy);
+            const __m256i inside = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(q, c2, _CMP_NGT_UQ)), lanes);
+            const int in_bits = _mm256_movemask_ps(_mm256_castsi256_ps(inside));
+            if (!in_bits) continue;
+            frags += std::popcount(static_cast<unsigned>(in_bits));
+            const __m256 z = _mm256_min_ps(zhi, _mm256_max_ps(zlo, _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, dx)), gydy)));
+            // the eight visible keys: high words = depth bits, low words = packed normal
+            const long long* kp = reinterpret_cast<const long long*>(kb + rowi + x);
+            const __m256i k0 = _mm256_maskload_epi64(kp, _mm256_cvtepi32_epi64(_mm256_castsi256_si128(inside)));
+            const __m256i k1 = _mm256_maskload_epi64(kp + 4, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(inside, 1)));
+            // de-interleave: lo = low words of keys 0..7, hi = high words, in lane order
+            const __m256i p0 = _mm256_permutevar8x32_epi32(k0, even), p1 = _mm256_permutevar8x32_epi32(k1, even);
+            const __m256i lo = _mm256_permute2x128_si256(p0, p1, 0x20), hi = _mm256_permute2x128_si256(p0, p1, 0x31);
+            const __m256 limit = _mm256_add_ps(_mm256_castsi256_ps(hi), eps);
+            const int accept = in_bits & _mm256_movemask_ps(_mm256_cmp_ps(z, limit, _CMP_NGT_UQ));
+            if (!accept) continue;
+            // weight, orientation, fixed point (add_fragment on every lane)
+            const __m256i gi = _mm256_cvttps_epi32(_mm256_mul_ps(q, vqscale));
+            const __m256i take = _mm256_castps_si256(_mm256_cmp_ps(z, limit, _CMP_NGT_UQ));
+            const __m256 g = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), gauss, gi,
+                                                      _mm256_castsi256_ps(_mm256_and_si256(take, inside)), 4);
+            const __m256 wgt = _mm256_mul_ps(g, fixed);
+            const __m256 a = _mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(lo, 20), m1023)), c511);
+            const __m256 b = _mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(lo, 10), m1023)), c511);
+            const __m256 c = _mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_and_si256(lo, m1023)), c511);
+            const __m256 dot = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(a, n0), _mm256_mul_ps(b, n1)), _mm256_mul_ps(c, n2));
+            const __m256 agrees = _mm256_cmp_ps(dot, _mm256_setzero_ps(), _CMP_GE_OQ);
+            const __m256 wn = _mm256_blendv_ps(_mm256_xor_ps(wgt, _mm256_set1_ps(-0.0f)), wgt, agrees);
+            const __m256i w0 = _mm256_cvttps_epi32(wgt);
+            const __m256i w1 = _mm256_cvtps_epi32(_mm256_mul_ps(wn, n0));
+            const __m256i w2 = _mm256_cvtps_epi32(_mm256_mul_ps(wn, n1));
+            const __m256i w3 = _mm256_cvtps_epi32(_mm256_mul_ps(wn, n2));
+            // transpose to one (w0, w1, w2, w3) quadruple per lane
+            const __m256i t0 = _mm256_unpacklo_epi32(w0, w1), t1 = _mm256_unpackhi_epi32(w0, w1);
+            const __m256i t2 = _mm256_unpacklo_epi32(w2, w3), t3 = _mm256_unpackhi_epi32(w2, w3);
+            alignas(32) __m128i per[8];
+            const __m256i r0 = _mm256_unpacklo_epi64(t0, t2), r1 = _mm256_unpackhi_epi64(t0, t2);
+            const __m256i r2 = _mm256_unpacklo_epi64(t1, t3), r3 = _mm256_unpackhi_epi64(t1, t3);
+            per[0] = _mm256_castsi256_si128(r0);
+            per[1] = _mm256_castsi256_si128(r1);
+            per[2] = _mm256_castsi256_si128(r2);
+            per[3] = _mm256_castsi256_si128(r3);
+            per[4] = _mm256_extracti128_si256(r0, 1);
+            per[5] = _mm256_extracti128_si256(r1, 1);
+            per[6] = _mm256_extracti128_si256(r2, 1);
+            per[7] = _mm256_extracti128_si256(r3, 1);
+            for (int bits = accept; bits; bits &= bits - 1) {
+                const int i = std::countr_zero(static_cast<unsigned>(bits));
+                __m256i* ap = reinterpret_cast<__m256i*>(acc + 4 * (rowi + x + i));
+                _mm256_storeu_si256(ap, _mm256_add_epi64(_mm256_loadu_si256(ap), _mm256_cvtepi32_epi64(per[i])));
+            }
+        }
+    }
+    return frags;
+}
+#endif
+
 // Pass 2 for one footprint: adds its fragments near the visible surface; returns fragments tested.
 // With SSE2, q, z and the depth test run four pixels at a time with the float operations of the
 // scalar loop in the same order (the same bits); accepted fragments are added one by one.
 std::int64_t accumulate_one(const Setup& s, const Footprint& f, const DepthRange& d, const float* gauss, float qscale,
                             const std::uint64_t* kb, std::int64_t* acc, std::size_t words) {
     const bool coloured = words == 7;
+#if MESHLESS_EWA_AVX2
+    if (s.avx2 && !coloured) return accumulate_plain_avx2(s, f, d, gauss, qscale, kb, acc);
+#endif
     float colour[3] = {0, 0, 0};
     if (coloured) {
         colour[0] = static_cast<float>(f.base >> 16) / 255.0f;
@@ -434,12 +576,168 @@ void footprint4(const Setup& s, const PointRecord* rec, Footprint* f, bool* ok) 
 }
 #endif
 
+#if MESHLESS_EWA_AVX2
+// footprint4 with AVX2, eight points at once: the same float operations in the same order (no
+// contraction), compares of the same predicates (ordered, as the SSE2 ones; cmpneq unordered), so
+// every lane gives footprint()'s bits.
+__attribute__((target("avx2"))) inline __m256 sel8(__m256 m, __m256 a, __m256 b) { return _mm256_or_ps(_mm256_and_ps(m, a), _mm256_andnot_ps(m, b)); }
+__attribute__((target("avx2"))) inline __m256 finite8(__m256 x) { return _mm256_cmp_ps(_mm256_sub_ps(x, x), _mm256_setzero_ps(), _CMP_EQ_OQ); }
+__attribute__((target("avx2"))) inline __m256 fabs8(__m256 x) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), x); }
+__attribute__((target("avx2"))) inline __m256 gt8(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+__attribute__((target("avx2"))) inline __m256 le8(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+// ((r0 a + r1 b) + r2 c), as footprint4's rotation
+__attribute__((target("avx2"))) inline __m256 rot8(const float* r, __m256 a, __m256 b, __m256 c) {
+    return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(r[0]), a), _mm256_mul_ps(_mm256_set1_ps(r[1]), b)),
+                         _mm256_mul_ps(_mm256_set1_ps(r[2]), c));
+}
+__attribute__((target("avx2"))) inline __m256 neq8(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_NEQ_UQ); }
+
+__attribute__((target("avx2"))) void footprint8_avx2(const Setup& s, const PointRecord* rec, Footprint* f, bool* ok) {
+    const detail::FloatView& fv = s.fv;
+    alignas(32) float in[8][8];
+    for (int i = 0; i < 8; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            in[j][i] = rec[i].pos[j];
+            in[3 + j][i] = rec[i].normal[j];
+        }
+        in[6][i] = rec[i].radius;
+    }
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    const __m256 px = _mm256_load_ps(in[0]), py = _mm256_load_ps(in[1]), pz = _mm256_load_ps(in[2]);
+    __m256 good = _mm256_and_ps(_mm256_and_ps(finite8(px), finite8(py)), finite8(pz));
+    // pc = rotate(p - centre): ((r0 d0 + r1 d1) + r2 d2)
+    const __m256 d0 = _mm256_sub_ps(px, _mm256_set1_ps(fv.c[0])), d1 = _mm256_sub_ps(py, _mm256_set1_ps(fv.c[1])),
+                 d2 = _mm256_sub_ps(pz, _mm256_set1_ps(fv.c[2]));
+    const __m256 pc0 = rot8(fv.r[0], d0, d1, d2), pc1 = rot8(fv.r[1], d0, d1, d2), pc2 = rot8(fv.r[2], d0, d1, d2);
+    const __m256 D = _mm256_sub_ps(_mm256_set1_ps(fv.distance), pc2);
+    good = _mm256_and_ps(good, gt8(D, _mm256_set1_ps(fv.near_depth)));
+    const __m256 focal = _mm256_set1_ps(fv.focal);
+    const __m256 k = fv.perspective ? _mm256_div_ps(focal, D) : focal;
+    const __m256 sx = _mm256_add_ps(_mm256_set1_ps(fv.cx), _mm256_mul_ps(k, pc0));
+    const __m256 sy = _mm256_sub_ps(_mm256_set1_ps(fv.cy), _mm256_mul_ps(k, pc1));
+    const __m256 rad = _mm256_load_ps(in[6]);
+    const __m256 r = _mm256_and_ps(finite8(rad), _mm256_max_ps(zero, rad));  // std::max(radius, 0) = 0 > radius ? 0 : radius
+
+    // oriented_normal(two_sided = false)
+    __m256 v0 = zero, v1 = zero, v2 = one;
+    if (fv.perspective) {
+        const __m256 inv = _mm256_div_ps(one, _mm256_sqrt_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(pc0, pc0), _mm256_mul_ps(pc1, pc1)), _mm256_mul_ps(D, D))));
+        const __m256 neg = _mm256_set1_ps(-0.0f);
+        v0 = _mm256_mul_ps(_mm256_xor_ps(pc0, neg), inv);
+        v1 = _mm256_mul_ps(_mm256_xor_ps(pc1, neg), inv);
+        v2 = _mm256_mul_ps(D, inv);
+    }
+    const __m256 nr0 = _mm256_load_ps(in[3]), nr1 = _mm256_load_ps(in[4]), nr2 = _mm256_load_ps(in[5]);
+    __m256 n0 = rot8(fv.r[0], nr0, nr1, nr2), n1 = rot8(fv.r[1], nr0, nr1, nr2), n2 = rot8(fv.r[2], nr0, nr1, nr2);
+    const __m256 len2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(n0, n0), _mm256_mul_ps(n1, n1)), _mm256_mul_ps(n2, n2));
+    const __m256 usable = _mm256_and_ps(gt8(len2, _mm256_set1_ps(1e-20f)), finite8(len2));
+    const __m256 ninv = _mm256_div_ps(one, _mm256_sqrt_ps(len2));
+    n0 = sel8(usable, _mm256_mul_ps(n0, ninv), v0);
+    n1 = sel8(usable, _mm256_mul_ps(n1, ninv), v1);
+    n2 = sel8(usable, _mm256_mul_ps(n2, ninv), v2);
+
+    // tangent axes
+    const __m256 ax = fabs8(n0), ay = fabs8(n1), az = fabs8(n2);
+    const __m256 m0 = _mm256_and_ps(le8(ax, ay), le8(ax, az));
+    const __m256 m1 = _mm256_andnot_ps(m0, le8(ay, az));
+    const __m256 m2 = _mm256_andnot_ps(_mm256_or_ps(m0, m1), _mm256_castsi256_ps(_mm256_set1_epi32(-1)));
+    const __m256 a0 = _mm256_and_ps(m0, one), a1 = _mm256_and_ps(m1, one), a2 = _mm256_and_ps(m2, one);
+    __m256 u0 = _mm256_sub_ps(_mm256_mul_ps(n1, a2), _mm256_mul_ps(n2, a1));
+    __m256 u1 = _mm256_sub_ps(_mm256_mul_ps(n2, a0), _mm256_mul_ps(n0, a2));
+    __m256 u2 = _mm256_sub_ps(_mm256_mul_ps(n0, a1), _mm256_mul_ps(n1, a0));
+    const __m256 ul = _mm256_div_ps(r, _mm256_sqrt_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(u0, u0), _mm256_mul_ps(u1, u1)), _mm256_mul_ps(u2, u2))));
+    u0 = _mm256_mul_ps(u0, ul);
+    u1 = _mm256_mul_ps(u1, ul);
+    u2 = _mm256_mul_ps(u2, ul);
+    const __m256 w0 = _mm256_sub_ps(_mm256_mul_ps(n1, u2), _mm256_mul_ps(n2, u1));
+    const __m256 w1 = _mm256_sub_ps(_mm256_mul_ps(n2, u0), _mm256_mul_ps(n0, u2));
+    const __m256 w2 = _mm256_sub_ps(_mm256_mul_ps(n0, u1), _mm256_mul_ps(n1, u0));
+
+    // Jacobian
+    __m256 j00, j01, j10, j11;
+    const __m256 nk = _mm256_xor_ps(k, _mm256_set1_ps(-0.0f));
+    if (fv.perspective) {
+        const __m256 ex = _mm256_div_ps(pc0, D), ey = _mm256_div_ps(pc1, D);
+        j00 = _mm256_mul_ps(k, _mm256_add_ps(u0, _mm256_mul_ps(ex, u2)));
+        j01 = _mm256_mul_ps(k, _mm256_add_ps(w0, _mm256_mul_ps(ex, w2)));
+        j10 = _mm256_mul_ps(nk, _mm256_add_ps(u1, _mm256_mul_ps(ey, u2)));
+        j11 = _mm256_mul_ps(nk, _mm256_add_ps(w1, _mm256_mul_ps(ey, w2)));
+    } else {
+        j00 = _mm256_mul_ps(k, u0);
+        j01 = _mm256_mul_ps(k, w0);
+        j10 = _mm256_mul_ps(nk, u1);
+        j11 = _mm256_mul_ps(nk, w1);
+    }
+    const __m256 inv_c2 = _mm256_set1_ps(s.inv_c2), lowpass = _mm256_set1_ps(s.lowpass);
+    const __m256 v00 = _mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(j00, j00), _mm256_mul_ps(j01, j01)), inv_c2), lowpass);
+    const __m256 v01 = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(j00, j10), _mm256_mul_ps(j01, j11)), inv_c2);
+    const __m256 v11 = _mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(j10, j10), _mm256_mul_ps(j11, j11)), inv_c2), lowpass);
+    const __m256 det = _mm256_sub_ps(_mm256_mul_ps(v00, v11), _mm256_mul_ps(v01, v01));
+    good = _mm256_and_ps(good, _mm256_and_ps(gt8(det, zero), finite8(det)));
+    const __m256 q00 = _mm256_div_ps(v11, det), q01 = _mm256_div_ps(_mm256_xor_ps(v01, _mm256_set1_ps(-0.0f)), det),
+                 q11 = _mm256_div_ps(v00, det);
+
+    const __m256 detj = _mm256_sub_ps(_mm256_mul_ps(j00, j11), _mm256_mul_ps(j01, j10));
+    const __m256 plane = _mm256_and_ps(
+        gt8(fabs8(detj), _mm256_mul_ps(_mm256_set1_ps(1e-6f), _mm256_add_ps(fabs8(_mm256_mul_ps(j00, j11)), fabs8(_mm256_mul_ps(j01, j10))))),
+        neq8(detj, zero));
+    const __m256 neg = _mm256_set1_ps(-0.0f);
+    const __m256 gx = _mm256_and_ps(plane, _mm256_div_ps(_mm256_xor_ps(_mm256_sub_ps(_mm256_mul_ps(u2, j11), _mm256_mul_ps(w2, j10)), neg), detj));
+    const __m256 gy = _mm256_and_ps(plane, _mm256_div_ps(_mm256_xor_ps(_mm256_sub_ps(_mm256_mul_ps(w2, j00), _mm256_mul_ps(u2, j01)), neg), detj));
+    const __m256 c = _mm256_set1_ps(std::sqrt(s.c2));
+    const __m256 exv = _mm256_mul_ps(c, _mm256_sqrt_ps(v00)), eyv = _mm256_mul_ps(c, _mm256_sqrt_ps(v11));
+
+    alignas(32) float o[18][8];
+    const __m256 outs[18] = {sx, sy, q00, q01, q11, D, gx, gy, r, n0, n1, n2, exv, eyv, good, zero, zero, zero};
+    for (int j = 0; j < 15; ++j) _mm256_store_ps(o[j], outs[j]);
+    for (int i = 0; i < 8; ++i) {
+        ok[i] = false;
+        if (std::bit_cast<std::uint32_t>(o[14][i]) == 0) continue;
+        Footprint& g = f[i];
+        g.sx = o[0][i];
+        g.sy = o[1][i];
+        g.q00 = o[2][i];
+        g.q01 = o[3][i];
+        g.q11 = o[4][i];
+        g.depth = o[5][i];
+        g.gx = o[6][i];
+        g.gy = o[7][i];
+        g.radius = o[8][i];
+        g.n[0] = o[9][i];
+        g.n[1] = o[10][i];
+        g.n[2] = o[11][i];
+        const float ex = o[12][i], ey = o[13][i];
+        const float fx0 = std::ceil(g.sx - ex - 0.5f), fx1 = std::floor(g.sx + ex - 0.5f);
+        const float fy0 = std::ceil(g.sy - ey - 0.5f), fy1 = std::floor(g.sy + ey - 0.5f);
+        if (!(fx1 >= 0 && fy1 >= 0 && fx0 <= s.W - 1 && fy0 <= s.H - 1 && fx0 <= fx1 && fy0 <= fy1)) continue;
+        g.x0 = static_cast<std::uint16_t>(std::max(fx0, 0.0f));
+        g.x1 = static_cast<std::uint16_t>(std::min(fx1, float(s.W - 1)));
+        g.y0 = static_cast<std::uint16_t>(std::max(fy0, 0.0f));
+        g.y1 = static_cast<std::uint16_t>(std::min(fy1, float(s.H - 1)));
+        g.base = 0;
+        ok[i] = true;
+    }
+}
+#endif
+
 float ewa_c2(const ShadingParams& sh) {
     const float cutoff = static_cast<float>(std::max(sh.ewa_cutoff, 1e-3));
     return cutoff * cutoff;
 }
 
-Setup make_setup(const ViewTransform& view, const ShadingParams& sh) {
+bool cpu_has_avx2() {
+#if MESHLESS_EWA_AVX2
+    static const bool has = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") != 0;
+    }();
+    return has;
+#else
+    return false;
+#endif
+}
+
+Setup make_setup(const ViewTransform& view, const ShadingParams& sh, bool avx2) {
     const float c2 = ewa_c2(sh);
     return Setup{detail::FloatView(view),
                  1.0f / c2,
@@ -447,7 +745,8 @@ Setup make_setup(const ViewTransform& view, const ShadingParams& sh) {
                  static_cast<float>(std::max(sh.ewa_lowpass_px2, 0.0)),
                  static_cast<float>(std::max(sh.depth_epsilon, 0.0)),
                  view.width,
-                 view.height};
+                 view.height,
+                 avx2};
 }
 
 // Calls fn(footprint, index) for every point with a footprint, in order: four points at a time
@@ -455,6 +754,17 @@ Setup make_setup(const ViewTransform& view, const ShadingParams& sh) {
 template <class Fn>
 void for_each_footprint(const Setup& s, std::span<const PointRecord> points, Fn&& fn) {
     std::size_t pi = 0;
+#if MESHLESS_EWA_AVX2
+    if (s.avx2) {
+        Footprint f8[8];
+        bool ok8[8];
+        for (; pi + 8 <= points.size(); pi += 8) {
+            footprint8_avx2(s, points.data() + pi, f8, ok8);
+            for (int i = 0; i < 8; ++i)
+                if (ok8[i]) fn(f8[i], pi + static_cast<std::size_t>(i));
+        }
+    }
+#endif
 #if defined(__SSE2__)
     Footprint f4[4];
     bool ok[4];
@@ -474,6 +784,9 @@ std::int64_t draw_footprint(const Setup& s, const Footprint& fp, std::uint64_t* 
     const DepthRange d(s, fp);
     const std::uint64_t packed = pack_normal(fp.n);
     std::int64_t frags = 0;
+#if MESHLESS_EWA_AVX2
+    if (s.avx2) return draw_rows_avx2(s, fp, d, packed, kb);
+#endif
     for (int y = fp.y0; y <= fp.y1; ++y)
         frags += draw_row(s, fp, d, y + 0.5f - fp.sy, packed, kb + static_cast<std::size_t>(y) * s.W);
     return frags;
@@ -483,7 +796,7 @@ std::int64_t draw_footprint(const Setup& s, const Footprint& fp, std::uint64_t* 
 
 void SplatFrame::footprints(std::span<const PointRecord> points, std::vector<EwaFootprint>& out,
                             std::span<const std::uint32_t> blocks) const {
-    const Setup s = make_setup(view_, shading_);
+    const Setup s = make_setup(view_, shading_, ewa_avx2_);
     const bool coloured = acc_words() == 7;
     out.clear();
     for_each_footprint(s, points, [&](const Footprint& fp, std::size_t pi) {
@@ -493,7 +806,7 @@ void SplatFrame::footprints(std::span<const PointRecord> points, std::vector<Ewa
 }
 
 void SplatFrame::draw(std::span<const EwaFootprint> footprints, std::uint64_t* kb, SplatStats& st, EwaCull* cull) const {
-    const Setup s = make_setup(view_, shading_);
+    const Setup s = make_setup(view_, shading_, ewa_avx2_);
     const std::int64_t refresh = EwaCull::refresh_after(npix());
     std::int64_t drawn = 0, frags = 0;
     for (const Footprint& fp : footprints) {
@@ -514,13 +827,14 @@ void SplatFrame::draw(std::span<const EwaFootprint> footprints, std::uint64_t* k
 }
 
 void SplatFrame::init_ewa() {
+    ewa_avx2_ = cpu_has_avx2();
     const float c2 = ewa_c2(shading_);
     gauss_.resize(kTable + 1);
     for (int i = 0; i <= kTable; ++i) gauss_[i] = std::exp(-0.5f * c2 * static_cast<float>(i) / kTable);
 }
 
 void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb, SplatStats& st) const {
-    const Setup s = make_setup(view_, shading_);
+    const Setup s = make_setup(view_, shading_, ewa_avx2_);
     std::int64_t drawn = 0, frags = 0;
     // Pass 1: visibility. Key = (depth bits << 32) | packed normal of the nearest fragment, so the
     // minimum is independent of the drawing order, ties included.
@@ -530,6 +844,14 @@ void SplatFrame::draw_ewa(std::span<const PointRecord> points, std::uint64_t* kb
     });
     st.splats_drawn += drawn;
     st.fragments += frags;
+}
+
+const char* SplatFrame::ewa_isa() const {
+#if defined(__SSE2__)
+    return ewa_avx2_ ? "avx2" : "sse2";
+#else
+    return "scalar";
+#endif
 }
 
 VisibleDepthTiles SplatFrame::depth_tiles(const std::uint64_t* keys) const {
@@ -556,7 +878,7 @@ void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint
                             SplatStats& st, std::span<const std::uint32_t> blocks, const VisibleDepthTiles* tiles) const {
     const std::size_t words = acc_words();
     const bool coloured = words == 7;
-    const Setup s = make_setup(view_, shading_);
+    const Setup s = make_setup(view_, shading_, ewa_avx2_);
     const float qscale = kTable / s.c2;
     std::int64_t frags = 0;
     // Pass 2: accumulation of fragments near the visible surface.
@@ -573,7 +895,7 @@ void SplatFrame::accumulate(std::span<const PointRecord> points, const std::uint
 void SplatFrame::accumulate(std::span<const EwaFootprint> footprints, const std::uint64_t* kb, std::int64_t* acc,
                             SplatStats& st, const VisibleDepthTiles* tiles) const {
     const std::size_t words = acc_words();
-    const Setup s = make_setup(view_, shading_);
+    const Setup s = make_setup(view_, shading_, ewa_avx2_);
     const float qscale = kTable / s.c2;
     std::int64_t frags = 0;
     for (const Footprint& f : footprints) {

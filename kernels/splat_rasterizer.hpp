@@ -26,7 +26,8 @@
 //   merged by min (keys) and integer sum (EWA accumulators), and the result equals one pass over all
 //   points, byte for byte, whatever the split or the thread count (stream/splat_sink.hpp).
 // Speed (EWA, same bytes as the plain per-pixel loops): footprints four points at a time and rows four
-//   pixels at a time (SSE2, the scalar float operations in the same order); both passes may take
+//   pixels at a time (SSE2, the scalar float operations in the same order), eight at a time with AVX2
+//   where the CPU has it (chosen at run time, no FMA: the same bits; ewa_isa()); both passes may take
 //   footprints computed once (EwaFootprint, SplatFrame::footprints); pass 1 from footprints may
 //   skip splats behind everything drawn under them so far (EwaCull), pass 2 those hidden behind the
 //   visible depth of every tile they touch (VisibleDepthTiles).
@@ -201,6 +202,12 @@ public:
     /// As above on the footprints draw() gave (any order, any split): the same sums.
     void accumulate(std::span<const EwaFootprint> footprints, const std::uint64_t* keys, std::int64_t* acc,
                     SplatStats& stats, const VisibleDepthTiles* tiles = nullptr) const;
+    /// The instruction set of the EWA loops (footprints, both passes): "avx2" where the CPU has it
+    /// (x86-64, detected once per process), else "sse2" (or "scalar" off x86); every variant gives
+    /// the same bits, so the image does not depend on the machine.
+    const char* ewa_isa() const;
+    /// Tests: this frame's EWA loops take the baseline (SSE2) variants.
+    void use_baseline_isa() { ewa_avx2_ = false; }
     /// Shades the buffers into img (resized to width x height); acc is unused by the quad kernel.
     void resolve(const std::uint64_t* keys, const std::int64_t* acc, Image& img) const;
 
@@ -220,6 +227,7 @@ private:
     ShadingParams shading_;
     SplatKernel kernel_;
     std::vector<float> gauss_;  // ewa: Gaussian over q in [0, cutoff^2]
+    bool ewa_avx2_ = false;     // ewa: the AVX2 variants of the loops (see ewa_isa())
 };
 
 /// The base colour of point i (0xRRGGBB) under `shading`'s ColorBy (none: shading.base).

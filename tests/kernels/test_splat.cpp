@@ -11,6 +11,7 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "kernels/camera.hpp"
@@ -546,4 +547,91 @@ TEST_CASE("visible-depth tiles: the largest depth per tile, empty pixels never h
                 for (int x = tx * T; x < std::min(W, tx * T + T); ++x) want = std::max(want, float((x * 7) % 11 + 100 * y));
             CHECK(got == want);
         }
+}
+
+TEST_CASE("EWA: the AVX2 loops give the bits of the baseline SSE2 ones", "[splat]") {
+    // Splats of every size (sub-pixel to ~60 pixels wide, so rows of every length and every masked
+    // tail), random orientations, overlapping in depth, plus the records every early exit meets; an
+    // image of odd sides, so rows end at every lane.
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f), r01(0.0f, 1.0f);
+    std::vector<PointRecord> pts;
+    for (int i = 0; i < 6000; ++i) {
+        const float rad = 0.002f * std::pow(150.0f, r01(rng));  // 0.002 .. 0.3
+        pts.push_back(rec({0.9 * u(rng), 0.9 * u(rng), 0.9 * u(rng)}, {u(rng), u(rng), u(rng)}, rad));
+    }
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    for (int i = 0; i < 3; ++i) {
+        pts.push_back(rec({NAN, 0, 0}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({0.2, 0.1 * i, 0.85}, {0, 0, 0}, 0.05f));
+        pts.push_back(rec({-0.2, 0.1 * i, 0.85}, {nan, 0, 1}, 0.05f));
+        pts.push_back(rec({0.3, -0.1 * i, 0.85}, {0, 1, 1}, 0.0f));
+        pts.push_back(rec({0.3, -0.1 * i, 0.86}, {1, 0, 1}, -0.05f));
+        pts.push_back(rec({0.35, 0.1 * i, 0.86}, {1, 0, 1}, nan));
+        pts.push_back(rec({0.35, 0.1 * i, 0.87}, {1, 1, 0}, inf));
+        pts.push_back(rec({0, 0, 50}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({0.95, 0.95, 0.2}, {0, 0, 1}, 0.2f));  // cut by the image's corner
+    }
+    std::shuffle(pts.begin(), pts.end(), rng);
+    bool compared_avx2 = false;
+    for (ColorBy colour : {ColorBy::none, ColorBy::normal})
+        for (bool perspective : {true, false}) {
+            INFO("colour " << int(colour) << " perspective " << perspective);
+            ShadingParams sh = test_shading();
+            sh.color_by = colour;
+            Camera cam = front_camera(97, perspective);
+            cam.height = 61;
+            cam.azimuth_deg = 17;
+            const SplatFrame best(cam, SplatKernel::ewa, sh, kUnitBox);
+            SplatFrame base(cam, SplatKernel::ewa, sh, kUnitBox);
+            base.use_baseline_isa();
+            CHECK(std::string(base.ewa_isa()) != "avx2");
+            compared_avx2 = compared_avx2 || std::string(best.ewa_isa()) == "avx2";
+            const std::size_t n = best.npix(), words = best.acc_words();
+
+            std::vector<EwaFootprint> fa, fb;
+            best.footprints(pts, fa);
+            base.footprints(pts, fb);
+            REQUIRE(fa.size() == fb.size());
+            REQUIRE(fa.size() > 5000);
+            CHECK(std::memcmp(fa.data(), fb.data(), fa.size() * sizeof(EwaFootprint)) == 0);
+
+            // pass 1 from the points and from the footprints (culled, nearest first)
+            std::vector<std::uint64_t> ka(n, SplatFrame::kEmptyKey), kb(n, SplatFrame::kEmptyKey),
+                kc(n, SplatFrame::kEmptyKey);
+            SplatStats sa, sb, sc;
+            best.draw(pts, ka.data(), sa);
+            base.draw(pts, kb.data(), sb);
+            std::vector<EwaFootprint> near = fa;
+            std::stable_sort(near.begin(), near.end(), [](const EwaFootprint& a, const EwaFootprint& b) { return a.depth < b.depth; });
+            EwaCull cull;
+            best.draw(near, kc.data(), sc, &cull);
+            CHECK(ka == kb);
+            CHECK(kc == kb);
+            CHECK(sa.fragments == sb.fragments);
+            CHECK(plain_visibility(fb, base.width(), base.height(), float(sh.ewa_cutoff * sh.ewa_cutoff)) == kb);
+
+            // pass 2 from the points and from the footprints, with and without the tiles
+            const VisibleDepthTiles tiles = base.depth_tiles(kb.data());
+            std::vector<std::int64_t> aa(words * n, 0), ab(words * n, 0), ac(words * n, 0), ad(words * n, 0);
+            SplatStats ta, tb, tc, td;
+            best.accumulate(pts, kb.data(), aa.data(), ta);
+            base.accumulate(pts, kb.data(), ab.data(), tb);
+            best.accumulate(fa, kb.data(), ac.data(), tc, &tiles);
+            base.accumulate(fb, kb.data(), ad.data(), td, &tiles);
+            CHECK(aa == ab);
+            CHECK(ac == ab);
+            CHECK(ad == ab);
+            CHECK(ta.fragments == tb.fragments);
+            CHECK(tc.fragments == td.fragments);
+            std::int64_t blended = 0;  // pixels that blend more than one fragment (the sums are not trivial)
+            for (std::size_t i = 0; i < n; ++i) blended += ab[words * i] > (std::int64_t{1} << 20);
+            CHECK(blended > 500);
+
+            Image ia, ib;
+            best.resolve(ka.data(), aa.data(), ia);
+            base.resolve(kb.data(), ab.data(), ib);
+            CHECK(ia.rgb == ib.rgb);
+        }
+    if (!compared_avx2) WARN("this CPU has no AVX2: the baseline loops were compared with themselves");
 }
