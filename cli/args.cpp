@@ -165,6 +165,7 @@ struct Args::Impl {
     CLI::App app;
     CLI::Option* positional = nullptr;
     CLI::Option* last = nullptr;  // the option or flag declared last (repeatable())
+    std::vector<std::pair<const CLI::Option*, std::function<void(const std::string&)>>> checks;  // validate()
     std::string epilog;
 
     Impl(const std::string& command, std::string synopsis, std::string description)
@@ -236,6 +237,13 @@ Args& Args::repeatable() {
     return *this;
 }
 
+Args& Args::validate(std::function<void(const std::string&)> check) {
+    if (!impl_->last || is_flag(impl_->last))
+        throw std::logic_error("Args::validate() must follow an option() declaration");
+    impl_->checks.emplace_back(impl_->last, std::move(check));
+    return *this;
+}
+
 Args& Args::positionals(std::size_t /*min: the commands name what is missing*/, std::size_t max) {
     max_positional_ = max;
     return *this;
@@ -280,6 +288,8 @@ bool Args::parse(int argc, char** argv, int first) {
     positional_ = impl_->positional->results();
     if (positional_.size() > max_positional_)
         throw UsageError("unexpected argument '" + positional_[max_positional_] + "'" + see);
+    for (const auto& [o, check] : impl_->checks)
+        for (const auto& r : o->results()) check(r);
     return true;
 }
 

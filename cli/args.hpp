@@ -9,6 +9,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,6 +32,10 @@ public:
     /// Marks the option declared last as repeatable (read with get_all). Any other option given
     /// twice is a UsageError at parse(): a duplicated single-valued option is never silently the last.
     Args& repeatable();
+    /// Checks every value of the option declared last at parse() (after the unknown-option and
+    /// duplicate checks, whether or not the command reads it later): `check` throws UsageError on
+    /// a bad value, so a malformed value fails on every input, not only where it is used.
+    Args& validate(std::function<void(const std::string&)> check);
     /// Declares a boolean flag.
     Args& flag(const std::string& name, const std::string& help);
     /// Adds a paragraph (examples, exit codes) at the end of --help.

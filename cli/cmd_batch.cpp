@@ -415,7 +415,7 @@ int cmd_batch(int argc, char** argv) {
              "          meshless batch archive.txt -o /data/points --iso 500 --formats ply,stream --memory 1G\n"
              "exit status: 0 everything done or up to date, 2 some volume failed (see the table), 1 usage error.\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    if (a.positional().empty()) throw UsageError("batch: missing ARCHIVE_DIR or MANIFEST (see meshless batch --help)");
+    if (a.positional().empty()) throw UsageError("missing ARCHIVE_DIR or MANIFEST (see meshless batch --help)");
     const std::string input = a.positional()[0];
 
     Settings s;
@@ -457,7 +457,7 @@ int cmd_batch(int argc, char** argv) {
     const bool is_dir = fs::is_directory(input, ec);
     if (!is_dir && !fs::exists(input, ec)) throw IoError(input + ": no such archive folder or manifest");
     if (!is_dir && looks_like_volume(input))
-        throw UsageError("batch: " + input + " is a volume; give a folder of volumes or a manifest (one path per line)");
+        throw UsageError(input + " is a volume; give a folder of volumes or a manifest (one path per line)");
     fs::create_directories(s.out_dir, ec);
     if (!fs::is_directory(s.out_dir, ec)) throw IoError(s.out_dir + ": cannot create output folder");
     DirLock lock(s.out_dir);

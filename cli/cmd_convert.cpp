@@ -65,7 +65,7 @@ ConvertParams convert_params(const Args& a) {
 
 std::string output_path(const Args& a) {
     const std::string out = a.require("output");
-    if (out == "-") throw UsageError(a.command() + ": a brick store must be written to a file, not standard output");
+    if (out == "-") throw UsageError("-o -: a brick store must be written to a file, not standard output");
     require_output_extension(out, ".mlb", "-o", "a brick store");
     return out;
 }
@@ -101,9 +101,16 @@ int cmd_convert(int argc, char** argv) {
     add_volume_options(a);
     a.epilog("example: meshless convert ../shared/data/tooth/tooth_103x94x161_uint8.raw -o tooth.mlb --stats\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    if (a.positional().size() != 1) throw UsageError("convert: expected one VOLUME argument (see meshless convert --help)");
+    if (a.positional().size() != 1) throw UsageError("expected one VOLUME argument (see meshless convert --help)");
     const ConvertParams p = convert_params(a);
     const std::string out = output_path(a);
+    if (a.positional()[0] == "-") {  // standard input, spooled (cli/stdin_spool.hpp): streamed when it can be
+        VolumeInput in = open_volume_input(a, /*stream=*/true);
+        std::unique_ptr<SliceSource> src =
+            in.slices ? std::move(in.slices) : make_volume_source(std::move(*in.volume), "- (stdin)");
+        run_conversion(*src, out, p, a);
+        return 0;
+    }
     auto src = open_slice_source(a.positional()[0], raw_options(a));
     run_conversion(*src, out, p, a);
     return 0;
@@ -116,7 +123,7 @@ int cmd_verify(int argc, char** argv) {
            "brick by index and voxel range and exits with status 2.");
     add_quiet_option(a);
     if (!a.parse(argc, argv, 2)) return 0;
-    if (a.positional().empty()) throw UsageError("verify: missing brick store argument");
+    if (a.positional().empty()) throw UsageError("missing brick store argument (see meshless verify --help)");
     int rc = 0;
     for (const std::string& path : a.positional()) {
         ProgressMeter meter = ProgressMeter::of(a, "bricks", 1);
@@ -148,7 +155,7 @@ int cmd_synth(int argc, char** argv) {
     add_volume_options(a);
     a.epilog("example: meshless synth --upsample 2 ../shared/data/vtkjs_LIDC2/LIDC2.vti -o lung.mlb  (511x511x265)\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    if (a.positional().size() != 1) throw UsageError("synth: expected one VOLUME argument (see meshless synth --help)");
+    if (a.positional().size() != 1) throw UsageError("expected one VOLUME argument (see meshless synth --help)");
     const long long f = parse_int(a.require("upsample"), "--upsample");
     if (f < 1 || f > 64) throw UsageError("--upsample: expected an integer factor 1..64, got " + std::to_string(f));
     const std::string m = a.get_or("method", "trilinear");

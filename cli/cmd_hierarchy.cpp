@@ -232,7 +232,9 @@ int cmd_lod(int argc, char** argv) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + path};
     if (ext == ".vtp") {
-        VtpPointWriter w(out, comments);
+        VtpOptions vo;
+        vo.oriented = false;  // samples, not splats: no normal, no radius
+        VtpPointWriter w(out, comments, vo);
         std::vector<PointRecord> recs(ps.size());
         for (std::size_t i = 0; i < ps.size(); ++i) {
             PointRecord& q = recs[i];

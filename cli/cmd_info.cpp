@@ -350,6 +350,14 @@ bool is_collection(const std::string& path) {
     return e == ".vtm" || e == ".vthb";
 }
 
+// A .raw that --dims describes is a volume, whatever the point-set sniffing would say (as for the
+// volume commands, cli/scattered_isosurface.cpp is_point_input).
+bool raw_volume_given(const std::string& path, const Args& a) {
+    std::string e = std::filesystem::path(path).extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return e == ".raw" && a.has("dims");
+}
+
 void describe(const std::string& path, const Args& a) {
     unsigned char h[32] = {};
     std::size_t n = 0;
@@ -375,7 +383,7 @@ void describe(const std::string& path, const Args& a) {
         info_png(path, h, n);
     } else if (is_collection(path)) {
         info_multiblock(path, a);
-    } else if (looks_like_point_set(path)) {
+    } else if (!(raw_volume_given(path, a)) && looks_like_point_set(path)) {
         info_point_set(path, a);
     } else {
         info_volume(path, a);

@@ -87,7 +87,8 @@ RenderInput open_render_input(const Args& a) {
     const auto& pos = a.positional();
     const std::string& first = pos[0];
     const bool store = is_brick_store(first) || ends_with(first, ".mlb");
-    const bool volume = store || (pos.size() == 1 && !looks_like_multiblock(first) && looks_like_volume(first));
+    // "-": a volume on standard input (open_volume_input spools it)
+    const bool volume = store || (pos.size() == 1 && (first == "-" || (!looks_like_multiblock(first) && looks_like_volume(first))));
     // scattered points: mpu, multiblock grids: rbf-grid, as isosurface and fit build (cli/field_cli.hpp)
     const std::string data_default = data_field_default(pos);
     const std::string kind = a.get_or("field", volume ? "trilinear" : data_default);

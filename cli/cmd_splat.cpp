@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <optional>
 
@@ -147,6 +148,10 @@ int cmd_splat(int argc, char** argv) {
     const bool is_ply = input.size() > 4 && input.substr(input.size() - 4) == ".ply";
     // The graph: PLY file or point/sample stream -> [project] -> draw (parallel) -> splat sink.
     if (is_ply && ply_has_faces(input)) return splat_mesh(a, input, png, rs, cc, frames);
+    for (const char* other : {".vtp", ".csv", ".tsv", ".txt"})  // point files meshless writes, but not splat input
+        if (input.size() > std::strlen(other) && input.compare(input.size() - std::strlen(other), std::string::npos, other) == 0)
+            throw FormatError(input + ": splat draws .ply point sets and meshless point streams, not " + (other + 1) +
+                              " files (write the points as .ply: meshless isosurface ... -o points.ply)");
     std::unique_ptr<StreamReader> reader;
     std::optional<InputFile> in;
     std::optional<PointSpool> spool;  // see below; outlives the source that may replay it

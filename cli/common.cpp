@@ -138,7 +138,8 @@ SamplingParams sampling_params(const Args& a) {
 }
 
 void add_memory_option(Args& a) {
-    a.option("memory", "", "BYTES", "brick stores (.mlb): brick cache budget, e.g. 256M, 2G", "256M");
+    a.option("memory", "", "BYTES", "brick stores (.mlb): brick cache budget, e.g. 256M, 2G", "256M")
+        .validate([](const std::string& v) { (void)parse_memory_size(v); });
 }
 
 const GridSpec& VolumeInput::grid() const {
@@ -257,6 +258,26 @@ bool streamable(const std::string& path, const RawOptions& raw) {
 }
 }  // namespace
 
+namespace {
+// The slices of a spooled standard input, read as they are needed (long after open_volume_input):
+// their errors name "- (stdin)", not the spool's /proc/self/fd path.
+class StdinSliceSource final : public SliceSource {
+public:
+    StdinSliceSource(std::shared_ptr<const StdinSpool> spool, std::unique_ptr<SliceSource> src)
+        : spool_(std::move(spool)), src_(std::move(src)) {}
+    const GridSpec& grid() const override { return src_->grid(); }
+    SampleType type() const override { return src_->type(); }
+    void read_slices(std::int64_t k, std::int64_t count, std::byte* out) override {
+        spool_->readable_errors([&] { src_->read_slices(k, count, out); });
+    }
+    std::string name() const override { return "- (stdin)"; }
+
+private:
+    std::shared_ptr<const StdinSpool> spool_;
+    std::unique_ptr<SliceSource> src_;
+};
+}  // namespace
+
 VolumeInput open_volume_input(const Args& a, bool stream) {
     if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
     VolumeInput in;
@@ -267,9 +288,11 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
         in.threads = threads(a);
         in.spool->readable_errors([&] {
             if (stream && streamable(in.spool->path(), raw)) {
-                in.slices = open_slice_source(in.spool->path(), raw);
+                in.slices = std::make_unique<StdinSliceSource>(in.spool, open_slice_source(in.spool->path(), raw));
                 if (probe_volume(in.spool->path(), raw).encoding == "raw")
-                    in.reopen = [spool = in.spool, raw] { return open_slice_source(spool->path(), raw); };
+                    in.reopen = [spool = in.spool, raw]() -> std::unique_ptr<SliceSource> {
+                        return std::make_unique<StdinSliceSource>(spool, open_slice_source(spool->path(), raw));
+                    };
             } else {
                 check_volume_fits(a, "- (stdin)", probe_volume(in.spool->path(), raw), true);
                 in.volume = map_volume(in.spool->path(), raw);

@@ -14,6 +14,7 @@
 #include "formats/cluster_tree_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
+#include "kernels/errors.hpp"
 #include "kernels/make_field.hpp"
 #include "kernels/point_set_identity.hpp"
 #include "kernels/structured_block.hpp"
@@ -150,13 +151,25 @@ std::string data_field_default(const std::vector<std::string>& paths) {
 }
 
 PointSet read_field_points(const std::vector<std::string>& paths, const Args& a) {
+    for (const auto& p : paths)  // the point-set readers go by the file's extension (and some reread it)
+        if (p == "-")
+            throw UsageError("-: meshless " + a.command() + " reads point sets from files (their extension names the format), "
+                             "not from standard input");
     if (all_multiblock(paths)) return to_point_set(read_multiblock(paths, point_set_options(a)));
     for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so
         if (is_cluster_tree_file(p)) {
             const ClusterTreeLodRequest r = cluster_tree_lod_request(read_cluster_tree_file(p), point_set_options(a));
             if (r.clamped) std::fprintf(stderr, "meshless %s: warning: %s: %s\n", a.command().c_str(), p.c_str(), r.note.c_str());
         }
-    return read_point_set(paths, point_set_options(a));
+    PointSet ps = read_point_set(paths, point_set_options(a));
+    // every command that reads points this way fits, probes, renders or clusters their values
+    if (!ps.has_values) {
+        std::string names;
+        for (const auto& p : paths) names += (names.empty() ? "" : ", ") + p;
+        throw FormatError(names + ": the points carry no values (positions only); meshless " + a.command() +
+                          " needs a value at each point");
+    }
+    return ps;
 }
 
 PointSet read_points_arg(const Args& a) {

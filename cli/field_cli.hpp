@@ -54,6 +54,7 @@ std::string data_field_default(const std::vector<std::string>& paths);
 /// Reads data files as one point set: when every path is a multiblock/AMR input
 /// (looks_like_multiblock: .vts .vtm .vthb, PLOT3D) through read_multiblock and to_point_set (every
 /// valid node, the set the block commands build their field from), else through read_point_set.
+/// Throws FormatError for positions-only points (no value to fit, probe, render or cluster).
 PointSet read_field_points(const std::vector<std::string>& paths, const Args& a);
 /// read_field_points of the positional POINTS files.
 PointSet read_points_arg(const Args& a);

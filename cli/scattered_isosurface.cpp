@@ -149,8 +149,6 @@ ScatteredInput read_scattered(const Args& a, bool warn = true) {
     in.points = read_points_arg(a);
     in.read_seconds = since(t0);
     const std::string& name = a.positional()[0];
-    if (!in.points.has_values)
-        throw FormatError(name + ": the points carry no values (positions only); there is nothing to contour");
     if (warn && in.points.dropped_nonfinite > 0)
         std::fprintf(stderr, "meshless: warning: %s: %llu points with a NaN/Inf position or value dropped\n", name.c_str(),
                      static_cast<unsigned long long>(in.points.dropped_nonfinite));

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "formats/crc32.hpp"
+#include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -210,8 +211,17 @@ StreamReader::StreamReader(std::FILE* f, std::string name) : f_(f), name_(std::m
     unsigned char h[32];
     const std::size_t got = std::fread(h, 1, sizeof h, f_);
     if (got == 0) throw FormatError(name_ + ": empty input, expected a meshless point stream");
-    if (got < 8 || std::memcmp(h, kMagic, 8) != 0)
-        throw FormatError(name_ + ": not a meshless point stream (bad magic)");
+    if (got < 8 || std::memcmp(h, kMagic, 8) != 0) {
+        // name what it looks like instead: the usual mistake is a file meant for another command
+        const std::string_view head(reinterpret_cast<const char*>(h), got);
+        std::string hint;
+        if (head.substr(0, 4) == "ply\n" || head.substr(0, 5) == "ply\r\n")
+            hint = "; it is a PLY file: give its path (PLY point sets are read from files)";
+        else if (head.substr(0, 5) == "<?xml" || head.substr(0, 8) == "<VTKFile")
+            hint = "; it is an XML (VTK) file: give its path to a command that reads it";
+        throw FormatError(name_ + ": not a meshless point stream (starts \"" + escape_field(head.substr(0, 12), 12) + "\")" +
+                          hint);
+    }
     if (got < sizeof h) throw FormatError(name_ + ": truncated stream header");
     const std::uint32_t version = get_u32(h + 8);
     if (version != kStreamVersion)

@@ -398,14 +398,18 @@ void VtpPointWriter::append(std::span<const PointRecord> pts, std::span<const st
     s.resize(3 * n);
     for (std::size_t i = 0; i < n; ++i) std::memcpy(&s[3 * i], pts[i].pos, 12);
     d_->points.append(s.data(), 12 * n);
-    for (std::size_t i = 0; i < n; ++i) std::memcpy(&s[3 * i], pts[i].normal, 12);
-    d_->normals.append(s.data(), 12 * n);
-    for (std::size_t i = 0; i < n; ++i) s[i] = pts[i].radius;
-    d_->radius.append(s.data(), 4 * n);
+    const bool oriented = d_->o.oriented;
+    if (oriented) {
+        for (std::size_t i = 0; i < n; ++i) std::memcpy(&s[3 * i], pts[i].normal, 12);
+        d_->normals.append(s.data(), 12 * n);
+        for (std::size_t i = 0; i < n; ++i) s[i] = pts[i].radius;
+        d_->radius.append(s.data(), 4 * n);
+    }
     for (std::size_t i = 0; i < n; ++i) s[i] = pts[i].value;
     d_->value.append(s.data(), 4 * n);
     if (d_->block) d_->block->append(blocks.data(), 4 * n);
-    std::vector<ArraySpool*> arrays{&d_->points, &d_->normals, &d_->radius, &d_->value};
+    std::vector<ArraySpool*> arrays{&d_->points, &d_->value};
+    if (oriented) arrays.insert(arrays.begin() + 1, {&d_->normals, &d_->radius});
     if (d_->block) arrays.push_back(&*d_->block);
     drain(arrays, false, d_->pool);
     count_ += n;
@@ -424,12 +428,14 @@ void VtpPointWriter::commit() {
         append_sequence<std::int32_t>(conn, n, 0, 1, d.o.block_size, d.pool);
         append_sequence<std::int32_t>(offs, n, 1, 1, d.o.block_size, d.pool);
     }
-    std::vector<ArraySpool*> pd{&d.normals, &d.radius, &d.value};
+    std::vector<ArraySpool*> pd{&d.value};
+    if (d.o.oriented) pd.insert(pd.begin(), {&d.normals, &d.radius});
     if (d.block) pd.push_back(&*d.block);
     const std::string ns = std::to_string(n);
     assemble(d.out, d.comments, d.o,
              "NumberOfPoints=\"" + ns + "\" NumberOfVerts=\"" + ns + "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\"",
-             {{"<PointData Normals=\"Normals\" Scalars=\"value\">", "</PointData>", pd},
+             {{d.o.oriented ? "<PointData Normals=\"Normals\" Scalars=\"value\">" : "<PointData Scalars=\"value\">",
+               "</PointData>", pd},
               {"<Points>", "</Points>", {&d.points}},
               {"<Verts>", "</Verts>", {&conn, &offs}}},
              d.pool);

@@ -14,8 +14,9 @@
 // only, never on batching or threads.
 //   Points:  Points (Float32 x3); Verts (one vertex cell per point: connectivity 0..n-1, offsets
 //            1..n, Int32 below 2^31 points, else Int64); PointData Normals (Float32 x3, the
-//            Normals attribute), radius (Float32, splat radius, world units), value (Float32, the
-//            Scalars attribute) and, when the points carry block ids, block (UInt32).
+//            Normals attribute), radius (Float32, splat radius, world units), both left out when
+//            VtpOptions::oriented is false, value (Float32, the Scalars attribute) and, when the
+//            points carry block ids, block (UInt32).
 //   Meshes:  Points (Float32 x3); Polys (triangles: connectivity = Mesh::tri, offsets 3, 6, ...,
 //            in the mesh's winding: counter-clockwise seen from the normal side, VTK's convention);
 //            PointData Normals when the mesh has normals; CellData block (UInt32) when it has
@@ -56,6 +57,9 @@ struct VtpOptions {
     int zlib_level = 1;                     ///< 1 (fastest) .. 9 (level 6 was 2x slower, 0.6% smaller on points)
     std::size_t block_size = 1u << 18;      ///< raw bytes per compressed block (VTK reads any size)
     int threads = 0;                        ///< compressing threads (0: hardware_concurrency); bytes do not depend on it
+    /// Points only: true writes the Normals and radius arrays; false leaves them out (samples that
+    /// are not oriented splats, e.g. a cluster tree's level of detail: PointData value only).
+    bool oriented = true;
 };
 
 class VtpPointWriter {

@@ -76,8 +76,11 @@ public:
         window_ = std::max(1, window);
     }
     void close_channel() override {
-        // normal runs flush; after an error the job is aborted, so nothing is waited for here
+        // normal runs flush; after an error the job is aborted, so nothing is waited for here. A
+        // freed request's send may still be under way: its bytes must outlive it (freeing them made
+        // rank 0 read another allocation's bytes as a message header), so they are kept until exit.
         for (auto& m : q_) MPI_Request_free(&m.request);
+        for (auto& m : q_) abandoned_.push_back(std::move(m.bytes));
         q_.clear();
     }
 
@@ -196,6 +199,7 @@ private:
         MPI_Request request;
     };
     std::deque<Message> q_;
+    std::vector<std::vector<std::byte>> abandoned_;  // close_channel(): bytes of sends still in flight
     int window_ = 4;
     int rank_ = 0, size_ = 1;
 };

@@ -2,6 +2,9 @@
 // from ooc/: the library takes bytes).
 #include <catch2/catch.hpp>
 
+#include <memory>
+#include <stdexcept>
+
 #include "cli/args.hpp"
 #include "cli/errors.hpp"
 
@@ -182,4 +185,25 @@ TEST_CASE("Args: a long option description is wrapped under its column", "[cli]"
     a.option("long", "", "N", std::string(50, 'a') + " " + std::string(30, 'b') + "\n                   " + "c");
     CHECK_THAT(a.help_text(), Catch::Contains("  --long N                  " + std::string(50, 'a') + "\n" +
                                               std::string(28, ' ') + std::string(30, 'b') + " c\n"));
+}
+
+TEST_CASE("a validated option is checked at parse whether or not the command reads it", "[cli]") {
+    auto args = [] {
+        auto a = std::make_unique<Args>("mc", "VOLUME", "");
+        a->option("memory", "", "BYTES", "budget").validate([](const std::string& v) { (void)parse_memory_size(v); });
+        a->option("at", "", "X", "repeatable").repeatable().validate([](const std::string& v) {
+            if (v == "bad") throw UsageError("--at: bad");
+        });
+        return a;
+    };
+    CHECK(parse_tokens(*args(), {"mc", "v.raw", "--memory", "1G"}));
+    CHECK(parse_tokens(*args(), {"mc", "v.raw"}));  // absent: nothing to check
+    CHECK_THROWS_WITH(parse_tokens(*args(), {"mc", "v.raw", "--memory", "lots"}), Catch::Contains("'lots'"));
+    CHECK(parse_tokens(*args(), {"mc", "--at", "a", "--at", "b"}));
+    CHECK_THROWS_WITH(parse_tokens(*args(), {"mc", "--at", "a", "--at", "bad"}), Catch::Contains("--at: bad"));
+    // --help wins over a bad value
+    CHECK_FALSE(parse_tokens(*args(), {"mc", "--memory", "lots", "--help"}));
+    Args flagged("mc", "", "");
+    flagged.flag("stats", "");
+    CHECK_THROWS_AS(flagged.validate([](const std::string&) {}), std::logic_error);
 }

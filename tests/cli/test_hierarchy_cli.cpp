@@ -64,6 +64,13 @@ TEST_CASE("meshless hierarchy: the same .mlh for 1 and 2 threads, lod and info r
     }
     CHECK(rows == ids.size());
     for (const char* ext : {"ply", "vtp"}) CHECK(sh("MESHLESS lod " + D + "/t1.mlh --error 30 -o " + D + "/e." + ext, d).code == 0);
+    {
+        // LOD samples are not splats: the VTP has positions and values, no (zero) Normals or radius
+        const std::string vtp = slurp(d / "e.vtp");
+        CHECK(vtp.find("Name=\"value\"") != std::string::npos);
+        CHECK(vtp.find("Name=\"Normals\"") == std::string::npos);
+        CHECK(vtp.find("Name=\"radius\"") == std::string::npos);
+    }
 
     // beyond the tree: warn, finest LOD
     const auto deep = sh("MESHLESS lod " + D + "/t1.mlh --level 999 -o " + D + "/deep.csv", d);

@@ -132,6 +132,21 @@ TEST_CASE("splat: a PLY or a point stream without recorded bounds frames the poi
     }
 }
 
+TEST_CASE("splat: a VTP point set or a PLY on stdin is refused with what it is", "[cli][splat]") {
+    TempDir d("splatother");
+    const std::string vol = corner_ball(d), D = d.path.string();
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "/a.vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "/a.ply", d).code == 0);
+    const auto v = sh("MESHLESS splat " + D + "/a.vtp -o " + D + "/v.png", d);
+    CHECK(v.code == 2);
+    CHECK_THAT(v.err, Catch::Contains("a.vtp: splat draws .ply point sets and meshless point streams, not vtp files"));
+    const auto p = sh("cat " + D + "/a.ply | MESHLESS splat - -o " + D + "/p.png", d);
+    CHECK(p.code == 2);
+    CHECK_THAT(p.err, Catch::Contains("it is a PLY file: give its path"));
+    CHECK(!std::filesystem::exists(d / "v.png"));
+    CHECK(!std::filesystem::exists(d / "p.png"));
+}
+
 TEST_CASE("splat --turntable: frame i is the picture at azimuth + 360 i / N, from a PLY or a pipe", "[cli][splat]") {
     TempDir d("turntable");
     const std::string vol = corner_ball(d), D = d.path.string();

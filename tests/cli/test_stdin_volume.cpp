@@ -67,6 +67,14 @@ TEST_CASE("volumes from standard input: raw and NRRD piped in, errors name stdin
     const auto s = sh(env + "MESHLESS isosurface - --iso 1 -o " + D + "k.ply < " + D + "short.nrrd", d);
     CHECK(s.code == 2);
     CHECK_THAT(s.err, Catch::Contains("- (stdin)"));
+    // a gzip payload cut short: found while the slabs stream, long after the volume was opened
+    spit(d / "gz.nrrd", "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 24 24 24\nencoding: gzip\n\n");
+    REQUIRE(sh("gzip -c " + D + "ball_24x24x24_uint8.raw | head -c 400 >> " + D + "gz.nrrd", d).code == 0);
+    const auto g = sh(env + "MESHLESS isosurface - --iso 100.5 -o " + D + "g.ply < " + D + "gz.nrrd", d);
+    CHECK(g.code == 2);
+    CHECK_THAT(g.err, Catch::Contains("- (stdin)"));
+    CHECK_THAT(g.err, !Catch::Contains("/proc/"));
+    CHECK(!std::filesystem::exists(d / "g.ply"));
     // a header naming a separate data file cannot find it from stdin: said so, not a made-up path
     for (const std::string name : {"v.raw", "3d.raw", "4d.raw"}) {  // (a name that begins like the spool's fd)
         spit(d / "v.mhd", "ObjectType = Image\nNDims = 3\nDimSize = 24 24 24\nElementType = MET_UCHAR\nElementDataFile = " + name + "\n");

@@ -106,6 +106,10 @@ TEST_CASE("an empty stream is valid", "[stream-codec]") {
 TEST_CASE("garbage, empty, wrong version and wrong record size are refused", "[stream-codec]") {
     CHECK_THROWS_WITH(decode(""), Catch::Contains("empty input"));
     CHECK_THROWS_WITH(decode("hello world, this is not a stream at all"), Catch::Contains("not a meshless point stream"));
+    // the first bytes quoted (escaped), and a PLY or VTK file named as such
+    CHECK_THROWS_WITH(decode("\x1b[31mred alert and more bytes"), Catch::Contains("(starts \"\\x1b[31mred ale\")"));
+    CHECK_THROWS_WITH(decode("ply\nformat binary_little_endian 1.0\n"), Catch::Contains("it is a PLY file"));
+    CHECK_THROWS_WITH(decode("<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\">"), Catch::Contains("XML (VTK) file"));
     std::string s = encode({some_points(4, 1)}, false);
     std::string v2 = s;
     v2[8] = 2;  // version field

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -156,6 +157,35 @@ TEST_CASE("vtp points: every array round trips, compressed or not, across many b
                 CHECK(ps.value[i] == static_cast<double>(point(i).value));
             }
         }
+    }
+}
+
+TEST_CASE("vtp points: unoriented samples leave out Normals and radius", "[vtp]") {
+    meshless::test::TempDir d("vtp-unoriented");
+    VtpOptions o;
+    o.oriented = false;
+    o.block_size = 1000;
+    const fs::path path = d / "s.vtp";
+    const std::uint64_t n = 3001;
+    {
+        VtpPointWriter w(path.string(), {}, o);
+        std::vector<PointRecord> pts;
+        for (std::uint64_t i = 0; i < n; ++i) pts.push_back(point(i));
+        w.append(std::span(pts).first(1000));
+        w.append(std::span(pts).subspan(1000));
+        w.commit();
+    }
+    const Parsed P = parse(path);
+    CHECK(P.points == n);
+    CHECK(P.verts == n);
+    CHECK_FALSE(P.has("Normals"));
+    CHECK_FALSE(P.has("radius"));
+    CHECK(P.doc.find("<PointData Scalars=\"value\">") != std::string::npos);
+    const auto xyz = P.array("Points", 3 * n), val = P.array("value", n), conn = P.array("connectivity", n);
+    for (std::uint64_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) REQUIRE(xyz[3 * i + c] == static_cast<double>(point(i).pos[c]));
+        REQUIRE(val[i] == static_cast<double>(point(i).value));
+        REQUIRE(conn[i] == static_cast<double>(i));
     }
 }
 
