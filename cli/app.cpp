@@ -28,7 +28,7 @@ constexpr Command kCommands[] = {
     {"isosurface", cmd_isosurface, "volume -> projected oriented point set (PLY) and picture (PNG)"},
     {"generate", cmd_generate, "volume -> one sample per active cell, as a binary stream"},
     {"project", cmd_project, "sample stream -> points projected onto the isosurface"},
-    {"write", cmd_write, "point stream -> binary PLY"},
+    {"write", cmd_write, "point stream -> PLY or VTP (by extension)"},
     {"extract", cmd_extract, "sample store (.mls, paradigm A) -> samples of the active cells of one isovalue"},
     {"splat", cmd_splat, "point stream or PLY -> surface-splatted PNG (quad or EWA kernels)"},
     {"render", cmd_render, "volume, brick store or scattered points -> direct volume rendering by ray casting (PNG)"},

@@ -175,7 +175,7 @@ struct Args::Impl {
         positional = app.add_option("ARGS", CLI::callback_t{}, "", false);
         positional->expected(kPositionalCapacity)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)->group("");
         app.option_defaults()->group("options");
-        app.set_help_flag("--help", "show this help and exit");
+        app.set_help_flag("-h,--help", "show this help and exit");
         app.allow_extras(true);  // unknown options are reported by parse(), in our words
         app.footer(kExitCodes);
     }

@@ -20,6 +20,7 @@
 #include "formats/atomic_file.hpp"
 #include "formats/nrrd_writer.hpp"
 #include "formats/png_writer.hpp"
+#include "formats/text_header.hpp"
 #include "kernels/colorbar.hpp"
 #include "kernels/colormap.hpp"
 #include "kernels/errors.hpp"
@@ -62,14 +63,18 @@ std::vector<Vec3> read_positions(const std::string& path) {
         double v[3];
         std::istringstream all(line);
         if (!(all >> v[0] >> v[1] >> v[2])) {
-            if (out.empty() && n == 1) continue;  // header
-            throw FormatError(path + ":" + std::to_string(n) + ": expected x,y,z");
+            // a header: a first line that does not start with a number ("x,y,z")
+            double num;
+            std::istringstream head(first);
+            if (out.empty() && n == 1 && !(head >> num)) continue;
+            throw FormatError(path + ":" + std::to_string(n) + ": expected x,y,z, got '" + escape_field(line) + "'");
         }
         if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
             throw FormatError(path + ":" + std::to_string(n) + ": non-finite position");
         out.push_back({v[0], v[1], v[2]});
     }
     if (in.bad()) throw IoError(path + ": read error");
+    if (out.empty()) throw FormatError(path + ": no positions (expected lines of x,y,z)");
     return out;
 }
 

@@ -119,6 +119,10 @@ void info_ply(const std::string& path) {
             summary += line;
         }
     }
+    for (const auto& e : h.elements) {  // a mesh's faces (and any other element) counted too
+        if (e.name == "vertex") continue;
+        summary += "  " + std::to_string(e.count) + " " + (e.name == "face" ? std::string("faces") : ply_escape(e.name) + " elements") + "\n";
+    }
     r.finish();
     std::string text = format_ply_header(h, false);
     text = text.substr(4, text.size() - 4 - std::string("end_header\n").size());  // between "ply" and end_header

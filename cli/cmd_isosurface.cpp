@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <optional>
 
@@ -113,6 +114,13 @@ int cmd_isosurface(int argc, char** argv) {
             .option("max-travel", "", "", "");
         blocks.option("max-cells", "", "", "").option("max-level", "", "", "").option("dedup", "", "", "").option("reg-gap", "", "", "");
         const auto positionals = scan_positionals(argc, argv, 2, {&a, &blocks});
+        // the placeholders of the help text itself ("meshless isosurface POINTS --help"), when no
+        // such file exists, name the input kind
+        std::error_code ec;
+        if (positionals.size() == 1 && !std::filesystem::exists(positionals[0], ec)) {
+            if (positionals[0] == "BLOCKS") return isosurface_blocks(argc, argv);
+            if (positionals[0] == "POINTS") return isosurface_scattered(argc, argv);
+        }
         if (blocks_invocation(positionals)) return isosurface_blocks(argc, argv);
         // scattered point sets (chapter 5)
         if (scattered_invocation(positionals, argc, argv)) return isosurface_scattered(argc, argv);

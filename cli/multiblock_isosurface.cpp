@@ -53,7 +53,9 @@ int lattice_n(const Args& a, int default_n) {
 void add_newton_options(Args& a) {
     a.option("tolerance", "", "T", "Newton: a seed has converged when its next step is below T x its cell's diagonal", "0.01")
         .option("max-iterations", "", "K", "Newton: field evaluations per seed (halvings included) before it is dropped", "20")
-        .option("max-travel", "", "F", "Newton: drop a seed that would move farther than F cell diagonals (0 = no limit)", "2");
+        .option("max-travel", "", "F", "Newton: drop a seed that would move farther than F cell diagonals (0 = no limit)",
+                "2");
+    static_assert(kDefaultMaxTravel == 2, "the --max-travel default above");
 }
 
 FieldProjectParams newton_params(const Args& a) {
@@ -63,7 +65,7 @@ FieldProjectParams newton_params(const Args& a) {
     const long long k = a.get_int_or("max-iterations", 20);
     if (k < 1 || k > 1000) throw UsageError("--max-iterations: expected 1..1000");
     p.newton.max_iterations = static_cast<int>(k);
-    const double travel = parse_finite(a.get_or("max-travel", "2"), "--max-travel");
+    const double travel = parse_finite(a.get_or("max-travel", a.default_of("max-travel")), "--max-travel");
     if (travel < 0) throw UsageError("--max-travel: expected a number of cell diagonals >= 0");
     p.seed_max_travel = travel == 0 ? std::numeric_limits<double>::infinity() : travel;
     return p;

@@ -44,6 +44,8 @@ inline constexpr int kDefaultLatticeN = 3;
 void add_samples_option(Args& a, int default_n = kDefaultLatticeN);
 int lattice_n(const Args& a, int default_n = kDefaultLatticeN);
 /// --tolerance --max-iterations --max-travel (Newton onto the field, relative to each seed's cell).
+/// --max-travel's default: a seed moves at most this many cell diagonals (section 4.4).
+inline constexpr double kDefaultMaxTravel = 2;
 void add_newton_options(Args& a);
 FieldProjectParams newton_params(const Args& a);
 /// The --stats line of the Newton projection.

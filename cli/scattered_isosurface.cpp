@@ -190,23 +190,26 @@ ScatteredInput read_scattered(const Args& a, bool warn = true) {
 /// What generate writes and isosurface records (the same keys on both paths).
 namespace {
 /// The camera's frame: the binning grid with its border layer, where the regularisation points
-/// lie and so the stencils' tetrahedra, the seeds and (within Newton's "too far" bound) the
-/// surface: the points' box alone cut off surfaces that bulge beyond the outermost samples
-/// (boreholes: up to 2 km). Degenerate axes keep the points' extent.
-std::array<Vec3, 2> frame_box(const BinningGrid& g) {
+/// lie and so the stencils' tetrahedra and the seeds, widened by how far Newton may move a seed
+/// (max_travel cell diagonals, each seed's no longer than the binning cell's, kernels/stencil_seeds),
+/// so that every point lies inside the recorded bounds: the points' box alone cut off surfaces
+/// that bulge beyond the outermost samples (boreholes: up to 2 km). Degenerate axes keep the
+/// points' extent. An unlimited travel (--max-travel 0) adds nothing: its points may lie beyond.
+std::array<Vec3, 2> frame_box(const BinningGrid& g, double max_travel) {
+    const double pad = std::isfinite(max_travel) ? max_travel * g.diagonal() * (1 + 1e-6) : 0.0;
     double lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
         lo[a] = g.bounds[0][a];
         hi[a] = g.bounds[1][a];
         if (g.degenerate[static_cast<std::size_t>(a)]) continue;
-        lo[a] = std::min(lo[a], g.origin[a]);
-        hi[a] = std::max(hi[a], g.origin[a] + static_cast<double>(g.dims[static_cast<std::size_t>(a)]) * g.cell[a]);
+        lo[a] = std::min(lo[a], g.origin[a]) - pad;
+        hi[a] = std::max(hi[a], g.origin[a] + static_cast<double>(g.dims[static_cast<std::size_t>(a)]) * g.cell[a]) + pad;
     }
     return {Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}};
 }
 }  // namespace
 
-StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std::string& producer) {
+StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std::string& producer, double max_travel) {
     StreamMeta m;
     const auto range = in.points.value_range();
     m.set("source", in.source);
@@ -217,7 +220,7 @@ StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std
     m.set("binning_level", std::to_string(in.grid.level));
     m.set("value_min", range[0]);
     m.set("value_max", range[1]);
-    const std::array<Vec3, 2> frame = frame_box(in.grid);
+    const std::array<Vec3, 2> frame = frame_box(in.grid, max_travel);
     m.set("bounds_lo", triple(frame[0]));
     m.set("bounds_hi", triple(frame[1]));
     m.set("volume_bounds_lo", triple(in.grid.bounds[0]));
@@ -370,7 +373,7 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
     apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
     const bool crossed = iso_in_range(in, iso);
     if (!crossed && root) warn_if_iso_outside(iso, in.points.value_range(), in.source);
-    StreamMeta meta = scattered_meta(in, iso, n, a.command_line());
+    StreamMeta meta = scattered_meta(in, iso, n, a.command_line(), np.seed_max_travel);
 
     // the field: only when the isovalue is within the data (an empty output needs none)
     // under mpirun the ranks share the mpu field's local fits (every rank ends with the whole field)
@@ -533,7 +536,8 @@ int generate_scattered(int argc, char** argv) {
     if (!crossed) warn_if_iso_outside(iso, in.points.value_range(), in.source);
     double field_seconds = 0;
     BuiltField field = build_field_and_coverage(a, in, crossed, field_seconds);
-    StreamSink sink(out.f, out.name, RecordKind::seed, scattered_meta(in, iso, n, a.command_line()), a.has("compress"));
+    StreamSink sink(out.f, out.name, RecordKind::seed, scattered_meta(in, iso, n, a.command_line(), kDefaultMaxTravel),
+                    a.has("compress"));
     std::optional<StencilSeedStage> seed;
     if (field.field) {
         StencilSource source{StencilGrid(in.grid.dims)};

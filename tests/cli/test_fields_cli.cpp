@@ -163,6 +163,15 @@ TEST_CASE("extrapolate: NaN, the field kept within the data range, or the neares
     REQUIRE(sh("MESHLESS probe " + pts + " --at 5,102,3 -o " + D + "/arg.csv", d).code == 0);
     CHECK(slurp(d / "stdin.csv") == slurp(d / "arg.csv"));
     CHECK(sh("MESHLESS probe " + pts + " --at 1,101,1 --max-gap 0 --extrapolate clamp", d).code == 1);
+    // a positions file without positions, or with a short first line, names the file (and line)
+    spit(d / "empty.txt", "");
+    spit(d / "short.txt", "5 102\n5 102 3\n");
+    const auto e = sh("MESHLESS probe " + pts + " --at-file " + D + "/empty.txt", d);
+    CHECK(e.code == 2);
+    CHECK_THAT(e.err, Catch::Contains("empty.txt: no positions"));
+    const auto s = sh("MESHLESS probe " + pts + " --at-file " + D + "/short.txt", d);
+    CHECK(s.code == 2);
+    CHECK_THAT(s.err, Catch::Contains("short.txt:1: expected x,y,z"));
 }
 
 TEST_CASE("probe, slice and resample run as graphs: the same bytes for any --threads", "[cli][fields]") {

@@ -42,6 +42,11 @@ TEST_CASE("info: a .raw described by --dims is a raw volume", "[cli][info]") {
     CHECK_THAT(r.out, Catch::Contains("type: uint16"));
     CHECK_THAT(r.out, Catch::Contains("value range: 0 .. 4500"));  // big-endian read right
     CHECK_THAT(r.out, !Catch::Contains("point set"));
+    // a mesh: its faces counted beside its vertices
+    REQUIRE(sh("MESHLESS mc " + raw + " --dims 16,16,16 --type uint16 --endian big --iso 2000 -o " + d.path.string() + "/m.ply", d).code == 0);
+    const auto m = sh("MESHLESS info " + d.path.string() + "/m.ply", d);
+    REQUIRE(m.code == 0);
+    CHECK_THAT(m.out, Catch::Matches("(.|\\n)*\\n  [1-9][0-9]* faces\\n(.|\\n)*"));
 }
 
 TEST_CASE("positions-only points are refused by every command that needs values", "[cli][scatter]") {
@@ -80,4 +85,18 @@ TEST_CASE("standard input: a volume for render and convert and refused where poi
     CHECK(demo.code == 1);
     CHECK_THAT(demo.err, Catch::Contains("-o -: the demo writes a folder"));
     CHECK(!std::filesystem::exists(d / "-"));
+}
+
+TEST_CASE("help: -h on a subcommand and the help text's own placeholders", "[cli][help]") {
+    TempDir d("dispatch-help");
+    const auto h = sh("MESHLESS isosurface -h", d);
+    CHECK(h.code == 0);
+    CHECK_THAT(h.out, Catch::StartsWith("usage: meshless isosurface VOLUME"));
+    const auto p = sh("MESHLESS isosurface POINTS --help", d);
+    CHECK(p.code == 0);
+    CHECK_THAT(p.out, Catch::StartsWith("usage: meshless isosurface POINTS"));
+    const auto b = sh("MESHLESS isosurface BLOCKS --help", d);
+    CHECK(b.code == 0);
+    CHECK_THAT(b.out, Catch::StartsWith("usage: meshless isosurface BLOCKS"));
+    CHECK(sh("MESHLESS probe -h", d).code == 0);
 }
