@@ -436,289 +436,85 @@ std::int64_t accumulate_one(const Setup& s, const Footprint& f, const DepthRange
 }
 
 #if defined(__SSE2__)
-// footprint() for four points at once (SSE2): the same float operations in the same order, each
-// rounded alone (no contraction), so every lane gives footprint()'s bits; the lanes' early exits
-// become masks, the bounding box (ceil, floor) is computed per lane as in footprint(). ok[i]: as
-// footprint()'s result for rec[i].
-inline __m128 sel(__m128 m, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }
-inline __m128 finite(__m128 x) { return _mm_cmpeq_ps(_mm_sub_ps(x, x), _mm_setzero_ps()); }
-inline __m128 fabs4(__m128 x) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), x); }
-
-void footprint4(const Setup& s, const PointRecord* rec, Footprint* f, bool* ok) {
-    const detail::FloatView& fv = s.fv;
-    alignas(16) float in[8][4];
-    for (int i = 0; i < 4; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            in[j][i] = rec[i].pos[j];
-            in[3 + j][i] = rec[i].normal[j];
-        }
-        in[6][i] = rec[i].radius;
-    }
-    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
-    const __m128 px = _mm_load_ps(in[0]), py = _mm_load_ps(in[1]), pz = _mm_load_ps(in[2]);
-    __m128 good = _mm_and_ps(_mm_and_ps(finite(px), finite(py)), finite(pz));
-    // pc = rotate(p - centre): ((r0 d0 + r1 d1) + r2 d2)
-    const __m128 d0 = _mm_sub_ps(px, _mm_set1_ps(fv.c[0])), d1 = _mm_sub_ps(py, _mm_set1_ps(fv.c[1])),
-                 d2 = _mm_sub_ps(pz, _mm_set1_ps(fv.c[2]));
-    auto rot = [&](int i, __m128 a, __m128 b, __m128 c) {
-        return _mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(fv.r[i][0]), a), _mm_mul_ps(_mm_set1_ps(fv.r[i][1]), b)),
-                          _mm_mul_ps(_mm_set1_ps(fv.r[i][2]), c));
-    };
-    const __m128 pc0 = rot(0, d0, d1, d2), pc1 = rot(1, d0, d1, d2), pc2 = rot(2, d0, d1, d2);
-    const __m128 D = _mm_sub_ps(_mm_set1_ps(fv.distance), pc2);
-    good = _mm_and_ps(good, _mm_cmpgt_ps(D, _mm_set1_ps(fv.near_depth)));
-    const __m128 focal = _mm_set1_ps(fv.focal);
-    const __m128 k = fv.perspective ? _mm_div_ps(focal, D) : focal;
-    const __m128 sx = _mm_add_ps(_mm_set1_ps(fv.cx), _mm_mul_ps(k, pc0));
-    const __m128 sy = _mm_sub_ps(_mm_set1_ps(fv.cy), _mm_mul_ps(k, pc1));
-    const __m128 rad = _mm_load_ps(in[6]);
-    const __m128 r = _mm_and_ps(finite(rad), _mm_max_ps(zero, rad));  // std::max(radius, 0) = 0 > radius ? 0 : radius
-
-    // oriented_normal(two_sided = false)
-    __m128 v0 = zero, v1 = zero, v2 = one;
-    if (fv.perspective) {
-        const __m128 inv = _mm_div_ps(one, _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(pc0, pc0), _mm_mul_ps(pc1, pc1)), _mm_mul_ps(D, D))));
-        const __m128 neg = _mm_set1_ps(-0.0f);
-        v0 = _mm_mul_ps(_mm_xor_ps(pc0, neg), inv);
-        v1 = _mm_mul_ps(_mm_xor_ps(pc1, neg), inv);
-        v2 = _mm_mul_ps(D, inv);
-    }
-    const __m128 nr0 = _mm_load_ps(in[3]), nr1 = _mm_load_ps(in[4]), nr2 = _mm_load_ps(in[5]);
-    __m128 n0 = rot(0, nr0, nr1, nr2), n1 = rot(1, nr0, nr1, nr2), n2 = rot(2, nr0, nr1, nr2);
-    const __m128 len2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(n0, n0), _mm_mul_ps(n1, n1)), _mm_mul_ps(n2, n2));
-    const __m128 usable = _mm_and_ps(_mm_cmpgt_ps(len2, _mm_set1_ps(1e-20f)), finite(len2));
-    const __m128 ninv = _mm_div_ps(one, _mm_sqrt_ps(len2));
-    n0 = sel(usable, _mm_mul_ps(n0, ninv), v0);
-    n1 = sel(usable, _mm_mul_ps(n1, ninv), v1);
-    n2 = sel(usable, _mm_mul_ps(n2, ninv), v2);
-
-    // tangent axes
-    const __m128 ax = fabs4(n0), ay = fabs4(n1), az = fabs4(n2);
-    const __m128 m0 = _mm_and_ps(_mm_cmple_ps(ax, ay), _mm_cmple_ps(ax, az));
-    const __m128 m1 = _mm_andnot_ps(m0, _mm_cmple_ps(ay, az));
-    const __m128 m2 = _mm_andnot_ps(_mm_or_ps(m0, m1), _mm_castsi128_ps(_mm_set1_epi32(-1)));
-    const __m128 a0 = _mm_and_ps(m0, one), a1 = _mm_and_ps(m1, one), a2 = _mm_and_ps(m2, one);
-    __m128 u0 = _mm_sub_ps(_mm_mul_ps(n1, a2), _mm_mul_ps(n2, a1));
-    __m128 u1 = _mm_sub_ps(_mm_mul_ps(n2, a0), _mm_mul_ps(n0, a2));
-    __m128 u2 = _mm_sub_ps(_mm_mul_ps(n0, a1), _mm_mul_ps(n1, a0));
-    const __m128 ul = _mm_div_ps(r, _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(u0, u0), _mm_mul_ps(u1, u1)), _mm_mul_ps(u2, u2))));
-    u0 = _mm_mul_ps(u0, ul);
-    u1 = _mm_mul_ps(u1, ul);
-    u2 = _mm_mul_ps(u2, ul);
-    const __m128 w0 = _mm_sub_ps(_mm_mul_ps(n1, u2), _mm_mul_ps(n2, u1));
-    const __m128 w1 = _mm_sub_ps(_mm_mul_ps(n2, u0), _mm_mul_ps(n0, u2));
-    const __m128 w2 = _mm_sub_ps(_mm_mul_ps(n0, u1), _mm_mul_ps(n1, u0));
-
-    // Jacobian
-    __m128 j00, j01, j10, j11;
-    const __m128 nk = _mm_xor_ps(k, _mm_set1_ps(-0.0f));
-    if (fv.perspective) {
-        const __m128 ex = _mm_div_ps(pc0, D), ey = _mm_div_ps(pc1, D);
-        j00 = _mm_mul_ps(k, _mm_add_ps(u0, _mm_mul_ps(ex, u2)));
-        j01 = _mm_mul_ps(k, _mm_add_ps(w0, _mm_mul_ps(ex, w2)));
-        j10 = _mm_mul_ps(nk, _mm_add_ps(u1, _mm_mul_ps(ey, u2)));
-        j11 = _mm_mul_ps(nk, _mm_add_ps(w1, _mm_mul_ps(ey, w2)));
-    } else {
-        j00 = _mm_mul_ps(k, u0);
-        j01 = _mm_mul_ps(k, w0);
-        j10 = _mm_mul_ps(nk, u1);
-        j11 = _mm_mul_ps(nk, w1);
-    }
-    const __m128 inv_c2 = _mm_set1_ps(s.inv_c2), lowpass = _mm_set1_ps(s.lowpass);
-    const __m128 v00 = _mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(j00, j00), _mm_mul_ps(j01, j01)), inv_c2), lowpass);
-    const __m128 v01 = _mm_mul_ps(_mm_add_ps(_mm_mul_ps(j00, j10), _mm_mul_ps(j01, j11)), inv_c2);
-    const __m128 v11 = _mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(j10, j10), _mm_mul_ps(j11, j11)), inv_c2), lowpass);
-    const __m128 det = _mm_sub_ps(_mm_mul_ps(v00, v11), _mm_mul_ps(v01, v01));
-    good = _mm_and_ps(good, _mm_and_ps(_mm_cmpgt_ps(det, zero), finite(det)));
-    const __m128 q00 = _mm_div_ps(v11, det), q01 = _mm_div_ps(_mm_xor_ps(v01, _mm_set1_ps(-0.0f)), det),
-                 q11 = _mm_div_ps(v00, det);
-
-    const __m128 detj = _mm_sub_ps(_mm_mul_ps(j00, j11), _mm_mul_ps(j01, j10));
-    const __m128 plane = _mm_and_ps(
-        _mm_cmpgt_ps(fabs4(detj), _mm_mul_ps(_mm_set1_ps(1e-6f), _mm_add_ps(fabs4(_mm_mul_ps(j00, j11)), fabs4(_mm_mul_ps(j01, j10))))),
-        _mm_cmpneq_ps(detj, zero));
-    const __m128 neg = _mm_set1_ps(-0.0f);
-    const __m128 gx = _mm_and_ps(plane, _mm_div_ps(_mm_xor_ps(_mm_sub_ps(_mm_mul_ps(u2, j11), _mm_mul_ps(w2, j10)), neg), detj));
-    const __m128 gy = _mm_and_ps(plane, _mm_div_ps(_mm_xor_ps(_mm_sub_ps(_mm_mul_ps(w2, j00), _mm_mul_ps(u2, j01)), neg), detj));
-    const __m128 c = _mm_set1_ps(std::sqrt(s.c2));
-    const __m128 exv = _mm_mul_ps(c, _mm_sqrt_ps(v00)), eyv = _mm_mul_ps(c, _mm_sqrt_ps(v11));
-
-    alignas(16) float o[18][4];
-    const __m128 outs[18] = {sx, sy, q00, q01, q11, D, gx, gy, r, n0, n1, n2, exv, eyv, good, zero, zero, zero};
-    for (int j = 0; j < 15; ++j) _mm_store_ps(o[j], outs[j]);
-    for (int i = 0; i < 4; ++i) {
-        ok[i] = false;
-        if (std::bit_cast<std::uint32_t>(o[14][i]) == 0) continue;
-        Footprint& g = f[i];
-        g.sx = o[0][i];
-        g.sy = o[1][i];
-        g.q00 = o[2][i];
-        g.q01 = o[3][i];
-        g.q11 = o[4][i];
-        g.depth = o[5][i];
-        g.gx = o[6][i];
-        g.gy = o[7][i];
-        g.radius = o[8][i];
-        g.n[0] = o[9][i];
-        g.n[1] = o[10][i];
-        g.n[2] = o[11][i];
-        const float ex = o[12][i], ey = o[13][i];
-        const float fx0 = std::ceil(g.sx - ex - 0.5f), fx1 = std::floor(g.sx + ex - 0.5f);
-        const float fy0 = std::ceil(g.sy - ey - 0.5f), fy1 = std::floor(g.sy + ey - 0.5f);
-        if (!(fx1 >= 0 && fy1 >= 0 && fx0 <= s.W - 1 && fy0 <= s.H - 1 && fx0 <= fx1 && fy0 <= fy1)) continue;
-        g.x0 = static_cast<std::uint16_t>(std::max(fx0, 0.0f));
-        g.x1 = static_cast<std::uint16_t>(std::min(fx1, float(s.W - 1)));
-        g.y0 = static_cast<std::uint16_t>(std::max(fy0, 0.0f));
-        g.y1 = static_cast<std::uint16_t>(std::min(fy1, float(s.H - 1)));
-        g.base = 0;
-        ok[i] = true;
-    }
-}
+// The lanes of footprint_lanes (kernels/splat_ewa_footprint_lanes.hpp): SSE2, four points at once.
+namespace sse2 {
+struct Ops {
+    using V = __m128;
+    static constexpr int W = 4;
+    static V zero() { return _mm_setzero_ps(); }
+    static V ones() { return _mm_castsi128_ps(_mm_set1_epi32(-1)); }
+    static V set1(float x) { return _mm_set1_ps(x); }
+    static V load(const float* p) { return _mm_load_ps(p); }
+    static void store(float* p, V a) { _mm_store_ps(p, a); }
+    static V add(V a, V b) { return _mm_add_ps(a, b); }
+    static V sub(V a, V b) { return _mm_sub_ps(a, b); }
+    static V mul(V a, V b) { return _mm_mul_ps(a, b); }
+    static V div(V a, V b) { return _mm_div_ps(a, b); }
+    static V sqrt(V a) { return _mm_sqrt_ps(a); }
+    static V max(V a, V b) { return _mm_max_ps(a, b); }
+    static V and_(V a, V b) { return _mm_and_ps(a, b); }
+    static V or_(V a, V b) { return _mm_or_ps(a, b); }
+    static V andnot(V a, V b) { return _mm_andnot_ps(a, b); }
+    static V xor_(V a, V b) { return _mm_xor_ps(a, b); }
+    static V gt(V a, V b) { return _mm_cmpgt_ps(a, b); }
+    static V le(V a, V b) { return _mm_cmple_ps(a, b); }
+    static V eq(V a, V b) { return _mm_cmpeq_ps(a, b); }
+    static V neq(V a, V b) { return _mm_cmpneq_ps(a, b); }
+    static V sel(V m, V a, V b) { return or_(and_(m, a), andnot(m, b)); }
+    static V finite(V x) { return eq(sub(x, x), zero()); }
+    static V fabs(V x) { return andnot(set1(-0.0f), x); }
+};
+#include "kernels/splat_ewa_footprint_lanes.hpp"
+}  // namespace sse2
 #endif
 
 #if MESHLESS_EWA_AVX2
-// footprint4 with AVX2, eight points at once: the same float operations in the same order (no
-// contraction), compares of the same predicates (ordered, as the SSE2 ones; cmpneq unordered), so
-// every lane gives footprint()'s bits.
-__attribute__((target("avx2"))) inline __m256 sel8(__m256 m, __m256 a, __m256 b) { return _mm256_or_ps(_mm256_and_ps(m, a), _mm256_andnot_ps(m, b)); }
-__attribute__((target("avx2"))) inline __m256 finite8(__m256 x) { return _mm256_cmp_ps(_mm256_sub_ps(x, x), _mm256_setzero_ps(), _CMP_EQ_OQ); }
-__attribute__((target("avx2"))) inline __m256 fabs8(__m256 x) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), x); }
-__attribute__((target("avx2"))) inline __m256 gt8(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
-__attribute__((target("avx2"))) inline __m256 le8(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
-// ((r0 a + r1 b) + r2 c), as footprint4's rotation
-__attribute__((target("avx2"))) inline __m256 rot8(const float* r, __m256 a, __m256 b, __m256 c) {
-    return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(r[0]), a), _mm256_mul_ps(_mm256_set1_ps(r[1]), b)),
-                         _mm256_mul_ps(_mm256_set1_ps(r[2]), c));
-}
-__attribute__((target("avx2"))) inline __m256 neq8(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_NEQ_UQ); }
-
-__attribute__((target("avx2"))) void footprint8_avx2(const Setup& s, const PointRecord* rec, Footprint* f, bool* ok) {
-    const detail::FloatView& fv = s.fv;
-    alignas(32) float in[8][8];
-    for (int i = 0; i < 8; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            in[j][i] = rec[i].pos[j];
-            in[3 + j][i] = rec[i].normal[j];
-        }
-        in[6][i] = rec[i].radius;
-    }
-    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
-    const __m256 px = _mm256_load_ps(in[0]), py = _mm256_load_ps(in[1]), pz = _mm256_load_ps(in[2]);
-    __m256 good = _mm256_and_ps(_mm256_and_ps(finite8(px), finite8(py)), finite8(pz));
-    // pc = rotate(p - centre): ((r0 d0 + r1 d1) + r2 d2)
-    const __m256 d0 = _mm256_sub_ps(px, _mm256_set1_ps(fv.c[0])), d1 = _mm256_sub_ps(py, _mm256_set1_ps(fv.c[1])),
-                 d2 = _mm256_sub_ps(pz, _mm256_set1_ps(fv.c[2]));
-    const __m256 pc0 = rot8(fv.r[0], d0, d1, d2), pc1 = rot8(fv.r[1], d0, d1, d2), pc2 = rot8(fv.r[2], d0, d1, d2);
-    const __m256 D = _mm256_sub_ps(_mm256_set1_ps(fv.distance), pc2);
-    good = _mm256_and_ps(good, gt8(D, _mm256_set1_ps(fv.near_depth)));
-    const __m256 focal = _mm256_set1_ps(fv.focal);
-    const __m256 k = fv.perspective ? _mm256_div_ps(focal, D) : focal;
-    const __m256 sx = _mm256_add_ps(_mm256_set1_ps(fv.cx), _mm256_mul_ps(k, pc0));
-    const __m256 sy = _mm256_sub_ps(_mm256_set1_ps(fv.cy), _mm256_mul_ps(k, pc1));
-    const __m256 rad = _mm256_load_ps(in[6]);
-    const __m256 r = _mm256_and_ps(finite8(rad), _mm256_max_ps(zero, rad));  // std::max(radius, 0) = 0 > radius ? 0 : radius
-
-    // oriented_normal(two_sided = false)
-    __m256 v0 = zero, v1 = zero, v2 = one;
-    if (fv.perspective) {
-        const __m256 inv = _mm256_div_ps(one, _mm256_sqrt_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(pc0, pc0), _mm256_mul_ps(pc1, pc1)), _mm256_mul_ps(D, D))));
-        const __m256 neg = _mm256_set1_ps(-0.0f);
-        v0 = _mm256_mul_ps(_mm256_xor_ps(pc0, neg), inv);
-        v1 = _mm256_mul_ps(_mm256_xor_ps(pc1, neg), inv);
-        v2 = _mm256_mul_ps(D, inv);
-    }
-    const __m256 nr0 = _mm256_load_ps(in[3]), nr1 = _mm256_load_ps(in[4]), nr2 = _mm256_load_ps(in[5]);
-    __m256 n0 = rot8(fv.r[0], nr0, nr1, nr2), n1 = rot8(fv.r[1], nr0, nr1, nr2), n2 = rot8(fv.r[2], nr0, nr1, nr2);
-    const __m256 len2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(n0, n0), _mm256_mul_ps(n1, n1)), _mm256_mul_ps(n2, n2));
-    const __m256 usable = _mm256_and_ps(gt8(len2, _mm256_set1_ps(1e-20f)), finite8(len2));
-    const __m256 ninv = _mm256_div_ps(one, _mm256_sqrt_ps(len2));
-    n0 = sel8(usable, _mm256_mul_ps(n0, ninv), v0);
-    n1 = sel8(usable, _mm256_mul_ps(n1, ninv), v1);
-    n2 = sel8(usable, _mm256_mul_ps(n2, ninv), v2);
-
-    // tangent axes
-    const __m256 ax = fabs8(n0), ay = fabs8(n1), az = fabs8(n2);
-    const __m256 m0 = _mm256_and_ps(le8(ax, ay), le8(ax, az));
-    const __m256 m1 = _mm256_andnot_ps(m0, le8(ay, az));
-    const __m256 m2 = _mm256_andnot_ps(_mm256_or_ps(m0, m1), _mm256_castsi256_ps(_mm256_set1_epi32(-1)));
-    const __m256 a0 = _mm256_and_ps(m0, one), a1 = _mm256_and_ps(m1, one), a2 = _mm256_and_ps(m2, one);
-    __m256 u0 = _mm256_sub_ps(_mm256_mul_ps(n1, a2), _mm256_mul_ps(n2, a1));
-    __m256 u1 = _mm256_sub_ps(_mm256_mul_ps(n2, a0), _mm256_mul_ps(n0, a2));
-    __m256 u2 = _mm256_sub_ps(_mm256_mul_ps(n0, a1), _mm256_mul_ps(n1, a0));
-    const __m256 ul = _mm256_div_ps(r, _mm256_sqrt_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(u0, u0), _mm256_mul_ps(u1, u1)), _mm256_mul_ps(u2, u2))));
-    u0 = _mm256_mul_ps(u0, ul);
-    u1 = _mm256_mul_ps(u1, ul);
-    u2 = _mm256_mul_ps(u2, ul);
-    const __m256 w0 = _mm256_sub_ps(_mm256_mul_ps(n1, u2), _mm256_mul_ps(n2, u1));
-    const __m256 w1 = _mm256_sub_ps(_mm256_mul_ps(n2, u0), _mm256_mul_ps(n0, u2));
-    const __m256 w2 = _mm256_sub_ps(_mm256_mul_ps(n0, u1), _mm256_mul_ps(n1, u0));
-
-    // Jacobian
-    __m256 j00, j01, j10, j11;
-    const __m256 nk = _mm256_xor_ps(k, _mm256_set1_ps(-0.0f));
-    if (fv.perspective) {
-        const __m256 ex = _mm256_div_ps(pc0, D), ey = _mm256_div_ps(pc1, D);
-        j00 = _mm256_mul_ps(k, _mm256_add_ps(u0, _mm256_mul_ps(ex, u2)));
-        j01 = _mm256_mul_ps(k, _mm256_add_ps(w0, _mm256_mul_ps(ex, w2)));
-        j10 = _mm256_mul_ps(nk, _mm256_add_ps(u1, _mm256_mul_ps(ey, u2)));
-        j11 = _mm256_mul_ps(nk, _mm256_add_ps(w1, _mm256_mul_ps(ey, w2)));
-    } else {
-        j00 = _mm256_mul_ps(k, u0);
-        j01 = _mm256_mul_ps(k, w0);
-        j10 = _mm256_mul_ps(nk, u1);
-        j11 = _mm256_mul_ps(nk, w1);
-    }
-    const __m256 inv_c2 = _mm256_set1_ps(s.inv_c2), lowpass = _mm256_set1_ps(s.lowpass);
-    const __m256 v00 = _mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(j00, j00), _mm256_mul_ps(j01, j01)), inv_c2), lowpass);
-    const __m256 v01 = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(j00, j10), _mm256_mul_ps(j01, j11)), inv_c2);
-    const __m256 v11 = _mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(j10, j10), _mm256_mul_ps(j11, j11)), inv_c2), lowpass);
-    const __m256 det = _mm256_sub_ps(_mm256_mul_ps(v00, v11), _mm256_mul_ps(v01, v01));
-    good = _mm256_and_ps(good, _mm256_and_ps(gt8(det, zero), finite8(det)));
-    const __m256 q00 = _mm256_div_ps(v11, det), q01 = _mm256_div_ps(_mm256_xor_ps(v01, _mm256_set1_ps(-0.0f)), det),
-                 q11 = _mm256_div_ps(v00, det);
-
-    const __m256 detj = _mm256_sub_ps(_mm256_mul_ps(j00, j11), _mm256_mul_ps(j01, j10));
-    const __m256 plane = _mm256_and_ps(
-        gt8(fabs8(detj), _mm256_mul_ps(_mm256_set1_ps(1e-6f), _mm256_add_ps(fabs8(_mm256_mul_ps(j00, j11)), fabs8(_mm256_mul_ps(j01, j10))))),
-        neq8(detj, zero));
-    const __m256 neg = _mm256_set1_ps(-0.0f);
-    const __m256 gx = _mm256_and_ps(plane, _mm256_div_ps(_mm256_xor_ps(_mm256_sub_ps(_mm256_mul_ps(u2, j11), _mm256_mul_ps(w2, j10)), neg), detj));
-    const __m256 gy = _mm256_and_ps(plane, _mm256_div_ps(_mm256_xor_ps(_mm256_sub_ps(_mm256_mul_ps(w2, j00), _mm256_mul_ps(u2, j01)), neg), detj));
-    const __m256 c = _mm256_set1_ps(std::sqrt(s.c2));
-    const __m256 exv = _mm256_mul_ps(c, _mm256_sqrt_ps(v00)), eyv = _mm256_mul_ps(c, _mm256_sqrt_ps(v11));
-
-    alignas(32) float o[18][8];
-    const __m256 outs[18] = {sx, sy, q00, q01, q11, D, gx, gy, r, n0, n1, n2, exv, eyv, good, zero, zero, zero};
-    for (int j = 0; j < 15; ++j) _mm256_store_ps(o[j], outs[j]);
-    for (int i = 0; i < 8; ++i) {
-        ok[i] = false;
-        if (std::bit_cast<std::uint32_t>(o[14][i]) == 0) continue;
-        Footprint& g = f[i];
-        g.sx = o[0][i];
-        g.sy = o[1][i];
-        g.q00 = o[2][i];
-        g.q01 = o[3][i];
-        g.q11 = o[4][i];
-        g.depth = o[5][i];
-        g.gx = o[6][i];
-        g.gy = o[7][i];
-        g.radius = o[8][i];
-        g.n[0] = o[9][i];
-        g.n[1] = o[10][i];
-        g.n[2] = o[11][i];
-        const float ex = o[12][i], ey = o[13][i];
-        const float fx0 = std::ceil(g.sx - ex - 0.5f), fx1 = std::floor(g.sx + ex - 0.5f);
-        const float fy0 = std::ceil(g.sy - ey - 0.5f), fy1 = std::floor(g.sy + ey - 0.5f);
-        if (!(fx1 >= 0 && fy1 >= 0 && fx0 <= s.W - 1 && fy0 <= s.H - 1 && fx0 <= fx1 && fy0 <= fy1)) continue;
-        g.x0 = static_cast<std::uint16_t>(std::max(fx0, 0.0f));
-        g.x1 = static_cast<std::uint16_t>(std::min(fx1, float(s.W - 1)));
-        g.y0 = static_cast<std::uint16_t>(std::max(fy0, 0.0f));
-        g.y1 = static_cast<std::uint16_t>(std::min(fy1, float(s.H - 1)));
-        g.base = 0;
-        ok[i] = true;
-    }
-}
+// The same lanes with AVX2, eight points at once: every function of this region is compiled for
+// AVX2 (no FMA: no contraction) and called only where the CPU has it; the compares are the SSE2
+// predicates (ordered, cmpneq unordered), so every lane still gives footprint()'s bits.
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx2")
 #endif
+namespace avx2 {
+struct Ops {
+    using V = __m256;
+    static constexpr int W = 8;
+    static V zero() { return _mm256_setzero_ps(); }
+    static V ones() { return _mm256_castsi256_ps(_mm256_set1_epi32(-1)); }
+    static V set1(float x) { return _mm256_set1_ps(x); }
+    static V load(const float* p) { return _mm256_load_ps(p); }
+    static void store(float* p, V a) { _mm256_store_ps(p, a); }
+    static V add(V a, V b) { return _mm256_add_ps(a, b); }
+    static V sub(V a, V b) { return _mm256_sub_ps(a, b); }
+    static V mul(V a, V b) { return _mm256_mul_ps(a, b); }
+    static V div(V a, V b) { return _mm256_div_ps(a, b); }
+    static V sqrt(V a) { return _mm256_sqrt_ps(a); }
+    static V max(V a, V b) { return _mm256_max_ps(a, b); }
+    static V and_(V a, V b) { return _mm256_and_ps(a, b); }
+    static V or_(V a, V b) { return _mm256_or_ps(a, b); }
+    static V andnot(V a, V b) { return _mm256_andnot_ps(a, b); }
+    static V xor_(V a, V b) { return _mm256_xor_ps(a, b); }
+    static V gt(V a, V b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+    static V le(V a, V b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+    static V eq(V a, V b) { return _mm256_cmp_ps(a, b, _CMP_EQ_OQ); }
+    static V neq(V a, V b) { return _mm256_cmp_ps(a, b, _CMP_NEQ_UQ); }
+    static V sel(V m, V a, V b) { return or_(and_(m, a), andnot(m, b)); }
+    static V finite(V x) { return eq(sub(x, x), zero()); }
+    static V fabs(V x) { return andnot(set1(-0.0f), x); }
+};
+#include "kernels/splat_ewa_footprint_lanes.hpp"
+void footprint8(const Setup& s, const PointRecord* rec, Footprint* f, bool* ok) { footprint_lanes<Ops>(s, rec, f, ok); }
+}  // namespace avx2
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#endif
+
 
 float ewa_c2(const ShadingParams& sh) {
     const float cutoff = static_cast<float>(std::max(sh.ewa_cutoff, 1e-3));
@@ -759,7 +555,7 @@ void for_each_footprint(const Setup& s, std::span<const PointRecord> points, Fn&
         Footprint f8[8];
         bool ok8[8];
         for (; pi + 8 <= points.size(); pi += 8) {
-            footprint8_avx2(s, points.data() + pi, f8, ok8);
+            avx2::footprint8(s, points.data() + pi, f8, ok8);
             for (int i = 0; i < 8; ++i)
                 if (ok8[i]) fn(f8[i], pi + static_cast<std::size_t>(i));
         }
@@ -769,7 +565,7 @@ void for_each_footprint(const Setup& s, std::span<const PointRecord> points, Fn&
     Footprint f4[4];
     bool ok[4];
     for (; pi + 4 <= points.size(); pi += 4) {
-        footprint4(s, points.data() + pi, f4, ok);
+        sse2::footprint_lanes<sse2::Ops>(s, points.data() + pi, f4, ok);
         for (int i = 0; i < 4; ++i)
             if (ok[i]) fn(f4[i], pi + static_cast<std::size_t>(i));
     }

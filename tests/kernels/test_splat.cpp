@@ -391,6 +391,25 @@ TEST_CASE("SplatFrame: partial buffers over any split of the points, merged, equ
 }
 
 namespace {
+// The records every early exit of an EWA footprint meets, `copies` times: NaN / infinite positions,
+// zero and NaN normals, zero, negative, NaN and infinite radii, a point behind the eye, one far off
+// screen.
+void add_degenerate_records(std::vector<PointRecord>& pts, int copies) {
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    for (int i = 0; i < copies; ++i) {
+        pts.push_back(rec({NAN, 0, 0}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({0.1, inf, 0}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({0.2, 0.1 * i, 0.85}, {0, 0, 0}, 0.05f));
+        pts.push_back(rec({-0.2, 0.1 * i, 0.85}, {nan, 0, 1}, 0.05f));
+        pts.push_back(rec({0.3, -0.1 * i, 0.85}, {0, 1, 1}, 0.0f));
+        pts.push_back(rec({0.3, -0.1 * i, 0.86}, {1, 0, 1}, -0.05f));
+        pts.push_back(rec({0.35, 0.1 * i, 0.86}, {1, 0, 1}, nan));
+        pts.push_back(rec({0.35, 0.1 * i, 0.87}, {1, 1, 0}, inf));
+        pts.push_back(rec({0, 0, 50}, {0, 0, 1}, 0.05f));
+        pts.push_back(rec({40, 0, 0}, {0, 0, 1}, 0.05f));
+    }
+}
+
 // Pass 1 written out plainly, one pixel at a time, from the footprints draw() hands out: the oracle
 // of the (vectorised) visibility pass.
 std::vector<std::uint64_t> plain_visibility(const std::vector<EwaFootprint>& fps, int W, int H, float c2) {
@@ -420,21 +439,8 @@ TEST_CASE("EWA pass 2 from spooled footprints and with hidden splats skipped: th
         const auto more = sphere_points(3000, rho, 1.4);
         pts.insert(pts.end(), more.begin(), more.end());
     }
-    // and records every early exit of the footprint meets: NaN / infinite positions, zero and NaN
-    // normals, zero, negative, NaN and infinite radii, a point behind the eye, one far off screen
-    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
-    for (int i = 0; i < 8; ++i) {
-        pts.push_back(rec({NAN, 0, 0}, {0, 0, 1}, 0.05f));
-        pts.push_back(rec({0.1, inf, 0}, {0, 0, 1}, 0.05f));
-        pts.push_back(rec({0.2, 0.1 * i, 0.85}, {0, 0, 0}, 0.05f));
-        pts.push_back(rec({-0.2, 0.1 * i, 0.85}, {nan, 0, 1}, 0.05f));
-        pts.push_back(rec({0.3, -0.1 * i, 0.85}, {0, 1, 1}, 0.0f));
-        pts.push_back(rec({0.3, -0.1 * i, 0.86}, {1, 0, 1}, -0.05f));
-        pts.push_back(rec({0.35, 0.1 * i, 0.86}, {1, 0, 1}, nan));
-        pts.push_back(rec({0.35, 0.1 * i, 0.87}, {1, 1, 0}, inf));
-        pts.push_back(rec({0, 0, 50}, {0, 0, 1}, 0.05f));
-        pts.push_back(rec({40, 0, 0}, {0, 0, 1}, 0.05f));
-    }
+    // and records every early exit of the footprint meets
+    add_degenerate_records(pts, 8);
     std::mt19937 rng(11);
     std::shuffle(pts.begin(), pts.end(), rng);
     for (ColorBy colour : {ColorBy::none, ColorBy::normal})
@@ -560,18 +566,8 @@ TEST_CASE("EWA: the AVX2 loops give the bits of the baseline SSE2 ones", "[splat
         const float rad = 0.002f * std::pow(150.0f, r01(rng));  // 0.002 .. 0.3
         pts.push_back(rec({0.9 * u(rng), 0.9 * u(rng), 0.9 * u(rng)}, {u(rng), u(rng), u(rng)}, rad));
     }
-    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
-    for (int i = 0; i < 3; ++i) {
-        pts.push_back(rec({NAN, 0, 0}, {0, 0, 1}, 0.05f));
-        pts.push_back(rec({0.2, 0.1 * i, 0.85}, {0, 0, 0}, 0.05f));
-        pts.push_back(rec({-0.2, 0.1 * i, 0.85}, {nan, 0, 1}, 0.05f));
-        pts.push_back(rec({0.3, -0.1 * i, 0.85}, {0, 1, 1}, 0.0f));
-        pts.push_back(rec({0.3, -0.1 * i, 0.86}, {1, 0, 1}, -0.05f));
-        pts.push_back(rec({0.35, 0.1 * i, 0.86}, {1, 0, 1}, nan));
-        pts.push_back(rec({0.35, 0.1 * i, 0.87}, {1, 1, 0}, inf));
-        pts.push_back(rec({0, 0, 50}, {0, 0, 1}, 0.05f));
-        pts.push_back(rec({0.95, 0.95, 0.2}, {0, 0, 1}, 0.2f));  // cut by the image's corner
-    }
+    add_degenerate_records(pts, 3);
+    for (int i = 0; i < 3; ++i) pts.push_back(rec({0.95, 0.95, 0.2 + 0.1 * i}, {0, 0, 1}, 0.2f));  // cut by the image's corner
     std::shuffle(pts.begin(), pts.end(), rng);
     bool compared_avx2 = false;
     for (ColorBy colour : {ColorBy::none, ColorBy::normal})
