@@ -10,7 +10,10 @@
 
 namespace meshless {
 
-FootprintSpool::FootprintSpool(const std::string& purpose) { f_ = unlinked_temporary(purpose, name_); }
+FootprintSpool::FootprintSpool(const std::string& purpose, std::size_t memory_limit)
+    : memory_capacity_(memory_limit / sizeof(EwaFootprint)) {
+    f_ = unlinked_temporary(purpose, name_);
+}
 
 FootprintSpool::~FootprintSpool() {
     if (f_) std::fclose(f_);
@@ -22,6 +25,19 @@ void FootprintSpool::fail(const char* what, int err) const {
 }
 
 void FootprintSpool::append(std::span<const EwaFootprint> footprints) {
+    // the memory tier first, chunk by chunk, while it has room
+    while (!footprints.empty() && count_ < memory_capacity_) {
+        if (chunks_.empty() || chunks_.back().size() == kChunk) {
+            chunks_.emplace_back();
+            chunks_.back().reserve(kChunk);
+        }
+        LargeBuffer<EwaFootprint>& c = chunks_.back();
+        const std::size_t n = static_cast<std::size_t>(
+            std::min<std::uint64_t>({footprints.size(), kChunk - c.size(), memory_capacity_ - count_}));
+        c.insert(c.end(), footprints.begin(), footprints.begin() + static_cast<std::ptrdiff_t>(n));
+        footprints = footprints.subspan(n);
+        count_ += n;
+    }
     if (footprints.empty()) return;
     errno = 0;
     if (std::fwrite(footprints.data(), sizeof(EwaFootprint), footprints.size(), f_) != footprints.size())
@@ -34,10 +50,22 @@ void FootprintSpool::flush() {
     if (std::fflush(f_) != 0) fail("write to", errno);
 }
 
-void FootprintSpool::read(std::uint64_t first, std::span<EwaFootprint> out) const {
-    if (first + out.size() > count_)
-        throw IoError(name_ + ": cannot read footprints " + std::to_string(first) + ".." + std::to_string(first + out.size()) +
+void FootprintSpool::check_range(std::uint64_t first, std::uint64_t count) const {
+    if (first > count_ || count > count_ - first)
+        throw IoError(name_ + ": cannot read footprints " + std::to_string(first) + ".." + std::to_string(first + count) +
                       " back from the splat footprint spool (deleted temporary file): it holds " + std::to_string(count_));
+}
+
+void FootprintSpool::read(std::uint64_t first, std::span<EwaFootprint> out) const {
+    std::vector<EwaFootprint> scratch;
+    std::size_t at = 0;
+    visit(first, out.size(), scratch, [&](std::span<const EwaFootprint> part) {
+        std::memcpy(out.data() + at, part.data(), part.size() * sizeof(EwaFootprint));
+        at += part.size();
+    });
+}
+
+void FootprintSpool::read_file(std::uint64_t first, std::span<EwaFootprint> out) const {
     const int fd = ::fileno(f_);
     char* dst = reinterpret_cast<char*>(out.data());
     const std::size_t want = out.size() * sizeof(EwaFootprint);

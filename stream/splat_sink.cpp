@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -58,10 +59,11 @@ struct SplatSink::Canvases {
     bool spool_footprints = false;
     std::uint64_t min_group = 4096;  // see SplatSink::set_spool_groups
     std::size_t max_groups = 1024;
+    std::size_t spool_memory_per_thread = 0;  // see SplatSink::set_spool_memory
     Canvas& local(const SplatFrame& f) {
         Canvas& c = per_thread.local();
         if (spool_footprints && !c.spool) {
-            c.spool = std::make_unique<FootprintSpool>("splat-spool");
+            c.spool = std::make_unique<FootprintSpool>("splat-spool", spool_memory_per_thread);
             c.groups.reserve(max_groups);
             c.min_group = min_group;
         }
@@ -115,10 +117,19 @@ SplatSink::SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams&
     // Without a replay spool, pass 1 spools footprints (one file per drawing thread); this thread's
     // is made now, so that an unusable temporary directory fails before the first point.
     canvases_->spool_footprints = replay == nullptr;
+    canvases_->spool_memory_per_thread = kSpoolMemory / static_cast<std::size_t>(threads_);
     if (!replay) canvases_->local(frame_);
 }
 
 SplatSink::~SplatSink() = default;
+
+void SplatSink::set_spool_memory(std::size_t bytes) {
+    if (points_ != 0) throw std::logic_error("SplatSink::set_spool_memory: before any point");
+    canvases_->spool_memory_per_thread = bytes / static_cast<std::size_t>(threads_);
+    // this thread's spool was made by the constructor (to fail early): remade empty with the new budget
+    for (Canvas& c : canvases_->per_thread)
+        if (c.spool) c.spool = std::make_unique<FootprintSpool>("splat-spool", canvases_->spool_memory_per_thread);
+}
 
 void SplatSink::set_spool_groups(std::uint64_t min_group, std::size_t max_groups) {
     if (min_group < 1 || max_groups < 2 || max_groups % 2 != 0 || points_ != 0)
@@ -167,9 +178,9 @@ void SplatSink::finish() {
                 Canvas& c = canvases_->per_thread.local();
                 if (c.keys.empty()) c.keys.assign(npix, SplatFrame::kEmptyKey);
                 const SpoolGroup& g = groups[i];
-                c.footprints.resize(static_cast<std::size_t>(g.count));
-                g.spool->read(g.first, c.footprints);
-                frame_.draw(c.footprints, c.keys.data(), c.stats, &c.cull);
+                g.spool->visit(g.first, g.count, c.footprints, [&](std::span<const EwaFootprint> part) {
+                    frame_.draw(part, c.keys.data(), c.stats, &c.cull);
+                });
             }
         });
     }
@@ -220,9 +231,9 @@ void SplatSink::finish() {
             if (c.acc.empty()) c.acc.assign(words * npix, 0);
             const Part& p = parts[i];
             if (p.spool) {
-                c.footprints.resize(static_cast<std::size_t>(p.count));
-                p.spool->read(p.first, c.footprints);
-                frame_.accumulate(c.footprints, keys.data(), c.acc.data(), c.stats, &tiles);
+                p.spool->visit(p.first, p.count, c.footprints, [&](std::span<const EwaFootprint> part) {
+                    frame_.accumulate(part, keys.data(), c.acc.data(), c.stats, &tiles);
+                });
                 return;
             }
             c.batch.resize(static_cast<std::size_t>(p.count));
@@ -267,7 +278,8 @@ std::size_t SplatSink::retained_bytes() const {
     std::size_t n = image_.rgb.capacity();
     for (const Canvas& c : canvases_->per_thread)
         n += c.keys.capacity() * sizeof(std::uint64_t) + c.acc.capacity() * sizeof(std::int64_t) +
-             c.footprints.capacity() * sizeof(EwaFootprint) + c.groups.capacity() * sizeof(SpoolGroup);
+             c.footprints.capacity() * sizeof(EwaFootprint) + c.groups.capacity() * sizeof(SpoolGroup) +
+             (c.spool ? c.spool->memory_bytes() : 0);
     return n;
 }
 

@@ -1,10 +1,13 @@
-// The footprint spool (stream/footprint_spool.hpp) alone: footprints round-trip through the
-// unlinked file in any append split and any read range (ranges that are not page-aligned, across
-// pages, empty); ranges past the end are IoErrors naming the spool.
+// The footprint spool (stream/footprint_spool.hpp) alone: footprints round-trip through the memory
+// tier and the unlinked file in any append split and any read range (ranges that are not
+// page-aligned, across pages, across memory chunks and the tier's end, empty), read whole or
+// visited in pieces; ranges past the end are IoErrors naming the spool.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
 #include <cstring>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "kernels/errors.hpp"
@@ -54,4 +57,55 @@ TEST_CASE("FootprintSpool: read gives the appended footprints", "[stream][splat]
     std::vector<EwaFootprint> two(2);
     CHECK_THROWS_WITH(spool.read(n - 1, two), Catch::Contains("splat footprint spool (deleted temporary file): it holds 10000"));
     CHECK_THROWS_AS(spool.read(n, std::span(two).first(1)), IoError);
+}
+
+TEST_CASE("FootprintSpool: a memory tier then the file, read and visited across both", "[stream][splat]") {
+    // 2.5 chunks in memory, the rest in the file: reads and visits across chunk ends and the tier's end
+    const std::size_t tier = FootprintSpool::kChunk * 5 / 2, n = tier + 30000;
+    FootprintSpool spool("test-footprints", tier * sizeof(EwaFootprint));
+    std::vector<EwaFootprint> all;
+    for (std::size_t first = 0; first < n; first += 40000) {
+        const std::vector<EwaFootprint> part = numbered(std::min<std::size_t>(40000, n - first), first);
+        spool.append(part);
+        all.insert(all.end(), part.begin(), part.end());
+    }
+    spool.flush();
+    REQUIRE(spool.size() == n);
+    CHECK(spool.in_memory() == tier);
+    CHECK(spool.memory_bytes() == 3 * FootprintSpool::kChunk * sizeof(EwaFootprint));
+    const std::uint64_t C = FootprintSpool::kChunk;
+    for (std::uint64_t first : std::vector<std::uint64_t>{0, C - 5, 2 * C + 1, tier - 3, tier, tier + 17, n - 1}) {
+        for (std::uint64_t count : std::vector<std::uint64_t>{0, 1, 10, C + 3}) {
+            if (first + count > n) continue;
+            INFO("first " << first << " count " << count);
+            std::vector<EwaFootprint> got(count);
+            spool.read(first, got);
+            if (count > 0) CHECK(std::memcmp(got.data(), all.data() + first, count * sizeof(EwaFootprint)) == 0);
+            // visit: the same footprints in order, in pieces no longer than a chunk past the tier
+            std::vector<EwaFootprint> scratch, seen;
+            std::size_t pieces = 0;
+            spool.visit(first, count, scratch, [&](std::span<const EwaFootprint> p) {
+                ++pieces;
+                seen.insert(seen.end(), p.begin(), p.end());
+            });
+            REQUIRE(seen.size() == count);
+            if (count > 0) CHECK(std::memcmp(seen.data(), all.data() + first, count * sizeof(EwaFootprint)) == 0);
+            CHECK(pieces <= 4);
+        }
+    }
+    std::vector<EwaFootprint> two(2);
+    CHECK_THROWS_WITH(spool.read(n - 1, two), Catch::Contains("it holds " + std::to_string(n)));
+    std::vector<EwaFootprint> scratch;
+    CHECK_THROWS_AS(spool.visit(n, 1, scratch, [](std::span<const EwaFootprint>) {}), IoError);
+}
+
+TEST_CASE("FootprintSpool: without a memory tier everything goes to the file", "[stream][splat]") {
+    FootprintSpool spool("test-footprints");
+    spool.append(numbered(1000, 0));
+    spool.flush();
+    CHECK(spool.in_memory() == 0);
+    CHECK(spool.memory_bytes() == 0);
+    std::vector<EwaFootprint> got(3);
+    spool.read(997, got);
+    CHECK(got[2].sx == 999.0f);
 }
