@@ -138,7 +138,9 @@ SamplingParams sampling_params(const Args& a) {
 }
 
 void add_memory_option(Args& a) {
-    a.option("memory", "", "BYTES", "brick stores (.mlb): brick cache budget, e.g. 256M, 2G", "256M")
+    a.option("memory", "", "BYTES",
+             "brick stores (.mlb): brick cache budget, e.g. 256M, 2G; given, the EWA picture's footprints go to disk (else the first 64 MiB stay in memory)",
+             "256M")
         .validate([](const std::string& v) { (void)parse_memory_size(v); });
 }
 
@@ -489,7 +491,11 @@ SplatKernel kernel_from(const Args& a) {
 
 }  // namespace
 
-RenderSettings render_settings(const Args& a) { return {camera_from(a, "800x800"), kernel_from(a), shading_from(a)}; }
+RenderSettings render_settings(const Args& a) {
+    RenderSettings rs{camera_from(a, "800x800"), kernel_from(a), shading_from(a)};
+    if (a.declared("memory") && a.has("memory")) rs.spool_memory = 0;
+    return rs;
+}
 
 std::string joined_names(const std::vector<std::string>& paths) {
     std::string s;

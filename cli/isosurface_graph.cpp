@@ -101,6 +101,7 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
     }
     AtomicFile png_file(*png);  // before any work: a PNG that cannot be created fails the run at once
     SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
+    splat.set_spool_memory(rs.spool_memory);
     std::optional<PointFileSink> ply;
     if (out) {
         VtpOptions vo = out->vtp;

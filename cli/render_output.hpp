@@ -5,6 +5,7 @@
 #include <string>
 
 #include "kernels/splat_rasterizer.hpp"
+#include "stream/splat_sink.hpp"
 
 namespace meshless::cli {
 
@@ -14,6 +15,9 @@ struct RenderSettings {
     ShadingParams shading;   ///< colours included (ShadingParams::color_by, colormap, value range)
     bool colorbar = false;   ///< draw the legend (kernels/colorbar.hpp): the value bar, or the block swatches
     std::uint32_t legend_blocks = 0;  ///< --color block: the number of blocks (0: unknown, all palette colours)
+    /// EWA: bytes of footprints the splat sink keeps in memory (SplatSink::set_spool_memory); 0 when
+    /// --memory is given, which then bounds the process (the brick cache) and the footprints go to disk.
+    std::size_t spool_memory = SplatSink::kSpoolMemory;
 };
 
 /// What --color asked for, before it is resolved against the input ("auto": value when the points'
