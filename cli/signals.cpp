@@ -19,6 +19,15 @@ void on_fatal_signal(int sig) {
     ::_exit(128 + sig);
 }
 
+// SIGBUS: a mapped input (formats/binary_file.hpp FileAccess::mapped) shrank while it was read.
+// Async-signal-safe: write(2), unlink(2), _exit(2); a data error (exit 2), as a short read is.
+void on_bus_error(int) {
+    static const char msg[] = "meshless: an input file shrank or became unreadable while it was read (SIGBUS); nothing was written\n";
+    (void)!::write(2, msg, sizeof msg - 1);
+    remove_live_temporaries();
+    ::_exit(2);
+}
+
 void report_stale(const char* path, long pid) {
     std::fprintf(stderr, "meshless: removed stale temporary file %s (process %ld no longer exists)\n",
                  ply_escape(path, 512).c_str(), pid);
@@ -37,6 +46,10 @@ void install_signal_cleanup() {
         sa.sa_flags = 0;
         ::sigaction(sig, &sa, nullptr);
     }
+    struct sigaction bus {};
+    bus.sa_handler = &on_bus_error;
+    sigfillset(&bus.sa_mask);
+    ::sigaction(SIGBUS, &bus, nullptr);
 }
 
 }  // namespace meshless::cli

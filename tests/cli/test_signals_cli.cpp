@@ -1,7 +1,8 @@
 // Signals and write errors (issue 12, "Faults"): on SIGINT, SIGTERM, SIGHUP and SIGXFSZ meshless
 // removes the temporaries it is writing and exits with 128 + signal; the next run removes stale
 // temporaries of processes that are gone and says so; a write error on standard output (a full
-// device) is an error, not exit 0.
+// device) is an error, not exit 0; SIGBUS from a mapped input that shrinks is a one-line data error
+// (exit 2), its temporaries removed too.
 #include <catch2/catch.hpp>
 #include <fcntl.h>
 #include <signal.h>
@@ -12,9 +13,14 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <string>
 #include <thread>
+#include <vector>
 
+#include "cli/signals.hpp"
 #include "cli_harness.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/binary_file.hpp"
 
 using namespace meshless;
 using namespace meshless::test;
@@ -267,4 +273,36 @@ TEST_CASE("batch killed mid-run: exit 128+signal, no temporaries, the rerun fini
     const auto again = sh("MESHLESS batch " + (dir / "archive").string() + " -o " + out.string() + " --iso 50.5", dir);
     CHECK(again.code == 0);
     CHECK(again.out.find("0 done, 2 up to date") != std::string::npos);
+}
+
+TEST_CASE("SIGBUS: a mapped input that shrinks while it is read gives one line and exit 2 and leaves no temporaries",
+          "[cli][signals]") {
+    TempDir d("sigbus");
+    const fs::path in = d / "vol.raw", out = d / "out.ply", err = d / "stderr.txt";
+    spit(in, std::string(std::size_t{1} << 20, 'v'));
+    const pid_t pid = ::fork();
+    if (pid == 0) {  // the child is meshless: the CLI's handlers, an output being written, a mapped input
+        const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (e < 0) ::_exit(121);
+        ::dup2(e, 2);
+        meshless::cli::install_signal_cleanup();
+        AtomicFile o(out.string());
+        o.write("ply\n");
+        std::fflush(o.handle());
+        const FileRangeReader r(in.string(), FileAccess::mapped);
+        if (::truncate(in.c_str(), 0) != 0) ::_exit(122);
+        std::vector<std::byte> buf(std::size_t{1} << 20);
+        r.read_into(0, buf.size(), buf.data());  // SIGBUS
+        ::_exit(99);
+    }
+    REQUIRE(pid > 0);
+    int status = 0;
+    REQUIRE(::waitpid(pid, &status, 0) == pid);
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 2);
+    CHECK_THAT(slurp(err), Catch::Contains("an input file shrank or became unreadable while it was read (SIGBUS)"));
+    std::vector<std::string> left;
+    for (const auto& e : fs::directory_iterator(d.path)) left.push_back(e.path().filename().string());
+    std::sort(left.begin(), left.end());
+    CHECK(left == std::vector<std::string>{"stderr.txt", "vol.raw"});
 }
