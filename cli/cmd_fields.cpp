@@ -41,8 +41,8 @@ void report_support(const Args& a, const BuiltField& f, const FieldEvaluateStage
                  a.command().c_str(), e.uncovered(), kModes[static_cast<int>(f.extrapolate)], e.clamped());
 }
 
-/// Positions from a CSV/whitespace file ("-": standard input): three numbers per line (an optional
-/// header line is skipped).
+/// Positions from a CSV/whitespace file ("-": standard input): three numbers per line; blank lines
+/// and # comments skipped, an optional header line first; no position at all is a FormatError.
 std::vector<Vec3> read_positions(const std::string& path) {
     std::error_code ec;
     if (path != "-" && std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a file of positions");
@@ -54,6 +54,7 @@ std::vector<Vec3> read_positions(const std::string& path) {
     std::istream& in = path == "-" ? std::cin : file;
     std::vector<Vec3> out;
     std::string line;
+    bool first_line = true;
     for (std::size_t n = 1; std::getline(in, line); ++n) {
         for (char& c : line)
             if (c == ',' || c == ';' || c == '\t') c = ' ';
@@ -63,14 +64,19 @@ std::vector<Vec3> read_positions(const std::string& path) {
         double v[3];
         std::istringstream all(line);
         if (!(all >> v[0] >> v[1] >> v[2])) {
-            // a header: a first line that does not start with a number ("x,y,z")
+            // a header: the first line (comments and blank lines aside) when it does not start
+            // with a number ("x,y,z")
             double num;
             std::istringstream head(first);
-            if (out.empty() && n == 1 && !(head >> num)) continue;
+            if (first_line && !(head >> num)) {
+                first_line = false;
+                continue;
+            }
             throw FormatError(path + ":" + std::to_string(n) + ": expected x,y,z, got '" + escape_field(line) + "'");
         }
         if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
             throw FormatError(path + ":" + std::to_string(n) + ": non-finite position");
+        first_line = false;
         out.push_back({v[0], v[1], v[2]});
     }
     if (in.bad()) throw IoError(path + ": read error");

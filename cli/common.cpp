@@ -139,7 +139,7 @@ SamplingParams sampling_params(const Args& a) {
 
 void add_memory_option(Args& a) {
     a.option("memory", "", "BYTES",
-             "brick stores (.mlb): brick cache budget, e.g. 256M, 2G; given, the EWA picture's footprints go to disk (else the first 64 MiB stay in memory)",
+             "brick stores (.mlb): brick cache budget, e.g. 256M, 2G; the EWA picture's footprints then keep at most an eighth of it in memory (else 64 MiB), the rest on disk",
              "256M")
         .validate([](const std::string& v) { (void)parse_memory_size(v); });
 }
@@ -493,7 +493,9 @@ SplatKernel kernel_from(const Args& a) {
 
 RenderSettings render_settings(const Args& a) {
     RenderSettings rs{camera_from(a, "800x800"), kernel_from(a), shading_from(a)};
-    if (a.declared("memory") && a.has("memory")) rs.spool_memory = 0;
+    // --memory bounds the process: the EWA picture's footprints take an eighth of it at most
+    if (a.declared("memory") && a.has("memory"))
+        rs.spool_memory = std::min<std::uint64_t>(SplatSink::kSpoolMemory, parse_memory_size(*a.get("memory")) / 8);
     return rs;
 }
 

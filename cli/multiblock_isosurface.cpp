@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -21,6 +22,7 @@
 #include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
+#include "formats/text_header.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/amr_cover.hpp"
 #include "kernels/barycentric_lattice.hpp"
@@ -85,6 +87,25 @@ void print_newton_stats(const char* cmd, const std::string& field, const FieldPr
 }
 
 
+void widen_frame_for_travel(StreamMeta& m, double max_travel) {
+    const auto travel = m.get("frame_travel"), diagonal = m.get("frame_cell_diagonal");
+    const auto box = meta_bounds(m);
+    if (!travel || !diagonal || !box || !std::isfinite(max_travel)) return;
+    auto number = [](const std::string& key, const std::string& v) {  // the stream's data, not an option
+        char* end = nullptr;
+        const double x = std::strtod(v.c_str(), &end);
+        if (v.empty() || *end != '\0' || !std::isfinite(x))
+            throw FormatError("stream metadata: '" + key + "' is not a finite number: " + escape_field(v));
+        return x;
+    };
+    const double t = number("frame_travel", *travel), g = number("frame_cell_diagonal", *diagonal);
+    if (!(max_travel > t) || !(g > 0)) return;
+    const double pad = (max_travel - t) * g * (1 + 1e-6);
+    m.set("bounds_lo", triple((*box)[0] - Vec3{pad, pad, pad}));
+    m.set("bounds_hi", triple((*box)[1] + Vec3{pad, pad, pad}));
+    m.set("frame_travel", max_travel);
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -139,6 +160,7 @@ StreamMeta block_meta(const BlockInput& in, double iso, int n, const std::string
     m.set("producer", producer);
     return m;
 }
+
 
 void add_projection_meta(StreamMeta& m, const std::string& field, const FieldProjectParams& p) {
     m.set("projection", "newton");
@@ -393,6 +415,7 @@ int project_seeds(int argc, char** argv) {
                                                                    : build_field(a, read_points_arg(a));
     const double field_seconds = since(t1);
     add_projection_meta(meta, field.field->name(), np);
+    widen_frame_for_travel(meta, np.seed_max_travel);
     // multiblock seeds carry block ids; scattered ones (cli/scattered_isosurface.hpp) do not
     const bool with_blocks = meta.get("method").value_or("") != "scattered";
     StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"), with_blocks);

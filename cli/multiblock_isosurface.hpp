@@ -17,6 +17,7 @@
 
 #include "cli/args.hpp"
 #include "formats/atomic_file.hpp"
+#include "formats/point_stream.hpp"
 #include "kernels/field_newton_projection.hpp"
 #include "stream/field_project_stage.hpp"
 
@@ -47,6 +48,11 @@ int lattice_n(const Args& a, int default_n = kDefaultLatticeN);
 /// --max-travel's default: a seed moves at most this many cell diagonals (section 4.4).
 inline constexpr double kDefaultMaxTravel = 2;
 void add_newton_options(Args& a);
+/// A seed stream whose frame (bounds_lo/hi) was widened for Newton moving its seeds up to
+/// frame_travel cell diagonals of frame_cell_diagonal (scattered seeds, cli/scattered_isosurface):
+/// widened further for a larger max_travel, so that the projected points stay inside it. An
+/// unlimited travel (infinity) leaves it: its points may lie beyond.
+void widen_frame_for_travel(StreamMeta& m, double max_travel);
 FieldProjectParams newton_params(const Args& a);
 /// The --stats line of the Newton projection.
 void print_newton_stats(const char* cmd, const std::string& field, const FieldProjectParams& p, const FieldNewtonStats& s,

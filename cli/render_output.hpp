@@ -15,8 +15,8 @@ struct RenderSettings {
     ShadingParams shading;   ///< colours included (ShadingParams::color_by, colormap, value range)
     bool colorbar = false;   ///< draw the legend (kernels/colorbar.hpp): the value bar, or the block swatches
     std::uint32_t legend_blocks = 0;  ///< --color block: the number of blocks (0: unknown, all palette colours)
-    /// EWA: bytes of footprints the splat sink keeps in memory (SplatSink::set_spool_memory); 0 when
-    /// --memory is given, which then bounds the process (the brick cache) and the footprints go to disk.
+    /// EWA: bytes of footprints the splat sink keeps in memory (SplatSink::set_spool_memory); with
+    /// --memory, which bounds the process (the brick cache), an eighth of it at most.
     std::size_t spool_memory = SplatSink::kSpoolMemory;
 };
 

@@ -209,7 +209,10 @@ std::array<Vec3, 2> frame_box(const BinningGrid& g, double max_travel) {
 }
 }  // namespace
 
-StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std::string& producer, double max_travel) {
+StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std::string& producer) {
+    // the frame allows for the default travel; a longer one widens it (widen_frame_for_travel), on
+    // both paths the same way, so that isosurface and generate | project record the same bytes
+    const double max_travel = kDefaultMaxTravel;
     StreamMeta m;
     const auto range = in.points.value_range();
     m.set("source", in.source);
@@ -225,6 +228,8 @@ StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std
     m.set("bounds_hi", triple(frame[1]));
     m.set("volume_bounds_lo", triple(in.grid.bounds[0]));
     m.set("volume_bounds_hi", triple(in.grid.bounds[1]));
+    m.set("frame_travel", max_travel);  // what the frame allows for
+    m.set("frame_cell_diagonal", in.grid.diagonal());
     m.set("producer", producer);
     return m;
 }
@@ -373,7 +378,8 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
     apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
     const bool crossed = iso_in_range(in, iso);
     if (!crossed && root) warn_if_iso_outside(iso, in.points.value_range(), in.source);
-    StreamMeta meta = scattered_meta(in, iso, n, a.command_line(), np.seed_max_travel);
+    StreamMeta meta = scattered_meta(in, iso, n, a.command_line());
+    widen_frame_for_travel(meta, np.seed_max_travel);
 
     // the field: only when the isovalue is within the data (an empty output needs none)
     // under mpirun the ranks share the mpu field's local fits (every rank ends with the whole field)
@@ -536,8 +542,7 @@ int generate_scattered(int argc, char** argv) {
     if (!crossed) warn_if_iso_outside(iso, in.points.value_range(), in.source);
     double field_seconds = 0;
     BuiltField field = build_field_and_coverage(a, in, crossed, field_seconds);
-    StreamSink sink(out.f, out.name, RecordKind::seed, scattered_meta(in, iso, n, a.command_line(), kDefaultMaxTravel),
-                    a.has("compress"));
+    StreamSink sink(out.f, out.name, RecordKind::seed, scattered_meta(in, iso, n, a.command_line()), a.has("compress"));
     std::optional<StencilSeedStage> seed;
     if (field.field) {
         StencilSource source{StencilGrid(in.grid.dims)};

@@ -264,12 +264,20 @@ __attribute__((target("avx2"))) std::int64_t draw_rows_avx2(const Setup& s, cons
 }
 #endif
 
+// The Gaussian table entry of t = q * qscale, clamped to [0, kTable] (a splat thousands of pixels
+// wide can round q slightly below 0; NaN gives 0), as the AVX2 loop does it: max(t, 0) with the
+// SSE/AVX operand order (NaN -> 0), then min with kTable, then truncation.
+inline int gauss_index(float t) {
+    const float lo = t > 0.0f ? t : 0.0f;
+    return static_cast<int>(lo < static_cast<float>(kTable) ? lo : static_cast<float>(kTable));
+}
+
 // Pass 2 for one footprint: adds its fragments near the visible surface; returns fragments tested.
 // Adds one accepted fragment (weight from q, aligned normal, colour) to the pixel's accumulators.
 inline void add_fragment(const Footprint& f, const float* colour, float q, std::uint64_t key, const float* gauss,
                          float qscale, std::int64_t* a, bool coloured) {
     // Align with the visible fragment's orientation before blending.
-    const float wgt = gauss[static_cast<int>(q * qscale)] * kFixed;
+    const float wgt = gauss[gauss_index(q * qscale)] * kFixed;
     const float wn = agrees(key, f.n) ? wgt : -wgt;
     a[0] += static_cast<std::int64_t>(wgt);
     a[1] += static_cast<std::int64_t>(std::lrint(wn * f.n[0]));
@@ -320,7 +328,8 @@ __attribute__((target("avx2"))) std::int64_t accumulate_plain_avx2(const Setup& 
             // the eight visible keys: high words = depth bits, low words = packed normal
             const long long* kp = reinterpret_cast<const long long*>(kb + rowi + x);
             const __m256i k0 = _mm256_maskload_epi64(kp, _mm256_cvtepi32_epi64(_mm256_castsi256_si128(inside)));
-            const __m256i k1 = _mm256_maskload_epi64(kp + 4, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(inside, 1)));
+            const __m256i k1 = n > 4 ? _mm256_maskload_epi64(kp + 4, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(inside, 1)))
+                                     : _mm256_setzero_si256();
             // de-interleave: lo = low words of keys 0..7, hi = high words, in lane order
             const __m256i p0 = _mm256_permutevar8x32_epi32(k0, even), p1 = _mm256_permutevar8x32_epi32(k1, even);
             const __m256i lo = _mm256_permute2x128_si256(p0, p1, 0x20), hi = _mm256_permute2x128_si256(p0, p1, 0x31);
@@ -328,7 +337,9 @@ __attribute__((target("avx2"))) std::int64_t accumulate_plain_avx2(const Setup& 
             const int accept = in_bits & _mm256_movemask_ps(_mm256_cmp_ps(z, limit, _CMP_NGT_UQ));
             if (!accept) continue;
             // weight, orientation, fixed point (add_fragment on every lane)
-            const __m256i gi = _mm256_cvttps_epi32(_mm256_mul_ps(q, vqscale));
+            // gauss_index on every lane: max(t, 0) (NaN -> 0), min with kTable, truncation
+            const __m256i gi = _mm256_cvttps_epi32(
+                _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(q, vqscale), _mm256_setzero_ps()), _mm256_set1_ps(static_cast<float>(kTable))));
             const __m256i take = _mm256_castps_si256(_mm256_cmp_ps(z, limit, _CMP_NGT_UQ));
             const __m256 g = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), gauss, gi,
                                                       _mm256_castsi256_ps(_mm256_and_si256(take, inside)), 4);
@@ -375,7 +386,7 @@ std::int64_t accumulate_one(const Setup& s, const Footprint& f, const DepthRange
                             const std::uint64_t* kb, std::int64_t* acc, std::size_t words) {
     const bool coloured = words == 7;
 #if MESHLESS_EWA_AVX2
-    if (s.avx2 && !coloured) return accumulate_plain_avx2(s, f, d, gauss, qscale, kb, acc);
+    if (s.avx2 && words == 4) return accumulate_plain_avx2(s, f, d, gauss, qscale, kb, acc);
 #endif
     float colour[3] = {0, 0, 0};
     if (coloured) {
@@ -545,8 +556,8 @@ Setup make_setup(const ViewTransform& view, const ShadingParams& sh, bool avx2) 
                  avx2};
 }
 
-// Calls fn(footprint, index) for every point with a footprint, in order: four points at a time
-// (SSE2; the same bits as one at a time), the rest one by one.
+// Calls fn(footprint, index) for every point with a footprint, in order: eight points at a time
+// (AVX2) or four (SSE2), the same bits as one at a time, the rest one by one.
 template <class Fn>
 void for_each_footprint(const Setup& s, std::span<const PointRecord> points, Fn&& fn) {
     std::size_t pi = 0;

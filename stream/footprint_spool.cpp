@@ -10,8 +10,17 @@
 
 namespace meshless {
 
-FootprintSpool::FootprintSpool(const std::string& purpose, std::size_t memory_limit)
-    : memory_capacity_(memory_limit / sizeof(EwaFootprint)) {
+std::size_t SpoolMemory::take(std::size_t want, std::size_t least) {
+    std::size_t left = left_.load(std::memory_order_relaxed);
+    for (;;) {
+        const std::size_t got = std::min(want, left);
+        if (got < least || got == 0) return 0;
+        if (left_.compare_exchange_weak(left, left - got, std::memory_order_relaxed)) return got;
+    }
+}
+
+FootprintSpool::FootprintSpool(const std::string& purpose, std::shared_ptr<SpoolMemory> memory)
+    : sealed_(!memory), memory_(std::move(memory)) {
     f_ = unlinked_temporary(purpose, name_);
 }
 
@@ -25,15 +34,25 @@ void FootprintSpool::fail(const char* what, int err) const {
 }
 
 void FootprintSpool::append(std::span<const EwaFootprint> footprints) {
-    // the memory tier first, chunk by chunk, while it has room
-    while (!footprints.empty() && count_ < memory_capacity_) {
-        if (chunks_.empty() || chunks_.back().size() == kChunk) {
+    // the memory tier first, chunk by chunk, while the budget grants them; only the memory part
+    // precedes the file part, so the tier stops for good at the first chunk it cannot fill whole
+    while (!footprints.empty() && (count_ < memory_capacity_ || !sealed_)) {
+        if (count_ == memory_capacity_) {
+            // the file has taken nothing yet (sealed_ is false): ask for the next chunk
+            const std::size_t got = memory_->take(kChunk * sizeof(EwaFootprint), sizeof(EwaFootprint));
+            const std::size_t n = got / sizeof(EwaFootprint);
+            if (n == 0) {
+                sealed_ = true;
+                break;
+            }
+            if (n < kChunk) sealed_ = true;  // a short chunk can only be the last one (indexing by kChunk)
             chunks_.emplace_back();
-            chunks_.back().reserve(kChunk);
+            chunks_.back().reserve(n);
+            memory_capacity_ += n;
         }
         LargeBuffer<EwaFootprint>& c = chunks_.back();
         const std::size_t n = static_cast<std::size_t>(
-            std::min<std::uint64_t>({footprints.size(), kChunk - c.size(), memory_capacity_ - count_}));
+            std::min<std::uint64_t>(footprints.size(), memory_capacity_ - count_));
         c.insert(c.end(), footprints.begin(), footprints.begin() + static_cast<std::ptrdiff_t>(n));
         footprints = footprints.subspan(n);
         count_ += n;
@@ -60,7 +79,7 @@ void FootprintSpool::read(std::uint64_t first, std::span<EwaFootprint> out) cons
     std::vector<EwaFootprint> scratch;
     std::size_t at = 0;
     visit(first, out.size(), scratch, [&](std::span<const EwaFootprint> part) {
-        std::memcpy(out.data() + at, part.data(), part.size() * sizeof(EwaFootprint));
+        std::copy(part.begin(), part.end(), out.begin() + static_cast<std::ptrdiff_t>(at));
         at += part.size();
     });
 }

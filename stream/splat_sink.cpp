@@ -59,11 +59,12 @@ struct SplatSink::Canvases {
     bool spool_footprints = false;
     std::uint64_t min_group = 4096;  // see SplatSink::set_spool_groups
     std::size_t max_groups = 1024;
-    std::size_t spool_memory_per_thread = 0;  // see SplatSink::set_spool_memory
+    std::size_t spool_memory_bytes = 0;        // see SplatSink::set_spool_memory
+    std::shared_ptr<SpoolMemory> spool_memory;  // ... the budget all the threads' spools share
     Canvas& local(const SplatFrame& f) {
         Canvas& c = per_thread.local();
         if (spool_footprints && !c.spool) {
-            c.spool = std::make_unique<FootprintSpool>("splat-spool", spool_memory_per_thread);
+            c.spool = std::make_unique<FootprintSpool>("splat-spool", spool_memory);
             c.groups.reserve(max_groups);
             c.min_group = min_group;
         }
@@ -117,18 +118,23 @@ SplatSink::SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams&
     // Without a replay spool, pass 1 spools footprints (one file per drawing thread); this thread's
     // is made now, so that an unusable temporary directory fails before the first point.
     canvases_->spool_footprints = replay == nullptr;
-    canvases_->spool_memory_per_thread = kSpoolMemory / static_cast<std::size_t>(threads_);
+    canvases_->spool_memory_bytes = kSpoolMemory;
+    canvases_->spool_memory = std::make_shared<SpoolMemory>(kSpoolMemory);
     if (!replay) canvases_->local(frame_);
 }
 
 SplatSink::~SplatSink() = default;
 
 void SplatSink::set_spool_memory(std::size_t bytes) {
-    if (points_ != 0) throw std::logic_error("SplatSink::set_spool_memory: before any point");
-    canvases_->spool_memory_per_thread = bytes / static_cast<std::size_t>(threads_);
+    bool started = points_ != 0;  // (a staged draw spools before observe() counts)
+    for (const Canvas& c : canvases_->per_thread) started = started || (c.spool && c.spool->size() > 0);
+    if (started) throw std::logic_error("SplatSink::set_spool_memory: before any point");
+    if (bytes == canvases_->spool_memory_bytes) return;
+    canvases_->spool_memory_bytes = bytes;
+    canvases_->spool_memory = std::make_shared<SpoolMemory>(bytes);
     // this thread's spool was made by the constructor (to fail early): remade empty with the new budget
     for (Canvas& c : canvases_->per_thread)
-        if (c.spool) c.spool = std::make_unique<FootprintSpool>("splat-spool", canvases_->spool_memory_per_thread);
+        if (c.spool) c.spool = std::make_unique<FootprintSpool>("splat-spool", canvases_->spool_memory);
 }
 
 void SplatSink::set_spool_groups(std::uint64_t min_group, std::size_t max_groups) {

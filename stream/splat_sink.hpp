@@ -3,8 +3,8 @@
 // renderer's per-pixel buffers (kernels/splat_rasterizer.hpp SplatFrame); no point is collected.
 // Memory = the image buffers (one set per drawing thread) + one batch, for any number of points
 // (EWA: + 32 KiB per thread for the depth-ordered groups of the spool, and its memory tier: at most
-// kSpoolMemory, 64 MiB, about 1.1 M footprints, which saves their trips through the kernel's page
-// cache: 13 % of an 8-isovalue `isosurface --png` run on the lung CT).
+// kSpoolMemory, 64 MiB, about 1.1 M footprints, for all threads together, which saves their trips
+// through the kernel's page cache: 5 % of an 8-isovalue `isosurface --png` run on the lung CT).
 //
 // The camera must be framed before the first point (the surface bounds of the stream's META or the
 // PLY comments, see cli/common.hpp surface_bounds). Kernels:
@@ -13,9 +13,9 @@
 //  - ewa: two passes (visibility, then accumulation against the final visibility). As the batches
 //    arrive, the sink computes the screen footprints of their splats (conic, bounding box, depth
 //    plane, normal, base colour: kernels/splat_rasterizer.hpp EwaFootprint, 60 bytes) and appends
-//    them to a footprint spool per drawing thread (stream/footprint_spool.hpp: the first
-//    kSpoolMemory bytes in memory, shared among the threads, the rest in unlinked temporary files
-//    in $TMPDIR or /tmp), noting the mean depth of each group of consecutive batches (4,096
+//    them to a footprint spool per drawing thread (stream/footprint_spool.hpp: chunks in memory
+//    while the spools' shared budget of kSpoolMemory bytes lasts, the rest in unlinked temporary
+//    files in $TMPDIR or /tmp), noting the mean depth of each group of consecutive batches (4,096
 //    footprints or more; at most 1,024 groups per thread, coarser for larger spools). finish()
 //    replays the spools twice: pass 1 group by group, nearest groups first (each thread takes the
 //    nearest group left), skipping the splats that lie behind everything already drawn under them
@@ -61,8 +61,8 @@ public:
     /// Bytes of EWA footprints the spools keep in memory before their files take the rest, for
     /// all drawing threads together (stream/footprint_spool.hpp).
     static constexpr std::size_t kSpoolMemory = std::size_t{64} << 20;
-    /// Tests, tuning: another memory tier for the footprint spools (bytes, all threads); call before
-    /// the first point (std::logic_error otherwise). The image does not change.
+    /// Another memory budget for the footprint spools (bytes, all threads together; 0: all to disk);
+    /// call before the first point (std::logic_error otherwise). The image does not change.
     void set_spool_memory(std::size_t bytes);
     /// EWA spool groups (tuning, tests): a group takes consecutive batches until it holds min_group
     /// footprints (default 4096); when a thread has max_groups (default 1024) groups, neighbours

@@ -166,6 +166,9 @@ TEST_CASE("extrapolate: NaN, the field kept within the data range, or the neares
     // a positions file without positions, or with a short first line, names the file (and line)
     spit(d / "empty.txt", "");
     spit(d / "short.txt", "5 102\n5 102 3\n");
+    spit(d / "commented.txt", "# probe points\n\nx y z\n5 102 3\n");
+    REQUIRE(sh("MESHLESS probe " + pts + " --at-file " + D + "/commented.txt -o " + D + "/c.csv", d).code == 0);
+    CHECK(slurp(d / "c.csv") == slurp(d / "arg.csv"));
     const auto e = sh("MESHLESS probe " + pts + " --at-file " + D + "/empty.txt", d);
     CHECK(e.code == 2);
     CHECK_THAT(e.err, Catch::Contains("empty.txt: no positions"));

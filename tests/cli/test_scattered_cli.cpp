@@ -166,6 +166,14 @@ TEST_CASE("isosurface POINTS: the recorded frame (bounds_lo/hi) holds every poin
         // points Newton moved beyond the grid's border layer (up to --max-travel cell diagonals)
         inputs.push_back((shared_data() / "scattered" / "Particles.raw").string());
         isos.push_back(" --iso 6");
+        inputs.push_back(inputs.back());
+        isos.push_back(" --iso 6 --max-travel 6");
+        // generate | project with a longer travel widens the frame as isosurface does: the same bytes
+        const std::string P = inputs.back();
+        REQUIRE(sh("MESHLESS generate " + P + " --iso 6 | MESHLESS project --field mpu " + P + " --max-travel 6 | MESHLESS write -o " +
+                       D + "/piped.ply", d).code == 0);
+        REQUIRE(sh("MESHLESS isosurface " + P + " --iso 6 --max-travel 6 -o " + D + "/inproc.ply", d).code == 0);
+        CHECK(slurp(d / "piped.ply") == slurp(d / "inproc.ply"));
     }
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         const std::string out = D + "/f" + std::to_string(i) + ".ply";

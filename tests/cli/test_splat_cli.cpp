@@ -147,13 +147,13 @@ TEST_CASE("splat: a VTP point set or a PLY on stdin is refused with what it is",
     CHECK(!std::filesystem::exists(d / "p.png"));
 }
 
-TEST_CASE("isosurface --png: the same picture with the footprints in memory or on disk (--memory)", "[cli][splat]") {
+TEST_CASE("isosurface --png: the same picture with the footprints in memory or on disk (--memory 4K: 512 bytes of them in memory)", "[cli][splat]") {
     TempDir d("splattier");
     const std::string vol = corner_ball(d), D = d.path.string();
     for (const char* t : {"1", "2"}) {
         INFO("threads " << t);
         REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 --threads " + t + " --png " + D + "/m.png", d).code == 0);
-        REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 --threads " + t + " --memory 64M --png " + D + "/f.png", d).code == 0);
+        REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 --threads " + t + " --memory 4K --png " + D + "/f.png", d).code == 0);
         CHECK(slurp(d / "m.png") == slurp(d / "f.png"));
     }
 }

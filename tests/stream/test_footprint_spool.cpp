@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -62,7 +63,7 @@ TEST_CASE("FootprintSpool: read gives the appended footprints", "[stream][splat]
 TEST_CASE("FootprintSpool: a memory tier then the file, read and visited across both", "[stream][splat]") {
     // 2.5 chunks in memory, the rest in the file: reads and visits across chunk ends and the tier's end
     const std::size_t tier = FootprintSpool::kChunk * 5 / 2, n = tier + 30000;
-    FootprintSpool spool("test-footprints", tier * sizeof(EwaFootprint));
+    FootprintSpool spool("test-footprints", std::make_shared<SpoolMemory>(tier * sizeof(EwaFootprint)));
     std::vector<EwaFootprint> all;
     for (std::size_t first = 0; first < n; first += 40000) {
         const std::vector<EwaFootprint> part = numbered(std::min<std::size_t>(40000, n - first), first);
@@ -72,7 +73,7 @@ TEST_CASE("FootprintSpool: a memory tier then the file, read and visited across 
     spool.flush();
     REQUIRE(spool.size() == n);
     CHECK(spool.in_memory() == tier);
-    CHECK(spool.memory_bytes() == 3 * FootprintSpool::kChunk * sizeof(EwaFootprint));
+    CHECK(spool.memory_bytes() == tier * sizeof(EwaFootprint));  // two full chunks and a half one
     const std::uint64_t C = FootprintSpool::kChunk;
     for (std::uint64_t first : std::vector<std::uint64_t>{0, C - 5, 2 * C + 1, tier - 3, tier, tier + 17, n - 1}) {
         for (std::uint64_t count : std::vector<std::uint64_t>{0, 1, 10, C + 3}) {
@@ -108,4 +109,33 @@ TEST_CASE("FootprintSpool: without a memory tier everything goes to the file", "
     std::vector<EwaFootprint> got(3);
     spool.read(997, got);
     CHECK(got[2].sx == 999.0f);
+}
+
+TEST_CASE("FootprintSpool: spools sharing a budget hold no more than it together", "[stream][splat]") {
+    // a budget of one and a half chunks for three spools filled in turns: the first takes a chunk,
+    // the second the half left, the third nothing; each keeps its footprints in order
+    const std::size_t C = FootprintSpool::kChunk;
+    auto budget = std::make_shared<SpoolMemory>(C * sizeof(EwaFootprint) * 3 / 2);
+    FootprintSpool a("test-footprints", budget), b("test-footprints", budget), c("test-footprints", budget);
+    std::vector<std::vector<EwaFootprint>> all(3);
+    FootprintSpool* spools[3] = {&a, &b, &c};
+    for (std::size_t round = 0; round < 6; ++round)
+        for (int s = 0; s < 3; ++s) {
+            const auto part = numbered(C / 3, round * C);
+            spools[s]->append(part);
+            all[static_cast<std::size_t>(s)].insert(all[static_cast<std::size_t>(s)].end(), part.begin(), part.end());
+        }
+    std::size_t held = 0;
+    for (int s = 0; s < 3; ++s) {
+        spools[s]->flush();
+        held += spools[s]->memory_bytes();
+        std::vector<EwaFootprint> got(spools[s]->size());
+        spools[s]->read(0, got);
+        CHECK(std::memcmp(got.data(), all[static_cast<std::size_t>(s)].data(), got.size() * sizeof(EwaFootprint)) == 0);
+    }
+    CHECK(held <= C * sizeof(EwaFootprint) * 3 / 2);
+    CHECK(held + sizeof(EwaFootprint) > C * sizeof(EwaFootprint) * 3 / 2);  // all of it used
+    CHECK(budget->left() < sizeof(EwaFootprint));
+    CHECK(a.in_memory() == C);
+    CHECK(c.in_memory() == 0);
 }
