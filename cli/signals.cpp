@@ -19,7 +19,7 @@ void on_fatal_signal(int sig) {
     ::_exit(128 + sig);
 }
 
-// SIGBUS: a mapped input (formats/binary_file.hpp FileAccess::mapped) shrank while it was read.
+// SIGBUS: an input read in place (formats/mapped_file.hpp, map_volume) shrank while it was read.
 // Async-signal-safe: write(2), unlink(2), _exit(2); a data error (exit 2), as a short read is.
 void on_bus_error(int) {
     static const char msg[] = "meshless: an input file shrank or became unreadable while it was read (SIGBUS); nothing was written\n";

@@ -4,7 +4,7 @@
 // A signal that is ignored when meshless starts (nohup, `trap "" XFSZ`) stays ignored: with
 // SIGXFSZ ignored, a write over `ulimit -f` fails with EFBIG and the command reports it as an
 // error (batch goes on with the next volume), still removing its temporaries.
-// SIGBUS (an input read through a mapping shrank under it, formats/binary_file.hpp): a one-line
+// SIGBUS (an input read in place through a mapping shrank under it, formats/mapped_file.hpp): a one-line
 // message on stderr, the temporaries removed, exit status 2 (a data error).
 // Also installs the reporter that says on stderr which stale temporaries of dead processes were
 // removed before an output is written. Call once, from main's thread, before anything is written.

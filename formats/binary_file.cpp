@@ -1,13 +1,11 @@
 #include "formats/binary_file.hpp"
 
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
-#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -42,7 +40,7 @@ std::uint64_t regular_file_size(const std::string& path) {
     return s;
 }
 
-FileRangeReader::FileRangeReader(const std::string& path, FileAccess access) : path_(path) {
+FileRangeReader::FileRangeReader(const std::string& path) : path_(path) {
     // O_NONBLOCK: a FIFO is refused below instead of blocking the open (no effect on regular files)
     fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd_ < 0) throw IoError(path + ": cannot open: " + std::strerror(errno));
@@ -59,17 +57,9 @@ FileRangeReader::FileRangeReader(const std::string& path, FileAccess access) : p
     // back to blocking reads (some file systems, FUSE among them, pass O_NONBLOCK on to reads)
     const int flags = ::fcntl(fd_, F_GETFL);
     if (flags >= 0) (void)::fcntl(fd_, F_SETFL, flags & ~O_NONBLOCK);
-    if (access == FileAccess::mapped && size_ >= (std::uint64_t{64} << 10) && size_ <= SIZE_MAX) {
-        void* m = ::mmap(nullptr, static_cast<std::size_t>(size_), PROT_READ, MAP_SHARED, fd_, 0);
-        if (m != MAP_FAILED) {
-            map_ = static_cast<const std::byte*>(m);
-            (void)::madvise(m, static_cast<std::size_t>(size_), MADV_SEQUENTIAL);  // advisory
-        }
-    }
 }
 
 FileRangeReader::~FileRangeReader() {
-    if (map_) ::munmap(const_cast<std::byte*>(map_), static_cast<std::size_t>(size_));
     if (fd_ >= 0) ::close(fd_);
 }
 
@@ -77,10 +67,6 @@ void FileRangeReader::read_into(std::uint64_t offset, std::uint64_t count, std::
     if (offset > size_ || count > size_ - offset)
         throw FormatError(path_ + ": truncated: need " + std::to_string(count) + " bytes at offset " +
                           std::to_string(offset) + ", file has " + std::to_string(size_));
-    if (map_) {
-        if (count > 0) std::memcpy(dst, map_ + offset, static_cast<std::size_t>(count));
-        return;
-    }
     std::uint64_t done = 0;
     while (done < count) {
         const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(count - done, std::uint64_t{1} << 30));

@@ -24,16 +24,10 @@ void read_file_range_into(const std::string& path, std::uint64_t offset, std::ui
 /// A regular file opened once for any number of range reads (pread(2): no shared file position, so
 /// read_into may run on several threads at once). Its size is taken at open, so a range past it
 /// is the truncation FormatError above; a file that shrinks later gives the IoError of a short read.
-/// Mapped (FileAccess::mapped, for the hot path of a volume streamed slab by slab): a file of
-/// 64 KiB or more is read through a read-only shared mapping (a copy out of the page cache without
-/// a system call and page-cache lookup per read: 14 % of an `isosurface` run on the lung CT), pread
-/// where mapping fails; a mapped file that shrinks under the reader raises SIGBUS instead of the
-/// IoError (the meshless executable reports it and removes its temporaries, cli/signals.hpp).
-enum class FileAccess { read, mapped };
 class FileRangeReader {
 public:
     /// IoError when the path cannot be opened or is not a regular file (a directory, a FIFO).
-    explicit FileRangeReader(const std::string& path, FileAccess access = FileAccess::read);
+    explicit FileRangeReader(const std::string& path);
     ~FileRangeReader();
     FileRangeReader(const FileRangeReader&) = delete;
     FileRangeReader& operator=(const FileRangeReader&) = delete;
@@ -46,7 +40,6 @@ private:
     std::string path_;
     int fd_ = -1;
     std::uint64_t size_ = 0;
-    const std::byte* map_ = nullptr;  // FileAccess::mapped: the whole file, read-only
 };
 
 /// Up to `max_bytes` from the start of the file (fewer if the file is shorter), as text.

@@ -92,7 +92,7 @@ private:
             if (plan_.encoding == PayloadEncoding::raw) {
                 if (!raw_ || raw_file_ != f) {  // one file open at a time (a stack may hold thousands)
                     raw_.reset();
-                    raw_ = std::make_unique<FileRangeReader>(file, FileAccess::mapped);
+                    raw_ = std::make_unique<FileRangeReader>(file);
                     raw_file_ = f;
                 }
                 raw_->read_into(starts_[f] + in_file, take, dst);

@@ -1,7 +1,6 @@
 // formats/binary_file.hpp: FileRangeReader reads the ranges asked for, refuses directories and
 // FIFOs at open (a FIFO without a writer must not block), names the file and the range when the
-// range passes the end, and reports a file that shrank after opening as a short read; mapped, it
-// reads the same bytes (tests/cli/test_signals_cli.cpp: a mapped file that shrinks, SIGBUS).
+// range passes the end, and reports a file that shrank after opening as a short read.
 #include <catch2/catch.hpp>
 
 #include <sys/stat.h>
@@ -46,28 +45,6 @@ TEST_CASE("FileRangeReader: ranges of one open file", "[formats][binary_file]") 
     CHECK_THROWS_WITH(r.read_into(9990, 11, &none),
                       Catch::Contains("data.bin: truncated: need 11 bytes at offset 9990, file has 10000"));
     CHECK_THROWS_AS(r.read_into(20000, 1, &none), FormatError);
-}
-
-TEST_CASE("FileRangeReader: mapped reads give the bytes of pread", "[formats][binary_file]") {
-    TempDir dir("range_reader_mapped");
-    // below the 64 KiB mapping threshold (read) and above it (mapped)
-    for (std::size_t n : {std::size_t{10000}, std::size_t{300000}}) {
-        INFO("size " << n);
-        const auto p = dir.path / ("data" + std::to_string(n) + ".bin");
-        write_bytes(p, n);
-        const FileRangeReader plain(p.string()), mapped(p.string(), FileAccess::mapped);
-        CHECK(mapped.size() == n);
-        for (std::uint64_t off : {std::uint64_t{0}, std::uint64_t{1}, std::uint64_t{4095}, std::uint64_t{n - 1000}}) {
-            std::vector<std::byte> a(1000 - (off == n - 1000 ? 0 : 1)), b(a.size());
-            plain.read_into(off, a.size(), a.data());
-            mapped.read_into(off, b.size(), b.data());
-            CHECK(a == b);
-        }
-        std::byte none{};
-        mapped.read_into(n, 0, &none);
-        CHECK_THROWS_WITH(mapped.read_into(n - 10, 11, &none), Catch::Contains("truncated: need 11 bytes"));
-        CHECK_THROWS_AS(mapped.read_into(n + 1, 0, &none), FormatError);
-    }
 }
 
 TEST_CASE("FileRangeReader: a file that shrinks after opening is a short read", "[formats][binary_file]") {
