@@ -349,18 +349,13 @@ void info_multiblock(const std::string& path, const Args& a) {
 }
 
 bool is_collection(const std::string& path) {
-    std::string e = std::filesystem::path(path).extension().string();
-    for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string e = lower_extension(path);
     return e == ".vtm" || e == ".vthb";
 }
 
 // A .raw that --dims describes is a volume, whatever the point-set sniffing would say (as for the
-// volume commands, cli/scattered_isosurface.cpp is_point_input).
-bool raw_volume_given(const std::string& path, const Args& a) {
-    std::string e = std::filesystem::path(path).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return e == ".raw" && a.has("dims");
-}
+// volume commands, cli/scattered_isosurface.cpp scattered_invocation).
+bool raw_volume_given(const std::string& path, const Args& a) { return lower_extension(path) == ".raw" && a.has("dims"); }
 
 void describe(const std::string& path, const Args& a) {
     unsigned char h[32] = {};
@@ -387,7 +382,7 @@ void describe(const std::string& path, const Args& a) {
         info_png(path, h, n);
     } else if (is_collection(path)) {
         info_multiblock(path, a);
-    } else if (!(raw_volume_given(path, a)) && looks_like_point_set(path)) {
+    } else if (!raw_volume_given(path, a) && looks_like_point_set(path)) {
         info_point_set(path, a);
     } else {
         info_volume(path, a);

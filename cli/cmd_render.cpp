@@ -47,17 +47,6 @@ constexpr int kVolumeMacroCells = 8;
 /// data's value range (multiquadric interpolants overshoot their data a little).
 constexpr double kPointMacroCell = 8, kPointPad = 3, kPointMargin = 0.05;
 
-bool ends_with(const std::string& s, const char* ext) {
-    const std::size_t n = std::char_traits<char>::length(ext);
-    if (s.size() < n) return false;
-    for (std::size_t i = 0; i < n; ++i) {
-        char c = s[s.size() - n + i];
-        if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-        if (c != ext[i]) return false;
-    }
-    return true;
-}
-
 std::array<double, 3> parse_rgb(const std::string& s, const char* what) {
     double v[3];
     char tail;
@@ -86,7 +75,7 @@ RenderInput open_render_input(const Args& a) {
     RenderInput in;
     const auto& pos = a.positional();
     const std::string& first = pos[0];
-    const bool store = is_brick_store(first) || ends_with(first, ".mlb");
+    const bool store = is_brick_store(first) || ends_with_ci(first, ".mlb");
     // "-": a volume on standard input (open_volume_input spools it)
     const bool volume = store || (pos.size() == 1 && (first == "-" || (!looks_like_multiblock(first) && looks_like_volume(first))));
     // scattered points: mpu, multiblock grids: rbf-grid, as isosurface and fit build (cli/field_cli.hpp)

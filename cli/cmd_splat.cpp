@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <memory>
 #include <optional>
 
@@ -149,7 +148,7 @@ int cmd_splat(int argc, char** argv) {
     // The graph: PLY file or point/sample stream -> [project] -> draw (parallel) -> splat sink.
     if (is_ply && ply_has_faces(input)) return splat_mesh(a, input, png, rs, cc, frames);
     for (const char* other : {".vtp", ".csv", ".tsv", ".txt"})  // point files meshless writes, but not splat input
-        if (input.size() > std::strlen(other) && input.compare(input.size() - std::strlen(other), std::string::npos, other) == 0)
+        if (ends_with_ci(input, other))
             throw FormatError(input + ": splat draws .ply point sets and meshless point streams, not " + (other + 1) +
                               " files (write the points as .ply: meshless isosurface ... -o points.ply)");
     std::unique_ptr<StreamReader> reader;

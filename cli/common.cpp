@@ -28,6 +28,7 @@
 #include "stream/available_cpus.hpp"
 #include "stream/available_memory.hpp"
 #include "formats/stored_type.hpp"
+#include "formats/text_header.hpp"
 
 namespace meshless::cli {
 
@@ -258,9 +259,7 @@ bool streamable(const std::string& path, const RawOptions& raw) {
     return (vi.format == "raw" || vi.format == "nrrd" || vi.format == "metaimage" || vi.format == "voreen-dat") &&
            (vi.encoding == "raw" || vi.encoding == "gzip");
 }
-}  // namespace
 
-namespace {
 // The slices of a spooled standard input, read as they are needed (long after open_volume_input):
 // their errors name "- (stdin)", not the spool's /proc/self/fd path.
 class StdinSliceSource final : public SliceSource {
@@ -497,6 +496,13 @@ RenderSettings render_settings(const Args& a) {
     if (a.declared("memory") && a.has("memory"))
         rs.spool_memory = std::min<std::uint64_t>(SplatSink::kSpoolMemory, parse_memory_size(*a.get("memory")) / 8);
     return rs;
+}
+
+std::string lower_extension(const std::string& path) { return to_lower(std::filesystem::path(path).extension().string()); }
+
+bool ends_with_ci(const std::string& path, const char* suffix) {
+    const std::size_t n = std::char_traits<char>::length(suffix);
+    return path.size() >= n && to_lower(std::string_view(path).substr(path.size() - n)) == suffix;
 }
 
 std::string joined_names(const std::vector<std::string>& paths) {

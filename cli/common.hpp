@@ -91,6 +91,10 @@ SamplingParams sampling_params(const Args& a);
 void add_thread_option(Args& a);
 int threads(const Args& a);
 
+/// The extension of a path's file name, lower-cased (".raw", ".vtm"; "" when none).
+std::string lower_extension(const std::string& path);
+/// Whether `path` ends with `suffix` (lower-case ASCII), ignoring the case of the path's letters.
+bool ends_with_ci(const std::string& path, const char* suffix);
 /// The files' names (no folders) joined by ',' (the `source` of multi-file inputs).
 std::string joined_names(const std::vector<std::string>& paths);
 /// "x,y,z" with 9 significant digits (stream metadata: bounds, spacing).

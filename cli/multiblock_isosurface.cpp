@@ -55,8 +55,7 @@ int lattice_n(const Args& a, int default_n) {
 void add_newton_options(Args& a) {
     a.option("tolerance", "", "T", "Newton: a seed has converged when its next step is below T x its cell's diagonal", "0.01")
         .option("max-iterations", "", "K", "Newton: field evaluations per seed (halvings included) before it is dropped", "20")
-        .option("max-travel", "", "F", "Newton: drop a seed that would move farther than F cell diagonals (0 = no limit)",
-                "2");
+        .option("max-travel", "", "F", "Newton: drop a seed that would move farther than F cell diagonals (0 = no limit)", "2");
     static_assert(kDefaultMaxTravel == 2, "the --max-travel default above");
 }
 
@@ -160,7 +159,6 @@ StreamMeta block_meta(const BlockInput& in, double iso, int n, const std::string
     m.set("producer", producer);
     return m;
 }
-
 
 void add_projection_meta(StreamMeta& m, const std::string& field, const FieldProjectParams& p) {
     m.set("projection", "newton");

@@ -194,9 +194,9 @@ namespace {
 /// (max_travel cell diagonals, each seed's no longer than the binning cell's, kernels/stencil_seeds),
 /// so that every point lies inside the recorded bounds: the points' box alone cut off surfaces
 /// that bulge beyond the outermost samples (boreholes: up to 2 km). Degenerate axes keep the
-/// points' extent. An unlimited travel (--max-travel 0) adds nothing: its points may lie beyond.
+/// points' extent.
 std::array<Vec3, 2> frame_box(const BinningGrid& g, double max_travel) {
-    const double pad = std::isfinite(max_travel) ? max_travel * g.diagonal() * (1 + 1e-6) : 0.0;
+    const double pad = max_travel * g.diagonal() * (1 + 1e-6);
     double lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
         lo[a] = g.bounds[0][a];
@@ -287,8 +287,7 @@ double dedup_fraction(const Args& a) {
 bool scattered_invocation(const std::vector<std::string>& positionals, int argc, char** argv) {
     if (positionals.empty() || blocks_invocation(positionals)) return false;
     const std::string& p = positionals[0];
-    std::string e = std::filesystem::path(p).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    const std::string e = lower_extension(p);
     // a .raw without the name convention is a volume when --dims describes it
     if (e == ".raw")
         for (int i = 2; i < argc; ++i) {

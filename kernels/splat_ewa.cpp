@@ -232,33 +232,33 @@ __attribute__((target("avx2"))) std::int64_t draw_rows_avx2(const Setup& s, cons
     const __m256i empty = _mm256_set1_epi64x(-1);
     std::int64_t frags = 0;
     for (int y = f.y0; y <= f.y1; ++y) {
-    const float dy = y + 0.5f - f.sy;
-    std::uint64_t* row = kb + static_cast<std::size_t>(y) * s.W;
-    const __m256 vdy = _mm256_set1_ps(dy), q11dydy = _mm256_set1_ps(f.q11 * dy * dy), gydy = _mm256_set1_ps(f.gy * dy);
-    for (int x = f.x0; x <= f.x1; x += 8) {
-        const int n = std::min(8, f.x1 - x + 1);
-        const __m256i lanes = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), iota);
-        const __m256 dx = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(x), iota)), half), sx);
-        const __m256 q = _mm256_add_ps(
-            _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, dx), dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, dx), vdy)), q11dydy);
-        const __m256 v = _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, dx)), gydy);
-        const __m256 z = _mm256_min_ps(zhi, _mm256_max_ps(zlo, v));
-        const __m256i inside = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(q, c2, _CMP_NGT_UQ)), lanes);
-        frags += std::popcount(static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(inside))));
-        const __m256i zb = _mm256_castps_si256(z);
-        for (int h = 0; h < 2 && 4 * h < n; ++h) {
-            const __m128i zh = h ? _mm256_extracti128_si256(zb, 1) : _mm256_castsi256_si128(zb);
-            const __m128i ih = h ? _mm256_extracti128_si256(inside, 1) : _mm256_castsi256_si128(inside);
-            const __m128i lh = h ? _mm256_extracti128_si256(lanes, 1) : _mm256_castsi256_si128(lanes);
-            const __m256i key = _mm256_or_si256(_mm256_slli_epi64(_mm256_cvtepu32_epi64(zh), 32), vpacked);
-            const __m256i cand = _mm256_blendv_epi8(empty, key, _mm256_cvtepi32_epi64(ih));
-            const __m256i mask = _mm256_cvtepi32_epi64(lh);
-            long long* p = reinterpret_cast<long long*>(row + x + 4 * h);
-            const __m256i old = _mm256_maskload_epi64(p, mask);
-            const __m256i older = _mm256_cmpgt_epi64(_mm256_xor_si256(old, sign), _mm256_xor_si256(cand, sign));
-            _mm256_maskstore_epi64(p, _mm256_and_si256(mask, older), cand);
+        const float dy = y + 0.5f - f.sy;
+        std::uint64_t* row = kb + static_cast<std::size_t>(y) * s.W;
+        const __m256 vdy = _mm256_set1_ps(dy), q11dydy = _mm256_set1_ps(f.q11 * dy * dy), gydy = _mm256_set1_ps(f.gy * dy);
+        for (int x = f.x0; x <= f.x1; x += 8) {
+            const int n = std::min(8, f.x1 - x + 1);
+            const __m256i lanes = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), iota);
+            const __m256 dx = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(x), iota)), half), sx);
+            const __m256 q = _mm256_add_ps(
+                _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, dx), dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, dx), vdy)), q11dydy);
+            const __m256 v = _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, dx)), gydy);
+            const __m256 z = _mm256_min_ps(zhi, _mm256_max_ps(zlo, v));
+            const __m256i inside = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(q, c2, _CMP_NGT_UQ)), lanes);
+            frags += std::popcount(static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(inside))));
+            const __m256i zb = _mm256_castps_si256(z);
+            for (int h = 0; h < 2 && 4 * h < n; ++h) {
+                const __m128i zh = h ? _mm256_extracti128_si256(zb, 1) : _mm256_castsi256_si128(zb);
+                const __m128i ih = h ? _mm256_extracti128_si256(inside, 1) : _mm256_castsi256_si128(inside);
+                const __m128i lh = h ? _mm256_extracti128_si256(lanes, 1) : _mm256_castsi256_si128(lanes);
+                const __m256i key = _mm256_or_si256(_mm256_slli_epi64(_mm256_cvtepu32_epi64(zh), 32), vpacked);
+                const __m256i cand = _mm256_blendv_epi8(empty, key, _mm256_cvtepi32_epi64(ih));
+                const __m256i mask = _mm256_cvtepi32_epi64(lh);
+                long long* p = reinterpret_cast<long long*>(row + x + 4 * h);
+                const __m256i old = _mm256_maskload_epi64(p, mask);
+                const __m256i older = _mm256_cmpgt_epi64(_mm256_xor_si256(old, sign), _mm256_xor_si256(cand, sign));
+                _mm256_maskstore_epi64(p, _mm256_and_si256(mask, older), cand);
+            }
         }
-    }
     }
     return frags;
 }

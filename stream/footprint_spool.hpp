@@ -33,12 +33,15 @@ namespace meshless {
 /// Bytes of memory chunks that footprint spools may still take (thread-safe).
 class SpoolMemory {
 public:
-    explicit SpoolMemory(std::size_t bytes) : left_(bytes) {}
+    explicit SpoolMemory(std::size_t bytes) : total_(bytes), left_(bytes) {}
+    /// The budget it was made with.
+    std::size_t total() const { return total_; }
     /// Takes up to `want` bytes, at least `least` (else none); returns the bytes taken.
     std::size_t take(std::size_t want, std::size_t least);
     std::size_t left() const { return left_.load(std::memory_order_relaxed); }
 
 private:
+    std::size_t total_;
     std::atomic<std::size_t> left_;
 };
 

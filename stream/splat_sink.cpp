@@ -59,8 +59,7 @@ struct SplatSink::Canvases {
     bool spool_footprints = false;
     std::uint64_t min_group = 4096;  // see SplatSink::set_spool_groups
     std::size_t max_groups = 1024;
-    std::size_t spool_memory_bytes = 0;        // see SplatSink::set_spool_memory
-    std::shared_ptr<SpoolMemory> spool_memory;  // ... the budget all the threads' spools share
+    std::shared_ptr<SpoolMemory> spool_memory;  // the budget all the threads' spools share (set_spool_memory)
     Canvas& local(const SplatFrame& f) {
         Canvas& c = per_thread.local();
         if (spool_footprints && !c.spool) {
@@ -113,13 +112,12 @@ private:
 SplatSink::SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams& shading,
                      const std::array<Vec3, 2>& bounds, int threads, const PointSpool* replay)
     : frame_(cam, kernel, shading, bounds), shading_(shading), threads_(std::max(threads, 1)), canvases_(std::make_unique<Canvases>()) {
+    canvases_->spool_memory = std::make_shared<SpoolMemory>(kSpoolMemory);
     if (!frame_.two_pass()) return;
     pass2_ = replay;
     // Without a replay spool, pass 1 spools footprints (one file per drawing thread); this thread's
     // is made now, so that an unusable temporary directory fails before the first point.
     canvases_->spool_footprints = replay == nullptr;
-    canvases_->spool_memory_bytes = kSpoolMemory;
-    canvases_->spool_memory = std::make_shared<SpoolMemory>(kSpoolMemory);
     if (!replay) canvases_->local(frame_);
 }
 
@@ -129,8 +127,7 @@ void SplatSink::set_spool_memory(std::size_t bytes) {
     bool started = points_ != 0;  // (a staged draw spools before observe() counts)
     for (const Canvas& c : canvases_->per_thread) started = started || (c.spool && c.spool->size() > 0);
     if (started) throw std::logic_error("SplatSink::set_spool_memory: before any point");
-    if (bytes == canvases_->spool_memory_bytes) return;
-    canvases_->spool_memory_bytes = bytes;
+    if (bytes == canvases_->spool_memory->total()) return;
     canvases_->spool_memory = std::make_shared<SpoolMemory>(bytes);
     // this thread's spool was made by the constructor (to fail early): remade empty with the new budget
     for (Canvas& c : canvases_->per_thread)
