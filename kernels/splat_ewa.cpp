@@ -13,6 +13,15 @@
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define MESHLESS_EWA_AVX2 1
+// Every function between these marks, lambdas included, is compiled for AVX2 (no FMA: no
+// contraction) and called only where the CPU has it.
+#if defined(__clang__)
+#define MESHLESS_AVX2_BEGIN _Pragma("clang attribute push(__attribute__((target(\"avx2\"))), apply_to = function)")
+#define MESHLESS_AVX2_END _Pragma("clang attribute pop")
+#else
+#define MESHLESS_AVX2_BEGIN _Pragma("GCC push_options") _Pragma("GCC target(\"avx2\")")
+#define MESHLESS_AVX2_END _Pragma("GCC pop_options")
+#endif
 #endif
 
 #include "kernels/shading.hpp"
@@ -145,26 +154,29 @@ bool plane_is_bounded(const Footprint& f) {
     return std::isfinite(f.depth) && std::fabs(f.gx) < 1e30f && std::fabs(f.gy) < 1e30f;
 }
 
-// The largest visible depth of the tiles under f's bounding box.
-float tile_max(const VisibleDepthTiles& t, const Footprint& f) {
+// Whether every tile under f's bounding box has a largest visible depth t with zlo > t + eps (the
+// box holds at least one tile, and tiles are non-negative or +infinity, so this is zlo > (their
+// maximum) + eps: float addition is monotonic). Stops at the first tile that fails.
+bool beyond_tiles(const VisibleDepthTiles& t, const Footprint& f, float zlo, float eps) {
     constexpr int sh = VisibleDepthTiles::kShift;
-    float m = 0.0f;
+    const int tx0 = f.x0 >> sh, tx1 = f.x1 >> sh;
     for (int ty = f.y0 >> sh; ty <= f.y1 >> sh; ++ty) {
         const float* row = t.max_depth.data() + static_cast<std::size_t>(ty) * t.tiles_x;
-        for (int tx = f.x0 >> sh; tx <= f.x1 >> sh; ++tx) m = std::max(m, row[tx]);
+        for (int tx = tx0; tx <= tx1; ++tx)
+            if (!(zlo > row[tx] + eps)) return false;
     }
-    return m;
+    return true;
 }
 
 bool hidden(const VisibleDepthTiles& t, const Footprint& f, const DepthRange& d) {
-    return plane_is_bounded(f) && d.zlo > tile_max(t, f) + d.eps;
+    return plane_is_bounded(f) && beyond_tiles(t, f, d.zlo, d.eps);
 }
 
 // True when every fragment of f lies beyond the largest depth of the tiles under it: its keys all
 // exceed the keys there (depth bits lead the key; strictly, so ties still meet the normal bits), so
 // pass 1's minimum would keep them all.
 bool behind(const VisibleDepthTiles& t, const Footprint& f, const DepthRange& d) {
-    return plane_is_bounded(f) && d.zlo > tile_max(t, f);
+    return plane_is_bounded(f) && beyond_tiles(t, f, d.zlo, 0.0f);
 }
 
 // Pass 1 on one row of f's bounding box (dy: the row's centre offset): each pixel inside the
@@ -217,51 +229,100 @@ std::int64_t draw_row(const Setup& s, const Footprint& f, const DepthRange& d, f
 }
 
 #if MESHLESS_EWA_AVX2
-// draw_row with AVX2, eight pixels at a time: the same float operations in the same order as the
+MESHLESS_AVX2_BEGIN
+// The lanes of one AVX2 step of the pixel loops: eight pixels, each with its own dx and row (dy),
+// lanes 0-3 at keys + 4 consecutive pixels from half[0], lanes 4-7 from half[1]. A footprint at
+// most four pixels wide takes two rows per step (half[1] = the next row), a wider one eight
+// pixels of one row (half[1] = half[0] + 4). Every lane's float operations are the scalar loop's,
+// in its order, whatever its place in the vector, so both layouts give the same bits.
+struct Lanes8 {
+    __m256 dx, vdy, q11dydy, gydy;
+    __m256i on;           // lanes holding a pixel of the footprint's bounding box
+    std::size_t half[2];  // pixel index of lanes 0 and 4
+};
+
+// Calls step(Lanes8) over f's bounding box, rows in pairs when it is at most four pixels wide.
+template <class Step>
+inline void for_each_lanes8(const Setup& s, const Footprint& f, Step&& step) {
+    const __m256 sx = _mm256_set1_ps(f.sx), half = _mm256_set1_ps(0.5f);
+    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const int W = s.W, w = f.x1 - f.x0 + 1;
+    if (w <= 4) {
+        const __m256i col = _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3);
+        const __m256 dx = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(f.x0), col)), half), sx);
+        const __m256i in_row = _mm256_cmpgt_epi32(_mm256_set1_epi32(w), col);
+        const __m256i upper = _mm256_setr_epi32(0, 0, 0, 0, -1, -1, -1, -1);
+        for (int y = f.y0; y <= f.y1; y += 2) {
+            const bool two = y < f.y1;
+            const float dy0 = y + 0.5f - f.sy, dy1 = (y + 1) + 0.5f - f.sy;
+            const float d1 = two ? dy1 : dy0;  // (a lone last row: the upper lanes are off)
+            Lanes8 l;
+            l.dx = dx;
+            l.vdy = _mm256_setr_m128(_mm_set1_ps(dy0), _mm_set1_ps(d1));
+            l.q11dydy = _mm256_setr_m128(_mm_set1_ps(f.q11 * dy0 * dy0), _mm_set1_ps(f.q11 * d1 * d1));
+            l.gydy = _mm256_setr_m128(_mm_set1_ps(f.gy * dy0), _mm_set1_ps(f.gy * d1));
+            l.on = two ? in_row : _mm256_andnot_si256(upper, in_row);
+            l.half[0] = static_cast<std::size_t>(y) * W + f.x0;
+            l.half[1] = l.half[0] + (two ? static_cast<std::size_t>(W) : 0);
+            step(l);
+        }
+        return;
+    }
+    for (int y = f.y0; y <= f.y1; ++y) {
+        const float dy = y + 0.5f - f.sy;
+        Lanes8 l;
+        l.vdy = _mm256_set1_ps(dy);
+        l.q11dydy = _mm256_set1_ps(f.q11 * dy * dy);
+        l.gydy = _mm256_set1_ps(f.gy * dy);
+        const std::size_t rowi = static_cast<std::size_t>(y) * W;
+        for (int x = f.x0; x <= f.x1; x += 8) {
+            l.on = _mm256_cmpgt_epi32(_mm256_set1_epi32(std::min(8, f.x1 - x + 1)), iota);
+            l.dx = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(x), iota)), half), sx);
+            l.half[0] = rowi + x;
+            l.half[1] = rowi + x + 4;
+            step(l);
+        }
+    }
+}
+
+// draw_row with AVX2 (for_each_lanes8): the same float operations in the same order as the
 // scalar loop (AVX without FMA: no contraction), so the same bits; the keys' unsigned minimum is
-// vectorised too (sign-flipped signed compares), the lanes past x1 masked off.
-__attribute__((target("avx2"))) std::int64_t draw_rows_avx2(const Setup& s, const Footprint& f, const DepthRange& d,
+// vectorised too (sign-flipped signed compares), the lanes off the bounding box masked off.
+std::int64_t draw_rows_avx2(const Setup& s, const Footprint& f, const DepthRange& d,
                                                            std::uint64_t packed, std::uint64_t* kb) {
-    const __m256 sx = _mm256_set1_ps(f.sx), half = _mm256_set1_ps(0.5f), c2 = _mm256_set1_ps(s.c2);
+    const __m256 c2 = _mm256_set1_ps(s.c2);
     const __m256 q00 = _mm256_set1_ps(f.q00), q01x2 = _mm256_set1_ps(2.0f * f.q01);
     const __m256 depth = _mm256_set1_ps(f.depth), gx = _mm256_set1_ps(f.gx);
     const __m256 zlo = _mm256_set1_ps(d.zlo), zhi = _mm256_set1_ps(d.zhi);
-    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     const __m256i vpacked = _mm256_set1_epi64x(static_cast<long long>(packed));
     const __m256i sign = _mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull));
     const __m256i empty = _mm256_set1_epi64x(-1);
     std::int64_t frags = 0;
-    for (int y = f.y0; y <= f.y1; ++y) {
-        const float dy = y + 0.5f - f.sy;
-        std::uint64_t* row = kb + static_cast<std::size_t>(y) * s.W;
-        const __m256 vdy = _mm256_set1_ps(dy), q11dydy = _mm256_set1_ps(f.q11 * dy * dy), gydy = _mm256_set1_ps(f.gy * dy);
-        for (int x = f.x0; x <= f.x1; x += 8) {
-            const int n = std::min(8, f.x1 - x + 1);
-            const __m256i lanes = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), iota);
-            const __m256 dx = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(x), iota)), half), sx);
-            const __m256 q = _mm256_add_ps(
-                _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, dx), dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, dx), vdy)), q11dydy);
-            const __m256 v = _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, dx)), gydy);
-            const __m256 z = _mm256_min_ps(zhi, _mm256_max_ps(zlo, v));
-            const __m256i inside = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(q, c2, _CMP_NGT_UQ)), lanes);
-            frags += std::popcount(static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(inside))));
-            const __m256i zb = _mm256_castps_si256(z);
-            for (int h = 0; h < 2 && 4 * h < n; ++h) {
-                const __m128i zh = h ? _mm256_extracti128_si256(zb, 1) : _mm256_castsi256_si128(zb);
-                const __m128i ih = h ? _mm256_extracti128_si256(inside, 1) : _mm256_castsi256_si128(inside);
-                const __m128i lh = h ? _mm256_extracti128_si256(lanes, 1) : _mm256_castsi256_si128(lanes);
-                const __m256i key = _mm256_or_si256(_mm256_slli_epi64(_mm256_cvtepu32_epi64(zh), 32), vpacked);
-                const __m256i cand = _mm256_blendv_epi8(empty, key, _mm256_cvtepi32_epi64(ih));
-                const __m256i mask = _mm256_cvtepi32_epi64(lh);
-                long long* p = reinterpret_cast<long long*>(row + x + 4 * h);
-                const __m256i old = _mm256_maskload_epi64(p, mask);
-                const __m256i older = _mm256_cmpgt_epi64(_mm256_xor_si256(old, sign), _mm256_xor_si256(cand, sign));
-                _mm256_maskstore_epi64(p, _mm256_and_si256(mask, older), cand);
-            }
+    for_each_lanes8(s, f, [&](const Lanes8& l) {
+        const __m256 q = _mm256_add_ps(
+            _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, l.dx), l.dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, l.dx), l.vdy)), l.q11dydy);
+        const __m256 v = _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, l.dx)), l.gydy);
+        const __m256 z = _mm256_min_ps(zhi, _mm256_max_ps(zlo, v));
+        const __m256i inside = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(q, c2, _CMP_NGT_UQ)), l.on);
+        frags += std::popcount(static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(inside))));
+        const __m256i zb = _mm256_castps_si256(z);
+        for (int h = 0; h < 2; ++h) {
+            const __m128i lh = h ? _mm256_extracti128_si256(l.on, 1) : _mm256_castsi256_si128(l.on);
+            if (_mm_movemask_epi8(lh) == 0) break;  // (lanes are on from lane 0, in each half)
+            const __m128i zh = h ? _mm256_extracti128_si256(zb, 1) : _mm256_castsi256_si128(zb);
+            const __m128i ih = h ? _mm256_extracti128_si256(inside, 1) : _mm256_castsi256_si128(inside);
+            const __m256i key = _mm256_or_si256(_mm256_slli_epi64(_mm256_cvtepu32_epi64(zh), 32), vpacked);
+            const __m256i cand = _mm256_blendv_epi8(empty, key, _mm256_cvtepi32_epi64(ih));
+            const __m256i mask = _mm256_cvtepi32_epi64(lh);
+            long long* p = reinterpret_cast<long long*>(kb + l.half[h]);
+            const __m256i old = _mm256_maskload_epi64(p, mask);
+            const __m256i older = _mm256_cmpgt_epi64(_mm256_xor_si256(old, sign), _mm256_xor_si256(cand, sign));
+            _mm256_maskstore_epi64(p, _mm256_and_si256(mask, older), cand);
         }
-    }
+    });
     return frags;
 }
+MESHLESS_AVX2_END
 #endif
 
 // The Gaussian table entry of t = q * qscale, clamped to [0, kTable] (a splat thousands of pixels
@@ -291,92 +352,86 @@ inline void add_fragment(const Footprint& f, const float* colour, float q, std::
 }
 
 #if MESHLESS_EWA_AVX2
+MESHLESS_AVX2_BEGIN
 // accumulate_one with AVX2, eight pixels at a time, for the plain (uncoloured) accumulators: q, z,
 // the depth test, the Gaussian weight, the orientation test against the visible key and the
 // fixed-point conversions run on all lanes with the scalar loop's float operations in the same
 // order (no contraction; lrint = cvtps2dq in the default rounding mode, the weight's truncation =
 // cvttps2dq, every value below 2^21), so the same sums; each accepted pixel's four words are then
 // added as one 256-bit vector.
-__attribute__((target("avx2"))) std::int64_t accumulate_plain_avx2(const Setup& s, const Footprint& f, const DepthRange& d,
+std::int64_t accumulate_plain_avx2(const Setup& s, const Footprint& f, const DepthRange& d,
                                                                   const float* gauss, float qscale,
                                                                   const std::uint64_t* kb, std::int64_t* acc) {
-    const __m256 sx = _mm256_set1_ps(f.sx), half = _mm256_set1_ps(0.5f), c2 = _mm256_set1_ps(s.c2);
+    const __m256 c2 = _mm256_set1_ps(s.c2);
     const __m256 q00 = _mm256_set1_ps(f.q00), q01x2 = _mm256_set1_ps(2.0f * f.q01);
     const __m256 depth = _mm256_set1_ps(f.depth), gx = _mm256_set1_ps(f.gx), eps = _mm256_set1_ps(d.eps);
     const __m256 zlo = _mm256_set1_ps(d.zlo), zhi = _mm256_set1_ps(d.zhi);
     const __m256 n0 = _mm256_set1_ps(f.n[0]), n1 = _mm256_set1_ps(f.n[1]), n2 = _mm256_set1_ps(f.n[2]);
     const __m256 vqscale = _mm256_set1_ps(qscale), fixed = _mm256_set1_ps(kFixed), c511 = _mm256_set1_ps(511.0f);
-    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), m1023 = _mm256_set1_epi32(1023);
+    const __m256i m1023 = _mm256_set1_epi32(1023);
     const __m256i even = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-    const int W = s.W;
     std::int64_t frags = 0;
-    for (int y = f.y0; y <= f.y1; ++y) {
-        const float dy = y + 0.5f - f.sy;
-        const std::size_t rowi = static_cast<std::size_t>(y) * W;
-        const __m256 vdy = _mm256_set1_ps(dy), q11dydy = _mm256_set1_ps(f.q11 * dy * dy), gydy = _mm256_set1_ps(f.gy * dy);
-        for (int x = f.x0; x <= f.x1; x += 8) {
-            const int n = std::min(8, f.x1 - x + 1);
-            const __m256i lanes = _mm256_cmpgt_epi32(_mm256_set1_epi32(n), iota);
-            const __m256 dx = _mm256_sub_ps(_mm256_add_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(x), iota)), half), sx);
-            const __m256 q = _mm256_add_ps(
-                _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, dx), dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, dx), vdy)), q11dydy);
-            const __m256i inside = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(q, c2, _CMP_NGT_UQ)), lanes);
-            const int in_bits = _mm256_movemask_ps(_mm256_castsi256_ps(inside));
-            if (!in_bits) continue;
-            frags += std::popcount(static_cast<unsigned>(in_bits));
-            const __m256 z = _mm256_min_ps(zhi, _mm256_max_ps(zlo, _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, dx)), gydy)));
-            // the eight visible keys: high words = depth bits, low words = packed normal
-            const long long* kp = reinterpret_cast<const long long*>(kb + rowi + x);
-            const __m256i k0 = _mm256_maskload_epi64(kp, _mm256_cvtepi32_epi64(_mm256_castsi256_si128(inside)));
-            const __m256i k1 = n > 4 ? _mm256_maskload_epi64(kp + 4, _mm256_cvtepi32_epi64(_mm256_extracti128_si256(inside, 1)))
-                                     : _mm256_setzero_si256();
-            // de-interleave: lo = low words of keys 0..7, hi = high words, in lane order
-            const __m256i p0 = _mm256_permutevar8x32_epi32(k0, even), p1 = _mm256_permutevar8x32_epi32(k1, even);
-            const __m256i lo = _mm256_permute2x128_si256(p0, p1, 0x20), hi = _mm256_permute2x128_si256(p0, p1, 0x31);
-            const __m256 limit = _mm256_add_ps(_mm256_castsi256_ps(hi), eps);
-            const int accept = in_bits & _mm256_movemask_ps(_mm256_cmp_ps(z, limit, _CMP_NGT_UQ));
-            if (!accept) continue;
-            // weight, orientation, fixed point (add_fragment on every lane)
-            // gauss_index on every lane: max(t, 0) (NaN -> 0), min with kTable, truncation
-            const __m256i gi = _mm256_cvttps_epi32(
-                _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(q, vqscale), _mm256_setzero_ps()), _mm256_set1_ps(static_cast<float>(kTable))));
-            const __m256i take = _mm256_castps_si256(_mm256_cmp_ps(z, limit, _CMP_NGT_UQ));
-            const __m256 g = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), gauss, gi,
-                                                      _mm256_castsi256_ps(_mm256_and_si256(take, inside)), 4);
-            const __m256 wgt = _mm256_mul_ps(g, fixed);
-            const __m256 a = _mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(lo, 20), m1023)), c511);
-            const __m256 b = _mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(lo, 10), m1023)), c511);
-            const __m256 c = _mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_and_si256(lo, m1023)), c511);
-            const __m256 dot = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(a, n0), _mm256_mul_ps(b, n1)), _mm256_mul_ps(c, n2));
-            const __m256 agrees = _mm256_cmp_ps(dot, _mm256_setzero_ps(), _CMP_GE_OQ);
-            const __m256 wn = _mm256_blendv_ps(_mm256_xor_ps(wgt, _mm256_set1_ps(-0.0f)), wgt, agrees);
-            const __m256i w0 = _mm256_cvttps_epi32(wgt);
-            const __m256i w1 = _mm256_cvtps_epi32(_mm256_mul_ps(wn, n0));
-            const __m256i w2 = _mm256_cvtps_epi32(_mm256_mul_ps(wn, n1));
-            const __m256i w3 = _mm256_cvtps_epi32(_mm256_mul_ps(wn, n2));
-            // transpose to one (w0, w1, w2, w3) quadruple per lane
-            const __m256i t0 = _mm256_unpacklo_epi32(w0, w1), t1 = _mm256_unpackhi_epi32(w0, w1);
-            const __m256i t2 = _mm256_unpacklo_epi32(w2, w3), t3 = _mm256_unpackhi_epi32(w2, w3);
-            alignas(32) __m128i per[8];
-            const __m256i r0 = _mm256_unpacklo_epi64(t0, t2), r1 = _mm256_unpackhi_epi64(t0, t2);
-            const __m256i r2 = _mm256_unpacklo_epi64(t1, t3), r3 = _mm256_unpackhi_epi64(t1, t3);
-            per[0] = _mm256_castsi256_si128(r0);
-            per[1] = _mm256_castsi256_si128(r1);
-            per[2] = _mm256_castsi256_si128(r2);
-            per[3] = _mm256_castsi256_si128(r3);
-            per[4] = _mm256_extracti128_si256(r0, 1);
-            per[5] = _mm256_extracti128_si256(r1, 1);
-            per[6] = _mm256_extracti128_si256(r2, 1);
-            per[7] = _mm256_extracti128_si256(r3, 1);
-            for (int bits = accept; bits; bits &= bits - 1) {
-                const int i = std::countr_zero(static_cast<unsigned>(bits));
-                __m256i* ap = reinterpret_cast<__m256i*>(acc + 4 * (rowi + x + i));
-                _mm256_storeu_si256(ap, _mm256_add_epi64(_mm256_loadu_si256(ap), _mm256_cvtepi32_epi64(per[i])));
-            }
+    for_each_lanes8(s, f, [&](const Lanes8& l) {
+        const __m256 q = _mm256_add_ps(
+            _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, l.dx), l.dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, l.dx), l.vdy)), l.q11dydy);
+        const __m256i inside = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(q, c2, _CMP_NGT_UQ)), l.on);
+        const int in_bits = _mm256_movemask_ps(_mm256_castsi256_ps(inside));
+        if (!in_bits) return;
+        frags += std::popcount(static_cast<unsigned>(in_bits));
+        const __m256 z = _mm256_min_ps(zhi, _mm256_max_ps(zlo, _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, l.dx)), l.gydy)));
+        // the eight visible keys: high words = depth bits, low words = packed normal
+        const __m256i k0 = (in_bits & 0x0F) ? _mm256_maskload_epi64(reinterpret_cast<const long long*>(kb + l.half[0]),
+                                                                     _mm256_cvtepi32_epi64(_mm256_castsi256_si128(inside)))
+                                            : _mm256_setzero_si256();
+        const __m256i k1 = (in_bits & 0xF0) ? _mm256_maskload_epi64(reinterpret_cast<const long long*>(kb + l.half[1]),
+                                                                     _mm256_cvtepi32_epi64(_mm256_extracti128_si256(inside, 1)))
+                                            : _mm256_setzero_si256();
+        // de-interleave: lo = low words of keys 0..7, hi = high words, in lane order
+        const __m256i p0 = _mm256_permutevar8x32_epi32(k0, even), p1 = _mm256_permutevar8x32_epi32(k1, even);
+        const __m256i lo = _mm256_permute2x128_si256(p0, p1, 0x20), hi = _mm256_permute2x128_si256(p0, p1, 0x31);
+        const __m256 limit = _mm256_add_ps(_mm256_castsi256_ps(hi), eps);
+        const __m256i take = _mm256_castps_si256(_mm256_cmp_ps(z, limit, _CMP_NGT_UQ));
+        const int accept = in_bits & _mm256_movemask_ps(_mm256_castsi256_ps(take));
+        if (!accept) return;
+        // weight, orientation, fixed point (add_fragment on every lane)
+        // gauss_index on every lane: max(t, 0) (NaN -> 0), min with kTable, truncation
+        const __m256i gi = _mm256_cvttps_epi32(
+            _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(q, vqscale), _mm256_setzero_ps()), _mm256_set1_ps(static_cast<float>(kTable))));
+        const __m256 g = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), gauss, gi, _mm256_castsi256_ps(_mm256_and_si256(take, inside)), 4);
+        const __m256 wgt = _mm256_mul_ps(g, fixed);
+        const __m256 a = _mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(lo, 20), m1023)), c511);
+        const __m256 b = _mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(lo, 10), m1023)), c511);
+        const __m256 c = _mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_and_si256(lo, m1023)), c511);
+        const __m256 dot = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(a, n0), _mm256_mul_ps(b, n1)), _mm256_mul_ps(c, n2));
+        const __m256 agrees = _mm256_cmp_ps(dot, _mm256_setzero_ps(), _CMP_GE_OQ);
+        const __m256 wn = _mm256_blendv_ps(_mm256_xor_ps(wgt, _mm256_set1_ps(-0.0f)), wgt, agrees);
+        const __m256i w0 = _mm256_cvttps_epi32(wgt);
+        const __m256i w1 = _mm256_cvtps_epi32(_mm256_mul_ps(wn, n0));
+        const __m256i w2 = _mm256_cvtps_epi32(_mm256_mul_ps(wn, n1));
+        const __m256i w3 = _mm256_cvtps_epi32(_mm256_mul_ps(wn, n2));
+        // transpose to one (w0, w1, w2, w3) quadruple per lane
+        const __m256i t0 = _mm256_unpacklo_epi32(w0, w1), t1 = _mm256_unpackhi_epi32(w0, w1);
+        const __m256i t2 = _mm256_unpacklo_epi32(w2, w3), t3 = _mm256_unpackhi_epi32(w2, w3);
+        alignas(32) __m128i per[8];
+        const __m256i r0 = _mm256_unpacklo_epi64(t0, t2), r1 = _mm256_unpackhi_epi64(t0, t2);
+        const __m256i r2 = _mm256_unpacklo_epi64(t1, t3), r3 = _mm256_unpackhi_epi64(t1, t3);
+        per[0] = _mm256_castsi256_si128(r0);
+        per[1] = _mm256_castsi256_si128(r1);
+        per[2] = _mm256_castsi256_si128(r2);
+        per[3] = _mm256_castsi256_si128(r3);
+        per[4] = _mm256_extracti128_si256(r0, 1);
+        per[5] = _mm256_extracti128_si256(r1, 1);
+        per[6] = _mm256_extracti128_si256(r2, 1);
+        per[7] = _mm256_extracti128_si256(r3, 1);
+        for (int bits = accept; bits; bits &= bits - 1) {
+            const int i = std::countr_zero(static_cast<unsigned>(bits));
+            __m256i* ap = reinterpret_cast<__m256i*>(acc + 4 * (l.half[i >> 2] + (i & 3)));
+            _mm256_storeu_si256(ap, _mm256_add_epi64(_mm256_loadu_si256(ap), _mm256_cvtepi32_epi64(per[i])));
         }
-    }
+    });
     return frags;
 }
+MESHLESS_AVX2_END
 #endif
 
 // Pass 2 for one footprint: adds its fragments near the visible surface; returns fragments tested.
@@ -483,12 +538,7 @@ struct Ops {
 // The same lanes with AVX2, eight points at once: every function of this region is compiled for
 // AVX2 (no FMA: no contraction) and called only where the CPU has it; the compares are the SSE2
 // predicates (ordered, cmpneq unordered), so every lane still gives footprint()'s bits.
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#endif
+MESHLESS_AVX2_BEGIN
 namespace avx2 {
 struct Ops {
     using V = __m256;
@@ -519,11 +569,7 @@ struct Ops {
 #include "kernels/splat_ewa_footprint_lanes.hpp"
 void footprint8(const Setup& s, const PointRecord* rec, Footprint* f, bool* ok) { footprint_lanes<Ops>(s, rec, f, ok); }
 }  // namespace avx2
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+MESHLESS_AVX2_END
 #endif
 
 
@@ -599,6 +645,39 @@ std::int64_t draw_footprint(const Setup& s, const Footprint& fp, std::uint64_t* 
     return frags;
 }
 
+#if MESHLESS_EWA_AVX2
+MESHLESS_AVX2_BEGIN
+// depth_tiles' scan with AVX2: bits[tile] = the largest high word (depth bits) of the keys in each
+// kSize x kSize tile (kSize = 4), eight pixels of a row at a time; the same values as the scalar
+// loop (an unsigned maximum, in any order).
+void tile_key_max_avx2(const std::uint64_t* keys, int W, int H, std::uint32_t* bits, int tiles_x) {
+    static_assert(VisibleDepthTiles::kShift == 2);
+    const __m256i even_odd = _mm256_setr_epi32(1, 3, 5, 7, 0, 2, 4, 6);  // high words first
+    const int W8 = W & ~7;
+    for (int y = 0; y < H; ++y) {
+        std::uint32_t* trow = bits + static_cast<std::size_t>(y >> 2) * tiles_x;
+        const std::uint64_t* row = keys + static_cast<std::size_t>(y) * W;
+        int x = 0;
+        for (; x < W8; x += 8) {
+            const __m256i k0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row + x));
+            const __m256i k1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row + x + 4));
+            // high words of keys x..x+3 in the low 128 bits of h0, of x+4..x+7 in h1's
+            const __m128i h0 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(k0, even_odd));
+            const __m128i h1 = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(k1, even_odd));
+            __m128i m0 = _mm_max_epu32(h0, _mm_shuffle_epi32(h0, _MM_SHUFFLE(1, 0, 3, 2)));
+            __m128i m1 = _mm_max_epu32(h1, _mm_shuffle_epi32(h1, _MM_SHUFFLE(1, 0, 3, 2)));
+            m0 = _mm_max_epu32(m0, _mm_shuffle_epi32(m0, _MM_SHUFFLE(2, 3, 0, 1)));
+            m1 = _mm_max_epu32(m1, _mm_shuffle_epi32(m1, _MM_SHUFFLE(2, 3, 0, 1)));
+            std::uint32_t* t = trow + (x >> 2);
+            t[0] = std::max(t[0], static_cast<std::uint32_t>(_mm_cvtsi128_si32(m0)));
+            t[1] = std::max(t[1], static_cast<std::uint32_t>(_mm_cvtsi128_si32(m1)));
+        }
+        for (; x < W; ++x) trow[x >> 2] = std::max(trow[x >> 2], static_cast<std::uint32_t>(row[x] >> 32));
+    }
+}
+MESHLESS_AVX2_END
+#endif
+
 }  // namespace
 
 void SplatFrame::footprints(std::span<const PointRecord> points, std::vector<EwaFootprint>& out,
@@ -668,10 +747,17 @@ VisibleDepthTiles SplatFrame::depth_tiles(const std::uint64_t* keys) const {
     t.tiles_x = (W + VisibleDepthTiles::kSize - 1) >> sh;
     t.tiles_y = (H + VisibleDepthTiles::kSize - 1) >> sh;
     std::vector<std::uint32_t> bits(static_cast<std::size_t>(t.tiles_x) * t.tiles_y, 0);
-    for (int y = 0; y < H; ++y) {
-        std::uint32_t* trow = bits.data() + static_cast<std::size_t>(y >> sh) * t.tiles_x;
-        const std::uint64_t* row = keys + static_cast<std::size_t>(y) * W;
-        for (int x = 0; x < W; ++x) trow[x >> sh] = std::max(trow[x >> sh], static_cast<std::uint32_t>(row[x] >> 32));
+#if MESHLESS_EWA_AVX2
+    if (ewa_avx2_) {
+        tile_key_max_avx2(keys, W, H, bits.data(), t.tiles_x);
+    } else
+#endif
+    {
+        for (int y = 0; y < H; ++y) {
+            std::uint32_t* trow = bits.data() + static_cast<std::size_t>(y >> sh) * t.tiles_x;
+            const std::uint64_t* row = keys + static_cast<std::size_t>(y) * W;
+            for (int x = 0; x < W; ++x) trow[x >> sh] = std::max(trow[x >> sh], static_cast<std::uint32_t>(row[x] >> 32));
+        }
     }
     // Non-negative finite floats order like their bits; anything else (an empty pixel, a negative
     // zero, infinity, NaN) has larger bits and makes the tile never hide anything.

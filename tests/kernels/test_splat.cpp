@@ -609,6 +609,18 @@ TEST_CASE("EWA: the AVX2 loops give the bits of the baseline SSE2 ones", "[splat
 
             // pass 2 from the points and from the footprints, with and without the tiles
             const VisibleDepthTiles tiles = base.depth_tiles(kb.data());
+            CHECK(best.depth_tiles(kb.data()).max_depth == tiles.max_depth);
+            // the tile scan on keys of every kind: depths, empty, -0, +infinity, NaN, sparse
+            std::vector<std::uint64_t> odd(n);
+            for (std::size_t i = 0; i < n; ++i) {
+                const std::uint32_t kinds[] = {std::bit_cast<std::uint32_t>(r01(rng) * 10.0f), 0xFFFFFFFFu, 0x80000000u,
+                                               0x7F800000u, 0x7FC00000u, 0u};
+                const std::uint32_t hi = r01(rng) < 0.9f ? kinds[0] : kinds[rng() % 6];
+                odd[i] = (std::uint64_t{hi} << 32) | (rng() & 0x3FFFFFFFu);
+            }
+            const VisibleDepthTiles ta_odd = best.depth_tiles(odd.data()), tb_odd = base.depth_tiles(odd.data());
+            CHECK(ta_odd.tiles_x == tb_odd.tiles_x);
+            CHECK(std::memcmp(ta_odd.max_depth.data(), tb_odd.max_depth.data(), ta_odd.max_depth.size() * sizeof(float)) == 0);
             std::vector<std::int64_t> aa(words * n, 0), ab(words * n, 0), ac(words * n, 0), ad(words * n, 0);
             SplatStats ta, tb, tc, td;
             best.accumulate(pts, kb.data(), aa.data(), ta);
