@@ -8,12 +8,23 @@
 namespace meshless {
 
 void PointBounds::add(std::span<const PointRecord> points) {
+    // In float, without branches: a point with a non-finite coordinate offers +inf to the minima
+    // and -inf to the maxima, which change nothing; min and max keep the first of equal values, as
+    // the sequential double fold does (float -> double is exact and keeps the order), so the same
+    // bounds, signed zeros included.
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
     for (const PointRecord& p : points) {
-        if (!(std::isfinite(p.pos[0]) && std::isfinite(p.pos[1]) && std::isfinite(p.pos[2]))) continue;
+        const bool ok = std::isfinite(p.pos[0]) && std::isfinite(p.pos[1]) && std::isfinite(p.pos[2]);
         for (int i = 0; i < 3; ++i) {
-            lo_[i] = std::min(lo_[i], static_cast<double>(p.pos[i]));
-            hi_[i] = std::max(hi_[i], static_cast<double>(p.pos[i]));
+            const float l = ok ? p.pos[i] : inf, h = ok ? p.pos[i] : -inf;
+            lo[i] = l < lo[i] ? l : lo[i];
+            hi[i] = hi[i] < h ? h : hi[i];
         }
+    }
+    for (int i = 0; i < 3; ++i) {
+        lo_[i] = std::min(lo_[i], static_cast<double>(lo[i]));
+        hi_[i] = std::max(hi_[i], static_cast<double>(hi[i]));
     }
 }
 

@@ -12,8 +12,10 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <limits>
 #include <cstdlib>
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <stdexcept>
 
@@ -98,13 +100,21 @@ void PointSpool::fail(const char* what, int err) const {
 
 void PointSpool::Tally::add(std::span<const PointRecord> points) {
     bounds.add(points);
+    // In float, without branches (as PointBounds::add): a non-finite value offers +inf to the
+    // minimum and -inf to the maximum; min and max keep the first of equal values, as the
+    // sequential fold did, so the same range, signed zeros included.
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    float flo = inf, fhi = -inf;
     for (const PointRecord& p : points) {
-        if (!std::isfinite(p.value)) continue;
-        if (!any) lo = hi = p.value;
-        lo = std::min<double>(lo, p.value);
-        hi = std::max<double>(hi, p.value);
-        any = true;
+        const bool ok = std::isfinite(p.value);
+        const float l = ok ? p.value : inf, h = ok ? p.value : -inf;
+        flo = l < flo ? l : flo;
+        fhi = fhi < h ? h : fhi;
     }
+    if (!(flo <= fhi)) return;  // no finite value
+    lo = any ? std::min<double>(lo, flo) : flo;
+    hi = any ? std::max<double>(hi, fhi) : fhi;
+    any = true;
 }
 
 void PointSpool::Tally::merge(const Tally& o) {

@@ -643,3 +643,43 @@ TEST_CASE("EWA: the AVX2 loops give the bits of the baseline SSE2 ones", "[splat
         }
     if (!compared_avx2) WARN("this CPU has no AVX2: the baseline loops were compared with themselves");
 }
+
+TEST_CASE("point bounds: the first of equal extremes in any split, non-finite positions ignored", "[splat]") {
+    // the sequential double fold of the definition: std::min/std::max keep the first of equal values
+    std::mt19937 rng(41);
+    std::uniform_int_distribution<int> pick(0, 9);
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const float values[] = {0.0f, -0.0f, 1.5f, -2.25f, nan, inf, -inf, 3.0f, -0.0f, 0.0f};
+    std::vector<PointRecord> pts(257);
+    for (PointRecord& p : pts)
+        for (float& c : p.pos) c = values[pick(rng)];
+    double lo[3], hi[3];
+    bool any = false;
+    for (const PointRecord& p : pts) {
+        if (!(std::isfinite(p.pos[0]) && std::isfinite(p.pos[1]) && std::isfinite(p.pos[2]))) continue;
+        for (int i = 0; i < 3; ++i) {
+            lo[i] = any ? std::min(lo[i], double(p.pos[i])) : double(p.pos[i]);
+            hi[i] = any ? std::max(hi[i], double(p.pos[i])) : double(p.pos[i]);
+        }
+        any = true;
+    }
+    REQUIRE(any);
+    for (std::size_t split : {std::size_t{1}, std::size_t{7}, std::size_t{64}, pts.size()}) {
+        INFO("parts of " << split);
+        PointBounds b;
+        for (std::size_t at = 0; at < pts.size(); at += split)
+            b.add(std::span<const PointRecord>(pts).subspan(at, std::min(split, pts.size() - at)));
+        const auto got = b.bounds();
+        for (int i = 0; i < 3; ++i) {
+            CHECK(std::bit_cast<std::uint64_t>(got[0][i]) == std::bit_cast<std::uint64_t>(lo[i]));
+            CHECK(std::bit_cast<std::uint64_t>(got[1][i]) == std::bit_cast<std::uint64_t>(hi[i]));
+        }
+    }
+    // only non-finite positions: the empty bounds
+    std::vector<PointRecord> bad(5);
+    for (PointRecord& p : bad) p.pos[1] = nan;
+    PointBounds none;
+    none.add(bad);
+    CHECK(none.bounds()[0][0] == 0.0);
+    CHECK(none.bounds()[1][2] == 0.0);
+}
