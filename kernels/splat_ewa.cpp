@@ -230,8 +230,8 @@ std::int64_t draw_row(const Setup& s, const Footprint& f, const DepthRange& d, f
 
 #if MESHLESS_EWA_AVX2
 MESHLESS_AVX2_BEGIN
-// The lanes of one AVX2 step of the pixel loops: eight pixels, each with its own dx and row (dy),
-// lanes 0-3 at keys + 4 consecutive pixels from half[0], lanes 4-7 from half[1]. A footprint at
+// The lanes of one AVX2 step of the pixel loops: eight pixels, each with its own dx and row (dy);
+// lanes 0-3 are 4 consecutive pixels from pixel index half[0], lanes 4-7 from half[1]. A footprint at
 // most four pixels wide takes two rows per step (half[1] = the next row), a wider one eight
 // pixels of one row (half[1] = half[0] + 4). Every lane's float operations are the scalar loop's,
 // in its order, whatever its place in the vector, so both layouts give the same bits.
@@ -288,8 +288,8 @@ inline void for_each_lanes8(const Setup& s, const Footprint& f, Step&& step) {
 // draw_row with AVX2 (for_each_lanes8): the same float operations in the same order as the
 // scalar loop (AVX without FMA: no contraction), so the same bits; the keys' unsigned minimum is
 // vectorised too (sign-flipped signed compares), the lanes off the bounding box masked off.
-std::int64_t draw_rows_avx2(const Setup& s, const Footprint& f, const DepthRange& d,
-                                                           std::uint64_t packed, std::uint64_t* kb) {
+std::int64_t draw_rows_avx2(const Setup& s, const Footprint& f, const DepthRange& d, std::uint64_t packed,
+                            std::uint64_t* kb) {
     const __m256 c2 = _mm256_set1_ps(s.c2);
     const __m256 q00 = _mm256_set1_ps(f.q00), q01x2 = _mm256_set1_ps(2.0f * f.q01);
     const __m256 depth = _mm256_set1_ps(f.depth), gx = _mm256_set1_ps(f.gx);
@@ -359,9 +359,8 @@ MESHLESS_AVX2_BEGIN
 // order (no contraction; lrint = cvtps2dq in the default rounding mode, the weight's truncation =
 // cvttps2dq, every value below 2^21), so the same sums; each accepted pixel's four words are then
 // added as one 256-bit vector.
-std::int64_t accumulate_plain_avx2(const Setup& s, const Footprint& f, const DepthRange& d,
-                                                                  const float* gauss, float qscale,
-                                                                  const std::uint64_t* kb, std::int64_t* acc) {
+std::int64_t accumulate_plain_avx2(const Setup& s, const Footprint& f, const DepthRange& d, const float* gauss,
+                                   float qscale, const std::uint64_t* kb, std::int64_t* acc) {
     const __m256 c2 = _mm256_set1_ps(s.c2);
     const __m256 q00 = _mm256_set1_ps(f.q00), q01x2 = _mm256_set1_ps(2.0f * f.q01);
     const __m256 depth = _mm256_set1_ps(f.depth), gx = _mm256_set1_ps(f.gx), eps = _mm256_set1_ps(d.eps);

@@ -27,7 +27,8 @@
 //   points, byte for byte, whatever the split or the thread count (stream/splat_sink.hpp).
 // Speed (EWA, same bytes as the plain per-pixel loops): footprints four points at a time and rows four
 //   pixels at a time (SSE2, the scalar float operations in the same order), eight at a time with AVX2
-//   where the CPU has it (chosen at run time, no FMA: the same bits; ewa_isa()); both passes may take
+//   where the CPU has it (eight points; eight pixels of a row, or two rows of four for footprints at
+//   most four pixels wide; chosen at run time, no FMA: the same bits; ewa_isa()); both passes may take
 //   footprints computed once (EwaFootprint, SplatFrame::footprints); pass 1 from footprints may
 //   skip splats behind everything drawn under them so far (EwaCull), pass 2 those hidden behind the
 //   visible depth of every tile they touch (VisibleDepthTiles).

@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <limits>
 #include <cstdlib>
 #include <cmath>
 #include <limits>

@@ -649,30 +649,35 @@ TEST_CASE("point bounds: the first of equal extremes in any split, non-finite po
     std::mt19937 rng(41);
     std::uniform_int_distribution<int> pick(0, 9);
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-    const float values[] = {0.0f, -0.0f, 1.5f, -2.25f, nan, inf, -inf, 3.0f, -0.0f, 0.0f};
-    std::vector<PointRecord> pts(257);
-    for (PointRecord& p : pts)
-        for (float& c : p.pos) c = values[pick(rng)];
-    double lo[3], hi[3];
-    bool any = false;
-    for (const PointRecord& p : pts) {
-        if (!(std::isfinite(p.pos[0]) && std::isfinite(p.pos[1]) && std::isfinite(p.pos[2]))) continue;
-        for (int i = 0; i < 3; ++i) {
-            lo[i] = any ? std::min(lo[i], double(p.pos[i])) : double(p.pos[i]);
-            hi[i] = any ? std::max(hi[i], double(p.pos[i])) : double(p.pos[i]);
+    // two sets: one with extremes away from zero, one whose extremes are +0 and -0 (which of the
+    // equal zeros is kept shows in the bits)
+    const float wide[] = {0.0f, -0.0f, 1.5f, -2.25f, nan, inf, -inf, 3.0f, -0.0f, 0.0f};
+    const float zeros[] = {0.0f, -0.0f, nan, inf, -inf, -0.0f, 0.0f, 0.0f, -0.0f, nan};
+    for (const float* values : {wide, zeros}) {
+        std::vector<PointRecord> pts(257);
+        for (PointRecord& p : pts)
+            for (float& c : p.pos) c = values[pick(rng)];
+        double lo[3], hi[3];
+        bool any = false;
+        for (const PointRecord& p : pts) {
+            if (!(std::isfinite(p.pos[0]) && std::isfinite(p.pos[1]) && std::isfinite(p.pos[2]))) continue;
+            for (int i = 0; i < 3; ++i) {
+                lo[i] = any ? std::min(lo[i], double(p.pos[i])) : double(p.pos[i]);
+                hi[i] = any ? std::max(hi[i], double(p.pos[i])) : double(p.pos[i]);
+            }
+            any = true;
         }
-        any = true;
-    }
-    REQUIRE(any);
-    for (std::size_t split : {std::size_t{1}, std::size_t{7}, std::size_t{64}, pts.size()}) {
-        INFO("parts of " << split);
-        PointBounds b;
-        for (std::size_t at = 0; at < pts.size(); at += split)
-            b.add(std::span<const PointRecord>(pts).subspan(at, std::min(split, pts.size() - at)));
-        const auto got = b.bounds();
-        for (int i = 0; i < 3; ++i) {
-            CHECK(std::bit_cast<std::uint64_t>(got[0][i]) == std::bit_cast<std::uint64_t>(lo[i]));
-            CHECK(std::bit_cast<std::uint64_t>(got[1][i]) == std::bit_cast<std::uint64_t>(hi[i]));
+        REQUIRE(any);
+        for (std::size_t split : {std::size_t{1}, std::size_t{7}, std::size_t{64}, pts.size()}) {
+            INFO("parts of " << split);
+            PointBounds b;
+            for (std::size_t at = 0; at < pts.size(); at += split)
+                b.add(std::span<const PointRecord>(pts).subspan(at, std::min(split, pts.size() - at)));
+            const auto got = b.bounds();
+            for (int i = 0; i < 3; ++i) {
+                CHECK(std::bit_cast<std::uint64_t>(got[0][i]) == std::bit_cast<std::uint64_t>(lo[i]));
+                CHECK(std::bit_cast<std::uint64_t>(got[1][i]) == std::bit_cast<std::uint64_t>(hi[i]));
+            }
         }
     }
     // only non-finite positions: the empty bounds

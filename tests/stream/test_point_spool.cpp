@@ -3,6 +3,7 @@
 // skipped), the empty spool, the file gone from $TMPDIR from the start, errors naming the file, and
 // a replaying source that holds at most one batch whatever the thread count.
 #include <catch2/catch.hpp>
+#include <bit>
 
 #include <cmath>
 #include <cstdlib>
@@ -56,6 +57,33 @@ struct ScopedTmpdir {
 };
 
 }  // namespace
+
+TEST_CASE("point spool: the value range keeps the first of equal extremes in any split", "[point_spool]") {
+    // extremes +0 and -0 (the bits show which of the equal zeros is kept), non-finite values ignored
+    const float values[] = {0.0f, -0.0f, NAN, INFINITY, -INFINITY, -0.0f, 0.0f};
+    std::mt19937 rng(43);
+    std::vector<PointRecord> pts(300);
+    for (PointRecord& p : pts) p.value = values[rng() % 7];
+    pts[5].value = -0.0f;  // at least one finite value
+    double lo = 0, hi = 0;
+    bool any = false;
+    for (const PointRecord& p : pts) {
+        if (!std::isfinite(p.value)) continue;
+        lo = any ? std::min<double>(lo, p.value) : p.value;
+        hi = any ? std::max<double>(hi, p.value) : p.value;
+        any = true;
+    }
+    for (std::size_t split : {std::size_t{1}, std::size_t{5}, std::size_t{64}, pts.size()}) {
+        INFO("appends of " << split);
+        PointSpool spool("test-spool");
+        for (std::size_t at = 0; at < pts.size(); at += split)
+            spool.append(std::span(pts).subspan(at, std::min(split, pts.size() - at)));
+        const auto range = spool.value_range();
+        REQUIRE(range.has_value());
+        CHECK(std::bit_cast<std::uint64_t>((*range)[0]) == std::bit_cast<std::uint64_t>(lo));
+        CHECK(std::bit_cast<std::uint64_t>((*range)[1]) == std::bit_cast<std::uint64_t>(hi));
+    }
+}
 
 TEST_CASE("point spool: round trip in any split, bounds as point_bounds", "[point_spool]") {
     auto pts = random_points(150000, 5);
