@@ -29,7 +29,8 @@ void put_chunk(AtomicFile& out, const char (&type)[5], const unsigned char* data
     put_u32be(head, static_cast<std::uint32_t>(n));
     std::memcpy(head + 4, type, 4);
     unsigned char tail[4];
-    put_u32be(tail, crc32_ieee(crc32_ieee(0, head + 4, 4), data, n));
+    const std::uint32_t type_crc = crc32_ieee(0, head + 4, 4);
+    put_u32be(tail, n ? crc32_ieee(type_crc, data, n) : type_crc);  // (libdeflate: a null buffer restarts the CRC)
     out.write(head, sizeof head);
     if (n) out.write(data, n);
     out.write(tail, sizeof tail);

@@ -4,12 +4,44 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <string>
+#include <vector>
+
+#include <zlib.h>
 
 #include "formats/png_writer.hpp"
 #include "kernels/errors.hpp"
 #include "tests/test_paths.hpp"
 
 using namespace meshless;
+
+namespace {
+/// The chunk types of a PNG file in order, each chunk's CRC checked with zlib's crc32 (an
+/// implementation other than the writer's; libpng forgives some CRC errors on reading).
+std::vector<std::string> checked_chunks(const std::string& path, std::size_t max_idat) {
+    std::ifstream in(path, std::ios::binary);
+    const std::string d((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    REQUIRE(d.size() >= 8);
+    CHECK(d.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
+    auto u32 = [&](std::size_t at) {
+        return std::uint32_t(std::uint8_t(d[at])) << 24 | std::uint32_t(std::uint8_t(d[at + 1])) << 16 |
+               std::uint32_t(std::uint8_t(d[at + 2])) << 8 | std::uint32_t(std::uint8_t(d[at + 3]));
+    };
+    std::vector<std::string> types;
+    for (std::size_t at = 8; at < d.size();) {
+        REQUIRE(at + 12 <= d.size());
+        const std::uint32_t n = u32(at);
+        REQUIRE(at + 12 + n <= d.size());
+        const std::string type = d.substr(at + 4, 4);
+        INFO("chunk " << type << " of " << n << " bytes");
+        CHECK(u32(at + 8 + n) == ::crc32(0, reinterpret_cast<const Bytef*>(d.data() + at + 4), 4 + n));
+        if (type == "IDAT") CHECK(n <= max_idat);
+        types.push_back(type);
+        at += 12 + n;
+    }
+    return types;
+}
+}  // namespace
 
 TEST_CASE("PNG round trip reproduces the pixels", "[splat]") {
     test::TempDir dir("png");
@@ -27,6 +59,11 @@ TEST_CASE("PNG round trip reproduces the pixels", "[splat]") {
         CHECK(back.width == w);
         CHECK(back.height == h);
         CHECK(back.rgb == img.rgb);
+        const auto types = checked_chunks(path, std::size_t{1} << 20);
+        REQUIRE(types.size() >= 3);
+        CHECK(types.front() == "IHDR");
+        CHECK(types.back() == "IEND");
+        if (w == 1000) CHECK(types.size() > 4);  // 2.1 MB that does not compress: several IDAT chunks
         // nothing but the file itself is left in the directory (no temporaries)
         CHECK(std::distance(std::filesystem::directory_iterator(dir.path), {}) == 1);
     }
@@ -56,6 +93,7 @@ TEST_CASE("PNG of a rendered-looking picture round trips and deflates", "[splat]
     CHECK(back.height == img.height);
     CHECK(back.rgb == img.rgb);
     CHECK(std::filesystem::file_size(path) < img.rgb.size() / 10);
+    CHECK(checked_chunks(path, std::size_t{1} << 20) == std::vector<std::string>{"IHDR", "IDAT", "IEND"});
 }
 
 TEST_CASE("PNG writing into a missing directory throws IoError naming the path and leaves nothing", "[splat]") {
