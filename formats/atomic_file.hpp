@@ -31,6 +31,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "formats/temporary_files.hpp"
@@ -70,10 +71,17 @@ public:
     /// True when the output cannot seek (stdout, a device or FIFO): see is_streaming_output.
     bool is_streaming() const { return is_stdout() || direct_; }
 
+    /// The stdio buffer of the files AtomicFile opens (not stdout's).
+    static constexpr std::size_t kBufferBytes = std::size_t{1} << 20;
+
 private:
     bool replace_by_exchange();
+    void buffer_file();
     std::string path_, target_, tmp_;
     std::FILE* file_ = nullptr;
+    /// The stdio buffer of a regular file or FIFO (kBufferBytes; stdio's own is st_blksize, 4 KiB:
+    /// one write(2) per 4 KiB of a large output); freed after the file is closed.
+    std::unique_ptr<char[]> buffer_;
     TemporaryRegistration registration_;  ///< tmp_, for the signal handlers
     bool committed_ = false;
     bool direct_ = false;  ///< writing straight into a non-regular file
