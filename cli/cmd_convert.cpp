@@ -136,6 +136,7 @@ int cmd_verify(int argc, char** argv) {
             if (a.positional().size() > 1) std::printf("%s: %s\n", path.c_str(), r.message.c_str());
             else std::printf("%s\n", r.message.c_str());
         } else {
+            std::fflush(stdout);  // the results so far before this error, in a log of both streams
             std::fprintf(stderr, "meshless verify: %s\n", r.message.c_str());
             rc = 2;
         }

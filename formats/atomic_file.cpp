@@ -44,21 +44,26 @@ AtomicFile::AtomicFile(std::string path, Durability durability) : path_(std::mov
         file_ = stdout;
         return;
     }
+    // the stdio buffer first: nothing after the file is opened may throw before the object exists
+    buffer_.reset(new char[kBufferBytes]);  // (not zeroed: a small file touches a few pages of it)
     std::error_code ec;
-    // A symbolic link is followed: the temporary goes beside the target, which is replaced.
-    std::string target = path_;
-    if (fs::is_symlink(path_, ec)) target = fs::weakly_canonical(path_, ec).string();
-    if (fs::is_directory(target, ec))
-        throw IoError(path_ + ": is a directory, expected a file name");
-    const auto st = fs::status(target, ec);
+    if (fs::is_directory(path_, ec)) throw IoError(path_ + ": is a directory, expected a file name");
+    // What the path names, links followed by the kernel (so /dev/stdout, /proc/self/fd/N reach the
+    // pipe or file they stand for): a device, FIFO or socket (/dev/null, a named pipe, a pipe) is
+    // written directly, never replaced.
+    const auto st = fs::status(path_, ec);
     if (fs::exists(st) && !fs::is_regular_file(st)) {
-        // a device, FIFO or socket (/dev/null, a named pipe): write to it directly, never replace it
-        file_ = std::fopen(target.c_str(), "wb");
+        file_ = std::fopen(path_.c_str(), "wb");
         if (!file_) throw IoError(path_ + ": cannot open for writing (" + std::strerror(errno) + ")");
         direct_ = true;
         buffer_file();
         return;
     }
+    // A symbolic link to a file is followed: the temporary goes beside the target, which is replaced.
+    std::string target = path_;
+    if (fs::is_symlink(path_, ec)) target = fs::weakly_canonical(path_, ec).string();
+    if (fs::is_directory(target, ec))
+        throw IoError(path_ + ": is a directory, expected a file name");
     target_ = target;
     remove_stale_temporaries(target);
     tmp_ = target + ".tmp-" + std::to_string(::getpid());
@@ -72,7 +77,6 @@ AtomicFile::AtomicFile(std::string path, Durability durability) : path_(std::mov
 void AtomicFile::buffer_file() {
     // Large outputs (PLY, VTP, streams, pictures) then reach the kernel in 1 MiB writes: on a
     // 30 MB PLY, 1,456 write calls (most of 4 KiB) become ~35.
-    buffer_.reset(new char[kBufferBytes]);  // (not zeroed: a small file touches a few pages of it)
     std::setvbuf(file_, buffer_.get(), _IOFBF, kBufferBytes);
 }
 

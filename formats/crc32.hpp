@@ -11,6 +11,7 @@
 namespace meshless {
 
 /// Continues a CRC-32: crc32_ieee(crc32_ieee(0, a, n), b, m) == crc32_ieee(0, ab, n + m), as zlib's crc32.
+/// As in zlib and libdeflate, a null `data` restarts: the result is 0 whatever crc and n are.
 std::uint32_t crc32_ieee(std::uint32_t crc, const void* data, std::size_t n);
 
 /// Checksums compare equal, except in a fuzzing build (FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION, set on

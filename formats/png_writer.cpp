@@ -6,7 +6,6 @@
 #include <cstring>
 #include <new>
 #include <memory>
-#include <vector>
 
 #include "formats/atomic_file.hpp"
 #include "formats/crc32.hpp"
@@ -59,9 +58,9 @@ void write_png(const Image& image, AtomicFile& out) {
     // smaller, and the encoder does no per-byte filtering.
     const std::size_t row = 3 * static_cast<std::size_t>(image.width);
     const std::size_t raw_bytes = (1 + row) * static_cast<std::size_t>(image.height);
-    std::vector<unsigned char> raw(raw_bytes);
+    const std::unique_ptr<unsigned char[]> raw(new unsigned char[raw_bytes]);  // (every byte is set below)
     for (int y = 0; y < image.height; ++y) {
-        unsigned char* d = raw.data() + (1 + row) * static_cast<std::size_t>(y);
+        unsigned char* d = raw.get() + (1 + row) * static_cast<std::size_t>(y);
         d[0] = 0;
         std::memcpy(d + 1, image.rgb.data() + row * static_cast<std::size_t>(y), row);
     }
@@ -72,7 +71,7 @@ void write_png(const Image& image, AtomicFile& out) {
     const std::size_t bound = libdeflate_zlib_compress_bound(comp.get(), raw_bytes);
     // not zero-filled: only the pages the stream reaches are touched
     const std::unique_ptr<unsigned char[]> z(new unsigned char[bound]);
-    const std::size_t zn = libdeflate_zlib_compress(comp.get(), raw.data(), raw_bytes, z.get(), bound);
+    const std::size_t zn = libdeflate_zlib_compress(comp.get(), raw.get(), raw_bytes, z.get(), bound);
     if (zn == 0) throw IoError(path + ": PNG encoding failed (compressed image larger than its bound)");
 
     static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};

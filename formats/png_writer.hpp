@@ -4,7 +4,8 @@
 // rendered pictures, at a similar or smaller size; the bytes depend only on the image. libpng
 // reads them back (formats/png_reader.hpp, the tests). write_png goes through AtomicFile
 // (temporary + rename; "-" = stdout), so a failed write never leaves a file that looks complete.
-// Memory: the image's bytes again (the scanlines), plus the compressed stream.
+// Memory: the image's bytes again (the scanlines), plus the compressed stream (its buffer is sized
+// for the worst case but touched only as far as the stream reaches) and the output's 1 MiB buffer.
 // Throws: IoError naming the path when the file cannot be created/written/opened;
 //         InvalidArgument for an image whose size does not match its pixel buffer;
 //         std::bad_alloc when memory runs out.

@@ -49,6 +49,27 @@ TEST_CASE("pipes give the same bytes as the in-process isosurface, for any threa
     }
 }
 
+TEST_CASE("isosurface writes to /dev/stdout: into the pipe or the file standard output is", "[cli]") {
+    TempDir d("devstdout");
+    const std::string vol = write_test_volume(d);
+    const std::string D = d.path.string();
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/a.ply --png " + D + "/a.png --size 100x100", d).code == 0);
+    // a pipe (stdout names no file to replace: written directly)
+    auto r = sh("MESHLESS isosurface " + vol + " --iso 50.5 -o /dev/stdout | cat > " + D + "/b.ply", d);
+    CHECK(r.code == 0);
+    CHECK(r.err.empty());
+    r = sh("MESHLESS isosurface " + vol + " --iso 50.5 -o " + D + "/c.ply --png /dev/stdout --size 100x100 | cat > " + D + "/c.png", d);
+    CHECK(r.code == 0);
+    // a file (a name without an extension: the format is said)
+    r = sh("MESHLESS isosurface " + vol + " --iso 50.5 -o /dev/stdout --format ply > " + D + "/e.ply", d);
+    CHECK(r.code == 0);
+    const std::string a = slurp(d / "a.ply");
+    CHECK(a.size() > 1000);
+    CHECK(slurp(d / "b.ply") == a);
+    CHECK(slurp(d / "e.ply") == a);
+    CHECK(slurp(d / "c.png") == slurp(d / "a.png"));
+}
+
 TEST_CASE("closed pipes end quietly, truncated streams are reported", "[cli]") {
     TempDir d("head");
     const std::string vol = write_test_volume(d);
