@@ -12,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/errors.hpp"
 #include "cli/signals.hpp"
+#include "formats/atomic_file.hpp"
 
 namespace meshless::cli {
 
@@ -87,12 +88,13 @@ int finish_stdout(int code, const char* name) {
     return kExitData;
 }
 
-/// Standard input and output that are not terminals get 1 MiB stdio buffers (stdio's own is
-/// st_blksize, 4 KiB on a pipe): a stage of `generate | project | write` moved its records in
-/// ~1,500 read and ~1,500 write calls, mostly of 4 KiB, per 100 MB. Called before any I/O on them;
-/// the buffers have static storage, as stdout is flushed after main returns.
+/// Standard input and output that are not terminals get stdio buffers of the size AtomicFile gives
+/// the files it opens, 1 MiB (stdio's own is st_blksize, 4 KiB on a pipe): a stage of
+/// `generate | project | write` moved its records in ~1,500 read and ~1,500 write calls, mostly of
+/// 4 KiB, per 100 MB. Called before any I/O on them; the buffers have static storage, as stdout is
+/// flushed after main returns.
 void buffer_standard_streams() {
-    static char in_buffer[std::size_t{1} << 20], out_buffer[std::size_t{1} << 20];
+    static char in_buffer[AtomicFile::kBufferBytes], out_buffer[AtomicFile::kBufferBytes];
     if (::isatty(0) != 1) std::setvbuf(stdin, in_buffer, _IOFBF, sizeof in_buffer);
     if (::isatty(1) != 1) std::setvbuf(stdout, out_buffer, _IOFBF, sizeof out_buffer);
 }

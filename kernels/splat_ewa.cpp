@@ -241,6 +241,18 @@ struct Lanes8 {
     std::size_t half[2];  // pixel index of lanes 0 and 4
 };
 
+// q = q00 dx dx + 2 q01 dx dy + q11 dy dy on the lanes, evaluated left to right as in C++
+// (q01x2 = 2 q01): the ellipse test of both passes.
+inline __m256 lanes_q(const Lanes8& l, __m256 q00, __m256 q01x2) {
+    return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, l.dx), l.dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, l.dx), l.vdy)),
+                         l.q11dydy);
+}
+
+// The depth plane on the lanes, clamped to [zlo, zhi] as std::clamp does it (both passes).
+inline __m256 lanes_z(const Lanes8& l, __m256 depth, __m256 gx, __m256 zlo, __m256 zhi) {
+    return _mm256_min_ps(zhi, _mm256_max_ps(zlo, _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, l.dx)), l.gydy)));
+}
+
 // Calls step(Lanes8) over f's bounding box, rows in pairs when it is at most four pixels wide.
 template <class Step>
 inline void for_each_lanes8(const Setup& s, const Footprint& f, Step&& step) {
@@ -299,10 +311,8 @@ std::int64_t draw_rows_avx2(const Setup& s, const Footprint& f, const DepthRange
     const __m256i empty = _mm256_set1_epi64x(-1);
     std::int64_t frags = 0;
     for_each_lanes8(s, f, [&](const Lanes8& l) {
-        const __m256 q = _mm256_add_ps(
-            _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, l.dx), l.dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, l.dx), l.vdy)), l.q11dydy);
-        const __m256 v = _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, l.dx)), l.gydy);
-        const __m256 z = _mm256_min_ps(zhi, _mm256_max_ps(zlo, v));
+        const __m256 q = lanes_q(l, q00, q01x2);
+        const __m256 z = lanes_z(l, depth, gx, zlo, zhi);
         const __m256i inside = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(q, c2, _CMP_NGT_UQ)), l.on);
         frags += std::popcount(static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(inside))));
         const __m256i zb = _mm256_castps_si256(z);
@@ -371,13 +381,12 @@ std::int64_t accumulate_plain_avx2(const Setup& s, const Footprint& f, const Dep
     const __m256i even = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
     std::int64_t frags = 0;
     for_each_lanes8(s, f, [&](const Lanes8& l) {
-        const __m256 q = _mm256_add_ps(
-            _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(q00, l.dx), l.dx), _mm256_mul_ps(_mm256_mul_ps(q01x2, l.dx), l.vdy)), l.q11dydy);
+        const __m256 q = lanes_q(l, q00, q01x2);
         const __m256i inside = _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(q, c2, _CMP_NGT_UQ)), l.on);
         const int in_bits = _mm256_movemask_ps(_mm256_castsi256_ps(inside));
         if (!in_bits) return;
         frags += std::popcount(static_cast<unsigned>(in_bits));
-        const __m256 z = _mm256_min_ps(zhi, _mm256_max_ps(zlo, _mm256_add_ps(_mm256_add_ps(depth, _mm256_mul_ps(gx, l.dx)), l.gydy)));
+        const __m256 z = lanes_z(l, depth, gx, zlo, zhi);
         // the eight visible keys: high words = depth bits, low words = packed normal
         const __m256i k0 = (in_bits & 0x0F) ? _mm256_maskload_epi64(reinterpret_cast<const long long*>(kb + l.half[0]),
                                                                      _mm256_cvtepi32_epi64(_mm256_castsi256_si128(inside)))
