@@ -102,6 +102,9 @@ int cmd_generate(int argc, char** argv) {
     BinaryStreamOutput out(a.get_or("output", "-"), "a sample stream");
     VolumeInput in = open_volume_input(a, /*stream=*/true);
     StreamSink sink(out.f, out.name, RecordKind::sample, volume_meta(in, iso, a.command_line()), a.has("compress"));
+    // the records are sample_active_cells' on a volume of uint8/int16/uint16/float32 values, which
+    // floats hold exactly: the encoder checks their positions and takes their values from the corners
+    sink.index_cells(cell_grid(in.grid()), SampleCellEncoder::Verify::position);
     const IsoSplatResult r = run_isosplat_input(in, iso, Projection::approx, sp, sink, nthreads, PipelineShape::samples_only);
     warn_if_nothing_active(in, iso, r.sampling);
     if (a.has("stats"))

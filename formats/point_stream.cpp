@@ -20,7 +20,7 @@ namespace {
 
 constexpr unsigned char kMagic[8] = {0x89, 'M', 'L', 'S', '\r', '\n', 0x1a, '\n'};
 constexpr std::uint32_t kFrameMeta = 1, kFrameData = 2, kFrameEnd = 3;
-constexpr std::uint32_t kFlagZstd = 1;
+constexpr std::uint32_t kFlagZstd = 1, kFlagCells = 2;
 constexpr std::uint32_t kMaxPayload = 1u << 30;
 
 void put_u32(unsigned char* p, std::uint32_t v) {
@@ -40,6 +40,11 @@ std::uint64_t get_u64(const unsigned char* p) {
     return v;
 }
 std::uint32_t crc_of(const void* p, std::size_t n) { return crc32_ieee(0, p, n); }
+std::string hex(std::uint32_t v) {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "%x", v);
+    return buf;
+}
 
 /// A pipe's buffer grown to 1 MiB (Linux F_SETPIPE_SZ; the default 64 KiB makes the stages of a
 /// pipeline wake each other ~16 times per megabyte). Not a pipe, or refused: left as it is.
@@ -172,12 +177,18 @@ void StreamWriter::write_meta(const StreamMeta& m) {
     write_frame(kFrameMeta, 0, 0, 0, s.data(), static_cast<std::uint32_t>(s.size()));
 }
 
+void StreamWriter::index_cells(const CellGrid& grid, SampleCellEncoder::Verify verify) {
+    if (rsize_ == sizeof(SampleRecord) && !compress_) cells_.emplace(grid, verify);
+}
+
 void StreamWriter::write_data(std::uint64_t seq, const void* records, std::uint64_t count) {
     if (count == 0) return;
     if (count > kMaxPayload / rsize_) throw FormatError(name_ + ": batch of " + std::to_string(count) + " records too large for one frame");
     const std::size_t raw = count * rsize_;
     if (raw > kMaxPayload) throw FormatError(name_ + ": batch of " + std::to_string(count) + " records too large for one frame");
-    if (compress_) {
+    if (cells_ && cells_->encode(static_cast<const SampleRecord*>(records), static_cast<std::size_t>(count), scratch_)) {
+        write_frame(kFrameData, kFlagCells, seq, count, scratch_.data(), static_cast<std::uint32_t>(scratch_.size()));
+    } else if (compress_) {
         scratch_.resize(ZSTD_compressBound(raw));
         const std::size_t n = ZSTD_compress(scratch_.data(), scratch_.size(), records, raw, 1);
         if (ZSTD_isError(n)) throw IoError(name_ + ": zstd compression failed");
@@ -232,11 +243,7 @@ StreamReader::StreamReader(std::FILE* f, std::string name) : f_(f), name_(std::m
     if (kind != 1 && kind != 2 && kind != 5) throw FormatError(name_ + ": unknown record kind " + std::to_string(kind));
     kind_ = static_cast<RecordKind>(kind);
     if ((flags_ & ~kStreamFlagBlocks) != 0)
-        throw FormatError(name_ + ": unknown stream header flags 0x" + [&] {
-            char buf[16];
-            std::snprintf(buf, sizeof buf, "%x", flags_);
-            return std::string(buf);
-        }() + " (written by a newer version?)");
+        throw FormatError(name_ + ": unknown stream header flags 0x" + hex(flags_) + " (written by a newer version?)");
     if ((flags_ & kStreamFlagBlocks) && kind_ != RecordKind::point)
         throw FormatError(name_ + ": block ids flagged on a stream of kind " + std::to_string(kind) + " (only points carry them)");
     rsize_ = record_size(kind_, flags_);
@@ -285,7 +292,15 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
         const auto bad_crc = [&] {
             return FormatError(name_ + ": frame checksum mismatch after " + std::to_string(total_) + " records (corrupt stream)");
         };
-        if (type == kFrameData && !(flags & kFlagZstd)) {
+        if (type == kFrameData && (flags & ~(kFlagZstd | kFlagCells)) != 0)
+            throw FormatError(name_ + ": DATA frame with unknown flags 0x" + hex(flags) + " after " + std::to_string(total_) +
+                              " records (written by a newer version?)");
+        if (type == kFrameData && flags == (kFlagZstd | kFlagCells))
+            throw FormatError(name_ + ": DATA frame flagged both zstd and cell-indexed after " + std::to_string(total_) + " records");
+        if (type == kFrameData && flags == kFlagCells && kind_ != RecordKind::sample)
+            throw FormatError(name_ + ": cell-indexed DATA frame in a stream of kind " +
+                              std::to_string(static_cast<std::uint32_t>(kind_)) + " (only samples are)");
+        if (type == kFrameData && flags == 0) {
             // raw records: read straight into the caller's room, checksummed there (no copy)
             if (count > kMaxPayload / rsize) throw FormatError(name_ + ": corrupt frame header (" + std::to_string(count) + " records)");
             if (bytes != count * rsize)
@@ -294,6 +309,7 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
             if (bytes && !read_exact(dst, bytes)) throw truncated();
             if (crc_of(dst, bytes) != crc) throw bad_crc();
             total_ += count;
+            data_bytes_ += bytes;
             return count;
         }
         stored_.resize(bytes);
@@ -316,11 +332,27 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
         }
         if (type != kFrameData) continue;  // unknown frame type: skip
         if (count > kMaxPayload / rsize) throw FormatError(name_ + ": corrupt frame header (" + std::to_string(count) + " records)");
+        if (flags == kFlagCells) {
+            // the payload is read and checksummed: its size bounds the records it may claim
+            try {
+                if (count * sizeof(SampleRecord) > std::uint64_t{bytes} * (sizeof(SampleRecord) / 14 + 1))
+                    throw FormatError("cell-indexed sample frame of " + std::to_string(bytes) + " bytes claims " +
+                                      std::to_string(count) + " records");
+                cells_.decode(stored_.data(), bytes, count, static_cast<SampleRecord*>(room(count)));
+            } catch (const FormatError& e) {
+                throw FormatError(name_ + ": " + e.what() + " (after " + std::to_string(total_) + " records)");
+            }
+            total_ += count;
+            data_bytes_ += bytes;
+            ++cell_frames_;
+            return count;
+        }
         const std::size_t raw = count * rsize;
         void* dst = room(count);
         const std::size_t n = ZSTD_decompress(dst, raw, stored_.data(), bytes);
         if (ZSTD_isError(n) || n != raw) throw FormatError(name_ + ": corrupt compressed frame after " + std::to_string(total_) + " records");
         total_ += count;
+        data_bytes_ += bytes;
         return count;
     }
 }

@@ -9,9 +9,13 @@
 //     bit 0, and bit 0 on anything but points, are refused. A point stream without blocks is
 //     byte-for-byte what this format was before seeds and blocks existed.
 //   frames, each a 32-byte header: u32 type (1 META, 2 DATA, 3 END) | u32 flags (bit 0: payload is
-//     one zstd frame) | u64 seq | u64 count (records; END: total records in the stream) |
+//     one zstd frame; bit 1: payload is cell-indexed samples, formats/sample_cell_frame.hpp) |
+//     u64 seq | u64 count (records; END: total records in the stream) |
 //     u32 stored payload bytes | u32 CRC-32 of the stored payload
-//     followed by the payload: META = "key=value\n" text; DATA = count records (raw or zstd).
+//     followed by the payload: META = "key=value\n" text; DATA = count records (raw, zstd, or, in a
+//     sample stream, cell-indexed: each sample as its cell's indices and corner values, 14 bytes
+//     instead of 88 for a uint8 volume; the reader rebuilds the same records). A DATA frame with
+//     other flags, with both bits, or cell-indexed in a stream of points or seeds is refused.
 //   exactly one END frame closes the stream.
 // Readers skip frame types they do not know, reject a wrong magic ("not a meshless stream"), a
 // version other than 1, a record size that does not match the kind, CRC mismatches, EOF before
@@ -26,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/sample_cell_frame.hpp"
 #include "kernels/records.hpp"
 
 namespace meshless {
@@ -63,6 +68,10 @@ public:
     /// flags: kStreamFlagBlocks for points with block ids (records of kPointBlockRecordSize bytes).
     StreamWriter(std::FILE* f, std::string name, RecordKind kind, bool compress = false, std::uint32_t flags = 0);
     void write_meta(const StreamMeta& m);
+    /// Sample streams without compression: DATA frames are written cell-indexed when that halves
+    /// them or better (samples generated on this grid), raw otherwise; the records read back are
+    /// the same either way.
+    void index_cells(const CellGrid& grid, SampleCellEncoder::Verify verify = SampleCellEncoder::Verify::all);
     /// Writes one DATA frame (skipped when count == 0).
     void write_data(std::uint64_t seq, const void* records, std::uint64_t count);
     /// Writes the END frame and flushes.
@@ -79,6 +88,7 @@ private:
     bool compress_;
     std::uint64_t total_ = 0;
     std::vector<char> scratch_;
+    std::optional<SampleCellEncoder> cells_;
 };
 
 class StreamReader {
@@ -102,6 +112,9 @@ public:
     /// it, with no intermediate copy). On a FormatError the room may hold part of a frame.
     std::optional<std::uint64_t> next_records(const std::function<void*(std::uint64_t count)>& room);
     std::uint64_t total() const { return total_; }
+    /// DATA frames read so far that were cell-indexed, and the payload bytes of all DATA frames.
+    std::uint64_t cell_frames() const { return cell_frames_; }
+    std::uint64_t data_bytes() const { return data_bytes_; }
     const std::string& name() const { return name_; }
 
 private:
@@ -113,12 +126,14 @@ private:
     std::size_t rsize_ = 0;
     StreamMeta meta_;
     std::uint64_t total_ = 0;
+    std::uint64_t cell_frames_ = 0, data_bytes_ = 0;
     bool ended_ = false;
     // a DATA frame read ahead by read_meta
     bool pending_ = false;
     std::uint64_t pending_count_ = 0;
     std::vector<char> pending_buf_;
     std::vector<char> stored_;
+    SampleCellDecoder cells_;
 };
 
 }  // namespace meshless

@@ -185,9 +185,35 @@ struct CentreArrays {
     }
 };
 
-/// Pass 1 over a row's active cells idx[0..n2) (n2 even), two per SSE2 step: trilinear(c, 0.5, 0.5,
-/// 0.5), to_world_gradient and the record's float rounding, the very operations of the scalar
-/// definition (IEEE add, sub, mul, div and conversions round alike in SSE2 lanes and scalars; no FMA).
+/// trilinear(c, 0.5, 0.5, 0.5) on two cells at once (one per lane): the value and the local
+/// gradient, the very operations of the scalar definition (IEEE add, sub, mul, div and conversions
+/// round alike in SSE2 lanes and scalars; no FMA).
+struct CentreLanes {
+    __m128d value, lgx, lgy, lgz;
+};
+inline CentreLanes centre_lanes(const __m128d c[8]) {
+    const __m128d half = _mm_set1_pd(0.5);
+    const __m128d c00 = _mm_add_pd(c[0], _mm_mul_pd(half, _mm_sub_pd(c[1], c[0])));
+    const __m128d c10 = _mm_add_pd(c[2], _mm_mul_pd(half, _mm_sub_pd(c[3], c[2])));
+    const __m128d c01 = _mm_add_pd(c[4], _mm_mul_pd(half, _mm_sub_pd(c[5], c[4])));
+    const __m128d c11 = _mm_add_pd(c[6], _mm_mul_pd(half, _mm_sub_pd(c[7], c[6])));
+    const __m128d e0 = _mm_add_pd(c00, _mm_mul_pd(half, _mm_sub_pd(c10, c00)));
+    const __m128d e1 = _mm_add_pd(c01, _mm_mul_pd(half, _mm_sub_pd(c11, c01)));
+    CentreLanes r;
+    r.value = _mm_add_pd(e0, _mm_mul_pd(half, _mm_sub_pd(e1, e0)));
+    const __m128d d00 = _mm_sub_pd(c[1], c[0]), d10 = _mm_sub_pd(c[3], c[2]);
+    const __m128d d01 = _mm_sub_pd(c[5], c[4]), d11 = _mm_sub_pd(c[7], c[6]);
+    const __m128d f0 = _mm_add_pd(d00, _mm_mul_pd(half, _mm_sub_pd(d10, d00)));
+    const __m128d f1 = _mm_add_pd(d01, _mm_mul_pd(half, _mm_sub_pd(d11, d01)));
+    r.lgx = _mm_add_pd(f0, _mm_mul_pd(half, _mm_sub_pd(f1, f0)));
+    const __m128d dy0 = _mm_sub_pd(c10, c00);
+    r.lgy = _mm_add_pd(dy0, _mm_mul_pd(half, _mm_sub_pd(_mm_sub_pd(c11, c01), dy0)));
+    r.lgz = _mm_sub_pd(e1, e0);
+    return r;
+}
+
+/// Pass 1 over a row's active cells idx[0..n2) (n2 even), two per SSE2 step: centre_lanes,
+/// to_world_gradient and the record's float rounding.
 template <class T>
 void centre_samples(const T* p00, const T* p10, const T* p01, const T* p11, const std::int64_t* idx, std::int64_t n2,
                     const CentreFrame& f, CentreArrays& o) {
@@ -199,31 +225,16 @@ void centre_samples(const T* p00, const T* p10, const T* p01, const T* p11, cons
         auto ld = [&](const T* p, std::int64_t d) {
             return _mm_set_pd(static_cast<double>(p[ib + d]), static_cast<double>(p[ia + d]));
         };
-        const __m128d c0 = ld(p00, 0), c1 = ld(p00, 1), c2 = ld(p10, 0), c3 = ld(p10, 1);
-        const __m128d c4 = ld(p01, 0), c5 = ld(p01, 1), c6 = ld(p11, 0), c7 = ld(p11, 1);
-        const __m128d c00 = _mm_add_pd(c0, _mm_mul_pd(half, _mm_sub_pd(c1, c0)));
-        const __m128d c10 = _mm_add_pd(c2, _mm_mul_pd(half, _mm_sub_pd(c3, c2)));
-        const __m128d c01 = _mm_add_pd(c4, _mm_mul_pd(half, _mm_sub_pd(c5, c4)));
-        const __m128d c11 = _mm_add_pd(c6, _mm_mul_pd(half, _mm_sub_pd(c7, c6)));
-        const __m128d e0 = _mm_add_pd(c00, _mm_mul_pd(half, _mm_sub_pd(c10, c00)));
-        const __m128d e1 = _mm_add_pd(c01, _mm_mul_pd(half, _mm_sub_pd(c11, c01)));
-        const __m128d value = _mm_add_pd(e0, _mm_mul_pd(half, _mm_sub_pd(e1, e0)));
-        const __m128d d00 = _mm_sub_pd(c1, c0), d10 = _mm_sub_pd(c3, c2);
-        const __m128d d01 = _mm_sub_pd(c5, c4), d11 = _mm_sub_pd(c7, c6);
-        const __m128d f0 = _mm_add_pd(d00, _mm_mul_pd(half, _mm_sub_pd(d10, d00)));
-        const __m128d f1 = _mm_add_pd(d01, _mm_mul_pd(half, _mm_sub_pd(d11, d01)));
-        const __m128d lgx = _mm_add_pd(f0, _mm_mul_pd(half, _mm_sub_pd(f1, f0)));
-        const __m128d dy0 = _mm_sub_pd(c10, c00);
-        const __m128d lgy = _mm_add_pd(dy0, _mm_mul_pd(half, _mm_sub_pd(_mm_sub_pd(c11, c01), dy0)));
-        const __m128d lgz = _mm_sub_pd(e1, e0);
+        const __m128d c[8] = {ld(p00, 0), ld(p00, 1), ld(p10, 0), ld(p10, 1), ld(p01, 0), ld(p01, 1), ld(p11, 0), ld(p11, 1)};
+        const CentreLanes t = centre_lanes(c);
         const __m128d ix = _mm_set_pd(static_cast<double>(ib + f.off[0]), static_cast<double>(ia + f.off[0]));
         const __m128d lo_x = _mm_add_pd(vox, _mm_mul_pd(ix, vsx));
         _mm_storeu_pd(o.lox + a, lo_x);
         _mm_storeu_pd(o.px + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_add_pd(lo_x, _mm_mul_pd(half, vsx)))));
-        _mm_storeu_pd(o.gx + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgx, vsx))));
-        _mm_storeu_pd(o.gy + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgy, vsy))));
-        _mm_storeu_pd(o.gz + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(lgz, vsz))));
-        _mm_storeu_pd(o.v + a, _mm_cvtps_pd(_mm_cvtpd_ps(value)));
+        _mm_storeu_pd(o.gx + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(t.lgx, vsx))));
+        _mm_storeu_pd(o.gy + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(t.lgy, vsy))));
+        _mm_storeu_pd(o.gz + a, _mm_cvtps_pd(_mm_cvtpd_ps(_mm_div_pd(t.lgz, vsz))));
+        _mm_storeu_pd(o.v + a, _mm_cvtps_pd(_mm_cvtpd_ps(t.value)));
     }
 }
 #endif
@@ -364,6 +375,122 @@ void project_rows_approx(const T* data, const GridSpec& g, double iso, std::int6
 #endif
 
 }  // namespace
+
+namespace {
+/// complete_centre_samples' scalar definition for one record.
+void complete_centre_sample(const double origin[3], const double spacing[3], const std::uint32_t* ijk, SampleRecord& s) {
+    // sample_rows' scalar loop, with the cell's low corner origin + i * spacing on every axis
+    double c[8];
+    for (int q = 0; q < 8; ++q) c[q] = static_cast<double>(s.corner[q]);
+    const ValueGrad vg = trilinear(c, 0.5, 0.5, 0.5);
+    const Vec3 gw = to_world_gradient(vg.grad, Vec3{spacing[0], spacing[1], spacing[2]});
+    for (int a = 0; a < 3; ++a) {
+        const double lo = origin[a] + static_cast<double>(static_cast<std::int64_t>(ijk[a])) * spacing[a];
+        s.pos[a] = static_cast<float>(lo + 0.5 * spacing[a]);
+        s.cell_lo[a] = static_cast<float>(lo);
+        s.cell_size[a] = static_cast<float>(spacing[a]);
+    }
+    s.grad[0] = static_cast<float>(gw.x);
+    s.grad[1] = static_cast<float>(gw.y);
+    s.grad[2] = static_cast<float>(gw.z);
+    s.value = static_cast<float>(vg.value);
+}
+}  // namespace
+
+void complete_centre_samples(const double origin[3], const double spacing[3], const std::uint32_t* ijk,
+                             SampleRecord* rec, std::size_t n) {
+    std::size_t r = 0;
+#if defined(__SSE2__)
+    // two records per step, the operations of complete_centre_sample in the same order
+    const __m128d half = _mm_set1_pd(0.5);
+    __m128d org[3], sp[3];
+    float size[3];
+    for (int a = 0; a < 3; ++a) {
+        org[a] = _mm_set1_pd(origin[a]);
+        sp[a] = _mm_set1_pd(spacing[a]);
+        size[a] = static_cast<float>(spacing[a]);
+    }
+    for (; r + 2 <= n; r += 2) {
+        SampleRecord& sa = rec[r];
+        SampleRecord& sb = rec[r + 1];
+        const std::uint32_t* ia = ijk + 3 * r;
+        const std::uint32_t* ib = ia + 3;
+        __m128d c[8];
+        for (int q = 0; q < 8; ++q) c[q] = _mm_set_pd(static_cast<double>(sb.corner[q]), static_cast<double>(sa.corner[q]));
+        const CentreLanes t = centre_lanes(c);
+        alignas(16) float out[6][4];
+        for (int a = 0; a < 3; ++a) {
+            const __m128d i = _mm_set_pd(static_cast<double>(ib[a]), static_cast<double>(ia[a]));
+            const __m128d lo = _mm_add_pd(org[a], _mm_mul_pd(i, sp[a]));
+            _mm_store_ps(out[a], _mm_cvtpd_ps(_mm_add_pd(lo, _mm_mul_pd(half, sp[a]))));
+            _mm_store_ps(out[3 + a], _mm_cvtpd_ps(lo));
+        }
+        alignas(16) float g[4][4];
+        _mm_store_ps(g[0], _mm_cvtpd_ps(_mm_div_pd(t.lgx, sp[0])));
+        _mm_store_ps(g[1], _mm_cvtpd_ps(_mm_div_pd(t.lgy, sp[1])));
+        _mm_store_ps(g[2], _mm_cvtpd_ps(_mm_div_pd(t.lgz, sp[2])));
+        _mm_store_ps(g[3], _mm_cvtpd_ps(t.value));
+        SampleRecord* two[2] = {&sa, &sb};
+        for (int l = 0; l < 2; ++l) {
+            SampleRecord& s = *two[l];
+            for (int a = 0; a < 3; ++a) {
+                s.pos[a] = out[a][l];
+                s.cell_lo[a] = out[3 + a][l];
+                s.cell_size[a] = size[a];
+                s.grad[a] = g[a][l];
+            }
+            s.value = g[3][l];
+        }
+    }
+#endif
+    for (; r < n; ++r) complete_centre_sample(origin, spacing, ijk + 3 * r, rec[r]);
+}
+
+void complete_centre_samples_u8(const double origin[3], const double spacing[3], const std::uint32_t* ijk,
+                                const std::uint8_t* corners, SampleRecord* rec, std::size_t n,
+                                CentreGradientTable& table) {
+    constexpr int kHalf = 1020, kSize = 2 * kHalf + 1;
+    if (table.grad.empty() || !std::equal(spacing, spacing + 3, table.spacing)) {
+        table.grad.resize(3 * kSize);
+        for (int a = 0; a < 3; ++a) {
+            table.spacing[a] = spacing[a];
+            for (int l = -kHalf; l <= kHalf; ++l)
+                table.grad[static_cast<std::size_t>(a * kSize + l + kHalf)] = static_cast<float>(static_cast<double>(l) * 0.25 / spacing[a]);
+        }
+    }
+    const float* gx = table.grad.data() + kHalf;
+    const float* gy = gx + kSize;
+    const float* gz = gy + kSize;
+    float size[3];
+    for (int a = 0; a < 3; ++a) size[a] = static_cast<float>(spacing[a]);
+    // the last cell's position floats per axis (an index past 2^32: none yet)
+    std::uint64_t last[3] = {~std::uint64_t{0}, ~std::uint64_t{0}, ~std::uint64_t{0}};
+    float pos[3] = {0, 0, 0}, cell_lo[3] = {0, 0, 0};
+    for (std::size_t r = 0; r < n; ++r, ijk += 3, corners += 8) {
+        SampleRecord& s = rec[r];
+        const int c0 = corners[0], c1 = corners[1], c2 = corners[2], c3 = corners[3];
+        const int c4 = corners[4], c5 = corners[5], c6 = corners[6], c7 = corners[7];
+        for (int q = 0; q < 8; ++q) s.corner[q] = static_cast<float>(corners[q]);
+        const int x0 = c0 + c2 + c4 + c6, x1 = c1 + c3 + c5 + c7;
+        const int y0 = c0 + c1 + c4 + c5, y1 = c2 + c3 + c6 + c7;
+        const int z0 = c0 + c1 + c2 + c3, z1 = c4 + c5 + c6 + c7;
+        s.grad[0] = gx[x1 - x0];
+        s.grad[1] = gy[y1 - y0];
+        s.grad[2] = gz[z1 - z0];
+        s.value = static_cast<float>(z0 + z1) * 0.125f;
+        for (int a = 0; a < 3; ++a) {
+            if (ijk[a] != last[a]) {  // consecutive cells mostly share their row (j, k)
+                last[a] = ijk[a];
+                const double lo = origin[a] + static_cast<double>(ijk[a]) * spacing[a];
+                pos[a] = static_cast<float>(lo + 0.5 * spacing[a]);
+                cell_lo[a] = static_cast<float>(lo);
+            }
+            s.pos[a] = pos[a];
+            s.cell_lo[a] = cell_lo[a];
+            s.cell_size[a] = size[a];
+        }
+    }
+}
 
 void sample_active_cells(const VolumeView& v, double iso, std::int64_t row0, std::int64_t row1,
                          const SamplingParams& params, std::vector<SampleRecord>& out,

@@ -49,6 +49,30 @@ void sample_active_cells(const VolumeView& v, double iso, std::int64_t row0, std
                          const SamplingParams& params, std::vector<SampleRecord>& out,
                          SamplingStats& stats);
 
+/// Completes records from their cells (the decoder of cell-indexed sample frames, formats/
+/// sample_cell_frame.hpp): for each r < n, with rec[r].corner[] set and (i, j, k) = ijk[3r..3r+2]
+/// its cell's indices in the whole volume (SamplingParams::index_offset included) on the grid
+/// (origin, spacing), sets pos, grad, value, cell_lo and cell_size exactly as sample_active_cells
+/// sets them from the volume's values; radius is left as it is. The bytes equal the generator's
+/// whenever the corner floats hold the volume's values exactly (uint8, int16, uint16 and float32
+/// volumes always; wider integers and float64 only where their values fit a float). Pure.
+void complete_centre_samples(const double origin[3], const double spacing[3], const std::uint32_t* ijk,
+                             SampleRecord* rec, std::size_t n);
+
+/// complete_centre_samples for cells whose corners are uint8 values (corners[8r..8r+7] for record
+/// r, index dx + 2 dy + 4 dz): the same bytes, corner[] included, computed in integers. With such
+/// corners every intermediate of the trilinear interpolation at the centre is exact, so the value is
+/// (sum of corners) / 8 and the local gradient (an integer in [-1020, 1020]) / 4 on each axis; the
+/// world gradient's rounding, (L / 4) / spacing, is looked up in `table` (filled for the spacing
+/// when it was made for another). Pure apart from the table.
+struct CentreGradientTable {
+    double spacing[3] = {0, 0, 0};
+    std::vector<float> grad;  ///< 3 x 2041: axis a, local gradient L/4 for L in [-1020, 1020]
+};
+void complete_centre_samples_u8(const double origin[3], const double spacing[3], const std::uint32_t* ijk,
+                                const std::uint8_t* corners, SampleRecord* rec, std::size_t n,
+                                CentreGradientTable& table);
+
 /// The same samples, each projected at once by project_sample (no SampleRecord is stored): the
 /// in-process fast path of paradigm (C). Output bytes equal sample_active_cells followed by
 /// project_sample on each record: for `exact` and `none` the same record is built and projected;

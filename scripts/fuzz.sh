@@ -17,7 +17,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 data=${MESHLESS_DATA:-$root/../shared/data}
 all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
      fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_plot3d fuzz_vtp fuzz_vts fuzz_csv fuzz_npy fuzz_points_raw
-     fuzz_point_stream fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file)
+     fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file)
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
@@ -101,6 +101,13 @@ if [ -x "$exe" ] && have fuel/fuel_64x64x64_uint8.raw && have bucky/Bucky_32x32x
   tmp=$(mktemp -d)
   bucky=$data/bucky/Bucky_32x32x32_uint8.raw
   "$exe" isosurface "$data/fuel/fuel_64x64x64_uint8.raw" --iso 100 -o - 2>/dev/null | head -c 65536 | seed fuzz_point_stream fuel
+  # a sample stream (cell-indexed frames), and its first DATA frame as the decoder's input: u32 count, payload
+  "$exe" generate "$data/fuel/fuel_64x64x64_uint8.raw" --iso 100 -o "$tmp/s.mls" 2>/dev/null &&
+    head -c 65536 "$tmp/s.mls" | seed fuzz_point_stream samples &&
+    u32() { od -An -tu4 -j "$1" -N 4 "$tmp/s.mls" | tr -d ' '; } &&
+    at=$(( 64 + $(u32 56) )) &&
+    { head -c $(( at + 20 )) "$tmp/s.mls" | tail -c 4; head -c $(( at + 32 + $(u32 $(( at + 24 ))) )) "$tmp/s.mls" | tail -c "$(u32 $(( at + 24 )))"; } |
+    seed fuzz_sample_cells fuel
   "$exe" convert "$bucky" -o "$tmp/b.mlb" >/dev/null 2>&1 && seed fuzz_mlb bucky < "$tmp/b.mlb"
   "$exe" sample "$bucky" --count 200 -o "$tmp/s.ply" >/dev/null 2>&1 && seed fuzz_ply sample < "$tmp/s.ply"
   "$exe" render "$bucky" --size 16x16 -o "$tmp/r.png" >/dev/null 2>&1 && seed fuzz_png bucky < "$tmp/r.png"

@@ -28,6 +28,9 @@ std::optional<Batch> StreamSource::next() {
         b.samples = take_spare(spare_samples_);
         b.points = take_spare(spare_points_);
     }
+    // spare sample arrays keep their size (records are read over them: resizing to a frame's count
+    // then zero-fills nothing, or only what grew)
+    if (b.kind != RecordKind::sample) b.samples.clear();
     const bool blocks = r_.has_blocks();
     auto n = r_.next_records([&](std::uint64_t count) -> void* {
         if (blocks) {
@@ -39,6 +42,7 @@ std::optional<Batch> StreamSource::next() {
             return b.seeds.data();
         }
         if (b.kind == RecordKind::sample) {
+            if (count > b.samples.capacity()) b.samples.clear();  // growing copies nothing old
             b.samples.resize(count);
             return b.samples.data();
         }
@@ -59,7 +63,6 @@ bool StreamSource::recycle(Batch& consumed) {
         spare_points_.push_back(std::move(consumed.points));
     }
     if (consumed.samples.capacity() != 0 && spare_samples_.size() < kKeep) {
-        consumed.samples.clear();
         spare_samples_.push_back(std::move(consumed.samples));
     }
     return true;

@@ -41,6 +41,10 @@ public:
                bool with_blocks = false);
     void consume(Batch&& b) override;
     void finish() override { w_.finish(); }
+    /// Samples generated on this grid travel cell-indexed (StreamWriter::index_cells).
+    void index_cells(const CellGrid& grid, SampleCellEncoder::Verify verify = SampleCellEncoder::Verify::all) {
+        w_.index_cells(grid, verify);
+    }
     std::uint64_t total() const { return w_.total(); }
 
 private:

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <limits>
 #include <filesystem>
@@ -46,6 +47,42 @@ TEST_CASE("pipes give the same bytes as the in-process isosurface, for any threa
         CHECK(a == slurp(d / "b.ply"));
         CHECK(a == slurp(d / "c.ply"));
         CHECK(slurp(d / "a.png") == slurp(d / "b.png"));
+    }
+}
+
+TEST_CASE("sample streams travel cell-indexed for every sample type and for brick stores: same bytes as in-process", "[cli]") {
+    TempDir d("pipe-cells");
+    const std::string D = d.path.string();
+    // float32 (origin -1, spacing 2/39), int16 (negative values) and a brick store of a uint8 volume
+    Volume f = make_analytic_volume(AnalyticField::gyroid, 40);
+    write_nrrd(f, D + "/f.nrrd");
+    Volume s;
+    s.grid = f.grid;
+    s.type = SampleType::i16;
+    s.bytes = SampleBytes(static_cast<std::size_t>(f.grid.voxel_count()) * 2);
+    const float* fv = reinterpret_cast<const float*>(f.bytes.data());
+    for (std::int64_t i = 0; i < f.grid.voxel_count(); ++i) {
+        const auto v = static_cast<std::int16_t>(std::lround(fv[i] * 3000.0));
+        std::memcpy(s.bytes.data() + 2 * i, &v, 2);
+    }
+    write_nrrd(s, D + "/s.nrrd");
+    const std::string vol = write_test_volume(d);
+    REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "/v.mlb --brick 16", d).code == 0);
+    struct Case {
+        std::string input, iso, per_record;
+    };
+    for (const Case& c : {Case{D + "/f.nrrd", "0.1", "38."}, Case{D + "/s.nrrd", "-200.5", "22."}, Case{D + "/v.mlb", "50.5", "14."}}) {
+        INFO(c.input);
+        REQUIRE(sh("MESHLESS isosurface " + c.input + " --iso " + c.iso + " -o " + D + "/a.ply", d).code == 0);
+        REQUIRE(sh("MESHLESS generate " + c.input + " --iso " + c.iso + " --threads 2 -o " + D + "/s.mls", d).code == 0);
+        REQUIRE(sh("MESHLESS project " + D + "/s.mls | MESHLESS write -o " + D + "/b.ply", d).code == 0);
+        const std::string a = slurp(d / "a.ply");
+        CHECK(a.size() > 1000);
+        CHECK(a == slurp(d / "b.ply"));
+        const RunResult info = sh("MESHLESS info " + D + "/s.mls", d);
+        REQUIRE(info.code == 0);
+        CHECK_THAT(info.out, Catch::Matchers::Contains(c.per_record));     // bytes per record with the frame headers
+        CHECK_THAT(info.out, !Catch::Matchers::Contains("(0 cell-indexed"));
     }
 }
 
