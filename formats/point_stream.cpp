@@ -333,11 +333,10 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
         if (type != kFrameData) continue;  // unknown frame type: skip
         if (count > kMaxPayload / rsize) throw FormatError(name_ + ": corrupt frame header (" + std::to_string(count) + " records)");
         if (flags == kFlagCells) {
-            // the payload is read and checksummed: its size bounds the records it may claim
+            // the payload is read and checksummed: its size must be exactly what its header implies
+            // for `count` records before room() takes memory for them
             try {
-                if (count * sizeof(SampleRecord) > std::uint64_t{bytes} * (sizeof(SampleRecord) / 14 + 1))
-                    throw FormatError("cell-indexed sample frame of " + std::to_string(bytes) + " bytes claims " +
-                                      std::to_string(count) + " records");
+                SampleCellDecoder::check(stored_.data(), bytes, count);
                 cells_.decode(stored_.data(), bytes, count, static_cast<SampleRecord*>(room(count)));
             } catch (const FormatError& e) {
                 throw FormatError(name_ + ": " + e.what() + " (after " + std::to_string(total_) + " records)");

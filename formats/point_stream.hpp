@@ -108,8 +108,9 @@ public:
     /// nullopt at END (after checking the END total). Throws FormatError on corruption/truncation.
     std::optional<std::uint64_t> next_data(std::vector<char>& out);
     /// The same into memory the caller provides: room(count) must return space for count records
-    /// (called once per DATA frame, before its payload is read; raw payloads are read straight into
-    /// it, with no intermediate copy). On a FormatError the room may hold part of a frame.
+    /// (called once per DATA frame: raw payloads are then read straight into it, with no
+    /// intermediate copy; zstd and cell-indexed payloads are read and checked first, then decoded
+    /// into it). On a FormatError the room may hold part of a frame.
     std::optional<std::uint64_t> next_records(const std::function<void*(std::uint64_t count)>& room);
     std::uint64_t total() const { return total_; }
     /// DATA frames read so far that were cell-indexed, and the payload bytes of all DATA frames.

@@ -187,35 +187,52 @@ restart:
     return true;
 }
 
-void SampleCellDecoder::decode(const void* payload, std::size_t bytes, std::uint64_t count, SampleRecord* out) {
+void SampleCellDecoder::check(const void* payload, std::size_t bytes, std::uint64_t count) {
+    (void)header(payload, bytes, count);
+}
+
+SampleCellDecoder::Header SampleCellDecoder::header(const void* payload, std::size_t bytes, std::uint64_t count) {
     if (bytes < kSampleCellHeaderBytes)
         throw FormatError("cell-indexed sample frame of " + std::to_string(bytes) + " bytes, shorter than its header");
     const unsigned char* p = static_cast<const unsigned char*>(payload);
-    const unsigned char* const end = p + bytes;
-    const auto coding = get<std::uint8_t>(p);
-    const auto ib = get<std::uint8_t>(p);
+    Header h;
+    h.coding = get<std::uint8_t>(p);
+    h.index_bytes = get<std::uint8_t>(p);
     const auto zero16 = get<std::uint16_t>(p);
-    const auto exceptions = get<std::uint32_t>(p);
-    const auto radius = get<float>(p);
+    h.exceptions = get<std::uint32_t>(p);
+    h.radius = get<float>(p);
     const auto zero32 = get<std::uint32_t>(p);
-    CellGrid g;
-    for (double& v : g.origin) v = get<double>(p);
-    for (double& v : g.spacing) v = get<double>(p);
-    if (coding < kU8 || coding > kF32) throw FormatError("cell-indexed sample frame: unknown corner coding " + std::to_string(coding));
-    if (ib != 2 && ib != 4) throw FormatError("cell-indexed sample frame: index width " + std::to_string(ib) + " (expected 2 or 4)");
+    for (double& v : h.grid.origin) v = get<double>(p);
+    for (double& v : h.grid.spacing) v = get<double>(p);
+    if (h.coding < kU8 || h.coding > kF32) throw FormatError("cell-indexed sample frame: unknown corner coding " + std::to_string(h.coding));
+    if (h.index_bytes != 2 && h.index_bytes != 4)
+        throw FormatError("cell-indexed sample frame: index width " + std::to_string(h.index_bytes) + " (expected 2 or 4)");
     if (zero16 != 0 || zero32 != 0) throw FormatError("cell-indexed sample frame: reserved header bytes are not zero");
     for (int a = 0; a < 3; ++a)
-        if (!std::isfinite(g.origin[a]) || !std::isfinite(g.spacing[a]))
+        if (!std::isfinite(h.grid.origin[a]) || !std::isfinite(h.grid.spacing[a]))
             throw FormatError("cell-indexed sample frame: grid origin or spacing is not finite");
-    if (exceptions > count)
-        throw FormatError("cell-indexed sample frame: " + std::to_string(exceptions) + " exceptions for " + std::to_string(count) +
+    if (h.exceptions > count)
+        throw FormatError("cell-indexed sample frame: " + std::to_string(h.exceptions) + " exceptions for " + std::to_string(count) +
                           " records");
-    const std::size_t cb = corner_bytes(coding), slot = 3 * static_cast<std::size_t>(ib) + 8 * cb;
-    // count and exceptions are at most 2^32 records (the caller bounds count by the frame limit)
-    const std::uint64_t want = kSampleCellHeaderBytes + count * slot + std::uint64_t{exceptions} * kExceptionBytes;
-    if (count > (std::uint64_t{1} << 32) || want != bytes)
+    const std::size_t slot = 3 * static_cast<std::size_t>(h.index_bytes) + 8 * corner_bytes(h.coding);
+    // count and exceptions are at most 2^32 records here: no product overflows
+    if (count > (std::uint64_t{1} << 32))
+        throw FormatError("cell-indexed sample frame of " + std::to_string(bytes) + " bytes claims " + std::to_string(count) + " records");
+    const std::uint64_t want = kSampleCellHeaderBytes + count * slot + std::uint64_t{h.exceptions} * kExceptionBytes;
+    if (want != bytes)
         throw FormatError("cell-indexed sample frame of " + std::to_string(count) + " records has " + std::to_string(bytes) +
                           " bytes (the header implies " + std::to_string(want) + ")");
+    return h;
+}
+
+void SampleCellDecoder::decode(const void* payload, std::size_t bytes, std::uint64_t count, SampleRecord* out) {
+    const Header h = header(payload, bytes, count);
+    const unsigned char* p = static_cast<const unsigned char*>(payload) + kSampleCellHeaderBytes;
+    const unsigned char* const end = static_cast<const unsigned char*>(payload) + bytes;
+    const std::uint8_t coding = h.coding, ib = h.index_bytes;
+    const std::uint32_t exceptions = h.exceptions;
+    const float radius = h.radius;
+    const CellGrid& g = h.grid;
     std::uint32_t ijk[3 * kStep];
     std::uint8_t u8[8 * kStep];
     for (std::uint64_t first = 0; first < count; first += kStep) {

@@ -4,7 +4,8 @@
 // cell size all follow from the cell's indices and its eight corner values on the volume's grid
 // (kernels/cell_sampling.hpp complete_centre_samples). A frame may therefore carry, per record,
 // only the cell's indices and corners: 14 bytes for a uint8 volume under 65,536 cells a side, 22
-// for 16-bit samples, 44 for float32, instead of 88. The reader rebuilds the very same records.
+// for 16-bit samples, 38 for float32, instead of 88 (a frame is written so only when that at least
+// halves it: float32 corners with 4-byte indices never do). The reader rebuilds the records.
 //
 // Payload layout (little endian), 64-byte header:
 //   u8 corner coding (1 uint8, 2 int16, 3 uint16, 4 float32 bits) | u8 index bytes (2 or 4) |
@@ -14,12 +15,16 @@
 //   dx + 2 dy + 4 dz, in the corner coding);
 // then E exceptions, by increasing record number: u32 record number | the whole 88-byte record,
 //   which replaces that record (its slot above is zero).
-// The encoder rebuilds every record it compacts and compares the bytes: a record that does not
-// rebuild exactly (another producer's, a value a float cannot hold, an index off the grid) becomes
-// an exception, so the decoded records always equal the encoded ones.
-// Errors: decode_sample_cells throws FormatError("...") describing the defect (the caller adds the
-// stream's name and position). Memory: the encoder keeps scratch of about 100 bytes per record of
-// the largest frame; the decoder writes into the caller's records only. Not thread-safe per object.
+// The encoder checks every record it compacts (Verify::all: rebuilds it and compares all 88 bytes;
+// Verify::position: the fields that follow from the indices, for a producer that vouches for the
+// rest): a record that does not rebuild exactly (another producer's, an index off the grid, another
+// radius) becomes an exception, so the decoded records equal the encoded ones (under
+// Verify::position, given the producer's promise, which tests/formats/test_sample_cell_frame.cpp
+// checks for the generator).
+// Errors: SampleCellDecoder throws FormatError("...") describing the defect (the caller adds the
+// stream's name and position). Memory: the encoder keeps 256 rebuilt records (Verify::all) and 4
+// bytes per exception; the decoder a 24 KB gradient table, and writes into the caller's records.
+// Not thread-safe per object.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -75,13 +80,23 @@ private:
 
 class SampleCellDecoder {
 public:
+    /// Checks the header and that the payload's size is exactly what it implies for `count`
+    /// records (FormatError otherwise), so the caller may size the records' memory from count.
+    static void check(const void* payload, std::size_t bytes, std::uint64_t count);
     /// Decodes a payload of `bytes` bytes holding `count` records into out[0..count). Throws
-    /// FormatError on a header value out of range, a size that does not match the header, an
-    /// exception out of order or out of range, or a non-finite grid; out[] may then hold part.
+    /// FormatError as check() does, and on an exception out of order or out of range; out[] may
+    /// then hold part.
     void decode(const void* payload, std::size_t bytes, std::uint64_t count, SampleRecord* out);
 
 private:
-    CentreGradientTable table_;  // uint8 corners: kept while the spacing stays the same
+    struct Header {
+        std::uint8_t coding = 0, index_bytes = 0;
+        std::uint32_t exceptions = 0;
+        float radius = 0;
+        CellGrid grid;
+    };
+    static Header header(const void* payload, std::size_t bytes, std::uint64_t count);
+    CentreGradientTable table_;  // uint8 corners: kept while the spacing stays the same (24 KB)
 };
 
 }  // namespace meshless

@@ -450,7 +450,8 @@ void complete_centre_samples_u8(const double origin[3], const double spacing[3],
                                 const std::uint8_t* corners, SampleRecord* rec, std::size_t n,
                                 CentreGradientTable& table) {
     constexpr int kHalf = 1020, kSize = 2 * kHalf + 1;
-    if (table.grad.empty() || !std::equal(spacing, spacing + 3, table.spacing)) {
+    // keyed by the bits (+0 and -0 spacings give opposite infinities)
+    if (table.grad.empty() || std::memcmp(spacing, table.spacing, sizeof table.spacing) != 0) {
         table.grad.resize(3 * kSize);
         for (int a = 0; a < 3; ++a) {
             table.spacing[a] = spacing[a];

@@ -54,8 +54,8 @@ void sample_active_cells(const VolumeView& v, double iso, std::int64_t row0, std
 /// its cell's indices in the whole volume (SamplingParams::index_offset included) on the grid
 /// (origin, spacing), sets pos, grad, value, cell_lo and cell_size exactly as sample_active_cells
 /// sets them from the volume's values; radius is left as it is. The bytes equal the generator's
-/// whenever the corner floats hold the volume's values exactly (uint8, int16, uint16 and float32
-/// volumes always; wider integers and float64 only where their values fit a float). Pure.
+/// whenever the corner floats hold the volume's values exactly, as they always do for the sample
+/// types there are (uint8, int16, uint16, float32). Pure.
 void complete_centre_samples(const double origin[3], const double spacing[3], const std::uint32_t* ijk,
                              SampleRecord* rec, std::size_t n);
 
@@ -64,7 +64,7 @@ void complete_centre_samples(const double origin[3], const double spacing[3], co
 /// corners every intermediate of the trilinear interpolation at the centre is exact, so the value is
 /// (sum of corners) / 8 and the local gradient (an integer in [-1020, 1020]) / 4 on each axis; the
 /// world gradient's rounding, (L / 4) / spacing, is looked up in `table` (filled for the spacing
-/// when it was made for another). Pure apart from the table.
+/// when it was made for another spacing, compared bit for bit). Pure apart from the table.
 struct CentreGradientTable {
     double spacing[3] = {0, 0, 0};
     std::vector<float> grad;  ///< 3 x 2041: axis a, local gradient L/4 for L in [-1020, 1020]
