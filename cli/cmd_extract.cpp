@@ -57,6 +57,8 @@ int cmd_extract(int argc, char** argv) {
     BinaryStreamOutput out(a.get_or("output", "-"), "a sample stream");
     StreamSink sink(out.f, out.name, RecordKind::sample, sample_store_meta(*store, iso, a.command_line()),
                     a.has("compress"));
+    // the records are sample_active_cells' on the .mlb's bricks, as generate's: cell-indexed alike
+    sink.index_cells(cell_grid(store->brick_store().info().grid), SampleCellEncoder::Verify::position);
     run_pipeline(source, {}, sink, {1});
     out.commit();
     if (a.has("stats")) {

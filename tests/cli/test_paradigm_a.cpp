@@ -67,6 +67,11 @@ TEST_CASE("extract | project | write writes the bytes of paradigm (C), and isosu
             CHECK(slurp(D + "/i.ply") == c);
         }
     }
+    // the stream travels cell-indexed as generate's does (the checks above: the same bytes after project)
+    REQUIRE(sh("MESHLESS extract " + D + "/t.mls --iso 50.5 -o " + D + "/x.stream", d).code == 0);
+    const auto xi = sh("MESHLESS info " + D + "/x.stream", d);
+    CHECK(xi.code == 0);
+    CHECK_THAT(xi.out, Catch::Contains("cell-indexed frames") && !Catch::Contains("(0 cell-indexed"));
     // a compressed stream, and the picture path
     REQUIRE(sh("MESHLESS extract " + D + "/t.mls --iso 50.5 --compress -o " + D + "/a.stream", d).code == 0);
     REQUIRE(sh("MESHLESS project " + D + "/a.stream | MESHLESS write -o " + D + "/b.ply", d).code == 0);
