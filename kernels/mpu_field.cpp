@@ -388,15 +388,22 @@ void MpuField::lookup_geometry(int level) {
 }
 
 namespace {
+// v clamped to [lo, hi], NaN to lo (std::clamp returns a NaN as it is, and converting it to an
+// integer is undefined).
+double clamp_or_low(double v, double lo, double hi) { return !(v >= lo) ? lo : v > hi ? hi : v; }
+
 // The lookup cells [lo, hi] (per axis, clamped to the grid of g cells a side) that a leaf sphere's
 // bounding box overlaps; lo > hi when none. Clamped in double first: a sphere far larger than the
-// grid (a hostile .mlf) must not overflow the integer conversion.
+// grid (a hostile .mlf: finite values whose sums overflow to inf, and inf - inf to NaN) must not
+// reach the integer conversion out of range; a NaN bound gives no cell.
 void lookup_range(const Vec3& c, double r, const Vec3& grid_lo, double inv, std::int64_t g, std::int64_t lo[3],
                   std::int64_t hi[3]) {
     const double top = static_cast<double>(g);
     for (int a = 0; a < 3; ++a) {
-        lo[a] = static_cast<std::int64_t>(std::clamp(std::floor((c[a] - r - grid_lo[a]) * inv), 0.0, top));
-        hi[a] = static_cast<std::int64_t>(std::clamp(std::floor((c[a] + r - grid_lo[a]) * inv), -1.0, top - 1));
+        const double l = std::floor((c[a] - r - grid_lo[a]) * inv), h = std::floor((c[a] + r - grid_lo[a]) * inv);
+        const bool none = std::isnan(l) || std::isnan(h);
+        lo[a] = static_cast<std::int64_t>(clamp_or_low(l, 0.0, top));
+        hi[a] = none ? -1 : static_cast<std::int64_t>(clamp_or_low(h, -1.0, top - 1));
     }
 }
 }  // namespace

@@ -284,3 +284,24 @@ TEST_CASE("an MPU state whose leaf spheres are huge loads with a coarse lookup g
     Collector again;
     CHECK_THROWS_AS(save_field_state(*f, again), InvalidArgument);
 }
+
+TEST_CASE("an MPU state whose root cube overflows to infinity loads without undefined conversions", "[kernels][field_state][mustfail]") {
+    // Found by fuzz_field_file: finite values whose sums overflow (root half edge 1e308: the lookup
+    // grid starts at -inf and its inverse cell size is 0, so a leaf's cell range is inf * 0 = NaN),
+    // which std::clamp passed through to an integer conversion (undefined; UBSan in the sanitizer
+    // tier). Now a NaN range lists the leaf in no cell, and evaluation falls back to the tree.
+    const Saved s = saved(FieldKind::mpu, 3000);
+    Collector c = s.c;
+    auto& nodes = c.get<double>("nodes");
+    nodes[3] = 1e308;   // the root's half edge
+    nodes[0] = -1e308;  // and its centre
+    FieldState st = c.state();
+    std::unique_ptr<Field> f;
+    const std::string err = error_of([&] { f = load_field_state(FieldKind::mpu, st); });
+    if (f) {
+        (void)f->value({0.5, 1, 0.5});  // any value; no undefined behaviour on the way
+        CHECK(err == "(nothing thrown)");
+    } else {
+        CHECK_THAT(err, Catch::Contains("f.mlf: "));
+    }
+}
