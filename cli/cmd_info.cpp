@@ -46,10 +46,13 @@ void info_stream(const std::string& path) {
                 r.has_blocks() ? " with block ids" : "", kStreamVersion, r.record_bytes());
     std::printf("  records: %llu in %llu DATA frames, END frame present\n", static_cast<unsigned long long>(r.total()),
                 static_cast<unsigned long long>(frames));
-    if (r.total() > 0)
-        std::printf("  payload: %llu bytes, %.1f per record (%llu cell-indexed frames)\n",
-                    static_cast<unsigned long long>(r.data_bytes()), static_cast<double>(r.data_bytes()) / static_cast<double>(r.total()),
-                    static_cast<unsigned long long>(r.cell_frames()));
+    if (r.total() > 0) {
+        std::printf("  payload: %llu bytes, %.1f per record", static_cast<unsigned long long>(r.data_bytes()),
+                    static_cast<double>(r.data_bytes()) / static_cast<double>(r.total()));
+        if (r.kind() == RecordKind::sample)  // only sample frames can be cell-indexed
+            std::printf(" (%llu cell-indexed frames)", static_cast<unsigned long long>(r.cell_frames()));
+        std::printf("\n");
+    }
     for (const auto& [k, v] : r.meta().kv) std::printf("  %s: %s\n", k.c_str(), v.c_str());
 }
 
