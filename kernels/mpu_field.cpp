@@ -6,6 +6,7 @@
 #include <type_traits>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -388,22 +389,25 @@ void MpuField::lookup_geometry(int level) {
 }
 
 namespace {
-// v clamped to [lo, hi], NaN to lo (std::clamp returns a NaN as it is, and converting it to an
-// integer is undefined).
-double clamp_or_low(double v, double lo, double hi) { return !(v >= lo) ? lo : v > hi ? hi : v; }
-
 // The lookup cells [lo, hi] (per axis, clamped to the grid of g cells a side) that a leaf sphere's
 // bounding box overlaps; lo > hi when none. Clamped in double first: a sphere far larger than the
-// grid (a hostile .mlf: finite values whose sums overflow to inf, and inf - inf to NaN) must not
-// reach the integer conversion out of range; a NaN bound gives no cell.
+// grid (a hostile .mlf) must not overflow the integer conversion. Finite values whose sums overflow
+// (inf - inf, or inf times a zero inverse cell size) give a NaN bound, which std::clamp would pass
+// on to the conversion (undefined): the axis is then taken whole, so the leaf is listed wherever
+// it might reach and the exact sphere test decides (build_lookup coarsens a grid that gets too
+// much work).
 void lookup_range(const Vec3& c, double r, const Vec3& grid_lo, double inv, std::int64_t g, std::int64_t lo[3],
                   std::int64_t hi[3]) {
     const double top = static_cast<double>(g);
     for (int a = 0; a < 3; ++a) {
         const double l = std::floor((c[a] - r - grid_lo[a]) * inv), h = std::floor((c[a] + r - grid_lo[a]) * inv);
-        const bool none = std::isnan(l) || std::isnan(h);
-        lo[a] = static_cast<std::int64_t>(clamp_or_low(l, 0.0, top));
-        hi[a] = none ? -1 : static_cast<std::int64_t>(clamp_or_low(h, -1.0, top - 1));
+        if (std::isnan(l) || std::isnan(h)) {
+            lo[a] = 0;
+            hi[a] = g - 1;
+            continue;
+        }
+        lo[a] = static_cast<std::int64_t>(std::clamp(l, 0.0, top));
+        hi[a] = static_cast<std::int64_t>(std::clamp(h, -1.0, top - 1));
     }
 }
 }  // namespace
@@ -633,6 +637,11 @@ void MpuField::save_state(FieldStateWriter& w) const {
     w.put("lookup_leaves", std::span<const std::uint32_t>(list));
 }
 
+namespace {
+/// The largest magnitude of a node's centre, half edge or radius in a loaded state (fitting frame).
+constexpr double kMaxNodeValue = 1e150;
+}  // namespace
+
 std::unique_ptr<MpuField> MpuField::load_state(FieldState& s) {
     std::unique_ptr<MpuField> f(new MpuField);
     take_frame(s, f->origin_, f->scale_, f->bounds_);
@@ -650,8 +659,16 @@ std::unique_ptr<MpuField> MpuField::load_state(FieldState& s) {
         std::size_t leaves = 0;
         for (std::size_t i = 0; i < nn; ++i) {
             const double* v = nf.data() + 5 * i;
-            for (int k = 0; k < 5; ++k)
+            for (int k = 0; k < 5; ++k) {
                 if (!std::isfinite(v[k])) s.fail("nodes", "node " + std::to_string(i) + ": non-finite value");
+                // the octree lives in the unit-sized fitting frame; bounded so that no sum, product
+                // or square of node values (lookup ranges, sphere tests) overflows to inf or NaN
+                if (std::fabs(v[k]) > kMaxNodeValue) {
+                    char buf[32];
+                    std::snprintf(buf, sizeof buf, "%g", v[k]);
+                    s.fail("nodes", "node " + std::to_string(i) + ": value " + buf + " beyond +-1e150");
+                }
+            }
             if (!(v[3] > 0) || !(v[4] >= 0)) s.fail("nodes", "node " + std::to_string(i) + ": half edge not > 0 or radius < 0");
             Node& n = f->nodes_[i];
             n.c = {v[0], v[1], v[2]};

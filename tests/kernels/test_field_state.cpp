@@ -256,7 +256,7 @@ TEST_CASE("a global RBF state is checked too", "[kernels][field_state][mustfail]
 }
 
 TEST_CASE("an MPU state whose leaf spheres are huge loads with a coarse lookup grid and bounded work", "[kernels][field_state][mustfail]") {
-    // A hostile .mlf: every leaf's blend radius 1e300 (finite, so accepted). The lookup lists the
+    // A hostile .mlf: every leaf's blend radius 1e150 (finite and within the bound, so accepted). The lookup lists the
     // field evaluates with are built from these spheres: without a bound they would list every leaf
     // in every cell of a fine grid (and overflow 32-bit offsets on large fields).
     const Saved s = saved(FieldKind::mpu, 6000);
@@ -266,7 +266,7 @@ TEST_CASE("an MPU state whose leaf spheres are huge loads with a coarse lookup g
     std::size_t leaves = 0;
     for (std::size_t i = 0; i < nodes.size() / 5; ++i)
         if (links[2 * i] < 0) {
-            nodes[5 * i + 4] = 1e300;
+            nodes[5 * i + 4] = 1e150;
             ++leaves;
         }
     REQUIRE(leaves > 100);
@@ -285,23 +285,22 @@ TEST_CASE("an MPU state whose leaf spheres are huge loads with a coarse lookup g
     CHECK_THROWS_AS(save_field_state(*f, again), InvalidArgument);
 }
 
-TEST_CASE("an MPU state whose root cube overflows to infinity loads without undefined conversions", "[kernels][field_state][mustfail]") {
-    // Found by fuzz_field_file: finite values whose sums overflow (root half edge 1e308: the lookup
-    // grid starts at -inf and its inverse cell size is 0, so a leaf's cell range is inf * 0 = NaN),
-    // which std::clamp passed through to an integer conversion (undefined; UBSan in the sanitizer
-    // tier). Now a NaN range lists the leaf in no cell, and evaluation falls back to the tree.
+TEST_CASE("an MPU state whose node values could overflow is refused", "[kernels][field_state][mustfail]") {
+    // Found by fuzz_field_file: finite node values whose sums overflow (root half edge 1e308: the
+    // lookup grid started at -inf or its inverse cell size was 0, so a leaf's cell range was
+    // inf - inf or inf * 0 = NaN), which std::clamp passed on to an integer conversion (undefined;
+    // UBSan aborted in the sanitizer tier). The octree lives in the unit-sized fitting frame: node
+    // values beyond +-1e150 are refused (no sum or square of them overflows), and a NaN lookup
+    // range would list the leaf on the whole axis.
     const Saved s = saved(FieldKind::mpu, 3000);
-    Collector c = s.c;
-    auto& nodes = c.get<double>("nodes");
-    nodes[3] = 1e308;   // the root's half edge
-    nodes[0] = -1e308;  // and its centre
-    FieldState st = c.state();
-    std::unique_ptr<Field> f;
-    const std::string err = error_of([&] { f = load_field_state(FieldKind::mpu, st); });
-    if (f) {
-        (void)f->value({0.5, 1, 0.5});  // any value; no undefined behaviour on the way
-        CHECK(err == "(nothing thrown)");
-    } else {
-        CHECK_THAT(err, Catch::Contains("f.mlf: "));
+    for (const std::size_t k : {std::size_t{0}, std::size_t{3}, std::size_t{5 * 9 + 4}}) {
+        for (const double v : {1e308, -2e150}) {
+            INFO("nodes[" << k << "] = " << v);
+            Collector c = s.c;
+            c.get<double>("nodes")[k] = v;
+            FieldState st = c.state();
+            const std::string err = error_of([&] { (void)load_field_state(FieldKind::mpu, st); });
+            CHECK_THAT(err, Catch::Contains("f.mlf: section 'nodes': node ") && Catch::Contains("beyond +-1e150"));
+        }
     }
 }
