@@ -661,8 +661,9 @@ std::unique_ptr<MpuField> MpuField::load_state(FieldState& s) {
             const double* v = nf.data() + 5 * i;
             for (int k = 0; k < 5; ++k) {
                 if (!std::isfinite(v[k])) s.fail("nodes", "node " + std::to_string(i) + ": non-finite value");
-                // the octree lives in the unit-sized fitting frame; bounded so that no sum, product
-                // or square of node values (lookup ranges, sphere tests) overflows to inf or NaN
+                // the octree lives in the unit-sized fitting frame; bounded so that no sum or square
+                // of node values (lookup ranges, sphere tests) overflows to inf, and no inf - inf
+                // or inf * 0 makes a NaN (a product that overflows is +-inf, which the clamps take)
                 if (std::fabs(v[k]) > kMaxNodeValue) {
                     char buf[32];
                     std::snprintf(buf, sizeof buf, "%g", v[k]);
