@@ -102,12 +102,11 @@ SampleCellEncoder::SampleCellEncoder(const CellGrid& grid, Verify verify) : grid
 
 bool SampleCellEncoder::same_position(const SampleRecord& s, const std::uint32_t* ijk) const {
     // complete_centre_samples' arithmetic for the fields that depend on the cell's indices
+    const auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f); };
     bool same = true;
     for (int a = 0; a < 3; ++a) {
-        const double lo = grid_.origin[a] + static_cast<double>(ijk[a]) * grid_.spacing[a];
-        const auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f); };
-        same = same && bits(static_cast<float>(lo)) == bits(s.cell_lo[a]) &&
-               bits(static_cast<float>(lo + 0.5 * grid_.spacing[a])) == bits(s.pos[a]) &&
+        const CellAxis x = cell_axis(grid_.origin[a], grid_.spacing[a], ijk[a]);
+        same = same && bits(x.lo) == bits(s.cell_lo[a]) && bits(x.centre) == bits(s.pos[a]) &&
                bits(static_cast<float>(grid_.spacing[a])) == bits(s.cell_size[a]);
     }
     return same;

@@ -385,9 +385,9 @@ void complete_centre_sample(const double origin[3], const double spacing[3], con
     const ValueGrad vg = trilinear(c, 0.5, 0.5, 0.5);
     const Vec3 gw = to_world_gradient(vg.grad, Vec3{spacing[0], spacing[1], spacing[2]});
     for (int a = 0; a < 3; ++a) {
-        const double lo = origin[a] + static_cast<double>(static_cast<std::int64_t>(ijk[a])) * spacing[a];
-        s.pos[a] = static_cast<float>(lo + 0.5 * spacing[a]);
-        s.cell_lo[a] = static_cast<float>(lo);
+        const CellAxis x = cell_axis(origin[a], spacing[a], ijk[a]);
+        s.pos[a] = x.centre;
+        s.cell_lo[a] = x.lo;
         s.cell_size[a] = static_cast<float>(spacing[a]);
     }
     s.grad[0] = static_cast<float>(gw.x);
@@ -466,7 +466,7 @@ void complete_centre_samples_u8(const double origin[3], const double spacing[3],
     for (int a = 0; a < 3; ++a) size[a] = static_cast<float>(spacing[a]);
     // the last cell's position floats per axis (an index past 2^32: none yet)
     std::uint64_t last[3] = {~std::uint64_t{0}, ~std::uint64_t{0}, ~std::uint64_t{0}};
-    float pos[3] = {0, 0, 0}, cell_lo[3] = {0, 0, 0};
+    CellAxis axis[3] = {};
     for (std::size_t r = 0; r < n; ++r, ijk += 3, corners += 8) {
         SampleRecord& s = rec[r];
         const int c0 = corners[0], c1 = corners[1], c2 = corners[2], c3 = corners[3];
@@ -482,12 +482,10 @@ void complete_centre_samples_u8(const double origin[3], const double spacing[3],
         for (int a = 0; a < 3; ++a) {
             if (ijk[a] != last[a]) {  // consecutive cells mostly share their row (j, k)
                 last[a] = ijk[a];
-                const double lo = origin[a] + static_cast<double>(ijk[a]) * spacing[a];
-                pos[a] = static_cast<float>(lo + 0.5 * spacing[a]);
-                cell_lo[a] = static_cast<float>(lo);
+                axis[a] = cell_axis(origin[a], spacing[a], ijk[a]);
             }
-            s.pos[a] = pos[a];
-            s.cell_lo[a] = cell_lo[a];
+            s.pos[a] = axis[a].centre;
+            s.cell_lo[a] = axis[a].lo;
             s.cell_size[a] = size[a];
         }
     }

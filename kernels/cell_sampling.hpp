@@ -49,6 +49,18 @@ void sample_active_cells(const VolumeView& v, double iso, std::int64_t row0, std
                          const SamplingParams& params, std::vector<SampleRecord>& out,
                          SamplingStats& stats);
 
+/// A cell's low corner and centre on one axis as the samples' floats: lo = origin + i * spacing in
+/// double (i the whole-volume index), cell_lo = float(lo), centre = float(lo + 0.5 * spacing): the
+/// arithmetic of sample_active_cells and complete_centre_samples (the encoder of cell-indexed
+/// frames checks records against it).
+struct CellAxis {
+    float lo, centre;
+};
+inline CellAxis cell_axis(double origin, double spacing, std::uint32_t i) {
+    const double lo = origin + static_cast<double>(i) * spacing;
+    return {static_cast<float>(lo), static_cast<float>(lo + 0.5 * spacing)};
+}
+
 /// Completes records from their cells (the decoder of cell-indexed sample frames, formats/
 /// sample_cell_frame.hpp): for each r < n, with rec[r].corner[] set and (i, j, k) = ijk[3r..3r+2]
 /// its cell's indices in the whole volume (SamplingParams::index_offset included) on the grid
