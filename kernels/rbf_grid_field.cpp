@@ -416,6 +416,10 @@ void RbfGridField::save_state(FieldStateWriter& w) const {
     w.put("lambda", std::span<const double>(lambda_));
 }
 
+namespace {
+constexpr double kMaxVisitedCells = 4096;  // cells a query may visit; a built grid: <= 3375 (load_state)
+}  // namespace
+
 std::unique_ptr<RbfGridField> RbfGridField::load_state(FieldState& s) {
     std::unique_ptr<RbfGridField> f(new RbfGridField);
     take_frame(s, f->origin_, f->scale_, f->bounds_);
@@ -457,6 +461,20 @@ std::unique_ptr<RbfGridField> RbfGridField::load_state(FieldState& s) {
         const double reach = f->n_[a] < 2 ? 0.0 : f->r_w_ / f->s_[a];
         if (std::bit_cast<std::uint64_t>(reach) != std::bit_cast<std::uint64_t>(f->reach_[a]))
             s.fail("grid", "reach does not match the weight radius");
+    }
+    // A query visits the cells within the reach along every axis (at most floor(2 reach) + 2 of an
+    // axis's cells), so the reach bounds the work of one evaluation. A built grid has near-cubic
+    // cells: every edge is below 1.5 s (s = the binning edge) and an edge of an axis with >= 2 cells
+    // is at least 0.75 s, so reach = r_w / s_a <= 2 |s_| / (0.75 s) < 2 sqrt(3) 1.5 / 0.75 = 6.93,
+    // counted here as at most 15 cells per axis, 3375 per query. A forged grid with a tiny edge along an axis of many
+    // cells would make every query scan that whole axis.
+    {
+        double visited = 1;
+        for (int a = 0; a < 3; ++a)
+            visited *= std::min(static_cast<double>(f->n_[a]), std::floor(2 * f->reach_[a]) + 2);
+        if (visited > kMaxVisitedCells)
+            s.fail("grid", "weight radius spans " + std::to_string(static_cast<std::uint64_t>(visited)) +
+                               " cells per query (a built grid spans at most 3375)");
     }
     const std::size_t ncells = static_cast<std::size_t>(f->n_[0] * f->n_[1] * f->n_[2]);
 

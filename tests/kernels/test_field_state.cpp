@@ -170,6 +170,47 @@ TEST_CASE("an RBF-grid state with an index out of range or inconsistent sizes is
                Catch::Contains("section 'local_ranges': local 0 has"));
 }
 
+TEST_CASE("an RBF-grid state whose weight radius spans too many cells is refused", "[kernels][field_state][mustfail]") {
+    // Built grids of any shape (boxes of every aspect, a slab, a line, both supports) load: their
+    // queries visit at most 3375 cells (kernels/rbf_grid_field.cpp load_state).
+    for (const RbfGridSupport sup : {RbfGridSupport::neighbours27, RbfGridSupport::paper_radius})
+        for (const Vec3 box : {Vec3{1, 1, 1}, Vec3{1, 0.3, 0.01}, Vec3{1, 1e-3, 1e-3}, Vec3{1, 0, 0}, Vec3{1, 3, 0.6}}) {
+            INFO(box.x << " " << box.y << " " << box.z);
+            PointSet ps;
+            SplitMix r{9};
+            for (int i = 0; i < 3000; ++i) {
+                const Vec3 p{box.x * r.unit(), box.y * r.unit(), box.z * r.unit()};
+                ps.pos.push_back(p);
+                ps.value.push_back(p.x + 2 * p.y - p.z);
+            }
+            ps.blocks.push_back({"p", {3000, 1, 1}, 0, 3000});
+            FieldParams p;
+            p.kind = FieldKind::rbf_grid;
+            p.rbf_grid_support = sup;
+            const auto f = make_field(ps, p);
+            Collector c;
+            save_field_state(*f, c);
+            FieldState st = c.state();
+            CHECK_NOTHROW(load_field_state(FieldKind::rbf_grid, st));
+        }
+    // A forged grid: 200x the cells along x with a tiny edge there, every derived scalar consistent.
+    // A query would scan all of x's cells (the whole axis); before the bound it loaded and every
+    // evaluation slowed by the axis's length.
+    const Saved s = saved(FieldKind::rbf_grid);
+    Collector c = s.c;
+    auto& dims = c.get<std::int64_t>("dims");
+    auto& g = c.get<double>("grid");
+    dims[0] *= 200;
+    c.get<std::int32_t>("cell_local").assign(static_cast<std::size_t>(dims[0] * dims[1] * dims[2]), -1);
+    g[3] = 1e-6;
+    g[6] = 1 / g[3];
+    g[12] = 2 * std::sqrt(g[3] * g[3] + g[4] * g[4] + g[5] * g[5]);
+    g[13] = std::min(g[13], g[12]);
+    for (int a = 0; a < 3; ++a) g[9 + a] = dims[a] < 2 ? 0.0 : g[13] / g[3 + a];
+    CHECK_THAT(load_error(FieldKind::rbf_grid, c), Catch::Contains("section 'grid': weight radius spans") &&
+                                                       Catch::Contains("cells per query (a built grid spans at most 3375)"));
+}
+
 TEST_CASE("an MPU state with a broken octree or an index out of range is refused", "[kernels][field_state][mustfail]") {
     const Saved s = saved(FieldKind::mpu);
     auto with = [&](auto&& edit) {
