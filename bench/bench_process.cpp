@@ -35,6 +35,7 @@
 #include <sstream>
 
 #include "bench/bench_common.hpp"
+#include "bench/platform_ceiling.hpp"
 #include "formats/json.hpp"
 #include "formats/ply.hpp"
 #include "kernels/errors.hpp"
@@ -498,6 +499,30 @@ void part_b(const Ctx& c, const Lung& l, double iso) {
     c.r.table(t);
 }
 
+/// What two threads can gain on this machine for the work around the computing (bench/platform_ceiling.hpp).
+void part_c_ceilings(const Ctx& c, const Lung& l) {
+    c.r.note("Platform ceilings, measured in this process (best of the runs, 1 thread doing all vs 2 threads doing half "
+             "each; speedup = 1-thread / 2-thread seconds): the most that two threads can gain on this machine for the "
+             "work a whole process does besides computing. `isosurface` reads its volume through the page cache twice "
+             "(the block min/max pass that frames the surface, then the slabs) and writes its PLY through it; the "
+             "picture's buffers and footprint spool are fresh memory, faulted in and zeroed by the kernel.");
+    Table t{{"work", "MiB", "1 thread s", "2 threads s", "speedup", "GiB/s (1 thread)"}, {}};
+    auto add = [&](const std::string& what, const Scaling& s) {
+        const double mb = static_cast<double>(s.bytes) / kMiB;
+        t.add({what, fmt("%.0f", mb), fmt("%.4f", s.one_s), fmt("%.4f", s.two_s), fmt("%.2f", s.speedup()),
+               fmt("%.1f", mb / 1024.0 / s.one_s)});
+    };
+    const int reps = std::max(c.reps, 9);  // milliseconds each: more runs, a steadier best
+    try {
+        add("page-cache read of " + l.raw.filename().string() + " (pread, 1 MiB pieces)", page_cache_read(l.raw, reps));
+    } catch (const std::exception& e) {
+        t.add({"page-cache read", "-", na(e.what()), "-", "-", "-"});
+    }
+    add("memory copy (memcpy, buffers faulted in)", memory_copy(std::size_t{256} << 20, reps));
+    add("fresh memory (huge pages advised, written once, freed)", fresh_memory(std::size_t{128} << 20, reps));
+    c.r.table(t);
+}
+
 void part_c(const Ctx& c, const Lung& l, double iso, const fs::path& splat_points, std::uint64_t splat_n) {
     c.r.section(fmt("(c) threads: %s, iso %g", l.label.c_str(), iso));
     c.r.note(fmt("Whole processes, --threads 2 vs --threads 1; ratio = speedup (1-thread seconds / 2-thread seconds). "
@@ -530,6 +555,7 @@ void part_c(const Ctx& c, const Lung& l, double iso, const fs::path& splat_point
                 s1.ok && s2.ok ? (read_file_bytes(c.work / "c_s1.png") == read_file_bytes(c.work / "c_s2.png") ? "SAME png" : "DIFFERENT png") : "-");
     }
     c.r.table(t);
+    part_c_ceilings(c, l);
 }
 
 void part_d(const Ctx& c, const Lung& l, double iso) {
