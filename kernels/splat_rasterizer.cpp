@@ -111,7 +111,14 @@ void SplatFrame::merge_keys(std::uint64_t* dst, const std::uint64_t* src, std::s
 }
 
 void SplatFrame::merge_acc(std::int64_t* dst, const std::int64_t* src, std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i) dst[i] += src[i];
+    constexpr std::size_t kRun = 512;
+    for (std::size_t first = 0; first < n; first += kRun) {
+        const std::size_t end = std::min(n, first + kRun);
+        std::int64_t any = 0;
+        for (std::size_t i = first; i < end; ++i) any |= src[i];
+        if (any == 0) continue;
+        for (std::size_t i = first; i < end; ++i) dst[i] += src[i];
+    }
 }
 
 void SplatFrame::draw(std::span<const PointRecord> points, std::uint64_t* keys, SplatStats& stats,

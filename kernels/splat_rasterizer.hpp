@@ -212,7 +212,9 @@ public:
     /// Shades the buffers into img (resized to width x height); acc is unused by the quad kernel.
     void resolve(const std::uint64_t* keys, const std::int64_t* acc, Image& img) const;
 
-    /// dst[i] = min(dst[i], src[i]) over n keys; sums n accumulator words.
+    /// dst[i] = min(dst[i], src[i]) over n keys; dst[i] += src[i] over n accumulator words, leaving
+    /// dst unwritten where a run of 512 words (4 KiB) of src is all zero (no splat reached those
+    /// pixels: their pages of dst may never have been touched, stream/zeroed_buffer.hpp).
     static void merge_keys(std::uint64_t* dst, const std::uint64_t* src, std::size_t n);
     static void merge_acc(std::int64_t* dst, const std::int64_t* src, std::size_t n);
 

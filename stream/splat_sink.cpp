@@ -15,13 +15,14 @@
 
 #include "kernels/errors.hpp"
 #include "stream/large_page_allocator.hpp"
+#include "stream/zeroed_buffer.hpp"
 #include "stream/batch.hpp"
 
 namespace meshless {
 
 struct SplatSink::Canvas {
     LargeBuffer<std::uint64_t> keys;
-    LargeBuffer<std::int64_t> acc;
+    ZeroedBuffer<std::int64_t> acc;  // EWA pass 2: written only where fragments are accepted
     std::vector<PointRecord> batch;  // EWA pass 2: the spooled batch being replayed
     std::vector<std::uint32_t> blocks;  // ... and its block ids (when the spool has them)
     std::vector<EwaFootprint> footprints;   // EWA: the footprints of the batch spooled or replayed
@@ -202,7 +203,7 @@ void SplatSink::finish() {
     if (keys.empty()) keys.assign(npix, SplatFrame::kEmptyKey);
     canvases_->per_thread.clear();
 
-    LargeBuffer<std::int64_t> acc;
+    ZeroedBuffer<std::int64_t> acc;
     if (frame_.two_pass()) {
         const std::size_t words = frame_.acc_words();
         const VisibleDepthTiles tiles = frame_.depth_tiles(keys.data());
@@ -231,7 +232,7 @@ void SplatSink::finish() {
         oneapi::tbb::enumerable_thread_specific<Canvas> accs;
         auto replay = [&](std::size_t i) {
             Canvas& c = accs.local();
-            if (c.acc.empty()) c.acc.assign(words * npix, 0);
+            if (c.acc.empty()) c.acc = ZeroedBuffer<std::int64_t>(words * npix);
             const Part& p = parts[i];
             if (p.spool) {
                 p.spool->visit(p.first, p.count, c.footprints, [&](std::span<const EwaFootprint> part) {
@@ -256,7 +257,7 @@ void SplatSink::finish() {
             else SplatFrame::merge_acc(acc.data(), c.acc.data(), words * npix);
             c.acc = {};
         }
-        if (acc.empty()) acc.assign(words * npix, 0);
+        if (acc.empty()) acc = ZeroedBuffer<std::int64_t>(words * npix);
     }
     frame_.resolve(keys.data(), acc.data(), image_);
     stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -280,7 +281,7 @@ void SplatSink::run_parts(std::size_t n, Fn&& fn) const {
 std::size_t SplatSink::retained_bytes() const {
     std::size_t n = image_.rgb.capacity();
     for (const Canvas& c : canvases_->per_thread)
-        n += c.keys.capacity() * sizeof(std::uint64_t) + c.acc.capacity() * sizeof(std::int64_t) +
+        n += c.keys.capacity() * sizeof(std::uint64_t) + c.acc.bytes() +
              c.footprints.capacity() * sizeof(EwaFootprint) + c.groups.capacity() * sizeof(SpoolGroup) +
              (c.spool ? c.spool->memory_bytes() : 0);
     return n;
