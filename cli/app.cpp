@@ -137,7 +137,7 @@ int run_command(int argc, char** argv) {
             return code;
         }
     }
-    std::fprintf(stderr, "meshless: unknown command '%s' (see meshless --help)\n", name.c_str());
+    std::fprintf(stderr, "meshless: unknown command '%s' (see meshless --help)\n", terminal_safe(name, 200).c_str());
     return 1;
 }
 

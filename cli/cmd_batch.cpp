@@ -165,7 +165,7 @@ struct Progress {
     std::string name;
     void show(const std::string& what, double fraction = -1) const {
         if (!on) return;
-        std::fprintf(stderr, "\r\033[K[%zu/%zu] %s: %s", index + 1, count, name.c_str(), what.c_str());
+        std::fprintf(stderr, "\r\033[K[%zu/%zu] %s: %s", index + 1, count, terminal_safe(name).c_str(), terminal_safe(what).c_str());
         if (fraction >= 0) std::fprintf(stderr, " %3.0f%%", 100 * fraction);
         std::fflush(stderr);
     }
@@ -365,12 +365,12 @@ const char* status_text(Status s) {
 
 void print_summary(const std::vector<ItemResult>& results, double seconds) {
     std::size_t w = 6;
-    for (const auto& r : results) w = std::max(w, r.name.size());
+    for (const auto& r : results) w = std::max(w, terminal_safe(r.name).size());
     std::printf("%-*s  %-10s  %7s  %10s  %8s\n", static_cast<int>(w), "volume", "result", "written", "up to date", "seconds");
     int done = 0, current = 0, failed = 0, written = 0, outputs_current = 0;
     for (const auto& r : results) {
-        std::printf("%-*s  %-10s  %7d  %10d  %8.2f%s%s\n", static_cast<int>(w), r.name.c_str(), status_text(r.status), r.written,
-                    r.current, r.seconds, r.message.empty() ? "" : "  ", r.message.c_str());
+        std::printf("%-*s  %-10s  %7d  %10d  %8.2f%s%s\n", static_cast<int>(w), terminal_safe(r.name).c_str(), status_text(r.status), r.written,
+                    r.current, r.seconds, r.message.empty() ? "" : "  ", terminal_safe(r.message).c_str());
         done += r.status == Status::done;
         current += r.status == Status::up_to_date;
         failed += r.status == Status::failed;
@@ -513,13 +513,13 @@ int cmd_batch(int argc, char** argv) {
             if (is_file_too_large(r.message))
                 r.message += "; over the file size limit (ulimit -f, or the file system's largest file); "
                              "temporaries removed";
-            std::fprintf(stderr, "meshless batch: %s: %s\n", r.name.c_str(), r.message.c_str());
+            std::fprintf(stderr, "meshless batch: %s: %s\n", terminal_safe(r.name).c_str(), terminal_safe(r.message).c_str());
             if (is_disk_full(r.message)) {
                 disk_full = "out of disk space in " + s.out_dir;
                 std::fprintf(stderr,
                              "meshless batch: %s; stopping. Finished outputs are kept, temporaries removed; free some space "
                              "and run the same command again to finish the rest\n",
-                             disk_full.c_str());
+                             terminal_safe(disk_full).c_str());
             }
         }
         results.push_back(std::move(r));

@@ -137,7 +137,7 @@ int cmd_verify(int argc, char** argv) {
             else std::printf("%s\n", r.message.c_str());
         } else {
             std::fflush(stdout);  // the results so far before this error, in a log of both streams
-            std::fprintf(stderr, "meshless verify: %s\n", r.message.c_str());
+            std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(r.message).c_str());
             rc = 2;
         }
     }

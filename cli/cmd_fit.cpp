@@ -71,7 +71,7 @@ int cmd_fit(int argc, char** argv) {
     if (stats) {
         print_field_build_stats(a, params, points, st);
         std::fprintf(stderr, "fit: read %.3f s, fit %.3f s, wrote %s (%" PRIu64 " bytes, identity %s) in %.3f s\n", read_s,
-                     st.build_seconds, out.c_str(), regular_file_size(out),
+                     st.build_seconds, terminal_safe(out).c_str(), regular_file_size(out),
                      describe_identity(data.identity).c_str(), write_s);
     }
     return 0;

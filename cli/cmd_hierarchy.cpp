@@ -226,7 +226,7 @@ int cmd_lod(int argc, char** argv) {
     const std::string& path = a.positional().front();
     const ClusterTree t = read_cluster_tree_file(path);
     const ClusterTreeLodRequest r = cluster_tree_lod_request(t, o);
-    if (r.clamped) std::fprintf(stderr, "meshless lod: warning: %s: %s\n", path.c_str(), r.note.c_str());
+    if (r.clamped) std::fprintf(stderr, "meshless lod: warning: %s: %s\n", terminal_safe(path).c_str(), terminal_safe(r.note).c_str());
     const auto t0 = std::chrono::steady_clock::now();
     PointSet ps = lod_point_set(t.nodes, r.mode, r.threshold, t.value_name);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -251,7 +251,7 @@ int cmd_lod(int argc, char** argv) {
     }
     if (a.has("stats"))
         std::fprintf(stderr, "lod: %s of %s: %zu points (%.2f%% of %" PRIu64 " samples), %.4f s\n", r.description.c_str(),
-                     path.c_str(), ps.size(), 100.0 * ps.size() / t.stats.samples, t.stats.samples, s);
+                     terminal_safe(path).c_str(), ps.size(), 100.0 * ps.size() / t.stats.samples, t.stats.samples, s);
     return 0;
 }
 

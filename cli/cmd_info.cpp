@@ -30,6 +30,9 @@ namespace meshless::cli {
 
 namespace {
 
+/// Text quoted from the command line or a file, as one safe line of the description.
+std::string shown(std::string_view s) { return terminal_safe(s); }
+
 void info_stream(const std::string& path) {
     InputFile in(path);
     StreamReader r(in.f, in.name);
@@ -41,7 +44,7 @@ void info_stream(const std::string& path) {
         if (!r.next_data(buf)) break;
         ++frames;
     }
-    std::printf("%s: meshless %s stream%s, version %u, %zu-byte records\n", path.c_str(),
+    std::printf("%s: meshless %s stream%s, version %u, %zu-byte records\n", shown(path).c_str(),
                 r.kind() == RecordKind::point ? "point" : (r.kind() == RecordKind::seed ? "seed" : "sample"),
                 r.has_blocks() ? " with block ids" : "", kStreamVersion, r.record_bytes());
     std::printf("  records: %llu in %llu DATA frames, END frame present\n", static_cast<unsigned long long>(r.total()),
@@ -53,7 +56,7 @@ void info_stream(const std::string& path) {
             std::printf(" (%llu cell-indexed frames)", static_cast<unsigned long long>(r.cell_frames()));
         std::printf("\n");
     }
-    for (const auto& [k, v] : r.meta().kv) std::printf("  %s: %s\n", k.c_str(), v.c_str());
+    for (const auto& [k, v] : r.meta().kv) std::printf("  %s: %s\n", shown(k).c_str(), shown(v).c_str());
 }
 
 // Per-property minimum, maximum and non-finite count of an element without lists, read in chunks.
@@ -139,14 +142,14 @@ void info_ply(const std::string& path) {
         indented += "  " + ply_escape(text.substr(i, nl - i), 4096) + "\n";
         i = nl + 1;
     }
-    std::printf("%s: PLY%s (body checked)\n%s%s  end_header\n", path.c_str(), faces ? "" : " point set", summary.c_str(),
+    std::printf("%s: PLY%s (body checked)\n%s%s  end_header\n", shown(path).c_str(), faces ? "" : " point set", summary.c_str(),
                 indented.c_str());
 }
 
 void info_png(const std::string& path, const unsigned char* h, std::size_t n) {
     if (n < 24) throw FormatError(path + ": truncated PNG header");
     auto be32 = [&](int o) { return (unsigned(h[o]) << 24) | (unsigned(h[o + 1]) << 16) | (unsigned(h[o + 2]) << 8) | h[o + 3]; };
-    std::printf("%s: PNG image, %u x %u\n", path.c_str(), be32(16), be32(20));
+    std::printf("%s: PNG image, %u x %u\n", shown(path).c_str(), be32(16), be32(20));
 }
 
 void info_brick_store(const std::string& path) {
@@ -162,7 +165,7 @@ void info_brick_store(const std::string& path) {
     const std::uint64_t volume_bytes = static_cast<std::uint64_t>(g.voxel_count()) * sample_size(i.type);
     const std::uint64_t file_bytes = stored + kBrickStoreHeaderBytes + kBrickStoreFooterBytes +
                                      store->bricks().size() * kBrickIndexEntryBytes;
-    std::printf("%s: meshless brick store, version %u\n", path.c_str(), kBrickStoreVersion);
+    std::printf("%s: meshless brick store, version %u\n", shown(path).c_str(), kBrickStoreVersion);
     std::printf("  dims: %lld x %lld x %lld (%lld voxels, %lld cells)\n", static_cast<long long>(g.dims[0]),
                 static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]), static_cast<long long>(g.voxel_count()),
                 static_cast<long long>(g.cell_count()));
@@ -184,7 +187,7 @@ void info_volume(const std::string& path, const Args& a) {
     // buffer: a bomb, a truncated or a corrupt payload fails here as it fails every reading command
     const VolumeInfo vi = prove_volume(path, raw_options(a));
     const GridSpec& g = vi.grid;
-    std::printf("%s: %s volume\n", path.c_str(), vi.format.c_str());
+    std::printf("%s: %s volume\n", shown(path).c_str(), vi.format.c_str());
     std::printf("  dims: %lld x %lld x %lld (%lld voxels, %lld cells)\n", static_cast<long long>(g.dims[0]),
                 static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]), static_cast<long long>(g.voxel_count()),
                 static_cast<long long>(g.cell_count()));
@@ -192,10 +195,10 @@ void info_volume(const std::string& path, const Args& a) {
                 g.spacing[2], g.origin[0], g.origin[1], g.origin[2]);
     if (!vi.encoding.empty()) std::printf("  encoding: %s\n", vi.encoding.c_str());
     if (!vi.data_files.empty())
-        std::printf("  data files: %zu (%s%s)\n", vi.data_files.size(), vi.data_files.front().c_str(),
+        std::printf("  data files: %zu (%s%s)\n", vi.data_files.size(), shown(vi.data_files.front()).c_str(),
                     vi.data_files.size() > 1 ? ", ..." : "");
     if (vi.frame)
-        std::printf("  patient axes: %s (%s)\n", describe_frame(*vi.frame).c_str(), vi.frame->source.c_str());
+        std::printf("  patient axes: %s (%s)\n", describe_frame(*vi.frame).c_str(), shown(vi.frame->source).c_str());
     std::printf("  payload: checked, %llu bytes decoded%s\n", static_cast<unsigned long long>(decoded_bytes(vi, path)),
                 vi.maps ? " (mapped from the file when read)" : "");
 }
@@ -204,10 +207,10 @@ void info_sample_store(const std::string& path) {
     const auto store = SampleStore::open(path);
     const SampleStoreInfo& i = store->info();
     const GridSpec& g = i.grid;
-    std::printf("%s: meshless paradigm (A) sample store, version %u (span-space index of cell rows)\n", path.c_str(),
+    std::printf("%s: meshless paradigm (A) sample store, version %u (span-space index of cell rows)\n", shown(path).c_str(),
                 kSampleStoreVersion);
     std::printf("  brick store: %s (recomputed from; identity checked), %lld x %lld x %lld %s, spacing %g %g %g\n",
-                store->brick_store().path().c_str(), static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
+                shown(store->brick_store().path()).c_str(), static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
                 static_cast<long long>(g.dims[2]), to_string(i.type), g.spacing[0], g.spacing[1], g.spacing[2]);
     std::printf("  cells: %llu indexed (non-constant; %llu constant, %llu NaN/Inf cells skipped) as %llu cell-row keys, "
                 "%llu key bytes\n",
@@ -226,7 +229,7 @@ void info_field_file(const std::string& path) {
     const FieldBuildStats& s = i.stats;
     const PointSetIdentity& id = i.data.identity;
     auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
-    std::printf("%s: meshless fitted field (.mlf), format version %u, %llu bytes (checked)\n", path.c_str(), i.version,
+    std::printf("%s: meshless fitted field (.mlf), format version %u, %llu bytes (checked)\n", shown(path).c_str(), i.version,
                 u(i.file_bytes));
     std::printf("  field: %s\n", std::string(field_kind_name(p.kind)).c_str());
     std::string c = p.hardy_c_world > 0 ? std::to_string(p.hardy_c_world) + " (world units)"
@@ -271,7 +274,7 @@ void info_field_file(const std::string& path) {
     std::printf("  sections: %zu\n", i.sections.size());
     for (const auto& sec : i.sections) {
         static const char* const kType[] = {"bytes", "f64", "i64", "u32", "i32"};
-        std::printf("    %-14s %-5s %12llu elements, %12llu bytes%s\n", sec.name.c_str(), kType[sec.type < 5 ? sec.type : 0],
+        std::printf("    %-14s %-5s %12llu elements, %12llu bytes%s\n", shown(sec.name).c_str(), kType[sec.type < 5 ? sec.type : 0],
                     u(sec.count), u(sec.stored_bytes),
                     sec.compressed ? (" (zstd" + std::string(sec.shuffled ? ", shuffled" : "") + ", from " +
                                       std::to_string(sec.raw_bytes) + ")").c_str()
@@ -283,21 +286,21 @@ void info_field_file(const std::string& path) {
 void info_point_set(const std::string& path, const Args& a) {
     const PointSetInfo info = probe_point_set(path, point_set_options(a));
     const PointSet& ps = info.set;
-    std::printf("%s: %s point set\n", path.c_str(), info.format.c_str());
-    for (const auto& n : info.notes) std::printf("  %s\n", n.c_str());
+    std::printf("%s: %s point set\n", shown(path).c_str(), info.format.c_str());
+    for (const auto& n : info.notes) std::printf("  %s\n", shown(n).c_str());
     std::printf("  points: %zu\n", ps.size());
     std::printf("  blocks: %zu\n", ps.blocks.size());
-    const std::size_t shown = std::min<std::size_t>(ps.blocks.size(), 16);
-    for (std::size_t b = 0; b < shown; ++b) {
+    const std::size_t listed = std::min<std::size_t>(ps.blocks.size(), 16);
+    for (std::size_t b = 0; b < listed; ++b) {
         const auto& blk = ps.blocks[b];
-        std::printf("    %s: %lld x %lld x %lld, %llu points\n", blk.name.c_str(), static_cast<long long>(blk.dims[0]),
+        std::printf("    %s: %lld x %lld x %lld, %llu points\n", shown(blk.name).c_str(), static_cast<long long>(blk.dims[0]),
                     static_cast<long long>(blk.dims[1]), static_cast<long long>(blk.dims[2]),
                     static_cast<unsigned long long>(blk.count));
     }
-    if (shown < ps.blocks.size()) std::printf("    ... (%zu more)\n", ps.blocks.size() - shown);
+    if (listed < ps.blocks.size()) std::printf("    ... (%zu more)\n", ps.blocks.size() - listed);
     if (ps.has_values) {
         const auto r = ps.value_range();
-        std::printf("  value: %s, range %.9g .. %.9g\n", ps.value_name.empty() ? "(unnamed)" : ps.value_name.c_str(), r[0], r[1]);
+        std::printf("  value: %s, range %.9g .. %.9g\n", ps.value_name.empty() ? "(unnamed)" : shown(ps.value_name).c_str(), r[0], r[1]);
     } else {
         std::printf("  value: none (positions only)\n");
     }
@@ -312,7 +315,7 @@ void info_point_set(const std::string& path, const Args& a) {
 void info_multiblock(const std::string& path, const Args& a) {
     MultiblockDetails det;
     const Multiblock mb = read_multiblock({path}, point_set_options(a), det);
-    std::printf("%s: %s\n", path.c_str(), det.description.c_str());
+    std::printf("%s: %s\n", shown(path).c_str(), shown(det.description).c_str());
     for (const auto& n : mb.notes) std::printf("  note: %s\n", ply_escape(n, 400).c_str());
     if (det.origin) std::printf("  origin: %g %g %g\n", (*det.origin)[0], (*det.origin)[1], (*det.origin)[2]);
     for (const auto& l : det.levels) {
@@ -428,7 +431,7 @@ int cmd_info(int argc, char** argv) {
         } catch (const std::exception& e) {  // report, go on with the other files, exit 2 at the end
             if (exit_code(e) == kExitUsage) throw;  // a bad option (UsageError, InvalidArgument) fails them all
             std::fflush(stdout);
-            std::fprintf(stderr, "meshless info: %s\n", e.what());
+            std::fprintf(stderr, "meshless info: %s\n", error_message(e).c_str());
             status = 2;
         }
     }

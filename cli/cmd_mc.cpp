@@ -61,7 +61,7 @@ int mc_blocks(const Args& a, double iso, const std::string& out, GeometryFormat 
     std::vector<std::int64_t> per_block(mb.blocks.size(), 0);
     for (std::uint32_t b : mesh.block) ++per_block[b];
     for (std::size_t b = 0; b < mb.blocks.size(); ++b)
-        std::fprintf(stderr, "mc:   block %zu '%s' (%lldx%lldx%lld, %s): %lld triangles\n", b, mb.blocks[b].name.c_str(),
+        std::fprintf(stderr, "mc:   block %zu '%s' (%lldx%lldx%lld, %s): %lld triangles\n", b, terminal_safe(mb.blocks[b].name).c_str(),
                      static_cast<long long>(mb.blocks[b].dims[0]), static_cast<long long>(mb.blocks[b].dims[1]),
                      static_cast<long long>(mb.blocks[b].dims[2]), r.census[b].left_handed() ? "left-handed" : "right-handed",
                      static_cast<long long>(per_block[b]));
@@ -152,7 +152,7 @@ int cmd_mc(int argc, char** argv) {
     const Mesh& mesh = sink.mesh();
     if (a.has("stats"))
         std::fprintf(stderr, "mc: %s iso %g: %lld active cells, %zu vertices, %zu triangles, %.1f MiB, %.3f s (%lld cells with NaN/Inf skipped)\n",
-                     path.c_str(), iso, static_cast<long long>(st.active_cells), mesh.vertex_count(), mesh.triangle_count(),
+                     terminal_safe(path).c_str(), iso, static_cast<long long>(st.active_cells), mesh.vertex_count(), mesh.triangle_count(),
                      mesh.memory_bytes() / 1048576.0, secs, static_cast<long long>(st.skipped_nonfinite));
     return 0;
 }

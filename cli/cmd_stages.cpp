@@ -54,7 +54,7 @@ int generate_all(const Args& a) {
     if (a.has("stats"))
         std::fprintf(stderr, "generate --all: %s: %llu non-constant cells as %llu cell-row keys in %llu span-space buckets "
                      "(%u levels%s), %llu constant and %llu NaN/Inf cells skipped, %.1f MiB\n",
-                     in.path.c_str(), static_cast<unsigned long long>(st.cells), static_cast<unsigned long long>(st.keys),
+                     terminal_safe(in.path).c_str(), static_cast<unsigned long long>(st.cells), static_cast<unsigned long long>(st.keys),
                      static_cast<unsigned long long>(st.buckets), st.levels, st.exact_levels ? ", exact" : "",
                      static_cast<unsigned long long>(st.constant_cells), static_cast<unsigned long long>(st.nonfinite_cells),
                      st.file_bytes / 1048576.0);
@@ -109,7 +109,7 @@ int cmd_generate(int argc, char** argv) {
     warn_if_nothing_active(in, iso, r.sampling);
     if (a.has("stats"))
         std::fprintf(stderr, "generate: %s iso %g: %lld samples (active cells), %lld cells with NaN/Inf skipped, %.3f s\n",
-                     in.path.c_str(), iso, static_cast<long long>(r.sampling.active_cells),
+                     terminal_safe(in.path).c_str(), iso, static_cast<long long>(r.sampling.active_cells),
                      static_cast<long long>(r.sampling.nonfinite_cells), r.seconds);
     out.commit();
     return 0;

@@ -72,7 +72,7 @@ void warn_if_raw_options_ignored(const Args& a, const std::string& path, const R
         const VolumeInfo vi = probe_volume(path, raw);
         if (vi.format != "raw")
             std::fprintf(stderr, "meshless %s: warning: %s is a %s file, which describes itself: --dims, --type, --endian "
-                         "and --spacing are ignored\n", a.command().c_str(), path.c_str(), vi.format.c_str());
+                         "and --spacing are ignored\n", a.command().c_str(), terminal_safe(path).c_str(), vi.format.c_str());
     }
 }
 
@@ -312,7 +312,7 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
         if (stream && streamable(in.path, raw)) {
             if (a.has("memory"))
                 std::fprintf(stderr, "meshless %s: warning: --memory bounds brick stores (.mlb) and volumes read whole; "
-                             "%s is streamed slab by slab\n", a.command().c_str(), in.path.c_str());
+                             "%s is streamed slab by slab\n", a.command().c_str(), terminal_safe(in.path).c_str());
             warn_if_raw_options_ignored(a, in.path, raw);
             in.slices = open_slice_source(in.path, raw);
             if (probe_volume(in.path, raw).encoding == "raw")  // any k, any reader: parallel passes
@@ -716,10 +716,10 @@ std::optional<GeometryOutput> geometry_output(const Args& a, const char* what) {
 
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source) {
     if (std::isnan(range[0]))
-        std::fprintf(stderr, "meshless: warning: %s has no finite samples; the outputs will be empty\n", source.c_str());
+        std::fprintf(stderr, "meshless: warning: %s has no finite samples; the outputs will be empty\n", terminal_safe(source).c_str());
     else if (iso < range[0] || iso > range[1])
         std::fprintf(stderr, "meshless: warning: %s: isovalue %g is outside the data range [%g, %g]; the outputs will be empty\n",
-                     source.c_str(), iso, range[0], range[1]);
+                     terminal_safe(source).c_str(), iso, range[0], range[1]);
 }
 
 void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s) {

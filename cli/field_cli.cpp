@@ -159,7 +159,7 @@ PointSet read_field_points(const std::vector<std::string>& paths, const Args& a)
     for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so
         if (is_cluster_tree_file(p)) {
             const ClusterTreeLodRequest r = cluster_tree_lod_request(read_cluster_tree_file(p), point_set_options(a));
-            if (r.clamped) std::fprintf(stderr, "meshless %s: warning: %s: %s\n", a.command().c_str(), p.c_str(), r.note.c_str());
+            if (r.clamped) std::fprintf(stderr, "meshless %s: warning: %s: %s\n", a.command().c_str(), terminal_safe(p).c_str(), terminal_safe(r.note).c_str());
         }
     PointSet ps = read_point_set(paths, point_set_options(a));
     // every command that reads points this way fits, probes, renders or clusters their values

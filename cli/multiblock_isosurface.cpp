@@ -170,7 +170,7 @@ void warn_if_inactive(const BlockInput& in, double iso) {
     if (in.plan.active_cells == 0) warn_if_iso_outside(iso, in.plan.value_range, in.source);
     if (in.plan.active_cells == 0 && iso >= in.plan.value_range[0] && iso <= in.plan.value_range[1])
         std::fprintf(stderr, "meshless: warning: %s: no cell with valid corners is crossed by isovalue %g; the outputs will be empty\n",
-                     in.source.c_str(), iso);
+                     terminal_safe(in.source).c_str(), iso);
 }
 
 // ------------------------------------------------------------------ statistics

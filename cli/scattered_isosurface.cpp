@@ -150,7 +150,7 @@ ScatteredInput read_scattered(const Args& a, bool warn = true) {
     in.read_seconds = since(t0);
     const std::string& name = a.positional()[0];
     if (warn && in.points.dropped_nonfinite > 0)
-        std::fprintf(stderr, "meshless: warning: %s: %llu points with a NaN/Inf position or value dropped\n", name.c_str(),
+        std::fprintf(stderr, "meshless: warning: %s: %llu points with a NaN/Inf position or value dropped\n", terminal_safe(name).c_str(),
                      static_cast<unsigned long long>(in.points.dropped_nonfinite));
     if (distinct_positions(in.points.pos, 4) < 4)
         throw FormatError(name + ": fewer than 4 distinct point positions; a volume needs at least 4 points not all in one place");

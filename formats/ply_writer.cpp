@@ -101,9 +101,6 @@ struct PlyWriter::Impl {
 
 PlyWriter::PlyWriter(const std::string& path, PlyHeader header, PlyCounts counts) : d_(std::make_unique<Impl>()) {
     Impl& d = *d_;
-    for (const auto& c : header.comments)
-        if (c.find('\n') != std::string::npos || c.find('\r') != std::string::npos)
-            throw std::invalid_argument(path + ": a PLY comment cannot hold a line break");
     d.file = std::make_unique<AtomicFile>(path);
     d.mode = counts;
     if (counts == PlyCounts::patched) {

@@ -13,7 +13,8 @@ namespace meshless {
 namespace fs = std::filesystem;
 
 std::optional<RawNameLayout> parse_raw_name(const std::string& path) {
-    static const std::regex re(R"(.*_(\d+)x(\d+)x(\d+)_([A-Za-z0-9]+)\.[A-Za-z0-9]+)");
+    // (any bytes before the layout, line breaks included: ECMAScript's '.' matches neither \n nor \r)
+    static const std::regex re(R"([\s\S]*_(\d+)x(\d+)x(\d+)_([A-Za-z0-9]+)\.[A-Za-z0-9]+)");
     const std::string name = fs::path(path).filename().string();
     std::smatch m;
     if (!std::regex_match(name, m, re)) return std::nullopt;

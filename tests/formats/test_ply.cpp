@@ -441,4 +441,14 @@ TEST_CASE("PLY codec: a parsed header formats back to text that parses to the sa
     CHECK(again.comments == h.comments);
     CHECK(again.obj_info == h.obj_info);
     CHECK(format_ply_header(again, true) == format_ply_header(h, true));
+
+    // a comment a producer made from a file name with line breaks stays one line
+    PlyHeader made = h;
+    made.comments = {"source a\nb\rc.raw"};
+    made.obj_info = {"x\ny"};
+    const std::string t = format_ply_header(made, false);
+    CHECK_THAT(t, Catch::Contains("comment source a\\x0ab\\x0dc.raw\nobj_info x\\x0ay\n"));
+    const PlyHeader back = parse_ply_header(t, "made");
+    CHECK(back.comments == std::vector<std::string>{"source a\\x0ab\\x0dc.raw"});
+    CHECK(back.elements.size() == 1);
 }
