@@ -36,7 +36,7 @@ int cmd_fit(int argc, char** argv) {
     add_quiet_option(a);
     a.positionals(1, 1000);
     a.epilog("example:\n  meshless fit combxyz.bin --q combq.bin --field mpu -o comb.mlf\n"
-             "  meshless probe combxyz.bin --q combq.bin --field comb.mlf --at 3,0,0");
+             "  meshless probe combxyz.bin --q combq.bin --field comb.mlf --at 8,0,30   (a point inside the combustor)");
     if (!a.parse(argc, argv, 2)) return 0;
     // the default field is the one `isosurface DATA` builds (cli/field_cli.hpp)
     const FieldParams params = field_params(a, data_field_default(a.positional()));

@@ -121,6 +121,7 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
     if (!parse_field_kind(kind, p.kind))
         throw UsageError("--field: expected rbf-grid, mpu, global-rbf or a fitted field file (.mlf), got '" + kind + "'");
     p.binning_m = parse_finite(a.get_or("binning", "5"), "--binning");
+    if (!(p.binning_m > 0)) throw UsageError("--binning: expected a number > 0, got " + a.get_or("binning", "5"));
     const std::string support = a.get_or("support", "27");
     if (support == "27") p.rbf_grid_support = RbfGridSupport::neighbours27;
     else if (support == "paper") p.rbf_grid_support = RbfGridSupport::paper_radius;
@@ -130,11 +131,16 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
     p.mpu_max_points = static_cast<std::uint32_t>(n);
     p.mpu_min_points = std::min(p.mpu_min_points, p.mpu_max_points);  // grown leaves never exceed N
     p.mpu_alpha = parse_finite(a.get_or("alpha", "0.75"), "--alpha");
-    if (const auto c = a.get("hardy-c")) p.hardy_c_rel = parse_finite(*c, "--hardy-c");
-    else  // a cluster tree's level of detail gets its own default c (kernels/field_params.hpp)
+    if (const auto c = a.get("hardy-c")) {
+        p.hardy_c_rel = parse_finite(*c, "--hardy-c");
+        if (!(p.hardy_c_rel > 0)) throw UsageError("--hardy-c: expected a number > 0, got " + *c);
+    } else  // a cluster tree's level of detail gets its own default c (kernels/field_params.hpp)
         for (const std::string& in : a.positional())
             if (is_cluster_tree_file(in)) p.hardy_c_rel = kLodHardyCRel;
-    if (auto c = a.get("hardy-c-world")) p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
+    if (auto c = a.get("hardy-c-world")) {
+        p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
+        if (!(p.hardy_c_world > 0)) throw UsageError("--hardy-c-world: expected a number > 0, got " + *c);
+    }
     p.normalise_axes = a.has("normalise-axes");
     const long long k = a.get_int_or("local-points", FieldParams{}.rbf_grid_local_points);
     if (k < 0 || k > 100000) throw UsageError("--local-points: expected 0..100000");

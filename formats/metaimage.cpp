@@ -32,6 +32,7 @@ PayloadPlan plan_metaimage(const std::string& path) {
     const std::uint64_t fsize = regular_file_size(path);
     const std::string text = read_file_prefix(path, static_cast<std::size_t>(std::min<std::uint64_t>(fsize, 1 << 20)));
     PayloadPlan plan;
+    plan.header = path;
     plan.format = "metaimage";
     std::int64_t ndims = -1;
     std::vector<std::int64_t> dims;

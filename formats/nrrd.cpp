@@ -51,6 +51,7 @@ PayloadPlan plan_nrrd(const std::string& path) {
         throw FormatError(path + ": unsupported NRRD version '" + escape_field(magic) + "' (NRRD0001..NRRD0005 supported)");
 
     PayloadPlan plan;
+    plan.header = path;
     plan.format = "nrrd";
     std::int64_t dimension = -1;
     std::vector<std::int64_t> sizes;

@@ -118,7 +118,7 @@ std::vector<std::uint64_t> check_payload_plan(const PayloadPlan& plan) {
 
     // Validate raw sizes before allocating.
     std::vector<std::uint64_t> starts(k);
-    for (std::uint64_t f = 0; f < k; ++f) {
+    for (std::uint64_t f = 0; f < k; ++f) try {
         const std::string& file = plan.files[f];
         if (plan.encoding == PayloadEncoding::raw) {
             const std::uint64_t size = regular_file_size(file);
@@ -163,6 +163,12 @@ std::vector<std::uint64_t> check_payload_plan(const PayloadPlan& plan) {
                                   std::to_string(starts[f]) + " hold at most " + std::to_string(avail / 2 + 1));
             }
         }
+    } catch (const IoError& e) {  // a detached header's data file: the message names the header too
+        if (plan.header.empty() || plan.header == plan.files[f]) throw;
+        throw IoError(plan.header + ": data file " + e.what());
+    } catch (const FormatError& e) {
+        if (plan.header.empty() || plan.header == plan.files[f]) throw;
+        throw FormatError(plan.header + ": data file " + e.what());
     }
     return starts;
 }

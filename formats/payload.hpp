@@ -29,6 +29,7 @@ struct PayloadPlan {
     bool big_endian = false;
     PayloadEncoding encoding = PayloadEncoding::raw;
     std::vector<std::string> files;
+    std::string header;               ///< the header naming `files` (its messages about them name it too)
     std::uint64_t file_offset = 0;    ///< where data starts in each file (before line skip)
     std::int64_t line_skip = 0;       ///< lines skipped after file_offset
     std::int64_t byte_skip = 0;       ///< bytes skipped after that; -1: data ends at end of file (raw only)

@@ -216,10 +216,17 @@ bool try_ascii(const std::vector<double>& t, Kind kind, Layout& L) {
 
 std::string order_name(bool big) { return big ? "big-endian" : "little-endian"; }
 
+// Whether a file's name says it is a PLOT3D grid ("xyz" in it, as combxyz.bin): then a header that
+// parses is trusted even when the data is shorter than it says (a truncated grid file), as one
+// framed by Fortran record markers always is.
+bool named_xyz(const std::string& path) {
+    return to_lower(std::filesystem::path(path).filename().string()).find("xyz") != std::string::npos;
+}
+
 // Detects the layout of an xyz file.
 Layout detect_xyz(const std::vector<std::byte>& bytes, const std::vector<double>* tokens, const std::string& path,
                   const PointSetOptions& o, std::vector<std::string>* notes) {
-    std::vector<Layout> exact, trailing;
+    std::vector<Layout> exact, trailing, cut;  // cut: a plausible header, the data shorter than it says
     if (tokens) {
         for (int multi = 0; multi < 2; ++multi)
             for (int ib = 0; ib < 2; ++ib) {
@@ -241,6 +248,7 @@ Layout detect_xyz(const std::vector<std::byte>& bytes, const std::vector<double>
                             if (!try_binary(b, Kind::xyz, L)) continue;
                             if (L.expected == bytes.size()) exact.push_back(L);
                             else if (L.expected < bytes.size()) trailing.push_back(L);
+                            else if (L.records || named_xyz(path)) cut.push_back(L);
                         }
     }
     const std::uint64_t size = tokens ? tokens->size() : bytes.size();
@@ -250,11 +258,25 @@ Layout detect_xyz(const std::vector<std::byte>& bytes, const std::vector<double>
     };
     for (const auto& L : exact)
         if (allowed(L)) return L;
+    // a header framed by matching Fortran record markers is the file's, even cut short, before a
+    // C-layout guess that would leave trailing bytes
+    auto truncated = [&](const Layout& L) {
+        return FormatError(path + ": truncated PLOT3D xyz file: " + std::to_string(size) + unit + ", the header (" + L.describe() +
+                           ", " + dims_text(L.dims) + ") needs " + std::to_string(L.expected));
+    };
+    for (const auto& L : cut)
+        if (L.records && allowed(L)) throw truncated(L);
+    const Layout* shortest_cut = nullptr;
+    for (const auto& L : cut)
+        if (allowed(L) && (!shortest_cut || L.expected < shortest_cut->expected)) shortest_cut = &L;
     const Layout* best = nullptr;
     for (const auto& L : trailing)
         if (allowed(L) && (!best || L.expected > best->expected)) best = &L;
     if (best) {
         const std::uint64_t extra = size - best->expected;
+        // a grid file cut short also reads as a smaller layout (float32 for float64, ...) with
+        // bytes to spare: the nearer of the two explains the file
+        if (shortest_cut && shortest_cut->expected - size < extra) throw truncated(*shortest_cut);
         if (!o.allow_trailing)
             throw FormatError(path + ": " + std::to_string(extra) + " trailing" + unit + " after the PLOT3D xyz data (" +
                               best->describe() + ", " + dims_text(best->dims) + "); --allow-trailing ignores them");
@@ -266,6 +288,7 @@ Layout detect_xyz(const std::vector<std::byte>& bytes, const std::vector<double>
                           " (they only make sense byte-swapped: " + dims_text(exact.front().dims) + "); the file looks " +
                           order_name(exact.front().big));
     if (size == 0) throw FormatError(path + ": empty file");
+    if (shortest_cut) throw truncated(*shortest_cut);
     throw FormatError(path + ": not a PLOT3D xyz file: no layout (byte order, C/Fortran records, grids, float32/64, IBLANK) "
                              "fits its " + std::to_string(size) + unit);
 }
@@ -373,7 +396,9 @@ bool looks_like_plot3d_xyz(const std::string& path) {
                             Layout L;
                             L.big = big, L.records = rec, L.multi = multi, L.prec = prec, L.iblank = ib;
                             Bin b{bytes.data(), bytes.size(), (big == 1) == host_is_little_endian()};
-                            if (try_binary(b, Kind::xyz, L) && L.expected == bytes.size()) return true;
+                            if (try_binary(b, Kind::xyz, L) &&
+                                (L.expected == bytes.size() || (L.expected > bytes.size() && (L.records || named_xyz(path)))))
+                                return true;  // (a cut one: the reader says it is truncated)
                         }
     } catch (const std::exception&) {
     }

@@ -12,6 +12,7 @@ PayloadPlan plan_voreen_dat(const std::string& path) {
     if (regular_file_size(path) > (1 << 20)) throw FormatError(path + ": too large for a .dat header");
     const std::string text = read_file_prefix(path, 1 << 20);
     PayloadPlan plan;
+    plan.header = path;
     plan.format = "voreen-dat";
     plan.exact_size = true;
     std::string object;

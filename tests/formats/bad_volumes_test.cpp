@@ -240,16 +240,22 @@ TEST_CASE("bad volumes: missing files and directories", "[formats]") {
     expect_fail((dir / "adir.raw").string(), Kind::io, "is a directory");
     std::filesystem::create_directories(dir / "plain_dir");
     expect_fail((dir / "plain_dir").string(), Kind::io, "is a directory");
-    // header pointing at a missing data file / at a directory: the message names the data file
+    // header pointing at a missing data file / at a directory: the message names the header and
+    // the data file (a copied header without its data: the newcomer trial's quarter.nhdr)
     write_file((dir / "miss.nhdr").string(), kNrrdHead + "data file: gone.raw\n");
-    expect_fail((dir / "miss.nhdr").string(), Kind::io, "cannot open", (dir / "gone.raw").string(), false);
+    expect_fail((dir / "miss.nhdr").string(), Kind::io, "data file " + (dir / "gone.raw").string() + ": cannot open", "", false);
     std::filesystem::create_directories(dir / "sub");
     write_file((dir / "isdir.nhdr").string(), kNrrdHead + "data file: sub\n");
-    expect_fail((dir / "isdir.nhdr").string(), Kind::io, "is a directory", (dir / "sub").string(), false);
+    expect_fail((dir / "isdir.nhdr").string(), Kind::io, "data file " + (dir / "sub").string() + ": is a directory", "", false);
     write_file((dir / "miss.mhd").string(), "NDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\nElementDataFile = gone.raw\n");
-    expect_fail((dir / "miss.mhd").string(), Kind::io, "cannot open", (dir / "gone.raw").string(), false);
+    expect_fail((dir / "miss.mhd").string(), Kind::io, "data file " + (dir / "gone.raw").string() + ": cannot open", "", false);
     write_file((dir / "miss.dat").string(), "ObjectFileName: gone.raw\nResolution: 4 4 4\nFormat: UCHAR\n");
-    expect_fail((dir / "miss.dat").string(), Kind::io, "cannot open", (dir / "gone.raw").string(), false);
+    expect_fail((dir / "miss.dat").string(), Kind::io, "data file " + (dir / "gone.raw").string() + ": cannot open", "", false);
+    // a data file too short: a format error, naming both
+    write_file((dir / "short.raw").string(), "", std::vector<std::byte>(10));
+    write_file((dir / "short.nhdr").string(), kNrrdHead + "data file: short.raw\n");
+    expect_fail((dir / "short.nhdr").string(), Kind::format, "data file " + (dir / "short.raw").string() + ": expected 64 bytes", "",
+                false);  // (probing reads headers only)
     std::filesystem::create_directories(dir / "js.vti");
     write_file((dir / "js.vti" / "index.json").string(),
                "{\"vtkClass\": \"vtkImageData\", \"extent\": [0,3,0,3,0,3], \"pointData\": {\"arrays\": [{\"data\": "
