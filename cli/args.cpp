@@ -285,6 +285,13 @@ bool Args::parse(int argc, char** argv, int first) {
         if (!o->get_positional() && is_flag(o))
             for (const auto& r : o->results())
                 if (r != "true") throw UsageError("option " + long_name(o) + " takes no value");
+    // a value may start with '-' (--iso -5), but one that is this command's option name means the
+    // value was left out ("--iso -o out.ply")
+    for (const CLI::Option* o : app.get_options())
+        if (!o->get_positional() && !is_flag(o))
+            for (const auto& r : o->results())
+                if (impl_->find(r.substr(0, r.find('='))))
+                    throw UsageError("option " + long_name(o) + " needs a value; '" + r + "' is an option" + see);
     positional_ = impl_->positional->results();
     if (positional_.size() > max_positional_)
         throw UsageError("unexpected argument '" + positional_[max_positional_] + "'" + see);

@@ -647,8 +647,14 @@ double stream_iso(const Args& a, const StreamMeta& m) {
     return iso;
 }
 
+void refuse_binary_to_terminal(const std::string& path, const std::string& what) {
+    if (path == "-" && ::isatty(1))
+        throw UsageError("refusing to write " + what + " to a terminal (pipe it or use -o FILE)");
+}
+
 const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
                                             const char* what) {
+    if (std::string_view(ext) != ".csv") refuse_binary_to_terminal(path, what);
     if (path == "-" || is_streaming_output(path)) return path;
     const std::string e(ext);
     auto lower = [](char c) { return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c); };
@@ -678,6 +684,7 @@ VtpOptions vtp_options(const Args& a, int threads) {
 }
 
 GeometryFormat geometry_output_format(const Args& a, const std::string& path, const char* what) {
+    refuse_binary_to_terminal(path, what);  // binary PLY, VTP's appended arrays
     const auto by_name = geometry_format_of(path);
     if (const auto f = a.get("format")) {
         const auto given = parse_geometry_format(*f);

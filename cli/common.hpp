@@ -174,9 +174,13 @@ Projection parse_projection(const std::string& s);
 
 /// Warns on stderr when iso lies outside [lo, hi] (the outputs will be empty but valid).
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source);
+/// UsageError "refusing to write WHAT to a terminal" when `path` is "-" and standard output is a
+/// terminal (binary outputs: streams, PLY, VTP, PNG, NRRD, stores).
+void refuse_binary_to_terminal(const std::string& path, const std::string& what);
 /// Outputs are chosen by extension: returns `path` when it ends in `ext` (".ply", ".png", ...;
 /// case-insensitive) or is a stream ("-", a device, a FIFO); otherwise throws UsageError naming
 /// the option, the path and what it writes (a file named out.vtp must not receive PLY bytes).
+/// Every output but .csv is binary: "-" on a terminal is refused (refuse_binary_to_terminal).
 const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
                                             const char* what);
 /// --format ply|vtp: the geometry format of -o when its name does not say it (stdout, odd names).
@@ -185,7 +189,7 @@ void add_geometry_format_option(Args& a);
 /// any case) or --format. --format given: the path must not end in the other format's extension;
 /// a stream ("-", a device, a FIFO) without --format is PLY (what pipes always got). Any other
 /// name without --format, or --format other than ply|vtp, is a UsageError naming -o, the path and
-/// `what` (e.g. "an oriented point set").
+/// `what` (e.g. "an oriented point set"); so is "-" when standard output is a terminal.
 GeometryFormat geometry_output_format(const Args& a, const std::string& path, const char* what);
 /// A geometry output: where and in which format.
 struct GeometryOutput {

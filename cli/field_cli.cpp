@@ -159,8 +159,8 @@ std::string data_field_default(const std::vector<std::string>& paths) {
 PointSet read_field_points(const std::vector<std::string>& paths, const Args& a) {
     for (const auto& p : paths)  // the point-set readers go by the file's extension (and some reread it)
         if (p == "-")
-            throw UsageError("-: meshless " + a.command() + " reads point sets from files (their extension names the format), "
-                             "not from standard input");
+            throw UsageError("-: meshless " + a.command() + " reads its data (point sets, volumes, multiblock sets) from files "
+                             "(their names and contents say the format), not from standard input");
     if (all_multiblock(paths)) return to_point_set(read_multiblock(paths, point_set_options(a)));
     for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so
         if (is_cluster_tree_file(p)) {

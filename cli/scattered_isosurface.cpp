@@ -332,7 +332,7 @@ int isosurface_scattered(int argc, char** argv) {
     add_camera_options(a);
     add_color_options(a);
     a.positionals(1, 1u << 20);
-    a.epilog("examples: meshless sample bucky.raw -n 20000 -o bucky.ply && meshless isosurface bucky.ply --iso 100 -o b.ply --png b.png --stats\n"
+    a.epilog("examples: meshless sample ../shared/data/bucky/Bucky_32x32x32_uint8.raw -n 20000 -o bucky.ply && meshless isosurface bucky.ply --iso 100 -o b.ply --png b.png --stats\n"
              "pipes:    meshless fit POINTS -o f.mlf && meshless generate POINTS --iso V | meshless project --field f.mlf | meshless splat -o img.png\n");
     if (!a.parse(argc, argv, 2)) return 0;
     // under mpirun: the stencil rows are dealt to the ranks on request, rank 0 writes (stream/stencil_ranks.hpp)

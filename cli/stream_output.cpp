@@ -1,4 +1,5 @@
 #include "cli/stream_output.hpp"
+#include "cli/common.hpp"
 
 #include <unistd.h>
 
@@ -30,9 +31,8 @@ void check_stream_output_name(const std::string& path, const char* what) {
 
 BinaryStreamOutput::BinaryStreamOutput(const std::string& path, const char* what) : name(path) {
     check_stream_output_name(path, what);
+    refuse_binary_to_terminal(path, "a binary stream");
     file = std::make_unique<AtomicFile>(path);
-    if (file->is_stdout() && ::isatty(1))
-        throw UsageError("refusing to write a binary stream to a terminal (pipe it or use -o FILE)");
     f = file->handle();
 }
 

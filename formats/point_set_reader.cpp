@@ -57,6 +57,10 @@ Fmt choose(const std::string& path) {
         return more.find("StructuredGrid") != std::string::npos ? Fmt::vts : Fmt::vtp;
     }
     if (looks_like_plot3d_xyz(path)) return Fmt::plot3d;
+    if (head.find('\0') != std::string::npos)  // binary, and no format above claimed it
+        throw FormatError(path + ": " + (head.rfind("\x89PNG", 0) == 0 ? "a PNG image" : "binary data of no known format") +
+                          ", not a volume or point set (raw float32 records need a .raw or .bin name; `meshless info` "
+                          "describes what it reads)");
     return Fmt::text;
 }
 

@@ -55,7 +55,7 @@ TEST_CASE("positions-only points are refused by every command that needs values"
     for (int i = 0; i < 40; ++i) csv += std::to_string(i % 4) + "," + std::to_string((i / 4) % 5) + "," + std::to_string(i / 20) + "\n";
     spit(d / "p.csv", csv);
     const std::string P = (d / "p.csv").string(), D = d.path.string();
-    for (const std::string cmd : std::vector<std::string>{"fit -o " + D + "/f.mlf", "probe --at 1,1,0.5", "slice --plane z=0.5 -o " + D + "/s.png",
+    for (const std::string& cmd : std::vector<std::string>{"fit -o " + D + "/f.mlf", "probe --at 1,1,0.5", "slice --plane z=0.5 -o " + D + "/s.png",
                                   "resample --dims 8,8,8 -o " + D + "/r.nrrd", "render -o " + D + "/r.png",
                                   "hierarchy -o " + D + "/h.mlh", "isosurface --iso 1 -o " + D + "/i.ply"}) {
         INFO(cmd);
@@ -80,7 +80,7 @@ TEST_CASE("standard input: a volume for render and convert and refused where poi
     CHECK(slurp(d / "file.png") == slurp(d / "pipe.png"));
     const auto h = sh("MESHLESS hierarchy - -o " + D + "/h.mlh < " + nrrd, d);
     CHECK(h.code == 1);
-    CHECK_THAT(h.err, Catch::Contains("reads point sets from files"));
+    CHECK_THAT(h.err, Catch::Contains("reads its data (point sets, volumes, multiblock sets) from files"));
     const auto demo = sh("cd " + D + " && MESHLESS demo -o -", d);
     CHECK(demo.code == 1);
     CHECK_THAT(demo.err, Catch::Contains("-o -: the demo writes a folder"));
