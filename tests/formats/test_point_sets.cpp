@@ -192,6 +192,10 @@ TEST_CASE("text: bad input gives one-line errors naming the file", "[scatter]") 
     o.columns = "0,1,7,3";
     CHECK_THAT(err("missing2.csv", "x,y,z,v\n0,0,0,1\n", o), Catch::Contains("missing column 7"));
     CHECK_THAT(err("two.txt", "1 2\n3 4\n"), Catch::Contains("need at least 3"));
+    // binary content no reader claims: named for what it is (was "not a text file (NUL bytes)")
+    CHECK_THAT(err("picture.png", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16)),
+               Catch::Contains("a PNG image, not a volume or point set"));
+    CHECK_THAT(err("blob.dat2", std::string("\x01\x02\0\0\x7f", 5)), Catch::Contains("binary data of no known format"));
 }
 
 TEST_CASE("text: NaN/Inf samples are dropped and counted, or refused with the line in strict mode", "[scatter]") {
