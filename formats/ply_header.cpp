@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "formats/ply.hpp"
+#include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -199,30 +200,15 @@ std::string ply_count_lines(const std::string& element, std::uint64_t n) {
     return "element " + element + " " + digits + "\ncomment" + std::string(kCountWidth - digits.size(), ' ') + "\n";
 }
 
-namespace {
-/// A comment's text as one header line: a line break (LF or CR, e.g. in a file name a producer
-/// quotes) becomes \x0a / \x0d; every other byte is kept, so that a parsed header (whose comments
-/// cannot hold either) formats back to the same text.
-std::string header_text(const std::string& c) {
-    std::string out;
-    out.reserve(c.size());
-    for (const char ch : c) {
-        if (ch == '\n') out += "\\x0a";
-        else if (ch == '\r') out += "\\x0d";
-        else out += ch;
-    }
-    return out;
-}
-}  // namespace
-
 std::string format_ply_header(const PlyHeader& h, bool pad_counts) {
     std::string s = "ply\nformat ";
     s += h.encoding == PlyEncoding::ascii                  ? "ascii"
          : h.encoding == PlyEncoding::binary_little_endian ? "binary_little_endian"
                                                            : "binary_big_endian";
     s += " 1.0\n";
-    for (const auto& c : h.comments) s += "comment " + header_text(c) + "\n";
-    for (const auto& c : h.obj_info) s += "obj_info " + header_text(c) + "\n";
+    // (a line break inside a comment, a file name's, would end the line: escaped)
+    for (const auto& c : h.comments) s += "comment " + line_breaks_escaped(c) + "\n";
+    for (const auto& c : h.obj_info) s += "obj_info " + line_breaks_escaped(c) + "\n";
     for (const auto& e : h.elements) {
         s += pad_counts ? ply_count_lines(e.name, e.count) : "element " + e.name + " " + std::to_string(e.count) + "\n";
         for (const auto& p : e.props) {

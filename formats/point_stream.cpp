@@ -91,16 +91,7 @@ void deinterleave_point_blocks(const char* records, std::size_t n, std::vector<P
     }
 }
 
-void StreamMeta::set(const std::string& k, const std::string& v) {
-    std::string line;
-    line.reserve(v.size());
-    for (const char c : v) {
-        if (c == '\n') line += "\\x0a";
-        else if (c == '\r') line += "\\x0d";
-        else line += c;
-    }
-    kv[k] = std::move(line);
-}
+void StreamMeta::set(const std::string& k, const std::string& v) { kv[k] = line_breaks_escaped(v); }
 
 void StreamMeta::set(const std::string& k, double v) {
     char buf[64];

@@ -28,6 +28,17 @@ std::vector<std::int64_t> file_range_indices(std::int64_t a, std::int64_t b, std
 
 std::string escape_field(std::string_view s, std::size_t max) { return ply_escape(s, max); }
 
+std::string line_breaks_escaped(std::string_view s) {
+    std::string out;
+    out.reserve(s.size());
+    for (const char c : s) {
+        if (c == '\n') out += "\\x0a";
+        else if (c == '\r') out += "\\x0d";
+        else out += c;
+    }
+    return out;
+}
+
 std::string trim(std::string_view s) {
     std::size_t a = 0, b = s.size();
     while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
