@@ -466,8 +466,8 @@ std::unique_ptr<RbfGridField> RbfGridField::load_state(FieldState& s) {
     // axis's cells), so the reach bounds the work of one evaluation. A built grid has near-cubic
     // cells: every edge is below 1.5 s (s = the binning edge) and an edge of an axis with >= 2 cells
     // is at least 0.75 s, so reach = r_w / s_a <= 2 |s_| / (0.75 s) < 2 sqrt(3) 1.5 / 0.75 = 6.93,
-    // counted here as at most 15 cells per axis, 3375 per query. A forged grid with a tiny edge along an axis of many
-    // cells would make every query scan that whole axis.
+    // counted here as at most 15 cells per axis, 3375 per query. A forged grid with a tiny edge
+    // along an axis of many cells would make every query scan that whole axis.
     {
         double visited = 1;
         for (int a = 0; a < 3; ++a)
