@@ -519,7 +519,7 @@ void part_c_ceilings(const Ctx& c, const Lung& l) {
         t.add({"page-cache read", "-", na(e.what()), "-", "-", "-"});
     }
     add("memory copy (memcpy, buffers faulted in)", memory_copy(std::size_t{256} << 20, reps));
-    add("fresh memory (huge pages advised, written once, freed)", fresh_memory(std::size_t{128} << 20, reps));
+    add("fresh memory (huge pages advised, written once, unmapped)", fresh_memory(std::size_t{128} << 20, reps));
     c.r.table(t);
 }
 

@@ -4,12 +4,13 @@
 //   page_cache_read   pread(2) of a cached file in 1 MiB pieces into one reused buffer (how
 //                     `isosurface` streams a raw/NRRD volume: the kernel copies every byte);
 //   memory_copy       memcpy between two buffers already faulted in (plain DRAM bandwidth);
-//   fresh_memory      a buffer of fresh memory on advised huge pages, written once and freed (the
+//   fresh_memory      a fresh mapping on advised huge pages, written once and unmapped (the
 //                     kernel's page faults and zero-filling: what the splat sink's buffers and
-//                     footprint spool cost before the first splat is drawn; stream/large_page_allocator.hpp).
+//                     footprint spool cost on first touch; stream/zeroed_buffer.hpp).
 // Each is the best of `reps` runs with one thread doing all the work and with two threads doing
 // half each; the ratio one / two is the speedup a perfectly parallel program of that kind could
-// reach here. Units: seconds, bytes. Throws IoError naming the file when it cannot be read.
+// reach here. Units: seconds, bytes. Throws IoError naming the file when it cannot be read (on
+// either thread: the other is joined first).
 #pragma once
 #include <cstddef>
 #include <filesystem>
@@ -26,7 +27,7 @@ struct Scaling {
 Scaling page_cache_read(const std::filesystem::path& file, int reps);
 /// Copies `bytes` between two pre-faulted buffers.
 Scaling memory_copy(std::size_t bytes, int reps);
-/// Allocates, writes and frees `bytes` of fresh memory (LargeBuffer).
+/// Maps, writes once and unmaps `bytes` of fresh memory (ZeroedBuffer).
 Scaling fresh_memory(std::size_t bytes, int reps);
 
 }  // namespace meshless::bench

@@ -133,8 +133,8 @@ int cmd_verify(int argc, char** argv) {
         });
         meter.done();
         if (r.ok) {
-            if (a.positional().size() > 1) std::printf("%s: %s\n", path.c_str(), r.message.c_str());
-            else std::printf("%s\n", r.message.c_str());
+            if (a.positional().size() > 1) std::printf("%s: %s\n", terminal_safe(path).c_str(), terminal_safe(r.message).c_str());
+            else std::printf("%s\n", terminal_safe(r.message).c_str());
         } else {
             std::fflush(stdout);  // the results so far before this error, in a log of both streams
             std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(r.message).c_str());

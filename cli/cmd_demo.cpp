@@ -8,6 +8,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/errors.hpp"
 #include "cli/isosurface_graph.hpp"
 #include "kernels/analytic_volumes.hpp"
 #include "kernels/errors.hpp"
@@ -57,7 +58,7 @@ int cmd_demo(int argc, char** argv) {
     std::printf("demo: %s field on a %lld^3 grid, iso %g: %zu points from %lld active cells in %.3f s\n"
                 "wrote %s and %s\n",
                 to_string(field), n, iso, points, static_cast<long long>(r.sampling.active_cells), r.seconds,
-                ply.c_str(), png.c_str());
+                terminal_safe(ply).c_str(), terminal_safe(png).c_str());
     return 0;
 }
 

@@ -58,9 +58,9 @@ void info_cluster_tree(const std::string& path) {
     const ClusterTree t = read_cluster_tree_file(path);
     const CbtStats& s = t.stats;
     const CbtParams& p = t.params;
-    std::printf("%s: cluster binary tree (.mlh version %u, dissertation chapter 6)\n", path.c_str(), kClusterTreeFileVersion);
+    std::printf("%s: cluster binary tree (.mlh version %u, dissertation chapter 6)\n", terminal_safe(path).c_str(), kClusterTreeFileVersion);
     std::printf("  samples: %" PRIu64 " (%" PRIu64 " NaN/Inf dropped), value '%s' %g .. %g\n", s.samples, s.dropped_nonfinite,
-                t.value_name.c_str(), t.value_range[0], t.value_range[1]);
+                terminal_safe(t.value_name).c_str(), t.value_range[0], t.value_range[1]);
     std::printf("  bounds: (%g, %g, %g) .. (%g, %g, %g)\n", t.bounds[0].x, t.bounds[0].y, t.bounds[0].z, t.bounds[1].x,
                 t.bounds[1].y, t.bounds[1].z);
     std::printf("  nodes: %zu, splits: %" PRIu64 ", skipped splits: %" PRIu64 ", depth: %u\n", t.nodes.size(), s.splits,

@@ -37,7 +37,7 @@ void print_stats(const std::string& path, double iso, Projection mode, const Iso
     std::fprintf(stderr,
                  "isosurface: %s iso %g: %lld active cells, %zu points (%s projection; discarded: %lld too far, %lld flat, "
                  "%lld missed; %lld cells with NaN/Inf skipped), %.3f s on %d thread(s) x %d rank(s)\n",
-                 path.c_str(), iso, static_cast<long long>(r.sampling.active_cells), points, to_string(mode),
+                 terminal_safe(path).c_str(), iso, static_cast<long long>(r.sampling.active_cells), points, to_string(mode),
                  static_cast<long long>(r.projection.too_far), static_cast<long long>(r.projection.flat),
                  static_cast<long long>(r.projection.missed), static_cast<long long>(r.sampling.nonfinite_cells), r.seconds,
                  nthreads, ranks);

@@ -93,7 +93,7 @@ int cmd_split(int argc, char** argv) {
         v = resample_volume(v.view(), n);
     }
     const auto& g = v.grid;
-    std::printf("split: %s (%lldx%lldx%lld), layout %s\n", a.positional()[0].c_str(), static_cast<long long>(g.dims[0]),
+    std::printf("split: %s (%lldx%lldx%lld), layout %s\n", terminal_safe(a.positional()[0]).c_str(), static_cast<long long>(g.dims[0]),
                 static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]), to_string(*layout));
     if (*layout == SplitLayout::amr) {
         AmrParams ap;
@@ -111,18 +111,18 @@ int cmd_split(int argc, char** argv) {
         }
         for (int l = 0; l < 3; ++l)
             std::printf("  level %d: %lld boxes, %lld cells, spacing %g\n", l, boxes[l], cells[l], h.spacing(l)[0]);
-        std::printf("wrote %s and %zu pieces (%lld cells in all)\n", out.c_str(), pieces.size(), cells[0] + cells[1] + cells[2]);
+        std::printf("wrote %s and %zu pieces (%lld cells in all)\n", terminal_safe(out).c_str(), pieces.size(), cells[0] + cells[1] + cells[2]);
         return 0;
     }
     const Multiblock mb = split_volume(v.view(), *layout, sp, name);
     const auto pieces = write_vtm(out, mb);
     long long total = 0;
     for (const auto& b : mb.blocks) {
-        std::printf("  %s: %lldx%lldx%lld nodes\n", b.name.c_str(), static_cast<long long>(b.dims[0]),
+        std::printf("  %s: %lldx%lldx%lld nodes\n", terminal_safe(b.name).c_str(), static_cast<long long>(b.dims[0]),
                     static_cast<long long>(b.dims[1]), static_cast<long long>(b.dims[2]));
         total += b.node_count();
     }
-    std::printf("wrote %s and %zu pieces (%lld nodes in all)\n", out.c_str(), pieces.size(), total);
+    std::printf("wrote %s and %zu pieces (%lld nodes in all)\n", terminal_safe(out).c_str(), pieces.size(), total);
     return 0;
 }
 

@@ -167,13 +167,13 @@ ScatteredInput read_scattered(const Args& a, bool warn = true) {
         std::fprintf(stderr,
                      "meshless: warning: %s: all points lie on a %s (no extent along %s): the binning grid gives %s one "
                      "cell; the surface is the field's where it defines one off the data\n",
-                     name.c_str(), degenerate == 1 ? "plane" : "line", axes.c_str(), degenerate == 1 ? "that axis" : "those axes");
+                     terminal_safe(name).c_str(), degenerate == 1 ? "plane" : "line", axes.c_str(), degenerate == 1 ? "that axis" : "those axes");
     }
     if (warn && in.grid.coarsened)
         std::fprintf(stderr,
                      "meshless: warning: %s: the binning rule asks for level %d (%lld cells); coarsened to level %d "
                      "(%lld cells) by --max-cells %lld / --max-level %d: stencils hold more points\n",
-                     name.c_str(), in.grid.rule_level,
+                     terminal_safe(name).c_str(), in.grid.rule_level,
                      static_cast<long long>(std::pow(std::ldexp(1.0, in.grid.rule_level) + 2, 3 - degenerate) * std::pow(3.0, degenerate)),
                      in.grid.level, static_cast<long long>(in.grid.cell_count()), static_cast<long long>(bp.max_cells), bp.max_level);
     // section 5.8: "pathological point distributions ... causing the tetrahedrization of a possibly large
@@ -183,7 +183,7 @@ ScatteredInput read_scattered(const Args& a, bool warn = true) {
         std::fprintf(stderr,
                      "meshless: warning: %s: one 3x3x3 stencil of the level-%d binning grid holds %lld of the %zu points "
                      "(a pathological distribution for the binning rule, section 5.8): its Delaunay runs on one thread\n",
-                     name.c_str(), in.grid.level, static_cast<long long>(most), in.points.size());
+                     terminal_safe(name).c_str(), in.grid.level, static_cast<long long>(most), in.points.size());
     return in;
 }
 
@@ -488,7 +488,7 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
             std::fprintf(stderr,
                          "meshless: warning: %s: %lld of %lld seeds did not converge onto the %s field's isosurface (too far %lld, "
                          "non-finite %lld): the field does not resolve this point distribution there\n",
-                         in.source.c_str(), static_cast<long long>(ns.dropped()), static_cast<long long>(ns.input), field_name.c_str(),
+                         terminal_safe(in.source).c_str(), static_cast<long long>(ns.dropped()), static_cast<long long>(ns.input), field_name.c_str(),
                          static_cast<long long>(ns.too_far), static_cast<long long>(ns.nonfinite));
     }
 

@@ -216,11 +216,13 @@ bool try_ascii(const std::vector<double>& t, Kind kind, Layout& L) {
 
 std::string order_name(bool big) { return big ? "big-endian" : "little-endian"; }
 
-// Whether a file's name says it is a PLOT3D grid ("xyz" in it, as combxyz.bin): then a header that
-// parses is trusted even when the data is shorter than it says (a truncated grid file), as one
-// framed by Fortran record markers always is.
+// Whether the file is named as a PLOT3D grid: a grid extension (.x, .xyz, .g), or a name with "xyz"
+// whose q file lies beside it (combxyz.bin and combq.bin). Then a header that parses is trusted
+// even when the data is shorter than it says (a truncated grid file), as one framed by Fortran
+// record markers always is. ("xyz" alone is not enough: cloud_xyzv.bin may hold float32 records.)
 bool named_xyz(const std::string& path) {
-    return to_lower(std::filesystem::path(path).filename().string()).find("xyz") != std::string::npos;
+    const std::string e = to_lower(std::filesystem::path(path).extension().string());
+    return e == ".x" || e == ".xyz" || e == ".g" || !plot3d_sibling_q(path).empty();
 }
 
 // Detects the layout of an xyz file.
@@ -274,12 +276,16 @@ Layout detect_xyz(const std::vector<std::byte>& bytes, const std::vector<double>
         if (allowed(L) && (!best || L.expected > best->expected)) best = &L;
     if (best) {
         const std::uint64_t extra = size - best->expected;
-        // a grid file cut short also reads as a smaller layout (float32 for float64, ...) with
-        // bytes to spare: the nearer of the two explains the file
-        if (shortest_cut && shortest_cut->expected - size < extra) throw truncated(*shortest_cut);
-        if (!o.allow_trailing)
-            throw FormatError(path + ": " + std::to_string(extra) + " trailing" + unit + " after the PLOT3D xyz data (" +
-                              best->describe() + ", " + dims_text(best->dims) + "); --allow-trailing ignores them");
+        if (!o.allow_trailing) {
+            const std::string over = std::to_string(extra) + " trailing" + unit + " after the PLOT3D xyz data (" +
+                                     best->describe() + ", " + dims_text(best->dims) + "); --allow-trailing ignores them";
+            // a grid file cut short can also read as a smaller layout (float32 for float64, no
+            // IBLANK, ...) with bytes to spare: both readings are said, the nearer one first
+            if (!shortest_cut) throw FormatError(path + ": " + over);
+            const FormatError cut_short = truncated(*shortest_cut);
+            if (shortest_cut->expected - size < extra) throw FormatError(std::string(cut_short.what()) + "; or " + over);
+            throw FormatError(path + ": " + over + "; or " + std::string(cut_short.what()).substr(path.size() + 2));
+        }
         if (notes) notes->push_back(std::to_string(extra) + unit + " after the xyz data ignored");
         return *best;
     }

@@ -714,15 +714,45 @@ TEST_CASE("PLOT3D: bad input (dims disagree, trailing bytes, forced wrong byte o
     auto x = read_all((P(d, "axyz.bin")));
     x.resize(x.size() - 3);
     spit_bytes(P(d, "cxyz.bin"), x);
-    CHECK_THAT(error_of([&] { read_point_set(P(d, "cxyz.bin")); }),
-               Catch::Contains("cxyz.bin: truncated PLOT3D xyz file: " + std::to_string(x.size()) + " bytes, the header (") &&
-                   Catch::Contains("4x3x2) needs " + std::to_string(x.size() + 3)));
+    spit_bytes(P(d, "cq.bin"), read_all(P(d, "aq.bin")));  // the q file beside it names it a grid
+    CHECK(error_of([&] { read_point_set(P(d, "cxyz.bin")); }) ==
+          P(d, "cxyz.bin") + ": truncated PLOT3D xyz file: " + std::to_string(x.size()) +
+              " bytes, the header (big-endian float32 C, single grid, 4x3x2) needs " + std::to_string(x.size() + 3));
     CHECK(looks_like_point_set(P(d, "cxyz.bin")));
+    // float64 cut by 3 bytes also reads as float32 with bytes to spare: both readings are said,
+    // the nearer first; --allow-trailing takes the one with bytes to spare, as the user asked
+    P3dSpec s64 = s;
+    s64.f64 = true;
+    write_p3d(P(d, "exyz.bin"), P(d, "eq.bin"), P(d, "e.f"), s64);
+    auto x64 = read_all(P(d, "exyz.bin"));
+    x64.resize(x64.size() - 3);
+    spit_bytes(P(d, "exyz.bin"), x64);
+    CHECK_THAT(error_of([&] { read_point_set(P(d, "exyz.bin")); }),
+               Catch::StartsWith(P(d, "exyz.bin") + ": truncated PLOT3D xyz file: " + std::to_string(x64.size()) + " bytes") &&
+                   Catch::Contains("needs " + std::to_string(x64.size() + 3) + "; or ") &&
+                   Catch::Contains("trailing bytes after the PLOT3D xyz data"));
+    PointSetOptions at;
+    at.allow_trailing = true;
+    CHECK_NOTHROW(probe_point_set(P(d, "exyz.bin"), at));
+    // the same bytes named as a grid by extension
+    spit_bytes(P(d, "c.xyz"), x);
+    CHECK_THAT(error_of([&] { read_point_set(P(d, "c.xyz")); }), Catch::Contains("truncated PLOT3D xyz file"));
     // cut to half: only the header's layout fits at all
     auto half = read_all((P(d, "axyz.bin")));
     half.resize(half.size() / 2);
     spit_bytes(P(d, "hxyz.bin"), half);
+    spit_bytes(P(d, "hq.bin"), read_all(P(d, "aq.bin")));
     CHECK_THAT(error_of([&] { read_point_set(P(d, "hxyz.bin")); }), Catch::Contains("truncated PLOT3D xyz file"));
+    // "xyz" in a .bin name without a q file beside it is no grid: float32 x,y,z,value records whose
+    // first floats read as small big-endian ints (2.0 -> 64) stay points (review finding)
+    std::vector<std::byte> rec;
+    for (int i = 0; i < 4096; ++i)
+        for (const float f : {2.0f, 2.0f, 2.0f, 1.0f + static_cast<float>(i)}) {
+            const auto* b = reinterpret_cast<const std::byte*>(&f);
+            rec.insert(rec.end(), b, b + 4);
+        }
+    spit_bytes(P(d, "cloud_xyzv.bin"), rec);
+    CHECK(read_point_set(P(d, "cloud_xyzv.bin")).size() == 4096);
     // Fortran records cut short, whatever the name: the record markers vouch for the header
     P3dSpec f = s;
     f.records = true;
