@@ -34,11 +34,21 @@ namespace meshless::cli {
 namespace {
 
 /// --stats: how many positions lay outside the data and how many values were kept within its range.
-void report_support(const Args& a, const BuiltField& f, const FieldEvaluateStage& e) {
-    if (!a.has("stats") || !f.coverage) return;
+/// Without --stats, a warning when more than a tenth of the values inside the data had to be
+/// clamped: the field overshoots its data there (sparse or noisy values), and the picture's flat
+/// areas at the range's ends are the clamp's, not the data's. `total`: the positions evaluated.
+void report_support(const Args& a, const BuiltField& f, const FieldEvaluateStage& e, std::size_t total) {
+    if (!f.coverage) return;
     static constexpr const char* kModes[] = {"NaN", "clamped", "the nearest data value"};
-    std::fprintf(stderr, "%s: %zu positions outside the data (%s), %zu values kept within the data range\n",
-                 a.command().c_str(), e.uncovered(), kModes[static_cast<int>(f.extrapolate)], e.clamped());
+    if (a.has("stats"))
+        std::fprintf(stderr, "%s: %zu positions outside the data (%s), %zu values kept within the data range\n",
+                     a.command().c_str(), e.uncovered(), kModes[static_cast<int>(f.extrapolate)], e.clamped());
+    const std::size_t inside = total - std::min(total, e.uncovered());
+    if (inside > 0 && 10 * e.clamped() > inside)
+        std::fprintf(stderr,
+                     "meshless %s: warning: %zu of the %zu values inside the data (%.0f %%) lay outside its value range "
+                     "and were clamped to it: the field overshoots its data there\n",
+                     a.command().c_str(), e.clamped(), inside, 100.0 * static_cast<double>(e.clamped()) / static_cast<double>(inside));
 }
 
 /// Positions from a CSV/whitespace file ("-": standard input): three numbers per line; blank lines
@@ -128,7 +138,8 @@ int cmd_probe(int argc, char** argv) {
     const PointSet pts = read_points_arg(a);
     const auto field = build_field(a, pts, data_field_default(a.positional()));
     // query positions -> field -> CSV
-    ProgressMeter meter("meshless probe", "positions", static_cast<double>(at.size()), progress_wanted(a), progress_delay());
+    const std::size_t positions = at.size();
+    ProgressMeter meter("meshless probe", "positions", static_cast<double>(positions), progress_wanted(a), progress_delay());
     QueryListSource source(std::move(at), /*want_grad=*/true);
     FieldEvaluateStage evaluate(*field.field, field.coverage.get(), field.extrapolate);
     ProbeCsvSink sink(csv);
@@ -136,7 +147,7 @@ int cmd_probe(int argc, char** argv) {
     const Stage* stages[] = {&evaluate, &progress};
     run_pipeline(source, stages, sink, {threads(a)});
     meter.done();
-    report_support(a, field, evaluate);
+    report_support(a, field, evaluate, positions);
     return 0;
 }
 
@@ -191,7 +202,7 @@ int cmd_slice(int argc, char** argv) {
     const Stage* stages[] = {&evaluate, &progress};
     run_pipeline(source, stages, sink, {threads(a)});
     meter.done();
-    report_support(a, field, evaluate);
+    report_support(a, field, evaluate, static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
     if (evaluate.uncovered() == static_cast<std::size_t>(w) * static_cast<std::size_t>(h))
         std::fprintf(stderr, "meshless slice: warning: the plane %c=%g does not meet the data (every pixel is outside it)\n",
                      'x' + plane.axis, plane.at);
@@ -262,7 +273,7 @@ int cmd_resample(int argc, char** argv) {
     const Stage* stages[] = {&evaluate, &progress};
     run_pipeline(source, stages, sink, {threads(a)});
     meter.done();
-    report_support(a, field, evaluate);
+    report_support(a, field, evaluate, static_cast<std::size_t>(g.voxel_count()));
     return 0;
 }
 

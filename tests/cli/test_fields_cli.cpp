@@ -2,6 +2,8 @@
 // field reproduces) sampled at scattered points.
 #include <catch2/catch.hpp>
 
+#include <random>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -175,6 +177,30 @@ TEST_CASE("extrapolate: NaN, the field kept within the data range, or the neares
     const auto s = sh("MESHLESS probe " + pts + " --at-file " + D + "/short.txt", d);
     CHECK(s.code == 2);
     CHECK_THAT(s.err, Catch::Contains("short.txt:1: expected x,y,z"));
+}
+
+TEST_CASE("a field that overshoots its data warns that its values were clamped, smooth data does not", "[cli][fields]") {
+    // newcomer trial 2: a quarter of a slice of the boreholes clamped, shown as flat colour, and
+    // said only under --stats. Values 0 or 100 at random on a jittered grid make every field
+    // overshoot between neighbours.
+    TempDir d("fields-overshoot");
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+    std::string csv = "x,y,z,v\n";
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j)
+            for (int k = 0; k < 8; ++k)
+                csv += std::to_string(i + jitter(rng)) + "," + std::to_string(j + jitter(rng)) + "," + std::to_string(k + jitter(rng)) +
+                       "," + (rng() % 2 ? "100" : "0") + "\n";
+    spit(d / "noisy.csv", csv);
+    const auto noisy = sh("MESHLESS slice " + (d / "noisy.csv").string() + " --plane z=3.5 --size 200x200 -o " + (d / "n.png").string(), d);
+    CHECK(noisy.code == 0);
+    CHECK_THAT(noisy.err, Catch::Contains("meshless slice: warning: ") && Catch::Contains("values inside the data") &&
+                              Catch::Contains("were clamped to it"));
+    const std::string pts = write_points(d);
+    const auto smooth = sh("MESHLESS slice " + pts + " --plane z=0.5 --size 200x200 -o " + (d / "s.png").string(), d);
+    CHECK(smooth.code == 0);
+    CHECK(smooth.err.find("clamped") == std::string::npos);
 }
 
 TEST_CASE("probe, slice and resample run as graphs: the same bytes for any --threads", "[cli][fields]") {
