@@ -81,9 +81,9 @@ std::string ply_escape(std::string_view bytes, std::size_t max = 64);
 /// messages. FormatError on any defect listed above.
 PlyHeader parse_ply_header(std::string_view bytes, const std::string& name);
 
-/// The header text of `h` (format, comments, obj_info, elements); a line break inside a comment or
-/// obj_info (LF, CR: a file name a producer quotes) is written as \x0a / \x0d, every other byte
-/// as it is. pad_counts: each element line is
+/// The header text of `h` (format, comments, obj_info, elements); a line feed inside a comment or
+/// obj_info (a file name a producer quotes) is written as \x0a, every other byte as it is.
+/// pad_counts: each element line is
 /// followed by "comment" and spaces so that its count can later be rewritten in place with any
 /// value up to 20 digits (ply_count_lines) without moving the body.
 std::string format_ply_header(const PlyHeader& h, bool pad_counts);

@@ -44,8 +44,8 @@ inline constexpr std::size_t kPointBlockRecordSize = sizeof(PointRecord) + sizeo
 /// Stream metadata: iso value, grid, bounds, producer command line ... (sorted keys).
 struct StreamMeta {
     std::map<std::string, std::string> kv;
-    /// Stores v with its line breaks (LF, CR: a file name's) written as \x0a / \x0d, so that every
-    /// value is one line here, in a stream's META frame and in an output's header alike.
+    /// Stores v with its line feeds (a file name's) written as \x0a, so that every value is one
+    /// line here, in a stream's META frame and in an output's header alike.
     void set(const std::string& k, const std::string& v);
     void set(const std::string& k, double v);
     std::optional<std::string> get(const std::string& k) const;

@@ -33,7 +33,6 @@ std::string line_breaks_escaped(std::string_view s) {
     out.reserve(s.size());
     for (const char c : s) {
         if (c == '\n') out += "\\x0a";
-        else if (c == '\r') out += "\\x0d";
         else out += c;
     }
     return out;

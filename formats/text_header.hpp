@@ -14,8 +14,9 @@ std::string trim(std::string_view s);
 /// Bytes taken from a file, made safe to quote in a message: printable ASCII kept, everything else
 /// (control bytes, ESC, DEL, non-ASCII, backslash) written as \xNN, cut to `max` bytes with "...".
 std::string escape_field(std::string_view s, std::size_t max = 64);
-/// `s` as one line of a header: a line feed or carriage return (a file name's) becomes \x0a / \x0d,
-/// every other byte stays as it is (stream metadata, PLY comments).
+/// `s` as one line of a header: a line feed (a file name's) becomes \x0a, every other byte stays as
+/// it is, a carriage return included (the PLY and metadata readers keep one inside a line, so a
+/// parsed header formats back to the same text; fuzz_ply checks it) (stream metadata, PLY comments).
 std::string line_breaks_escaped(std::string_view s);
 std::string to_lower(std::string_view s);
 /// Splits on runs of whitespace.
