@@ -230,6 +230,21 @@ int cmd_lod(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     PointSet ps = lod_point_set(t.nodes, r.mode, r.threshold, t.value_name);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // a cluster's value is its fit's at its centre (section 6.3): with rough data it can overshoot the
+    // samples' range, which the points keep (they are the approximation) but the user should know
+    std::size_t outside = 0;
+    double lo = t.value_range[0], hi = t.value_range[1];
+    for (const double v : ps.value)
+        if (v < t.value_range[0] || v > t.value_range[1]) {
+            ++outside;
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+        }
+    if (outside > 0)
+        std::fprintf(stderr,
+                     "meshless lod: warning: %zu of %zu cluster values lie outside the samples' range [%g, %g] (from %g to %g): "
+                     "the clusters' fits overshoot there\n",
+                     outside, ps.size(), t.value_range[0], t.value_range[1], lo, hi);
     const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + path};
     if (ext == ".vtp") {
         VtpOptions vo;

@@ -107,6 +107,39 @@ TEST_CASE("meshless hierarchy: the same .mlh for 1 and 2 threads, lod and info r
     CHECK(warned.err.find("beyond the depth") != std::string::npos);
 }
 
+TEST_CASE("meshless lod: cluster values beyond the samples' range are kept and warned about", "[cli][cbt]") {
+    // newcomer trial 2: lod of a uint8 set wrote values down to -1.05 without a word. Values 0 or
+    // 100 at random on a jittered grid: a cluster's fit at its centre overshoots them.
+    TempDir d("lod_range");
+    std::string rows;
+    unsigned r = 5;
+    auto u = [&] { r = r * 1103515245u + 12345u; return (r >> 8) / double(1 << 24); };
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j)
+            for (int k = 0; k < 8; ++k)
+                rows += std::to_string(i + 0.6 * u() - 0.3) + "," + std::to_string(j + 0.6 * u() - 0.3) + "," +
+                        std::to_string(k + 0.6 * u() - 0.3) + "," + (u() < 0.5 ? "0" : "100") + "\n";
+    const std::string csv = write_csv(d, "noisy.csv", rows), D = d.path.string();
+    REQUIRE(sh("MESHLESS hierarchy " + csv + " -o " + D + "/n.mlh", d).code == 0);
+    const ClusterTree t = read_cluster_tree_file(D + "/n.mlh");
+    std::uint32_t depth = 0;
+    for (const CbtNode& n : t.nodes) depth = std::max(depth, n.depth);
+    bool warned = false, quiet = false;
+    for (std::uint32_t level = 0; level <= depth; ++level) {
+        const auto ids = lod_nodes(t.nodes, LodMode::level, level);
+        bool outside = false;
+        for (const auto id : ids) outside = outside || t.nodes[id].value < 0 || t.nodes[id].value > 100;
+        const auto l = sh("MESHLESS lod " + D + "/n.mlh --level " + std::to_string(level) + " -o " + D + "/l.csv", d);
+        REQUIRE(l.code == 0);
+        const bool said = l.err.find("cluster values lie outside the samples' range [0, 100]") != std::string::npos;
+        CHECK(said == outside);  // exactly when some value of that level lies outside
+        warned = warned || said;
+        quiet = quiet || !said;
+    }
+    CHECK(warned);  // the data makes some level overshoot ...
+    CHECK(quiet);   // ... and some not (the finest: the samples themselves)
+}
+
 TEST_CASE("meshless hierarchy: bad input is one line, non-zero, nothing written", "[cli][cbt]") {
     TempDir d("hier_bad");
     const std::string D = d.path.string();
