@@ -35,7 +35,7 @@ namespace {
 
 /// --stats: how many positions lay outside the data and how many values were kept within its range.
 /// Without --stats, a warning when more than a tenth of the values inside the data had to be
-/// clamped: the field overshoots its data there (sparse or noisy values), and the picture's flat
+/// clamped (under --extrapolate nan, where no value outside is clamped): the field overshoots its data there (sparse or noisy values), and the picture's flat
 /// areas at the range's ends are the clamp's, not the data's. `total`: the positions evaluated.
 void report_support(const Args& a, const BuiltField& f, const FieldEvaluateStage& e, std::size_t total) {
     if (!f.coverage) return;
@@ -43,8 +43,9 @@ void report_support(const Args& a, const BuiltField& f, const FieldEvaluateStage
     if (a.has("stats"))
         std::fprintf(stderr, "%s: %zu positions outside the data (%s), %zu values kept within the data range\n",
                      a.command().c_str(), e.uncovered(), kModes[static_cast<int>(f.extrapolate)], e.clamped());
+    // (under --extrapolate nan, the default, only positions inside the data are clamped)
     const std::size_t inside = total - std::min(total, e.uncovered());
-    if (inside > 0 && 10 * e.clamped() > inside)
+    if (f.extrapolate == Extrapolate::nan && inside > 0 && 10 * e.clamped() > inside)
         std::fprintf(stderr,
                      "meshless %s: warning: %zu of the %zu values inside the data (%.0f %%) lay outside its value range "
                      "and were clamped to it: the field overshoots its data there\n",

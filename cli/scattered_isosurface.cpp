@@ -61,13 +61,6 @@ double reg_gap(const Args& a) {
     return f;
 }
 
-/// The surface keeps to the data as probe/slice/resample do by default (--max-gap 1: within one
-/// local point spacing of it, or surrounded by it), while the regularisation reaches --reg-gap (4)
-/// spacings: a triangle's seeds need its centroid covered with the reach scaled by 1 / reg_gap.
-/// (Boreholes or a star halo: tetrahedra between far-apart points span empty space; without this, a
-/// fifth of the HYG stars' surface lay beyond the stars, up to 590 units past the farthest.)
-double seed_gap_scale(double reg_gap) { return reg_gap > 1 ? 1.0 / reg_gap : 1.0; }
-
 /// The most data points one 3x3x3 stencil holds (before regularisation).
 std::int64_t largest_stencil(const BinningGrid& g, const BinnedPoints& b) {
     const StencilGrid sg(g.dims);
@@ -258,15 +251,14 @@ void print_scattered_stats(const char* cmd, const ScatteredInput& in, const Sten
     std::fprintf(stderr,
                  "%s: %lld stencils (%lld crossed, largest %lld points), %lld regularisation points made on the fly "
                  "(%lld beyond --reg-gap), "
-                 "%lld Delaunay failures, %lld tets (%lld owned, %lld with a NaN value), %lld triangles (%lld of zero area, "
-                 "%lld beyond --reg-gap skipped), %lld seeds (n = %d, %zu per triangle)\n",
+                 "%lld Delaunay failures, %lld tets (%lld owned, %lld with a NaN value), %lld triangles (%lld of zero area), "
+                 "%lld seeds (n = %d, %zu per triangle)\n",
                  cmd, static_cast<long long>(s.stencils), static_cast<long long>(s.crossed_stencils),
                  static_cast<long long>(s.max_stencil_points), static_cast<long long>(s.regularisation_points),
                  static_cast<long long>(s.uncovered_regularisation),
                  static_cast<long long>(s.delaunay_failures), static_cast<long long>(s.tets), static_cast<long long>(s.owned_tets),
                  static_cast<long long>(s.nonfinite_tets), static_cast<long long>(s.triangles),
-                 static_cast<long long>(s.zero_area_triangles), static_cast<long long>(s.uncovered_triangles),
-                 static_cast<long long>(s.seeds), n, lattice_size(n));
+                 static_cast<long long>(s.zero_area_triangles), static_cast<long long>(s.seeds), n, lattice_size(n));
 }
 
 /// The default --samples of the scattered path, by measurement (2026-11-23, 20,000 samples of the
@@ -408,7 +400,7 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
         if (field.field) channel.emplace(*mpi);
         std::optional<StencilInput> sin;
         if (field.field) sin.emplace(StencilInput{in.grid, in.bins, std::span<const Vec3>(in.points.pos),
-                                                 std::span<const double>(in.points.value), *field.field, in.coverage.get(), seed_gap_scale(in.reg_gap)});
+                                                 std::span<const double>(in.points.value), *field.field, in.coverage.get()});
         StencilRankResult rr;
         std::optional<DedupSink> dd;
         std::size_t points = 0;
@@ -477,7 +469,7 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
             run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, {nthreads});
         } else {
             StencilSource source(sg);
-            seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get(), seed_gap_scale(in.reg_gap)}, iso, n);
+            seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get()}, iso, n);
             project.emplace(*field.field, iso, np);
             // the stencils as the source hands them out, counted ahead of seeding
             ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(sg.total()));
@@ -553,7 +545,7 @@ int generate_scattered(int argc, char** argv) {
     std::optional<StencilSeedStage> seed;
     if (field.field) {
         StencilSource source{StencilGrid(in.grid.dims)};
-        seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get(), seed_gap_scale(in.reg_gap)}, iso, n);
+        seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get()}, iso, n);
         const Stage* stages[] = {&*seed};
         run_pipeline(source, stages, sink, {nthreads});
     } else {

@@ -63,21 +63,21 @@ struct PointCoverage::Impl {
         });
     }
 
-    bool covered(const Vec3& x, double scale) const {
+    bool covered(const Vec3& x) const {
         if (!tree) return false;
         const double q[3] = {x.x, x.y, x.z};
         {  // (a) from the nearest point alone, the common case (a position near the data)
             unsigned i0 = 0;
             double d20 = 0;
             if (tree->knnSearch(q, 1, &i0, &d20) == 0) return false;
-            if (std::sqrt(d20) <= scale * reach[i0]) return true;
+            if (std::sqrt(d20) <= reach[i0]) return true;
         }
         std::array<unsigned, kSurroundNeighbours> idx{};
         std::array<double, kSurroundNeighbours> d2{};
         const std::size_t got = tree->knnSearch(q, std::min(kSurroundNeighbours, cloud.pts.size()), idx.data(), d2.data());
         if (got == 0) return false;
         const double d0 = std::sqrt(d2[0]);
-        if (d0 <= scale * reach[idx[0]]) return true;  // (a)
+        if (d0 <= reach[idx[0]]) return true;  // (a) (the same point: nanoflann's 1-NN and 12-NN searches agree on it)
         if (got < 4) return false;
         double mean_reach = 0;
         Vec3 m{0, 0, 0};
@@ -88,7 +88,7 @@ struct PointCoverage::Impl {
             if (len > 0) m = m + v * (1.0 / len);
         }
         mean_reach /= static_cast<double>(got);
-        if (d0 > kSurroundReach * scale * mean_reach) return false;
+        if (d0 > kSurroundReach * mean_reach) return false;
         m = m * (1.0 / static_cast<double>(got));
         return std::sqrt(m.x * m.x + m.y * m.y + m.z * m.z) <= kSurroundMaxMean;  // (b)
     }
@@ -123,8 +123,7 @@ PointCoverage::PointCoverage(std::span<const Vec3> points, std::span<const doubl
 
 PointCoverage::~PointCoverage() = default;
 
-bool PointCoverage::covered(const Vec3& x) const { return impl_->covered(x, 1.0); }
-bool PointCoverage::covered(const Vec3& x, double scale) const { return impl_->covered(x, scale); }
+bool PointCoverage::covered(const Vec3& x) const { return impl_->covered(x); }
 
 std::size_t PointCoverage::mask(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
     std::size_t masked = 0;

@@ -51,8 +51,6 @@ public:
     PointCoverage(const PointCoverage&) = delete;
     PointCoverage& operator=(const PointCoverage&) = delete;
     bool covered(const Vec3& x) const;
-    /// The same test with every reach scaled by `scale` (> 0): as if made with factor * scale.
-    bool covered(const Vec3& x, double scale) const;
     /// Sets value[i] (and grad[i]) to NaN where p[i] is not covered; returns how many.
     std::size_t mask(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const;
     /// The support test, then: covered values kept within the data range (when values were given),

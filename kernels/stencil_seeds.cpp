@@ -153,10 +153,6 @@ void stencil_seeds(const StencilInput& in, double iso, int n, std::span<const st
                     ++st.zero_area_triangles;
                     continue;
                 }
-                if (in.coverage && !in.coverage->covered((T[0] + T[1] + T[2]) * (1.0 / 3.0), in.seed_gap_scale)) {
-                    ++st.uncovered_triangles;
-                    continue;
-                }
                 ++st.triangles;
                 const Vec3 un = nrm * (0.5 / area);
                 const auto base_radius = static_cast<float>(lattice_base_radius(area, n));

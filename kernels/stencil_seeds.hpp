@@ -54,18 +54,15 @@ struct StencilSeedStats {
     std::int64_t max_stencil_points = 0;    ///< largest point count of one tetrahedralised stencil
     std::int64_t regularisation_ns = 0;     ///< time in regularise_block
     std::int64_t delaunay_ns = 0;           ///< time in stencil_delaunay
-    std::int64_t uncovered_triangles = 0;   ///< triangles skipped: their centroid lies where the data does not reach
-    static constexpr int kCounters = 15;
+    static constexpr int kCounters = 14;
     static constexpr int kMaxIndex = 10;  ///< as_array index of max_stencil_points (a maximum, not a sum)
     std::array<std::int64_t, kCounters> as_array() const {
         return {stencils, crossed_stencils, regularisation_points, delaunay_failures, tets, owned_tets, nonfinite_tets,
-                triangles, zero_area_triangles, seeds, max_stencil_points, regularisation_ns, delaunay_ns, uncovered_regularisation,
-                uncovered_triangles};
+                triangles, zero_area_triangles, seeds, max_stencil_points, regularisation_ns, delaunay_ns, uncovered_regularisation};
     }
     static StencilSeedStats from_array(const std::array<std::int64_t, kCounters>& v) {
         StencilSeedStats s{v[0], v[1], v[2], 0, v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10], v[11], v[12]};
         s.uncovered_regularisation = v[13];
-        s.uncovered_triangles = v[14];
         return s;
     }
 };
@@ -77,13 +74,8 @@ struct StencilInput {
     std::span<const Vec3> pos;
     std::span<const double> value;
     const Field& field;
-    /// Optional: regularisation points the data does not cover get NaN (kernels/stencil_regularisation.hpp),
-    /// and triangles whose centroid it does not cover with its reach scaled by seed_gap_scale give no
-    /// seeds: a tetrahedron between sparse data points (a star halo) spans empty space, and its surface
-    /// there would be the field's extrapolation, not the data's.
+    /// Optional: regularisation points the data does not cover get NaN (kernels/stencil_regularisation.hpp).
     const PointCoverage* coverage = nullptr;
-    /// Scale of the coverage's reach for the triangles (1: the regularisation's --reg-gap).
-    double seed_gap_scale = 1.0;
 };
 
 /// Seeds of stencils [s0, s1) (linear stencil indices of one row: same sy and sz), appended to `out`;

@@ -28,29 +28,6 @@ TEST_CASE("coverage: inside a grid yes, in a hole and far outside no", "[coverag
     CHECK(std::isnan(g[1].x));
 }
 
-TEST_CASE("coverage with a scaled reach is the coverage made with the scaled factor", "[coverage]") {
-    // the scattered isosurface tests its triangles with the --reg-gap coverage scaled to probe's
-    // default reach; the scaled test must be exactly the one of a coverage made with that factor
-    std::vector<Vec3> pts;
-    unsigned s = 7;
-    auto next = [&] { s = s * 1664525u + 1013904223u; return static_cast<double>(s >> 8) / 16777216.0; };
-    for (int i = 0; i < 3000; ++i) {
-        const double r = i < 2500 ? 1.0 : 6.0;  // a dense core and a sparse shell
-        pts.push_back({r * (2 * next() - 1), r * (2 * next() - 1), r * (2 * next() - 1)});
-    }
-    const PointCoverage four(pts, 4.0), one(pts, 1.0);
-    int differ = 0, covered = 0;
-    for (int i = 0; i < 20000; ++i) {
-        const Vec3 x{8 * (2 * next() - 1), 8 * (2 * next() - 1), 8 * (2 * next() - 1)};
-        differ += four.covered(x, 0.25) != one.covered(x);
-        covered += one.covered(x);
-        CHECK(four.covered(x, 1.0) == four.covered(x));
-    }
-    CHECK(differ == 0);
-    CHECK(covered > 1000);
-    CHECK(covered < 19000);
-}
-
 namespace {
 double smooth(const Vec3& p) { return std::sin(3 * p.x) + std::cos(2 * p.y) * p.z; }
 }  // namespace
