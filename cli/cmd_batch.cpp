@@ -458,12 +458,7 @@ int cmd_batch(int argc, char** argv) {
     if (!is_dir && !fs::exists(input, ec)) throw IoError(input + ": no such archive folder or manifest");
     if (!is_dir && looks_like_volume(input))
         throw UsageError(input + " is a volume; give a folder of volumes or a manifest (one path per line)");
-    std::error_code made;
-    fs::create_directories(s.out_dir, made);
-    if (!fs::is_directory(s.out_dir, ec))
-        throw IoError(s.out_dir + ": cannot create output folder: " +
-                      (fs::exists(s.out_dir, ec) ? std::string("a file of that name exists")
-                                                 : made ? made.message() : std::string("unknown reason")));
+    make_output_folder(s.out_dir);
     DirLock lock(s.out_dir);
 
     std::vector<BatchItem> items = is_dir ? list_archive_dir(input, a.has("recursive"), s.out_dir) : read_manifest(input);

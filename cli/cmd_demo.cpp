@@ -33,11 +33,7 @@ int cmd_demo(int argc, char** argv) {
     if (n < 8 || n > 1024) throw UsageError("--n: expected 8..1024");
     const std::filesystem::path dir = a.get_or("output", ".");
     if (dir == "-") throw UsageError("-o -: the demo writes a folder of files (a PLY and a PNG), not one stream to standard output");
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (!std::filesystem::is_directory(dir))
-        throw IoError(dir.string() + ": cannot create output directory: " +
-                      (std::filesystem::exists(dir) ? std::string("a file of that name exists") : ec ? ec.message() : "unknown reason"));
+    make_output_folder(dir.string());
 
     VolumeInput in;
     in.path = std::string("demo-") + to_string(field);

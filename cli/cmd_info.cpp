@@ -30,9 +30,6 @@ namespace meshless::cli {
 
 namespace {
 
-/// Text quoted from the command line or a file, as one safe line of the description.
-std::string shown(std::string_view s) { return terminal_safe(s); }
-
 void info_stream(const std::string& path) {
     InputFile in(path);
     StreamReader r(in.f, in.name);
@@ -44,7 +41,7 @@ void info_stream(const std::string& path) {
         if (!r.next_data(buf)) break;
         ++frames;
     }
-    std::printf("%s: meshless %s stream%s, version %u, %zu-byte records\n", shown(path).c_str(),
+    std::printf("%s: meshless %s stream%s, version %u, %zu-byte records\n", terminal_safe(path).c_str(),
                 r.kind() == RecordKind::point ? "point" : (r.kind() == RecordKind::seed ? "seed" : "sample"),
                 r.has_blocks() ? " with block ids" : "", kStreamVersion, r.record_bytes());
     std::printf("  records: %llu in %llu DATA frames, END frame present\n", static_cast<unsigned long long>(r.total()),
@@ -56,7 +53,7 @@ void info_stream(const std::string& path) {
             std::printf(" (%llu cell-indexed frames)", static_cast<unsigned long long>(r.cell_frames()));
         std::printf("\n");
     }
-    for (const auto& [k, v] : r.meta().kv) std::printf("  %s: %s\n", shown(k).c_str(), shown(v).c_str());
+    for (const auto& [k, v] : r.meta().kv) std::printf("  %s: %s\n", terminal_safe(k).c_str(), terminal_safe(v).c_str());
 }
 
 // Per-property minimum, maximum and non-finite count of an element without lists, read in chunks.
@@ -142,14 +139,14 @@ void info_ply(const std::string& path) {
         indented += "  " + ply_escape(text.substr(i, nl - i), 4096) + "\n";
         i = nl + 1;
     }
-    std::printf("%s: PLY%s (body checked)\n%s%s  end_header\n", shown(path).c_str(), faces ? "" : " point set", summary.c_str(),
+    std::printf("%s: PLY%s (body checked)\n%s%s  end_header\n", terminal_safe(path).c_str(), faces ? "" : " point set", summary.c_str(),
                 indented.c_str());
 }
 
 void info_png(const std::string& path, const unsigned char* h, std::size_t n) {
     if (n < 24) throw FormatError(path + ": truncated PNG header");
     auto be32 = [&](int o) { return (unsigned(h[o]) << 24) | (unsigned(h[o + 1]) << 16) | (unsigned(h[o + 2]) << 8) | h[o + 3]; };
-    std::printf("%s: PNG image, %u x %u\n", shown(path).c_str(), be32(16), be32(20));
+    std::printf("%s: PNG image, %u x %u\n", terminal_safe(path).c_str(), be32(16), be32(20));
 }
 
 void info_brick_store(const std::string& path) {
@@ -165,7 +162,7 @@ void info_brick_store(const std::string& path) {
     const std::uint64_t volume_bytes = static_cast<std::uint64_t>(g.voxel_count()) * sample_size(i.type);
     const std::uint64_t file_bytes = stored + kBrickStoreHeaderBytes + kBrickStoreFooterBytes +
                                      store->bricks().size() * kBrickIndexEntryBytes;
-    std::printf("%s: meshless brick store, version %u\n", shown(path).c_str(), kBrickStoreVersion);
+    std::printf("%s: meshless brick store, version %u\n", terminal_safe(path).c_str(), kBrickStoreVersion);
     std::printf("  dims: %lld x %lld x %lld (%lld voxels, %lld cells)\n", static_cast<long long>(g.dims[0]),
                 static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]), static_cast<long long>(g.voxel_count()),
                 static_cast<long long>(g.cell_count()));
@@ -187,7 +184,7 @@ void info_volume(const std::string& path, const Args& a) {
     // buffer: a bomb, a truncated or a corrupt payload fails here as it fails every reading command
     const VolumeInfo vi = prove_volume(path, raw_options(a));
     const GridSpec& g = vi.grid;
-    std::printf("%s: %s volume\n", shown(path).c_str(), vi.format.c_str());
+    std::printf("%s: %s volume\n", terminal_safe(path).c_str(), vi.format.c_str());
     std::printf("  dims: %lld x %lld x %lld (%lld voxels, %lld cells)\n", static_cast<long long>(g.dims[0]),
                 static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]), static_cast<long long>(g.voxel_count()),
                 static_cast<long long>(g.cell_count()));
@@ -195,10 +192,10 @@ void info_volume(const std::string& path, const Args& a) {
                 g.spacing[2], g.origin[0], g.origin[1], g.origin[2]);
     if (!vi.encoding.empty()) std::printf("  encoding: %s\n", vi.encoding.c_str());
     if (!vi.data_files.empty())
-        std::printf("  data files: %zu (%s%s)\n", vi.data_files.size(), shown(vi.data_files.front()).c_str(),
+        std::printf("  data files: %zu (%s%s)\n", vi.data_files.size(), terminal_safe(vi.data_files.front()).c_str(),
                     vi.data_files.size() > 1 ? ", ..." : "");
     if (vi.frame)
-        std::printf("  patient axes: %s (%s)\n", describe_frame(*vi.frame).c_str(), shown(vi.frame->source).c_str());
+        std::printf("  patient axes: %s (%s)\n", describe_frame(*vi.frame).c_str(), terminal_safe(vi.frame->source).c_str());
     std::printf("  payload: checked, %llu bytes decoded%s\n", static_cast<unsigned long long>(decoded_bytes(vi, path)),
                 vi.maps ? " (mapped from the file when read)" : "");
 }
@@ -207,10 +204,10 @@ void info_sample_store(const std::string& path) {
     const auto store = SampleStore::open(path);
     const SampleStoreInfo& i = store->info();
     const GridSpec& g = i.grid;
-    std::printf("%s: meshless paradigm (A) sample store, version %u (span-space index of cell rows)\n", shown(path).c_str(),
+    std::printf("%s: meshless paradigm (A) sample store, version %u (span-space index of cell rows)\n", terminal_safe(path).c_str(),
                 kSampleStoreVersion);
     std::printf("  brick store: %s (recomputed from; identity checked), %lld x %lld x %lld %s, spacing %g %g %g\n",
-                shown(store->brick_store().path()).c_str(), static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
+                terminal_safe(store->brick_store().path()).c_str(), static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
                 static_cast<long long>(g.dims[2]), to_string(i.type), g.spacing[0], g.spacing[1], g.spacing[2]);
     std::printf("  cells: %llu indexed (non-constant; %llu constant, %llu NaN/Inf cells skipped) as %llu cell-row keys, "
                 "%llu key bytes\n",
@@ -229,7 +226,7 @@ void info_field_file(const std::string& path) {
     const FieldBuildStats& s = i.stats;
     const PointSetIdentity& id = i.data.identity;
     auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
-    std::printf("%s: meshless fitted field (.mlf), format version %u, %llu bytes (checked)\n", shown(path).c_str(), i.version,
+    std::printf("%s: meshless fitted field (.mlf), format version %u, %llu bytes (checked)\n", terminal_safe(path).c_str(), i.version,
                 u(i.file_bytes));
     std::printf("  field: %s\n", std::string(field_kind_name(p.kind)).c_str());
     std::string c = p.hardy_c_world > 0 ? std::to_string(p.hardy_c_world) + " (world units)"
@@ -274,7 +271,7 @@ void info_field_file(const std::string& path) {
     std::printf("  sections: %zu\n", i.sections.size());
     for (const auto& sec : i.sections) {
         static const char* const kType[] = {"bytes", "f64", "i64", "u32", "i32"};
-        std::printf("    %-14s %-5s %12llu elements, %12llu bytes%s\n", shown(sec.name).c_str(), kType[sec.type < 5 ? sec.type : 0],
+        std::printf("    %-14s %-5s %12llu elements, %12llu bytes%s\n", terminal_safe(sec.name).c_str(), kType[sec.type < 5 ? sec.type : 0],
                     u(sec.count), u(sec.stored_bytes),
                     sec.compressed ? (" (zstd" + std::string(sec.shuffled ? ", shuffled" : "") + ", from " +
                                       std::to_string(sec.raw_bytes) + ")").c_str()
@@ -286,21 +283,21 @@ void info_field_file(const std::string& path) {
 void info_point_set(const std::string& path, const Args& a) {
     const PointSetInfo info = probe_point_set(path, point_set_options(a));
     const PointSet& ps = info.set;
-    std::printf("%s: %s point set\n", shown(path).c_str(), info.format.c_str());
-    for (const auto& n : info.notes) std::printf("  %s\n", shown(n).c_str());
+    std::printf("%s: %s point set\n", terminal_safe(path).c_str(), info.format.c_str());
+    for (const auto& n : info.notes) std::printf("  %s\n", terminal_safe(n).c_str());
     std::printf("  points: %zu\n", ps.size());
     std::printf("  blocks: %zu\n", ps.blocks.size());
     const std::size_t listed = std::min<std::size_t>(ps.blocks.size(), 16);
     for (std::size_t b = 0; b < listed; ++b) {
         const auto& blk = ps.blocks[b];
-        std::printf("    %s: %lld x %lld x %lld, %llu points\n", shown(blk.name).c_str(), static_cast<long long>(blk.dims[0]),
+        std::printf("    %s: %lld x %lld x %lld, %llu points\n", terminal_safe(blk.name).c_str(), static_cast<long long>(blk.dims[0]),
                     static_cast<long long>(blk.dims[1]), static_cast<long long>(blk.dims[2]),
                     static_cast<unsigned long long>(blk.count));
     }
     if (listed < ps.blocks.size()) std::printf("    ... (%zu more)\n", ps.blocks.size() - listed);
     if (ps.has_values) {
         const auto r = ps.value_range();
-        std::printf("  value: %s, range %.9g .. %.9g\n", ps.value_name.empty() ? "(unnamed)" : shown(ps.value_name).c_str(), r[0], r[1]);
+        std::printf("  value: %s, range %.9g .. %.9g\n", ps.value_name.empty() ? "(unnamed)" : terminal_safe(ps.value_name).c_str(), r[0], r[1]);
     } else {
         std::printf("  value: none (positions only)\n");
     }
@@ -315,7 +312,7 @@ void info_point_set(const std::string& path, const Args& a) {
 void info_multiblock(const std::string& path, const Args& a) {
     MultiblockDetails det;
     const Multiblock mb = read_multiblock({path}, point_set_options(a), det);
-    std::printf("%s: %s\n", shown(path).c_str(), shown(det.description).c_str());
+    std::printf("%s: %s\n", terminal_safe(path).c_str(), terminal_safe(det.description).c_str());
     for (const auto& n : mb.notes) std::printf("  note: %s\n", ply_escape(n, 400).c_str());
     if (det.origin) std::printf("  origin: %g %g %g\n", (*det.origin)[0], (*det.origin)[1], (*det.origin)[2]);
     for (const auto& l : det.levels) {

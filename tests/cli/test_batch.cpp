@@ -304,3 +304,16 @@ TEST_CASE("batch usage errors", "[batch]") {
     CHECK(r.code == 0);
     CHECK_THAT(r.out, Catch::Contains("ARCHIVE_DIR|MANIFEST"));
 }
+
+TEST_CASE("batch and demo say why they cannot make their output folder", "[batch]") {
+    TempDir d("batch-outdir");
+    spit(d / "taken", "a file");
+    std::filesystem::create_directories(d / "arch");
+    for (const std::string& cmd : {"MESHLESS batch " + (d / "arch").string() + " --iso 1 -o " + (d / "taken").string(),
+                                  "MESHLESS demo -o " + (d / "taken").string()}) {
+        INFO(cmd);
+        const auto r = sh(cmd, d);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.err, Catch::Contains((d / "taken").string() + ": cannot create output folder: a file of that name exists"));
+    }
+}
