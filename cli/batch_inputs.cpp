@@ -1,4 +1,5 @@
 #include "cli/batch_inputs.hpp"
+#include "formats/binary_file.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -129,6 +130,7 @@ std::vector<BatchItem> list_archive_dir(const std::string& dir, bool recursive, 
 }
 
 std::vector<BatchItem> read_manifest(const std::string& manifest) {
+    require_regular_file(manifest);
     std::ifstream in(manifest);
     if (!in) throw IoError(manifest + ": cannot open manifest (" + std::strerror(errno) + ")");
     const fs::path base = fs::path(manifest).parent_path();

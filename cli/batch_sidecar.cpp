@@ -1,9 +1,11 @@
 #include "cli/batch_sidecar.hpp"
+#include "formats/binary_file.hpp"
 
 #include <sys/stat.h>
 #include <zlib.h>
 
 #include <cerrno>
+#include <filesystem>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -33,7 +35,7 @@ std::uint32_t crc32_files(const std::vector<FileStat>& files) {
     std::vector<unsigned char> buf(1 << 20);
     for (const auto& f : files) {
         struct ::stat st {};
-        if (::stat(f.path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) continue;
+        if (::stat(f.path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) continue;  // a directory; a FIFO would block
         std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(f.path.c_str(), "rb"), &std::fclose);
         if (!in) throw IoError(f.path + ": cannot open (" + std::strerror(errno) + ")");
         std::size_t n;
@@ -46,6 +48,8 @@ std::uint32_t crc32_files(const std::vector<FileStat>& files) {
 std::string sidecar_path(const std::string& output) { return output + ".meta"; }
 
 std::optional<Sidecar> read_sidecar(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;  // none, or not one we wrote
     std::ifstream in(path);
     if (!in) return std::nullopt;
     Sidecar s;

@@ -122,12 +122,15 @@ int cmd_verify(int argc, char** argv) {
            "CRC-32, decompressed size and value range. Prints \"ok: N bricks\", or names the first bad\n"
            "brick by index and voxel range and exits with status 2.");
     add_quiet_option(a);
+    a.option("memory", "", "BYTES", "the most one decompressed brick may take, e.g. 256M, 2G (a store with bigger bricks is not read)",
+             "256M")
+        .validate([](const std::string& v) { (void)parse_memory_size(v); });
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().empty()) throw UsageError("missing brick store argument (see meshless verify --help)");
     int rc = 0;
     for (const std::string& path : a.positional()) {
         ProgressMeter meter = ProgressMeter::of(a, "bricks", 1);
-        const VerifyReport r = verify_brick_store(path, [&](std::uint64_t done, std::uint64_t total) {
+        const VerifyReport r = verify_brick_store(path, parse_memory_size(a.get_or("memory", "256M")), [&](std::uint64_t done, std::uint64_t total) {
             if (done == 1) meter.set_total(static_cast<double>(total));
             meter.add(1);
         });

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "formats/binary_file.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/field_cli.hpp"
@@ -59,6 +60,7 @@ std::vector<Vec3> read_positions(const std::string& path) {
     if (path != "-" && std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a file of positions");
     std::ifstream file;
     if (path != "-") {
+        require_regular_file(path);
         file.open(path);
         if (!file) throw IoError(path + ": cannot open");
     }

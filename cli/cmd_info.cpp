@@ -19,6 +19,7 @@
 #include "formats/cluster_tree_file.hpp"
 #include "formats/field_file.hpp"
 #include "formats/ply.hpp"
+#include "formats/ply_mesh.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/point_stream.hpp"
 #include "formats/volume_reader.hpp"
@@ -131,6 +132,8 @@ void info_ply(const std::string& path) {
         summary += "  " + std::to_string(e.count) + " " + (e.name == "face" ? std::string("faces") : ply_escape(e.name) + " elements") + "\n";
     }
     r.finish();
+    // a mesh: its faces checked as splat reads them (indices integral and within the vertices)
+    if (h.find("face") >= 0) (void)read_ply_mesh(path);
     std::string text = format_ply_header(h, false);
     text = text.substr(4, text.size() - 4 - std::string("end_header\n").size());  // between "ply" and end_header
     std::string indented;

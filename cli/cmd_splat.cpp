@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "formats/binary_file.hpp"
 #include "cli/common.hpp"
 #include "cli/render_output.hpp"
 #include "formats/ply.hpp"
@@ -142,6 +143,7 @@ int cmd_splat(int argc, char** argv) {
     if (a.has("turntable") && (frames < 1 || frames > 3600)) throw UsageError("--turntable: expected 1..3600 frames");
     if (frames > 0 && png == "-") throw UsageError("--turntable writes one file per frame: give -o NAME.png, not '-'");
     const std::string input = a.positional().empty() ? "-" : a.positional()[0];
+    if (input != "-") require_regular_file(input);  // a FIFO would block the open: pipes come as -
 
     const int nthreads = threads(a);
     const bool is_ply = input.size() > 4 && input.substr(input.size() - 4) == ".ply";

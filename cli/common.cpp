@@ -1,4 +1,5 @@
 #include "cli/common.hpp"
+#include "formats/binary_file.hpp"
 #include "cli/stdin_spool.hpp"
 
 #include <unistd.h>
@@ -527,7 +528,8 @@ std::optional<Vec3> parse_triple_meta(const StreamMeta& m, const std::string& ke
     if (!s) return std::nullopt;
     double v[3];
     if (std::sscanf(s->c_str(), "%lf,%lf,%lf", &v[0], &v[1], &v[2]) != 3)
-        throw FormatError("stream metadata: '" + key + "' is not three numbers: " + *s);
+        throw FormatError((m.source.empty() ? "" : m.source + ": ") + "stream metadata: '" + key + "' is not three numbers: " +
+                          escape_field(*s));
     return Vec3{v[0], v[1], v[2]};
 }
 }  // namespace
@@ -633,7 +635,7 @@ Projection parse_projection(const std::string& s) {
 
 double stream_iso(const Args& a, const StreamMeta& m) {
     const auto given = a.get("iso");
-    const auto recorded = m.get_double("iso");
+    const auto recorded = m.get_finite("iso");
     if (!given) {
         if (!recorded) throw UsageError("the stream records no isovalue; give --iso V");
         return *recorded;
@@ -749,6 +751,7 @@ InputFile::InputFile(const std::string& path) : name(path) {
     }
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a file");
+    require_regular_file(path);
     f = std::fopen(path.c_str(), "rb");
     if (!f) throw IoError(path + ": cannot open (" + std::strerror(errno) + ")");
 }

@@ -202,7 +202,11 @@ BuiltField build_field(const Args& a, const PointSet& points, const std::string&
         FieldBuildStats st;
         // the commands that show progress (they declare --quiet) show the local fits too
         ProgressMeter meter = ProgressMeter::of(a, "local fits", 1);  // the total comes with the first report
-        f.field = make_field(points, params, &st, a.declared("quiet") ? field_progress(meter) : FieldProgress(), share);
+        try {
+            f.field = make_field(points, params, &st, a.declared("quiet") ? field_progress(meter) : FieldProgress(), share);
+        } catch (const FormatError& e) {  // the data's fault: name the input (the field names only itself)
+            throw FormatError(joined_names(a.positional()) + ": " + e.what());
+        }
         meter.done();
         // under MPI every rank builds the same field (the fits gathered): rank 0 reports it
         if (a.has("stats") && (!share || share->rank == 0)) print_field_build_stats(a, params, points, st);

@@ -87,17 +87,10 @@ void print_newton_stats(const char* cmd, const std::string& field, const FieldPr
 
 
 void widen_frame_for_travel(StreamMeta& m, double max_travel) {
-    const auto travel = m.get("frame_travel"), diagonal = m.get("frame_cell_diagonal");
+    const auto travel = m.get_finite("frame_travel"), diagonal = m.get_finite("frame_cell_diagonal");
     const auto box = meta_bounds(m);
     if (!travel || !diagonal || !box || !std::isfinite(max_travel)) return;
-    auto number = [](const std::string& key, const std::string& v) {  // the stream's data, not an option
-        char* end = nullptr;
-        const double x = std::strtod(v.c_str(), &end);
-        if (v.empty() || *end != '\0' || !std::isfinite(x))
-            throw FormatError("stream metadata: '" + key + "' is not a finite number: " + escape_field(v));
-        return x;
-    };
-    const double t = number("frame_travel", *travel), g = number("frame_cell_diagonal", *diagonal);
+    const double t = *travel, g = *diagonal;
     if (!(max_travel > t) || !(g > 0)) return;
     const double pad = (max_travel - t) * g * (1 + 1e-6);
     m.set("bounds_lo", triple((*box)[0] - Vec3{pad, pad, pad}));

@@ -22,19 +22,30 @@ struct FileCloser {
 using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
 
 FilePtr open_regular(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec))
-        throw IoError(path + ": is a directory, expected a file");
+    require_regular_file(path);
     FilePtr f(std::fopen(path.c_str(), "rb"));
     if (!f) throw IoError(path + ": cannot open: " + std::strerror(errno));
     return f;
 }
 }  // namespace
 
+namespace {
+std::string not_regular_file(const std::string& path, unsigned mode) {
+    if (S_ISFIFO(mode)) return path + ": not a regular file (a FIFO; to read from a pipe, give - for standard input)";
+    return path + ": not a regular file (" + (S_ISSOCK(mode) ? "a socket" : "a device") + ")";
+}
+}  // namespace
+
+void require_regular_file(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return;
+    if (S_ISDIR(st.st_mode)) throw IoError(path + ": is a directory, expected a file");
+    throw IoError(not_regular_file(path, st.st_mode));
+}
+
 std::uint64_t regular_file_size(const std::string& path) {
+    require_regular_file(path);
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec))
-        throw IoError(path + ": is a directory, expected a file");
     const auto s = std::filesystem::file_size(path, ec);
     if (ec) throw IoError(path + ": cannot open: " + ec.message());
     return s;
@@ -48,7 +59,7 @@ FileRangeReader::FileRangeReader(const std::string& path) : path_(path) {
     std::string why;
     if (::fstat(fd_, &st) != 0) why = path + ": cannot open: " + std::strerror(errno);
     else if (S_ISDIR(st.st_mode)) why = path + ": is a directory, expected a file";
-    else if (!S_ISREG(st.st_mode)) why = path + ": cannot open: not a regular file";
+    else if (!S_ISREG(st.st_mode)) why = not_regular_file(path, st.st_mode);
     if (!why.empty()) {
         ::close(fd_);
         throw IoError(why);

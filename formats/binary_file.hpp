@@ -13,6 +13,11 @@
 
 namespace meshless {
 
+/// Refuses what is not a regular file before anything opens it (opening a FIFO blocks until a
+/// writer comes): IoError "PATH: not a regular file (a FIFO: give - to read a pipe)" for FIFOs,
+/// sockets and devices, "PATH: is a directory, expected a file" for directories. A path that does
+/// not exist passes (the open that follows names it).
+void require_regular_file(const std::string& path);
 /// Size of a regular file; IoError if missing or a directory.
 std::uint64_t regular_file_size(const std::string& path);
 /// The whole file.

@@ -1,6 +1,7 @@
 #include "formats/cluster_tree_file.hpp"
 
 #include <bit>
+#include <filesystem>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -218,6 +219,8 @@ ClusterTree read_cluster_tree_file(const std::string& path) {
 }
 
 bool is_cluster_tree_file(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the open
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) return false;
     char m[8];

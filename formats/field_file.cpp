@@ -4,6 +4,7 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <bit>
 #include <cerrno>
 #include <cinttypes>
@@ -555,6 +556,8 @@ FieldFile parse_field_file_bytes(std::span<const unsigned char> bytes, const std
 }
 
 bool is_field_file(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the open
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) return false;
     char m[8];

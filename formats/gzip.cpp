@@ -48,6 +48,7 @@ InflateReader::InflateReader(const std::string& path, std::uint64_t offset) : im
     impl_->path = path;
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a file");
+    require_regular_file(path);
     impl_->f = std::fopen(path.c_str(), "rb");
     if (!impl_->f) throw IoError(path + ": cannot open: " + std::strerror(errno));
     if (offset && fseeko(impl_->f, static_cast<off_t>(offset), SEEK_SET) != 0)

@@ -1,4 +1,5 @@
 #include "formats/mapped_file.hpp"
+#include "formats/binary_file.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -32,6 +33,7 @@ struct Fd {
 }  // namespace
 
 SampleBytes map_file_range(const std::string& path, std::uint64_t offset, std::uint64_t count) {
+    require_regular_file(path);
     Fd f;
     f.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (f.fd < 0) throw IoError(path + ": cannot open: " + std::strerror(errno));

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <type_traits>
 #include <limits>
 
 #include "formats/binary_file.hpp"
@@ -61,6 +62,25 @@ void put(std::byte* out, std::size_t i, T v) {
     std::memcpy(out + i * sizeof(T), &v, sizeof(T));
 }
 
+/// Sample i, parsed as v from `token`, stored as T: integers truncated toward zero, refused
+/// (FormatError naming the file, the value and its index) when the truncation is not a T or v is
+/// not a number; floats refused when finite beyond the type's range (converting them is undefined).
+template <class T>
+void put_checked(std::byte* out, std::size_t i, double v, std::string_view token, StoredType t, const std::string& path) {
+    bool ok = true;
+    if constexpr (std::is_integral_v<T>) {
+        constexpr int digits = std::numeric_limits<T>::digits;  // value bits: 2^digits is one past the largest
+        const double hi = std::ldexp(1.0, digits), lo = std::is_signed_v<T> ? -hi - 1.0 : -1.0;
+        ok = v > lo && v < hi;  // NaN fails both
+    } else if constexpr (std::is_same_v<T, float>) {
+        ok = !std::isfinite(v) || std::fabs(v) <= static_cast<double>(std::numeric_limits<float>::max());
+    }
+    if (!ok)
+        throw FormatError(path + ": ascii value '" + ply_escape(token.substr(0, 24)) + "' at value " + std::to_string(i) +
+                          " is outside the range of " + to_string(t));
+    put(out, i, static_cast<T>(v));
+}
+
 }  // namespace
 
 std::vector<std::byte> parse_ascii_samples(std::string_view text, StoredType t, std::size_t count,
@@ -85,17 +105,18 @@ std::vector<std::byte> parse_ascii_samples(std::string_view text, StoredType t, 
                 throw FormatError(path + ": bad ascii value '" + ply_escape(std::string_view(p, std::min<std::size_t>(end - p, 16))) +
                                   "' at value " + std::to_string(i));
         }
+        const std::string_view token(p, static_cast<std::size_t>(r.ptr - p));
         p = r.ptr;
         switch (t) {
-            case StoredType::u8: put(out.data(), i, static_cast<std::uint8_t>(v)); break;
-            case StoredType::i8: put(out.data(), i, static_cast<std::int8_t>(v)); break;
-            case StoredType::u16: put(out.data(), i, static_cast<std::uint16_t>(v)); break;
-            case StoredType::i16: put(out.data(), i, static_cast<std::int16_t>(v)); break;
-            case StoredType::u32: put(out.data(), i, static_cast<std::uint32_t>(v)); break;
-            case StoredType::i32: put(out.data(), i, static_cast<std::int32_t>(v)); break;
-            case StoredType::u64: put(out.data(), i, static_cast<std::uint64_t>(v)); break;
-            case StoredType::i64: put(out.data(), i, static_cast<std::int64_t>(v)); break;
-            case StoredType::f32: put(out.data(), i, static_cast<float>(v)); break;
+            case StoredType::u8: put_checked<std::uint8_t>(out.data(), i, v, token, t, path); break;
+            case StoredType::i8: put_checked<std::int8_t>(out.data(), i, v, token, t, path); break;
+            case StoredType::u16: put_checked<std::uint16_t>(out.data(), i, v, token, t, path); break;
+            case StoredType::i16: put_checked<std::int16_t>(out.data(), i, v, token, t, path); break;
+            case StoredType::u32: put_checked<std::uint32_t>(out.data(), i, v, token, t, path); break;
+            case StoredType::i32: put_checked<std::int32_t>(out.data(), i, v, token, t, path); break;
+            case StoredType::u64: put_checked<std::uint64_t>(out.data(), i, v, token, t, path); break;
+            case StoredType::i64: put_checked<std::int64_t>(out.data(), i, v, token, t, path); break;
+            case StoredType::f32: put_checked<float>(out.data(), i, v, token, t, path); break;
             case StoredType::f64: put(out.data(), i, v); break;
         }
     }
@@ -181,7 +202,8 @@ bool payload_maps(const PayloadPlan& plan) {
            (plan.big_endian != host_is_little_endian() || stored_size(plan.type) == 1);
 }
 
-void prove_payload(const PayloadPlan& plan) {
+namespace {
+void prove_payload_files(const PayloadPlan& plan) {
     const std::vector<std::uint64_t> starts = check_payload_plan(plan);
     if (plan.encoding == PayloadEncoding::raw) return;  // sizes are all a raw payload can get wrong
     const std::uint64_t n = static_cast<std::uint64_t>(plan.grid.voxel_count());
@@ -201,7 +223,7 @@ void prove_payload(const PayloadPlan& plan) {
     }
 }
 
-Volume read_payload(const PayloadPlan& plan, bool map_raw) {
+Volume read_payload_files(const PayloadPlan& plan, bool map_raw) {
     const std::vector<std::uint64_t> starts = check_payload_plan(plan);  // sizes proven before allocating
     const std::string& head = plan.files.front();
     const std::uint64_t n = static_cast<std::uint64_t>(plan.grid.voxel_count());
@@ -253,6 +275,15 @@ Volume read_payload(const PayloadPlan& plan, bool map_raw) {
     Volume v = make_volume(std::move(payload), plan.type, big, plan.grid, head);
     flip_axes(v, plan.flip);
     return v;
+}
+}  // namespace
+
+void prove_payload(const PayloadPlan& plan) {
+    naming_header(plan, [&] { prove_payload_files(plan); });
+}
+
+Volume read_payload(const PayloadPlan& plan, bool map_raw) {
+    return naming_header(plan, [&] { return read_payload_files(plan, map_raw); });
 }
 
 }  // namespace meshless

@@ -8,6 +8,9 @@
 // compression), messages start with the file's path. Thread-safety: reentrant.
 // Dissertation: none (input plumbing for chapter 3).
 #pragma once
+#include <string_view>
+
+#include "kernels/errors.hpp"
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -38,6 +41,27 @@ struct PayloadPlan {
                                                     ///< after reading (kernels/flip_axes.hpp; grid already positive)
     std::optional<AnatomicalFrame> frame;           ///< what the header says about the patient's axes (after flips)
 };
+
+/// fn(), its IoError/FormatError about a data file prefixed with the detached header that names it
+/// ("quarter.nhdr: data file ./quarter.1: ..."), unless the message already begins with the header.
+template <class Fn>
+decltype(auto) naming_header(const PayloadPlan& plan, Fn&& fn) {
+    const auto named = [&](const char* what) {
+        return plan.header + ": data file " + what;
+    };
+    const auto skip = [&](const char* what) {
+        return plan.header.empty() || std::string_view(what).starts_with(plan.header + ":");
+    };
+    try {
+        return fn();
+    } catch (const IoError& e) {
+        if (skip(e.what())) throw;
+        throw IoError(named(e.what()));
+    } catch (const FormatError& e) {
+        if (skip(e.what())) throw;
+        throw FormatError(named(e.what()));
+    }
+}
 
 /// Executes the plan. map_raw: when the samples are one uncompressed file in host byte order and
 /// a native type (uint8, int16, uint16, float32), the Volume maps the file instead of reading it

@@ -1,4 +1,5 @@
 #include "formats/ply_mesh.hpp"
+#include "formats/text_header.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -149,7 +150,7 @@ Mesh read_ply_mesh(const std::string& path) {
             for (std::size_t q = 0; q < l.size(); ++q) {
                 if (!(l[q] >= 0 && l[q] < static_cast<double>(nv)) || l[q] != std::floor(l[q]))
                     throw FormatError(r.where() + "PLY face " + std::to_string(face) + " vertex index " +
-                                      std::to_string(static_cast<long long>(l[q])) + " out of range (" + std::to_string(nv) +
+                                      number_text(l[q]) + " out of range (" + std::to_string(nv) +
                                       " vertices)");
                 const auto idx = static_cast<std::uint32_t>(l[q]);
                 if (q == 0) first = idx;

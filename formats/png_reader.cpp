@@ -1,4 +1,5 @@
 #include "formats/png_reader.hpp"
+#include "formats/binary_file.hpp"
 
 #include <png.h>
 
@@ -52,6 +53,7 @@ Image decode_png(std::span<const unsigned char> bytes, const std::string& name) 
 Image read_png(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a PNG file");
+    require_regular_file(path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw IoError(path + ": cannot open (" + std::strerror(errno) + ")");
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

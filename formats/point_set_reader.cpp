@@ -96,6 +96,25 @@ void check_count(const PointSet& ps, const std::string& path) {
                           ", at least " + std::to_string(kMinPointSetPoints) + " needed");
 }
 
+/// Coordinates spread over more than kMaxExtent units are refused: squared distances (every field
+/// and search sums them) would overflow a double beyond about 1e154.
+constexpr double kMaxExtent = 1e150;
+
+void check_extent(const PointSet& ps, const std::string& path) {
+    if (ps.pos.empty()) return;
+    double lo[3] = {ps.pos.front().x, ps.pos.front().y, ps.pos.front().z}, hi[3] = {lo[0], lo[1], lo[2]};
+    for (const Vec3& p : ps.pos)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+        }
+    for (int a = 0; a < 3; ++a)
+        if (!(hi[a] - lo[a] <= kMaxExtent))
+            throw FormatError(path + ": the points' " + "xyz"[a] + " coordinates span " + number_text(lo[a]) + " .. " +
+                              number_text(hi[a]) + ", more than " + number_text(kMaxExtent) +
+                              " units (squared distances would overflow); an outlier or a unit mix-up?");
+}
+
 PointSet read_one(const std::string& path, const PointSetOptions& o, Fmt f, std::vector<std::string>* notes) {
     if (std::filesystem::is_directory(path) && f != Fmt::volume) throw IoError(path + ": is a directory, expected a file");
     PointSet ps;
@@ -115,6 +134,7 @@ PointSet read_one(const std::string& path, const PointSetOptions& o, Fmt f, std:
         ps.blocks[0].name = std::filesystem::path(path).filename().string();
     if (o.merge_blocks) merge_blocks(ps, path);
     check_count(ps, path);
+    check_extent(ps, path);
     return ps;
 }
 

@@ -5,9 +5,11 @@
 #include <unistd.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <sstream>
 
 #include "formats/crc32.hpp"
@@ -22,6 +24,10 @@ constexpr unsigned char kMagic[8] = {0x89, 'M', 'L', 'S', '\r', '\n', 0x1a, '\n'
 constexpr std::uint32_t kFrameMeta = 1, kFrameData = 2, kFrameEnd = 3;
 constexpr std::uint32_t kFlagZstd = 1, kFlagCells = 2;
 constexpr std::uint32_t kMaxPayload = 1u << 30;
+// Frame payloads up to this size are read (or decompressed) straight into the caller's records;
+// larger claims are first proven by the data (StreamReader::read_proven / decompress_proven). The
+// writers' frames hold at most kMaxBatchRecords records (3 MiB of samples): all below it.
+constexpr std::size_t kProvenBytes = std::size_t{4} << 20;
 
 void put_u32(unsigned char* p, std::uint32_t v) {
     for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
@@ -110,7 +116,17 @@ std::optional<double> StreamMeta::get_double(const std::string& k) const {
     if (!s) return std::nullopt;
     char* end = nullptr;
     const double v = std::strtod(s->c_str(), &end);
-    if (end == s->c_str() || *end != '\0') throw FormatError("stream metadata: '" + k + "' is not a number: " + *s);
+    if (end == s->c_str() || *end != '\0')
+        throw FormatError((source.empty() ? "" : source + ": ") + "stream metadata: '" + escape_field(k) + "' is not a number: " +
+                          escape_field(*s));
+    return v;
+}
+
+std::optional<double> StreamMeta::get_finite(const std::string& k) const {
+    const auto v = get_double(k);
+    if (v && !std::isfinite(*v))
+        throw FormatError((source.empty() ? "" : source + ": ") + "stream metadata: '" + escape_field(k) +
+                          "' is not a finite number: " + escape_field(*get(k)));
     return v;
 }
 
@@ -132,7 +148,7 @@ StreamMeta StreamMeta::parse(const std::string& text, const std::string& name) {
     while (std::getline(in, line)) {
         if (line.empty()) continue;
         auto eq = line.find('=');
-        if (eq == std::string::npos) throw FormatError(name + ": malformed META frame line '" + line + "'");
+        if (eq == std::string::npos) throw FormatError(name + ": malformed META frame line '" + escape_field(line) + "'");
         m.kv[line.substr(0, eq)] = line.substr(eq + 1);
     }
     return m;
@@ -217,6 +233,55 @@ bool StreamReader::read_exact(void* p, std::size_t n) {
     if (std::ferror(f_)) throw IoError(name_ + ": read failed (" + std::strerror(errno) + ")");
     if (got == 0) return false;
     throw FormatError(name_ + ": truncated stream (EOF inside a frame after " + std::to_string(total_) + " records)");
+}
+
+void StreamReader::read_proven(std::vector<char>& buf, std::size_t bytes) {
+    buf.clear();
+    std::size_t have = 0;
+    while (have < bytes) {
+        const std::size_t want = std::min(bytes, std::max(kProvenBytes, 2 * have));
+        buf.resize(want);
+        const std::size_t got = std::fread(buf.data() + have, 1, want - have, f_);
+        if (got != want - have) {
+            if (std::ferror(f_)) throw IoError(name_ + ": read failed (" + std::strerror(errno) + ")");
+            throw FormatError(name_ + ": truncated stream (EOF inside a frame after " + std::to_string(total_) + " records)");
+        }
+        have = want;
+    }
+}
+
+void StreamReader::decompress_proven(const std::vector<char>& in, std::size_t raw, std::vector<char>& buf) {
+    const auto corrupt = [&] {
+        return FormatError(name_ + ": corrupt compressed frame after " + std::to_string(total_) + " records");
+    };
+    const std::unique_ptr<ZSTD_DCtx, std::size_t (*)(ZSTD_DCtx*)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+    if (!ctx) throw std::bad_alloc();
+    ZSTD_inBuffer src{in.data(), in.size(), 0};
+    buf.clear();
+    std::size_t have = 0;
+    for (;;) {
+        if (have == buf.size()) {
+            if (have == raw) {
+                // full: the frame must end here, without another byte to give
+                char extra;
+                ZSTD_outBuffer one{&extra, 1, 0};
+                const std::size_t r = ZSTD_decompressStream(ctx.get(), &one, &src);
+                if (ZSTD_isError(r) || one.pos != 0 || r != 0 || src.pos != src.size) throw corrupt();
+                return;
+            }
+            buf.resize(std::min(raw, std::max(kProvenBytes, 2 * have)));
+        }
+        ZSTD_outBuffer dst{buf.data(), buf.size(), have};
+        const std::size_t r = ZSTD_decompressStream(ctx.get(), &dst, &src);
+        if (ZSTD_isError(r)) throw corrupt();
+        const bool progressed = dst.pos != have;
+        have = dst.pos;
+        if (r == 0 || (!progressed && src.pos == src.size)) {
+            if (r != 0 || have != raw || src.pos != src.size) throw corrupt();  // ended early, or bytes after the frame
+            buf.resize(have);
+            return;
+        }
+    }
 }
 
 StreamReader::StreamReader(std::FILE* f, std::string name) : f_(f), name_(std::move(name)) {
@@ -307,15 +372,26 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
             if (count > kMaxPayload / rsize) throw FormatError(name_ + ": corrupt frame header (" + std::to_string(count) + " records)");
             if (bytes != count * rsize)
                 throw FormatError(name_ + ": DATA frame of " + std::to_string(count) + " records has " + std::to_string(bytes) + " bytes");
-            void* dst = room(count);
-            if (bytes && !read_exact(dst, bytes)) throw truncated();
-            if (crc_of(dst, bytes) != crc) throw bad_crc();
+            if (bytes > kProvenBytes) {  // a large claim: proven by the data before the records take it
+                read_proven(staged_, bytes);
+                if (crc_of(staged_.data(), bytes) != crc) throw bad_crc();
+                std::memcpy(room(count), staged_.data(), bytes);
+                staged_ = {};
+            } else {
+                void* dst = room(count);
+                if (bytes && !read_exact(dst, bytes)) throw truncated();
+                if (crc_of(dst, bytes) != crc) throw bad_crc();
+            }
             total_ += count;
             data_bytes_ += bytes;
             return count;
         }
-        stored_.resize(bytes);
-        if (bytes && !read_exact(stored_.data(), bytes)) throw truncated();
+        if (bytes > kProvenBytes) {
+            read_proven(stored_, bytes);
+        } else {
+            stored_.resize(bytes);
+            if (bytes && !read_exact(stored_.data(), bytes)) throw truncated();
+        }
         if (crc_of(stored_.data(), bytes) != crc) throw bad_crc();
         if (type == kFrameEnd) {
             if (count != total_)
@@ -330,6 +406,7 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
         if (type == kFrameMeta) {
             const StreamMeta m = StreamMeta::parse(std::string(stored_.begin(), stored_.end()), name_);
             for (const auto& [k, v] : m.kv) meta_.kv[k] = v;
+            meta_.source = name_;
             continue;
         }
         if (type != kFrameData) continue;  // unknown frame type: skip
@@ -349,9 +426,15 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
             return count;
         }
         const std::size_t raw = count * rsize;
-        void* dst = room(count);
-        const std::size_t n = ZSTD_decompress(dst, raw, stored_.data(), bytes);
-        if (ZSTD_isError(n) || n != raw) throw FormatError(name_ + ": corrupt compressed frame after " + std::to_string(total_) + " records");
+        if (raw > kProvenBytes) {  // a large claim: decompressed (proven) before the records take it
+            decompress_proven(stored_, raw, staged_);
+            std::memcpy(room(count), staged_.data(), raw);
+            staged_ = {};
+        } else {
+            void* dst = room(count);
+            const std::size_t n = ZSTD_decompress(dst, raw, stored_.data(), bytes);
+            if (ZSTD_isError(n) || n != raw) throw FormatError(name_ + ": corrupt compressed frame after " + std::to_string(total_) + " records");
+        }
         total_ += count;
         data_bytes_ += bytes;
         return count;

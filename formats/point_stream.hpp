@@ -44,13 +44,18 @@ inline constexpr std::size_t kPointBlockRecordSize = sizeof(PointRecord) + sizeo
 /// Stream metadata: iso value, grid, bounds, producer command line ... (sorted keys).
 struct StreamMeta {
     std::map<std::string, std::string> kv;
+    /// The stream the values were read from (for messages; empty for metadata made in memory).
+    std::string source;
     /// Stores v with its line feeds (a file name's) written as \x0a, so that every value is one
     /// line here, in a stream's META frame and in an output's header alike.
     void set(const std::string& k, const std::string& v);
     void set(const std::string& k, double v);
     std::optional<std::string> get(const std::string& k) const;
-    /// The value parsed as a double; nullopt when absent; FormatError when present but not a number.
+    /// The value parsed as a double; nullopt when absent; FormatError ("SOURCE: stream metadata:
+    /// 'k' is not a number: ...") when present but not a number.
     std::optional<double> get_double(const std::string& k) const;
+    /// The same, also refusing NaN and infinities.
+    std::optional<double> get_finite(const std::string& k) const;
     std::string serialize() const;
     static StreamMeta parse(const std::string& text, const std::string& name);
 };
@@ -122,6 +127,12 @@ public:
 
 private:
     bool read_exact(void* p, std::size_t n);  // false on clean EOF at start
+    /// Reads a frame's `bytes` payload bytes into buf, which grows only as they arrive (doubling
+    /// from kProvenBytes): a header's claim takes no memory before the data proves it.
+    void read_proven(std::vector<char>& buf, std::size_t bytes);
+    /// Decompresses a zstd payload that claims `raw` bytes into buf, which grows only as the
+    /// decompressed bytes arrive; FormatError unless it gives exactly `raw`.
+    void decompress_proven(const std::vector<char>& in, std::size_t raw, std::vector<char>& buf);
     std::FILE* f_;
     std::string name_;
     RecordKind kind_;
@@ -136,6 +147,7 @@ private:
     std::uint64_t pending_count_ = 0;
     std::vector<char> pending_buf_;
     std::vector<char> stored_;
+    std::vector<char> staged_;  // a large frame's records, proven before the caller's room takes them
     SampleCellDecoder cells_;
 };
 

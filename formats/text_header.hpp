@@ -19,6 +19,9 @@ std::string escape_field(std::string_view s, std::size_t max = 64);
 /// parsed header formats back to the same text; fuzz_ply checks it) (stream metadata, PLY comments).
 std::string line_breaks_escaped(std::string_view s);
 std::string to_lower(std::string_view s);
+/// A number for a message: the shortest text that reads back as v ("0.1", "1e-09", "1e+300",
+/// "nan", "-inf"), never a 300-digit expansion or a 0.000000 that hides a small value.
+std::string number_text(double v);
 /// Splits on runs of whitespace.
 std::vector<std::string> split_ws(std::string_view s);
 /// Splits text into lines (handles \n and \r\n); keeps empty lines.

@@ -1,4 +1,5 @@
 #include "formats/transfer_function_file.hpp"
+#include "formats/binary_file.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -80,6 +81,7 @@ TransferFunction parse_transfer_function(std::string_view text, const std::strin
 TransferFunction read_transfer_function_file(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a transfer-function file");
+    require_regular_file(path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw IoError(path + ": cannot open (" + std::strerror(errno) + ")");
     // bounded read: 65536 rows of at most 4096 bytes (plus blank/comment lines) is far more than any

@@ -209,19 +209,19 @@ Multiblock read_amr(const std::string& path, const VtkXmlElement& file_tag, cons
                                   std::to_string(b.box[2]) + " " + std::to_string(b.box[3]) + " " + std::to_string(b.box[4]) +
                                   " " + std::to_string(b.box[5]) + "' has " + std::to_string(want));
             if (!(P.spacing[a] > 0))
-                throw FormatError(tag + ": Spacing " + std::to_string(P.spacing[a]) + " along " + "xyz"[a] + " is not positive");
+                throw FormatError(tag + ": Spacing " + number_text(P.spacing[a]) + " along " + "xyz"[a] + " is not positive");
             if (rel_diff(P.spacing[a], h[a]) > 1e-5)
-                throw FormatError(tag + ": Spacing " + std::to_string(P.spacing[a]) + " along " + "xyz"[a] +
-                                  " contradicts the level's spacing " + std::to_string(h[a]));
+                throw FormatError(tag + ": Spacing " + number_text(P.spacing[a]) + " along " + "xyz"[a] +
+                                  " contradicts the level's spacing " + number_text(h[a]));
             lo[a] = P.origin[a] + static_cast<double>(P.extent[2 * a]) * P.spacing[a] - static_cast<double>(b.box[2 * a]) * h[a];
         }
         if (!origin) origin = lo;
         for (int a = 0; a < 3; ++a)
             if (std::fabs(lo[a] - (*origin)[a]) > 1e-3 * h[a])
                 throw FormatError(tag + ": its origin puts amr_box index " + std::to_string(b.box[2 * a]) + " at " +
-                                  std::to_string(P.origin[a] + static_cast<double>(P.extent[2 * a]) * P.spacing[a]) + " along " +
+                                  number_text(P.origin[a] + static_cast<double>(P.extent[2 * a]) * P.spacing[a]) + " along " +
                                   "xyz"[a] + ", the hierarchy puts it at " +
-                                  std::to_string((*origin)[a] + static_cast<double>(b.box[2 * a]) * h[a]));
+                                  number_text((*origin)[a] + static_cast<double>(b.box[2 * a]) * h[a]));
         if (details && details->arrays.empty()) {
             details->arrays = f.arrays;
             details->cell = f.cell;

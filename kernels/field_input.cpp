@@ -19,7 +19,7 @@ MergedPoints prepare_field_points(const PointSet& points, const FieldParams& par
     if (points.pos.size() != points.value.size())
         throw FormatError(w + ": point set has " + std::to_string(points.pos.size()) + " positions but " +
                           std::to_string(points.value.size()) + " values");
-    if (points.pos.empty()) throw InvalidArgument(w + ": the point set is empty");
+    if (points.pos.empty()) throw FormatError(w + ": the point set is empty");
     if (points.pos.size() > 0xFFFFFFF0ull)
         throw InvalidArgument(w + ": " + std::to_string(points.pos.size()) + " points, at most 4294967280 supported");
     for (std::size_t i = 0; i < points.pos.size(); ++i) {
@@ -33,7 +33,7 @@ MergedPoints prepare_field_points(const PointSet& points, const FieldParams& par
     const double tol = params.merge_rel * mean_point_spacing(points.pos);
     MergedPoints m = merge_near_duplicates(points.pos, points.value, tol);
     if (m.pos.size() < 4)
-        throw InvalidArgument(w + ": " + std::to_string(m.pos.size()) + " distinct points (of " +
+        throw FormatError(w + ": " + std::to_string(m.pos.size()) + " distinct points (of " +
                               std::to_string(points.pos.size()) + " after merging near-duplicates), at least 4 are needed");
     if (params.normalise_axes && m.pos.size() > 1) {
         const auto [lo, hi] = bounding_box(m.pos);

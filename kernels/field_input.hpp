@@ -2,7 +2,8 @@
 // (at least one point, finite coordinates and values, matching sizes), merges near-duplicates
 // within params.merge_rel x mean spacing, scales the axes when params.normalise_axes (the factors
 // are returned in MergedPoints::scale: frame position = (world - origin) * scale), and fills the common FieldBuildStats entries.
-// Throws FormatError naming the first offending point, InvalidArgument for bad parameters.
+// Throws FormatError naming the first offending point, or when the set is empty or has fewer than 4
+// distinct points after merging near-duplicates (the data's fault); InvalidArgument for bad parameters.
 // Thread-safety: pure function.
 #pragma once
 #include <string_view>

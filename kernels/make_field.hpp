@@ -3,7 +3,7 @@
 //   mpu        kernels/mpu_field.hpp        (section 5.5)
 //   global-rbf kernels/global_rbf_field.hpp (section 2.1.1; at most params.global_max_points points)
 // The returned field does not reference `points` (it keeps its own merged copy).
-// Preconditions: at least 4 points (fewer: InvalidArgument "…N points, at least 4 are needed").
+// Preconditions: at least 4 distinct points (fewer: FormatError "…N distinct points …, at least 4 are needed").
 // Throws FormatError for non-finite coordinates/values or mismatched sizes (naming the point),
 // InvalidArgument for bad parameters or an oversized global-rbf set. stats (optional) receives counts
 // of merged points, local outcomes (regularised, fallbacks, rank-deficient), sizes, memory and the

@@ -1,4 +1,5 @@
 #include "ooc/brick_store.hpp"
+#include "formats/binary_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -155,6 +156,7 @@ std::unique_ptr<BrickStore> BrickStore::open(const std::string& path) {
     s->path_ = path;
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a brick store (.mlb)");
+    require_regular_file(path);
     s->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (s->fd_ < 0) throw IoError(path + ": cannot open (" + std::strerror(errno) + ")");
     struct stat st {};
@@ -317,6 +319,8 @@ void BrickStore::read_brick(std::size_t i, std::vector<std::byte>& out) const {
 }
 
 bool is_brick_store(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the open
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) return false;
     char m[8] = {};

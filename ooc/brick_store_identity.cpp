@@ -1,4 +1,5 @@
 #include "ooc/brick_store_identity.hpp"
+#include "formats/binary_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -13,6 +14,7 @@
 namespace meshless {
 
 BrickStoreIdentity brick_store_identity(const std::string& path) {
+    require_regular_file(path);
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) throw IoError(path + ": cannot open (" + std::strerror(errno) + ")");
     struct Closer {

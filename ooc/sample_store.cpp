@@ -1,4 +1,5 @@
 #include "ooc/sample_store.hpp"
+#include "formats/binary_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -42,6 +43,7 @@ SampleStore::~SampleStore() {
 std::unique_ptr<SampleStore> SampleStore::open(const std::string& path) {
     std::unique_ptr<SampleStore> s(new SampleStore());
     s->path_ = path;
+    require_regular_file(path);
     s->fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (s->fd_ < 0) throw IoError(path + ": cannot open (" + std::strerror(errno) + ")");
     struct stat sb {};
@@ -223,6 +225,8 @@ bool SampleQuery::next(std::vector<SampleRecord>& result, std::size_t max) {
 }
 
 bool is_sample_store(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the open
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) return false;
     char m[8] = {};

@@ -82,8 +82,11 @@ public:
     }
 
 private:
-    // Bytes [begin, begin+n) of the concatenated (decoded) payload.
+    // Bytes [begin, begin+n) of the concatenated (decoded) payload; errors name the header too.
     void fetch(std::uint64_t begin, std::uint64_t n, std::byte* dst) {
+        naming_header(plan_, [&] { fetch_files(begin, n, dst); });
+    }
+    void fetch_files(std::uint64_t begin, std::uint64_t n, std::byte* dst) {
         while (n > 0) {
             const std::size_t f = static_cast<std::size_t>(begin / share_);
             const std::uint64_t in_file = begin % share_;

@@ -40,7 +40,7 @@ std::array<double, 2> finite_range(const VolumeView& v) {
 
 }  // namespace
 
-VerifyReport verify_brick_store(const std::string& path,
+VerifyReport verify_brick_store(const std::string& path, std::uint64_t budget_bytes,
                                 const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
     VerifyReport rep;
     std::unique_ptr<BrickStore> store;
@@ -52,6 +52,12 @@ VerifyReport verify_brick_store(const std::string& path,
     }
     const auto& bricks = store->bricks();
     const auto& info = store->info();
+    if (store->max_brick_bytes() > budget_bytes) {
+        rep.message = path + ": its bricks take up to " + std::to_string(store->max_brick_bytes()) +
+                      " bytes decompressed, more than the memory budget of " + std::to_string(budget_bytes) +
+                      " bytes (--memory); not checked";
+        return rep;
+    }
     std::vector<std::byte> buf;
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (std::size_t i = 0; i < bricks.size(); ++i) {

@@ -18,7 +18,10 @@ struct VerifyReport {
 };
 
 /// `progress`, when given, is called after each brick with (bricks checked, bricks in the store).
-VerifyReport verify_brick_store(const std::string& path,
+/// budget_bytes: the most one decompressed brick may take (meshless verify --memory, as the brick
+/// cache of the other commands): a store whose index gives bigger bricks is not read (the report
+/// says so; a 33 KB file of compressible 1025^3 bricks would otherwise take 1 GB).
+VerifyReport verify_brick_store(const std::string& path, std::uint64_t budget_bytes,
                                 const std::function<void(std::uint64_t, std::uint64_t)>& progress = {});
 
 }  // namespace meshless

@@ -1,4 +1,5 @@
 #include "stream/point_spool.hpp"
+#include "formats/binary_file.hpp"
 
 #include "formats/ply_points.hpp"
 #include "formats/temporary_files.hpp"
@@ -40,6 +41,7 @@ PointSpool::PointSpool(InPlace, const std::string& ply_path, int threads)
     const std::optional<std::uint64_t> at = r.records_offset();
     if (!at) throw FormatError(ply_path + ": not a binary PLY of meshless points (x y z nx ny nz radius value, float): cannot be read in place");
     base_ = *at;
+    require_regular_file(ply_path);
     f_ = std::fopen(ply_path.c_str(), "rbe");  // e: close-on-exec, as the readers open files
     if (!f_) throw IoError(ply_path + ": cannot open: " + std::strerror(errno));
     try {

@@ -5,7 +5,9 @@
 // leave no output file (nor a temporary) behind, and stay within a bounded resident set.
 // No file is copied from shared data: every byte is written here.
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <zlib.h>
+#include <zstd.h>
 
 #include <catch2/catch.hpp>
 #include <cstring>
@@ -14,6 +16,7 @@
 #include <vector>
 
 #include "cli/cli_harness.hpp"
+#include "formats/crc32.hpp"
 
 namespace fs = std::filesystem;
 using namespace meshless::test;
@@ -381,4 +384,128 @@ TEST_CASE("info proves well-formed payloads of every encoding, and the shared vo
     const RunResult r = sh("MESHLESS info " + (d.path / "short_gz.nrrd").string(), d);
     CHECK(r.code == 2);
     CHECK(r.err.find("short_gz.nrrd") != std::string::npos);
+}
+
+namespace {
+// A meshless stream header (formats/point_stream.hpp): magic, version 1, kind, record size, flags 0.
+std::string stream_header(std::uint32_t kind, std::uint32_t record_size) {
+    std::string h("\x89MLS\r\n\x1a\n", 8);
+    h += u32le(1) + u32le(kind) + u32le(record_size) + zeros(12);
+    return h;
+}
+// A frame header: type, flags, 8 reserved bytes, record count, payload bytes, CRC-32 of the payload.
+std::string frame(std::uint32_t type, std::uint32_t flags, std::uint64_t count, std::uint32_t bytes, const std::string& payload) {
+    std::string f = u32le(type) + u32le(flags) + zeros(8);
+    f += u32le(static_cast<std::uint32_t>(count)) + u32le(static_cast<std::uint32_t>(count >> 32));
+    f += u32le(bytes) + u32le(meshless::crc32_ieee(0, payload.data(), payload.size()));
+    return f + payload;
+}
+}  // namespace
+
+TEST_CASE("stream frames that claim more than they hold take no memory for the claim", "[cli][hostile]") {
+#ifdef MESHLESS_SANITIZED
+    SKIP("an address-space limit and AddressSanitizer's shadow do not mix");
+#endif
+    TempDir d("hostile_stream");
+    const std::uint32_t kGiB = 1u << 30;
+    // 8 MiB of zeros, compressed: a real zstd payload, its frame claiming 1 GiB of records
+    const std::string plain(std::size_t{8} << 20, '\0');
+    std::string z(ZSTD_compressBound(plain.size()), '\0');
+    z.resize(ZSTD_compress(z.data(), z.size(), plain.data(), plain.size(), 1));
+    const std::vector<std::pair<std::string, std::string>> streams = {
+        {"meta_claim.mlp", stream_header(1, 32) + frame(1, 0, 0, kGiB, "").substr(0, 32)},
+        {"unknown_claim.mlp", stream_header(1, 32) + frame(9, 0, 0, kGiB, "").substr(0, 32) + zeros(100)},
+        {"raw_claim.mlp", stream_header(1, 32) + frame(2, 0, kGiB / 32, kGiB, "").substr(0, 32) + zeros(1000)},
+        {"zstd_claim.mlp", stream_header(1, 32) + frame(2, 1, kGiB / 32, static_cast<std::uint32_t>(z.size()), z)},
+    };
+    for (const auto& [name, bytes] : streams) {
+        spit(d.path / name, bytes);
+        const std::string in = (d.path / name).string(), out = (d.path / "out.ply").string();
+        // an address space of 400 MB: a 1 GiB buffer taken on the header's word fails as "out of memory"
+        for (const std::string cmd : {"ulimit -v 400000; MESHLESS info " + in, "ulimit -v 400000; MESHLESS write -o " + out + " < " + in}) {
+            INFO(cmd);
+            const RunResult r = sh(cmd, d);
+            INFO("stderr: " << r.err);
+            CHECK(r.code == 2);
+            CHECK((r.err.find("truncated") != std::string::npos || r.err.find("corrupt") != std::string::npos));
+            CHECK(r.err.find("out of memory") == std::string::npos);
+            CHECK(!fs::exists(out));
+        }
+    }
+}
+
+TEST_CASE("a FIFO given as an input file is refused at once and not waited on", "[cli][hostile]") {
+    // opening a FIFO for reading blocks until a writer comes: every command, and every file a
+    // header names, must refuse it instead (exit 2, the path named); `timeout` turns a hang into 124
+    TempDir d("hostile_fifo");
+    for (const char* name : {"pipe.nrrd", "pipe.raw", "pipe.ply", "pipe.mlb", "pipe.mls", "pipe.mlf", "pipe.vtp", "pipe.tf"})
+        REQUIRE(::mkfifo((d.path / name).c_str(), 0600) == 0);
+    spit(d.path / "named.nhdr", "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\ndata file: pipe.raw\n\n");
+    const std::string p = d.path.string() + "/";
+    const std::string vol = write_uint8_analytic_volume(d, "sphere", meshless::AnalyticField::sphere, 8, 100, 0);
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"MESHLESS info " + p + "pipe.nrrd", "pipe.nrrd"},
+        {"MESHLESS info " + p + "pipe.mlb", "pipe.mlb"},
+        {"MESHLESS info " + p + "pipe.mlf", "pipe.mlf"},
+        {"MESHLESS isosurface " + p + "pipe.raw --dims 2,2,2 --type uint8 --iso 1 -o " + p + "o.ply", "pipe.raw"},
+        {"MESHLESS isosurface " + p + "named.nhdr --iso 1 -o " + p + "o.ply", "pipe.raw"},
+        {"MESHLESS extract " + p + "pipe.mls --iso 1 -o " + p + "o.ply", "pipe.mls"},
+        {"MESHLESS splat " + p + "pipe.ply -o " + p + "o.png", "pipe.ply"},
+        {"MESHLESS fit " + p + "pipe.vtp -o " + p + "o.mlf", "pipe.vtp"},
+        {"MESHLESS render " + vol + " --tf " + p + "pipe.tf -o " + p + "o.png", "pipe.tf"},
+    };
+    for (const auto& [cmd, named] : cases) {
+        INFO(cmd);
+        const RunResult r = sh("timeout 20 " + cmd, d);
+        INFO("stderr: " << r.err);
+        CHECK(r.code == 2);
+        CHECK(r.err.find(named + ": not a regular file (a FIFO") != std::string::npos);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    }
+}
+
+TEST_CASE("a point set that merges into fewer than 4 points is a data error naming the file", "[cli][hostile]") {
+    // 100 points spread over 1e-298 units: distinct, but near-duplicates at any sensible spacing
+    TempDir d("hostile_merge");
+    std::string csv = "x,y,z,value\n";
+    for (int i = 0; i < 100; ++i)
+        csv += std::to_string(i % 7) + "e-300," + std::to_string(i % 5) + "e-300," + std::to_string(i % 3) + "e-300," +
+               std::to_string(i) + "\n";
+    spit(d.path / "tiny.csv", csv);
+    const std::string in = (d.path / "tiny.csv").string();
+    for (const std::string cmd : {"MESHLESS fit " + in + " -o " + (d.path / "o.mlf").string(), "MESHLESS probe " + in + " --at 0,0,0"}) {
+        INFO(cmd);
+        const RunResult r = sh(cmd, d);
+        INFO("stderr: " << r.err);
+        CHECK(r.code == 2);  // was 1, a usage error, for what is the data's fault
+        CHECK_THAT(r.err, Catch::Contains("tiny.csv: mpu: ") && Catch::Contains("distinct points"));
+    }
+}
+
+TEST_CASE("a stream whose recorded isovalue is not finite is refused by the stages with the stream named", "[cli][hostile]") {
+    TempDir d("hostile_meta");
+    const std::string vol = write_uint8_analytic_volume(d, "sphere", meshless::AnalyticField::sphere, 16, 100, 0);
+    const std::string good = (d.path / "good.mls").string();
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 > " + good, d).code == 0);
+    std::string s = slurp(good);
+    // the META frame (type 1) follows the 32-byte header: its `iso=` line rewritten, its CRC renewed
+    REQUIRE(s.size() > 64);
+    REQUIRE(s[32] == 1);
+    std::uint32_t bytes = 0;
+    std::memcpy(&bytes, s.data() + 32 + 24, 4);
+    std::string meta = s.substr(64, bytes);
+    const std::size_t at = meta.find("\niso=");
+    REQUIRE(at != std::string::npos);
+    for (const std::string bad : {"nan", "inf", "-inf"}) {
+        std::string m = meta;
+        m.replace(at + 5, m.find('\n', at + 1) - (at + 5), bad);
+        std::string t = s.substr(0, 64 + 24 - 32) + u32le(static_cast<std::uint32_t>(m.size())) +
+                        u32le(meshless::crc32_ieee(0, m.data(), m.size())) + m + s.substr(64 + bytes);
+        spit(d.path / "bad.mls", t);
+        const RunResult r = sh("MESHLESS project < " + (d.path / "bad.mls").string() + " | MESHLESS write -o " + (d.path / "o.ply").string(), d);
+        INFO("iso=" << bad << " stderr: " << r.err);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.err, Catch::Contains("-: stream metadata: 'iso' is not a finite number: " + bad));
+        CHECK_FALSE(fs::exists(d.path / "o.ply"));
+    }
 }

@@ -266,3 +266,49 @@ TEST_CASE("bad volumes: missing files and directories", "[formats]") {
     write_file((dir / "nolayout.raw").string(), "", std::vector<std::byte>(64));
     expect_fail((dir / "nolayout.raw").string(), Kind::format, "raw volume without layout");
 }
+
+TEST_CASE("bad volumes: ascii samples outside their type's range are refused and the extremes kept", "[formats]") {
+    // converting such a value (or NaN) to the sample type is undefined behaviour; it used to wrap
+    // silently (300 -> 44 in uint8)
+    const std::vector<std::tuple<const char*, const char*, const char*>> bad = {
+        {"uint8", "300 0 0 0 0 0 0 0", "'300' at value 0"},
+        {"uint8", "0 -1 0 0 0 0 0 0", "'-1' at value 1"},
+        {"uint8", "0 0 nan 0 0 0 0 0", "'nan' at value 2"},
+        {"short", "0 0 0 -32769 0 0 0 0", "'-32769' at value 3"},
+        {"unsigned short", "0 0 0 0 65536 0 0 0", "'65536' at value 4"},
+        {"int", "0 0 0 0 0 2147483648 0 0", "'2147483648' at value 5"},
+        {"float", "0 0 0 0 0 0 1e300 0", "'1e300' at value 6"},
+        {"unsigned long long", "0 0 0 0 0 0 0 18446744073709551616", "'18446744073709551616' at value 7"},
+        {"long long", "0 0 0 0 0 0 0 -1e19", "'-1e19' at value 7"},
+    };
+    for (const auto& [type, values, what] : bad) {
+        TempDir d("ascii_range");
+        const auto p = d.path / "v.nrrd";
+        write_file(p, std::string("NRRD0004\ntype: ") + type + "\ndimension: 3\nsizes: 2 2 2\nencoding: ascii\n\n" + values + "\n", {});
+        INFO(type << ": " << values);
+        CHECK_THROWS_WITH(read_volume(p.string()), Catch::Contains(what) && Catch::Contains("is outside the range of"));
+    }
+    TempDir d("ascii_range_ok");
+    const auto p = d.path / "ok.nrrd";
+    write_file(p, "NRRD0004\ntype: short\ndimension: 3\nsizes: 2 2 2\nencoding: ascii\n\n-32768 32767 -1.9 1.9 0 0 0 0\n", {});
+    const Volume v = read_volume(p.string());
+    REQUIRE(v.type == SampleType::i16);
+    const auto* s = reinterpret_cast<const std::int16_t*>(v.bytes.data());
+    CHECK(s[0] == -32768);
+    CHECK(s[1] == 32767);
+    CHECK(s[2] == -1);  // truncated toward zero, as before
+    CHECK(s[3] == 1);
+}
+
+TEST_CASE("bad volumes: a compressed data file's decoding errors name the header that names it", "[formats]") {
+    TempDir d("header_named");
+    write_file((d.path / "small.bin").string(), "this is no zlib stream at all", {});
+    write_file((d.path / "c.mhd").string(),
+               "NDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\nCompressedData = True\nElementDataFile = small.bin\n", {});
+    write_file((d.path / "g.nhdr").string(), "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: gzip\ndata file: small.bin\n\n", {});
+    for (const char* header : {"c.mhd", "g.nhdr"}) {
+        INFO(header);
+        CHECK_THROWS_WITH(read_volume((d.path / header).string()),
+                          Catch::Contains(std::string(header) + ": data file ") && Catch::Contains("small.bin: "));
+    }
+}

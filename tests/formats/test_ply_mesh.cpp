@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -181,4 +182,26 @@ TEST_CASE("ply mesh: per-face block ids round trip, bad ones are refused", "[mc]
     spit(dir / "q.ply", head + "element face 1\nproperty list uchar int vertex_indices\nproperty list uchar int block\nend_header\n" + verts +
                             "4 0 1 2 3 1 7\n");
     CHECK_THROWS_AS(read_ply_mesh((dir / "q.ply").string()), FormatError);
+}
+
+TEST_CASE("ply mesh: face indices that are no vertex index are refused with the value shown", "[mc]") {
+    // float index lists: NaN, huge, negative and fractional values are each a FormatError that quotes
+    // the value (the message used to convert it to an integer first: undefined for NaN and 1e30)
+    meshless::test::TempDir dir("ply_mesh_bad_index");
+    const std::string head =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar float vertex_indices\nend_header\n";
+    const float verts[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    for (const auto& [v, shown] : std::vector<std::pair<float, std::string>>{
+             {std::numeric_limits<float>::quiet_NaN(), "index nan out"}, {1e30f, "index 1.0000000150474662e+30 out"},
+             {-5.0f, "index -5 out"}, {1.5f, "index 1.5 out"}, {3.0f, "index 3 out"}}) {
+        std::string body(reinterpret_cast<const char*>(verts), sizeof verts);
+        body += '\x03';
+        const float idx[3] = {0, 1, v};
+        body.append(reinterpret_cast<const char*>(idx), sizeof idx);
+        const auto path = (dir.path / "bad.ply").string();
+        spit(path, head + body);
+        INFO(shown);
+        CHECK_THROWS_WITH(read_ply_mesh(path), Catch::Contains(shown) && Catch::Contains("(3 vertices)"));
+    }
 }

@@ -196,6 +196,11 @@ TEST_CASE("text: bad input gives one-line errors naming the file", "[scatter]") 
     CHECK_THAT(err("picture.png", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16)),
                Catch::Contains("a PNG image, not a volume or point set"));
     CHECK_THAT(err("blob.dat2", std::string("\x01\x02\0\0\x7f", 5)), Catch::Contains("binary data of no known format"));
+    // an outlier beyond 1e150 units: squared distances would overflow (fields merged every point into one)
+    CHECK_THAT(err("outlier.csv", "x,y,z,v\n0,0,0,1\n1,0,0,1\n0,1,0,1\n0,0,1,1\n0,0,1e300,2\n"),
+               Catch::Contains("z coordinates span 0 .. 1e+300, more than 1e+150 units"));
+    spit(P(d, "far.csv"), "x,y,z,v\n0,0,0,1\n1e149,0,0,1\n0,1,0,1\n0,0,1,1\n");  // the bound itself is not refused
+    CHECK(read_point_set(P(d, "far.csv")).size() == 4);
 }
 
 TEST_CASE("text: NaN/Inf samples are dropped and counted, or refused with the line in strict mode", "[scatter]") {
@@ -921,4 +926,12 @@ TEST_CASE("a header naming some coordinates but not all is refused", "[scatter]"
         f << "x,y,value\n0,0,1\n1,0,2\n0,1,3\n1,1,4\n2,2,2\n";
     }
     CHECK_THROWS_WITH(meshless::read_point_set((d / "a.csv").string()), Catch::Contains("missing column z"));
+}
+
+TEST_CASE("plot3d meta: errors in the files a .p3d names name the .p3d too", "[scatter]") {
+    TempDir d("p3d-named");
+    spit(P(d, "m1.p3d"), "{\"filenames\":[{\"xyz\":\"missing.xyz\"}]}");
+    const std::string e = error_of([&] { read_point_set(P(d, "m1.p3d")); });
+    CHECK(e.rfind(P(d, "m1.p3d") + ": ", 0) == 0);
+    CHECK_THAT(e, Catch::Contains("missing.xyz: cannot open"));
 }

@@ -317,3 +317,30 @@ TEST_CASE("a pipe whose reader has gone is a BrokenPipe, not an I/O error", "[st
     std::fclose(f);
     std::signal(SIGPIPE, old);
 }
+
+TEST_CASE("frames larger than the proven-read threshold decode, raw and zstd, and a zstd claim beyond its payload is refused", "[stream-codec]") {
+    // 300,000 points = 9.6 MB per frame: read (or decompressed) through the staged, data-proven path
+    const std::vector<PointRecord> big = some_points(300000, 3);
+    for (bool compress : {false, true}) {
+        INFO("zstd " << compress);
+        const Decoded d = decode(encode({big, some_points(5, 4)}, compress));
+        REQUIRE(d.batches.size() == 2);
+        CHECK(same(d.batches[0], big));
+        CHECK(same(d.batches[1], some_points(5, 4)));
+    }
+    // the zstd frame claims more records than its payload decompresses to (the CRC covers the
+    // payload only, so it still matches): refused as corrupt, whichever path the claim takes
+    for (std::uint64_t extra : {std::uint64_t{1}, std::uint64_t{1} << 24}) {
+        std::string s = encode({big}, true);
+        std::size_t at = 32;
+        while (s[at] != 2) at += 32 + (static_cast<unsigned char>(s[at + 24]) | static_cast<unsigned char>(s[at + 25]) << 8 |
+                                       static_cast<unsigned char>(s[at + 26]) << 16 | std::size_t{static_cast<unsigned char>(s[at + 27])} << 24);
+        std::uint64_t count = 0;
+        std::memcpy(&count, s.data() + at + 16, 8);
+        REQUIRE(count == big.size());
+        count += extra;
+        std::memcpy(s.data() + at + 16, &count, 8);
+        INFO("claimed " << count << " records");
+        CHECK_THROWS_WITH(decode(s), Catch::Contains("corrupt compressed frame"));
+    }
+}

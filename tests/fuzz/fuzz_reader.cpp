@@ -92,7 +92,7 @@ void run(const std::string& path) {
     }
 #elif FUZZ_KIND == 4
     (void)BrickStore::open(path);
-    (void)verify_brick_store(path);
+    (void)verify_brick_store(path, std::uint64_t{256} << 20);
 #elif FUZZ_KIND == 5
     (void)SampleStore::open(path);
 #endif

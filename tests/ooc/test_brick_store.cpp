@@ -79,7 +79,7 @@ TEST_CASE("brick store round trip: every sample type, odd dims, small and tiny v
                 }
                 CHECK(e.raw_bytes == buf.size());
             }
-            CHECK(verify_brick_store(path).ok);
+            CHECK(verify_brick_store(path, std::uint64_t{256} << 20).ok);
         }
 }
 
@@ -187,7 +187,7 @@ TEST_CASE("damaged brick stores are detected by every reader", "[ooc]") {
             CHECK(m.find("brick 3 ") != std::string::npos);
             CHECK(m.find(range) != std::string::npos);
         }
-        const VerifyReport r = verify_brick_store(bad);
+        const VerifyReport r = verify_brick_store(bad, std::uint64_t{256} << 20);
         CHECK_FALSE(r.ok);
         REQUIRE(r.first_bad_brick);
         CHECK(*r.first_bad_brick == victim);
@@ -199,7 +199,7 @@ TEST_CASE("damaged brick stores are detected by every reader", "[ooc]") {
             INFO("kept " << keep << " bytes");
             write_bytes(bad, bytes.substr(0, keep));
             CHECK_THROWS_AS(BrickStore::open(bad), FormatError);
-            CHECK_FALSE(verify_brick_store(bad).ok);
+            CHECK_FALSE(verify_brick_store(bad, std::uint64_t{256} << 20).ok);
         }
         write_bytes(bad, bytes.substr(0, bytes.size() - 1));
         CHECK_THROWS_WITH(BrickStore::open(bad), Catch::Contains("truncated"));
@@ -235,7 +235,7 @@ TEST_CASE("damaged brick stores are detected by every reader", "[ooc]") {
         b[index_offset + 64 * 2 + 40] ^= 4;  // vmin of entry 2
         write_bytes(bad, b);
         CHECK_THROWS_WITH(BrickStore::open(bad), Catch::Contains("index checksum"));
-        CHECK_FALSE(verify_brick_store(bad).ok);
+        CHECK_FALSE(verify_brick_store(bad, std::uint64_t{256} << 20).ok);
     }
     SECTION("corrupt footer checksum") {
         std::string b = bytes;
@@ -258,7 +258,7 @@ TEST_CASE("damaged brick stores are detected by every reader", "[ooc]") {
         const std::uint32_t crc = brick_store_crc32(idx.data(), idx.size());
         std::memcpy(b.data() + b.size() - 32 + 16, &crc, 4);
         write_bytes(bad, b);
-        const VerifyReport r = verify_brick_store(bad);
+        const VerifyReport r = verify_brick_store(bad, std::uint64_t{256} << 20);
         CHECK_FALSE(r.ok);
         REQUIRE(r.first_bad_brick);
         CHECK(*r.first_bad_brick == 5);
@@ -282,4 +282,21 @@ TEST_CASE("converter parameters are validated", "[ooc]") {
     p.zstd_level = 1;
     CHECK_THROWS_AS(convert_to_brick_store(*src, (dir / "no-such-dir" / "x.mlb").string(), p), IoError);
     CHECK(dir_entries(dir.path).empty());
+}
+
+TEST_CASE("verify reads no brick bigger than its memory budget", "[ooc]") {
+    // a store of highly compressible bricks is small on disk whatever its bricks take decompressed:
+    // verify, like the brick cache of the other readers, refuses bricks beyond its budget unread
+    TempDir dir("ooc-verify-budget");
+    const Volume v = random_volume({40, 40, 40}, SampleType::f32);
+    const std::string path = (dir / "v.mlb").string();
+    convert_volume(v, path, 32);
+    const auto store = BrickStore::open(path);
+    const std::uint64_t need = store->max_brick_bytes();
+    CHECK(verify_brick_store(path, need).ok);
+    const VerifyReport r = verify_brick_store(path, need - 1);
+    CHECK_FALSE(r.ok);
+    CHECK(r.bricks_checked == 0);
+    CHECK_THAT(r.message, Catch::Contains("v.mlb: its bricks take up to " + std::to_string(need) + " bytes") &&
+                              Catch::Contains("(--memory); not checked"));
 }
