@@ -162,13 +162,13 @@ int cmd_splat(int argc, char** argv) {
     if (is_ply) {
         if (a.has("iso")) throw UsageError("--iso applies to sample streams; " + input + " holds projected points");
         auto ply = std::make_unique<PlySource>(input);
-        bounds = ply_bounds(ply->comments());  // the surface bounds recorded by isosurface/write
+        bounds = ply_picture_bounds(ply->comments());  // the surface bounds recorded by isosurface/write
         source = std::move(ply);
     } else {
         in.emplace(input);
         reader = std::make_unique<StreamReader>(in->f, in->name);
         reader->read_meta();
-        bounds = meta_bounds(reader->meta());
+        bounds = picture_bounds(reader->meta());
         if (reader->kind() == RecordKind::seed)
             throw UsageError(in->name + ": holds unprojected multiblock seeds; project them first: meshless project --field KIND BLOCKS...");
         source = std::make_unique<StreamSource>(*reader);

@@ -608,22 +608,37 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
 std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
     for (const char* k : {"source", "iso", "projection", "field", "samples", "tolerance", "blocks", "grid_dims", "grid_spacing",
-                          "bounds_lo", "bounds_hi", "volume_bounds_lo", "volume_bounds_hi"})
+                          "bounds_lo", "bounds_hi", "frame", "volume_bounds_lo", "volume_bounds_hi"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
 }
 
-std::optional<std::array<Vec3, 2>> ply_bounds(const std::vector<std::string>& comments) {
+namespace {
+StreamMeta comments_meta(const std::vector<std::string>& comments) {
     StreamMeta m;
     for (const auto& c : comments)
         if (auto sp = c.find(' '); sp != std::string::npos) m.set(c.substr(0, sp), c.substr(sp + 1));
-    return meta_bounds(m);
+    return m;
+}
+}  // namespace
+
+std::optional<std::array<Vec3, 2>> ply_bounds(const std::vector<std::string>& comments) {
+    return meta_bounds(comments_meta(comments));
 }
 
 std::optional<std::array<Vec3, 2>> meta_bounds(const StreamMeta& m) {
     auto lo = parse_triple_meta(m, "bounds_lo"), hi = parse_triple_meta(m, "bounds_hi");
     if (!lo || !hi) return std::nullopt;
     return std::array<Vec3, 2>{*lo, *hi};
+}
+
+std::optional<std::array<Vec3, 2>> picture_bounds(const StreamMeta& m) {
+    if (m.get("frame") == std::optional<std::string>("points")) return std::nullopt;
+    return meta_bounds(m);
+}
+
+std::optional<std::array<Vec3, 2>> ply_picture_bounds(const std::vector<std::string>& comments) {
+    return picture_bounds(comments_meta(comments));
 }
 
 Projection parse_projection(const std::string& s) {

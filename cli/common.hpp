@@ -163,6 +163,12 @@ std::vector<std::string> ply_comments(const StreamMeta& m);
 std::optional<std::array<Vec3, 2>> ply_bounds(const std::vector<std::string>& comments);
 /// Bounds recorded in the metadata, if any.
 std::optional<std::array<Vec3, 2>> meta_bounds(const StreamMeta& m);
+/// The frame of a picture of these points: the recorded bounds, or nullopt when there are none or
+/// when the metadata says `frame points` (the scattered-data surface: its recorded bounds only
+/// hold every point, a box four times the surface's width; the picture then frames the points
+/// themselves, spooled first). PLY comments: the same, read from ply_comments' lines.
+std::optional<std::array<Vec3, 2>> picture_bounds(const StreamMeta& m);
+std::optional<std::array<Vec3, 2>> ply_picture_bounds(const std::vector<std::string>& comments);
 
 /// The isovalue for a stage reading a stream: --iso if given (with a warning when it differs from
 /// the stream's, whose active cells were chosen for that value), else the stream's; UsageError

@@ -14,6 +14,7 @@
 #include "stream/cell_row_source.hpp"
 #include "stream/generate_project_stage.hpp"
 #include "stream/point_file_sink.hpp"
+#include "stream/point_spool.hpp"
 #include "stream/runner.hpp"
 #include "stream/slab_source.hpp"
 #include "stream/splat_sink.hpp"
@@ -80,6 +81,24 @@ private:
     Sink* to_;
 };
 
+/// The picture's point spool as a sink: block ids are kept only for a picture coloured by block
+/// (the MPI root merges its own batches, which carry them, with other ranks', which do not).
+class PictureSpoolSink final : public Sink {
+public:
+    PictureSpoolSink(PointSpool& spool, bool blocks) : spool_(spool), blocks_(blocks) {}
+    void consume(Batch&& b) override { observe(b); }
+    void observe(const Batch& b) override {
+        if (blocks_) spool_.observe(b);
+        else if (b.kind != RecordKind::point) spool_.observe(b);  // (refused there, with its message)
+        else spool_.append(b.points);
+    }
+    void finish() override { spool_.finish(); }
+
+private:
+    PointSpool& spool_;
+    bool blocks_;
+};
+
 /// The picture's colour settings with the colouring --ply-color asks for (range, colour map as the picture's).
 std::optional<ShadingParams> ply_colors(const GeometryOutput& out, const RenderSettings& rs) {
     if (!out.ply_color) return std::nullopt;
@@ -100,8 +119,20 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
         return sink.count();
     }
     AtomicFile png_file(*png);  // before any work: a PNG that cannot be created fails the run at once
-    SplatSink splat(rs.camera, rs.kernel, rs.shading, *meta_bounds(meta), nthreads);
-    splat.set_spool_memory(rs.spool_memory);
+    const std::optional<std::array<Vec3, 2>> frame = picture_bounds(meta);
+    // without a frame known before the first point (the scattered surface), the points go to a
+    // spool; the picture frames the spool's bounds and replays it
+    std::optional<PointSpool> spool;
+    std::optional<PictureSpoolSink> spooled;
+    std::optional<SplatSink> drawn;
+    if (frame) {
+        drawn.emplace(rs.camera, rs.kernel, rs.shading, *frame, nthreads);
+        drawn->set_spool_memory(rs.spool_memory);
+    } else {
+        spool.emplace("picture-spool");
+        spooled.emplace(*spool, rs.shading.color_by == ColorBy::block);
+    }
+    Sink& picture_sink = frame ? static_cast<Sink&>(*drawn) : static_cast<Sink&>(*spooled);
     std::optional<PointFileSink> ply;
     if (out) {
         VtpOptions vo = out->vtp;
@@ -112,14 +143,24 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
     // picture leaves the previous -o file as it was
     HeldSink held(ply ? static_cast<Sink*>(&*ply) : nullptr);
     std::optional<TeeSink> tee;
-    if (ply) tee.emplace(splat, held);
+    if (ply) tee.emplace(picture_sink, held);
     PipeClosure pipe;  // stdout's reader went away: the other output is still completed
     try {
-        r = run(parallel_draw ? &splat.stage() : nullptr, tee ? static_cast<Sink&>(*tee) : splat);
+        r = run(parallel_draw && drawn ? &drawn->stage() : nullptr, tee ? static_cast<Sink&>(*tee) : picture_sink);
     } catch (const BrokenPipe&) {
         if (!tee || !tee->live(0)) throw;  // the picture's branch never closes during the run
         pipe.caught();
     }
+    if (spool) {
+        spool->flush();
+        const auto box = spool->size() > 0 ? std::optional(spool->bounds()) : meta_bounds(meta);
+        drawn.emplace(rs.camera, rs.kernel, rs.shading, box ? *box : std::array<Vec3, 2>{}, nthreads, &*spool);
+        drawn->set_spool_memory(rs.spool_memory);
+        PointSpoolSource replay(*spool);
+        const Stage* draw_stage[] = {&drawn->stage()};
+        run_pipeline(replay, draw_stage, *drawn, {nthreads});
+    }
+    SplatSink& splat = *drawn;
     Image picture = splat.image();
     decorate_picture(rs, picture);
     const bool png_live = pipe.step([&] { write_png(picture, png_file); });

@@ -226,6 +226,7 @@ StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std
     const std::array<Vec3, 2> frame = frame_box(in.grid, max_travel);
     m.set("bounds_lo", triple(frame[0]));
     m.set("bounds_hi", triple(frame[1]));
+    m.set("frame", "points");  // a box that holds every point, not the surface's: pictures frame the points
     m.set("volume_bounds_lo", triple(in.grid.bounds[0]));
     m.set("volume_bounds_hi", triple(in.grid.bounds[1]));
     m.set("frame_travel", max_travel);  // what the frame allows for

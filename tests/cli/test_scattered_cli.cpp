@@ -18,6 +18,7 @@
 
 #include "cli/cli_harness.hpp"
 #include "formats/ply_points.hpp"
+#include "formats/png_reader.hpp"
 
 using namespace meshless;
 using namespace meshless::test;
@@ -379,4 +380,30 @@ TEST_CASE("mpirun -np 2 isosurface POINTS gives the single-process bytes", "[cli
            d);
     CHECK(r.code != 0);
     CHECK_FALSE(fs::exists(d / "bad.ply"));
+}
+
+TEST_CASE("isosurface POINTS: the picture frames the surface itself and not the recorded box", "[cli][scattered]") {
+    // the recorded bounds hold every point (the binning grid, its border layer and Newton's travel:
+    // a box many times the surface's width); pictures frame the points themselves, spooled first,
+    // in-process, through pipes and from the PLY alike
+    TempDir d("scpicture");
+    const std::string D = d.path.string();
+    const std::string pts = write_csv(d, "sphere.csv", sphere_points(3000, 5));
+    REQUIRE(sh("MESHLESS isosurface " + pts + " --iso 0.6 -o " + D + "/s.ply --png " + D + "/a.png --size 200x200", d).code == 0);
+    REQUIRE(sh("MESHLESS generate " + pts + " --iso 0.6 | MESHLESS project --field mpu " + pts + " | MESHLESS splat -o " + D +
+                   "/b.png --size 200x200", d).code == 0);
+    REQUIRE(sh("MESHLESS splat " + D + "/s.ply -o " + D + "/c.png --size 200x200", d).code == 0);
+    CHECK(slurp(d / "a.png") == slurp(d / "b.png"));
+    CHECK(slurp(d / "a.png") == slurp(d / "c.png"));
+    const Image img = read_png(D + "/a.png");
+    int x0 = img.width, x1 = -1, y0 = img.height, y1 = -1;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const auto c = img.at(x, y);
+            if (c[0] == 0 && c[1] == 0 && c[2] == 0) continue;
+            x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+        }
+    INFO("surface spans " << x1 - x0 + 1 << " x " << y1 - y0 + 1 << " pixels of 200 x 200");
+    CHECK(x1 - x0 + 1 >= 80);  // was 15 x 16 framed on the recorded box
+    CHECK(y1 - y0 + 1 >= 80);
 }
