@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "cli/commands.hpp"
+#include "formats/point_set_reader.hpp"
 #include "cli/common.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/errors.hpp"
@@ -77,7 +78,10 @@ RenderInput open_render_input(const Args& a) {
     const std::string& first = pos[0];
     const bool store = is_brick_store(first) || ends_with_ci(first, ".mlb");
     // "-": a volume on standard input (open_volume_input spools it)
-    const bool volume = store || (pos.size() == 1 && (first == "-" || (!looks_like_multiblock(first) && looks_like_volume(first))));
+    // a .raw of float32 x,y,z,v records (no name convention, no --dims) is points, as isosurface reads it
+    const bool raw_points = pos.size() == 1 && lower_extension(first) == ".raw" && !a.has("dims") && looks_like_point_set(first);
+    const bool volume = store || (pos.size() == 1 && (first == "-" || (!looks_like_multiblock(first) && !raw_points &&
+                                                                      looks_like_volume(first))));
     // scattered points: mpu, multiblock grids: rbf-grid, as isosurface and fit build (cli/field_cli.hpp)
     const std::string data_default = data_field_default(pos);
     const std::string kind = a.get_or("field", volume ? "trilinear" : data_default);
@@ -165,10 +169,10 @@ int cmd_render(int argc, char** argv) {
            "step (a' = 1 - (1 - a)^(step / ref_step)), early ray termination, empty-space skipping from the\n"
            "field's value bounds, optional headlight shading from the field's gradient.\n"
            "INPUT: a volume (every format meshless reads) or a brick store (.mlb, read through the brick cache\n"
-           "within --memory), sampled trilinearly; or scattered points / multiblock grids, sampled through a\n"
-           "meshless field (--field rbf-grid | mpu | global-rbf | FILE.mlf; default mpu for points, rbf-grid\n"
-           "for multiblock grids, the fields isosurface builds). Nothing is\n"
-           "resampled onto a grid first.\n"
+           "within --memory), sampled trilinearly (--field trilinear, the default and only field of a volume);\n"
+           "or scattered points (a .raw of float32 x,y,z,v records included) / multiblock grids, sampled\n"
+           "through a meshless field (--field rbf-grid | mpu | global-rbf | FILE.mlf; default mpu for points,\n"
+           "rbf-grid for multiblock grids, the fields isosurface builds). Nothing is resampled onto a grid first.\n"
            "Transfer function (--tf): a preset spanning the data's value range (or --range LO,HI): grey,\n"
            "viridis, ct-bone, ct-skin; or a text file of rows 'value r g b a' sorted by value, components in\n"
            "[0, 1]. Opacities are per reference step = the default step: half the smallest voxel spacing\n"

@@ -116,6 +116,13 @@ TEST_CASE("render: scattered points through mpu, and the fields that do not fit 
     CHECK(slurp(D + "/p3.png") == slurp(D + "/p1.png"));
     const RunResult help = sh("MESHLESS render --help", d);
     CHECK(contains(help.out, "mpu for point sets, rbf-grid for multiblock inputs"));
+    if (have_shared_data()) {  // raw float32 x,y,z,v records are points here too, as isosurface and probe read them
+        const std::string particles = (shared_data() / "scattered" / "Particles.raw").string();
+        const RunResult raw = sh("MESHLESS render " + particles + " -o " + D + "/p4.png --size 48x48 --stats", d);
+        INFO(raw.err);
+        CHECK(raw.code == 0);
+        CHECK(contains(raw.err, "197 points, mpu field"));
+    }
     if (have_shared_data()) {  // multiblock grids without --field: rbf-grid, as isosurface builds for them
         const std::string P = (shared_data() / "plot3d").string();
         const std::string vts = P + "/multicomb_0.vts " + P + "/multicomb_1.vts " + P + "/multicomb_2.vts";
