@@ -1,5 +1,7 @@
 #include "stream/mesh_sink.hpp"
 
+#include "kernels/mesh_normals.hpp"
+
 #include <limits>
 #include <stdexcept>
 
@@ -39,7 +41,12 @@ void MeshWeldSink::consume(Batch&& b) {
 
 void MeshWeldSink::finish() {
     if (path_.empty()) return;
-    if (format_ == GeometryFormat::vtp) write_vtp_mesh(mesh_, path_, {"meshless marching cubes"}, vtp_);
+    if (format_ == GeometryFormat::vtp) {
+        // VTK XML meshes carry Normals (ParaView shades with them): pieces without (the naive
+        // multiblock marching cubes) get the area-weighted normals of their welded triangles
+        if (mesh_.normals.empty() && !mesh_.tri.empty()) mesh_.normals = area_weighted_normals(mesh_);
+        write_vtp_mesh(mesh_, path_, {"meshless marching cubes"}, vtp_);
+    }
     else write_ply_mesh(mesh_, path_);
 }
 

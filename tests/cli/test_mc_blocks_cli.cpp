@@ -31,6 +31,11 @@ TEST_CASE("mc on multiblock .vts: same bytes for any --threads, block ids, stats
     CHECK(bytes == slurp(d / "t2.ply"));
     CHECK(bytes == slurp(d / "t4.ply"));
     CHECK(bytes.find("property uint block") != std::string::npos);
+    // the .vtp carries per-point Normals (area-weighted within each block) beside the cells' block ids
+    REQUIRE(sh("MESHLESS mc " + blocks + " --iso 0.4 -o " + D + "t.vtp", d).code == 0);
+    const std::string vtp = slurp(d / "t.vtp");
+    CHECK(vtp.find("<PointData Normals=\"Normals\">") != std::string::npos);
+    CHECK(vtp.find("Name=\"block\"") != std::string::npos);
     const Mesh m = read_ply_mesh((d / "t1.ply").string());
     REQUIRE(m.block.size() == m.triangle_count());
     std::size_t seen[3] = {0, 0, 0};
