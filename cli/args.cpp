@@ -275,7 +275,12 @@ bool Args::parse(int argc, char** argv, int first) {
         }
         throw impl_->usage_error(e, argc, argv, first, command_);
     }
-    const std::string see = " (see meshless " + command_ + " --help)";
+    std::string see = " (see meshless " + command_ + " --help)";
+    if (!variant_.empty()) {
+        const auto& given = impl_->positional->results();
+        see = " (the options for " + variant_ + ": meshless " + command_ + " " + (given.empty() ? std::string("FILE") : given.front()) +
+              " --help)";
+    }
     for (std::string tok : app.remaining()) {
         if (tok == "--") continue;  // CLI11 keeps the end-of-options mark among the extras
         if (tok.compare(0, 2, "--") == 0) tok = tok.substr(0, tok.find('='));
@@ -298,6 +303,11 @@ bool Args::parse(int argc, char** argv, int first) {
     for (const auto& [o, check] : impl_->checks)
         for (const auto& r : o->results()) check(r);
     return true;
+}
+
+Args& Args::input_variant(const std::string& what) {
+    variant_ = what;
+    return *this;
 }
 
 bool Args::has(const std::string& name) const {

@@ -43,6 +43,10 @@ public:
     /// Allowed number of positional arguments (default 0..1); parse() throws UsageError on more
     /// than `max`. Fewer than `min` is left to the command, which names what is missing.
     Args& positionals(std::size_t min, std::size_t max);
+    /// The kind of input this variant of a command takes (e.g. "multiblock grids"), when the
+    /// command's options depend on its input: parse()'s usage errors then point to the help of this
+    /// variant ("meshless isosurface FILE --help") instead of the command's general one.
+    Args& input_variant(const std::string& what);
 
     /// Parses argv[first..argc). Returns false when --help was requested (help text printed on
     /// stdout; --help wins over any other error on the line).
@@ -79,6 +83,7 @@ private:
     std::string command_, command_line_;
     std::vector<std::string> positional_;
     std::size_t max_positional_ = 1;
+    std::string variant_;
 };
 
 /// Parses a number with full-string validation; throws UsageError naming `what`.

@@ -253,6 +253,7 @@ int isosurface_blocks(int argc, char** argv) {
     a.epilog("examples: meshless isosurface ../shared/data/plot3d/combxyz.bin --iso 0.4 -o comb.ply --png comb.png --stats\n"
              "          meshless isosurface multicomb_0.vts multicomb_1.vts multicomb_2.vts --iso 0.4 -o mc.ply\n"
              "pipes:    meshless generate BLOCKS --iso V | meshless project --field mpu BLOCKS | meshless write -o out.ply\n");
+    a.input_variant("multiblock grids");
     if (!a.parse(argc, argv, 2)) return 0;
     if (launched_world_size() > 1)
         throw UsageError("multiblock inputs are not split over MPI ranks: run meshless isosurface BLOCKS... without mpirun");
@@ -349,6 +350,7 @@ int generate_blocks(int argc, char** argv) {
     add_thread_option(a);
     a.positionals(1, 1u << 20);
     a.epilog("example: meshless generate combxyz.bin --iso 0.4 | meshless project --field rbf-grid combxyz.bin | meshless write -o c.ply\n");
+    a.input_variant("multiblock grids");
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_finite(a.require("iso"), "--iso");
     const int n = lattice_n(a);

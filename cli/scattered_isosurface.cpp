@@ -335,6 +335,7 @@ int isosurface_scattered(int argc, char** argv) {
     a.positionals(1, 1u << 20);
     a.epilog("examples: meshless sample ../shared/data/bucky/Bucky_32x32x32_uint8.raw -n 20000 -o bucky.ply && meshless isosurface bucky.ply --iso 100 -o b.ply --png b.png --stats\n"
              "pipes:    meshless fit POINTS -o f.mlf && meshless generate POINTS --iso V | meshless project --field f.mlf | meshless splat -o img.png\n");
+    a.input_variant("scattered points");
     if (!a.parse(argc, argv, 2)) return 0;
     // under mpirun: the stencil rows are dealt to the ranks on request, rank 0 writes (stream/stencil_ranks.hpp)
     std::unique_ptr<MpiSession> mpi;
@@ -529,6 +530,7 @@ int generate_scattered(int argc, char** argv) {
     add_field_options(a, /*with_coverage=*/false, kPointsFieldDefault);
     a.positionals(1, 1u << 20);
     a.epilog("example: meshless fit pts.ply -o f.mlf && meshless generate pts.ply --iso 0.5 --field f.mlf | meshless project --field f.mlf | meshless splat -o img.png\n");
+    a.input_variant("scattered points");
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_finite(a.require("iso"), "--iso");
     const int n = lattice_n(a, kScatteredLatticeN);

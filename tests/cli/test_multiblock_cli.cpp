@@ -228,3 +228,16 @@ TEST_CASE("isosurface BLOCKS on the three combustor pieces: in-process equals pi
         CHECK(ids == std::set<std::uint32_t>{0, 1, 2});
     }
 }
+
+TEST_CASE("an option of another input kind points to the help of this input's variant", "[cli][multiblock]") {
+    // `isosurface BLOCKS --projection exact` used to say "see meshless isosurface --help", whose
+    // volume section lists --projection
+    TempDir d("variant_help");
+    const std::string vol = write_uint8_analytic_volume(d, "sphere", AnalyticField::sphere, 8, 100, 0);
+    REQUIRE(sh("MESHLESS split " + vol + " --layout overlapping -o " + d.path.string() + "/b.vtm", d).code == 0);
+    const std::string blocks = d.path.string() + "/b.vtm";
+    const RunResult r = sh("MESHLESS isosurface " + blocks + " --iso 50 -o " + d.path.string() + "/x.ply --projection exact", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("unknown option '--projection' (the options for multiblock grids: meshless isosurface " +
+                                      blocks + " --help)"));
+}
