@@ -132,13 +132,14 @@ TEST_CASE("vtp: mc on multiblock grids writes the per-cell block array VTK reads
     REQUIRE(sh("MESHLESS mc " + blocks + " --iso 0.4 -o " + D + "n.vtp", d).code == 0);
     const std::string v = slurp(d / "n.vtp");
     CHECK(v.find("<CellData Scalars=\"block\">") != std::string::npos);
-    CHECK(v.find("<PointData") == std::string::npos);  // the naive mesh has no normals
+    CHECK(v.find("<PointData Normals=\"Normals\">") != std::string::npos);  // area-weighted, as the help says
     const std::string py = vtk_python(d);
     if (py.empty()) {
         WARN("no python3 imports vtk (python3-vtk9): VTK reader check skipped");
         return;
     }
-    // no normals in the naive mesh: compare positions, triangles and blocks
+    // the PLY of the naive mesh has no normals: compare positions, triangles and blocks, and the
+    // VTP's normals are unit vectors as VTK reads them
     spit(d / "c.py", R"PY(
 import sys, numpy as np, vtk
 from vtk.util.numpy_support import vtk_to_numpy as v2n
@@ -151,7 +152,9 @@ vr = np.frombuffer(data, dtype="<f4", count=3 * nv, offset=end).reshape(nv, 3)
 fr = np.frombuffer(data, dtype=np.dtype([("n", "u1"), ("i", "<i4", 3), ("b", "<u4")]), count=nf, offset=end + 12 * nv)
 ok = (p.GetNumberOfPoints() == nv and p.GetNumberOfPolys() == nf and np.array_equal(v2n(p.GetPoints().GetData()), vr)
       and np.array_equal(v2n(p.GetPolys().GetConnectivityArray()).reshape(nf, 3), fr["i"])
-      and np.array_equal(v2n(p.GetCellData().GetArray("block")), fr["b"]) and len(set(fr["b"])) == 3)
+      and np.array_equal(v2n(p.GetCellData().GetArray("block")), fr["b"]) and len(set(fr["b"])) == 3
+      and p.GetPointData().GetNormals() is not None
+      and np.abs(np.linalg.norm(v2n(p.GetPointData().GetNormals()), axis=1) - 1).max() < 1e-5)
 sys.exit(0 if ok else "differs")
 )PY");
     const auto r = sh(py + " " + D + "c.py " + D + "n.vtp " + D + "n.ply", d);
