@@ -1,5 +1,6 @@
 #include "kernels/point_set.hpp"
 #include "kernels/mpu_field.hpp"
+#include "kernels/flat_hull.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -171,6 +172,29 @@ struct OctreeBuilder {
                 nodes[node].r = rnew;
                 ++grown;
                 break;
+            }
+        }
+        // A flat leaf (coplanar or collinear points: layers or grid planes farther apart than the
+        // leaves) also takes the nearest points off its plane or line, from the nearest ancestor
+        // that holds enough (kernels/flat_hull.hpp): its linear part is then determined across it.
+        if (inside.size() >= 2 && !path.empty()) {
+            PointMoments mo;
+            mo.ref = pos[inside.front()];  // (a data point: exact zeros along a plane of the data)
+            for (std::uint32_t i : inside) mo.add(pos[i] - mo.ref);
+            if (const std::optional<FlatHull> h = flat_hull(mo)) {
+                const std::uint32_t extra = std::max<std::uint32_t>(4, min_pts / 2);
+                for (std::size_t a = path.size(); a-- > 0;) {
+                    near.clear();
+                    for (std::uint32_t i : *path[a].points)
+                        if (h->off(pos[i])) near.emplace_back(dot(pos[i] - c, pos[i] - c), i);
+                    if (near.size() < extra && a > 0) continue;
+                    const std::size_t take = std::min<std::size_t>(extra, near.size());
+                    std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(take), near.end());
+                    for (std::size_t q = 0; q < take; ++q) inside.push_back(near[q].second);
+                    std::sort(inside.begin(), inside.end());
+                    ++grown;
+                    break;
+                }
             }
         }
         nodes[node].local = static_cast<std::int32_t>(leaf_range.size());

@@ -14,7 +14,10 @@
 // Coverage: blend_alpha > 0.5 makes every leaf's blend sphere contain its cube, and the leaves tile
 // the root cube (the bounding box grown to a cube), so F is finite everywhere in the bounding box. A
 // leaf whose fit sphere holds fewer than mpu_min_points points (70; sparse regions, empty octants)
-// grows it until it holds that many (counted in FieldBuildStats::grown). Outside the union of the
+// grows it until it holds that many (counted in FieldBuildStats::grown); a leaf whose points are
+// coplanar or collinear (kernels/flat_hull.hpp: layers farther apart than the leaves) also takes the
+// nearest max(4, 35) points off their plane or line from its nearest ancestor holding them (also
+// counted as grown), so that its linear part is determined across it. Outside the union of the
 // blend spheres evaluate() gives NaN (value and gradient). A leaf at mpu_max_depth with more than N
 // points keeps its N nearest (FieldBuildStats::capped). F interpolates the data: every local that
 // weighs at a data point was fitted to that point (up to the solver's 1e-8 residual), unless a

@@ -7,12 +7,12 @@
 #include <numeric>
 #include <string>
 
-#include <Eigen/Dense>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "kernels/errors.hpp"
 #include "kernels/field_input.hpp"
+#include "kernels/flat_hull.hpp"
 #include "kernels/batch_order.hpp"
 #include "kernels/partition_of_unity.hpp"
 
@@ -156,57 +156,16 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
 
     // ---- Count the points of every local, then lay out the arrays.
     const std::uint32_t cap = params.rbf_grid_max_local, min_local = std::min<std::uint32_t>(params.rbf_grid_min_local, static_cast<std::uint32_t>(n));
-    // The affine hull of a local's points (the grown list, else the data sphere's): false when they
-    // span 3-D; else their mean `o` and the unit directions `across[0..nacross)` the points do not
-    // vary along (1: a plane, 2: a line; eigenvalues below 1e-18 of the largest, where the fit's
-    // polynomial QR, threshold 1e-10 on the scaled coordinates, finds rank 3 or 2).
-    struct Hull {
-        Vec3 o;
-        Vec3 across[2];
-        int nacross = 0;
-        double scale = 0;  // sqrt of the largest eigenvalue: the points' spread
-    };
-    // Moments of a point set about `ref` (the cell centre): count, sum and sum of outer products.
-    struct Moments {
-        Vec3 ref;
-        std::uint32_t m = 0;
-        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-        Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
-        void add(const Vec3& e) {  // e = p - ref
-            const Eigen::Vector3d v(e.x, e.y, e.z);
-            sum += v;
-            sq += v * v.transpose();
-            ++m;
-        }
-    };
-    auto flat_hull = [&](const Moments& mo, Hull& h) {
-        const Vec3 ref = mo.ref;
-        const std::uint32_t m = mo.m;
-        const Eigen::Vector3d& sum = mo.sum;
-        const Eigen::Matrix3d& sq = mo.sq;
-        if (m < 2) return false;
-        const Eigen::Vector3d mean = sum / double(m);
-        const Eigen::Matrix3d cov = sq / double(m) - mean * mean.transpose();
-        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
-        const Eigen::Vector3d lam = es.eigenvalues();  // ascending
-        if (!(lam(2) > 0) || lam(0) > 1e-18 * lam(2)) return false;
-        h.nacross = lam(1) > 1e-18 * lam(2) ? 1 : 2;
-        for (int q = 0; q < h.nacross; ++q) h.across[q] = Vec3{es.eigenvectors()(0, q), es.eigenvectors()(1, q), es.eigenvectors()(2, q)};
-        h.o = Vec3{ref.x + mean(0), ref.y + mean(1), ref.z + mean(2)};
-        h.scale = std::sqrt(lam(2));
-        return true;
-    };
     // A flat local (coplanar or collinear points: a grid whose planes lie farther apart than the
     // bins, such as the blunt fin's x-planes, 1.5-3.5 units apart with bins of 0.55) keeps its
     // points and takes the `extra` nearest points off their hull from growing rings of cells, so
     // that its linear part is determined across the plane instead of guessed by regularisation.
     // base: the local's points (its nearest `keep`); out: base + those, sorted; at most `cap`.
-    auto span_hull = [&](std::int64_t cell, const Hull& h, std::vector<std::uint32_t> base, std::uint32_t extra,
+    auto span_hull = [&](std::int64_t cell, const FlatHull& h, std::vector<std::uint32_t> base, std::uint32_t extra,
                          std::vector<std::pair<double, std::uint32_t>>& near, std::vector<std::uint32_t>& out) {
         const std::int64_t i = cell % n_[0], j = (cell / n_[0]) % n_[1], k = cell / (n_[0] * n_[1]);
         const Vec3 cc = centre_of(i, j, k);
         const std::int64_t rmax = std::max({n_[0], n_[1], n_[2]});
-        const double tol = 1e-6 * h.scale;
         for (std::int64_t r = 1;; ++r) {
             near.clear();
             for (std::int64_t z = std::max<std::int64_t>(0, k - r); z <= std::min(n_[2] - 1, k + r); ++z)
@@ -215,12 +174,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                         const std::int64_t nc = x + n_[0] * (y + n_[1] * z);
                         for (std::uint32_t q = start[nc]; q < start[nc + 1]; ++q) {
                             const Vec3& p = pts[order[q]];
-                            double off2 = 0;
-                            for (int a = 0; a < h.nacross; ++a) {
-                                const double d = dot(p - h.o, h.across[a]);
-                                off2 += d * d;
-                            }
-                            if (off2 > tol * tol) near.emplace_back(dot(p - cc, p - cc), order[q]);
+                            if (h.off(p)) near.emplace_back(dot(p - cc, p - cc), order[q]);
                         }
                     }
             if (near.size() >= extra || r >= rmax) break;
@@ -244,19 +198,19 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
         auto& near = scratch.local();
         for (std::int64_t cell = r.begin(); cell != r.end(); ++cell) {
             std::uint32_t cnt = 0, in_w = 0;
-            Moments mo;
+            PointMoments mo;
             mo.ref = centre_of(cell % n_[0], (cell / n_[0]) % n_[1], cell / (n_[0] * n_[1]));
             gather(cell, [&](std::uint32_t, const Vec3& e) { ++cnt; in_w += dot(e, e) <= rw2; mo.add(e); });
             if (cnt > 0 && cnt < min_local) {
                 grow(cell, min_local, near, grown[cell]);
                 cnt = static_cast<std::uint32_t>(grown[cell].size());
                 in_w = cnt;
-                mo = Moments{mo.ref};
+                mo = PointMoments{mo.ref};
                 for (std::uint32_t pi : grown[cell]) mo.add(pts[pi] - mo.ref);
             }
             std::uint32_t want = k_near == 0 ? cnt : std::max(k_near, in_w);
-            Hull hull;
-            if (cnt > 0 && flat_hull(mo, hull)) {
+            const std::optional<FlatHull> hull = cnt > 0 ? flat_hull(mo) : std::nullopt;
+            if (hull) {
                 // the local's own points, nearest first, then the nearest off their hull
                 std::vector<std::uint32_t> base;
                 const std::uint32_t used = std::min({cnt, want, cap});
@@ -268,7 +222,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                 }
                 std::sort(near.begin(), near.end());
                 for (std::uint32_t q = 0; q < used; ++q) base.push_back(near[q].second);
-                span_hull(cell, hull, std::move(base), std::max<std::uint32_t>(4, min_local / 2), near, grown[cell]);
+                span_hull(cell, *hull, std::move(base), std::max<std::uint32_t>(4, min_local / 2), near, grown[cell]);
                 cnt = static_cast<std::uint32_t>(grown[cell].size());
                 want = cnt;
             }

@@ -8,7 +8,7 @@
 // (the paper: "if this region happens to be empty, we do not construct an RBF center"). A local with
 // fewer than rbf_grid_min_local (20) such points takes its nearest 20 from a widening neighbourhood
 // instead (sparse regions: 1-3 points cannot determine the linear part; counted as "grown").
-// A local whose points are coplanar or collinear (to 1e-9 of their spread: layered data, a
+// A local whose points are coplanar or collinear (kernels/flat_hull.hpp: layered data, a
 // curvilinear grid whose planes lie farther apart than the cells, such as the blunt fin's x-planes
 // 1.5-3.5 units apart with cells of 0.55) keeps its points and adds the nearest max(4, 10) points off
 // their plane or line, from a widening neighbourhood (also counted as "grown"): its linear part is

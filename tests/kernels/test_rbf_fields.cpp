@@ -228,7 +228,7 @@ TEST_CASE("every field reproduces linear functions inside the hull, with exact g
     }
 }
 
-TEST_CASE("rbf-grid reproduces linear functions on layered data whose layers lie farther apart than its bins", "[rbf]") {
+TEST_CASE("the local fields reproduce linear functions on layered data whose layers lie farther apart than their cells", "[rbf]") {
     // dense planes 3 units apart (a grid like the blunt fin's x-planes): a local whose points all
     // lie in one plane had a rank-3 linear part, regularised, so the field was a step function
     // between the planes (RMS error 0.63 of a value range of 10, gradient across the planes 0);
@@ -240,7 +240,7 @@ TEST_CASE("rbf-grid reproduces linear functions on layered data whose layers lie
     const Fn lin = [](const Vec3& p) { return p.x + 0.5 * p.y; };
     const PointSet ps = make_points(pos, lin);
     for (const Variant& var : all_variants()) {
-        if (std::string(var.label).rfind("rbf-grid", 0) != 0) continue;
+        if (std::string(var.label) == "global-rbf") continue;  // (one global fit: never flat here)
         INFO(var.label);
         const auto f = make_field(ps, var.params);
         const auto at = random_points(2000, Vec3{0.5, 0.5, 0.5}, Vec3{8.5, 2.5, 2.5}, 21);
