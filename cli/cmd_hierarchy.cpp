@@ -212,7 +212,8 @@ int cmd_lod(int argc, char** argv) {
     const std::string out = a.require("output");
     const std::string ext = lower_ext(out);
     if (ext != ".ply" && ext != ".csv" && ext != ".vtp" && out != "-")
-        throw UsageError("-o " + out + ": expected a .ply, .csv or .vtp file ('-' = CSV on stdout)");
+        throw UsageError("-o '" + out + "': this output is a level of detail, written to a .ply (binary PLY), .csv or .vtp "
+                         "(VTK XML PolyData) file (outputs are chosen by extension; '-' for CSV on stdout)");
     if (a.has("level") == a.has("error")) throw UsageError("give one of --level L or --error E");
     PointSetOptions o;
     if (auto v = a.get("level")) {
