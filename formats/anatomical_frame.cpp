@@ -74,6 +74,19 @@ void flip_frame(std::optional<AnatomicalFrame>& f, const std::array<bool, 3>& fl
         if (flip[a]) f->axis[a] = Vec3{-f->axis[a].x, -f->axis[a].y, -f->axis[a].z};
 }
 
+std::optional<std::array<double, 3>> axis_aligned_signs(const std::array<Vec3, 3>& columns) {
+    std::array<double, 3> sign{1, 1, 1};
+    for (int i = 0; i < 3; ++i) {
+        const Vec3& c = columns[static_cast<std::size_t>(i)];
+        const double len = norm(c);
+        if (!(len > 0) || !std::isfinite(len)) return std::nullopt;
+        for (int j = 0; j < 3; ++j)
+            if (j != i && std::fabs(c[j]) > 1e-6 * len) return std::nullopt;
+        sign[static_cast<std::size_t>(i)] = c[i] < 0 ? -1.0 : 1.0;
+    }
+    return sign;
+}
+
 std::string describe_frame(const AnatomicalFrame& f) {
     static const char kPos[3] = {'L', 'P', 'S'}, kNeg[3] = {'R', 'A', 'I'};
     std::string s;

@@ -134,15 +134,18 @@ PayloadPlan plan_metaimage(const std::string& path) {
         const auto o = parse_doubles(origin_v, static_cast<std::size_t>(ndims), path, "Offset");
         for (std::size_t a = 0; a < 3 && a < o.size(); ++a) plan.grid.origin[a] = o[a];
     }
+    std::vector<double> tm;  // TransformMatrix: row i = index axis i (ITK's direction cosines)
+    for (const auto& t : split_ws(transform_v)) {
+        char* end = nullptr;
+        const double v = std::strtod(t.c_str(), &end);
+        if (end == t.c_str() || *end) break;
+        tm.push_back(v);
+    }
+    if (ndims == 3 && tm.size() == 9)  // along the axes, forward or back: world coordinates (backward axes flipped)
+        if (const auto signs = axis_aligned_signs({Vec3{tm[0], tm[1], tm[2]}, Vec3{tm[3], tm[4], tm[5]}, Vec3{tm[6], tm[7], tm[8]}}))
+            for (int a = 0; a < 3; ++a) signed_spacing[a] *= (*signs)[static_cast<std::size_t>(a)];
     for (int a = 0; a < 3; ++a) honour_signed_spacing(plan.grid, plan.flip, a, signed_spacing[a]);  // negative: flipped
     if (ndims == 3) {  // the patient's axes (a malformed matrix is no frame, not an error: it only frames the picture)
-        std::vector<double> tm;
-        for (const auto& t : split_ws(transform_v)) {
-            char* end = nullptr;
-            const double v = std::strtod(t.c_str(), &end);
-            if (end == t.c_str() || *end) break;
-            tm.push_back(v);
-        }
         plan.frame = metaimage_frame(tm.size() == 9 ? tm : std::vector<double>{}, trim(anatomical_v));
         flip_frame(plan.frame, plan.flip);
     }

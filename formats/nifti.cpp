@@ -1,4 +1,5 @@
 #include "formats/nifti.hpp"
+#include "kernels/flip_axes.hpp"
 
 #include <algorithm>
 #include <array>
@@ -26,6 +27,7 @@ struct NiftiHeader {
     float slope = 0, inter = 0;
     bool pair = false;  // "ni1": data in a separate .img
     std::optional<AnatomicalFrame> frame;  // sform, else qform
+    std::array<bool, 3> flip{false, false, false};  // axes the sform/qform runs backwards along (samples reversed)
 };
 
 bool ends_with(const std::string& s, const std::string& suf) {
@@ -36,6 +38,21 @@ bool is_gz_path(const std::string& path) {
     const std::string l = path;
     return ends_with(l, ".gz") || ends_with(l, ".GZ");
 }
+
+// An sform/qform whose index axes run along the RAS axes (forward or back: FSL's "LAS" x = -2 is
+// the common case) gives world coordinates: the backward axes are flipped (origin moved to their
+// last sample, samples reversed, the frame's axes negated). A rotating matrix keeps the index frame.
+// sform columns carry the voxel size (their lengths), qform ones are unit (pixdim gives it).
+void world_axes(NiftiHeader& r, const std::array<Vec3, 3>& col, bool sized) {
+    const auto signs = axis_aligned_signs(col);
+    if (!signs) return;
+    for (int a = 0; a < 3; ++a) {
+        const double len = sized ? norm(col[static_cast<std::size_t>(a)]) : r.grid.spacing[a];
+        honour_signed_spacing(r.grid, r.flip, a, (*signs)[static_cast<std::size_t>(a)] * len);
+    }
+    flip_frame(r.frame, r.flip);
+}
+
 
 NiftiHeader parse_header(const unsigned char* h, const std::string& path) {
     std::int32_t sz;
@@ -116,6 +133,7 @@ NiftiHeader parse_header(const unsigned char* h, const std::string& path) {
         std::array<Vec3, 3> col;
         for (int i = 0; i < 3; ++i) col[i] = Vec3{f32(280 + 4 * i), f32(296 + 4 * i), f32(312 + 4 * i)};
         r.frame = ras_frame(col, "NIfTI sform");
+        world_axes(r, col, /*sized=*/true);
     } else if (qform > 0) {
         for (int a = 0; a < 3; ++a) r.grid.origin[a] = f32(268 + 4 * a);
         // quaternion (b, c, d), a = sqrt(1 - b^2 - c^2 - d^2); qfac = pixdim[0] (-1 reverses the third axis)
@@ -126,6 +144,7 @@ NiftiHeader parse_header(const unsigned char* h, const std::string& path) {
                                       Vec3{2 * (b * c - a * d), a * a + c * c - b * b - d * d, 2 * (c * d + a * b)},
                                       Vec3{qfac * 2 * (b * d + a * c), qfac * 2 * (c * d - a * b), qfac * (a * a + d * d - c * c - b * b)}};
         r.frame = ras_frame(col, "NIfTI qform");
+        world_axes(r, col, /*sized=*/false);
     }
     validate_grid(r.grid, path);
     return r;
@@ -200,6 +219,7 @@ PayloadPlan raw_plan(const NiftiHeader& h, const std::string& data) {
     plan.big_endian = h.big_endian;
     plan.files = {data};
     plan.file_offset = h.vox_offset;
+    plan.flip = h.flip;
     return plan;
 }
 }  // namespace
@@ -219,7 +239,9 @@ Volume read_nifti(const std::string& path) {
     if (is_gz_path(data)) {
         const std::uint64_t bytes = gz_payload_bytes(h, data);  // deflate expands at most 1032:1
         // inflate_file's output pages become resident as the data arrives
-        return apply_scaling(make_volume(inflate_file(data, 0, h.vox_offset, bytes), h.type, h.big_endian, h.grid, data), h);
+        Volume v = make_volume(inflate_file(data, 0, h.vox_offset, bytes), h.type, h.big_endian, h.grid, data);
+        flip_axes(v, h.flip);
+        return apply_scaling(std::move(v), h);
     }
     return apply_scaling(read_payload(raw_plan(h, data)), h);
 }

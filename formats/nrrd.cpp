@@ -235,20 +235,23 @@ PayloadPlan plan_nrrd(const std::string& path) {
         const auto tk = split_ws(w);
         for (std::size_t i = 0; i < 3 && i < tk.size(); ++i) plan.grid.origin[i] = parse_double(tk[i], path, "space origin");
     }
+    std::vector<Vec3> dirs;  // `space directions` of the kept axes, when given for three of them
+    if (!directions_tok.empty() && keep.size() == 3)
+        for (const std::size_t a : keep) {
+            std::string w = directions_tok[a];
+            for (auto& c : w)
+                if (c == '(' || c == ')' || c == ',') c = ' ';
+            const auto tk = split_ws(w);
+            if (tk.size() != 3) break;
+            dirs.push_back(Vec3{parse_double(tk[0], path, "space directions"), parse_double(tk[1], path, "space directions"),
+                                parse_double(tk[2], path, "space directions")});
+        }
+    // directions along the space's axes, forward or back: world coordinates (backward axes flipped)
+    const auto signs = dirs.size() == 3 ? axis_aligned_signs({dirs[0], dirs[1], dirs[2]}) : std::nullopt;
     for (std::size_t i = 0; i < 3; ++i)
-        honour_signed_spacing(plan.grid, plan.flip, static_cast<int>(i), i < keep.size() ? spacing[keep[i]] : 1.0);
+        honour_signed_spacing(plan.grid, plan.flip, static_cast<int>(i),
+                              (i < keep.size() ? spacing[keep[i]] : 1.0) * (signs ? (*signs)[i] : 1.0));
     if (!space_tok.empty()) {
-        std::vector<Vec3> dirs;  // of the kept axes, when given for three of them
-        if (!directions_tok.empty() && keep.size() == 3)
-            for (const std::size_t a : keep) {
-                std::string w = directions_tok[a];
-                for (auto& c : w)
-                    if (c == '(' || c == ')' || c == ',') c = ' ';
-                const auto tk = split_ws(w);
-                if (tk.size() != 3) break;
-                dirs.push_back(Vec3{parse_double(tk[0], path, "space directions"), parse_double(tk[1], path, "space directions"),
-                                    parse_double(tk[2], path, "space directions")});
-            }
         plan.frame = nrrd_frame(space_tok, dirs.size() == 3 ? dirs : std::vector<Vec3>{});
         flip_frame(plan.frame, plan.flip);
     }

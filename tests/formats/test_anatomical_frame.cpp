@@ -43,14 +43,47 @@ std::string nifti(int sform, int qform, const std::array<float, 12>& srow, const
 }
 }  // namespace
 
+TEST_CASE("a direction matrix along the axes but backwards gives world coordinates (NIfTI, NRRD, MetaImage)", "[formats]") {
+    // FSL's "LAS" NIfTI (sform x = -2), an NRRD `space directions (-2,0,0)` and a MetaImage
+    // TransformMatrix -1 0 0: the same 3x1x1 samples 10 20 30 at world x = 4, 2, 0. Read as world
+    // coordinates: origin 0, spacing 2, samples 30 20 10 (they were written with origin + |s| index:
+    // x 4..8, the object mirrored and moved)
+    meshless::test::TempDir d("world_axes");
+    const std::string samples("\x0a\x14\x1e", 3);
+    std::string n = nifti(1, 0, {-2, 0, 0, 4, 0, 2, 0, 0, 0, 0, 2, 0}, {0, 0, 0}, 1);
+    auto put16 = [&](std::size_t off, std::int16_t v) { std::memcpy(n.data() + off, &v, 2); };
+    put16(42, 3), put16(44, 1), put16(46, 1);  // dims 3 x 1 x 1
+    n.resize(352);
+    spit(d.path / "las.nii", n + samples);
+    spit(d.path / "neg.nrrd", "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 3 1 1\nspace: RAS\n"
+                              "space directions: (-2,0,0) (0,2,0) (0,0,2)\nspace origin: (4,0,0)\nencoding: raw\n\n" + samples);
+    spit(d.path / "neg.mha", "ObjectType = Image\nNDims = 3\nDimSize = 3 1 1\nElementSpacing = 2 2 2\nOffset = 4 0 0\n"
+                             "TransformMatrix = -1 0 0 0 1 0 0 0 1\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n" + samples);
+    for (const char* f : {"las.nii", "neg.nrrd", "neg.mha"}) {
+        INFO(f);
+        const Volume v = read_volume((d.path / f).string());
+        CHECK(v.grid.origin[0] == 0);
+        CHECK(v.grid.spacing[0] == 2);
+        REQUIRE(v.bytes.size() == 3);
+        CHECK(std::to_integer<int>(v.bytes[0]) == 30);
+        CHECK(std::to_integer<int>(v.bytes[2]) == 10);
+    }
+}
+
 TEST_CASE("anatomical frame: what the headers say, per format", "[formats]") {
     meshless::test::TempDir d("frames");
-    // NIfTI sform: diag(-2, 2, 2) in RAS is x toward L, y A, z S
+    // NIfTI sform: diag(-2, 2, 2) in RAS runs index x toward L; the reader reverses that axis (its
+    // positions are then RAS world coordinates), so the volume's +x is R
     spit(d.path / "s.nii", nifti(1, 0, {-2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0}, {0, 0, 0}, 1));
-    CHECK(frame_of((d.path / "s.nii").string()) == "x L, y A, z S");
-    // qform: 180 degrees about z (quaternion 0,0,1) is diag(-1,-1,1): x L, y P; qfac -1 reverses z
+    CHECK(frame_of((d.path / "s.nii").string()) == "x R, y A, z S");
+    // qform: 180 degrees about z (quaternion 0,0,1) is diag(-1,-1,1), qfac -1 reverses z: all three
+    // axes run backwards and are reversed
     spit(d.path / "q.nii", nifti(0, 1, {}, {0, 0, 1}, -1));
-    CHECK(frame_of((d.path / "q.nii").string()) == "x L, y P, z I");
+    CHECK(frame_of((d.path / "q.nii").string()) == "x R, y A, z S");
+    // a rotating sform (index x along A, index y along R) cannot be a grid of world axes: the index
+    // frame stays, the frame says where its axes point
+    spit(d.path / "r.nii", nifti(1, 0, {0, 2, 0, 0, 2, 0, 0, 0, 0, 0, 2, 0}, {0, 0, 0}, 1));
+    CHECK(frame_of((d.path / "r.nii").string()) == "x A, y R, z S");
     // both codes 0: nothing said
     spit(d.path / "n.nii", nifti(0, 0, {}, {0, 0, 0}, 1));
     CHECK(frame_of((d.path / "n.nii").string()) == "none");
