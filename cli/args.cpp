@@ -278,7 +278,7 @@ bool Args::parse(int argc, char** argv, int first) {
     std::string see = " (see meshless " + command_ + " --help)";
     if (!variant_.empty()) {
         const auto& given = impl_->positional->results();
-        see = " (the options for " + variant_ + ": meshless " + command_ + " " + (given.empty() ? std::string("FILE") : given.front()) +
+        see = " (the options for " + variant_ + ": meshless " + command_ + " " + (given.empty() ? std::string("FILE") : "'" + given.front() + "'") +
               " --help)";
     }
     for (std::string tok : app.remaining()) {

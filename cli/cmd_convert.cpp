@@ -4,6 +4,7 @@
 //   meshless synth --upsample F [--method trilinear|tricubic] VOLUME -o big.mlb
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <functional>
 #include <string>
@@ -120,7 +121,8 @@ int cmd_verify(int argc, char** argv) {
     Args a("verify", "vol.mlb...",
            "Checks a brick store completely: header, index and footer checksums, then every brick's\n"
            "CRC-32, decompressed size and value range. Prints \"ok: N bricks\", or names the first bad\n"
-           "brick by index and voxel range and exits with status 2.");
+           "brick by index and voxel range and exits with status 2. A store whose bricks take more than\n"
+           "--memory decompressed is not read (exit 1: raise --memory).");
     add_quiet_option(a);
     a.option("memory", "", "BYTES", "the most one decompressed brick may take, e.g. 256M, 2G (a store with bigger bricks is not read)",
              "256M")
@@ -141,7 +143,7 @@ int cmd_verify(int argc, char** argv) {
         } else {
             std::fflush(stdout);  // the results so far before this error, in a log of both streams
             std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(r.message).c_str());
-            rc = 2;
+            rc = r.over_budget ? std::max(rc, 1) : 2;
         }
     }
     std::fflush(stdout);

@@ -57,11 +57,7 @@ int cmd_fit(int argc, char** argv) {
         oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism,
                                           static_cast<std::size_t>(threads(a)));
         ProgressMeter meter = ProgressMeter::of(a, "local fits", 1);  // the total comes with the first report
-        try {
-            field = make_field(points, params, &st, field_progress(meter));
-        } catch (const FormatError& e) {  // the data's fault: name the input (the field names only itself)
-            throw FormatError(joined_names(a.positional()) + ": " + e.what());
-        }
+        field = make_input_field(a, points, params, &st, field_progress(meter));
     }
     const auto t_write = now();
     FittedData data;

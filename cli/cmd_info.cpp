@@ -132,8 +132,9 @@ void info_ply(const std::string& path) {
         summary += "  " + std::to_string(e.count) + " " + (e.name == "face" ? std::string("faces") : ply_escape(e.name) + " elements") + "\n";
     }
     r.finish();
-    // a mesh: its faces checked as splat reads them (indices integral and within the vertices)
-    if (h.find("face") >= 0) (void)read_ply_mesh(path);
+    // a mesh with faces: read as splat reads it (vertices finite, face indices integral and within
+    // the vertices), so that info passes what splat draws; point sets stream through as above
+    if (const int fi = h.find("face"); fi >= 0 && h.elements[static_cast<std::size_t>(fi)].count > 0) (void)read_ply_mesh(path);
     std::string text = format_ply_header(h, false);
     text = text.substr(4, text.size() - 4 - std::string("end_header\n").size());  // between "ply" and end_header
     std::string indented;

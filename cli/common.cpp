@@ -528,7 +528,7 @@ std::optional<Vec3> parse_triple_meta(const StreamMeta& m, const std::string& ke
     if (!s) return std::nullopt;
     double v[3];
     if (std::sscanf(s->c_str(), "%lf,%lf,%lf", &v[0], &v[1], &v[2]) != 3)
-        throw FormatError((m.source.empty() ? "" : m.source + ": ") + "stream metadata: '" + key + "' is not three numbers: " +
+        throw FormatError(m.where() + "stream metadata: '" + key + "' is not three numbers: " +
                           escape_field(*s));
     return Vec3{v[0], v[1], v[2]};
 }

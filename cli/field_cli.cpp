@@ -190,6 +190,12 @@ FieldProgress field_progress(ProgressMeter& meter) {
     };
 }
 
+std::unique_ptr<Field> make_input_field(const Args& a, const PointSet& points, const FieldParams& params,
+                                        FieldBuildStats* stats, const FieldProgress& progress, const FitShare* share) {
+    const std::string names = joined_names(a.positional());
+    return with_error_prefix(names, names + ": ", [&] { return make_field(points, params, stats, progress, share); });
+}
+
 BuiltField build_field(const Args& a, const PointSet& points, const std::string& default_kind, const FitShare* share) {
     BuiltField f;
     if (const auto path = field_file_arg(a)) {
@@ -202,11 +208,7 @@ BuiltField build_field(const Args& a, const PointSet& points, const std::string&
         FieldBuildStats st;
         // the commands that show progress (they declare --quiet) show the local fits too
         ProgressMeter meter = ProgressMeter::of(a, "local fits", 1);  // the total comes with the first report
-        try {
-            f.field = make_field(points, params, &st, a.declared("quiet") ? field_progress(meter) : FieldProgress(), share);
-        } catch (const FormatError& e) {  // the data's fault: name the input (the field names only itself)
-            throw FormatError(joined_names(a.positional()) + ": " + e.what());
-        }
+        f.field = make_input_field(a, points, params, &st, a.declared("quiet") ? field_progress(meter) : FieldProgress(), share);
         meter.done();
         // under MPI every rank builds the same field (the fits gathered): rank 0 reports it
         if (a.has("stats") && (!share || share->rank == 0)) print_field_build_stats(a, params, points, st);

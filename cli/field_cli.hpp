@@ -57,6 +57,10 @@ std::string data_field_default(const std::vector<std::string>& paths);
 /// Throws FormatError for positions-only points (no value to fit, probe, render or cluster).
 PointSet read_field_points(const std::vector<std::string>& paths, const Args& a);
 /// read_field_points of the positional POINTS files.
+/// make_field, its data errors (an empty set, fewer than 4 distinct points) naming the command's
+/// inputs: the field's own messages name only the field.
+std::unique_ptr<Field> make_input_field(const Args& a, const PointSet& points, const FieldParams& params,
+                                        FieldBuildStats* stats, const FieldProgress& progress, const FitShare* share = nullptr);
 PointSet read_points_arg(const Args& a);
 
 /// A field and where its data covers space (--max-gap; null when --max-gap 0 or not declared: then

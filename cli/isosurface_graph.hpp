@@ -2,8 +2,10 @@
 // cell rows of a volume in memory, slab-streamed slices or the active bricks of a store (Morton
 // order) -> generate + project (fused) -> [splat draw, in the runner's parallel section] -> sink,
 // and the outputs it ends in: a point set (-o: PLY or VTP, stream/point_file_sink.hpp), a PNG (--png, stream/splat_sink.hpp), or both through a
-// tee. Nothing is collected: memory = the image buffers + the batches in flight. Both commands
-// build the same graph, so the demo's files equal `meshless isosurface` on the same volume.
+// tee. Nothing is collected: memory = the image buffers + the batches in flight (a picture whose
+// metadata says `frame points`, the scattered surface, first spools its points to an unlinked
+// temporary file, 32 bytes a point, then frames and draws them). Both commands build the same
+// graph, so the demo's files equal `meshless isosurface` on the same volume.
 // Throws what the sources, stages and sinks throw (FormatError, IoError naming the file).
 #pragma once
 #include <functional>
@@ -30,7 +32,9 @@ using GraphRun = std::function<IsoSplatResult(const Stage* draw, Sink& sink)>;
 
 /// Runs `run` into the point set `out` (PLY or VTP: the one place the point sink is chosen, from
 /// GeometryOutput::format, see geometry_output) and/or the PNG `png` (at least one given). Each
-/// batch is drawn as it is produced and, with `out`, written to the point file. The PNG's temporary
+/// batch is drawn as it is produced and, with `out`, written to the point file; when the metadata
+/// has no frame for the picture (picture_bounds: `frame points`), the batches go to a point spool
+/// instead, and the picture frames the spool's bounds and replays it after the run (draw is then null). The PNG's temporary
 /// is created before the run (a PNG that cannot be created fails at once); the point file is
 /// committed only after the picture is written, then the PNG: a failed picture leaves the previous
 /// files as they were. When one output is stdout and its reader goes away (BrokenPipe), the other

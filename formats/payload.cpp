@@ -72,6 +72,8 @@ void put_checked(std::byte* out, std::size_t i, double v, std::string_view token
         constexpr int digits = std::numeric_limits<T>::digits;  // value bits: 2^digits is one past the largest
         const double hi = std::ldexp(1.0, digits), lo = std::is_signed_v<T> ? -hi - 1.0 : -1.0;
         ok = v > lo && v < hi;  // NaN fails both
+        // (int64: -2^63 - 1 rounds to -2^63 as a double, which the comparison above would refuse)
+        if constexpr (std::is_signed_v<T> && digits >= std::numeric_limits<double>::digits) ok = v >= -hi && v < hi;
     } else if constexpr (std::is_same_v<T, float>) {
         ok = !std::isfinite(v) || std::fabs(v) <= static_cast<double>(std::numeric_limits<float>::max());
     }

@@ -9,6 +9,7 @@
 // Dissertation: none (input plumbing for chapter 3).
 #pragma once
 #include <string_view>
+#include <utility>
 
 #include "kernels/errors.hpp"
 #include <array>
@@ -46,21 +47,8 @@ struct PayloadPlan {
 /// ("quarter.nhdr: data file ./quarter.1: ..."), unless the message already begins with the header.
 template <class Fn>
 decltype(auto) naming_header(const PayloadPlan& plan, Fn&& fn) {
-    const auto named = [&](const char* what) {
-        return plan.header + ": data file " + what;
-    };
-    const auto skip = [&](const char* what) {
-        return plan.header.empty() || std::string_view(what).starts_with(plan.header + ":");
-    };
-    try {
-        return fn();
-    } catch (const IoError& e) {
-        if (skip(e.what())) throw;
-        throw IoError(named(e.what()));
-    } catch (const FormatError& e) {
-        if (skip(e.what())) throw;
-        throw FormatError(named(e.what()));
-    }
+    if (plan.header.empty()) return fn();
+    return with_error_prefix(plan.header, plan.header + ": data file ", std::forward<Fn>(fn));
 }
 
 /// Executes the plan. map_raw: when the samples are one uncompressed file in host byte order and

@@ -550,27 +550,10 @@ PointSet read_plot3d(const std::string& xyz_path, const PointSetOptions& o, std:
     return b.finish(P.value_name, P.vkind != Kind::xyz);
 }
 
-namespace {
-/// fn() on the files a .p3d names, their errors prefixed with the .p3d (as a NRRD header names
-/// its data file's errors): "m.p3d: ./grid.xyz: cannot open ...".
-template <class Fn>
-auto named_by_meta(const std::string& p3d_path, Fn&& fn) {
-    try {
-        return fn();
-    } catch (const FormatError& e) {
-        if (std::string_view(e.what()).starts_with(p3d_path + ":")) throw;
-        throw FormatError(p3d_path + ": " + e.what());
-    } catch (const IoError& e) {
-        if (std::string_view(e.what()).starts_with(p3d_path + ":")) throw;
-        throw IoError(p3d_path + ": " + e.what());
-    }
-}
-}  // namespace
-
 PointSet read_plot3d_meta(const std::string& p3d_path, const PointSetOptions& o, std::vector<std::string>* notes) {
     PointSetOptions opt;
     const std::string xyz = resolve_meta(p3d_path, o, opt, notes);
-    return named_by_meta(p3d_path, [&] { return read_plot3d(xyz, opt, notes); });
+    return with_error_prefix(p3d_path, p3d_path + ": ", [&] { return read_plot3d(xyz, opt, notes); });
 }
 
 Multiblock read_plot3d_blocks(const std::string& xyz_path, const PointSetOptions& o, std::vector<std::string>* notes) {
@@ -615,7 +598,7 @@ Multiblock read_plot3d_blocks(const std::string& xyz_path, const PointSetOptions
 Multiblock read_plot3d_meta_blocks(const std::string& p3d_path, const PointSetOptions& o, std::vector<std::string>* notes) {
     PointSetOptions opt;
     const std::string xyz = resolve_meta(p3d_path, o, opt, notes);
-    return named_by_meta(p3d_path, [&] { return read_plot3d_blocks(xyz, opt, notes); });
+    return with_error_prefix(p3d_path, p3d_path + ": ", [&] { return read_plot3d_blocks(xyz, opt, notes); });
 }
 
 }  // namespace meshless

@@ -26,8 +26,9 @@ constexpr std::uint32_t kFlagZstd = 1, kFlagCells = 2;
 constexpr std::uint32_t kMaxPayload = 1u << 30;
 // Frame payloads up to this size are read (or decompressed) straight into the caller's records;
 // larger claims are first proven by the data (StreamReader::read_proven / decompress_proven). The
-// writers' frames hold at most kMaxBatchRecords records (3 MiB of samples): all below it.
-constexpr std::size_t kProvenBytes = std::size_t{4} << 20;
+// writers' frames hold at most kMaxBatchRecords = 65,536 records (5.5 MiB of 88-byte samples, 2 MiB
+// of points): all below it.
+constexpr std::size_t kProvenBytes = std::size_t{8} << 20;
 
 void put_u32(unsigned char* p, std::uint32_t v) {
     for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
@@ -117,7 +118,7 @@ std::optional<double> StreamMeta::get_double(const std::string& k) const {
     char* end = nullptr;
     const double v = std::strtod(s->c_str(), &end);
     if (end == s->c_str() || *end != '\0')
-        throw FormatError((source.empty() ? "" : source + ": ") + "stream metadata: '" + escape_field(k) + "' is not a number: " +
+        throw FormatError(where() + "stream metadata: '" + escape_field(k) + "' is not a number: " +
                           escape_field(*s));
     return v;
 }
@@ -125,7 +126,7 @@ std::optional<double> StreamMeta::get_double(const std::string& k) const {
 std::optional<double> StreamMeta::get_finite(const std::string& k) const {
     const auto v = get_double(k);
     if (v && !std::isfinite(*v))
-        throw FormatError((source.empty() ? "" : source + ": ") + "stream metadata: '" + escape_field(k) +
+        throw FormatError(where() + "stream metadata: '" + escape_field(k) +
                           "' is not a finite number: " + escape_field(*get(k)));
     return v;
 }
@@ -376,7 +377,7 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
                 read_proven(staged_, bytes);
                 if (crc_of(staged_.data(), bytes) != crc) throw bad_crc();
                 std::memcpy(room(count), staged_.data(), bytes);
-                staged_ = {};
+                staged_.clear();
             } else {
                 void* dst = room(count);
                 if (bytes && !read_exact(dst, bytes)) throw truncated();
@@ -429,7 +430,7 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
         if (raw > kProvenBytes) {  // a large claim: decompressed (proven) before the records take it
             decompress_proven(stored_, raw, staged_);
             std::memcpy(room(count), staged_.data(), raw);
-            staged_ = {};
+            staged_.clear();
         } else {
             void* dst = room(count);
             const std::size_t n = ZSTD_decompress(dst, raw, stored_.data(), bytes);

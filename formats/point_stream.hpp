@@ -46,6 +46,8 @@ struct StreamMeta {
     std::map<std::string, std::string> kv;
     /// The stream the values were read from (for messages; empty for metadata made in memory).
     std::string source;
+    /// "SOURCE: " to begin a message about these values ("" without a source).
+    std::string where() const { return source.empty() ? std::string() : source + ": "; }
     /// Stores v with its line feeds (a file name's) written as \x0a, so that every value is one
     /// line here, in a stream's META frame and in an output's header alike.
     void set(const std::string& k, const std::string& v);

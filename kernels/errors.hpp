@@ -35,4 +35,21 @@ struct BrokenPipe : std::runtime_error {
     BrokenPipe() : std::runtime_error("broken pipe") {}
 };
 
+/// fn(), its FormatError and IoError rethrown (same type) with `prefix` before the message, unless
+/// the message already begins with `owner` + ":" (a file that names other files: a detached header
+/// names its data file's errors, "quarter.nhdr: data file ./quarter.1: cannot open").
+template <class Fn>
+decltype(auto) with_error_prefix(const std::string& owner, const std::string& prefix, Fn&& fn) {
+    const auto named = [&](const char* what) { return std::string(what).rfind(owner + ":", 0) == 0; };
+    try {
+        return fn();
+    } catch (const FormatError& e) {
+        if (named(e.what())) throw;
+        throw FormatError(prefix + e.what());
+    } catch (const IoError& e) {
+        if (named(e.what())) throw;
+        throw IoError(prefix + e.what());
+    }
+}
+
 }  // namespace meshless

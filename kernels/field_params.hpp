@@ -153,7 +153,9 @@ struct FieldBuildStats {
     std::uint64_t linear_fallback = 0; ///< locals that fell back to a least-squares linear fit
     std::uint64_t polynomial_only = 0; ///< locals with too few points for RBF terms (constant/linear)
     std::uint64_t capped = 0;          ///< locals that kept only their nearest points (size cap)
-    std::uint64_t grown = 0;           ///< locals that took extra nearest points (rbf_grid_min_local / mpu_min_points)
+    std::uint64_t grown = 0;           ///< locals that took extra nearest points (rbf_grid_min_local / mpu_min_points,
+                                       ///< or points off a flat local's plane)
+    std::uint64_t spanned = 0;         ///< of them, flat locals that took points off their plane (kernels/flat_hull.hpp)
     std::uint64_t max_local_points = 0;
     double mean_local_points = 0;
     std::array<std::int64_t, 3> grid_dims{0, 0, 0};  ///< RBF grid n_x, n_y, n_z

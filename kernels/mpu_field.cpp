@@ -30,10 +30,15 @@ constexpr int kMaxStack = 512;
 // exactly the order of a sequential depth-first build, for any thread count.
 constexpr std::size_t kParallelPoints = 8192;
 
+/// The most points a flat leaf reads from one ancestor's list when it looks for points off its
+/// plane (kernels/flat_hull.hpp): 64 full leaves.
+constexpr std::size_t kSpanPoints = 64 * 140;
+
 struct OctreeBuilder {
     const std::vector<Vec3>& pos;
     std::uint32_t max_pts, min_pts, max_depth;
     double alpha;
+    bool data_flat;  // every point in one plane or line: no leaf can find a point off its plane
     struct NodeRec {
         Vec3 c;
         double half, r, rsub;
@@ -49,7 +54,7 @@ struct OctreeBuilder {
     std::vector<std::pair<std::uint64_t, std::uint32_t>> leaf_range{};  // (first, count) per local
     std::vector<Ancestor> path{};                            // ancestors, root first
     std::vector<std::pair<double, std::uint32_t>> near{};
-    std::uint64_t grown = 0, capped = 0;
+    std::uint64_t grown = 0, capped = 0, spanned = 0;
     std::uint32_t depth_reached = 0;
 
     double radius_of(double half) const { return alpha * 2.0 * std::sqrt(3.0) * half; }
@@ -73,6 +78,7 @@ struct OctreeBuilder {
         std::vector<std::uint32_t>().swap(sub.flat);
         std::vector<NodeRec>().swap(sub.nodes);
         grown += sub.grown;
+        spanned += sub.spanned;
         capped += sub.capped;
         depth_reached = std::max(depth_reached, sub.depth_reached);
     }
@@ -123,7 +129,7 @@ struct OctreeBuilder {
                 std::vector<OctreeBuilder> sub;
                 sub.reserve(8);
                 for (int q = 0; q < 8; ++q) {
-                    sub.push_back(OctreeBuilder{pos, max_pts, min_pts, max_depth, alpha, {}, {}, {}, path, {}});
+                    sub.push_back(OctreeBuilder{pos, max_pts, min_pts, max_depth, alpha, data_flat, {}, {}, {}, path, {}});
                     sub.back().nodes.push_back(nodes[static_cast<std::size_t>(first + q)]);
                 }
                 tbb::parallel_for(0, 8, [&](int q) { sub[q].build(0, std::move(in[static_cast<std::size_t>(q)]), depth + 1); });
@@ -177,22 +183,26 @@ struct OctreeBuilder {
         // A flat leaf (coplanar or collinear points: layers or grid planes farther apart than the
         // leaves) also takes the nearest points off its plane or line, from the nearest ancestor
         // that holds enough (kernels/flat_hull.hpp): its linear part is then determined across it.
-        if (inside.size() >= 2 && !path.empty()) {
+        if (inside.size() >= 2 && !path.empty() && !data_flat) {
             PointMoments mo;
             mo.ref = pos[inside.front()];  // (a data point: exact zeros along a plane of the data)
             for (std::uint32_t i : inside) mo.add(pos[i] - mo.ref);
             if (const std::optional<FlatHull> h = flat_hull(mo)) {
                 const std::uint32_t extra = std::max<std::uint32_t>(4, min_pts / 2);
+                // the nearest ancestor holding `extra` points off the hull; climbing stops before a
+                // list of more than kSpanPoints points (a bounded scan; the parent's is always read)
                 for (std::size_t a = path.size(); a-- > 0;) {
                     near.clear();
                     for (std::uint32_t i : *path[a].points)
                         if (h->off(pos[i])) near.emplace_back(dot(pos[i] - c, pos[i] - c), i);
-                    if (near.size() < extra && a > 0) continue;
+                    if (near.size() < extra && a > 0 && path[a - 1].points->size() <= kSpanPoints) continue;
                     const std::size_t take = std::min<std::size_t>(extra, near.size());
                     std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(take), near.end());
                     for (std::size_t q = 0; q < take; ++q) inside.push_back(near[q].second);
                     std::sort(inside.begin(), inside.end());
-                    ++grown;
+                    inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
+                    grown += take > 0;
+                    spanned += take > 0;
                     break;
                 }
             }
@@ -229,7 +239,13 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
 
     const Vec3 w = hi - lo;
     const double wmax = std::max({w.x, w.y, w.z});
-    OctreeBuilder b{pts, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha, {}, {}, {}, {}, {}};
+    const bool data_flat = [&] {
+        PointMoments all;
+        all.ref = pts.front();
+        for (const Vec3& p : pts) all.add(p - all.ref);
+        return flat_hull(all).has_value();
+    }();
+    OctreeBuilder b{pts, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha, data_flat, {}, {}, {}, {}, {}};
     OctreeBuilder::NodeRec root;
     root.c = (lo + hi) * 0.5;
     root.half = wmax > 0 ? 0.5 * wmax * (1 + 1e-9) : 1.0;
@@ -301,6 +317,7 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
 
     st.locals = locals_.size();
     st.grown = b.grown;
+    st.spanned = b.spanned;
     st.capped = b.capped;
     st.octree_nodes = nodes_.size();
     st.octree_depth = b.depth_reached;

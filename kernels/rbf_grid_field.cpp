@@ -18,6 +18,12 @@
 
 namespace meshless {
 
+namespace {
+/// Rings of cells a flat local searches for points off its plane (kernels/flat_hull.hpp): the
+/// blunt fin's x-planes lie up to 6.4 cells apart.
+constexpr std::int64_t kSpanRings = 8;
+}  // namespace
+
 RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats,
                            const FieldProgress& progress) {
     if (!(params.binning_m > 0) || !std::isfinite(params.binning_m))
@@ -165,34 +171,46 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                          std::vector<std::pair<double, std::uint32_t>>& near, std::vector<std::uint32_t>& out) {
         const std::int64_t i = cell % n_[0], j = (cell / n_[0]) % n_[1], k = cell / (n_[0] * n_[1]);
         const Vec3 cc = centre_of(i, j, k);
-        const std::int64_t rmax = std::max({n_[0], n_[1], n_[2]});
-        for (std::int64_t r = 1;; ++r) {
-            near.clear();
+        // rings of cells, each scanned once (its shell), until `extra` points off the hull are
+        // found, at most kSpanRings rings out: a bounded search, whatever lies beyond
+        const std::int64_t rmax = std::min<std::int64_t>(kSpanRings, std::max({n_[0], n_[1], n_[2]}));
+        near.clear();
+        for (std::int64_t r = 1; r <= rmax && near.size() < extra; ++r)
             for (std::int64_t z = std::max<std::int64_t>(0, k - r); z <= std::min(n_[2] - 1, k + r); ++z)
                 for (std::int64_t y = std::max<std::int64_t>(0, j - r); y <= std::min(n_[1] - 1, j + r); ++y)
                     for (std::int64_t x = std::max<std::int64_t>(0, i - r); x <= std::min(n_[0] - 1, i + r); ++x) {
+                        if (std::max({std::abs(x - i), std::abs(y - j), std::abs(z - k)}) != r) continue;  // inner: seen
                         const std::int64_t nc = x + n_[0] * (y + n_[1] * z);
                         for (std::uint32_t q = start[nc]; q < start[nc + 1]; ++q) {
                             const Vec3& p = pts[order[q]];
                             if (h.off(p)) near.emplace_back(dot(p - cc, p - cc), order[q]);
                         }
                     }
-            if (near.size() >= extra || r >= rmax) break;
-        }
         const std::size_t take = std::min<std::size_t>(extra, near.size());
         std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(take), near.end());
         if (base.size() + take > cap) base.resize(cap - take);  // (base is nearest first)
         out = std::move(base);
         for (std::size_t q = 0; q < take; ++q) out.push_back(near[q].second);
         std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());  // (a base point may also count as off)
+        return take;
     };
 
+    // Flat data (all of it in one plane or line: 2-D scattered data) has no point off any local's
+    // plane: the search is skipped (it would scan every ring of every local for nothing).
+    const bool data_flat = [&] {
+        PointMoments all;
+        all.ref = pts.front();
+        for (const Vec3& p : pts) all.add(p - all.ref);
+        return flat_hull(all).has_value();
+    }();
     // count: points in the data sphere (or grown); keep: how many the local uses, the nearest
     // max(K, points within R_w) of them (K = rbf_grid_local_points, 0 = all), at most `cap`.
     const std::uint32_t k_near = params.rbf_grid_local_points;
     const double rw2 = r_w_ * r_w_ * (1 + 1e-12);
     std::vector<std::uint32_t> count(static_cast<std::size_t>(ncells), 0), keep(static_cast<std::size_t>(ncells), 0);
     std::vector<std::vector<std::uint32_t>> grown(static_cast<std::size_t>(ncells));
+    std::vector<std::uint8_t> spanned(static_cast<std::size_t>(ncells), 0);  // flat locals given points off their plane
     tbb::enumerable_thread_specific<std::vector<std::pair<double, std::uint32_t>>> scratch;
     tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, ncells, 256), [&](const tbb::blocked_range<std::int64_t>& r) {
         auto& near = scratch.local();
@@ -209,7 +227,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                 for (std::uint32_t pi : grown[cell]) mo.add(pts[pi] - mo.ref);
             }
             std::uint32_t want = k_near == 0 ? cnt : std::max(k_near, in_w);
-            const std::optional<FlatHull> hull = cnt > 0 ? flat_hull(mo) : std::nullopt;
+            const std::optional<FlatHull> hull = cnt > 0 && !data_flat ? flat_hull(mo) : std::nullopt;
             if (hull) {
                 // the local's own points, nearest first, then the nearest off their hull
                 std::vector<std::uint32_t> base;
@@ -222,7 +240,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                 }
                 std::sort(near.begin(), near.end());
                 for (std::uint32_t q = 0; q < used; ++q) base.push_back(near[q].second);
-                span_hull(cell, *hull, std::move(base), std::max<std::uint32_t>(4, min_local / 2), near, grown[cell]);
+                spanned[cell] = span_hull(cell, *hull, std::move(base), std::max<std::uint32_t>(4, min_local / 2), near, grown[cell]) > 0;
                 cnt = static_cast<std::uint32_t>(grown[cell].size());
                 want = cnt;
             }
@@ -338,6 +356,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
         st.rank_deficient += rank_def[l];
         st.capped += capped[l];
         st.grown += !grown[local_cell[l]].empty();
+        st.spanned += spanned[local_cell[l]];
         const std::uint64_t used = (l + 1 < locals_.size() ? locals_[l + 1].first : total) - locals_[l].first;
         sum_pts += used;
         st.max_local_points = std::max<std::uint64_t>(st.max_local_points, used);

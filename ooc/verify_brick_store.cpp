@@ -56,6 +56,7 @@ VerifyReport verify_brick_store(const std::string& path, std::uint64_t budget_by
         rep.message = path + ": its bricks take up to " + std::to_string(store->max_brick_bytes()) +
                       " bytes decompressed, more than the memory budget of " + std::to_string(budget_bytes) +
                       " bytes (--memory); not checked";
+        rep.over_budget = true;
         return rep;
     }
     std::vector<std::byte> buf;

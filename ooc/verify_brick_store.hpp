@@ -15,6 +15,7 @@ struct VerifyReport {
     std::uint64_t bricks_checked = 0;
     std::optional<std::uint64_t> first_bad_brick;
     std::string message;  ///< one line: "ok: N bricks" or what is wrong and where
+    bool over_budget = false;  ///< not read: its bricks exceed the memory budget (not damage)
 };
 
 /// `progress`, when given, is called after each brick with (bricks checked, bricks in the store).

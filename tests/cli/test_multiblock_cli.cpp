@@ -238,6 +238,6 @@ TEST_CASE("an option of another input kind points to the help of this input's va
     const std::string blocks = d.path.string() + "/b.vtm";
     const RunResult r = sh("MESHLESS isosurface " + blocks + " --iso 50 -o " + d.path.string() + "/x.ply --projection exact", d);
     CHECK(r.code == 1);
-    CHECK_THAT(r.err, Catch::Contains("unknown option '--projection' (the options for multiblock grids: meshless isosurface " +
-                                      blocks + " --help)"));
+    CHECK_THAT(r.err, Catch::Contains("unknown option '--projection' (the options for multiblock grids: meshless isosurface '" +
+                                      blocks + "' --help)"));
 }

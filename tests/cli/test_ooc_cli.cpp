@@ -46,6 +46,10 @@ TEST_CASE("meshless convert and verify: quiet, deterministic, verify names the b
     r = sh("MESHLESS verify " + a, dir);
     CHECK(r.code == 0);
     CHECK(r.out == "ok: 60 bricks\n");
+    // bricks beyond the memory budget are not read: a usage matter (raise --memory), not damage
+    r = sh("MESHLESS verify " + a + " --memory 1K", dir);
+    CHECK(r.code == 1);
+    CHECK(r.err.find("more than the memory budget of 1024 bytes (--memory); not checked") != std::string::npos);
     r = sh("MESHLESS info " + a, dir);
     CHECK(r.code == 0);
     CHECK(r.out.find("brick store") != std::string::npos);

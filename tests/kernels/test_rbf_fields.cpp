@@ -242,7 +242,9 @@ TEST_CASE("the local fields reproduce linear functions on layered data whose lay
     for (const Variant& var : all_variants()) {
         if (std::string(var.label) == "global-rbf") continue;  // (one global fit: never flat here)
         INFO(var.label);
-        const auto f = make_field(ps, var.params);
+        FieldBuildStats st;
+        const auto f = make_field(ps, var.params, &st);
+        CHECK(st.spanned > 0);
         const auto at = random_points(2000, Vec3{0.5, 0.5, 0.5}, Vec3{8.5, 2.5, 2.5}, 21);
         std::vector<double> v(at.size());
         std::vector<Vec3> g(at.size());
@@ -258,6 +260,23 @@ TEST_CASE("the local fields reproduce linear functions on layered data whose lay
         CHECK(finite > 500);
         CHECK(worst <= 1e-9);
         CHECK(worst_g <= 1e-9);
+    }
+}
+
+TEST_CASE("on data that lies all in one plane the local fields look for no point off it", "[rbf]") {
+    // 2-D scattered data: every local is flat and no point is off its plane; searching for them
+    // anyway scanned every ring of every local (80,000 points: 0.07 s became 236 s) and made every
+    // local an explicit copy
+    std::vector<Vec3> pos = random_points(5000, Vec3{0, 0, 0.5}, Vec3{1, 1, 0.5}, 31);
+    const PointSet ps = make_points(pos, [](const Vec3& p) { return p.x + 0.5 * p.y; });
+    for (const Variant& var : all_variants()) {
+        if (std::string(var.label) == "global-rbf") continue;
+        INFO(var.label);
+        FieldBuildStats st;
+        const auto f = make_field(ps, var.params, &st);
+        CHECK(st.spanned == 0);
+        // rbf-grid: only its few sparse cells grow (a flat local that searched became a grown copy)
+        if (std::string(var.label).rfind("rbf-grid", 0) == 0) CHECK(st.grown * 20 < st.locals);
     }
 }
 
