@@ -39,6 +39,14 @@ bool is_gz_path(const std::string& path) {
     return ends_with(l, ".gz") || ends_with(l, ".GZ");
 }
 
+// Gzipped: named .gz, or starting with gzip's magic (a .nii.gz on standard input is spooled to a
+// file without its name).
+bool is_gz(const std::string& path) {
+    if (is_gz_path(path)) return true;
+    const std::string head = read_file_prefix(path, 2);
+    return head.size() == 2 && static_cast<unsigned char>(head[0]) == 0x1f && static_cast<unsigned char>(head[1]) == 0x8b;
+}
+
 // An sform/qform whose index axes run along the RAS axes (forward or back: FSL's "LAS" x = -2 is
 // the common case) gives world coordinates: the backward axes are flipped (origin moved to their
 // last sample, samples reversed, the frame's axes negated). A rotating matrix keeps the index frame.
@@ -163,7 +171,7 @@ std::string image_file_for(const std::string& path) {
 
 NiftiHeader read_header(const std::string& path) {
     unsigned char h[kHeaderBytes];
-    if (is_gz_path(path)) {
+    if (is_gz(path)) {
         InflateReader r(path);
         r.read_exact(h, kHeaderBytes, "NIfTI header");
     } else {
@@ -194,7 +202,7 @@ VolumeInfo probe_nifti(const std::string& path) {
     const std::string data = h.pair ? image_file_for(path) : path;
     i.type = (h.slope != 0 && std::isfinite(h.slope) && !(h.slope == 1 && h.inter == 0)) ? SampleType::f32
                                                                                          : volume_type_for(h.type);
-    i.encoding = is_gz_path(data) ? "gzip" : "raw";
+    i.encoding = is_gz(data) ? "gzip" : "raw";
     i.data_files = {data};
     i.frame = h.frame;
     return i;
@@ -227,7 +235,7 @@ PayloadPlan raw_plan(const NiftiHeader& h, const std::string& data) {
 void prove_nifti(const std::string& path) {
     const NiftiHeader h = read_header(path);
     const std::string data = h.pair ? image_file_for(path) : path;
-    if (!is_gz_path(data)) return prove_payload(raw_plan(h, data));
+    if (!is_gz(data)) return prove_payload(raw_plan(h, data));
     const std::uint64_t bytes = gz_payload_bytes(h, data);
     InflateReader r(data);
     r.skip(h.vox_offset + bytes);  // streamed through a small buffer: nothing kept
@@ -236,7 +244,7 @@ void prove_nifti(const std::string& path) {
 Volume read_nifti(const std::string& path) {
     const NiftiHeader h = read_header(path);
     const std::string data = h.pair ? image_file_for(path) : path;
-    if (is_gz_path(data)) {
+    if (is_gz(data)) {
         const std::uint64_t bytes = gz_payload_bytes(h, data);  // deflate expands at most 1032:1
         // inflate_file's output pages become resident as the data arrives
         Volume v = make_volume(inflate_file(data, 0, h.vox_offset, bytes), h.type, h.big_endian, h.grid, data);

@@ -54,6 +54,14 @@ TEST_CASE("volumes from standard input: raw and NRRD piped in, errors name stdin
         CHECK(same_points(D + "file.ply", D + "nrrd.ply"));
     }
     REQUIRE(sh(env + "cat " + D + "ball.nrrd | MESHLESS mc - --iso 100.5 -o " + D + "mesh.ply", d).code == 0);
+    if (have_shared_data()) {  // a gzipped NIfTI piped in: recognised by its gzip magic (no .gz name on stdin)
+        const std::string mni = (shared_data() / "mni152_brain" / "avg152T1_RL_nifti.nii.gz").string();
+        REQUIRE(sh("MESHLESS isosurface " + mni + " --iso 80.5 -o " + D + "mni_file.ply", d).code == 0);
+        const auto g = sh(env + "cat " + mni + " | MESHLESS isosurface - --iso 80.5 -o " + D + "mni_stdin.ply", d);
+        INFO(g.err);
+        REQUIRE(g.code == 0);
+        CHECK(same_points(D + "mni_file.ply", D + "mni_stdin.ply"));
+    }
     REQUIRE(sh(env + "MESHLESS sample - --count 50 -o " + D + "s.csv < " + D + "ball.nrrd", d).code == 0);
     // not a volume: exit 2, named as stdin
     spit(d / "junk.bin", std::string(100, 'x'));
