@@ -458,8 +458,9 @@ Camera camera_from(const Args& a, const char* default_size) {
 }
 
 std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c) {
-    for (const char* o : {"up", "view", "azimuth", "elevation"})
+    for (const char* o : {"up", "view"})
         if (a.declared(o) && a.has(o)) return std::nullopt;  // the user chose the camera
+    // --azimuth / --elevation (the camera's, 30 and 20 unless given) turn the face-on view
     if (in.store) return std::nullopt;                        // a brick store keeps no orientation
     const std::string path = in.spool ? in.spool->path() : in.path;
     std::optional<AnatomicalFrame> f;
@@ -468,7 +469,7 @@ std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const Vol
     } catch (const std::exception&) {
         return std::nullopt;  // (the volume was read already: nothing new to say)
     }
-    if (f) apply_view(anatomical_view(f->axis), c);
+    if (f) apply_view(anatomical_view(f->axis, c.azimuth_deg, c.elevation_deg), c);
     return f;
 }
 

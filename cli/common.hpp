@@ -105,10 +105,11 @@ std::string triple(const Vec3& v);
 void add_orbit_options(Args& a, const char* default_size);
 /// The camera of add_orbit_options (UsageError for bad values, --view with --azimuth/--elevation).
 Camera camera_from(const Args& a, const char* default_size);
-/// The default camera of a volume (kernels/anatomical_view.hpp): when none of --up, --view, --azimuth,
-/// --elevation was given and the volume's header gives the patient's axes (formats/anatomical_frame.hpp:
-/// NIfTI sform/qform, NRRD space, MetaImage), the head goes up and the face towards the viewer; otherwise
-/// (brick stores, formats that say nothing) the camera is left as it is. Returns the frame used, if any.
+/// The default camera of a volume (kernels/anatomical_view.hpp): when neither --up nor --view was
+/// given and the volume's header gives the patient's axes (formats/anatomical_frame.hpp: NIfTI
+/// sform/qform, NRRD space, MetaImage), the head goes up and the face towards the viewer, turned by
+/// --azimuth / --elevation (30 and 20 unless given); otherwise (brick stores, formats that say
+/// nothing) the camera is left as it is. Returns the frame used, if any.
 std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c);
 /// add_orbit_options (800x800) and --kernel quad|ewa --shading: the splat pictures' options.
 void add_camera_options(Args& a);

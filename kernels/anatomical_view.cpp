@@ -4,7 +4,7 @@
 
 namespace meshless {
 
-AnatomicalView anatomical_view(const std::array<Vec3, 3>& lps) {
+AnatomicalView anatomical_view(const std::array<Vec3, 3>& lps, double turn_azimuth_deg, double turn_elevation_deg) {
     AnatomicalView v;
     // superior is LPS +z: the axis whose direction has the largest |z|
     int up = 0;
@@ -26,8 +26,8 @@ AnatomicalView anatomical_view(const std::array<Vec3, 3>& lps) {
     else dir.z = s;
     double az = 0, el = 0;
     view_angles(dir, v.up_axis, v.up_negative, az, el);
-    v.azimuth_deg = std::fmod(az + 30.0, 360.0);
-    v.elevation_deg = el + 20.0;
+    v.azimuth_deg = std::fmod(az + turn_azimuth_deg, 360.0);
+    v.elevation_deg = el + turn_elevation_deg;
     return v;
 }
 

@@ -4,8 +4,9 @@
 //   up    = the world axis (and sign) closest to superior (LPS +z);
 //   front = of the other two axes, the one (and sign) closest to anterior (LPS -y): the camera sits
 //           on that side and looks toward posterior (azimuth 0 of that frame);
-//   then azimuth +30 and elevation +20 degrees, as the generic default (y up, azimuth 30,
-//   elevation 20 from the +z side) is turned from its own front.
+//   then turned by azimuth and elevation, +30 and +20 degrees by default, as the generic default
+//   (y up, azimuth 30, elevation 20 from the +z side) is turned from its own front (the CLI passes
+//   --azimuth/--elevation here, so they turn the face-on view).
 // VTK's Medical examples look at the headsq CT this way (view up -z, camera on -y, then azimuth 30,
 // elevation 30). Throws nothing; pure.
 // Dissertation: none (presentation).
@@ -25,7 +26,7 @@ struct AnatomicalView {
     double azimuth_deg = 30, elevation_deg = 20;
 };
 
-AnatomicalView anatomical_view(const std::array<Vec3, 3>& lps);
+AnatomicalView anatomical_view(const std::array<Vec3, 3>& lps, double turn_azimuth_deg = 30, double turn_elevation_deg = 20);
 /// Sets the camera's up axis, azimuth and elevation to the view (size, zoom, projection kept).
 void apply_view(const AnatomicalView& v, Camera& c);
 

@@ -135,3 +135,22 @@ TEST_CASE("orientation: mc on sphere.slc encloses positive volume, points face o
         facing += dot(Vec3{p.normal[0], p.normal[1], p.normal[2]}, Vec3{p.pos[0], p.pos[1], p.pos[2]} - centre) > 0;
     CHECK(facing == pts.points.size());
 }
+
+TEST_CASE("orientation: --azimuth and --elevation turn the face-on view of a volume with patient axes", "[cli][real][orientation]") {
+    if (!have_shared_data()) {
+        WARN("../shared/data absent: anatomical turn test skipped");
+        return;
+    }
+    // the default turn given explicitly is the default picture (it used to switch the face-on view
+    // off and show the generic +y-up one: the head on its side); another turn is another picture
+    TempDir d("anatomical_turn");
+    const std::string mni = (shared_data() / "mni152_brain" / "avg152T1_RL_nifti.nii.gz").string(), D = d.path.string() + "/";
+    const std::string common = " --iso 80.5 -o " + D + "x.ply --size 64x64 --png " + D;
+    REQUIRE(sh("MESHLESS isosurface " + mni + common + "default.png", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + mni + common + "explicit.png --azimuth 30 --elevation 20", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + mni + common + "side.png --azimuth 90 --elevation 0", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + mni + common + "generic.png --up +y --azimuth 30 --elevation 20", d).code == 0);
+    CHECK(slurp(d / "default.png") == slurp(d / "explicit.png"));
+    CHECK(slurp(d / "default.png") != slurp(d / "side.png"));
+    CHECK(slurp(d / "default.png") != slurp(d / "generic.png"));  // --up turns the face-on view off
+}
