@@ -33,14 +33,6 @@ namespace meshless::cli {
 
 namespace {
 
-std::string lower_ext(const std::string& path) {
-    const auto dot = path.find_last_of('.');
-    if (dot == std::string::npos || path.find('/', dot) != std::string::npos) return "";
-    std::string e = path.substr(dot);
-    for (char& c : e) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
-    return e;
-}
-
 const char* scaling_name(PcaScaling s) { return s == PcaScaling::raw ? "raw" : "normalised"; }
 
 /// Error thresholds for the info table: the root's error times 1/2^k down to the reached error.
@@ -210,8 +202,7 @@ int cmd_lod(int argc, char** argv) {
     a.positionals(1, 1);
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string out = a.require("output");
-    const std::string ext = lower_ext(out);
-    if (ext != ".ply" && ext != ".csv" && ext != ".vtp" && out != "-")
+    if (!point_set_output_name(out))
         throw UsageError("-o '" + out + "': this output is a level of detail, written to a .ply (binary PLY), .csv or .vtp "
                          "(VTK XML PolyData) file (outputs are chosen by extension; '-' for CSV on stdout)");
     if (a.has("level") == a.has("error")) throw UsageError("give one of --level L or --error E");
@@ -247,24 +238,7 @@ int cmd_lod(int argc, char** argv) {
                      "the clusters' fits overshoot there\n",
                      outside, ps.size(), t.value_range[0], t.value_range[1], lo, hi);
     const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + path};
-    if (ext == ".vtp") {
-        VtpOptions vo;
-        vo.oriented = false;  // samples, not splats: no normal, no radius
-        VtpPointWriter w(out, comments, vo);
-        std::vector<PointRecord> recs(ps.size());
-        for (std::size_t i = 0; i < ps.size(); ++i) {
-            PointRecord& q = recs[i];
-            q = PointRecord{};
-            q.pos[0] = static_cast<float>(ps.pos[i].x);
-            q.pos[1] = static_cast<float>(ps.pos[i].y);
-            q.pos[2] = static_cast<float>(ps.pos[i].z);
-            q.value = static_cast<float>(ps.value[i]);
-        }
-        w.append(recs);
-        w.commit();
-    } else {
-        write_point_set(out, ps, comments);
-    }
+    write_point_set(out, ps, comments);
     if (a.has("stats"))
         std::fprintf(stderr, "lod: %s of %s: %zu points (%.2f%% of %" PRIu64 " samples), %.4f s\n", r.description.c_str(),
                      terminal_safe(path).c_str(), ps.size(), 100.0 * ps.size() / t.stats.samples, t.stats.samples, s);

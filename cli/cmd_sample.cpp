@@ -18,19 +18,23 @@
 namespace meshless::cli {
 
 int cmd_sample(int argc, char** argv) {
-    Args a("sample", "VOLUME --count N -o points.ply|points.csv",
+    Args a("sample", "VOLUME --count N -o points.ply|points.csv|points.vtp",
            "Scattered samples of a volume: N uniform random positions in the volume's bounds, values by\n"
-           "trilinear interpolation. PLY (binary, double x y z value) or CSV (header x,y,z,value).\n"
+           "trilinear interpolation. PLY (binary, double x y z value), CSV (header x,y,z,value) or VTP (float32\n"
+           "points with a value array, for ParaView).\n"
            "The same seed gives the same points.");
     a.option("count", "n", "N", "number of points (required, >= 1)")
         .option("seed", "", "S", "random seed", "1")
-        .option("output", "o", "FILE", "output .ply or .csv ('-' = CSV on stdout; required)");
+        .option("output", "o", "FILE", "output .ply, .csv or .vtp ('-' = CSV on stdout; required)");
     add_volume_options(a);
     if (!a.parse(argc, argv, 2)) return 0;
     const long long count = a.get_int_or("count", -1);
     if (!a.has("count")) throw UsageError("missing --count N");
     if (count < 1) throw UsageError("--count: expected a positive number, got " + std::to_string(count));
     const std::string out = a.require("output");
+    if (!point_set_output_name(out))
+        throw UsageError("-o '" + out + "': this output is a point set with values, written to a .ply (binary PLY), .csv or .vtp "
+                         "(VTK XML PolyData) file (outputs are chosen by extension; '-' for CSV on stdout)");
     const long long seed = a.get_int_or("seed", 1);
     const Volume v = load_volume(a);
     const GridSpec& g = v.grid;

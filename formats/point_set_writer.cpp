@@ -1,6 +1,7 @@
 #include "formats/point_set_writer.hpp"
 
 #include <cstdio>
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 
@@ -8,6 +9,7 @@
 #include "formats/ply.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/text_header.hpp"
+#include "formats/vtp_writer.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -57,11 +59,42 @@ void write_point_set_csv(const std::string& path, const PointSet& ps) {
     f.commit();
 }
 
+namespace {
+void write_point_set_vtp(const std::string& path, const PointSet& ps, const std::vector<std::string>& comments) {
+    VtpOptions vo;
+    vo.oriented = false;  // samples, not splats: no normal, no radius
+    VtpPointWriter w(path, comments, vo);
+    std::vector<PointRecord> recs;
+    recs.reserve(std::min<std::size_t>(ps.size(), 65536));
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        PointRecord q{};
+        q.pos[0] = static_cast<float>(ps.pos[i].x);
+        q.pos[1] = static_cast<float>(ps.pos[i].y);
+        q.pos[2] = static_cast<float>(ps.pos[i].z);
+        q.value = ps.has_values ? static_cast<float>(ps.value[i]) : 0.0f;
+        recs.push_back(q);
+        if (recs.size() == 65536) {
+            w.append(recs);
+            recs.clear();
+        }
+    }
+    w.append(recs);
+    w.commit();
+}
+}  // namespace
+
+bool point_set_output_name(const std::string& path) {
+    const std::string e = to_lower(std::filesystem::path(path).extension().string());
+    return path == "-" || e == ".ply" || e == ".csv" || e == ".vtp";
+}
+
 void write_point_set(const std::string& path, const PointSet& ps, const std::vector<std::string>& comments) {
     const std::string e = to_lower(std::filesystem::path(path).extension().string());
+    if (path == "-" || e == ".csv") return write_point_set_csv(path, ps);
     if (e == ".ply") return write_point_set_ply(path, ps, comments);
-    if (e == ".csv" || e == ".txt" || e == ".tsv" || path == "-") return write_point_set_csv(path, ps);
-    throw InvalidArgument(path + ": unknown point-set output type (use .ply or .csv)");
+    if (e == ".vtp") return write_point_set_vtp(path, ps, comments);
+    throw InvalidArgument("-o '" + path + "': this output is a point set with values, written to a .ply (binary PLY), .csv or .vtp "
+                          "(VTK XML PolyData) file (outputs are chosen by extension; '-' for CSV on stdout)");
 }
 
 }  // namespace meshless

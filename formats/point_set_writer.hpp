@@ -6,7 +6,9 @@
 // recorded in a comment "value_name NAME"); no value property when has_values is false.
 // CSV: header "x,y,z,value" (or "x,y,z"), one row per point, 17 significant digits (round-trips
 // doubles exactly).
-// Both go through AtomicFile (temporary + rename; "-" = stdout): nothing half-written on error.
+// VTP: VTK XML PolyData of float32 points, one vertex cell each, and the `value` array (ParaView
+// opens it at once; formats/vtp_writer.hpp with oriented = false: no normals, no radii).
+// All go through AtomicFile (temporary + rename; "-" = stdout as CSV): nothing half-written on error.
 // Throws IoError naming the path. Thread-safety: reentrant.
 #pragma once
 #include <string>
@@ -18,7 +20,10 @@ namespace meshless {
 
 void write_point_set_ply(const std::string& path, const PointSet& ps, const std::vector<std::string>& comments = {});
 void write_point_set_csv(const std::string& path, const PointSet& ps);
-/// By extension: .ply -> PLY, .csv/.txt/.tsv or "-" -> CSV; anything else InvalidArgument.
+/// Whether write_point_set takes this output name: .ply, .csv, .vtp (any case) or "-".
+bool point_set_output_name(const std::string& path);
+/// By extension: .ply -> PLY, .csv or "-" -> CSV, .vtp -> VTP; anything else InvalidArgument
+/// ("-o 'NAME': this output is a point set with values, written to a .ply, .csv or .vtp file ...").
 void write_point_set(const std::string& path, const PointSet& ps, const std::vector<std::string>& comments = {});
 
 }  // namespace meshless

@@ -68,6 +68,16 @@ TEST_CASE("sample: usage errors and bad volumes leave no output", "[scatter][cli
     CHECK(sh("MESHLESS sample " + vol + " --count 0 -o " + out, d).code == 1);
     CHECK(sh("MESHLESS sample " + vol + " --count 10", d).code == 1);
     CHECK(sh("MESHLESS sample " + vol + " --count 10 -o " + (d / "o.xyz").string(), d).code == 1);
+    // a .txt was silently CSV and a .vtp refused; now .txt is refused like any other name and .vtp
+    // is VTK XML PolyData with one vertex cell per point
+    const auto txt = sh("MESHLESS sample " + vol + " --count 10 -o " + (d / "o.txt").string(), d);
+    CHECK(txt.code == 1);
+    CHECK(txt.err.find("this output is a point set with values, written to a .ply (binary PLY), .csv or .vtp") != std::string::npos);
+    CHECK(!std::filesystem::exists(d / "o.txt"));
+    REQUIRE(sh("MESHLESS sample " + vol + " --count 10 -o " + (d / "o.vtp").string(), d).code == 0);
+    const std::string vtp = slurp(d / "o.vtp");
+    CHECK(vtp.find("NumberOfPoints=\"10\"") != std::string::npos);
+    CHECK(vtp.find("NumberOfVerts=\"10\"") != std::string::npos);
     spit(d / "bad_6x5x4_uint8.raw", "short");
     const auto r = sh("MESHLESS sample " + (d / "bad_6x5x4_uint8.raw").string() + " --count 10 -o " + out, d);
     CHECK(r.code == 2);
