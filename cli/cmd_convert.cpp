@@ -16,6 +16,8 @@
 #include "ooc/brick_converter.hpp"
 #include "ooc/slice_source.hpp"
 #include "ooc/verify_brick_store.hpp"
+#include "cli/stdin_spool.hpp"
+#include "formats/volume_reader.hpp"
 
 namespace meshless::cli {
 
@@ -91,6 +93,23 @@ ConvertStats run_conversion(SliceSource& src, const std::string& out, const Conv
 
 }  // namespace
 
+/// The patient axes a volume file's header gives (formats/anatomical_frame.hpp), for the store's
+/// header: pictures of the store then face as pictures of the volume do.
+/// A brick store gives the axes it recorded. Nothing is said when the header cannot be probed: the
+/// axes only frame pictures, and the conversion itself reports what is wrong with the input.
+std::optional<std::array<std::array<double, 3>, 3>> patient_axes_of(const std::string& path, const Args& a) {
+    try {
+        if (is_brick_store(path)) return BrickStore::open(path)->info().patient_axes;
+        const std::optional<AnatomicalFrame> f = probe_volume(path, raw_options(a)).frame;
+        if (!f) return std::nullopt;
+        std::array<std::array<double, 3>, 3> ax{};
+        for (int i = 0; i < 3; ++i) ax[i] = {f->axis[i].x, f->axis[i].y, f->axis[i].z};
+        return ax;
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
 int cmd_convert(int argc, char** argv) {
     Args a("convert", "VOLUME -o vol.mlb [--brick B] [--level N] [--threads N]",
            "Converts a volume into a brick store (.mlb): cubic bricks of B cells plus a one-voxel ghost\n"
@@ -103,16 +122,18 @@ int cmd_convert(int argc, char** argv) {
     a.epilog("example: meshless convert ../shared/data/tooth/tooth_103x94x161_uint8.raw -o tooth.mlb --stats\n");
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().size() != 1) throw UsageError("expected one VOLUME argument (see meshless convert --help)");
-    const ConvertParams p = convert_params(a);
+    ConvertParams p = convert_params(a);
     const std::string out = output_path(a);
     if (a.positional()[0] == "-") {  // standard input, spooled (cli/stdin_spool.hpp): streamed when it can be
         VolumeInput in = open_volume_input(a, /*stream=*/true);
+        if (in.spool) p.patient_axes = patient_axes_of(in.spool->path(), a);
         std::unique_ptr<SliceSource> src =
             in.slices ? std::move(in.slices) : make_volume_source(std::move(*in.volume), "- (stdin)");
         run_conversion(*src, out, p, a);
         return 0;
     }
     auto src = open_slice_source(a.positional()[0], raw_options(a));
+    p.patient_axes = patient_axes_of(a.positional()[0], a);
     run_conversion(*src, out, p, a);
     return 0;
 }
@@ -169,9 +190,10 @@ int cmd_synth(int argc, char** argv) {
     if (m == "trilinear") mode = Upsampling::trilinear;
     else if (m == "tricubic") mode = Upsampling::tricubic;
     else throw UsageError("--method: expected trilinear or tricubic, got '" + m + "'");
-    const ConvertParams p = convert_params(a);
+    ConvertParams p = convert_params(a);
     const std::string out = output_path(a);
     const Volume v = load_volume(a);
+    if (a.positional()[0] != "-") p.patient_axes = patient_axes_of(a.positional()[0], a);  // (upsampling keeps the axes)
     auto src = make_upsampling_source(v, static_cast<int>(f), mode, a.positional()[0]);
     run_conversion(*src, out, p, a);
     return 0;

@@ -461,13 +461,20 @@ std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const Vol
     for (const char* o : {"up", "view"})
         if (a.declared(o) && a.has(o)) return std::nullopt;  // the user chose the camera
     // --azimuth / --elevation (the camera's, 30 and 20 unless given) turn the face-on view
-    if (in.store) return std::nullopt;                        // a brick store keeps no orientation
-    const std::string path = in.spool ? in.spool->path() : in.path;
     std::optional<AnatomicalFrame> f;
-    try {
-        f = probe_volume(path, raw_options(a)).frame;
-    } catch (const std::exception&) {
-        return std::nullopt;  // (the volume was read already: nothing new to say)
+    if (in.store) {  // the axes its volume's header gave, recorded by convert (none before 2026-11-29)
+        if (const auto& ax = in.store->info().patient_axes) {
+            f = AnatomicalFrame{};
+            for (int i = 0; i < 3; ++i) f->axis[static_cast<std::size_t>(i)] = Vec3{(*ax)[i][0], (*ax)[i][1], (*ax)[i][2]};
+            f->source = "brick store header";
+        }
+    } else {
+        const std::string path = in.spool ? in.spool->path() : in.path;
+        try {
+            f = probe_volume(path, raw_options(a)).frame;
+        } catch (const std::exception&) {
+            return std::nullopt;  // (the volume was read already: nothing new to say)
+        }
     }
     if (f) apply_view(anatomical_view(f->axis, c.azimuth_deg, c.elevation_deg), c);
     return f;

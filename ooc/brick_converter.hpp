@@ -12,6 +12,8 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <array>
+#include <optional>
 #include <string>
 
 #include "ooc/slice_source.hpp"
@@ -22,6 +24,9 @@ struct ConvertParams {
     std::uint32_t brick_edge = 32;  ///< cells per brick edge (2..1024); InvalidArgument otherwise
     int zstd_level = 1;             ///< 1..ZSTD_maxCLevel(); default chosen by benchmark (numbers in cli/cmd_convert.cpp)
     int threads = 1;                ///< compression threads (>= 1); output bytes do not depend on it
+    /// The source's patient axes (LPS direction of world +x, +y, +z), recorded in the header
+    /// (BrickStoreInfo::patient_axes) when given.
+    std::optional<std::array<std::array<double, 3>, 3>> patient_axes;
 };
 
 struct ConvertStats {

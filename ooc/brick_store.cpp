@@ -109,6 +109,11 @@ std::vector<std::byte> encode_brick_store_header(const BrickStoreInfo& info) {
     put<double>(p, 104, info.value_min);
     put<double>(p, 112, info.value_max);
     put<std::uint64_t>(p, 120, info.brick_count);
+    if (info.patient_axes) {
+        put<std::uint32_t>(p, 152, 1);
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) put<double>(p, static_cast<std::size_t>(160 + 8 * (3 * i + k)), (*info.patient_axes)[i][k]);
+    }
     put<std::uint32_t>(p, 252, brick_store_crc32(p, 252));
     return h;
 }
@@ -194,6 +199,19 @@ std::unique_ptr<BrickStore> BrickStore::open(const std::string& path) {
     in.zstd_level = get<std::int32_t>(h, 100);
     in.value_min = get<double>(h, 104);
     in.value_max = get<double>(h, 112);
+    if (get<std::uint32_t>(h, 152) == 1) {  // patient axes: finite unit vectors, else ignored (they only frame a picture)
+        std::array<std::array<double, 3>, 3> ax{};
+        bool ok = true;
+        for (int i = 0; i < 3; ++i) {
+            double n2 = 0;
+            for (int k = 0; k < 3; ++k) {
+                ax[i][k] = get<double>(h, static_cast<std::size_t>(160 + 8 * (3 * i + k)));
+                n2 += ax[i][k] * ax[i][k];
+            }
+            ok = ok && std::isfinite(n2) && std::fabs(n2 - 1) < 1e-6;
+        }
+        if (ok) in.patient_axes = ax;
+    }
     in.brick_count = get<std::uint64_t>(h, 120);
     for (int a = 0; a < 3; ++a)
         if (in.grid.dims[a] < 1 || in.grid.dims[a] > (std::int64_t{1} << 40))

@@ -5,7 +5,10 @@
 //   header  (256 bytes): magic "\x89MLB\r\n\x1a\n" | u32 version | u32 header bytes (256) |
 //           i64 dims[3] | f64 origin[3] | f64 spacing[3] | u32 sample type (SampleType) |
 //           u32 brick edge B (cells) | u32 ghost (1) | i32 zstd level | f64 value min | f64 value max
-//           | u64 brick count | i64 bricks per axis[3] | zero padding | u32 CRC-32 of bytes [0,252)
+//           | u64 brick count | i64 bricks per axis[3] | u32 patient axes given (1) or not (0, as every
+//           store before 2026-11-29: the bytes were padding) at byte 152 | f64 axes[3][3] at 160 (the
+//           LPS unit direction of world +x, +y, +z, formats/anatomical_frame.hpp) | zero padding |
+//           u32 CRC-32 of bytes [0,252)
 //   bricks  one zstd frame each, in ascending Morton key of the brick coordinates
 //   index   brick count x 64-byte entries: u64 key | u64 offset | u64 stored bytes | u32 CRC-32 of
 //           the stored frame | u32 coord[3] | f64 vmin | f64 vmax | u64 raw bytes (sorted by key)
@@ -28,6 +31,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,6 +51,9 @@ struct BrickStoreInfo {
     double value_min = 0, value_max = 0;  ///< over all finite samples
     std::array<std::int64_t, 3> bricks_per_axis{0, 0, 0};
     std::uint64_t brick_count = 0;
+    /// What the converted volume's header said about the patient's axes (the LPS unit direction of
+    /// world +x, +y, +z), so that pictures of the store face as pictures of the volume do.
+    std::optional<std::array<std::array<double, 3>, 3>> patient_axes;
 };
 
 struct BrickEntry {

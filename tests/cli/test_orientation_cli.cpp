@@ -154,3 +154,27 @@ TEST_CASE("orientation: --azimuth and --elevation turn the face-on view of a vol
     CHECK(slurp(d / "default.png") != slurp(d / "side.png"));
     CHECK(slurp(d / "default.png") != slurp(d / "generic.png"));  // --up turns the face-on view off
 }
+
+TEST_CASE("orientation: a brick store keeps its volume's patient axes and gives the volume's pictures", "[cli][real][orientation]") {
+    if (!have_shared_data()) {
+        WARN("../shared/data absent: brick store orientation test skipped");
+        return;
+    }
+    // VTK's headsq (NRRD, 3D-left-handed: head up means -z up) and the MNI template (NIfTI sform):
+    // a store made by convert used to lose the axes, so its pictures showed the head from below
+    TempDir d("store_axes");
+    const std::string D = d.path.string() + "/";
+    for (const auto& [vol, iso] : {std::pair<std::string, std::string>{(shared_data() / "vtk_headsq" / "quarter.nhdr").string(), "500.5"},
+                                   {(shared_data() / "mni152_brain" / "avg152T1_RL_nifti.nii.gz").string(), "80.5"}}) {
+        INFO(vol);
+        REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "s.mlb", d).code == 0);
+        const auto info = sh("MESHLESS info " + D + "s.mlb", d);
+        CHECK(info.out.find("patient axes: ") != std::string::npos);
+        REQUIRE(sh("MESHLESS isosurface " + vol + " --iso " + iso + " --size 64x64 --png " + D + "v.png", d).code == 0);
+        REQUIRE(sh("MESHLESS isosurface " + D + "s.mlb --iso " + iso + " --size 64x64 --png " + D + "s.png", d).code == 0);
+        CHECK(slurp(d / "v.png") == slurp(d / "s.png"));
+        REQUIRE(sh("MESHLESS render " + vol + " --size 48x48 -o " + D + "rv.png", d).code == 0);
+        REQUIRE(sh("MESHLESS render " + D + "s.mlb --size 48x48 -o " + D + "rs.png", d).code == 0);
+        CHECK(slurp(d / "rv.png") == slurp(d / "rs.png"));
+    }
+}
