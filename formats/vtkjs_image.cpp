@@ -52,8 +52,13 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path) {
     const auto bytes = read_file_bytes(path);
     const Json root = parse_json(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
     if (!root.is_object()) throw FormatError(path + ": index.json is not a JSON object");
-    if (!root.find("vtkClass"))  // another JSON document (a KVS object, a vtk.js scene, ...)
-        throw FormatError(path + ": not a vtk.js image (index.json): no 'vtkClass' member");
+    if (!root.find("vtkClass")) {  // another JSON document (a KVS object, a vtk.js scene, ...)
+        const bool kvs = root.find("values") && (root.find("resolution") || root.find("size") || root.find("dims"));
+        throw FormatError(path + ": a JSON document meshless does not read" +
+                          (kvs ? std::string(" (a KVS volume object?)") : std::string()) +
+                          ": the JSON volumes it reads are vtk.js images (index.json with 'vtkClass' vtkImageData);"
+                          " convert it to NRRD or raw first");
+    }
     const std::string& cls = str(root.find("vtkClass"), path, "vtkClass");
     if (cls != "vtkImageData") throw FormatError(path + ": unsupported vtkClass '" + escape_field(cls) + "' (vtkImageData supported)");
     PayloadPlan plan;
