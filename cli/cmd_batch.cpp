@@ -44,6 +44,11 @@ namespace meshless::cli {
 
 namespace {
 
+/// Bumped when a reader places or orients data differently, so that `batch` rebuilds what an
+/// earlier revision made (1: until 2026-11-29; 2: backward direction matrices in world coordinates).
+constexpr int kReadersRevision = 2;
+
+
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
@@ -289,8 +294,10 @@ public:
 private:
     Sidecar common() const {
         Sidecar s;
+        // readers revision 2: direction matrices along the axes but backwards give world coordinates
+        // (2026-11-29); outputs made by an earlier revision are out of date
         s["meshless"] = std::string(kMeshlessVersion) + " (brick store v" + std::to_string(kBrickStoreVersion) +
-                        ", point stream v" + std::to_string(kStreamVersion) + ")";
+                        ", point stream v" + std::to_string(kStreamVersion) + ", readers r" + std::to_string(kReadersRevision) + ")";
         s["param.raw"] = item_.raw_text;
         return s;
     }

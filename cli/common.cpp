@@ -347,9 +347,9 @@ int threads(const Args& a) {
 
 void add_orbit_options(Args& a, const char* default_size) {
     a.option("size", "", "WxH", "image size in pixels, 1..16384 per side", default_size)
-        .option("azimuth", "", "DEG", "camera rotation about the up axis", "30")
-        .option("elevation", "", "DEG", "camera elevation above the plane normal to the up axis", "20")
-        .option("up", "", "AXIS", "the world axis that points up in the picture: x, y, z, -x, -y or -z", "y")
+        .option("azimuth", "", "DEG", "camera rotation about the up axis (a volume whose header gives the patient's axes: about superior, from the face-on view)", "30")
+        .option("elevation", "", "DEG", "camera elevation above the plane normal to the up axis (from the face-on view, as --azimuth)", "20")
+        .option("up", "", "AXIS", "the world axis that points up in the picture: x, y, z, -x, -y or -z (superior, unless given, for a volume whose header gives the patient's axes)", "y")
         .option("view", "", "NAME", "a named view instead of --azimuth/--elevation: +x -x +y -y +z -z (the camera looks "
                                     "along that axis) or iso (looks along -1,-1,-1)")
         .option("zoom", "", "Z", "zoom factor (1 frames the surface: its bounds from the stream, PLY or active bricks/blocks)", "1")

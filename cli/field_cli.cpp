@@ -68,6 +68,9 @@ void print_field_build_stats(const Args& a, const FieldParams& params, const Poi
                  st.hardy_c_world, static_cast<unsigned long long>(st.locals), static_cast<unsigned long long>(st.interpolated),
                  static_cast<unsigned long long>(st.rank_deficient), static_cast<unsigned long long>(st.regularised),
                  static_cast<unsigned long long>(st.linear_fallback), st.memory_bytes / 1048576.0, st.build_seconds);
+    if (st.spanned > 0)
+        std::fprintf(stderr, "%s: %llu local fits had their points in one plane or line and took the nearest points off it\n",
+                     a.command().c_str(), static_cast<unsigned long long>(st.spanned));
 }
 
 void add_field_options(Args& a, bool with_coverage, const std::string& default_kind) {

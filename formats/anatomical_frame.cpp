@@ -81,7 +81,7 @@ std::optional<std::array<double, 3>> axis_aligned_signs(const std::array<Vec3, 3
         const double len = norm(c);
         if (!(len > 0) || !std::isfinite(len)) return std::nullopt;
         for (int j = 0; j < 3; ++j)
-            if (j != i && std::fabs(c[j]) > 1e-6 * len) return std::nullopt;
+            if (j != i && std::fabs(c[j]) > 1e-3 * len) return std::nullopt;
         sign[static_cast<std::size_t>(i)] = c[i] < 0 ? -1.0 : 1.0;
     }
     return sign;

@@ -43,11 +43,12 @@ std::optional<AnatomicalFrame> ras_frame(const std::array<Vec3, 3>& ras_columns,
 void flip_frame(std::optional<AnatomicalFrame>& f, const std::array<bool, 3>& flip);
 /// The signs of a direction matrix whose index axis i runs along world axis i, forward or back
 /// (columns[i]: index axis i in world coordinates, any length; the other two components within
-/// 1e-6 of its length): the reader then takes them as signed spacings, reverses the samples of the
+/// 1e-3 of its length, the slight obliquity scanners leave: positions are then off by at most 1e-3
+/// of the volume's extent): the reader takes them as signed spacings, reverses the samples of the
 /// backward axes (kernels/flip_axes.hpp) and so writes world coordinates (an FSL "LAS" NIfTI, an
-/// NRRD `space directions (-2,0,0) ...`). nullopt when the matrix rotates or permutes the axes:
+/// NRRD `space directions (-2,0,0) ...`). nullopt when the matrix rotates or permutes the axes more:
 /// positions then stay in the volume's index frame (origin + index x spacing), and only the
-/// picture's view follows the matrix.
+/// picture's view follows the matrix (mirrored when the matrix's determinant is negative).
 std::optional<std::array<double, 3>> axis_aligned_signs(const std::array<Vec3, 3>& columns);
 /// "x L, y P, z S" (each axis's dominant direction), for `info`.
 std::string describe_frame(const AnatomicalFrame& f);

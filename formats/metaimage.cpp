@@ -141,13 +141,20 @@ PayloadPlan plan_metaimage(const std::string& path) {
         if (end == t.c_str() || *end) break;
         tm.push_back(v);
     }
-    if (ndims == 3 && tm.size() == 9)  // along the axes, forward or back: world coordinates (backward axes flipped)
+    // along the axes, forward or back: world coordinates (backward axes flipped); the frame, made
+    // from the matrix's rows (index axes), turns round on the matrix's own backward axes (a negative
+    // ElementSpacing reverses samples, not the frame: the frame then already says the world's axes)
+    std::array<bool, 3> frame_flip{false, false, false};
+    if (ndims == 3 && tm.size() == 9)
         if (const auto signs = axis_aligned_signs({Vec3{tm[0], tm[1], tm[2]}, Vec3{tm[3], tm[4], tm[5]}, Vec3{tm[6], tm[7], tm[8]}}))
-            for (int a = 0; a < 3; ++a) signed_spacing[a] *= (*signs)[static_cast<std::size_t>(a)];
+            for (int a = 0; a < 3; ++a) {
+                signed_spacing[a] *= (*signs)[static_cast<std::size_t>(a)];
+                frame_flip[static_cast<std::size_t>(a)] = (*signs)[static_cast<std::size_t>(a)] < 0;
+            }
     for (int a = 0; a < 3; ++a) honour_signed_spacing(plan.grid, plan.flip, a, signed_spacing[a]);  // negative: flipped
     if (ndims == 3) {  // the patient's axes (a malformed matrix is no frame, not an error: it only frames the picture)
         plan.frame = metaimage_frame(tm.size() == 9 ? tm : std::vector<double>{}, trim(anatomical_v));
-        flip_frame(plan.frame, plan.flip);
+        flip_frame(plan.frame, frame_flip);
     }
     plan.encoding = compressed ? PayloadEncoding::gzip : (binary ? PayloadEncoding::raw : PayloadEncoding::ascii);
     if (compressed && header_size == -1) throw FormatError(path + ": HeaderSize -1 with CompressedData is not supported");

@@ -39,10 +39,12 @@ bool is_gz_path(const std::string& path) {
     return ends_with(l, ".gz") || ends_with(l, ".GZ");
 }
 
-// Gzipped: named .gz, or starting with gzip's magic (a .nii.gz on standard input is spooled to a
-// file without its name).
+// Gzipped: named .gz, or a single-file NIfTI (a header file, whose first bytes are sizeof_hdr = 348
+// when it is not gzipped) starting with gzip's magic (a .nii.gz on standard input is spooled to a
+// file without its name). A pair's .img is gzipped only when named so: its samples may start 1f 8b.
 bool is_gz(const std::string& path) {
     if (is_gz_path(path)) return true;
+    if (ends_with(path, ".img") || ends_with(path, ".IMG")) return false;
     const std::string head = read_file_prefix(path, 2);
     return head.size() == 2 && static_cast<unsigned char>(head[0]) == 0x1f && static_cast<unsigned char>(head[1]) == 0x8b;
 }

@@ -253,7 +253,10 @@ PayloadPlan plan_nrrd(const std::string& path) {
                               (i < keep.size() ? spacing[keep[i]] : 1.0) * (signs ? (*signs)[i] : 1.0));
     if (!space_tok.empty()) {
         plan.frame = nrrd_frame(space_tok, dirs.size() == 3 ? dirs : std::vector<Vec3>{});
-        flip_frame(plan.frame, plan.flip);
+        // a frame made from the directions describes the index axes: those the reader reversed turn
+        // round; one made from the space alone (no directions, or the 3D-handed spaces) describes
+        // the world axes, which the samples now follow
+        if (dirs.size() == 3 && space_tok.rfind("3d-", 0) != 0) flip_frame(plan.frame, plan.flip);
     }
 
     if (have_data_file) {

@@ -72,8 +72,6 @@ void put_checked(std::byte* out, std::size_t i, double v, std::string_view token
         constexpr int digits = std::numeric_limits<T>::digits;  // value bits: 2^digits is one past the largest
         const double hi = std::ldexp(1.0, digits), lo = std::is_signed_v<T> ? -hi - 1.0 : -1.0;
         ok = v > lo && v < hi;  // NaN fails both
-        // (int64: -2^63 - 1 rounds to -2^63 as a double, which the comparison above would refuse)
-        if constexpr (std::is_signed_v<T> && digits >= std::numeric_limits<double>::digits) ok = v >= -hi && v < hi;
     } else if constexpr (std::is_same_v<T, float>) {
         ok = !std::isfinite(v) || std::fabs(v) <= static_cast<double>(std::numeric_limits<float>::max());
     }
@@ -81,6 +79,23 @@ void put_checked(std::byte* out, std::size_t i, double v, std::string_view token
         throw FormatError(path + ": ascii value '" + ply_escape(token.substr(0, 24)) + "' at value " + std::to_string(i) +
                           " is outside the range of " + to_string(t));
     put(out, i, static_cast<T>(v));
+}
+
+/// 64-bit integers: a token that is an integer is read as one (every value of the type exactly: a
+/// double holds 53 bits, so 2^63 - 1 would round up beyond the type); other tokens (1e3, 2.5) as
+/// put_checked reads them.
+template <class T>
+void put_checked_wide(std::byte* out, std::size_t i, double v, std::string_view token, StoredType t, const std::string& path) {
+    std::string_view digits = token;
+    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+    T n = 0;
+    const auto r = std::from_chars(digits.data(), digits.data() + digits.size(), n);
+    if (r.ptr == digits.data() + digits.size() && !digits.empty()) {
+        if (r.ec == std::errc()) return put(out, i, n);
+        throw FormatError(path + ": ascii value '" + ply_escape(token.substr(0, 24)) + "' at value " + std::to_string(i) +
+                          " is outside the range of " + to_string(t));
+    }
+    put_checked<T>(out, i, v, token, t, path);
 }
 
 }  // namespace
@@ -116,8 +131,8 @@ std::vector<std::byte> parse_ascii_samples(std::string_view text, StoredType t, 
             case StoredType::i16: put_checked<std::int16_t>(out.data(), i, v, token, t, path); break;
             case StoredType::u32: put_checked<std::uint32_t>(out.data(), i, v, token, t, path); break;
             case StoredType::i32: put_checked<std::int32_t>(out.data(), i, v, token, t, path); break;
-            case StoredType::u64: put_checked<std::uint64_t>(out.data(), i, v, token, t, path); break;
-            case StoredType::i64: put_checked<std::int64_t>(out.data(), i, v, token, t, path); break;
+            case StoredType::u64: put_checked_wide<std::uint64_t>(out.data(), i, v, token, t, path); break;
+            case StoredType::i64: put_checked_wide<std::int64_t>(out.data(), i, v, token, t, path); break;
             case StoredType::f32: put_checked<float>(out.data(), i, v, token, t, path); break;
             case StoredType::f64: put(out.data(), i, v); break;
         }

@@ -142,6 +142,7 @@ struct OctreeBuilder {
         }
         // Leaf.
         const std::uint64_t first = flat.size();
+        bool leaf_grown = false;
         if (inside.size() > max_pts) {  // depth limit: keep the nearest max_pts
             near.clear();
             for (std::uint32_t i : inside) {
@@ -176,7 +177,7 @@ struct OctreeBuilder {
                     if (d2 <= rn2) inside.push_back(i);
                 std::sort(inside.begin(), inside.end());
                 nodes[node].r = rnew;
-                ++grown;
+                leaf_grown = true;
                 break;
             }
         }
@@ -201,12 +202,13 @@ struct OctreeBuilder {
                     for (std::size_t q = 0; q < take; ++q) inside.push_back(near[q].second);
                     std::sort(inside.begin(), inside.end());
                     inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
-                    grown += take > 0;
+                    leaf_grown = leaf_grown || take > 0;
                     spanned += take > 0;
                     break;
                 }
             }
         }
+        grown += leaf_grown;  // (once, whether grown for mpu_min_points, spanned or both)
         nodes[node].local = static_cast<std::int32_t>(leaf_range.size());
         leaf_range.emplace_back(first, static_cast<std::uint32_t>(inside.size()));
         flat.insert(flat.end(), inside.begin(), inside.end());

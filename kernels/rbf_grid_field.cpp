@@ -240,9 +240,13 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                 }
                 std::sort(near.begin(), near.end());
                 for (std::uint32_t q = 0; q < used; ++q) base.push_back(near[q].second);
-                spanned[cell] = span_hull(cell, *hull, std::move(base), std::max<std::uint32_t>(4, min_local / 2), near, grown[cell]) > 0;
-                cnt = static_cast<std::uint32_t>(grown[cell].size());
-                want = cnt;
+                std::vector<std::uint32_t> spanned_list;
+                spanned[cell] = span_hull(cell, *hull, std::move(base), std::max<std::uint32_t>(4, min_local / 2), near, spanned_list) > 0;
+                if (spanned[cell]) {  // (nothing found: the local stays as it was, not an explicit copy)
+                    grown[cell] = std::move(spanned_list);
+                    cnt = static_cast<std::uint32_t>(grown[cell].size());
+                    want = cnt;
+                }
             }
             count[cell] = cnt;
             keep[cell] = std::min({cnt, want, cap});

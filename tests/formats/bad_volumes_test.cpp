@@ -281,6 +281,7 @@ TEST_CASE("bad volumes: ascii samples outside their type's range are refused and
         {"float", "0 0 0 0 0 0 1e300 0", "'1e300' at value 6"},
         {"unsigned long long", "0 0 0 0 0 0 0 18446744073709551616", "'18446744073709551616' at value 7"},
         {"long long", "0 0 0 0 0 0 0 -1e19", "'-1e19' at value 7"},
+        {"long long", "0 0 0 0 0 0 0 -9223372036854775809", "'-9223372036854775809' at value 7"},
     };
     for (const auto& [type, values, what] : bad) {
         TempDir d("ascii_range");
@@ -292,10 +293,11 @@ TEST_CASE("bad volumes: ascii samples outside their type's range are refused and
     TempDir d("ascii_range_ok");
     const auto p = d.path / "ok.nrrd";
     const auto p64 = d.path / "ok64.nrrd";  // int64's extremes: -2^63 is exact as a double and is kept
-    write_file(p64, "NRRD0004\ntype: long long\ndimension: 3\nsizes: 2 1 1\nencoding: ascii\n\n-9223372036854775808 0\n", {});
+    write_file(p64, "NRRD0004\ntype: long long\ndimension: 3\nsizes: 2 1 1\nencoding: ascii\n\n-9223372036854775808 9223372036854775807\n", {});
     const Volume v64 = read_volume(p64.string());
     REQUIRE(v64.type == SampleType::f32);  // (64-bit integers are read as float32 samples)
     CHECK(reinterpret_cast<const float*>(v64.bytes.data())[0] == static_cast<float>(std::numeric_limits<std::int64_t>::min()));
+    CHECK(reinterpret_cast<const float*>(v64.bytes.data())[1] == static_cast<float>(std::numeric_limits<std::int64_t>::max()));
     write_file(p, "NRRD0004\ntype: short\ndimension: 3\nsizes: 2 2 2\nencoding: ascii\n\n-32768 32767 -1.9 1.9 0 0 0 0\n", {});
     const Volume v = read_volume(p.string());
     REQUIRE(v.type == SampleType::i16);

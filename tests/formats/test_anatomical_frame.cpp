@@ -59,7 +59,12 @@ TEST_CASE("a direction matrix along the axes but backwards gives world coordinat
                               "space directions: (-2,0,0) (0,2,0) (0,0,2)\nspace origin: (4,0,0)\nencoding: raw\n\n" + samples);
     spit(d.path / "neg.mha", "ObjectType = Image\nNDims = 3\nDimSize = 3 1 1\nElementSpacing = 2 2 2\nOffset = 4 0 0\n"
                              "TransformMatrix = -1 0 0 0 1 0 0 0 1\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n" + samples);
-    for (const char* f : {"las.nii", "neg.nrrd", "neg.mha"}) {
+    // the slight obliquity scanners leave (here 5e-6 rad) is along the axes too (it was the index frame)
+    std::string nob = nifti(1, 0, {-2, 1e-5f, 0, 4, 0, 2, 0, 0, 0, 0, 2, 0}, {0, 0, 0}, 1);
+    std::memcpy(nob.data() + 42, n.data() + 42, 6);  // dims 3 x 1 x 1
+    nob.resize(352);
+    spit(d.path / "las_oblique.nii", nob + samples);
+    for (const char* f : {"las.nii", "las_oblique.nii", "neg.nrrd", "neg.mha"}) {
         INFO(f);
         const Volume v = read_volume((d.path / f).string());
         CHECK(v.grid.origin[0] == 0);
@@ -98,7 +103,11 @@ TEST_CASE("anatomical frame: what the headers say, per format", "[formats]") {
     CHECK(nrrd("cor.nrrd", "space: RAS\nspace directions: (-1,0,0) (0,0,-1) (0,-1,0)\n") == "x L, y I, z P");
     CHECK(nrrd("left.nrrd", "space: 3D-left-handed\n") == "x L, y P, z I");
     CHECK(nrrd("right.nrrd", "space: 3D-right-handed\n") == "x L, y P, z S");
-    CHECK(nrrd("flip.nrrd", "space: 3D-right-handed\nspacings: 1 1 -1\n") == "x L, y P, z I");  // reversed axis
+    // a negative spacing: the samples are reversed into the world's axes, which this space names (the
+    // frame was turned round as well, so such a volume was drawn upside down)
+    CHECK(nrrd("flip.nrrd", "space: 3D-right-handed\nspacings: 1 1 -1\n") == "x L, y P, z S");
+    CHECK(nrrd("flipdir.nrrd", "space: 3D-right-handed\nspace directions: (1,0,0) (0,1,0) (0,0,-1)\n") == "x L, y P, z S");
+    CHECK(nrrd("lpsdir.nrrd", "space: LPS\nspace directions: (1,0,0) (0,1,0) (0,0,-1)\n") == "x L, y P, z S");
     CHECK(nrrd("none.nrrd", "") == "none");
     CHECK(nrrd("scanner.nrrd", "space: scanner-xyz\n") == "none");
     // MetaImage
@@ -111,6 +120,10 @@ TEST_CASE("anatomical frame: what the headers say, per format", "[formats]") {
     CHECK(mhd("rai.mha", "AnatomicalOrientation = RAI\n") == "x L, y P, z S");
     CHECK(mhd("lps.mha", "AnatomicalOrientation = LPS\n") == "x R, y A, z I");
     CHECK(mhd("tm.mha", "TransformMatrix = 1 0 0 0 0 1 0 -1 0\n") == "x L, y S, z A");
+    // a backward matrix axis turns the frame round with the samples; a negative ElementSpacing
+    // reverses the samples into the world's axes, whose directions the frame already says
+    CHECK(mhd("tmneg.mha", "TransformMatrix = 1 0 0 0 1 0 0 0 -1\n") == "x L, y P, z S");
+    CHECK(mhd("spneg.mha", "ElementSpacing = 1 1 -1\n") == "x L, y P, z S");
     // formats that say nothing
     spit(d.path / "v_2x2x2_uint8.raw", bytes);
     CHECK(frame_of((d.path / "v_2x2x2_uint8.raw").string()) == "none");
