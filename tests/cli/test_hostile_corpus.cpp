@@ -404,7 +404,8 @@ std::string frame(std::uint32_t type, std::uint32_t flags, std::uint64_t count, 
 
 TEST_CASE("stream frames that claim more than they hold take no memory for the claim", "[cli][hostile]") {
 #ifdef MESHLESS_SANITIZED
-    SKIP("an address-space limit and AddressSanitizer's shadow do not mix");
+    WARN("an address-space limit and AddressSanitizer's shadow do not mix: skipped in the sanitizer tier");
+    return;
 #endif
     TempDir d("hostile_stream");
     const std::uint32_t kGiB = 1u << 30;
@@ -422,7 +423,8 @@ TEST_CASE("stream frames that claim more than they hold take no memory for the c
         spit(d.path / name, bytes);
         const std::string in = (d.path / name).string(), out = (d.path / "out.ply").string();
         // an address space of 400 MB: a 1 GiB buffer taken on the header's word fails as "out of memory"
-        for (const std::string cmd : {"ulimit -v 400000; MESHLESS info " + in, "ulimit -v 400000; MESHLESS write -o " + out + " < " + in}) {
+        for (const std::string& cmd : std::vector<std::string>{"ulimit -v 400000; MESHLESS info " + in,
+                                                               "ulimit -v 400000; MESHLESS write -o " + out + " < " + in}) {
             INFO(cmd);
             const RunResult r = sh(cmd, d);
             INFO("stderr: " << r.err);
@@ -473,7 +475,8 @@ TEST_CASE("a point set that merges into fewer than 4 points is a data error nami
                std::to_string(i) + "\n";
     spit(d.path / "tiny.csv", csv);
     const std::string in = (d.path / "tiny.csv").string();
-    for (const std::string cmd : {"MESHLESS fit " + in + " -o " + (d.path / "o.mlf").string(), "MESHLESS probe " + in + " --at 0,0,0"}) {
+    for (const std::string& cmd : std::vector<std::string>{"MESHLESS fit " + in + " -o " + (d.path / "o.mlf").string(),
+                                                           "MESHLESS probe " + in + " --at 0,0,0"}) {
         INFO(cmd);
         const RunResult r = sh(cmd, d);
         INFO("stderr: " << r.err);
