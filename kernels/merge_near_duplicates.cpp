@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace meshless {
@@ -49,7 +50,10 @@ MergedPoints merge_near_duplicates(std::span<const Vec3> pos, std::span<const do
     const double tol = out.tolerance;
     double cell = tol > 0 ? 4 * tol : std::max(mean_point_spacing(pos), 0.0);
     cell = std::max(cell, wmax * 1e-15);
-    if (!(cell > 0)) cell = 1;  // all points coincide
+    // (subnormal cells: 1 / cell would overflow and a cell index be NaN; a cell of at least 4 x the
+    // smallest normal double keeps 1 / cell finite, and a larger cell only widens the search)
+    cell = std::max(cell, 4 * std::numeric_limits<double>::min());
+    if (!(cell > 0) || !std::isfinite(cell)) cell = 1;  // all points coincide
     const double inv = 1.0 / cell;
 
     std::unordered_map<CellKey, std::uint32_t, CellKeyHash> head;

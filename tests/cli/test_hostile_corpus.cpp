@@ -467,12 +467,18 @@ TEST_CASE("a FIFO given as an input file is refused at once and not waited on", 
 }
 
 TEST_CASE("a point set that merges into fewer than 4 points is a data error naming the file", "[cli][hostile]") {
-    // 100 points spread over 1e-298 units: distinct, but near-duplicates at any sensible spacing
+    // 100 rows at 3 positions: they merge into 3 points (the mpu field needs 4); a set spread over
+    // 1e-298 units merged into one through an undefined conversion (a subnormal hash cell made its
+    // index NaN: UBSan found it) and now is 35 distinct points, as it should
     TempDir d("hostile_merge");
     std::string csv = "x,y,z,value\n";
+    for (int i = 0; i < 100; ++i) csv += std::to_string(i % 3) + "," + std::to_string(2 * (i % 3)) + ",0," + std::to_string(i) + "\n";
+    std::string tiny = "x,y,z,value\n";
     for (int i = 0; i < 100; ++i)
-        csv += std::to_string(i % 7) + "e-300," + std::to_string(i % 5) + "e-300," + std::to_string(i % 3) + "e-300," +
-               std::to_string(i) + "\n";
+        tiny += std::to_string(i % 7) + "e-300," + std::to_string(i % 5) + "e-300," + std::to_string(i % 3) + "e-300," +
+                std::to_string(i) + "\n";
+    spit(d.path / "subnormal.csv", tiny);
+    CHECK(sh("MESHLESS fit " + (d.path / "subnormal.csv").string() + " -o " + (d.path / "s.mlf").string(), d).code == 0);
     spit(d.path / "tiny.csv", csv);
     const std::string in = (d.path / "tiny.csv").string();
     for (const std::string& cmd : std::vector<std::string>{"MESHLESS fit " + in + " -o " + (d.path / "o.mlf").string(),
