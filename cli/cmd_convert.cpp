@@ -102,9 +102,7 @@ std::optional<std::array<std::array<double, 3>, 3>> patient_axes_of(const std::s
         if (is_brick_store(path)) return BrickStore::open(path)->info().patient_axes;
         const std::optional<AnatomicalFrame> f = probe_volume(path, raw_options(a)).frame;
         if (!f) return std::nullopt;
-        std::array<std::array<double, 3>, 3> ax{};
-        for (int i = 0; i < 3; ++i) ax[i] = {f->axis[i].x, f->axis[i].y, f->axis[i].z};
-        return ax;
+        return frame_axes(*f);
     } catch (const std::exception&) {
         return std::nullopt;
     }

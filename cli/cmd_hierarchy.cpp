@@ -202,9 +202,7 @@ int cmd_lod(int argc, char** argv) {
     a.positionals(1, 1);
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string out = a.require("output");
-    if (!point_set_output_name(out))
-        throw UsageError("-o '" + out + "': this output is a level of detail, written to a .ply (binary PLY), .csv or .vtp "
-                         "(VTK XML PolyData) file (outputs are chosen by extension; '-' for CSV on stdout)");
+    require_point_set_output(out, "a level of detail");
     if (a.has("level") == a.has("error")) throw UsageError("give one of --level L or --error E");
     PointSetOptions o;
     if (auto v = a.get("level")) {

@@ -172,11 +172,9 @@ void info_brick_store(const std::string& path) {
                 static_cast<long long>(g.cell_count()));
     std::printf("  type: %s\n  spacing: %g %g %g\n  origin: %g %g %g\n  value range: %g .. %g\n", to_string(i.type),
                 g.spacing[0], g.spacing[1], g.spacing[2], g.origin[0], g.origin[1], g.origin[2], i.value_min, i.value_max);
-    if (i.patient_axes) {  // recorded by convert from the volume's header
-        AnatomicalFrame f;
-        for (int k = 0; k < 3; ++k) f.axis[static_cast<std::size_t>(k)] = Vec3{(*i.patient_axes)[k][0], (*i.patient_axes)[k][1], (*i.patient_axes)[k][2]};
-        std::printf("  patient axes: %s (from the converted volume's header)\n", describe_frame(f).c_str());
-    }
+    if (i.patient_axes)  // recorded by convert from the volume's header
+        std::printf("  patient axes: %s (from the converted volume's header)\n",
+                    describe_frame(frame_of_axes(*i.patient_axes, "brick store header")).c_str());
     std::printf("  bricks: %llu (%lld x %lld x %lld) of %u cells + %u ghost, Morton order, zstd level %d; %llu constant\n",
                 static_cast<unsigned long long>(i.brick_count), static_cast<long long>(i.bricks_per_axis[0]),
                 static_cast<long long>(i.bricks_per_axis[1]), static_cast<long long>(i.bricks_per_axis[2]), i.brick_edge,

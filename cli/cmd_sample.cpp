@@ -32,9 +32,7 @@ int cmd_sample(int argc, char** argv) {
     if (!a.has("count")) throw UsageError("missing --count N");
     if (count < 1) throw UsageError("--count: expected a positive number, got " + std::to_string(count));
     const std::string out = a.require("output");
-    if (!point_set_output_name(out))
-        throw UsageError("-o '" + out + "': this output is a point set with values, written to a .ply (binary PLY), .csv or .vtp "
-                         "(VTK XML PolyData) file (outputs are chosen by extension; '-' for CSV on stdout)");
+    require_point_set_output(out, "a point set with values");
     const long long seed = a.get_int_or("seed", 1);
     const Volume v = load_volume(a);
     const GridSpec& g = v.grid;

@@ -1,5 +1,6 @@
 #include "cli/common.hpp"
 #include "formats/binary_file.hpp"
+#include "formats/point_set_writer.hpp"
 #include "cli/stdin_spool.hpp"
 
 #include <unistd.h>
@@ -463,11 +464,7 @@ std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const Vol
     // --azimuth / --elevation (the camera's, 30 and 20 unless given) turn the face-on view
     std::optional<AnatomicalFrame> f;
     if (in.store) {  // the axes its volume's header gave, recorded by convert (none before 2026-11-29)
-        if (const auto& ax = in.store->info().patient_axes) {
-            f = AnatomicalFrame{};
-            for (int i = 0; i < 3; ++i) f->axis[static_cast<std::size_t>(i)] = Vec3{(*ax)[i][0], (*ax)[i][1], (*ax)[i][2]};
-            f->source = "brick store header";
-        }
+        if (const auto& ax = in.store->info().patient_axes) f = frame_of_axes(*ax, "brick store header");
     } else {
         const std::string path = in.spool ? in.spool->path() : in.path;
         try {
@@ -670,6 +667,12 @@ double stream_iso(const Args& a, const StreamMeta& m) {
                      "active for %g, so the surface for %g may be incomplete\n",
                      a.command().c_str(), iso, *recorded, *recorded, iso);
     return iso;
+}
+
+void require_point_set_output(const std::string& path, const char* what) {
+    if (!point_set_output_name(path))
+        throw UsageError("-o '" + path + "': this output is " + what + ", written to a .ply (binary PLY), .csv or .vtp "
+                         "(VTK XML PolyData) file (outputs are chosen by extension; '-' for CSV on stdout)");
 }
 
 void make_output_folder(const std::string& dir) {

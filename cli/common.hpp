@@ -187,6 +187,9 @@ void make_output_folder(const std::string& dir);
 /// UsageError "refusing to write WHAT to a terminal" when `path` is "-" and standard output is a
 /// terminal (binary outputs: streams, PLY, VTP, PNG, NRRD, stores).
 void refuse_binary_to_terminal(const std::string& path, const std::string& what);
+/// UsageError unless formats/point_set_writer.hpp takes this -o name (.ply, .csv, .vtp or "-");
+/// `what` says what the output is ("a level of detail").
+void require_point_set_output(const std::string& path, const char* what);
 /// Outputs are chosen by extension: returns `path` when it ends in `ext` (".ply", ".png", ...;
 /// case-insensitive) or is a stream ("-", a device, a FIFO); otherwise throws UsageError naming
 /// the option, the path and what it writes (a file named out.vtp must not receive PLY bytes).

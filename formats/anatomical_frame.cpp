@@ -87,6 +87,19 @@ std::optional<std::array<double, 3>> axis_aligned_signs(const std::array<Vec3, 3
     return sign;
 }
 
+std::array<std::array<double, 3>, 3> frame_axes(const AnatomicalFrame& f) {
+    std::array<std::array<double, 3>, 3> ax{};
+    for (std::size_t i = 0; i < 3; ++i) ax[i] = {f.axis[i].x, f.axis[i].y, f.axis[i].z};
+    return ax;
+}
+
+AnatomicalFrame frame_of_axes(const std::array<std::array<double, 3>, 3>& axes, std::string source) {
+    AnatomicalFrame f;
+    for (std::size_t i = 0; i < 3; ++i) f.axis[i] = Vec3{axes[i][0], axes[i][1], axes[i][2]};
+    f.source = std::move(source);
+    return f;
+}
+
 std::string describe_frame(const AnatomicalFrame& f) {
     static const char kPos[3] = {'L', 'P', 'S'}, kNeg[3] = {'R', 'A', 'I'};
     std::string s;

@@ -50,6 +50,9 @@ void flip_frame(std::optional<AnatomicalFrame>& f, const std::array<bool, 3>& fl
 /// positions then stay in the volume's index frame (origin + index x spacing), and only the
 /// picture's view follows the matrix (mirrored when the matrix's determinant is negative).
 std::optional<std::array<double, 3>> axis_aligned_signs(const std::array<Vec3, 3>& columns);
+/// The frame's axes as plain numbers (a brick store's header keeps them, ooc/brick_store.hpp), and back.
+std::array<std::array<double, 3>, 3> frame_axes(const AnatomicalFrame& f);
+AnatomicalFrame frame_of_axes(const std::array<std::array<double, 3>, 3>& axes, std::string source);
 /// "x L, y P, z S" (each axis's dominant direction), for `info`.
 std::string describe_frame(const AnatomicalFrame& f);
 

@@ -34,4 +34,12 @@ std::optional<FlatHull> flat_hull(const PointMoments& m) {
     return h;
 }
 
+bool all_flat(std::span<const Vec3> pts) {
+    if (pts.empty()) return false;
+    PointMoments all;
+    all.ref = pts.front();  // (a data point: exact zeros along a plane of the data)
+    for (const Vec3& p : pts) all.add(p - all.ref);
+    return flat_hull(all).has_value();
+}
+
 }  // namespace meshless

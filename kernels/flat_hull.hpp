@@ -12,6 +12,7 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <span>
 
 #include "kernels/vec3.hpp"
 
@@ -44,5 +45,8 @@ struct FlatHull {
 
 /// nullopt when the points span 3-D (or are fewer than 2, or all one point).
 std::optional<FlatHull> flat_hull(const PointMoments& m);
+/// Whether a whole point set is flat (all in one plane or line: 2-D scattered data): no local fit
+/// of it can find a point off its plane, so the fields skip the search. False when empty.
+bool all_flat(std::span<const Vec3> pts);
 
 }  // namespace meshless

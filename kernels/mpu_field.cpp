@@ -241,12 +241,7 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
 
     const Vec3 w = hi - lo;
     const double wmax = std::max({w.x, w.y, w.z});
-    const bool data_flat = [&] {
-        PointMoments all;
-        all.ref = pts.front();
-        for (const Vec3& p : pts) all.add(p - all.ref);
-        return flat_hull(all).has_value();
-    }();
+    const bool data_flat = all_flat(pts);
     OctreeBuilder b{pts, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha, data_flat, {}, {}, {}, {}, {}};
     OctreeBuilder::NodeRec root;
     root.c = (lo + hi) * 0.5;

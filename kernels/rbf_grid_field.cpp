@@ -198,12 +198,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
 
     // Flat data (all of it in one plane or line: 2-D scattered data) has no point off any local's
     // plane: the search is skipped (it would scan every ring of every local for nothing).
-    const bool data_flat = [&] {
-        PointMoments all;
-        all.ref = pts.front();
-        for (const Vec3& p : pts) all.add(p - all.ref);
-        return flat_hull(all).has_value();
-    }();
+    const bool data_flat = all_flat(pts);
     // count: points in the data sphere (or grown); keep: how many the local uses, the nearest
     // max(K, points within R_w) of them (K = rbf_grid_local_points, 0 = all), at most `cap`.
     const std::uint32_t k_near = params.rbf_grid_local_points;
