@@ -13,7 +13,7 @@
 // or for parameters out of range (min_cluster < 2, neighbours < 1, a negative or non-finite max_error
 // or Hardy's c). A constant field gives a one-node tree (error 0).
 //
-// PCA scaling default: normalised. Measured (meshless-bench hierarchy-rmse, README "Hierarchy (issue
+// PCA scaling default: normalised. Measured (meshless-bench hierarchy-rmse, bench/MEASURED.md "Hierarchy (issue
 // 9)"): RMSE of the mpu field of error-based LODs at 1%, 5% and 15% of the samples against the
 // voxels, normalised vs raw: silicium 100.3 vs 104.7, 118.1 vs 113.2, 38.7 vs 50.1; head (64x64x93)
 // 409 vs 443, 418 vs 496, 256 vs 316; LIDC2 1347 vs 1414, 638 vs 576, 457 vs 383: normalised lower

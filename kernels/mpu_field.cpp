@@ -634,6 +634,12 @@ std::vector<std::uint32_t> MpuField::blended_leaves(const Vec3& pw) const {
     return sc.leaf;
 }
 
+std::uint64_t MpuField::terms_at(const Vec3& pw) const {
+    std::uint64_t n = 0;
+    for (std::uint32_t l : blended_leaves(pw)) n += locals_[l].count;
+    return n;
+}
+
 void MpuField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blend, EvalScratch& sc) const {
     const bool want_grad = grad != nullptr;
     const Vec3 dw = pw - origin_;

@@ -76,6 +76,9 @@ public:
     /// The leaves (indices into leaves()) whose blend sphere holds the world point x, in the order
     /// evaluate() blends them (ascending), as the lookup grid or the tree descent finds them (tests).
     std::vector<std::uint32_t> blended_leaves(const Vec3& world) const;
+    /// The number of multiquadric terms evaluate() sums at the world point x: the centres of the
+    /// blended_leaves(x) locals (diagnostics: the bench's evaluation ceiling; 0 outside every sphere).
+    std::uint64_t terms_at(const Vec3& world) const;
 
     /// The fitted state (kernels/field_state.hpp): the octree, the locals, their centres (each
     /// distinct point once, see put_centres) and lambdas, and the lookup lists of a grid of about

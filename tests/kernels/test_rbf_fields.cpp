@@ -430,7 +430,7 @@ TEST_CASE("Franke 3-D: error falls with more points, local fields near the globa
         CHECK(e1.nonfinite == 0);
         CHECK(e10.nonfinite == 0);
         CHECK(e10.rms < 0.5 * e1.rms);
-        CHECK(e1.rms < 3 * ref1k.rms);  // measured bounds: see the README numbers
+        CHECK(e1.rms < 3 * ref1k.rms);  // measured bounds: see bench/MEASURED.md
         CHECK(e10.rms < 1e-3);
     }
 }
@@ -585,6 +585,24 @@ struct MpuCase {
     }
 };
 }  // namespace
+
+TEST_CASE("mpu: terms_at counts the centres of the blended leaves", "[rbf]") {
+    // 300 points (leaves of at most 140 in their sphere), mpu_min_points 400: every leaf's fit grows
+    // to all 300, so a query sums 300 terms per blended leaf; outside every blend sphere it sums none.
+    const auto pos = random_points(300, {0, 0, 0}, {1, 1, 1}, 71);
+    FieldParams params = params_for(FieldKind::mpu);
+    params.mpu_min_points = 400;
+    const MpuField f(make_points(pos, franke3), params);
+    REQUIRE(f.leaves().size() > 1);
+    std::size_t inside = 0;
+    for (const Vec3& x : random_points(200, {0, 0, 0}, {1, 1, 1}, 72)) {
+        const std::size_t k = f.blended_leaves(x).size();
+        inside += k > 0;
+        CHECK(f.terms_at(x) == 300 * k);
+    }
+    CHECK(inside == 200);
+    CHECK(f.terms_at({50, 50, 50}) == 0);
+}
 
 TEST_CASE("mpu: the lookup grid finds exactly the leaves whose blend sphere holds a query", "[rbf]") {
     // Clustered data (leaves of many sizes); queries inside the root cube (the lookup grid), on the
