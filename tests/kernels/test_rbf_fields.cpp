@@ -587,18 +587,20 @@ struct MpuCase {
 }  // namespace
 
 TEST_CASE("mpu: terms_at counts the centres of the blended leaves", "[rbf]") {
-    // 300 points (leaves of at most 140 in their sphere), mpu_min_points 400: every leaf's fit grows
-    // to all 300, so a query sums 300 terms per blended leaf; outside every blend sphere it sums none.
+    // N = mpu_max_points = mpu_min_points = 8: a leaf whose sphere holds more than 8 points is
+    // split (and at the depth limit keeps its 8 nearest), one with fewer grows to 8, so every local
+    // sums 8 terms and a query 8 per blended leaf; outside every blend sphere it sums none.
     const auto pos = random_points(300, {0, 0, 0}, {1, 1, 1}, 71);
     FieldParams params = params_for(FieldKind::mpu);
-    params.mpu_min_points = 400;
+    params.mpu_max_points = 8;
+    params.mpu_min_points = 8;
     const MpuField f(make_points(pos, franke3), params);
     REQUIRE(f.leaves().size() > 1);
     std::size_t inside = 0;
     for (const Vec3& x : random_points(200, {0, 0, 0}, {1, 1, 1}, 72)) {
         const std::size_t k = f.blended_leaves(x).size();
         inside += k > 0;
-        CHECK(f.terms_at(x) == 300 * k);
+        CHECK(f.terms_at(x) == 8 * k);
     }
     CHECK(inside == 200);
     CHECK(f.terms_at({50, 50, 50}) == 0);
