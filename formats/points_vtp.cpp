@@ -31,7 +31,14 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
     std::string value_name;
     bool has_values = false, first_piece = true;
     int piece_no = 0;
+    std::uint64_t polys = 0, strips = 0;  // PolyData: a surface mesh, whose vertices are read
     for (const VtkXmlElement& piece : top.children("Piece")) {
+        if (vtk_type == "PolyData") {
+            const std::int64_t np = parse_int(piece.attr("NumberOfPolys", "0"), path, "NumberOfPolys");
+            const std::int64_t ns = parse_int(piece.attr("NumberOfStrips", "0"), path, "NumberOfStrips");
+            if (np > 0) polys += static_cast<std::uint64_t>(np);
+            if (ns > 0) strips += static_cast<std::uint64_t>(ns);
+        }
         std::array<std::int64_t, 3> dims{0, 1, 1};
         std::uint64_t n = 0;
         if (structured) {
@@ -117,6 +124,9 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
     if (piece_no == 0) throw FormatError(path + ": no <Piece> in <" + vtk_type + ">");
     if (notes && has_values) notes->push_back("scalar: PointData array '" + value_name + "'");
     if (notes && piece_no > 1) notes->push_back(std::to_string(piece_no) + " pieces");
+    if (notes && polys + strips > 0)
+        notes->push_back(std::to_string(polys) + " polygons" + (strips ? ", " + std::to_string(strips) + " triangle strips" : "") +
+                         ": a surface mesh, read as the points of its vertices");
     return b.finish(value_name, has_values);
 }
 

@@ -41,12 +41,11 @@ void MeshWeldSink::consume(Batch&& b) {
 
 void MeshWeldSink::finish() {
     if (path_.empty()) return;
-    if (format_ == GeometryFormat::vtp) {
-        // VTK XML meshes carry Normals (ParaView shades with them): pieces without (the naive
-        // multiblock marching cubes) get the area-weighted normals of their welded triangles
-        if (mesh_.normals.empty() && !mesh_.tri.empty()) mesh_.normals = area_weighted_normals(mesh_);
-        write_vtp_mesh(mesh_, path_, {"meshless marching cubes"}, vtp_);
-    }
+    // a mesh file carries vertex normals (ParaView and MeshLab shade with them, else faceted):
+    // pieces without (the naive multiblock marching cubes) get the area-weighted normals of their
+    // welded triangles, the same in the PLY and the VTP
+    if (mesh_.normals.empty() && !mesh_.tri.empty()) mesh_.normals = area_weighted_normals(mesh_);
+    if (format_ == GeometryFormat::vtp) write_vtp_mesh(mesh_, path_, {"meshless marching cubes"}, vtp_);
     else write_ply_mesh(mesh_, path_);
 }
 

@@ -2,9 +2,9 @@
 // welding the vertices it shares with earlier pieces by their grid-edge key (Batch::mesh_seam), and
 // on finish() writes the mesh as a binary PLY (formats/ply_mesh.hpp) or VTK XML PolyData
 // (formats/vtp_writer.hpp), temporary name + rename (no path: keeps it for mesh()). Memory: the welded mesh (a PLY mesh needs its counts up front) and
-// the keys of seam vertices. Pieces without normals (the naive multiblock marching cubes) give a
-// PLY mesh without normals and a VTP mesh with area-weighted ones (kernels/mesh_normals.hpp; finish()
-// stores them in mesh(), so it holds them after a VTP is written); per-triangle block ids (Mesh::block) are carried into the mesh (a piece
+// the keys of seam vertices. Pieces without normals (the naive multiblock marching cubes) give
+// PLY and VTP meshes with area-weighted ones (kernels/mesh_normals.hpp; finish() stores them in
+// mesh(), so it holds them after a file is written; without a path it stays without); per-triangle block ids (Mesh::block) are carried into the mesh (a piece
 // with them after one without, or the reverse, is a FormatError). Throws FormatError on non-mesh batches, std::length_error beyond 2^32-1
 // vertices, and what write_ply_mesh / write_vtp_mesh throw. Not thread-safe (the runner calls it serially).
 #pragma once

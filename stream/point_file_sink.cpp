@@ -7,12 +7,12 @@ namespace meshless {
 void VtpSink::observe(const Batch& b) {
     if (b.kind != RecordKind::point)
         throw FormatError("point writer: input holds unprojected samples; run 'meshless project' first");
-    w_.append(b.points, b.point_block);
+    w_.append(b.points, blocks_ ? std::span<const std::uint32_t>(b.point_block) : std::span<const std::uint32_t>{});
 }
 
 PointFileSink::PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments,
                              VtpOptions vtp, bool with_blocks, std::optional<ShadingParams> ply_colors) {
-    if (format == GeometryFormat::vtp) vtp_.emplace(path, comments, vtp);
+    if (format == GeometryFormat::vtp) vtp_.emplace(path, comments, vtp, with_blocks);
     else ply_.emplace(path, comments, with_blocks, ply_colors);
 }
 

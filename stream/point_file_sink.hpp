@@ -1,7 +1,7 @@
 // The sinks that write a point pipeline's points to a file in a chosen geometry format
 // (formats/geometry_format.hpp): VtpSink streams them into VTK XML PolyData
 // (formats/vtp_writer.hpp, bounded memory, temporary name + rename on finish), with the per-point
-// block ids (Batch::point_block) as a `block` array when the points carry them; PointFileSink
+// block ids (Batch::point_block) as a `block` array when the sink is built with_blocks; PointFileSink
 // is the one sink the commands build for `-o FILE` (PlySink for PLY, stream/point_sinks.hpp;
 // VtpSink for VTP). Both require point batches (FormatError on samples). Not thread-safe (the
 // runner calls sinks serially).
@@ -19,8 +19,11 @@ namespace meshless {
 
 class VtpSink final : public Sink {
 public:
-    VtpSink(const std::string& path, const std::vector<std::string>& comments, VtpOptions options = {})
-        : w_(path, comments, options) {}
+    /// with_blocks: the batches' block ids become the `block` array (the multiblock path); without
+    /// it they are not written, as in the PLY and the point stream of the same points.
+    VtpSink(const std::string& path, const std::vector<std::string>& comments, VtpOptions options = {},
+            bool with_blocks = true)
+        : w_(path, comments, options), blocks_(with_blocks) {}
     void consume(Batch&& b) override { observe(b); }
     void observe(const Batch& b) override;
     void finish() override { w_.commit(); }
@@ -28,13 +31,14 @@ public:
 
 private:
     VtpPointWriter w_;
+    bool blocks_;
 };
 
 class PointFileSink final : public Sink {
 public:
     /// vtp: the VTP writer's settings (compression, compressing threads), unused for PLY.
-    /// with_blocks: the PLY declares the `block` property (the multiblock path; VTP writes the
-    /// `block` array whenever the batches carry block ids).
+    /// with_blocks: the PLY declares the `block` property and the VTP writes the `block` array
+    /// (the multiblock path, a stream with block ids); without it neither carries block ids.
     /// ply_colors: PLY output gets `red green blue` (PlySink); VTP ignores it (ParaView colours by
     /// the arrays it has).
     PointFileSink(const std::string& path, GeometryFormat format, const std::vector<std::string>& comments,

@@ -99,6 +99,15 @@ TEST_CASE("isosurface POINTS: in-process, piped and any --threads give the same 
                d).code == 0);
     CHECK(slurp(d / "e.ply") == a);
     CHECK(slurp(d / "g.ply") == a);
+    // the VTP too: no `block` array for a scattered set (the in-process sink wrote the seeds' zero
+    // block ids, the pipe's stream carries none)
+    REQUIRE(sh("MESHLESS isosurface " + pts + common + " -o " + D + "/a.vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS generate " + pts + common + " | MESHLESS project --field " + D + "/f.mlf | MESHLESS write -o " + D + "/c.vtp",
+               d).code == 0);
+    const std::string av = slurp(d / "a.vtp");
+    CHECK_THAT(av, Catch::Contains("Name=\"Normals\""));
+    CHECK_THAT(av, !Catch::Contains("Name=\"block\""));
+    CHECK(av == slurp(d / "c.vtp"));
     // the points lie on the sphere |p| = 0.6 (the rbf-grid field of |p| reproduces it closely)
     CHECK(worst_sphere_error((d / "a.ply").string(), 0.6) < 0.02);
 }

@@ -101,6 +101,13 @@ TEST_CASE("vtp: isosurface, write and mc -o .vtp, VTK reads what the PLY holds, 
     REQUIRE(sh("MESHLESS mc " + vol + " --iso 50.5 --threads 2 -o " + D + "m2.vtp", d).code == 0);
     CHECK(slurp(d / "m.vtp") == slurp(d / "m2.vtp"));
     CHECK(slurp(d / "m.vtp").find("<Polys>") != std::string::npos);
+    // info says a mesh .vtp is a mesh (its vertices read as points), a point .vtp has no such line
+    const auto mi = sh("MESHLESS info " + D + "m.vtp", d);
+    REQUIRE(mi.code == 0);
+    CHECK_THAT(mi.out, Catch::Contains(" polygons: a surface mesh, read as the points of its vertices"));
+    const auto pi = sh("MESHLESS info " + D + "a.vtp", d);
+    REQUIRE(pi.code == 0);
+    CHECK_THAT(pi.out, !Catch::Contains("polygons"));
 
     const std::string py = vtk_python(d);
     if (py.empty()) {
@@ -138,8 +145,8 @@ TEST_CASE("vtp: mc on multiblock grids writes the per-cell block array VTK reads
         WARN("no python3 imports vtk (python3-vtk9): VTK reader check skipped");
         return;
     }
-    // the PLY of the naive mesh has no normals: compare positions, triangles and blocks, and the
-    // VTP's normals are unit vectors as VTK reads them
+    // the PLY of the naive mesh carries the VTP's area-weighted normals (x y z nx ny nz): compare
+    // positions, normals, triangles and blocks, and the normals are unit vectors as VTK reads them
     spit(d / "c.py", R"PY(
 import sys, numpy as np, vtk
 from vtk.util.numpy_support import vtk_to_numpy as v2n
@@ -147,14 +154,17 @@ r = vtk.vtkXMLPolyDataReader(); r.SetFileName(sys.argv[1]); r.Update(); p = r.Ge
 data = open(sys.argv[2], "rb").read(); end = data.index(b"end_header\n") + 11
 head = data[:end].decode()
 c = {l.split()[1]: int(l.split()[2]) for l in head.splitlines() if l.startswith("element")}
+props = [l.split()[-1] for l in head.splitlines() if l.startswith("property float")]
+if props != ["x", "y", "z", "nx", "ny", "nz"]: sys.exit("vertex properties " + " ".join(props))
 nv, nf = c["vertex"], c["face"]
-vr = np.frombuffer(data, dtype="<f4", count=3 * nv, offset=end).reshape(nv, 3)
-fr = np.frombuffer(data, dtype=np.dtype([("n", "u1"), ("i", "<i4", 3), ("b", "<u4")]), count=nf, offset=end + 12 * nv)
-ok = (p.GetNumberOfPoints() == nv and p.GetNumberOfPolys() == nf and np.array_equal(v2n(p.GetPoints().GetData()), vr)
+vr = np.frombuffer(data, dtype="<f4", count=6 * nv, offset=end).reshape(nv, 6)
+fr = np.frombuffer(data, dtype=np.dtype([("n", "u1"), ("i", "<i4", 3), ("b", "<u4")]), count=nf, offset=end + 24 * nv)
+nn = v2n(p.GetPointData().GetNormals()) if p.GetPointData().GetNormals() is not None else None
+ok = (p.GetNumberOfPoints() == nv and p.GetNumberOfPolys() == nf and np.array_equal(v2n(p.GetPoints().GetData()), vr[:, :3])
+      and nn is not None and np.array_equal(nn, vr[:, 3:])
       and np.array_equal(v2n(p.GetPolys().GetConnectivityArray()).reshape(nf, 3), fr["i"])
       and np.array_equal(v2n(p.GetCellData().GetArray("block")), fr["b"]) and len(set(fr["b"])) == 3
-      and p.GetPointData().GetNormals() is not None
-      and np.abs(np.linalg.norm(v2n(p.GetPointData().GetNormals()), axis=1) - 1).max() < 1e-5)
+      and np.abs(np.linalg.norm(nn, axis=1) - 1).max() < 1e-5)
 sys.exit(0 if ok else "differs")
 )PY");
     const auto r = sh(py + " " + D + "c.py " + D + "n.vtp " + D + "n.ply", d);
