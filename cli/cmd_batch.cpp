@@ -29,6 +29,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
+#include "cli/progress_meter.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/point_stream.hpp"
 #include "kernels/errors.hpp"
@@ -91,7 +92,7 @@ struct Settings {
     SamplingParams sampling;
     std::uint64_t memory = 0;
     int threads = 1;
-    bool tty = false;
+    bool progress = false;  ///< the progress line (progress_wanted)
 };
 
 enum class Status { done, up_to_date, failed };
@@ -163,19 +164,39 @@ private:
     int fd_ = -1;
 };
 
-/// Progress line on stderr (only when it is a terminal).
+/// Progress line on stderr (as every command's: when it is a terminal or MESHLESS_PROGRESS=always,
+/// not with --quiet; first after progress_delay(), then at most 4 times a second):
+///   "[2/5] chest: converting  37%; batch 23%, ETA 1:10"
+/// The batch's fraction weighs each volume by its input size (a volume's conversion dominates its
+/// time): the finished volumes plus the running one's conversion fraction.
 struct Progress {
+    using Clock = std::chrono::steady_clock;
     bool on = false;
+    double delay = 1.0;
     std::size_t index = 0, count = 0;
     std::string name;
+    std::vector<double> weight;  ///< per volume: its input bytes (at least 1)
+    double total = 0, finished = 0;
+    Clock::time_point start = Clock::now();
+    mutable double last_draw = -1;
+
+    void finish_item() {
+        if (index < weight.size()) finished += weight[index];
+    }
     void show(const std::string& what, double fraction = -1) const {
         if (!on) return;
+        const double t = std::chrono::duration<double>(Clock::now() - start).count();
+        if (t < delay || (last_draw >= 0 && t - last_draw < 0.25 && fraction < 1)) return;
+        last_draw = t;
         std::fprintf(stderr, "\r\033[K[%zu/%zu] %s: %s", index + 1, count, terminal_safe(name).c_str(), terminal_safe(what).c_str());
         if (fraction >= 0) std::fprintf(stderr, " %3.0f%%", 100 * fraction);
+        const double cur = index < weight.size() ? weight[index] * std::clamp(fraction, 0.0, 1.0) : 0;
+        const double f = total > 0 ? std::clamp((finished + cur) / total, 0.0, 1.0) : 0;
+        if (f > 0) std::fprintf(stderr, "; batch %.0f%%, ETA %s", 100 * f, progress_clock_text(t * (1 - f) / f).c_str());
         std::fflush(stderr);
     }
     void clear() const {
-        if (on) std::fputs("\r\033[K", stderr);
+        if (on && last_draw >= 0) std::fputs("\r\033[K", stderr);
     }
 };
 
@@ -418,6 +439,7 @@ int cmd_batch(int argc, char** argv) {
     add_sampling_options(a);
     add_memory_option(a);
     add_thread_option(a);
+    add_quiet_option(a);
     a.epilog("examples: meshless batch ../shared/data/fuel -o out --iso 20.5 --iso 100.5\n"
              "          meshless batch archive.txt -o /data/points --iso 500 --formats ply,stream --memory 1G\n"
              "exit status: 0 everything done or up to date, 2 some volume failed (see the table), 1 usage error.\n");
@@ -458,7 +480,7 @@ int cmd_batch(int argc, char** argv) {
     s.memory = parse_memory_size(a.get_or("memory", "256M"));
     s.threads = threads(a);
     s.convert.threads = s.threads;
-    s.tty = stderr_is_tty();
+    s.progress = progress_wanted(a);
 
     std::error_code ec;
     const bool is_dir = fs::is_directory(input, ec);
@@ -490,8 +512,15 @@ int cmd_batch(int argc, char** argv) {
     std::vector<ItemResult> results;
     std::string disk_full;
     Progress progress;
-    progress.on = s.tty;
+    progress.on = s.progress;
+    progress.delay = progress_delay();
     progress.count = items.size();
+    for (const BatchItem& it : items) {
+        std::error_code size_ec;
+        const auto bytes = fs::file_size(it.path, size_ec);
+        progress.weight.push_back(size_ec ? 1.0 : std::max(1.0, static_cast<double>(bytes)));
+        progress.total += progress.weight.back();
+    }
     for (std::size_t i = 0; i < items.size(); ++i) {
         ItemResult r;
         r.name = items[i].name;
@@ -515,6 +544,7 @@ int cmd_batch(int argc, char** argv) {
         }
         r.seconds = std::chrono::duration<double>(Clock::now() - t).count();
         progress.clear();
+        progress.finish_item();
         if (r.status == Status::failed) {
             if (is_file_too_large(r.message))
                 r.message += "; over the file size limit (ulimit -f, or the file system's largest file); "

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <string>
 
 #include "cli/commands.hpp"
@@ -15,6 +16,7 @@
 #include "cli/errors.hpp"
 #include "ooc/brick_converter.hpp"
 #include "ooc/slice_source.hpp"
+#include "ooc/sample_store.hpp"
 #include "ooc/verify_brick_store.hpp"
 #include "cli/stdin_spool.hpp"
 #include "formats/volume_reader.hpp"
@@ -69,7 +71,7 @@ ConvertParams convert_params(const Args& a) {
 std::string output_path(const Args& a) {
     const std::string out = a.require("output");
     if (out == "-") throw UsageError("-o -: a brick store must be written to a file, not standard output");
-    require_output_extension(out, ".mlb", "-o", "a brick store");
+    require_output_extension(out, ".mlb", "-o", "a brick store", /*to_stdout=*/false);
     return out;
 }
 
@@ -137,19 +139,44 @@ int cmd_convert(int argc, char** argv) {
 }
 
 int cmd_verify(int argc, char** argv) {
-    Args a("verify", "vol.mlb...",
-           "Checks a brick store completely: header, index and footer checksums, then every brick's\n"
-           "CRC-32, decompressed size and value range. Prints \"ok: N bricks\", or names the first bad\n"
-           "brick by index and voxel range and exits with status 2. A store whose bricks take more than\n"
-           "--memory decompressed is not read (exit 1: raise --memory).");
+    Args a("verify", "STORE.mlb|STORE.mls...",
+           "Checks stores completely. A brick store (.mlb): header, index and footer checksums, then every\n"
+           "brick's CRC-32, decompressed size and value range; prints \"ok: N bricks\", or names the first\n"
+           "bad brick by index and voxel range. A sample store (.mls, paradigm A): its header, table and\n"
+           "footer, that its brick store is there and unchanged, then every span-space bucket's CRC-32\n"
+           "and keys; prints \"ok: N buckets, K cell rows\", or names the first bad bucket. With several\n"
+           "stores each line starts with its file name, and every store is checked: exit status 2 when any\n"
+           "is damaged. A brick store whose bricks take more than --memory decompressed is not read\n"
+           "(exit 1: raise --memory).");
     add_quiet_option(a);
     a.option("memory", "", "BYTES", "the most one decompressed brick may take, e.g. 256M, 2G (a store with bigger bricks is not read)",
              "256M")
         .validate([](const std::string& v) { (void)parse_memory_size(v); });
+    a.positionals(1, std::numeric_limits<std::size_t>::max());
     if (!a.parse(argc, argv, 2)) return 0;
-    if (a.positional().empty()) throw UsageError("missing brick store argument (see meshless verify --help)");
+    if (a.positional().empty()) throw UsageError("missing store argument (see meshless verify --help)");
     int rc = 0;
+    const bool several = a.positional().size() > 1;
     for (const std::string& path : a.positional()) {
+        if (is_sample_store(path)) {
+            try {
+                const auto store = SampleStore::open(path);
+                store->verify();
+                const std::string ok = "ok: " + std::to_string(store->info().bucket_count) + " buckets, " +
+                                       std::to_string(store->info().key_count) + " cell rows";
+                if (several) std::printf("%s: %s\n", terminal_safe(path).c_str(), ok.c_str());
+                else std::printf("%s\n", ok.c_str());
+            } catch (const FormatError& e) {
+                std::fflush(stdout);
+                std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(e.what()).c_str());
+                rc = 2;
+            } catch (const IoError& e) {
+                std::fflush(stdout);
+                std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(e.what()).c_str());
+                rc = 2;
+            }
+            continue;
+        }
         ProgressMeter meter = ProgressMeter::of(a, "bricks", 1);
         const VerifyReport r = verify_brick_store(path, parse_memory_size(a.get_or("memory", "256M")), [&](std::uint64_t done, std::uint64_t total) {
             if (done == 1) meter.set_total(static_cast<double>(total));
@@ -157,7 +184,7 @@ int cmd_verify(int argc, char** argv) {
         });
         meter.done();
         if (r.ok) {
-            if (a.positional().size() > 1) std::printf("%s: %s\n", terminal_safe(path).c_str(), terminal_safe(r.message).c_str());
+            if (several) std::printf("%s: %s\n", terminal_safe(path).c_str(), terminal_safe(r.message).c_str());
             else std::printf("%s\n", terminal_safe(r.message).c_str());
         } else {
             std::fflush(stdout);  // the results so far before this error, in a log of both streams

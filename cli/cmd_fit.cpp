@@ -40,7 +40,7 @@ int cmd_fit(int argc, char** argv) {
     if (!a.parse(argc, argv, 2)) return 0;
     // the default field is the one `isosurface DATA` builds (cli/field_cli.hpp)
     const FieldParams params = field_params(a, data_field_default(a.positional()));
-    const std::string out = require_output_extension(a.require("output"), ".mlf", "-o", "a fitted field");
+    const std::string out = require_output_extension(a.require("output"), ".mlf", "-o", "a fitted field", /*to_stdout=*/false);
     if (is_streaming_output(out)) throw UsageError("-o " + out + ": a fitted field is written to a regular file (.mlf), not a stream");
     const long long level = a.get_int_or("level", 1);
     if (level < 0 || level > 19) throw UsageError("--level: expected 0..19");

@@ -106,7 +106,7 @@ int cmd_hierarchy(int argc, char** argv) {
     a.epilog("examples:\n  meshless hierarchy silicium_98x34x34_uint8.raw -o si.mlh --stats\n"
              "  meshless lod si.mlh --level 15 -o si15.ply\n  meshless info si.mlh");
     if (!a.parse(argc, argv, 2)) return 0;
-    const std::string out = require_output_extension(a.require("output"), ".mlh", "-o", "a cluster tree");
+    const std::string out = require_output_extension(a.require("output"), ".mlh", "-o", "a cluster tree", /*to_stdout=*/false);
     if (is_streaming_output(out)) throw UsageError("-o " + out + ": a cluster tree is written to a regular file (.mlh)");
     CbtParams p;
     if (auto v = a.get("max-splits")) {

@@ -151,6 +151,9 @@ int cmd_isosurface(int argc, char** argv) {
     apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
 
     if (launched_world_size() > 1) {
+        if (!a.positional().empty() && is_sample_store(a.positional()[0]))
+            throw UsageError(a.positional()[0] + ": MPI runs need a brick store (.mlb); a sample store (.mls) runs in one "
+                             "process (meshless isosurface STORE.mls, or its .mlb under mpirun)");
         const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads,
                                                      [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
                                                          IsoSplatResult unused;

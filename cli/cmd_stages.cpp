@@ -40,7 +40,7 @@ int generate_all(const Args& a) {
     if (a.has("iso")) throw UsageError("--all precomputes the index for every isovalue: drop --iso");
     const std::string out = a.get_or("output", "-");
     if (out == "-") throw UsageError("--all writes a sample store: give -o FILE.mls");
-    require_output_extension(out, ".mls", "-o", "a sample store");
+    require_output_extension(out, ".mls", "-o", "a sample store", /*to_stdout=*/false);
     VolumeInput in = open_volume_input(a);
     if (!in.store)
         throw UsageError("--all needs a brick store (.mlb), which the sample store recomputes samples from: "

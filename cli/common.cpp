@@ -690,7 +690,7 @@ void refuse_binary_to_terminal(const std::string& path, const std::string& what)
 }
 
 const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
-                                            const char* what) {
+                                            const char* what, bool to_stdout) {
     if (std::string_view(ext) != ".csv") refuse_binary_to_terminal(path, what);
     if (path == "-" || is_streaming_output(path)) return path;
     const std::string e(ext);
@@ -699,7 +699,7 @@ const std::string& require_output_extension(const std::string& path, const char*
     for (std::size_t i = 0; ok && i < e.size(); ++i) ok = lower(path[path.size() - e.size() + i]) == e[i];
     if (!ok)
         throw UsageError(std::string(option) + " '" + path + "': this output is " + what + ", written to a " + e +
-                         " file (outputs are chosen by extension; '-' for stdout)");
+                         " file (outputs are chosen by extension" + (to_stdout ? "; '-' for stdout)" : ")"));
     return path;
 }
 

@@ -194,8 +194,10 @@ void require_point_set_output(const std::string& path, const char* what);
 /// case-insensitive) or is a stream ("-", a device, a FIFO); otherwise throws UsageError naming
 /// the option, the path and what it writes (a file named out.vtp must not receive PLY bytes).
 /// Every output but .csv is binary: "-" on a terminal is refused (refuse_binary_to_terminal).
+/// to_stdout = false: the output cannot go to standard output (a store, a fit, a tree: regular
+/// files only), so the message does not offer '-'.
 const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
-                                            const char* what);
+                                            const char* what, bool to_stdout = true);
 /// --format ply|vtp: the geometry format of -o when its name does not say it (stdout, odd names).
 void add_geometry_format_option(Args& a);
 /// The one place geometry outputs (points, meshes) are chosen: `path`'s extension (.ply or .vtp,

@@ -24,6 +24,14 @@ bool progress_wanted(const Args& a) {
 
 double progress_delay() { return progress_forced() ? 0.0 : 1.0; }
 
+std::string progress_clock_text(double s) {
+    const long long t = std::llround(std::clamp(s, 0.0, 1e12));
+    char b[32];
+    if (t >= 3600) std::snprintf(b, sizeof b, "%lld:%02lld:%02lld", t / 3600, t / 60 % 60, t % 60);
+    else std::snprintf(b, sizeof b, "%lld:%02lld", t / 60, t % 60);
+    return b;
+}
+
 ProgressMeter ProgressMeter::of(const Args& a, std::string unit, double total) {
     return ProgressMeter("meshless " + a.command(), std::move(unit), total, progress_wanted(a), progress_delay());
 }
@@ -33,13 +41,6 @@ double steady_seconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-std::string clock_text(double s) {
-    const long long t = std::llround(std::max(0.0, s));
-    char b[32];
-    if (t >= 3600) std::snprintf(b, sizeof b, "%lld:%02lld:%02lld", t / 3600, t / 60 % 60, t % 60);
-    else std::snprintf(b, sizeof b, "%lld:%02lld", t / 60, t % 60);
-    return b;
-}
 
 std::string rate_text(double r) {
     char b[32];
@@ -67,7 +68,7 @@ std::string ProgressMeter::line(double done, double elapsed) const {
     s += b;
     if (elapsed > 0 && done > 0) {
         s += " " + rate_text(done / elapsed) + unit_ + "/s";
-        s += ", ETA " + clock_text(elapsed * (1 - f) / std::max(f, 1e-12));
+        s += ", ETA " + progress_clock_text(elapsed * (1 - f) / std::max(f, 1e-12));
     }
     return s;
 }

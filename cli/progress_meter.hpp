@@ -26,6 +26,8 @@ void add_quiet_option(Args& a);
 bool progress_wanted(const Args& a);
 /// The seconds before the first line: 1, or 0 with MESHLESS_PROGRESS=always.
 double progress_delay();
+/// Seconds as a clock, "m:ss" or "h:mm:ss" (the ETA of a progress line).
+std::string progress_clock_text(double seconds);
 
 class ProgressMeter {
 public:

@@ -62,6 +62,12 @@ void remove_live_temporaries() noexcept {
         if (r.slots[i].state.load(std::memory_order_acquire) == kLive) ::unlink(r.slots[i].path);
 }
 
+void for_each_live_temporary(void (*fn)(const char* path)) noexcept {
+    Registry& r = registry();
+    for (std::size_t i = 0; i < kMaxLiveTemporaries; ++i)
+        if (r.slots[i].state.load(std::memory_order_acquire) == kLive) fn(r.slots[i].path);
+}
+
 std::size_t live_temporary_count() noexcept {
     std::size_t n = 0;
     for (const Slot& s : registry().slots) n += s.state.load(std::memory_order_acquire) == kLive;

@@ -33,6 +33,9 @@ int register_temporary(const std::string& path) noexcept;
 void unregister_temporary(int slot) noexcept;
 /// unlink(2)s every registered path. Async-signal-safe; the registrations stay.
 void remove_live_temporaries() noexcept;
+/// Calls fn(path) for every registered path. Async-signal-safe when fn is (a signal handler's
+/// message naming the outputs it abandons).
+void for_each_live_temporary(void (*fn)(const char* path)) noexcept;
 /// Number of registered paths (for tests).
 std::size_t live_temporary_count() noexcept;
 

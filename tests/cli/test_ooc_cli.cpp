@@ -71,6 +71,29 @@ TEST_CASE("meshless convert and verify: quiet, deterministic, verify names the b
     r = sh("MESHLESS verify " + bad, dir);
     CHECK(r.code == 2);
     CHECK(r.err.find("truncated") != std::string::npos);
+
+    // Several stores, a sample store among them: every one is checked and named, a bad one anywhere
+    // in the list is exit 2 and the others are still reported.
+    const std::string mls = (dir / "a.mls").string();
+    REQUIRE(sh("MESHLESS generate " + a + " --all -o " + mls, dir).code == 0);
+    r = sh("MESHLESS verify " + a + " " + mls, dir);
+    CHECK(r.code == 0);
+    CHECK(r.out.find(a + ": ok: 60 bricks\n") != std::string::npos);
+    CHECK(r.out.find(mls + ": ok: ") != std::string::npos);
+    CHECK(r.out.find(" buckets, ") != std::string::npos);
+    r = sh("MESHLESS verify " + bad + " " + c + " " + mls, dir);
+    CHECK(r.code == 2);
+    CHECK(r.err.find("truncated") != std::string::npos);
+    CHECK(r.out.find(c + ": ok: 60 bricks") != std::string::npos);
+    CHECK(r.out.find(mls + ": ok: ") != std::string::npos);
+    // a sample store with a damaged bucket: named, exit 2 (its header and table still read)
+    std::string sb = slurp(mls);
+    sb[600] ^= 0x40;  // inside the first bucket's keys (they start after the 512-byte header)
+    const std::string badmls = (dir / "bad.mls").string();
+    spit(badmls, sb);
+    r = sh("MESHLESS verify " + badmls, dir);
+    CHECK(r.code == 2);
+    CHECK(r.err.find("bad.mls: bucket ") != std::string::npos);
 }
 
 TEST_CASE("meshless convert on a full disk: exit 2, clear message, no output, no temporaries", "[ooc][cli]") {

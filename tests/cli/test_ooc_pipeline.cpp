@@ -120,6 +120,14 @@ TEST_CASE("mpirun -np 2 gives the single-process bytes, a failing rank fails the
     r = sh(mpirun + "MESHLESS isosurface " + D + "/bad.mlb --iso 128.5 -o " + D + "/two_bad.ply", d);
     CHECK(r.code != 0);
     CHECK(!fs::exists(d / "two_bad.ply"));
+    // a sample store under mpirun: the usage error that names what MPI runs need (was "unrecognized
+    // volume format" from every rank, then an MPI abort)
+    REQUIRE(sh("MESHLESS generate " + D + "/g.mlb --all -o " + D + "/g.mls", d).code == 0);
+    r = sh(mpirun + "MESHLESS isosurface " + D + "/g.mls --iso 128.5 -o " + D + "/two_mls.ply", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("g.mls: MPI runs need a brick store (.mlb)"));
+    CHECK_THAT(r.err, !Catch::Contains("unrecognized volume format"));
+    CHECK(!fs::exists(d / "two_mls.ply"));
 }
 
 TEST_CASE("mc on a brick store welds the seams: the in-memory vertex set and triangle count", "[cli][ooc-pipeline]") {

@@ -1,6 +1,6 @@
 // Progress lines of the long-running commands (issue 12, "Unix habits"): isosurface (volume in
 // memory, slab-streamed, brick store, multiblock, scattered), mc (volume, brick store), render,
-// verify, splat --turntable, hierarchy and fit draw "meshless CMD: NN% RATE UNIT/s, ETA" on stderr and clear it at the end;
+// verify, splat --turntable, hierarchy, fit and batch draw "meshless CMD: NN% RATE UNIT/s, ETA" on stderr and clear it at the end;
 // --quiet draws nothing. MESHLESS_PROGRESS=always stands in for a terminal and drops the first
 // second's delay (cli/progress_meter.hpp), so the line shows however fast the run is.
 #include <catch2/catch.hpp>
@@ -95,4 +95,28 @@ TEST_CASE("progress lines: multiblock and scattered isosurfaces, fit and hierarc
         const std::string q = (shared_data() / "plot3d/combq.bin").string();
         check_progress("MESHLESS isosurface " + comb + " --q " + q + " --iso 0.4 -o " + D + "/c.ply", "isosurface", "cells", d);
     }
+}
+
+TEST_CASE("progress lines: batch shows the volume, its step and the batch's share with an ETA; --quiet silences it", "[cli][progress][batch]") {
+    TempDir d("progress_batch");
+    const std::string D = d.path.string();
+    fs::create_directories(d.path / "arch");
+    TempDir vols("progress_batch_vols");
+    for (const char* n : {"a", "b"}) {
+        const std::string raw = write_uint8_analytic_volume(vols, n, AnalyticField::sphere, 20, 200, 20);
+        fs::copy_file(raw, d.path / "arch" / fs::path(raw).filename());
+    }
+    const std::string cmd = "MESHLESS batch " + D + "/arch -o " + D + "/out --iso 100.5";
+    const RunResult r = sh(kForce + cmd, d);
+    INFO("stderr: " << r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.err.find("\r\033[K[1/2] ") != std::string::npos);
+    CHECK(r.err.find("\r\033[K[2/2] ") != std::string::npos);
+    CHECK(r.err.find(": converting ") != std::string::npos);
+    CHECK(r.err.find("; batch ") != std::string::npos);
+    CHECK(r.err.find("%, ETA ") != std::string::npos);
+    // --quiet (into a fresh output folder, so that the work is done again) draws nothing
+    const RunResult q = sh(kForce + "rm -rf " + D + "/out; " + cmd + " --quiet", d);
+    CHECK(q.code == 0);
+    CHECK(q.err.find('\r') == std::string::npos);
 }

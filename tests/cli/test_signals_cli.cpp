@@ -160,6 +160,11 @@ TEST_CASE("SIGXFSZ (ulimit -f): exit 153 and no temporaries, an ignored SIGXFSZ 
         CHECK_FALSE(e.signalled);
         CHECK(temporaries(dir / "out").empty());
         CHECK(fs::is_empty(dir / "out"));
+        // one line that says why and names the output (not its temporary)
+        const std::string err = slurp(dir / "stderr.txt");
+        CHECK_THAT(err, Catch::Contains("meshless: file size limit exceeded (SIGXFSZ, ulimit -f) while writing '" + args.back() +
+                                        "'; nothing was written\n"));
+        CHECK(err.find(".tmp-") == std::string::npos);
     }
     // SIGXFSZ ignored (as batch runs use it): EFBIG is reported as a write error, exit 2
     const auto r = sh("ulimit -f 64; trap \"\" XFSZ; MESHLESS isosurface " + tooth + " --iso 100.5 -o " +
