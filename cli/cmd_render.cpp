@@ -248,6 +248,12 @@ int cmd_render(int argc, char** argv) {
         if (!(rp.ref_step > 0)) throw UsageError("--ref-step: must be positive");
     }
     rp.step = step ? *step : 0.5 * in.spacing;
+    // a volume's trilinear gradient jumps at every cell face: shade with central differences over
+    // one voxel (the same for the volume and its brick store, whose values are the same)
+    if (in.volume) {
+        const GridSpec& g = in.volume->grid();
+        rp.gradient_step = {g.spacing[0], g.spacing[1], g.spacing[2]};
+    }
     std::array<Vec3, 2> frame = in.box;
     if (auto b = a.get("bounds")) {
         double v[6], lo[3], hi[3];

@@ -115,14 +115,21 @@ bool intersect_box(const Ray& r, const std::array<Vec3, 2>& box, double& t0, dou
 struct TileScratch {
     std::vector<Vec3> pos, grad;
     std::vector<double> val, len;
-    TileScratch() : pos(kMaxBatch), grad(kMaxBatch), val(kMaxBatch), len(kMaxBatch) {}
+    std::vector<std::array<float, 5>> lut;  // the transfer function's entry of each sample
+    std::vector<int> lit;                   // central differences: the samples that reach the pixel
+    std::vector<Vec3> fd_pos;               // ... and their six neighbours
+    std::vector<double> fd_val;
+    TileScratch()
+        : pos(kMaxBatch), grad(kMaxBatch), val(kMaxBatch), len(kMaxBatch), lut(kMaxBatch), lit(kMaxBatch),
+          fd_pos(6 * kMaxBatch), fd_val(6 * kMaxBatch) {}
 };
 
 class Caster {
 public:
     Caster(const Field& f, const std::array<Vec3, 2>& box, const ViewTransform& view, const TransferFunction& tf,
            const RayCastParams& p, const ValueBoundsGrid* skip)
-        : field_(f), box_(box), view_(view), p_(p), table_(tf, p.step / p.ref_step), skip_(skip) {
+        : field_(f), box_(box), view_(view), p_(p), table_(tf, p.step / p.ref_step), skip_(skip),
+          fd_(p.shade && p.gradient_step[0] > 0 && p.gradient_step[1] > 0 && p.gradient_step[2] > 0) {
         if (p.shininess >= 0 && p.shininess <= 1024 && p.shininess == std::floor(p.shininess))
             int_shininess_ = static_cast<int>(p.shininess);
         if (skip_) {
@@ -178,14 +185,14 @@ public:
             }
             if (m == 0) break;
             field_.evaluate(std::span<const Vec3>(s.pos.data(), m), std::span<double>(s.val.data(), m),
-                            shade ? std::span<Vec3>(s.grad.data(), m) : std::span<Vec3>());
+                            shade && !fd_ ? std::span<Vec3>(s.grad.data(), m) : std::span<Vec3>());
             st.samples += static_cast<std::uint64_t>(m);
+            for (int i = 0; i < m; ++i) table_.lookup(s.val[i], s.lut[static_cast<std::size_t>(i)].data());
+            if (fd_) central_differences(s, m, A);
             for (int i = 0; i < m; ++i) {
-                float e[5];
-                table_.lookup(s.val[i], e);
+                const float* e = s.lut[static_cast<std::size_t>(i)].data();
                 if (e[3] <= 0.0f) continue;
-                double a = e[4];
-                if (s.len[i] != step) a = e[3] >= 1.0f ? 1.0 : 1.0 - std::pow(1.0 - static_cast<double>(e[3]), s.len[i] / p_.ref_step);
+                const double a = opacity(e, s.len[i]);
                 double c[3] = {e[0], e[1], e[2]};
                 if (shade) shade_colour(s.grad[i], r.d, c);
                 const double w = (1.0 - A) * a;
@@ -208,6 +215,53 @@ public:
     }
 
 private:
+    /// The opacity of a sample of entry e over a segment of length len (the step's, or corrected).
+    double opacity(const float* e, double len) const {
+        if (len == p_.step) return e[4];
+        return e[3] >= 1.0f ? 1.0 : 1.0 - std::pow(1.0 - static_cast<double>(e[3]), len / p_.ref_step);
+    }
+
+    /// s.grad of the samples of this batch that reach the pixel (opacity > 0, up to where the
+    /// accumulated opacity, starting from A, reaches the termination: the compositing's own
+    /// arithmetic, so exactly the samples it shades), by central differences of the field's values.
+    void central_differences(TileScratch& s, int m, double A) const {
+        int nl = 0;
+        for (int i = 0; i < m; ++i) {
+            const float* e = s.lut[static_cast<std::size_t>(i)].data();
+            if (e[3] <= 0.0f) continue;
+            s.lit[static_cast<std::size_t>(nl++)] = i;
+            A += (1.0 - A) * opacity(e, s.len[i]);
+            if (A >= p_.termination) break;
+        }
+        const auto& h = p_.gradient_step;
+        for (int q = 0; q < nl; ++q) {
+            const Vec3& c = s.pos[static_cast<std::size_t>(s.lit[static_cast<std::size_t>(q)])];
+            Vec3* o = s.fd_pos.data() + 6 * q;
+            o[0] = {c.x + h[0], c.y, c.z};
+            o[1] = {c.x - h[0], c.y, c.z};
+            o[2] = {c.x, c.y + h[1], c.z};
+            o[3] = {c.x, c.y - h[1], c.z};
+            o[4] = {c.x, c.y, c.z + h[2]};
+            o[5] = {c.x, c.y, c.z - h[2]};
+        }
+        if (nl == 0) return;
+        const std::size_t n6 = 6 * static_cast<std::size_t>(nl);
+        field_.evaluate(std::span<const Vec3>(s.fd_pos.data(), n6), std::span<double>(s.fd_val.data(), n6), {});
+        for (int q = 0; q < nl; ++q) {
+            const int i = s.lit[static_cast<std::size_t>(q)];
+            const double* v = s.fd_val.data() + 6 * q;
+            double g[3];
+            for (int a = 0; a < 3; ++a) {
+                const double up = v[2 * a], down = v[2 * a + 1], mid = s.val[i];
+                if (std::isfinite(up) && std::isfinite(down)) g[a] = (up - down) / (2 * h[a]);
+                else if (std::isfinite(up)) g[a] = (up - mid) / h[a];
+                else if (std::isfinite(down)) g[a] = (mid - down) / h[a];
+                else g[a] = 0;
+            }
+            s.grad[static_cast<std::size_t>(i)] = {g[0], g[1], g[2]};
+        }
+    }
+
     std::int64_t cell_of(const Vec3& p) const {
         std::int64_t ijk[3];
         for (int a = 0; a < 3; ++a) {
@@ -260,6 +314,7 @@ private:
     const RayCastParams& p_;
     TfTable table_;
     const ValueBoundsGrid* skip_;
+    bool fd_;  // shading gradients by central differences (RayCastParams::gradient_step)
     std::vector<char> transparent_;
     int int_shininess_ = -1;
 };

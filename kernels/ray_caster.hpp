@@ -20,7 +20,14 @@
 // Shading (optional): headlight Phong with the normal -grad f / |grad f| (VTK's convention; two-sided,
 // so the lighting does not depend on the sign):
 //     c' = c (ambient + diffuse |n.l|) + specular |n.l|^shininess,  l = -d
-// (a sample whose gradient vanishes is unshaded: c' = c (ambient + diffuse)).
+// (a sample whose gradient vanishes is unshaded: c' = c (ambient + diffuse)). With
+// RayCastParams::gradient_step set (volumes: the voxel spacing), the shading gradient is the
+// central difference of the field's values over +-step along each axis instead of the field's own
+// gradient: a trilinear interpolant's gradient jumps at every cell face, so shading with it draws
+// each voxel cell as a facet (a checkerboard on smooth blobs, a lattice of lines at grazing light),
+// while the central differences change continuously, as VTK's volume mappers' voxel gradients do.
+// Only the samples that reach the pixel (opacity > 0, before early termination) pay for them: six
+// value-only evaluations each, batched. A NaN on one side falls back to the one-sided difference.
 // Transfer-function lookups go through a table of 4096 entries over the control points' value range,
 // linearly interpolated (differences from TransferFunction::at stay within 1/4096 of the range
 // around kinks and steps).
@@ -53,6 +60,9 @@ struct RayCastParams {
     double step = 0;       ///< world units between samples along a ray, > 0
     double ref_step = 0;   ///< the slab thickness the transfer function's opacities are for, > 0
     bool shade = false;    ///< headlight Phong from the field gradient
+    /// shade: 0 (the field's own gradient), or per axis the step (world units, all three > 0) of the
+    /// central differences that give the shading gradient instead (see above)
+    std::array<double, 3> gradient_step{0, 0, 0};
     double ambient = 0.3, diffuse = 0.7, specular = 0.25, shininess = 20;
     double termination = 0.99;  ///< stop a ray once its accumulated opacity reaches this, (0, 1]
     std::array<double, 3> background{0, 0, 0};  ///< components in [0, 1]
