@@ -420,6 +420,33 @@ void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std
         std::fprintf(stderr, "warning: --colorbar: the picture is coloured by neither value nor block; no legend drawn\n");
 }
 
+std::optional<Vec3> view_direction(const Args& a) {
+    const auto view = a.get("view");
+    if (!view) return std::nullopt;
+    if (a.has("azimuth") || a.has("elevation"))
+        throw UsageError("--view " + *view + " sets the camera's direction: drop --azimuth/--elevation");
+    if (*view == "iso") return Vec3{-1, -1, -1};
+    if (view->size() == 2 && (view->at(0) == '+' || view->at(0) == '-') && view->at(1) >= 'x' && view->at(1) <= 'z') {
+        Vec3 dir{0, 0, 0};
+        const double s = view->at(0) == '+' ? 1.0 : -1.0;
+        if (view->at(1) == 'x') dir.x = s;
+        else if (view->at(1) == 'y') dir.y = s;
+        else dir.z = s;
+        return dir;
+    }
+    throw UsageError("--view: expected +x, -x, +y, -y, +z, -z or iso, got '" + *view + "'");
+}
+
+void set_view(Camera& c, const Vec3& dir, const std::string& view_name, bool warn) {
+    view_angles(dir, c.up_axis, c.up_negative, c.azimuth_deg, c.elevation_deg);
+    // looking along the up axis leaves the picture's up to chance: say so (the camera then takes
+    // azimuth 0 about the up axis, a fixed but arbitrary roll)
+    if (warn && dir[c.up_axis] != 0 && dir[(c.up_axis + 1) % 3] == 0 && dir[(c.up_axis + 2) % 3] == 0)
+        std::fprintf(stderr, "meshless: warning: --view %s looks along the up axis (%s%c): the picture's up is arbitrary; give "
+                             "--up another axis\n",
+                     view_name.c_str(), c.up_negative ? "-" : "", static_cast<char>('x' + c.up_axis));
+}
+
 Camera camera_from(const Args& a, const char* default_size) {
     Camera c;
     const auto wh = parse_size(a.get_or("size", default_size), "--size", 1, 16384);
@@ -436,22 +463,8 @@ Camera camera_from(const Args& a, const char* default_size) {
         c.up_axis = axis[0] - 'x';
         c.up_negative = neg;
     }
-    if (auto view = a.get("view")) {
-        if (a.has("azimuth") || a.has("elevation"))
-            throw UsageError("--view " + *view + " sets the camera's direction: drop --azimuth/--elevation");
-        Vec3 dir;
-        if (*view == "iso") dir = {-1, -1, -1};
-        else if (view->size() == 2 && (view->at(0) == '+' || view->at(0) == '-') && view->at(1) >= 'x' && view->at(1) <= 'z') {
-            dir = {0, 0, 0};
-            const double s = view->at(0) == '+' ? 1.0 : -1.0;
-            if (view->at(1) == 'x') dir.x = s;
-            else if (view->at(1) == 'y') dir.y = s;
-            else dir.z = s;
-        } else {
-            throw UsageError("--view: expected +x, -x, +y, -y, +z, -z or iso, got '" + *view + "'");
-        }
-        view_angles(dir, c.up_axis, c.up_negative, c.azimuth_deg, c.elevation_deg);
-    }
+    // (without --up, a volume's header may still choose the up axis: apply_anatomical_default warns then)
+    if (const auto dir = view_direction(a)) set_view(c, *dir, a.get("view").value_or(""), a.declared("up") && a.has("up"));
     c.zoom = parse_finite(a.get_or("zoom", "1"), "--zoom");
     if (!(c.zoom > 0)) throw UsageError("--zoom: must be positive");
     c.perspective = !a.has("ortho");
@@ -459,8 +472,7 @@ Camera camera_from(const Args& a, const char* default_size) {
 }
 
 std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c) {
-    for (const char* o : {"up", "view"})
-        if (a.declared(o) && a.has(o)) return std::nullopt;  // the user chose the camera
+    if (a.declared("up") && a.has("up")) return std::nullopt;  // the user chose the camera's up
     // --azimuth / --elevation (the camera's, 30 and 20 unless given) turn the face-on view
     std::optional<AnatomicalFrame> f;
     if (in.store) {  // the axes its volume's header gave, recorded by convert (none before 2026-11-29)
@@ -473,7 +485,16 @@ std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const Vol
             return std::nullopt;  // (the volume was read already: nothing new to say)
         }
     }
-    if (f) apply_view(anatomical_view(f->axis, c.azimuth_deg, c.elevation_deg), c);
+    if (!f) return f;
+    const AnatomicalView av = anatomical_view(f->axis, c.azimuth_deg, c.elevation_deg);
+    if (const auto dir = a.declared("view") ? view_direction(a) : std::nullopt) {
+        // --view names the direction, the header keeps superior up (as --up's help says)
+        c.up_axis = av.up_axis;
+        c.up_negative = av.up_negative;
+        set_view(c, *dir, *a.get("view"), true);
+        return f;
+    }
+    apply_view(av, c);
     return f;
 }
 

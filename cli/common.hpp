@@ -105,11 +105,18 @@ std::string triple(const Vec3& v);
 void add_orbit_options(Args& a, const char* default_size);
 /// The camera of add_orbit_options (UsageError for bad values, --view with --azimuth/--elevation).
 Camera camera_from(const Args& a, const char* default_size);
-/// The default camera of a volume (kernels/anatomical_view.hpp): when neither --up nor --view was
-/// given and the volume's header gives the patient's axes (formats/anatomical_frame.hpp: NIfTI
-/// sform/qform, NRRD space, MetaImage), the head goes up and the face towards the viewer, turned by
-/// --azimuth / --elevation (30 and 20 unless given); otherwise (brick stores, formats that say
-/// nothing) the camera is left as it is. Returns the frame used, if any.
+/// --view's world direction (nullopt without it; UsageError for a bad name or with --azimuth/--elevation).
+std::optional<Vec3> view_direction(const Args& a);
+/// Points the camera along dir in its up frame (view_angles); with warn, a direction along the up
+/// axis warns on stderr that the picture's up is arbitrary (camera_from warns when --up was given,
+/// apply_anatomical_default when the header's superior axis is the up axis).
+void set_view(Camera& c, const Vec3& dir, const std::string& view_name, bool warn);
+/// The default camera of a volume (kernels/anatomical_view.hpp): when --up was not given and the
+/// volume's header gives the patient's axes (formats/anatomical_frame.hpp: NIfTI sform/qform, NRRD
+/// space, MetaImage; a brick store records them), the head goes up and, without --view, the face
+/// towards the viewer, turned by --azimuth / --elevation (30 and 20 unless given); with --view the
+/// camera looks along the named direction with superior up. Otherwise (formats that say nothing) the
+/// camera is left as it is. Returns the frame used, if any.
 std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c);
 /// add_orbit_options (800x800) and --kernel quad|ewa --shading: the splat pictures' options.
 void add_camera_options(Args& a);

@@ -155,6 +155,33 @@ TEST_CASE("orientation: --azimuth and --elevation turn the face-on view of a vol
     CHECK(slurp(d / "default.png") != slurp(d / "generic.png"));  // --up turns the face-on view off
 }
 
+TEST_CASE("orientation: --view keeps the header's superior up unless --up is given; a view along the up axis warns", "[cli][real][orientation]") {
+    if (!have_shared_data()) {
+        WARN("../shared/data absent: --view orientation test skipped");
+        return;
+    }
+    // the headsq CT's superior is -z (NRRD space left-posterior-superior, z slices upwards reversed)
+    TempDir d("anatomical_view");
+    const std::string head = (shared_data() / "vtk_headsq" / "quarter.nhdr").string(), D = d.path.string() + "/";
+    const std::string common = " --tf ct-skin --size 48x48 -o " + D;
+    for (const char* v : {"+y", "-x", "iso"}) {
+        INFO("--view " << v);
+        REQUIRE(sh("MESHLESS render " + head + common + "a.png --view " + v, d).code == 0);
+        REQUIRE(sh("MESHLESS render " + head + common + "b.png --view " + v + " --up -z", d).code == 0);
+        REQUIRE(sh("MESHLESS render " + head + common + "c.png --view " + v + " --up y", d).code == 0);
+        CHECK(slurp(d / "a.png") == slurp(d / "b.png"));  // superior up, as --up's help says
+        CHECK(slurp(d / "a.png") != slurp(d / "c.png"));  // (was: --view dropped it for +y up)
+    }
+    auto r = sh("MESHLESS render " + head + common + "z.png --view +z", d);  // along superior
+    CHECK(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("warning: --view +z looks along the up axis (-z): the picture's up is arbitrary"));
+    r = sh("MESHLESS render " + head + common + "y.png --view -y --up y", d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("warning: --view -y looks along the up axis (y)"));
+    r = sh("MESHLESS render " + head + common + "ok.png --view -y --up -z", d);
+    CHECK(r.err.find("warning") == std::string::npos);
+}
+
 TEST_CASE("orientation: a brick store keeps its volume's patient axes and gives the volume's pictures", "[cli][real][orientation]") {
     if (!have_shared_data()) {
         WARN("../shared/data absent: brick store orientation test skipped");
