@@ -27,12 +27,6 @@ namespace meshless::cli {
 
 namespace {
 
-/// The PLY comments written by isosurface/write record the isovalue ("iso V"): the points are an isosurface.
-bool ply_records_iso(const std::vector<std::string>& comments) {
-    for (const auto& c : comments)
-        if (c.rfind("iso ", 0) == 0) return true;
-    return false;
-}
 
 bool ply_has_vertex_property(const std::string& path, const char* name) {
     PlyReader r(path);
@@ -182,13 +176,23 @@ int cmd_splat(int argc, char** argv) {
     std::vector<const Stage*> stages;
     if (project) stages.push_back(&*project);
 
-    // Colours: an isosurface (the input records its isovalue) is not coloured by value by default.
-    const bool isosurface_input =
-        is_ply ? ply_records_iso(static_cast<PlySource&>(*source).comments()) : reader->meta().get("iso").has_value();
+    // Colours: an isosurface (the input records its isovalue) is not coloured by value by default;
+    // --color value maps it within the data's value range where the input records one (as
+    // isosurface --png does: its points all hold the isovalue), and a block legend lists the blocks
+    // it records.
+    const StreamMeta recorded = is_ply ? ply_comments_meta(static_cast<PlySource&>(*source).comments()) : reader->meta();
+    const bool isosurface_input = recorded.get("iso").has_value();
+    std::optional<std::array<double, 2>> data_range;
+    if (const auto lo = recorded.get_double("value_min"), hi = recorded.get_double("value_max");
+        isosurface_input && lo && hi && std::isfinite(*lo) && std::isfinite(*hi) && *lo < *hi)
+        data_range = std::array<double, 2>{*lo, *hi};
+    std::optional<std::uint32_t> recorded_blocks;
+    if (const auto nb = recorded.get_double("blocks"); nb && *nb >= 1 && *nb <= 4294967295.0 && *nb == std::floor(*nb))
+        recorded_blocks = static_cast<std::uint32_t>(*nb);
     if (cc.request == ColorRequest::block && is_ply && !ply_has_vertex_property(input, "block"))
         throw UsageError(input + ": the points carry no block ids (no vertex property 'block'); --color block needs "
                          "multiblock points");
-    const bool color_pass = (cc.request == ColorRequest::value && !cc.range) ||
+    const bool color_pass = (cc.request == ColorRequest::value && !cc.range && !data_range) ||
                             (cc.request == ColorRequest::automatic && !isosurface_input) ||
                             (cc.request == ColorRequest::block && !is_ply);
 
@@ -209,8 +213,9 @@ int cmd_splat(int argc, char** argv) {
     {
         const std::optional<std::array<double, 2>> seen = spool ? spool->value_range() : std::nullopt;
         const ColorBy by = color_by(cc, !isosurface_input && seen && (*seen)[0] < (*seen)[1] ? ColorBy::value : ColorBy::none);
-        apply_color(rs, by, cc, cc.range ? *cc.range : seen ? *seen : std::array<double, 2>{0, 1});
+        apply_color(rs, by, cc, cc.range ? *cc.range : data_range ? *data_range : seen ? *seen : std::array<double, 2>{0, 1});
         if (spool) rs.legend_blocks = spool->block_count();
+        else if (recorded_blocks) rs.legend_blocks = *recorded_blocks;
     }
     if (spool) {
         if (frames > 0) {

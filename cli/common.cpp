@@ -634,7 +634,7 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
 std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
     for (const char* k : {"source", "iso", "projection", "field", "samples", "tolerance", "blocks", "grid_dims", "grid_spacing",
-                          "bounds_lo", "bounds_hi", "frame", "volume_bounds_lo", "volume_bounds_hi"})
+                          "bounds_lo", "bounds_hi", "frame", "volume_bounds_lo", "volume_bounds_hi", "value_min", "value_max"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
 }
@@ -647,6 +647,8 @@ StreamMeta comments_meta(const std::vector<std::string>& comments) {
     return m;
 }
 }  // namespace
+
+StreamMeta ply_comments_meta(const std::vector<std::string>& comments) { return comments_meta(comments); }
 
 std::optional<std::array<Vec3, 2>> ply_bounds(const std::vector<std::string>& comments) {
     return meta_bounds(comments_meta(comments));

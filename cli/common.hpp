@@ -177,6 +177,8 @@ std::optional<std::array<Vec3, 2>> meta_bounds(const StreamMeta& m);
 /// themselves, spooled first). PLY comments: the same, read from ply_comments' lines.
 std::optional<std::array<Vec3, 2>> picture_bounds(const StreamMeta& m);
 std::optional<std::array<Vec3, 2>> ply_picture_bounds(const std::vector<std::string>& comments);
+/// The PLY comments ply_comments() wrote, read back as the metadata they came from ("key value").
+StreamMeta ply_comments_meta(const std::vector<std::string>& comments);
 
 /// The isovalue for a stage reading a stream: --iso if given (with a warning when it differs from
 /// the stream's, whose active cells were chosen for that value), else the stream's; UsageError

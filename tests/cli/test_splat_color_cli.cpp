@@ -124,3 +124,32 @@ TEST_CASE("splat --color block without block ids, bad --color / --range: usage e
     CHECK(sh("MESHLESS splat " + D + "iso.ply --color value --colormap jet -o " + D + "b.png", d).code == 1);
     CHECK_FALSE(std::filesystem::exists(d / "b.png"));
 }
+
+TEST_CASE("splat of an isosurface's PLY colours by value and lists blocks as isosurface --png does", "[cli][splat][color]") {
+    TempDir d("splat_color_recorded");
+    const std::string vol = ball(d), D = d.path.string() + "/";
+    // --color value: the points all hold the isovalue; both pictures map it within the volume's
+    // range, which the PLY records (value_min/value_max), instead of a range of one value
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "i.ply --png " + D + "i.png --size 64x64 --color value "
+               "--colorbar",
+               d).code == 0);
+    REQUIRE(sh("MESHLESS splat " + D + "i.ply -o " + D + "s.png --size 64x64 --color value --colorbar", d).code == 0);
+    const std::string ply = slurp(d / "i.ply");
+    CHECK(ply.find("comment value_min 0\n") != std::string::npos);
+    CHECK(ply.find("comment value_max ") != std::string::npos);
+    CHECK(slurp(d / "i.png") == slurp(d / "s.png"));
+    // the same through a pipe: the stream's metadata records the range too
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 100.5 | MESHLESS project | MESHLESS splat -o " + D +
+                   "p.png --size 64x64 --color value --colorbar",
+               d).code == 0);
+    CHECK(slurp(d / "i.png") == slurp(d / "p.png"));
+    if (!have_shared_data()) return;
+    // --color block --colorbar: as many swatches as the PLY's recorded blocks (3), not the palette's 10
+    const std::string P = (shared_data() / "plot3d").string() + "/";
+    const std::string blocks = P + "multicomb_0.vts " + P + "multicomb_1.vts " + P + "multicomb_2.vts";
+    REQUIRE(sh("MESHLESS isosurface " + blocks + " --iso 0.4 -o " + D + "b.ply --png " + D + "b.png --size 200x200 --color block "
+               "--colorbar",
+               d).code == 0);
+    REQUIRE(sh("MESHLESS splat " + D + "b.ply -o " + D + "bs.png --size 200x200 --color block --colorbar", d).code == 0);
+    CHECK(slurp(d / "b.png") == slurp(d / "bs.png"));
+}
