@@ -173,9 +173,15 @@ int cmd_hierarchy(int argc, char** argv) {
     if (s.dropped_nonfinite)
         std::fprintf(stderr, "meshless hierarchy: warning: %" PRIu64 " samples with NaN/Inf positions or values dropped\n",
                      s.dropped_nonfinite);
-    if (tree.nodes.size() == 1)
-        std::fprintf(stderr, "meshless hierarchy: note: one cluster (error %g <= --max-error %g, or nothing to split): a one-node tree\n",
-                     tree.nodes[0].error, p.max_error);
+    if (tree.nodes.size() == 1) {
+        if (p.max_splits == 0)
+            std::fprintf(stderr, "meshless hierarchy: note: --max-splits 0: no split made (error %g): a one-node tree\n",
+                         tree.nodes[0].error);
+        else
+            std::fprintf(stderr,
+                         "meshless hierarchy: note: one cluster (error %g <= --max-error %g, or nothing to split): a one-node tree\n",
+                         tree.nodes[0].error, p.max_error);
+    }
     if (a.has("stats"))
         std::fprintf(stderr,
                      "hierarchy: %" PRIu64 " samples, %" PRIu64 " splits, %" PRIu64 " skipped, depth %u, %zu nodes, error %g -> %g, "

@@ -90,6 +90,13 @@ RenderInput open_render_input(const Args& a) {
         if (kind != "trilinear")
             throw UsageError("--field " + kind + ": " + first +
                              " is a volume, rendered with --field trilinear (meshless sample makes scattered points of it)");
+        // the meshless fields' and the point readers' options do nothing to a volume: say so
+        for (const char* o : {"binning", "support", "local-points", "max-points", "alpha", "hardy-c", "hardy-c-world",
+                              "normalise-axes", "columns", "value", "q", "q-component", "function", "allow-trailing", "strict",
+                              "merge-blocks", "lod-level", "lod-error", "endian"})
+            if (a.declared(o) && a.has(o))
+                throw UsageError("--" + std::string(o) + " applies to point sets and multiblock grids; " + first +
+                                 " is a volume, rendered through its trilinear interpolant");
         in.volume = open_volume_input(a, /*stream=*/false);
         const GridSpec& g = in.volume->grid();
         if (in.volume->store) {
@@ -114,6 +121,11 @@ RenderInput open_render_input(const Args& a) {
         if (kind == "trilinear")
             throw UsageError("--field trilinear: " + first + " is not a volume; scattered points and multiblock grids render "
                              "through rbf-grid, mpu, global-rbf or a fitted .mlf");
+        for (const char* o : {"dims", "type", "spacing", "memory"})
+            if (a.declared(o) && a.has(o))
+                throw UsageError("--" + std::string(o) + " applies to volumes" +
+                                 (std::string(o) == "memory" ? std::string(" read from brick stores (.mlb)") : std::string(" (raw)")) +
+                                 "; " + first + " is read as points");
         const PointSet pts = read_field_points(pos, a);
         if (pts.size() == 0) throw FormatError(first + ": no points to render");
         in.built = build_field(a, pts, data_default);

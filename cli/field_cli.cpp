@@ -117,12 +117,29 @@ std::string field_kind_arg(const Args& a, const std::string& default_kind) {
     return d.empty() ? kBlocksFieldDefault : d;
 }
 
+namespace {
+/// An option that tunes one kind of field, given with another, would be silently ignored: a usage
+/// error naming the field it is for (a fitted .mlf: load_file refuses every fit option).
+void refuse_other_fields_options(const Args& a, const std::string& kind) {
+    static const struct {
+        const char* option;
+        const char* field;
+    } kTuning[] = {{"binning", "rbf-grid"}, {"support", "rbf-grid"}, {"local-points", "rbf-grid"},
+                   {"max-points", "mpu"},    {"alpha", "mpu"}};
+    for (const auto& t : kTuning)
+        if (a.declared(t.option) && a.has(t.option) && kind != t.field)
+            throw UsageError("--" + std::string(t.option) + " tunes the " + t.field + " field; the field here is " + kind +
+                             " (--field " + t.field + " to use it)");
+}
+}  // namespace
+
 FieldParams field_params(const Args& a, const std::string& default_kind) {
     FieldParams p;
     const std::string kind = field_kind_arg(a, default_kind);
     if (field_file_arg(a)) throw UsageError("--field " + kind + ": a fitted field file, not a field to build");
     if (!parse_field_kind(kind, p.kind))
         throw UsageError("--field: expected rbf-grid, mpu, global-rbf or a fitted field file (.mlf), got '" + kind + "'");
+    refuse_other_fields_options(a, kind);
     p.binning_m = parse_finite(a.get_or("binning", "5"), "--binning");
     if (!(p.binning_m > 0)) throw UsageError("--binning: expected a number > 0, got " + a.get_or("binning", "5"));
     const std::string support = a.get_or("support", "27");
@@ -165,6 +182,15 @@ PointSet read_field_points(const std::vector<std::string>& paths, const Args& a)
             throw UsageError("-: meshless " + a.command() + " reads its data (point sets, volumes, multiblock sets) from files "
                              "(their names and contents say the format), not from standard input");
     if (all_multiblock(paths)) return to_point_set(read_multiblock(paths, point_set_options(a)));
+    if (paths.size() > 1)  // volumes read as points (their voxels) would be mixed into one set
+        for (const auto& p : paths)
+            if (looks_like_volume(p) && !looks_like_multiblock(p))
+                throw UsageError(p + " is a volume: meshless " + a.command() + " takes one volume, or point sets (several are "
+                                 "one set), or the blocks of one multiblock grid");
+    const bool tree = std::any_of(paths.begin(), paths.end(), [](const std::string& p) { return is_cluster_tree_file(p); });
+    for (const char* o : {"lod-level", "lod-error"})
+        if (!tree && a.declared(o) && a.has(o))
+            throw UsageError("--" + std::string(o) + " picks a level of detail of a cluster tree (.mlh); " + paths.front() + " is none");
     for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so
         if (is_cluster_tree_file(p)) {
             const ClusterTreeLodRequest r = cluster_tree_lod_request(read_cluster_tree_file(p), point_set_options(a));

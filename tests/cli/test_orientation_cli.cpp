@@ -155,7 +155,7 @@ TEST_CASE("orientation: --azimuth and --elevation turn the face-on view of a vol
     CHECK(slurp(d / "default.png") != slurp(d / "generic.png"));  // --up turns the face-on view off
 }
 
-TEST_CASE("orientation: --view keeps the header's superior up unless --up is given; a view along the up axis warns", "[cli][real][orientation]") {
+TEST_CASE("orientation: --view keeps the header's superior up unless --up is given, a view along the up axis warns", "[cli][real][orientation]") {
     if (!have_shared_data()) {
         WARN("../shared/data absent: --view orientation test skipped");
         return;

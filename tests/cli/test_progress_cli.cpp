@@ -97,7 +97,7 @@ TEST_CASE("progress lines: multiblock and scattered isosurfaces, fit and hierarc
     }
 }
 
-TEST_CASE("progress lines: batch shows the volume, its step and the batch's share with an ETA; --quiet silences it", "[cli][progress][batch]") {
+TEST_CASE("progress lines: batch shows the volume, its step and the batch's share with an ETA, --quiet silences it", "[cli][progress][batch]") {
     TempDir d("progress_batch");
     const std::string D = d.path.string();
     fs::create_directories(d.path / "arch");

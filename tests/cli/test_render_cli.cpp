@@ -140,6 +140,28 @@ TEST_CASE("render: scattered points through mpu, and the fields that do not fit 
     CHECK(contains(mpu.err, "is a volume"));
     CHECK_FALSE(std::filesystem::exists(D + "/x.png"));
     CHECK_FALSE(std::filesystem::exists(D + "/y.png"));
+    // options that would change nothing are refused, naming what they are for (they were ignored:
+    // exit 0, the same bytes)
+    const std::string vol2 = write_uint8_analytic_volume(d, "torus", AnalyticField::torus, 16, 200, 20);
+    const struct {
+        std::string cmd, says;
+    } refused[] = {
+        {vol + " --hardy-c 0.1", "--hardy-c applies to point sets and multiblock grids; "},
+        {vol + " --lod-level 3", "--lod-level applies to point sets"},
+        {vol + " --columns 0,1,2,3", "is a volume, rendered through its trilinear interpolant"},
+        {vol + " " + vol2, "is a volume: meshless render takes one volume"},  // (was mixed into one point set)
+        {pts + " --binning 9", "--binning tunes the rbf-grid field; the field here is mpu"},
+        {pts + " --field rbf-grid --alpha 0.8", "--alpha tunes the mpu field; the field here is rbf-grid"},
+        {pts + " --lod-level 3", "--lod-level picks a level of detail of a cluster tree (.mlh)"},
+        {pts + " --spacing 1,1,2", "--spacing applies to volumes"},
+    };
+    for (const auto& r : refused) {
+        INFO(r.cmd);
+        const RunResult x = sh("MESHLESS render " + r.cmd + " -o " + D + "/z.png --size 16x16", d);
+        CHECK(x.code == 1);
+        CHECK(contains(x.err, r.says));
+        CHECK_FALSE(std::filesystem::exists(D + "/z.png"));
+    }
 }
 
 TEST_CASE("render refuses image sizes of 0 or beyond 16384 and bad transfer functions, writing nothing", "[cli][render]") {
