@@ -186,6 +186,9 @@ int cmd_splat(int argc, char** argv) {
     if (const auto lo = recorded.get_double("value_min"), hi = recorded.get_double("value_max");
         isosurface_input && lo && hi && std::isfinite(*lo) && std::isfinite(*hi) && *lo < *hi)
         data_range = std::array<double, 2>{*lo, *hi};
+    // the patient's axes of the volume the points came from: the picture isosurface --png draws
+    // (head up, face to the viewer) unless --up is given
+    if (const auto f = meta_patient_axes(recorded)) apply_anatomical_frame(a, *f, rs.camera);
     std::optional<std::uint32_t> recorded_blocks;
     if (const auto nb = recorded.get_double("blocks"); nb && *nb >= 1 && *nb <= 4294967295.0 && *nb == std::floor(*nb))
         recorded_blocks = static_cast<std::uint32_t>(*nb);

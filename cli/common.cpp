@@ -281,6 +281,18 @@ private:
 };
 }  // namespace
 
+namespace {
+/// The patient's axes of a volume already read (the header once more; a header whose probe finds
+/// nothing to add leaves the camera generic).
+std::optional<AnatomicalFrame> probed_frame(const std::string& path, const RawOptions& raw) {
+    try {
+        return probe_volume(path, raw).frame;
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+}  // namespace
+
 VolumeInput open_volume_input(const Args& a, bool stream) {
     if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
     VolumeInput in;
@@ -300,6 +312,7 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
                 check_volume_fits(a, "- (stdin)", probe_volume(in.spool->path(), raw), true);
                 in.volume = map_volume(in.spool->path(), raw);
             }
+            in.frame = probed_frame(in.spool->path(), raw);
         });
         return in;
     }
@@ -308,6 +321,8 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
         in.store = BrickStore::open(in.path);
         in.cache = std::make_unique<BrickCache>(*in.store, parse_memory_size(a.get_or("memory", "256M")));
         in.index = std::make_unique<BrickIndex>(*in.store);
+        // the axes its volume's header gave, recorded by convert (none before 2026-11-29)
+        if (const auto& ax = in.store->info().patient_axes) in.frame = frame_of_axes(*ax, "brick store header");
     } else {
         const RawOptions raw = raw_options(a);
         in.threads = threads(a);
@@ -322,6 +337,7 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
         } else {
             in.volume = load_volume(a, /*map=*/true);
         }
+        in.frame = probed_frame(in.path, raw);
     }
     return in;
 }
@@ -471,31 +487,38 @@ Camera camera_from(const Args& a, const char* default_size) {
     return c;
 }
 
-std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c) {
-    if (a.declared("up") && a.has("up")) return std::nullopt;  // the user chose the camera's up
+void apply_anatomical_frame(const Args& a, const AnatomicalFrame& f, Camera& c) {
+    if (a.declared("up") && a.has("up")) return;  // the user chose the camera's up
     // --azimuth / --elevation (the camera's, 30 and 20 unless given) turn the face-on view
-    std::optional<AnatomicalFrame> f;
-    if (in.store) {  // the axes its volume's header gave, recorded by convert (none before 2026-11-29)
-        if (const auto& ax = in.store->info().patient_axes) f = frame_of_axes(*ax, "brick store header");
-    } else {
-        const std::string path = in.spool ? in.spool->path() : in.path;
-        try {
-            f = probe_volume(path, raw_options(a)).frame;
-        } catch (const std::exception&) {
-            return std::nullopt;  // (the volume was read already: nothing new to say)
-        }
-    }
-    if (!f) return f;
-    const AnatomicalView av = anatomical_view(f->axis, c.azimuth_deg, c.elevation_deg);
+    const AnatomicalView av = anatomical_view(f.axis, c.azimuth_deg, c.elevation_deg);
     if (const auto dir = a.declared("view") ? view_direction(a) : std::nullopt) {
         // --view names the direction, the header keeps superior up (as --up's help says)
         c.up_axis = av.up_axis;
         c.up_negative = av.up_negative;
         set_view(c, *dir, *a.get("view"), true);
-        return f;
+        return;
     }
     apply_view(av, c);
-    return f;
+}
+
+std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c) {
+    if (a.declared("up") && a.has("up")) return std::nullopt;
+    if (in.frame) apply_anatomical_frame(a, *in.frame, c);
+    return in.frame;
+}
+
+std::optional<AnatomicalFrame> meta_patient_axes(const StreamMeta& m) {
+    const auto v = m.get("patient_axes");
+    if (!v) return std::nullopt;
+    std::array<std::array<double, 3>, 3> ax{};
+    char tail = 0;
+    if (std::sscanf(v->c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf%c", &ax[0][0], &ax[0][1], &ax[0][2], &ax[1][0], &ax[1][1],
+                    &ax[1][2], &ax[2][0], &ax[2][1], &ax[2][2], &tail) != 9)
+        return std::nullopt;
+    for (const auto& r : ax)
+        for (double x : r)
+            if (!std::isfinite(x)) return std::nullopt;
+    return frame_of_axes(ax, "patient_axes");
 }
 
 namespace {
@@ -617,10 +640,18 @@ std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double 
     return world_bounds(in.grid(), *box);
 }
 
+void set_patient_axes(StreamMeta& m, const std::optional<AnatomicalFrame>& f) {
+    if (!f) return;
+    const auto ax = frame_axes(*f);
+    m.set("patient_axes", triple(ax[0][0], ax[0][1], ax[0][2]) + "," + triple(ax[1][0], ax[1][1], ax[1][2]) + "," +
+                              triple(ax[2][0], ax[2][1], ax[2][2]));
+}
+
 StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer) {
     if (in.store) {
         StreamMeta m = volume_meta(in.path, in.grid(), in.type(), in.value_range(), iso, producer);
         set_surface_bounds(m, store_surface_bounds(*in.store, *in.index, iso));
+        set_patient_axes(m, in.frame);
         return m;
     }
     // one pass gives the value range and the active blocks
@@ -628,13 +659,15 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
     StreamMeta m = volume_meta(in.path, in.grid(), in.type(), b.range(), iso, producer);
     const auto box = active_block_box(b, in.grid(), iso);
     set_surface_bounds(m, box ? std::optional(world_bounds(in.grid(), *box)) : std::nullopt);
+    set_patient_axes(m, in.frame);
     return m;
 }
 
 std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
     for (const char* k : {"source", "iso", "projection", "field", "samples", "tolerance", "blocks", "grid_dims", "grid_spacing",
-                          "bounds_lo", "bounds_hi", "frame", "volume_bounds_lo", "volume_bounds_hi", "value_min", "value_max"})
+                          "bounds_lo", "bounds_hi", "frame", "volume_bounds_lo", "volume_bounds_hi", "value_min", "value_max",
+                          "patient_axes"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
 }

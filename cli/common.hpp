@@ -10,6 +10,7 @@
 
 #include "cli/args.hpp"
 #include "cli/render_output.hpp"
+#include "formats/anatomical_frame.hpp"
 #include "formats/geometry_format.hpp"
 #include "formats/vtp_writer.hpp"
 #include "formats/point_stream.hpp"
@@ -62,6 +63,9 @@ struct VolumeInput {
     std::unique_ptr<BrickCache> cache;
     std::unique_ptr<BrickIndex> index;
     std::shared_ptr<const StdinSpool> spool;  ///< path "-": standard input spooled (cli/stdin_spool.hpp)
+    /// The patient's axes, where the header says them (a brick store records its volume's): the
+    /// default camera of its pictures, carried in volume_meta as `patient_axes`.
+    std::optional<AnatomicalFrame> frame;
     const GridSpec& grid() const;
     SampleType type() const;
     /// The value range (computed once, on first use: the store's header, or blocks().range()).
@@ -111,6 +115,14 @@ std::optional<Vec3> view_direction(const Args& a);
 /// axis warns on stderr that the picture's up is arbitrary (camera_from warns when --up was given,
 /// apply_anatomical_default when the header's superior axis is the up axis).
 void set_view(Camera& c, const Vec3& dir, const std::string& view_name, bool warn);
+/// The default camera of data whose patient's axes are known (kernels/anatomical_view.hpp): as
+/// apply_anatomical_default, for a frame from elsewhere (the `patient_axes` a PLY or stream records).
+void apply_anatomical_frame(const Args& a, const AnatomicalFrame& f, Camera& c);
+/// `patient_axes` metadata: the LPS directions of world +x, +y, +z, nine numbers; nullopt when absent
+/// or malformed (then the pictures take the generic camera).
+std::optional<AnatomicalFrame> meta_patient_axes(const StreamMeta& m);
+/// Sets `patient_axes` from f (nothing when f is empty).
+void set_patient_axes(StreamMeta& m, const std::optional<AnatomicalFrame>& f);
 /// The default camera of a volume (kernels/anatomical_view.hpp): when --up was not given and the
 /// volume's header gives the patient's axes (formats/anatomical_frame.hpp: NIfTI sform/qform, NRRD
 /// space, MetaImage; a brick store records them), the head goes up and, without --view, the face

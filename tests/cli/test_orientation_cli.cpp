@@ -182,6 +182,29 @@ TEST_CASE("orientation: --view keeps the header's superior up unless --up is giv
     CHECK(r.err.find("warning") == std::string::npos);
 }
 
+TEST_CASE("orientation: splat of an isosurface's PLY or stream faces as isosurface --png does (patient_axes recorded)", "[cli][real][orientation]") {
+    if (!have_shared_data()) {
+        WARN("../shared/data absent: splat orientation test skipped");
+        return;
+    }
+    // the points carry the volume header's patient axes (PLY comment, stream metadata): splat
+    // draws the head up and face-on, as isosurface --png (it drew the headsq CT from below)
+    TempDir d("anatomical_splat");
+    const std::string head = (shared_data() / "vtk_headsq" / "quarter.nhdr").string(), D = d.path.string() + "/";
+    REQUIRE(sh("MESHLESS isosurface " + head + " --iso 1000.5 -o " + D + "h.ply --png " + D + "iso.png --size 64x64", d).code == 0);
+    CHECK(slurp(d / "h.ply").find("comment patient_axes 1,0,0,0,1,0,0,0,-1\n") != std::string::npos);
+    REQUIRE(sh("MESHLESS splat " + D + "h.ply -o " + D + "ply.png --size 64x64", d).code == 0);
+    REQUIRE(sh("MESHLESS generate " + head + " --iso 1000.5 | MESHLESS project | MESHLESS splat -o " + D + "pipe.png --size 64x64", d)
+                .code == 0);
+    CHECK(slurp(d / "iso.png") == slurp(d / "ply.png"));
+    CHECK(slurp(d / "iso.png") == slurp(d / "pipe.png"));
+    // --up still chooses the camera, on both
+    REQUIRE(sh("MESHLESS splat " + D + "h.ply -o " + D + "up.png --size 64x64 --up y", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + head + " --iso 1000.5 --png " + D + "isoup.png --size 64x64 --up y", d).code == 0);
+    CHECK(slurp(d / "up.png") != slurp(d / "ply.png"));
+    CHECK(slurp(d / "up.png") == slurp(d / "isoup.png"));
+}
+
 TEST_CASE("orientation: a brick store keeps its volume's patient axes and gives the volume's pictures", "[cli][real][orientation]") {
     if (!have_shared_data()) {
         WARN("../shared/data absent: brick store orientation test skipped");
