@@ -369,7 +369,7 @@ void add_orbit_options(Args& a, const char* default_size) {
         .option("up", "", "AXIS", "the world axis that points up in the picture: x, y, z, -x, -y or -z (superior, unless given, for a volume whose header gives the patient's axes)", "y")
         .option("view", "", "NAME", "a named view instead of --azimuth/--elevation: +x -x +y -y +z -z (the camera looks "
                                     "along that axis) or iso (looks along -1,-1,-1)")
-        .option("zoom", "", "Z", "zoom factor (1 frames the surface: its bounds from the stream, PLY or active bricks/blocks)", "1")
+        .option("zoom", "", "Z", "zoom factor (1 frames the subject: the surface's bounds recorded in the stream or PLY, or the active bricks/blocks; render: the data's box or --bounds)", "1")
         .flag("ortho", "orthographic instead of perspective projection");
 }
 
