@@ -82,6 +82,19 @@ TEST_CASE("extract | project | write writes the bytes of paradigm (C), and isosu
     const auto info = sh("MESHLESS info " + D + "/t.mls", d);
     CHECK(info.code == 0);
     CHECK_THAT(info.out, Catch::Contains("t.mlb") && Catch::Contains("version 2"));
+    // a store that records its volume's patient axes: paradigm (A) records them as (C) does (the
+    // points' PLY comments, so splat faces alike), the same bytes
+    if (!have_shared_data()) return;
+    const std::string head = (shared_data() / "vtk_headsq" / "quarter.nhdr").string();
+    REQUIRE(sh("MESHLESS convert " + head + " -o " + D + "/h.mlb", d).code == 0);
+    REQUIRE(sh("MESHLESS generate " + D + "/h.mlb --all -o " + D + "/h.mls", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + D + "/h.mlb --iso 1000.5 -o " + D + "/hc.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + D + "/h.mls --iso 1000.5 -o " + D + "/ha.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS extract " + D + "/h.mls --iso 1000.5 | MESHLESS project | MESHLESS write -o " + D + "/hp.ply", d).code == 0);
+    const std::string hc = slurp(D + "/hc.ply");
+    CHECK(hc.find("comment patient_axes ") != std::string::npos);
+    CHECK(slurp(D + "/ha.ply") == hc);
+    CHECK(slurp(D + "/hp.ply") == hc);
 }
 
 TEST_CASE("paradigm (A) commands refuse bad input with exit codes and messages naming the file", "[parA]") {
