@@ -179,18 +179,23 @@ struct Progress {
     double total = 0, finished = 0;
     Clock::time_point start = Clock::now();
     mutable double last_draw = -1;
+    mutable double item_fraction = 0;  ///< the running volume's last fraction (its later steps keep it)
+    mutable std::string last_what;
 
     void finish_item() {
         if (index < weight.size()) finished += weight[index];
+        item_fraction = 0;
     }
     void show(const std::string& what, double fraction = -1) const {
         if (!on) return;
         const double t = std::chrono::duration<double>(Clock::now() - start).count();
-        if (t < delay || (last_draw >= 0 && t - last_draw < 0.25 && fraction < 1)) return;
+        if (fraction >= 0) item_fraction = std::clamp(fraction, 0.0, 1.0);
+        if (t < delay || (last_draw >= 0 && t - last_draw < 0.25 && fraction < 1 && what == last_what)) return;
         last_draw = t;
+        last_what = what;
         std::fprintf(stderr, "\r\033[K[%zu/%zu] %s: %s", index + 1, count, terminal_safe(name).c_str(), terminal_safe(what).c_str());
         if (fraction >= 0) std::fprintf(stderr, " %3.0f%%", 100 * fraction);
-        const double cur = index < weight.size() ? weight[index] * std::clamp(fraction, 0.0, 1.0) : 0;
+        const double cur = index < weight.size() ? weight[index] * item_fraction : 0;
         const double f = total > 0 ? std::clamp((finished + cur) / total, 0.0, 1.0) : 0;
         if (f > 0) std::fprintf(stderr, "; batch %.0f%%, ETA %s", 100 * f, progress_clock_text(t * (1 - f) / f).c_str());
         std::fflush(stderr);
@@ -242,7 +247,9 @@ public:
             const std::uint32_t c = crc();  // hash before converting: a change meanwhile shows in the stats
             progress_.show("converting", 0);
             auto src = open_slice_source(item_.path, item_.raw);
-            convert_to_brick_store(*src, mlb, s_.convert, [&](double f) { progress_.show("converting", f); });
+            ConvertParams cp = s_.convert;  // the store keeps the volume's patient axes, as convert's does
+            if (info.frame) cp.patient_axes = frame_axes(*info.frame);
+            convert_to_brick_store(*src, mlb, cp, [&](double f) { progress_.show("converting", f); });
             check_unchanged({mlb});
             record(mlb, mlb_side, c);
             ++r.written;

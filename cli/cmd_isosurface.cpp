@@ -43,15 +43,27 @@ void print_stats(const std::string& path, double iso, Projection mode, const Iso
                  nthreads, ranks);
 }
 
+/// The picture of points whose metadata records their volume: its patient axes for the default
+/// camera (unless --up) and, without --range, its value range for --color value — what splat of
+/// the same points' PLY or stream draws.
+void picture_from_meta(const Args& a, const StreamMeta& meta, bool range_given, double iso, RenderSettings& rs) {
+    if (const auto f = meta_patient_axes(meta)) apply_anatomical_frame(a, *f, rs.camera);
+    if (!range_given) {
+        rs.shading.value_lo = meta.get_double("value_min").value_or(iso);
+        rs.shading.value_hi = meta.get_double("value_max").value_or(iso);
+    }
+}
+
 /// A sample store (.mls) input: paradigm (A) in one process (section 3.5, Table 3.1): the store's
 /// candidate rows, recomputed from its .mlb, projected; the same points as from the .mlb.
 int isosurface_sample_store(const Args& a, double iso, Projection mode, const SamplingParams& sp,
-                            const RenderSettings& rs, int nthreads) {
+                            RenderSettings rs, bool range_given, int nthreads) {
     const std::string path = a.positional()[0];
     const auto store = SampleStore::open(path);
     warn_if_iso_outside(iso, {store->info().value_lo, store->info().value_hi}, path);
     StreamMeta meta = sample_store_meta(*store, iso, a.command_line());
     meta.set("projection", to_string(mode));
+    picture_from_meta(a, meta, range_given, iso, rs);
     SampleStoreSource source(*store, iso, sp);
     const ProjectStage project(iso, mode);
     IsoSplatResult r;
@@ -157,7 +169,9 @@ int cmd_isosurface(int argc, char** argv) {
         const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads,
                                                      [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
                                                          IsoSplatResult unused;
-                                                         return run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, rs, nthreads, [&](const Stage*, Sink& sink) {
+                                                         RenderSettings root_rs = rs;  // the volume's camera and range, as one process
+                                                         picture_from_meta(a, meta, cc.range.has_value(), iso, root_rs);
+                                                         return run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, root_rs, nthreads, [&](const Stage*, Sink& sink) {
                                                              produce(sink);
                                                              return IsoSplatResult{};
                                                          }, unused, /*parallel_draw=*/false);
@@ -166,7 +180,7 @@ int cmd_isosurface(int argc, char** argv) {
         return 0;
     }
     if (!a.positional().empty() && is_sample_store(a.positional()[0]))
-        return isosurface_sample_store(a, iso, mode, sp, rs, nthreads);
+        return isosurface_sample_store(a, iso, mode, sp, rs, cc.range.has_value(), nthreads);
 
     VolumeInput in = open_volume_input(a, /*stream=*/true);
     if (png) apply_anatomical_default(a, in, rs.camera);  // head up, face to the viewer, where the header says

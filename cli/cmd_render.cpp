@@ -93,7 +93,7 @@ RenderInput open_render_input(const Args& a) {
         // the meshless fields' and the point readers' options do nothing to a volume: say so
         for (const char* o : {"binning", "support", "local-points", "max-points", "alpha", "hardy-c", "hardy-c-world",
                               "normalise-axes", "columns", "value", "q", "q-component", "function", "allow-trailing", "strict",
-                              "merge-blocks", "lod-level", "lod-error", "endian"})
+                              "merge-blocks", "lod-level", "lod-error"})
             if (a.declared(o) && a.has(o))
                 throw UsageError("--" + std::string(o) + " applies to point sets and multiblock grids; " + first +
                                  " is a volume, rendered through its trilinear interpolant");

@@ -184,7 +184,7 @@ PointSet read_field_points(const std::vector<std::string>& paths, const Args& a)
     if (all_multiblock(paths)) return to_point_set(read_multiblock(paths, point_set_options(a)));
     if (paths.size() > 1)  // volumes read as points (their voxels) would be mixed into one set
         for (const auto& p : paths)
-            if (looks_like_volume(p) && !looks_like_multiblock(p))
+            if (looks_like_volume(p) && !looks_like_multiblock(p) && !looks_like_point_set(p))
                 throw UsageError(p + " is a volume: meshless " + a.command() + " takes one volume, or point sets (several are "
                                  "one set), or the blocks of one multiblock grid");
     const bool tree = std::any_of(paths.begin(), paths.end(), [](const std::string& p) { return is_cluster_tree_file(p); });

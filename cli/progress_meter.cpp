@@ -25,7 +25,7 @@ bool progress_wanted(const Args& a) {
 double progress_delay() { return progress_forced() ? 0.0 : 1.0; }
 
 std::string progress_clock_text(double s) {
-    const long long t = std::llround(std::clamp(s, 0.0, 1e12));
+    const long long t = std::isfinite(s) ? std::llround(std::clamp(s, 0.0, 1e12)) : 0;
     char b[32];
     if (t >= 3600) std::snprintf(b, sizeof b, "%lld:%02lld:%02lld", t / 3600, t / 60 % 60, t % 60);
     else std::snprintf(b, sizeof b, "%lld:%02lld", t / 60, t % 60);

@@ -19,6 +19,12 @@ void on_fatal_signal(int sig) {
     ::_exit(128 + sig);
 }
 
+// Temporaries seen by the handler (it runs once: it exits).
+std::size_t& live_outputs() {
+    static std::size_t n = 0;
+    return n;
+}
+
 // Writes to stderr the output a temporary "<out>.tmp-<pid>[.spool]" stands for, quoted, control
 // bytes as \xNN, once per output (a store and its spool name the same one). Async-signal-safe: a
 // static buffer for the last name (the handler runs once: it exits), write(2).
@@ -66,12 +72,22 @@ void write_output_of(const char* tmp) {
 // SIGXFSZ (a write past `ulimit -f`): the process exits by itself, so no shell says why; a
 // one-line message naming the abandoned outputs, the temporaries removed, exit 128 + SIGXFSZ.
 // Async-signal-safe: write(2), unlink(2), _exit(2).
+void count_temporary(const char*) { ++live_outputs(); }
+
 void on_file_size_limit(int sig) {
-    static const char head[] = "meshless: file size limit exceeded (SIGXFSZ, ulimit -f) while writing";
-    static const char tail[] = "; nothing was written\n";
+    static const char head[] = "meshless: file size limit exceeded (SIGXFSZ, ulimit -f)";
+    static const char named[] = " while writing";
+    static const char tail[] = "; not written, temporaries removed\n";
+    static const char bare[] = "; an output written without a temporary (standard output) is cut short\n";
     (void)!::write(2, head, sizeof head - 1);
-    for_each_live_temporary(&write_output_of);
-    (void)!::write(2, tail, sizeof tail - 1);
+    for_each_live_temporary(&count_temporary);
+    if (live_outputs() > 0) {
+        (void)!::write(2, named, sizeof named - 1);
+        for_each_live_temporary(&write_output_of);
+        (void)!::write(2, tail, sizeof tail - 1);
+    } else {
+        (void)!::write(2, bare, sizeof bare - 1);
+    }
     remove_live_temporaries();
     ::_exit(128 + sig);
 }

@@ -95,6 +95,12 @@ TEST_CASE("extract | project | write writes the bytes of paradigm (C), and isosu
     CHECK(hc.find("comment patient_axes ") != std::string::npos);
     CHECK(slurp(D + "/ha.ply") == hc);
     CHECK(slurp(D + "/hp.ply") == hc);
+    // and the picture: the .mls's --png faces as the .mlb's (head up), as splat of its PLY
+    REQUIRE(sh("MESHLESS isosurface " + D + "/h.mlb --iso 1000.5 --png " + D + "/hc.png --size 48x48", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + D + "/h.mls --iso 1000.5 --png " + D + "/ha.png --size 48x48", d).code == 0);
+    REQUIRE(sh("MESHLESS splat " + D + "/ha.ply -o " + D + "/hs.png --size 48x48", d).code == 0);
+    CHECK(slurp(D + "/ha.png") == slurp(D + "/hc.png"));
+    CHECK(slurp(D + "/hs.png") == slurp(D + "/hc.png"));
 }
 
 TEST_CASE("paradigm (A) commands refuse bad input with exit codes and messages naming the file", "[parA]") {

@@ -162,6 +162,16 @@ TEST_CASE("render: scattered points through mpu, and the fields that do not fit 
         CHECK(contains(x.err, r.says));
         CHECK_FALSE(std::filesystem::exists(D + "/z.png"));
     }
+    // still taken: --endian for a raw volume, and several .raw point files (float32 x,y,z,v records)
+    CHECK(sh("MESHLESS render " + vol + " --endian little -o " + D + "/e.png --size 16x16", d).code == 0);
+    if (have_shared_data()) {
+        const std::string particles = (shared_data() / "scattered" / "Particles.raw").string();
+        std::filesystem::copy_file(particles, D + "/p1.raw");
+        std::filesystem::copy_file(particles, D + "/p2.raw");
+        const RunResult two = sh("MESHLESS render " + D + "/p1.raw " + D + "/p2.raw -o " + D + "/pp.png --size 16x16", d);
+        INFO(two.err);
+        CHECK(two.code == 0);
+    }
 }
 
 TEST_CASE("render refuses image sizes of 0 or beyond 16384 and bad transfer functions, writing nothing", "[cli][render]") {

@@ -163,7 +163,7 @@ TEST_CASE("SIGXFSZ (ulimit -f): exit 153 and no temporaries, an ignored SIGXFSZ 
         // one line that says why and names the output (not its temporary)
         const std::string err = slurp(dir / "stderr.txt");
         CHECK_THAT(err, Catch::Contains("meshless: file size limit exceeded (SIGXFSZ, ulimit -f) while writing '" + args.back() +
-                                        "'; nothing was written\n"));
+                                        "'; not written, temporaries removed\n"));
         CHECK(err.find(".tmp-") == std::string::npos);
     }
     // SIGXFSZ ignored (as batch runs use it): EFBIG is reported as a write error, exit 2
