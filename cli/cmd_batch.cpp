@@ -46,8 +46,9 @@ namespace meshless::cli {
 namespace {
 
 /// Bumped when a reader places or orients data differently, so that `batch` rebuilds what an
-/// earlier revision made (1: until 2026-11-29; 2: backward direction matrices in world coordinates).
-constexpr int kReadersRevision = 2;
+/// earlier revision made (1: until 2026-11-29; 2: backward direction matrices in world coordinates;
+/// 3: stores record the patient axes, points their patient_axes and value range, 2026-12-01).
+constexpr int kReadersRevision = 3;
 
 
 namespace fs = std::filesystem;
@@ -323,8 +324,7 @@ public:
 private:
     Sidecar common() const {
         Sidecar s;
-        // readers revision 2: direction matrices along the axes but backwards give world coordinates
-        // (2026-11-29); outputs made by an earlier revision are out of date
+        // readers revision (kReadersRevision): outputs made by an earlier revision are out of date
         s["meshless"] = std::string(kMeshlessVersion) + " (brick store v" + std::to_string(kBrickStoreVersion) +
                         ", point stream v" + std::to_string(kStreamVersion) + ", readers r" + std::to_string(kReadersRevision) + ")";
         s["param.raw"] = item_.raw_text;
