@@ -289,7 +289,7 @@ public:
                                               s_.iso_names[k] + " --projection " + to_string(s_.mode));
             meta.set("projection", to_string(s_.mode));
             set_surface_bounds(meta, store_surface_bounds(*store, *index, iso));  // frame as isosurface does
-            if (si.patient_axes) set_patient_axes(meta, frame_of_axes(*si.patient_axes, "brick store header"));
+            set_patient_axes(meta, store_frame(si));
             if (do_ply) remove_quietly(sidecar_path(ply));
             if (do_mlp) remove_quietly(sidecar_path(mlp));
             // on failure, whichever of these is in place without a sidecar is removed (no output that

@@ -29,7 +29,7 @@ StreamMeta sample_store_meta(const SampleStore& store, double iso, const std::st
     StreamMeta m = volume_meta(mlb.path(), bi.grid, bi.type, {bi.value_min, bi.value_max}, iso, producer);
     m.set("paradigm", "A");
     set_surface_bounds(m, store_surface_bounds(mlb, BrickIndex(mlb), iso));  // frames as the .mlb's graph does
-    if (bi.patient_axes) set_patient_axes(m, frame_of_axes(*bi.patient_axes, "brick store header"));  // and faces alike
+    set_patient_axes(m, store_frame(bi));  // and faces alike
     return m;
 }
 

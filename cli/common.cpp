@@ -322,7 +322,7 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
         in.cache = std::make_unique<BrickCache>(*in.store, parse_memory_size(a.get_or("memory", "256M")));
         in.index = std::make_unique<BrickIndex>(*in.store);
         // the axes its volume's header gave, recorded by convert (none before 2026-11-29)
-        if (const auto& ax = in.store->info().patient_axes) in.frame = frame_of_axes(*ax, "brick store header");
+        in.frame = store_frame(in.store->info());
     } else {
         const RawOptions raw = raw_options(a);
         in.threads = threads(a);
@@ -638,6 +638,11 @@ std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double 
     const auto box = active_block_box(in.blocks(), in.grid(), iso);
     if (!box) return std::nullopt;
     return world_bounds(in.grid(), *box);
+}
+
+std::optional<AnatomicalFrame> store_frame(const BrickStoreInfo& info) {
+    if (!info.patient_axes) return std::nullopt;
+    return frame_of_axes(*info.patient_axes, "brick store header");
 }
 
 void set_patient_axes(StreamMeta& m, const std::optional<AnatomicalFrame>& f) {

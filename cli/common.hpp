@@ -121,6 +121,8 @@ void apply_anatomical_frame(const Args& a, const AnatomicalFrame& f, Camera& c);
 /// `patient_axes` metadata: the LPS directions of world +x, +y, +z, nine numbers; nullopt when absent
 /// or malformed (then the pictures take the generic camera).
 std::optional<AnatomicalFrame> meta_patient_axes(const StreamMeta& m);
+/// The patient's axes a brick store records (convert and synth copy them from the volume's header).
+std::optional<AnatomicalFrame> store_frame(const BrickStoreInfo& info);
 /// Sets `patient_axes` from f (nothing when f is empty).
 void set_patient_axes(StreamMeta& m, const std::optional<AnatomicalFrame>& f);
 /// The default camera of a volume (kernels/anatomical_view.hpp): when --up was not given and the
