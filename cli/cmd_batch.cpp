@@ -46,8 +46,8 @@ namespace meshless::cli {
 namespace {
 
 /// Bumped when a reader places or orients data differently, so that `batch` rebuilds what an
-/// earlier revision made (1: until 2026-11-29; 2: backward direction matrices in world coordinates;
-/// 3: stores record the patient axes, points their patient_axes and value range, 2026-12-01).
+/// earlier revision made (1: the first readers; 2: backward direction matrices in world coordinates;
+/// 3: stores record the patient axes, points their patient_axes and value range).
 constexpr int kReadersRevision = 3;
 
 

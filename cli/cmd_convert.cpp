@@ -1,4 +1,4 @@
-// Brick stores from the command line (issue 3, DESIGN.md "Brick store"; dissertation section 3.6):
+// Brick stores from the command line (docs/architecture.md "Brick store"; dissertation section 3.6):
 //   meshless convert VOLUME -o vol.mlb [--brick B] [--level N] [--threads N]
 //   meshless verify vol.mlb...
 //   meshless synth --upsample F [--method trilinear|tricubic] VOLUME -o big.mlb

@@ -1,4 +1,4 @@
-// The pipeline stages as their own processes, joined by Unix pipes (DESIGN.md):
+// The pipeline stages as their own processes, joined by Unix pipes (docs/architecture.md):
 //   meshless generate VOLUME --iso V | meshless project | meshless write -o out.ply
 // Each reads/writes the versioned binary stream of formats/point_stream.hpp; one DATA frame per
 // batch, so the bytes that reach the last stage equal the in-process `meshless isosurface` run.

@@ -321,7 +321,7 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
         in.store = BrickStore::open(in.path);
         in.cache = std::make_unique<BrickCache>(*in.store, parse_memory_size(a.get_or("memory", "256M")));
         in.index = std::make_unique<BrickIndex>(*in.store);
-        // the axes its volume's header gave, recorded by convert (none before 2026-11-29)
+        // the axes its volume's header gave, recorded by convert (older stores have none)
         in.frame = store_frame(in.store->info());
     } else {
         const RawOptions raw = raw_options(a);

@@ -23,8 +23,8 @@ namespace meshless::cli {
 
 /// The field built when --field is not given, by what the data is: chapter 5 projects the isosurface
 /// of scattered points onto the MPU field (section 5.5); chapter 4 blends the RBF grid (section 4.3)
-/// over multiblock nodes. Scattered points got rbf-grid until 2026-11-27; measured then
-/// (`meshless-bench scattered --parts a --no-peers --sizes 10000,100000 [--field mpu]`, README): on
+/// over multiblock nodes. Measured against rbf-grid for points
+/// (`meshless-bench scattered --parts a --no-peers --sizes 10000,100000 [--field mpu]`, bench/MEASURED.md): on
 /// the 18 analytic runs mpu's mean distance to the truth is 0.58-2.5x rbf-grid's (smaller in 11),
 /// coverage >= 99 % in 11 runs against 10, and it is 1.1-3.6x faster end to end.
 inline constexpr const char* kPointsFieldDefault = "mpu";

@@ -1,4 +1,4 @@
-// MPI for `mpirun -np N meshless isosurface vol.mlb ...` (DESIGN.md "Distribution"): the session
+// MPI for `mpirun -np N meshless isosurface vol.mlb ...` (docs/architecture.md "Distribution"): the session
 // (init/finalize, rank, size, reductions, abort) and MpiChannel, the RankChannel over which ranks
 // stream their batches to rank 0 (stream/rank_merge.hpp), so the merged output is byte-identical to
 // the single-process run and rank 0 never holds it. The MPI headers stay inside

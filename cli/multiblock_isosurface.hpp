@@ -24,7 +24,7 @@
 namespace meshless::cli {
 
 /// The default lattice parameter n of --samples (n(n+1)/2 seeds per triangle), chosen by measurement
-/// (2026-11-23, combustor combxyz.bin + combq.bin density and multicomb_0..2.vts, iso 0.4, mpu field,
+/// (combustor combxyz.bin + combq.bin density and multicomb_0..2.vts, iso 0.4, mpu field,
 /// one thread; reference = the same surface at n = 8; tolerance = 0.01 x the mean cell diagonal,
 /// 0.0058 and 0.0166):
 ///   n  points (comb / multicomb)  Newton s/core (comb)  splat-plane deviation p99 / tolerance

@@ -1,4 +1,4 @@
-// A progress line on stderr for runs longer than about a second (issue 12, "Unix habits"):
+// A progress line on stderr for runs longer than about a second (Unix habits):
 //   "meshless slice: 42% 1.31 M/s, ETA 0:07"
 // shown only when enabled (stderr is a terminal and no --quiet: progress_wanted()), first after
 // `delay` seconds, then at most 4 times a second, and cleared by done() or the destructor. Work is

@@ -262,7 +262,7 @@ void print_scattered_stats(const char* cmd, const ScatteredInput& in, const Sten
                  static_cast<long long>(s.zero_area_triangles), static_cast<long long>(s.seeds), n, lattice_size(n));
 }
 
-/// The default --samples of the scattered path, by measurement (2026-11-23, 20,000 samples of the
+/// The default --samples of the scattered path, by measurement (20,000 samples of the
 /// bucky volume, iso 100, rbf-grid field, 800 x 800 picture): the marching-tetrahedra triangles are
 /// about the data's spacing, smaller than the multiblock cells of kDefaultLatticeN's measurement;
 /// n = 1 (56 K points) leaves visible blotches at silhouettes where one disc stands for a whole

@@ -1,4 +1,4 @@
-// `-` as a volume input (issue 12, "Unix habits"): standard input copied once into an unlinked
+// `-` as a volume input (Unix habits): standard input copied once into an unlinked
 // temporary file in $TMPDIR (or /tmp), so that the readers, which dispatch on content (NRRD, MHA,
 // VTK legacy and VTI magic; raw with --dims and --type) and may map or reopen their input, read it
 // as a file: path() is /proc/self/fd/N while the spool lives. Nothing is left on disk at any exit

@@ -65,7 +65,7 @@ void write_png(const Image& image, AtomicFile& out) {
         std::memcpy(d + 1, image.rgb.data() + row * static_cast<std::size_t>(y), row);
     }
     // zlib stream by libdeflate at level 2: on 800x800 isosurface pictures 4.3 ms and 235 KB, against
-    // libpng + zlib level 1 with SUB rows 7.4 ms and 258 KB (bench machine, 2026-11-29).
+    // libpng + zlib level 1 with SUB rows 7.4 ms and 258 KB (the bench machine).
     const std::unique_ptr<libdeflate_compressor, CompressorFree> comp(libdeflate_alloc_compressor(2));
     if (!comp) throw std::bad_alloc();
     const std::size_t bound = libdeflate_zlib_compress_bound(comp.get(), raw_bytes);

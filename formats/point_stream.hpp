@@ -1,4 +1,4 @@
-// The on-pipe binary stream between stages (DESIGN.md "On-pipe stream"), version 1.
+// The on-pipe binary stream between stages (docs/architecture.md "On-pipe stream"), version 1.
 //
 // Layout, all integers little endian:
 //   stream header, 32 bytes: magic "\x89MLS\r\n\x1a\n" (8) | u32 version (=1) | u32 record kind

@@ -84,7 +84,7 @@ Fmt detect(const std::string& path, const RawOptions& raw) {
 }  // namespace
 
 namespace {
-// An allocation that fails while reading names the file (issue 12: every error names the file).
+// An allocation that fails while reading names the file (every error names the file).
 template <class F>
 Volume naming_out_of_memory(const std::string& path, F&& read) {
     try {

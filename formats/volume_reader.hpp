@@ -8,7 +8,7 @@
 // file's world units (voxels when the file gives none). A negative spacing (NRRD spacings, MetaImage,
 // VTK legacy, VTI, vtk.js) is honoured as a reversed axis: the samples are reversed and the origin
 // moved to the last sample, so every world position keeps its value (kernels/flip_axes.hpp).
-// Hostile headers (issue 12): sizes are checked (kernels/checked_size.hpp), the grid validated
+// Hostile headers: sizes are checked (kernels/checked_size.hpp), the grid validated
 // (validate_grid: NaN/infinite/zero spacing and NaN origins refused) and a payload's size proven
 // against its file before anything is allocated; compressed payloads are bounded by their coding's
 // largest expansion and decoded into lazily committed pages.

@@ -1,4 +1,4 @@
-// AMR hierarchies without dual grids (dissertation chapter 4 applied to AMR, issue 8): which data a
+// AMR hierarchies without dual grids (dissertation chapter 4 applied to AMR): which data a
 // finer level supersedes, and the seed lattices of cell-centred boxes.
 //
 // block_extent: the region a block's data describes, axis-aligned: for a cell-centred block

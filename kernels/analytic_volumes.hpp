@@ -1,5 +1,5 @@
 // Analytic scalar fields with known isosurfaces, for tests, the demo and benchmarks (the oracles of
-// DESIGN.md; dissertation §3.6 uses the Marschner–Lobb function and synthetic fields).
+// docs/architecture.md; dissertation §3.6 uses the Marschner–Lobb function and synthetic fields).
 //
 // Every field is defined on the world cube [-1,1]^3 and sampled by make_analytic_volume(f, n) on an
 // n^3 float32 grid with origin (-1,-1,-1) and spacing 2/(n-1) (so a voxel is 2/(n-1) world units;

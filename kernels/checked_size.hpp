@@ -6,7 +6,7 @@
 // "PATH: FIELD", e.g. "a.nrrd: sizes"), so the user sees which file and field is at fault.
 // kMaxPayloadBytes caps a single in-memory payload (2^56 bytes = 64 PiB: far beyond any machine,
 // far below any overflow in the byte arithmetic that follows; element counts below it times a
-// sample size of at most 8 stay far from 2^63). Conventions: issue 12 (hostile input).
+// sample size of at most 8 stay far from 2^63). Conventions: docs/development.md "Hostile input".
 // Thread-safety: pure functions. Dissertation: none (input plumbing).
 #pragma once
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Error types of the meshless libraries (kernels/, formats/, ooc/, stream/). Conventions (DESIGN.md):
+// Error types of the meshless libraries (kernels/, formats/, ooc/, stream/). Conventions (docs/architecture.md):
 // assert for programmer errors; these exceptions for bad arguments, bad data and a failing environment.
 // Messages are one line and name the file (when there is one) and what was expected.
 // Only cli/ catches them and maps them to exit codes (cli/errors.hpp, the one mapping): InvalidArgument

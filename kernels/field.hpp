@@ -1,5 +1,5 @@
 // Field: a continuous scalar function over 3-D space with its gradient, the one interface the
-// projection stages take (DESIGN.md "Core types"), so chapters 3-6 share one projector. Implemented
+// projection stages take (docs/architecture.md "Core types"), so chapters 3-6 share one projector. Implemented
 // by the trilinear grid (kernels/trilinear_field.hpp), the RBF-grid partition of unity (dissertation
 // section 4.3), the MPU octree (section 5.5) and Hardy's global interpolant (section 2.1.1).
 // Immutable after construction; evaluate() is thread-safe and batch-oriented (one virtual call per

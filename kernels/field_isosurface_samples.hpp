@@ -1,5 +1,5 @@
 // A dense sampling of a meshless field's own isosurface F = iso (kernels/field.hpp), the reference
-// of issue 10's completeness measure: "coverage (>= 99% of a dense sampling of the field's own
+// of the scattered benchmark's completeness measure: "coverage (>= 99% of a dense sampling of the field's own
 // isosurface within one splat radius)". Where kernels/surface_coverage.hpp samples the *true*
 // isosurface of an analytic function (how well the field and the extraction together match the
 // truth), this samples the surface the field itself defines, so covering it measures the extraction

@@ -1,4 +1,4 @@
-// Newton projection onto the isosurface f = iso of any Field (DESIGN.md "What the graph carries":
+// Newton projection onto the isosurface f = iso of any Field (docs/architecture.md "What the graph carries":
 // the one projector chapters 4, 5 and 7 share). It iterates the step of dissertation section 3.3.2,
 // Eq. 3.5,
 //   p' = p + lambda * (iso - f(p)) / (grad f(p) . grad f(p)) * grad f(p),

@@ -94,7 +94,7 @@ struct FieldParams {
 /// (a .mlh read as a point set, kernels/cluster_lod.hpp) when none is given. Its points crowd where
 /// the values change fast, and at the default 0.025 the interpolating multiquadrics overshoot far
 /// between close sibling centres. Measured (meshless-bench hierarchy-rmse --hardy-c 0.025,0.003,
-/// bench/MEASURED.md "Hierarchy (issue 9)"): mpu RMSE of error-based LODs at 1/5/15 % of the samples, 0.025 -> 0.003:
+/// bench/MEASURED.md "Hierarchy"): mpu RMSE of error-based LODs at 1/5/15 % of the samples, 0.025 -> 0.003:
 /// silicium 91.4/95.3/36.1 -> 58.8/86.6/35.9, head 392/431/332 -> 381/279/134, LIDC2 1,686/673/487 ->
 /// 39.6/25.9/25.8 (lower in 9 of 9 rows); volume renderings of LIDC2 LODs 9.0 -> 26.5 dB PSNR.
 inline constexpr double kLodHardyCRel = 0.003;

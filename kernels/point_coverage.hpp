@@ -1,5 +1,5 @@
 // Where scattered data actually supports a field value, and how far a value may stray from the data
-// around it (issue 12, "fields that do not invent data"). Meshless fields extrapolate beyond their
+// around it ("fields that do not invent data"). Meshless fields extrapolate beyond their
 // data (an RBF grows away from its points) and overshoot between very unequal neighbours (the HYG
 // stars' luminosities); callers that show values to a user (probe, slice, resample) pass them
 // through apply().
@@ -15,7 +15,7 @@
 // Value range (with values): a value is kept within the data's range [min, max] (a clamp, so a
 // continuous field stays continuous). A band from each position's nearest values was tried and
 // refused: its edges jump where the neighbour set changes, and clamping to it tiled slices of the
-// gravity survey with Voronoi-shaped patches and erased a real anomaly (2026-11-23, gravi.txt).
+// gravity survey with Voronoi-shaped patches and erased a real anomaly (gravi.txt).
 // kNN via nanoflann (the only file that includes it). Immutable after construction; every query
 // is thread-safe. Throws std::bad_alloc only; InvalidArgument when values and points differ in size.
 #pragma once

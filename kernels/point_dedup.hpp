@@ -1,4 +1,4 @@
-// Removing near-duplicate surface points (issue 10's --dedup; dissertation section 4.6: points
+// Removing near-duplicate surface points (--dedup; dissertation section 4.6: points
 // seeded twice where local meshes overlap project onto the same surface, so one of each close pair
 // can go). Greedy in arrival order: a point is kept unless a kept point lies closer than
 // fraction x its own radius; kept points are remembered in a hash grid of edge `cell` (world units),

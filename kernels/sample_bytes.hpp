@@ -43,7 +43,7 @@ public:
 
     /// n zero bytes that become resident only as they are written: calloc's large blocks are
     /// fresh anonymous pages, so a decoder that fills them from a stream grows its memory as the
-    /// data arrives, not by what a header claims (issue 12: decompression bombs). std::bad_alloc
+    /// data arrives, not by what a header claims (decompression bombs). std::bad_alloc
     /// when the address space cannot be had.
     static SampleBytes lazy_zeroed(std::size_t n) {
         if (n == 0) return SampleBytes();

@@ -1,4 +1,4 @@
-// Scattered test sets with known isosurfaces (issue 10's accuracy benchmark, dissertation chapter 5):
+// Scattered test sets with known isosurfaces (the accuracy benchmark, dissertation chapter 5):
 // an analytic field of kernels/analytic_volumes.hpp (sphere, torus, gyroid, Marschner-Lobb) sampled
 // at N scattered positions in the world cube [-1,1]^3 in one of three distributions:
 //   uniform    positions uniform in the cube;

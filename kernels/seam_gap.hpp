@@ -1,4 +1,4 @@
-// The seam test of the multiblock/AMR isosurface (issue 8; dissertation section 4.4: points seeded in
+// The seam test of the multiblock/AMR isosurface (dissertation section 4.4: points seeded in
 // different blocks must lie on one surface, where naive per-block surfaces crack or overlap).
 //
 // For every pair of output points (i, j) seeded in different blocks whose splats overlap

@@ -1,4 +1,4 @@
-// The crack-free oracle of issue 8 (dissertation chapter 4, Figures 4.6-4.8: cracks and holes where
+// The crack-free oracle of the multiblock isosurface (dissertation chapter 4, Figures 4.6-4.8: cracks and holes where
 // blocks meet): how completely and how accurately a set of oriented, sized points (splats) covers
 // the true isosurface of an analytic field (kernels/analytic_volumes.hpp).
 //

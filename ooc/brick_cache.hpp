@@ -1,4 +1,4 @@
-// The byte-budgeted brick cache (DESIGN.md: "the one shared mutable object"): decompressed bricks
+// The byte-budgeted brick cache (docs/architecture.md: "the one shared mutable object"): decompressed bricks
 // of a BrickStore, least-recently-used eviction once the budget (the user's --memory) is exceeded.
 // get() is thread-safe; a brick handed out stays valid while the caller holds the shared_ptr, even
 // if the cache evicts it (so the true peak is budget + bricks in use by the running threads).

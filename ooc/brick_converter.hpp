@@ -1,4 +1,4 @@
-// Slab-streaming conversion of a volume into a brick store (DESIGN.md "Brick store"): one pass
+// Slab-streaming conversion of a volume into a brick store (docs/architecture.md "Brick store"): one pass
 // over z-slabs of B+1 slices (memory: one slab of bricks plus its compressed frames, never the
 // volume), compressed bricks spooled to "<out>.tmp-<pid>.spool", then written in Morton order with
 // the index and footer to "<out>.tmp-<pid>" and renamed over <out>. Deterministic: the same input

@@ -1,12 +1,12 @@
 // The brick store (.mlb): a regular volume cut into cubic bricks, each an independent zstd frame in
 // the volume's native sample type with a one-voxel ghost layer, stored in Morton order with a tail
-// index (DESIGN.md "Brick store"; dissertation section 3.6, out-of-core iso-splatting in Morton
+// index (docs/architecture.md "Brick store"; dissertation section 3.6, out-of-core iso-splatting in Morton
 // order). Version 1 layout, all integers little endian:
 //   header  (256 bytes): magic "\x89MLB\r\n\x1a\n" | u32 version | u32 header bytes (256) |
 //           i64 dims[3] | f64 origin[3] | f64 spacing[3] | u32 sample type (SampleType) |
 //           u32 brick edge B (cells) | u32 ghost (1) | i32 zstd level | f64 value min | f64 value max
 //           | u64 brick count | i64 bricks per axis[3] | u32 patient axes given (1) or not (0, as every
-//           store before 2026-11-29: the bytes were padding) at byte 152 | f64 axes[3][3] at 160 (the
+//           store made before the axes were recorded: the bytes were padding) at byte 152 | f64 axes[3][3] at 160 (the
 //           LPS unit direction of world +x, +y, +z, formats/anatomical_frame.hpp) | zero padding |
 //           u32 CRC-32 of bytes [0,252)
 //   bricks  one zstd frame each, in ascending Morton key of the brick coordinates

@@ -1,4 +1,4 @@
-// Batch: the unit of in-flight memory in the stage graph (DESIGN.md "Core types").
+// Batch: the unit of in-flight memory in the stage graph (docs/architecture.md "Core types").
 //
 // A batch holds records of one kind (samples or points), at most kMaxBatchRecords, and a sequence
 // number assigned by the source; sinks receive batches in sequence order whatever the thread count,

@@ -1,5 +1,5 @@
 // A sink adaptor that removes near-duplicate points (kernels/point_dedup.hpp) from the batches
-// it receives, in sequence order, and hands the rest to the next sink (issue 10's --dedup on the
+// it receives, in sequence order, and hands the rest to the next sink (--dedup on the
 // scattered-data isosurface). Block ids (Batch::point_block) follow the points that stay. Runs on
 // the runner's serial sink side, so the result does not depend on the thread count; a picture
 // drawn from the stream must then be drawn by the sink (not in the parallel stages), after the

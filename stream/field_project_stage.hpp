@@ -1,4 +1,4 @@
-// The stage that projects seeds onto the isosurface f = iso of any `const Field&` (DESIGN.md "What the
+// The stage that projects seeds onto the isosurface f = iso of any `const Field&` (docs/architecture.md "What the
 // graph carries": Newton onto a Field, the projector chapters 4, 5 and 7 plug into), by
 // kernels/field_newton_projection.hpp, one Field::evaluate per Newton round per batch.
 //

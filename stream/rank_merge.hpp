@@ -1,5 +1,5 @@
-// Streaming several ranks' outputs into one sink in the single-process order (DESIGN.md
-// "Distribution"; issue 11 "MPI streams"), without the root holding the output.
+// Streaming several ranks' outputs into one sink in the single-process order (docs/architecture.md
+// "Distribution"), without the root holding the output.
 //
 // The work is a sequence of n *units* (for `isosurface`: the active bricks in Morton order), dealt
 // round-robin (unit u belongs to rank u % ranks) or on request by rank 0 (stream/unit_deal.hpp). Every rank runs its own graph over its units; a

@@ -1,4 +1,4 @@
-// The runner of the pull-based stage graph (DESIGN.md): pulls batches from a Source, runs the
+// The runner of the pull-based stage graph (docs/architecture.md): pulls batches from a Source, runs the
 // Stages on them (in parallel across batches when threads > 1, oneTBB parallel_pipeline with a
 // bounded number of batches in flight = 2 * threads), and delivers them to the Sink in sequence
 // order, so the sink's bytes do not depend on the thread count. The record arrays of consumed

@@ -1,4 +1,4 @@
-// The pull-based stage graph's three interfaces (DESIGN.md): Source::next(), Stage::process(),
+// The pull-based stage graph's three interfaces (docs/architecture.md): Source::next(), Stage::process(),
 // Sink::consume(). One level of interfaces, no void* payloads.
 //
 // Threading: Source::next and Sink::consume are called from one thread at a time, in order;

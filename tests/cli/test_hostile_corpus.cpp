@@ -1,4 +1,4 @@
-// The must-fail corpus (issue 12): per format, one generated file per defect class (sizes that
+// The must-fail corpus: per format, one generated file per defect class (sizes that
 // overflow, a decompression bomb, a truncated or corrupt payload, control bytes in header fields,
 // nonsense geometry), each run through the real `meshless` binary. Every case must exit 2 with a
 // one-line message that names the file, carry no control byte (ESC, CR, ...) to the terminal,

@@ -1,4 +1,4 @@
-// Orientation like VTK end to end (issue 12): `meshless mc` and `meshless isosurface` against
+// Orientation like VTK end to end: `meshless mc` and `meshless isosurface` against
 //   - VTK itself (python3-vtk9 under /usr/bin/python3; skipped with a warning when it does not import
 //     vtk): vtkFlyingEdges3D with ComputeNormals on the same small uint8 volume (a ball with high
 //     values inside, and its complement, high values outside): our point normals and mesh vertex

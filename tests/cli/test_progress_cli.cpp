@@ -1,4 +1,4 @@
-// Progress lines of the long-running commands (issue 12, "Unix habits"): isosurface (volume in
+// Progress lines of the long-running commands (Unix habits): isosurface (volume in
 // memory, slab-streamed, brick store, multiblock, scattered), mc (volume, brick store), render,
 // verify, splat --turntable, hierarchy, fit and batch draw "meshless CMD: NN% RATE UNIT/s, ETA" on stderr and clear it at the end;
 // --quiet draws nothing. MESHLESS_PROGRESS=always stands in for a terminal and drops the first

@@ -1,7 +1,7 @@
 // `meshless isosurface POINTS` (dissertation chapter 5) and its pipes as a user runs them, on point
 // sets written by the test: identical bytes in-process, across pipes (generate | project --field
 // F.mlf | write / splat) and for any --threads (also with --dedup); points on the sampled sphere;
-// the --stats report; and the pathological inputs of issue 10, each with its answer: planar and
+// the --stats report; and the pathological inputs of scattered data, each with its answer: planar and
 // collinear points (a warning naming the degeneracy, a surface where the field defines one), two
 // clusters 1e6 apart, a grid bounded by --max-cells (coarsened, with a warning), duplicated points,
 // 1e6 coordinate offsets, fewer than 4 distinct points (exit 2, nothing written), NaN/Inf positions

@@ -1,4 +1,4 @@
-// Signals and write errors (issue 12, "Faults"): on SIGINT, SIGTERM, SIGHUP and SIGXFSZ meshless
+// Signals and write errors (faults): on SIGINT, SIGTERM, SIGHUP and SIGXFSZ meshless
 // removes the temporaries it is writing and exits with 128 + signal; the next run removes stale
 // temporaries of processes that are gone and says so; a write error on standard output (a full
 // device) is an error, not exit 0; SIGBUS from a mapped input that shrinks is a one-line data error

@@ -1,4 +1,4 @@
-// A negative spacing is honoured as a reversed axis (issue 12, "nonsense geometry"): the volume read
+// A negative spacing is honoured as a reversed axis (nonsense geometry): the volume read
 // from a file with spacing -s along an axis holds, at every world position, the value the file puts
 // there. Oracle: the same samples written with positive spacing in reversed order.
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// kernels/checked_size.hpp and the grid checks built on it (issue 12: size arithmetic from headers).
+// kernels/checked_size.hpp and the grid checks built on it (size arithmetic from headers).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>

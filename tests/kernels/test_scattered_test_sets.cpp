@@ -1,4 +1,4 @@
-// The scattered test sets of issue 10's benchmark (kernels/scattered_test_sets.hpp): reproducible
+// The scattered test sets of the scattered benchmark (kernels/scattered_test_sets.hpp): reproducible
 // bytes, counts and the cube, values equal to the analytic field, the clustered distribution's
 // 100:1 density contrast measured from the points (a ball at a blob centre against the background
 // far from every blob), and the layered distribution's layers (z within the jitter of L levels,

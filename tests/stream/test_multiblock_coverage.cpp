@@ -1,4 +1,4 @@
-// Crack-free coverage of the multiblock/AMR isosurface (issue 8, dissertation Figures 4.6-4.8) for
+// Crack-free coverage of the multiblock/AMR isosurface (dissertation Figures 4.6-4.8) for
 // every layout meshless split writes: an analytic volume (sphere, torus, gyroid; 33^3 over [-1,1]^3)
 // split into overlapping, semi-conforming, non-conforming and rotated blocks and into a 3-level
 // cell-centred AMR hierarchy (covered coarse cells marked as the readers do); one MPU field over

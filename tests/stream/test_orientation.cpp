@@ -1,4 +1,4 @@
-// Orientation like VTK (issue 12; vtkFlyingEdges3D / vtkMarchingCubes / vtkContourFilter with
+// Orientation like VTK (vtkFlyingEdges3D / vtkMarchingCubes / vtkContourFilter with
 // ComputeNormals) on every path that emits normals or triangles, against analytic oracles:
 //   a ball, high values inside (1 - |p| on [-1, 1]^3, iso 0.4: radius 0.6), and its complement, the
 //   distance |p| (high values outside, iso 0.6).
