@@ -12,6 +12,8 @@
 #include "cli/args.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
+#include "formats/reference_policy.hpp"
+#include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless::cli {
@@ -83,7 +85,9 @@ void walk(const fs::path& root, const fs::path& dir, bool recursive, const std::
         const std::string ext = lower(e.extension().string());
         if (ext == ".raw" || e.filename().string().front() == '.' || !looks_like_volume(e.string())) continue;
         try {
-            const VolumeInfo info = probe_volume(e.string());
+            RawOptions confined;
+            confined.references.root = root.string();  // a header naming files outside the archive lists none
+            const VolumeInfo info = probe_volume(e.string(), confined);
             for (const auto& f : info.data_files)
                 if (canonical_or_self(f) != canonical_or_self(e)) payloads.insert(canonical_or_self(f));
         } catch (const std::exception&) {
@@ -97,6 +101,7 @@ void walk(const fs::path& root, const fs::path& dir, bool recursive, const std::
         if (looks_like_volume(e.string())) {
             BatchItem it;
             it.path = e.string();
+            it.raw.references.root = root.string();
             const fs::path rel = e.lexically_relative(root);
             it.name = (rel.parent_path() / volume_stem(rel.string())).lexically_normal().string();
             items.push_back(std::move(it));
@@ -154,6 +159,9 @@ std::vector<BatchItem> read_manifest(const std::string& manifest) {
         const fs::path p = fs::path(tok[0]).is_absolute() ? fs::path(tok[0]) : base / tok[0];
         it.path = p.lexically_normal().string();
         it.name = volume_stem(tok[0]);
+        // the archive folder: the manifest's, or the volume's own for one listed outside it
+        const std::string manifest_dir = base.empty() ? std::string(".") : base.string();
+        it.raw.references.root = resolves_inside(it.path, manifest_dir) ? manifest_dir : parent_dir(it.path);
         if (tok.size() > 1) {
             std::vector<std::string> words{"meshless", "batch"};
             words.insert(words.end(), tok.begin() + 1, tok.end());
@@ -164,7 +172,9 @@ std::vector<BatchItem> read_manifest(const std::string& manifest) {
             add_volume_options(a);
             try {
                 a.parse(static_cast<int>(argv.size()), argv.data(), 2);
+                const ReferencePolicy refs = it.raw.references;
                 it.raw = raw_options(a);
+                it.raw.references = refs;
                 it.raw_text = raw_text(it.raw);
             } catch (const UsageError& e) {
                 it.error = manifest + ":" + std::to_string(lineno) + ": " + e.what();

@@ -9,6 +9,10 @@
 //   vol.raw --dims 64,64,64 --type uint8 [--endian big] [--spacing 1,1,2]
 // Paths with spaces may be double-quoted. A malformed line becomes an item with `error` set (the
 // run reports it and goes on), not an exception.
+// Confinement: every item's RawOptions::references is confined (formats/reference_policy.hpp) to its
+// archive folder: ARCHIVE_DIR (directory mode); the manifest's folder, or for a volume listed outside
+// it that volume's own folder (manifest mode). The readers then refuse (ReferenceRefused) an input,
+// or a file its header names, that resolves outside it (`..`, absolute paths, symbolic links).
 // Output name: the path relative to the archive (directory mode) or the file name (manifest)
 // without its volume extension (".raw", ".nii.gz", ...; vtk-js "dir/index.json" -> "dir").
 // Throws IoError when the directory or manifest cannot be read. Reentrant.
@@ -23,7 +27,7 @@ namespace meshless::cli {
 struct BatchItem {
     std::string name;      ///< output stem relative to OUT_DIR ("fuel_64x64x64_uint8", "sub/a")
     std::string path;      ///< input path as it will be opened
-    RawOptions raw;        ///< per-item raw options (manifest)
+    RawOptions raw;        ///< per-item raw options (manifest) and the archive folder the item is confined to
     std::string raw_text;  ///< canonical text of `raw` for the sidecars ("" when none given)
     std::string error;     ///< non-empty: the item is already known to be bad (malformed manifest line)
 };

@@ -32,6 +32,7 @@
 #include "cli/progress_meter.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/point_stream.hpp"
+#include "formats/reference_policy.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/brick_cache.hpp"
 #include "ooc/brick_converter.hpp"
@@ -96,7 +97,7 @@ struct Settings {
     bool progress = false;  ///< the progress line (progress_wanted)
 };
 
-enum class Status { done, up_to_date, failed };
+enum class Status { done, up_to_date, failed, refused };
 
 struct ItemResult {
     std::string name;
@@ -395,6 +396,7 @@ const char* status_text(Status s) {
         case Status::done: return "done";
         case Status::up_to_date: return "up to date";
         case Status::failed: return "FAILED";
+        case Status::refused: return "REFUSED";
     }
     return "?";
 }
@@ -403,18 +405,20 @@ void print_summary(const std::vector<ItemResult>& results, double seconds) {
     std::size_t w = 6;
     for (const auto& r : results) w = std::max(w, terminal_safe(r.name).size());
     std::printf("%-*s  %-10s  %7s  %10s  %8s\n", static_cast<int>(w), "volume", "result", "written", "up to date", "seconds");
-    int done = 0, current = 0, failed = 0, written = 0, outputs_current = 0;
+    int done = 0, current = 0, failed = 0, refused = 0, written = 0, outputs_current = 0;
     for (const auto& r : results) {
         std::printf("%-*s  %-10s  %7d  %10d  %8.2f%s%s\n", static_cast<int>(w), terminal_safe(r.name).c_str(), status_text(r.status), r.written,
                     r.current, r.seconds, r.message.empty() ? "" : "  ", terminal_safe(r.message).c_str());
         done += r.status == Status::done;
         current += r.status == Status::up_to_date;
         failed += r.status == Status::failed;
+        refused += r.status == Status::refused;
         written += r.written;
         outputs_current += r.current;
     }
-    std::printf("%zu volume(s): %d done, %d up to date, %d failed; %d output(s) written, %d up to date; %.2f s\n",
-                results.size(), done, current, failed, written, outputs_current, seconds);
+    const std::string refused_text = refused ? ", " + std::to_string(refused) + " refused" : "";
+    std::printf("%zu volume(s): %d done, %d up to date, %d failed%s; %d output(s) written, %d up to date; %.2f s\n",
+                results.size(), done, current, failed, refused_text.c_str(), written, outputs_current, seconds);
     std::fflush(stdout);
 }
 
@@ -433,7 +437,10 @@ int cmd_batch(int argc, char** argv) {
            "and the meshless version; outputs whose sidecar matches are skipped (up to date). Outputs and\n"
            "sidecars are written under temporary names and renamed, so a killed run, started again, finishes\n"
            "only what is left, with identical outputs. Bad inputs are reported and skipped; a summary table\n"
-           "ends the run (stdout); progress is shown on stderr when it is a terminal.");
+           "ends the run (stdout); progress is shown on stderr when it is a terminal.\n"
+           "An input that is, or whose header names, a file outside its archive folder (ARCHIVE_DIR, or the\n"
+           "manifest's folder; `..`, absolute paths and symbolic links resolved) is REFUSED: nothing of it is\n"
+           "read or written, and the run goes on.");
     a.positionals(0, 1);
     a.option("output", "o", "DIR", "output folder (created when missing; required)")
         .option("iso", "", "V", "isovalue; repeat for several (none: brick stores only)").repeatable()
@@ -450,7 +457,7 @@ int cmd_batch(int argc, char** argv) {
     add_quiet_option(a);
     a.epilog("examples: meshless batch ../shared/data/fuel -o out --iso 20.5 --iso 100.5\n"
              "          meshless batch archive.txt -o /data/points --iso 500 --formats ply,stream --memory 1G\n"
-             "exit status: 0 everything done or up to date, 2 some volume failed (see the table), 1 usage error.\n");
+             "exit status: 0 everything done or up to date, 2 some volume failed or was refused (see the table), 1 usage error.\n");
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().empty()) throw UsageError("missing ARCHIVE_DIR or MANIFEST (see meshless batch --help)");
     const std::string input = a.positional()[0];
@@ -545,6 +552,9 @@ int cmd_batch(int argc, char** argv) {
             r.status = r.written > 0 ? Status::done : Status::up_to_date;
         } catch (const BrokenPipe&) {
             throw;
+        } catch (const ReferenceRefused& e) {  // a reference out of the archive: nothing read or written for it
+            r.status = Status::refused;
+            r.message = e.what();
         } catch (const std::bad_alloc&) {
             r.message = "out of memory";
         } catch (const std::exception& e) {
@@ -553,6 +563,8 @@ int cmd_batch(int argc, char** argv) {
         r.seconds = std::chrono::duration<double>(Clock::now() - t).count();
         progress.clear();
         progress.finish_item();
+        if (r.status == Status::refused)
+            std::fprintf(stderr, "meshless batch: %s: %s\n", terminal_safe(r.name).c_str(), terminal_safe(r.message).c_str());
         if (r.status == Status::failed) {
             if (is_file_too_large(r.message))
                 r.message += "; over the file size limit (ulimit -f, or the file system's largest file); "
@@ -569,7 +581,10 @@ int cmd_batch(int argc, char** argv) {
         results.push_back(std::move(r));
     }
     print_summary(results, std::chrono::duration<double>(Clock::now() - t0).count());
-    return std::any_of(results.begin(), results.end(), [](const ItemResult& r) { return r.status == Status::failed; }) ? 2 : 0;
+    return std::any_of(results.begin(), results.end(),
+                       [](const ItemResult& r) { return r.status == Status::failed || r.status == Status::refused; })
+               ? 2
+               : 0;
 }
 
 }  // namespace meshless::cli

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "formats/reference_policy.hpp"
 #include "cli/cluster_tree_cli.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
@@ -198,9 +199,12 @@ void info_volume(const std::string& path, const Args& a) {
     std::printf("  type: %s\n  spacing: %g %g %g\n  origin: %g %g %g\n", to_string(vi.type), g.spacing[0], g.spacing[1],
                 g.spacing[2], g.origin[0], g.origin[1], g.origin[2]);
     if (!vi.encoding.empty()) std::printf("  encoding: %s\n", vi.encoding.c_str());
-    if (!vi.data_files.empty())
-        std::printf("  data files: %zu (%s%s)\n", vi.data_files.size(), terminal_safe(vi.data_files.front()).c_str(),
-                    vi.data_files.size() > 1 ? ", ..." : "");
+    // every file the header makes the readers open, as named and resolved (`..`, symbolic links)
+    if (!vi.data_files.empty()) {
+        std::printf("  data files: %zu\n", vi.data_files.size());
+        for (const auto& f : vi.data_files)
+            std::printf("    %s -> %s\n", terminal_safe(f).c_str(), terminal_safe(resolved_path(f)).c_str());
+    }
     if (vi.frame)
         std::printf("  patient axes: %s (%s)\n", describe_frame(*vi.frame).c_str(), terminal_safe(vi.frame->source).c_str());
     std::printf("  payload: checked, %llu bytes decoded%s\n", static_cast<unsigned long long>(decoded_bytes(vi, path)),
@@ -213,8 +217,8 @@ void info_sample_store(const std::string& path) {
     const GridSpec& g = i.grid;
     std::printf("%s: meshless paradigm (A) sample store, version %u (span-space index of cell rows)\n", terminal_safe(path).c_str(),
                 kSampleStoreVersion);
-    std::printf("  brick store: %s (recomputed from; identity checked), %lld x %lld x %lld %s, spacing %g %g %g\n",
-                terminal_safe(store->brick_store().path()).c_str(), static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
+    std::printf("  brick store: %s -> %s (recomputed from; identity checked), %lld x %lld x %lld %s, spacing %g %g %g\n",
+                terminal_safe(store->brick_store().path()).c_str(), terminal_safe(resolved_path(store->brick_store().path())).c_str(), static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
                 static_cast<long long>(g.dims[2]), to_string(i.type), g.spacing[0], g.spacing[1], g.spacing[2]);
     std::printf("  cells: %llu indexed (non-constant; %llu constant, %llu NaN/Inf cells skipped) as %llu cell-row keys, "
                 "%llu key bytes\n",
@@ -351,6 +355,9 @@ void info_multiblock(const std::string& path, const Args& a) {
                 static_cast<unsigned long long>(valid), static_cast<unsigned long long>(mb.blanked),
                 static_cast<unsigned long long>(mb.nonfinite));
     std::printf("  bounds: %.9g %.9g %.9g .. %.9g %.9g %.9g\n", bmin.x, bmin.y, bmin.z, bmax.x, bmax.y, bmax.z);
+    if (!det.files.empty()) std::printf("  pieces read: %zu\n", det.files.size());
+    for (const auto& f : det.files)
+        std::printf("    %s -> %s\n", terminal_safe(f).c_str(), terminal_safe(resolved_path(f)).c_str());
     std::printf("  blocks: %zu\n", mb.blocks.size());
     const std::size_t shown = std::min<std::size_t>(mb.blocks.size(), 16);
     for (std::size_t i = 0; i < shown; ++i) {

@@ -10,6 +10,7 @@
 #include "formats/binary_file.hpp"
 #include "formats/gzip.hpp"
 #include "formats/payload.hpp"
+#include "formats/reference_policy.hpp"
 #include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
 
@@ -160,14 +161,17 @@ NiftiHeader parse_header(const unsigned char* h, const std::string& path) {
     return r;
 }
 
-// The .img beside a .hdr (or .img.gz).
-std::string image_file_for(const std::string& path) {
+// The .img beside a .hdr (or .img.gz), checked against the policy before it is opened.
+std::string image_file_for(const std::string& path, const ReferencePolicy& refs) {
     std::string base = path;
     if (is_gz_path(base)) base = base.substr(0, base.size() - 3);
     const std::string stem = base.substr(0, base.size() - std::filesystem::path(base).extension().string().size());
     std::error_code ec;
     for (const char* ext : {".img", ".img.gz", ".IMG"})
-        if (std::filesystem::is_regular_file(stem + ext, ec)) return stem + ext;
+        if (std::filesystem::is_regular_file(stem + ext, ec)) {
+            check_reference(refs, path, stem + ext);
+            return stem + ext;
+        }
     throw IoError(path + ": cannot open the image file " + stem + ".img");
 }
 
@@ -196,12 +200,12 @@ Volume apply_scaling(Volume v, const NiftiHeader& h) {
 
 }  // namespace
 
-VolumeInfo probe_nifti(const std::string& path) {
+VolumeInfo probe_nifti(const std::string& path, const ReferencePolicy& refs) {
     const NiftiHeader h = read_header(path);
     VolumeInfo i;
     i.format = "nifti";
     i.grid = h.grid;
-    const std::string data = h.pair ? image_file_for(path) : path;
+    const std::string data = h.pair ? image_file_for(path, refs) : path;
     i.type = (h.slope != 0 && std::isfinite(h.slope) && !(h.slope == 1 && h.inter == 0)) ? SampleType::f32
                                                                                          : volume_type_for(h.type);
     i.encoding = is_gz(data) ? "gzip" : "raw";
@@ -234,18 +238,18 @@ PayloadPlan raw_plan(const NiftiHeader& h, const std::string& data) {
 }
 }  // namespace
 
-void prove_nifti(const std::string& path) {
+void prove_nifti(const std::string& path, const ReferencePolicy& refs) {
     const NiftiHeader h = read_header(path);
-    const std::string data = h.pair ? image_file_for(path) : path;
+    const std::string data = h.pair ? image_file_for(path, refs) : path;
     if (!is_gz(data)) return prove_payload(raw_plan(h, data));
     const std::uint64_t bytes = gz_payload_bytes(h, data);
     InflateReader r(data);
     r.skip(h.vox_offset + bytes);  // streamed through a small buffer: nothing kept
 }
 
-Volume read_nifti(const std::string& path) {
+Volume read_nifti(const std::string& path, const ReferencePolicy& refs) {
     const NiftiHeader h = read_header(path);
-    const std::string data = h.pair ? image_file_for(path) : path;
+    const std::string data = h.pair ? image_file_for(path, refs) : path;
     if (is_gz(data)) {
         const std::uint64_t bytes = gz_payload_bytes(h, data);  // deflate expands at most 1032:1
         // inflate_file's output pages become resident as the data arrives

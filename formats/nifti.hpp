@@ -18,9 +18,10 @@
 
 namespace meshless {
 
-VolumeInfo probe_nifti(const std::string& path);
-Volume read_nifti(const std::string& path);
+/// `refs`: where a pair's .img may lie (formats/reference_policy.hpp; ReferenceRefused outside it).
+VolumeInfo probe_nifti(const std::string& path, const ReferencePolicy& refs = {});
+Volume read_nifti(const std::string& path, const ReferencePolicy& refs = {});
 /// read_nifti's checks, a gzipped payload inflated through a small buffer (meshless info). Throws as read_nifti.
-void prove_nifti(const std::string& path);
+void prove_nifti(const std::string& path, const ReferencePolicy& refs = {});
 
 }  // namespace meshless

@@ -6,6 +6,7 @@
 #include "formats/binary_file.hpp"
 #include "formats/text_header.hpp"
 #include "formats/voreen_dat.hpp"
+#include "formats/reference_policy.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -34,17 +35,22 @@ std::optional<RawNameLayout> parse_raw_name(const std::string& path) {
 }
 
 namespace {
-// A .dat in the directory describing this raw file: same stem first, then any .dat naming it.
-std::optional<std::string> find_sidecar(const std::string& path) {
+// A .dat in the directory describing this raw file: same stem first, then any .dat naming it. Under a
+// confined policy a .dat resolving outside its root (a symbolic link) is refused, not read.
+std::optional<std::string> find_sidecar(const std::string& path, const ReferencePolicy& refs) {
     const fs::path p(path);
     fs::path same = p;
     same.replace_extension(".dat");
     std::error_code ec;
-    if (fs::is_regular_file(same, ec)) return same.string();
+    if (fs::is_regular_file(same, ec)) {
+        check_reference(refs, path, same.string());
+        return same.string();
+    }
     const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
     const std::string fname = p.filename().string();
     for (const auto& e : fs::directory_iterator(dir, ec)) {
         if (e.path().extension() != ".dat" || !e.is_regular_file(ec) || e.file_size(ec) > 4096) continue;
+        if (refs.confined() && !resolves_inside(e.path().string(), refs.root)) continue;
         const std::string text = read_file_prefix(e.path().string(), 4096);
         for (const auto& line : split_lines(text)) {
             const auto c = line.find(':');
@@ -62,8 +68,9 @@ PayloadPlan plan_raw(const std::string& path, const RawOptions& opts) {
     regular_file_size(path);  // IoError for missing file or directory
     PayloadPlan plan;
     bool have_dims = false, have_type = false;
-    if (const auto sidecar = find_sidecar(path)) {
+    if (const auto sidecar = find_sidecar(path, opts.references)) {
         plan = plan_voreen_dat(*sidecar);
+        check_references(opts.references, *sidecar, plan.files);
         have_dims = have_type = true;
     } else if (const auto l = parse_raw_name(path)) {
         plan.grid.dims = l->dims;

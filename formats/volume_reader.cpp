@@ -17,6 +17,7 @@
 #include "formats/vti.hpp"
 #include "formats/vtk_legacy.hpp"
 #include "formats/vtkjs_image.hpp"
+#include "formats/reference_policy.hpp"
 #include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
 
@@ -66,9 +67,13 @@ Fmt by_content(const std::string& path, const RawOptions& raw) {
     return Fmt::unknown;
 }
 
+// The input itself under a confined policy (a symbolic link out of the archive is refused before
+// anything is read); a vtk-js directory's index.json too.
 Fmt detect(const std::string& path, const RawOptions& raw) {
+    check_reference(raw.references, path, path);
     std::error_code ec;
     if (fs::is_directory(path, ec)) {
+        check_reference(raw.references, path, (fs::path(path) / "index.json").string());
         if (fs::is_regular_file(fs::path(path) / "index.json", ec)) return Fmt::vtkjs;
         throw IoError(path + ": is a directory, expected a volume file (or a vtk-js directory with index.json)");
     }
@@ -79,6 +84,12 @@ Fmt detect(const std::string& path, const RawOptions& raw) {
     if (c == Fmt::unknown)
         throw FormatError(path + ": unrecognized volume format (no known extension or magic; for raw data give dims and type)");
     return c;
+}
+
+// A header's plan, its data files checked against the policy before any is opened.
+PayloadPlan confined(PayloadPlan plan, const std::string& header, const ReferencePolicy& refs) {
+    check_references(refs, header, plan.files);
+    return plan;
 }
 
 }  // namespace
@@ -109,15 +120,15 @@ namespace {
 
 Volume read_volume_unnamed(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {
-        case Fmt::raw: return read_raw(path, raw);
-        case Fmt::nrrd: return read_nrrd(path);
-        case Fmt::metaimage: return read_metaimage(path);
+        case Fmt::raw: return read_payload(confined(plan_raw(path, raw), path, raw.references));
+        case Fmt::nrrd: return read_payload(confined(plan_nrrd(path), path, raw.references));
+        case Fmt::metaimage: return read_payload(confined(plan_metaimage(path), path, raw.references));
         case Fmt::vtk_legacy: return read_vtk_legacy(path);
         case Fmt::vti: return read_vti(path);
-        case Fmt::vtkjs: return read_vtkjs_image(path);
+        case Fmt::vtkjs: return read_vtkjs_image(path, raw.references);
         case Fmt::slc: return read_slc(path);
-        case Fmt::nifti: return read_nifti(path);
-        case Fmt::voreen_dat: return read_voreen_dat(path);
+        case Fmt::nifti: return read_nifti(path, raw.references);
+        case Fmt::voreen_dat: return read_payload(confined(plan_voreen_dat(path), path, raw.references));
         case Fmt::unknown: break;
     }
     throw FormatError(path + ": unrecognized volume format");
@@ -125,10 +136,10 @@ Volume read_volume_unnamed(const std::string& path, const RawOptions& raw) {
 
 Volume map_volume_unnamed(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {
-        case Fmt::raw: return read_payload(plan_raw(path, raw), true);
-        case Fmt::nrrd: return read_payload(plan_nrrd(path), true);
-        case Fmt::metaimage: return read_payload(plan_metaimage(path), true);
-        case Fmt::voreen_dat: return read_payload(plan_voreen_dat(path), true);
+        case Fmt::raw: return read_payload(confined(plan_raw(path, raw), path, raw.references), true);
+        case Fmt::nrrd: return read_payload(confined(plan_nrrd(path), path, raw.references), true);
+        case Fmt::metaimage: return read_payload(confined(plan_metaimage(path), path, raw.references), true);
+        case Fmt::voreen_dat: return read_payload(confined(plan_voreen_dat(path), path, raw.references), true);
         default: return read_volume_unnamed(path, raw);
     }
 }
@@ -146,15 +157,15 @@ VolumeInfo mappable_info(const PayloadPlan& plan) {
 
 VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {
-        case Fmt::raw: return mappable_info(plan_raw(path, raw));
-        case Fmt::nrrd: return mappable_info(plan_nrrd(path));
-        case Fmt::metaimage: return mappable_info(plan_metaimage(path));
-        case Fmt::voreen_dat: return mappable_info(plan_voreen_dat(path));
+        case Fmt::raw: return mappable_info(confined(plan_raw(path, raw), path, raw.references));
+        case Fmt::nrrd: return mappable_info(confined(plan_nrrd(path), path, raw.references));
+        case Fmt::metaimage: return mappable_info(confined(plan_metaimage(path), path, raw.references));
+        case Fmt::voreen_dat: return mappable_info(confined(plan_voreen_dat(path), path, raw.references));
         case Fmt::vtk_legacy: return probe_vtk_legacy(path);
         case Fmt::vti: return probe_vti(path);
-        case Fmt::vtkjs: return probe_vtkjs_image(path);
+        case Fmt::vtkjs: return probe_vtkjs_image(path, raw.references);
         case Fmt::slc: return probe_slc(path);
-        case Fmt::nifti: return probe_nifti(path);
+        case Fmt::nifti: return probe_nifti(path, raw.references);
         case Fmt::unknown: break;
     }
     throw FormatError(path + ": unrecognized volume format");
@@ -163,15 +174,15 @@ VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
 VolumeInfo prove_volume(const std::string& path, const RawOptions& raw) {
     const Fmt f = detect(path, raw);
     switch (f) {
-        case Fmt::raw: prove_payload(plan_raw(path, raw)); break;
-        case Fmt::nrrd: prove_payload(plan_nrrd(path)); break;
-        case Fmt::metaimage: prove_payload(plan_metaimage(path)); break;
-        case Fmt::voreen_dat: prove_payload(plan_voreen_dat(path)); break;
+        case Fmt::raw: prove_payload(confined(plan_raw(path, raw), path, raw.references)); break;
+        case Fmt::nrrd: prove_payload(confined(plan_nrrd(path), path, raw.references)); break;
+        case Fmt::metaimage: prove_payload(confined(plan_metaimage(path), path, raw.references)); break;
+        case Fmt::voreen_dat: prove_payload(confined(plan_voreen_dat(path), path, raw.references)); break;
         case Fmt::vtk_legacy: prove_payload(plan_vtk_legacy(path)); break;
-        case Fmt::vtkjs: prove_payload(plan_vtkjs_image(path)); break;
+        case Fmt::vtkjs: prove_payload(plan_vtkjs_image(path, raw.references)); break;
         case Fmt::vti: prove_vti(path); break;
         case Fmt::slc: prove_slc(path); break;
-        case Fmt::nifti: prove_nifti(path); break;
+        case Fmt::nifti: prove_nifti(path, raw.references); break;
         case Fmt::unknown: throw FormatError(path + ": unrecognized volume format");
     }
     return probe_volume(path, raw);

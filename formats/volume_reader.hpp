@@ -12,6 +12,8 @@
 // (validate_grid: NaN/infinite/zero spacing and NaN origins refused) and a payload's size proven
 // against its file before anything is allocated; compressed payloads are bounded by their coding's
 // largest expansion and decoded into lazily committed pages.
+// References: a detached header's data files are followed wherever the format allows (absolute
+// paths, `..`), unless RawOptions::references confines them (ReferenceRefused, a FormatError).
 // Throws: IoError (cannot open, is a directory, missing data file), FormatError (bad or
 // unsupported content: magic, version, encoding, type, sizes, truncation), InvalidArgument (raw
 // options out of range, see raw_volume.hpp); messages are one
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include "formats/anatomical_frame.hpp"
+#include "formats/reference_policy.hpp"
 #include "kernels/grid.hpp"
 
 namespace meshless {
@@ -32,11 +35,15 @@ namespace meshless {
 /// Layout of headerless raw files. Fields given here override what the file name convention
 /// (`name_XxYxZ_type.raw`) or a sibling Voreen `.dat` says. `type` is the Volume type to read
 /// as (stored type = that type); other stored types need a header (.dat/.nhdr/.mhd).
+/// `references` applies to every format: where the input and the files its header names may lie
+/// (formats/reference_policy.hpp; default unconfined). A confined reader checks the input and each
+/// referenced file before opening it and throws ReferenceRefused for one outside the root.
 struct RawOptions {
     std::optional<std::array<std::int64_t, 3>> dims;
     std::optional<SampleType> type;
     bool big_endian = false;
     std::optional<std::array<double, 3>> spacing;
+    ReferencePolicy references;
 };
 
 /// Reads a whole volume. Dispatch: .raw .nrrd .nhdr .mhd .mha .vtk .vti (file: VTK XML,

@@ -95,6 +95,7 @@ Multiblock read_plain(const std::string& path, const VtkXmlElement& top, const P
         }
         const std::string label = "DataSet " + std::to_string(count);
         VtkStructuredFile f = read_piece(path, file, label, o, false, seen);
+        if (details) details->files.push_back(resolve_relative(path, file));
         agree(chosen, f, path, file, false);
         if (details && details->arrays.empty()) {
             details->arrays = f.arrays;
@@ -190,6 +191,7 @@ Multiblock read_amr(const std::string& path, const VtkXmlElement& file_tag, cons
     for (const Box& b : boxes) {
         const std::string label = "level " + std::to_string(b.level) + " box " + esc(b.index);
         VtkStructuredFile f = read_piece(path, b.file, label, o, true, seen);
+        if (details) details->files.push_back(resolve_relative(path, b.file));
         const std::string tag = path + ": piece '" + esc(b.file, 200) + "' (" + label + ")";
         if (f.type != "ImageData") throw FormatError(tag + ": an AMR piece must be ImageData, not " + esc(f.type));
         if (f.pieces.size() != 1) throw FormatError(tag + ": " + std::to_string(f.pieces.size()) + " <Piece> elements, an AMR box has one");

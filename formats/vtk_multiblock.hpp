@@ -53,6 +53,7 @@ struct MultiblockDetails {
     bool cell = false;                              ///< the chosen array is cell data
     std::vector<MultiblockLevel> levels;            ///< AMR only, coarsest first
     std::optional<std::array<double, 3>> origin;    ///< AMR only
+    std::vector<std::string> files;                 ///< the pieces read, as the collection names them (joined to its folder)
 };
 
 /// True when the file's <VTKFile type> is an AMR collection (vtkOverlappingAMR,

@@ -8,6 +8,7 @@
 #include "formats/gzip.hpp"
 #include "formats/json.hpp"
 #include "formats/text_header.hpp"
+#include "formats/reference_policy.hpp"
 #include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/flip_axes.hpp"
@@ -45,7 +46,7 @@ const std::string& str(const Json* v, const std::string& path, const char* what)
 }
 }  // namespace
 
-PayloadPlan plan_vtkjs_image(const std::string& in_path) {
+PayloadPlan plan_vtkjs_image(const std::string& in_path, const ReferencePolicy& refs) {
     const std::string path = vtkjs_index_path(in_path);
     const std::uint64_t size = regular_file_size(path);
     if (size > (64u << 20)) throw FormatError(path + ": index.json larger than 64 MiB");
@@ -126,6 +127,8 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path) {
     }
     const fs::path dir = fs::path(path).parent_path();
     const fs::path file = dir / base / id;
+    check_reference(refs, path, file.string() + ".gz");  // both candidates, before either is looked at
+    check_reference(refs, path, file.string());
     std::error_code ec;
     if (fs::is_regular_file(fs::path(file.string() + ".gz"), ec)) {
         plan.files = {file.string() + ".gz"};
@@ -141,7 +144,9 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path) {
     return plan;
 }
 
-VolumeInfo probe_vtkjs_image(const std::string& path) { return info_from_plan(plan_vtkjs_image(path)); }
-Volume read_vtkjs_image(const std::string& path) { return read_payload(plan_vtkjs_image(path)); }
+VolumeInfo probe_vtkjs_image(const std::string& path, const ReferencePolicy& refs) {
+    return info_from_plan(plan_vtkjs_image(path, refs));
+}
+Volume read_vtkjs_image(const std::string& path, const ReferencePolicy& refs) { return read_payload(plan_vtkjs_image(path, refs)); }
 
 }  // namespace meshless

@@ -16,8 +16,10 @@ namespace meshless {
 
 /// index.json for a directory path, the path itself otherwise.
 std::string vtkjs_index_path(const std::string& path);
-PayloadPlan plan_vtkjs_image(const std::string& path);
-VolumeInfo probe_vtkjs_image(const std::string& path);
-Volume read_vtkjs_image(const std::string& path);
+/// `refs`: where the array file (BASEPATH/ID) may lie (formats/reference_policy.hpp): checked before
+/// the file is looked at; ReferenceRefused outside it.
+PayloadPlan plan_vtkjs_image(const std::string& path, const ReferencePolicy& refs = {});
+VolumeInfo probe_vtkjs_image(const std::string& path, const ReferencePolicy& refs = {});
+Volume read_vtkjs_image(const std::string& path, const ReferencePolicy& refs = {});
 
 }  // namespace meshless

@@ -16,6 +16,7 @@
 #include "formats/raw_volume.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/voreen_dat.hpp"
+#include "formats/reference_policy.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -140,6 +141,7 @@ std::optional<PayloadPlan> streamable_plan(const std::string& path, const RawOpt
     else if (vi.format == "metaimage") plan = plan_metaimage(path);
     else if (vi.format == "voreen-dat") plan = plan_voreen_dat(path);
     else return std::nullopt;
+    check_references(raw.references, path, plan.files);  // probe_volume checked them too; the plan is read again
     if (plan.files.empty() || plan.line_skip != 0) return std::nullopt;
     if (plan.flip[0] || plan.flip[1] || plan.flip[2]) return std::nullopt;  // read whole, then reversed
     if (plan.encoding != PayloadEncoding::raw && plan.encoding != PayloadEncoding::gzip) return std::nullopt;

@@ -255,6 +255,37 @@ TEST_CASE("batch manifest: relative paths, raw options, comments, a missing entr
     CHECK_THAT(slurp(out / "plain.mlb.meta"), Catch::Contains("param.raw=dims=20,20,20 type=uint8"));
 }
 
+TEST_CASE("batch manifest: a header naming a file out of the manifest's folder is refused alone, the others done",
+          "[batch]") {
+    TempDir d("batch-escape");
+    const fs::path arch = d / "arch", elsewhere = d / "elsewhere", out = d / "out";
+    fs::create_directories(arch / "sub");
+    fs::create_directories(elsewhere);
+    write_volume(arch, AnalyticField::sphere, 20, "sphere");
+    write_volume(elsewhere, AnalyticField::sphere, 20, "", "outside.raw");
+    // the payload a header may name: beside it, in a subfolder, but not above the manifest's folder
+    write_volume(arch / "sub", AnalyticField::sphere, 20, "", "inside.raw");
+    const std::string fields = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 20 20 20\nencoding: raw\n";
+    spit(arch / "inside.nhdr", fields + "data file: sub/inside.raw\n\n");
+    spit(arch / "up.nhdr", fields + "data file: ../elsewhere/outside.raw\n\n");
+    spit(arch / "abs.nhdr", fields + "data file: " + (elsewhere / "outside.raw").string() + "\n\n");
+    spit(arch / "list.txt", "sphere_20x20x20_uint8.raw\ninside.nhdr\nup.nhdr\nabs.nhdr\n");
+    const auto r = sh("MESHLESS batch " + (arch / "list.txt").string() + " -o " + out.string() + " --iso 100.5", d);
+    INFO(r.out << r.err);
+    CHECK(r.code == 2);
+    CHECK_THAT(row(r.out, "sphere_20x20x20_uint8"), Catch::Contains("done"));
+    CHECK_THAT(row(r.out, "inside"), Catch::Contains("done"));
+    for (const char* name : {"up", "abs"}) {
+        CHECK_THAT(row(r.out, name), Catch::Contains("REFUSED"));
+        CHECK_THAT(row(r.out, name), Catch::Contains("outside.raw"));
+        CHECK(!fs::exists(out / (std::string(name) + ".mlb")));
+        CHECK(!fs::exists(out / (std::string(name) + "_iso100.5.ply")));
+    }
+    CHECK_THAT(r.out, Catch::Contains("4 volume(s): 2 done, 0 up to date, 0 failed, 2 refused"));
+    // the same header given to another command is followed, as NRRD allows
+    CHECK(sh("MESHLESS isosurface " + (arch / "up.nhdr").string() + " --iso 100.5 -o " + (d / "up.ply").string(), d).code == 0);
+}
+
 TEST_CASE("batch over the file size limit: exit 2, a clear message, no partial output, rerun finishes", "[batch]") {
     TempDir d("batch-full");
     const fs::path arch = d / "arch";
