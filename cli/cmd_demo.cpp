@@ -33,6 +33,7 @@ int cmd_demo(int argc, char** argv) {
     if (n < 8 || n > 1024) throw UsageError("--n: expected 8..1024");
     const std::filesystem::path dir = a.get_or("output", ".");
     if (dir == "-") throw UsageError("-o -: the demo writes a folder of files (a PLY and a PNG), not one stream to standard output");
+    RenderSettings rs = render_settings(a);  // option errors (--size over the memory) before the folder is made
     make_output_folder(dir.string());
 
     VolumeInput in;
@@ -42,7 +43,6 @@ int cmd_demo(int argc, char** argv) {
     const double iso = default_iso(field);
     StreamMeta meta = volume_meta(in, iso, a.command_line());  // value range and surface bounds
     meta.set("projection", "approx");
-    RenderSettings rs = render_settings(a);
     // the surface is framed by 32-cell blocks; the torus and the sphere leave much of theirs empty
     if (!a.has("zoom") && (field == AnalyticField::torus || field == AnalyticField::sphere)) rs.camera.zoom = 1.6;
     const int nthreads = in.threads;

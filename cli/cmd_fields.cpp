@@ -161,7 +161,7 @@ int cmd_slice(int argc, char** argv) {
            "Grey marks where the data does not reach (see --max-gap).");
     a.option("plane", "", "AXIS=V", "the slicing plane, e.g. z=0.5 (world units)")
         .option("output", "o", "FILE", "PNG output (required)")
-        .option("size", "", "WxH", "largest image size; the aspect follows the bounding box", "1024x1024")
+        .option("size", "", "WxH", "largest image size, 2..16384 per side (3 bytes a pixel must fit in memory); the aspect follows the bounding box", "1024x1024")
         .option("range", "", "LO,HI", "values mapped to the ends of the colour map (default: the data's range)")
         .option("colormap", "", "NAME", "coolwarm | viridis | gray", "coolwarm")
         .option("near", "", "D", "overlay data points within D of the plane (default: half the mean point spacing)")
@@ -175,6 +175,8 @@ int cmd_slice(int argc, char** argv) {
     Colormap cmap;
     if (!parse_colormap(a.get_or("colormap", "coolwarm"), cmap)) throw UsageError("--colormap: expected coolwarm, viridis or gray");
     const auto [W, H] = parse_size(a.get_or("size", "1024x1024"), "--size", 2, 16384);
+    check_option_fits(a, "--size " + a.get_or("size", "1024x1024"), "the RGB image (3 bytes a pixel)", image_bytes(W, H, 3),
+                      "give a smaller --size");
     const PointSet pts = read_points_arg(a);
     const auto field = build_field(a, pts, data_field_default(a.positional()));
     const auto [lo, hi] = pts.bounds();

@@ -127,6 +127,19 @@ void check_volume_fits(const Args& a, const std::string& path, const VolumeInfo&
                   "; a brick store streams it: meshless convert " + path + " -o vol.mlb");
 }
 
+void check_option_fits(const Args& a, const std::string& option, const std::string& what, std::uint64_t need,
+                       const std::string& hint) {
+    (void)a;
+    const std::uint64_t budget = available_memory();
+    if (need <= budget) return;
+    throw UsageError(option + ": " + what + " would take " + byte_size_text(need) + ", more than the " + byte_size_text(budget) +
+                     " this process may use (physical memory, cgroup limit, ulimit -v)" + (hint.empty() ? "" : "; " + hint));
+}
+
+std::uint64_t image_bytes(int width, int height, std::uint64_t bytes_per_pixel) {
+    return static_cast<std::uint64_t>(std::max(width, 0)) * static_cast<std::uint64_t>(std::max(height, 0)) * bytes_per_pixel;
+}
+
 Volume load_volume(const Args& a) { return load_volume(a, false); }
 
 void add_sampling_options(Args& a) {
@@ -363,7 +376,8 @@ int threads(const Args& a) {
 }
 
 void add_orbit_options(Args& a, const char* default_size) {
-    a.option("size", "", "WxH", "image size in pixels, 1..16384 per side", default_size)
+    a.option("size", "", "WxH", "image size in pixels, 1..16384 per side; its buffers (19 bytes a pixel at least) must fit "
+                                "in memory", default_size)
         .option("azimuth", "", "DEG", "camera rotation about the up axis (a volume whose header gives the patient's axes: about superior, from the face-on view)", "30")
         .option("elevation", "", "DEG", "camera elevation above the plane normal to the up axis (from the face-on view, as --azimuth)", "20")
         .option("up", "", "AXIS", "the world axis that points up in the picture: x, y, z, -x, -y or -z (superior, unless given, for a volume whose header gives the patient's axes)", "y")
@@ -465,9 +479,14 @@ void set_view(Camera& c, const Vec3& dir, const std::string& view_name, bool war
 
 Camera camera_from(const Args& a, const char* default_size) {
     Camera c;
-    const auto wh = parse_size(a.get_or("size", default_size), "--size", 1, 16384);
+    const std::string size = a.get_or("size", default_size);
+    const auto wh = parse_size(size, "--size", 1, 16384);
     c.width = wh[0];
     c.height = wh[1];
+    // before any work: the picture's buffers (splat: two depth-key buffers of 8 bytes a pixel and the
+    // RGB image; render: RGBA floats and the RGB image), at least 19 bytes a pixel
+    check_option_fits(a, "--size " + size, "the image buffers (at least 19 bytes a pixel)", image_bytes(wh[0], wh[1], 19),
+                      "give a smaller --size");
     c.azimuth_deg = parse_finite(a.get_or("azimuth", "30"), "--azimuth");
     c.elevation_deg = parse_finite(a.get_or("elevation", "20"), "--elevation");
     if (a.declared("up")) {

@@ -45,6 +45,15 @@ void add_memory_option(Args& a);
 /// no memory of its own and always fits. IoError (exit 2) naming `path`, the size and the budget, and
 /// suggesting `meshless convert` to a brick store (which streams).
 void check_volume_fits(const Args& a, const std::string& path, const VolumeInfo& vi, bool map);
+/// Refuses, before any work, an option whose value implies more memory than this process may use
+/// (available_memory(): physical memory, cgroup limit, ulimit -v; not --memory, which budgets the
+/// brick cache): UsageError (exit 1) "OPTION VALUE: WHAT would take N, more than the BUDGET this
+/// process may use (...); HINT". `need` is what the option makes the command allocate at least
+/// (estimates say so in `what`).
+void check_option_fits(const Args& a, const std::string& option, const std::string& what, std::uint64_t need,
+                       const std::string& hint = "");
+/// Bytes of the image buffers of a WxH picture at `bytes_per_pixel` (checked: no overflow for 16384^2).
+std::uint64_t image_bytes(int width, int height, std::uint64_t bytes_per_pixel);
 /// "1.5 GiB" (binary units; "512 bytes" below 1 KiB).
 std::string byte_size_text(std::uint64_t bytes);
 

@@ -84,7 +84,8 @@ void add_field_options(Args& a, bool with_coverage, const std::string& default_k
                 "rbf-grid: a local fit keeps its nearest max(K, points within its weight radius) points; 0 = all in its 27 cells",
                 std::to_string(FieldParams{}.rbf_grid_local_points))
         .option("max-points", "", "N", "mpu: subdivide while a node's sphere holds more than N points", "140")
-        .option("alpha", "", "A", "mpu: sphere of influence = A x node diagonal", "0.75")
+        .option("alpha", "", "A", "mpu: sphere of influence = A x node diagonal, in (0.5, 4]; the octree and its fits grow "
+                                  "as A^3 and must fit in memory", "0.75")
         .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal (0.003 for a "
                                      ".mlh level of detail)", "0.025")
         .option("hardy-c-world", "", "C", "Hardy's constant in world units (overrides --hardy-c)")
@@ -151,6 +152,8 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
     p.mpu_max_points = static_cast<std::uint32_t>(n);
     p.mpu_min_points = std::min(p.mpu_min_points, p.mpu_max_points);  // grown leaves never exceed N
     p.mpu_alpha = parse_finite(a.get_or("alpha", "0.75"), "--alpha");
+    if (!(p.mpu_alpha > 0.5) || p.mpu_alpha > kMaxMpuAlpha)  // 0.5: the sphere no longer covers its cube
+        throw UsageError("--alpha: expected a factor in (0.5, 4], got " + a.get_or("alpha", "0.75"));
     if (const auto c = a.get("hardy-c")) {
         p.hardy_c_rel = parse_finite(*c, "--hardy-c");
         if (!(p.hardy_c_rel > 0)) throw UsageError("--hardy-c: expected a number > 0, got " + *c);
@@ -221,6 +224,10 @@ FieldProgress field_progress(ProgressMeter& meter) {
 
 std::unique_ptr<Field> make_input_field(const Args& a, const PointSet& points, const FieldParams& params,
                                         FieldBuildStats* stats, const FieldProgress& progress, const FitShare* share) {
+    if (params.kind == FieldKind::mpu)  // before any fit: the octree that --alpha implies
+        check_option_fits(a, "--alpha " + a.get_or("alpha", "0.75"),
+                          "an mpu octree over " + std::to_string(points.size()) + " points (estimate)",
+                          mpu_octree_bytes_estimate(points.size(), params), "give a smaller --alpha");
     const std::string names = joined_names(a.positional());
     return with_error_prefix(names, names + ": ", [&] { return make_field(points, params, stats, progress, share); });
 }

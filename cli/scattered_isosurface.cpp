@@ -47,7 +47,8 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 constexpr const char* kPointsWhat = "an oriented point set";
 
 void add_binning_options(Args& a) {
-    a.option("max-cells", "", "N", "cap on the binning grid's cells (section 5.3): a finer grid is coarsened, with a warning",
+    a.option("max-cells", "", "N", "cap on the binning grid's cells (section 5.3), 27..2^31 (4 bytes a cell must fit in "
+                                   "memory): a finer grid is coarsened, with a warning",
              std::to_string(BinningGridParams{}.max_cells))
         .option("max-level", "", "L", "cap on the binning level l_b (2^L cells per axis)", std::to_string(BinningGridParams{}.max_level))
         .option("reg-gap", "", "F",
@@ -83,6 +84,8 @@ BinningGridParams binning_params(const Args& a) {
     BinningGridParams p;
     const long long cells = a.get_int_or("max-cells", p.max_cells);
     if (cells < 27 || cells > (1LL << 31)) throw UsageError("--max-cells: expected 27..2^31 (27 = one 3x3x3 stencil)");
+    check_option_fits(a, "--max-cells " + std::to_string(cells), "a binning grid of that many cells (its index: 4 bytes a cell)",
+                      static_cast<std::uint64_t>(cells) * 4, "a smaller --max-cells");
     p.max_cells = cells;
     const long long l = a.get_int_or("max-level", p.max_level);
     if (l < 0 || l > 12) throw UsageError("--max-level: expected 0..12");

@@ -1,5 +1,6 @@
 #include "stream/available_memory.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -31,6 +32,9 @@ std::uint64_t available_memory() {
     };
     if (const auto lim = cgroup_limit(read("memory.max"), "memory", {"/sys/fs/cgroup/memory"}, read("memory.limit_in_bytes")))
         bytes = std::min(bytes, *lim);
+    // the address-space limit (ulimit -v): no allocation beyond it can succeed
+    if (rlimit as{}; ::getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
+        bytes = std::min(bytes, static_cast<std::uint64_t>(as.rlim_cur));
     return std::max(bytes, page_bytes);
 }
 

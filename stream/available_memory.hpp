@@ -1,7 +1,8 @@
 // How much memory this process may use: the machine's physical memory (sysconf _SC_PHYS_PAGES x
 // _SC_PAGE_SIZE), further capped by the memory limit of its cgroup and the cgroup's ancestors:
 // v2 memory.max (a byte count, "max" = no limit), v1 memory.limit_in_bytes (a huge value = no
-// limit). The budget of a volume read whole when the user gives no --memory (cli/common.hpp).
+// limit), and by the address-space limit (RLIMIT_AS, `ulimit -v`) when one is set. The budget of
+// a volume read whole when the user gives no --memory, and of what options imply (cli/common.hpp).
 // Reads /proc/self/cgroup and /sys/fs/cgroup (stream/cgroup_limit.hpp); never throws.
 // Thread-safety: reentrant.
 #pragma once

@@ -10,6 +10,9 @@
 #include <zstd.h>
 
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -516,5 +519,159 @@ TEST_CASE("a stream whose recorded isovalue is not finite is refused by the stag
         CHECK(r.code == 2);
         CHECK_THAT(r.err, Catch::Contains("-: stream metadata: 'iso' is not a finite number: " + bad));
         CHECK_FALSE(fs::exists(d.path / "o.ply"));
+    }
+}
+
+namespace {
+
+// Lines of `text` that hold `needle`.
+std::vector<std::string> lines_with(const std::string& text, const std::string& needle) {
+    std::vector<std::string> r;
+    std::size_t b = 0;
+    while (b < text.size()) {
+        std::size_t e = text.find('\n', b);
+        if (e == std::string::npos) e = text.size();
+        const std::string line = text.substr(b, e - b);
+        if (line.find(needle) != std::string::npos) r.push_back(line);
+        b = e + 1;
+    }
+    return r;
+}
+
+std::string nrrd_header(const std::string& data_file) {
+    return "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: " + data_file + "\n\n";
+}
+
+}  // namespace
+
+TEST_CASE("references out of the archive: batch refuses each input, writes nothing for it and goes on, and info names "
+          "every file resolved", "[cli][hostile]") {
+    TempDir d("hostile-refs");
+    const fs::path arch = d.path / "archive", secret = d.path / "secret";
+    fs::create_directories(arch / "js");
+    fs::create_directories(secret);
+    // the bytes a header must never carry into an output: 64 distinct values no good volume holds
+    std::string secret_bytes;
+    for (int i = 0; i < 64; ++i) secret_bytes += static_cast<char>(150 + i);
+    spit(secret / "s.raw", secret_bytes);
+    spit(secret / "evil_4x4x4_uint8.raw", secret_bytes);
+    spit(secret / "p.img", secret_bytes);
+    // the classes: absolute and `..` references in each header format, a reference through a
+    // symbolic link in the archive, a symbolic link as the input itself
+    spit(arch / "abs.nhdr", nrrd_header((secret / "s.raw").string()));
+    spit(arch / "dotdot.nhdr", nrrd_header("../secret/s.raw"));
+    spit(arch / "list.nhdr", nrrd_header("LIST\ns.raw\n../secret/s.raw"));  // one good-looking name, one not
+    spit(arch / "s.raw", zeros(32));
+    spit(arch / "meta.mhd", "ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\nElementDataFile = ../secret/s.raw\n");
+    spit(arch / "voreen.dat", "ObjectFileName: " + (secret / "s.raw").string() + "\nResolution: 4 4 4\nFormat: UCHAR\n");
+    spit(arch / "js" / "index.json",
+         "{\"vtkClass\":\"vtkImageData\",\"extent\":[0,3,0,3,0,3],\"spacing\":[1,1,1],\"origin\":[0,0,0],\"pointData\":{"
+         "\"arrays\":[{\"data\":{\"dataType\":\"Uint8Array\",\"numberOfComponents\":1,\"ref\":{\"id\":\"s.raw\",\"basepath\":"
+         "\"../../secret\",\"encode\":\"LittleEndian\",\"registration\":\"setScalars\"}}}]}}");
+    fs::create_directory_symlink("../secret", arch / "linkdir");
+    spit(arch / "vialink.nhdr", nrrd_header("linkdir/s.raw"));
+    fs::create_symlink("../secret/evil_4x4x4_uint8.raw", arch / "evil_4x4x4_uint8.raw");
+    {
+        std::string h = nifti(4, 4, 4, 1, 0, "").substr(0, 348);
+        std::memcpy(h.data() + 344, "ni1\0", 4);
+        const float zero = 0;
+        std::memcpy(h.data() + 108, &zero, 4);  // vox_offset 0 in the .img
+        spit(arch / "pair.hdr", h);
+        fs::create_symlink("../secret/p.img", arch / "pair.img");
+    }
+    // a well-formed volume of the archive, done as usual
+    std::string good(4 * 4 * 4, '\0');
+    for (std::size_t i = 0; i < good.size(); ++i) good[i] = static_cast<char>(i % 4 < 2 ? 10 : 90);
+    spit(arch / "good_4x4x4_uint8.raw", good);
+
+    const fs::path out = d.path / "out";
+    const RunResult r = sh("MESHLESS batch " + arch.string() + " -o " + out.string() + " --iso 50 --formats ply,stream", d);
+    INFO(r.out << r.err);
+    CHECK(r.code == 2);
+    // s.raw: a headerless raw file that voreen.dat names by its file name, so that .dat describes it
+    // and sends its reader to the secret too
+    const std::vector<std::string> refused = {"abs", "dotdot", "list", "meta", "voreen", "js", "vialink", "evil_4x4x4_uint8",
+                                              "pair", "s"};
+    for (const auto& name : refused) {
+        INFO(name);
+        std::vector<std::string> rows;  // the table's row of this volume
+        for (const auto& line : lines_with(r.out, name + " "))
+            if (line.rfind(name + " ", 0) == 0) rows.push_back(line);
+        REQUIRE(rows.size() == 1);
+        CHECK(rows[0].find("REFUSED") != std::string::npos);
+        CHECK(rows[0].find("outside the archive folder") != std::string::npos);
+        CHECK(!fs::exists(out / (name + ".mlb")));
+        CHECK(!fs::exists(out / (name + "_iso50.ply")));
+    }
+    CHECK(lines_with(r.out, "good_4x4x4_uint8 ").at(0).find("done") != std::string::npos);
+    CHECK(fs::exists(out / "good_4x4x4_uint8.mlb"));
+    CHECK(r.out.find(std::to_string(refused.size()) + " refused") != std::string::npos);
+    for (const auto& line : lines_with(r.err, "refused")) CHECK(!has_control_bytes(line));
+    // no byte of the secret in anything written
+    for (const auto& e : fs::recursive_directory_iterator(out)) {
+        if (!e.is_regular_file()) continue;
+        INFO(e.path());
+        CHECK(slurp(e.path()).find(secret_bytes.substr(0, 16)) == std::string::npos);
+    }
+
+    // the other commands follow references as the formats allow, and info says where each leads
+    const RunResult i = sh("MESHLESS info " + (arch / "dotdot.nhdr").string(), d);
+    INFO(i.out << i.err);
+    CHECK(i.code == 0);
+    CHECK(i.out.find("-> " + fs::weakly_canonical(secret / "s.raw").string()) != std::string::npos);
+    const RunResult v = sh("MESHLESS info " + (arch / "vialink.nhdr").string(), d);
+    CHECK(v.code == 0);
+    CHECK(v.out.find("linkdir/s.raw -> " + fs::weakly_canonical(secret / "s.raw").string()) != std::string::npos);
+}
+
+TEST_CASE("unbounded parameters: refused before any work with exit 1 and one line naming the option, nothing written",
+          "[cli][hostile]") {
+    TempDir d("hostile-params");
+    // 197 points on a sphere (the size of the set that made --alpha 100 take gigabytes) and 150000
+    // (where --alpha 4 implies more than the 512 MiB address space the case allows)
+    const auto points = [](int n) {
+        std::string csv = "x,y,z,v\n";
+        for (int k = 0; k < n; ++k) {
+            const double z = 1 - 2 * (k + 0.5) / n, r = std::sqrt(1 - z * z), phi = k * 2.399963229728653;
+            csv += std::to_string(r * std::cos(phi)) + "," + std::to_string(r * std::sin(phi)) + "," + std::to_string(z) + "," +
+                   std::to_string(z) + "\n";
+        }
+        return csv;
+    };
+    spit(d.path / "p197.csv", points(197));
+    spit(d.path / "p150k.csv", points(150000));
+    const std::string p197 = (d.path / "p197.csv").string(), p150k = (d.path / "p150k.csv").string();
+    const std::string out = (d.path / "out").string();
+    struct Param {
+        std::string cmd, option;
+    };
+    const std::vector<Param> cases = {
+        {"MESHLESS fit " + p197 + " --field mpu --alpha 100 -o " + out + ".mlf", "--alpha"},
+        {"MESHLESS fit " + p197 + " --field mpu --alpha 1e6 -o " + out + ".mlf", "--alpha"},
+        {"MESHLESS fit " + p197 + " --field mpu --alpha 0.5 -o " + out + ".mlf", "--alpha"},
+        {"MESHLESS fit " + p197 + " --field mpu --alpha nan -o " + out + ".mlf", "--alpha"},
+        {"MESHLESS probe " + p197 + " --field mpu --alpha 100 --at 0,0,0", "--alpha"},
+        {"ulimit -v 524288; MESHLESS fit " + p150k + " --field mpu --alpha 4 -o " + out + ".mlf", "--alpha 4"},
+        {"ulimit -v 2097152; MESHLESS splat " + p197 + " --size 16384x16384 -o " + out + ".png", "--size 16384x16384"},
+        {"ulimit -v 2097152; MESHLESS demo --size 16384x16384 -o " + out + ".png", "--size 16384x16384"},
+        {"ulimit -v 524288; MESHLESS slice " + p197 + " --plane z=0 --size 16384x16384 -o " + out + ".png", "--size 16384x16384"},
+        {"MESHLESS slice " + p197 + " --plane z=0 --size 16385x16 -o " + out + ".png", "--size"},
+        {"ulimit -v 2097152; MESHLESS isosurface " + p197 + " --iso 0 --max-cells 2147483648 -o " + out + ".ply", "--max-cells"},
+        {"MESHLESS isosurface " + p197 + " --iso 0 --max-cells 4294967296 -o " + out + ".ply", "--max-cells"},
+        {"MESHLESS hierarchy " + p197 + " --neighbours 100000 -o " + out + ".mlh", "--neighbours"},
+    };
+    for (const auto& c : cases) {
+        INFO(c.cmd);
+        const auto t0 = std::chrono::steady_clock::now();
+        const RunResult r = sh(c.cmd, d);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        INFO("stderr: " << r.err);
+        CHECK(r.code == 1);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        CHECK(r.err.find(c.option) != std::string::npos);
+        CHECK(!has_control_bytes(r.err));
+        CHECK(seconds < 10);  // up front: no fit, no image (the 150000 points are read first)
+        for (const char* ext : {".mlf", ".png", ".ply", ".mlh"}) CHECK(!fs::exists(out + ext));
+        for (const auto& e : fs::directory_iterator(d.path)) CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
     }
 }
