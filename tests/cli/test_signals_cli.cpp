@@ -31,8 +31,9 @@ namespace {
 std::string lidc2() { return (shared_data() / "vtkjs_LIDC2" / "LIDC2.vti").string(); }
 
 /// Starts meshless ARGS in dir with stdout/stderr to files, default signal dispositions and an
-/// unblocked mask; fsize_limit > 0 sets RLIMIT_FSIZE (bytes) in the child, as `ulimit -f` does.
-pid_t spawn(const std::vector<std::string>& args, const TempDir& dir, rlim_t fsize_limit = 0) {
+/// unblocked mask; fsize_limit > 0 sets RLIMIT_FSIZE (bytes) in the child, as `ulimit -f` does;
+/// stdin_fd >= 0 becomes the child's standard input.
+pid_t spawn(const std::vector<std::string>& args, const TempDir& dir, rlim_t fsize_limit = 0, int stdin_fd = -1) {
     std::vector<std::string> all = {meshless_exe()};
     all.insert(all.end(), args.begin(), args.end());
     std::vector<char*> argv;
@@ -47,6 +48,7 @@ pid_t spawn(const std::vector<std::string>& args, const TempDir& dir, rlim_t fsi
         if (o < 0 || e < 0) ::_exit(121);
         ::dup2(o, 1);
         ::dup2(e, 2);
+        if (stdin_fd >= 0) ::dup2(stdin_fd, 0);
         for (int s : {SIGINT, SIGTERM, SIGHUP, SIGXFSZ}) ::signal(s, SIG_DFL);
         sigset_t none;
         sigemptyset(&none);
@@ -142,6 +144,70 @@ TEST_CASE("SIGINT/SIGTERM/SIGHUP mid-run: exit 128+signal, no temporaries, no ou
                 CHECK(temporaries(dir / "out").empty());
                 CHECK_FALSE(fs::exists(out));
             }
+        }
+}
+
+TEST_CASE("every command interrupted mid-run by SIGINT, SIGTERM or SIGHUP exits 128+signal, leaving no temporaries", "[cli][signals]") {
+    if (!have_shared_data()) return;
+    TempDir dir("signals-every");
+    // inputs that keep each command busy for seconds here (and longer under the sanitizers); the
+    // stream readers wait on a standard input that never ends, so they are always mid-run
+    const std::string big = (dir / "big.mlb").string(), pts = (dir / "pts.csv").string();
+    REQUIRE(sh("MESHLESS synth --upsample 2 " + lidc2() + " -o " + big, dir).code == 0);
+    REQUIRE(sh("MESHLESS sample " + big + " --count 200000 --seed 1 -o " + pts, dir).code == 0);
+    fs::create_directories(dir / "out");
+    struct Timed {
+        const char* name;
+        std::vector<std::string> args;  ///< "OUT" is replaced by dir/out/<output>
+        const char* output;
+        bool from_stdin = false;        ///< reads a stream or a volume from a standard input left open
+    };
+    const std::vector<Timed> cases = {
+        {"mc", {"mc", big, "--iso", "100.5", "-j", "1", "-o", "OUT"}, "m.ply"},
+        {"render", {"render", big, "--size", "2048x2048", "-j", "1", "-o", "OUT"}, "r.png"},
+        {"synth", {"synth", "--upsample", "3", lidc2(), "-o", "OUT"}, "s.mlb"},
+        {"sample", {"sample", big, "--count", "30000000", "-o", "OUT"}, "p.csv"},
+        {"split", {"split", big, "--layout", "overlapping", "--blocks", "8", "-o", "OUT"}, "b.vtm"},
+        {"fit", {"fit", pts, "-j", "1", "-o", "OUT"}, "f.mlf"},
+        {"slice", {"slice", pts, "--plane", "z=0", "--size", "4096x4096", "-j", "1", "-o", "OUT"}, "s.png"},
+        {"resample", {"resample", pts, "--dims", "256,256,256", "-j", "1", "-o", "OUT"}, "v.nrrd"},
+        {"probe", {"probe", pts, "--at-file", pts, "-j", "1", "-o", "OUT"}, "p.csv"},
+        {"hierarchy", {"hierarchy", lidc2(), "-j", "1", "-o", "OUT"}, "h.mlh"},
+        {"demo", {"demo", "--size", "8192x8192", "-o", "OUT"}, "d.png"},
+        {"generate", {"generate", "-", "--iso", "100.5", "-o", "OUT"}, "g.bin", true},  // spooling its volume
+        {"project", {"project", "-", "-o", "OUT"}, "p.bin", true},
+        {"write", {"write", "-", "-o", "OUT"}, "w.ply", true},
+        {"splat", {"splat", "-", "-o", "OUT"}, "s.png", true},
+        {"info", {"info", "-"}, "none", true},
+    };
+    for (const auto& c : cases)
+        for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+            INFO(c.name << ", " << strsignal(sig));
+            const fs::path out = dir / "out" / c.output;
+            auto args = c.args;
+            for (auto& a : args)
+                if (a == "OUT") a = out.string();
+            int in[2] = {-1, -1};
+            if (c.from_stdin) REQUIRE(::pipe(in) == 0);
+            const pid_t pid = spawn(args, dir, 0, in[0]);
+            if (in[0] >= 0) ::close(in[0]);
+            // past start-up (the handlers are installed first thing), well before the end
+            std::this_thread::sleep_for(std::chrono::milliseconds(300));
+            int status = 0;
+            const bool running = ::waitpid(pid, &status, WNOHANG) == 0;
+            INFO(slurp(dir / "stderr.txt"));
+            REQUIRE(running);
+            ::kill(pid, sig);
+            const Exit e = wait_for(pid);
+            if (in[1] >= 0) ::close(in[1]);
+            INFO(slurp(dir / "stderr.txt"));
+            CHECK(e.code == 128 + sig);
+            CHECK_FALSE(e.signalled);  // exited by itself, after cleaning up
+            CHECK(temporaries(dir / "out").empty());
+            if (fs::is_directory(out))  // demo's output folder: made first, the files not written
+                CHECK(fs::is_empty(out));
+            else
+                CHECK_FALSE(fs::exists(out));
         }
 }
 
