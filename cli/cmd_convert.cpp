@@ -1,6 +1,7 @@
 // Brick stores from the command line (docs/architecture.md "Brick store"; dissertation section 3.6):
 //   meshless convert VOLUME -o vol.mlb [--brick B] [--level N] [--threads N]
 //   meshless verify vol.mlb...
+// (convert ... -o pts.mlc and verify pts.mlc: point stores, cli/point_store_cli.hpp)
 //   meshless synth --upsample F [--method trilinear|tricubic] VOLUME -o big.mlb
 #include <unistd.h>
 
@@ -14,6 +15,8 @@
 #include "cli/common.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/errors.hpp"
+#include "cli/point_store_cli.hpp"
+#include "formats/point_store.hpp"
 #include "ooc/brick_converter.hpp"
 #include "ooc/slice_source.hpp"
 #include "ooc/sample_store.hpp"
@@ -111,12 +114,15 @@ std::optional<std::array<std::array<double, 3>, 3>> patient_axes_of(const std::s
 }
 
 int cmd_convert(int argc, char** argv) {
+    if (point_store_output_requested(argc, argv)) return cmd_convert_points(argc, argv);
     Args a("convert", "VOLUME -o vol.mlb [--brick B] [--level N] [--threads N]",
            "Converts a volume into a brick store (.mlb): cubic bricks of B cells plus a one-voxel ghost\n"
            "layer, each an independent zstd frame in the native sample type with a CRC-32 and value\n"
            "range, in Morton order with a tail index (section 3.6). Streams over z-slabs (memory: one slab\n"
            "of bricks) from raw, NRRD and MetaImage files; other formats are read whole. Writes to a\n"
-           "temporary name and renames: the same input and options give byte-identical stores.");
+           "temporary name and renames: the same input and options give byte-identical stores.\n"
+           "With -o pts.mlc it converts point sets into a point store instead (meshless convert POINTS... -o\n"
+           "pts.mlc --help lists its options).");
     add_store_options(a);
     add_volume_options(a);
     a.epilog("example: meshless convert ../shared/data/tooth/tooth_103x94x161_uint8.raw -o tooth.mlb --stats\n");
@@ -139,12 +145,14 @@ int cmd_convert(int argc, char** argv) {
 }
 
 int cmd_verify(int argc, char** argv) {
-    Args a("verify", "STORE.mlb|STORE.mls...",
+    Args a("verify", "STORE.mlb|STORE.mls|STORE.mlc...",
            "Checks stores completely. A brick store (.mlb): header, index and footer checksums, then every\n"
            "brick's CRC-32, decompressed size and value range; prints \"ok: N bricks\", or names the first\n"
            "bad brick by index and voxel range. A sample store (.mls, paradigm A): its header, table and\n"
            "footer, that its brick store is there and unchanged, then every span-space bucket's CRC-32\n"
-           "and keys; prints \"ok: N buckets, K cell rows\", or names the first bad bucket. With several\n"
+           "and keys; prints \"ok: N buckets, K cell rows\", or names the first bad bucket. A point store (.mlc):\n"
+           "header, index and footer, then every brick's CRC-32, size, points (Morton keys inside its cell,\n"
+           "bounds and value range as the index says); prints \"ok: N points in M bricks\". With several\n"
            "stores each line starts with its file name, and every store is checked: exit status 2 when any\n"
            "is damaged. A brick store whose bricks take more than --memory decompressed is not read\n"
            "(exit 1: raise --memory).");
@@ -158,6 +166,10 @@ int cmd_verify(int argc, char** argv) {
     int rc = 0;
     const bool several = a.positional().size() > 1;
     for (const std::string& path : a.positional()) {
+        if (is_point_store(path) || lower_extension(path) == ".mlc") {
+            rc = std::max(rc, verify_point_store_cli(path, several, progress_wanted(a)));
+            continue;
+        }
         if (is_sample_store(path)) {
             try {
                 const auto store = SampleStore::open(path);

@@ -12,6 +12,7 @@
 #include "formats/points_text.hpp"
 #include "formats/points_vtp.hpp"
 #include "formats/points_vts.hpp"
+#include "formats/point_store.hpp"
 #include "formats/text_header.hpp"
 #include "formats/volume_reader.hpp"
 
@@ -33,13 +34,14 @@ bool volume_claims(const std::string& path) {
     }
 }
 
-enum class Fmt { text, ply, vtp, vts, raw, npy, plot3d, p3d, volume, mlh };
+enum class Fmt { text, ply, vtp, vts, raw, npy, plot3d, p3d, volume, mlh, mlc };
 
 Fmt choose(const std::string& path) {
     const std::string e = ext_of(path);
     if (e == ".csv" || e == ".tsv" || e == ".txt" || e == ".pts" || e == ".asc" || e == ".xyzv") return Fmt::text;
     if (e == ".ply") return Fmt::ply;
     if (e == ".mlh" || is_cluster_tree_file(path)) return Fmt::mlh;
+    if (e == ".mlc" || is_point_store(path)) return Fmt::mlc;
     if (e == ".vtp") return Fmt::vtp;
     if (e == ".vts") return Fmt::vts;
     if (e == ".npy") return Fmt::npy;
@@ -76,6 +78,7 @@ const char* fmt_name(Fmt f) {
         case Fmt::p3d: return "plot3d-meta";
         case Fmt::volume: return "volume";
         case Fmt::mlh: return "cluster-tree-lod";
+        case Fmt::mlc: return "point-store";
     }
     return "?";
 }
@@ -129,6 +132,7 @@ PointSet read_one(const std::string& path, const PointSetOptions& o, Fmt f, std:
         case Fmt::p3d: ps = read_plot3d_meta(path, o, notes); break;
         case Fmt::volume: ps = point_set_from_volume(path, o); break;
         case Fmt::mlh: ps = point_set_from_cluster_tree(path, o, notes); break;
+        case Fmt::mlc: ps = point_set_from_point_store(path, notes); break;
     }
     if (ps.blocks.size() == 1 && ps.blocks[0].name == "points")
         ps.blocks[0].name = std::filesystem::path(path).filename().string();
@@ -188,6 +192,8 @@ PointSet read_point_set(const std::vector<std::string>& paths, const PointSetOpt
     return out;
 }
 
+std::string point_set_format(const std::string& path) { return fmt_name(choose(path)); }
+
 PointSetInfo probe_point_set(const std::string& path, const PointSetOptions& o) {
     PointSetInfo info;
     const Fmt f = choose(path);
@@ -238,7 +244,7 @@ bool looks_like_point_set(const std::string& path) {
     if (e == ".csv" || e == ".tsv" || e == ".txt" || e == ".pts" || e == ".asc" || e == ".xyzv" || e == ".vtp" ||
         e == ".vts" || e == ".npy" || e == ".p3d" || e == ".xyz" || e == ".x" || e == ".g")
         return true;
-    if (e == ".mlh") return true;
+    if (e == ".mlh" || e == ".mlc") return true;
     if (e == ".raw") return !volume_claims(path);
     if (e == ".bin") return looks_like_plot3d_xyz(path);
     return false;

@@ -5,7 +5,8 @@
 //
 // Dispatch: .csv .tsv .txt .dat(text) .pts .asc -> text; .ply -> PLY; .vtp -> VTK PolyData;
 // .vts -> VTK StructuredGrid; .npy -> NumPy; .p3d (JSON meta) .xyz .x .bin(PLOT3D) .q? -> PLOT3D;
-// .mlh: a level of detail of a cluster tree (point_set_from_cluster_tree);
+// .mlh: a level of detail of a cluster tree (point_set_from_cluster_tree); .mlc (or the point store
+// magic): a point store, every brick (formats/point_store.hpp);
 // .raw: a regular volume when the volume readers can describe it, else float32 records; other
 // files the volume readers claim -> one point per voxel (block dims = volume dims).
 // Units: positions and values as the file stores them, kept in double precision.
@@ -39,11 +40,15 @@ PointSet read_point_set(const std::vector<std::string>& paths, const PointSetOpt
 /// What `meshless info` prints: the format, notes (files paired, bytes ignored) and the whole set's
 /// statistics. Reads the data (the statistics need it).
 struct PointSetInfo {
-    std::string format;                 ///< "text", "ply", "vtp", "vts", "raw-float32", "npy", "plot3d", "volume"
+    std::string format;                 ///< "text", "ply", "vtp", "vts", "raw-float32", "npy", "plot3d", "volume", "point-store"
     std::vector<std::string> notes;     ///< e.g. "q file: combq.bin", "484 trailing bytes ignored"
     PointSet set;
 };
 PointSetInfo probe_point_set(const std::string& path, const PointSetOptions& options = {});
+
+/// The format the dispatch above picks for `path` (a name of PointSetInfo::format), without reading
+/// the data; FormatError/IoError as the readers for files of no known format.
+std::string point_set_format(const std::string& path);
 
 /// True for files the point-set readers handle and the volume readers do not (by extension; a .raw
 /// only when the volume readers cannot describe it; a .bin only when it has a PLOT3D header).

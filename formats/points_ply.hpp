@@ -10,6 +10,9 @@
 // Throws FormatError (the codec's defects, list properties on vertices, missing x y z), IoError.
 // Thread-safety: reentrant.
 #pragma once
+#include <cstdint>
+#include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -19,5 +22,15 @@ namespace meshless {
 
 PointSet read_points_ply(const std::string& path, const PointSetOptions& options,
                          std::vector<std::string>* notes = nullptr);
+
+/// The same vertices streamed (memory: the reader's buffer and one chunk of 65536 records, whatever
+/// the file's size): begin(value name, has values) once, then chunk(x, y, z, value, x, ...) for
+/// the finite points in file order; NaN/Inf records are counted in dropped_nonfinite (refused
+/// with options.strict). No minimum count. Throws as read_points_ply.
+using PlyPointsBegin = std::function<void(const std::string& value_name, bool has_values)>;
+using PlyPointsChunk = std::function<void(std::span<const double> xyzv)>;
+void stream_points_ply(const std::string& path, const PointSetOptions& options, const PlyPointsBegin& begin,
+                       const PlyPointsChunk& chunk, std::uint64_t& dropped_nonfinite,
+                       std::vector<std::string>* notes = nullptr);
 
 }  // namespace meshless
