@@ -1,0 +1,212 @@
+// The point store (.mlc) from the command line: convert POINTS... -o pts.mlc, verify, info, every
+// point-set command reading it; exit codes (a --memory too small for one brick: 1; a damaged store:
+// one line naming the file and the brick, 2, nothing written); the same bytes for any --threads and
+// --memory; no temporaries after SIGINT/SIGTERM/SIGHUP, and after SIGKILL none once the next run swept.
+#include <catch2/catch.hpp>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli_harness.hpp"
+
+using namespace meshless;
+using namespace meshless::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string bucky() { return (shared_data() / "bucky" / "Bucky_32x32x32_uint8.raw").string(); }
+std::string lidc2() { return (shared_data() / "vtkjs_LIDC2" / "LIDC2.vti").string(); }
+
+std::vector<std::string> temporaries(const fs::path& dir) {
+    std::vector<std::string> r;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().filename().string().find(".tmp-") != std::string::npos) r.push_back(e.path().filename().string());
+    return r;
+}
+
+/// The records of a binary PLY's body, sorted (the multiset of its points).
+std::vector<std::string> sorted_records(const std::string& bytes, std::size_t record_bytes) {
+    const std::size_t body = bytes.find("end_header\n") + 11;
+    std::vector<std::string> r;
+    for (std::size_t at = body; at + record_bytes <= bytes.size(); at += record_bytes) r.push_back(bytes.substr(at, record_bytes));
+    std::sort(r.begin(), r.end());
+    return r;
+}
+
+/// meshless ARGS in dir, stdout/stderr to files, default signal dispositions.
+pid_t spawn(const std::vector<std::string>& args, const TempDir& dir) {
+    std::vector<std::string> all = {meshless_exe()};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (o < 0 || e < 0) ::_exit(121);
+        ::dup2(o, 1);
+        ::dup2(e, 2);
+        for (int s : {SIGINT, SIGTERM, SIGHUP}) ::signal(s, SIG_DFL);
+        sigset_t none;
+        sigemptyset(&none);
+        ::sigprocmask(SIG_SETMASK, &none, nullptr);
+        ::execv(argv[0], argv.data());
+        ::_exit(122);
+    }
+    return pid;
+}
+
+int wait_code(pid_t pid) {
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : WEXITSTATUS(status);
+}
+
+/// Waits (up to 2 minutes) until a temporary of `out` exists; false when the process exited first.
+bool wait_for_temporary(pid_t pid, const fs::path& out) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+    const std::string prefix = out.filename().string() + ".tmp-" + std::to_string(pid);
+    while (std::chrono::steady_clock::now() < deadline) {
+        for (const auto& e : fs::directory_iterator(out.parent_path()))
+            if (e.path().filename().string().rfind(prefix, 0) == 0) return true;
+        int status = 0;
+        if (::waitpid(pid, &status, WNOHANG) == pid) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return false;
+}
+
+}  // namespace
+
+TEST_CASE("convert POINTS -o pts.mlc: verify, info, the same bytes for any --threads and --memory", "[cli][point_store]") {
+    if (!have_shared_data()) return;
+    TempDir dir("mlc-cli");
+    const std::string ply = (dir / "p.ply").string(), csv = (dir / "p.csv").string();
+    REQUIRE(sh("MESHLESS sample " + bucky() + " --count 60000 -o " + ply, dir).code == 0);
+    REQUIRE(sh("MESHLESS sample " + bucky() + " --count 1000 --seed 2 -o " + csv, dir).code == 0);
+    const std::string ref = (dir / "ref.mlc").string();
+    auto r = sh("MESHLESS convert " + ply + " " + csv + " -o " + ref + " --brick-points 256 --stats -j 1", dir);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.err.find("61000 points") != std::string::npos);
+    const std::string bytes = slurp(ref);
+    for (const char* opts : {"-j 2", "--memory 10M -j 1", "--memory 10M -j 2", "--memory 12M -j 2"}) {
+        INFO(opts);
+        const std::string out = (dir / "o.mlc").string();
+        r = sh(std::string("MESHLESS convert ") + ply + " " + csv + " -o " + out + " --brick-points 256 --stats " + opts, dir);
+        INFO(r.err);
+        REQUIRE(r.code == 0);
+        if (std::string(opts).find("--memory") != std::string::npos) CHECK(r.err.find(" 0 sorted runs") == std::string::npos);
+        CHECK(slurp(out) == bytes);
+    }
+    r = sh("MESHLESS verify " + ref, dir);
+    CHECK(r.code == 0);
+    CHECK(r.out.rfind("ok: 61000 points in ", 0) == 0);
+    r = sh("MESHLESS info " + ref, dir);
+    CHECK(r.code == 0);
+    CHECK(r.out.find("point-store point set") != std::string::npos);
+    CHECK(r.out.find("points: 61000") != std::string::npos);
+    CHECK(r.out.find("converted from: p.ply p.csv") != std::string::npos);
+    CHECK(temporaries(dir.path).empty());
+}
+
+TEST_CASE("convert -o pts.mlc: a --memory too small for one brick is exit 1, nothing written", "[cli][point_store]") {
+    if (!have_shared_data()) return;
+    TempDir dir("mlc-cli-mem");
+    const auto r = sh("MESHLESS convert " + (shared_data() / "scattered" / "sparsePoints.txt").string() + " -o " +
+                          (dir / "p.mlc").string() + " --memory 1M",
+                      dir);
+    CHECK(r.code == 1);
+    CHECK(r.err.find("--memory") != std::string::npos);
+    CHECK(r.err.find("too small") != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(dir / "p.mlc"));
+    CHECK(temporaries(dir.path).empty());
+}
+
+TEST_CASE("a damaged point store: one line naming the file and the brick, exit 2, nothing written", "[cli][point_store]") {
+    if (!have_shared_data()) return;
+    TempDir dir("mlc-cli-bad");
+    const std::string ply = (dir / "p.ply").string(), mlc = (dir / "p.mlc").string();
+    REQUIRE(sh("MESHLESS sample " + bucky() + " --count 5000 -o " + ply, dir).code == 0);
+    REQUIRE(sh("MESHLESS convert " + ply + " -o " + mlc + " --brick-points 128", dir).code == 0);
+    std::string b = slurp(mlc);
+    b[700] ^= 0x40;  // inside the first brick's frame
+    spit(mlc, b);
+    for (const std::string cmd : {"verify " + mlc, "isosurface " + mlc + " --iso 100 -o " + (dir / "iso.ply").string(),
+                                  "convert " + mlc + " -o " + (dir / "again.mlc").string(), "info " + mlc}) {
+        INFO(cmd);
+        const auto r = sh("MESHLESS " + cmd, dir);
+        CHECK(r.code == 2);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        CHECK(r.err.find(mlc + ": brick 0 (cell level") != std::string::npos);
+        CHECK(r.err.find("checksum mismatch") != std::string::npos);
+    }
+    CHECK_FALSE(fs::exists(dir / "iso.ply"));
+    CHECK_FALSE(fs::exists(dir / "again.mlc"));
+    CHECK(temporaries(dir.path).empty());
+    spit(mlc, b.substr(0, b.size() / 2));  // truncated
+    const auto r = sh("MESHLESS verify " + mlc, dir);
+    CHECK(r.code == 2);
+    CHECK(r.err.find(mlc) != std::string::npos);
+}
+
+TEST_CASE("isosurface of a .mlc: the samples of the same points as PLY, in another order", "[cli][point_store]") {
+    if (!have_shared_data()) return;
+    TempDir dir("mlc-cli-iso");
+    const std::string ply = (dir / "p.ply").string(), mlc = (dir / "p.mlc").string();
+    REQUIRE(sh("MESHLESS sample " + bucky() + " --count 4000 -o " + ply, dir).code == 0);
+    REQUIRE(sh("MESHLESS convert " + ply + " -o " + mlc + " --brick-points 64", dir).code == 0);
+    const std::string a = (dir / "a.ply").string(), b = (dir / "b.ply").string();
+    REQUIRE(sh("MESHLESS isosurface " + ply + " --iso 100 -j 1 -o " + a, dir).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + mlc + " --iso 100 -j 1 -o " + b, dir).code == 0);
+    // The fields sort their points by Morton code internally (ties by input order), so the field
+    // is the same; the samples are seeded point by point in input order, so their order differs.
+    const std::string pa = slurp(a), pb = slurp(b);
+    REQUIRE(pa.size() == pb.size());
+    // x y z nx ny nz radius value as float32 (formats/ply_points.hpp)
+    CHECK(sorted_records(pa, 32) == sorted_records(pb, 32));
+}
+
+TEST_CASE("convert -o pts.mlc killed mid-run: no temporaries (SIGKILL: swept by the next run)", "[cli][point_store][signals]") {
+    if (!have_shared_data()) return;
+    TempDir dir("mlc-cli-signals");
+    const std::string ply = (dir / "p.ply").string();
+    REQUIRE(sh("MESHLESS sample " + lidc2() + " --count 3000000 -o " + ply, dir).code == 0);
+    fs::create_directories(dir / "out");
+    const fs::path out = dir / "out" / "p.mlc";
+    const std::vector<std::string> args = {"convert", ply, "-o", out.string(), "--memory", "24M", "-j", "1"};
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        INFO(strsignal(sig));
+        const pid_t pid = spawn(args, dir);
+        REQUIRE(wait_for_temporary(pid, out));  // the spool of the sorted runs
+        ::kill(pid, sig);
+        CHECK(wait_code(pid) == 128 + sig);
+        INFO(slurp(dir / "stderr.txt"));
+        CHECK(temporaries(dir / "out").empty());
+        CHECK_FALSE(fs::exists(out));
+    }
+    const pid_t pid = spawn(args, dir);
+    REQUIRE(wait_for_temporary(pid, out));
+    ::kill(pid, SIGKILL);
+    CHECK(wait_code(pid) == 128 + SIGKILL);
+    CHECK_FALSE(temporaries(dir / "out").empty());  // nothing can clean up after SIGKILL ...
+    const auto r = sh("MESHLESS convert " + ply + " -o " + out.string() + " --memory 24M", dir);
+    CHECK(r.code == 0);
+    CHECK(temporaries(dir / "out").empty());  // ... but the next run removes what it left
+    CHECK(r.err.find("removed") != std::string::npos);
+    CHECK(sh("MESHLESS verify " + out.string(), dir).code == 0);
+}
