@@ -17,7 +17,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 data=${MESHLESS_DATA:-$root/../shared/data}
 all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
      fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_plot3d fuzz_vtp fuzz_vts fuzz_csv fuzz_npy fuzz_points_raw
-     fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file)
+     fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file fuzz_point_store)
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
@@ -110,6 +110,7 @@ if [ -x "$exe" ] && have fuel/fuel_64x64x64_uint8.raw && have bucky/Bucky_32x32x
     seed fuzz_sample_cells fuel
   "$exe" convert "$bucky" -o "$tmp/b.mlb" >/dev/null 2>&1 && seed fuzz_mlb bucky < "$tmp/b.mlb"
   "$exe" sample "$bucky" --count 200 -o "$tmp/s.ply" >/dev/null 2>&1 && seed fuzz_ply sample < "$tmp/s.ply"
+  "$exe" convert "$tmp/s.ply" -o "$tmp/s.mlc" --brick-points 16 >/dev/null 2>&1 && seed fuzz_point_store sample < "$tmp/s.mlc"
   "$exe" render "$bucky" --size 16x16 -o "$tmp/r.png" >/dev/null 2>&1 && seed fuzz_png bucky < "$tmp/r.png"
   for m in 0 3; do
     "$exe" hierarchy "$bucky" --max-splits $m -o "$tmp/t$m.mlh" >/dev/null 2>&1 && seed fuzz_cluster_tree_file "t$m" < "$tmp/t$m.mlh"
