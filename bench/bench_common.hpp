@@ -44,6 +44,8 @@ struct BenchOptions {
     /// hierarchy-rmse: Hardy's c of the mpu fields, relative to each point set's bounding-box diagonal,
     /// one table per value, "C1,C2,..." (empty: the field's default, FieldParams::hardy_c_rel)
     std::string hardy_c;
+    /// fields: FieldParams::hardy_c_spacing of every field built (negative: the field's default)
+    double hardy_c_spacing = -1;
 };
 
 /// Free space in the scratch folder above which "bench all" includes the ooc section (its 4.4 GB

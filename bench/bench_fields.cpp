@@ -145,9 +145,10 @@ std::string count_str(std::size_t n) {
 
 std::string sci(double v) { return std::isfinite(v) ? fmt("%.3g", v) : "-"; }
 
-FieldParams params_for(FieldKind k) {
+FieldParams params_for(FieldKind k, const BenchOptions& o) {
     FieldParams p;
     p.kind = k;
+    if (o.hardy_c_spacing >= 0) p.hardy_c_spacing = o.hardy_c_spacing;
     return p;
 }
 
@@ -400,7 +401,7 @@ void run_field_accuracy(const BenchOptions& o, const Scipy& scipy, Report& r) {
                 FieldBuildStats st;
                 std::unique_ptr<Field> f;
                 try {
-                    f = make_field(ps, params_for(k), &st);
+                    f = make_field(ps, params_for(k, o), &st);
                 } catch (const std::exception& e) {
                     notes.push_back(fmt("%s N=%s %s: build failed: %s", fn.name.c_str(), count_str(n).c_str(),
                                         std::string(field_kind_name(k)).c_str(), e.what()));
@@ -466,7 +467,7 @@ void run_field_reproduction(const BenchOptions& o, Report& r) {
             std::fprintf(stderr, "bench fields: linear %s N=%zu...\n", std::string(field_kind_name(k)).c_str(), n);
             std::unique_ptr<Field> f;
             try {
-                f = make_field(ps, params_for(k));
+                f = make_field(ps, params_for(k, o));
             } catch (const std::exception& e) {
                 t.add({count_str(n), std::string(field_kind_name(k)), "-", "-", "-", std::string("FAIL ") + e.what()});
                 continue;
@@ -574,14 +575,14 @@ std::vector<SpeedSet> multiblock_sets(const BenchOptions& o, Report& r) {
 }
 
 /// Best build time over reps on `threads` TBB threads (0 = default), with the stats of the last.
-double best_build(const PointSet& ps, FieldKind k, int threads, int reps, FieldBuildStats& st) {
+double best_build(const BenchOptions& o, const PointSet& ps, FieldKind k, int threads, int reps, FieldBuildStats& st) {
     std::optional<oneapi::tbb::global_control> limit;
     if (threads > 0)
         limit.emplace(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
     double best = std::numeric_limits<double>::infinity();
     for (int i = 0; i < reps; ++i) {
         Stopwatch sw;
-        auto f = make_field(ps, params_for(k), &st);
+        auto f = make_field(ps, params_for(k, o), &st);
         best = std::min(best, sw.ms() / 1e3);
     }
     return best;
@@ -681,9 +682,9 @@ void run_field_speed(const BenchOptions& o, Report& r) {
             double t1 = 0, t2 = 0;
             std::unique_ptr<Field> f;
             try {
-                t1 = best_build(s.ps, k, 1, reps, st1);
-                t2 = best_build(s.ps, k, 2, reps, st2);
-                f = make_field(s.ps, params_for(k));
+                t1 = best_build(o, s.ps, k, 1, reps, st1);
+                t2 = best_build(o, s.ps, k, 2, reps, st2);
+                f = make_field(s.ps, params_for(k, o));
             } catch (const std::exception& e) {
                 r.note(fmt("%s %s: build failed: %s", s.label.c_str(), std::string(field_kind_name(k)).c_str(), e.what()));
                 continue;
@@ -718,7 +719,7 @@ void run_field_speed(const BenchOptions& o, Report& r) {
 
 // ---- 4. one million points --------------------------------------------------------------------
 
-void run_field_million(Report& r) {
+void run_field_million(const BenchOptions& o, Report& r) {
     r.section("Fields: one million points (construction, memory, evaluation)");
     const std::size_t n = 1000000;
     const bool can_reset = reset_peak_rss();
@@ -743,7 +744,7 @@ void run_field_million(Report& r) {
         std::unique_ptr<Field> f;
         try {
             oneapi::tbb::global_control two(oneapi::tbb::global_control::max_allowed_parallelism, 2);
-            f = make_field(ps, params_for(k), &st);
+            f = make_field(ps, params_for(k, o), &st);
         } catch (const std::exception& e) {
             r.note(fmt("%s: build failed: %s", std::string(field_kind_name(k)).c_str(), e.what()));
             continue;
@@ -774,7 +775,7 @@ void run_fields(const BenchOptions& o, Report& r) {
     run_field_speed(o, r);
     if (o.quick) r.note("--quick: the 1M-point construction and memory table is skipped; N = 1K and 10K only; "
                         "no PLOT3D/VTS multiblock rows.");
-    else run_field_million(r);
+    else run_field_million(o, r);
 }
 
 }  // namespace meshless::bench

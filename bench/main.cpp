@@ -111,6 +111,8 @@ int bench_main(int argc, char** argv) {
         .option("parts", "", "LIST", "scattered: a (accuracy and peers), b (Table 5.1), c (scaling) or a subset (default: all)")
         .option("hardy-c", "", "C1,C2,...", "hierarchy-rmse: Hardy's c of the mpu fields relative to the bounding-box "
                                             "diagonal, one table per value (default: the field's own, 0.025)")
+        .option("hardy-c-spacing", "", "K", "fields: cap every local fit's Hardy c at K x its point spacing (0: the global c; "
+                                            "default: the field's own)")
         .flag("no-peers", "scattered: skip the SciPy / VTK peers")
         .flag("all-peers", "scattered: peers on every set and size (default: all up to 20,000 points, fewer above)")
         .flag("reuse-peers", "scattered: reuse the peer results an earlier run kept in --work (said in the output)")
@@ -156,6 +158,10 @@ int bench_main(int argc, char** argv) {
     o.scattered_fields = a.get_or("fields", "");
     o.scattered_distributions = a.get_or("distributions", "");
     o.scattered_parts = a.get_or("parts", "");
+    if (const auto k = a.get("hardy-c-spacing")) {
+        o.hardy_c_spacing = std::stod(*k);
+        if (!(o.hardy_c_spacing >= 0)) throw UsageError("--hardy-c-spacing: expected a factor >= 0");
+    }
     try {
         check_scattered_lists(o);
     } catch (const std::invalid_argument& e) {

@@ -24,7 +24,7 @@ namespace meshless::cli {
 namespace {
 
 /// Options that shape a fit: meaningless with a fitted field file.
-constexpr const char* kFitOptions[] = {"binning", "support", "local-points", "max-points", "alpha", "hardy-c", "hardy-c-world", "normalise-axes"};
+constexpr const char* kFitOptions[] = {"binning", "support", "local-points", "max-points", "alpha", "hardy-c", "hardy-c-world", "hardy-c-spacing", "hardy-c-rough", "normalise-axes"};
 
 bool ends_with_mlf(const std::string& s) {
     if (s.size() < 4) return false;
@@ -68,6 +68,12 @@ void print_field_build_stats(const Args& a, const FieldParams& params, const Poi
                  st.hardy_c_world, static_cast<unsigned long long>(st.locals), static_cast<unsigned long long>(st.interpolated),
                  static_cast<unsigned long long>(st.rank_deficient), static_cast<unsigned long long>(st.regularised),
                  static_cast<unsigned long long>(st.linear_fallback), st.memory_bytes / 1048576.0, st.build_seconds);
+    if (st.c_lowered > 0 || st.refitted > 0)
+        std::fprintf(stderr,
+                     "%s: %llu local fits took a c below the global one (at most %g x their point spacing; mean c %g), "
+                     "%llu of them ill-conditioned and fitted again with %g x their spacing\n",
+                     a.command().c_str(), static_cast<unsigned long long>(st.c_lowered), params.hardy_c_spacing, st.mean_local_c,
+                     static_cast<unsigned long long>(st.refitted), params.hardy_c_rough);
     if (st.spanned > 0)
         std::fprintf(stderr, "%s: %llu local fits had their points in one plane or line and took the nearest points off it\n",
                      a.command().c_str(), static_cast<unsigned long long>(st.spanned));
@@ -89,6 +95,14 @@ void add_field_options(Args& a, bool with_coverage, const std::string& default_k
         .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal (0.003 for a "
                                      ".mlh level of detail)", "0.025")
         .option("hardy-c-world", "", "C", "Hardy's constant in world units (overrides --hardy-c)")
+        .option("hardy-c-spacing", "", "K",
+                "rbf-grid, mpu: a local fit's c is at most K x its point spacing (mean nearest-neighbour distance), "
+                "which keeps dense data well conditioned; 0 = the global c everywhere (the paper)",
+                "8")
+        .option("hardy-c-rough", "", "K",
+                "rbf-grid, mpu: a local fit still ill-conditioned (sharp edges) is fitted again with c = K x its point "
+                "spacing; 0 = approximate it with a ridge instead",
+                "1")
         .flag("normalise-axes", "scale each axis so the bounding box is a cube (axes in unrelated units)");
     if (with_coverage)
         a.option("max-gap", "", "F", "positions farther than F x the local point spacing (8th-neighbour distance) "
@@ -164,6 +178,11 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
         p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
         if (!(p.hardy_c_world > 0)) throw UsageError("--hardy-c-world: expected a number > 0, got " + *c);
     }
+    for (const auto& [opt, to] : {std::pair<const char*, double*>{"hardy-c-spacing", &p.hardy_c_spacing}, {"hardy-c-rough", &p.hardy_c_rough}})
+        if (auto k = a.get(opt)) {
+            *to = parse_finite(*k, "--" + std::string(opt));
+            if (!(*to >= 0) || *to > 1e6) throw UsageError("--" + std::string(opt) + ": expected a factor in 0..1e6, got " + *k);
+        }
     p.normalise_axes = a.has("normalise-axes");
     const long long k = a.get_int_or("local-points", FieldParams{}.rbf_grid_local_points);
     if (k < 0 || k > 100000) throw UsageError("--local-points: expected 0..100000");

@@ -1,6 +1,7 @@
 #include "kernels/point_set.hpp"
 #include "kernels/mpu_field.hpp"
 #include "kernels/flat_hull.hpp"
+#include "kernels/local_multiquadric_fit.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -38,6 +39,7 @@ struct OctreeBuilder {
     const std::vector<Vec3>& pos;
     std::uint32_t max_pts, min_pts, max_depth;
     double alpha;
+    double blend_alpha;  // a leaf's blend sphere: blend_alpha x its diagonal (<= its fit sphere)
     bool data_flat;  // every point in one plane or line: no leaf can find a point off its plane
     struct NodeRec {
         Vec3 c;
@@ -129,7 +131,7 @@ struct OctreeBuilder {
                 std::vector<OctreeBuilder> sub;
                 sub.reserve(8);
                 for (int q = 0; q < 8; ++q) {
-                    sub.push_back(OctreeBuilder{pos, max_pts, min_pts, max_depth, alpha, data_flat, {}, {}, {}, path, {}});
+                    sub.push_back(OctreeBuilder{pos, max_pts, min_pts, max_depth, alpha, blend_alpha, data_flat, {}, {}, {}, path, {}});
                     sub.back().nodes.push_back(nodes[static_cast<std::size_t>(first + q)]);
                 }
                 tbb::parallel_for(0, 8, [&](int q) { sub[q].build(0, std::move(in[static_cast<std::size_t>(q)]), depth + 1); });
@@ -155,6 +157,32 @@ struct OctreeBuilder {
             std::sort(keep.begin(), keep.end());
             inside.swap(keep);
             ++capped;
+        } else if (inside.size() > min_pts && blend_alpha < alpha) {
+            // The fit takes the points of the blend sphere, or the nearest min_pts when it holds
+            // fewer: every point where the local weighs is still interpolated, and a fit costs
+            // about min_pts^3 however dense the data (the whole fit sphere held up to N points:
+            // 8x the work of a min_pts fit, and the points beyond the blend sphere never weigh).
+            const double rb = std::min(r, blend_alpha * 2.0 * std::sqrt(3.0) * nodes[node].half);
+            near.clear();
+            std::size_t within = 0;
+            for (std::uint32_t i : inside) {
+                const Vec3 e = pos[i] - c;
+                near.emplace_back(dot(e, e), i);
+                within += near.back().first <= rb * rb;
+            }
+            double rfit = rb;
+            if (within < min_pts) {
+                std::nth_element(near.begin(), near.begin() + (min_pts - 1), near.end());
+                rfit = std::max(rb, std::sqrt(near[min_pts - 1].first) * (1 + 1e-9) + 1e-300);
+            }
+            const double rf2 = rfit * rfit;
+            std::vector<std::uint32_t> keep;
+            keep.reserve(std::max<std::size_t>(within, min_pts));
+            for (const auto& [d2, i] : near)
+                if (d2 <= rf2) keep.push_back(i);
+            std::sort(keep.begin(), keep.end());
+            inside.swap(keep);
+            nodes[node].r = rfit;
         } else if (inside.size() < min_pts && !path.empty()) {
             // Grow the sphere to hold min_pts points, searching the nearest ancestor whose sphere
             // is guaranteed to contain the grown one (the root contains every point).
@@ -242,7 +270,8 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
     const Vec3 w = hi - lo;
     const double wmax = std::max({w.x, w.y, w.z});
     const bool data_flat = all_flat(pts);
-    OctreeBuilder b{pts, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha, data_flat, {}, {}, {}, {}, {}};
+    OctreeBuilder b{pts, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha,
+                    params.mpu_blend_alpha, data_flat, {}, {}, {}, {}, {}};
     OctreeBuilder::NodeRec root;
     root.c = (lo + hi) * 0.5;
     root.half = wmax > 0 ? 0.5 * wmax * (1 + 1e-9) : 1.0;
@@ -290,11 +319,10 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         for (std::size_t l = r.begin(); l != r.end(); ++l) {
             MultiquadricLocal& h = locals_[l];
             const std::uint32_t cnt = b.leaf_range[l].second;
-            const MultiquadricFitResult res =
-                solver.fit(pts, val, std::span<const std::uint32_t>(idx.data() + h.first, cnt), c, h,
-                           std::span<double>(lambda_.data() + h.first, cnt));
-            outcome[l] = res.outcome;
-            rank_def[l] = res.poly_rank < 4;
+            const std::span<const std::uint32_t> mine(idx.data() + h.first, cnt);
+            const LocalFitResult res = fit_local_multiquadric(solver, pts, val, mine, c, params, h, std::span<double>(lambda_.data() + h.first, cnt));
+            outcome[l] = res.fit.outcome;
+            rank_def[l] = static_cast<std::uint8_t>((res.fit.poly_rank < 4 ? 1 : 0) | (res.refitted ? 2 : 0));  // (shared with the ranks)
         }
         if (progress) progress(static_cast<double>(r.size()), static_cast<double>(fit1 - fit0));
     });
@@ -324,11 +352,15 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         st.regularised += outcome[l] == MultiquadricOutcome::regularised;
         st.linear_fallback += outcome[l] == MultiquadricOutcome::linear_fallback;
         st.polynomial_only += outcome[l] == MultiquadricOutcome::polynomial_only;
-        st.rank_deficient += rank_def[l];
+        st.rank_deficient += (rank_def[l] & 1) != 0;
+        st.refitted += (rank_def[l] & 2) != 0;
+        st.c_lowered += locals_[l].c2 < c * c;
+        st.mean_local_c += std::sqrt(locals_[l].c2);
         sum += b.leaf_range[l].second;
         st.max_local_points = std::max<std::uint64_t>(st.max_local_points, b.leaf_range[l].second);
     }
     st.mean_local_points = locals_.empty() ? 0.0 : static_cast<double>(sum) / static_cast<double>(locals_.size());
+    st.mean_local_c = locals_.empty() ? 0.0 : st.mean_local_c / static_cast<double>(locals_.size());
     st.memory_bytes = nodes_.size() * sizeof(Node) + locals_.size() * (sizeof(MultiquadricLocal) + sizeof(LeafSphere)) +
                       lambda_.size() * 4 * sizeof(double) + (grid_first_.size() + grid_leaf_.size()) * sizeof(std::uint32_t);
 }

@@ -2,8 +2,12 @@
 // implicits): an octree over the points; every node has a sphere of influence centred at the node
 // (cube) centre with radius alpha * d (d = the node's diagonal, alpha = 0.75); a node whose sphere
 // holds more than N points (N = 140) is subdivided, so the leaves ("interpolation nodes") hold at
-// most N points and each gets a local multiquadric (kernels/multiquadric.hpp) over the points in its
-// sphere (the fit sphere). The locals are blended with Franke-Nielson weights
+// most N points and each gets a local multiquadric (kernels/multiquadric.hpp) over the points of its
+// blend sphere (below), or its nearest mpu_min_points (70) when the blend sphere holds fewer (the fit
+// sphere): a fit then costs about the same at any density (fitting the whole MPU sphere took up to
+// N points, 8x the work, and its points beyond the blend sphere never weigh). Each local's Hardy c
+// is the global one capped at hardy_c_spacing x the mean nearest-neighbour distance of its points
+// (kernels/field_params.hpp), so dense data stays well conditioned. The locals are blended with Franke-Nielson weights
 // (kernels/partition_of_unity.hpp) over blend spheres of radius blend_alpha * d (0.6; at most the
 // fit sphere): each covers its cube and lies inside the fit sphere, so a local weighs only where
 // it was fitted, and a query blends ~5 leaves, each near its centre (MPU's own blend sphere is its

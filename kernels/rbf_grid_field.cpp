@@ -13,6 +13,7 @@
 #include "kernels/errors.hpp"
 #include "kernels/field_input.hpp"
 #include "kernels/flat_hull.hpp"
+#include "kernels/local_multiquadric_fit.hpp"
 #include "kernels/batch_order.hpp"
 #include "kernels/partition_of_unity.hpp"
 
@@ -297,7 +298,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
 
     // ---- Fit every local (parallel, independent: the result does not depend on the thread count).
     std::vector<MultiquadricOutcome> outcome(locals_.size());
-    std::vector<std::uint8_t> rank_def(locals_.size(), 0), capped(locals_.size(), 0);
+    std::vector<std::uint8_t> rank_def(locals_.size(), 0), capped(locals_.size(), 0), refit(locals_.size(), 0);
     tbb::enumerable_thread_specific<MultiquadricSolver> solvers;
     tbb::enumerable_thread_specific<std::vector<std::uint32_t>> idx_scratch;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, locals_.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -325,11 +326,11 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
                 // capped: the size cap, not K, dropped points inside the weight radius
                 capped[l] = used == cap && near[used].first <= rw2;
             }
-            const MultiquadricFitResult res =
-                solver.fit(pts, val, std::span<const std::uint32_t>(out, used), c, h,
-                           std::span<double>(lambda_.data() + h.first, used));
-            outcome[l] = res.outcome;
-            rank_def[l] = res.poly_rank < 4;
+            const std::span<const std::uint32_t> mine(out, used);
+            const LocalFitResult res = fit_local_multiquadric(solver, pts, val, mine, c, params, h, std::span<double>(lambda_.data() + h.first, used));
+            outcome[l] = res.fit.outcome;
+            rank_def[l] = res.fit.poly_rank < 4;
+            refit[l] = res.refitted;
             if (explicit_pts[l]) {
                 const std::uint32_t at = runs_[run_first_[l]].start;
                 for (std::uint32_t k = 0; k < used; ++k) {
@@ -353,6 +354,9 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
         st.linear_fallback += outcome[l] == MultiquadricOutcome::linear_fallback;
         st.polynomial_only += outcome[l] == MultiquadricOutcome::polynomial_only;
         st.rank_deficient += rank_def[l];
+        st.refitted += refit[l];
+        st.c_lowered += locals_[l].c2 < c * c;
+        st.mean_local_c += std::sqrt(locals_[l].c2);
         st.capped += capped[l];
         st.grown += !grown[local_cell[l]].empty();
         st.spanned += spanned[local_cell[l]];
@@ -361,6 +365,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
         st.max_local_points = std::max<std::uint64_t>(st.max_local_points, used);
     }
     st.mean_local_points = locals_.empty() ? 0.0 : static_cast<double>(sum_pts) / static_cast<double>(locals_.size());
+    st.mean_local_c = locals_.empty() ? 0.0 : st.mean_local_c / static_cast<double>(locals_.size());
     st.memory_bytes = px_.size() * 3 * sizeof(double) + cell_local_.size() * sizeof(std::int32_t) +
                       locals_.size() * sizeof(MultiquadricLocal) + run_first_.size() * sizeof(std::uint32_t) +
                       runs_.size() * sizeof(MqRun) + total * sizeof(double);

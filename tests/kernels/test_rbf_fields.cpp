@@ -506,20 +506,28 @@ TEST_CASE("duplicates are merged, ill-conditioned and degenerate inputs stay fin
             CHECK(f->value(pos[5]) == Approx(franke3(pos[5])).margin(1e-7));
     }
     // Hardy's c far too large: nearly flat multiquadrics, ill-conditioned; still finite, still linear-exact.
+    // With the paper's global c in every local (no cap, no refit) the ridge and linear fallbacks are
+    // exercised; with the defaults the locals lower c to their spacing and need neither.
     const Fn lin = [](const Vec3& p) { return p.x - 2 * p.y + 3 * p.z; };
-    for (Variant var : all_variants()) {
-        INFO(var.label);
-        var.params.hardy_c_rel = 50;
-        FieldBuildStats st;
-        const auto f = make_field(make_points(pos, franke3), var.params, &st);
-        CHECK(st.regularised + st.linear_fallback > 0);
-        const Errors e = errors_at(*f, random_points(500, {0.05, 0.05, 0.05}, {0.95, 0.95, 0.95}, 83), franke3);
-        CHECK(e.nonfinite == 0);
-        CHECK(e.max < 1.0);
-        const auto fl = make_field(make_points(pos, lin), var.params);
-        const Errors el = errors_at(*fl, random_points(500, {0.05, 0.05, 0.05}, {0.95, 0.95, 0.95}, 84), lin);
-        CHECK(el.max < 1e-6);
-    }
+    for (Variant var : all_variants())
+        for (bool paper : {true, false}) {
+            INFO(var.label << (paper ? " global c" : " local c"));
+            var.params.hardy_c_rel = 50;
+            var.params.hardy_c_spacing = paper ? 0.0 : FieldParams{}.hardy_c_spacing;
+            var.params.hardy_c_rough = paper ? 0.0 : FieldParams{}.hardy_c_rough;
+            FieldBuildStats st;
+            const auto f = make_field(make_points(pos, franke3), var.params, &st);
+            if (paper || var.params.kind == FieldKind::global_rbf)
+                CHECK(st.regularised + st.linear_fallback > 0);
+            else
+                CHECK((st.c_lowered == st.locals && st.regularised + st.linear_fallback == 0));
+            const Errors e = errors_at(*f, random_points(500, {0.05, 0.05, 0.05}, {0.95, 0.95, 0.95}, 83), franke3);
+            CHECK(e.nonfinite == 0);
+            CHECK(e.max < 1.0);
+            const auto fl = make_field(make_points(pos, lin), var.params);
+            const Errors el = errors_at(*fl, random_points(500, {0.05, 0.05, 0.05}, {0.95, 0.95, 0.95}, 84), lin);
+            CHECK(el.max < 1e-6);
+        }
 }
 
 TEST_CASE("coplanar and collinear point sets give finite fields that reproduce linear data in their hull", "[rbf]") {
