@@ -71,7 +71,7 @@ void print_field_build_stats(const Args& a, const FieldParams& params, const Poi
     if (st.c_lowered > 0 || st.refitted > 0)
         std::fprintf(stderr,
                      "%s: %llu local fits took a c below the global one (at most %g x their point spacing; mean c %g), "
-                     "%llu of them ill-conditioned and fitted again with %g x their spacing\n",
+                     "%llu of them kept the fit with %g x their spacing (smaller leave-one-out error)\n",
                      a.command().c_str(), static_cast<unsigned long long>(st.c_lowered), params.hardy_c_spacing, st.mean_local_c,
                      static_cast<unsigned long long>(st.refitted), params.hardy_c_rough);
     if (st.spanned > 0)
@@ -100,8 +100,8 @@ void add_field_options(Args& a, bool with_coverage, const std::string& default_k
                 "which keeps dense data well conditioned; 0 = the global c everywhere (the paper)",
                 "8")
         .option("hardy-c-rough", "", "K",
-                "rbf-grid, mpu: a local fit still ill-conditioned (sharp edges) is fitted again with c = K x its point "
-                "spacing; 0 = approximate it with a ridge instead",
+                "rbf-grid, mpu: each local is also fitted with c = K x its point spacing and keeps the fit that predicts "
+                "its own points better (leave-one-out; the narrow c wins at sharp edges); 0 = one fit",
                 "1")
         .flag("normalise-axes", "scale each axis so the bounding box is a cube (axes in unrelated units)");
     if (with_coverage)

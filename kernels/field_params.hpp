@@ -61,8 +61,10 @@ struct FieldParams {
     /// 1 M points 8x the RMS error with 1 x spacing). 0: every local uses the global c (the paper).
     /// MPU and RBF-grid locals (kernels/local_multiquadric_fit.hpp); the global RBF keeps the global c.
     double hardy_c_spacing = 8.0;
-    /// A local still ill-conditioned at that c (sharp edges) is fitted again with c = hardy_c_rough x
-    /// its point spacing, kept when it interpolates; 0: no second fit (a ridge approximates instead).
+    /// Each local is fitted a second time with c = hardy_c_rough x its point spacing and keeps the fit
+    /// with the smaller leave-one-out error (kernels/local_multiquadric_fit.hpp): the narrow c wins at
+    /// sharp edges (CT: RMS error -33 % at 1 M samples, -12 % at 3 M), the wide one on smooth data.
+    /// 0: one fit (ill-conditioned locals are approximated by a ridge).
     double hardy_c_rough = 1.0;
     // --- RBF grid (section 4.3)
     double binning_m = 5;         ///< binning constant m: ~points per RBF-grid cell, > 0
@@ -166,7 +168,7 @@ struct FieldBuildStats {
     double merge_tolerance = 0;        ///< world units
     double hardy_c_world = 0;          ///< global c, world units (the most a local uses)
     std::uint64_t c_lowered = 0;       ///< locals whose c was lowered to hardy_c_spacing x their point spacing
-    std::uint64_t refitted = 0;        ///< of the locals, ill-conditioned ones fitted again with hardy_c_rough x their spacing
+    std::uint64_t refitted = 0;        ///< of the locals, those that kept the fit with hardy_c_rough x their spacing
     double mean_local_c = 0;           ///< mean c over the locals, world units (frame units with normalise_axes)
     std::uint64_t locals = 0;          ///< local interpolants built (1 for global-rbf)
     std::uint64_t interpolated = 0;    ///< locals solved exactly (MQ + linear, interpolating)

@@ -6,12 +6,14 @@
 //      grows steeply with c / s, so a c tied only to the bounding box makes every local of dense
 //      data ill-conditioned; capped, c / s stays bounded at any density, while sparse data (where
 //      the global c is below the cap) keeps the paper's c.
-//   2. A local that is still ill-conditioned at that c (kernels/multiquadric.hpp: its exact solve
-//      fails the residual or coefficient-growth bounds, as at sharp edges of CT data, where the
-//      flat, wide basis needs huge cancelling coefficients) is fitted again with
-//      c = hardy_c_rough x s, and that fit is kept when it interpolates. A narrow basis is less
-//      accurate on smooth data but conditioned, and it interpolates instead of approximating
-//      through a ridge.
+//   2. The local is fitted again with c = hardy_c_rough x s (when that is smaller), and keeps the
+//      fit with the smaller RMS leave-one-out error (Rippa's formula, kernels/multiquadric.hpp:
+//      the error of predicting each point from the others, at the cost of about one more
+//      triangular solve per fit). A wide, flat basis is the more accurate on smooth data; at sharp
+//      edges (CT) it overshoots, and often is ill-conditioned, so it needs huge cancelling
+//      coefficients or a ridge; the narrow basis is conditioned and interpolates there. Measured on
+//      1 M CT samples: RMS error against the volume 10.75 -> 7.21, max 385 -> 147, fit 8.7 -> 13.0 s;
+//      Franke and Marschner-Lobb at 10^3..10^6 points unchanged.
 //
 // Units: positions and c in the caller's frame; values in data units. Writes the same outputs as
 // MultiquadricSolver::fit (out.first is left as given). Thread-safety: one solver per thread.
@@ -28,7 +30,7 @@ namespace meshless {
 struct LocalFitResult {
     MultiquadricFitResult fit;
     double c = 0;           ///< the c of the kept fit
-    bool refitted = false;  ///< the narrow c of step 2 was kept
+    bool refitted = false;  ///< the narrow c of step 2 was kept (smaller leave-one-out error)
 };
 
 LocalFitResult fit_local_multiquadric(MultiquadricSolver& solver, std::span<const Vec3> pos, std::span<const double> value,

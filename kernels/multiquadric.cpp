@@ -57,7 +57,7 @@ MultiquadricSolver::~MultiquadricSolver() = default;
 
 MultiquadricFitResult MultiquadricSolver::fit(std::span<const Vec3> pos, std::span<const double> value,
                                               std::span<const std::uint32_t> idx, double c,
-                                              MultiquadricLocal& out, std::span<double> lambda) {
+                                              MultiquadricLocal& out, std::span<double> lambda, bool leave_one_out) {
     meshless_mqfit::Io io;
     io.pos = reinterpret_cast<const double*>(pos.data());
     io.value = value.data();
@@ -65,6 +65,7 @@ MultiquadricFitResult MultiquadricSolver::fit(std::span<const Vec3> pos, std::sp
     io.n = static_cast<std::uint32_t>(idx.size());
     io.c = c;
     io.lambda = lambda.data();
+    io.want_loo = leave_one_out ? 1 : 0;
     impl_->kernel.fit(impl_->workspace, io);
     out.origin = {io.origin[0], io.origin[1], io.origin[2]};
     out.a0 = io.a0;
@@ -75,6 +76,7 @@ MultiquadricFitResult MultiquadricSolver::fit(std::span<const Vec3> pos, std::sp
     res.outcome = static_cast<MultiquadricOutcome>(io.outcome);
     res.poly_rank = io.poly_rank;
     res.rcond = io.rcond;
+    res.loo = io.loo;
     return res;
 }
 

@@ -61,6 +61,9 @@ struct MultiquadricFitResult {
     MultiquadricOutcome outcome = MultiquadricOutcome::interpolated;
     int poly_rank = 4;           ///< rank of [1 q]: 4 general, 3 coplanar, 2 collinear, 1 one point
     double rcond = 0;            ///< reciprocal condition estimate of the ridge system (0 unless regularised)
+    /// RMS leave-one-out error (data units, Rippa's formula e_k = lambda_k / (M^-1)_kk over the
+    /// augmented system M), when asked and the fit has an RBF part (interpolated or regularised); else -1.
+    double loo = -1;
 };
 
 class MultiquadricSolver {
@@ -76,9 +79,10 @@ public:
     /// Fit H to the points pos[idx[k]] with values value[idx[k]], k < idx.size() (>= 1, distinct
     /// points, finite). c >= 0 in the frame's units. Writes lambda (lambda.size() == idx.size();
     /// only the first out.count entries are meaningful) and out (out.first is left as given).
+    /// With leave_one_out, also the fit's leave-one-out error (about 3x the cost of the fit alone).
     MultiquadricFitResult fit(std::span<const Vec3> pos, std::span<const double> value,
                               std::span<const std::uint32_t> idx, double c, MultiquadricLocal& out,
-                              std::span<double> lambda);
+                              std::span<double> lambda, bool leave_one_out = false);
 
 private:
     struct Impl;

@@ -36,6 +36,7 @@ struct Workspace {
     Eigen::VectorXd a_buf, m_buf, s_buf;
     Eigen::MatrixXd P;
     Eigen::VectorXd g, rhs, mu, lam, t, r, v, p;
+    Eigen::MatrixXd Qd, Zt;  // leave-one-out: Q dense, then L^-1 Z^T
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
     static double* square(Eigen::VectorXd& b, Eigen::Index n) {
         if (b.size() < n * n) b.resize(n * n);
@@ -62,6 +63,7 @@ void mqfit_fit(void* ws, meshless_mqfit::Io& io) {
     io.outcome = kInterpolated;
     io.poly_rank = 4;
     io.rcond = 0;
+    io.loo = -1;
     auto set_a = [&](const Vec3& a) { io.a[0] = a.x; io.a[1] = a.y; io.a[2] = a.z; };
 
     // Centre and scale.
@@ -184,6 +186,21 @@ void mqfit_fit(void* ws, meshless_mqfit::Io& io) {
         io.count = static_cast<std::uint32_t>(n);
         for (Eigen::Index k = 0; k < n; ++k) io.lambda[k] = w.lam(k) * invL;
         io.outcome = oc;
+        if (io.want_loo) {
+            // Rippa's leave-one-out error of the whole augmented system [A P; P^T 0]: e_k =
+            // lambda_k / (its inverse)_kk, whose top-left block is Z (Z^T A Z)^-1 Z^T = -Z S^-1 Z^T,
+            // so (inverse)_kk = -|L^-1 z_k|^2 with S = L L^T (z_k: row k of Z).
+            w.Qd = Q;
+            w.Zt = w.Qd.rightCols(m).transpose();
+            llt.matrixL().solveInPlace(w.Zt);
+            double sum = 0;
+            for (Eigen::Index k = 0; k < n; ++k) {
+                const double d = w.Zt.col(k).squaredNorm();
+                const double e = d > 0 ? w.lam(k) / d : 0.0;
+                sum += e * e;
+            }
+            io.loo = std::sqrt(sum / static_cast<double>(n));
+        }
         return true;
     };
 

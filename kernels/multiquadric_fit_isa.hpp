@@ -33,6 +33,8 @@ struct Io {
     int outcome = 0;                      ///< meshless::MultiquadricOutcome
     int poly_rank = 4;
     double rcond = 0;
+    int want_loo = 0;                     ///< in: 1 = compute loo
+    double loo = -1;                      ///< out: RMS leave-one-out error of an RBF fit (data units), -1 none
 };
 
 /// One build of the fit: a workspace (scratch that only grows) and the fit through it.
