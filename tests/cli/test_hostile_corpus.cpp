@@ -661,6 +661,11 @@ TEST_CASE("unbounded parameters: refused before any work with exit 1 and one lin
         {"MESHLESS hierarchy " + p197 + " --neighbours 100000 -o " + out + ".mlh", "--neighbours"},
     };
     for (const auto& c : cases) {
+#ifdef MESHLESS_SANITIZED
+        // an address-space limit and AddressSanitizer's shadow do not mix: the cases refused for the
+        // memory ulimit -v leaves run in the Release tier only
+        if (c.cmd.rfind("ulimit -v", 0) == 0) continue;
+#endif
         INFO(c.cmd);
         const auto t0 = std::chrono::steady_clock::now();
         const RunResult r = sh(c.cmd, d);
