@@ -49,7 +49,7 @@ int cmd_demo(int argc, char** argv) {
     const std::string ply = (dir / "demo.ply").string(), png = (dir / "demo.png").string();
     IsoSplatResult r;
     const std::size_t points = run_to_outputs(GeometryOutput{ply, GeometryFormat::ply, {}, std::nullopt}, png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
-        return run_isosurface_graph(in, iso, Projection::approx, SamplingParams{}, draw, sink, nthreads);
+        return run_isosplat_input(in, iso, Projection::approx, SamplingParams{}, sink, nthreads, PipelineShape::fused, {nullptr, draw});
     }, r);
     std::printf("demo: %s field on a %lld^3 grid, iso %g: %zu points from %lld active cells in %.3f s\n"
                 "wrote %s and %s\n",

@@ -197,7 +197,7 @@ int cmd_isosurface(int argc, char** argv) {
     ProgressMeter meter = ProgressMeter::of(a, "cell rows", isosurface_work(in, iso));
     const ProgressStage progress([&](double n) { meter.add(n); }, work_units);
     const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
-        return run_isosurface_graph(in, iso, mode, sp, draw, sink, nthreads, &progress);
+        return run_isosplat_input(in, iso, mode, sp, sink, nthreads, PipelineShape::fused, {&progress, draw});
     }, r);
     meter.done();
     if (a.has("stats")) print_stats(in.path, iso, mode, r, points, nthreads, 1);

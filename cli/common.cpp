@@ -356,11 +356,12 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
 }
 
 IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
-                                  Sink& sink, int threads, PipelineShape shape) {
+                                  Sink& sink, int threads, PipelineShape shape, const IsoSplatStages& extra) {
     if (in.store)
-        return run_isosplat_bricks(*in.store, *in.cache, in.index->active(iso), iso, mode, sp, sink, {threads}, shape);
-    if (in.slices) return run_isosplat_slabs(*in.slices, iso, mode, sp, sink, {threads}, shape);
-    return run_isosplat(in.volume->view(), iso, mode, sp, sink, {threads}, shape);
+        return run_isosplat_bricks(*in.store, *in.cache, in.index->active(iso), iso, mode, sp, sink, {threads}, shape,
+                                   extra);
+    if (in.slices) return run_isosplat_slabs(*in.slices, iso, mode, sp, sink, {threads}, shape, extra);
+    return run_isosplat(in.volume->view(), iso, mode, sp, sink, {threads}, shape, extra);
 }
 
 void add_thread_option(Args& a) {

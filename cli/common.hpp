@@ -94,9 +94,11 @@ private:
 /// raw samples, see map_volume). Brick stores (.mlb) are always opened as stores.
 VolumeInput open_volume_input(const Args& a, bool stream = false);
 
-/// Runs paradigm (C) on either kind of input.
+/// Runs paradigm (C), the chapter-3 graph of stream/isosplat_pipeline.hpp, on any kind of input:
+/// the active bricks of a store, a slab-streamed file or a volume in memory; extra.first sees
+/// isosurface_work(in, iso) cell rows in all.
 IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
-                                  Sink& sink, int threads, PipelineShape shape);
+                                  Sink& sink, int threads, PipelineShape shape, const IsoSplatStages& extra = {});
 /// --radius-scale
 void add_sampling_options(Args& a);
 SamplingParams sampling_params(const Args& a);

@@ -1,7 +1,6 @@
 #include "cli/isosurface_graph.hpp"
 #include "cli/errors.hpp"
 
-#include <chrono>
 #include <exception>
 #include <cstdio>
 #include <span>
@@ -10,58 +9,19 @@
 #include "formats/atomic_file.hpp"
 #include "formats/png_writer.hpp"
 #include "kernels/cell_sampling.hpp"
-#include "stream/brick_source.hpp"
-#include "stream/cell_row_source.hpp"
-#include "stream/generate_project_stage.hpp"
 #include "stream/point_file_sink.hpp"
 #include "stream/point_spool.hpp"
 #include "stream/runner.hpp"
-#include "stream/slab_source.hpp"
 #include "stream/splat_sink.hpp"
 #include "stream/tee_sink.hpp"
 
 namespace meshless::cli {
-
-namespace {
-/// [progress] + generate + [draw]: the stages present, in order.
-std::vector<const Stage*> stage_list(const Stage* progress, const Stage& generate, const Stage* draw) {
-    std::vector<const Stage*> v;
-    if (progress) v.push_back(progress);
-    v.push_back(&generate);
-    if (draw) v.push_back(draw);
-    return v;
-}
-}  // namespace
 
 double isosurface_work(const VolumeInput& in, double iso) {
     if (!in.store) return static_cast<double>(cell_row_count(in.grid()));
     double rows = 0;
     for (const std::size_t b : in.index->active(iso)) rows += static_cast<double>(cell_row_count(in.store->brick_grid(b)));
     return rows;
-}
-
-IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
-                                    const Stage* draw, Sink& sink, int nthreads, const Stage* progress) {
-    const auto t0 = std::chrono::steady_clock::now();
-    IsoSplatResult r;
-    if (in.store) {
-        BrickSource source(*in.store, in.index->active(iso));
-        BrickGenerateStage generate(*in.store, *in.cache, iso, sp, mode);
-        run_pipeline(source, stage_list(progress, generate, draw), sink, {nthreads});
-        r.sampling = generate.sampling_stats();
-        r.projection = generate.projection_stats();
-    } else {
-        // slab-streamed file (stream/slab_source.hpp; batches carry their chunk) or a volume in memory
-        std::optional<SlabSource> slabs;
-        std::optional<CellRowSource> rows;
-        Source& source = in.slices ? static_cast<Source&>(slabs.emplace(*in.slices)) : rows.emplace(in.grid());
-        GenerateProjectStage generate(in.slices ? VolumeView{nullptr, in.type(), in.grid()} : in.volume->view(), iso, sp, mode);
-        run_pipeline(source, stage_list(progress, generate, draw), sink, {nthreads});
-        r.sampling = generate.sampling_stats();
-        r.projection = generate.projection_stats();
-    }
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return r;
 }
 
 namespace {

@@ -1,7 +1,6 @@
-// The graph of `meshless isosurface` and `meshless demo` (paradigm C, dissertation chapter 3):
-// cell rows of a volume in memory, slab-streamed slices or the active bricks of a store (Morton
-// order) -> generate + project (fused) -> [splat draw, in the runner's parallel section] -> sink,
-// and the outputs it ends in: a point set (-o: PLY or VTP, stream/point_file_sink.hpp), a PNG (--png, stream/splat_sink.hpp), or both through a
+// The outputs the graphs of `meshless isosurface` and `meshless demo` end in (the chapter-3 graph
+// itself, with its optional splat draw stage, is stream/isosplat_pipeline.hpp via
+// run_isosplat_input): a point set (-o: PLY or VTP, stream/point_file_sink.hpp), a PNG (--png, stream/splat_sink.hpp), or both through a
 // tee. Nothing is collected: memory = the image buffers + the batches in flight (a picture whose
 // metadata says `frame points`, the scattered surface, first spools its points to an unlinked
 // temporary file, 32 bytes a point, then frames and draws them). Both commands build the same
@@ -17,13 +16,7 @@
 
 namespace meshless::cli {
 
-/// One run of the graph on `in`; draw (the splat stage, or null) goes after generate + project.
-/// Same batches, hence same bytes, as run_isosplat_input with PipelineShape::fused.
-/// progress (optional, e.g. a ProgressStage with work_units) goes first, ahead of generate: it
-/// sees the source's cell rows, isosurface_work(in, iso) of them in all.
-IsoSplatResult run_isosurface_graph(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
-                                    const Stage* draw, Sink& sink, int nthreads, const Stage* progress = nullptr);
-/// The cell rows run_isosurface_graph hands out: the volume's (in memory or slab-streamed), or those
+/// The cell rows run_isosplat_input hands out: the volume's (in memory or slab-streamed), or those
 /// of the active bricks of a store.
 double isosurface_work(const VolumeInput& in, double iso);
 

@@ -1,6 +1,7 @@
 #include "stream/isosplat_pipeline.hpp"
 
 #include <chrono>
+#include <vector>
 
 #include "stream/brick_source.hpp"
 #include "stream/cell_row_source.hpp"
@@ -17,27 +18,30 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-}  // namespace
-
-namespace {
+/// [extra.first] + middle + [extra.last]: the stages present, in order.
+std::vector<const Stage*> with_extras(std::initializer_list<const Stage*> middle, const IsoSplatStages& extra) {
+    std::vector<const Stage*> v;
+    if (extra.first) v.push_back(extra.first);
+    v.insert(v.end(), middle.begin(), middle.end());
+    if (extra.last) v.push_back(extra.last);
+    return v;
+}
 
 IsoSplatResult run_regular(Source& source, const VolumeView& v, double iso, Projection mode, const SamplingParams& sp,
-                           Sink& sink, const RunOptions& opt, PipelineShape shape) {
+                           Sink& sink, const RunOptions& opt, PipelineShape shape, const IsoSplatStages& extra) {
     const auto t0 = std::chrono::steady_clock::now();
     IsoSplatResult r;
     if (shape == PipelineShape::fused) {
         GenerateProjectStage stage(v, iso, sp, mode);
-        const Stage* stages[] = {&stage};
-        run_pipeline(source, stages, sink, opt);
+        run_pipeline(source, with_extras({&stage}, extra), sink, opt);
         r.sampling = stage.sampling_stats();
         r.projection = stage.projection_stats();
     } else {
         GenerateStage generate(v, iso, sp);
         ProjectStage project(iso, mode);
-        const Stage* both[] = {&generate, &project};
-        const Stage* one[] = {&generate};
-        run_pipeline(source, shape == PipelineShape::two_stage ? std::span<const Stage* const>(both)
-                                                                : std::span<const Stage* const>(one),
+        run_pipeline(source,
+                     shape == PipelineShape::two_stage ? with_extras({&generate, &project}, extra)
+                                                       : with_extras({&generate}, extra),
                      sink, opt);
         r.sampling = generate.stats();
         r.projection = project.stats();
@@ -49,27 +53,29 @@ IsoSplatResult run_regular(Source& source, const VolumeView& v, double iso, Proj
 }  // namespace
 
 IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, const SamplingParams& sp,
-                            Sink& sink, const RunOptions& opt, PipelineShape shape) {
+                            Sink& sink, const RunOptions& opt, PipelineShape shape, const IsoSplatStages& extra) {
     CellRowSource source(v.grid);
-    return run_regular(source, v, iso, mode, sp, sink, opt, shape);
+    return run_regular(source, v, iso, mode, sp, sink, opt, shape, extra);
 }
 
 IsoSplatResult run_isosplat_slabs(SliceSource& slices, double iso, Projection mode, const SamplingParams& sp,
-                                  Sink& sink, const RunOptions& opt, PipelineShape shape) {
+                                  Sink& sink, const RunOptions& opt, PipelineShape shape, const IsoSplatStages& extra) {
     SlabSource source(slices);
-    return run_regular(source, VolumeView{nullptr, slices.type(), slices.grid()}, iso, mode, sp, sink, opt, shape);
+    return run_regular(source, VolumeView{nullptr, slices.type(), slices.grid()}, iso, mode, sp, sink, opt, shape,
+                       extra);
 }
 
 IsoSplatResult run_isosplat_bricks(const BrickStore& store, BrickCache& cache, std::vector<std::size_t> bricks,
                                    double iso, Projection mode, const SamplingParams& sp, Sink& sink,
-                                   const RunOptions& opt, PipelineShape shape) {
+                                   const RunOptions& opt, PipelineShape shape, const IsoSplatStages& extra) {
     const auto t0 = std::chrono::steady_clock::now();
     BrickSource source(store, std::move(bricks));
     BrickGenerateStage stage(store, cache, iso, sp,
                              shape == PipelineShape::fused ? std::optional<Projection>(mode) : std::nullopt);
     ProjectStage project(iso, mode);
-    const Stage* both[] = {&stage, &project};
-    run_pipeline(source, std::span<const Stage* const>(both, shape == PipelineShape::two_stage ? 2 : 1), sink, opt);
+    run_pipeline(source,
+                 shape == PipelineShape::two_stage ? with_extras({&stage, &project}, extra) : with_extras({&stage}, extra),
+                 sink, opt);
     IsoSplatResult r;
     r.sampling = stage.sampling_stats();
     r.projection = shape == PipelineShape::two_stage ? project.stats() : stage.projection_stats();

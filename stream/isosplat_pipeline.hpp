@@ -1,5 +1,7 @@
-// Paradigm (C) iso-splatting in one process (dissertation sections 3.3-3.6): CellRowSource ->
-// GenerateStage -> ProjectStage -> sink, through the runner. The same stages, joined by pipes
+// Paradigm (C) iso-splatting in one process (dissertation sections 3.3-3.6): CellRowSource,
+// SlabSource or BrickSource -> [first] -> GenerateStage -> ProjectStage -> [last] -> sink, through
+// the runner: the one chapter-3 graph (`meshless isosurface`, `demo`, `generate`, `batch` and the
+// library all build it here). The same stages, joined by pipes
 // (meshless generate | meshless project | ...), give the same batches in the same order, hence the
 // same output bytes. Throws what the sink throws (IoError, BrokenPipe).
 #pragma once
@@ -8,6 +10,7 @@
 #include "ooc/brick_cache.hpp"
 #include "ooc/slice_source.hpp"
 #include "stream/runner.hpp"
+#include "stream/stage.hpp"
 
 namespace meshless {
 
@@ -23,18 +26,29 @@ struct IsoSplatResult {
 /// sample batches: what `meshless generate` writes; `mode` is unused).
 enum class PipelineShape { fused, two_stage, samples_only };
 
+/// Stages a caller adds around generate + project: `first` sees the source's batches (a
+/// ProgressStage counting cell rows, stream/progress_stage.hpp), `last` the projected points (the
+/// splat sink's draw stage, run in the runner's parallel section). Either may be null. Neither
+/// changes the batches, so the sink gets the same bytes with or without them.
+struct IsoSplatStages {
+    const Stage* first = nullptr;
+    const Stage* last = nullptr;
+};
 IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, const SamplingParams& sp,
-                            Sink& sink, const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused);
+                            Sink& sink, const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused,
+                            const IsoSplatStages& extra = {});
 
 /// The same over a brick store: the given bricks (normally BrickIndex::active(iso), Morton order)
 /// through the byte-budgeted cache.
 IsoSplatResult run_isosplat_bricks(const BrickStore& store, BrickCache& cache, std::vector<std::size_t> bricks,
                                    double iso, Projection mode, const SamplingParams& sp, Sink& sink,
-                                   const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused);
+                                   const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused,
+                                   const IsoSplatStages& extra = {});
 
 /// The same over a volume streamed slab by slab (stream/slab_source.hpp): memory is a few chunks
 /// of slices, never the volume; same bytes as run_isosplat on the whole volume.
 IsoSplatResult run_isosplat_slabs(SliceSource& slices, double iso, Projection mode, const SamplingParams& sp,
-                                  Sink& sink, const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused);
+                                  Sink& sink, const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused,
+                                  const IsoSplatStages& extra = {});
 
 }  // namespace meshless
