@@ -1,7 +1,7 @@
 // meshless demo: the main job on an embedded default, no input file needed. Builds an analytic
 // volume, extracts its isosurface by iso-splatting (paradigm C, approximate projection) and writes
 // DIR/demo.ply and DIR/demo.png (EWA splats, Phong shading), through the graph of `meshless
-// isosurface` (cli/isosurface_graph.hpp): the same points and picture as `meshless isosurface` on
+// isosurface` (stream/isosplat_pipeline.hpp, stream/point_outputs.hpp): the same points and picture as `meshless isosurface` on
 // the same volume, framed on the surface; nothing is collected.
 #include <cstdio>
 #include <filesystem>
@@ -9,7 +9,6 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
-#include "cli/isosurface_graph.hpp"
 #include "kernels/analytic_volumes.hpp"
 #include "kernels/errors.hpp"
 

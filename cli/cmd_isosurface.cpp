@@ -9,7 +9,6 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
-#include "cli/isosurface_graph.hpp"
 #include "cli/field_cli.hpp"
 #include "cli/isosurface_mpi.hpp"
 #include "cli/multiblock_isosurface.hpp"

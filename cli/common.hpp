@@ -24,6 +24,8 @@
 #include "ooc/brick_index.hpp"
 #include "ooc/slice_source.hpp"
 #include "stream/isosplat_pipeline.hpp"
+#include "stream/point_outputs.hpp"
+#include "stream/stream_metadata.hpp"
 
 namespace meshless::cli {
 
@@ -99,6 +101,9 @@ VolumeInput open_volume_input(const Args& a, bool stream = false);
 /// isosurface_work(in, iso) cell rows in all.
 IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
                                   Sink& sink, int threads, PipelineShape shape, const IsoSplatStages& extra = {});
+/// The cell rows run_isosplat_input hands out (for the progress line): the volume's (in memory or
+/// slab-streamed), or those of the active bricks of a store.
+double isosurface_work(const VolumeInput& in, double iso);
 /// --radius-scale
 void add_sampling_options(Args& a);
 SamplingParams sampling_params(const Args& a);
@@ -112,9 +117,6 @@ std::string lower_extension(const std::string& path);
 bool ends_with_ci(const std::string& path, const char* suffix);
 /// The files' names (no folders) joined by ',' (the `source` of multi-file inputs).
 std::string joined_names(const std::vector<std::string>& paths);
-/// "x,y,z" with 9 significant digits (stream metadata: bounds, spacing).
-std::string triple(double a, double b, double c);
-std::string triple(const Vec3& v);
 
 /// --size WxH --azimuth --elevation --up --view --zoom --ortho: where the camera looks from.
 void add_orbit_options(Args& a, const char* default_size);
@@ -129,13 +131,6 @@ void set_view(Camera& c, const Vec3& dir, const std::string& view_name, bool war
 /// The default camera of data whose patient's axes are known (kernels/anatomical_view.hpp): as
 /// apply_anatomical_default, for a frame from elsewhere (the `patient_axes` a PLY or stream records).
 void apply_anatomical_frame(const Args& a, const AnatomicalFrame& f, Camera& c);
-/// `patient_axes` metadata: the LPS directions of world +x, +y, +z, nine numbers; nullopt when absent
-/// or malformed (then the pictures take the generic camera).
-std::optional<AnatomicalFrame> meta_patient_axes(const StreamMeta& m);
-/// The patient's axes a brick store records (convert and synth copy them from the volume's header).
-std::optional<AnatomicalFrame> store_frame(const BrickStoreInfo& info);
-/// Sets `patient_axes` from f (nothing when f is empty).
-void set_patient_axes(StreamMeta& m, const std::optional<AnatomicalFrame>& f);
 /// The default camera of a volume (kernels/anatomical_view.hpp): when --up was not given and the
 /// volume's header gives the patient's axes (formats/anatomical_frame.hpp: NIfTI sform/qform, NRRD
 /// space, MetaImage; a brick store records them), the head goes up and, without --view, the face
@@ -164,18 +159,6 @@ ColorBy color_by(const ColorChoice& c, ColorBy automatic);
 /// bar was asked for a picture not coloured by value.
 void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std::array<double, 2>& range);
 
-/// Metadata describing a volume and the isovalue (keys: source, iso, grid_dims, grid_origin,
-/// grid_spacing, bounds_lo, bounds_hi, value_min, value_max, producer).
-/// value_min/value_max are left out when `range` is nullopt.
-StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType type,
-                       const std::optional<std::array<double, 2>>& range, double iso, const std::string& producer);
-inline StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType type,
-                              const std::array<double, 2>& range, double iso, const std::string& producer) {
-    return volume_meta(source, g, type, std::optional<std::array<double, 2>>(range), iso, producer);
-}
-inline StreamMeta volume_meta(const std::string& source, const Volume& v, double iso, const std::string& producer) {
-    return volume_meta(source, v.grid, v.type, v.value_range(), iso, producer);
-}
 /// As above, and frames the surface: bounds_lo/hi become the surface bounds for iso (surface_bounds;
 /// the volume's when nothing is active) and the volume's are kept as volume_bounds_lo/hi. For a
 /// volume in memory the value range and the surface bounds come from one pass (kernels/block_minmax).
@@ -185,25 +168,6 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
 /// union of the active 32-cell blocks (aligned as the bricks of a store with the default edge, so
 /// both frame alike). nullopt when nothing is active.
 std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso);
-/// The brick-store case of surface_bounds.
-std::optional<std::array<Vec3, 2>> store_surface_bounds(const BrickStore& store, const BrickIndex& index, double iso);
-/// Moves bounds_lo/hi (the volume's, from volume_meta) to volume_bounds_lo/hi and records the
-/// surface's as bounds_lo/hi; nullopt (nothing active) keeps the volume's as the frame.
-void set_surface_bounds(StreamMeta& m, const std::optional<std::array<Vec3, 2>>& surface);
-/// The PLY comment lines derived from metadata (same for the in-process and piped paths).
-std::vector<std::string> ply_comments(const StreamMeta& m);
-/// Bounds recorded in PLY comments written by ply_comments ("bounds_lo x,y,z", "bounds_hi ..."), if any.
-std::optional<std::array<Vec3, 2>> ply_bounds(const std::vector<std::string>& comments);
-/// Bounds recorded in the metadata, if any.
-std::optional<std::array<Vec3, 2>> meta_bounds(const StreamMeta& m);
-/// The frame of a picture of these points: the recorded bounds, or nullopt when there are none or
-/// when the metadata says `frame points` (the scattered-data surface: its recorded bounds only
-/// hold every point, a box four times the surface's width; the picture then frames the points
-/// themselves, spooled first). PLY comments: the same, read from ply_comments' lines.
-std::optional<std::array<Vec3, 2>> picture_bounds(const StreamMeta& m);
-std::optional<std::array<Vec3, 2>> ply_picture_bounds(const std::vector<std::string>& comments);
-/// The PLY comments ply_comments() wrote, read back as the metadata they came from ("key value").
-StreamMeta ply_comments_meta(const std::vector<std::string>& comments);
 
 /// The isovalue for a stage reading a stream: --iso if given (with a warning when it differs from
 /// the stream's, whose active cells were chosen for that value), else the stream's; UsageError
@@ -240,13 +204,6 @@ void add_geometry_format_option(Args& a);
 /// name without --format, or --format other than ply|vtp, is a UsageError naming -o, the path and
 /// `what` (e.g. "an oriented point set"); so is "-" when standard output is a terminal.
 GeometryFormat geometry_output_format(const Args& a, const std::string& path, const char* what);
-/// A geometry output: where and in which format.
-struct GeometryOutput {
-    std::string path;
-    GeometryFormat format = GeometryFormat::ply;
-    VtpOptions vtp;  ///< --vtp-compression; threads set by the command
-    std::optional<ColorBy> ply_color;  ///< --ply-color: PLY `red green blue` by value, block or normal
-};
 /// --ply-color value|block|normal (point outputs): colours in the PLY for readers that keep only
 /// x y z, normals and red green blue (vtkPLYReader; MeshLab shows them too).
 void add_ply_color_option(Args& a);

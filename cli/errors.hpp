@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "kernels/errors.hpp"
+#include "stream/pipe_closure.hpp"
 
 namespace meshless::cli {
 
@@ -21,23 +22,6 @@ namespace meshless::cli {
 /// malformed value). Thrown by cli/ only.
 struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
-};
-
-/// For commands with several outputs, one of them possibly stdout: a step that throws BrokenPipe
-/// (stdout's reader has gone) stops that output only; step() returns false then, and
-/// rethrow_if_closed(), called once the other outputs are complete, ends the command quietly.
-class PipeClosure {
-public:
-    template <class F>
-    bool step(const F& f);
-    /// Records the BrokenPipe being handled (call inside its catch block).
-    void caught() { closed_ = std::current_exception(); }
-    void rethrow_if_closed() const {
-        if (closed_) std::rethrow_exception(closed_);
-    }
-
-private:
-    std::exception_ptr closed_;
 };
 
 inline constexpr int kExitOk = 0;
@@ -57,15 +41,5 @@ std::string error_message(const std::exception& e);
 /// controls become \xNN; cut to `max` bytes with "...".
 std::string terminal_safe(std::string_view s, std::size_t max = 4096);
 
-template <class F>
-bool PipeClosure::step(const F& f) {
-    try {
-        f();
-        return true;
-    } catch (const BrokenPipe&) {
-        caught();
-        return false;
-    }
-}
 
 }  // namespace meshless::cli

@@ -16,7 +16,6 @@
 #include "cli/errors.hpp"
 #include "cli/stream_output.hpp"
 #include "cli/field_cli.hpp"
-#include "cli/isosurface_graph.hpp"
 #include "cli/mpi_session.hpp"
 #include "cli/point_set_cli.hpp"
 #include "formats/atomic_file.hpp"

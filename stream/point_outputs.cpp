@@ -1,28 +1,19 @@
-#include "cli/isosurface_graph.hpp"
-#include "cli/errors.hpp"
+#include "stream/point_outputs.hpp"
 
-#include <exception>
-#include <cstdio>
-#include <span>
-#include <vector>
+#include <array>
+#include <optional>
 
 #include "formats/atomic_file.hpp"
 #include "formats/png_writer.hpp"
-#include "kernels/cell_sampling.hpp"
+#include "stream/pipe_closure.hpp"
 #include "stream/point_file_sink.hpp"
 #include "stream/point_spool.hpp"
 #include "stream/runner.hpp"
 #include "stream/splat_sink.hpp"
+#include "stream/stream_metadata.hpp"
 #include "stream/tee_sink.hpp"
 
-namespace meshless::cli {
-
-double isosurface_work(const VolumeInput& in, double iso) {
-    if (!in.store) return static_cast<double>(cell_row_count(in.grid()));
-    double rows = 0;
-    for (const std::size_t b : in.index->active(iso)) rows += static_cast<double>(cell_row_count(in.store->brick_grid(b)));
-    return rows;
-}
+namespace meshless {
 
 namespace {
 /// Hands batches on to `to` (or drops them when null) but leaves its finish() to the caller.
@@ -130,4 +121,4 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
     return splat.points();
 }
 
-}  // namespace meshless::cli
+}  // namespace meshless

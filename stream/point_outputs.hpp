@@ -1,24 +1,32 @@
-// The outputs the graphs of `meshless isosurface` and `meshless demo` end in (the chapter-3 graph
-// itself, with its optional splat draw stage, is stream/isosplat_pipeline.hpp via
-// run_isosplat_input): a point set (-o: PLY or VTP, stream/point_file_sink.hpp), a PNG (--png, stream/splat_sink.hpp), or both through a
-// tee. Nothing is collected: memory = the image buffers + the batches in flight (a picture whose
+// The outputs a graph of points ends in (`meshless isosurface`, `demo`, the multiblock and
+// scattered surfaces; dissertation section 3.6 for the picture): a point set (-o: PLY or VTP,
+// stream/point_file_sink.hpp), a PNG (--png, stream/splat_sink.hpp), or both through a tee.
+// Nothing is collected: memory = the image buffers + the batches in flight (a picture whose
 // metadata says `frame points`, the scattered surface, first spools its points to an unlinked
-// temporary file, 32 bytes a point, then frames and draws them). Both commands build the same
-// graph, so the demo's files equal `meshless isosurface` on the same volume.
+// temporary file, 32 bytes a point, then frames and draws them).
 // Throws what the sources, stages and sinks throw (FormatError, IoError naming the file).
 #pragma once
 #include <functional>
 #include <optional>
 #include <string>
 
-#include "cli/common.hpp"
+#include "formats/geometry_format.hpp"
+#include "formats/point_stream.hpp"
+#include "formats/vtp_writer.hpp"
+#include "kernels/splat_rasterizer.hpp"
+#include "stream/isosplat_pipeline.hpp"
+#include "stream/render_settings.hpp"
 #include "stream/stage.hpp"
 
-namespace meshless::cli {
+namespace meshless {
 
-/// The cell rows run_isosplat_input hands out: the volume's (in memory or slab-streamed), or those
-/// of the active bricks of a store.
-double isosurface_work(const VolumeInput& in, double iso);
+/// A geometry output: where and in which format.
+struct GeometryOutput {
+    std::string path;
+    GeometryFormat format = GeometryFormat::ply;
+    VtpOptions vtp;  ///< --vtp-compression; threads set by the command
+    std::optional<ColorBy> ply_color;  ///< --ply-color: PLY `red green blue` by value, block or normal
+};
 
 /// A graph to run into the outputs: run(draw, sink), draw = the splat stage or null.
 using GraphRun = std::function<IsoSplatResult(const Stage* draw, Sink& sink)>;
@@ -39,4 +47,4 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
                            const StreamMeta& meta, const RenderSettings& rs, int nthreads, const GraphRun& run,
                            IsoSplatResult& r, bool parallel_draw = true, bool with_blocks = false);
 
-}  // namespace meshless::cli
+}  // namespace meshless
