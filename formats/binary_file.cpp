@@ -121,4 +121,15 @@ std::string read_file_prefix(const std::string& path, std::size_t max_bytes) {
     return s;
 }
 
+bool file_starts_with(const std::string& path, std::string_view magic) noexcept {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the open
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return false;
+    std::string head(magic.size(), '\0');
+    const ssize_t r = ::pread(fd, head.data(), head.size(), 0);
+    ::close(fd);
+    return r == static_cast<ssize_t>(magic.size()) && head == magic;
+}
+
 }  // namespace meshless

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace meshless {
@@ -46,6 +47,11 @@ private:
     int fd_ = -1;
     std::uint64_t size_ = 0;
 };
+
+/// Whether `path` is a regular file whose first bytes are `magic` (false for FIFOs, which are not
+/// opened, for files that cannot be opened and for shorter files; never throws): how the store
+/// readers recognise their files.
+bool file_starts_with(const std::string& path, std::string_view magic) noexcept;
 
 /// Up to `max_bytes` from the start of the file (fewer if the file is shorter), as text.
 std::string read_file_prefix(const std::string& path, std::size_t max_bytes);

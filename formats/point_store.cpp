@@ -77,16 +77,7 @@ void PointStore::read_brick(std::size_t i, std::vector<double>& out) const {
     check_unchanged(i);  // a rewrite during this read: the bytes may mix two versions
 }
 
-bool is_point_store(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the open
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return false;
-    char m[8] = {};
-    const ssize_t r = ::pread(fd, m, 8, 0);
-    ::close(fd);
-    return r == 8 && std::memcmp(m, kPointStoreMagic, 8) == 0;
-}
+bool is_point_store(const std::string& path) { return file_starts_with(path, std::string_view(kPointStoreMagic, 8)); }
 
 PointSet point_set_from_point_store(const std::string& path, std::vector<std::string>* notes) {
     const auto store = PointStore::open(path);

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "formats/crc32.hpp"
+#include "formats/store_framing.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/morton.hpp"
 
@@ -99,31 +100,14 @@ void encode_point_brick_entry(const PointBrickEntry& e, unsigned char* p) {
 std::array<unsigned char, kPointStoreFooterBytes> encode_point_store_footer(std::uint64_t index_offset,
                                                                             std::uint64_t brick_count,
                                                                             std::uint32_t index_crc) {
-    std::array<unsigned char, kPointStoreFooterBytes> f{};
-    put<std::uint64_t>(f.data(), index_offset);
-    put<std::uint64_t>(f.data() + 8, brick_count);
-    put<std::uint32_t>(f.data() + 16, index_crc);
-    put<std::uint32_t>(f.data() + 20, kPointStoreVersion);
-    std::memcpy(f.data() + 24, kPointStoreEndMagic, 8);
-    return f;
+    return encode_store_footer(index_offset, brick_count, index_crc, kPointStoreVersion,
+                               std::string_view(kPointStoreEndMagic, 8));
 }
 
 PointStoreLayout decode_point_store_layout(const PointStoreReadAt& read, std::uint64_t size, const std::string& name) {
     auto bad = [&](const std::string& what) { return FormatError(name + ": " + what); };
-    if (size < 8) throw bad("not a meshless point store (file of " + std::to_string(size) + " bytes)");
-    unsigned char m[8];
-    read(m, 8, 0);
-    if (std::memcmp(m, kPointStoreMagic, 8) != 0) throw bad("not a meshless point store (bad magic)");
-    if (size < 12) throw bad("truncated point store (" + std::to_string(size) + " bytes)");
-    unsigned char v[4];
-    read(v, 4, 8);
-    const std::uint32_t version = get<std::uint32_t>(v);
-    if (version != kPointStoreVersion)
-        throw bad("unsupported point store version " + std::to_string(version) + " (this build reads version " +
-                  std::to_string(kPointStoreVersion) + ")");
-    if (size < kPointStoreHeaderBytes + kPointStoreFooterBytes)
-        throw bad("truncated point store (" + std::to_string(size) + " bytes; header and footer need " +
-                  std::to_string(kPointStoreHeaderBytes + kPointStoreFooterBytes) + ")");
+    check_store_preamble(read, size, name,
+                         {"point store", std::string_view(kPointStoreMagic, 8), kPointStoreVersion, kPointStoreHeaderBytes, ""});
     unsigned char h[kPointStoreHeaderBytes];
     read(h, sizeof h, 0);
     PointStoreLayout out;

@@ -46,12 +46,14 @@
 #include <string>
 #include <vector>
 
+#include "formats/store_framing.hpp"
+
 namespace meshless {
 
 inline constexpr std::uint32_t kPointStoreVersion = 1;
 inline constexpr std::size_t kPointStoreHeaderBytes = 512;
 inline constexpr std::size_t kPointStoreEntryBytes = 112;
-inline constexpr std::size_t kPointStoreFooterBytes = 32;
+inline constexpr std::size_t kPointStoreFooterBytes = kStoreFooterBytes;
 inline constexpr std::size_t kPointStoreRecordBytes = 32;  ///< x, y, z, value as f64
 inline constexpr std::uint32_t kPointStoreMaxLevel = 21;
 inline constexpr std::uint32_t kPointStoreMaxBrickPoints = 1u << 20;

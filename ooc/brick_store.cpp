@@ -1,5 +1,6 @@
 #include "ooc/brick_store.hpp"
 #include "formats/binary_file.hpp"
+#include "formats/store_framing.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -131,13 +132,10 @@ void encode_brick_index_entry(const BrickEntry& e, std::byte* p) {
 
 std::vector<std::byte> encode_brick_store_footer(std::uint64_t index_offset, std::uint64_t brick_count,
                                                  std::uint32_t index_crc) {
-    std::vector<std::byte> f(kBrickStoreFooterBytes);
-    put<std::uint64_t>(f.data(), 0, index_offset);
-    put<std::uint64_t>(f.data(), 8, brick_count);
-    put<std::uint32_t>(f.data(), 16, index_crc);
-    put<std::uint32_t>(f.data(), 20, kBrickStoreVersion);
-    std::memcpy(f.data() + 24, kBrickStoreEndMagic, 8);
-    return f;
+    const auto f = encode_store_footer(index_offset, brick_count, index_crc, kBrickStoreVersion,
+                                       std::string_view(kBrickStoreEndMagic, 8));
+    const auto* p = reinterpret_cast<const std::byte*>(f.data());
+    return std::vector<std::byte>(p, p + f.size());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -336,15 +334,6 @@ void BrickStore::read_brick(std::size_t i, std::vector<std::byte>& out) const {
     if (n != out.size()) throw fail("decompressed to " + std::to_string(n) + " bytes, expected " + std::to_string(out.size()));
 }
 
-bool is_brick_store(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the open
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return false;
-    char m[8] = {};
-    const ssize_t r = ::pread(fd, m, 8, 0);
-    ::close(fd);
-    return r == 8 && std::memcmp(m, kBrickStoreMagic, 8) == 0;
-}
+bool is_brick_store(const std::string& path) { return file_starts_with(path, std::string_view(kBrickStoreMagic, 8)); }
 
 }  // namespace meshless

@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/store_framing.hpp"
 #include "kernels/grid.hpp"
 
 namespace meshless {
@@ -112,7 +113,7 @@ bool is_brick_store(const std::string& path);
 // ---- craft damaged stores. Pure functions.
 inline constexpr std::size_t kBrickStoreHeaderBytes = 256;
 inline constexpr std::size_t kBrickIndexEntryBytes = 64;
-inline constexpr std::size_t kBrickStoreFooterBytes = 32;
+inline constexpr std::size_t kBrickStoreFooterBytes = kStoreFooterBytes;
 inline constexpr char kBrickStoreMagic[8] = {'\x89', 'M', 'L', 'B', '\r', '\n', '\x1a', '\n'};
 inline constexpr char kBrickStoreEndMagic[8] = {'M', 'L', 'B', 'E', 'N', 'D', '\0', '\0'};
 

@@ -224,15 +224,6 @@ bool SampleQuery::next(std::vector<SampleRecord>& result, std::size_t max) {
     return !out.empty();
 }
 
-bool is_sample_store(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the open
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return false;
-    char m[8] = {};
-    const bool ok = ::pread(fd, m, 8, 0) == 8 && std::memcmp(m, kSampleStoreMagic, 8) == 0;
-    ::close(fd);
-    return ok;
-}
+bool is_sample_store(const std::string& path) { return file_starts_with(path, std::string_view(kSampleStoreMagic, 8)); }
 
 }  // namespace meshless

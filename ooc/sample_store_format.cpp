@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "formats/store_framing.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/row_key_codec.hpp"
 #include "ooc/row_set.hpp"
@@ -91,33 +92,21 @@ void encode_sample_store_bucket(const SampleBucket& b, unsigned char* e) {
 std::array<unsigned char, kSampleStoreFooterBytes> encode_sample_store_footer(std::uint64_t table_offset,
                                                                               std::uint64_t bucket_count,
                                                                               std::uint32_t table_crc) {
-    std::array<unsigned char, kSampleStoreFooterBytes> f{};
-    put<std::uint64_t>(f.data(), table_offset);
-    put<std::uint64_t>(f.data() + 8, bucket_count);
-    put<std::uint32_t>(f.data() + 16, table_crc);
-    put<std::uint32_t>(f.data() + 20, kSampleStoreVersion);
-    std::memcpy(f.data() + 24, kSampleStoreEndMagic, 8);
-    return f;
+    return encode_store_footer(table_offset, bucket_count, table_crc, kSampleStoreVersion,
+                               std::string_view(kSampleStoreEndMagic, 8));
 }
 
 SampleStoreLayout decode_sample_store_layout(const ReadAt& read, std::uint64_t size, const std::string& name) {
     auto bad = [&](const std::string& what) { return FormatError(name + ": " + what); };
-    if (size < 8) throw bad("not a meshless sample store (file of " + std::to_string(size) + " bytes)");
-    unsigned char m[8];
-    read(m, 8, 0);
-    if (std::memcmp(m, kPointStreamMagic, 8) == 0)
-        throw bad("is a meshless point stream, not a sample store (make one with 'meshless generate vol.mlb --all -o vol.mls')");
-    if (std::memcmp(m, kSampleStoreMagic, 8) != 0) throw bad("not a meshless sample store (bad magic)");
-    if (size < 12) throw bad("truncated sample store (" + std::to_string(size) + " bytes)");
-    unsigned char v[4];
-    read(v, 4, 8);
-    const std::uint32_t version = get<std::uint32_t>(v);
-    if (version != kSampleStoreVersion)
-        throw bad("unsupported sample store version " + std::to_string(version) + " (this build reads version " +
-                  std::to_string(kSampleStoreVersion) + "; remake it with 'meshless generate vol.mlb --all -o vol.mls')");
-    if (size < kSampleStoreHeaderBytes + kSampleStoreFooterBytes)
-        throw bad("truncated sample store (" + std::to_string(size) + " bytes; header and footer need " +
-                  std::to_string(kSampleStoreHeaderBytes + kSampleStoreFooterBytes) + ")");
+    if (size >= 8) {
+        unsigned char m[8];
+        read(m, 8, 0);
+        if (std::memcmp(m, kPointStreamMagic, 8) == 0)
+            throw bad("is a meshless point stream, not a sample store (make one with 'meshless generate vol.mlb --all -o vol.mls')");
+    }
+    check_store_preamble(read, size, name,
+                         {"sample store", std::string_view(kSampleStoreMagic, 8), kSampleStoreVersion, kSampleStoreHeaderBytes,
+                          "; remake it with 'meshless generate vol.mlb --all -o vol.mls'"});
     unsigned char h[kSampleStoreHeaderBytes];
     read(h, sizeof h, 0);
     if (get<std::uint32_t>(h + 508) != sample_store_crc32(0, h, 508))

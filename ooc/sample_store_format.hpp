@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "formats/store_framing.hpp"
 #include "kernels/grid.hpp"
 
 namespace meshless {
@@ -45,7 +46,7 @@ namespace meshless {
 inline constexpr std::uint32_t kSampleStoreVersion = 2;
 inline constexpr std::size_t kSampleStoreHeaderBytes = 512;
 inline constexpr std::size_t kSampleStoreBucketBytes = 32;
-inline constexpr std::size_t kSampleStoreFooterBytes = 32;
+inline constexpr std::size_t kSampleStoreFooterBytes = kStoreFooterBytes;
 inline constexpr std::size_t kSampleStorePathOffset = 256, kSampleStorePathBytes = 252;
 inline constexpr char kSampleStoreMagic[8] = {'\x89', 'M', 'L', 'A', '\r', '\n', '\x1a', '\n'};
 inline constexpr char kSampleStoreEndMagic[8] = {'M', 'L', 'A', 'E', 'N', 'D', '\0', '\0'};
