@@ -15,16 +15,6 @@ namespace meshless {
 
 namespace {
 
-template <class T>
-void put(unsigned char* p, T v) {
-    std::memcpy(p, &v, sizeof v);  // little-endian host (x86), as everywhere in meshless
-}
-template <class T>
-T get(const unsigned char* p) {
-    T v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
 
 bool finite3(const std::array<double, 3>& a) { return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]); }
 
@@ -59,42 +49,42 @@ std::array<unsigned char, kPointStoreHeaderBytes> encode_point_store_header(cons
     std::array<unsigned char, kPointStoreHeaderBytes> a{};
     unsigned char* h = a.data();
     std::memcpy(h, kPointStoreMagic, 8);
-    put<std::uint32_t>(h + 8, kPointStoreVersion);
-    put<std::uint32_t>(h + 12, kPointStoreHeaderBytes);
-    put<std::uint64_t>(h + 16, info.points);
-    put<std::uint64_t>(h + 24, info.dropped_nonfinite);
-    put<std::uint64_t>(h + 32, info.dropped_blanked);
-    put<std::uint64_t>(h + 40, info.brick_count);
+    put_le<std::uint32_t>(h + 8, kPointStoreVersion);
+    put_le<std::uint32_t>(h + 12, kPointStoreHeaderBytes);
+    put_le<std::uint64_t>(h + 16, info.points);
+    put_le<std::uint64_t>(h + 24, info.dropped_nonfinite);
+    put_le<std::uint64_t>(h + 32, info.dropped_blanked);
+    put_le<std::uint64_t>(h + 40, info.brick_count);
     for (int i = 0; i < 3; ++i) {
-        put<double>(h + 48 + 8 * i, info.lo[i]);
-        put<double>(h + 72 + 8 * i, info.hi[i]);
+        put_le<double>(h + 48 + 8 * i, info.lo[i]);
+        put_le<double>(h + 72 + 8 * i, info.hi[i]);
     }
-    put<double>(h + 96, info.value_min);
-    put<double>(h + 104, info.value_max);
-    put<std::uint32_t>(h + 112, info.level);
-    put<std::uint32_t>(h + 116, info.brick_points);
-    put<std::int32_t>(h + 120, info.zstd_level);
-    put<std::uint32_t>(h + 124, info.has_values ? 1u : 0u);
+    put_le<double>(h + 96, info.value_min);
+    put_le<double>(h + 104, info.value_max);
+    put_le<std::uint32_t>(h + 112, info.level);
+    put_le<std::uint32_t>(h + 116, info.brick_points);
+    put_le<std::int32_t>(h + 120, info.zstd_level);
+    put_le<std::uint32_t>(h + 124, info.has_values ? 1u : 0u);
     std::memcpy(h + 128, info.value_name.data(), std::min(info.value_name.size(), kPointStoreValueNameBytes - 1));
     std::memcpy(h + 192, info.source.data(), std::min(info.source.size(), kPointStoreSourceBytes - 1));
-    put<std::uint32_t>(h + 508, point_store_crc32(h, 508));
+    put_le<std::uint32_t>(h + 508, point_store_crc32(h, 508));
     return a;
 }
 
 void encode_point_brick_entry(const PointBrickEntry& e, unsigned char* p) {
-    put<std::uint64_t>(p, e.key);
-    put<std::uint32_t>(p + 8, e.level);
-    put<std::uint32_t>(p + 12, e.crc);
-    put<std::uint64_t>(p + 16, e.offset);
-    put<std::uint64_t>(p + 24, e.stored_bytes);
-    put<std::uint64_t>(p + 32, e.count);
-    put<std::uint64_t>(p + 40, e.first);
+    put_le<std::uint64_t>(p, e.key);
+    put_le<std::uint32_t>(p + 8, e.level);
+    put_le<std::uint32_t>(p + 12, e.crc);
+    put_le<std::uint64_t>(p + 16, e.offset);
+    put_le<std::uint64_t>(p + 24, e.stored_bytes);
+    put_le<std::uint64_t>(p + 32, e.count);
+    put_le<std::uint64_t>(p + 40, e.first);
     for (int a = 0; a < 3; ++a) {
-        put<double>(p + 48 + 8 * a, e.lo[a]);
-        put<double>(p + 72 + 8 * a, e.hi[a]);
+        put_le<double>(p + 48 + 8 * a, e.lo[a]);
+        put_le<double>(p + 72 + 8 * a, e.hi[a]);
     }
-    put<double>(p + 96, e.vmin);
-    put<double>(p + 104, e.vmax);
+    put_le<double>(p + 96, e.vmin);
+    put_le<double>(p + 104, e.vmax);
 }
 
 std::array<unsigned char, kPointStoreFooterBytes> encode_point_store_footer(std::uint64_t index_offset,
@@ -111,24 +101,24 @@ PointStoreLayout decode_point_store_layout(const PointStoreReadAt& read, std::ui
     unsigned char h[kPointStoreHeaderBytes];
     read(h, sizeof h, 0);
     PointStoreLayout out;
-    out.header_crc = get<std::uint32_t>(h + 508);
+    out.header_crc = get_le<std::uint32_t>(h + 508);
     if (!crc_matches(out.header_crc, point_store_crc32(h, 508))) throw bad("point store header checksum mismatch (corrupt header)");
-    if (get<std::uint32_t>(h + 12) != kPointStoreHeaderBytes) throw bad("unexpected header size in point store header");
+    if (get_le<std::uint32_t>(h + 12) != kPointStoreHeaderBytes) throw bad("unexpected header size in point store header");
     PointStoreInfo& in = out.info;
-    in.points = get<std::uint64_t>(h + 16);
-    in.dropped_nonfinite = get<std::uint64_t>(h + 24);
-    in.dropped_blanked = get<std::uint64_t>(h + 32);
-    in.brick_count = get<std::uint64_t>(h + 40);
+    in.points = get_le<std::uint64_t>(h + 16);
+    in.dropped_nonfinite = get_le<std::uint64_t>(h + 24);
+    in.dropped_blanked = get_le<std::uint64_t>(h + 32);
+    in.brick_count = get_le<std::uint64_t>(h + 40);
     for (int a = 0; a < 3; ++a) {
-        in.lo[a] = get<double>(h + 48 + 8 * a);
-        in.hi[a] = get<double>(h + 72 + 8 * a);
+        in.lo[a] = get_le<double>(h + 48 + 8 * a);
+        in.hi[a] = get_le<double>(h + 72 + 8 * a);
     }
-    in.value_min = get<double>(h + 96);
-    in.value_max = get<double>(h + 104);
-    in.level = get<std::uint32_t>(h + 112);
-    in.brick_points = get<std::uint32_t>(h + 116);
-    in.zstd_level = get<std::int32_t>(h + 120);
-    const std::uint32_t flags = get<std::uint32_t>(h + 124);
+    in.value_min = get_le<double>(h + 96);
+    in.value_max = get_le<double>(h + 104);
+    in.level = get_le<std::uint32_t>(h + 112);
+    in.brick_points = get_le<std::uint32_t>(h + 116);
+    in.zstd_level = get_le<std::int32_t>(h + 120);
+    const std::uint32_t flags = get_le<std::uint32_t>(h + 124);
     in.has_values = (flags & 1u) != 0;
     in.value_name = text_field(h + 128, kPointStoreValueNameBytes - 1);
     in.source = text_field(h + 192, kPointStoreSourceBytes - 1);
@@ -158,10 +148,10 @@ PointStoreLayout decode_point_store_layout(const PointStoreReadAt& read, std::ui
     read(f, sizeof f, size - kPointStoreFooterBytes);
     if (std::memcmp(f + 24, kPointStoreEndMagic, 8) != 0)
         throw bad("truncated or unfinished point store (no footer at the end of the file)");
-    if (get<std::uint32_t>(f + 20) != kPointStoreVersion || get<std::uint64_t>(f + 8) != in.brick_count)
+    if (get_le<std::uint32_t>(f + 20) != kPointStoreVersion || get_le<std::uint64_t>(f + 8) != in.brick_count)
         throw bad("point store footer does not match its header (corrupt or truncated file)");
-    out.index_offset = get<std::uint64_t>(f);
-    out.index_crc = get<std::uint32_t>(f + 16);
+    out.index_offset = get_le<std::uint64_t>(f);
+    out.index_crc = get_le<std::uint32_t>(f + 16);
     if (out.index_offset < kPointStoreHeaderBytes || out.index_offset > size ||
         size - out.index_offset != in.brick_count * kPointStoreEntryBytes + kPointStoreFooterBytes)
         throw bad("index offset " + std::to_string(out.index_offset) + " inconsistent with the file size " +
@@ -177,19 +167,19 @@ PointStoreLayout decode_point_store_layout(const PointStoreReadAt& read, std::ui
     for (std::size_t i = 0; i < out.bricks.size(); ++i) {
         const unsigned char* p = idx.data() + i * kPointStoreEntryBytes;
         PointBrickEntry& e = out.bricks[i];
-        e.key = get<std::uint64_t>(p);
-        e.level = get<std::uint32_t>(p + 8);
-        e.crc = get<std::uint32_t>(p + 12);
-        e.offset = get<std::uint64_t>(p + 16);
-        e.stored_bytes = get<std::uint64_t>(p + 24);
-        e.count = get<std::uint64_t>(p + 32);
-        e.first = get<std::uint64_t>(p + 40);
+        e.key = get_le<std::uint64_t>(p);
+        e.level = get_le<std::uint32_t>(p + 8);
+        e.crc = get_le<std::uint32_t>(p + 12);
+        e.offset = get_le<std::uint64_t>(p + 16);
+        e.stored_bytes = get_le<std::uint64_t>(p + 24);
+        e.count = get_le<std::uint64_t>(p + 32);
+        e.first = get_le<std::uint64_t>(p + 40);
         for (int a = 0; a < 3; ++a) {
-            e.lo[a] = get<double>(p + 48 + 8 * a);
-            e.hi[a] = get<double>(p + 72 + 8 * a);
+            e.lo[a] = get_le<double>(p + 48 + 8 * a);
+            e.hi[a] = get_le<double>(p + 72 + 8 * a);
         }
-        e.vmin = get<double>(p + 96);
-        e.vmax = get<double>(p + 104);
+        e.vmin = get_le<double>(p + 96);
+        e.vmax = get_le<double>(p + 104);
         const std::string where = "index entry " + std::to_string(i) + ": ";
         if (e.level > in.level || e.key >= (std::uint64_t{1} << (3 * e.level)))
             throw bad(where + "cell level " + std::to_string(e.level) + " key " + std::to_string(e.key) + " out of range");

@@ -6,13 +6,6 @@
 
 namespace meshless {
 
-namespace {
-template <class T>
-void put_le(unsigned char* p, T v) {
-    std::memcpy(p, &v, sizeof v);
-}
-}  // namespace
-
 void check_store_preamble(const StoreReadAt& read, std::uint64_t size, const std::string& name, const StoreFraming& f) {
     const std::string what(f.what);
     auto bad = [&](const std::string& msg) { return FormatError(name + ": " + msg); };

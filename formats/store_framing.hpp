@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -16,6 +17,19 @@
 namespace meshless {
 
 inline constexpr std::size_t kStoreFooterBytes = 32;
+
+/// Writes v's bytes at p (little-endian host, as everywhere in meshless).
+template <class T>
+void put_le(unsigned char* p, T v) {
+    std::memcpy(p, &v, sizeof v);
+}
+/// The T stored at p by put_le.
+template <class T>
+T get_le(const unsigned char* p) {
+    T v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
 
 /// What a store's first bytes must be, as check_store_preamble checks them.
 struct StoreFraming {

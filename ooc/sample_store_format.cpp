@@ -18,16 +18,6 @@ namespace {
 
 constexpr char kPointStreamMagic[8] = {'\x89', 'M', 'L', 'S', '\r', '\n', '\x1a', '\n'};
 
-template <class T>
-void put(unsigned char* p, T v) {
-    std::memcpy(p, &v, sizeof v);  // little-endian host (x86), as everywhere in meshless
-}
-template <class T>
-T get(const unsigned char* p) {
-    T v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
 
 }  // namespace
 
@@ -51,42 +41,42 @@ std::array<unsigned char, kSampleStoreHeaderBytes> encode_sample_store_header(co
     std::array<unsigned char, kSampleStoreHeaderBytes> a{};
     unsigned char* h = a.data();
     std::memcpy(h, kSampleStoreMagic, 8);
-    put<std::uint32_t>(h + 8, kSampleStoreVersion);
-    put<std::uint32_t>(h + 12, kSampleStoreHeaderBytes);
+    put_le<std::uint32_t>(h + 8, kSampleStoreVersion);
+    put_le<std::uint32_t>(h + 12, kSampleStoreHeaderBytes);
     for (int i = 0; i < 3; ++i) {
-        put<std::int64_t>(h + 16 + 8 * i, info.grid.dims[i]);
-        put<double>(h + 40 + 8 * i, info.grid.origin[i]);
-        put<double>(h + 64 + 8 * i, info.grid.spacing[i]);
+        put_le<std::int64_t>(h + 16 + 8 * i, info.grid.dims[i]);
+        put_le<double>(h + 40 + 8 * i, info.grid.origin[i]);
+        put_le<double>(h + 64 + 8 * i, info.grid.spacing[i]);
     }
-    put<std::uint32_t>(h + 88, static_cast<std::uint32_t>(info.type));
-    put<std::uint32_t>(h + 92, info.brick_edge);
-    put<double>(h + 96, info.value_lo);
-    put<double>(h + 104, info.value_hi);
-    put<std::uint32_t>(h + 112, info.levels);
-    put<std::uint32_t>(h + 116, info.exact_levels ? 1u : 0u);
-    put<std::uint64_t>(h + 120, info.key_count);
-    put<std::uint64_t>(h + 128, info.bucket_count);
-    put<std::uint64_t>(h + 136, info.cells);
-    put<std::uint64_t>(h + 144, info.constant_cells);
-    put<std::uint64_t>(h + 152, info.nonfinite_cells);
-    put<std::uint64_t>(h + 160, info.mlb.brick_count);
-    put<std::uint64_t>(h + 168, info.mlb.file_bytes);
-    put<std::uint32_t>(h + 176, info.mlb.header_crc);
-    put<std::uint32_t>(h + 180, info.mlb.index_crc);
-    put<std::uint64_t>(h + 184, info.key_bytes);
+    put_le<std::uint32_t>(h + 88, static_cast<std::uint32_t>(info.type));
+    put_le<std::uint32_t>(h + 92, info.brick_edge);
+    put_le<double>(h + 96, info.value_lo);
+    put_le<double>(h + 104, info.value_hi);
+    put_le<std::uint32_t>(h + 112, info.levels);
+    put_le<std::uint32_t>(h + 116, info.exact_levels ? 1u : 0u);
+    put_le<std::uint64_t>(h + 120, info.key_count);
+    put_le<std::uint64_t>(h + 128, info.bucket_count);
+    put_le<std::uint64_t>(h + 136, info.cells);
+    put_le<std::uint64_t>(h + 144, info.constant_cells);
+    put_le<std::uint64_t>(h + 152, info.nonfinite_cells);
+    put_le<std::uint64_t>(h + 160, info.mlb.brick_count);
+    put_le<std::uint64_t>(h + 168, info.mlb.file_bytes);
+    put_le<std::uint32_t>(h + 176, info.mlb.header_crc);
+    put_le<std::uint32_t>(h + 180, info.mlb.index_crc);
+    put_le<std::uint64_t>(h + 184, info.key_bytes);
     std::memcpy(h + kSampleStorePathOffset, info.mlb_path.data(),
                 std::min(info.mlb_path.size(), kSampleStorePathBytes - 1));
-    put<std::uint32_t>(h + 508, sample_store_crc32(0, h, 508));
+    put_le<std::uint32_t>(h + 508, sample_store_crc32(0, h, 508));
     return a;
 }
 
 void encode_sample_store_bucket(const SampleBucket& b, unsigned char* e) {
-    put<std::uint16_t>(e, b.a);
-    put<std::uint16_t>(e + 2, b.b);
-    put<std::uint32_t>(e + 4, b.crc);
-    put<std::uint64_t>(e + 8, b.offset);
-    put<std::uint64_t>(e + 16, b.bytes);
-    put<std::uint64_t>(e + 24, b.count);
+    put_le<std::uint16_t>(e, b.a);
+    put_le<std::uint16_t>(e + 2, b.b);
+    put_le<std::uint32_t>(e + 4, b.crc);
+    put_le<std::uint64_t>(e + 8, b.offset);
+    put_le<std::uint64_t>(e + 16, b.bytes);
+    put_le<std::uint64_t>(e + 24, b.count);
 }
 
 std::array<unsigned char, kSampleStoreFooterBytes> encode_sample_store_footer(std::uint64_t table_offset,
@@ -109,42 +99,42 @@ SampleStoreLayout decode_sample_store_layout(const ReadAt& read, std::uint64_t s
                           "; remake it with 'meshless generate vol.mlb --all -o vol.mls'"});
     unsigned char h[kSampleStoreHeaderBytes];
     read(h, sizeof h, 0);
-    if (get<std::uint32_t>(h + 508) != sample_store_crc32(0, h, 508))
+    if (get_le<std::uint32_t>(h + 508) != sample_store_crc32(0, h, 508))
         throw bad("sample store header checksum mismatch (corrupt header)");
-    if (get<std::uint32_t>(h + 12) != kSampleStoreHeaderBytes) throw bad("unexpected header size in sample store header");
+    if (get_le<std::uint32_t>(h + 12) != kSampleStoreHeaderBytes) throw bad("unexpected header size in sample store header");
 
     SampleStoreLayout out;
     SampleStoreInfo& info = out.info;
     for (int a = 0; a < 3; ++a) {
-        info.grid.dims[a] = get<std::int64_t>(h + 16 + 8 * a);
-        info.grid.origin[a] = get<double>(h + 40 + 8 * a);
-        info.grid.spacing[a] = get<double>(h + 64 + 8 * a);
+        info.grid.dims[a] = get_le<std::int64_t>(h + 16 + 8 * a);
+        info.grid.origin[a] = get_le<double>(h + 40 + 8 * a);
+        info.grid.spacing[a] = get_le<double>(h + 64 + 8 * a);
         if (info.grid.dims[a] < 1 || info.grid.dims[a] > (std::int64_t{1} << 31) || !(info.grid.spacing[a] > 0) ||
             !std::isfinite(info.grid.spacing[a]) || !std::isfinite(info.grid.origin[a]))
             throw bad("invalid grid in sample store header");
     }
-    const std::uint32_t type = get<std::uint32_t>(h + 88);
+    const std::uint32_t type = get_le<std::uint32_t>(h + 88);
     if (type < 1 || type > 4) throw bad("unknown sample type " + std::to_string(type) + " in sample store header");
     info.type = static_cast<SampleType>(type);
-    info.brick_edge = get<std::uint32_t>(h + 92);
+    info.brick_edge = get_le<std::uint32_t>(h + 92);
     if (info.brick_edge < 2 || info.brick_edge > 1024) throw bad("invalid brick edge " + std::to_string(info.brick_edge) + " in sample store header");
-    info.value_lo = get<double>(h + 96);
-    info.value_hi = get<double>(h + 104);
-    info.levels = get<std::uint32_t>(h + 112);
-    info.exact_levels = (get<std::uint32_t>(h + 116) & 1u) != 0;
+    info.value_lo = get_le<double>(h + 96);
+    info.value_hi = get_le<double>(h + 104);
+    info.levels = get_le<std::uint32_t>(h + 112);
+    info.exact_levels = (get_le<std::uint32_t>(h + 116) & 1u) != 0;
     if (info.levels < 1 || info.levels > kMaxSpanSpaceLevels || !std::isfinite(info.value_lo) ||
         !std::isfinite(info.value_hi) || !(info.value_hi >= info.value_lo))
         throw bad("invalid span-space levels in sample store header");
-    info.key_count = get<std::uint64_t>(h + 120);
-    info.bucket_count = get<std::uint64_t>(h + 128);
-    info.cells = get<std::uint64_t>(h + 136);
-    info.constant_cells = get<std::uint64_t>(h + 144);
-    info.nonfinite_cells = get<std::uint64_t>(h + 152);
-    info.mlb.brick_count = get<std::uint64_t>(h + 160);
-    info.mlb.file_bytes = get<std::uint64_t>(h + 168);
-    info.mlb.header_crc = get<std::uint32_t>(h + 176);
-    info.mlb.index_crc = get<std::uint32_t>(h + 180);
-    info.key_bytes = get<std::uint64_t>(h + 184);
+    info.key_count = get_le<std::uint64_t>(h + 120);
+    info.bucket_count = get_le<std::uint64_t>(h + 128);
+    info.cells = get_le<std::uint64_t>(h + 136);
+    info.constant_cells = get_le<std::uint64_t>(h + 144);
+    info.nonfinite_cells = get_le<std::uint64_t>(h + 152);
+    info.mlb.brick_count = get_le<std::uint64_t>(h + 160);
+    info.mlb.file_bytes = get_le<std::uint64_t>(h + 168);
+    info.mlb.header_crc = get_le<std::uint32_t>(h + 176);
+    info.mlb.index_crc = get_le<std::uint32_t>(h + 180);
+    info.key_bytes = get_le<std::uint64_t>(h + 184);
     // an .mlb holds a 64-byte index entry per brick: its size bounds the brick count (and the keys)
     if (info.mlb.brick_count < 1 || info.mlb.brick_count > info.mlb.file_bytes / 64 ||
         info.mlb.brick_count > (std::uint64_t{1} << 40) / (std::uint64_t{info.brick_edge} * info.brick_edge))
@@ -167,8 +157,8 @@ SampleStoreLayout decode_sample_store_layout(const ReadAt& read, std::uint64_t s
 
     unsigned char f[kSampleStoreFooterBytes];
     read(f, sizeof f, expected - sizeof f);
-    if (std::memcmp(f + 24, kSampleStoreEndMagic, 8) != 0 || get<std::uint32_t>(f + 20) != kSampleStoreVersion ||
-        get<std::uint64_t>(f) != table_offset || get<std::uint64_t>(f + 8) != info.bucket_count)
+    if (std::memcmp(f + 24, kSampleStoreEndMagic, 8) != 0 || get_le<std::uint32_t>(f + 20) != kSampleStoreVersion ||
+        get_le<std::uint64_t>(f) != table_offset || get_le<std::uint64_t>(f + 8) != info.bucket_count)
         throw bad("sample store footer does not match its header (corrupt or truncated file)");
     // the table, read in chunks (checksummed and decoded as it comes: no second copy of it)
     out.buckets.resize(info.bucket_count);
@@ -184,15 +174,15 @@ SampleStoreLayout decode_sample_store_layout(const ReadAt& read, std::uint64_t s
         for (std::size_t i = c0; i < c0 + n; ++i) {
             const unsigned char* e = chunk.data() + (i - c0) * kSampleStoreBucketBytes;
             SampleBucket& b = out.buckets[i];
-            b.a = get<std::uint16_t>(e);
-            b.b = get<std::uint16_t>(e + 2);
-            b.crc = get<std::uint32_t>(e + 4);
-            b.offset = get<std::uint64_t>(e + 8);
-            b.bytes = get<std::uint64_t>(e + 16);
-            b.count = get<std::uint64_t>(e + 24);
+            b.a = get_le<std::uint16_t>(e);
+            b.b = get_le<std::uint16_t>(e + 2);
+            b.crc = get_le<std::uint32_t>(e + 4);
+            b.offset = get_le<std::uint64_t>(e + 8);
+            b.bytes = get_le<std::uint64_t>(e + 16);
+            b.count = get_le<std::uint64_t>(e + 24);
         }
     }
-    if (crc != get<std::uint32_t>(f + 16)) throw bad("sample store bucket table checksum mismatch (corrupt index)");
+    if (crc != get_le<std::uint32_t>(f + 16)) throw bad("sample store bucket table checksum mismatch (corrupt index)");
     for (std::size_t i = 0; i < out.buckets.size(); ++i) {
         const SampleBucket& b = out.buckets[i];
         const SampleBucket* prev = i ? &out.buckets[i - 1] : nullptr;
