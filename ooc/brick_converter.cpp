@@ -22,6 +22,7 @@
 #include <numeric>
 #include <vector>
 
+#include "formats/spool_file.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/temporary_files.hpp"
 #include "kernels/errors.hpp"
@@ -32,51 +33,8 @@ namespace meshless {
 
 namespace {
 
-/// The spool of compressed frames in slab order: "<out>.tmp-<pid>.spool", removed by the destructor.
-class Spool {
-public:
-    explicit Spool(const std::string& out)
-        : out_(out), path_(out + ".tmp-" + std::to_string(::getpid()) + ".spool"), registration_(path_) {
-        fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-        if (fd_ < 0) throw IoError(out_ + ": cannot create temporary file " + path_ + " (" + std::strerror(errno) + ")");
-    }
-    ~Spool() {
-        ::close(fd_);
-        ::unlink(path_.c_str());
-    }
-    Spool(const Spool&) = delete;
-    Spool& operator=(const Spool&) = delete;
-
-    std::uint64_t append(const std::byte* p, std::size_t n) {
-        const std::uint64_t at = size_;
-        std::size_t done = 0;
-        while (done < n) {
-            const ssize_t w = ::write(fd_, p + done, n - done);
-            if (w < 0) {
-                if (errno == EINTR) continue;
-                throw IoError(out_ + ": write failed (" + std::strerror(errno) + ")");
-            }
-            done += static_cast<std::size_t>(w);
-        }
-        size_ += n;
-        return at;
-    }
-    void read(std::uint64_t at, std::size_t n, std::byte* dst) const {
-        std::size_t done = 0;
-        while (done < n) {
-            const ssize_t r = ::pread(fd_, dst + done, n - done, static_cast<off_t>(at + done));
-            if (r < 0 && errno == EINTR) continue;
-            if (r <= 0) throw IoError(out_ + ": cannot read back temporary file " + path_);
-            done += static_cast<std::size_t>(r);
-        }
-    }
-
-private:
-    std::string out_, path_;
-    TemporaryRegistration registration_;  ///< path_, for the signal handlers
-    int fd_ = -1;
-    std::uint64_t size_ = 0;
-};
+/// The spool of compressed frames in slab order ("<out>.tmp-<pid>.spool", removed by the destructor).
+using Spool = SpoolFile;
 
 struct CompressedBrick {
     std::vector<std::byte> frame;

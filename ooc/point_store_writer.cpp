@@ -21,6 +21,7 @@
 #include <memory>
 #include <queue>
 
+#include "formats/spool_file.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/temporary_files.hpp"
@@ -41,54 +42,16 @@ bool before(const Rec& a, const Rec& b) { return a.key < b.key || (a.key == b.ke
 constexpr std::uint64_t kFixedBytes = 8ull << 20;   ///< reader chunks and buffers, PLY reader, output buffer
 constexpr std::uint64_t kMinRunBuffer = 1024;       ///< records per run in a merge (48 KiB)
 
-/// Unsorted and sorted records spilled: "<out>.tmp-<pid>.spool", removed by the destructor.
+/// Unsorted and sorted records spilled to a SpoolFile ("<out>.tmp-<pid>.spool"), counted in records.
 class Spool {
 public:
-    explicit Spool(const std::string& out)
-        : out_(out), path_(out + ".tmp-" + std::to_string(::getpid()) + ".spool"), registration_(path_) {
-        fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-        if (fd_ < 0) throw IoError(out_ + ": cannot create temporary file " + path_ + " (" + std::strerror(errno) + ")");
-    }
-    ~Spool() {
-        ::close(fd_);
-        ::unlink(path_.c_str());
-    }
-    Spool(const Spool&) = delete;
-    Spool& operator=(const Spool&) = delete;
+    explicit Spool(const std::string& out) : file_(out) {}
     /// Appends n records; returns the record index of the first.
-    std::uint64_t append(const Rec* r, std::size_t n) {
-        const std::uint64_t at = size_;
-        const auto* p = reinterpret_cast<const char*>(r);
-        std::size_t left = n * sizeof(Rec);
-        while (left > 0) {
-            const ssize_t w = ::pwrite(fd_, p, left, static_cast<off_t>(written_));
-            if (w < 0) {
-                if (errno == EINTR) continue;
-                throw IoError(out_ + ": cannot write temporary file " + path_ + " (" + std::strerror(errno) + ")");
-            }
-            p += w;
-            left -= static_cast<std::size_t>(w);
-            written_ += static_cast<std::uint64_t>(w);
-        }
-        size_ += n;
-        return at;
-    }
-    void read(std::uint64_t at, std::size_t n, Rec* dst) const {
-        auto* p = reinterpret_cast<char*>(dst);
-        std::size_t done = 0, bytes = n * sizeof(Rec);
-        while (done < bytes) {
-            const ssize_t r = ::pread(fd_, p + done, bytes - done, static_cast<off_t>(at * sizeof(Rec) + done));
-            if (r < 0 && errno == EINTR) continue;
-            if (r <= 0) throw IoError(out_ + ": cannot read back temporary file " + path_);
-            done += static_cast<std::size_t>(r);
-        }
-    }
+    std::uint64_t append(const Rec* r, std::size_t n) { return file_.append(r, n * sizeof(Rec)) / sizeof(Rec); }
+    void read(std::uint64_t at, std::size_t n, Rec* dst) const { file_.read(at * sizeof(Rec), n * sizeof(Rec), dst); }
 
 private:
-    std::string out_, path_;
-    TemporaryRegistration registration_;
-    int fd_ = -1;
-    std::uint64_t size_ = 0, written_ = 0;  ///< records, bytes
+    SpoolFile file_;
 };
 
 /// Records in (key, seq) order, one at a time.
