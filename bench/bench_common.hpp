@@ -118,7 +118,7 @@ std::vector<DataVolume> speed_volumes();
 // The sections; each prints its tables into the report. Missing data is reported, not thrown.
 /// Accuracy of the projected points against analytic surfaces (bench/bench_accuracy.cpp).
 void run_accuracy(const BenchOptions& o, Report& r);
-/// Issue 9's volume rendering (bench/bench_render.cpp): LIDC2 512x512 trilinear ray casting on 1 and 2
+/// The volume rendering (bench/bench_render.cpp): LIDC2 512x512 trilinear ray casting on 1 and 2
 /// threads, samples per second, skipping on/off; scattered samples of it through the mpu field, PSNR
 /// against the volume's picture.
 void run_render(const BenchOptions& o, Report& r);
@@ -128,27 +128,27 @@ void run_speed(const BenchOptions& o, Report& r);
 void run_threads(const BenchOptions& o, Report& r);
 /// Splat rendering frame times, quad and EWA kernels, 36-frame turntable (bench/bench_splat.cpp).
 void run_splat(const BenchOptions& o, Report& r);
-/// Issue 3's out-of-core numbers (bench/bench_ooc.cpp): conversion MB/s and ratio, store vs in-memory
+/// The out-of-core numbers (bench/bench_ooc.cpp): conversion MB/s and ratio, store vs in-memory
 /// throughput, paradigm (A) vs (C) vs marching cubes, threads and MPI ranks, peak RSS on >= 4 GiB.
 /// Writes (and removes unless o.keep) a scratch folder under o.scratch_dir; takes minutes and GBs.
 void run_ooc(const BenchOptions& o, Report& r);
-/// Issue 4's numbers for the meshless fields (bench/bench_fields.cpp): accuracy on Franke's 3-D function
+/// The numbers for the meshless fields (bench/bench_fields.cpp): accuracy on Franke's 3-D function
 /// and Marschner-Lobb vs SciPy's RBFInterpolator (bench/rbf_reference.py, run with o.python), linear
 /// reproduction, Table 4.1 construction times on 1 and 2 threads, evaluation rate, 1M-point memory.
 void run_fields(const BenchOptions& o, Report& r);
-/// Issue 11's whole-process numbers (bench/bench_process.cpp): the `meshless` binary (o.meshless) run as
+/// The whole-process numbers (bench/bench_process.cpp): the `meshless` binary (o.meshless) run as
 /// users run it on the lung-sized CT, best-of-N wall clock and peak RSS (wait4), each row with the ratio
 /// to its baseline measured in the same run: isosurface vs vtkFlyingEdges3D, pipes vs in-process,
 /// 2 vs 1 threads, paradigm A vs C, splat throughput and RSS for 10^6..10^8 points. A command that
 /// fails is an "n/a (reason)" row; the run goes on.
 void run_process(const BenchOptions& o, Report& r);
-/// Issue 8's numbers (bench/bench_multiblock.cpp): `meshless split` + `isosurface BLOCKS` + `mc BLOCKS --stats`
+/// The multiblock numbers (bench/bench_multiblock.cpp): `meshless split` + `isosurface BLOCKS` + `mc BLOCKS --stats`
 /// on analytic fields in every multiblock layout and a 3-level AMR hierarchy, coverage of the true isosurface,
 /// distance and normal errors next to the naive marching cubes' cracks; whole-process speed on the Table 4.1
 /// sets and the combustor at 1 and 2 threads; VTK's per-block contour when python3-vtk9 is installed.
 /// Commands that fail are "n/a (...)" cells; o.work_dir/multiblock (else a temp folder) holds the files.
 void run_multiblock(const BenchOptions& o, Report& r);
-/// Issue 10's numbers (bench/bench_scattered.cpp): `meshless isosurface POINTS` on analytic fields at scattered
+/// The scattered-data numbers (bench/bench_scattered.cpp): `meshless isosurface POINTS` on analytic fields at scattered
 /// points (uniform, clustered, layered; 10^4..10^6) against the truth and against SciPy griddata, vtkDelaunay3D and
 /// vtkPointInterpolator (bench/scattered_peers.py) in the same run; Table 5.1 rebuilt from --stats; whole-process
 /// time, peak RSS, thread and MPI-rank speed-ups on head samples of 10^5..10^6 points. Failing commands are
@@ -161,7 +161,7 @@ std::vector<std::string> split_list(const std::string& s);
 /// Checks --sizes, --fields, --distributions, --parts; throws std::invalid_argument naming the option.
 void check_scattered_lists(const BenchOptions& o);
 
-/// Issue 9: cluster binary trees (bench/bench_hierarchy.cpp).
+/// The cluster binary trees (bench/bench_hierarchy.cpp).
 void run_hierarchy(const BenchOptions& o, Report& r);
 /// Its part (e) alone (`meshless-bench hierarchy-rmse`); `silicium` may be empty (read here).
 void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& silicium = {});

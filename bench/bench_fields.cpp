@@ -1,4 +1,4 @@
-// meshless-bench fields: the numbers of issue 4 for the meshless fields of dissertation chapters 4-5
+// meshless-bench fields: the numbers for the meshless fields of dissertation chapters 4-5
 // (rbf-grid section 4.3, mpu section 5.5, global-rbf section 2.1.1):
 //   1. accuracy: Franke's 3-D test function on [0,1]^3 and the Marschner-Lobb function on [-1,1]^3,
 //      sampled at N uniform random points; RMS and max error against the exact function at 20,000
@@ -56,8 +56,8 @@ constexpr double kLinearTarget = 1e-5;     // linear reproduction, max relative 
 constexpr double kSpeedupTarget = 100.0;   // construction >= 100x the paper's Pentium 4 time, one core
 constexpr std::size_t kTestPoints = 20000;
 constexpr std::size_t kEvalBatch = 100000;
-constexpr double kEvalTargetM = 4.0;      // issue 11: value + gradient >= 4 M points/s per core (rbf-grid, mpu)
-constexpr double kBuild1MTarget = 2.0;    // issue 11: construction of 1M points <= 2 s on 2 threads
+constexpr double kEvalTargetM = 4.0;      // value + gradient >= 4 M points/s per core (rbf-grid, mpu)
+constexpr double kBuild1MTarget = 2.0;    // construction of 1M points <= 2 s on 2 threads
 constexpr int kScipyNeighbors = 50;
 constexpr double kScipyBudgetS = 60.0;     // skip a SciPy run estimated to take longer
 constexpr std::uint32_t kGlobalMax = 4000; // global-rbf only for N <= this
@@ -663,7 +663,7 @@ void run_field_speed(const BenchOptions& o, Report& r) {
                "binning/octree, every local solve), best of %d, on 1 TBB thread (tbb::global_control) and on 2; "
                "speedup = paper time / our 1-thread time (target >= %.0fx). eval Mpts/s: value + gradient of %zu "
                "random points inside the bounds, one thread, best of %d (NaN %%: points outside every support; eval target, "
-               "issue 11: >= %.0f M points/s per core for rbf-grid and mpu). "
+               ">= %.0f M points/s per core for rbf-grid and mpu). "
                "This machine has %u logical cores.",
                reps, kSpeedupTarget, kEvalBatch, reps, kEvalTargetM, hw));
     std::vector<SpeedSet> sets = table41_sets(o, r);
@@ -724,7 +724,7 @@ void run_field_million(const BenchOptions& o, Report& r) {
     const std::size_t n = 1000000;
     const bool can_reset = reset_peak_rss();
     r.note(fmt("Franke 3-D at 1M uniform random points in [0,1]^3, construction on 2 TBB threads (tbb::global_control, "
-               "as --threads 2; issue 11 target: <= %.0f s), evaluation on one (target >= %.0f M points/s per core). RSS before: resident memory before "
+               "as --threads 2; target: <= %.0f s), evaluation on one (target >= %.0f M points/s per core). RSS before: resident memory before "
                "the build (the point set, 32 MB, included); peak RSS: VmHWM of /proc/self/status after %s, i.e. the "
                "high-water mark of construction and of evaluating %zu points (value + gradient, one thread); "
                "getrusage's ru_maxrss agrees with it after the reset. Bound stated: the field's peak over the RSS "
@@ -735,7 +735,7 @@ void run_field_million(const BenchOptions& o, Report& r) {
     const PointSet ps = make_points(random_box({0, 0, 0}, {1, 1, 1}, n, 31337), franke3, "f");
     Table t;
     t.header = {"field", "points", "build s (2 threads)", "memory_bytes", "B/point", "RSS before", "peak RSS", "peak - before",
-                "ru_maxrss", "eval Mpts/s (1 core)", "bound", "issue 11 targets"};
+                "ru_maxrss", "eval Mpts/s (1 core)", "bound", "targets"};
     for (FieldKind k : {FieldKind::rbf_grid, FieldKind::mpu}) {
         std::fprintf(stderr, "bench fields: 1M %s...\n", std::string(field_kind_name(k)).c_str());
         if (can_reset) reset_peak_rss();

@@ -1,4 +1,4 @@
-// `meshless-bench hierarchy`: issue 9's numbers for the cluster binary tree (dissertation chapter 6,
+// `meshless-bench hierarchy`: the numbers for the cluster binary tree (dissertation chapter 6,
 // Tables 6.1-6.2), measured in process on the library (kernels/cluster_binary_tree.hpp) except the
 // peak memory, which is the `meshless hierarchy` process's own (run_sh: its ru_maxrss, measured from a
 // fresh wrapper process; a child forked from the bench itself would inherit the bench's resident set
@@ -169,7 +169,7 @@ void compare_row(const std::string& name, const PointSet& all, const ClusterTree
 }  // namespace
 
 void run_hierarchy(const BenchOptions& o, Report& r) {
-    r.section("Hierarchy (issue 9): cluster binary trees, dissertation chapter 6");
+    r.section("Hierarchy: cluster binary trees, dissertation chapter 6");
     const fs::path data(o.data_dir);
     const int reps = o.quick ? 1 : std::max(1, std::min(o.reps, 3));
     const fs::path si = data / "silicium" / "silicium_98x34x34_uint8.raw";

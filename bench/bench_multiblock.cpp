@@ -1,4 +1,4 @@
-// `meshless-bench multiblock`: issue 8's numbers (dissertation chapter 4, sections 4.4-4.6, Table 4.1,
+// `meshless-bench multiblock`: the numbers (dissertation chapter 4, sections 4.4-4.6, Table 4.1,
 // Figures 4.6-4.8), measured by running the `meshless` binary as a user would, one process per step:
 //   (a) crack-free coverage on analytic fields: sphere, torus and gyroid sampled on an n^3 grid
 //       (n = 41, --quick 33: 4k+1 nodes so the AMR layout keeps every cell) and written as NRRD (the
@@ -36,7 +36,7 @@
 //       on the same blocks in the same run: filter time (best of reps, reading excluded), triangles,
 //       open boundary edges after merging coincident points, and those off the data's bounding box
 //       (the cracks); in (a) also its coverage, measured as the naive MC's.
-// A command that fails (the multiblock isosurface and mc inputs are issue 8's new features) makes
+// A command that fails (the multiblock isosurface and mc inputs are the new features) makes
 // its cells "n/a (exit N: first line of stderr)"; the run goes on.
 #include <sys/wait.h>
 #include <unistd.h>
@@ -701,7 +701,7 @@ void part_c(const BenchOptions& o, Report& r, const fs::path& work) {
 }  // namespace
 
 void run_multiblock(const BenchOptions& o, Report& r) {
-    r.section("Multiblock and AMR isosurfaces (issue 8; dissertation chapter 4, Table 4.1, Figures 4.6-4.8)");
+    r.section("Multiblock and AMR isosurfaces (dissertation chapter 4, Table 4.1, Figures 4.6-4.8)");
     std::error_code ec;
     fs::path work;
     bool temp = false;

@@ -1,4 +1,4 @@
-// meshless-bench ooc: the numbers of issue 3 ("bigger than RAM"; dissertation sections 3.5 Table 3.1
+// meshless-bench ooc: the numbers ("bigger than RAM"; dissertation sections 3.5 Table 3.1
 // and 3.6): brick-store conversion throughput and compression per dataset; out-of-core paradigm (C)
 // from a brick store whose bricks are in the page cache vs the in-memory path on the same volume;
 // paradigm (A) (sample store, span-space query) vs a full paradigm-(C) pass vs marching cubes on the
@@ -750,7 +750,7 @@ bool ooc_scratch_has_room(const BenchOptions& o) {
 }
 
 void run_ooc(const BenchOptions& o, Report& r) {
-    r.section("Out of core: brick stores, paradigms (A) and (C), threads and ranks, peak memory (issue 3)");
+    r.section("Out of core: brick stores, paradigms (A) and (C), threads and ranks, peak memory");
     OocScratch scratch(o.scratch_dir, o.keep);
     const std::string exe = o.meshless;
     const int reps = o.quick ? 1 : std::clamp(o.reps, 1, 3);

@@ -1,4 +1,4 @@
-// meshless-bench process: issue 11's numbers, measured on whole processes as a user runs them. Every
+// meshless-bench process: the numbers, measured on whole processes as a user runs them. Every
 // row spawns the `meshless` binary (BenchOptions::meshless) through /bin/sh -c, best of N wall-clock
 // runs (steady clock around fork .. wait4), peak resident memory from wait4's rusage (ru_maxrss: for
 // a shell pipeline the largest single process of it, the shell reaping its children). Baselines are
@@ -672,7 +672,7 @@ void part_e(const Ctx& c, const std::vector<std::pair<std::uint64_t, fs::path>>&
 }  // namespace
 
 void run_process(const BenchOptions& o, Report& r) {
-    r.section("Whole processes (issue 11): `meshless` as users run it");
+    r.section("Whole processes: `meshless` as users run it");
     // inputs in `work` (kept when given), outputs of this run in its own folder inside it (always removed)
     const bool own_work = o.work_dir.empty();
     const fs::path work = own_work ? fs::temp_directory_path() / fmt("meshless-bench-process-%d", static_cast<int>(::getpid()))

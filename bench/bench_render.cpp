@@ -1,4 +1,4 @@
-// meshless-bench render: direct volume rendering by ray casting (issue 9; dissertation section 6.6 /
+// meshless-bench render: direct volume rendering by ray casting (dissertation section 6.6 /
 // Figure 6.6 and section 7.4). (a) The LIDC2 chest CT, 512x512, trilinear, several transfer
 // functions, 1 and 2 threads (target: <= 1 s on 2 cores), samples per second, empty-space skipping
 // on/off, the same bytes on 1 and 2 threads. (b) Scattered samples of the same CT (uniform random
@@ -64,7 +64,7 @@ std::string psnr_str(double psnr) { return std::isinf(psnr) ? "inf" : fmt("%.2f"
 
 void run_render(const BenchOptions& o, Report& r) {
     namespace fs = std::filesystem;
-    r.section("Volume rendering: ray casting fields (issue 9; dissertation 6.6, Figure 6.6; 7.4)");
+    r.section("Volume rendering: ray casting fields (dissertation 6.6, Figure 6.6; 7.4)");
     std::error_code ec;
     const std::string lidc = (fs::path(o.data_dir) / "vtkjs_LIDC2/LIDC2.vti").string();
     Volume vol;

@@ -1,4 +1,4 @@
-// `meshless-bench scattered`: issue 10's numbers (dissertation chapter 5, sections 5.3-5.8, Table 5.1),
+// `meshless-bench scattered`: the numbers (dissertation chapter 5, sections 5.3-5.8, Table 5.1),
 // measured by running `meshless isosurface POINTS` as a user would, one whole process per row, next to
 // the peers users reach for today, run in the same invocation (bench/scattered_peers.py):
 //   (a) accuracy against truth: analytic fields (sphere, gyroid, Marschner-Lobb; kernels/analytic_volumes)
@@ -320,7 +320,7 @@ struct Ctx {
 
 constexpr double kFieldSurfaceSpacing = 0.02;  ///< 10^6 field evaluations over the cube per set
 
-/// Issue 10's completeness measure: the fraction of a dense sampling of the field's own isosurface
+/// The completeness measure: the fraction of a dense sampling of the field's own isosurface
 /// (kernels/field_isosurface_samples.hpp, jittered spacing `spacing`, the same margin as the truth's
 /// samples) within one splat radius of the points measure_points kept in `m` (released here). The
 /// field is the command's own, fitted again by `meshless fit SET` with the same --field (bit-identical).
@@ -353,7 +353,7 @@ void measure_field_coverage(const Ctx& c, const fs::path& set, double iso, doubl
 struct PeerDef {
     const char* method;
     const char* label;
-    bool delaunay;  ///< a global Delaunay (the "faster than" target of issue 10)
+    bool delaunay;  ///< a global Delaunay (the "faster than" target)
 };
 constexpr PeerDef kPeers[] = {
     {"griddata", "SciPy griddata linear + flying edges", true},
@@ -442,7 +442,7 @@ void part_a(Ctx& c) {
                  "nearest true-surface sample, both upper bounds); normal error mean, degrees from -grad f, VTK's convention (peers: area-weighted vertex normals of their triangles' winding); "
                  "coverage: true-surface samples (jittered grid spacing %.2g, Newton-projected, 2/cbrt(N) from the cube's "
                  "faces left out) within one splat radius of a meshless point (target >= 99%%), for a peer's mesh within the "
-                 "median meshless splat radius of the set of its triangles; field-surface coverage (issue 10's completeness "
+                 "median meshless splat radius of the set of its triangles; field-surface coverage (the completeness "
                  "measure, meshless only): samples of the field's own isosurface (the command's field fitted again by "
                  "`meshless fit`, jittered spacing 0.02, Newton-projected onto the field, the same margin) within one splat "
                  "radius (target >= 99%%): where the truth's coverage falls short but this does not, the field, not the "
@@ -597,7 +597,7 @@ void part_a(Ctx& c) {
         s.add({fmt("%zu", n), fmt("%d", ty.sets), fmt("%d of %d", ty.covered, ty.sets), fmt("%d of %d", ty.field_covered, ty.sets),
                ty.compared ? fmt("%d of %d", ty.more_accurate, ty.compared) : "- (no peers)",
                ty.delaunay_rows ? fmt("%d of %d", ty.faster_than_delaunay, ty.delaunay_rows) : "- (no peers)"});
-    c.r.note("Summary against issue 10's goals: more accurate than every peer at every size, faster end to end than the "
+    c.r.note("Summary against the goals: more accurate than every peer at every size, faster end to end than the "
              "Delaunay-based peers (griddata, vtkDelaunay3D) from 10^5 points up (a peer stopped by the time limit counts "
              "as slower)." + std::string(o.quick ? " (--quick: peers on the sphere's uniform set only.)" : ""));
     c.r.table(s);
@@ -637,7 +637,7 @@ void sample_set(Ctx& c, Set51& s, const std::string& vol, const std::string& vol
     if (!p.ok()) s.why = p.why(c.own_limit);
 }
 
-/// A level of detail of `meshless hierarchy` (issue 9, chapter 6): a tree of n - 1 splits (n clusters when
+/// A level of detail of `meshless hierarchy` (chapter 6): a tree of n - 1 splits (n clusters when
 /// no split is skipped) and its finest LOD (`lod --error 0`), cached in the work folder. False (with
 /// s.why) when a command fails or runs out of time; the caller falls back to random samples.
 bool lod_set(Ctx& c, Set51& s, const std::string& vol, const std::string& vol_opts, std::size_t n) {
@@ -816,7 +816,7 @@ void part_c(Ctx& c) {
                                                     : std::vector<std::size_t>{100000, 345452, 1000000};
     c.r.note(fmt("Uniform random samples of the headsq quarter CT (`meshless sample`, seed 3), iso 500; `meshless isosurface SET.ply "
                  "--iso 500 --threads T -o pts.ply`, best of %d, wall clock of the whole process; peak RSS = ru_maxrss of its "
-                 "largest process (freshly executed wrapper). Targets (issue 10): 345 K points <= 10 s and 10^6 <= 30 s on 2 "
+                 "largest process (freshly executed wrapper). Targets: 345 K points <= 10 s and 10^6 <= 30 s on 2 "
                  "cores; memory growing with the point count; 1 -> 2 threads >= 1.8x with identical point bytes. Machine: %s, "
                  "shared with other builds and benchmarks while this ran.",
                  o.process_reps, machine_description().c_str()));
@@ -950,7 +950,7 @@ std::vector<std::size_t> parse_scattered_sizes(const std::string& s) {
 }
 
 void run_scattered(const BenchOptions& o, Report& r) {
-    r.section("Isosurfaces straight from scattered data (issue 10; dissertation chapter 5, Table 5.1)");
+    r.section("Isosurfaces straight from scattered data (dissertation chapter 5, Table 5.1)");
     const bool own_work = o.work_dir.empty();
     Ctx c(o, r);
     c.work = own_work ? fs::temp_directory_path() / fmt("meshless-bench-scattered-%d", static_cast<int>(::getpid()))

@@ -1,7 +1,7 @@
 // meshless-bench: the benchmarks of dissertation §3.6 (accuracy, extraction speed and memory vs
-// marching cubes and VTK Flying Edges, thread scaling, splat frame rates), of issue 3 (out of core:
-// brick stores, paradigms A and C, peak memory), of issue 4 (meshless fields) and of issue 11 (whole
-// processes as users run them, bench/bench_process.cpp). An executable of its own, never part of the
+// marching cubes and VTK Flying Edges, thread scaling, splat frame rates), out of core (brick
+// stores, paradigms A and C, peak memory), the meshless fields, and whole processes as users run
+// them (bench/bench_process.cpp). An executable of its own, never part of the
 // `meshless` product. Thin: parses options and runs the sections in bench/bench_*.cpp.
 #include <unistd.h>
 
@@ -81,15 +81,15 @@ int bench_main(int argc, char** argv) {
            "  process   whole `meshless` processes as users run them on the lung-sized CT (LIDC2 x2): isosurface\n"
            "            vs VTK Flying Edges, pipes vs in-process, threads, paradigm A vs C, splat throughput and\n"
            "            peak RSS (best-of-N wall clock, RSS from wait4; a few minutes, ~1 GB in --work)\n"
-           "  multiblock  issue 8: split + isosurface from blocks on analytic fields in every multiblock / AMR layout:\n"
+           "  multiblock  split + isosurface from blocks on analytic fields in every multiblock / AMR layout:\n"
            "            coverage of the true isosurface, distance and normal errors vs the naive per-block MC's\n"
            "            cracks; Table 4.1 sets and the combustor at 1 and 2 threads; VTK per-block contour\n"
-           "  render    issue 9: volume rendering by ray casting: LIDC2 512x512 trilinear (1, 2 threads, transfer\n"
+           "  render    volume rendering by ray casting: LIDC2 512x512 trilinear (1, 2 threads, transfer\n"
            "            functions, skipping on/off), scattered samples of it through the mpu field, PSNR vs the volume\n"
-           "  scattered  issue 10: isosurface from scattered points (analytic fields, uniform / clustered / layered,\n"
+           "  scattered  isosurface from scattered points (analytic fields, uniform / clustered / layered,\n"
            "            10^4..10^6 points) against the truth and SciPy griddata, vtkDelaunay3D, vtkPointInterpolator in the\n"
            "            same run; Table 5.1 rebuilt from --stats; time, peak RSS, threads and MPI ranks up to 10^6 points\n"
-           "  hierarchy issue 9: cluster binary trees (chapter 6): silicium and head Tables 6.1-6.2, speed, threads,\n"
+           "  hierarchy cluster binary trees (chapter 6): silicium and head Tables 6.1-6.2, speed, threads,\n"
            "            LOD extraction rate, peak RSS, CBT LOD vs random subsample vs decimation (RMSE of the mpu field;\n"
            "            that part alone: hierarchy-rmse)\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");

@@ -1,4 +1,4 @@
-// Platform ceilings for the threads rows of `meshless-bench process` (issue 11): how much two
+// Platform ceilings for the threads rows of `meshless-bench process`: how much two
 // threads gain over one on the machine itself, for the three kinds of work a whole `meshless`
 // process does besides computing, measured in the same run as the commands they bound:
 //   page_cache_read   pread(2) of a cached file in 1 MiB pieces into one reused buffer (how

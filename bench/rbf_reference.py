@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""SciPy reference interpolant for `meshless bench fields` (issue 4, accuracy).
+"""SciPy reference interpolant for `meshless bench fields` (accuracy).
 
 Fits scipy.interpolate.RBFInterpolator to scattered samples and evaluates it at test points; the
 bench computes the errors (against the exact function) itself, on the same test points as its own

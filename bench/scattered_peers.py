@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Peers of `meshless isosurface POINTS` for `meshless-bench scattered` (issue 10, dissertation chapter 5).
+"""Peers of `meshless isosurface POINTS` for `meshless-bench scattered` (dissertation chapter 5).
 
 What users do today with scattered samples and no mesh, one method per run, timed by the bench as a
 whole process (interpreter start and imports included; the stage times below are printed as well):

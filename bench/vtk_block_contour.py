@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""VTK per-block contour baseline for `meshless-bench multiblock` (issue 8; dissertation chapter 4,
+"""VTK per-block contour baseline for `meshless-bench multiblock` (dissertation chapter 4,
 Figures 4.6-4.8: the naive per-block isosurface whose cracks the meshless method removes).
 
 Reads a multiblock data set as ParaView does and contours every block on its own with
