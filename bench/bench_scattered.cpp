@@ -327,7 +327,7 @@ constexpr double kFieldSurfaceSpacing = 0.02;  ///< 10^6 field evaluations over 
 void measure_field_coverage(const Ctx& c, const fs::path& set, double iso, double margin, double spacing, Measure& m) {
     const fs::path mlf = c.out / "field.mlf";
     fs::remove(mlf);
-    const Proc fit = run_limited(c.ml + " fit " + shell_quote(set.string()) + " --level 0" +
+    const Proc fit = run_limited(c.ml + " fit " + shell_quote(set.string()) + " --zstd-level 0" +
                                      (c.o.scattered_field.empty() ? "" : " --field " + shell_quote(c.o.scattered_field)) + " -o " +
                                      shell_quote(mlf.string()),
                                  c.out, c.own_limit);

@@ -166,6 +166,7 @@ struct Args::Impl {
     CLI::Option* positional = nullptr;
     CLI::Option* last = nullptr;  // the option or flag declared last (repeatable())
     std::vector<std::pair<const CLI::Option*, std::function<void(const std::string&)>>> checks;  // validate()
+    std::vector<std::pair<CLI::Option*, CLI::Option*>> aliases;  // deprecated_alias(): (old, new)
     std::string epilog;
 
     Impl(const std::string& command, std::string synopsis, std::string description)
@@ -227,6 +228,19 @@ Args& Args::option(const std::string& name, const std::string& short_name, const
 
 Args& Args::flag(const std::string& name, const std::string& help) {
     impl_->last = impl_->app.add_flag("--" + name, help);
+    return *this;
+}
+
+Args& Args::deprecated_alias(const std::string& old_name) {
+    CLI::Option* target = impl_->last;
+    if (!target) throw std::logic_error("Args::deprecated_alias() must follow an option() or flag() declaration");
+    const std::string no_help;
+    CLI::Option* old = is_flag(target) ? impl_->app.add_flag("--" + old_name, no_help)
+                                       : impl_->app.add_option("--" + old_name, CLI::callback_t{}, "", false);
+    if (!is_flag(target)) old->type_name(target->get_type_name())->multi_option_policy(CLI::MultiOptionPolicy::Throw);
+    old->group("");  // hidden from --help
+    impl_->aliases.emplace_back(old, target);
+    impl_->last = target;
     return *this;
 }
 
@@ -297,6 +311,15 @@ bool Args::parse(int argc, char** argv, int first) {
             for (const auto& r : o->results())
                 if (impl_->find(r.substr(0, r.find('='))))
                     throw UsageError("option " + long_name(o) + " needs a value; '" + r + "' is an option" + see);
+    for (auto& [old, target] : impl_->aliases) {
+        if (old->count() == 0) continue;
+        if (target->count() > 0)
+            throw UsageError("option " + long_name(target) + " given twice (also as its old name " + long_name(old) + ")" + see);
+        std::fprintf(stderr, "meshless %s: warning: %s is now %s (the old name still works, for now)\n", command_.c_str(),
+                     long_name(old).c_str(), long_name(target).c_str());
+        target->add_result(old->results());
+        old->clear();
+    }
     positional_ = impl_->positional->results();
     if (positional_.size() > max_positional_)
         throw UsageError("unexpected argument '" + positional_[max_positional_] + "'" + see);

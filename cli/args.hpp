@@ -36,6 +36,10 @@ public:
     /// duplicate checks, whether or not the command reads it later): `check` throws UsageError on
     /// a bad value, so a malformed value fails on every input, not only where it is used.
     Args& validate(std::function<void(const std::string&)> check);
+    /// Gives the option or flag declared last an old name that still works, hidden from --help:
+    /// parse() warns on stderr that `old_name` is now the new name, and the value counts as the
+    /// new option's (both given: UsageError, as for an option given twice).
+    Args& deprecated_alias(const std::string& old_name);
     /// Declares a boolean flag.
     Args& flag(const std::string& name, const std::string& help);
     /// Adds a paragraph (examples, exit codes) at the end of --help.

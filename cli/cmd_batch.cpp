@@ -447,7 +447,8 @@ int cmd_batch(int argc, char** argv) {
         .option("formats", "", "LIST", "point set outputs: ply, stream, ply,stream or none", "ply")
         .flag("stream", "also write point streams (same as adding 'stream' to --formats)")
         .option("brick", "", "B", "brick edge in cells", std::to_string(defaults.brick_edge))
-        .option("level", "", "L", "zstd level of the bricks", std::to_string(defaults.zstd_level))
+        .option("zstd-level", "", "L", "zstd level of the bricks", std::to_string(defaults.zstd_level))
+        .deprecated_alias("level")
         .option("projection", "", "MODE", "approx | exact | none", "approx")
         .flag("recursive", "ARCHIVE_DIR: also walk subfolders (outputs mirror them)")
         .flag("rehash", "hash every input, even when its size and time are those recorded");
@@ -487,8 +488,8 @@ int cmd_batch(int argc, char** argv) {
     const long long brick = a.get_int_or("brick", defaults.brick_edge);
     if (brick < 2 || brick > 1024) throw UsageError("--brick: expected 2..1024 cells");
     s.convert.brick_edge = static_cast<std::uint32_t>(brick);
-    const long long level = a.get_int_or("level", defaults.zstd_level);
-    if (level < -7 || level > 22) throw UsageError("--level: expected a zstd level, -7..22");
+    const long long level = a.get_int_or("zstd-level", defaults.zstd_level);
+    if (level < -7 || level > 22) throw UsageError("--zstd-level: expected a zstd level, -7..22");
     s.convert.zstd_level = static_cast<int>(level);
     s.mode = parse_projection(a.get_or("projection", "approx"));
     s.sampling = sampling_params(a);

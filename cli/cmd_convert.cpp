@@ -1,5 +1,5 @@
 // Brick stores from the command line (docs/architecture.md "Brick store"; dissertation section 3.6):
-//   meshless convert VOLUME -o vol.mlb [--brick B] [--level N] [--threads N]
+//   meshless convert VOLUME -o vol.mlb [--brick B] [--zstd-level N] [--threads N]
 //   meshless verify vol.mlb...
 // (convert ... -o pts.mlc and verify pts.mlc: point stores, cli/point_store_cli.hpp)
 //   meshless synth --upsample F [--method trilinear|tricubic] VOLUME -o big.mlb
@@ -53,7 +53,8 @@ constexpr const char* kDefaultLevel = "1";
 void add_store_options(Args& a) {
     a.option("output", "o", "FILE", "brick store to write (required)")
         .option("brick", "", "B", "cells per brick edge, 2..1024", kDefaultBrick)
-        .option("level", "", "N", "zstd level, 1..19 (1: fastest; on noisy 8-bit CT as small as 3)", kDefaultLevel)
+        .option("zstd-level", "", "N", "zstd level, 1..19 (1: fastest; on noisy 8-bit CT as small as 3)", kDefaultLevel)
+        .deprecated_alias("level")
         .flag("stats", "print bricks, throughput (MB/s) and compression ratio to stderr");
     add_thread_option(a);
     add_quiet_option(a);
@@ -64,8 +65,8 @@ ConvertParams convert_params(const Args& a) {
     const long long b = a.get_int_or("brick", std::stoll(kDefaultBrick));
     if (b < 2 || b > 1024) throw UsageError("--brick: expected 2..1024 cells, got " + std::to_string(b));
     p.brick_edge = static_cast<std::uint32_t>(b);
-    const long long l = a.get_int_or("level", std::stoll(kDefaultLevel));
-    if (l < 1 || l > 19) throw UsageError("--level: expected a zstd level 1..19, got " + std::to_string(l));
+    const long long l = a.get_int_or("zstd-level", std::stoll(kDefaultLevel));
+    if (l < 1 || l > 19) throw UsageError("--zstd-level: expected a zstd level 1..19, got " + std::to_string(l));
     p.zstd_level = static_cast<int>(l);
     p.threads = threads(a);
     return p;
@@ -115,7 +116,7 @@ std::optional<std::array<std::array<double, 3>, 3>> patient_axes_of(const std::s
 
 int cmd_convert(int argc, char** argv) {
     if (point_store_output_requested(argc, argv)) return cmd_convert_points(argc, argv);
-    Args a("convert", "VOLUME -o vol.mlb [--brick B] [--level N] [--threads N]",
+    Args a("convert", "VOLUME -o vol.mlb [--brick B] [--zstd-level N] [--threads N]",
            "Converts a volume into a brick store (.mlb): cubic bricks of B cells plus a one-voxel ghost\n"
            "layer, each an independent zstd frame in the native sample type with a CRC-32 and value\n"
            "range, in Morton order with a tail index (section 3.6). Streams over z-slabs (memory: one slab\n"

@@ -1,7 +1,7 @@
 // Looking at scattered data directly through meshless fields (dissertation chapters 4-5, 7):
 //   meshless probe POINTS --at x,y,z ...        value and gradient at given positions (CSV)
 //   meshless slice POINTS --plane z=0.5 -o s.png colour-mapped slice with the nearby points overlaid
-//   meshless resample POINTS --dims X,Y,Z -o v.nrrd   the field on a regular grid
+//   meshless resample POINTS --grid X,Y,Z -o v.nrrd   the field on a regular grid
 // Each is a graph: a source of query positions -> FieldEvaluateStage -> a CSV / image / NRRD sink.
 #include <algorithm>
 #include <cmath>
@@ -245,20 +245,22 @@ int cmd_slice(int argc, char** argv) {
 }
 
 int cmd_resample(int argc, char** argv) {
-    Args a("resample", "POINTS... --dims X,Y,Z -o vol.nrrd",
+    Args a("resample", "POINTS... --grid X,Y,Z -o vol.nrrd",
            "Resamples a meshless field built from scattered points onto a regular grid over the points'\n"
            "bounding box (float32 NRRD), for the isosurface commands and other tools. Voxels the data does\n"
            "not reach (see --max-gap) are NaN.");
-    a.option("dims", "", "X,Y,Z", "grid samples along x, y, z (required)").option("output", "o", "FILE", "NRRD output (required)");
+    a.option("grid", "", "X,Y,Z", "output grid samples along x, y, z (required)")
+        .deprecated_alias("dims")
+        .option("output", "o", "FILE", "NRRD output (required)");
     add_field_options(a, /*with_coverage=*/true, kDataFieldDefaultHelp);
     add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
-    const auto d = a.get_triple("dims");
-    if (!d) throw UsageError("missing required option --dims (see meshless resample --help)");
+    const auto d = a.get_triple("grid");
+    if (!d) throw UsageError("missing required option --grid (see meshless resample --help)");
     GridSpec g;
     for (int i = 0; i < 3; ++i) {
-        if ((*d)[i] < 2 || (*d)[i] > 4096 || (*d)[i] != std::floor((*d)[i])) throw UsageError("--dims: expected integers 2..4096");
+        if ((*d)[i] < 2 || (*d)[i] > 4096 || (*d)[i] != std::floor((*d)[i])) throw UsageError("--grid: expected integers 2..4096");
         g.dims[i] = static_cast<std::int64_t>((*d)[i]);
     }
     const std::string out = require_output_extension(a.require("output"), ".nrrd", "-o", "a float32 volume (NRRD)");

@@ -31,7 +31,8 @@ int cmd_fit(int argc, char** argv) {
            "data refuse it. DATA: point sets (CSV/text, .ply, .vtp, .npy, raw records) or, when every file\n"
            "is one, multiblock inputs (PLOT3D, .vts, .vtm, .vthb).");
     a.option("output", "o", "FILE", "the fitted field (.mlf, required)")
-        .option("level", "", "L", "zstd level of the arrays, 0 = stored raw", "1");
+        .option("zstd-level", "", "L", "zstd level of the arrays, 0 = stored raw", "1")
+        .deprecated_alias("level");
     add_field_options(a, /*with_coverage=*/false, kDataFieldDefaultHelp);
     add_quiet_option(a);
     a.positionals(1, 1000);
@@ -42,8 +43,8 @@ int cmd_fit(int argc, char** argv) {
     const FieldParams params = field_params(a, data_field_default(a.positional()));
     const std::string out = require_output_extension(a.require("output"), ".mlf", "-o", "a fitted field", /*to_stdout=*/false);
     if (is_streaming_output(out)) throw UsageError("-o " + out + ": a fitted field is written to a regular file (.mlf), not a stream");
-    const long long level = a.get_int_or("level", 1);
-    if (level < 0 || level > 19) throw UsageError("--level: expected 0..19");
+    const long long level = a.get_int_or("zstd-level", 1);
+    if (level < 0 || level > 19) throw UsageError("--zstd-level: expected 0..19");
     const bool stats = a.has("stats");
 
     auto now = [] { return std::chrono::steady_clock::now(); };

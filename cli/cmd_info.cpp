@@ -407,7 +407,7 @@ void describe(const std::string& path, const Args& a) {
         info_point_set(path, a);
     } else {
         info_volume(path, a);
-        if (a.has("range")) {
+        if (a.has("value-range")) {
             check_volume_fits(a, path, probe_volume(path, raw_options(a)), /*map=*/false);  // read whole
             const Volume v = read_volume(path, raw_options(a));
             const auto r = v.value_range();
@@ -429,7 +429,7 @@ int cmd_info(int argc, char** argv) {
            "VTK multiblock .vtm and AMR .vthb/.vtm hierarchies: levels, boxes per level, refinement,\n"
            "spacing, arrays with their centring, the chosen array's range (--value), blocks and dims.\n"
            "Files that cannot be described are reported on stderr; the others are still described.");
-    a.flag("range", "volumes: also read the samples and print the value range");
+    a.flag("value-range", "volumes: also read the samples and print the value range").deprecated_alias("range");
     a.positionals(1, 100000);
     add_volume_options(a);
     add_point_set_options(a, false);

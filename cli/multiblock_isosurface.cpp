@@ -1,12 +1,9 @@
 #include "cli/multiblock_isosurface.hpp"
 #include "cli/progress_meter.hpp"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -18,20 +15,12 @@
 #include "cli/field_cli.hpp"
 #include "cli/mpi_session.hpp"
 #include "cli/point_set_cli.hpp"
-#include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
-#include "formats/text_header.hpp"
 #include "formats/volume_reader.hpp"
-#include "kernels/amr_cover.hpp"
 #include "kernels/barycentric_lattice.hpp"
-#include "kernels/block_cell_seeds.hpp"
 #include "kernels/errors.hpp"
-#include "stream/block_cell_source.hpp"
-#include "stream/block_seed_stage.hpp"
 #include "stream/field_project_stage.hpp"
-#include "stream/record_vector_source.hpp"
-#include "stream/progress_stage.hpp"
 #include "stream/runner.hpp"
 #include "stream/stream_endpoints.hpp"
 
@@ -85,77 +74,18 @@ void print_newton_stats(const char* cmd, const std::string& field, const FieldPr
 }
 
 
-void widen_frame_for_travel(StreamMeta& m, double max_travel) {
-    const auto travel = m.get_finite("frame_travel"), diagonal = m.get_finite("frame_cell_diagonal");
-    const auto box = meta_bounds(m);
-    if (!travel || !diagonal || !box || !std::isfinite(max_travel)) return;
-    const double t = *travel, g = *diagonal;
-    if (!(max_travel > t) || !(g > 0)) return;
-    const double pad = (max_travel - t) * g * (1 + 1e-6);
-    m.set("bounds_lo", triple((*box)[0] - Vec3{pad, pad, pad}));
-    m.set("bounds_hi", triple((*box)[1] + Vec3{pad, pad, pad}));
-    m.set("frame_travel", max_travel);
-}
-
 namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// ------------------------------------------------------------------ inputs and metadata
+// ------------------------------------------------------------------ inputs
 
-struct BlockInput {
-    Multiblock mb;        ///< as read: the field's data (to_point_set)
-    Multiblock padded;    ///< AMR: cell-centred boxes padded to their faces (amr_seed_blocks), else empty
-    BlockSeedPlan plan;   ///< of seed_blocks()
-    /// What the seed stage contours.
-    const Multiblock& seed_blocks() const { return padded.blocks.empty() ? mb : padded; }
-    std::string source;   ///< file names joined by ','
-    double read_seconds = 0, plan_seconds = 0;
-};
+using BlockInput = BlockIsosurfaceInput;
 
 BlockInput read_blocks(const Args& a, double iso) {
     if (a.positional().empty()) throw UsageError("missing BLOCKS argument (see meshless " + a.command() + " --help)");
-    BlockInput in;
-    in.source = joined_names(a.positional());
-    auto t0 = Clock::now();
-    in.mb = read_multiblock(a.positional(), point_set_options(a));
-    in.read_seconds = since(t0);
-    if (in.mb.blocks.size() > std::numeric_limits<std::uint32_t>::max())
-        throw FormatError(a.positional()[0] + ": " + std::to_string(in.mb.blocks.size()) + " blocks, more than block ids can number");
-    t0 = Clock::now();
-    if (has_cell_centred_blocks(in.mb)) in.padded = amr_seed_blocks(in.mb);
-    in.plan = plan_block_seeds(in.seed_blocks(), iso);
-    in.plan_seconds = since(t0);
-    if (std::isnan(in.plan.value_range[0]))
-        throw FormatError(in.source + ": every node is blanked or non-finite; there is no data to contour");
-    return in;
-}
-
-/// What generate writes and isosurface records: the same keys on both paths, so the PLY comments
-/// (ply_comments) are the same bytes.
-StreamMeta block_meta(const BlockInput& in, double iso, int n, const std::string& producer) {
-    StreamMeta m;
-    m.set("source", in.source);
-    m.set("iso", iso);
-    m.set("blocks", std::to_string(in.mb.blocks.size()));
-    m.set("samples", std::to_string(n));
-    m.set("value_min", in.plan.value_range[0]);
-    m.set("value_max", in.plan.value_range[1]);
-    // the frame: the cells the isosurface crosses (the valid nodes' box when none does)
-    const auto& box = in.plan.active_cells > 0 ? in.plan.active_bounds : in.plan.node_bounds;
-    m.set("bounds_lo", triple(box[0]));
-    m.set("bounds_hi", triple(box[1]));
-    m.set("volume_bounds_lo", triple(in.plan.node_bounds[0]));
-    m.set("volume_bounds_hi", triple(in.plan.node_bounds[1]));
-    m.set("producer", producer);
-    return m;
-}
-
-void add_projection_meta(StreamMeta& m, const std::string& field, const FieldProjectParams& p) {
-    m.set("projection", "newton");
-    m.set("field", field);
-    m.set("tolerance", p.seed_tolerance);
+    return read_block_input(a.positional(), point_set_options(a), joined_names(a.positional()), iso);
 }
 
 void warn_if_inactive(const BlockInput& in, double iso) {
@@ -277,7 +207,7 @@ int isosurface_blocks(int argc, char** argv) {
     apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
     rs.legend_blocks = static_cast<std::uint32_t>(in.mb.blocks.size());
     warn_if_inactive(in, iso);
-    StreamMeta meta = block_meta(in, iso, n, a.command_line());
+    StreamMeta meta = block_isosurface_meta(in, iso, n, a.command_line());
 
     // the field: only when some cell is crossed (an empty output needs none)
     auto t0 = Clock::now();
@@ -291,26 +221,17 @@ int isosurface_blocks(int argc, char** argv) {
     const double field_seconds = since(t0);
     add_projection_meta(meta, field_name, np);
 
-    std::optional<BlockSeedStage> seed;
-    std::optional<FieldProjectStage> project;
+    BlockIsosurfaceStats st;
     IsoSplatResult unused;
     t0 = Clock::now();
     const std::size_t points = run_to_outputs(geometry_output(a, "an oriented point set"), png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
         const auto g0 = Clock::now();
+        // the blocks' cells as the source hands them out, counted ahead of seeding
         if (!field.field) {
-            RecordVectorSource empty(std::vector<PointRecord>{});
-            const Stage* stages[] = {draw};
-            run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, {nthreads});
+            st = run_block_isosurface(in, nullptr, iso, n, np, draw, sink, {nthreads});
         } else {
-            BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
-            seed.emplace(in.seed_blocks(), in.plan, iso, n);
-            project.emplace(*field.field, iso, np);
-            // the blocks' cells as the source hands them out, counted ahead of seeding
-            ProgressMeter meter = ProgressMeter::of(
-                a, "cells", static_cast<double>(in.plan.first_cell.back() - in.plan.first_cell.front()));
-            const ProgressStage progress([&](double k) { meter.add(k); }, work_units);
-            const Stage* stages[] = {&progress, &*seed, &*project, draw};
-            run_pipeline(source, std::span<const Stage* const>(stages, draw ? 4 : 3), sink, {nthreads});
+            ProgressMeter meter = ProgressMeter::of(a, "cells", static_cast<double>(in.cells()));
+            st = run_block_isosurface(in, field.field.get(), iso, n, np, draw, sink, {nthreads}, [&](double k) { meter.add(k); });
         }
         IsoSplatResult r;
         r.seconds = since(g0);
@@ -320,15 +241,13 @@ int isosurface_blocks(int argc, char** argv) {
 
     if (a.has("stats")) {
         const char* cmd = "isosurface";
-        BlockSeedStats none;  // nothing crossed: no graph ran, the cells were only planned
-        none.cells = in.plan.total_cells();
-        print_seed_stats(cmd, in, seed ? seed->stats() : none, n);
-        if (project) print_newton_stats(cmd, field_name, np, project->stats(), project->busy_seconds());
+        print_seed_stats(cmd, in, st.seeds, n);
+        if (st.projected) print_newton_stats(cmd, field_name, np, st.newton, st.newton_busy_seconds);
         std::fprintf(stderr,
                      "%s: %zu points; time: read %.3f s, plan %.3f s, field %.3f s, seeds + Newton + output %.3f s "
                      "(busy: seeds %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
                      cmd, points, in.read_seconds, in.plan_seconds, field_seconds, graph_seconds,
-                     seed ? seed->busy_seconds() : 0.0, project ? project->busy_seconds() : 0.0, nthreads, since(t_start));
+                     st.seed_busy_seconds, st.newton_busy_seconds, nthreads, since(t_start));
     }
     return 0;
 }
@@ -358,14 +277,11 @@ int generate_blocks(int argc, char** argv) {
     BinaryStreamOutput out(a.get_or("output", "-"), "a seed stream");
     BlockInput in = read_blocks(a, iso);
     warn_if_inactive(in, iso);
-    StreamSink sink(out.f, out.name, RecordKind::seed, block_meta(in, iso, n, a.command_line()), a.has("compress"));
-    BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
-    BlockSeedStage seed(in.seed_blocks(), in.plan, iso, n);
-    const Stage* stages[] = {&seed};
-    run_pipeline(source, stages, sink, {nthreads});
+    StreamSink sink(out.f, out.name, RecordKind::seed, block_isosurface_meta(in, iso, n, a.command_line()), a.has("compress"));
+    const BlockSeedStats seeds = generate_block_seeds(in, iso, n, sink, {nthreads});
     out.commit();
     if (a.has("stats")) {
-        print_seed_stats("generate", in, seed.stats(), n);
+        print_seed_stats("generate", in, seeds, n);
         std::fprintf(stderr, "generate: read %.3f s, plan %.3f s, total %.3f s\n", in.read_seconds, in.plan_seconds, since(t0));
     }
     return 0;

@@ -43,7 +43,7 @@ bool point_store_output_requested(int argc, char** argv) {
 }
 
 int cmd_convert_points(int argc, char** argv) {
-    Args a("convert", "POINTS... -o pts.mlc [--memory BYTES] [--brick-points B] [--level N] [--threads N]",
+    Args a("convert", "POINTS... -o pts.mlc [--memory BYTES] [--brick-points B] [--zstd-level N] [--threads N]",
            "Converts point sets (any file the point-set readers take: CSV/TSV/text, PLY, .vtp, .vts, PLOT3D,\n"
            "raw float32 records, .npy, .mlc; several files = one set) into a point store (.mlc): the points\n"
            "in Morton order, cut into zstd-compressed bricks that are octree cells of at most B points, with\n"
@@ -56,7 +56,8 @@ int cmd_convert_points(int argc, char** argv) {
         .option("memory", "", "BYTES", "memory budget, e.g. 256M, 2G (too small for one brick: an error)", "256M")
         .validate([](const std::string& v) { (void)parse_memory_size(v); })
         .option("brick-points", "", "B", "points per brick at most, 1..1048576", "4096")
-        .option("level", "", "N", "zstd level, 1..19", "1")
+        .option("zstd-level", "", "N", "zstd level, 1..19", "1")
+        .deprecated_alias("level")
         .flag("stats", "print points, bricks, runs, size and time to stderr");
     a.positionals(1, std::numeric_limits<std::size_t>::max());
     add_thread_option(a);
@@ -75,8 +76,8 @@ int cmd_convert_points(int argc, char** argv) {
     if (b < 1 || b > kPointStoreMaxBrickPoints)
         throw UsageError("--brick-points: expected 1.." + std::to_string(kPointStoreMaxBrickPoints) + ", got " + std::to_string(b));
     p.brick_points = static_cast<std::uint32_t>(b);
-    const long long l = a.get_int_or("level", 1);
-    if (l < 1 || l > 19) throw UsageError("--level: expected a zstd level 1..19, got " + std::to_string(l));
+    const long long l = a.get_int_or("zstd-level", 1);
+    if (l < 1 || l > 19) throw UsageError("--zstd-level: expected a zstd level 1..19, got " + std::to_string(l));
     p.zstd_level = static_cast<int>(l);
     p.threads = threads(a);
     p.memory_bytes = parse_memory_size(a.get_or("memory", "256M"));

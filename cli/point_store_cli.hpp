@@ -1,5 +1,5 @@
 // Point stores (.mlc, formats/point_store_format.hpp) from the command line:
-//   meshless convert POINTS... -o pts.mlc [--memory BYTES] [--brick-points B] [--level N] [--threads N]
+//   meshless convert POINTS... -o pts.mlc [--memory BYTES] [--brick-points B] [--zstd-level N] [--threads N]
 //   meshless verify pts.mlc          (cmd_verify hands a point store to verify_point_store_cli)
 // `convert` picks this when its -o/--output names a .mlc; `convert VOLUME -o vol.mlb` is unchanged.
 // Errors as every command: UsageError/InvalidArgument exit 1 (a --memory too small for one brick),

@@ -9,29 +9,22 @@
 #include <memory>
 #include <optional>
 
-#include <oneapi/tbb/global_control.h>
-#include <oneapi/tbb/parallel_invoke.h>
-
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/stream_output.hpp"
 #include "cli/field_cli.hpp"
 #include "cli/mpi_session.hpp"
 #include "cli/multiblock_isosurface.hpp"
+#include "stream/scattered_isosurface.hpp"
 #include "cli/point_set_cli.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
-#include "kernels/marching_stencils.hpp"
-#include "kernels/point_coverage.hpp"
 #include "kernels/scattered_binning_grid.hpp"
 #include "stream/dedup_sink.hpp"
 #include "stream/field_project_stage.hpp"
-#include "stream/record_vector_source.hpp"
-#include "stream/progress_stage.hpp"
 #include "stream/runner.hpp"
-#include "stream/stencil_seed_stage.hpp"
 #include "stream/stencil_ranks.hpp"
 #include "stream/stencil_source.hpp"
 #include "stream/stream_endpoints.hpp"
@@ -61,24 +54,6 @@ double reg_gap(const Args& a) {
     return f;
 }
 
-/// The most data points one 3x3x3 stencil holds (before regularisation).
-std::int64_t largest_stencil(const BinningGrid& g, const BinnedPoints& b) {
-    const StencilGrid sg(g.dims);
-    std::int64_t most = 0;
-    for (std::int64_t s = 0; s < sg.total(); ++s) {
-        const auto m = sg.coords(s);
-        const std::int64_t c[3] = {stencil_centre(m[0], g.dims[0]), stencil_centre(m[1], g.dims[1]), stencil_centre(m[2], g.dims[2])};
-        std::int64_t n = 0;
-        for (std::int64_t k = c[2] - 1; k <= c[2] + 1; ++k)
-            for (std::int64_t j = c[1] - 1; j <= c[1] + 1; ++j) {
-                const std::int64_t row = g.index(c[0] - 1, j, k);
-                n += std::int64_t(b.start[static_cast<std::size_t>(row) + 3]) - std::int64_t(b.start[static_cast<std::size_t>(row)]);
-            }
-        most = std::max(most, n);
-    }
-    return most;
-}
-
 BinningGridParams binning_params(const Args& a) {
     BinningGridParams p;
     const long long cells = a.get_int_or("max-cells", p.max_cells);
@@ -92,154 +67,33 @@ BinningGridParams binning_params(const Args& a) {
     return p;
 }
 
-struct ScatteredInput {
-    PointSet points;
-    BinningGrid grid;
-    BinnedPoints bins;
-    std::unique_ptr<PointCoverage> coverage;  ///< --reg-gap > 0, built with the field (build_field_and_coverage)
-    double reg_gap = 0;                       ///< --reg-gap
-    double coverage_seconds = 0;
-    std::string source;  ///< file names joined by ','
-    double read_seconds = 0, octree_seconds = 0;
-};
+using ScatteredInput = ScatteredIsosurfaceInput;
 
-std::size_t distinct_positions(const std::vector<Vec3>& pos, std::size_t enough) {
-    std::vector<Vec3> p(pos);
-    std::sort(p.begin(), p.end(), [](const Vec3& a, const Vec3& b) {
-        return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
-    });
-    std::size_t n = p.empty() ? 0 : 1;
-    for (std::size_t i = 1; i < p.size() && n < enough; ++i)
-        if (p[i].x != p[i - 1].x || p[i].y != p[i - 1].y || p[i].z != p[i - 1].z) ++n;
-    return n;
-}
-
-const char* axis_name(int a) { return a == 0 ? "x" : (a == 1 ? "y" : "z"); }
-
-/// The field (only when `crossed`: an empty output needs none) and the regularisation's support test
-/// (--reg-gap; in.coverage), built side by side under --threads: each has serial parts (the
-/// support test's kd-tree; the field's merge of near-duplicates and octree root) that the other's
-/// parallel parts overlap (10^6 points, 2 threads: 17.0 -> 15.4 s whole process). The seconds
-/// are each one's own, overlapped; the bits do not depend on the thread count. share: as for build_field.
+/// The field (only when `crossed`: an empty output needs none) built side by side with the
+/// regularisation's support test (build_alongside_coverage). share: as for build_field.
 BuiltField build_field_and_coverage(const Args& a, ScatteredInput& in, bool crossed, double& field_seconds,
                                     const FitShare* share = nullptr) {
     BuiltField field;
     field_seconds = 0;
     if (!crossed) return field;
-    oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads(a)));
-    oneapi::tbb::parallel_invoke(
-        [&] {
-            const auto t0 = Clock::now();
-            field = build_field(a, in.points, {}, share);
-            field_seconds = since(t0);
-        },
-        [&] {
-            if (in.reg_gap <= 0) return;
-            const auto t0 = Clock::now();
-            in.coverage = std::make_unique<PointCoverage>(in.points.pos, in.reg_gap);
-            in.coverage_seconds = since(t0);
-        });
+    field_seconds = build_alongside_coverage(in, threads(a), [&] { field = build_field(a, in.points, {}, share); });
     return field;
 }
 
 ScatteredInput read_scattered(const Args& a, bool warn = true) {
     if (a.positional().empty()) throw UsageError("missing POINTS argument (see meshless " + a.command() + " --help)");
-    ScatteredInput in;
-    in.source = joined_names(a.positional());
     const BinningGridParams bp = binning_params(a);
-    auto t0 = Clock::now();
-    in.points = read_points_arg(a);
-    in.read_seconds = since(t0);
-    const std::string& name = a.positional()[0];
-    if (warn && in.points.dropped_nonfinite > 0)
-        std::fprintf(stderr, "meshless: warning: %s: %llu points with a NaN/Inf position or value dropped\n", terminal_safe(name).c_str(),
-                     static_cast<unsigned long long>(in.points.dropped_nonfinite));
-    if (distinct_positions(in.points.pos, 4) < 4)
-        throw FormatError(name + ": fewer than 4 distinct point positions; a volume needs at least 4 points not all in one place");
-    t0 = Clock::now();
-    in.grid = make_binning_grid(in.points.pos, bp);
-    in.bins = bin_points(in.grid, in.points.pos);
-    in.octree_seconds = since(t0);
-    in.reg_gap = reg_gap(a);
-    const int degenerate = int(in.grid.degenerate[0]) + int(in.grid.degenerate[1]) + int(in.grid.degenerate[2]);
-    if (warn && degenerate > 0) {
-        std::string axes;
-        for (int ax = 0; ax < 3; ++ax)
-            if (in.grid.degenerate[static_cast<std::size_t>(ax)]) axes += std::string(axes.empty() ? "" : ", ") + axis_name(ax);
-        std::fprintf(stderr,
-                     "meshless: warning: %s: all points lie on a %s (no extent along %s): the binning grid gives %s one "
-                     "cell; the surface is the field's where it defines one off the data\n",
-                     terminal_safe(name).c_str(), degenerate == 1 ? "plane" : "line", axes.c_str(), degenerate == 1 ? "that axis" : "those axes");
-    }
-    if (warn && in.grid.coarsened)
-        std::fprintf(stderr,
-                     "meshless: warning: %s: the binning rule asks for level %d (%lld cells); coarsened to level %d "
-                     "(%lld cells) by --max-cells %lld / --max-level %d: stencils hold more points\n",
-                     terminal_safe(name).c_str(), in.grid.rule_level,
-                     static_cast<long long>(std::pow(std::ldexp(1.0, in.grid.rule_level) + 2, 3 - degenerate) * std::pow(3.0, degenerate)),
-                     in.grid.level, static_cast<long long>(in.grid.cell_count()), static_cast<long long>(bp.max_cells), bp.max_level);
-    // section 5.8: "pathological point distributions ... causing the tetrahedrization of a possibly large
-    // number of points" (e.g. two far-apart clusters: the depth-first rule stops at the root)
-    const std::int64_t most = warn ? largest_stencil(in.grid, in.bins) : 0;
-    if (most > 20000 && double(most) > 0.25 * double(in.points.size()))
-        std::fprintf(stderr,
-                     "meshless: warning: %s: one 3x3x3 stencil of the level-%d binning grid holds %lld of the %zu points "
-                     "(a pathological distribution for the binning rule, section 5.8): its Delaunay runs on one thread\n",
-                     terminal_safe(name).c_str(), in.grid.level, static_cast<long long>(most), in.points.size());
+    const auto t0 = Clock::now();
+    PointSet points = read_points_arg(a);
+    const double read_seconds = since(t0);
+    InputWarning to_stderr;
+    if (warn)
+        to_stderr = [](const std::string& subject, const std::string& what) {
+            std::fprintf(stderr, "meshless: warning: %s: %s\n", terminal_safe(subject).c_str(), what.c_str());
+        };
+    ScatteredInput in = bin_scattered_points(std::move(points), joined_names(a.positional()), a.positional()[0], bp, reg_gap(a), to_stderr);
+    in.read_seconds = read_seconds;
     return in;
-}
-
-/// What generate writes and isosurface records (the same keys on both paths).
-namespace {
-/// The camera's frame: the binning grid with its border layer, where the regularisation points
-/// lie and so the stencils' tetrahedra and the seeds, widened by how far Newton may move a seed
-/// (max_travel cell diagonals, each seed's no longer than the binning cell's, kernels/stencil_seeds),
-/// so that every point lies inside the recorded bounds: the points' box alone cut off surfaces
-/// that bulge beyond the outermost samples (boreholes: up to 2 km). Degenerate axes keep the
-/// points' extent.
-std::array<Vec3, 2> frame_box(const BinningGrid& g, double max_travel) {
-    const double pad = max_travel * g.diagonal() * (1 + 1e-6);
-    double lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = g.bounds[0][a];
-        hi[a] = g.bounds[1][a];
-        if (g.degenerate[static_cast<std::size_t>(a)]) continue;
-        lo[a] = std::min(lo[a], g.origin[a]) - pad;
-        hi[a] = std::max(hi[a], g.origin[a] + static_cast<double>(g.dims[static_cast<std::size_t>(a)]) * g.cell[a]) + pad;
-    }
-    return {Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}};
-}
-}  // namespace
-
-StreamMeta scattered_meta(const ScatteredInput& in, double iso, int n, const std::string& producer) {
-    // the frame allows for the default travel; a longer one widens it (widen_frame_for_travel), on
-    // both paths the same way, so that isosurface and generate | project record the same bytes
-    const double max_travel = kDefaultMaxTravel;
-    StreamMeta m;
-    const auto range = in.points.value_range();
-    m.set("source", in.source);
-    m.set("method", "scattered");
-    m.set("iso", iso);
-    m.set("samples", std::to_string(n));
-    m.set("points", std::to_string(in.points.size()));
-    m.set("binning_level", std::to_string(in.grid.level));
-    m.set("value_min", range[0]);
-    m.set("value_max", range[1]);
-    const std::array<Vec3, 2> frame = frame_box(in.grid, max_travel);
-    m.set("bounds_lo", triple(frame[0]));
-    m.set("bounds_hi", triple(frame[1]));
-    m.set("frame", "points");  // a box that holds every point, not the surface's: pictures frame the points
-    m.set("volume_bounds_lo", triple(in.grid.bounds[0]));
-    m.set("volume_bounds_hi", triple(in.grid.bounds[1]));
-    m.set("frame_travel", max_travel);  // what the frame allows for
-    m.set("frame_cell_diagonal", in.grid.diagonal());
-    m.set("producer", producer);
-    return m;
-}
-
-bool iso_in_range(const ScatteredInput& in, double iso) {
-    const auto r = in.points.value_range();
-    return iso >= r[0] && iso <= r[1];
 }
 
 void print_scattered_stats(const char* cmd, const ScatteredInput& in, const StencilSeedStats& s, int n) {
@@ -263,14 +117,6 @@ void print_scattered_stats(const char* cmd, const ScatteredInput& in, const Sten
                  static_cast<long long>(s.nonfinite_tets), static_cast<long long>(s.triangles),
                  static_cast<long long>(s.zero_area_triangles), static_cast<long long>(s.seeds), n, lattice_size(n));
 }
-
-/// The default --samples of the scattered path, by measurement (20,000 samples of the
-/// bucky volume, iso 100, rbf-grid field, 800 x 800 picture): the marching-tetrahedra triangles are
-/// about the data's spacing, smaller than the multiblock cells of kDefaultLatticeN's measurement;
-/// n = 1 (56 K points) leaves visible blotches at silhouettes where one disc stands for a whole
-/// triangle, n = 2 (169 K points) gives a picture indistinguishable from n = 3 (339 K points) for
-/// half the Newton work.
-constexpr int kScatteredLatticeN = 2;
 
 void add_scattered_options(Args& a) {
     add_samples_option(a, kScatteredLatticeN);
@@ -356,161 +202,167 @@ int isosurface_scattered(int argc, char** argv) {
 
 namespace {
 
-int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
+/// What the scattered isosurface prepares before its graph runs (options checked, data read and
+/// binned, field built).
+struct ScatteredJob {
+    double iso = 0;
+    int n = kScatteredLatticeN;
+    FieldProjectParams np;
+    double dedup = 0;
+    RenderSettings rs;
+    int nthreads = 1;
+    std::optional<std::string> png;
+    ScatteredInput in;
+    StreamMeta meta;
+    BuiltField field;
+    std::string field_name;
+    double field_seconds = 0;
+};
+
+ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
     const bool root = !mpi || mpi->rank() == 0;
-    const int ranks = mpi ? mpi->size() : 1;
-    const double iso = parse_finite(a.require("iso"), "--iso");
+    ScatteredJob j;
+    j.iso = parse_finite(a.require("iso"), "--iso");
     const auto out = a.get("output");
-    const auto png = a.get("png");
-    if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
+    j.png = a.get("png");
+    if (!out && !j.png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
     if (out) geometry_output_format(a, *out, kPointsWhat);
-    if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
-    if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
+    if (j.png) require_output_extension(*j.png, ".png", "--png", "a PNG image");
+    if (out && j.png && *out == *j.png && (*out == "-" || !is_streaming_output(*out)))
         throw UsageError("-o and --png name the same output '" + *out + "'");
-    const int n = lattice_n(a, kScatteredLatticeN);
-    const FieldProjectParams np = newton_params(a);
+    j.n = lattice_n(a, kScatteredLatticeN);
+    j.np = newton_params(a);
     (void)binning_params(a);
-    const double dedup = dedup_fraction(a);
-    RenderSettings rs = render_settings(a);
+    j.dedup = dedup_fraction(a);
+    j.rs = render_settings(a);
     const ColorChoice cc = color_choice(a);
     if (cc.request == ColorRequest::block) throw UsageError("scattered points have no blocks; --color block needs multiblock input");
-    const int nthreads = threads(a);
+    j.nthreads = threads(a);
     if (!field_file_arg(a)) (void)field_params(a);  // option errors before any reading
 
-    ScatteredInput in = read_scattered(a, root);
-    apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
-    const bool crossed = iso_in_range(in, iso);
-    if (!crossed && root) warn_if_iso_outside(iso, in.points.value_range(), in.source);
-    StreamMeta meta = scattered_meta(in, iso, n, a.command_line());
-    widen_frame_for_travel(meta, np.seed_max_travel);
+    j.in = read_scattered(a, root);
+    apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
+    const bool crossed = j.in.crosses(j.iso);
+    if (!crossed && root) warn_if_iso_outside(j.iso, j.in.points.value_range(), j.in.source);
+    j.meta = scattered_isosurface_meta(j.in, j.iso, j.n, a.command_line());
+    widen_frame_for_travel(j.meta, j.np.seed_max_travel);
 
     // the field: only when the isovalue is within the data (an empty output needs none)
     // under mpirun the ranks share the mpu field's local fits (every rank ends with the whole field)
     std::optional<FitShare> share;
     if (mpi)
         share = FitShare{mpi->rank(), mpi->size(), [mpi](std::span<const std::byte> mine) { return mpi->allgather(mine); }};
-    double field_seconds = 0;
-    BuiltField field = build_field_and_coverage(a, in, crossed, field_seconds, share ? &*share : nullptr);
-    const std::string field_name = field.field ? field.field->name() : field_kind_arg(a);
-    meta.set("projection", "newton");
-    meta.set("field", field_name);
-    meta.set("tolerance", np.seed_tolerance);
+    j.field = build_field_and_coverage(a, j.in, crossed, j.field_seconds, share ? &*share : nullptr);
+    j.field_name = j.field.field ? j.field.field->name() : field_kind_arg(a);
+    add_projection_meta(j.meta, j.field_name, j.np);
+    return j;
+}
 
-    const StencilGrid sg(in.grid.dims);
-    std::optional<StencilSeedStage> seed;
-    std::optional<FieldProjectStage> project;
-    if (mpi) {
-        std::optional<MpiChannel> channel;
-        if (field.field) channel.emplace(*mpi);
-        std::optional<StencilInput> sin;
-        if (field.field) sin.emplace(StencilInput{in.grid, in.bins, std::span<const Vec3>(in.points.pos),
-                                                 std::span<const double>(in.points.value), *field.field, in.coverage.get()});
-        StencilRankResult rr;
-        std::optional<DedupSink> dd;
-        std::size_t points = 0;
-        if (root) {
-            IsoSplatResult unused;
-            points = run_to_outputs(geometry_output(a, kPointsWhat), png, meta, rs, nthreads, [&](const Stage*, Sink& out_sink) {
-                if (dedup > 0) dd.emplace(out_sink, dedup, 0.1 * in.grid.diagonal());
-                Sink& sink = dd ? static_cast<Sink&>(*dd) : out_sink;
-                // the deal's thread failing leaves the other ranks waiting for rows: end the job
-                const auto deal_failed = [mpi](std::exception_ptr e) {
-                    try {
-                        std::rethrow_exception(e);
-                    } catch (const std::exception& x) {
-                        std::fprintf(stderr, "meshless isosurface (rank 0 of %d): %s\n", mpi->size(), error_message(x).c_str());
-                        mpi->abort(exit_code(x));
-                    } catch (...) {
-                        mpi->abort(kExitInternal);
-                    }
-                };
-                if (field.field) rr = run_stencils_rank(*sin, iso, n, np, 0, ranks, *channel, &sink, {nthreads}, deal_failed);
-                else sink.finish();
-                return IsoSplatResult{};
-            }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
-        } else if (field.field) {
-            rr = run_stencils_rank(*sin, iso, n, np, mpi->rank(), ranks, *channel, nullptr, {nthreads});
-        }
-        auto v = rr.seeds.as_array();
-        const FieldNewtonStats& ns = rr.newton;
-        std::vector<std::int64_t> all(v.begin(), v.end());
-        for (std::int64_t x : {ns.input, ns.converged, ns.flat, ns.too_far, ns.not_converged, ns.stalled, ns.nonfinite, ns.evaluations})
-            all.push_back(x);
-        const std::vector<std::int64_t> sums = mpi->sum_to_root(all);
-        if (root && a.has("stats")) {
-            std::array<std::int64_t, StencilSeedStats::kCounters> sv{};
-            std::copy(sums.begin(), sums.begin() + StencilSeedStats::kCounters, sv.begin());
-            sv[StencilSeedStats::kMaxIndex] = v[StencilSeedStats::kMaxIndex];  // (rank 0's)
-            print_scattered_stats("isosurface", in, StencilSeedStats::from_array(sv), n);
-            FieldNewtonStats tot;
-            const std::size_t k = StencilSeedStats::kCounters;
-            tot.input = sums[k]; tot.converged = sums[k + 1]; tot.flat = sums[k + 2]; tot.too_far = sums[k + 3];
-            tot.not_converged = sums[k + 4]; tot.stalled = sums[k + 5]; tot.nonfinite = sums[k + 6]; tot.evaluations = sums[k + 7];
-            print_newton_stats("isosurface", field_name, np, tot, 0.0);
-            std::string dealt;
-            for (std::size_t r = 0; r < rr.rows_per_rank.size(); ++r)
-                dealt += (r ? " / " : "") + std::to_string(rr.rows_per_rank[r]);
-            std::fprintf(stderr, "isosurface: %zu points over %d ranks x %d thread(s); stencil rows dealt on request: %s; time: read %.3f s, "
-                         "octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s (rank 0)\n",
-                         points, ranks, nthreads, dealt.empty() ? "none" : dealt.c_str(), in.read_seconds, in.octree_seconds,
-                         in.coverage_seconds, field_seconds, since(t_start));
-        }
-        return 0;
+/// Under mpirun: the stencil rows are dealt to the ranks on request, rank 0 writes
+/// (stream/stencil_ranks.hpp); the statistics are summed to rank 0.
+int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSession& mpi, ScatteredJob& j) {
+    const bool root = mpi.rank() == 0;
+    const Field* field = j.field.field.get();
+    std::optional<MpiChannel> channel;
+    if (field) channel.emplace(mpi);
+    std::optional<StencilInput> sin;
+    if (field) sin.emplace(j.in.stencils(*field));
+    StencilRankResult rr;
+    std::optional<DedupSink> dd;
+    std::size_t points = 0;
+    if (root) {
+        IsoSplatResult unused;
+        points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.meta, j.rs, j.nthreads, [&](const Stage*, Sink& out_sink) {
+            if (j.dedup > 0) dd.emplace(out_sink, j.dedup, 0.1 * j.in.grid.diagonal());
+            Sink& sink = dd ? static_cast<Sink&>(*dd) : out_sink;
+            // the deal's thread failing leaves the other ranks waiting for rows: end the job
+            const auto deal_failed = [&mpi](std::exception_ptr e) {
+                try {
+                    std::rethrow_exception(e);
+                } catch (const std::exception& x) {
+                    std::fprintf(stderr, "meshless isosurface (rank 0 of %d): %s\n", mpi.size(), error_message(x).c_str());
+                    mpi.abort(exit_code(x));
+                } catch (...) {
+                    mpi.abort(kExitInternal);
+                }
+            };
+            if (field) rr = run_stencils_rank(*sin, j.iso, j.n, j.np, 0, mpi.size(), *channel, &sink, {j.nthreads}, deal_failed);
+            else sink.finish();
+            return IsoSplatResult{};
+        }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
+    } else if (field) {
+        rr = run_stencils_rank(*sin, j.iso, j.n, j.np, mpi.rank(), mpi.size(), *channel, nullptr, {j.nthreads});
     }
+    auto v = rr.seeds.as_array();
+    const FieldNewtonStats& ns = rr.newton;
+    std::vector<std::int64_t> all(v.begin(), v.end());
+    for (std::int64_t x : {ns.input, ns.converged, ns.flat, ns.too_far, ns.not_converged, ns.stalled, ns.nonfinite, ns.evaluations})
+        all.push_back(x);
+    const std::vector<std::int64_t> sums = mpi.sum_to_root(all);
+    if (!root || !a.has("stats")) return 0;
+    std::array<std::int64_t, StencilSeedStats::kCounters> sv{};
+    std::copy(sums.begin(), sums.begin() + StencilSeedStats::kCounters, sv.begin());
+    sv[StencilSeedStats::kMaxIndex] = v[StencilSeedStats::kMaxIndex];  // (rank 0's)
+    print_scattered_stats("isosurface", j.in, StencilSeedStats::from_array(sv), j.n);
+    FieldNewtonStats tot;
+    const std::size_t k = StencilSeedStats::kCounters;
+    tot.input = sums[k]; tot.converged = sums[k + 1]; tot.flat = sums[k + 2]; tot.too_far = sums[k + 3];
+    tot.not_converged = sums[k + 4]; tot.stalled = sums[k + 5]; tot.nonfinite = sums[k + 6]; tot.evaluations = sums[k + 7];
+    print_newton_stats("isosurface", j.field_name, j.np, tot, 0.0);
+    std::string dealt;
+    for (std::size_t r = 0; r < rr.rows_per_rank.size(); ++r)
+        dealt += (r ? " / " : "") + std::to_string(rr.rows_per_rank[r]);
+    std::fprintf(stderr, "isosurface: %zu points over %d ranks x %d thread(s); stencil rows dealt on request: %s; time: read %.3f s, "
+                 "octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s (rank 0)\n",
+                 points, mpi.size(), j.nthreads, dealt.empty() ? "none" : dealt.c_str(), j.in.read_seconds, j.in.octree_seconds,
+                 j.in.coverage_seconds, j.field_seconds, since(t_start));
+    return 0;
+}
 
-    std::optional<DedupSink> dedup_sink;
-    if (dedup > 0) meta.set("dedup", dedup);
+int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
+    ScatteredJob j = prepare_scattered(a, mpi);
+    if (mpi) return isosurface_scattered_mpi(a, t_start, *mpi, j);
+    const ScatteredInput& in = j.in;
+    if (j.dedup > 0) j.meta.set("dedup", j.dedup);
+    ScatteredIsosurfaceStats st;
     IsoSplatResult unused;
     const auto t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), png, meta, rs, nthreads, [&](const Stage* draw, Sink& out_sink) {
+    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.meta, j.rs, j.nthreads, [&](const Stage* draw, Sink& sink) {
         const auto g0 = Clock::now();
         // --dedup: the removal runs in sequence order on the sink side (the picture is then drawn there too)
-        if (dedup > 0) dedup_sink.emplace(out_sink, dedup, 0.1 * in.grid.diagonal());
-        Sink& sink = dedup_sink ? static_cast<Sink&>(*dedup_sink) : out_sink;
-        if (!field.field) {
-            RecordVectorSource empty(std::vector<PointRecord>{});
-            const Stage* stages[] = {draw};
-            run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, {nthreads});
+        if (!j.field.field) {
+            st = run_scattered_isosurface(in, nullptr, j.iso, j.n, j.np, j.dedup, draw, sink, {j.nthreads});
         } else {
-            StencilSource source(sg);
-            seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get()}, iso, n);
-            project.emplace(*field.field, iso, np);
             // the stencils as the source hands them out, counted ahead of seeding
-            ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(sg.total()));
-            const ProgressStage progress([&](double k) { meter.add(k); }, work_units);
-            const Stage* stages[] = {&progress, &*seed, &*project, draw};
-            run_pipeline(source, std::span<const Stage* const>(stages, draw ? 4 : 3), sink, {nthreads});
+            ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(StencilGrid(in.grid.dims).total()));
+            st = run_scattered_isosurface(in, j.field.field.get(), j.iso, j.n, j.np, j.dedup, draw, sink, {j.nthreads},
+                                          [&](double k) { meter.add(k); });
         }
         IsoSplatResult r;
         r.seconds = since(g0);
         return r;
-    }, unused, /*parallel_draw=*/dedup == 0, /*with_blocks=*/false);
+    }, unused, /*parallel_draw=*/j.dedup == 0, /*with_blocks=*/false);
     const double graph_seconds = since(t0);
-    if (project) {
-        const FieldNewtonStats ns = project->stats();
-        if (ns.input > 0 && 2 * ns.converged < ns.input)
-            std::fprintf(stderr,
-                         "meshless: warning: %s: %lld of %lld seeds did not converge onto the %s field's isosurface (too far %lld, "
-                         "non-finite %lld): the field does not resolve this point distribution there\n",
-                         terminal_safe(in.source).c_str(), static_cast<long long>(ns.dropped()), static_cast<long long>(ns.input), field_name.c_str(),
-                         static_cast<long long>(ns.too_far), static_cast<long long>(ns.nonfinite));
-    }
-
+    const FieldNewtonStats& ns = st.newton;
+    if (st.projected && ns.input > 0 && 2 * ns.converged < ns.input)
+        std::fprintf(stderr,
+                     "meshless: warning: %s: %lld of %lld seeds did not converge onto the %s field's isosurface (too far %lld, "
+                     "non-finite %lld): the field does not resolve this point distribution there\n",
+                     terminal_safe(in.source).c_str(), static_cast<long long>(ns.dropped()), static_cast<long long>(ns.input),
+                     j.field_name.c_str(), static_cast<long long>(ns.too_far), static_cast<long long>(ns.nonfinite));
     if (a.has("stats")) {
         const char* cmd = "isosurface";
-        const StencilSeedStats s = seed ? seed->stats() : StencilSeedStats{};
-        print_scattered_stats(cmd, in, s, n);
-        if (project) print_newton_stats(cmd, field_name, np, project->stats(), project->busy_seconds());
-        if (dedup_sink)
-            std::fprintf(stderr, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, dedup,
-                         static_cast<long long>(dedup_sink->removed()));
+        const StencilSeedStats& s = st.seeds;
+        print_scattered_stats(cmd, in, s, j.n);
+        if (st.projected) print_newton_stats(cmd, j.field_name, j.np, ns, st.newton_busy_seconds);
+        if (j.dedup > 0)
+            std::fprintf(stderr, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, j.dedup, static_cast<long long>(st.dedup_removed));
         std::fprintf(stderr,
                      "%s: %zu points; time: read %.3f s, octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, regularisation %.3f s busy, "
                      "isosurface (stencils + Delaunay + seeds + Newton + output) %.3f s (busy: stencils %.3f s of which "
                      "Delaunay %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
-                     cmd, points, in.read_seconds, in.octree_seconds, in.coverage_seconds, field_seconds, 1e-9 * double(s.regularisation_ns), graph_seconds,
-                     seed ? seed->busy_seconds() : 0.0, 1e-9 * double(s.delaunay_ns), project ? project->busy_seconds() : 0.0,
-                     nthreads, since(t_start));
+                     cmd, points, in.read_seconds, in.octree_seconds, in.coverage_seconds, j.field_seconds, 1e-9 * double(s.regularisation_ns),
+                     graph_seconds, st.seed_busy_seconds, 1e-9 * double(s.delaunay_ns), st.newton_busy_seconds, j.nthreads, since(t_start));
     }
     return 0;
 }
@@ -542,24 +394,15 @@ int generate_scattered(int argc, char** argv) {
     const auto t0 = Clock::now();
     BinaryStreamOutput out(a.get_or("output", "-"), "a seed stream");
     ScatteredInput in = read_scattered(a);
-    const bool crossed = iso_in_range(in, iso);
+    const bool crossed = in.crosses(iso);
     if (!crossed) warn_if_iso_outside(iso, in.points.value_range(), in.source);
     double field_seconds = 0;
     BuiltField field = build_field_and_coverage(a, in, crossed, field_seconds);
-    StreamSink sink(out.f, out.name, RecordKind::seed, scattered_meta(in, iso, n, a.command_line()), a.has("compress"));
-    std::optional<StencilSeedStage> seed;
-    if (field.field) {
-        StencilSource source{StencilGrid(in.grid.dims)};
-        seed.emplace(StencilInput{in.grid, in.bins, in.points.pos, in.points.value, *field.field, in.coverage.get()}, iso, n);
-        const Stage* stages[] = {&*seed};
-        run_pipeline(source, stages, sink, {nthreads});
-    } else {
-        RecordVectorSource empty(std::vector<PointRecord>{});
-        run_pipeline(empty, {}, sink, {nthreads});
-    }
+    StreamSink sink(out.f, out.name, RecordKind::seed, scattered_isosurface_meta(in, iso, n, a.command_line()), a.has("compress"));
+    const StencilSeedStats seeds = generate_scattered_seeds(in, field.field.get(), iso, n, sink, {nthreads});
     out.commit();
     if (a.has("stats")) {
-        print_scattered_stats("generate", in, seed ? seed->stats() : StencilSeedStats{}, n);
+        print_scattered_stats("generate", in, seeds, n);
         std::fprintf(stderr, "generate: read %.3f s, octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s\n",
                      in.read_seconds, in.octree_seconds, in.coverage_seconds, field_seconds, since(t0));
     }

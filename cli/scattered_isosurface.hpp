@@ -4,10 +4,10 @@
 //   meshless generate POINTS --iso V [--samples N]            (a seed stream)
 //   meshless project --field F.mlf|KIND [POINTS] [< seeds]    (seed stream -> points; the multiblock
 //                                                              command, cli/multiblock_isosurface.hpp)
-// as one graph: the binning grid (kernels/scattered_binning_grid.hpp) -> marching stencils, each
-// regularised on the fly, tetrahedralised by CGAL and contoured by marching tetrahedra, seeded on the
-// barycentric lattice (stream/stencil_source.hpp, stream/stencil_seed_stage.hpp) -> Newton onto the
-// meshless field (stream/field_project_stage.hpp) -> PLY/VTP and/or PNG. The pipe gives the same
+// option parsing over the recipe of stream/scattered_isosurface.hpp (the binning grid -> marching
+// stencils, each regularised on the fly, tetrahedralised by CGAL and contoured by marching
+// tetrahedra, seeded on the barycentric lattice -> Newton onto the meshless field) -> PLY/VTP
+// and/or PNG; under mpirun the stencil rows are dealt to the ranks (stream/stencil_ranks.hpp). The pipe gives the same
 // bytes as the in-process command for any --threads. POINTS: any point set meshless reads (CSV/TSV,
 // PLY, VTP, raw float32 records, .npy; formats/point_set_reader.hpp).
 // Throws UsageError for bad options, FormatError for unusable data (fewer than 4 distinct points),

@@ -214,3 +214,26 @@ TEST_CASE("a validated option is checked at parse whether or not the command rea
     flagged.flag("stats", "");
     CHECK_THROWS_AS(flagged.validate([](const std::string&) {}), std::logic_error);
 }
+
+TEST_CASE("Args: a deprecated alias works as the new name, hidden from --help, and not both at once", "[cli]") {
+    {
+        Args a("convert", "VOLUME", "");
+        a.option("zstd-level", "", "N", "zstd level", "1").deprecated_alias("level").flag("value-range", "scan").deprecated_alias("range");
+        REQUIRE(parse_tokens(a, {"convert", "v.nrrd", "--level", "3", "--range"}));
+        CHECK(a.get("zstd-level") == std::optional<std::string>("3"));
+        CHECK(a.has("value-range"));
+        CHECK(a.takes_value("--level"));
+        CHECK(a.help_text().find("--zstd-level") != std::string::npos);
+        CHECK(a.help_text().find("--level") == std::string::npos);
+    }
+    {
+        Args a("convert", "VOLUME", "");
+        a.option("zstd-level", "", "N", "zstd level", "1").deprecated_alias("level");
+        REQUIRE(parse_tokens(a, {"convert", "v.nrrd", "--zstd-level=4"}));
+        CHECK(a.get("zstd-level") == std::optional<std::string>("4"));
+    }
+    Args b("convert", "VOLUME", "");
+    b.option("zstd-level", "", "N", "zstd level", "1").deprecated_alias("level");
+    CHECK_THROWS_WITH(parse_tokens(b, {"convert", "--zstd-level", "2", "--level", "3"}),
+                      Catch::Contains("--zstd-level given twice") && Catch::Contains("--level"));
+}

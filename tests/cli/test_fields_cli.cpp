@@ -71,7 +71,7 @@ TEST_CASE("probe reproduces a linear field and its gradient with every field kin
 TEST_CASE("resample writes a NRRD the volume commands read, with the field's values", "[cli][fields]") {
     TempDir d("resample");
     const std::string pts = write_points(d), D = d.path.string();
-    REQUIRE(sh("MESHLESS resample " + pts + " --dims 11,5,7 --field mpu -o " + D + "/v.nrrd --threads 2", d).code == 0);
+    REQUIRE(sh("MESHLESS resample " + pts + " --grid 11,5,7 --field mpu -o " + D + "/v.nrrd --threads 2", d).code == 0);
     const Volume v = read_volume(D + "/v.nrrd");
     REQUIRE(v.grid.dims == std::array<std::int64_t, 3>{11, 5, 7});
     const float* f = reinterpret_cast<const float*>(v.bytes.data());
@@ -84,7 +84,7 @@ TEST_CASE("resample writes a NRRD the volume commands read, with the field's val
                                                            g.origin[2] + k * g.spacing[2]))
                                                  .epsilon(1e-4));
     CHECK(sh("MESHLESS isosurface " + D + "/v.nrrd --iso 0.5 -o " + D + "/i.ply", d).code == 0);
-    CHECK(sh("MESHLESS resample " + pts + " --dims 1,5,7 -o " + D + "/x.nrrd", d).code == 1);
+    CHECK(sh("MESHLESS resample " + pts + " --grid 1,5,7 -o " + D + "/x.nrrd", d).code == 1);
 }
 
 TEST_CASE("slice renders the plane with the bounding box's aspect", "[cli][fields]") {
@@ -228,7 +228,7 @@ TEST_CASE("probe, slice and resample run as graphs: the same bytes for any --thr
     for (const std::string t : {"1", "3"}) {
         REQUIRE(sh("MESHLESS probe " + pts + " --field mpu --at-file " + D + "/at.txt -o " + D + "/p" + t + ".csv --threads " + t, d).code == 0);
         REQUIRE(sh("MESHLESS slice " + pts + " --plane y=102 --size 200x200 -o " + D + "/s" + t + ".png --threads " + t, d).code == 0);
-        REQUIRE(sh("MESHLESS resample " + pts + " --dims 30,20,25 -o " + D + "/r" + t + ".nrrd --threads " + t, d).code == 0);
+        REQUIRE(sh("MESHLESS resample " + pts + " --grid 30,20,25 -o " + D + "/r" + t + ".nrrd --threads " + t, d).code == 0);
     }
     const std::string probe = slurp(d / "p1.csv");
     CHECK(probe == slurp(d / "p3.csv"));

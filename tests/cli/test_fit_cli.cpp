@@ -55,8 +55,8 @@ TEST_CASE("probe, slice and resample with a .mlf give the bytes of the field the
         REQUIRE(sh("MESHLESS slice " + pts + " --field " + k + " --plane z=3 --size 96x96 -o " + D + "/a.png", d).code == 0);
         REQUIRE(sh("MESHLESS slice " + pts + " --field " + D + "/f.mlf --plane z=3 --size 96x96 -o " + D + "/b.png --threads 2", d).code == 0);
         CHECK(slurp(d / "a.png") == slurp(d / "b.png"));
-        REQUIRE(sh("MESHLESS resample " + pts + " --field " + k + " --dims 12,10,8 -o " + D + "/a.nrrd", d).code == 0);
-        REQUIRE(sh("MESHLESS resample " + pts + " --field " + D + "/f.mlf --dims 12,10,8 -o " + D + "/b.nrrd", d).code == 0);
+        REQUIRE(sh("MESHLESS resample " + pts + " --field " + k + " --grid 12,10,8 -o " + D + "/a.nrrd", d).code == 0);
+        REQUIRE(sh("MESHLESS resample " + pts + " --field " + D + "/f.mlf --grid 12,10,8 -o " + D + "/b.nrrd", d).code == 0);
         CHECK(slurp(d / "a.nrrd") == slurp(d / "b.nrrd"));
     }
     // non-default options travel in the file

@@ -35,7 +35,7 @@ std::string write_plain_raw(const TempDir& d) {
 TEST_CASE("info: a .raw described by --dims is a raw volume", "[cli][info]") {
     TempDir d("dispatch-info");
     const std::string raw = write_plain_raw(d);
-    const auto r = sh("MESHLESS info " + raw + " --dims 16,16,16 --type uint16 --endian big --range", d);
+    const auto r = sh("MESHLESS info " + raw + " --dims 16,16,16 --type uint16 --endian big --value-range", d);
     REQUIRE(r.code == 0);
     CHECK_THAT(r.out, Catch::Contains("raw volume"));
     CHECK_THAT(r.out, Catch::Contains("dims: 16 x 16 x 16"));
@@ -56,7 +56,7 @@ TEST_CASE("positions-only points are refused by every command that needs values"
     spit(d / "p.csv", csv);
     const std::string P = (d / "p.csv").string(), D = d.path.string();
     for (const std::string& cmd : std::vector<std::string>{"fit -o " + D + "/f.mlf", "probe --at 1,1,0.5", "slice --plane z=0.5 -o " + D + "/s.png",
-                                  "resample --dims 8,8,8 -o " + D + "/r.nrrd", "render -o " + D + "/r.png",
+                                  "resample --grid 8,8,8 -o " + D + "/r.nrrd", "render -o " + D + "/r.png",
                                   "hierarchy -o " + D + "/h.mlh", "isosurface --iso 1 -o " + D + "/i.ply"}) {
         INFO(cmd);
         const std::string verb = cmd.substr(0, cmd.find(' '));

@@ -141,7 +141,7 @@ TEST_CASE("meshless convert/synth/verify usage errors", "[ooc][cli]") {
     CHECK(sh("MESHLESS convert " + raw, dir).code == 1);                                  // no -o
     CHECK(sh("MESHLESS convert " + raw + " -o -", dir).code == 1);                        // stdout
     CHECK(sh("MESHLESS convert " + raw + " -o x.mlb --brick 1", dir).code == 1);          // brick
-    CHECK(sh("MESHLESS convert " + raw + " -o x.mlb --level 30", dir).code == 1);         // level
+    CHECK(sh("MESHLESS convert " + raw + " -o x.mlb --zstd-level 30", dir).code == 1);         // level
     CHECK(sh("MESHLESS synth " + raw + " -o x.mlb", dir).code == 1);                      // no --upsample
     CHECK(sh("MESHLESS synth --upsample 2 --method cubic " + raw + " -o x.mlb", dir).code == 1);
     CHECK(sh("MESHLESS verify", dir).code == 1);

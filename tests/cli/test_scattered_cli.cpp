@@ -141,7 +141,7 @@ TEST_CASE("isosurface POINTS builds chapter 5's MPU field by default, fit choose
     CHECK_THAT(p_default.err, Catch::Contains("mpu field from 3000 points"));
     CHECK(p_default.out == probe(" --field " + D + "/f.mlf").out);
     CHECK(p_default.out != probe(" --field rbf-grid").out);
-    for (const std::string& cmd : {"slice " + pts + " --plane z=0.1 --size 40x40 -o " + D + "/s", "resample " + pts + " --dims 9,9,9 -o " + D + "/r"}) {
+    for (const std::string& cmd : {"slice " + pts + " --plane z=0.1 --size 40x40 -o " + D + "/s", "resample " + pts + " --grid 9,9,9 -o " + D + "/r"}) {
         const std::string ext = cmd.rfind("slice", 0) == 0 ? ".png" : ".nrrd";
         REQUIRE(sh("MESHLESS " + cmd + "1" + ext, d).code == 0);
         REQUIRE(sh("MESHLESS " + cmd + "2" + ext + " --field " + D + "/f.mlf", d).code == 0);

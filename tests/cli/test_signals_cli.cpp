@@ -170,7 +170,7 @@ TEST_CASE("every command interrupted mid-run by SIGINT, SIGTERM or SIGHUP exits 
         {"split", {"split", big, "--layout", "overlapping", "--blocks", "8", "-o", "OUT"}, "b.vtm"},
         {"fit", {"fit", pts, "-j", "1", "-o", "OUT"}, "f.mlf"},
         {"slice", {"slice", pts, "--plane", "z=0", "--size", "4096x4096", "-j", "1", "-o", "OUT"}, "s.png"},
-        {"resample", {"resample", pts, "--dims", "256,256,256", "-j", "1", "-o", "OUT"}, "v.nrrd"},
+        {"resample", {"resample", pts, "--grid", "256,256,256", "-j", "1", "-o", "OUT"}, "v.nrrd"},
         {"probe", {"probe", pts, "--at-file", pts, "-j", "1", "-o", "OUT"}, "p.csv"},
         {"hierarchy", {"hierarchy", lidc2(), "-j", "1", "-o", "OUT"}, "h.mlh"},
         {"demo", {"demo", "--size", "8192x8192", "-o", "OUT"}, "d.png"},

@@ -5,7 +5,7 @@
 // Built only with Clang and -DMESHLESS_BUILD_FUZZ=ON (see fuzz_ply.cpp for the commands):
 //   cmake --build build-fuzz --target fuzz_field_file
 //   mkdir -p corpus-mlf && for k in rbf-grid mpu global-rbf; do for l in 0 1; do
-//     build/cli/meshless fit POINTS.csv --field $k --level $l -o corpus-mlf/$k-$l.mlf; done; done
+//     build/cli/meshless fit POINTS.csv --field $k --zstd-level $l -o corpus-mlf/$k-$l.mlf; done; done
 //   build-fuzz/tests/fuzz/fuzz_field_file corpus-mlf -max_total_time=60
 // (seed with small point sets: a few hundred points give files of a few KB to a few hundred KB).
 // The target is compiled with FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION, which makes the codec

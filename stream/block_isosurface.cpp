@@ -1,0 +1,93 @@
+#include "stream/block_isosurface.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+
+#include "formats/multiblock_reader.hpp"
+#include "kernels/amr_cover.hpp"
+#include "kernels/errors.hpp"
+#include "stream/block_cell_source.hpp"
+#include "stream/progress_stage.hpp"
+#include "stream/record_vector_source.hpp"
+#include "stream/stream_metadata.hpp"
+
+namespace meshless {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+}  // namespace
+
+BlockIsosurfaceInput read_block_input(const std::vector<std::string>& paths, const PointSetOptions& options,
+                                      const std::string& source, double iso) {
+    BlockIsosurfaceInput in;
+    in.source = source;
+    auto t0 = Clock::now();
+    in.mb = read_multiblock(paths, options);
+    in.read_seconds = since(t0);
+    if (in.mb.blocks.size() > std::numeric_limits<std::uint32_t>::max())
+        throw FormatError(paths.at(0) + ": " + std::to_string(in.mb.blocks.size()) + " blocks, more than block ids can number");
+    t0 = Clock::now();
+    if (has_cell_centred_blocks(in.mb)) in.padded = amr_seed_blocks(in.mb);
+    in.plan = plan_block_seeds(in.seed_blocks(), iso);
+    in.plan_seconds = since(t0);
+    if (std::isnan(in.plan.value_range[0]))
+        throw FormatError(in.source + ": every node is blanked or non-finite; there is no data to contour");
+    return in;
+}
+
+StreamMeta block_isosurface_meta(const BlockIsosurfaceInput& in, double iso, int n, const std::string& producer) {
+    StreamMeta m;
+    m.set("source", in.source);
+    m.set("iso", iso);
+    m.set("blocks", std::to_string(in.mb.blocks.size()));
+    m.set("samples", std::to_string(n));
+    m.set("value_min", in.plan.value_range[0]);
+    m.set("value_max", in.plan.value_range[1]);
+    const auto& box = in.plan.active_cells > 0 ? in.plan.active_bounds : in.plan.node_bounds;
+    m.set("bounds_lo", triple(box[0]));
+    m.set("bounds_hi", triple(box[1]));
+    m.set("volume_bounds_lo", triple(in.plan.node_bounds[0]));
+    m.set("volume_bounds_hi", triple(in.plan.node_bounds[1]));
+    m.set("producer", producer);
+    return m;
+}
+
+BlockIsosurfaceStats run_block_isosurface(const BlockIsosurfaceInput& in, const Field* field, double iso, int n,
+                                          const FieldProjectParams& np, const Stage* draw, Sink& sink, const RunOptions& opt,
+                                          const std::function<void(double)>& progress) {
+    BlockIsosurfaceStats st;
+    if (!field) {
+        RecordVectorSource empty(std::vector<PointRecord>{});
+        const Stage* stages[] = {draw};
+        run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, opt);
+        st.seeds.cells = in.plan.total_cells();
+        return st;
+    }
+    BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
+    const BlockSeedStage seed(in.seed_blocks(), in.plan, iso, n);
+    const FieldProjectStage project(*field, iso, np);
+    const ProgressStage counter([&](double k) { if (progress) progress(k); }, work_units);
+    const Stage* stages[] = {&counter, &seed, &project, draw};
+    run_pipeline(source, std::span<const Stage* const>(stages, draw ? 4 : 3), sink, opt);
+    st.seeds = seed.stats();
+    st.newton = project.stats();
+    st.seed_busy_seconds = seed.busy_seconds();
+    st.newton_busy_seconds = project.busy_seconds();
+    st.projected = true;
+    return st;
+}
+
+BlockSeedStats generate_block_seeds(const BlockIsosurfaceInput& in, double iso, int n, Sink& sink, const RunOptions& opt) {
+    BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
+    const BlockSeedStage seed(in.seed_blocks(), in.plan, iso, n);
+    const Stage* stages[] = {&seed};
+    run_pipeline(source, stages, sink, opt);
+    return seed.stats();
+}
+
+}  // namespace meshless

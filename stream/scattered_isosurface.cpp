@@ -1,0 +1,221 @@
+#include "stream/scattered_isosurface.hpp"
+
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <span>
+
+#include "kernels/errors.hpp"
+#include "kernels/marching_stencils.hpp"
+#include "stream/dedup_sink.hpp"
+#include "stream/progress_stage.hpp"
+#include "stream/projection_meta.hpp"
+#include "stream/record_vector_source.hpp"
+#include "stream/stencil_source.hpp"
+#include "stream/stream_metadata.hpp"
+
+namespace meshless {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// The most data points one 3x3x3 stencil holds (before regularisation).
+std::int64_t largest_stencil(const BinningGrid& g, const BinnedPoints& b) {
+    const StencilGrid sg(g.dims);
+    std::int64_t most = 0;
+    for (std::int64_t s = 0; s < sg.total(); ++s) {
+        const auto m = sg.coords(s);
+        const std::int64_t c[3] = {stencil_centre(m[0], g.dims[0]), stencil_centre(m[1], g.dims[1]), stencil_centre(m[2], g.dims[2])};
+        std::int64_t n = 0;
+        for (std::int64_t k = c[2] - 1; k <= c[2] + 1; ++k)
+            for (std::int64_t j = c[1] - 1; j <= c[1] + 1; ++j) {
+                const std::int64_t row = g.index(c[0] - 1, j, k);
+                n += std::int64_t(b.start[static_cast<std::size_t>(row) + 3]) - std::int64_t(b.start[static_cast<std::size_t>(row)]);
+            }
+        most = std::max(most, n);
+    }
+    return most;
+}
+
+std::size_t distinct_positions(const std::vector<Vec3>& pos, std::size_t enough) {
+    std::vector<Vec3> p(pos);
+    std::sort(p.begin(), p.end(), [](const Vec3& a, const Vec3& b) {
+        return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
+    });
+    std::size_t n = p.empty() ? 0 : 1;
+    for (std::size_t i = 1; i < p.size() && n < enough; ++i)
+        if (p[i].x != p[i - 1].x || p[i].y != p[i - 1].y || p[i].z != p[i - 1].z) ++n;
+    return n;
+}
+
+const char* axis_name(int a) { return a == 0 ? "x" : (a == 1 ? "y" : "z"); }
+
+std::string format(const char* fmt, auto... args) {
+    const int len = std::snprintf(nullptr, 0, fmt, args...);
+    std::string s(static_cast<std::size_t>(std::max(len, 0)), '\0');
+    std::snprintf(s.data(), s.size() + 1, fmt, args...);
+    return s;
+}
+
+void warn_about_grid(const ScatteredIsosurfaceInput& in, const std::string& name, const BinningGridParams& bp,
+                     const InputWarning& warn) {
+    const int degenerate = int(in.grid.degenerate[0]) + int(in.grid.degenerate[1]) + int(in.grid.degenerate[2]);
+    if (degenerate > 0) {
+        std::string axes;
+        for (int ax = 0; ax < 3; ++ax)
+            if (in.grid.degenerate[static_cast<std::size_t>(ax)]) axes += std::string(axes.empty() ? "" : ", ") + axis_name(ax);
+        warn(name, format("all points lie on a %s (no extent along %s): the binning grid gives %s one cell; the surface is "
+                          "the field's where it defines one off the data",
+                          degenerate == 1 ? "plane" : "line", axes.c_str(), degenerate == 1 ? "that axis" : "those axes"));
+    }
+    if (in.grid.coarsened)
+        warn(name, format("the binning rule asks for level %d (%lld cells); coarsened to level %d (%lld cells) by --max-cells "
+                          "%lld / --max-level %d: stencils hold more points",
+                          in.grid.rule_level,
+                          static_cast<long long>(std::pow(std::ldexp(1.0, in.grid.rule_level) + 2, 3 - degenerate) * std::pow(3.0, degenerate)),
+                          in.grid.level, static_cast<long long>(in.grid.cell_count()), static_cast<long long>(bp.max_cells), bp.max_level));
+    // section 5.8: "pathological point distributions ... causing the tetrahedrization of a possibly large
+    // number of points" (e.g. two far-apart clusters: the depth-first rule stops at the root)
+    const std::int64_t most = largest_stencil(in.grid, in.bins);
+    if (most > 20000 && double(most) > 0.25 * double(in.points.size()))
+        warn(name, format("one 3x3x3 stencil of the level-%d binning grid holds %lld of the %zu points (a pathological "
+                          "distribution for the binning rule, section 5.8): its Delaunay runs on one thread",
+                          in.grid.level, static_cast<long long>(most), in.points.size()));
+}
+
+std::array<Vec3, 2> frame_box(const BinningGrid& g, double max_travel) {
+    const double pad = max_travel * g.diagonal() * (1 + 1e-6);
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = g.bounds[0][a];
+        hi[a] = g.bounds[1][a];
+        if (g.degenerate[static_cast<std::size_t>(a)]) continue;
+        lo[a] = std::min(lo[a], g.origin[a]) - pad;
+        hi[a] = std::max(hi[a], g.origin[a] + static_cast<double>(g.dims[static_cast<std::size_t>(a)]) * g.cell[a]) + pad;
+    }
+    return {Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}};
+}
+
+}  // namespace
+
+bool ScatteredIsosurfaceInput::crosses(double iso) const {
+    const auto r = points.value_range();
+    return iso >= r[0] && iso <= r[1];
+}
+
+StencilInput ScatteredIsosurfaceInput::stencils(const Field& field) const {
+    return StencilInput{grid, bins, std::span<const Vec3>(points.pos), std::span<const double>(points.value), field, coverage.get()};
+}
+
+ScatteredIsosurfaceInput bin_scattered_points(PointSet points, const std::string& source, const std::string& name,
+                                              const BinningGridParams& bp, double reg_gap, const InputWarning& warn) {
+    ScatteredIsosurfaceInput in;
+    in.source = source;
+    in.points = std::move(points);
+    if (warn && in.points.dropped_nonfinite > 0)
+        warn(name, std::to_string(in.points.dropped_nonfinite) + " points with a NaN/Inf position or value dropped");
+    if (distinct_positions(in.points.pos, 4) < 4)
+        throw FormatError(name + ": fewer than 4 distinct point positions; a volume needs at least 4 points not all in one place");
+    const auto t0 = Clock::now();
+    in.grid = make_binning_grid(in.points.pos, bp);
+    in.bins = bin_points(in.grid, in.points.pos);
+    in.octree_seconds = since(t0);
+    in.reg_gap = reg_gap;
+    if (warn) warn_about_grid(in, name, bp, warn);
+    return in;
+}
+
+double build_alongside_coverage(ScatteredIsosurfaceInput& in, int threads, const std::function<void()>& build) {
+    double seconds = 0;
+    oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(std::max(threads, 1)));
+    oneapi::tbb::parallel_invoke(
+        [&] {
+            const auto t0 = Clock::now();
+            build();
+            seconds = since(t0);
+        },
+        [&] {
+            if (in.reg_gap <= 0) return;
+            const auto t0 = Clock::now();
+            in.coverage = std::make_unique<PointCoverage>(in.points.pos, in.reg_gap);
+            in.coverage_seconds = since(t0);
+        });
+    return seconds;
+}
+
+StreamMeta scattered_isosurface_meta(const ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer) {
+    const double max_travel = kDefaultMaxTravel;
+    StreamMeta m;
+    const auto range = in.points.value_range();
+    m.set("source", in.source);
+    m.set("method", "scattered");
+    m.set("iso", iso);
+    m.set("samples", std::to_string(n));
+    m.set("points", std::to_string(in.points.size()));
+    m.set("binning_level", std::to_string(in.grid.level));
+    m.set("value_min", range[0]);
+    m.set("value_max", range[1]);
+    const std::array<Vec3, 2> frame = frame_box(in.grid, max_travel);
+    m.set("bounds_lo", triple(frame[0]));
+    m.set("bounds_hi", triple(frame[1]));
+    m.set("frame", "points");  // a box that holds every point, not the surface's: pictures frame the points
+    m.set("volume_bounds_lo", triple(in.grid.bounds[0]));
+    m.set("volume_bounds_hi", triple(in.grid.bounds[1]));
+    m.set("frame_travel", max_travel);  // what the frame allows for
+    m.set("frame_cell_diagonal", in.grid.diagonal());
+    m.set("producer", producer);
+    return m;
+}
+
+ScatteredIsosurfaceStats run_scattered_isosurface(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n,
+                                                  const FieldProjectParams& np, double dedup, const Stage* draw, Sink& out,
+                                                  const RunOptions& opt, const std::function<void(double)>& progress) {
+    ScatteredIsosurfaceStats st;
+    std::optional<DedupSink> dedup_sink;
+    if (dedup > 0) dedup_sink.emplace(out, dedup, 0.1 * in.grid.diagonal());
+    Sink& sink = dedup_sink ? static_cast<Sink&>(*dedup_sink) : out;
+    if (!field) {
+        RecordVectorSource empty(std::vector<PointRecord>{});
+        const Stage* stages[] = {draw};
+        run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, opt);
+    } else {
+        StencilSource source{StencilGrid(in.grid.dims)};
+        const StencilSeedStage seed(in.stencils(*field), iso, n);
+        const FieldProjectStage project(*field, iso, np);
+        const ProgressStage counter([&](double k) { if (progress) progress(k); }, work_units);
+        const Stage* stages[] = {&counter, &seed, &project, draw};
+        run_pipeline(source, std::span<const Stage* const>(stages, draw ? 4 : 3), sink, opt);
+        st.seeds = seed.stats();
+        st.newton = project.stats();
+        st.seed_busy_seconds = seed.busy_seconds();
+        st.newton_busy_seconds = project.busy_seconds();
+        st.projected = true;
+    }
+    if (dedup_sink) st.dedup_removed = dedup_sink->removed();
+    return st;
+}
+
+StencilSeedStats generate_scattered_seeds(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n, Sink& sink,
+                                          const RunOptions& opt) {
+    if (!field) {
+        RecordVectorSource empty(std::vector<PointRecord>{});
+        run_pipeline(empty, {}, sink, opt);
+        return {};
+    }
+    StencilSource source{StencilGrid(in.grid.dims)};
+    const StencilSeedStage seed(in.stencils(*field), iso, n);
+    const Stage* stages[] = {&seed};
+    run_pipeline(source, stages, sink, opt);
+    return seed.stats();
+}
+
+}  // namespace meshless

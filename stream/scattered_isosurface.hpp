@@ -1,0 +1,99 @@
+// The scattered-data isosurface recipe (dissertation chapter 5, sections 5.3-5.6), the graph
+// `meshless isosurface POINTS` and `generate POINTS` run (and any other front end):
+//   the binning grid (kernels/scattered_binning_grid.hpp) -> marching 3x3x3 stencils
+//   (stream/stencil_source.hpp), each regularised on the fly, tetrahedralised by CGAL and contoured
+//   by marching tetrahedra, seeded on the barycentric lattice (stream/stencil_seed_stage.hpp) ->
+//   safeguarded Newton onto the meshless field (stream/field_project_stage.hpp) [-> the splat
+//   stage] -> the sink (optionally through stream/dedup_sink.hpp).
+// The field is the caller's (kernels/make_field.hpp or a fitted .mlf); build_alongside_coverage
+// overlaps its build with the regularisation's support test. Memory: the points + their bins (4
+// bytes a binning cell) + the support test's kd-tree + the batches in flight. The bytes do not
+// depend on the thread count (under MPI: stream/stencil_ranks.hpp). Throws FormatError for
+// unusable data (fewer than 4 distinct points), what the kernels and stages throw otherwise.
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "formats/point_stream.hpp"
+#include "kernels/field.hpp"
+#include "kernels/point_coverage.hpp"
+#include "kernels/point_set.hpp"
+#include "kernels/scattered_binning_grid.hpp"
+#include "stream/field_project_stage.hpp"
+#include "stream/runner.hpp"
+#include "stream/stencil_seed_stage.hpp"
+
+namespace meshless {
+
+/// The default lattice parameter of the scattered path, by measurement (20,000 samples of the
+/// bucky volume, iso 100, rbf-grid field, 800 x 800 picture): the marching-tetrahedra triangles are
+/// about the data's spacing, smaller than the multiblock cells of kDefaultLatticeN's measurement;
+/// n = 1 (56 K points) leaves visible blotches at silhouettes where one disc stands for a whole
+/// triangle, n = 2 (169 K points) gives a picture indistinguishable from n = 3 (339 K points) for
+/// half the Newton work.
+inline constexpr int kScatteredLatticeN = 2;
+
+/// The points, binned (section 5.3), and the regularisation's support test.
+struct ScatteredIsosurfaceInput {
+    PointSet points;
+    BinningGrid grid;
+    BinnedPoints bins;
+    std::unique_ptr<PointCoverage> coverage;  ///< reg_gap > 0, built by build_alongside_coverage
+    double reg_gap = 0;  ///< a regularisation point farther than this x the local spacing gets no value (0: all get one)
+    std::string source;  ///< the names the metadata records
+    double read_seconds = 0, octree_seconds = 0, coverage_seconds = 0;
+    /// Whether iso lies within the data's values (else there is no surface and no field is needed).
+    bool crosses(double iso) const;
+    /// StencilInput over `field` (alive as long as this input and the field).
+    StencilInput stencils(const Field& field) const;
+};
+
+/// A warning about the input: `subject` (a file name, to be escaped by whoever prints it) and what
+/// is wrong with it, one line.
+using InputWarning = std::function<void(const std::string& subject, const std::string& what)>;
+
+/// Bins `points` (section 5.3). `name`: the file the messages name. warn (may be empty: no
+/// warnings, and the largest stencil is not counted): points dropped as NaN/Inf, a plane or line
+/// of points, a coarsened grid, one stencil with most of the points (section 5.8). Throws
+/// FormatError when fewer than 4 positions are distinct.
+ScatteredIsosurfaceInput bin_scattered_points(PointSet points, const std::string& source, const std::string& name,
+                                              const BinningGridParams& bp, double reg_gap, const InputWarning& warn);
+
+/// Runs build() (the field's build) and the support test's (when in.reg_gap > 0) side by side
+/// under `threads` workers: each has serial parts (the support test's kd-tree; the field's merge
+/// of near-duplicates and octree root) that the other's parallel parts overlap (10^6 points, 2
+/// threads: 17.0 -> 15.4 s whole process). Returns build()'s own seconds; the bits do not depend on
+/// the thread count.
+double build_alongside_coverage(ScatteredIsosurfaceInput& in, int threads, const std::function<void()>& build);
+
+/// What generate writes and isosurface records (the same keys on both paths). The camera's frame:
+/// the binning grid with its border layer, where the regularisation points lie and so the
+/// stencils' tetrahedra and the seeds, widened by how far Newton may move a seed
+/// (kDefaultMaxTravel cell diagonals; a longer travel widens it further, widen_frame_for_travel),
+/// so that every point lies inside the recorded bounds. Degenerate axes keep the points' extent.
+StreamMeta scattered_isosurface_meta(const ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer);
+
+/// What one run did.
+struct ScatteredIsosurfaceStats {
+    StencilSeedStats seeds;
+    FieldNewtonStats newton;
+    double seed_busy_seconds = 0, newton_busy_seconds = 0;
+    std::int64_t dedup_removed = 0;
+    bool projected = false;  ///< a field was given and the graph ran
+};
+
+/// Runs stencils -> seeds -> Newton onto `field` [-> draw] -> sink with opt.threads workers. A null
+/// field (iso outside the data) sends an empty stream (through draw). dedup > 0: points closer than
+/// dedup x their radius to an earlier one are removed on the sink side, in sequence order (draw
+/// must then be null and the sink draw). progress(k): k more stencils handed out (may be empty).
+ScatteredIsosurfaceStats run_scattered_isosurface(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n,
+                                                  const FieldProjectParams& np, double dedup, const Stage* draw, Sink& sink,
+                                                  const RunOptions& opt, const std::function<void(double)>& progress = {});
+
+/// The seed stream alone (`meshless generate POINTS`): stencils -> seeds -> sink (an empty stream
+/// without a field).
+StencilSeedStats generate_scattered_seeds(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n, Sink& sink,
+                                          const RunOptions& opt);
+
+}  // namespace meshless
