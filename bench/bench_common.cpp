@@ -1,4 +1,5 @@
 #include "bench/bench_common.hpp"
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +28,16 @@ std::string fmt(const char* format, ...) {
     va_end(ap);
     s.resize(static_cast<std::size_t>(n));
     return s;
+}
+
+std::pair<std::string, int> capture(const std::string& cmd) {
+    std::FILE* p = ::popen(cmd.c_str(), "r");
+    if (!p) return {"", -1};
+    std::string text;
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) text.append(buf, n);
+    const int st = ::pclose(p);
+    return {text, st == -1 || !WIFEXITED(st) ? -1 : WEXITSTATUS(st)};
 }
 
 std::string shell_quote(const std::string& s) {

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kernels/grid.hpp"
@@ -97,6 +98,8 @@ std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
 std::string bytes_str(double bytes);
 /// `s` single-quoted for /bin/sh (an embedded ' written as '\'').
 std::string shell_quote(const std::string& s);
+/// Runs a shell command, returns its stdout and exit status (-1 when it could not start).
+std::pair<std::string, int> capture(const std::string& cmd);
 /// The whole content of file `p` ("" when it cannot be read).
 std::string read_file_bytes(const std::filesystem::path& p);
 
@@ -163,6 +166,8 @@ void check_scattered_lists(const BenchOptions& o);
 
 /// The cluster binary trees (bench/bench_hierarchy.cpp).
 void run_hierarchy(const BenchOptions& o, Report& r);
+/// The Python module's numbers (bench/bench_python.cpp, bench/python_module.py).
+void run_python(const BenchOptions& o, Report& r);
 /// Its part (e) alone (`meshless-bench hierarchy-rmse`); `silicium` may be empty (read here).
 void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& silicium = {});
 

@@ -197,17 +197,6 @@ struct FieldsScratch {
     FieldsScratch& operator=(const FieldsScratch&) = delete;
 };
 
-/// Runs a command, returns its stdout and exit status (-1 when it could not start).
-std::pair<std::string, int> capture(const std::string& cmd) {
-    std::FILE* p = ::popen(cmd.c_str(), "r");
-    if (!p) return {"", -1};
-    std::string text;
-    char buf[4096];
-    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) text.append(buf, n);
-    const int st = ::pclose(p);
-    return {text, st == -1 || !WIFEXITED(st) ? -1 : WEXITSTATUS(st)};
-}
-
 struct RefConfig {
     std::string label;  ///< row label
     std::string kernel;

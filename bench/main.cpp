@@ -67,7 +67,7 @@ std::string own_name(std::string text) {
 }
 
 int bench_main(int argc, char** argv) {
-    Args a("bench", "[accuracy|speed|threads|splat|ooc|fields|process|multiblock|render|scattered|hierarchy|all] [options]",
+    Args a("bench", "[accuracy|speed|threads|splat|ooc|fields|process|multiblock|render|scattered|hierarchy|python|all] [options]",
            "Benchmarks, printed as tables on stdout (progress on stderr); ratios are against baselines\n"
            "measured in the same run. Results are written to a file only with --markdown FILE.\n"
            "  accuracy  distance / normal / value errors of the projected points on analytic fields, coverage\n"
@@ -92,6 +92,8 @@ int bench_main(int argc, char** argv) {
            "  hierarchy cluster binary trees (chapter 6): silicium and head Tables 6.1-6.2, speed, threads,\n"
            "            LOD extraction rate, peak RSS, CBT LOD vs random subsample vs decimation (RMSE of the mpu field;\n"
            "            that part alone: hierarchy-rmse)\n"
+           "  python    the Python module: equality with the CLI, peak RSS on an np.memmap volume, call overhead,\n"
+           "            two threads vs two calls in sequence, Field vs SciPy RBFInterpolator (bench/python_module.py)\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
     a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
         .option("reps", "", "N", "repetitions per isosurface (default 10); process: best of N runs (default 3)")
@@ -133,10 +135,10 @@ int bench_main(int argc, char** argv) {
     const std::string what = a.positional().empty() ? "all" : a.positional()[0];
     if (what != "all" && what != "accuracy" && what != "speed" && what != "threads" && what != "splat" &&
         what != "ooc" && what != "fields" && what != "process" && what != "multiblock" && what != "render" &&
-        what != "scattered" && what != "hierarchy" && what != "hierarchy-rmse")
+        what != "scattered" && what != "hierarchy" && what != "hierarchy-rmse" && what != "python")
         throw UsageError("unknown section '" + what +
                          "' (accuracy, speed, threads, splat, ooc, fields, process, multiblock, render, scattered, hierarchy, "
-                         "hierarchy-rmse, all)");
+                         "hierarchy-rmse, python, all)");
 
     BenchOptions o;
     o.quick = a.has("quick");
@@ -197,6 +199,7 @@ int bench_main(int argc, char** argv) {
     if (what == "all" || what == "scattered") run_scattered(o, r);
     if (what == "all" || what == "hierarchy") run_hierarchy(o, r);
     if (what == "hierarchy-rmse") run_hierarchy_rmse(o, r);
+    if (what == "all" || what == "python") run_python(o, r);
     if (auto md = a.get("markdown")) r.write_markdown(*md);
     return 0;
 }

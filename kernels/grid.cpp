@@ -4,6 +4,7 @@
 #include "kernels/errors.hpp"
 
 #include <cassert>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -59,19 +60,37 @@ std::int64_t GridSpec::cell_count() const {
     return static_cast<std::int64_t>(checked_volume(dims[0] - 1, dims[1] - 1, dims[2] - 1, "grid cells"));
 }
 
+namespace {
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+}  // namespace
+
 void validate_grid(const GridSpec& g, std::string_view context) {
     const std::string ctx = std::string(context) + ": dimensions " + std::to_string(g.dims[0]) + "x" +
                             std::to_string(g.dims[1]) + "x" + std::to_string(g.dims[2]);
     checked_volume(g.dims[0], g.dims[1], g.dims[2], ctx);
     static const char* axis[3] = {"x", "y", "z"};
+    constexpr double kFloatMax = std::numeric_limits<float>::max(), kFloatMin = std::numeric_limits<float>::min();
     for (int a = 0; a < 3; ++a) {
         const double s = g.spacing[a];
         if (!std::isfinite(s) || !(s > 0))
-            throw FormatError(std::string(context) + ": bad spacing along " + axis[a] + " (" + std::to_string(s) +
+            throw FormatError(std::string(context) + ": bad spacing along " + axis[a] + " (" + number(s) +
                               "): must be finite and > 0");
+        if (s < kFloatMin)  // records hold float32: a smaller spacing gives zero radii and cell sizes
+            throw FormatError(std::string(context) + ": bad spacing along " + axis[a] + " (" + number(s) +
+                              "): below " + number(kFloatMin) + ", the smallest normal float32 the point records can hold");
         if (!std::isfinite(g.origin[a]))
-            throw FormatError(std::string(context) + ": bad origin along " + axis[a] + " (" +
-                              std::to_string(g.origin[a]) + "): must be finite");
+            throw FormatError(std::string(context) + ": bad origin along " + axis[a] + " (" + number(g.origin[a]) +
+                              "): must be finite");
+        // every sample's world position must be a finite float32 (PointRecord, SampleRecord)
+        const double far = g.origin[a] + static_cast<double>(std::max<std::int64_t>(g.dims[a] - 1, 0)) * s;
+        if (!(std::fabs(g.origin[a]) <= kFloatMax) || !(std::fabs(far) <= kFloatMax))
+            throw FormatError(std::string(context) + ": origin " + number(g.origin[a]) + " and spacing " + number(s) + " along " +
+                              axis[a] + " put samples at " + number(far) + ", beyond the float32 range (" + number(kFloatMax) +
+                              ") the point records hold");
     }
 }
 

@@ -42,8 +42,10 @@ struct GridSpec {
 };
 
 /// Checks a grid read from a file before anything is allocated from it: every size >= 1 and the
-/// voxel count within kMaxPayloadBytes (checked arithmetic), spacing finite and > 0, origin
-/// finite. Throws FormatError "CONTEXT: bad FIELD ..." (context: the file's path, conventionally).
+/// voxel count within kMaxPayloadBytes (checked arithmetic), spacing finite and at least the
+/// smallest normal float32, origin finite, and every sample's world position within the float32
+/// range (the point and sample records hold float32). Throws FormatError "CONTEXT: bad FIELD ..."
+/// or "CONTEXT: origin ... put samples at ..." (context: the file's path, conventionally).
 void validate_grid(const GridSpec& g, std::string_view context);
 
 /// Non-owning view of samples in their native type. The viewed memory must outlive the view.

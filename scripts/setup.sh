@@ -10,6 +10,8 @@
 #                            without clang++-14: GCC, the tests only (no fuzzing)
 #   scripts/setup.sh bench   install (+ VTK and SciPy, the baselines) + build meshless and meshless-bench
 #   scripts/setup.sh deps    install only;   scripts/setup.sh build   install + build meshless and the tests
+# build and test also build the Python module `meshless` (python/) and install it for Debian's python3
+# (cmake --install BUILD_DIR --component python: /usr/local/lib/python3.X/dist-packages/meshless).
 # Environment: BUILD_DIR (default build), JOBS (default nproc), SKIP_APT=1 to skip apt-get,
 # SKIP_SANITIZE=1 to leave the sanitizer tier out of `test`, FUZZ_SECONDS (default 5; 0: no fuzzing)
 # per libFuzzer target in the sanitizer tier. ccache is used when installed.
@@ -26,6 +28,8 @@ PACKAGES=(build-essential cmake ninja-build pkg-config git
           libopenmpi-dev openmpi-bin)
 # the benchmarks' baselines (bench/flying_edges.py, bench/rbf_reference.py) and /usr/bin/time
 BENCH_PACKAGES=(python3-vtk9 python3-scipy time)
+# the Python module (build, test): pybind11 and Debian's python3 with its headers and NumPy
+PYTHON_PACKAGES=(pybind11-dev python3-dev python3-numpy python3-pytest)
 # the sanitizer tier's compiler and its libFuzzer runtime (test, sanitize)
 SANITIZE_PACKAGES=(clang-14 libclang-rt-14-dev)
 
@@ -61,6 +65,17 @@ build() {
   fi
 }
 EXTRA_CMAKE=()
+
+# Installs the module the build made where Debian's python3 finds it, and checks that it imports
+# from another folder (the package is not there: only the installed one can answer).
+install_python_module() {
+  [ -f "$BUILD_DIR/python/meshless/__init__.py" ] || return 0
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo cmake --install "$BUILD_DIR" --component python >/dev/null
+  (cd / && /usr/bin/python3 -c "import meshless") || { echo "setup: the installed Python module does not import" >&2; return 1; }
+  echo "setup: installed the Python module: /usr/bin/python3 -c 'import meshless' works from any folder" >&2
+}
 
 # The sanitizer tier: every target built with AddressSanitizer + UndefinedBehaviorSanitizer (any
 # report fails its test; tests/CMakeLists.txt says what differs under it),
@@ -98,11 +113,11 @@ sanitize() {
 
 case "$what" in
   deps) install_deps ;;
-  build) install_deps; build ON OFF ;;
+  build) install_deps "${PYTHON_PACKAGES[@]}"; build ON OFF; install_python_module ;;
   demo) install_deps; build OFF OFF meshless; "$BUILD_DIR/cli/meshless" demo -o out/demo ;;
   test)
-    if [ "${SKIP_SANITIZE:-0}" = 1 ]; then install_deps; else install_deps "${SANITIZE_PACKAGES[@]}"; fi
-    build ON ON; ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS"
+    if [ "${SKIP_SANITIZE:-0}" = 1 ]; then install_deps "${PYTHON_PACKAGES[@]}"; else install_deps "${PYTHON_PACKAGES[@]}" "${SANITIZE_PACKAGES[@]}"; fi
+    build ON ON; install_python_module; ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS"
     [ "${SKIP_SANITIZE:-0}" = 1 ] || sanitize ;;
   sanitize) install_deps "${SANITIZE_PACKAGES[@]}"; sanitize ;;
   bench)

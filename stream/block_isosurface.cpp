@@ -24,14 +24,23 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 BlockIsosurfaceInput read_block_input(const std::vector<std::string>& paths, const PointSetOptions& options,
                                       const std::string& source, double iso) {
+    const auto t0 = Clock::now();
+    Multiblock mb = read_multiblock(paths, options);
+    const double read_seconds = since(t0);
+    if (mb.blocks.size() > std::numeric_limits<std::uint32_t>::max())
+        throw FormatError(paths.at(0) + ": " + std::to_string(mb.blocks.size()) + " blocks, more than block ids can number");
+    BlockIsosurfaceInput in = plan_block_isosurface(std::move(mb), source, iso);
+    in.read_seconds = read_seconds;
+    return in;
+}
+
+BlockIsosurfaceInput plan_block_isosurface(Multiblock mb, const std::string& source, double iso) {
+    if (mb.blocks.size() > std::numeric_limits<std::uint32_t>::max())
+        throw InvalidArgument(source + ": " + std::to_string(mb.blocks.size()) + " blocks, more than block ids can number");
     BlockIsosurfaceInput in;
     in.source = source;
-    auto t0 = Clock::now();
-    in.mb = read_multiblock(paths, options);
-    in.read_seconds = since(t0);
-    if (in.mb.blocks.size() > std::numeric_limits<std::uint32_t>::max())
-        throw FormatError(paths.at(0) + ": " + std::to_string(in.mb.blocks.size()) + " blocks, more than block ids can number");
-    t0 = Clock::now();
+    in.mb = std::move(mb);
+    const auto t0 = Clock::now();
     if (has_cell_centred_blocks(in.mb)) in.padded = amr_seed_blocks(in.mb);
     in.plan = plan_block_seeds(in.seed_blocks(), iso);
     in.plan_seconds = since(t0);

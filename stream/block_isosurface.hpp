@@ -58,6 +58,9 @@ struct BlockIsosurfaceInput {
 BlockIsosurfaceInput read_block_input(const std::vector<std::string>& paths, const PointSetOptions& options,
                                       const std::string& source, double iso);
 
+/// The same over blocks already in memory (`source`: the names the metadata and messages give).
+BlockIsosurfaceInput plan_block_isosurface(Multiblock mb, const std::string& source, double iso);
+
 /// What generate writes and isosurface records: the same keys on both paths, so the PLY comments
 /// are the same bytes. The frame is the box of the cells the isosurface crosses (the valid nodes'
 /// box when none does). n: the lattice parameter; producer: the command line.

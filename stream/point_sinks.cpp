@@ -79,11 +79,11 @@ void CollectSink::consume(Batch&& b) {
     size_ += b.points.size();
     if (keep_chunks_) {
         if (!b.points.empty()) chunks.push_back(std::move(b.points));
-    } else if (points.empty()) {
-        points = std::move(b.points);
-    } else {
-        points.insert(points.end(), b.points.begin(), b.points.end());
+        return;
     }
+    blocks.insert(blocks.end(), b.point_block.begin(), b.point_block.end());
+    if (points.empty()) points = std::move(b.points);
+    else points.insert(points.end(), b.points.begin(), b.points.end());
 }
 
 }  // namespace meshless

@@ -50,6 +50,8 @@ public:
     void consume(Batch&& b) override;
     std::size_t size() const { return size_; }
     std::vector<PointRecord> points;
+    /// Without keep_chunks: the batches' point_block, in order (empty when they carry none).
+    std::vector<std::uint32_t> blocks;
     std::vector<std::vector<PointRecord>> chunks;
 
 private:

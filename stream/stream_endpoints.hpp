@@ -5,7 +5,8 @@
 // recycled from consumed batches. Not thread-safe (called serially by the runner).
 // Kinds: samples, seeds (multiblock seeds, section 4.4) and points; a point stream flagged with block
 // ids (kStreamFlagBlocks) fills Batch::point_block, and a StreamSink made with_blocks writes it
-// (a point batch without block ids is then a FormatError).
+// (a point batch without block ids is then a FormatError). A point or sample record with a NaN or
+// infinite number is refused (FormatError naming the stream and the record): meshless writes none.
 #pragma once
 #include <memory>
 #include <mutex>
@@ -27,6 +28,7 @@ public:
 private:
     StreamReader& r_;
     std::uint64_t seq_ = 0;
+    std::uint64_t records_ = 0;  ///< records handed out so far (for the messages)
     std::mutex m_;  // recycle() may run on the sink's thread while next() runs
     std::vector<std::vector<PointRecord>> spare_points_;
     std::vector<std::vector<SampleRecord>> spare_samples_;

@@ -8,6 +8,9 @@ Convention (docs/development.md, "The documentation test"):
   ```sh template    placeholders (VOLUME, your own paths): shown, never run
   ```sh setup       installs, builds or runs the test suite (scripts/setup.sh, cmake, fuzz.sh,
                     meshless-bench): runs as written from a checkout, but not inside this test
+  ```python         a script of the Python module, run whole by the --python interpreter (with
+                    --python-path first on its module path) in the same working folder; skipped
+                    without --python
   a line ending in "# template" is a placeholder line inside a runnable block: skipped
 Any other fence (```text, ```, ```cmake ...) is not shell and is not run, except that a ```text block
 right after a line "<!-- help: ARGS -->" must equal the output of `meshless ARGS --help` (run in the
@@ -19,7 +22,8 @@ Outputs go under out/ in that folder. Every output name (-o, --png, --diff, and 
 distinct across all the files. On a failure: the file, the line, the command and its output; exit 1.
 Without the shared data: a skip message and exit 77 (ctest's SKIP_RETURN_CODE).
 
-usage: doc_test.py --meshless PATH [--root REPO] [--shared DIR] [--sanitized] [--keep] [FILE.md ...]
+usage: doc_test.py --meshless PATH [--root REPO] [--shared DIR] [--sanitized] [--keep]
+                   [--python PYTHON --python-path DIR] [FILE.md ...]
 """
 import argparse
 import os
@@ -41,6 +45,7 @@ class Block:
     def __init__(self, path, line, info):
         self.path, self.line, self.info = path, line, info
         self.commands = []  # (line number, text)
+        self.raw = []  # the block's lines as written (```python blocks run them as one script)
 
 
 def parse_blocks(path):
@@ -60,6 +65,7 @@ def parse_blocks(path):
             blocks.append(block)
             block, pending = None, None
             continue
+        block.raw.append(raw)
         text = raw
         if block.info and block.info[0] == "console":
             if pending is None:
@@ -79,8 +85,11 @@ def parse_blocks(path):
     return blocks
 
 
-def runnable(block):
-    return bool(block.info) and block.info[0] in SHELL_INFOS and not (SKIP_ATTRS & set(block.info[1:]))
+def runnable(block, with_python=False):
+    attrs = set(block.info[1:]) if block.info else set()
+    if block.info and block.info[0] == "python":
+        return with_python and not (SKIP_ATTRS & attrs)
+    return bool(block.info) and block.info[0] in SHELL_INFOS and not (SKIP_ATTRS & attrs)
 
 
 def is_template(command):
@@ -147,6 +156,8 @@ def run_file(path, blocks, args, rel):
     os.symlink(os.path.abspath(args.shared), os.path.join(tmp, "shared"))
     env = dict(os.environ)
     env["PATH"] = os.path.dirname(os.path.abspath(args.meshless)) + os.pathsep + env.get("PATH", "")
+    if args.python:  # the ```python blocks: the module's interpreter, the build's package first
+        env["PYTHONPATH"] = os.path.abspath(args.python_path) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     env.pop("MESHLESS_PROGRESS", None)
     failures = 0
     try:
@@ -160,13 +171,16 @@ def run_file(path, blocks, args, rel):
                 script.append(f"__doc_line={n}")
                 script.append(c)
             script.append("__doc_line=0")
+            command = ["bash", "-c", "\n".join(script)]
+            if b.info[0] == "python":
+                command = [args.python, "-c", "\n".join(b.raw)]
             benv = dict(env)
             if args.sanitized and "mpirun" in "\n".join(c for _, c in lines):
                 # as tests/cli/test_ooc_pipeline.cpp: libmpi's own allocations are not ours to report
                 benv["LSAN_OPTIONS"] = "detect_leaks=0"
             t0 = time.monotonic()
             try:
-                r = subprocess.run(["bash", "-c", "\n".join(script)], cwd=work, env=benv, stdin=subprocess.DEVNULL,
+                r = subprocess.run(command, cwd=work, env=benv, stdin=subprocess.DEVNULL,
                                    capture_output=True, text=True, errors="replace", timeout=args.timeout)
                 out, err, code = r.stdout, r.stderr, r.returncode
             except subprocess.TimeoutExpired as e:
@@ -205,6 +219,8 @@ def main():
     p.add_argument("--sanitized", action="store_true", help="the executable has ASan: no leak reports from mpirun")
     p.add_argument("--timeout", type=int, default=300, help="seconds per block (default 300)")
     p.add_argument("--keep", action="store_true", help="keep the working folders")
+    p.add_argument("--python", help="the interpreter of the Python module: run the ```python blocks with it")
+    p.add_argument("--python-path", help="with --python: the folder that holds the built package meshless/")
     p.add_argument("--update-help", action="store_true", help="rewrite the help blocks from the executable")
     p.add_argument("--list", action="store_true", help="print the commands that would run, run nothing")
     p.add_argument("files", nargs="*", help="Markdown files (default: README.md and docs/*.md)")
@@ -217,7 +233,7 @@ def main():
     parsed, seen, failures = [], {}, 0
     for path in files:
         rel = os.path.relpath(path, root)
-        blocks = [b for b in parse_blocks(path) if runnable(b)]
+        blocks = [b for b in parse_blocks(path) if runnable(b, bool(args.python))]
         parsed.append((path, rel, blocks))
         for b in blocks:
             for n, c in b.commands:

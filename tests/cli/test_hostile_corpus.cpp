@@ -154,6 +154,11 @@ std::vector<Case> corpus() {
         nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nspacings: 0 1 1\nencoding: raw\n", zeros(64)));
     add("nrrd NaN origin", "nanorg.nrrd",
         nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nspace origin: (nan,0,0)\nencoding: raw\n", zeros(64)));
+    // finite doubles whose sample positions overflow the float32 records (every point would be infinite)
+    add("nrrd spacing overflowing float positions", "farsp.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nspacings: 1e308 1e308 1e308\nencoding: raw\n", zeros(64)));
+    add("nrrd origin beyond float32", "farorg.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nspace origin: (1e39,0,0)\nencoding: raw\n", zeros(64)));
     add("nrrd data file range overflow", "range.nrrd",
         nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: f%d.raw -9223372036854775807 9223372036854775807 1\n", ""));
     // MetaImage
@@ -166,7 +171,12 @@ std::vector<Case> corpus() {
         mha("NDims = 3\nDimSize = 4 4 4\nElementSpacing = nan 1 1\nElementType = MET_UCHAR\n", zeros(64)));
     add("mha NaN origin", "nanorg.mha",
         mha("NDims = 3\nDimSize = 4 4 4\nOffset = nan 0 0\nElementType = MET_UCHAR\n", zeros(64)));
+    add("mha spacing overflowing float positions", "farsp.mha",
+        mha("NDims = 3\nDimSize = 4 4 4\nElementSpacing = 1e308 1 1\nElementType = MET_UCHAR\n", zeros(64)));
+    add("mha offset beyond float32", "farorg.mha",
+        mha("NDims = 3\nDimSize = 4 4 4\nOffset = 0 -1e300 0\nElementType = MET_UCHAR\n", zeros(64)));
     // VTK legacy
+    add("vtk spacing overflowing float positions", "farsp.vtk", vtk_legacy("4 4 4", "1e300 1 1", "64", "STRUCTURED_POINTS", zeros(64)));
     add("vtk overflowing dims", "ov.vtk", vtk_legacy(big, "1 1 1", "0", "STRUCTURED_POINTS", zeros(100)));
     add("vtk truncated", "tr.vtk", vtk_legacy("16 16 16", "1 1 1", "4096", "STRUCTURED_POINTS", zeros(100)));
     add("vtk control bytes", "esc.vtk", vtk_legacy("4 4 4", "1 1 1", "64", kEsc, zeros(64)));
@@ -196,6 +206,7 @@ std::vector<Case> corpus() {
     add("vti truncated ascii", "tr.vti", vti("0 99 0 99 0 99", "1 1 1", "0 0 0", "ImageData", ascii_array));
     add("vti control bytes", "esc.vti", vti("0 3 0 3 0 3", "1 1 1", "0 0 0", kEsc, ascii_array));
     add("vti NaN spacing", "nansp.vti", vti("0 0 0 0 0 2", "nan 1 1", "0 0 0", "ImageData", ascii_array));
+    add("vti spacing overflowing float positions", "farsp.vti", vti("0 0 0 0 0 2", "1 1 1e300", "0 0 0", "ImageData", ascii_array));
     add("vti NaN origin", "nanorg.vti", vti("0 0 0 0 0 2", "1 1 1", "nan 0 0", "ImageData", ascii_array));
     // vtk.js (index.json + data/s.gz)
     c.push_back(Case{"vtkjs gzip bomb", "bomb/index.json",

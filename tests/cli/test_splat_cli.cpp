@@ -7,7 +7,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "cli/cli_harness.hpp"
 #include "formats/ply_points.hpp"
@@ -130,6 +132,40 @@ TEST_CASE("splat: a PLY or a point stream without recorded bounds frames the poi
         CHECK(slurp(d / "m.png") == slurp(d / "w.png"));
         CHECK(slurp(d / "n.png") != slurp(d / "s.png"));  // the surface-block frame is a different picture
     }
+}
+
+TEST_CASE("a point or sample stream with a NaN or infinite record is refused by write, splat and project", "[cli][splat][hostile]") {
+    TempDir d("nonfinite");
+    const std::string D = d.path.string();
+    PointRecord p{{1, 2, 3}, {0, 0, 1}, 0.5f, 7};
+    std::vector<PointRecord> pts(100, p);
+    for (std::size_t i = 0; i < pts.size(); ++i) pts[i].pos[0] = static_cast<float>(i);
+    pts[57].normal[1] = std::numeric_limits<float>::quiet_NaN();
+    SampleRecord s{{1, 1, 1}, {1, 0, 0}, 5, 0.5f, {0.5f, 0.5f, 0.5f}, {1, 1, 1}};
+    std::vector<SampleRecord> samples(10, s);
+    samples[3].value = std::numeric_limits<float>::infinity();
+    const auto write = [&](const std::string& name, RecordKind kind, const void* records, std::size_t n) {
+        std::FILE* f = std::fopen((D + "/" + name).c_str(), "wb");
+        REQUIRE(f);
+        StreamWriter w(f, name, kind);
+        w.write_meta(StreamMeta{});
+        w.write_data(0, records, n);
+        w.finish();
+        std::fclose(f);
+    };
+    write("p.bin", RecordKind::point, pts.data(), pts.size());
+    write("s.bin", RecordKind::sample, samples.data(), samples.size());
+    for (const std::string& cmd : {"write -o " + D + "/w.ply < " + D + "/p.bin", "splat -o " + D + "/w.png --size 32x32 < " + D + "/p.bin",
+                                   "project --iso 5 < " + D + "/s.bin > " + D + "/proj.bin",
+                                   "splat --iso 5 -o " + D + "/s.png --size 32x32 < " + D + "/s.bin"}) {
+        INFO(cmd);
+        const auto r = sh("MESHLESS " + cmd, d);
+        CHECK(r.code == 2);
+        CHECK_THAT(r.err, Catch::Contains("holds a NaN or infinite number") && Catch::Contains(cmd.find("p.bin") != std::string::npos ? "point record 57" : "sample record 3"));
+    }
+    CHECK_FALSE(fs::exists(d.path / "w.ply"));
+    CHECK_FALSE(fs::exists(d.path / "w.png"));
+    CHECK_FALSE(fs::exists(d.path / "s.png"));
 }
 
 TEST_CASE("splat: a VTP point set or a PLY on stdin is refused with what it is", "[cli][splat]") {

@@ -47,6 +47,23 @@ TEST_CASE("GridSpec::voxel_count never wraps, validate_grid refuses nonsense geo
     GridSpec o = g;
     o.origin[2] = std::nan("");
     CHECK_THROWS_WITH(validate_grid(o, "o.mha"), Catch::StartsWith("o.mha: bad origin along z"));
+    // finite doubles whose sample positions overflow the float32 records, or whose spacing underflows them
+    GridSpec far = g;
+    far.spacing[0] = 1e308;
+    CHECK_THROWS_WITH(validate_grid(far, "f.nrrd"), Catch::StartsWith("f.nrrd: origin 0 and spacing 1e+308 along x put samples at") &&
+                                                        Catch::Contains("beyond the float32 range"));
+    far.spacing[0] = 1e38;  // 3e38 at the last sample: past FLT_MAX (3.4e38) only with an origin
+    CHECK_NOTHROW(validate_grid(far, "f.nrrd"));
+    far.origin[0] = 1e38;
+    CHECK_THROWS_WITH(validate_grid(far, "f.nrrd"), Catch::Contains("beyond the float32 range"));
+    GridSpec off = g;
+    off.origin[1] = -1e39;
+    CHECK_THROWS_WITH(validate_grid(off, "f.vti"), Catch::Contains("along y") && Catch::Contains("beyond the float32 range"));
+    GridSpec tiny = g;
+    tiny.spacing[2] = 1e-39;
+    CHECK_THROWS_WITH(validate_grid(tiny, "t.mhd"), Catch::StartsWith("t.mhd: bad spacing along z (1e-39): below"));
+    tiny.spacing[2] = 1e-30;
+    CHECK_NOTHROW(validate_grid(tiny, "t.mhd"));
     GridSpec empty;
     CHECK(empty.voxel_count() == 0);
 }

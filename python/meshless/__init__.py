@@ -1,0 +1,188 @@
+"""meshless: point-based isosurfaces and meshless fields of volume data, without meshing or resampling.
+
+NumPy arrays in, NumPy arrays out; the work runs in the compiled libraries with the GIL released.
+
+    >>> import numpy as np, meshless
+    >>> x, y, z = np.mgrid[-1:1:64j, -1:1:64j, -1:1:64j]
+    >>> surf = meshless.isosurface((x*x + y*y + z*z).astype(np.float32), 0.5, spacing=(2/63,) * 3, origin=(-1, -1, -1))
+    >>> surf.points.shape[1], surf.normals.shape[1]
+    (3, 3)
+
+Volumes are 3-D arrays indexed [x, y, z], as VTK and PyVista think of them: a raw file read by NumPy
+is ``np.fromfile(f, dtype).reshape(nz, ny, nx).T``, a Fortran-ordered view that is used in place.
+C-ordered arrays and ``np.memmap`` are used in place too (uint8, int16, uint16, float32); other dtypes
+and non-contiguous views are converted to one float32 copy.
+
+Functions (keyword-only options; ``threads=0`` means every core this process may use):
+    isosurface(volume, iso, ...)            iso-splatting of a regular volume (dissertation chapter 3)
+    isosurface_points(points, values, iso)  the isosurface straight from scattered data (chapter 5)
+    isosurface_blocks(blocks, iso, ...)     crack-free isosurface of overlapping curvilinear blocks (chapter 4)
+    Field(points, values, kind=...)         a meshless field: field(q) -> values, field.gradient(q), save/load .mlf
+    mc(volume, iso, ...)                    the marching-cubes mesh (the baseline): vertices, faces, normals
+Errors: ValueError for bad arguments; DataError (a ValueError) for unusable data, with the command's
+one-line message; OSError when a file cannot be read or written.
+"""
+
+import numpy as _np
+
+from . import _core
+from ._core import DataError
+
+__all__ = ["DataError", "PointSet", "Field", "isosurface", "isosurface_points", "isosurface_blocks", "mc"]
+
+
+class PointSet:
+    """Oriented points of an isosurface.
+
+    Attributes (NumPy arrays sharing one buffer the PointSet owns; nothing was copied):
+        points  (n, 3) float32  world positions
+        normals (n, 3) float32  unit normals, pointing toward decreasing values (VTK's convention)
+        radius  (n,)   float32  splat radius, world units
+        values  (n,)   float32  the field's value at each point (the isovalue, within the projection's tolerance)
+        block   (n,)   uint32   isosurface_blocks only: the block each point was seeded in, else None
+        stats   dict            what the run counted (cells, seeds, Newton outcomes, ...)
+        warnings list of str    what the run warned about (isosurface_points)
+    """
+
+    __slots__ = ("points", "normals", "radius", "values", "block", "stats", "warnings")
+
+    def __init__(self, arrays):
+        self.points = arrays["points"]
+        self.normals = arrays["normals"]
+        self.radius = arrays["radius"]
+        self.values = arrays["values"]
+        self.block = arrays.get("block")
+        self.stats = arrays.get("stats", {})
+        self.warnings = list(arrays.get("warnings", []))
+
+    def __len__(self):
+        return len(self.points)
+
+    def __repr__(self):
+        return "meshless.PointSet(%d points)" % len(self)
+
+
+def isosurface(volume, iso, *, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), projection="approx", threads=0):
+    """Iso-splatting of a regular volume (dissertation chapter 3): one sample per active cell,
+    projected onto the trilinear isosurface ("approx": Newton steps, the default; "exact": ray
+    casting within the cell; "none": the cell samples). The same points `meshless isosurface` writes
+    for the same volume (in another order for a C-ordered array).
+
+    volume: 3-D array indexed [x, y, z]; spacing, origin: world units per axis. Returns a PointSet."""
+    return PointSet(_core._isosurface_volume(_np.asanyarray(volume), float(iso), spacing, origin, projection, int(threads)))
+
+
+def _field_params(kind, hardy_c=0.025, hardy_c_world=0.0, binning=5.0, max_points=140, alpha=0.75, local_points=160,
+                  normalise_axes=False):
+    return _core._field_params(kind, float(hardy_c), float(hardy_c_world), float(binning), int(max_points),
+                               float(alpha), int(local_points), bool(normalise_axes))
+
+
+class Field:
+    """A meshless field fitted to scattered values (dissertation sections 2.1.1, 4.3 and 5.5): a drop-in
+    for scipy.interpolate.RBFInterpolator where it fits, linear in the points instead of cubic.
+
+        Field(points, values, kind="mpu", *, value_name="", hardy_c=0.025, hardy_c_world=0, binning=5, max_points=140,
+              alpha=0.75, local_points=160, normalise_axes=False, threads=0)
+
+    points (n, 3), values (n,): rows with a NaN/Inf are dropped. kind: "mpu" (the multi-level partition
+    of unity, the default for points as in `meshless fit`), "rbf-grid" (the RBF grid of multiblock
+    data) or "global-rbf" (Hardy's global multiquadric, small sets only). The options are those of
+    `meshless fit` (see `meshless fit --help`): hardy_c is Hardy's c as a fraction of the bounding-box
+    diagonal, hardy_c_world overrides it in world units; value_name is what the .mlf records as the
+    values' name (a CSV column's, say).
+
+    field(queries) -> values (m,); field.gradient(queries) -> (m, 3); queries (m, 3).
+    field.save("f.mlf") writes what `meshless fit` writes; Field.load("f.mlf") reads it (and any .mlf
+    `meshless fit` wrote)."""
+
+    __slots__ = ("_f", "threads")
+
+    def __init__(self, points, values, kind="mpu", *, value_name="", threads=0, **options):
+        if points is None:  # Field.load
+            self._f, self.threads = values, int(threads)
+            return
+        self._f = _core._Field(_np.asarray(points, dtype=_np.float64), _np.asarray(values, dtype=_np.float64),
+                               _field_params(kind, **options), int(threads), str(value_name))
+        self.threads = int(threads)
+
+    def __call__(self, queries):
+        return self._f._evaluate(_np.asarray(queries, dtype=_np.float64), False, self.threads)
+
+    def gradient(self, queries):
+        """The gradient (m, 3) at queries (m, 3), value units per world unit."""
+        return self._f._evaluate(_np.asarray(queries, dtype=_np.float64), True, self.threads)
+
+    def save(self, path, *, zstd_level=1):
+        """Writes the fitted field to a .mlf (the file `meshless fit` writes, read by `--field F.mlf`)."""
+        self._f._save(str(path), int(zstd_level))
+
+    @staticmethod
+    def load(path, *, threads=0):
+        """A field read from a .mlf (written by `meshless fit` or Field.save)."""
+        return Field(None, _core._Field._load(str(path)), threads=threads)
+
+    @property
+    def kind(self):
+        return self._f.kind
+
+    @property
+    def bounds(self):
+        """((xmin, ymin, zmin), (xmax, ymax, zmax)): the field's domain, world units."""
+        return self._f.bounds
+
+    @property
+    def value_name(self):
+        return self._f.value_name
+
+    @property
+    def stats(self):
+        """What the fit counted: input and merged points, local interpolants, c, memory, seconds."""
+        return self._f.stats
+
+    def __repr__(self):
+        return "meshless.Field(kind=%r, points=%d)" % (self.kind, self._f.points)
+
+
+def isosurface_points(points, values, iso, *, field="mpu", samples=2, reg_gap=4.0, max_cells=20_000_000, max_level=10,
+                      tolerance=0.01, max_iterations=20, max_travel=2.0, threads=0, **field_options):
+    """The isosurface straight from scattered data (dissertation chapter 5): binning grid, marching
+    3x3x3 stencils tetrahedralised by CGAL's Delaunay, marching tetrahedra, a barycentric lattice of
+    samples(samples+1)/2 seeds per triangle, Newton onto the meshless field. The same points
+    `meshless isosurface POINTS` writes for the same data and options.
+
+    points (n, 3), values (n,); field: a kind ("mpu", "rbf-grid", "global-rbf", with the Field options
+    as keywords) or a Field fitted to these points. reg_gap, max_cells, max_level, tolerance,
+    max_iterations, max_travel: as the CLI's --reg-gap ... --max-travel. Returns a PointSet."""
+    if isinstance(field, Field):
+        if field_options:
+            raise ValueError("field options (%s) apply when field names a kind, not to a fitted Field" % ", ".join(field_options))
+        f = field._f
+    else:
+        f = _field_params(field, **field_options)
+    points, values = _np.asarray(points, dtype=_np.float64), _np.asarray(values, dtype=_np.float64)
+    return PointSet(_core._isosurface_points(points, values, float(iso), f, int(samples), float(reg_gap), int(max_cells),
+                                             int(max_level), float(tolerance), int(max_iterations), float(max_travel),
+                                             int(threads)))
+
+
+def isosurface_blocks(blocks, iso, *, field="rbf-grid", samples=3, tolerance=0.01, max_iterations=20, max_travel=2.0,
+                      threads=0, **field_options):
+    """Crack-free isosurface of overlapping curvilinear blocks (dissertation chapter 4): one meshless
+    field over every block's valid nodes, each block's marching-cubes triangles seeded on a
+    barycentric lattice and projected onto it by Newton.
+
+    blocks: a list of (coords, values) or (coords, values, iblank): coords (ni, nj, nk, 3) world
+    positions, values (ni, nj, nk), iblank (ni, nj, nk) with 0 = blanked (PLOT3D's IBLANK). Nodes with a
+    NaN/Inf are blanked too. Returns a PointSet whose `block` says which block seeded each point."""
+    params = _field_params(field, **field_options)
+    return PointSet(_core._isosurface_blocks(list(blocks), float(iso), params, int(samples), float(tolerance),
+                                             int(max_iterations), float(max_travel), int(threads)))
+
+
+def mc(volume, iso, *, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), threads=0):
+    """The marching-cubes mesh of a volume (the triangle baseline, `meshless mc`): (vertices (n, 3)
+    float32, faces (m, 3) uint32, normals (n, 3) float32). Normals point toward decreasing values and
+    faces wind counter-clockwise seen from the normal side, as in VTK and scikit-image's
+    marching_cubes(..., gradient_direction="descent")."""
+    return _core._mc(_np.asanyarray(volume), float(iso), spacing, origin, int(threads))

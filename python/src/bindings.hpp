@@ -1,0 +1,13 @@
+// The parts of the Python module `meshless._core` (python/README.md), one function per topic,
+// called from module.cpp. Library errors become Python exceptions there: InvalidArgument ->
+// ValueError, FormatError -> ValueError (bad data), IoError -> OSError.
+#pragma once
+#include <pybind11/pybind11.h>
+
+namespace meshless::python {
+
+void bind_isosurface(pybind11::module_& m);
+void bind_field(pybind11::module_& m);
+void bind_mesh(pybind11::module_& m);
+
+}  // namespace meshless::python
