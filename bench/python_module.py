@@ -49,17 +49,6 @@ class Out:
         sys.stdout.flush()
 
 
-def read_ply_points(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end].decode()
-    props = [line.split()[2] for line in header.splitlines() if line.startswith("property")]
-    n = int(next(line for line in header.splitlines() if line.startswith("element vertex")).split()[2])
-    dt = np.dtype([(p, "<u4" if p == "block" else "<f4") for p in props])
-    return np.frombuffer(data[end:end + n * dt.itemsize], dt)
-
-
 def equality(out, args):
     tooth = os.path.join(args.data, "tooth", "tooth_103x94x161_uint8.raw")
     if not os.path.exists(tooth):
@@ -74,9 +63,9 @@ def equality(out, args):
         t0 = time.perf_counter()
         subprocess.run([args.meshless, "isosurface", tooth, "--iso", "100.5", "-o", ply], check=True)
         tc = time.perf_counter() - t0
-        p = read_ply_points(ply)
-    same = len(p) == len(s) and np.array_equal(np.stack([p["x"], p["y"], p["z"]], 1), s.points) and \
-        np.array_equal(np.stack([p["nx"], p["ny"], p["nz"]], 1), s.normals) and np.array_equal(p["value"], s.values)
+        p = meshless.read_points(ply)  # the PLY reader `meshless splat` uses
+    same = len(p) == len(s) and np.array_equal(p.points, s.points) and np.array_equal(p.normals, s.normals) and \
+        np.array_equal(p.radius, s.radius) and np.array_equal(p.values, s.values)
     out.table("Python = CLI (tooth CT, iso 100.5)", ["points", "identical arrays", "python call s", "CLI process s"],
               [[str(len(s)), "yes" if same else "NO", "%.3f" % tp, "%.3f" % tc]])
 

@@ -11,8 +11,8 @@
 #include "kernels/amr_cover.hpp"
 #include "kernels/errors.hpp"
 #include "stream/block_cell_source.hpp"
-#include "stream/progress_stage.hpp"
 #include "stream/record_vector_source.hpp"
+#include "stream/seed_projection.hpp"
 #include "stream/stream_metadata.hpp"
 
 namespace meshless {
@@ -79,14 +79,11 @@ BlockIsosurfaceStats run_block_isosurface(const BlockIsosurfaceInput& in, const 
     }
     BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
     const BlockSeedStage seed(in.seed_blocks(), in.plan, iso, n);
-    const FieldProjectStage project(*field, iso, np);
-    const ProgressStage counter([&](double k) { if (progress) progress(k); }, work_units);
-    const Stage* stages[] = {&counter, &seed, &project, draw};
-    run_pipeline(source, std::span<const Stage* const>(stages, draw ? 4 : 3), sink, opt);
+    const SeedProjection p = run_seed_projection(source, seed, *field, iso, np, draw, sink, opt, progress);
     st.seeds = seed.stats();
-    st.newton = project.stats();
-    st.seed_busy_seconds = seed.busy_seconds();
-    st.newton_busy_seconds = project.busy_seconds();
+    st.newton = p.newton;
+    st.seed_busy_seconds = p.seed_busy_seconds;
+    st.newton_busy_seconds = p.newton_busy_seconds;
     st.projected = true;
     return st;
 }

@@ -14,9 +14,9 @@
 #include "kernels/errors.hpp"
 #include "kernels/marching_stencils.hpp"
 #include "stream/dedup_sink.hpp"
-#include "stream/progress_stage.hpp"
 #include "stream/projection_meta.hpp"
 #include "stream/record_vector_source.hpp"
+#include "stream/seed_projection.hpp"
 #include "stream/stencil_source.hpp"
 #include "stream/stream_metadata.hpp"
 
@@ -190,14 +190,11 @@ ScatteredIsosurfaceStats run_scattered_isosurface(const ScatteredIsosurfaceInput
     } else {
         StencilSource source{StencilGrid(in.grid.dims)};
         const StencilSeedStage seed(in.stencils(*field), iso, n);
-        const FieldProjectStage project(*field, iso, np);
-        const ProgressStage counter([&](double k) { if (progress) progress(k); }, work_units);
-        const Stage* stages[] = {&counter, &seed, &project, draw};
-        run_pipeline(source, std::span<const Stage* const>(stages, draw ? 4 : 3), sink, opt);
+        const SeedProjection p = run_seed_projection(source, seed, *field, iso, np, draw, sink, opt, progress);
         st.seeds = seed.stats();
-        st.newton = project.stats();
-        st.seed_busy_seconds = seed.busy_seconds();
-        st.newton_busy_seconds = project.busy_seconds();
+        st.newton = p.newton;
+        st.seed_busy_seconds = p.seed_busy_seconds;
+        st.newton_busy_seconds = p.newton_busy_seconds;
         st.projected = true;
     }
     if (dedup_sink) st.dedup_removed = dedup_sink->removed();

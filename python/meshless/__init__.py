@@ -19,6 +19,7 @@ Functions (keyword-only options; ``threads=0`` means every core this process may
     isosurface_blocks(blocks, iso, ...)     crack-free isosurface of overlapping curvilinear blocks (chapter 4)
     Field(points, values, kind=...)         a meshless field: field(q) -> values, field.gradient(q), save/load .mlf
     mc(volume, iso, ...)                    the marching-cubes mesh (the baseline): vertices, faces, normals
+    read_points(path), PointSet.write(path) oriented points from and to PLY
 Errors: ValueError for bad arguments; DataError (a ValueError) for unusable data, with the command's
 one-line message; OSError when a file cannot be read or written.
 """
@@ -28,7 +29,7 @@ import numpy as _np
 from . import _core
 from ._core import DataError
 
-__all__ = ["DataError", "PointSet", "Field", "isosurface", "isosurface_points", "isosurface_blocks", "mc"]
+__all__ = ["DataError", "PointSet", "Field", "isosurface", "isosurface_points", "isosurface_blocks", "mc", "read_points"]
 
 
 class PointSet:
@@ -42,9 +43,11 @@ class PointSet:
         block   (n,)   uint32   isosurface_blocks only: the block each point was seeded in, else None
         stats   dict            what the run counted (cells, seeds, Newton outcomes, ...)
         warnings list of str    what the run warned about (isosurface_points)
+        comments list of str    read_points: the PLY's comments
+    Methods: write(path) writes the PLY `meshless isosurface` writes.
     """
 
-    __slots__ = ("points", "normals", "radius", "values", "block", "stats", "warnings")
+    __slots__ = ("points", "normals", "radius", "values", "block", "stats", "warnings", "comments")
 
     def __init__(self, arrays):
         self.points = arrays["points"]
@@ -54,6 +57,12 @@ class PointSet:
         self.block = arrays.get("block")
         self.stats = arrays.get("stats", {})
         self.warnings = list(arrays.get("warnings", []))
+        self.comments = list(arrays.get("comments", []))
+
+    def write(self, path):
+        """Writes the points as the PLY `meshless isosurface -o out.ply` writes (binary little endian,
+        x y z nx ny nz radius value, and block when there are block ids), atomically."""
+        _core._write_points(str(path), self.points, self.normals, self.radius, self.values, self.block)
 
     def __len__(self):
         return len(self.points)
@@ -178,6 +187,13 @@ def isosurface_blocks(blocks, iso, *, field="rbf-grid", samples=3, tolerance=0.0
     params = _field_params(field, **field_options)
     return PointSet(_core._isosurface_blocks(list(blocks), float(iso), params, int(samples), float(tolerance),
                                              int(max_iterations), float(max_travel), int(threads)))
+
+
+def read_points(path):
+    """The oriented points of a PLY point set (`meshless isosurface -o out.ply`, or any PLY with
+    x y z nx ny nz radius value vertices) as a PointSet; `comments` holds the PLY's comments (the
+    isovalue, the field, the bounds the command recorded)."""
+    return PointSet(_core._read_points(str(path)))
 
 
 def mc(volume, iso, *, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), threads=0):

@@ -9,5 +9,6 @@ namespace meshless::python {
 void bind_isosurface(pybind11::module_& m);
 void bind_field(pybind11::module_& m);
 void bind_mesh(pybind11::module_& m);
+void bind_io(pybind11::module_& m);
 
 }  // namespace meshless::python

@@ -25,4 +25,5 @@ PYBIND11_MODULE(_core, m) {
     meshless::python::bind_isosurface(m);
     meshless::python::bind_field(m);
     meshless::python::bind_mesh(m);
+    meshless::python::bind_io(m);
 }

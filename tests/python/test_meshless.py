@@ -89,10 +89,15 @@ class VolumeIsosurface(unittest.TestCase):
             out = os.path.join(d, "t.ply")
             subprocess.run([MESHLESS, "isosurface", TOOTH, "--iso", "100.5", "-o", out, "--threads", "1"], check=True)
             p = read_ply_points(out)
-        self.assertEqual(len(p), len(s))
-        self.assertTrue(np.array_equal(np.stack([p["x"], p["y"], p["z"]], 1), s.points))
-        self.assertTrue(np.array_equal(np.stack([p["nx"], p["ny"], p["nz"]], 1), s.normals))
-        self.assertTrue(np.array_equal(p["radius"], s.radius) and np.array_equal(p["value"], s.values))
+            self.assertEqual(len(p), len(s))
+            self.assertTrue(np.array_equal(np.stack([p["x"], p["y"], p["z"]], 1), s.points))
+            self.assertTrue(np.array_equal(np.stack([p["nx"], p["ny"], p["nz"]], 1), s.normals))
+            self.assertTrue(np.array_equal(p["radius"], s.radius) and np.array_equal(p["value"], s.values))
+            r = meshless.read_points(out)  # the CLI's own reader agrees with this test's parser
+            self.assertTrue(np.array_equal(r.points, s.points) and np.array_equal(r.radius, s.radius))
+            self.assertTrue(any(c.startswith("iso 100.5") for c in r.comments))
+            s.write(os.path.join(d, "py.ply"))
+            self.assertTrue(np.array_equal(read_ply_points(os.path.join(d, "py.ply")), p))
         mm = np.memmap(TOOTH, np.uint8, mode="r", shape=(161, 94, 103)).T
         m = meshless.isosurface(mm, 100.5)
         self.assertTrue(np.array_equal(m.points, s.points))
@@ -238,6 +243,18 @@ class ScatteredAndBlocks(unittest.TestCase):
         b = meshless.isosurface_blocks([(c, v, iblank)], 0.5)
         self.assertGreater(b.stats["invalid_cells"], 0)
         self.assertTrue(np.all(b.points[:, 0] > -1 + 3 * 2 / 29 - 1e-6))
+        with tempfile.TemporaryDirectory() as d:
+            s.write(os.path.join(d, "b.ply"))
+            back = meshless.read_points(os.path.join(d, "b.ply"))
+            self.assertTrue(np.array_equal(back.block, s.block) and np.array_equal(back.points, s.points))
+            with self.assertRaises(ValueError):
+                s.write(os.path.join(d, "b.obj"))
+            with self.assertRaises(OSError):
+                meshless.read_points(os.path.join(d, "missing.ply"))
+            with open(os.path.join(d, "bad.ply"), "wb") as bad:
+                bad.write(b"ply\nformat binary_little_endian 1.0\nelement vertex 99\nproperty float x\nend_header\n")
+            with self.assertRaises(meshless.DataError):
+                meshless.read_points(os.path.join(d, "bad.ply"))
         with self.assertRaises(ValueError):
             meshless.isosurface_blocks([(c, v[:-1])], 0.5)
         with self.assertRaises(ValueError):

@@ -1,0 +1,72 @@
+// Point sets to and from files in the Python module (python/README.md): read_points reads the
+// oriented points `meshless isosurface` writes as PLY (formats/ply_points.hpp, the reader `splat`
+// uses) into the arrays of a PointSet; write_points writes a PointSet's arrays as that PLY
+// (binary little endian, x y z nx ny nz radius value [block]), atomically, for MeshLab and ParaView.
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cctype>
+
+#include "arrays.hpp"
+#include "bindings.hpp"
+#include "formats/ply_points.hpp"
+#include "point_arrays.hpp"
+
+namespace meshless::python {
+
+namespace {
+
+py::dict read_points(const std::string& path) {
+    PlyPoints p;
+    {
+        py::gil_scoped_release free;
+        p = read_ply_points(path);
+    }
+    const bool blocks = !p.block.empty();
+    py::dict out = point_arrays(std::move(p.points), blocks ? &p.block : nullptr);
+    out["comments"] = p.comments;
+    return out;
+}
+
+void write_points(const std::string& path, const py::array& points, const py::array& normals, const py::array& radius,
+                  const py::array& values, const py::object& block) {
+    std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext != ".ply") throw py::value_error(path + ": write_points writes PLY (.ply); for .vtp use meshless.isosurface's CLI");
+    const auto p = py::array_t<float, py::array::forcecast>::ensure(points), n = py::array_t<float, py::array::forcecast>::ensure(normals);
+    const auto r = py::array_t<float, py::array::forcecast>::ensure(radius), v = py::array_t<float, py::array::forcecast>::ensure(values);
+    if (!p || p.ndim() != 2 || p.shape(1) != 3) throw py::value_error("points: expected an (n, 3) array");
+    const py::ssize_t count = p.shape(0);
+    if (!n || n.ndim() != 2 || n.shape(0) != count || n.shape(1) != 3) throw py::value_error("normals: expected an (n, 3) array");
+    if (!r || r.ndim() != 1 || r.shape(0) != count) throw py::value_error("radius: expected an (n,) array");
+    if (!v || v.ndim() != 1 || v.shape(0) != count) throw py::value_error("values: expected an (n,) array");
+    std::vector<PointRecord> rec(static_cast<std::size_t>(count));
+    const auto P = p.unchecked<2>(), N = n.unchecked<2>();
+    const auto R = r.unchecked<1>(), V = v.unchecked<1>();
+    for (py::ssize_t i = 0; i < count; ++i) {
+        PointRecord& x = rec[static_cast<std::size_t>(i)];
+        for (int a = 0; a < 3; ++a) x.pos[a] = P(i, a), x.normal[a] = N(i, a);
+        x.radius = R(i);
+        x.value = V(i);
+    }
+    std::vector<std::uint32_t> ids;
+    if (!block.is_none()) {
+        const auto b = py::array_t<std::uint32_t, py::array::forcecast>::ensure(block);
+        if (!b || b.ndim() != 1 || b.shape(0) != count) throw py::value_error("block: expected an (n,) array of block ids");
+        ids.assign(b.data(), b.data() + count);
+    }
+    py::gil_scoped_release free;
+    if (block.is_none()) write_ply_points(path, rec, {"meshless oriented point set: x y z, unit normal, splat radius, value"});
+    else write_ply_points(path, rec, {"meshless oriented point set: x y z, unit normal, splat radius, value, block"},
+                          std::span<const std::uint32_t>(ids));
+}
+
+}  // namespace
+
+void bind_io(py::module_& m) {
+    m.def("_read_points", &read_points, py::arg("path"));
+    m.def("_write_points", &write_points, py::arg("path"), py::arg("points"), py::arg("normals"), py::arg("radius"),
+          py::arg("values"), py::arg("block"));
+}
+
+}  // namespace meshless::python
