@@ -422,11 +422,8 @@ void print_summary(const std::vector<ItemResult>& results, double seconds) {
     std::fflush(stdout);
 }
 
-}  // namespace
-
-int cmd_batch(int argc, char** argv) {
-    const ConvertParams defaults;
-    Args a("batch", "ARCHIVE_DIR|MANIFEST -o OUT_DIR --iso V [--iso V2 ...] [options]",
+/// batch --help: the nightly job.
+constexpr const char* kBatchHelp =
            "The nightly job: converts every volume of an archive to a brick store OUT_DIR/NAME.mlb and\n"
            "iso-splats it into point sets OUT_DIR/NAME_iso<V>.ply (and NAME_iso<V>.mlp point streams with\n"
            "--formats ply,stream), one per --iso. ARCHIVE_DIR: every volume file in it (by extension, sorted\n"
@@ -440,29 +437,10 @@ int cmd_batch(int argc, char** argv) {
            "ends the run (stdout); progress is shown on stderr when it is a terminal.\n"
            "An input that is, or whose header names, a file outside its archive folder (ARCHIVE_DIR, or the\n"
            "manifest's folder; `..`, absolute paths and symbolic links resolved) is REFUSED: nothing of it is\n"
-           "read or written, and the run goes on.");
-    a.positionals(0, 1);
-    a.option("output", "o", "DIR", "output folder (created when missing; required)")
-        .option("iso", "", "V", "isovalue; repeat for several (none: brick stores only)").repeatable()
-        .option("formats", "", "LIST", "point set outputs: ply, stream, ply,stream or none", "ply")
-        .flag("stream", "also write point streams (same as adding 'stream' to --formats)")
-        .option("brick", "", "B", "brick edge in cells", std::to_string(defaults.brick_edge))
-        .option("zstd-level", "", "L", "zstd level of the bricks", std::to_string(defaults.zstd_level))
-        .deprecated_alias("level")
-        .option("projection", "", "MODE", "approx | exact | none", "approx")
-        .flag("recursive", "ARCHIVE_DIR: also walk subfolders (outputs mirror them)")
-        .flag("rehash", "hash every input, even when its size and time are those recorded");
-    add_sampling_options(a);
-    add_memory_option(a);
-    add_thread_option(a);
-    add_quiet_option(a);
-    a.epilog("examples: meshless batch ../shared/data/fuel -o out --iso 20.5 --iso 100.5\n"
-             "          meshless batch archive.txt -o /data/points --iso 500 --formats ply,stream --memory 1G\n"
-             "exit status: 0 everything done or up to date, 2 some volume failed or was refused (see the table), 1 usage error.\n");
-    if (!a.parse(argc, argv, 2)) return 0;
-    if (a.positional().empty()) throw UsageError("missing ARCHIVE_DIR or MANIFEST (see meshless batch --help)");
-    const std::string input = a.positional()[0];
+           "read or written, and the run goes on.";
 
+/// The run's settings from the options (UsageError for a bad value).
+Settings batch_settings(const Args& a, const ConvertParams& defaults) {
     Settings s;
     s.out_dir = a.require("output");
     for (const auto& v : a.get_all("iso")) {
@@ -498,6 +476,72 @@ int cmd_batch(int argc, char** argv) {
     s.convert.threads = s.threads;
     s.progress = progress_wanted(a);
 
+    return s;
+}
+
+/// A failed item on stderr; a full disk stops the run (disk_full says why, the rest is not attempted).
+void report_failure(ItemResult& r, const Settings& s, std::string& disk_full) {
+    if (is_file_too_large(r.message))
+        r.message += "; over the file size limit (ulimit -f, or the file system's largest file); "
+                     "temporaries removed";
+    std::fprintf(stderr, "meshless batch: %s: %s\n", terminal_safe(r.name).c_str(), terminal_safe(r.message).c_str());
+    if (is_disk_full(r.message)) {
+        disk_full = "out of disk space in " + s.out_dir;
+        std::fprintf(stderr,
+                     "meshless batch: %s; stopping. Finished outputs are kept, temporaries removed; free some space "
+                     "and run the same command again to finish the rest\n",
+                     terminal_safe(disk_full).c_str());
+    }
+}
+
+/// Every output (and sidecar) the items will write; an item whose outputs another item already
+/// claims gets an error instead (reported, nothing written for it).
+std::set<std::string> plan_outputs(const Settings& s, std::vector<BatchItem>& items) {
+    std::set<std::string> planned;
+    std::map<std::string, std::string> owner;  // output name -> input that claimed it
+    for (auto& it : items) {
+        if (!it.error.empty()) continue;
+        if (auto [pos, fresh] = owner.emplace(it.name, it.path); !fresh) {
+            it.error = it.path + ": its outputs would be named '" + it.name + "', like those of " + pos->second;
+            continue;
+        }
+        for (const auto& o : ItemRunner::outputs(s, it.name)) {
+            planned.insert(o);
+            planned.insert(sidecar_path(o));
+        }
+    }
+    return planned;
+}
+
+}  // namespace
+
+int cmd_batch(int argc, char** argv) {
+    const ConvertParams defaults;
+    Args a("batch", "ARCHIVE_DIR|MANIFEST -o OUT_DIR --iso V [--iso V2 ...] [options]",
+           kBatchHelp);
+    a.positionals(0, 1);
+    a.option("output", "o", "DIR", "output folder (created when missing; required)")
+        .option("iso", "", "V", "isovalue; repeat for several (none: brick stores only)").repeatable()
+        .option("formats", "", "LIST", "point set outputs: ply, stream, ply,stream or none", "ply")
+        .flag("stream", "also write point streams (same as adding 'stream' to --formats)")
+        .option("brick", "", "B", "brick edge in cells", std::to_string(defaults.brick_edge))
+        .option("zstd-level", "", "L", "zstd level of the bricks", std::to_string(defaults.zstd_level))
+        .deprecated_alias("level")
+        .option("projection", "", "MODE", "approx | exact | none", "approx")
+        .flag("recursive", "ARCHIVE_DIR: also walk subfolders (outputs mirror them)")
+        .flag("rehash", "hash every input, even when its size and time are those recorded");
+    add_sampling_options(a);
+    add_memory_option(a);
+    add_thread_option(a);
+    add_quiet_option(a);
+    a.epilog("examples: meshless batch ../shared/data/fuel -o out --iso 20.5 --iso 100.5\n"
+             "          meshless batch archive.txt -o /data/points --iso 500 --formats ply,stream --memory 1G\n"
+             "exit status: 0 everything done or up to date, 2 some volume failed or was refused (see the table), 1 usage error.\n");
+    if (!a.parse(argc, argv, 2)) return 0;
+    if (a.positional().empty()) throw UsageError("missing ARCHIVE_DIR or MANIFEST (see meshless batch --help)");
+    const std::string input = a.positional()[0];
+
+    const Settings s = batch_settings(a, defaults);
     std::error_code ec;
     const bool is_dir = fs::is_directory(input, ec);
     if (!is_dir && !fs::exists(input, ec)) throw IoError(input + ": no such archive folder or manifest");
@@ -507,21 +551,7 @@ int cmd_batch(int argc, char** argv) {
     DirLock lock(s.out_dir);
 
     std::vector<BatchItem> items = is_dir ? list_archive_dir(input, a.has("recursive"), s.out_dir) : read_manifest(input);
-    std::set<std::string> planned;
-    {
-        std::map<std::string, std::string> owner;  // output name -> input that claimed it
-        for (auto& it : items) {
-            if (!it.error.empty()) continue;
-            if (auto [pos, fresh] = owner.emplace(it.name, it.path); !fresh) {
-                it.error = it.path + ": its outputs would be named '" + it.name + "', like those of " + pos->second;
-                continue;
-            }
-            for (const auto& o : ItemRunner::outputs(s, it.name)) {
-                planned.insert(o);
-                planned.insert(sidecar_path(o));
-            }
-        }
-    }
+    const std::set<std::string> planned = plan_outputs(s, items);
     remove_stale_temporaries(planned);
 
     const auto t0 = Clock::now();
@@ -566,19 +596,7 @@ int cmd_batch(int argc, char** argv) {
         progress.finish_item();
         if (r.status == Status::refused)
             std::fprintf(stderr, "meshless batch: %s: %s\n", terminal_safe(r.name).c_str(), terminal_safe(r.message).c_str());
-        if (r.status == Status::failed) {
-            if (is_file_too_large(r.message))
-                r.message += "; over the file size limit (ulimit -f, or the file system's largest file); "
-                             "temporaries removed";
-            std::fprintf(stderr, "meshless batch: %s: %s\n", terminal_safe(r.name).c_str(), terminal_safe(r.message).c_str());
-            if (is_disk_full(r.message)) {
-                disk_full = "out of disk space in " + s.out_dir;
-                std::fprintf(stderr,
-                             "meshless batch: %s; stopping. Finished outputs are kept, temporaries removed; free some space "
-                             "and run the same command again to finish the rest\n",
-                             terminal_safe(disk_full).c_str());
-            }
-        }
+        if (r.status == Status::failed) report_failure(r, s, disk_full);
         results.push_back(std::move(r));
     }
     print_summary(results, std::chrono::duration<double>(Clock::now() - t0).count());

@@ -75,6 +75,39 @@ void info_cluster_tree(const std::string& path) {
     }
 }
 
+namespace {
+
+/// The build's parameters from --max-splits ... --pca-scaling (UsageError for a value out of range).
+CbtParams hierarchy_params(const Args& a) {
+    CbtParams p;
+    if (auto v = a.get("max-splits")) {
+        const long long n = parse_int(*v, "--max-splits");
+        if (n < 0) throw UsageError("--max-splits: expected a count >= 0");
+        p.max_splits = static_cast<std::uint64_t>(n);
+    }
+    p.max_error = parse_finite(a.get_or("max-error", "0"), "--max-error");
+    if (p.max_error < 0) throw UsageError("--max-error: expected a number >= 0");
+    const long long mc = a.get_int_or("min-cluster", 2);
+    if (mc < 2 || mc > 1000000000) throw UsageError("--min-cluster: expected 2..10^9");
+    p.min_cluster = static_cast<std::uint32_t>(mc);
+    const long long k = a.get_int_or("neighbours", 25);
+    if (k < 1 || k > 1000) throw UsageError("--neighbours: expected 1..1000");
+    p.neighbours = static_cast<std::uint32_t>(k);
+    p.hardy_c_rel = parse_finite(a.get_or("hardy-c", "0.025"), "--hardy-c");
+    if (p.hardy_c_rel < 0) throw UsageError("--hardy-c: expected a number >= 0");
+    if (auto c = a.get("hardy-c-world")) {
+        p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
+        if (p.hardy_c_world <= 0) throw UsageError("--hardy-c-world: expected a number > 0");
+    }
+    const std::string sc = a.get_or("pca-scaling", "normalised");
+    if (sc == "raw") p.scaling = PcaScaling::raw;
+    else if (sc == "normalised" || sc == "normalized") p.scaling = PcaScaling::normalised;
+    else throw UsageError("--pca-scaling: expected normalised or raw, got '" + sc + "'");
+    return p;
+}
+
+}  // namespace
+
 int cmd_hierarchy(int argc, char** argv) {
     Args a("hierarchy", "INPUT... -o tree.mlh [options]",
            "Builds the cluster binary tree of dissertation chapter 6 (sections 6.1, 6.3) of any scalar data:\n"
@@ -108,30 +141,7 @@ int cmd_hierarchy(int argc, char** argv) {
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string out = require_output_extension(a.require("output"), ".mlh", "-o", "a cluster tree", /*to_stdout=*/false);
     if (is_streaming_output(out)) throw UsageError("-o " + out + ": a cluster tree is written to a regular file (.mlh)");
-    CbtParams p;
-    if (auto v = a.get("max-splits")) {
-        const long long n = parse_int(*v, "--max-splits");
-        if (n < 0) throw UsageError("--max-splits: expected a count >= 0");
-        p.max_splits = static_cast<std::uint64_t>(n);
-    }
-    p.max_error = parse_finite(a.get_or("max-error", "0"), "--max-error");
-    if (p.max_error < 0) throw UsageError("--max-error: expected a number >= 0");
-    const long long mc = a.get_int_or("min-cluster", 2);
-    if (mc < 2 || mc > 1000000000) throw UsageError("--min-cluster: expected 2..10^9");
-    p.min_cluster = static_cast<std::uint32_t>(mc);
-    const long long k = a.get_int_or("neighbours", 25);
-    if (k < 1 || k > 1000) throw UsageError("--neighbours: expected 1..1000");
-    p.neighbours = static_cast<std::uint32_t>(k);
-    p.hardy_c_rel = parse_finite(a.get_or("hardy-c", "0.025"), "--hardy-c");
-    if (p.hardy_c_rel < 0) throw UsageError("--hardy-c: expected a number >= 0");
-    if (auto c = a.get("hardy-c-world")) {
-        p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
-        if (p.hardy_c_world <= 0) throw UsageError("--hardy-c-world: expected a number > 0");
-    }
-    const std::string sc = a.get_or("pca-scaling", "normalised");
-    if (sc == "raw") p.scaling = PcaScaling::raw;
-    else if (sc == "normalised" || sc == "normalized") p.scaling = PcaScaling::normalised;
-    else throw UsageError("--pca-scaling: expected normalised or raw, got '" + sc + "'");
+    const CbtParams p = hierarchy_params(a);
     const int nthreads = threads(a);
 
     const auto t0 = std::chrono::steady_clock::now();

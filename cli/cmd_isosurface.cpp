@@ -82,6 +82,38 @@ int isosurface_sample_store(const Args& a, double iso, Projection mode, const Sa
 
 }  // namespace
 
+namespace {
+
+/// BLOCKS (chapter 4) and POINTS (chapter 5) have their own graphs and options: their command's exit
+/// code when the positionals name such an input (`a`: the volume command's options, declared),
+/// else nullopt (a volume).
+std::optional<int> isosurface_of_blocks_or_points(const Args& a, int argc, char** argv) {
+    // multiblock / AMR inputs (chapter 4) have their own graph and options
+    Args blocks("isosurface", "", "");
+    add_field_options(blocks);
+    add_camera_options(blocks);
+    add_color_options(blocks);
+    add_geometry_format_option(blocks);
+    add_ply_color_option(blocks);
+    blocks.option("samples", "", "", "").option("tolerance", "", "", "").option("max-iterations", "", "", "")
+        .option("max-travel", "", "", "");
+    blocks.option("max-cells", "", "", "").option("max-level", "", "", "").option("dedup", "", "", "").option("reg-gap", "", "", "");
+    const auto positionals = scan_positionals(argc, argv, 2, {&a, &blocks});
+    // the placeholders of the help text itself ("meshless isosurface POINTS --help"), when no
+    // such file exists, name the input kind
+    std::error_code ec;
+    if (positionals.size() == 1 && !std::filesystem::exists(positionals[0], ec)) {
+        if (positionals[0] == "BLOCKS") return isosurface_blocks(argc, argv);
+        if (positionals[0] == "POINTS") return isosurface_scattered(argc, argv);
+    }
+    if (blocks_invocation(positionals)) return isosurface_blocks(argc, argv);
+    // scattered point sets (chapter 5)
+    if (scattered_invocation(positionals, argc, argv)) return isosurface_scattered(argc, argv);
+    return std::nullopt;
+}
+
+}  // namespace
+
 int cmd_isosurface(int argc, char** argv) {
     Args a("isosurface", "VOLUME --iso V -o out.ply|out.vtp [--png out.png] [options]",
            "Paradigm (C) iso-splatting: one sample per active cell (cell centre), value and gradient by\n"
@@ -113,29 +145,7 @@ int cmd_isosurface(int argc, char** argv) {
              "examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
              "          meshless isosurface vol.mlb --iso 100.5 --memory 256M -o out.ply\n"
              "          mpirun -np 4 meshless isosurface vol.mlb --iso 100.5 -o out.ply   (ranks split the active bricks)\n");
-    {
-        // multiblock / AMR inputs (chapter 4) have their own graph and options
-        Args blocks("isosurface", "", "");
-        add_field_options(blocks);
-        add_camera_options(blocks);
-        add_color_options(blocks);
-        add_geometry_format_option(blocks);
-        add_ply_color_option(blocks);
-        blocks.option("samples", "", "", "").option("tolerance", "", "", "").option("max-iterations", "", "", "")
-            .option("max-travel", "", "", "");
-        blocks.option("max-cells", "", "", "").option("max-level", "", "", "").option("dedup", "", "", "").option("reg-gap", "", "", "");
-        const auto positionals = scan_positionals(argc, argv, 2, {&a, &blocks});
-        // the placeholders of the help text itself ("meshless isosurface POINTS --help"), when no
-        // such file exists, name the input kind
-        std::error_code ec;
-        if (positionals.size() == 1 && !std::filesystem::exists(positionals[0], ec)) {
-            if (positionals[0] == "BLOCKS") return isosurface_blocks(argc, argv);
-            if (positionals[0] == "POINTS") return isosurface_scattered(argc, argv);
-        }
-        if (blocks_invocation(positionals)) return isosurface_blocks(argc, argv);
-        // scattered point sets (chapter 5)
-        if (scattered_invocation(positionals, argc, argv)) return isosurface_scattered(argc, argv);
-    }
+    if (const auto other = isosurface_of_blocks_or_points(a, argc, argv)) return *other;
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_finite(a.require("iso"), "--iso");
     const auto out = a.get("output");

@@ -172,10 +172,8 @@ std::string psnr_text(double psnr) {
     return buf;
 }
 
-}  // namespace
-
-int cmd_render(int argc, char** argv) {
-    Args a("render", "INPUT... -o img.png [--field KIND|FILE.mlf] [--tf PRESET|FILE] [camera options] [--compare REF.png]",
+/// render --help: what it draws and how.
+constexpr const char* kRenderHelp =
            "Direct volume rendering by ray casting the field itself (dissertation section 6.6, Figure 6.6;\n"
            "section 7.4): front-to-back emission-absorption compositing with the opacity corrected for the\n"
            "step (a' = 1 - (1 - a)^(step / ref_step)), early ray termination, empty-space skipping from the\n"
@@ -192,7 +190,9 @@ int cmd_render(int argc, char** argv) {
            "--compare REF.png prints RMSE and PSNR of the picture against REF (PSNR 'inf' when identical) on\n"
            "stdout (stderr when -o - writes the picture there; a reference of another size than --size is refused\n"
            "before rendering) and --diff writes the difference picture (|a - b| x --diff-gain).\n"
-           "The picture's bytes do not depend on --threads.");
+           "The picture's bytes do not depend on --threads.";
+
+void declare_render_options(Args& a) {
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("tf", "", "PRESET|FILE", "transfer function: grey | viridis | ct-bone | ct-skin | FILE of 'value r g b a' rows", "grey")
         .option("range", "", "LO,HI", "presets: the value range they span (default: the data's)")
@@ -218,6 +218,40 @@ int cmd_render(int argc, char** argv) {
     a.positionals(1, 1000);
     a.epilog("examples: meshless render chest.vti --tf ct-bone --shade -o chest.png\n"
              "          meshless render points.ply --field mpu -o lod.png --compare chest.png --diff diff.png\n");
+}
+
+/// The box the camera frames: the data's, or --bounds X0,Y0,Z0,X1,Y1,Z1; in.box becomes the part
+/// rendered (a grid's samples within the box; a field's whole box, it extrapolates).
+std::array<Vec3, 2> render_frame(const Args& a, RenderInput& in) {
+    std::array<Vec3, 2> frame = in.box;
+    if (auto b = a.get("bounds")) {
+        double v[6], lo[3], hi[3];
+        char tail;
+        if (std::sscanf(b->c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &tail) != 6)
+            throw UsageError("--bounds: expected X0,Y0,Z0,X1,Y1,Z1, got '" + *b + "'");
+        for (int i = 0; i < 3; ++i)
+            if (!std::isfinite(v[i]) || !std::isfinite(v[i + 3]) || !(v[i] < v[i + 3]))
+                throw UsageError("--bounds: expected finite X0 < X1, Y0 < Y1, Z0 < Z1, got '" + *b + "'");
+        frame = {Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]}};
+        if (in.volume) {  // a grid has no values beyond its samples: render the part of the box it covers
+            for (int i = 0; i < 3; ++i) {
+                lo[i] = std::max(in.box[0][i], frame[0][i]);
+                hi[i] = std::min(in.box[1][i], frame[1][i]);
+            }
+            in.box = {Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}};
+        } else {
+            in.box = frame;  // the field extrapolates beyond its points
+        }
+    }
+    return frame;
+}
+
+}  // namespace
+
+int cmd_render(int argc, char** argv) {
+    Args a("render", "INPUT... -o img.png [--field KIND|FILE.mlf] [--tf PRESET|FILE] [camera options] [--compare REF.png]",
+           kRenderHelp);
+    declare_render_options(a);
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string png = require_output_extension(a.require("output"), ".png", "-o", "a PNG image");
     if (a.has("diff") && !a.has("compare")) throw UsageError("--diff needs --compare REF.png");
@@ -266,26 +300,7 @@ int cmd_render(int argc, char** argv) {
         const GridSpec& g = in.volume->grid();
         rp.gradient_step = {g.spacing[0], g.spacing[1], g.spacing[2]};
     }
-    std::array<Vec3, 2> frame = in.box;
-    if (auto b = a.get("bounds")) {
-        double v[6], lo[3], hi[3];
-        char tail;
-        if (std::sscanf(b->c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &tail) != 6)
-            throw UsageError("--bounds: expected X0,Y0,Z0,X1,Y1,Z1, got '" + *b + "'");
-        for (int i = 0; i < 3; ++i)
-            if (!std::isfinite(v[i]) || !std::isfinite(v[i + 3]) || !(v[i] < v[i + 3]))
-                throw UsageError("--bounds: expected finite X0 < X1, Y0 < Y1, Z0 < Z1, got '" + *b + "'");
-        frame = {Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]}};
-        if (in.volume) {  // a grid has no values beyond its samples: render the part of the box it covers
-            for (int i = 0; i < 3; ++i) {
-                lo[i] = std::max(in.box[0][i], frame[0][i]);
-                hi[i] = std::min(in.box[1][i], frame[1][i]);
-            }
-            in.box = {Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}};
-        } else {
-            in.box = frame;  // the field extrapolates beyond its points
-        }
-    }
+    const std::array<Vec3, 2> frame = render_frame(a, in);
     const ViewTransform view = make_view(cam, frame[0], frame[1]);
     const bool tty = stderr_is_tty();
     // rays (pixels) as the tiles finish; the ray caster reports the finished fraction, serialised

@@ -93,10 +93,75 @@ int splat_mesh(const Args& a, const std::string& input, const std::string& png, 
     return 0;
 }
 
+/// What splat draws: a PLY point set (read in place) or a point/sample stream, with what it records.
+struct SplatInput {
+    std::unique_ptr<InputFile> file;       ///< a stream's file (stdin for -)
+    std::unique_ptr<StreamReader> reader;  ///< a stream's reader
+    std::unique_ptr<Source> source;
+    std::optional<std::array<Vec3, 2>> bounds;  ///< the frame the input records (the surface's)
+    std::unique_ptr<ProjectStage> project;      ///< sample streams: projection at render time
+    StreamMeta recorded;                        ///< the PLY comments or the stream's metadata
+};
+
+SplatInput open_splat_input(const Args& a, const std::string& input, bool is_ply) {
+    SplatInput in;
+    if (is_ply) {
+        if (a.has("iso")) throw UsageError("--iso applies to sample streams; " + input + " holds projected points");
+        auto ply = std::make_unique<PlySource>(input);
+        in.bounds = ply_picture_bounds(ply->comments());  // the surface bounds recorded by isosurface/write
+        in.recorded = ply_comments_meta(ply->comments());
+        in.source = std::move(ply);
+        return in;
+    }
+    in.file = std::make_unique<InputFile>(input);
+    in.reader = std::make_unique<StreamReader>(in.file->f, in.file->name);
+    in.reader->read_meta();
+    in.bounds = picture_bounds(in.reader->meta());
+    if (in.reader->kind() == RecordKind::seed)
+        throw UsageError(in.file->name + ": holds unprojected multiblock seeds; project them first: meshless project --field KIND BLOCKS...");
+    in.source = std::make_unique<StreamSource>(*in.reader);
+    if (in.reader->kind() == RecordKind::sample) {
+        // paradigms (B)/(D): projection at render time
+        in.project = std::make_unique<ProjectStage>(stream_iso(a, in.reader->meta()), parse_projection(a.get_or("projection", "approx")));
+    } else if (a.has("iso")) {
+        throw UsageError("--iso applies to sample streams; this stream holds projected points");
+    }
+    in.recorded = in.reader->meta();
+    return in;
+}
+
+/// Point files meshless writes that splat does not draw: a FormatError that says what to write instead.
+void refuse_other_point_files(const std::string& input) {
+    for (const char* other : {".vtp", ".csv", ".tsv", ".txt"})
+        if (ends_with_ci(input, other))
+            throw FormatError(input + ": splat draws .ply point sets and meshless point streams, not " + (other + 1) +
+                              " files (write the points as .ply: meshless isosurface ... -o points.ply)");
+}
+
+/// --turntable N: every frame replays the spool.
+int splat_turntable(const Args& a, PointSpool& spool, const std::array<Vec3, 2>& bounds, const RenderSettings& rs,
+                    long long frames, int nthreads, const std::string& png) {
+    const Camera& cam = rs.camera;
+    ProgressMeter meter = ProgressMeter::of(a, "frames", static_cast<double>(frames));
+    const auto t = render_turntable(spool, bounds, cam, rs.kernel, rs.shading, static_cast<int>(frames), nthreads,
+                                    [&](int i, const Image& img) {
+                                        Image framed = img;
+                                        decorate_picture(rs, framed);
+                                        write_png(framed, frame_path(png, i));
+                                        meter.add(1);
+                                    });
+    meter.done();
+    std::fprintf(stderr, "splat: turntable of %d frames, %llu points, %dx%d %s: %.2f ms/frame (min %.2f, max %.2f)\n",
+                 t.frames, static_cast<unsigned long long>(spool.size()), cam.width, cam.height,
+                 rs.kernel == SplatKernel::quad ? "quad" : "ewa", 1e3 * t.mean_seconds, 1e3 * t.min_seconds,
+                 1e3 * t.max_seconds);
+    return 0;
+}
+
 }  // namespace
 
-int cmd_splat(int argc, char** argv) {
-    Args a("splat", "[INPUT|-|MESH.ply] -o img.png [--kernel quad|ewa] [--turntable N] [camera options]",
+/// splat --help: what it draws and how.
+constexpr const char* kSplatHelp =
            "Renders oriented points by surface splatting (software): quadrilateral (QSplat-style) or\n"
            "elliptical EWA kernels with depth-tested, normalised accumulation and Phong shading.\n"
            "INPUT is a point stream (stdin by default) or a .ply point set. Given a sample stream (from\n"
@@ -117,7 +182,11 @@ int cmd_splat(int argc, char** argv) {
            "A .ply with faces (a triangle mesh, `meshless mc`) is drawn as its triangles instead: z-buffered,\n"
            "the vertex normals interpolated (perspective-correct) and lit as the splats are, the camera\n"
            "framing the mesh's bounds; --kernel is ignored, --color takes none (default), normal or block\n"
-           "(the faces' block ids; a mesh has no values for --color value); single-threaded.");
+           "(the faces' block ids; a mesh has no values for --color value); single-threaded.";
+
+int cmd_splat(int argc, char** argv) {
+    Args a("splat", "[INPUT|-|MESH.ply] -o img.png [--kernel quad|ewa] [--turntable N] [camera options]",
+           kSplatHelp);
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("iso", "", "V", "sample streams: isovalue to project onto (default: the stream's)")
         .option("projection", "", "MODE", "sample streams: approx | exact | none", "approx")
@@ -143,44 +212,19 @@ int cmd_splat(int argc, char** argv) {
     const bool is_ply = input.size() > 4 && input.substr(input.size() - 4) == ".ply";
     // The graph: PLY file or point/sample stream -> [project] -> draw (parallel) -> splat sink.
     if (is_ply && ply_has_faces(input)) return splat_mesh(a, input, png, rs, cc, frames);
-    for (const char* other : {".vtp", ".csv", ".tsv", ".txt"})  // point files meshless writes, but not splat input
-        if (ends_with_ci(input, other))
-            throw FormatError(input + ": splat draws .ply point sets and meshless point streams, not " + (other + 1) +
-                              " files (write the points as .ply: meshless isosurface ... -o points.ply)");
-    std::unique_ptr<StreamReader> reader;
-    std::optional<InputFile> in;
+    refuse_other_point_files(input);
     std::optional<PointSpool> spool;  // see below; outlives the source that may replay it
-    std::unique_ptr<Source> source;
-    std::optional<std::array<Vec3, 2>> bounds;
-    std::optional<ProjectStage> project;
-    if (is_ply) {
-        if (a.has("iso")) throw UsageError("--iso applies to sample streams; " + input + " holds projected points");
-        auto ply = std::make_unique<PlySource>(input);
-        bounds = ply_picture_bounds(ply->comments());  // the surface bounds recorded by isosurface/write
-        source = std::move(ply);
-    } else {
-        in.emplace(input);
-        reader = std::make_unique<StreamReader>(in->f, in->name);
-        reader->read_meta();
-        bounds = picture_bounds(reader->meta());
-        if (reader->kind() == RecordKind::seed)
-            throw UsageError(in->name + ": holds unprojected multiblock seeds; project them first: meshless project --field KIND BLOCKS...");
-        source = std::make_unique<StreamSource>(*reader);
-        if (reader->kind() == RecordKind::sample) {
-            // paradigms (B)/(D): projection at render time
-            project.emplace(stream_iso(a, reader->meta()), parse_projection(a.get_or("projection", "approx")));
-        } else if (a.has("iso")) {
-            throw UsageError("--iso applies to sample streams; this stream holds projected points");
-        }
-    }
+    SplatInput in = open_splat_input(a, input, is_ply);
+    std::unique_ptr<Source>& source = in.source;
+    std::optional<std::array<Vec3, 2>>& bounds = in.bounds;
     std::vector<const Stage*> stages;
-    if (project) stages.push_back(&*project);
+    if (in.project) stages.push_back(in.project.get());
 
     // Colours: an isosurface (the input records its isovalue) is not coloured by value by default;
     // --color value maps it within the data's value range where the input records one (as
     // isosurface --png does: its points all hold the isovalue), and a block legend lists the blocks
     // it records.
-    const StreamMeta recorded = is_ply ? ply_comments_meta(static_cast<PlySource&>(*source).comments()) : reader->meta();
+    const StreamMeta& recorded = in.recorded;
     const bool isosurface_input = recorded.get("iso").has_value();
     std::optional<std::array<double, 2>> data_range;
     if (const auto lo = recorded.get_double("value_min"), hi = recorded.get_double("value_max");
@@ -221,22 +265,7 @@ int cmd_splat(int argc, char** argv) {
         else if (recorded_blocks) rs.legend_blocks = *recorded_blocks;
     }
     if (spool) {
-        if (frames > 0) {
-            ProgressMeter meter = ProgressMeter::of(a, "frames", static_cast<double>(frames));
-            const auto t = render_turntable(*spool, *bounds, cam, rs.kernel, rs.shading, static_cast<int>(frames), nthreads,
-                                            [&](int i, const Image& img) {
-                                                Image framed = img;
-                                                decorate_picture(rs, framed);
-                                                write_png(framed, frame_path(png, i));
-                                                meter.add(1);
-                                            });
-            meter.done();
-            std::fprintf(stderr, "splat: turntable of %d frames, %llu points, %dx%d %s: %.2f ms/frame (min %.2f, max %.2f)\n",
-                         t.frames, static_cast<unsigned long long>(spool->size()), cam.width, cam.height,
-                         rs.kernel == SplatKernel::quad ? "quad" : "ewa", 1e3 * t.mean_seconds, 1e3 * t.min_seconds,
-                         1e3 * t.max_seconds);
-            return 0;
-        }
+        if (frames > 0) return splat_turntable(a, *spool, *bounds, rs, frames, nthreads, png);
         source = std::make_unique<PointSpoolSource>(*spool);
         stages.clear();  // projected already
     }
