@@ -70,6 +70,42 @@ class PointSet:
     def __repr__(self):
         return "meshless.PointSet(%d points)" % len(self)
 
+    def to_vtk(self):
+        """A vtkPolyData with one vertex cell per point, the normals as its Normals and `radius`,
+        `value` (and `block`) point arrays: what `meshless isosurface -o out.vtp` writes, for
+        ParaView and VTK pipelines. Needs VTK's Python module (python3-vtk9); the arrays are copied
+        into VTK's."""
+        from vtkmodules.util import numpy_support as ns
+        from vtkmodules.vtkCommonCore import vtkPoints
+        from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+
+        n = len(self)
+        pts = vtkPoints()
+        pts.SetData(ns.numpy_to_vtk(_np.ascontiguousarray(self.points), deep=True))
+        cells = vtkCellArray()
+        offsets = _np.arange(n + 1, dtype=_np.int64)
+        cells.SetData(ns.numpy_to_vtk(offsets, deep=True, array_type=ns.get_vtk_array_type(_np.int64)),
+                      ns.numpy_to_vtk(offsets[:-1].copy(), deep=True, array_type=ns.get_vtk_array_type(_np.int64)))
+        poly = vtkPolyData()
+        poly.SetPoints(pts)
+        poly.SetVerts(cells)
+        normals = ns.numpy_to_vtk(_np.ascontiguousarray(self.normals), deep=True)
+        normals.SetName("Normals")
+        poly.GetPointData().SetNormals(normals)
+        for name, arr in (("radius", self.radius), ("value", self.values), ("block", self.block)):
+            if arr is None:
+                continue
+            a = ns.numpy_to_vtk(_np.ascontiguousarray(arr), deep=True)
+            a.SetName(name)
+            poly.GetPointData().AddArray(a)
+        poly.GetPointData().SetActiveScalars("value")
+        return poly
+
+    def to_pyvista(self):
+        """The same as a pyvista.PolyData (needs PyVista)."""
+        import pyvista
+        return pyvista.wrap(self.to_vtk())
+
 
 def isosurface(volume, iso, *, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), projection="approx", threads=0):
     """Iso-splatting of a regular volume (dissertation chapter 3): one sample per active cell,

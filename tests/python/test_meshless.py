@@ -102,6 +102,21 @@ class VolumeIsosurface(unittest.TestCase):
         m = meshless.isosurface(mm, 100.5)
         self.assertTrue(np.array_equal(m.points, s.points))
 
+    def test_to_vtk_gives_the_polydata_paraview_reads(self):
+        try:
+            from vtkmodules.util import numpy_support as ns
+        except ImportError:
+            self.skipTest("VTK's Python module is not installed (python3-vtk9)")
+        v, sp, org = sphere_volume(n=24)
+        s = meshless.isosurface(v, 0.5, spacing=sp, origin=org)
+        poly = s.to_vtk()
+        self.assertEqual(poly.GetNumberOfPoints(), len(s))
+        self.assertEqual(poly.GetNumberOfVerts(), len(s))
+        self.assertTrue(np.array_equal(ns.vtk_to_numpy(poly.GetPoints().GetData()), s.points))
+        self.assertTrue(np.array_equal(ns.vtk_to_numpy(poly.GetPointData().GetNormals()), s.normals))
+        self.assertTrue(np.array_equal(ns.vtk_to_numpy(poly.GetPointData().GetArray("radius")), s.radius))
+        self.assertEqual(poly.GetPointData().GetScalars().GetName(), "value")
+
     def test_bad_arguments_are_value_errors(self):
         v, sp, org = sphere_volume(n=8)
         for call in (lambda: meshless.isosurface(np.zeros((4, 4)), 1.0),
