@@ -113,8 +113,14 @@ def isosurface(volume, iso, *, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), 
     casting within the cell; "none": the cell samples). The same points `meshless isosurface` writes
     for the same volume (in another order for a C-ordered array).
 
-    volume: 3-D array indexed [x, y, z]; spacing, origin: world units per axis. Returns a PointSet."""
-    return PointSet(_core._isosurface_volume(_np.asanyarray(volume), float(iso), spacing, origin, projection, int(threads)))
+    volume: 3-D array indexed [x, y, z]; spacing, origin: world units per axis. An np.memmap of a
+    file (modes r, r+, w+) is read slab by slab and its pages handed back as they are done, so a
+    volume bigger than RAM takes a few slabs of memory. Returns a PointSet."""
+    volume = _np.asanyarray(volume)
+    # a file mapped shared (np.memmap modes r, r+, w+) streams slab by slab, its pages handed back
+    # as they are done: bounded memory for volumes bigger than RAM; the same points
+    shared = isinstance(volume, _np.memmap) and getattr(volume, "mode", None) in ("r", "r+", "w+", "readonly", "readwrite", "write")
+    return PointSet(_core._isosurface_volume(volume, float(iso), spacing, origin, projection, int(threads), bool(shared)))
 
 
 def _field_params(kind, hardy_c=0.025, hardy_c_world=0.0, binning=5.0, max_points=140, alpha=0.75, local_points=160,

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "array_slices.hpp"
 #include "arrays.hpp"
 #include "bindings.hpp"
 #include "point_arrays.hpp"
@@ -54,14 +55,19 @@ int lattice(int samples) {
 }
 
 py::dict isosurface_volume(const py::array& volume, double iso, const py::object& spacing, const py::object& origin,
-                           const std::string& projection, int threads) {
+                           const std::string& projection, int threads, bool shared_mapping) {
     const VolumeArray v = volume_view(volume, triple(spacing, "spacing"), triple(origin, "origin"));
     const Projection mode = projection_of(projection);
     CollectSink sink;
     IsoSplatResult r;
     {
         py::gil_scoped_release free;
-        r = run_isosplat(v.view, finite_iso(iso), mode, SamplingParams{}, sink, {threads});
+        if (shared_mapping && v.keep.is(volume)) {  // a file mapped shared, used in place: slab by slab
+            ArraySlices slices(v.view, /*release_pages=*/true);
+            r = run_isosplat_slabs(slices, finite_iso(iso), mode, SamplingParams{}, sink, {threads});
+        } else {
+            r = run_isosplat(v.view, finite_iso(iso), mode, SamplingParams{}, sink, {threads});
+        }
     }
     py::dict out = point_arrays(std::move(sink.points), nullptr, v.axes_swapped);
     out["stats"] = py::dict(py::arg("active_cells") = r.sampling.active_cells, py::arg("nonfinite_cells") = r.sampling.nonfinite_cells,
@@ -196,7 +202,7 @@ py::dict isosurface_blocks(const py::list& blocks, double iso, const FieldParams
 
 void bind_isosurface(py::module_& m) {
     m.def("_isosurface_volume", &isosurface_volume, py::arg("volume"), py::arg("iso"), py::arg("spacing"), py::arg("origin"),
-          py::arg("projection"), py::arg("threads"));
+          py::arg("projection"), py::arg("threads"), py::arg("shared_mapping"));
     m.def("_isosurface_points", &isosurface_points, py::arg("points"), py::arg("values"), py::arg("iso"), py::arg("field"),
           py::arg("samples"), py::arg("reg_gap"), py::arg("max_cells"), py::arg("max_level"), py::arg("tolerance"),
           py::arg("max_iterations"), py::arg("max_travel"), py::arg("threads"));

@@ -117,6 +117,27 @@ class VolumeIsosurface(unittest.TestCase):
         self.assertTrue(np.array_equal(ns.vtk_to_numpy(poly.GetPointData().GetArray("radius")), s.radius))
         self.assertEqual(poly.GetPointData().GetScalars().GetName(), "value")
 
+    def test_a_memmap_streams_slab_by_slab_with_the_same_points_and_keeps_private_changes(self):
+        v, sp, org = sphere_volume(n=40)
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "v.raw")
+            np.asfortranarray(v).T.tofile(path)  # z slowest: the raw layout
+            want = meshless.isosurface(v, 0.5, spacing=sp, origin=org)
+            for mode in ("r", "r+"):
+                mm = np.memmap(path, np.float32, mode=mode, shape=(40, 40, 40)).T
+                got = meshless.isosurface(mm, 0.5, spacing=sp, origin=org)
+                self.assertTrue(np.array_equal(got.points, want.points), mode)
+                del mm
+            cm = np.memmap(path, np.float32, mode="r", shape=(40, 40, 40))  # C order: x and z swapped, streamed too
+            c = meshless.isosurface(cm, 0.5, spacing=sp, origin=org)
+            self.assertTrue(np.array_equal(c.points, meshless.isosurface(np.array(cm), 0.5, spacing=sp, origin=org).points))
+            del cm
+            cow = np.memmap(path, np.float32, mode="c", shape=(40, 40, 40)).T
+            cow[20, 20, 20] = 7.0  # a private change: must survive the call (no pages handed back)
+            meshless.isosurface(cow, 0.5, spacing=sp, origin=org)
+            self.assertEqual(cow[20, 20, 20], 7.0)
+            del cow
+
     def test_bad_arguments_are_value_errors(self):
         v, sp, org = sphere_volume(n=8)
         for call in (lambda: meshless.isosurface(np.zeros((4, 4)), 1.0),
