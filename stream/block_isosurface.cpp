@@ -12,7 +12,6 @@
 #include "kernels/errors.hpp"
 #include "stream/block_cell_source.hpp"
 #include "stream/record_vector_source.hpp"
-#include "stream/seed_projection.hpp"
 #include "stream/stream_metadata.hpp"
 
 namespace meshless {
@@ -79,11 +78,8 @@ BlockIsosurfaceStats run_block_isosurface(const BlockIsosurfaceInput& in, const 
     }
     BlockCellSource source(in.plan.first_cell, block_seed_unit_cells(n));
     const BlockSeedStage seed(in.seed_blocks(), in.plan, iso, n);
-    const SeedProjection p = run_seed_projection(source, seed, *field, iso, np, draw, sink, opt, progress);
+    static_cast<SeedProjection&>(st) = run_seed_projection(source, seed, *field, iso, np, draw, sink, opt, progress);
     st.seeds = seed.stats();
-    st.newton = p.newton;
-    st.seed_busy_seconds = p.seed_busy_seconds;
-    st.newton_busy_seconds = p.newton_busy_seconds;
     st.projected = true;
     return st;
 }

@@ -20,6 +20,7 @@
 #include "stream/block_seed_stage.hpp"
 #include "stream/field_project_stage.hpp"
 #include "stream/runner.hpp"
+#include "stream/seed_projection.hpp"
 
 namespace meshless {
 
@@ -67,10 +68,8 @@ BlockIsosurfaceInput plan_block_isosurface(Multiblock mb, const std::string& sou
 StreamMeta block_isosurface_meta(const BlockIsosurfaceInput& in, double iso, int n, const std::string& producer);
 
 /// What one run did.
-struct BlockIsosurfaceStats {
+struct BlockIsosurfaceStats : SeedProjection {  ///< newton, seed/newton busy seconds
     BlockSeedStats seeds;          ///< without a field: only `cells` (planned, not seeded)
-    FieldNewtonStats newton;
-    double seed_busy_seconds = 0, newton_busy_seconds = 0;
     bool projected = false;        ///< a field was given and the graph ran
 };
 

@@ -16,7 +16,6 @@
 #include "stream/dedup_sink.hpp"
 #include "stream/projection_meta.hpp"
 #include "stream/record_vector_source.hpp"
-#include "stream/seed_projection.hpp"
 #include "stream/stencil_source.hpp"
 #include "stream/stream_metadata.hpp"
 
@@ -190,11 +189,8 @@ ScatteredIsosurfaceStats run_scattered_isosurface(const ScatteredIsosurfaceInput
     } else {
         StencilSource source{StencilGrid(in.grid.dims)};
         const StencilSeedStage seed(in.stencils(*field), iso, n);
-        const SeedProjection p = run_seed_projection(source, seed, *field, iso, np, draw, sink, opt, progress);
+        static_cast<SeedProjection&>(st) = run_seed_projection(source, seed, *field, iso, np, draw, sink, opt, progress);
         st.seeds = seed.stats();
-        st.newton = p.newton;
-        st.seed_busy_seconds = p.seed_busy_seconds;
-        st.newton_busy_seconds = p.newton_busy_seconds;
         st.projected = true;
     }
     if (dedup_sink) st.dedup_removed = dedup_sink->removed();

@@ -22,6 +22,7 @@
 #include "kernels/scattered_binning_grid.hpp"
 #include "stream/field_project_stage.hpp"
 #include "stream/runner.hpp"
+#include "stream/seed_projection.hpp"
 #include "stream/stencil_seed_stage.hpp"
 
 namespace meshless {
@@ -75,10 +76,8 @@ double build_alongside_coverage(ScatteredIsosurfaceInput& in, int threads, const
 StreamMeta scattered_isosurface_meta(const ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer);
 
 /// What one run did.
-struct ScatteredIsosurfaceStats {
+struct ScatteredIsosurfaceStats : SeedProjection {  ///< newton, seed/newton busy seconds
     StencilSeedStats seeds;
-    FieldNewtonStats newton;
-    double seed_busy_seconds = 0, newton_busy_seconds = 0;
     std::int64_t dedup_removed = 0;
     bool projected = false;  ///< a field was given and the graph ran
 };
