@@ -16,6 +16,9 @@
 #include "cli/mpi_session.hpp"
 #include "cli/multiblock_isosurface.hpp"
 #include "stream/scattered_isosurface.hpp"
+#include "stream/scattered_store_isosurface.hpp"
+#include "formats/point_store.hpp"
+#include "stream/available_memory.hpp"
 #include "cli/point_set_cli.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/volume_reader.hpp"
@@ -96,15 +99,23 @@ ScatteredInput read_scattered(const Args& a, bool warn = true) {
     return in;
 }
 
-void print_scattered_stats(const char* cmd, const ScatteredInput& in, const StencilSeedStats& s, int n) {
-    const auto& g = in.grid;
+/// The binning line of --stats: the grid, the points, the empty cells.
+struct BinningSummary {
+    const BinningGrid& g;
+    std::uint64_t points, dropped;
+    std::int64_t empty, empty_interior;
+    std::uint32_t max_per_cell;
+};
+
+void print_scattered_stats(const char* cmd, const BinningSummary& b, const StencilSeedStats& s, int n) {
+    const auto& g = b.g;
     std::fprintf(stderr,
-                 "%s: %zu points (%llu NaN/Inf dropped); binning level %d (rule %d%s), grid %lldx%lldx%lld = %lld cells, "
+                 "%s: %llu points (%llu NaN/Inf dropped); binning level %d (rule %d%s), grid %lldx%lldx%lld = %lld cells, "
                  "%lld empty (%lld inside the border layer), at most %u points in a cell\n",
-                 cmd, in.points.size(), static_cast<unsigned long long>(in.points.dropped_nonfinite), g.level, g.rule_level,
+                 cmd, static_cast<unsigned long long>(b.points), static_cast<unsigned long long>(b.dropped), g.level, g.rule_level,
                  g.coarsened ? ", coarsened" : "", static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
-                 static_cast<long long>(g.dims[2]), static_cast<long long>(g.cell_count()), static_cast<long long>(in.bins.empty_cells),
-                 static_cast<long long>(in.bins.empty_interior_cells), in.bins.max_per_cell);
+                 static_cast<long long>(g.dims[2]), static_cast<long long>(g.cell_count()), static_cast<long long>(b.empty),
+                 static_cast<long long>(b.empty_interior), b.max_per_cell);
     std::fprintf(stderr,
                  "%s: %lld stencils (%lld crossed, largest %lld points), %lld regularisation points made on the fly "
                  "(%lld beyond --reg-gap), "
@@ -116,6 +127,11 @@ void print_scattered_stats(const char* cmd, const ScatteredInput& in, const Sten
                  static_cast<long long>(s.delaunay_failures), static_cast<long long>(s.tets), static_cast<long long>(s.owned_tets),
                  static_cast<long long>(s.nonfinite_tets), static_cast<long long>(s.triangles),
                  static_cast<long long>(s.zero_area_triangles), static_cast<long long>(s.seeds), n, lattice_size(n));
+}
+
+void print_scattered_stats(const char* cmd, const ScatteredInput& in, const StencilSeedStats& s, int n) {
+    print_scattered_stats(cmd, BinningSummary{in.grid, in.points.size(), in.points.dropped_nonfinite, in.bins.empty_cells,
+                                              in.bins.empty_interior_cells, in.bins.max_per_cell}, s, n);
 }
 
 void add_scattered_options(Args& a) {
@@ -180,8 +196,13 @@ int isosurface_scattered(int argc, char** argv) {
     add_quiet_option(a);
     add_camera_options(a);
     add_color_options(a);
+    a.option("memory", "", "BYTES",
+             "a point store (.mlc) with the mpu field: the budget its slabs are sized to, e.g. 512M, 2G (default: the memory this process may use); "
+             "the output does not depend on it")
+        .validate([](const std::string& v) { (void)parse_memory_size(v); });
     a.positionals(1, 1u << 20);
     a.epilog("examples: meshless sample ../shared/data/bucky/Bucky_32x32x32_uint8.raw -n 20000 -o bucky.ply && meshless isosurface bucky.ply --iso 100 -o b.ply --png b.png --stats\n"
+             "          meshless convert bucky.ply -o bucky.mlc && meshless isosurface bucky.mlc --iso 100 -o b.ply --memory 64M\n"
              "pipes:    meshless fit POINTS -o f.mlf && meshless generate POINTS --iso V | meshless project --field f.mlf | meshless splat -o img.png\n");
     a.input_variant("scattered points");
     if (!a.parse(argc, argv, 2)) return 0;
@@ -219,9 +240,8 @@ struct ScatteredJob {
     double field_seconds = 0;
 };
 
-ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
-    const bool root = !mpi || mpi->rank() == 0;
-    ScatteredJob j;
+/// The options of the job, checked before any reading; the colour choice is returned.
+ColorChoice parse_scattered_options(const Args& a, ScatteredJob& j) {
     j.iso = parse_finite(a.require("iso"), "--iso");
     const auto out = a.get("output");
     j.png = a.get("png");
@@ -239,7 +259,13 @@ ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
     if (cc.request == ColorRequest::block) throw UsageError("scattered points have no blocks; --color block needs multiblock input");
     j.nthreads = threads(a);
     if (!field_file_arg(a)) (void)field_params(a);  // option errors before any reading
+    return cc;
+}
 
+ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
+    const bool root = !mpi || mpi->rank() == 0;
+    ScatteredJob j;
+    const ColorChoice cc = parse_scattered_options(a, j);
     j.in = read_scattered(a, root);
     apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
     const bool crossed = j.in.crosses(j.iso);
@@ -319,7 +345,66 @@ int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSessio
     return 0;
 }
 
+/// A point store (.mlc) with the mpu field: slab by slab within --memory (stream/scattered_store_isosurface.hpp).
+bool runs_store_slabs(const Args& a, MpiSession* mpi) {
+    if (mpi || a.positional().size() != 1 || field_file_arg(a) || !is_point_store(a.positional()[0])) return false;
+    return field_kind_arg(a, kPointsFieldDefault) == "mpu";
+}
+
+int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
+    ScatteredJob j;
+    const ColorChoice cc = parse_scattered_options(a, j);
+    const FieldParams fp = field_params(a, kPointsFieldDefault);
+    ScatteredStoreParams sp;
+    sp.memory_bytes = a.has("memory") ? parse_memory_size(*a.get("memory")) : available_memory();
+    sp.reg_gap = reg_gap(a);
+    const std::string& path = a.positional()[0];
+    const auto store = PointStore::open(path);
+    const InputWarning to_stderr = [](const std::string& subject, const std::string& what) {
+        std::fprintf(stderr, "meshless: warning: %s: %s\n", terminal_safe(subject).c_str(), what.c_str());
+    };
+    const ScatteredStorePlan plan = plan_scattered_store(*store, joined_names(a.positional()), binning_params(a), to_stderr);
+    apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
+    if (!plan.crosses(j.iso)) warn_if_iso_outside(j.iso, plan.value_range, plan.source);
+    j.meta = scattered_store_meta(plan, j.iso, j.n, a.command_line());
+    widen_frame_for_travel(j.meta, j.np.seed_max_travel);
+    add_projection_meta(j.meta, "mpu", j.np);
+    if (j.dedup > 0) j.meta.set("dedup", j.dedup);
+    ScatteredIsosurfaceStats st;
+    ScatteredStoreReport rep;
+    IsoSplatResult unused;
+    const auto t0 = Clock::now();
+    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
+        ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(StencilGrid(plan.grid.dims).total()));
+        st = run_scattered_store_isosurface(*store, plan, fp, sp, j.iso, j.n, j.np, j.dedup, sink, {j.nthreads},
+                                            [&](double k) { meter.add(k); }, &rep);
+        return IsoSplatResult{};
+    }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
+    if (a.has("stats")) {
+        const char* cmd = "isosurface";
+        print_scattered_stats(cmd, BinningSummary{plan.grid, plan.frame.points, plan.dropped_nonfinite, plan.empty_cells,
+                                                  plan.empty_interior_cells, plan.max_per_cell}, st.seeds, j.n);
+        print_newton_stats(cmd, "mpu", j.np, st.newton, st.newton_busy_seconds);
+        if (j.dedup > 0)
+            std::fprintf(stderr, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, j.dedup, static_cast<long long>(st.dedup_removed));
+        std::fprintf(stderr,
+                     "%s: point store in %d slabs (%d built again over more points; halo up to %.1f cells), at most %llu of %llu points "
+                     "loaded at once (%llu loaded in all), %llu locals (%llu regularised), largest slab field %.1f MiB\n",
+                     cmd, rep.slabs, rep.retries, rep.halo_cells, static_cast<unsigned long long>(rep.most_loaded),
+                     static_cast<unsigned long long>(plan.frame.points), static_cast<unsigned long long>(rep.loaded),
+                     static_cast<unsigned long long>(rep.field.locals), static_cast<unsigned long long>(rep.field.regularised),
+                     static_cast<double>(rep.field.memory_bytes) / 1048576.0);
+        std::fprintf(stderr,
+                     "%s: %zu points; time: plan (%d scans of the store) %.3f s, read %.3f s, coverage %.3f s and field %.3f s side by side, "
+                     "isosurface %.3f s (busy: stencils %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
+                     cmd, points, plan.scans, plan.seconds, rep.read_seconds, rep.coverage_seconds, rep.field_seconds, since(t0),
+                     st.seed_busy_seconds, st.newton_busy_seconds, j.nthreads, since(t_start));
+    }
+    return 0;
+}
+
 int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
+    if (runs_store_slabs(a, mpi)) return isosurface_scattered_store(a, t_start);
     ScatteredJob j = prepare_scattered(a, mpi);
     if (mpi) return isosurface_scattered_mpi(a, t_start, *mpi, j);
     const ScatteredInput& in = j.in;

@@ -15,6 +15,16 @@ namespace meshless {
 
 MergedPoints prepare_field_points(const PointSet& points, const FieldParams& params, std::string_view who,
                                   FieldBuildStats* stats) {
+    return prepare_field_points(points, params, who, stats, field_frame_of(points.pos));
+}
+
+std::array<Vec3, 2> frame_box(const MergedPoints& m, const std::array<Vec3, 2>& world) {
+    const Vec3 lo = world[0] - m.origin, hi = world[1] - m.origin;
+    return {Vec3{lo.x * m.scale.x, lo.y * m.scale.y, lo.z * m.scale.z}, Vec3{hi.x * m.scale.x, hi.y * m.scale.y, hi.z * m.scale.z}};
+}
+
+MergedPoints prepare_field_points(const PointSet& points, const FieldParams& params, std::string_view who,
+                                  FieldBuildStats* stats, const FieldFrame& frame) {
     const std::string w(who);
     if (points.pos.size() != points.value.size())
         throw FormatError(w + ": point set has " + std::to_string(points.pos.size()) + " positions but " +
@@ -30,13 +40,13 @@ MergedPoints prepare_field_points(const PointSet& points, const FieldParams& par
     if (!(params.merge_rel >= 0) || !(params.hardy_c_rel > 0) || !std::isfinite(params.hardy_c_world) ||
         params.hardy_c_world < 0)
         throw InvalidArgument(w + ": merge_rel must be >= 0, hardy_c_rel > 0 and hardy_c_world >= 0");
-    const double tol = params.merge_rel * mean_point_spacing(points.pos);
-    MergedPoints m = merge_near_duplicates(points.pos, points.value, tol);
+    const double tol = params.merge_rel * mean_point_spacing(frame.bounds, frame.points);
+    MergedPoints m = merge_near_duplicates(points.pos, points.value, tol, frame.bounds, frame.points);
     if (m.pos.size() < 4)
         throw FormatError(w + ": " + std::to_string(m.pos.size()) + " distinct points (of " +
                               std::to_string(points.pos.size()) + " after merging near-duplicates), at least 4 are needed");
     if (params.normalise_axes && m.pos.size() > 1) {
-        const auto [lo, hi] = bounding_box(m.pos);
+        const auto [lo, hi] = frame_box(m, frame.bounds);  // (the whole set's, relative to the origin)
         const Vec3 w = hi - lo;
         const double wmax = std::max({w.x, w.y, w.z});
         double sum2 = 0;
@@ -56,7 +66,7 @@ MergedPoints prepare_field_points(const PointSet& points, const FieldParams& par
         stats->merged_points = m.merged;
         stats->used_points = m.pos.size();
         stats->merge_tolerance = m.tolerance;
-        stats->hardy_c_world = hardy_c_world_for(params, points.bounds());
+        stats->hardy_c_world = hardy_c_world_for(params, frame.bounds);
     }
     return m;
 }

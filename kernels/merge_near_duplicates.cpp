@@ -28,27 +28,41 @@ std::array<Vec3, 2> bbox(std::span<const Vec3> pos) { return bounding_box(pos); 
 
 double mean_point_spacing(std::span<const Vec3> pos) {
     if (pos.size() < 2) return 0;
-    const auto [lo, hi] = bbox(pos);
-    const Vec3 w = hi - lo;
+    return mean_point_spacing(bbox(pos), pos.size());
+}
+
+double mean_point_spacing(const std::array<Vec3, 2>& box, std::uint64_t n) {
+    if (n < 2) return 0;
+    const Vec3 w = box[1] - box[0];
     const double wmax = std::max({w.x, w.y, w.z});
     if (!(wmax > 0)) return 0;
     double prod = 1;
     int k = 0;
     for (int a = 0; a < 3; ++a)
         if (w[a] > 1e-9 * wmax) { prod *= w[a]; ++k; }
-    return std::pow(prod / static_cast<double>(pos.size()), 1.0 / k);
+    return std::pow(prod / static_cast<double>(n), 1.0 / k);
 }
 
 MergedPoints merge_near_duplicates(std::span<const Vec3> pos, std::span<const double> value, double tolerance) {
+    if (pos.empty()) {
+        MergedPoints out;
+        out.tolerance = std::max(0.0, tolerance);
+        return out;
+    }
+    return merge_near_duplicates(pos, value, tolerance, bbox(pos), pos.size());
+}
+
+MergedPoints merge_near_duplicates(std::span<const Vec3> pos, std::span<const double> value, double tolerance,
+                                   const std::array<Vec3, 2>& frame, std::uint64_t frame_points) {
     MergedPoints out;
     out.tolerance = std::max(0.0, tolerance);
     if (pos.empty()) return out;
-    const auto [lo, hi] = bbox(pos);
+    const auto [lo, hi] = frame;
     out.origin = (lo + hi) * 0.5;
     const Vec3 w = hi - lo;
     const double wmax = std::max({w.x, w.y, w.z});
     const double tol = out.tolerance;
-    double cell = tol > 0 ? 4 * tol : std::max(mean_point_spacing(pos), 0.0);
+    double cell = tol > 0 ? 4 * tol : std::max(mean_point_spacing(frame, frame_points), 0.0);
     cell = std::max(cell, wmax * 1e-15);
     // (subnormal cells: 1 / cell would overflow and a cell index be NaN; a cell of at least 4 x the
     // smallest normal double keeps 1 / cell finite, and a larger cell only widens the search)

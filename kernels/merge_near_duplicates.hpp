@@ -8,6 +8,7 @@
 // Preconditions: pos.size() == value.size(), all finite. Throws only std::bad_alloc.
 // Thread-safety: pure function.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -28,8 +29,16 @@ struct MergedPoints {
 /// Mean point spacing h = (prod of non-degenerate extents / n)^(1/k) (k non-degenerate axes; an
 /// axis is degenerate when its extent is below 1e-9 of the largest). 0 when all points coincide.
 double mean_point_spacing(std::span<const Vec3> pos);
+/// The same for n points whose bounding box is `box`.
+double mean_point_spacing(const std::array<Vec3, 2>& box, std::uint64_t n);
 
 /// Merge points within `tolerance` (>= 0; 0 merges exact duplicates only).
 MergedPoints merge_near_duplicates(std::span<const Vec3> pos, std::span<const double> value, double tolerance);
+/// The same with the frame of a whole set that `pos` is part of (kernels/field_region.hpp): origin
+/// the centre of `frame` (that set's bounding box), hash cells aligned to its lower corner (and,
+/// with tolerance 0, as wide as that set's mean spacing over `frame_points` points), so a part
+/// merges as the whole set does wherever a point's neighbours within the tolerance are in the part.
+MergedPoints merge_near_duplicates(std::span<const Vec3> pos, std::span<const double> value, double tolerance,
+                                   const std::array<Vec3, 2>& frame, std::uint64_t frame_points);
 
 }  // namespace meshless

@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <cstring>
+#include <functional>
 #include <type_traits>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -35,12 +37,31 @@ constexpr std::size_t kParallelPoints = 8192;
 /// plane (kernels/flat_hull.hpp): 64 full leaves.
 constexpr std::size_t kSpanPoints = 64 * 140;
 
+/// A region build's boxes in frame units (kernels/field_region.hpp): the queries it answers and the
+/// points it was given (shrunk by the merge tolerance: a point there merged as in the whole set).
+struct RegionBoxes {
+    Vec3 qlo, qhi, llo, lhi;
+    double reach;  // a subtree's blend spheres lie within its node cube grown by reach x the node's half edge
+    // whether the subtree of the cube (c, half) can weigh at a query
+    bool reaches(const Vec3& c, double half) const {
+        const double m = half * (1 + reach);
+        return c.x + m >= qlo.x && c.x - m <= qhi.x && c.y + m >= qlo.y && c.y - m <= qhi.y && c.z + m >= qlo.z && c.z - m <= qhi.z;
+    }
+    // whether every point of the whole set inside the sphere (c, r) was given
+    bool holds(const Vec3& c, double r) const {
+        return c.x - r >= llo.x && c.x + r <= lhi.x && c.y - r >= llo.y && c.y + r <= lhi.y && c.z - r >= llo.z && c.z + r <= lhi.z;
+    }
+    // FieldRegion::missing and ::present for frame spheres (null: unknown)
+    std::function<std::uint64_t(const Vec3&, double)> missing_in, present_in;
+};
+
 struct OctreeBuilder {
     const std::vector<Vec3>& pos;
     std::uint32_t max_pts, min_pts, max_depth;
     double alpha;
     double blend_alpha;  // a leaf's blend sphere: blend_alpha x its diagonal (<= its fit sphere)
     bool data_flat;  // every point in one plane or line: no leaf can find a point off its plane
+    const RegionBoxes* region;  // null: the whole set; else subtrees that cannot weigh at a query are pruned
     struct NodeRec {
         Vec3 c;
         double half, r, rsub;
@@ -56,8 +77,31 @@ struct OctreeBuilder {
     std::vector<std::pair<std::uint64_t, std::uint32_t>> leaf_range{};  // (first, count) per local
     std::vector<Ancestor> path{};                            // ancestors, root first
     std::vector<std::pair<double, std::uint32_t>> near{};
-    std::uint64_t grown = 0, capped = 0, spanned = 0;
+    std::uint64_t grown = 0, capped = 0, spanned = 0, pruned = 0;
     std::uint32_t depth_reached = 0;
+    bool inexact = false;  // a list this region build read may lack points of the whole set
+
+    // At least the whole set's points inside the sphere (c, r) that this build was not given (0:
+    // its list is the whole set's; a whole-set build: always 0).
+    std::uint64_t missing(const Vec3& c, double r) const {
+        if (!region || region->holds(c, r)) return 0;
+        if (!region->missing_in) return std::numeric_limits<std::uint32_t>::max();
+        return region->missing_in(c, r);
+    }
+    // At least the whole set's points inside the sphere (c, r) (a region build's lower bound; 0
+    // when unknown or held: the list's own count then decides).
+    std::uint64_t present(const Vec3& c, double r) const {
+        if (!region || !region->present_in || region->holds(c, r)) return 0;
+        return region->present_in(c, r);
+    }
+    // A decision or list that holds for the whole set only when `exact`.
+    // (the ball (c, r), frame units, whose points it needs: collected for the caller to load)
+    std::vector<std::pair<Vec3, double>> lacking{};
+    void need(bool exact, const Vec3& c, double r) {
+        if (exact) return;
+        inexact = true;
+        lacking.emplace_back(c, r);
+    }
 
     double radius_of(double half) const { return alpha * 2.0 * std::sqrt(3.0) * half; }
 
@@ -82,6 +126,9 @@ struct OctreeBuilder {
         grown += sub.grown;
         spanned += sub.spanned;
         capped += sub.capped;
+        pruned += sub.pruned;
+        inexact = inexact || sub.inexact;
+        lacking.insert(lacking.end(), sub.lacking.begin(), sub.lacking.end());
         depth_reached = std::max(depth_reached, sub.depth_reached);
     }
 
@@ -111,7 +158,14 @@ struct OctreeBuilder {
         depth_reached = std::max(depth_reached, depth);
         const Vec3 c = nodes[node].c;
         const double r = nodes[node].r;
-        if (inside.size() > max_pts && depth < max_depth) {
+        if (region && depth > 0 && !region->reaches(c, nodes[node].half)) {  // weighs at no query: no local
+            nodes[node].r = 0;
+            ++pruned;
+            return;
+        }
+        // (a region build: a sphere past the loaded points whose cells surely hold more than N
+        // points is split as the whole set's is)
+        if ((inside.size() > max_pts || (region && inside.size() <= max_pts && present(c, r) > max_pts)) && depth < max_depth) {
             const std::int32_t first = static_cast<std::int32_t>(nodes.size());
             nodes[node].child = first;
             const double h = nodes[node].half * 0.5;
@@ -131,7 +185,7 @@ struct OctreeBuilder {
                 std::vector<OctreeBuilder> sub;
                 sub.reserve(8);
                 for (int q = 0; q < 8; ++q) {
-                    sub.push_back(OctreeBuilder{pos, max_pts, min_pts, max_depth, alpha, blend_alpha, data_flat, {}, {}, {}, path, {}});
+                    sub.push_back(OctreeBuilder{pos, max_pts, min_pts, max_depth, alpha, blend_alpha, data_flat, region, {}, {}, {}, path, {}});
                     sub.back().nodes.push_back(nodes[static_cast<std::size_t>(first + q)]);
                 }
                 tbb::parallel_for(0, 8, [&](int q) { sub[q].build(0, std::move(in[static_cast<std::size_t>(q)]), depth + 1); });
@@ -142,10 +196,15 @@ struct OctreeBuilder {
             path.pop_back();
             return;
         }
-        // Leaf.
+        // Leaf. A region build checks every decision and list against the points it lacks (need):
+        // counts compared with a threshold hold when the missing points cannot cross it, a list of
+        // nearest points when its ball lacks none.
+        const std::uint64_t missing_here = missing(c, r);
+        if (depth < max_depth) need(inside.size() + missing_here <= max_pts, c, r);
         const std::uint64_t first = flat.size();
         bool leaf_grown = false;
         if (inside.size() > max_pts) {  // depth limit: keep the nearest max_pts
+            need(missing_here == 0, c, r);
             near.clear();
             for (std::uint32_t i : inside) {
                 const Vec3 e = pos[i] - c;
@@ -175,6 +234,7 @@ struct OctreeBuilder {
                 std::nth_element(near.begin(), near.begin() + (min_pts - 1), near.end());
                 rfit = std::max(rb, std::sqrt(near[min_pts - 1].first) * (1 + 1e-9) + 1e-300);
             }
+            need(missing(c, rfit) == 0, c, rfit);
             const double rf2 = rfit * rfit;
             std::vector<std::uint32_t> keep;
             keep.reserve(std::max<std::size_t>(within, min_pts));
@@ -186,9 +246,14 @@ struct OctreeBuilder {
         } else if (inside.size() < min_pts && !path.empty()) {
             // Grow the sphere to hold min_pts points, searching the nearest ancestor whose sphere
             // is guaranteed to contain the grown one (the root contains every point).
+            need(inside.size() + missing_here < min_pts, c, r);
             for (std::size_t a = path.size(); a-- > 0;) {
                 const std::vector<std::uint32_t>& list = *path[a].points;
-                if (list.size() < min_pts && a > 0) continue;
+                const std::uint64_t missing_a = missing(path[a].c, path[a].r);
+                if (list.size() < min_pts && a > 0) {
+                    need(list.size() + missing_a < min_pts, path[a].c, path[a].r);
+                    continue;
+                }
                 near.clear();
                 for (std::uint32_t i : list) {
                     const Vec3 e = pos[i] - c;
@@ -197,6 +262,8 @@ struct OctreeBuilder {
                 const std::size_t k = std::min<std::size_t>(min_pts, near.size()) - 1;
                 std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(k), near.end());
                 const double rk = std::sqrt(near[k].first) * (1 + 1e-9) + 1e-300;
+                if (list.size() < min_pts) need(missing_a == 0, path[a].c, path[a].r);
+                else need(missing(c, rk) == 0, c, rk);
                 const double rnew = std::max(r, rk);
                 if (a > 0 && rnew + norm(path[a].c - c) > path[a].r) continue;
                 const double rn2 = rnew * rnew;
@@ -208,6 +275,8 @@ struct OctreeBuilder {
                 leaf_grown = true;
                 break;
             }
+        } else {
+            need(missing_here == 0, c, r);  // the list as it is (a count at min_pts could be higher)
         }
         // A flat leaf (coplanar or collinear points: layers or grid planes farther apart than the
         // leaves) also takes the nearest points off its plane or line, from the nearest ancestor
@@ -224,9 +293,20 @@ struct OctreeBuilder {
                     near.clear();
                     for (std::uint32_t i : *path[a].points)
                         if (h->off(pos[i])) near.emplace_back(dot(pos[i] - c, pos[i] - c), i);
-                    if (near.size() < extra && a > 0 && path[a - 1].points->size() <= kSpanPoints) continue;
+                    const std::uint64_t missing_a = near.size() < extra ? missing(path[a].c, path[a].r) : 0;
+                    if (a > 0 && path[a - 1].points->size() <= kSpanPoints)
+                        need(path[a - 1].points->size() + missing(path[a - 1].c, path[a - 1].r) <= kSpanPoints, path[a - 1].c, path[a - 1].r);
+                    if (near.size() < extra && a > 0 && path[a - 1].points->size() <= kSpanPoints) {
+                        need(near.size() + missing_a < extra, path[a].c, path[a].r);
+                        continue;
+                    }
                     const std::size_t take = std::min<std::size_t>(extra, near.size());
                     std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(take), near.end());
+                    if (near.size() < extra) need(missing_a == 0, path[a].c, path[a].r);
+                    else if (take > 0) {
+                        const double rt = std::sqrt(near[take - 1].first) * (1 + 1e-9);
+                        need(missing(c, rt) == 0, c, rt);
+                    }
                     for (std::size_t q = 0; q < take; ++q) inside.push_back(near[q].second);
                     std::sort(inside.begin(), inside.end());
                     inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
@@ -246,7 +326,7 @@ struct OctreeBuilder {
 }  // namespace
 
 MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats,
-                   const FieldProgress& progress, const FitShare* share) {
+                   const FieldProgress& progress, const FitShare* share, const FieldRegion* region) {
     if (params.mpu_max_points < 8) throw InvalidArgument("mpu: N (mpu_max_points) must be >= 8");
     if (params.mpu_min_points < 1 || params.mpu_min_points > params.mpu_max_points)
         throw InvalidArgument("mpu: mpu_min_points must be in 1..N");
@@ -257,21 +337,39 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
     if (params.mpu_max_depth < 1 || params.mpu_max_depth > 60) throw InvalidArgument("mpu: mpu_max_depth must be in 1..60");
     FieldBuildStats local_stats;
     FieldBuildStats& st = stats ? *stats : local_stats;
-    MergedPoints mp = prepare_field_points(points, params, "mpu", &st);
+    // The whole set's frame (origin, scales, root cube, Hardy's c, merge tolerance, flatness): a
+    // region build takes it from the caller, so that it builds the same tree over its part.
+    const FieldFrame frame = region ? region->frame : field_frame_of(points.pos);
+    MergedPoints mp = prepare_field_points(points, params, "mpu", &st, frame);
     origin_ = mp.origin;
     scale_ = mp.scale;
-    bounds_ = points.bounds();
+    bounds_ = frame.bounds;
     const double c = hardy_c_world_for(params, bounds_);
-    const auto [lo, hi] = bounding_box(mp.pos);
+    const auto [lo, hi] = frame_box(mp, frame.bounds);  // (the points' frame bounding box, bit for bit)
     morton_order_points(mp, lo, hi);  // cache-friendly node lists and fits
     const std::vector<Vec3> pts = std::move(mp.pos);
     const std::vector<double>& val = mp.value;
+    std::optional<RegionBoxes> boxes;
+    if (region) {
+        const auto q = frame_box(mp, region->query), l = frame_box(mp, region->loaded);
+        const double shrink = 2 * mp.tolerance * std::max({scale_.x, scale_.y, scale_.z});
+        const Vec3 sv{shrink, shrink, shrink};
+        boxes = RegionBoxes{q[0], q[1], l[0] + sv, l[1] - sv, params.mpu_blend_alpha * 2.0 * std::sqrt(3.0), {}, {}};
+        // frame sphere -> world: a ball around (missing) or inside (present) the ellipsoid it is
+        const Vec3 o = origin_, sc = scale_;
+        const double smin = std::min({sc.x, sc.y, sc.z}), smax = std::max({sc.x, sc.y, sc.z});
+        const auto world = [o, sc](const Vec3& c) { return Vec3{c.x / sc.x + o.x, c.y / sc.y + o.y, c.z / sc.z + o.z}; };
+        if (region->missing)
+            boxes->missing_in = [world, smin, &m = region->missing](const Vec3& c, double r) { return m(world(c), r / smin * (1 + 1e-9)); };
+        if (region->present)
+            boxes->present_in = [world, smax, &p = region->present](const Vec3& c, double r) { return p(world(c), r / smax * (1 - 1e-9)); };
+        region_ = true;
+    }
 
     const Vec3 w = hi - lo;
     const double wmax = std::max({w.x, w.y, w.z});
-    const bool data_flat = all_flat(pts);
     OctreeBuilder b{pts, params.mpu_max_points, params.mpu_min_points, params.mpu_max_depth, params.mpu_alpha,
-                    params.mpu_blend_alpha, data_flat, {}, {}, {}, {}, {}};
+                    params.mpu_blend_alpha, frame.data_flat, boxes ? &*boxes : nullptr, {}, {}, {}, {}, {}};
     OctreeBuilder::NodeRec root;
     root.c = (lo + hi) * 0.5;
     root.half = wmax > 0 ? 0.5 * wmax * (1 + 1e-9) : 1.0;
@@ -290,6 +388,18 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         b.build(0, std::move(inside), 0);
     }
     if (b.flat.size() > 0xFFFFFFF0ull) throw InvalidArgument("mpu: too many local points (" + std::to_string(b.flat.size()) + ")");
+    pruned_ = b.pruned;
+    region_exact_ = !b.inexact;
+    if (region) {  // the balls to load, in world units (a ball around the frame ellipsoid)
+        const double smin = std::min({scale_.x, scale_.y, scale_.z});
+        for (const auto& [fc, fr] : b.lacking)
+            lacking_.push_back({Vec3{fc.x / scale_.x + origin_.x, fc.y / scale_.y + origin_.y, fc.z / scale_.z + origin_.z}, fr / smin * (1 + 1e-9)});
+    }
+    if (!region_exact_) {  // the caller builds again over more points: no fits (most of the build's time)
+        st.octree_nodes = b.nodes.size();
+        st.octree_depth = b.depth_reached;
+        return;
+    }
 
     nodes_.resize(b.nodes.size());
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
@@ -420,7 +530,7 @@ void MpuField::gather_fits(const FitShare& share, const std::function<std::pair<
 std::vector<MpuField::LeafInfo> MpuField::leaves() const {
     std::vector<LeafInfo> out(locals_.size());
     for (const Node& n : nodes_)
-        if (n.child < 0)
+        if (n.child < 0 && n.local >= 0)
             out[static_cast<std::size_t>(n.local)] = {Vec3{n.c.x / scale_.x, n.c.y / scale_.y, n.c.z / scale_.z} + origin_, n.half, n.r};
     return out;
 }
@@ -450,7 +560,7 @@ void MpuField::lookup_geometry(int level) {
     // Leaf spheres in leaf order; a uniform grid of 2^level cells a side over the root cube.
     leaf_.resize(locals_.size());
     for (const Node& nd : nodes_)
-        if (nd.child < 0) leaf_[static_cast<std::size_t>(nd.local)] = LeafSphere{nd.c, nd.r, nd.r * nd.r};
+        if (nd.child < 0 && nd.local >= 0) leaf_[static_cast<std::size_t>(nd.local)] = LeafSphere{nd.c, nd.r, nd.r * nd.r};
     const Node& root = nodes_[0];
     g_ = std::int64_t{1} << level;
     g_lo_ = root.c - Vec3{root.half, root.half, root.half};
@@ -620,6 +730,7 @@ std::uint32_t MpuField::batch_key(const Vec3& pw) const {
 }
 
 void MpuField::evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
+    if (!region_exact_) throw InvalidArgument("mpu: a region build that lacked points has no fits to evaluate");
     PuBlend blend;
     EvalScratch sc;
     const bool want_grad = !grad.empty();
@@ -655,7 +766,7 @@ void MpuField::find_leaves(const Vec3& x, EvalScratch& sc) const {
             for (int q = 7; q >= 0; --q) stack[top_++] = nd.child + q;
             continue;
         }
-        add_leaf(static_cast<std::size_t>(nd.local), x, sc);
+        if (nd.local >= 0) add_leaf(static_cast<std::size_t>(nd.local), x, sc);
     }
 }
 
@@ -691,6 +802,7 @@ void MpuField::eval_one(const Vec3& pw, double& value, Vec3* grad, PuBlend& blen
 namespace meshless {
 
 void MpuField::save_state(FieldStateWriter& w) const {
+    if (region_) throw InvalidArgument("mpu: a field built over one region of the points cannot be saved");
     put_frame(w, origin_, scale_, bounds_);
     std::vector<double> nf;
     std::vector<std::int32_t> links;

@@ -50,6 +50,7 @@
 
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
+#include "kernels/field_region.hpp"
 #include "kernels/field_state.hpp"
 #include "kernels/multiquadric.hpp"
 #include "kernels/multiquadric_sum.hpp"
@@ -62,9 +63,23 @@ class MpuField final : public Field {
 public:
     /// progress (optional): the local fits as they finish (kernels/field_params.hpp, FieldProgress).
     /// share (optional): fit only this rank's range of the locals and gather the others' (FitShare).
+    /// region (optional): `points` are the whole set's points inside region->loaded; the octree is
+    /// built in the whole set's frame and only where a leaf can weigh at a point of region->query
+    /// (the other subtrees are pruned: no local), so evaluate() there gives the whole set's field's
+    /// bits as long as region_exact() (kernels/field_region.hpp).
     /// Throws FormatError when the gathered bytes do not hold the other ranks' ranges.
     MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats = nullptr,
-             const FieldProgress& progress = {}, const FitShare* share = nullptr);
+             const FieldProgress& progress = {}, const FitShare* share = nullptr, const FieldRegion* region = nullptr);
+    /// A region build: whether every point list it read (a leaf's sphere; the ancestors a grown or
+    /// flat leaf searched) lay inside the loaded box. When false the build stopped before the local
+    /// fits (evaluate() throws InvalidArgument) and the caller loads the lacking balls and builds
+    /// again. Always true for a whole-set build.
+    bool region_exact() const { return region_exact_; }
+    /// A region build: the octree nodes pruned (their subtrees weigh at no query).
+    std::uint64_t pruned_nodes() const { return pruned_; }
+    /// A region build that was not exact: the world balls (centre, radius) whose points a decision
+    /// or a list needed and lacked (load them and build again).
+    const std::vector<std::pair<Vec3, double>>& lacking_balls() const { return lacking_; }
     void evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const override;
     std::array<Vec3, 2> bounds() const override { return bounds_; }
     std::string name() const override { return "mpu"; }
@@ -143,6 +158,9 @@ private:
     void select_leaves(const std::uint32_t* cand, std::size_t n, const Vec3& x, EvalScratch& sc) const;  // the same for n
     void blend_leaves(const Vec3& x, bool want_grad, EvalScratch& sc, PuBlend& blend) const;
 
+    bool region_ = false, region_exact_ = true;  // built over a region (kernels/field_region.hpp); its lists whole
+    std::uint64_t pruned_ = 0;
+    std::vector<std::pair<Vec3, double>> lacking_;
     Vec3 origin_, scale_{1, 1, 1};  // frame = (world - origin_) * scale_
     std::array<Vec3, 2> bounds_;
     std::vector<Node> nodes_;

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <optional>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -38,8 +40,22 @@ struct PointCoverage::Impl {
     std::vector<double> reach;  ///< factor * h_i
     std::vector<double> values; ///< empty: no range, no nearest values
     double global_lo = 0, global_hi = 0;
+    double factor = 1;
+    std::optional<std::array<Vec3, 2>> held;     ///< a part of a whole set: the box whose points were given
+    mutable std::atomic<bool> inexact{false};    ///< a query read a neighbourhood reaching beyond `held`
 
-    void build(double factor) {
+    // Notes a neighbourhood a query read: the ball (c, r) must lie inside the given points' box.
+    void note(const Vec3& c, double r) const {
+        if (!held) return;
+        const auto& [lo, hi] = *held;
+        if (!(c.x - r >= lo.x && c.x + r <= hi.x && c.y - r >= lo.y && c.y + r <= hi.y && c.z - r >= lo.z && c.z + r <= hi.z))
+            inexact.store(true, std::memory_order_relaxed);
+    }
+    // the ball of point i's spacing neighbours (reach / factor, rounded up)
+    void note_point(std::size_t i) const { note(cloud.pts[i], reach[i] / factor * (1 + 1e-9)); }
+
+    void build(double f) {
+        factor = f;
         const std::size_t n = cloud.pts.size();
         if (n == 0) return;
         tree = std::make_unique<Tree>(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
@@ -70,12 +86,16 @@ struct PointCoverage::Impl {
             unsigned i0 = 0;
             double d20 = 0;
             if (tree->knnSearch(q, 1, &i0, &d20) == 0) return false;
+            note(x, std::sqrt(d20) * (1 + 1e-9));
+            note_point(i0);
             if (std::sqrt(d20) <= reach[i0]) return true;
         }
         std::array<unsigned, kSurroundNeighbours> idx{};
         std::array<double, kSurroundNeighbours> d2{};
         const std::size_t got = tree->knnSearch(q, std::min(kSurroundNeighbours, cloud.pts.size()), idx.data(), d2.data());
         if (got == 0) return false;
+        note(x, std::sqrt(d2[got - 1]) * (1 + 1e-9));
+        for (std::size_t j = 0; j < got; ++j) note_point(idx[j]);
         const double d0 = std::sqrt(d2[0]);
         if (d0 <= reach[idx[0]]) return true;  // (a) (the same point: nanoflann's 1-NN and 12-NN searches agree on it)
         if (got < 4) return false;
@@ -122,6 +142,13 @@ PointCoverage::PointCoverage(std::span<const Vec3> points, std::span<const doubl
 }
 
 PointCoverage::~PointCoverage() = default;
+
+void PointCoverage::set_part_of(const std::array<Vec3, 2>& held) {
+    impl_->held = held;
+    impl_->inexact.store(false);
+}
+
+bool PointCoverage::part_exact() const { return !impl_->inexact.load(); }
 
 bool PointCoverage::covered(const Vec3& x) const { return impl_->covered(x); }
 

@@ -19,6 +19,7 @@
 // kNN via nanoflann (the only file that includes it). Immutable after construction; every query
 // is thread-safe. Throws std::bad_alloc only; InvalidArgument when values and points differ in size.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -51,6 +52,12 @@ public:
     PointCoverage(const PointCoverage&) = delete;
     PointCoverage& operator=(const PointCoverage&) = delete;
     bool covered(const Vec3& x) const;
+    /// The points are the part of a whole set inside the box `held` (world; an axis may be
+    /// unbounded) (kernels/field_region.hpp): from now on every query notes whether the
+    /// neighbourhoods it reads (its nearest points, and theirs for the spacing) lie inside it, so
+    /// that its answer is the whole set's; part_exact() says whether all of them did.
+    void set_part_of(const std::array<Vec3, 2>& held);
+    bool part_exact() const;
     /// Sets value[i] (and grad[i]) to NaN where p[i] is not covered; returns how many.
     std::size_t mask(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const;
     /// The support test, then: covered values kept within the data range (when values were given),

@@ -89,31 +89,56 @@ int median_level(std::vector<int> levels) {
     return levels[m];
 }
 
+std::array<bool, 3> binning_split_axes(const std::array<Vec3, 2>& bounds, const BinningGridParams& params) {
+    const Vec3 ext = bounds[1] - bounds[0];
+    const double emax = std::max({ext.x, ext.y, ext.z});
+    std::array<bool, 3> split{};
+    for (int a = 0; a < 3; ++a) split[static_cast<std::size_t>(a)] = ext[a] > params.degenerate_axis * emax;
+    return split;
+}
+
+Vec3 binning_unit_position(const Vec3& p, const std::array<Vec3, 2>& bounds, const std::array<bool, 3>& split) {
+    const Vec3 ext = bounds[1] - bounds[0];
+    auto scaled = [&](double v, int a) {
+        return split[static_cast<std::size_t>(a)] ? std::clamp((v - bounds[0][a]) / ext[a], 0.0, 1.0) : 0.0;
+    };
+    return {scaled(p.x, 0), scaled(p.y, 1), scaled(p.z, 2)};
+}
+
+void check_binning_input(std::uint64_t n, const std::array<Vec3, 2>& bounds, const BinningGridParams& params) {
+    if (n == 0) throw InvalidArgument("binning grid: no points");
+    if (n >= std::numeric_limits<std::uint32_t>::max()) throw InvalidArgument("binning grid: more than 2^32 - 1 points");
+    if (params.max_cells < 27) throw InvalidArgument("binning grid: max_cells below 27 (one 3x3x3 stencil)");
+    const Vec3 ext = bounds[1] - bounds[0];
+    if (!(std::max({ext.x, ext.y, ext.z}) > 0)) throw InvalidArgument("binning grid: every point coincides");
+}
+
 BinningGrid make_binning_grid(std::span<const Vec3> pos, const BinningGridParams& params) {
     if (pos.empty()) throw InvalidArgument("binning grid: no points");
-    if (pos.size() >= std::numeric_limits<std::uint32_t>::max()) throw InvalidArgument("binning grid: more than 2^32 - 1 points");
-    if (params.max_cells < 27) throw InvalidArgument("binning grid: max_cells below 27 (one 3x3x3 stencil)");
-    BinningGrid g;
     Vec3 lo = pos[0], hi = pos[0];
     for (const Vec3& p : pos) {
         lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
         hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
-    g.bounds = {lo, hi};
-    const Vec3 ext = hi - lo;
-    const double emax = std::max({ext.x, ext.y, ext.z});
-    if (!(emax > 0)) throw InvalidArgument("binning grid: every point coincides");
-    std::array<bool, 3> split{};
-    for (int a = 0; a < 3; ++a) {
-        g.degenerate[static_cast<std::size_t>(a)] = !(ext[a] > params.degenerate_axis * emax);
-        split[static_cast<std::size_t>(a)] = !g.degenerate[static_cast<std::size_t>(a)];
-    }
+    const std::array<Vec3, 2> bounds{lo, hi};
+    check_binning_input(pos.size(), bounds, params);
+    const std::array<bool, 3> split = binning_split_axes(bounds, params);
     // rescale into the unit cube, axis by axis
     std::vector<Vec3> unit(pos.size());
-    auto scaled = [&](double v, int a) { return split[static_cast<std::size_t>(a)] ? std::clamp((v - lo[a]) / ext[a], 0.0, 1.0) : 0.0; };
-    for (std::size_t i = 0; i < pos.size(); ++i) unit[i] = {scaled(pos[i].x, 0), scaled(pos[i].y, 1), scaled(pos[i].z, 2)};
-    g.rule_level = median_level(binning_rule_levels(unit, split, params.max_depth));
+    for (std::size_t i = 0; i < pos.size(); ++i) unit[i] = binning_unit_position(pos[i], bounds, split);
+    const int rule_level = median_level(binning_rule_levels(unit, split, params.max_depth));
     unit = {};
+    return binning_grid_of(bounds, rule_level, params);
+}
+
+BinningGrid binning_grid_of(const std::array<Vec3, 2>& bounds, int rule_level, const BinningGridParams& params) {
+    BinningGrid g;
+    g.bounds = bounds;
+    const auto [lo, hi] = bounds;
+    const Vec3 ext = hi - lo;
+    const std::array<bool, 3> split = binning_split_axes(bounds, params);
+    for (int a = 0; a < 3; ++a) g.degenerate[static_cast<std::size_t>(a)] = !split[static_cast<std::size_t>(a)];
+    g.rule_level = rule_level;
 
     auto cells_at = [&](int l) {
         double c = 1;

@@ -79,6 +79,17 @@ int median_level(std::vector<int> levels);
 /// The binning grid of `pos` (see above).
 BinningGrid make_binning_grid(std::span<const Vec3> pos, const BinningGridParams& params = {});
 
+/// The grid of points with bounding box `bounds` for which the depth-first rule asked for
+/// `rule_level` (make_binning_grid's last step; kernels/binning_rule_scan.hpp finds the level
+/// without holding the points).
+BinningGrid binning_grid_of(const std::array<Vec3, 2>& bounds, int rule_level, const BinningGridParams& params = {});
+/// The axes the rule's octree splits: those whose extent is above degenerate_axis x the largest.
+std::array<bool, 3> binning_split_axes(const std::array<Vec3, 2>& bounds, const BinningGridParams& params);
+/// p rescaled into the unit cube of `bounds` (0 along an unsplit axis), as the rule sees it.
+Vec3 binning_unit_position(const Vec3& p, const std::array<Vec3, 2>& bounds, const std::array<bool, 3>& split);
+/// make_binning_grid's refusals for n points with bounding box `bounds` (InvalidArgument).
+void check_binning_input(std::uint64_t n, const std::array<Vec3, 2>& bounds, const BinningGridParams& params);
+
 /// Points counted into the cells of a grid: the points of cell c are order[start[c] .. start[c+1]).
 struct BinnedPoints {
     std::vector<std::uint32_t> start;  ///< size cell_count() + 1

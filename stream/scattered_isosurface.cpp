@@ -26,8 +26,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-/// The most data points one 3x3x3 stencil holds (before regularisation).
-std::int64_t largest_stencil(const BinningGrid& g, const BinnedPoints& b) {
+}  // namespace
+
+std::int64_t largest_stencil_points(const BinningGrid& g, const BinnedPoints& b) {
     const StencilGrid sg(g.dims);
     std::int64_t most = 0;
     for (std::int64_t s = 0; s < sg.total(); ++s) {
@@ -43,6 +44,8 @@ std::int64_t largest_stencil(const BinningGrid& g, const BinnedPoints& b) {
     }
     return most;
 }
+
+namespace {
 
 std::size_t distinct_positions(const std::vector<Vec3>& pos, std::size_t enough) {
     std::vector<Vec3> p(pos);
@@ -64,31 +67,34 @@ std::string format(const char* fmt, auto... args) {
     return s;
 }
 
-void warn_about_grid(const ScatteredIsosurfaceInput& in, const std::string& name, const BinningGridParams& bp,
-                     const InputWarning& warn) {
-    const int degenerate = int(in.grid.degenerate[0]) + int(in.grid.degenerate[1]) + int(in.grid.degenerate[2]);
+}  // namespace
+
+void warn_about_binning(const BinningGrid& grid, std::int64_t most, std::uint64_t points, const std::string& name,
+                        const BinningGridParams& bp, const InputWarning& warn) {
+    const int degenerate = int(grid.degenerate[0]) + int(grid.degenerate[1]) + int(grid.degenerate[2]);
     if (degenerate > 0) {
         std::string axes;
         for (int ax = 0; ax < 3; ++ax)
-            if (in.grid.degenerate[static_cast<std::size_t>(ax)]) axes += std::string(axes.empty() ? "" : ", ") + axis_name(ax);
+            if (grid.degenerate[static_cast<std::size_t>(ax)]) axes += std::string(axes.empty() ? "" : ", ") + axis_name(ax);
         warn(name, format("all points lie on a %s (no extent along %s): the binning grid gives %s one cell; the surface is "
                           "the field's where it defines one off the data",
                           degenerate == 1 ? "plane" : "line", axes.c_str(), degenerate == 1 ? "that axis" : "those axes"));
     }
-    if (in.grid.coarsened)
+    if (grid.coarsened)
         warn(name, format("the binning rule asks for level %d (%lld cells); coarsened to level %d (%lld cells) by --max-cells "
                           "%lld / --max-level %d: stencils hold more points",
-                          in.grid.rule_level,
-                          static_cast<long long>(std::pow(std::ldexp(1.0, in.grid.rule_level) + 2, 3 - degenerate) * std::pow(3.0, degenerate)),
-                          in.grid.level, static_cast<long long>(in.grid.cell_count()), static_cast<long long>(bp.max_cells), bp.max_level));
+                          grid.rule_level,
+                          static_cast<long long>(std::pow(std::ldexp(1.0, grid.rule_level) + 2, 3 - degenerate) * std::pow(3.0, degenerate)),
+                          grid.level, static_cast<long long>(grid.cell_count()), static_cast<long long>(bp.max_cells), bp.max_level));
     // section 5.8: "pathological point distributions ... causing the tetrahedrization of a possibly large
     // number of points" (e.g. two far-apart clusters: the depth-first rule stops at the root)
-    const std::int64_t most = largest_stencil(in.grid, in.bins);
-    if (most > 20000 && double(most) > 0.25 * double(in.points.size()))
-        warn(name, format("one 3x3x3 stencil of the level-%d binning grid holds %lld of the %zu points (a pathological "
+    if (most > 20000 && double(most) > 0.25 * double(points))
+        warn(name, format("one 3x3x3 stencil of the level-%d binning grid holds %lld of the %llu points (a pathological "
                           "distribution for the binning rule, section 5.8): its Delaunay runs on one thread",
-                          in.grid.level, static_cast<long long>(most), in.points.size()));
+                          grid.level, static_cast<long long>(most), static_cast<unsigned long long>(points)));
 }
+
+namespace {
 
 std::array<Vec3, 2> frame_box(const BinningGrid& g, double max_travel) {
     const double pad = max_travel * g.diagonal() * (1 + 1e-6);
@@ -128,7 +134,7 @@ ScatteredIsosurfaceInput bin_scattered_points(PointSet points, const std::string
     in.bins = bin_points(in.grid, in.points.pos);
     in.octree_seconds = since(t0);
     in.reg_gap = reg_gap;
-    if (warn) warn_about_grid(in, name, bp, warn);
+    if (warn) warn_about_binning(in.grid, largest_stencil_points(in.grid, in.bins), in.points.size(), name, bp, warn);
     return in;
 }
 
@@ -152,25 +158,29 @@ double build_alongside_coverage(ScatteredIsosurfaceInput& in, int threads, const
 }
 
 StreamMeta scattered_isosurface_meta(const ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer) {
+    return scattered_isosurface_meta(in.grid, in.points.size(), in.points.value_range(), in.source, iso, n, producer);
+}
+
+StreamMeta scattered_isosurface_meta(const BinningGrid& grid, std::uint64_t points, const std::array<double, 2>& range,
+                                     const std::string& source, double iso, int n, const std::string& producer) {
     const double max_travel = kDefaultMaxTravel;
     StreamMeta m;
-    const auto range = in.points.value_range();
-    m.set("source", in.source);
+    m.set("source", source);
     m.set("method", "scattered");
     m.set("iso", iso);
     m.set("samples", std::to_string(n));
-    m.set("points", std::to_string(in.points.size()));
-    m.set("binning_level", std::to_string(in.grid.level));
+    m.set("points", std::to_string(points));
+    m.set("binning_level", std::to_string(grid.level));
     m.set("value_min", range[0]);
     m.set("value_max", range[1]);
-    const std::array<Vec3, 2> frame = frame_box(in.grid, max_travel);
+    const std::array<Vec3, 2> frame = frame_box(grid, max_travel);
     m.set("bounds_lo", triple(frame[0]));
     m.set("bounds_hi", triple(frame[1]));
     m.set("frame", "points");  // a box that holds every point, not the surface's: pictures frame the points
-    m.set("volume_bounds_lo", triple(in.grid.bounds[0]));
-    m.set("volume_bounds_hi", triple(in.grid.bounds[1]));
+    m.set("volume_bounds_lo", triple(grid.bounds[0]));
+    m.set("volume_bounds_hi", triple(grid.bounds[1]));
     m.set("frame_travel", max_travel);  // what the frame allows for
-    m.set("frame_cell_diagonal", in.grid.diagonal());
+    m.set("frame_cell_diagonal", grid.diagonal());
     m.set("producer", producer);
     return m;
 }

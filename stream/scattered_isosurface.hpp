@@ -11,6 +11,8 @@
 // depend on the thread count (under MPI: stream/stencil_ranks.hpp). Throws FormatError for
 // unusable data (fewer than 4 distinct points), what the kernels and stages throw otherwise.
 #pragma once
+#include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -74,6 +76,19 @@ double build_alongside_coverage(ScatteredIsosurfaceInput& in, int threads, const
 /// (kDefaultMaxTravel cell diagonals; a longer travel widens it further, widen_frame_for_travel),
 /// so that every point lies inside the recorded bounds. Degenerate axes keep the points' extent.
 StreamMeta scattered_isosurface_meta(const ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer);
+/// The same from the grid, the point count and value range, and the source's name (a point store
+/// read slab by slab: stream/scattered_store_isosurface.hpp).
+StreamMeta scattered_isosurface_meta(const BinningGrid& grid, std::uint64_t points, const std::array<double, 2>& range,
+                                     const std::string& source, double iso, int n, const std::string& producer);
+
+/// The most data points one 3x3x3 stencil holds (before regularisation), from the bins' start
+/// offsets (order may be empty).
+std::int64_t largest_stencil_points(const BinningGrid& g, const BinnedPoints& b);
+
+/// bin_scattered_points' warnings about the grid of `points` points: a plane or line of points, a
+/// coarsened grid, one stencil (holding `largest` points) with most of the points (section 5.8).
+void warn_about_binning(const BinningGrid& grid, std::int64_t largest, std::uint64_t points, const std::string& name,
+                        const BinningGridParams& bp, const InputWarning& warn);
 
 /// What one run did.
 struct ScatteredIsosurfaceStats : SeedProjection {  ///< newton, seed/newton busy seconds

@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -179,6 +181,65 @@ TEST_CASE("isosurface of a .mlc: the samples of the same points as PLY, in anoth
     REQUIRE(pa.size() == pb.size());
     // x y z nx ny nz radius value as float32 (formats/ply_points.hpp)
     CHECK(sorted_records(pa, 32) == sorted_records(pb, 32));
+}
+
+/// 60,000 points uniform in the unit cube with a sphere-like value (0.3 at about the radius 0.3), as CSV.
+std::string uniform_points_csv(std::uint64_t seed) {
+    std::string csv = "x,y,z,value\n";
+    std::uint64_t s = seed;
+    const auto next = [&s] {  // (splitmix64: the same points on every machine)
+        std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+    };
+    char line[160];
+    for (int i = 0; i < 60000; ++i) {
+        const double x = next(), y = next(), z = next();
+        const double v = std::sqrt((x - 0.5) * (x - 0.5) + (y - 0.5) * (y - 0.5) + (z - 0.45) * (z - 0.45)) + 0.05 * std::sin(9 * x);
+        std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f\n", x, y, z, v);
+        csv += line;
+    }
+    return csv;
+}
+
+TEST_CASE("isosurface of a .mlc in slabs within --memory: the bytes of one slab for any budget and --threads", "[cli][point_store]") {
+    TempDir dir("mlc-cli-slabs");
+    const std::string csv = (dir / "u.csv").string(), mlc = (dir / "u.mlc").string();
+    spit(csv, uniform_points_csv(7));
+    REQUIRE(sh("MESHLESS convert " + csv + " -o " + mlc + " --brick-points 256", dir).code == 0);
+    // (--max-travel 0.5: a slab's query box reaches half as far, so 60,000 points make several)
+    const std::string common = " --iso 0.3 --max-travel 0.5 --stats -o ";
+    const std::string one = (dir / "one.ply").string();
+    auto r = sh("MESHLESS isosurface " + mlc + common + one + " --memory 2G -j 2", dir);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.err.find("point store in 1 slabs") != std::string::npos);
+    const std::string want = slurp(one);
+    REQUIRE(want.size() > 100000);
+    for (const char* opts : {"--memory 48M -j 1", "--memory 48M -j 2", "--memory 55M -j 2"}) {
+        INFO(opts);
+        const std::string out = (dir / "slabs.ply").string();
+        r = sh("MESHLESS isosurface " + mlc + common + out + " " + opts, dir);
+        INFO(r.err);
+        REQUIRE(r.code == 0);
+        CHECK(r.err.find("point store in 1 slabs") == std::string::npos);
+        CHECK(r.err.find(" slabs (") != std::string::npos);
+        CHECK(slurp(out) == want);
+    }
+    // the same points read into memory (a PLY): the same samples, in another order
+    const std::string ply = (dir / "u.ply").string(), mem = (dir / "mem.ply").string();
+    REQUIRE(sh("MESHLESS isosurface " + csv + " --iso 0.3 --max-travel 0.5 -o " + mem + " -j 2", dir).code == 0);
+    CHECK(sorted_records(slurp(mem), 32) == sorted_records(want, 32));
+    // a budget below one layer: exit 1, one line saying how much would do, nothing written
+    const std::string small = (dir / "small.ply").string();
+    r = sh("MESHLESS isosurface " + mlc + common + small + " --memory 10M", dir);
+    CHECK(r.code == 1);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK(r.err.find("--memory 10 MiB is too small") != std::string::npos);
+    CHECK(r.err.find("give at least --memory") != std::string::npos);
+    CHECK_FALSE(fs::exists(small));
+    CHECK(temporaries(dir.path).empty());
 }
 
 TEST_CASE("convert -o pts.mlc killed mid-run: no temporaries (SIGKILL: swept by the next run)", "[cli][point_store][signals]") {

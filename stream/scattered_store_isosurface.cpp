@@ -1,0 +1,515 @@
+#include "stream/scattered_store_isosurface.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <mutex>
+#include <numbers>
+#include <optional>
+
+#include "kernels/binning_rule_scan.hpp"
+#include "kernels/errors.hpp"
+#include "kernels/marching_stencils.hpp"
+#include "kernels/mpu_field.hpp"
+#include "stream/dedup_sink.hpp"
+#include "stream/stencil_seed_stage.hpp"
+#include "stream/stencil_source.hpp"
+
+namespace meshless {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Every point of the store, brick by brick, in store order (the order the in-memory path reads).
+void scan_store(const PointStore& store, const std::function<void(std::span<const Vec3>, std::span<const double>)>& visit) {
+    std::vector<double> raw;
+    std::vector<Vec3> pos;
+    std::vector<double> val;
+    for (std::size_t i = 0; i < store.bricks().size(); ++i) {
+        store.read_brick(i, raw);
+        pos.resize(raw.size() / 4);
+        val.resize(raw.size() / 4);
+        for (std::size_t k = 0; k < pos.size(); ++k) {
+            pos[k] = Vec3{raw[4 * k], raw[4 * k + 1], raw[4 * k + 2]};
+            val[k] = raw[4 * k + 3];
+        }
+        visit(pos, val);
+    }
+}
+
+/// Collects a slab's batches until the slab is known to be exact.
+class SlabBuffer final : public Sink {
+public:
+    void consume(Batch&& b) override { batches.push_back(std::move(b)); }
+    void finish() override {}
+    std::vector<Batch> batches;
+};
+
+/// The store's bricks in a uniform grid over its bounds (each listed in the cells its box meets),
+/// to find the bricks a ball or a z range meets without scanning them all.
+class BrickIndex {
+public:
+    explicit BrickIndex(const PointStore& store) : bricks_(store.bricks()) {
+        const PointStoreInfo& in = store.info();
+        lo_ = Vec3{in.lo[0], in.lo[1], in.lo[2]};
+        const Vec3 hi{in.hi[0], in.hi[1], in.hi[2]};
+        side_ = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::cbrt(static_cast<double>(bricks_.size()))), 1, 64);
+        for (int a = 0; a < 3; ++a) inv_[a] = hi[a] > lo_[a] ? static_cast<double>(side_) / (hi[a] - lo_[a]) : 0.0;
+        std::vector<std::vector<std::uint32_t>> lists(static_cast<std::size_t>(side_ * side_ * side_));
+        for (std::size_t i = 0; i < bricks_.size(); ++i) {
+            const auto r = cells(Vec3{bricks_[i].lo[0], bricks_[i].lo[1], bricks_[i].lo[2]}, Vec3{bricks_[i].hi[0], bricks_[i].hi[1], bricks_[i].hi[2]});
+            for (std::int64_t k = r[0][2]; k <= r[1][2]; ++k)
+                for (std::int64_t j = r[0][1]; j <= r[1][1]; ++j)
+                    for (std::int64_t c = r[0][0]; c <= r[1][0]; ++c) lists[static_cast<std::size_t>(c + side_ * (j + side_ * k))].push_back(static_cast<std::uint32_t>(i));
+        }
+        first_.push_back(0);
+        for (const auto& l : lists) {
+            list_.insert(list_.end(), l.begin(), l.end());
+            first_.push_back(list_.size());
+        }
+        stamp_.assign(bricks_.size(), 0);
+    }
+    /// Calls f(i) once for every brick whose box meets the ball (c, r). Not thread-safe.
+    template <class F>
+    void meeting_ball(const Vec3& c, double r, F&& f) const {
+        const auto rc = cells(c - Vec3{r, r, r}, c + Vec3{r, r, r});
+        ++tick_;
+        for (std::int64_t k = rc[0][2]; k <= rc[1][2]; ++k)
+            for (std::int64_t j = rc[0][1]; j <= rc[1][1]; ++j)
+                for (std::int64_t x = rc[0][0]; x <= rc[1][0]; ++x) {
+                    const std::size_t cell = static_cast<std::size_t>(x + side_ * (j + side_ * k));
+                    for (std::size_t q = first_[cell]; q < first_[cell + 1]; ++q) {
+                        const std::uint32_t i = list_[q];
+                        if (stamp_[i] == tick_) continue;
+                        stamp_[i] = tick_;
+                        const PointBrickEntry& b = bricks_[i];
+                        double d2 = 0;
+                        for (int a = 0; a < 3; ++a) {
+                            const double e = c[a] < b.lo[static_cast<std::size_t>(a)] ? b.lo[static_cast<std::size_t>(a)] - c[a]
+                                             : (c[a] > b.hi[static_cast<std::size_t>(a)] ? c[a] - b.hi[static_cast<std::size_t>(a)] : 0.0);
+                            d2 += e * e;
+                        }
+                        if (d2 <= r * r) f(i);
+                    }
+                }
+    }
+
+private:
+    std::array<std::array<std::int64_t, 3>, 2> cells(const Vec3& lo, const Vec3& hi) const {
+        std::array<std::array<std::int64_t, 3>, 2> r{};
+        for (int a = 0; a < 3; ++a) {
+            const double top = static_cast<double>(side_ - 1);
+            const auto ua = static_cast<std::size_t>(a);
+            r[0][ua] = static_cast<std::int64_t>(std::clamp(std::floor((lo[a] - lo_[a]) * inv_[a]), 0.0, top));
+            r[1][ua] = static_cast<std::int64_t>(std::clamp(std::floor((hi[a] - lo_[a]) * inv_[a]), 0.0, top));
+        }
+        return r;
+    }
+    const std::vector<PointBrickEntry>& bricks_;
+    Vec3 lo_;
+    double inv_[3] = {0, 0, 0};
+    std::int64_t side_ = 1;
+    std::vector<std::size_t> first_;
+    std::vector<std::uint32_t> list_;
+    mutable std::vector<std::uint64_t> stamp_;
+    mutable std::uint64_t tick_ = 0;
+};
+
+/// One slab: its stencil layers, the z range of its queries and the bricks it loads: the points
+/// inside the loaded z range of the bricks that meet it, and every point of the `whole` bricks
+/// (those a lacking ball asked for).
+struct Slab {
+    std::int64_t s0 = 0, s1 = 0;
+    std::array<double, 2> query{}, loaded{};  // z ranges, world (loaded: +-infinity beyond the data)
+    std::vector<char> in;                     // per brick: read (1: its points in `loaded`, 2: all)
+    std::uint64_t points = 0;                 // at least the points it loads
+};
+
+class SlabPlanner {
+public:
+    SlabPlanner(const PointStore& store, const ScatteredStorePlan& plan, double pad)
+        : store_(store), plan_(plan), sg_(plan.grid.dims), pad_(pad) {}
+    std::int64_t layers() const { return sg_.count[2]; }
+    std::int64_t stencils_per_layer() const { return sg_.count[0] * sg_.count[1]; }
+    // Stencil layers [s0, s1) with a halo of `halo` world units along z, and the bricks `extra` flags.
+    Slab slab(std::int64_t s0, std::int64_t s1, double halo, const std::vector<char>& extra) const {
+        const BinningGrid& g = plan_.grid;
+        // the regularised block reaches one cell beyond the stencils' cells (kernels/stencil_seeds.cpp)
+        const std::int64_t k0 = 2 * s0 - 1, k1 = stencil_centre(s1 - 1, g.dims[2]) + 3;
+        Slab s;
+        s.s0 = s0;
+        s.s1 = s1;
+        s.query = {g.origin.z + static_cast<double>(k0) * g.cell.z - pad_, g.origin.z + static_cast<double>(k1) * g.cell.z + pad_};
+        s.loaded = {s.query[0] - halo, s.query[1] + halo};
+        if (s.loaded[0] <= plan_.frame.bounds[0].z) s.loaded[0] = -kInf;  // (no points beyond the data)
+        if (s.loaded[1] >= plan_.frame.bounds[1].z) s.loaded[1] = kInf;
+        const auto& bricks = store_.bricks();
+        s.in.assign(bricks.size(), 0);
+        std::uint64_t read = 0, whole = 0;
+        for (std::size_t i = 0; i < bricks.size(); ++i) {
+            s.in[i] = extra[i] ? 2 : !(bricks[i].hi[2] < s.loaded[0] || bricks[i].lo[2] > s.loaded[1]);
+            if (s.in[i]) read += bricks[i].count;
+            if (s.in[i] == 2) whole += bricks[i].count;
+        }
+        // the cell layers meeting the loaded range bound the points kept of the bricks read
+        std::uint64_t layers = 0;
+        for (std::int64_t k = 0; k < g.dims[2]; ++k) {
+            const double z0 = g.origin.z + static_cast<double>(k) * g.cell.z;
+            if (!(z0 + g.cell.z < s.loaded[0] || z0 > s.loaded[1])) layers += plan_.layer_points[static_cast<std::size_t>(k)];
+        }
+        s.points = std::min(read, layers + whole);
+        return s;
+    }
+
+private:
+    const PointStore& store_;
+    const ScatteredStorePlan& plan_;
+    StencilGrid sg_;
+    double pad_;
+};
+
+/// The points of the slab's bricks, in store order.
+PointSet load_slab(const PointStore& store, const Slab& slab, double& seconds) {
+    const auto t0 = Clock::now();
+    PointSet ps;
+    ps.pos.reserve(slab.points);
+    ps.value.reserve(slab.points);
+    std::vector<double> raw;
+    for (std::size_t i = 0; i < slab.in.size(); ++i) {
+        if (!slab.in[i]) continue;
+        store.read_brick(i, raw);
+        const bool all = slab.in[i] == 2;
+        for (std::size_t k = 0; k < raw.size(); k += 4) {
+            if (!all && !(raw[k + 2] >= slab.loaded[0] && raw[k + 2] <= slab.loaded[1])) continue;
+            ps.pos.push_back(Vec3{raw[k], raw[k + 1], raw[k + 2]});
+            ps.value.push_back(raw[k + 3]);
+        }
+    }
+    ps.value_name = store.info().value_name;
+    ps.has_values = store.info().has_values;
+    ps.blocks.push_back(PointSetBlock{std::filesystem::path(store.path()).filename().string(),
+                                      {static_cast<std::int64_t>(ps.pos.size()), 1, 1}, 0, ps.pos.size()});
+    seconds += since(t0);
+    return ps;
+}
+
+void add_seed_stats(StencilSeedStats& to, const StencilSeedStats& s) {
+    auto a = to.as_array();
+    const auto b = s.as_array();
+    for (std::size_t i = 0; i < a.size(); ++i)
+        a[i] = i == StencilSeedStats::kMaxIndex ? std::max(a[i], b[i]) : a[i] + b[i];
+    to = StencilSeedStats::from_array(a);
+}
+
+void add_field_stats(FieldBuildStats& to, const FieldBuildStats& s) {
+    to.locals += s.locals;
+    to.interpolated += s.interpolated;
+    to.regularised += s.regularised;
+    to.linear_fallback += s.linear_fallback;
+    to.polynomial_only += s.polynomial_only;
+    to.capped += s.capped;
+    to.grown += s.grown;
+    to.spanned += s.spanned;
+    to.memory_bytes = std::max(to.memory_bytes, s.memory_bytes);
+}
+
+std::string mib(double bytes) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.0f MiB", std::ceil(bytes / 1048576.0));
+    return b;
+}
+
+}  // namespace
+
+ScatteredStorePlan plan_scattered_store(const PointStore& store, const std::string& source, const BinningGridParams& bp,
+                                        const InputWarning& warn) {
+    const auto t0 = Clock::now();
+    ScatteredStorePlan plan;
+    plan.source = source;
+    plan.dropped_nonfinite = store.info().dropped_nonfinite;
+    if (warn && plan.dropped_nonfinite > 0)
+        warn(store.path(), std::to_string(plan.dropped_nonfinite) + " points with a NaN/Inf position or value dropped");
+    // scan 1: the frame (the bits the in-memory field computes over the same order) and the values
+    FieldFrameBuilder fb;
+    double vmin = kInf, vmax = -kInf;
+    scan_store(store, [&](std::span<const Vec3> pos, std::span<const double> val) {
+        fb.add(pos);
+        for (double v : val) vmin = std::min(vmin, v), vmax = std::max(vmax, v);
+    });
+    plan.frame = fb.finish();
+    plan.value_range = {vmin, vmax};
+    const Vec3 ext = plan.frame.bounds[1] - plan.frame.bounds[0];
+    if (plan.frame.points < 4 || !(std::max({ext.x, ext.y, ext.z}) > 0))
+        throw FormatError(store.path() + ": fewer than 4 distinct point positions; a volume needs at least 4 points not all in one place");
+    // the binning rule, one scan per level it descends
+    int scans = 0;
+    const PointScan positions = [&](const std::function<void(std::span<const Vec3>)>& chunk) {
+        scan_store(store, [&](std::span<const Vec3> pos, std::span<const double>) { chunk(pos); });
+    };
+    plan.grid = binning_grid_of(plan.frame.bounds, binning_rule_level_scanned(positions, plan.frame.points, plan.frame.bounds, bp, &scans), bp);
+    // last scan: the points of every cell (the statistics, the largest stencil, the layer counts)
+    BinnedPoints counts;
+    counts.start.assign(static_cast<std::size_t>(plan.grid.cell_count()) + 1, 0);
+    positions([&](std::span<const Vec3> pos) {
+        for (const Vec3& p : pos) {
+            const auto c = plan.grid.cell_of(p);
+            ++counts.start[static_cast<std::size_t>(plan.grid.index(c[0], c[1], c[2])) + 1];
+        }
+    });
+    plan.scans = scans + 2;
+    const BinningGrid& g = plan.grid;
+    plan.layer_points.assign(static_cast<std::size_t>(g.dims[2]), 0);
+    for (std::int64_t c = 0; c < g.cell_count(); ++c) {
+        const std::uint32_t n = counts.start[static_cast<std::size_t>(c) + 1];
+        const std::int64_t k = c / (g.dims[0] * g.dims[1]), j = (c / g.dims[0]) % g.dims[1], i = c % g.dims[0];
+        plan.layer_points[static_cast<std::size_t>(k)] += n;
+        if (n == 0) {
+            ++plan.empty_cells;
+            const bool border = i == 0 || j == 0 || k == 0 || i == g.dims[0] - 1 || j == g.dims[1] - 1 || k == g.dims[2] - 1;
+            if (!border) ++plan.empty_interior_cells;
+        }
+        plan.max_per_cell = std::max(plan.max_per_cell, n);
+        counts.start[static_cast<std::size_t>(c) + 1] += counts.start[static_cast<std::size_t>(c)];
+    }
+    counts.empty_cells = plan.empty_cells;
+    counts.empty_interior_cells = plan.empty_interior_cells;
+    counts.max_per_cell = plan.max_per_cell;
+    plan.largest_stencil = largest_stencil_points(g, counts);
+    // the summed-area table: T(i, j, k) = the points of cells [0, i) x [0, j) x [0, k)
+    const std::int64_t tx = g.dims[0] + 1, ty = g.dims[1] + 1, tz = g.dims[2] + 1;
+    plan.cell_table.assign(static_cast<std::size_t>(tx * ty * tz), 0);
+    const auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) -> std::uint32_t& {
+        return plan.cell_table[static_cast<std::size_t>(i + tx * (j + ty * k))];
+    };
+    for (std::int64_t k = 1; k < tz; ++k)
+        for (std::int64_t j = 1; j < ty; ++j)
+            for (std::int64_t i = 1; i < tx; ++i) {
+                const std::size_t c = static_cast<std::size_t>(g.index(i - 1, j - 1, k - 1));
+                const std::uint32_t n = counts.start[c + 1] - counts.start[c];
+                at(i, j, k) = n + at(i - 1, j, k) + at(i, j - 1, k) + at(i, j, k - 1) - at(i - 1, j - 1, k) - at(i - 1, j, k - 1) -
+                              at(i, j - 1, k - 1) + at(i - 1, j - 1, k - 1);
+            }
+    if (warn) warn_about_binning(g, plan.largest_stencil, plan.frame.points, store.path(), bp, warn);
+    plan.seconds = since(t0);
+    return plan;
+}
+
+std::uint64_t ScatteredStorePlan::points_in_cells(std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi) const {
+    for (std::size_t a = 0; a < 3; ++a) {
+        lo[a] = std::max<std::int64_t>(lo[a], 0);
+        hi[a] = std::min<std::int64_t>(hi[a], grid.dims[a] - 1);
+        if (lo[a] > hi[a]) return 0;
+    }
+    const std::int64_t tx = grid.dims[0] + 1, ty = grid.dims[1] + 1;
+    const auto t = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+        return static_cast<std::int64_t>(cell_table[static_cast<std::size_t>(i + tx * (j + ty * k))]);
+    };
+    const std::int64_t i0 = lo[0], j0 = lo[1], k0 = lo[2], i1 = hi[0] + 1, j1 = hi[1] + 1, k1 = hi[2] + 1;
+    return static_cast<std::uint64_t>(t(i1, j1, k1) - t(i0, j1, k1) - t(i1, j0, k1) - t(i1, j1, k0) + t(i0, j0, k1) + t(i0, j1, k0) +
+                                      t(i1, j0, k0) - t(i0, j0, k0));
+}
+
+namespace {
+
+// The cells of row (j, k) whose closed box meets (inner: lies inside) the ball (c, r), as an
+// index range [i0, i1] (i0 > i1: none).
+std::array<std::int64_t, 2> row_cells(const BinningGrid& g, std::int64_t j, std::int64_t k, const Vec3& c, double r, bool inner) {
+    // the distance from c to the row's y-z rectangle: nearest point (meets), farthest corner (inside)
+    const auto axis = [&](int a, std::int64_t idx) {
+        const double lo = g.origin[a] + static_cast<double>(idx) * g.cell[a], hi = lo + g.cell[a];
+        if (inner) return std::max(std::abs(c[a] - lo), std::abs(c[a] - hi));
+        return c[a] < lo ? lo - c[a] : (c[a] > hi ? c[a] - hi : 0.0);
+    };
+    const double dy = axis(1, j), dz = axis(2, k);
+    const double rest = r * r - dy * dy - dz * dz;
+    if (rest < 0) return {1, 0};
+    const double h = std::sqrt(rest);
+    const double u0 = (c.x - h - g.origin.x) / g.cell.x, u1 = (c.x + h - g.origin.x) / g.cell.x;
+    const double top = static_cast<double>(g.dims[0]);
+    if (inner)  // cells [i, i + 1] inside [u0, u1]
+        return {static_cast<std::int64_t>(std::clamp(std::ceil(u0), 0.0, top)), static_cast<std::int64_t>(std::clamp(std::floor(u1) - 1, -1.0, top - 1))};
+    return {static_cast<std::int64_t>(std::clamp(std::floor(u0), 0.0, top)), static_cast<std::int64_t>(std::clamp(std::floor(u1), -1.0, top - 1))};
+}
+
+std::array<std::int64_t, 2> cell_span(const BinningGrid& g, int a, double lo, double hi) {
+    const double top = static_cast<double>(g.dims[static_cast<std::size_t>(a)]);
+    return {static_cast<std::int64_t>(std::clamp(std::floor((lo - g.origin[a]) / g.cell[a]), 0.0, top)),
+            static_cast<std::int64_t>(std::clamp(std::floor((hi - g.origin[a]) / g.cell[a]), -1.0, top - 1))};
+}
+
+}  // namespace
+
+std::uint64_t ScatteredStorePlan::points_near(const Vec3& c, double r, const std::array<double, 2>& loaded_z) const {
+    const BinningGrid& g = grid;
+    const auto ys = cell_span(g, 1, c.y - r, c.y + r), zs = cell_span(g, 2, c.z - r, c.z + r);
+    std::uint64_t n = 0;
+    for (std::int64_t k = zs[0]; k <= zs[1]; ++k) {
+        // a layer whose cells lie wholly inside the loaded z range has every point loaded (a
+        // point's cell holds it: cell_of only clamps points on the grid's faces inward)
+        const double z0 = g.origin.z + static_cast<double>(k) * g.cell.z, z1 = z0 + g.cell.z;
+        if (z0 > loaded_z[0] && z1 < loaded_z[1]) continue;
+        for (std::int64_t j = ys[0]; j <= ys[1]; ++j) {
+            const auto is = row_cells(g, j, k, c, r, false);
+            if (is[0] <= is[1]) n += points_in_cells({is[0], j, k}, {is[1], j, k});
+        }
+    }
+    return n;
+}
+
+std::uint64_t ScatteredStorePlan::points_surely_in(const Vec3& c, double r) const {
+    const BinningGrid& g = grid;
+    const auto ys = cell_span(g, 1, c.y - r, c.y + r), zs = cell_span(g, 2, c.z - r, c.z + r);
+    std::uint64_t n = 0;
+    for (std::int64_t k = zs[0]; k <= zs[1]; ++k)
+        for (std::int64_t j = ys[0]; j <= ys[1]; ++j) {
+            const auto is = row_cells(g, j, k, c, r, true);
+            if (is[0] <= is[1]) n += points_in_cells({is[0], j, k}, {is[1], j, k});
+        }
+    return n;
+}
+
+StreamMeta scattered_store_meta(const ScatteredStorePlan& plan, double iso, int n, const std::string& producer) {
+    return scattered_isosurface_meta(plan.grid, plan.frame.points, plan.value_range, plan.source, iso, n, producer);
+}
+
+ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store, const ScatteredStorePlan& plan,
+                                                        const FieldParams& field_params, const ScatteredStoreParams& sp,
+                                                        double iso, int n, const FieldProjectParams& np, double dedup,
+                                                        Sink& out, const RunOptions& opt,
+                                                        const std::function<void(double)>& progress,
+                                                        ScatteredStoreReport* report) {
+    if (field_params.kind != FieldKind::mpu)
+        throw InvalidArgument("a point store runs slab by slab with the mpu field only");
+    if (!std::isfinite(np.seed_max_travel))
+        throw InvalidArgument("a point store runs slab by slab only with a limited Newton travel (--max-travel > 0)");
+    ScatteredStoreReport rep;
+    ScatteredIsosurfaceStats st;
+    std::optional<DedupSink> dedup_sink;
+    if (dedup > 0) dedup_sink.emplace(out, dedup, 0.1 * plan.grid.diagonal());
+    Sink& sink = dedup_sink ? static_cast<Sink&>(*dedup_sink) : out;
+    if (!plan.crosses(iso)) {
+        sink.finish();
+        if (report) *report = rep;
+        return st;
+    }
+    const BinningGrid& g = plan.grid;
+    const double diag = g.diagonal();
+    // Newton's reach from a seed (max travel cell diagonals), one diagonal more for a last trial step
+    const double pad = (np.seed_max_travel + 1) * diag * (1 + 1e-6);
+    const SlabPlanner planner(store, plan, pad);
+    const BrickIndex index(store);
+    const double fixed = 8.0 * static_cast<double>(g.cell_count());  // the bins' index, and slack for the counts
+    const double budget = static_cast<double>(sp.memory_bytes) - fixed;
+    const auto fits = [&](const Slab& s) { return static_cast<double>(s.points) * sp.bytes_per_point <= budget; };
+    const std::vector<char> none(store.bricks().size(), 0);
+    std::uint64_t seq = 0;
+    // The first halo: two MPU fit spheres at the mean density (a leaf whose blend sphere meets the
+    // query box fits the points of its sphere, which holds at most N points: radius (3N / 4 pi rho)^(1/3)
+    // where the density is rho), at least two grid cells; lacking balls add what uneven data needs.
+    const Vec3 ext = plan.frame.bounds[1] - plan.frame.bounds[0];
+    const double volume = std::max(ext.x, g.cell.x) * std::max(ext.y, g.cell.y) * std::max(ext.z, g.cell.z);
+    const double leaf = std::cbrt(3.0 * field_params.mpu_max_points * volume / (4.0 * std::numbers::pi * static_cast<double>(plan.frame.points)));
+    const double halo0 = std::max(2 * g.cell.z, 2 * leaf);
+    for (std::int64_t s0 = 0; s0 < planner.layers();) {
+        double halo = halo0;
+        std::vector<char> extra = none;  // bricks that lacking balls asked for
+        std::int64_t s1 = s0 + 1;
+        while (s1 < planner.layers() && fits(planner.slab(s0, s1 + 1, halo, extra))) ++s1;
+        for (;;) {
+            const Slab slab = planner.slab(s0, s1, halo, extra);
+            if (!fits(slab)) {
+                if (s1 > s0 + 1) { --s1; continue; }
+                // the fullest single layer (before the balls its field may still ask for)
+                std::uint64_t most = slab.points;
+                for (std::int64_t k = 0; k < planner.layers(); ++k) most = std::max(most, planner.slab(k, k + 1, halo0, none).points);
+                throw InvalidArgument("--memory " + mib(static_cast<double>(sp.memory_bytes)) + " is too small for this store: a stencil layer of the " +
+                                      "binning grid and the points its field needs hold up to " + std::to_string(most) + " points; give at least --memory " +
+                                      mib(static_cast<double>(most) * sp.bytes_per_point + fixed));
+            }
+            ScatteredIsosurfaceInput in;
+            in.source = plan.source;
+            in.points = load_slab(store, slab, rep.read_seconds);
+            in.grid = g;
+            in.bins = bin_points(g, in.points.pos);
+            in.reg_gap = sp.reg_gap;
+            rep.loaded += in.points.size();
+            rep.most_loaded = std::max<std::uint64_t>(rep.most_loaded, in.points.size());
+            FieldRegion region;
+            region.frame = plan.frame;
+            region.query = {Vec3{g.origin.x - pad, g.origin.y - pad, slab.query[0]},
+                            Vec3{g.origin.x + static_cast<double>(g.dims[0]) * g.cell.x + pad,
+                                 g.origin.y + static_cast<double>(g.dims[1]) * g.cell.y + pad, slab.query[1]}};
+            region.loaded = {Vec3{-kInf, -kInf, slab.loaded[0]}, Vec3{kInf, kInf, slab.loaded[1]}};
+            // (the field is built on several threads: each count reads the index under a lock)
+            std::mutex index_lock;
+            region.missing = [&](const Vec3& c, double r) {
+                const std::lock_guard<std::mutex> hold(index_lock);
+                // the bricks meeting the ball that were not read, or read in part where the ball
+                // leaves the loaded range; or the grid cells it meets outside that range
+                const bool below = c.z - r < slab.loaded[0], above = c.z + r > slab.loaded[1];
+                std::uint64_t n = 0;
+                index.meeting_ball(c, r, [&](std::size_t i) {
+                    const PointBrickEntry& b = store.bricks()[i];
+                    if (slab.in[i] == 0 || (slab.in[i] == 1 && ((below && b.lo[2] < slab.loaded[0]) || (above && b.hi[2] > slab.loaded[1]))))
+                        n += b.count;
+                });
+                return std::min(n, plan.points_near(c, r, slab.loaded));
+            };
+            region.present = [&plan](const Vec3& c, double r) { return plan.points_surely_in(c, r); };
+            FieldBuildStats fst;
+            std::unique_ptr<MpuField> field;
+            rep.field_seconds += build_alongside_coverage(in, opt.threads, [&] {
+                field = std::make_unique<MpuField>(in.points, field_params, &fst, FieldProgress{}, nullptr, &region);
+            });
+            rep.coverage_seconds += in.coverage_seconds;
+            if (!field->region_exact()) {  // load the bricks the lacking balls meet, and build again
+                std::size_t added = 0;
+                for (const auto& [c, r] : field->lacking_balls())
+                    index.meeting_ball(c, r, [&](std::size_t i) { added += !extra[i]; extra[i] = 1; });
+                if (added == 0) halo *= 2;  // (cannot happen: a lacking ball meets an unloaded brick)
+                ++rep.retries;
+                continue;
+            }
+            SlabBuffer buf;
+            ScatteredIsosurfaceStats part;
+            if (in.coverage) in.coverage->set_part_of(region.loaded);
+            StencilSource source{StencilGrid(g.dims), s0 * planner.stencils_per_layer(), s1 * planner.stencils_per_layer()};
+            const StencilSeedStage seed(in.stencils(*field), iso, n);
+            static_cast<SeedProjection&>(part) = run_seed_projection(source, seed, *field, iso, np, nullptr, buf, opt, {});
+            part.seeds = seed.stats();
+            if (in.coverage && !in.coverage->part_exact()) {  // the support test reached past the loaded z range
+                halo *= 2;
+                ++rep.retries;
+                continue;
+            }
+            for (Batch& b : buf.batches) {
+                b.seq = seq++;
+                sink.consume(std::move(b));
+            }
+            st.newton += part.newton;
+            st.seed_busy_seconds += part.seed_busy_seconds;
+            st.newton_busy_seconds += part.newton_busy_seconds;
+            add_seed_stats(st.seeds, part.seeds);
+            add_field_stats(rep.field, fst);
+            rep.halo_cells = std::max(rep.halo_cells, halo / g.cell.z);
+            ++rep.slabs;
+            if (progress) progress(static_cast<double>((s1 - s0) * planner.stencils_per_layer()));
+            break;
+        }
+        s0 = s1;
+    }
+    st.projected = true;
+    sink.finish();
+    if (dedup_sink) st.dedup_removed = dedup_sink->removed();
+    if (report) *report = rep;
+    return st;
+}
+
+}  // namespace meshless

@@ -1,0 +1,156 @@
+// An MPU field built part by part (kernels/field_region.hpp, docs/architecture.md "Fields out of
+// core"): a build over the points of a slab and the balls its lists asked for, with the whole
+// set's frame, evaluates in the slab's query box to the bits of the field built over every point
+// (values and gradients), on data with dense clusters and sparse regions (grown and pruned leaves),
+// with the points given in any order; a build that lacked points says so, names the balls it
+// needs and holds no fits to evaluate.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "kernels/errors.hpp"
+#include "kernels/field_params.hpp"
+#include "kernels/field_region.hpp"
+#include "kernels/mpu_field.hpp"
+
+using namespace meshless;
+
+namespace {
+
+PointSet points_of(const std::vector<Vec3>& pos) {
+    PointSet ps;
+    ps.pos = pos;
+    for (const Vec3& p : pos) ps.value.push_back(100 * std::sqrt(p.x * p.x + 0.7 * p.y * p.y + 1.3 * p.z * p.z) + 20 * std::sin(9 * p.x));
+    ps.blocks.push_back({"scattered", {static_cast<std::int64_t>(pos.size()), 1, 1}, 0, pos.size()});
+    return ps;
+}
+
+// Dense blobs, a sparse background and an empty corner: leaves that split, grow and prune.
+std::vector<Vec3> uneven_points(std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::normal_distribution<double> g(0.0, 0.08);
+    std::vector<Vec3> p;
+    for (int i = 0; i < 4000; ++i) {
+        const Vec3 v{u(rng), u(rng), 2 * u(rng)};
+        if (!(v.x > 0.3 && v.y > 0.3)) p.push_back(v);
+    }
+    for (const Vec3 c : {Vec3{-0.5, -0.5, -0.1}, Vec3{0.2, -0.4, 0.3}, Vec3{-0.3, 0.5, 1.2}})
+        for (int i = 0; i < 6000; ++i) p.push_back({c.x + g(rng), c.y + g(rng), c.z + 2 * g(rng)});
+    return p;
+}
+
+bool inside(const Vec3& p, const std::array<Vec3, 2>& b) {
+    return p.x >= b[0].x && p.x <= b[1].x && p.y >= b[0].y && p.y <= b[1].y && p.z >= b[0].z && p.z <= b[1].z;
+}
+
+double dist(const Vec3& a, const Vec3& b) { return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z)); }
+
+struct RegionRun {
+    int builds = 0;
+    std::size_t given = 0;
+    std::uint64_t pruned = 0;
+};
+
+// Builds the region field of the z slab [z0, z1] (queries) as a caller with point counts would:
+// the points of z0 - halo .. z1 + halo, then those of every lacking ball, until exact; compares
+// it with `whole` at queries in the query box.
+RegionRun check_slab(const std::vector<Vec3>& all, const MpuField& whole, const FieldParams& params, double z0, double z1,
+                     double halo, bool with_counts) {
+    const PointSet ws = points_of(all);
+    FieldRegion region;
+    region.frame = field_frame_of(all);
+    region.query = {Vec3{-2, -2, z0}, Vec3{2, 2, z1}};
+    region.loaded = {Vec3{-INFINITY, -INFINITY, z0 - halo}, Vec3{INFINITY, INFINITY, z1 + halo}};
+    std::vector<char> given(all.size(), 0);
+    for (std::size_t i = 0; i < all.size(); ++i) given[i] = inside(all[i], region.loaded);
+    if (with_counts) {
+        region.missing = [&](const Vec3& c, double r) {
+            std::uint64_t n = 0;
+            for (std::size_t i = 0; i < all.size(); ++i) n += !given[i] && dist(all[i], c) <= r;
+            return n;
+        };
+        region.present = [&](const Vec3& c, double r) {  // a lower bound: half of those there are
+            std::uint64_t n = 0;
+            for (const Vec3& p : all) n += dist(p, c) <= r;
+            return n / 2;
+        };
+    }
+    RegionRun run;
+    std::mt19937_64 rng(5);
+    for (;;) {
+        REQUIRE(run.builds < 30);
+        std::vector<Vec3> part;
+        for (std::size_t i = 0; i < all.size(); ++i)
+            if (given[i]) part.push_back(all[i]);
+        std::shuffle(part.begin(), part.end(), rng);  // (any order)
+        const MpuField f(points_of(part), params, nullptr, {}, nullptr, &region);
+        ++run.builds;
+        if (!f.region_exact()) {
+            REQUIRE(!f.lacking_balls().empty());
+            std::vector<double> v(1);
+            std::vector<Vec3> q{Vec3{0, 0, 0.5 * (z0 + z1)}}, gr(1);
+            CHECK_THROWS_AS(f.evaluate(q, v, gr), InvalidArgument);
+            std::size_t added = 0;
+            for (const auto& [c, r] : f.lacking_balls())
+                for (std::size_t i = 0; i < all.size(); ++i)
+                    if (!given[i] && dist(all[i], c) <= r) given[i] = 1, ++added;
+            if (!with_counts && added == 0) {  // without counts: widen the loaded box
+                halo *= 2;
+                region.loaded = {Vec3{-INFINITY, -INFINITY, z0 - halo}, Vec3{INFINITY, INFINITY, z1 + halo}};
+                for (std::size_t i = 0; i < all.size(); ++i) given[i] = given[i] || inside(all[i], region.loaded);
+            }
+            REQUIRE((added > 0 || !with_counts));
+            continue;
+        }
+        run.given = part.size();
+        run.pruned = f.pruned_nodes();
+        std::uniform_real_distribution<double> ux(-1.0, 1.0), uz(z0, z1);
+        std::vector<Vec3> q(3000);
+        for (Vec3& p : q) p = {ux(rng), ux(rng), uz(rng)};
+        std::vector<double> a(q.size()), b(q.size());
+        std::vector<Vec3> ga(q.size()), gb(q.size());
+        whole.evaluate(q, a, ga);
+        f.evaluate(q, b, gb);
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < q.size(); ++i)
+            differ += !(a[i] == b[i] && ga[i].x == gb[i].x && ga[i].y == gb[i].y && ga[i].z == gb[i].z);
+        CHECK(differ == 0);
+        return run;
+    }
+}
+
+}  // namespace
+
+TEST_CASE("an MPU field built over a slab evaluates there to the whole field's bits", "[kernels][mpu][region]") {
+    const std::vector<Vec3> all = uneven_points(3);
+    FieldParams params;
+    params.kind = FieldKind::mpu;
+    const MpuField whole(points_of(all), params);
+    SECTION("with the store's counts: only the lacking balls are added") {
+        const RegionRun lo = check_slab(all, whole, params, -1.5, -0.8, 0.1, true);
+        const RegionRun mid = check_slab(all, whole, params, -0.1, 0.4, 0.1, true);
+        CHECK(lo.given < all.size());
+        CHECK(mid.given < all.size());
+        CHECK(lo.builds + mid.builds > 2);  // (the sparse background asks for far points)
+        CHECK(lo.pruned > 0);
+        CHECK(mid.pruned > 0);
+    }
+    SECTION("without counts: the loaded box widens until every list lies inside it") {
+        const RegionRun mid = check_slab(all, whole, params, 0.9, 1.3, 0.05, false);
+        CHECK(mid.builds >= 1);
+    }
+}
+
+TEST_CASE("a region build with an unbounded loaded box is exact at once", "[kernels][mpu][region]") {
+    const std::vector<Vec3> all = uneven_points(4);
+    FieldParams params;
+    params.kind = FieldKind::mpu;
+    const MpuField whole(points_of(all), params);
+    const RegionRun r = check_slab(all, whole, params, -2, 2, INFINITY, false);
+    CHECK(r.builds == 1);
+    CHECK(r.given == all.size());
+}
