@@ -389,10 +389,11 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
             std::fprintf(stderr, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, j.dedup, static_cast<long long>(st.dedup_removed));
         std::fprintf(stderr,
                      "%s: point store in %d slabs (%d built again over more points; halo up to %.1f cells), at most %llu of %llu points "
-                     "loaded at once (%llu loaded in all), %llu locals (%llu regularised), largest slab field %.1f MiB\n",
+                     "loaded at once (%llu loaded in all), %llu locals (%llu fits copied from the slab before, %llu regularised), largest slab field %.1f MiB\n",
                      cmd, rep.slabs, rep.retries, rep.halo_cells, static_cast<unsigned long long>(rep.most_loaded),
                      static_cast<unsigned long long>(plan.frame.points), static_cast<unsigned long long>(rep.loaded),
-                     static_cast<unsigned long long>(rep.field.locals), static_cast<unsigned long long>(rep.field.regularised),
+                     static_cast<unsigned long long>(rep.field.locals), static_cast<unsigned long long>(rep.reused_fits),
+                     static_cast<unsigned long long>(rep.field.regularised),
                      static_cast<double>(rep.field.memory_bytes) / 1048576.0);
         std::fprintf(stderr,
                      "%s: %zu points; time: plan (%d scans of the store) %.3f s, read %.3f s, coverage %.3f s and field %.3f s side by side, "

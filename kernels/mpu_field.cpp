@@ -1,9 +1,12 @@
 #include "kernels/point_set.hpp"
 #include "kernels/mpu_field.hpp"
+
+#include <atomic>
 #include "kernels/flat_hull.hpp"
 #include "kernels/local_multiquadric_fit.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <functional>
 #include <type_traits>
@@ -326,7 +329,7 @@ struct OctreeBuilder {
 }  // namespace
 
 MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats,
-                   const FieldProgress& progress, const FitShare* share, const FieldRegion* region) {
+                   const FieldProgress& progress, const FitShare* share, const FieldRegion* region, MpuFitCache* cache) {
     if (params.mpu_max_points < 8) throw InvalidArgument("mpu: N (mpu_max_points) must be >= 8");
     if (params.mpu_min_points < 1 || params.mpu_min_points > params.mpu_max_points)
         throw InvalidArgument("mpu: mpu_min_points must be in 1..N");
@@ -423,6 +426,16 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
     };
     const std::pair<std::size_t, std::size_t> fits = shared ? range_of(share->rank) : std::pair<std::size_t, std::size_t>{0, locals_.size()};
     const std::size_t fit0 = fits.first, fit1 = fits.second;
+    if (shared) cache = nullptr;
+    std::vector<std::int32_t> leaf_node;  // (a cache: each local's octree node, and its key)
+    std::vector<MpuFitCache::Key> keys;
+    std::atomic<std::uint64_t> reused{0};
+    if (cache) {
+        leaf_node.assign(locals_.size(), -1);
+        for (std::size_t i = 0; i < b.nodes.size(); ++i)
+            if (b.nodes[i].local >= 0) leaf_node[static_cast<std::size_t>(b.nodes[i].local)] = static_cast<std::int32_t>(i);
+        keys.resize(locals_.size());
+    }
     tbb::enumerable_thread_specific<MultiquadricSolver> solvers;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(fit0, fit1, 16), [&](const tbb::blocked_range<std::size_t>& r) {
         MultiquadricSolver& solver = solvers.local();
@@ -430,6 +443,20 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
             MultiquadricLocal& h = locals_[l];
             const std::uint32_t cnt = b.leaf_range[l].second;
             const std::span<const std::uint32_t> mine(idx.data() + h.first, cnt);
+            if (cache) {
+                const auto& nd = b.nodes[static_cast<std::size_t>(leaf_node[l])];
+                keys[l] = MpuFitCache::key_of(nd.c, nd.half, pts, val, mine);
+                if (const MpuFitCache::Fit* f = cache->find(keys[l])) {
+                    const std::uint32_t first = h.first;
+                    h = f->local;
+                    h.first = first;
+                    std::copy(f->lambda.begin(), f->lambda.end(), lambda_.begin() + first);
+                    outcome[l] = f->outcome;
+                    rank_def[l] = f->flags;
+                    reused.fetch_add(1, std::memory_order_relaxed);
+                    continue;
+                }
+            }
             const LocalFitResult res = fit_local_multiquadric(solver, pts, val, mine, c, params, h, std::span<double>(lambda_.data() + h.first, cnt));
             outcome[l] = res.fit.outcome;
             rank_def[l] = static_cast<std::uint8_t>((res.fit.poly_rank < 4 ? 1 : 0) | (res.refitted ? 2 : 0));  // (shared with the ranks)
@@ -437,6 +464,18 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         if (progress) progress(static_cast<double>(r.size()), static_cast<double>(fit1 - fit0));
     });
     if (shared) gather_fits(*share, range_of, outcome, rank_def);
+    if (cache) {  // keep the fits the next region may meet (the reach its own build prunes with)
+        cache->count_hits(reused.load());
+        const double reach = params.mpu_blend_alpha * 2.0 * std::sqrt(3.0);
+        for (std::size_t l = 0; l < locals_.size(); ++l) {
+            const auto& nd = b.nodes[static_cast<std::size_t>(leaf_node[l])];
+            if (!cache->keeps((nd.c.z + nd.half * (1 + reach)) / scale_.z + origin_.z)) continue;
+            const MultiquadricLocal& h = locals_[l];
+            MpuFitCache::Fit f{h, std::vector<double>(lambda_.begin() + h.first, lambda_.begin() + h.first + b.leaf_range[l].second),
+                               outcome[l], rank_def[l]};
+            cache->keep(keys[l], std::move(f));
+        }
+    }
 
     // Centres copied structure-of-arrays in leaf order (the lambda order): leaf l's run is
     // [first, first + count) of px_/py_/pz_ and of lambda_.

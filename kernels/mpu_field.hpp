@@ -51,6 +51,7 @@
 #include "kernels/field.hpp"
 #include "kernels/field_params.hpp"
 #include "kernels/field_region.hpp"
+#include "kernels/mpu_fit_cache.hpp"
 #include "kernels/field_state.hpp"
 #include "kernels/multiquadric.hpp"
 #include "kernels/multiquadric_sum.hpp"
@@ -67,9 +68,13 @@ public:
     /// built in the whole set's frame and only where a leaf can weigh at a point of region->query
     /// (the other subtrees are pruned: no local), so evaluate() there gives the whole set's field's
     /// bits as long as region_exact() (kernels/field_region.hpp).
+    /// cache (optional, a region build without share): copy the fits an earlier region of the same
+    /// run kept for leaves with the same cube and list, and keep this one's for the next
+    /// (kernels/mpu_fit_cache.hpp); the field's bits do not change.
     /// Throws FormatError when the gathered bytes do not hold the other ranks' ranges.
     MpuField(const PointSet& points, const FieldParams& params, FieldBuildStats* stats = nullptr,
-             const FieldProgress& progress = {}, const FitShare* share = nullptr, const FieldRegion* region = nullptr);
+             const FieldProgress& progress = {}, const FitShare* share = nullptr, const FieldRegion* region = nullptr,
+             MpuFitCache* cache = nullptr);
     /// A region build: whether every point list it read (a leaf's sphere; the ancestors a grown or
     /// flat leaf searched) lay inside the loaded box. When false the build stopped before the local
     /// fits (evaluate() throws InvalidArgument) and the caller loads the lacking balls and builds

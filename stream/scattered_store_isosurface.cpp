@@ -15,6 +15,7 @@
 #include "kernels/errors.hpp"
 #include "kernels/marching_stencils.hpp"
 #include "kernels/mpu_field.hpp"
+#include "kernels/mpu_fit_cache.hpp"
 #include "stream/dedup_sink.hpp"
 #include "stream/stencil_seed_stage.hpp"
 #include "stream/stencil_source.hpp"
@@ -138,15 +139,17 @@ public:
         : store_(store), plan_(plan), sg_(plan.grid.dims), pad_(pad) {}
     std::int64_t layers() const { return sg_.count[2]; }
     std::int64_t stencils_per_layer() const { return sg_.count[0] * sg_.count[1]; }
+    // The lowest world z where the field of stencil layers [s0, ...) is evaluated.
+    double query_from(std::int64_t s0) const { return plan_.grid.origin.z + static_cast<double>(2 * s0 - 1) * plan_.grid.cell.z - pad_; }
     // Stencil layers [s0, s1) with a halo of `halo` world units along z, and the bricks `extra` flags.
     Slab slab(std::int64_t s0, std::int64_t s1, double halo, const std::vector<char>& extra) const {
         const BinningGrid& g = plan_.grid;
         // the regularised block reaches one cell beyond the stencils' cells (kernels/stencil_seeds.cpp)
-        const std::int64_t k0 = 2 * s0 - 1, k1 = stencil_centre(s1 - 1, g.dims[2]) + 3;
+        const std::int64_t k1 = stencil_centre(s1 - 1, g.dims[2]) + 3;  // (and k0 = 2 s0 - 1: query_from)
         Slab s;
         s.s0 = s0;
         s.s1 = s1;
-        s.query = {g.origin.z + static_cast<double>(k0) * g.cell.z - pad_, g.origin.z + static_cast<double>(k1) * g.cell.z + pad_};
+        s.query = {query_from(s0), g.origin.z + static_cast<double>(k1) * g.cell.z + pad_};
         s.loaded = {s.query[0] - halo, s.query[1] + halo};
         if (s.loaded[0] <= plan_.frame.bounds[0].z) s.loaded[0] = -kInf;  // (no points beyond the data)
         if (s.loaded[1] >= plan_.frame.bounds[1].z) s.loaded[1] = kInf;
@@ -407,7 +410,9 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
     const BrickIndex index(store);
     const double fixed = 8.0 * static_cast<double>(g.cell_count());  // the bins' index, and slack for the counts
     const double budget = static_cast<double>(sp.memory_bytes) - fixed;
-    const auto fits = [&](const Slab& s) { return static_cast<double>(s.points) * sp.bytes_per_point <= budget; };
+    // the fits kept for the next slab: those of the last slab, and the current one's as it keeps them (about as many)
+    MpuFitCache cache;
+    const auto fits = [&](const Slab& s) { return static_cast<double>(s.points) * sp.bytes_per_point + 2.0 * static_cast<double>(cache.bytes()) <= budget; };
     const std::vector<char> none(store.bricks().size(), 0);
     std::uint64_t seq = 0;
     // The first halo: two MPU fit spheres at the mean density (a leaf whose blend sphere meets the
@@ -417,15 +422,23 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
     const double volume = std::max(ext.x, g.cell.x) * std::max(ext.y, g.cell.y) * std::max(ext.z, g.cell.z);
     const double leaf = std::cbrt(3.0 * field_params.mpu_max_points * volume / (4.0 * std::numbers::pi * static_cast<double>(plan.frame.points)));
     const double halo0 = std::max(2 * g.cell.z, 2 * leaf);
+    // The lacking balls of the slabs so far: the next slab starts with the bricks of those that
+    // reach it (uneven data asks for the same far points slab after slab: fewer builds again).
+    std::vector<std::pair<Vec3, double>> seen;
     for (std::int64_t s0 = 0; s0 < planner.layers();) {
         double halo = halo0;
         std::vector<char> extra = none;  // bricks that lacking balls asked for
+        const double from = planner.query_from(s0) - halo0;
+        std::erase_if(seen, [&](const std::pair<Vec3, double>& b) { return b.first.z + b.second < from; });
+        for (const auto& [c, r] : seen)
+            index.meeting_ball(c, r, [&](std::size_t i) { extra[i] = extra[i] || store.bricks()[i].hi[2] >= from; });
         std::int64_t s1 = s0 + 1;
         while (s1 < planner.layers() && fits(planner.slab(s0, s1 + 1, halo, extra))) ++s1;
         for (;;) {
             const Slab slab = planner.slab(s0, s1, halo, extra);
             if (!fits(slab)) {
                 if (s1 > s0 + 1) { --s1; continue; }
+                if (cache.bytes() > 0) { cache.clear(); continue; }  // (this slab fits again what it overlaps)
                 // the fullest single layer (before the balls its field may still ask for)
                 std::uint64_t most = slab.points;
                 for (std::int64_t k = 0; k < planner.layers(); ++k) most = std::max(most, planner.slab(k, k + 1, halo0, none).points);
@@ -466,13 +479,15 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
             FieldBuildStats fst;
             std::unique_ptr<MpuField> field;
             rep.field_seconds += build_alongside_coverage(in, opt.threads, [&] {
-                field = std::make_unique<MpuField>(in.points, field_params, &fst, FieldProgress{}, nullptr, &region);
+                cache.begin(s1 < planner.layers() ? planner.query_from(s1) : kInf);
+                field = std::make_unique<MpuField>(in.points, field_params, &fst, FieldProgress{}, nullptr, &region, &cache);
             });
             rep.coverage_seconds += in.coverage_seconds;
             if (!field->region_exact()) {  // load the bricks the lacking balls meet, and build again
                 std::size_t added = 0;
                 for (const auto& [c, r] : field->lacking_balls())
                     index.meeting_ball(c, r, [&](std::size_t i) { added += !extra[i]; extra[i] = 1; });
+                seen.insert(seen.end(), field->lacking_balls().begin(), field->lacking_balls().end());
                 if (added == 0) halo *= 2;  // (cannot happen: a lacking ball meets an unloaded brick)
                 ++rep.retries;
                 continue;
@@ -489,6 +504,7 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                 ++rep.retries;
                 continue;
             }
+            cache.advance();
             for (Batch& b : buf.batches) {
                 b.seq = seq++;
                 sink.consume(std::move(b));
@@ -505,6 +521,7 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
         }
         s0 = s1;
     }
+    rep.reused_fits = cache.hits();
     st.projected = true;
     sink.finish();
     if (dedup_sink) st.dedup_removed = dedup_sink->removed();

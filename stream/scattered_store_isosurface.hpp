@@ -88,6 +88,7 @@ struct ScatteredStoreReport {
     std::uint64_t most_loaded = 0; ///< the most points loaded for one slab
     std::uint64_t loaded = 0;      ///< points loaded over all slabs (halos counted again)
     double halo_cells = 0;         ///< the widest halo a slab needed, in grid cells along z
+    std::uint64_t reused_fits = 0; ///< local fits copied from the slab before (kernels/mpu_fit_cache.hpp)
     double field_seconds = 0, coverage_seconds = 0, read_seconds = 0;
     FieldBuildStats field;         ///< summed over the slabs' fields (locals of their query boxes)
 };

@@ -15,6 +15,7 @@
 #include "kernels/field_params.hpp"
 #include "kernels/field_region.hpp"
 #include "kernels/mpu_field.hpp"
+#include "kernels/mpu_fit_cache.hpp"
 
 using namespace meshless;
 
@@ -59,7 +60,7 @@ struct RegionRun {
 // the points of z0 - halo .. z1 + halo, then those of every lacking ball, until exact; compares
 // it with `whole` at queries in the query box.
 RegionRun check_slab(const std::vector<Vec3>& all, const MpuField& whole, const FieldParams& params, double z0, double z1,
-                     double halo, bool with_counts) {
+                     double halo, bool with_counts, MpuFitCache* cache = nullptr, double keep_from = INFINITY) {
     const PointSet ws = points_of(all);
     FieldRegion region;
     region.frame = field_frame_of(all);
@@ -87,7 +88,8 @@ RegionRun check_slab(const std::vector<Vec3>& all, const MpuField& whole, const 
         for (std::size_t i = 0; i < all.size(); ++i)
             if (given[i]) part.push_back(all[i]);
         std::shuffle(part.begin(), part.end(), rng);  // (any order)
-        const MpuField f(points_of(part), params, nullptr, {}, nullptr, &region);
+        if (cache) cache->begin(keep_from);
+        const MpuField f(points_of(part), params, nullptr, {}, nullptr, &region, cache);
         ++run.builds;
         if (!f.region_exact()) {
             REQUIRE(!f.lacking_balls().empty());
@@ -106,6 +108,7 @@ RegionRun check_slab(const std::vector<Vec3>& all, const MpuField& whole, const 
             REQUIRE((added > 0 || !with_counts));
             continue;
         }
+        if (cache) cache->advance();
         run.given = part.size();
         run.pruned = f.pruned_nodes();
         std::uniform_real_distribution<double> ux(-1.0, 1.0), uz(z0, z1);
@@ -153,4 +156,44 @@ TEST_CASE("a region build with an unbounded loaded box is exact at once", "[kern
     const RegionRun r = check_slab(all, whole, params, -2, 2, INFINITY, false);
     CHECK(r.builds == 1);
     CHECK(r.given == all.size());
+}
+
+TEST_CASE("fits kept from one slab serve the next with the same bits", "[kernels][mpu][region]") {
+    const std::vector<Vec3> all = uneven_points(6);
+    FieldParams params;
+    params.kind = FieldKind::mpu;
+    const MpuField whole(points_of(all), params);
+    MpuFitCache cache;
+    check_slab(all, whole, params, -1.5, -0.6, 0.1, true, &cache, -0.9);
+    CHECK(cache.bytes() > 0);
+    CHECK(cache.hits() == 0);
+    check_slab(all, whole, params, -0.9, 0.0, 0.1, true, &cache, INFINITY);  // compared with the whole field's bits
+    CHECK(cache.hits() > 0);
+    const std::uint64_t hits = cache.hits();
+    cache.clear();
+    CHECK(cache.bytes() == 0);
+    check_slab(all, whole, params, 0.0, 0.5, 0.1, true, &cache, INFINITY);  // nothing kept: every fit solved
+    CHECK(cache.hits() == hits);
+}
+
+TEST_CASE("a fit is known by its cube and the bits of its list", "[kernels][mpu][region]") {
+    const std::vector<Vec3> pos{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    std::vector<double> val{1, 2, 3, 4};
+    const std::vector<std::uint32_t> idx{0, 1, 2, 3}, swapped{0, 2, 1, 3};
+    const MpuFitCache::Key k = MpuFitCache::key_of({0.5, 0.5, 0.5}, 0.5, pos, val, idx);
+    CHECK(k == MpuFitCache::key_of({0.5, 0.5, 0.5}, 0.5, pos, val, idx));
+    CHECK(!(k == MpuFitCache::key_of({0.5, 0.5, 0.5}, 0.25, pos, val, idx)));
+    CHECK(!(k == MpuFitCache::key_of({0.5, 0.5, 0.5}, 0.5, pos, val, swapped)));
+    CHECK(!(k == MpuFitCache::key_of({0.5, 0.5, 0.5}, 0.5, pos, val, std::vector<std::uint32_t>{0, 1, 2})));
+    val[3] = std::nextafter(4.0, 5.0);
+    CHECK(!(k == MpuFitCache::key_of({0.5, 0.5, 0.5}, 0.5, pos, val, idx)));
+    MpuFitCache cache;
+    cache.begin(0);
+    CHECK(cache.keeps(0.0));
+    CHECK(!cache.keeps(-0.1));
+    cache.keep(k, MpuFitCache::Fit{MultiquadricLocal{}, {1, 2, 3, 4}, MultiquadricOutcome::interpolated, 0});
+    CHECK(cache.find(k) == nullptr);  // (kept for the next build)
+    cache.advance();
+    REQUIRE(cache.find(k) != nullptr);
+    CHECK(cache.find(k)->lambda.size() == 4);
 }
