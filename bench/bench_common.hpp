@@ -168,6 +168,9 @@ void check_scattered_lists(const BenchOptions& o);
 void run_hierarchy(const BenchOptions& o, Report& r);
 /// The Python module's numbers (bench/bench_python.cpp, bench/python_module.py).
 void run_python(const BenchOptions& o, Report& r);
+/// bench/bench_scale.cpp: the scattered isosurface of LIDC2 samples at --sizes in memory, from a point
+/// store in one slab and within two thirds of that memory, and the VTK peer (not part of `all`: hours at 10^7).
+void run_scale(const BenchOptions& o, Report& r);
 /// Its part (e) alone (`meshless-bench hierarchy-rmse`); `silicium` may be empty (read here).
 void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& silicium = {});
 

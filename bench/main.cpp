@@ -94,6 +94,8 @@ int bench_main(int argc, char** argv) {
            "            that part alone: hierarchy-rmse)\n"
            "  python    the Python module: equality with the CLI, peak RSS on an np.memmap volume, call overhead,\n"
            "            two threads vs two calls in sequence, Field vs SciPy RBFInterpolator (bench/python_module.py)\n"
+           "  scale     the scattered isosurface of 10^5..3x10^6 LIDC2 samples (--sizes): in memory, from a point\n"
+           "            store (.mlc) in one slab and within 2/3 of its memory (same bytes?), the VTK peer; not in all\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
     a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
         .option("reps", "", "N", "repetitions per isosurface (default 10); process: best of N runs (default 3)")
@@ -104,8 +106,9 @@ int bench_main(int argc, char** argv) {
         .option("scratch", "", "DIR", "ooc: folder for its temporary stores (default: the system temp folder)")
         .option("meshless", "", "PATH", "the meshless executable the whole-process rows run (default: the one built beside this)")
         .option("work", "", "DIR", "process: cache folder for the lung-sized volume, its store and point sets, kept and "
-                                   "reused (default: a temporary folder, removed at the end)")
-        .option("sizes", "", "N1,N2,...", "scattered: point counts of the accuracy part (default 10000,100000,1000000; --quick 3000)")
+                                   "reused (scattered, scale: their point sets) (default: a temporary folder, removed at the end)")
+        .option("sizes", "", "N1,N2,...", "scattered: point counts of the accuracy part (default 10000,100000,1000000; --quick 3000); "
+                                           "scale: the sizes (default 100000,1000000,3000000; --quick 20000)")
         .option("field", "", "NAME", "scattered: --field passed to `meshless isosurface` (default: the command's own)")
         .option("peer-timeout", "", "S", "scattered: seconds allowed per peer run (default 120; --quick 30)")
         .option("fields", "", "LIST", "scattered (a): analytic fields, e.g. sphere,gyroid,ml (default: those three)")
@@ -135,10 +138,10 @@ int bench_main(int argc, char** argv) {
     const std::string what = a.positional().empty() ? "all" : a.positional()[0];
     if (what != "all" && what != "accuracy" && what != "speed" && what != "threads" && what != "splat" &&
         what != "ooc" && what != "fields" && what != "process" && what != "multiblock" && what != "render" &&
-        what != "scattered" && what != "hierarchy" && what != "hierarchy-rmse" && what != "python")
+        what != "scattered" && what != "hierarchy" && what != "hierarchy-rmse" && what != "python" && what != "scale")
         throw UsageError("unknown section '" + what +
                          "' (accuracy, speed, threads, splat, ooc, fields, process, multiblock, render, scattered, hierarchy, "
-                         "hierarchy-rmse, python, all)");
+                         "hierarchy-rmse, python, scale, all)");
 
     BenchOptions o;
     o.quick = a.has("quick");
@@ -200,6 +203,7 @@ int bench_main(int argc, char** argv) {
     if (what == "all" || what == "hierarchy") run_hierarchy(o, r);
     if (what == "hierarchy-rmse") run_hierarchy_rmse(o, r);
     if (what == "all" || what == "python") run_python(o, r);
+    if (what == "scale") run_scale(o, r);
     if (auto md = a.get("markdown")) r.write_markdown(*md);
     return 0;
 }

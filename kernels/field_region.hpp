@@ -58,6 +58,9 @@ struct FieldRegion {
                                     -std::numeric_limits<double>::infinity()},
                                Vec3{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
                                     std::numeric_limits<double>::infinity()}};
+    /// The most heap the fitted field may take, bytes (0: no limit): a build whose octree shows a
+    /// larger field stops before the local fits (MpuField::over_budget), as the caller's budget asks.
+    std::uint64_t max_field_bytes = 0;
 };
 
 }  // namespace meshless

@@ -398,9 +398,15 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         for (const auto& [fc, fr] : b.lacking)
             lacking_.push_back({Vec3{fc.x / scale_.x + origin_.x, fc.y / scale_.y + origin_.y, fc.z / scale_.z + origin_.z}, fr / smin * (1 + 1e-9)});
     }
-    if (!region_exact_) {  // the caller builds again over more points: no fits (most of the build's time)
+    // the fitted field's heap as the octree decides it (the lookup grid, about one cell a leaf, aside)
+    const std::uint64_t field_bytes = b.nodes.size() * sizeof(Node) + b.leaf_range.size() * (sizeof(MultiquadricLocal) + sizeof(LeafSphere)) +
+                                      b.flat.size() * 4 * sizeof(double);
+    over_budget_ = region && region->max_field_bytes > 0 && field_bytes > region->max_field_bytes;
+    if (!region_exact_ || over_budget_) {  // the caller builds again: no fits (most of the build's time)
         st.octree_nodes = b.nodes.size();
         st.octree_depth = b.depth_reached;
+        st.locals = b.leaf_range.size();
+        st.memory_bytes = field_bytes;
         return;
     }
 
@@ -769,7 +775,7 @@ std::uint32_t MpuField::batch_key(const Vec3& pw) const {
 }
 
 void MpuField::evaluate(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {
-    if (!region_exact_) throw InvalidArgument("mpu: a region build that lacked points has no fits to evaluate");
+    if (!region_exact_ || over_budget_) throw InvalidArgument("mpu: a region build that lacked points or memory has no fits to evaluate");
     PuBlend blend;
     EvalScratch sc;
     const bool want_grad = !grad.empty();

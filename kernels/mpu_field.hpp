@@ -80,6 +80,9 @@ public:
     /// fits (evaluate() throws InvalidArgument) and the caller loads the lacking balls and builds
     /// again. Always true for a whole-set build.
     bool region_exact() const { return region_exact_; }
+    /// A region build whose field would take more than region->max_field_bytes: it stopped before
+    /// the local fits (evaluate() throws InvalidArgument); stats->memory_bytes says how much.
+    bool over_budget() const { return over_budget_; }
     /// A region build: the octree nodes pruned (their subtrees weigh at no query).
     std::uint64_t pruned_nodes() const { return pruned_; }
     /// A region build that was not exact: the world balls (centre, radius) whose points a decision
@@ -163,7 +166,7 @@ private:
     void select_leaves(const std::uint32_t* cand, std::size_t n, const Vec3& x, EvalScratch& sc) const;  // the same for n
     void blend_leaves(const Vec3& x, bool want_grad, EvalScratch& sc, PuBlend& blend) const;
 
-    bool region_ = false, region_exact_ = true;  // built over a region (kernels/field_region.hpp); its lists whole
+    bool region_ = false, region_exact_ = true, over_budget_ = false;  // built over a region (kernels/field_region.hpp); its lists whole
     std::uint64_t pruned_ = 0;
     std::vector<std::pair<Vec3, double>> lacking_;
     Vec3 origin_, scale_{1, 1, 1};  // frame = (world - origin_) * scale_

@@ -412,7 +412,10 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
     const double budget = static_cast<double>(sp.memory_bytes) - fixed;
     // the fits kept for the next slab: those of the last slab, and the current one's as it keeps them (about as many)
     MpuFitCache cache;
-    const auto fits = [&](const Slab& s) { return static_cast<double>(s.points) * sp.bytes_per_point + 2.0 * static_cast<double>(cache.bytes()) <= budget; };
+    // bytes a loaded point: the first guess until a field shows its own (the most a point took so far)
+    double field_per_point = 0;
+    const auto per_point = [&] { return field_per_point > 0 ? 1.1 * field_per_point + sp.other_bytes_per_point : sp.bytes_per_point; };
+    const auto fits = [&](const Slab& s) { return static_cast<double>(s.points) * per_point() + 2.0 * static_cast<double>(cache.bytes()) <= budget; };
     const std::vector<char> none(store.bricks().size(), 0);
     std::uint64_t seq = 0;
     // The first halo: two MPU fit spheres at the mean density (a leaf whose blend sphere meets the
@@ -436,15 +439,9 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
         while (s1 < planner.layers() && fits(planner.slab(s0, s1 + 1, halo, extra))) ++s1;
         for (;;) {
             const Slab slab = planner.slab(s0, s1, halo, extra);
-            if (!fits(slab)) {
-                if (s1 > s0 + 1) { --s1; continue; }
-                if (cache.bytes() > 0) { cache.clear(); continue; }  // (this slab fits again what it overlaps)
-                // the fullest single layer (before the balls its field may still ask for)
-                std::uint64_t most = slab.points;
-                for (std::int64_t k = 0; k < planner.layers(); ++k) most = std::max(most, planner.slab(k, k + 1, halo0, none).points);
-                throw InvalidArgument("--memory " + mib(static_cast<double>(sp.memory_bytes)) + " is too small for this store: a stencil layer of the " +
-                                      "binning grid and the points its field needs hold up to " + std::to_string(most) + " points; give at least --memory " +
-                                      mib(static_cast<double>(most) * sp.bytes_per_point + fixed));
+            if (!fits(slab) && s1 > s0 + 1) {  // (one layer is tried whatever the guess: its octree will tell)
+                --s1;
+                continue;
             }
             ScatteredIsosurfaceInput in;
             in.source = plan.source;
@@ -476,6 +473,8 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                 return std::min(n, plan.points_near(c, r, slab.loaded));
             };
             region.present = [&plan](const Vec3& c, double r) { return plan.points_surely_in(c, r); };
+            const double others = static_cast<double>(in.points.size()) * sp.other_bytes_per_point + 2.0 * static_cast<double>(cache.bytes());
+            region.max_field_bytes = static_cast<std::uint64_t>(std::max(1.0, budget - others));
             FieldBuildStats fst;
             std::unique_ptr<MpuField> field;
             rep.field_seconds += build_alongside_coverage(in, opt.threads, [&] {
@@ -483,6 +482,8 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                 field = std::make_unique<MpuField>(in.points, field_params, &fst, FieldProgress{}, nullptr, &region, &cache);
             });
             rep.coverage_seconds += in.coverage_seconds;
+            if (in.points.size() > 0)
+                field_per_point = std::max(field_per_point, static_cast<double>(fst.memory_bytes) / static_cast<double>(in.points.size()));
             if (!field->region_exact()) {  // load the bricks the lacking balls meet, and build again
                 std::size_t added = 0;
                 for (const auto& [c, r] : field->lacking_balls())
@@ -491,6 +492,22 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                 if (added == 0) halo *= 2;  // (cannot happen: a lacking ball meets an unloaded brick)
                 ++rep.retries;
                 continue;
+            }
+            if (field->over_budget()) {  // fewer layers (as many as the field's size allows), or no kept fits
+                ++rep.retries;
+                const double need = static_cast<double>(fst.memory_bytes);
+                if (s1 > s0 + 1) {
+                    const double room = static_cast<double>(region.max_field_bytes) / need;
+                    s1 = std::min(s1 - 1, s0 + std::max<std::int64_t>(1, static_cast<std::int64_t>(static_cast<double>(s1 - s0) * room * 0.95)));
+                    continue;
+                }
+                if (cache.bytes() > 0) {  // (this slab fits again what it overlaps)
+                    cache.clear();
+                    continue;
+                }
+                throw InvalidArgument("--memory " + mib(static_cast<double>(sp.memory_bytes)) + " is too small for this store: the field of one " +
+                                      "stencil layer of the binning grid (" + std::to_string(in.points.size()) + " points with its halo) takes " +
+                                      mib(need) + "; give at least --memory " + mib(need + others + fixed));
             }
             SlabBuffer buf;
             ScatteredIsosurfaceStats part;

@@ -21,9 +21,12 @@
 // on to the sink in order. The stencils run in the in-memory order (z-major rows), so the output
 // has the bytes of run_scattered_isosurface over the whole store read into memory, for any budget
 // and thread count. The rebuilds and the widest halo are reported (ScatteredStoreReport).
-// Memory: about bytes_per_point (1.2 KiB) a loaded point, 4 bytes a grid cell, a slab's output.
-// Throws InvalidArgument when the budget cannot hold one stencil layer and its halo (the message
-// says how much would), when the field is not mpu or the max travel is unlimited; FormatError and
+// Memory: slabs are sized at bytes_per_point (1.2 KiB) a loaded point until a field has been built,
+// then at what the fields so far took a point (+10 %) plus other_bytes_per_point; every build checks
+// its octree's field against what the budget leaves (FieldRegion::max_field_bytes) before the fits and
+// takes fewer layers when it does not fit; 8 bytes a grid cell; the kept fits (MpuFitCache).
+// Throws InvalidArgument when the budget cannot hold the field of one stencil layer and its halo
+// (the message says how much would), when the field is not mpu or the max travel is unlimited; FormatError and
 // IoError from the store (naming the file and the brick); what the stages and the sink throw.
 #pragma once
 #include <array>
@@ -78,7 +81,9 @@ StreamMeta scattered_store_meta(const ScatteredStorePlan& plan, double iso, int 
 /// The budget and what a slab run reports.
 struct ScatteredStoreParams {
     std::uint64_t memory_bytes = 1ull << 30;  ///< the budget for the loaded points and their field
-    double bytes_per_point = 1200;            ///< what one loaded point costs (field, support test, bins)
+    double bytes_per_point = 1200;            ///< what one loaded point costs at first (field and the rest)
+    double other_bytes_per_point = 320;       ///< what one loaded point costs beside its field (points, bins,
+                                              ///< support test, the slab's output)
     double reg_gap = 4;                       ///< the support test's factor (0: none), as the in-memory path
 };
 

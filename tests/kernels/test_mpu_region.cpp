@@ -197,3 +197,34 @@ TEST_CASE("a fit is known by its cube and the bits of its list", "[kernels][mpu]
     REQUIRE(cache.find(k) != nullptr);
     CHECK(cache.find(k)->lambda.size() == 4);
 }
+
+TEST_CASE("a region build whose field would exceed its budget stops before the fits and says its size", "[kernels][mpu][region]") {
+    const std::vector<Vec3> all = uneven_points(7);
+    FieldParams params;
+    params.kind = FieldKind::mpu;
+    FieldRegion region;
+    region.frame = field_frame_of(all);
+    region.query = {Vec3{-2, -2, -0.5}, Vec3{2, 2, 0.5}};
+    FieldBuildStats free_st;
+    const MpuField free_field(points_of(all), params, &free_st, {}, nullptr, &region);
+    REQUIRE(free_field.region_exact());
+    CHECK(!free_field.over_budget());
+    region.max_field_bytes = free_st.memory_bytes / 2;
+    FieldBuildStats st;
+    const MpuField tight(points_of(all), params, &st, {}, nullptr, &region);
+    CHECK(tight.over_budget());
+    CHECK(st.memory_bytes > region.max_field_bytes);
+    CHECK(st.memory_bytes <= free_st.memory_bytes);  // (the octree's share: the lookup grid comes with the fits)
+    CHECK(st.locals == free_st.locals);
+    std::vector<double> v(1);
+    std::vector<Vec3> q{Vec3{0, 0, 0}}, gr(1);
+    CHECK_THROWS_AS(tight.evaluate(q, v, gr), InvalidArgument);
+    region.max_field_bytes = free_st.memory_bytes;
+    const MpuField roomy(points_of(all), params, nullptr, {}, nullptr, &region);
+    CHECK(!roomy.over_budget());
+    std::vector<double> a(1), b(1);
+    std::vector<Vec3> ga(1), gb(1);
+    free_field.evaluate(q, a, ga);
+    roomy.evaluate(q, b, gb);
+    CHECK(a[0] == b[0]);
+}
