@@ -406,6 +406,9 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
 
 int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
     if (runs_store_slabs(a, mpi)) return isosurface_scattered_store(a, t_start);
+    if (a.has("memory"))  // (a budget the run below cannot keep: say so rather than exceed it silently)
+        std::fprintf(stderr, "meshless isosurface: warning: --memory bounds a point store (.mlc) read by the mpu field in one "
+                             "process; these points and their field are held whole\n");
     ScatteredJob j = prepare_scattered(a, mpi);
     if (mpi) return isosurface_scattered_mpi(a, t_start, *mpi, j);
     const ScatteredInput& in = j.in;
