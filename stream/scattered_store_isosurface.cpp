@@ -382,6 +382,75 @@ StreamMeta scattered_store_meta(const ScatteredStorePlan& plan, double iso, int 
     return scattered_isosurface_meta(plan.grid, plan.frame.points, plan.value_range, plan.source, iso, n, producer);
 }
 
+namespace {
+
+// The first halo: two MPU fit spheres at the mean density (a leaf whose blend sphere meets the
+// query box fits the points of its sphere, which holds at most N points: radius (3N / 4 pi rho)^(1/3)
+// where the density is rho), at least two grid cells; lacking balls add what uneven data needs.
+double first_halo(const ScatteredStorePlan& plan, const FieldParams& field_params) {
+    const BinningGrid& g = plan.grid;
+    const Vec3 ext = plan.frame.bounds[1] - plan.frame.bounds[0];
+    const double volume = std::max(ext.x, g.cell.x) * std::max(ext.y, g.cell.y) * std::max(ext.z, g.cell.z);
+    const double leaf = std::cbrt(3.0 * field_params.mpu_max_points * volume / (4.0 * std::numbers::pi * static_cast<double>(plan.frame.points)));
+    return std::max(2 * g.cell.z, 2 * leaf);
+}
+
+/// A slab's FieldRegion: its query box (the grid in x-y and the slab's query range in z, padded by
+/// Newton's reach), its loaded z range, and the store's counts as the bounds of the points it lacks.
+/// The field is built on several threads: each count reads the brick index under a lock.
+class SlabRegion {
+public:
+    SlabRegion(const PointStore& store, const ScatteredStorePlan& plan, const BrickIndex& index, const Slab& slab, double pad) {
+        const BinningGrid& g = plan.grid;
+        region.frame = plan.frame;
+        region.query = {Vec3{g.origin.x - pad, g.origin.y - pad, slab.query[0]},
+                        Vec3{g.origin.x + static_cast<double>(g.dims[0]) * g.cell.x + pad,
+                             g.origin.y + static_cast<double>(g.dims[1]) * g.cell.y + pad, slab.query[1]}};
+        region.loaded = {Vec3{-kInf, -kInf, slab.loaded[0]}, Vec3{kInf, kInf, slab.loaded[1]}};
+        region.missing = [this, &store, &plan, &index, &slab](const Vec3& c, double r) {
+            const std::lock_guard<std::mutex> hold(lock_);
+            // the bricks meeting the ball that were not read, or read in part where the ball
+            // leaves the loaded range; or the grid cells it meets outside that range
+            const bool below = c.z - r < slab.loaded[0], above = c.z + r > slab.loaded[1];
+            std::uint64_t n = 0;
+            index.meeting_ball(c, r, [&](std::size_t i) {
+                const PointBrickEntry& b = store.bricks()[i];
+                if (slab.in[i] == 0 || (slab.in[i] == 1 && ((below && b.lo[2] < slab.loaded[0]) || (above && b.hi[2] > slab.loaded[1]))))
+                    n += b.count;
+            });
+            return std::min(n, plan.points_near(c, r, slab.loaded));
+        };
+        region.present = [&plan](const Vec3& c, double r) { return plan.points_surely_in(c, r); };
+    }
+    SlabRegion(const SlabRegion&) = delete;
+    SlabRegion& operator=(const SlabRegion&) = delete;
+    FieldRegion region;
+
+private:
+    std::mutex lock_;
+};
+
+/// Adds a slab's seeding and Newton figures to the run's.
+void add_slab_stats(ScatteredIsosurfaceStats& st, const ScatteredIsosurfaceStats& part) {
+    st.newton += part.newton;
+    st.seed_busy_seconds += part.seed_busy_seconds;
+    st.newton_busy_seconds += part.newton_busy_seconds;
+    add_seed_stats(st.seeds, part.seeds);
+}
+
+/// The bricks above world z = from that the lacking balls of earlier slabs meet (the balls wholly
+/// below are dropped from `seen`): uneven data asks for the same far points slab after slab.
+std::vector<char> bricks_still_lacking(const PointStore& store, const BrickIndex& index, std::vector<std::pair<Vec3, double>>& seen,
+                                       double from) {
+    std::vector<char> extra(store.bricks().size(), 0);
+    std::erase_if(seen, [&](const std::pair<Vec3, double>& b) { return b.first.z + b.second < from; });
+    for (const auto& [c, r] : seen)
+        index.meeting_ball(c, r, [&](std::size_t i) { extra[i] = extra[i] || store.bricks()[i].hi[2] >= from; });
+    return extra;
+}
+
+}  // namespace
+
 ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store, const ScatteredStorePlan& plan,
                                                         const FieldParams& field_params, const ScatteredStoreParams& sp,
                                                         double iso, int n, const FieldProjectParams& np, double dedup,
@@ -416,25 +485,13 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
     double field_per_point = 0;
     const auto per_point = [&] { return field_per_point > 0 ? 1.1 * field_per_point + sp.other_bytes_per_point : sp.bytes_per_point; };
     const auto fits = [&](const Slab& s) { return static_cast<double>(s.points) * per_point() + 2.0 * static_cast<double>(cache.bytes()) <= budget; };
-    const std::vector<char> none(store.bricks().size(), 0);
     std::uint64_t seq = 0;
-    // The first halo: two MPU fit spheres at the mean density (a leaf whose blend sphere meets the
-    // query box fits the points of its sphere, which holds at most N points: radius (3N / 4 pi rho)^(1/3)
-    // where the density is rho), at least two grid cells; lacking balls add what uneven data needs.
-    const Vec3 ext = plan.frame.bounds[1] - plan.frame.bounds[0];
-    const double volume = std::max(ext.x, g.cell.x) * std::max(ext.y, g.cell.y) * std::max(ext.z, g.cell.z);
-    const double leaf = std::cbrt(3.0 * field_params.mpu_max_points * volume / (4.0 * std::numbers::pi * static_cast<double>(plan.frame.points)));
-    const double halo0 = std::max(2 * g.cell.z, 2 * leaf);
-    // The lacking balls of the slabs so far: the next slab starts with the bricks of those that
-    // reach it (uneven data asks for the same far points slab after slab: fewer builds again).
-    std::vector<std::pair<Vec3, double>> seen;
+    const double halo0 = first_halo(plan, field_params);
+    std::vector<std::pair<Vec3, double>> seen;  // the lacking balls of the slabs so far
     for (std::int64_t s0 = 0; s0 < planner.layers();) {
         double halo = halo0;
-        std::vector<char> extra = none;  // bricks that lacking balls asked for
-        const double from = planner.query_from(s0) - halo0;
-        std::erase_if(seen, [&](const std::pair<Vec3, double>& b) { return b.first.z + b.second < from; });
-        for (const auto& [c, r] : seen)
-            index.meeting_ball(c, r, [&](std::size_t i) { extra[i] = extra[i] || store.bricks()[i].hi[2] >= from; });
+        // bricks that lacking balls asked for
+        std::vector<char> extra = bricks_still_lacking(store, index, seen, planner.query_from(s0) - halo0);
         std::int64_t s1 = s0 + 1;
         while (s1 < planner.layers() && fits(planner.slab(s0, s1 + 1, halo, extra))) ++s1;
         for (;;) {
@@ -451,28 +508,8 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
             in.reg_gap = sp.reg_gap;
             rep.loaded += in.points.size();
             rep.most_loaded = std::max<std::uint64_t>(rep.most_loaded, in.points.size());
-            FieldRegion region;
-            region.frame = plan.frame;
-            region.query = {Vec3{g.origin.x - pad, g.origin.y - pad, slab.query[0]},
-                            Vec3{g.origin.x + static_cast<double>(g.dims[0]) * g.cell.x + pad,
-                                 g.origin.y + static_cast<double>(g.dims[1]) * g.cell.y + pad, slab.query[1]}};
-            region.loaded = {Vec3{-kInf, -kInf, slab.loaded[0]}, Vec3{kInf, kInf, slab.loaded[1]}};
-            // (the field is built on several threads: each count reads the index under a lock)
-            std::mutex index_lock;
-            region.missing = [&](const Vec3& c, double r) {
-                const std::lock_guard<std::mutex> hold(index_lock);
-                // the bricks meeting the ball that were not read, or read in part where the ball
-                // leaves the loaded range; or the grid cells it meets outside that range
-                const bool below = c.z - r < slab.loaded[0], above = c.z + r > slab.loaded[1];
-                std::uint64_t n = 0;
-                index.meeting_ball(c, r, [&](std::size_t i) {
-                    const PointBrickEntry& b = store.bricks()[i];
-                    if (slab.in[i] == 0 || (slab.in[i] == 1 && ((below && b.lo[2] < slab.loaded[0]) || (above && b.hi[2] > slab.loaded[1]))))
-                        n += b.count;
-                });
-                return std::min(n, plan.points_near(c, r, slab.loaded));
-            };
-            region.present = [&plan](const Vec3& c, double r) { return plan.points_surely_in(c, r); };
+            SlabRegion slab_region(store, plan, index, slab, pad);
+            FieldRegion& region = slab_region.region;
             const double others = static_cast<double>(in.points.size()) * sp.other_bytes_per_point + 2.0 * static_cast<double>(cache.bytes());
             region.max_field_bytes = static_cast<std::uint64_t>(std::max(1.0, budget - others));
             FieldBuildStats fst;
@@ -526,10 +563,7 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                 b.seq = seq++;
                 sink.consume(std::move(b));
             }
-            st.newton += part.newton;
-            st.seed_busy_seconds += part.seed_busy_seconds;
-            st.newton_busy_seconds += part.newton_busy_seconds;
-            add_seed_stats(st.seeds, part.seeds);
+            add_slab_stats(st, part);
             add_field_stats(rep.field, fst);
             rep.halo_cells = std::max(rep.halo_cells, halo / g.cell.z);
             ++rep.slabs;
