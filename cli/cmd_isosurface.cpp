@@ -140,7 +140,7 @@ int cmd_isosurface(int argc, char** argv) {
     add_color_options(a);
     a.epilog("BLOCKS (PLOT3D, .vts pieces, .vtm/.vthb, or several files): the multiblock/AMR isosurface of chapter 4\n"
              "          (meshless isosurface BLOCKS... --help for its options).\n"
-             "POINTS (scattered: CSV/TSV, PLY, VTP, raw records, .npy): the isosurface of chapter 5\n"
+             "POINTS (scattered: CSV/TSV, PLY, VTP, raw records, .npy, point stores .mlc): the isosurface of chapter 5\n"
              "          (meshless isosurface POINTS --help for its options).\n"
              "examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
              "          meshless isosurface vol.mlb --iso 100.5 --memory 256M -o out.ply\n"

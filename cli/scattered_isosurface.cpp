@@ -183,7 +183,10 @@ int isosurface_scattered(int argc, char** argv) {
            "isosurface by safeguarded Newton iteration (section 5.6), of the MPU field (section 5.5) unless\n"
            "--field names another. Writes an oriented point set (binary PLY: x y z nx ny nz radius value, or\n"
            ".vtp) and/or a splatted PNG.\n"
-           "POINTS: CSV/TSV/text, PLY, VTP, raw float32 records, .npy (see meshless info).");
+           "POINTS: CSV/TSV/text, PLY, VTP, raw float32 records, .npy (see meshless info), or a point store (.mlc,\n"
+           "made by meshless convert): with the mpu field and a limited --max-travel it runs in z slabs within\n"
+           "--memory, the bytes of the store read whole for any budget (a PLY of the same points gives the same\n"
+           "samples in another order).");
     a.option("iso", "", "V", "isovalue (required)")
         .option("output", "o", "FILE", "point set output: .ply or .vtp; '-' = stdout")
         .option("png", "", "FILE", "also render the points to this PNG");
@@ -197,8 +200,9 @@ int isosurface_scattered(int argc, char** argv) {
     add_camera_options(a);
     add_color_options(a);
     a.option("memory", "", "BYTES",
-             "a point store (.mlc) with the mpu field: the budget its slabs are sized to, e.g. 512M, 2G (default: the memory this process may use); "
-             "the output does not depend on it")
+             "a point store (.mlc) with the mpu field and --max-travel > 0, one process: the budget its slabs are sized "
+             "to, e.g. 512M, 2G (default: the memory this process may use); the output does not depend on it. Budgets "
+             "near the least that runs make many thin slabs, each a rebuild of its overlap: see --stats")
         .validate([](const std::string& v) { (void)parse_memory_size(v); });
     a.positionals(1, 1u << 20);
     a.epilog("examples: meshless sample ../shared/data/bucky/Bucky_32x32x32_uint8.raw -n 20000 -o bucky.ply && meshless isosurface bucky.ply --iso 100 -o b.ply --png b.png --stats\n"
@@ -348,6 +352,7 @@ int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSessio
 /// A point store (.mlc) with the mpu field: slab by slab within --memory (stream/scattered_store_isosurface.hpp).
 bool runs_store_slabs(const Args& a, MpiSession* mpi) {
     if (mpi || a.positional().size() != 1 || field_file_arg(a) || !is_point_store(a.positional()[0])) return false;
+    if (parse_finite(a.get_or("max-travel", a.default_of("max-travel")), "--max-travel") == 0) return false;  // (no slab bound: read whole)
     return field_kind_arg(a, kPointsFieldDefault) == "mpu";
 }
 
@@ -407,8 +412,8 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
 int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
     if (runs_store_slabs(a, mpi)) return isosurface_scattered_store(a, t_start);
     if (a.has("memory"))  // (a budget the run below cannot keep: say so rather than exceed it silently)
-        std::fprintf(stderr, "meshless isosurface: warning: --memory bounds a point store (.mlc) read by the mpu field in one "
-                             "process; these points and their field are held whole\n");
+        std::fprintf(stderr, "meshless isosurface: warning: --memory bounds only a point store (.mlc) with the mpu field, "
+                             "--max-travel > 0 and no mpirun; these points and their field are held in memory whole\n");
     ScatteredJob j = prepare_scattered(a, mpi);
     if (mpi) return isosurface_scattered_mpi(a, t_start, *mpi, j);
     const ScatteredInput& in = j.in;

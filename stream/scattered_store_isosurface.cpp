@@ -542,9 +542,18 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                     cache.clear();
                     continue;
                 }
+                // what would do: the fullest layer of the store (its points grown as this one's grew
+                // with the lacking balls), at this field's bytes a point
+                const std::vector<char> no_extra(store.bricks().size(), 0);
+                const double base = static_cast<double>(std::max<std::uint64_t>(1, planner.slab(s0, s0 + 1, halo0, no_extra).points));
+                const double grown = std::max(1.0, static_cast<double>(in.points.size()) / base);
+                std::uint64_t most = 0;
+                for (std::int64_t k = 0; k < planner.layers(); ++k) most = std::max(most, planner.slab(k, k + 1, halo0, no_extra).points);
+                const double per = 1.1 * need / static_cast<double>(in.points.size()) + sp.other_bytes_per_point;
+                const double would = 1.1 * std::max(need + others, static_cast<double>(most) * grown * per) + fixed;
                 throw InvalidArgument("--memory " + mib(static_cast<double>(sp.memory_bytes)) + " is too small for this store: the field of one " +
                                       "stencil layer of the binning grid (" + std::to_string(in.points.size()) + " points with its halo) takes " +
-                                      mib(need) + "; give at least --memory " + mib(need + others + fixed));
+                                      mib(need) + "; the fullest layer needs about --memory " + mib(would));
             }
             SlabBuffer buf;
             ScatteredIsosurfaceStats part;

@@ -231,15 +231,21 @@ TEST_CASE("isosurface of a .mlc in slabs within --memory: the bytes of one slab 
     const std::string ply = (dir / "u.ply").string(), mem = (dir / "mem.ply").string();
     r = sh("MESHLESS isosurface " + csv + " --iso 0.3 --max-travel 0.5 -o " + mem + " -j 2 --memory 48M", dir);
     REQUIRE(r.code == 0);
-    CHECK(r.err.find("warning: --memory bounds a point store (.mlc)") != std::string::npos);  // (held whole: said)
+    CHECK(r.err.find("warning: --memory bounds only a point store (.mlc)") != std::string::npos);  // (held whole: said)
     CHECK(sorted_records(slurp(mem), 32) == sorted_records(want, 32));
+    // no bound on Newton's travel: no slab bound either, the store is read whole (and --memory says so)
+    r = sh("MESHLESS isosurface " + mlc + " --iso 0.3 --max-travel 0 --stats -o " + (dir / "whole.ply").string() + " --memory 48M", dir);
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(r.err.find("warning: --memory bounds only a point store") != std::string::npos);
+    CHECK(r.err.find(" slabs (") == std::string::npos);
     // a budget below one layer: exit 1, one line saying how much would do, nothing written
     const std::string small = (dir / "small.ply").string();
     r = sh("MESHLESS isosurface " + mlc + common + small + " --memory 10M", dir);
     CHECK(r.code == 1);
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     CHECK(r.err.find("--memory 10 MiB is too small") != std::string::npos);
-    CHECK(r.err.find("give at least --memory") != std::string::npos);
+    CHECK(r.err.find("the fullest layer needs about --memory") != std::string::npos);
     CHECK_FALSE(fs::exists(small));
     CHECK(temporaries(dir.path).empty());
 }
