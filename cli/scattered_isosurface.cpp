@@ -385,6 +385,11 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
                                             [&](double k) { meter.add(k); }, &rep);
         return IsoSplatResult{};
     }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
+    if (a.has("memory") && rep.slabs > 1 && rep.loaded > 4 * plan.frame.points)  // (a budget near the least that runs)
+        std::fprintf(stderr, "meshless isosurface: warning: --memory %s made %d slabs that read the points %.0f times over; "
+                             "more memory makes fewer, faster slabs\n",
+                     terminal_safe(*a.get("memory")).c_str(), rep.slabs,
+                     static_cast<double>(rep.loaded) / static_cast<double>(plan.frame.points));
     if (a.has("stats")) {
         const char* cmd = "isosurface";
         print_scattered_stats(cmd, BinningSummary{plan.grid, plan.frame.points, plan.dropped_nonfinite, plan.empty_cells,

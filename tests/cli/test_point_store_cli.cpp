@@ -217,7 +217,8 @@ TEST_CASE("isosurface of a .mlc in slabs within --memory: the bytes of one slab 
     CHECK(r.err.find("point store in 1 slabs") != std::string::npos);
     const std::string want = slurp(one);
     REQUIRE(want.size() > 100000);
-    for (const char* opts : {"--memory 48M -j 1", "--memory 48M -j 2", "--memory 55M -j 2"}) {
+    CHECK(r.err.find("times over") == std::string::npos);
+    for (const char* opts : {"--memory 48M -j 1", "--memory 48M -j 2", "--memory 55M -j 2", "--memory 30M -j 2"}) {
         INFO(opts);
         const std::string out = (dir / "slabs.ply").string();
         r = sh("MESHLESS isosurface " + mlc + common + out + " " + opts, dir);
@@ -226,6 +227,8 @@ TEST_CASE("isosurface of a .mlc in slabs within --memory: the bytes of one slab 
         CHECK(r.err.find("point store in 1 slabs") == std::string::npos);
         CHECK(r.err.find(" slabs (") != std::string::npos);
         CHECK(slurp(out) == want);
+        // a budget near the least that runs reads the points many times over: said
+        if (std::string(opts).find("30M") != std::string::npos) CHECK(r.err.find("times over; more memory makes fewer") != std::string::npos);
     }
     // the same points read into memory (a PLY): the same samples, in another order
     const std::string ply = (dir / "u.ply").string(), mem = (dir / "mem.ply").string();
