@@ -21,7 +21,7 @@
 #include "ooc/slice_source.hpp"
 #include "ooc/sample_store.hpp"
 #include "ooc/verify_brick_store.hpp"
-#include "cli/stdin_spool.hpp"
+#include "formats/stdin_spool.hpp"
 #include "formats/volume_reader.hpp"
 
 namespace meshless::cli {
@@ -131,7 +131,7 @@ int cmd_convert(int argc, char** argv) {
     if (a.positional().size() != 1) throw UsageError("expected one VOLUME argument (see meshless convert --help)");
     ConvertParams p = convert_params(a);
     const std::string out = output_path(a);
-    if (a.positional()[0] == "-") {  // standard input, spooled (cli/stdin_spool.hpp): streamed when it can be
+    if (a.positional()[0] == "-") {  // standard input, spooled (formats/stdin_spool.hpp): streamed when it can be
         VolumeInput in = open_volume_input(a, /*stream=*/true);
         if (in.spool) p.patient_axes = patient_axes_of(in.spool->path(), a);
         std::unique_ptr<SliceSource> src =

@@ -1,7 +1,7 @@
 #include "cli/common.hpp"
 #include "formats/binary_file.hpp"
 #include "formats/point_set_writer.hpp"
-#include "cli/stdin_spool.hpp"
+#include "formats/stdin_spool.hpp"
 
 #include <unistd.h>
 
@@ -562,27 +562,6 @@ RenderSettings render_settings(const Args& a) {
     return rs;
 }
 
-std::string lower_extension(const std::string& path) { return to_lower(std::filesystem::path(path).extension().string()); }
-
-bool ends_with_ci(const std::string& path, const char* suffix) {
-    const std::size_t n = std::char_traits<char>::length(suffix);
-    return path.size() >= n && to_lower(std::string_view(path).substr(path.size() - n)) == suffix;
-}
-
-std::string joined_names(const std::vector<std::string>& paths) {
-    std::string s;
-    for (const auto& p : paths) {
-        if (!s.empty()) s += ',';
-        s += std::filesystem::path(p).filename().string();
-    }
-    return s;
-}
-
-
-
-
-
-
 std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso) {
     if (in.store) return store_surface_bounds(*in.store, *in.index, iso);
     const auto box = active_block_box(in.blocks(), in.grid(), iso);
@@ -737,22 +716,6 @@ void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const s
 
 void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s) {
     if (s.active_cells == 0) warn_if_iso_outside(iso, in.value_range(), in.path);
-}
-
-InputFile::InputFile(const std::string& path) : name(path) {
-    if (path == "-") {
-        f = stdin;
-        return;
-    }
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw IoError(path + ": is a directory, expected a file");
-    require_regular_file(path);
-    f = std::fopen(path.c_str(), "rb");
-    if (!f) throw IoError(path + ": cannot open (" + std::strerror(errno) + ")");
-}
-
-InputFile::~InputFile() {
-    if (f && f != stdin) std::fclose(f);
 }
 
 bool stderr_is_tty() { return ::isatty(2) == 1; }

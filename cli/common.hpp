@@ -10,6 +10,9 @@
 
 #include "cli/args.hpp"
 #include "cli/render_output.hpp"
+#include "formats/file_names.hpp"
+#include "formats/input_file.hpp"
+#include "formats/stdin_spool.hpp"
 #include "formats/anatomical_frame.hpp"
 #include "formats/geometry_format.hpp"
 #include "formats/vtp_writer.hpp"
@@ -28,8 +31,6 @@
 #include "stream/stream_metadata.hpp"
 
 namespace meshless::cli {
-
-class StdinSpool;
 
 /// --dims --type --endian --spacing for raw volumes.
 void add_volume_options(Args& a);
@@ -73,7 +74,7 @@ struct VolumeInput {
     std::unique_ptr<BrickStore> store;
     std::unique_ptr<BrickCache> cache;
     std::unique_ptr<BrickIndex> index;
-    std::shared_ptr<const StdinSpool> spool;  ///< path "-": standard input spooled (cli/stdin_spool.hpp)
+    std::shared_ptr<const StdinSpool> spool;  ///< path "-": standard input spooled (formats/stdin_spool.hpp)
     /// The patient's axes, where the header says them (a brick store records its volume's): the
     /// default camera of its pictures, carried in volume_meta as `patient_axes`.
     std::optional<AnatomicalFrame> frame;
@@ -110,13 +111,6 @@ SamplingParams sampling_params(const Args& a);
 /// --threads
 void add_thread_option(Args& a);
 int threads(const Args& a);
-
-/// The extension of a path's file name, lower-cased (".raw", ".vtm"; "" when none).
-std::string lower_extension(const std::string& path);
-/// Whether `path` ends with `suffix` (lower-case ASCII), ignoring the case of the path's letters.
-bool ends_with_ci(const std::string& path, const char* suffix);
-/// The files' names (no folders) joined by ',' (the `source` of multi-file inputs).
-std::string joined_names(const std::vector<std::string>& paths);
 
 /// --size WxH --azimuth --elevation --up --view --zoom --ortho: where the camera looks from.
 void add_orbit_options(Args& a, const char* default_size);
@@ -216,16 +210,6 @@ std::optional<GeometryOutput> geometry_output(const Args& a, const char* what);
 /// range (computed only then). A run that found an active cell has iso inside the range, so the
 /// volume is not read an extra time to say nothing.
 void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s);
-
-/// A FILE* for reading: stdin for "-", else fopen (IoError naming the path; directories refused).
-struct InputFile {
-    std::FILE* f = nullptr;
-    std::string name;
-    explicit InputFile(const std::string& path);
-    ~InputFile();
-    InputFile(const InputFile&) = delete;
-    InputFile& operator=(const InputFile&) = delete;
-};
 
 /// True when stderr is a terminal (progress and timing chatter go there only then, or with --stats).
 bool stderr_is_tty();

@@ -1,3 +1,4 @@
+#include "formats/file_names.hpp"
 #include "formats/multiblock_reader.hpp"
 
 #include <cctype>
@@ -15,17 +16,11 @@ namespace meshless {
 
 namespace {
 
-std::string lower_ext(const std::string& path) {
-    std::string e = std::filesystem::path(path).extension().string();
-    for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return e;
-}
-
 // A structured VTK XML file (.vts/.vti/.vtr): its pieces as blocks.
 Multiblock read_vtk_file(const std::string& path, const PointSetOptions& o, MultiblockDetails* details) {
     VtkStructuredFile f = read_vtk_structured(path, o);
     Multiblock mb;
-    mb.format = lower_ext(path).substr(1);
+    mb.format = lower_extension(path).substr(1);
     mb.value_name = f.value_name;
     for (auto& p : f.pieces) {
         mb.blanked += p.blanked;
@@ -49,7 +44,7 @@ Multiblock read_via_point_set(const std::string& path, const PointSetOptions& o)
                           " blanked or non-finite samples break the block lattice of this format");
     if (!ps.has_values) throw FormatError(path + ": positions only; a block input needs a scalar");
     Multiblock mb;
-    const std::string e = lower_ext(path);
+    const std::string e = lower_extension(path);
     mb.format = !e.empty() && looks_like_point_set(path) ? e.substr(1) : "volume";
     mb.value_name = ps.value_name;
     for (const auto& b : ps.blocks) {
@@ -69,7 +64,7 @@ Multiblock read_via_point_set(const std::string& path, const PointSetOptions& o)
 }
 
 Multiblock read_one(const std::string& path, const PointSetOptions& o, MultiblockDetails* details) {
-    const std::string e = lower_ext(path);
+    const std::string e = lower_extension(path);
     if (e == ".vtm" || e == ".vthb") return read_vtk_collection(path, o, details);
     if (e == ".vts" || e == ".vti" || e == ".vtr") return read_vtk_file(path, o, details);
     std::vector<std::string> notes;
@@ -85,7 +80,7 @@ Multiblock read_one(const std::string& path, const PointSetOptions& o, Multibloc
 }  // namespace
 
 bool looks_like_multiblock(const std::string& path) {
-    const std::string e = lower_ext(path);
+    const std::string e = lower_extension(path);
     if (e == ".vts" || e == ".vtr" || e == ".vtm" || e == ".vthb" || e == ".p3d" || e == ".xyz" || e == ".x" || e == ".g")
         return true;
     if (e == ".bin") return looks_like_plot3d_xyz(path);

@@ -1,3 +1,4 @@
+#include "formats/file_names.hpp"
 #include "formats/vtk_multiblock.hpp"
 
 #include <algorithm>
@@ -22,19 +23,13 @@ bool is_amr_type(const std::string& t) {
     return t == "vtkOverlappingAMR" || t == "vtkHierarchicalBoxDataSet" || t == "vtkUniformGridAMR";
 }
 
-std::string lower_ext(const std::string& p) {
-    std::string e = std::filesystem::path(p).extension().string();
-    for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return e;
-}
-
 // One piece of the collection, with its errors re-thrown naming the collection and the piece. A
 // piece listed twice is refused (it would multiply what one file's bytes can make the reader
 // allocate, and no writer lists a piece twice).
 VtkStructuredFile read_piece(const std::string& coll, const std::string& rel, const std::string& label,
                              const PointSetOptions& o, bool amr, std::set<std::string>& seen) {
     const std::string tag = coll + ": piece '" + esc(rel, 200) + "' (" + label + ")";
-    const std::string e = lower_ext(rel);
+    const std::string e = lower_extension(rel);
     if (amr ? e != ".vti" : (e != ".vts" && e != ".vti" && e != ".vtr"))
         throw FormatError(tag + ": unsupported piece type '" + esc(e) + "' (" + (amr ? ".vti" : ".vts, .vti, .vtr") + ")");
     const std::string piece_path = resolve_relative(coll, rel);

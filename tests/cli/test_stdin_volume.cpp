@@ -1,4 +1,4 @@
-// `-` as a volume input (cli/stdin_spool.hpp): raw with --dims/--type and NRRD with attached data
+// `-` as a volume input (formats/stdin_spool.hpp): raw with --dims/--type and NRRD with attached data
 // piped in give the same points as the file; errors name "- (stdin)", never the spool's
 // /proc path; nothing is left in $TMPDIR.
 #include <catch2/catch.hpp>

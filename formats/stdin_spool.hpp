@@ -10,7 +10,7 @@
 #include <functional>
 #include <string>
 
-namespace meshless::cli {
+namespace meshless {
 
 class StdinSpool {
 public:
@@ -40,4 +40,4 @@ auto StdinSpool::readable_errors(F&& f) const -> decltype(f()) {
     }
 }
 
-}  // namespace meshless::cli
+}  // namespace meshless

@@ -1,4 +1,4 @@
-#include "cli/stdin_spool.hpp"
+#include "formats/stdin_spool.hpp"
 
 #include <cerrno>
 #include <cstdlib>
@@ -12,7 +12,7 @@
 #include "formats/temporary_files.hpp"
 #include "kernels/errors.hpp"
 
-namespace meshless::cli {
+namespace meshless {
 
 StdinSpool::StdinSpool() {
     if (::isatty(0) == 1) throw IoError("-: standard input is a terminal; pipe a volume in (e.g. < vol.nrrd)");
@@ -75,4 +75,4 @@ void StdinSpool::rethrow_renamed() const {
     }
 }
 
-}  // namespace meshless::cli
+}  // namespace meshless
