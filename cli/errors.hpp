@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "formats/terminal_safe.hpp"
 #include "kernels/errors.hpp"
 #include "stream/pipe_closure.hpp"
 
@@ -33,13 +34,8 @@ inline constexpr int kExitInternal = 3;
 int exit_code(const std::exception& e) noexcept;
 
 /// The one-line message for it: what(), "out of memory" for std::bad_alloc, prefixed
-/// "internal error: " when exit_code(e) is kExitInternal; passed through terminal_safe (the
+/// "internal error: " when exit_code(e) is kExitInternal; passed through terminal_safe (formats/terminal_safe.hpp; the
 /// readers escape what they quote from files; this is the last line of defence).
 std::string error_message(const std::exception& e);
-
-/// `s` made safe for a terminal and one line: control bytes (ESC, CR, LF, ...), DEL and UTF-8 C1
-/// controls become \xNN; cut to `max` bytes with "...".
-std::string terminal_safe(std::string_view s, std::size_t max = 4096);
-
 
 }  // namespace meshless::cli
