@@ -3,10 +3,9 @@
 // rendering of scattered data). Volumes and brick stores are sampled trilinearly (stores through the
 // brick cache, within --memory); scattered points and multiblock grids through a meshless field
 // (rbf-grid, mpu, global-rbf, or a fitted .mlf). Nothing is resampled onto a grid first.
-// The algorithm is kernels/ray_caster.hpp; this file picks the field, the transfer function, the
-// step, the empty-space boxes and the camera, and writes / compares the picture.
+// The recipe is stream/field_render.hpp (the field, its empty-space boxes, the frame, the picture);
+// this file reads the options, picks the input and the transfer function, and writes / compares.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -27,26 +26,15 @@
 #include "formats/png_writer.hpp"
 #include "formats/transfer_function_file.hpp"
 #include "formats/volume_reader.hpp"
-#include "kernels/block_minmax.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/image_compare.hpp"
-#include "kernels/merge_near_duplicates.hpp"
 #include "kernels/ray_caster.hpp"
-#include "kernels/trilinear_field.hpp"
-#include "ooc/brick_field.hpp"
 #include "ooc/brick_store.hpp"
+#include "stream/field_render.hpp"
 
 namespace meshless::cli {
 
 namespace {
-
-/// Edge, in cells, of the empty-space boxes of a volume in memory (a store uses its bricks).
-constexpr int kVolumeMacroCells = 8;
-/// Scattered data: empty-space boxes of this many mean point spacings, bounded by the points within
-/// kPointPad spacings (the reach of the fields' local fits: an mpu leaf's sphere or an RBF-grid cell's
-/// data sphere holds its few dozen nearest points, 2-3 spacings), widened by kPointMargin of the
-/// data's value range (multiquadric interpolants overshoot their data a little).
-constexpr double kPointMacroCell = 8, kPointPad = 3, kPointMargin = 0.05;
 
 std::array<double, 3> parse_rgb(const std::string& s, const char* what) {
     double v[3];
@@ -58,22 +46,14 @@ std::array<double, 3> parse_rgb(const std::string& s, const char* what) {
     return {v[0], v[1], v[2]};
 }
 
-/// What the command renders: a field over a box, its value range, its natural spacing, and the
-/// empty-space boxes; plus whatever the field keeps alive.
-struct RenderInput {
-    std::optional<VolumeInput> volume;
-    std::unique_ptr<Field> owned;  ///< trilinear / brick-store field
-    BuiltField built;              ///< meshless field
-    const Field* field = nullptr;
-    std::array<Vec3, 2> box;
-    std::array<double, 2> range{0, 1};
-    double spacing = 1;            ///< default step = spacing / 2
-    std::optional<ValueBoundsGrid> skip;
-    std::string what;              ///< for the stats line
+/// The library's render input (stream/field_render.hpp) and the meshless field it may render.
+struct CliRenderInput {
+    RenderInput in;
+    BuiltField built;
 };
 
-RenderInput open_render_input(const Args& a) {
-    RenderInput in;
+CliRenderInput open_render_input(const Args& a) {
+    CliRenderInput r;
     const auto& pos = a.positional();
     const std::string& first = pos[0];
     const bool store = is_brick_store(first) || ends_with_ci(first, ".mlb");
@@ -97,26 +77,7 @@ RenderInput open_render_input(const Args& a) {
             if (a.declared(o) && a.has(o))
                 throw UsageError("--" + std::string(o) + " applies to point sets and multiblock grids; " + first +
                                  " is a volume, rendered through its trilinear interpolant");
-        in.volume = open_volume_input(a, /*stream=*/false);
-        const GridSpec& g = in.volume->grid();
-        if (in.volume->store) {
-            in.owned = std::make_unique<BrickStoreField>(*in.volume->store, *in.volume->cache);
-            in.skip = store_value_bounds(*in.volume->store);
-            const auto& info = in.volume->store->info();
-            in.range = {info.value_min, info.value_max};
-            in.what = "brick store, trilinear";
-        } else {
-            const VolumeView v = in.volume->volume->view();
-            in.owned = std::make_unique<TrilinearField>(v);
-            const BlockMinMax b = block_minmax(v, kVolumeMacroCells);
-            in.range = b.range();
-            in.skip = value_bounds_from_blocks(b, g);
-            in.what = "volume, trilinear";
-        }
-        in.field = in.owned.get();
-        in.box = in.field->bounds();
-        in.spacing = std::min({g.spacing[0], g.spacing[1], g.spacing[2]});
-        in.what += " " + std::to_string(g.dims[0]) + "x" + std::to_string(g.dims[1]) + "x" + std::to_string(g.dims[2]);
+        r.in = volume_render_input(open_volume_input(a, /*stream=*/false));
     } else {
         if (kind == "trilinear")
             throw UsageError("--field trilinear: " + first + " is not a volume; scattered points and multiblock grids render "
@@ -128,17 +89,10 @@ RenderInput open_render_input(const Args& a) {
                                  "; " + first + " is read as points");
         const PointSet pts = read_field_points(pos, a);
         if (pts.size() == 0) throw FormatError(first + ": no points to render");
-        in.built = build_field(a, pts, data_default);
-        in.field = in.built.field.get();
-        in.box = pts.bounds();
-        in.range = pts.value_range();
-        in.spacing = mean_point_spacing(pts.pos);
-        if (!(in.spacing > 0)) throw FormatError(first + ": all points coincide; nothing to render");
-        const double margin = kPointMargin * (in.range[1] - in.range[0]);
-        in.skip = value_bounds_from_points(pts.pos, pts.value, in.box, kPointMacroCell * in.spacing, kPointPad * in.spacing, margin);
-        in.what = std::to_string(pts.size()) + " points, " + in.field->name() + " field";
+        r.built = build_field(a, pts, data_default);
+        r.in = points_render_input(pts, *r.built.field, first);
     }
-    return in;
+    return r;
 }
 
 TransferFunction transfer_function_arg(const Args& a, const std::array<double, 2>& data_range) {
@@ -220,30 +174,18 @@ void declare_render_options(Args& a) {
              "          meshless render points.ply --field mpu -o lod.png --compare chest.png --diff diff.png\n");
 }
 
-/// The box the camera frames: the data's, or --bounds X0,Y0,Z0,X1,Y1,Z1; in.box becomes the part
-/// rendered (a grid's samples within the box; a field's whole box, it extrapolates).
-std::array<Vec3, 2> render_frame(const Args& a, RenderInput& in) {
-    std::array<Vec3, 2> frame = in.box;
-    if (auto b = a.get("bounds")) {
-        double v[6], lo[3], hi[3];
-        char tail;
-        if (std::sscanf(b->c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &tail) != 6)
-            throw UsageError("--bounds: expected X0,Y0,Z0,X1,Y1,Z1, got '" + *b + "'");
-        for (int i = 0; i < 3; ++i)
-            if (!std::isfinite(v[i]) || !std::isfinite(v[i + 3]) || !(v[i] < v[i + 3]))
-                throw UsageError("--bounds: expected finite X0 < X1, Y0 < Y1, Z0 < Z1, got '" + *b + "'");
-        frame = {Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]}};
-        if (in.volume) {  // a grid has no values beyond its samples: render the part of the box it covers
-            for (int i = 0; i < 3; ++i) {
-                lo[i] = std::max(in.box[0][i], frame[0][i]);
-                hi[i] = std::min(in.box[1][i], frame[1][i]);
-            }
-            in.box = {Vec3{lo[0], lo[1], lo[2]}, Vec3{hi[0], hi[1], hi[2]}};
-        } else {
-            in.box = frame;  // the field extrapolates beyond its points
-        }
-    }
-    return frame;
+/// --bounds X0,Y0,Z0,X1,Y1,Z1 (stream/field_render.hpp render_frame), if given.
+std::optional<std::array<Vec3, 2>> bounds_arg(const Args& a) {
+    const auto b = a.get("bounds");
+    if (!b) return std::nullopt;
+    double v[6];
+    char tail;
+    if (std::sscanf(b->c_str(), "%lf,%lf,%lf,%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &tail) != 6)
+        throw UsageError("--bounds: expected X0,Y0,Z0,X1,Y1,Z1, got '" + *b + "'");
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(v[i]) || !std::isfinite(v[i + 3]) || !(v[i] < v[i + 3]))
+            throw UsageError("--bounds: expected finite X0 < X1, Y0 < Y1, Z0 < Z1, got '" + *b + "'");
+    return std::array<Vec3, 2>{Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]}};
 }
 
 }  // namespace
@@ -262,15 +204,15 @@ int cmd_render(int argc, char** argv) {
         if (*d == png) throw UsageError("-o and --diff name the same output '" + png + "'");
     }
     Camera cam = camera_from(a, "512x512");
-    RayCastParams rp;
-    rp.shade = a.has("shade");
-    rp.background = parse_rgb(a.get_or("background", "0,0,0"), "--background");
-    std::optional<double> step;
+    RenderOptions ro;
+    ro.shade = a.has("shade");
+    ro.no_skip = a.has("no-skip");
+    ro.background = parse_rgb(a.get_or("background", "0,0,0"), "--background");
     if (auto s = a.get("step")) {
-        step = parse_finite(*s, "--step");
-        if (!(*step > 0)) throw UsageError("--step: must be positive");
+        ro.step = parse_finite(*s, "--step");
+        if (!(*ro.step > 0)) throw UsageError("--step: must be positive");
     }
-    const int nthreads = threads(a);
+    ro.threads = threads(a);
     // the reference and the outputs before any work: a reference of another size, or an output
     // that cannot be created, fails at once and writes nothing
     std::optional<Image> ref;
@@ -285,41 +227,24 @@ int cmd_render(int argc, char** argv) {
     std::optional<AtomicFile> diff_file;
     if (auto d = a.get("diff")) diff_file.emplace(*d);
 
-    RenderInput in = open_render_input(a);
+    CliRenderInput input = open_render_input(a);
+    RenderInput& in = input.in;
     if (in.volume) apply_anatomical_default(a, *in.volume, cam);  // head up, face to the viewer, where the header says
     const TransferFunction tf = transfer_function_arg(a, in.range);
-    rp.ref_step = 0.5 * in.spacing;
     if (auto r = a.get("ref-step")) {
-        rp.ref_step = parse_finite(*r, "--ref-step");
-        if (!(rp.ref_step > 0)) throw UsageError("--ref-step: must be positive");
+        ro.ref_step = parse_finite(*r, "--ref-step");
+        if (!(*ro.ref_step > 0)) throw UsageError("--ref-step: must be positive");
     }
-    rp.step = step ? *step : 0.5 * in.spacing;
-    // a volume's trilinear gradient jumps at every cell face: shade with central differences over
-    // one voxel (the same for the volume and its brick store, whose values are the same)
-    if (in.volume) {
-        const GridSpec& g = in.volume->grid();
-        rp.gradient_step = {g.spacing[0], g.spacing[1], g.spacing[2]};
-    }
-    const std::array<Vec3, 2> frame = render_frame(a, in);
-    const ViewTransform view = make_view(cam, frame[0], frame[1]);
+    ro.bounds = bounds_arg(a);
     const bool tty = stderr_is_tty();
     // rays (pixels) as the tiles finish; the ray caster reports the finished fraction, serialised
     ProgressMeter meter = ProgressMeter::of(a, "rays", static_cast<double>(cam.width) * cam.height);
     const bool show = progress_wanted(a);
     auto progress = [&](double f) { meter.set_fraction(f); };
-    const auto t0 = std::chrono::steady_clock::now();
-    RayCastStats st;
-    if (a.has("no-skip") && in.skip) {
-        // every box with data becomes "unknown" (evaluated); boxes without data (scattered points that do
-        // not reach them: kernels/value_bounds_grid.hpp) stay outside the picture, as with skipping
-        for (std::size_t c = 0; c < in.skip->vmin.size(); ++c)
-            if (!(in.skip->vmin[c] > in.skip->vmax[c])) in.skip->vmin[c] = in.skip->vmax[c] = std::nan("");
-    }
-    const RgbaImage rgba = ray_cast_rgba(*in.field, in.box, view, tf, rp, in.skip ? &*in.skip : nullptr, nthreads,
-                                         &st, show ? std::function<void(double)>(progress) : std::function<void(double)>());
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const RenderResult rr = render_field(in, cam, tf, ro, show ? std::function<void(double)>(progress) : std::function<void(double)>());
     meter.done();
-    const Image picture = compose_over_background(rgba, rp.background);
+    const Image& picture = rr.picture;
+    const RayCastStats& st = rr.stats;
     // a closed stdout (-o - | head) still lets --diff be written; then the quiet exit
     PipeClosure pipe;
     const bool png_live = pipe.step([&] { write_png(picture, png_file); });
@@ -327,9 +252,9 @@ int cmd_render(int argc, char** argv) {
         std::fprintf(stderr,
                      "render: %s, %dx%d, step %g (ref %g), %d thread(s): %.3f s; %llu rays hit, %llu samples (%.2f M/s), "
                      "%llu skipped as empty, %llu rays terminated early\n",
-                     in.what.c_str(), cam.width, cam.height, rp.step, rp.ref_step, nthreads, seconds,
+                     in.what.c_str(), cam.width, cam.height, rr.params.step, rr.params.ref_step, ro.threads, rr.seconds,
                      static_cast<unsigned long long>(st.rays_hit), static_cast<unsigned long long>(st.samples),
-                     1e-6 * static_cast<double>(st.samples) / std::max(seconds, 1e-9), static_cast<unsigned long long>(st.skipped),
+                     1e-6 * static_cast<double>(st.samples) / std::max(rr.seconds, 1e-9), static_cast<unsigned long long>(st.skipped),
                      static_cast<unsigned long long>(st.terminated));
     if (ref) {
         if (ref->width != picture.width || ref->height != picture.height)  // checked above against --size

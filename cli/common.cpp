@@ -12,20 +12,12 @@
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
-#include <thread>
 
 #include "cli/errors.hpp"
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/enumerable_thread_specific.h>
-#include <oneapi/tbb/global_control.h>
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
 
 #include "formats/atomic_file.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/anatomical_view.hpp"
-#include "kernels/block_minmax.hpp"
-#include "ooc/brick_slice_source.hpp"
 #include "kernels/errors.hpp"
 #include "stream/available_cpus.hpp"
 #include "stream/available_memory.hpp"
@@ -68,63 +60,28 @@ RawOptions raw_options(const Args& a) {
     return raw;
 }
 
-namespace {
-void warn_if_raw_options_ignored(const Args& a, const std::string& path, const RawOptions& raw) {
-    if (a.has("dims") || a.has("type") || a.has("endian") || a.has("spacing")) {
-        const VolumeInfo vi = probe_volume(path, raw);
-        if (vi.format != "raw")
-            std::fprintf(stderr, "meshless %s: warning: %s is a %s file, which describes itself: --dims, --type, --endian "
-                         "and --spacing are ignored\n", a.command().c_str(), terminal_safe(path).c_str(), vi.format.c_str());
-    }
+VolumeOpenOptions volume_open_options(const Args& a, bool stream) {
+    VolumeOpenOptions o;
+    o.raw = raw_options(a);
+    o.raw_given = a.has("dims") || a.has("type") || a.has("endian") || a.has("spacing");
+    o.stream = stream;
+    if (a.declared("memory") && a.has("memory")) o.memory = parse_memory_size(*a.get("memory"));
+    o.threads = threads(a);
+    o.warn = [command = a.command()](const std::string& line) {
+        std::fprintf(stderr, "meshless %s: %s\n", command.c_str(), line.c_str());
+    };
+    return o;
 }
 
-Volume load_volume(const Args& a, bool map) {
+namespace {
+const std::string& volume_arg(const Args& a) {
     if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
-    const std::string& path = a.positional()[0];
-    const RawOptions raw = raw_options(a);
-    if (path == "-") {  // a mapping outlives the spool's descriptor; a read copies
-        const StdinSpool spool;
-        return spool.readable_errors([&] {
-            check_volume_fits(a, "- (stdin)", probe_volume(spool.path(), raw), map);
-            return map ? map_volume(spool.path(), raw) : read_volume(spool.path(), raw);
-        });
-    }
-    if (is_brick_store(path)) {  // commands that need the volume whole
-        const auto store = BrickStore::open(path);
-        VolumeInfo vi;
-        vi.grid = store->info().grid;
-        vi.type = store->info().type;
-        check_volume_fits(a, path, vi, false);
-        return read_brick_store_volume(path);
-    }
-    warn_if_raw_options_ignored(a, path, raw);
-    check_volume_fits(a, path, probe_volume(path, raw), map);
-    return map ? map_volume(path, raw) : read_volume(path, raw);
+    return a.positional()[0];
 }
 }  // namespace
 
-std::string byte_size_text(std::uint64_t bytes) {
-    static const char* const kUnit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
-    double v = static_cast<double>(bytes);
-    int u = 0;
-    while (v >= 1024 && u < 6) v /= 1024, ++u;
-    char b[48];
-    if (u == 0) std::snprintf(b, sizeof b, "%llu bytes", static_cast<unsigned long long>(bytes));
-    else std::snprintf(b, sizeof b, "%.1f %s", v, kUnit[u]);
-    return b;
-}
-
 void check_volume_fits(const Args& a, const std::string& path, const VolumeInfo& vi, bool map) {
-    if (map && vi.maps) return;  // the samples stay in the file (page cache), not in this process's memory
-    const std::uint64_t need = decoded_bytes(vi, path);
-    const bool given = a.declared("memory") && a.has("memory");
-    const std::uint64_t budget = given ? parse_memory_size(*a.get("memory")) : available_memory();
-    if (need <= budget) return;
-    throw IoError(path + ": the volume takes " + byte_size_text(need) + " (" + dims_string(vi.grid) + " " +
-                  to_string(vi.type) + ") in memory, more than " +
-                  (given ? "--memory " + byte_size_text(budget)
-                         : "the " + byte_size_text(budget) + " this process may use (physical memory, cgroup limit; --memory sets it)") +
-                  "; a brick store streams it: meshless convert " + path + " -o vol.mlb");
+    check_volume_fits(path, vi, map, volume_open_options(a, false).memory);
 }
 
 void check_option_fits(const Args& a, const std::string& option, const std::string& what, std::uint64_t need,
@@ -140,7 +97,7 @@ std::uint64_t image_bytes(int width, int height, std::uint64_t bytes_per_pixel) 
     return static_cast<std::uint64_t>(std::max(width, 0)) * static_cast<std::uint64_t>(std::max(height, 0)) * bytes_per_pixel;
 }
 
-Volume load_volume(const Args& a) { return load_volume(a, false); }
+Volume load_volume(const Args& a) { return load_volume(volume_arg(a), volume_open_options(a, false)); }
 
 void add_sampling_options(Args& a) {
     a.option("radius-scale", "", "S", "splat radius = S * half the cell diagonal", "1");
@@ -160,215 +117,9 @@ void add_memory_option(Args& a) {
         .validate([](const std::string& v) { (void)parse_memory_size(v); });
 }
 
-const GridSpec& VolumeInput::grid() const {
-    return store ? store->info().grid : slices ? slices->grid() : volume->grid;
-}
-SampleType VolumeInput::type() const { return store ? store->info().type : slices ? slices->type() : volume->type; }
-
-namespace {
-constexpr int kFramingBlockEdge = 32;  // the default brick edge of meshless convert
-
-/// Appends one layer of blocks (edge + 1 slices or fewer, one block deep) to `all`.
-void append_layer(BlockMinMax& all, const BlockMinMax& layer) {
-    all.blocks = {layer.blocks[0], layer.blocks[1], all.blocks[2] + 1};
-    all.vmin.insert(all.vmin.end(), layer.vmin.begin(), layer.vmin.end());
-    all.vmax.insert(all.vmax.end(), layer.vmax.begin(), layer.vmax.end());
-}
-
-/// Layer i of blocks holds slices [i * edge, min(i * edge + edge, nz - 1)].
-std::int64_t block_layers(const GridSpec& g, int edge) {
-    return std::max<std::int64_t>(1, (g.dims[2] - 1 + edge - 1) / edge);
-}
-
-/// block_minmax over a slab-streamed volume: about 1 MiB of slices at a time (every slice read
-/// once, in order, into one reused buffer), so the pass costs neither memory nor page faults.
-BlockMinMax streamed_block_minmax(SliceSource& s, int edge) {
-    const GridSpec g = s.grid();
-    BlockMinMaxBuilder b(g, s.type(), edge);
-    const auto slice_bytes = static_cast<std::size_t>(g.dims[0] * g.dims[1]) * sample_size(s.type());
-    if (slice_bytes == 0) return std::move(b).finish();
-    const std::int64_t step = std::max<std::int64_t>(1, static_cast<std::int64_t>((std::size_t{1} << 20) / slice_bytes));
-    const std::unique_ptr<std::byte[]> buf(new std::byte[slice_bytes * static_cast<std::size_t>(step)]);
-    for (std::int64_t k = 0; k < g.dims[2]; k += step) {
-        const std::int64_t n = std::min(step, g.dims[2] - k);
-        s.read_slices(k, n, buf.get());
-        b.add_slices(k, n, buf.get());
-    }
-    return std::move(b).finish();
-}
-
-/// The same, the layers computed in parallel (`threads`), each thread reading its layers (all
-/// edge + 1 slices) through its own reader from `reopen` (a raw payload, read at any k) in pieces of
-/// about 1 MiB into one reused buffer (a whole layer per read meant fresh, zero-filled pages per
-/// thread: ~5% of a 2-thread isosurface's CPU), or, without one, straight from the volume in memory
-/// `data`. The layers are joined in z order: the same blocks as block_minmax /
-/// streamed_block_minmax whatever the thread count.
-BlockMinMax parallel_block_minmax(const GridSpec& g, SampleType type, int edge, int threads,
-                                  const std::function<std::unique_ptr<SliceSource>()>& reopen, const std::byte* data) {
-    const auto slice_bytes = static_cast<std::size_t>(g.dims[0] * g.dims[1]) * sample_size(type);
-    const std::int64_t nlayers = block_layers(g, edge);
-    const std::int64_t step = std::max<std::int64_t>(1, static_cast<std::int64_t>((std::size_t{1} << 20) / std::max<std::size_t>(slice_bytes, 1)));
-    std::vector<BlockMinMax> layers(static_cast<std::size_t>(nlayers));
-    struct Reader {
-        std::unique_ptr<SliceSource> src;
-        std::unique_ptr<std::byte[]> buf;
-    };
-    oneapi::tbb::enumerable_thread_specific<Reader> readers;
-    auto one = [&](std::int64_t i) {
-        const std::int64_t z0 = i * edge, n = std::min<std::int64_t>(z0 + edge, g.dims[2] - 1) - z0 + 1;
-        GridSpec part = g;
-        part.dims[2] = n;
-        if (data) {
-            layers[static_cast<std::size_t>(i)] =
-                block_minmax(VolumeView{data + slice_bytes * static_cast<std::size_t>(z0), type, part}, edge);
-            return;
-        }
-        Reader& r = readers.local();
-        if (!r.src) r.src = reopen();
-        if (!r.buf) r.buf.reset(new std::byte[slice_bytes * static_cast<std::size_t>(step)]);
-        BlockMinMaxBuilder b(part, type, edge);
-        for (std::int64_t k = 0; k < n; k += step) {
-            const std::int64_t m = std::min(step, n - k);
-            r.src->read_slices(z0 + k, m, r.buf.get());
-            b.add_slices(k, m, r.buf.get());
-        }
-        layers[static_cast<std::size_t>(i)] = std::move(b).finish();
-    };
-    // as many threads as asked for, even beyond the core count (as the runner, stream/runner.cpp)
-    oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism,
-                                      static_cast<std::size_t>(threads));
-    oneapi::tbb::task_arena arena(threads);
-    arena.execute([&] {
-        oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<std::int64_t>(0, nlayers, 1),
-                                  [&](const oneapi::tbb::blocked_range<std::int64_t>& r) {
-                                      for (std::int64_t i = r.begin(); i != r.end(); ++i) one(i);
-                                  });
-    });
-    BlockMinMax all;
-    all.edge = edge;
-    for (const BlockMinMax& layer : layers) append_layer(all, layer);
-    return all;
-}
-}  // namespace
-
-const BlockMinMax& VolumeInput::blocks() const {
-    if (store) throw std::logic_error("VolumeInput::blocks: a brick store has its brick index");
-    if (blocks_) return *blocks_;
-    if (threads > 1 && (!slices || reopen))
-        blocks_ = parallel_block_minmax(grid(), type(), kFramingBlockEdge, threads, reopen,
-                                        slices ? nullptr : static_cast<const std::byte*>(volume->view().data));
-    else
-        blocks_ = slices ? streamed_block_minmax(*slices, kFramingBlockEdge) : block_minmax(volume->view(), kFramingBlockEdge);
-    return *blocks_;
-}
-
-std::array<double, 2> VolumeInput::value_range() const {
-    if (store) return {store->info().value_min, store->info().value_max};
-    return blocks().range();
-}
-
-namespace {
-/// Formats whose payload open_slice_source streams from disk (raw or gzip samples).
-bool streamable(const std::string& path, const RawOptions& raw) {
-    const VolumeInfo vi = probe_volume(path, raw);
-    return (vi.format == "raw" || vi.format == "nrrd" || vi.format == "metaimage" || vi.format == "voreen-dat") &&
-           (vi.encoding == "raw" || vi.encoding == "gzip");
-}
-
-// The slices of a spooled standard input, read as they are needed (long after open_volume_input):
-// their errors name "- (stdin)", not the spool's /proc/self/fd path.
-class StdinSliceSource final : public SliceSource {
-public:
-    StdinSliceSource(std::shared_ptr<const StdinSpool> spool, std::unique_ptr<SliceSource> src)
-        : spool_(std::move(spool)), src_(std::move(src)) {}
-    const GridSpec& grid() const override { return src_->grid(); }
-    SampleType type() const override { return src_->type(); }
-    void read_slices(std::int64_t k, std::int64_t count, std::byte* out) override {
-        spool_->readable_errors([&] { src_->read_slices(k, count, out); });
-    }
-    std::string name() const override { return "- (stdin)"; }
-
-private:
-    std::shared_ptr<const StdinSpool> spool_;
-    std::unique_ptr<SliceSource> src_;
-};
-}  // namespace
-
-namespace {
-/// The patient's axes of a volume already read (the header once more; a header whose probe finds
-/// nothing to add leaves the camera generic).
-std::optional<AnatomicalFrame> probed_frame(const std::string& path, const RawOptions& raw) {
-    try {
-        return probe_volume(path, raw).frame;
-    } catch (const std::exception&) {
-        return std::nullopt;
-    }
-}
-}  // namespace
-
 VolumeInput open_volume_input(const Args& a, bool stream) {
-    if (a.positional().empty()) throw UsageError("missing VOLUME argument (see meshless " + a.command() + " --help)");
-    VolumeInput in;
-    in.path = a.positional()[0];
-    if (in.path == "-") {  // standard input: spooled, then read as a file (no brick store: it needs its path)
-        in.spool = std::make_shared<const StdinSpool>();
-        const RawOptions raw = raw_options(a);
-        in.threads = threads(a);
-        in.spool->readable_errors([&] {
-            if (stream && streamable(in.spool->path(), raw)) {
-                in.slices = std::make_unique<StdinSliceSource>(in.spool, open_slice_source(in.spool->path(), raw));
-                if (probe_volume(in.spool->path(), raw).encoding == "raw")
-                    in.reopen = [spool = in.spool, raw]() -> std::unique_ptr<SliceSource> {
-                        return std::make_unique<StdinSliceSource>(spool, open_slice_source(spool->path(), raw));
-                    };
-            } else {
-                check_volume_fits(a, "- (stdin)", probe_volume(in.spool->path(), raw), true);
-                in.volume = map_volume(in.spool->path(), raw);
-            }
-            in.frame = probed_frame(in.spool->path(), raw);
-        });
-        return in;
-    }
-    const bool mlb_name = in.path.size() > 4 && in.path.compare(in.path.size() - 4, 4, ".mlb") == 0;
-    if (is_brick_store(in.path) || mlb_name) {  // a damaged .mlb gets the brick store's own diagnosis
-        in.store = BrickStore::open(in.path);
-        in.cache = std::make_unique<BrickCache>(*in.store, parse_memory_size(a.get_or("memory", "256M")));
-        in.index = std::make_unique<BrickIndex>(*in.store);
-        // the axes its volume's header gave, recorded by convert (older stores have none)
-        in.frame = store_frame(in.store->info());
-    } else {
-        const RawOptions raw = raw_options(a);
-        in.threads = threads(a);
-        if (stream && streamable(in.path, raw)) {
-            if (a.has("memory"))
-                std::fprintf(stderr, "meshless %s: warning: --memory bounds brick stores (.mlb) and volumes read whole; "
-                             "%s is streamed slab by slab\n", a.command().c_str(), terminal_safe(in.path).c_str());
-            warn_if_raw_options_ignored(a, in.path, raw);
-            in.slices = open_slice_source(in.path, raw);
-            if (probe_volume(in.path, raw).encoding == "raw")  // any k, any reader: parallel passes
-                in.reopen = [path = in.path, raw] { return open_slice_source(path, raw); };
-        } else {
-            in.volume = load_volume(a, /*map=*/true);
-        }
-        in.frame = probed_frame(in.path, raw);
-    }
-    return in;
-}
-
-IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
-                                  Sink& sink, int threads, PipelineShape shape, const IsoSplatStages& extra) {
-    if (in.store)
-        return run_isosplat_bricks(*in.store, *in.cache, in.index->active(iso), iso, mode, sp, sink, {threads}, shape,
-                                   extra);
-    if (in.slices) return run_isosplat_slabs(*in.slices, iso, mode, sp, sink, {threads}, shape, extra);
-    return run_isosplat(in.volume->view(), iso, mode, sp, sink, {threads}, shape, extra);
-}
-
-double isosurface_work(const VolumeInput& in, double iso) {
-    if (!in.store) return static_cast<double>(cell_row_count(in.grid()));
-    double rows = 0;
-    for (const std::size_t b : in.index->active(iso)) rows += static_cast<double>(cell_row_count(in.store->brick_grid(b)));
-    return rows;
+    const std::string& path = volume_arg(a);
+    return open_volume_input(path, volume_open_options(a, stream));
 }
 
 void add_thread_option(Args& a) {
@@ -561,38 +312,6 @@ RenderSettings render_settings(const Args& a) {
         rs.spool_memory = std::min<std::uint64_t>(SplatSink::kSpoolMemory, parse_memory_size(*a.get("memory")) / 8);
     return rs;
 }
-
-std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso) {
-    if (in.store) return store_surface_bounds(*in.store, *in.index, iso);
-    const auto box = active_block_box(in.blocks(), in.grid(), iso);
-    if (!box) return std::nullopt;
-    return world_bounds(in.grid(), *box);
-}
-
-
-
-StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer) {
-    if (in.store) {
-        StreamMeta m = volume_meta(in.path, in.grid(), in.type(), in.value_range(), iso, producer);
-        set_surface_bounds(m, store_surface_bounds(*in.store, *in.index, iso));
-        set_patient_axes(m, in.frame);
-        return m;
-    }
-    // one pass gives the value range and the active blocks
-    const BlockMinMax& b = in.blocks();
-    StreamMeta m = volume_meta(in.path, in.grid(), in.type(), b.range(), iso, producer);
-    const auto box = active_block_box(b, in.grid(), iso);
-    set_surface_bounds(m, box ? std::optional(world_bounds(in.grid(), *box)) : std::nullopt);
-    set_patient_axes(m, in.frame);
-    return m;
-}
-
-
-
-
-
-
-
 
 Projection parse_projection(const std::string& s) {
     if (s == "none") return Projection::none;

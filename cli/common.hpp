@@ -29,6 +29,8 @@
 #include "stream/isosplat_pipeline.hpp"
 #include "stream/point_outputs.hpp"
 #include "stream/stream_metadata.hpp"
+#include "stream/volume_input.hpp"
+#include "formats/byte_size_text.hpp"
 
 namespace meshless::cli {
 
@@ -42,11 +44,8 @@ Volume load_volume(const Args& a);
 /// --memory BYTES: the brick cache budget when VOLUME is a brick store (.mlb), and the most a volume
 /// read whole into memory may take (check_volume_fits).
 void add_memory_option(Args& a);
-/// Refuses, before anything is read, a volume whose decoded samples exceed the memory budget: --memory
-/// when the command declares it and the user gave it, else available_memory() (physical memory capped
-/// by the cgroup limit, stream/available_memory.hpp). A volume that `map` lets map_volume map costs
-/// no memory of its own and always fits. IoError (exit 2) naming `path`, the size and the budget, and
-/// suggesting `meshless convert` to a brick store (which streams).
+/// check_volume_fits (stream/volume_input.hpp) with the budget of --memory when the command
+/// declares it and the user gave it.
 void check_volume_fits(const Args& a, const std::string& path, const VolumeInfo& vi, bool map);
 /// Refuses, before any work, an option whose value implies more memory than this process may use
 /// (available_memory(): physical memory, cgroup limit, ulimit -v; not --memory, which budgets the
@@ -57,54 +56,14 @@ void check_option_fits(const Args& a, const std::string& option, const std::stri
                        const std::string& hint = "");
 /// Bytes of the image buffers of a WxH picture at `bytes_per_pixel` (checked: no overflow for 16384^2).
 std::uint64_t image_bytes(int width, int height, std::uint64_t bytes_per_pixel);
-/// "1.5 GiB" (binary units; "512 bytes" below 1 KiB).
-std::string byte_size_text(std::uint64_t bytes);
 
-/// A VOLUME argument: a volume in memory (mapped from the file when it is raw samples, see
-/// map_volume), or a brick store (.mlb) read brick by brick
-/// through a byte-budgeted cache (--memory), with its brick interval tree.
-struct VolumeInput {
-    std::string path;
-    std::optional<Volume> volume;
-    std::unique_ptr<SliceSource> slices;  ///< slab-streamed file (open_volume_input with stream = true)
-    /// Opens another reader of `slices` (raw payloads, read at any k), for passes split across
-    /// threads; empty when the payload must be read in order (gzip).
-    std::function<std::unique_ptr<SliceSource>()> reopen;
-    int threads = 1;  ///< threads for blocks() (--threads); its result does not depend on them
-    std::unique_ptr<BrickStore> store;
-    std::unique_ptr<BrickCache> cache;
-    std::unique_ptr<BrickIndex> index;
-    std::shared_ptr<const StdinSpool> spool;  ///< path "-": standard input spooled (formats/stdin_spool.hpp)
-    /// The patient's axes, where the header says them (a brick store records its volume's): the
-    /// default camera of its pictures, carried in volume_meta as `patient_axes`.
-    std::optional<AnatomicalFrame> frame;
-    const GridSpec& grid() const;
-    SampleType type() const;
-    /// The value range (computed once, on first use: the store's header, or blocks().range()).
-    std::array<double, 2> value_range() const;
-    /// Not for a brick store (its index has the bricks' intervals): the min/max of 32-cell blocks
-    /// aligned as a store's bricks (kernels/block_minmax.hpp), computed once, on first use, in one
-    /// pass over the volume in memory or over the slab-streamed file (a layer of blocks at a time;
-    /// layers split across `threads` when the volume is in memory or `reopen` is set).
-    const BlockMinMax& blocks() const;
-
-private:
-    mutable std::optional<BlockMinMax> blocks_;
-};
-/// stream = true (commands that make one pass in cell-row order: isosurface, generate): raw, NRRD,
-/// MetaImage and Voreen files with raw or gzip payloads are streamed slab by slab (`slices`, see
-/// stream/slab_source.hpp), other formats loaded whole; stream = false: loaded whole (mapped when
-/// raw samples, see map_volume). Brick stores (.mlb) are always opened as stores.
+/// The options of a VOLUME argument (stream/volume_input.hpp): the raw-volume options, --memory
+/// when declared and given, --threads; warnings go to stderr as "meshless COMMAND: warning: ...".
+/// stream = true for commands that make one pass in cell-row order (isosurface, generate).
+VolumeOpenOptions volume_open_options(const Args& a, bool stream);
+/// open_volume_input of the first positional argument (UsageError when there is none).
 VolumeInput open_volume_input(const Args& a, bool stream = false);
 
-/// Runs paradigm (C), the chapter-3 graph of stream/isosplat_pipeline.hpp, on any kind of input:
-/// the active bricks of a store, a slab-streamed file or a volume in memory; extra.first sees
-/// isosurface_work(in, iso) cell rows in all.
-IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
-                                  Sink& sink, int threads, PipelineShape shape, const IsoSplatStages& extra = {});
-/// The cell rows run_isosplat_input hands out (for the progress line): the volume's (in memory or
-/// slab-streamed), or those of the active bricks of a store.
-double isosurface_work(const VolumeInput& in, double iso);
 /// --radius-scale
 void add_sampling_options(Args& a);
 SamplingParams sampling_params(const Args& a);
@@ -152,16 +111,6 @@ ColorBy color_by(const ColorChoice& c, ColorBy automatic);
 /// Sets rs.shading's colouring (by, colormap, range) and rs.colorbar; warns on stderr when a colour
 /// bar was asked for a picture not coloured by value.
 void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std::array<double, 2>& range);
-
-/// As above, and frames the surface: bounds_lo/hi become the surface bounds for iso (surface_bounds;
-/// the volume's when nothing is active) and the volume's are kept as volume_bounds_lo/hi. For a
-/// volume in memory the value range and the surface bounds come from one pass (kernels/block_minmax).
-StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer);
-/// The bounds of the isosurface known before extraction (dissertation section 3.6 framing): a brick
-/// store: the union of the active bricks' voxel boxes (BrickIndex::active); a volume in memory: the
-/// union of the active 32-cell blocks (aligned as the bricks of a store with the default edge, so
-/// both frame alike). nullopt when nothing is active.
-std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso);
 
 /// The isovalue for a stage reading a stream: --iso if given (with a warning when it differs from
 /// the stream's, whose active cells were chosen for that value), else the stream's; UsageError

@@ -1,4 +1,4 @@
-// VolumeInput::blocks() (cli/common.hpp): the one pass that gives the value range and the surface
+// VolumeInput::blocks() (stream/volume_input.hpp): the one pass that gives the value range and the surface
 // frame. Split into layers of blocks across threads (each thread with its own reader of a raw
 // payload, or straight from memory), it gives exactly the blocks of the serial pass and of
 // block_minmax on the whole volume, for any thread count; a gzip payload (no reopen) stays serial.
@@ -12,7 +12,7 @@
 #include <string>
 
 #include "cli/cli_harness.hpp"
-#include "cli/common.hpp"
+#include "stream/volume_input.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/block_minmax.hpp"
 
@@ -35,17 +35,17 @@ TEST_CASE("VolumeInput::blocks: the same blocks for any thread count, streamed o
     REQUIRE(want.blocks[2] == 4);
     for (int threads : {1, 2, 3, 8}) {
         INFO("threads " << threads);
-        cli::VolumeInput streamed;
+        VolumeInput streamed;
         streamed.slices = open_slice_source(path);
         streamed.reopen = [&] { return open_slice_source(path); };
         streamed.threads = threads;
-        cli::VolumeInput serial;  // no reopen: read in order whatever the thread count
+        VolumeInput serial;  // no reopen: read in order whatever the thread count
         serial.slices = open_slice_source(path);
         serial.threads = threads;
-        cli::VolumeInput memory;
+        VolumeInput memory;
         memory.volume = read_volume(path);
         memory.threads = threads;
-        for (const cli::VolumeInput* in : {&streamed, &serial, &memory}) {
+        for (const VolumeInput* in : {&streamed, &serial, &memory}) {
             const BlockMinMax& got = in->blocks();
             CHECK(got.blocks == want.blocks);
             CHECK(got.vmin == want.vmin);

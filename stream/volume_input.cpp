@@ -1,0 +1,204 @@
+#include "stream/volume_input.hpp"
+
+#include <stdexcept>
+
+#include "formats/byte_size_text.hpp"
+#include "formats/stored_type.hpp"
+#include "formats/stored_type.hpp"
+#include "formats/terminal_safe.hpp"
+#include "ooc/brick_slice_source.hpp"
+#include "stream/available_memory.hpp"
+#include "stream/volume_block_minmax.hpp"
+
+namespace meshless {
+
+namespace {
+
+constexpr int kFramingBlockEdge = 32;  // the default brick edge of meshless convert
+
+void warn_if_raw_options_ignored(const std::string& path, const VolumeOpenOptions& o) {
+    if (!o.raw_given || !o.warn) return;
+    const VolumeInfo vi = probe_volume(path, o.raw);
+    if (vi.format != "raw")
+        o.warn("warning: " + terminal_safe(path) + " is a " + vi.format +
+               " file, which describes itself: --dims, --type, --endian and --spacing are ignored");
+}
+
+/// Formats whose payload open_slice_source streams from disk (raw or gzip samples).
+bool streamable(const std::string& path, const RawOptions& raw) {
+    const VolumeInfo vi = probe_volume(path, raw);
+    return (vi.format == "raw" || vi.format == "nrrd" || vi.format == "metaimage" || vi.format == "voreen-dat") &&
+           (vi.encoding == "raw" || vi.encoding == "gzip");
+}
+
+// The slices of a spooled standard input, read as they are needed (long after open_volume_input):
+// their errors name "- (stdin)", not the spool's /proc/self/fd path.
+class StdinSliceSource final : public SliceSource {
+public:
+    StdinSliceSource(std::shared_ptr<const StdinSpool> spool, std::unique_ptr<SliceSource> src)
+        : spool_(std::move(spool)), src_(std::move(src)) {}
+    const GridSpec& grid() const override { return src_->grid(); }
+    SampleType type() const override { return src_->type(); }
+    void read_slices(std::int64_t k, std::int64_t count, std::byte* out) override {
+        spool_->readable_errors([&] { src_->read_slices(k, count, out); });
+    }
+    std::string name() const override { return "- (stdin)"; }
+
+private:
+    std::shared_ptr<const StdinSpool> spool_;
+    std::unique_ptr<SliceSource> src_;
+};
+
+/// The patient's axes of a volume already read (the header once more; a header whose probe finds
+/// nothing to add leaves the camera generic).
+std::optional<AnatomicalFrame> probed_frame(const std::string& path, const RawOptions& raw) {
+    try {
+        return probe_volume(path, raw).frame;
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
+}  // namespace
+
+const GridSpec& VolumeInput::grid() const {
+    return store ? store->info().grid : slices ? slices->grid() : volume->grid;
+}
+SampleType VolumeInput::type() const { return store ? store->info().type : slices ? slices->type() : volume->type; }
+
+const BlockMinMax& VolumeInput::blocks() const {
+    if (store) throw std::logic_error("VolumeInput::blocks: a brick store has its brick index");
+    if (blocks_) return *blocks_;
+    if (threads > 1 && (!slices || reopen))
+        blocks_ = parallel_block_minmax(grid(), type(), kFramingBlockEdge, threads, reopen,
+                                        slices ? nullptr : static_cast<const std::byte*>(volume->view().data));
+    else
+        blocks_ = slices ? streamed_block_minmax(*slices, kFramingBlockEdge) : block_minmax(volume->view(), kFramingBlockEdge);
+    return *blocks_;
+}
+
+std::array<double, 2> VolumeInput::value_range() const {
+    if (store) return {store->info().value_min, store->info().value_max};
+    return blocks().range();
+}
+
+void check_volume_fits(const std::string& name, const VolumeInfo& vi, bool map, std::optional<std::uint64_t> memory) {
+    if (map && vi.maps) return;  // the samples stay in the file (page cache), not in this process's memory
+    const std::uint64_t need = decoded_bytes(vi, name);
+    const std::uint64_t budget = memory ? *memory : available_memory();
+    if (need <= budget) return;
+    throw IoError(name + ": the volume takes " + byte_size_text(need) + " (" + dims_string(vi.grid) + " " +
+                  to_string(vi.type) + ") in memory, more than " +
+                  (memory ? "--memory " + byte_size_text(budget)
+                          : "the " + byte_size_text(budget) + " this process may use (physical memory, cgroup limit; --memory sets it)") +
+                  "; a brick store streams it: meshless convert " + name + " -o vol.mlb");
+}
+
+Volume load_volume(const std::string& path, const VolumeOpenOptions& o, bool map) {
+    if (path == "-") {  // a mapping outlives the spool's descriptor; a read copies
+        const StdinSpool spool;
+        return spool.readable_errors([&] {
+            check_volume_fits("- (stdin)", probe_volume(spool.path(), o.raw), map, o.memory);
+            return map ? map_volume(spool.path(), o.raw) : read_volume(spool.path(), o.raw);
+        });
+    }
+    if (is_brick_store(path)) {  // commands that need the volume whole
+        const auto store = BrickStore::open(path);
+        VolumeInfo vi;
+        vi.grid = store->info().grid;
+        vi.type = store->info().type;
+        check_volume_fits(path, vi, false, o.memory);
+        return read_brick_store_volume(path);
+    }
+    warn_if_raw_options_ignored(path, o);
+    check_volume_fits(path, probe_volume(path, o.raw), map, o.memory);
+    return map ? map_volume(path, o.raw) : read_volume(path, o.raw);
+}
+
+VolumeInput open_volume_input(const std::string& path, const VolumeOpenOptions& o) {
+    VolumeInput in;
+    in.path = path;
+    const RawOptions& raw = o.raw;
+    if (in.path == "-") {  // standard input: spooled, then read as a file (no brick store: it needs its path)
+        in.spool = std::make_shared<const StdinSpool>();
+        in.threads = o.threads;
+        in.spool->readable_errors([&] {
+            if (o.stream && streamable(in.spool->path(), raw)) {
+                in.slices = std::make_unique<StdinSliceSource>(in.spool, open_slice_source(in.spool->path(), raw));
+                if (probe_volume(in.spool->path(), raw).encoding == "raw")
+                    in.reopen = [spool = in.spool, raw]() -> std::unique_ptr<SliceSource> {
+                        return std::make_unique<StdinSliceSource>(spool, open_slice_source(spool->path(), raw));
+                    };
+            } else {
+                check_volume_fits("- (stdin)", probe_volume(in.spool->path(), raw), true, o.memory);
+                in.volume = map_volume(in.spool->path(), raw);
+            }
+            in.frame = probed_frame(in.spool->path(), raw);
+        });
+        return in;
+    }
+    const bool mlb_name = in.path.size() > 4 && in.path.compare(in.path.size() - 4, 4, ".mlb") == 0;
+    if (is_brick_store(in.path) || mlb_name) {  // a damaged .mlb gets the brick store's own diagnosis
+        in.store = BrickStore::open(in.path);
+        in.cache = std::make_unique<BrickCache>(*in.store, o.memory.value_or(kDefaultBrickCacheBytes));
+        in.index = std::make_unique<BrickIndex>(*in.store);
+        // the axes its volume's header gave, recorded by convert (older stores have none)
+        in.frame = store_frame(in.store->info());
+    } else {
+        in.threads = o.threads;
+        if (o.stream && streamable(in.path, raw)) {
+            if (o.memory && o.warn)
+                o.warn("warning: --memory bounds brick stores (.mlb) and volumes read whole; " + terminal_safe(in.path) +
+                       " is streamed slab by slab");
+            warn_if_raw_options_ignored(in.path, o);
+            in.slices = open_slice_source(in.path, raw);
+            if (probe_volume(in.path, raw).encoding == "raw")  // any k, any reader: parallel passes
+                in.reopen = [path = in.path, raw] { return open_slice_source(path, raw); };
+        } else {
+            in.volume = load_volume(in.path, o, /*map=*/true);
+        }
+        in.frame = probed_frame(in.path, raw);
+    }
+    return in;
+}
+
+IsoSplatResult run_isosplat_input(VolumeInput& in, double iso, Projection mode, const SamplingParams& sp,
+                                  Sink& sink, int threads, PipelineShape shape, const IsoSplatStages& extra) {
+    if (in.store)
+        return run_isosplat_bricks(*in.store, *in.cache, in.index->active(iso), iso, mode, sp, sink, {threads}, shape,
+                                   extra);
+    if (in.slices) return run_isosplat_slabs(*in.slices, iso, mode, sp, sink, {threads}, shape, extra);
+    return run_isosplat(in.volume->view(), iso, mode, sp, sink, {threads}, shape, extra);
+}
+
+double isosurface_work(const VolumeInput& in, double iso) {
+    if (!in.store) return static_cast<double>(cell_row_count(in.grid()));
+    double rows = 0;
+    for (const std::size_t b : in.index->active(iso)) rows += static_cast<double>(cell_row_count(in.store->brick_grid(b)));
+    return rows;
+}
+
+std::optional<std::array<Vec3, 2>> surface_bounds(const VolumeInput& in, double iso) {
+    if (in.store) return store_surface_bounds(*in.store, *in.index, iso);
+    const auto box = active_block_box(in.blocks(), in.grid(), iso);
+    if (!box) return std::nullopt;
+    return world_bounds(in.grid(), *box);
+}
+
+StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& producer) {
+    if (in.store) {
+        StreamMeta m = volume_meta(in.path, in.grid(), in.type(), in.value_range(), iso, producer);
+        set_surface_bounds(m, store_surface_bounds(*in.store, *in.index, iso));
+        set_patient_axes(m, in.frame);
+        return m;
+    }
+    // one pass gives the value range and the active blocks
+    const BlockMinMax& b = in.blocks();
+    StreamMeta m = volume_meta(in.path, in.grid(), in.type(), b.range(), iso, producer);
+    const auto box = active_block_box(b, in.grid(), iso);
+    set_surface_bounds(m, box ? std::optional(world_bounds(in.grid(), *box)) : std::nullopt);
+    set_patient_axes(m, in.frame);
+    return m;
+}
+
+}  // namespace meshless
