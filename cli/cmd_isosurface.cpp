@@ -15,7 +15,6 @@
 #include "cli/mpi_session.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/scattered_isosurface.hpp"
-#include "cli/render_output.hpp"
 #include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"

@@ -166,16 +166,6 @@ void add_color_options(Args& a) {
                           "                            block palette's swatches with their ids (--color block)");
 }
 
-ColorBy color_by(const ColorChoice& c, ColorBy automatic) {
-    switch (c.request) {
-        case ColorRequest::value: return ColorBy::value;
-        case ColorRequest::block: return ColorBy::block;
-        case ColorRequest::normal: return ColorBy::normal;
-        case ColorRequest::none: return ColorBy::none;
-        case ColorRequest::automatic: break;
-    }
-    return automatic;
-}
 
 ColorChoice color_choice(const Args& a) {
     ColorChoice c;
@@ -200,13 +190,7 @@ ColorChoice color_choice(const Args& a) {
 }
 
 void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std::array<double, 2>& range) {
-    rs.shading.color_by = by;
-    rs.shading.colormap = c.colormap;
-    rs.shading.value_lo = range[0];
-    rs.shading.value_hi = range[1];
-    rs.colorbar = c.colorbar;
-    if (c.colorbar && by != ColorBy::value && by != ColorBy::block)
-        std::fprintf(stderr, "warning: --colorbar: the picture is coloured by neither value nor block; no legend drawn\n");
+    meshless::apply_color(rs, by, c, range, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
 }
 
 std::optional<Vec3> view_direction(const Args& a) {

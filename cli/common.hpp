@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "cli/args.hpp"
-#include "cli/render_output.hpp"
+#include "stream/render_settings.hpp"
 #include "formats/file_names.hpp"
 #include "formats/input_file.hpp"
 #include "formats/stdin_spool.hpp"
@@ -99,17 +99,8 @@ RenderSettings render_settings(const Args& a);
 /// --color value|block|normal|none (default auto), --colormap, --range LO,HI, --colorbar: the
 /// splat colours of `meshless splat` and `meshless isosurface --png`.
 void add_color_options(Args& a);
-struct ColorChoice {
-    ColorRequest request = ColorRequest::automatic;
-    Colormap colormap = Colormap::viridis;
-    std::optional<std::array<double, 2>> range;  ///< --range
-    bool colorbar = false;
-};
 ColorChoice color_choice(const Args& a);
-/// The colouring a request asks for; `automatic` is what --color auto means for this input.
-ColorBy color_by(const ColorChoice& c, ColorBy automatic);
-/// Sets rs.shading's colouring (by, colormap, range) and rs.colorbar; warns on stderr when a colour
-/// bar was asked for a picture not coloured by value.
+/// apply_color (stream/render_settings.hpp) with its warning on stderr.
 void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std::array<double, 2>& range);
 
 /// The isovalue for a stage reading a stream: --iso if given (with a warning when it differs from

@@ -1,5 +1,7 @@
 #include "stream/render_settings.hpp"
 
+#include <cstdio>
+
 #include "kernels/colorbar.hpp"
 
 namespace meshless {
@@ -8,6 +10,37 @@ void decorate_picture(const RenderSettings& rs, Image& img) {
     if (rs.colorbar && rs.shading.color_by == ColorBy::value)
         draw_colorbar(img, rs.shading.colormap, rs.shading.value_lo, rs.shading.value_hi);
     if (rs.colorbar && rs.shading.color_by == ColorBy::block) draw_block_legend(img, rs.legend_blocks);
+}
+
+ColorBy color_by(const ColorChoice& c, ColorBy automatic) {
+    switch (c.request) {
+        case ColorRequest::value: return ColorBy::value;
+        case ColorRequest::block: return ColorBy::block;
+        case ColorRequest::normal: return ColorBy::normal;
+        case ColorRequest::none: return ColorBy::none;
+        case ColorRequest::automatic: break;
+    }
+    return automatic;
+}
+
+void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std::array<double, 2>& range,
+                 const std::function<void(const std::string&)>& warn) {
+    rs.shading.color_by = by;
+    rs.shading.colormap = c.colormap;
+    rs.shading.value_lo = range[0];
+    rs.shading.value_hi = range[1];
+    rs.colorbar = c.colorbar;
+    if (c.colorbar && by != ColorBy::value && by != ColorBy::block && warn)
+        warn("warning: --colorbar: the picture is coloured by neither value nor block; no legend drawn");
+}
+
+std::string frame_path(const std::string& path, int i) {
+    char num[16];
+    std::snprintf(num, sizeof num, "_%03d", i);
+    const auto dot = path.rfind('.');
+    const auto slash = path.rfind('/');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path + num + ".png";
+    return path.substr(0, dot) + num + path.substr(dot);
 }
 
 }  // namespace meshless

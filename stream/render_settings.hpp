@@ -3,7 +3,11 @@
 // overlays drawn into a finished picture. Filled by the front ends from their options (the CLI's
 // camera and colour options), read by the recipes that end in a picture. Does not throw.
 #pragma once
+#include <array>
 #include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
 
 #include "kernels/splat_rasterizer.hpp"
 #include "stream/splat_sink.hpp"
@@ -25,5 +29,31 @@ struct RenderSettings {
 /// rs.colorbar): the colour bar of the value range when colouring by value, the block swatches when
 /// colouring by block.
 void decorate_picture(const RenderSettings& rs, Image& img);
+
+/// What a front end's colour option asked for, before it is resolved against the input ("auto":
+/// value when the points' values vary and the input is not an isosurface, else none).
+enum class ColorRequest { automatic, value, block, normal, none };
+
+/// The colouring asked for: the request, the colour map, the value range (none: the data's) and
+/// whether a legend is drawn.
+struct ColorChoice {
+    ColorRequest request = ColorRequest::automatic;
+    Colormap colormap = Colormap::viridis;
+    std::optional<std::array<double, 2>> range;
+    bool colorbar = false;
+};
+
+/// The colouring a request asks for; `automatic` is what "auto" means for this input.
+ColorBy color_by(const ColorChoice& c, ColorBy automatic);
+
+/// Sets rs.shading's colouring (by, colormap, range) and rs.colorbar; `warn` (may be empty)
+/// receives a one-line warning when a legend was asked for a picture coloured by neither value nor
+/// block (none is drawn).
+void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std::array<double, 2>& range,
+                 const std::function<void(const std::string&)>& warn);
+
+/// Frame i of a turntable (section 3.6: N frames, 360/N degrees apart about the up axis, drawn by
+/// stream/turntable.hpp) goes to frame_path(path, i): "img.png" -> "img_007.png".
+std::string frame_path(const std::string& path, int i);
 
 }  // namespace meshless
