@@ -21,8 +21,7 @@
 #include "stream/cell_row_source.hpp"
 #include "stream/generate_stage.hpp"
 #include "stream/point_file_sink.hpp"
-#include "stream/project_stage.hpp"
-#include "stream/runner.hpp"
+#include "stream/sample_stream_projection.hpp"
 #include "stream/stream_endpoints.hpp"
 
 namespace meshless::cli {
@@ -147,13 +146,9 @@ int cmd_project(int argc, char** argv) {
     meta.set("iso", iso);
     meta.set("projection", to_string(mode));
     StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"));
-    StreamSource source(reader);
-    ProjectStage project(iso, mode);
-    const Stage* stages[] = {&project};
-    run_pipeline(source, stages, sink, {nthreads});
+    const ProjectionStats s = project_sample_stream(reader, iso, mode, sink, nthreads);
     out.commit();
     if (a.has("stats")) {
-        const auto s = project.stats();
         std::fprintf(stderr, "project: %lld samples -> %lld points (%s; discarded: %lld too far, %lld flat, %lld missed)\n",
                      static_cast<long long>(s.input), static_cast<long long>(s.output), to_string(mode),
                      static_cast<long long>(s.too_far), static_cast<long long>(s.flat), static_cast<long long>(s.missed));
@@ -199,8 +194,7 @@ int cmd_write(int argc, char** argv) {
         }
     }
     PointFileSink sink(out.path, out.format, ply_comments(reader.meta()), vtp_options(a, 0), reader.has_blocks(), colors);
-    StreamSource source(reader);
-    run_pipeline(source, {}, sink, {1});
+    write_point_stream(reader, sink);
     return 0;
 }
 
