@@ -17,7 +17,7 @@
 #include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "ooc/sample_store.hpp"
-#include "stream/runner.hpp"
+#include "stream/isosplat_pipeline.hpp"
 #include "stream/sample_store_source.hpp"
 #include "stream/stream_endpoints.hpp"
 
@@ -60,7 +60,7 @@ int cmd_extract(int argc, char** argv) {
                     a.has("compress"));
     // the records are sample_active_cells' on the .mlb's bricks, as generate's: cell-indexed alike
     sink.index_cells(cell_grid(store->brick_store().info().grid), SampleCellEncoder::Verify::position);
-    run_pipeline(source, {}, sink, {1});
+    run_isosplat_sample_store(source, iso, Projection::none, sink, {1}, PipelineShape::samples_only);
     out.commit();
     if (a.has("stats")) {
         const SampleStoreStats s = store->stats();

@@ -20,8 +20,6 @@
 #include "formats/multiblock_reader.hpp"
 #include "kernels/errors.hpp"
 #include "stream/progress_stage.hpp"
-#include "stream/project_stage.hpp"
-#include "stream/runner.hpp"
 #include "stream/sample_store_source.hpp"
 
 namespace meshless::cli {
@@ -63,17 +61,9 @@ int isosurface_sample_store(const Args& a, double iso, Projection mode, const Sa
     meta.set("projection", to_string(mode));
     picture_from_meta(a, meta, range_given, iso, rs);
     SampleStoreSource source(*store, iso, sp);
-    const ProjectStage project(iso, mode);
     IsoSplatResult r;
     const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
-        const auto t0 = std::chrono::steady_clock::now();
-        const Stage* stages[] = {&project, draw};
-        run_pipeline(source, std::span<const Stage* const>(stages, draw ? 2 : 1), sink, {nthreads});
-        IsoSplatResult q;
-        q.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        q.sampling.active_cells = static_cast<std::int64_t>(source.emitted());
-        q.projection = project.stats();
-        return q;
+        return run_isosplat_sample_store(source, iso, mode, sink, {nthreads}, PipelineShape::two_stage, {nullptr, draw});
     }, r);
     if (a.has("stats")) print_stats(path, iso, mode, r, points, nthreads, 1);
     return 0;

@@ -83,4 +83,17 @@ IsoSplatResult run_isosplat_bricks(const BrickStore& store, BrickCache& cache, s
     return r;
 }
 
+IsoSplatResult run_isosplat_sample_store(SampleStoreSource& source, double iso, Projection mode, Sink& sink,
+                                         const RunOptions& opt, PipelineShape shape, const IsoSplatStages& extra) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const ProjectStage project(iso, mode);
+    run_pipeline(source, shape == PipelineShape::samples_only ? with_extras({}, extra) : with_extras({&project}, extra),
+                 sink, opt);
+    IsoSplatResult r;
+    r.seconds = seconds_since(t0);
+    r.sampling.active_cells = static_cast<std::int64_t>(source.emitted());
+    if (shape != PipelineShape::samples_only) r.projection = project.stats();
+    return r;
+}
+
 }  // namespace meshless

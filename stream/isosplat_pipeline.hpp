@@ -10,6 +10,7 @@
 #include "ooc/brick_cache.hpp"
 #include "ooc/slice_source.hpp"
 #include "stream/runner.hpp"
+#include "stream/sample_store_source.hpp"
 #include "stream/stage.hpp"
 
 namespace meshless {
@@ -50,5 +51,15 @@ IsoSplatResult run_isosplat_bricks(const BrickStore& store, BrickCache& cache, s
 IsoSplatResult run_isosplat_slabs(SliceSource& slices, double iso, Projection mode, const SamplingParams& sp,
                                   Sink& sink, const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused,
                                   const IsoSplatStages& extra = {});
+
+/// Paradigm (A) (section 3.5, Table 3.1): the candidate cell rows of a sample store's span-space
+/// index for iso, recomputed from its brick store by `source` (stream/sample_store_source.hpp; made
+/// by the caller before its outputs, so that a damaged index fails before any output exists),
+/// projected onto `iso` (any shape but samples_only) or not (samples_only: what `meshless extract`
+/// writes); the same records as run_isosplat_bricks over the store's .mlb. The result's
+/// sampling.active_cells counts the samples the store gave.
+IsoSplatResult run_isosplat_sample_store(SampleStoreSource& source, double iso, Projection mode, Sink& sink,
+                                         const RunOptions& opt = {},
+                                         PipelineShape shape = PipelineShape::two_stage, const IsoSplatStages& extra = {});
 
 }  // namespace meshless
