@@ -16,11 +16,9 @@
 #include "formats/multiblock_reader.hpp"
 #include "formats/ply_mesh.hpp"
 #include "kernels/errors.hpp"
-#include "stream/marching_cubes_stage.hpp"
 #include "stream/naive_block_mc.hpp"
 #include "stream/mesh_sink.hpp"
-#include "stream/progress_stage.hpp"
-#include "stream/runner.hpp"
+#include "stream/volume_marching_cubes.hpp"
 
 namespace meshless::cli {
 
@@ -133,26 +131,11 @@ int cmd_mc(int argc, char** argv) {
     const std::string& path = in.path;
     warn_if_iso_outside(iso, in.value_range(), path);
     const auto t0 = std::chrono::steady_clock::now();
-    // source -> marching cubes -> welding PLY mesh writer
-    std::unique_ptr<Source> source;
-    std::unique_ptr<MarchingCubesStage> stage;
-    if (in.store) {
-        source = std::make_unique<McBrickSource>(in.index->active(iso));
-        stage = std::make_unique<MarchingCubesStage>(*in.store, *in.cache, iso);
-    } else {
-        source = std::make_unique<McSlabSource>(in.volume->grid);
-        stage = std::make_unique<MarchingCubesStage>(in.volume->view(), iso);
-    }
     MeshWeldSink sink(out, format, vtp_options(a, threads(a)));
-    // the work as the source hands it out: active bricks, or cell layers of the volume in memory
-    ProgressMeter meter = in.store ? ProgressMeter::of(a, "bricks", static_cast<double>(in.index->active(iso).size()))
-                                   : ProgressMeter::of(a, "cell layers", static_cast<double>(std::max<std::int64_t>(0, in.volume->grid.dims[2] - 1)));
-    const ProgressStage progress([&](double n) { meter.add(n); }, work_units);
-    const Stage* stages[] = {&progress, stage.get()};
-    run_pipeline(*source, stages, sink, {threads(a)});
+    ProgressMeter meter = ProgressMeter::of(a, in.store ? "bricks" : "cell layers", marching_cubes_work(in, iso));
+    const McStats st = run_marching_cubes(in, iso, sink, threads(a), [&](double n) { meter.add(n); });
     meter.done();
     const double secs = seconds_since(t0);
-    const McStats st = stage->stats();
     const Mesh& mesh = sink.mesh();
     if (a.has("stats"))
         std::fprintf(stderr, "mc: %s iso %g: %lld active cells, %zu vertices, %zu triangles, %.1f MiB, %.3f s (%lld cells with NaN/Inf skipped)\n",

@@ -1,0 +1,36 @@
+#include "stream/volume_marching_cubes.hpp"
+
+#include <algorithm>
+#include <memory>
+#include <stdexcept>
+
+#include "stream/progress_stage.hpp"
+#include "stream/runner.hpp"
+
+namespace meshless {
+
+double marching_cubes_work(const VolumeInput& in, double iso) {
+    if (in.store) return static_cast<double>(in.index->active(iso).size());
+    return static_cast<double>(std::max<std::int64_t>(0, in.grid().dims[2] - 1));
+}
+
+McStats run_marching_cubes(VolumeInput& in, double iso, Sink& sink, int threads, const std::function<void(double)>& progress) {
+    if (!in.store && !in.volume) throw std::logic_error("run_marching_cubes: a slab-streamed input");
+    // source -> marching cubes -> sink
+    std::unique_ptr<Source> source;
+    std::unique_ptr<MarchingCubesStage> stage;
+    if (in.store) {
+        source = std::make_unique<McBrickSource>(in.index->active(iso));
+        stage = std::make_unique<MarchingCubesStage>(*in.store, *in.cache, iso);
+    } else {
+        source = std::make_unique<McSlabSource>(in.volume->grid);
+        stage = std::make_unique<MarchingCubesStage>(in.volume->view(), iso);
+    }
+    // the work as the source hands it out: active bricks, or cell layers of the volume in memory
+    const ProgressStage counter(progress, work_units);
+    const Stage* stages[] = {&counter, stage.get()};
+    run_pipeline(*source, stages, sink, {threads});
+    return stage->stats();
+}
+
+}  // namespace meshless

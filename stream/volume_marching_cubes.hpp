@@ -1,0 +1,24 @@
+// Marching cubes of a volume input (the section-3.6 baseline, `meshless mc`), the graph of
+// stream/marching_cubes_stage.hpp over any kind of stream/volume_input.hpp input: a volume in memory
+// in z-slabs, or the active bricks of a brick store through its cache. Memory: a store's cache plus
+// the welded mesh in the sink. Throws what the store and the sink throw; the mesh does not depend on
+// the thread count.
+#pragma once
+#include <functional>
+
+#include "stream/marching_cubes_stage.hpp"
+#include "stream/volume_input.hpp"
+
+namespace meshless {
+
+/// The work units the graph hands out for `iso` (for a progress line): the active bricks of a
+/// store, else the volume's cell layers.
+double marching_cubes_work(const VolumeInput& in, double iso);
+
+/// Runs marching cubes of `in` at `iso` into `sink` (normally a MeshWeldSink) on `threads`
+/// threads; `progress` (may be empty) receives work units (marching_cubes_work) as they are done,
+/// from any thread. Not for a slab-streamed input (open it with stream = false).
+McStats run_marching_cubes(VolumeInput& in, double iso, Sink& sink, int threads,
+                           const std::function<void(double)>& progress = {});
+
+}  // namespace meshless
