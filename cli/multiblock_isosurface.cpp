@@ -21,7 +21,7 @@
 #include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
 #include "stream/field_project_stage.hpp"
-#include "stream/runner.hpp"
+#include "stream/sample_stream_projection.hpp"
 #include "stream/stream_endpoints.hpp"
 
 namespace meshless::cli {
@@ -327,13 +327,10 @@ int project_seeds(int argc, char** argv) {
     // multiblock seeds carry block ids; scattered ones (cli/scattered_isosurface.hpp) do not
     const bool with_blocks = meta.get("method").value_or("") != "scattered";
     StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"), with_blocks);
-    StreamSource source(reader);
-    FieldProjectStage project(*field.field, iso, np);
-    const Stage* stages[] = {&project};
-    run_pipeline(source, stages, sink, {nthreads});
+    const SeedProjectionResult pr = project_seed_stream(reader, *field.field, iso, np, sink, nthreads);
     out.commit();
     if (a.has("stats")) {
-        print_newton_stats("project", field.field->name(), np, project.stats(), project.busy_seconds());
+        print_newton_stats("project", field.field->name(), np, pr.stats, pr.busy_seconds);
         std::fprintf(stderr, "project: field %.3f s, total %.3f s\n", field_seconds, since(t0));
     }
     return 0;

@@ -13,6 +13,15 @@ ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projecti
     return project.stats();
 }
 
+SeedProjectionResult project_seed_stream(StreamReader& reader, const Field& field, double iso, const FieldProjectParams& np,
+                                         StreamSink& sink, int threads) {
+    StreamSource source(reader);
+    FieldProjectStage project(field, iso, np);
+    const Stage* stages[] = {&project};
+    run_pipeline(source, stages, sink, {threads});
+    return {project.stats(), project.busy_seconds()};
+}
+
 void write_point_stream(StreamReader& reader, PointFileSink& sink) {
     StreamSource source(reader);
     run_pipeline(source, {}, sink, {1});

@@ -1,11 +1,14 @@
-// The stage graphs of the chapter-3 pipes (dissertation sections 3.3-3.4; Table 3.1 paradigms B
-// and D): a sample stream projected onto the isosurface into a point stream (`meshless project`),
-// and a point stream written as a point file (`meshless write`). Memory: a few batches in flight.
+// The stage graphs of the pipes (dissertation sections 3.3-3.4; Table 3.1 paradigms B and D; and
+// section 4.4 / 5.6 for seeds): a sample stream projected onto the isosurface into a point stream
+// (`meshless project`), a seed stream projected onto a meshless field's isosurface
+// (`meshless project --field`), and a point stream written as a point file (`meshless write`). Memory: a few batches in flight.
 // Throws what the stream reader, the projection and the sinks throw (FormatError naming the
 // stream, IoError, BrokenPipe); the bytes do not depend on the thread count.
 #pragma once
 #include "formats/point_stream.hpp"
+#include "kernels/field.hpp"
 #include "kernels/project_sample.hpp"
+#include "stream/field_project_stage.hpp"
 #include "stream/point_file_sink.hpp"
 #include "stream/stream_endpoints.hpp"
 
@@ -14,6 +17,17 @@ namespace meshless {
 /// Projects every sample `reader` delivers onto f = iso (section 3.3: approx, Eq. 3.5; exact, Eq.
 /// 3.3; or none) on `threads` threads, into `sink` (a point stream); returns the projection's counts.
 ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projection mode, StreamSink& sink, int threads);
+
+/// What projecting seeds took: the Newton counts and the stage's summed busy time (seconds).
+struct SeedProjectionResult {
+    FieldNewtonStats stats;
+    double busy_seconds = 0;
+};
+
+/// Projects every seed `reader` delivers onto field = iso (sections 4.4, 5.6: Newton steps along
+/// the gradient, FieldProjectStage) on `threads` threads, into `sink` (a point stream).
+SeedProjectionResult project_seed_stream(StreamReader& reader, const Field& field, double iso, const FieldProjectParams& np,
+                                         StreamSink& sink, int threads);
 
 /// Writes every point `reader` delivers to `sink` (PLY or VTP), in stream order.
 void write_point_stream(StreamReader& reader, PointFileSink& sink);
