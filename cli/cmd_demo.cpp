@@ -9,6 +9,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
+#include "formats/output_folder.hpp"
 #include "kernels/analytic_volumes.hpp"
 #include "kernels/errors.hpp"
 

@@ -326,15 +326,6 @@ void require_point_set_output(const std::string& path, const char* what) {
                          "(VTK XML PolyData) file (outputs are chosen by extension; '-' for CSV on stdout)");
 }
 
-void make_output_folder(const std::string& dir) {
-    std::error_code made, ec;
-    std::filesystem::create_directories(dir, made);
-    if (std::filesystem::is_directory(dir, ec)) return;
-    throw IoError(dir + ": cannot create output folder: " +
-                  (std::filesystem::exists(dir, ec) ? std::string("a file of that name exists")
-                                                    : made ? made.message() : std::string("unknown reason")));
-}
-
 void refuse_binary_to_terminal(const std::string& path, const std::string& what) {
     if (path == "-" && ::isatty(1))
         throw UsageError("refusing to write " + what + " to a terminal (pipe it or use -o FILE)");

@@ -113,9 +113,6 @@ Projection parse_projection(const std::string& s);
 
 /// Warns on stderr when iso lies outside [lo, hi] (the outputs will be empty but valid).
 void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source);
-/// Creates the folder `dir` (and its parents) for outputs; IoError "DIR: cannot create output folder:
-/// WHY" (a file of that name exists, or the system's reason) when it is not a folder afterwards.
-void make_output_folder(const std::string& dir);
 /// UsageError "refusing to write WHAT to a terminal" when `path` is "-" and standard output is a
 /// terminal (binary outputs: streams, PLY, VTP, PNG, NRRD, stores).
 void refuse_binary_to_terminal(const std::string& path, const std::string& what);

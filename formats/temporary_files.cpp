@@ -12,6 +12,8 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <map>
+#include <set>
 
 namespace meshless {
 
@@ -77,27 +79,39 @@ std::size_t live_temporary_count() noexcept {
 void set_stale_temporary_reporter(StaleTemporaryReporter rep) noexcept { registry().reporter.store(rep); }
 
 std::vector<std::string> remove_stale_temporaries(const std::string& out) noexcept {
+    try {
+        return remove_stale_temporaries(std::vector<std::string>{out}, true);
+    } catch (...) {
+        return {};  // out of memory before the sweep: it is best effort
+    }
+}
+
+std::vector<std::string> remove_stale_temporaries(const std::vector<std::string>& outs, bool report) noexcept {
     namespace fs = std::filesystem;
     std::vector<std::string> removed;
     try {
-        std::error_code ec;
-        const fs::path op(out);
-        const fs::path dir = op.has_parent_path() ? op.parent_path() : fs::path(".");
-        const std::string prefix = op.filename().string() + ".tmp-";
-        if (prefix.size() == 5) return removed;  // no file name
-        for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-            const std::string name = it->path().filename().string();
-            if (name.compare(0, prefix.size(), prefix) != 0) continue;
-            std::string rest = name.substr(prefix.size());
-            if (rest.size() > 6 && rest.compare(rest.size() - 6, 6, ".spool") == 0) rest.resize(rest.size() - 6);
-            if (rest.empty() || rest.size() > 9 || rest.find_first_not_of("0123456789") != std::string::npos) continue;
-            const long pid = std::stol(rest);
-            if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
-            if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
-            std::error_code rec;
-            if (!fs::remove(it->path(), rec)) continue;
-            removed.push_back(it->path().string());
-            if (auto rep = registry().reporter.load()) rep(removed.back().c_str(), pid);
+        std::map<fs::path, std::set<std::string>> names;  // folder -> the outputs' file names in it
+        for (const auto& out : outs) {
+            const fs::path op(out);
+            if (!op.filename().empty()) names[op.has_parent_path() ? op.parent_path() : fs::path(".")].insert(op.filename().string());
+        }
+        for (const auto& [dir, in_dir] : names) {
+            std::error_code ec;
+            for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+                const std::string name = it->path().filename().string();
+                const auto t = name.rfind(".tmp-");  // the pid has no ".tmp-": the output's name ends here
+                if (t == std::string::npos || !in_dir.count(name.substr(0, t))) continue;
+                std::string rest = name.substr(t + 5);
+                if (rest.size() > 6 && rest.compare(rest.size() - 6, 6, ".spool") == 0) rest.resize(rest.size() - 6);
+                if (rest.empty() || rest.size() > 9 || rest.find_first_not_of("0123456789") != std::string::npos) continue;
+                const long pid = std::stol(rest);
+                if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
+                if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+                std::error_code rec;
+                if (!fs::remove(it->path(), rec)) continue;
+                removed.push_back(it->path().string());
+                if (auto rep = registry().reporter.load(); rep && report) rep(removed.back().c_str(), pid);
+            }
         }
     } catch (...) {
         // out of memory while listing: the sweep is best effort

@@ -15,7 +15,9 @@
 // beside <out> whose process no longer exists (kill(pid, 0) fails with ESRCH); those of live
 // processes, of this process and names that do not parse are kept. Each removal is reported to the
 // reporter set by set_stale_temporary_reporter (the CLI prints it on stderr; the library itself
-// never prints). Never throws; a directory that cannot be listed is skipped.
+// never prints), unless the sweep of many outputs is asked not to (the batch job's, before it
+// starts: a killed run's leftovers are expected there). Never throws; a directory that cannot be
+// listed is skipped.
 #pragma once
 #include <cstddef>
 #include <cstdio>
@@ -50,6 +52,9 @@ void set_stale_temporary_reporter(StaleTemporaryReporter r) noexcept;
 std::FILE* unlinked_temporary(const std::string& purpose, std::string& name);
 /// Removes the stale temporaries of <out> (see above); returns the paths removed.
 std::vector<std::string> remove_stale_temporaries(const std::string& out) noexcept;
+/// The same for many outputs, each folder listed once; `report`: whether the reporter hears of the
+/// removals.
+std::vector<std::string> remove_stale_temporaries(const std::vector<std::string>& outs, bool report) noexcept;
 
 /// RAII registration of one temporary path (not copyable, not movable).
 class TemporaryRegistration {

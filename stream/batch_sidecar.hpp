@@ -1,4 +1,5 @@
-// Up-to-date bookkeeping of `meshless batch`: input fingerprints and output sidecars.
+// Up-to-date bookkeeping of the batch job (stream/batch_job.hpp, `meshless batch`), input
+// fingerprints and output sidecars.
 //
 // Fingerprint: the files an input volume is made of (the path itself when a file, plus the payload
 // files its header names, see probe_volume), each with its size and modification time (ns), and
@@ -20,10 +21,10 @@
 #include <string>
 #include <vector>
 
-namespace meshless::cli {
+namespace meshless {
 
-/// Tool version recorded in sidecars (keep equal to `meshless --version`, CMake project VERSION).
-inline constexpr const char* kMeshlessVersion = MESHLESS_VERSION;  // from CMake project(VERSION)
+/// The tool's version recorded in sidecars: CMake's project VERSION, as `meshless --version` says.
+const char* meshless_version();
 
 struct FileStat {
     std::string path;
@@ -55,4 +56,4 @@ std::optional<std::uint32_t> recorded_crc(const Sidecar& s);
 /// True when the identity keys of `stored` equal those of `expected` (see above).
 bool same_identity(const Sidecar& stored, const Sidecar& expected);
 
-}  // namespace meshless::cli
+}  // namespace meshless

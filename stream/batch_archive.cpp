@@ -1,5 +1,4 @@
-#include "cli/batch_inputs.hpp"
-#include "formats/binary_file.hpp"
+#include "stream/batch_archive.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -9,23 +8,17 @@
 #include <fstream>
 #include <set>
 
-#include "cli/args.hpp"
-#include "cli/common.hpp"
-#include "cli/errors.hpp"
+#include "formats/binary_file.hpp"
+#include "formats/file_names.hpp"
 #include "formats/reference_policy.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
 
-namespace meshless::cli {
+namespace meshless {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
 
 std::string canonical_or_self(const fs::path& p) {
     std::error_code ec;
@@ -49,7 +42,7 @@ std::string raw_text(const RawOptions& r) {
     return t.empty() ? t : t.substr(1);
 }
 
-/// Whitespace-separated tokens; "double quoted" tokens may hold spaces. Throws UsageError on an
+/// Whitespace-separated tokens; "double quoted" tokens may hold spaces. Throws InvalidArgument on an
 /// unterminated quote.
 std::vector<std::string> tokenize(const std::string& line) {
     std::vector<std::string> out;
@@ -60,7 +53,7 @@ std::vector<std::string> tokenize(const std::string& line) {
         std::string tok;
         if (line[i] == '"') {
             const auto end = line.find('"', i + 1);
-            if (end == std::string::npos) throw UsageError("unterminated quote");
+            if (end == std::string::npos) throw InvalidArgument("unterminated quote");
             tok = line.substr(i + 1, end - i - 1);
             i = end + 1;
         } else {
@@ -82,8 +75,7 @@ void walk(const fs::path& root, const fs::path& dir, bool recursive, const std::
     // payload files named by a header in this folder are part of that volume, not volumes of their own
     std::set<std::string> payloads;
     for (const auto& e : entries) {
-        const std::string ext = lower(e.extension().string());
-        if (ext == ".raw" || e.filename().string().front() == '.' || !looks_like_volume(e.string())) continue;
+        if (lower_extension(e.string()) == ".raw" || e.filename().string().front() == '.' || !looks_like_volume(e.string())) continue;
         try {
             RawOptions confined;
             confined.references.root = root.string();  // a header naming files outside the archive lists none
@@ -117,11 +109,10 @@ std::string volume_stem(const std::string& path) {
     fs::path p = fs::path(path).lexically_normal();
     if (p.filename().empty()) p = p.parent_path();
     std::string name = p.filename().string();
-    if (lower(name) == "index.json" && p.has_parent_path()) return p.parent_path().filename().string();
-    const std::string l = lower(name);
+    if (to_lower(name) == "index.json" && p.has_parent_path()) return p.parent_path().filename().string();
     for (const char* two : {".nii.gz", ".vtk.gz"}) {
         const std::size_t n = std::strlen(two);
-        if (l.size() > n && l.compare(l.size() - n, n, two) == 0) return name.substr(0, name.size() - n);
+        if (name.size() > n && ends_with_ci(name, two)) return name.substr(0, name.size() - n);
     }
     const auto dot = name.rfind('.');
     return dot == std::string::npos || dot == 0 ? name : name.substr(0, dot);
@@ -134,7 +125,7 @@ std::vector<BatchItem> list_archive_dir(const std::string& dir, bool recursive, 
     return items;
 }
 
-std::vector<BatchItem> read_manifest(const std::string& manifest) {
+std::vector<BatchItem> read_manifest(const std::string& manifest, const RawOptionsParser& parse_raw) {
     require_regular_file(manifest);
     std::ifstream in(manifest);
     if (!in) throw IoError(manifest + ": cannot open manifest (" + std::strerror(errno) + ")");
@@ -149,7 +140,7 @@ std::vector<BatchItem> read_manifest(const std::string& manifest) {
         std::vector<std::string> tok;
         try {
             tok = tokenize(line);
-        } catch (const UsageError& e) {
+        } catch (const InvalidArgument& e) {
             it.name = "line " + std::to_string(lineno);
             it.error = manifest + ":" + std::to_string(lineno) + ": " + e.what();
             items.push_back(std::move(it));
@@ -163,20 +154,13 @@ std::vector<BatchItem> read_manifest(const std::string& manifest) {
         const std::string manifest_dir = base.empty() ? std::string(".") : base.string();
         it.raw.references.root = resolves_inside(it.path, manifest_dir) ? manifest_dir : parent_dir(it.path);
         if (tok.size() > 1) {
-            std::vector<std::string> words{"meshless", "batch"};
-            words.insert(words.end(), tok.begin() + 1, tok.end());
-            std::vector<char*> argv;
-            for (auto& w : words) argv.push_back(w.data());
-            Args a("batch", "", "");
-            a.positionals(0, 0);
-            add_volume_options(a);
             try {
-                a.parse(static_cast<int>(argv.size()), argv.data(), 2);
+                if (!parse_raw) throw InvalidArgument("options after the path are not read here");
                 const ReferencePolicy refs = it.raw.references;
-                it.raw = raw_options(a);
+                it.raw = parse_raw(std::vector<std::string>(tok.begin() + 1, tok.end()));
                 it.raw.references = refs;
                 it.raw_text = raw_text(it.raw);
-            } catch (const UsageError& e) {
+            } catch (const InvalidArgument& e) {
                 it.error = manifest + ":" + std::to_string(lineno) + ": " + e.what();
             }
         }
@@ -186,4 +170,4 @@ std::vector<BatchItem> read_manifest(const std::string& manifest) {
     return items;
 }
 
-}  // namespace meshless::cli
+}  // namespace meshless

@@ -1,20 +1,21 @@
-#include "cli/batch_sidecar.hpp"
-#include "formats/binary_file.hpp"
+#include "stream/batch_sidecar.hpp"
 
 #include <sys/stat.h>
-#include <zlib.h>
 
 #include <cerrno>
-#include <filesystem>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 
 #include "formats/atomic_file.hpp"
+#include "formats/crc32.hpp"
 #include "kernels/errors.hpp"
 
-namespace meshless::cli {
+namespace meshless {
+
+const char* meshless_version() { return MESHLESS_VERSION; }  // stream/CMakeLists.txt defines it for this file
 
 std::vector<FileStat> stat_files(const std::vector<std::string>& paths) {
     std::vector<FileStat> out;
@@ -31,7 +32,7 @@ std::vector<FileStat> stat_files(const std::vector<std::string>& paths) {
 }
 
 std::uint32_t crc32_files(const std::vector<FileStat>& files) {
-    uLong crc = ::crc32(0L, Z_NULL, 0);
+    std::uint32_t crc = 0;
     std::vector<unsigned char> buf(1 << 20);
     for (const auto& f : files) {
         struct ::stat st {};
@@ -39,10 +40,10 @@ std::uint32_t crc32_files(const std::vector<FileStat>& files) {
         std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(f.path.c_str(), "rb"), &std::fclose);
         if (!in) throw IoError(f.path + ": cannot open (" + std::strerror(errno) + ")");
         std::size_t n;
-        while ((n = std::fread(buf.data(), 1, buf.size(), in.get())) > 0) crc = ::crc32(crc, buf.data(), static_cast<uInt>(n));
+        while ((n = std::fread(buf.data(), 1, buf.size(), in.get())) > 0) crc = crc32_ieee(crc, buf.data(), n);
         if (std::ferror(in.get())) throw IoError(f.path + ": read failed (" + std::strerror(errno) + ")");
     }
-    return static_cast<std::uint32_t>(crc);
+    return crc;
 }
 
 std::string sidecar_path(const std::string& output) { return output + ".meta"; }
@@ -131,4 +132,4 @@ Sidecar identity(const Sidecar& s) {
 
 bool same_identity(const Sidecar& stored, const Sidecar& expected) { return identity(stored) == identity(expected); }
 
-}  // namespace meshless::cli
+}  // namespace meshless

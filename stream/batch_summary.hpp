@@ -1,0 +1,19 @@
+// The summary table of a batch run (stream/batch_job.hpp), one row per volume and a totals line,
+// as `meshless batch` prints it on stdout.
+//
+//   volume  result      written  up to date   seconds
+//   chest   done              3           0     12.34
+//   knee    FAILED            0           0      0.01  knee.raw: truncated ...
+//   2 volume(s): 1 done, 0 up to date, 1 failed; 3 output(s) written, 0 up to date; 12.40 s
+// Names and messages pass through terminal_safe (formats/terminal_safe.hpp); ", N refused" joins the
+// totals only when some volume was refused. Flushes `out`; write errors are not reported. Reentrant.
+#pragma once
+#include <cstdio>
+
+#include "stream/batch_job.hpp"
+
+namespace meshless {
+
+void print_batch_summary(std::FILE* out, const BatchRun& run);
+
+}  // namespace meshless

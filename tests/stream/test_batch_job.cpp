@@ -1,0 +1,174 @@
+// The batch job as a front end other than the CLI calls it (stream/batch_job.hpp): results per
+// volume with a bad one among good ones, the callbacks (progress steps, the isovalue's range, each
+// volume's end), a rerun up to date, a name claimed twice, leftovers of a killed run swept quietly;
+// manifests read through the caller's raw-option parser (stream/batch_archive.hpp); output names.
+// The CLI's own tests (tests/cli/test_batch.cpp) check the outputs byte for byte.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "formats/temporary_files.hpp"
+#include "kernels/errors.hpp"
+#include "stream/batch_archive.hpp"
+#include "stream/batch_job.hpp"
+#include "stream/batch_summary.hpp"
+#include "test_paths.hpp"
+
+using namespace meshless;
+using meshless::test::TempDir;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A 16^3 uint8 ball, 255 - 16 x the distance to the centre in voxels (the file name or the
+/// manifest gives the layout).
+void write_ball(const fs::path& path) {
+    std::string bytes(16 * 16 * 16, '\0');
+    for (int z = 0; z < 16; ++z)
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x) {
+                const double r = std::sqrt((x - 7.5) * (x - 7.5) + (y - 7.5) * (y - 7.5) + (z - 7.5) * (z - 7.5));
+                bytes[static_cast<std::size_t>((z * 16 + y) * 16 + x)] = static_cast<char>(std::lround(std::max(0.0, 255 - 16 * r)));
+            }
+    std::ofstream(path, std::ios::binary) << bytes;
+}
+
+void write_text(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+
+}  // namespace
+
+TEST_CASE("batch job: a bad volume among good ones, the callbacks, a rerun up to date", "[stream][batch]") {
+    TempDir d("batch-job");
+    fs::create_directories(d / "arch");
+    write_ball(d / "arch" / "a_16x16x16_uint8.raw");
+    write_ball(d / "arch" / "b_16x16x16_uint8.raw");
+    write_text(d / "arch" / "c_16x16x16_uint8.raw", "short");  // truncated
+    BatchSettings s;
+    s.out_dir = (d / "out").string();
+    s.isos = {100.5, 1000};
+    s.stream = true;
+    // a killed run's leftovers beside a planned output and a planned sidecar: removed, nobody told
+    fs::create_directories(d / "out");
+    const std::string dead = "999999999";  // above any pid_max (at most 2^22): no such process
+    const fs::path stale1 = d / "out" / ("a_16x16x16_uint8.mlb.tmp-" + dead),
+                   stale2 = d / "out" / ("b_16x16x16_uint8_iso100.5.ply.meta.tmp-" + dead + ".spool");
+    write_text(stale1, "x");
+    write_text(stale2, "x");
+    write_text(d / "out" / ("unplanned.mlb.tmp-" + dead), "x");
+    static int reported = 0;
+    set_stale_temporary_reporter([](const char*, long) { ++reported; });
+
+    std::vector<BatchProgress> steps;
+    std::vector<std::string> ranges, done;
+    BatchCallbacks cb;
+    cb.progress = [&](const BatchProgress& p) { steps.push_back(p); };
+    // the ball's largest sample: 255 - 16 x sqrt(3)/2 (the voxels nearest the centre) = 241
+    cb.iso_range = [&](double iso, const std::array<double, 2>& range, const std::string& input) {
+        ranges.push_back(fs::path(input).filename().string() + " " + batch_iso_name(iso) + " " + batch_iso_name(range[1]));
+    };
+    cb.item_done = [&](const BatchItemResult& r) { done.push_back(r.name); };
+    const BatchRun run = run_batch((d / "arch").string(), s, cb);
+    set_stale_temporary_reporter(nullptr);
+    CHECK(reported == 0);
+    CHECK_FALSE(fs::exists(stale1));
+    CHECK_FALSE(fs::exists(stale2));
+    CHECK(fs::exists(d / "out" / ("unplanned.mlb.tmp-" + dead)));
+
+    REQUIRE(run.items.size() == 3);
+    CHECK(run.items[0].status == BatchStatus::done);
+    CHECK(run.items[0].written == 5);  // the store, and a PLY and a stream per isovalue
+    CHECK(run.items[1].status == BatchStatus::done);
+    CHECK(run.items[2].status == BatchStatus::failed);
+    CHECK(run.items[2].written == 0);
+    CHECK_THAT(run.items[2].message, Catch::Contains("c_16x16x16_uint8.raw"));
+    CHECK(run.any_failed());
+    CHECK(done == std::vector<std::string>{"a_16x16x16_uint8", "b_16x16x16_uint8", "c_16x16x16_uint8"});
+    CHECK(ranges == std::vector<std::string>{"a_16x16x16_uint8.raw 100.5 241", "a_16x16x16_uint8.raw 1000 241",
+                                             "b_16x16x16_uint8.raw 100.5 241", "b_16x16x16_uint8.raw 1000 241"});
+    for (const char* f : {"a_16x16x16_uint8.mlb", "a_16x16x16_uint8_iso100.5.ply", "a_16x16x16_uint8_iso100.5.mlp",
+                          "b_16x16x16_uint8_iso1000.ply", "b_16x16x16_uint8_iso1000.mlp.meta"})
+        CHECK(fs::exists(d / "out" / f));
+    REQUIRE_FALSE(steps.empty());
+    CHECK(steps.front().index == 0);
+    CHECK(steps.front().count == 3);
+    CHECK(steps.front().what == "hashing input");
+    for (std::size_t i = 1; i < steps.size(); ++i) CHECK(steps[i].batch >= steps[i - 1].batch);
+    CHECK(steps.back().batch < 1);  // c's bytes are never counted as done while it runs
+
+    const BatchRun again = run_batch((d / "arch").string(), s, {});
+    CHECK(again.items[0].status == BatchStatus::up_to_date);
+    CHECK(again.items[0].current == 5);
+    CHECK(again.items[2].status == BatchStatus::failed);
+
+    std::FILE* table = std::tmpfile();
+    print_batch_summary(table, again);
+    std::rewind(table);
+    std::string text(4096, '\0');
+    text.resize(std::fread(text.data(), 1, text.size(), table));
+    std::fclose(table);
+    CHECK(text.rfind("volume            result      written  up to date   seconds\n"
+                     "a_16x16x16_uint8  up to date        0           5  ", 0) == 0);
+    CHECK_THAT(text, Catch::Contains("\n3 volume(s): 0 done, 2 up to date, 1 failed; 0 output(s) written, 10 up to date; "));
+
+    CHECK_THROWS_AS(run_batch((d / "arch" / "a_16x16x16_uint8.raw").string(), s, {}), InvalidArgument);
+    CHECK_THROWS_AS(run_batch((d / "missing").string(), s, {}), IoError);
+}
+
+TEST_CASE("batch job: manifests through the caller's parser, a name claimed twice fails the second", "[stream][batch]") {
+    TempDir d("batch-manifest");
+    fs::create_directories(d / "x");
+    write_ball(d / "ball.raw");
+    write_ball(d / "x" / "ball_16x16x16_uint8.raw");
+    write_text(d / "list.txt",
+               "# comment\n"
+               "ball.raw --dims 16,16,16 --type uint8\n"
+               "x/ball_16x16x16_uint8.raw\n"
+               "\"unterminated.raw\n"
+               "ball.raw --bad\n");
+    const auto parse = [](const std::vector<std::string>& words) {
+        if (words != std::vector<std::string>{"--dims", "16,16,16", "--type", "uint8"}) throw InvalidArgument("bad options");
+        RawOptions r;
+        r.dims = std::array<std::int64_t, 3>{16, 16, 16};
+        r.type = SampleType::u8;
+        return r;
+    };
+    const std::vector<BatchItem> items = read_manifest((d / "list.txt").string(), parse);
+    REQUIRE(items.size() == 4);
+    CHECK(items[0].name == "ball");
+    CHECK(items[0].raw_text == "dims=16,16,16 type=uint8");
+    CHECK(items[0].raw.references.root == d.path.string());
+    CHECK(items[1].name == "ball_16x16x16_uint8");
+    CHECK(items[1].error.empty());
+    CHECK(items[2].name == "line 4");
+    CHECK_THAT(items[2].error, Catch::EndsWith("list.txt:4: unterminated quote"));
+    CHECK_THAT(items[3].error, Catch::EndsWith("list.txt:5: bad options"));
+    CHECK_THAT(read_manifest((d / "list.txt").string(), {})[0].error, Catch::Contains("list.txt:2: "));
+
+    BatchSettings s;
+    s.out_dir = (d / "out").string();
+    BatchCallbacks cb;
+    cb.parse_raw = parse;
+    write_text(d / "twice.txt", "ball.raw --dims 16,16,16 --type uint8\n./ball.raw --dims 16,16,16 --type uint8\n");
+    const BatchRun run = run_batch((d / "twice.txt").string(), s, cb);
+    REQUIRE(run.items.size() == 2);
+    CHECK(run.items[0].status == BatchStatus::done);
+    CHECK(run.items[0].written == 1);  // the store alone: no isovalue
+    CHECK(run.items[1].status == BatchStatus::failed);
+    CHECK_THAT(run.items[1].message, Catch::Contains("its outputs would be named 'ball'"));
+}
+
+TEST_CASE("batch output names: volume_stem and batch_iso_name", "[stream][batch]") {
+    CHECK(volume_stem("fuel_64x64x64_uint8.raw") == "fuel_64x64x64_uint8");
+    CHECK(volume_stem("dir/a.nii.gz") == "a");
+    CHECK(volume_stem("A.VTK.GZ") == "A");
+    CHECK(volume_stem("d/index.json") == "d");
+    CHECK(volume_stem(".nii.gz") == ".nii");
+    CHECK(volume_stem("noext") == "noext");
+    CHECK(batch_iso_name(100.5) == "100.5");
+    CHECK(batch_iso_name(1.0 / 3) == "0.333333333");
+}
