@@ -7,8 +7,6 @@
 #include <cinttypes>
 #include <cstdio>
 
-#include <oneapi/tbb/global_control.h>
-
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
@@ -16,8 +14,6 @@
 #include "cli/progress_meter.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/binary_file.hpp"
-#include "formats/field_file.hpp"
-#include "kernels/make_field.hpp"
 #include "kernels/point_set_identity.hpp"
 
 namespace meshless::cli {
@@ -39,13 +35,12 @@ int cmd_fit(int argc, char** argv) {
     a.epilog("example:\n  meshless fit combxyz.bin --q combq.bin --field mpu -o comb.mlf\n"
              "  meshless probe combxyz.bin --q combq.bin --field comb.mlf --at 8,0,30   (a point inside the combustor)");
     if (!a.parse(argc, argv, 2)) return 0;
-    // the default field is the one `isosurface DATA` builds (cli/field_cli.hpp)
+    // the default field is the one `isosurface DATA` builds (stream/field_data.hpp)
     const FieldParams params = field_params(a, data_field_default(a.positional()));
     const std::string out = require_output_extension(a.require("output"), ".mlf", "-o", "a fitted field", /*to_stdout=*/false);
     if (is_streaming_output(out)) throw UsageError("-o " + out + ": a fitted field is written to a regular file (.mlf), not a stream");
     const long long level = a.get_int_or("zstd-level", 1);
     if (level < 0 || level > 19) throw UsageError("--zstd-level: expected 0..19");
-    const bool stats = a.has("stats");
 
     auto now = [] { return std::chrono::steady_clock::now(); };
     auto since = [&](auto t) { return std::chrono::duration<double>(now() - t).count(); };
@@ -53,24 +48,12 @@ int cmd_fit(int argc, char** argv) {
     const PointSet points = read_points_arg(a);
     const double read_s = since(t_read);
     FieldBuildStats st;
-    std::unique_ptr<Field> field;
-    {
-        oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism,
-                                          static_cast<std::size_t>(threads(a)));
-        ProgressMeter meter = ProgressMeter::of(a, "local fits", 1);  // the total comes with the first report
-        field = make_input_field(a, points, params, &st, field_progress(meter));
-    }
+    const std::unique_ptr<Field> field = fit_input_field(a, points, params, st);
     const auto t_write = now();
-    FittedData data;
-    data.identity = point_set_identity(points);
-    data.dropped_nonfinite = points.dropped_nonfinite;
-    data.dropped_blanked = points.dropped_blanked;
-    data.has_values = points.has_values;
-    data.value_name = points.value_name;
-    write_field_file(out, *field, params, data, st, static_cast<int>(level));
+    const FittedData data = write_fitted_field(out, *field, params, points, st, static_cast<int>(level));
     const double write_s = since(t_write);
-    if (stats) {
-        print_field_build_stats(a, params, points, st);
+    if (a.has("stats")) {
+        print_field_build_report(stderr, a.command(), params, points, st);
         std::fprintf(stderr, "fit: read %.3f s, fit %.3f s, wrote %s (%" PRIu64 " bytes, identity %s) in %.3f s\n", read_s,
                      st.build_seconds, terminal_safe(out).c_str(), regular_file_size(out),
                      describe_identity(data.identity).c_str(), write_s);

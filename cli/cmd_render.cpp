@@ -62,7 +62,7 @@ CliRenderInput open_render_input(const Args& a) {
     const bool raw_points = pos.size() == 1 && lower_extension(first) == ".raw" && !a.has("dims") && looks_like_point_set(first);
     const bool volume = store || (pos.size() == 1 && (first == "-" || (!looks_like_multiblock(first) && !raw_points &&
                                                                       looks_like_volume(first))));
-    // scattered points: mpu, multiblock grids: rbf-grid, as isosurface and fit build (cli/field_cli.hpp)
+    // scattered points: mpu, multiblock grids: rbf-grid, as isosurface and fit build (stream/field_data.hpp)
     const std::string data_default = data_field_default(pos);
     const std::string kind = a.get_or("field", volume ? "trilinear" : data_default);
     if (volume) {

@@ -1,23 +1,18 @@
 #include "cli/field_cli.hpp"
-#include "cli/progress_meter.hpp"
-
-#include <oneapi/tbb/global_control.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cinttypes>
 #include <cstdio>
 
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/point_set_cli.hpp"
+#include "cli/progress_meter.hpp"
 #include "formats/cluster_tree_file.hpp"
+#include "formats/file_names.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
-#include "kernels/errors.hpp"
 #include "kernels/make_field.hpp"
 #include "kernels/point_set_identity.hpp"
-#include "kernels/structured_block.hpp"
 
 namespace meshless::cli {
 
@@ -26,58 +21,17 @@ namespace {
 /// Options that shape a fit: meaningless with a fitted field file.
 constexpr const char* kFitOptions[] = {"binning", "support", "local-points", "max-points", "alpha", "hardy-c", "hardy-c-world", "hardy-c-spacing", "hardy-c-rough", "normalise-axes"};
 
-bool ends_with_mlf(const std::string& s) {
-    if (s.size() < 4) return false;
-    std::string e = s.substr(s.size() - 4);
-    for (char& c : e) c = static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
-    return e == ".mlf";
-}
-
 BuiltField load_file(const Args& a, const std::string& path) {
     for (const char* opt : kFitOptions)
         if (a.has(opt))
             throw UsageError("--" + std::string(opt) + ": the field comes fitted from " + path +
                              " (its options are in the file, see meshless info); leave --" + opt + " out");
-    const auto t0 = std::chrono::steady_clock::now();
-    FieldFile ff = read_field_file(path);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (a.has("stats")) {
-        const FieldFileInfo& i = ff.info;
-        std::fprintf(stderr,
-                     "%s: %s field loaded from %s (%.1f MiB): fitted to %" PRIu64 " points (%" PRIu64
-                     " merged), %" PRIu64 " local interpolants, %.3f s\n",
-                     a.command().c_str(), std::string(field_kind_name(i.params.kind)).c_str(), path.c_str(),
-                     i.file_bytes / 1048576.0, i.data.identity.count, i.stats.merged_points, i.stats.locals, seconds);
-    }
-    BuiltField f;
-    f.field = std::move(ff.field);
-    f.file = std::move(ff.info);
+    BuiltField f = load_built_field(path);
+    if (a.has("stats")) print_field_load_report(stderr, a.command(), path, *f.file, f.load_seconds);
     return f;
 }
 
 }  // namespace
-
-void print_field_build_stats(const Args& a, const FieldParams& params, const PointSet& points, const FieldBuildStats& st) {
-    std::fprintf(stderr,
-                 "%s: %s field from %llu points (%llu dropped by the reader as NaN/Inf, %llu blanked; %llu merged as "
-                 "near-duplicates), c = %g, %llu local interpolants "
-                 "(%llu exact, %llu rank-deficient, %llu regularised, %llu linear fallback), %.1f MiB, %.3f s\n",
-                 a.command().c_str(), std::string(field_kind_name(params.kind)).c_str(),
-                 static_cast<unsigned long long>(st.input_points), static_cast<unsigned long long>(points.dropped_nonfinite),
-                 static_cast<unsigned long long>(points.dropped_blanked), static_cast<unsigned long long>(st.merged_points),
-                 st.hardy_c_world, static_cast<unsigned long long>(st.locals), static_cast<unsigned long long>(st.interpolated),
-                 static_cast<unsigned long long>(st.rank_deficient), static_cast<unsigned long long>(st.regularised),
-                 static_cast<unsigned long long>(st.linear_fallback), st.memory_bytes / 1048576.0, st.build_seconds);
-    if (st.c_lowered > 0 || st.refitted > 0)
-        std::fprintf(stderr,
-                     "%s: %llu local fits took a c below the global one (at most %g x their point spacing; mean c %g), "
-                     "%llu of them kept the fit with %g x their spacing (smaller leave-one-out error)\n",
-                     a.command().c_str(), static_cast<unsigned long long>(st.c_lowered), params.hardy_c_spacing, st.mean_local_c,
-                     static_cast<unsigned long long>(st.refitted), params.hardy_c_rough);
-    if (st.spanned > 0)
-        std::fprintf(stderr, "%s: %llu local fits had their points in one plane or line and took the nearest points off it\n",
-                     a.command().c_str(), static_cast<unsigned long long>(st.spanned));
-}
 
 void add_field_options(Args& a, bool with_coverage, const std::string& default_kind) {
     a.option("field", "", "NAME|FILE.mlf",
@@ -121,7 +75,7 @@ std::optional<std::string> field_file_arg(const Args& a) {
     if (!v) return std::nullopt;
     FieldKind k;
     if (parse_field_kind(*v, k)) return std::nullopt;
-    if (ends_with_mlf(*v) || is_field_file(*v)) return *v;
+    if (ends_with_ci(*v, ".mlf") || is_field_file(*v)) return *v;
     return std::nullopt;
 }
 
@@ -190,43 +144,26 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
     return p;
 }
 
-bool all_multiblock(const std::vector<std::string>& paths) {
-    return !paths.empty() && std::all_of(paths.begin(), paths.end(), [](const std::string& p) { return looks_like_multiblock(p); });
-}
-
-std::string data_field_default(const std::vector<std::string>& paths) {
-    return all_multiblock(paths) ? kBlocksFieldDefault : kPointsFieldDefault;
-}
-
 PointSet read_field_points(const std::vector<std::string>& paths, const Args& a) {
     for (const auto& p : paths)  // the point-set readers go by the file's extension (and some reread it)
         if (p == "-")
             throw UsageError("-: meshless " + a.command() + " reads its data (point sets, volumes, multiblock sets) from files "
                              "(their names and contents say the format), not from standard input");
-    if (all_multiblock(paths)) return to_point_set(read_multiblock(paths, point_set_options(a)));
-    if (paths.size() > 1)  // volumes read as points (their voxels) would be mixed into one set
-        for (const auto& p : paths)
-            if (looks_like_volume(p) && !looks_like_multiblock(p) && !looks_like_point_set(p))
-                throw UsageError(p + " is a volume: meshless " + a.command() + " takes one volume, or point sets (several are "
-                                 "one set), or the blocks of one multiblock grid");
-    const bool tree = std::any_of(paths.begin(), paths.end(), [](const std::string& p) { return is_cluster_tree_file(p); });
-    for (const char* o : {"lod-level", "lod-error"})
-        if (!tree && a.declared(o) && a.has(o))
-            throw UsageError("--" + std::string(o) + " picks a level of detail of a cluster tree (.mlh); " + paths.front() + " is none");
-    for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so
-        if (is_cluster_tree_file(p)) {
-            const ClusterTreeLodRequest r = cluster_tree_lod_request(read_cluster_tree_file(p), point_set_options(a));
-            if (r.clamped) std::fprintf(stderr, "meshless %s: warning: %s: %s\n", a.command().c_str(), terminal_safe(p).c_str(), terminal_safe(r.note).c_str());
-        }
-    PointSet ps = read_point_set(paths, point_set_options(a));
-    // every command that reads points this way fits, probes, renders or clusters their values
-    if (!ps.has_values) {
-        std::string names;
-        for (const auto& p : paths) names += (names.empty() ? "" : ", ") + p;
-        throw FormatError(names + ": the points carry no values (positions only); meshless " + a.command() +
-                          " needs a value at each point");
+    if (!all_multiblock(paths)) {
+        if (paths.size() > 1)  // volumes read as points (their voxels) would be mixed into one set
+            for (const auto& p : paths)
+                if (looks_like_volume(p) && !looks_like_multiblock(p) && !looks_like_point_set(p))
+                    throw UsageError(p + " is a volume: meshless " + a.command() + " takes one volume, or point sets (several are "
+                                     "one set), or the blocks of one multiblock grid");
+        const bool tree = std::any_of(paths.begin(), paths.end(), [](const std::string& p) { return is_cluster_tree_file(p); });
+        for (const char* o : {"lod-level", "lod-error"})
+            if (!tree && a.declared(o) && a.has(o))
+                throw UsageError("--" + std::string(o) + " picks a level of detail of a cluster tree (.mlh); " + paths.front() + " is none");
     }
-    return ps;
+    const InputWarning to_stderr = [&a](const std::string& subject, const std::string& what) {
+        std::fprintf(stderr, "meshless %s: warning: %s: %s\n", a.command().c_str(), terminal_safe(subject).c_str(), terminal_safe(what).c_str());
+    };
+    return meshless::read_field_points(paths, point_set_options(a), a.command(), to_stderr);
 }
 
 PointSet read_points_arg(const Args& a) {
@@ -234,21 +171,24 @@ PointSet read_points_arg(const Args& a) {
     return read_field_points(a.positional(), a);
 }
 
-FieldProgress field_progress(ProgressMeter& meter) {
-    return [&meter](double done, double total) {
-        meter.set_total(total);
-        meter.add(done);
-    };
-}
-
-std::unique_ptr<Field> make_input_field(const Args& a, const PointSet& points, const FieldParams& params,
-                                        FieldBuildStats* stats, const FieldProgress& progress, const FitShare* share) {
+std::unique_ptr<Field> fit_input_field(const Args& a, const PointSet& points, const FieldParams& params, FieldBuildStats& stats,
+                                       const FitShare* share) {
+    const int n = threads(a);
+    // the commands that show progress (they declare --quiet) show the local fits too
+    ProgressMeter meter = ProgressMeter::of(a, "local fits", 1);  // the total comes with the first report
     if (params.kind == FieldKind::mpu)  // before any fit: the octree that --alpha implies
         check_option_fits(a, "--alpha " + a.get_or("alpha", "0.75"),
                           "an mpu octree over " + std::to_string(points.size()) + " points (estimate)",
                           mpu_octree_bytes_estimate(points.size(), params), "give a smaller --alpha");
-    const std::string names = joined_names(a.positional());
-    return with_error_prefix(names, names + ": ", [&] { return make_field(points, params, stats, progress, share); });
+    FieldProgress progress;
+    if (a.declared("quiet"))
+        progress = [&meter](double done, double total) {
+            meter.set_total(total);
+            meter.add(done);
+        };
+    auto field = fit_data_field(points, params, joined_names(a.positional()), n, &stats, progress, share);
+    meter.done();
+    return field;
 }
 
 BuiltField build_field(const Args& a, const PointSet& points, const std::string& default_kind, const FitShare* share) {
@@ -258,15 +198,10 @@ BuiltField build_field(const Args& a, const PointSet& points, const std::string&
         check_fitted_to(*f.file, point_set_identity(points), *path);
     } else {
         const FieldParams params = field_params(a, default_kind);
-        const int n = threads(a);
-        oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(n));
         FieldBuildStats st;
-        // the commands that show progress (they declare --quiet) show the local fits too
-        ProgressMeter meter = ProgressMeter::of(a, "local fits", 1);  // the total comes with the first report
-        f.field = make_input_field(a, points, params, &st, a.declared("quiet") ? field_progress(meter) : FieldProgress(), share);
-        meter.done();
+        f.field = fit_input_field(a, points, params, st, share);
         // under MPI every rank builds the same field (the fits gathered): rank 0 reports it
-        if (a.has("stats") && (!share || share->rank == 0)) print_field_build_stats(a, params, points, st);
+        if (a.has("stats") && (!share || share->rank == 0)) print_field_build_report(stderr, a.command(), params, points, st);
     }
     if (a.declared("max-gap")) {
         const double gap = parse_finite(a.get_or("max-gap", "1"), "--max-gap");

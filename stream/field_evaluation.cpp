@@ -36,10 +36,11 @@ int worker_count(int threads) { return threads > 0 ? threads : available_cpus();
 
 }  // namespace
 
-std::unique_ptr<Field> fit_field(const PointSet& points, const FieldParams& params, int threads, FieldBuildStats* stats) {
+std::unique_ptr<Field> fit_field(const PointSet& points, const FieldParams& params, int threads, FieldBuildStats* stats,
+                                 const FieldProgress& progress, const FitShare* share) {
     oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism,
                                       static_cast<std::size_t>(worker_count(threads)));
-    return make_field(points, params, stats);
+    return make_field(points, params, stats, progress, share);
 }
 
 void evaluate_field(const Field& field, std::span<const Vec3> at, std::span<double> value, std::span<Vec3> grad,

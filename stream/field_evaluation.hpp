@@ -20,8 +20,9 @@
 
 namespace meshless {
 
-/// make_field(points, params, stats) with at most `threads` workers (<= 0: available_cpus()).
-std::unique_ptr<Field> fit_field(const PointSet& points, const FieldParams& params, int threads, FieldBuildStats* stats = nullptr);
+/// make_field(points, params, stats, progress, share) with at most `threads` workers (<= 0: available_cpus()).
+std::unique_ptr<Field> fit_field(const PointSet& points, const FieldParams& params, int threads, FieldBuildStats* stats = nullptr,
+                                 const FieldProgress& progress = {}, const FitShare* share = nullptr);
 
 /// value[i] (and grad[i] when grad is not empty) of `field` at at[i]. value.size() == at.size(),
 /// grad empty or of at.size().

@@ -22,6 +22,7 @@
 #include "kernels/point_coverage.hpp"
 #include "kernels/point_set.hpp"
 #include "kernels/scattered_binning_grid.hpp"
+#include "stream/field_data.hpp"
 #include "stream/field_project_stage.hpp"
 #include "stream/runner.hpp"
 #include "stream/seed_projection.hpp"
@@ -51,10 +52,6 @@ struct ScatteredIsosurfaceInput {
     /// StencilInput over `field` (alive as long as this input and the field).
     StencilInput stencils(const Field& field) const;
 };
-
-/// A warning about the input: `subject` (a file name, to be escaped by whoever prints it) and what
-/// is wrong with it, one line.
-using InputWarning = std::function<void(const std::string& subject, const std::string& what)>;
 
 /// Bins `points` (section 5.3). `name`: the file the messages name. warn (may be empty: no
 /// warnings, and the largest stencil is not counted): points dropped as NaN/Inf, a plane or line

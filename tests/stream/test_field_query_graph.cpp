@@ -1,14 +1,20 @@
 // The field-query graph pieces (stream/field_query_sources.hpp, field_evaluate_stage.hpp,
 // field_sinks.hpp) against an analytic field: positions in source order, batch sizes, values and
-// gradients, coverage masking, raster sinks filled in order, identical results for any thread count.
+// gradients, coverage masking, raster sinks filled in order, identical results for any thread count;
+// and the recipes that assemble them (stream/field_queries.hpp).
 #include <catch2/catch.hpp>
 
+#include <atomic>
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 
+#include "formats/png_reader.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/point_coverage.hpp"
 #include "stream/field_evaluate_stage.hpp"
+#include "stream/field_queries.hpp"
 #include "stream/field_query_sources.hpp"
 #include "stream/field_sinks.hpp"
 #include "stream/runner.hpp"
@@ -130,4 +136,50 @@ TEST_CASE("plane raster pixels, image and NRRD sinks fill in order and refuse ov
     const Volume v = read_volume((d / "v.nrrd").string());
     REQUIRE(v.grid.dims == g.dims);
     CHECK(v.view().at(2, 1, 1) == Approx(2 * 2 - 1 + 3 * 1 + 1));
+}
+
+TEST_CASE("field-query recipes: probe CSV, slice raster and picture, resample grid, callbacks", "[field-graph]") {
+    TempDir d("fieldrecipes");
+    PointSet pts;
+    for (int i = 0; i < 5; ++i) pts.pos.push_back({0.25 * i, 0.5 * (i % 2), 0.1 * i}), pts.value.push_back(i);
+    BuiltField f;
+    f.field = std::make_unique<Linear>();
+    std::atomic<std::size_t> progressed{0};
+    std::size_t evaluated = 0;
+    FieldQueryRun run;
+    run.threads = 2;
+    run.progress = [&](double n) { progressed += static_cast<std::size_t>(n); };  // from the stages' threads
+    run.evaluated = [&](const FieldQueryStats& s) { evaluated += s.positions; };
+
+    const FieldQueryStats p = probe_field(f, {{0, 0, 0}, {1, 1, 1}}, (d / "p.csv").string(), run);
+    CHECK(p.positions == 2);
+    CHECK(p.uncovered == 0);
+    std::ifstream csv(d / "p.csv");
+    const std::string all((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+    CHECK(all == "x,y,z,value,gx,gy,gz\n0,0,0,1,2,-1,3\n1,1,1,5,2,-1,3\n");
+
+    // the box is 1 x 0.5 in (x, y): 256 x 128 pixels fit 256 x 256
+    const PlaneRaster r = slice_raster(pts, 2, 0.2, 256, 256);
+    CHECK(r.width == 256);
+    CHECK(r.height == 128);
+    CHECK(r.pixel == 1.0 / 256);
+    SliceRequest sr;
+    sr.range = {0, 5};
+    sr.near = 0.05;  // the points at z = 0.1, 0.2, 0.3
+    sr.output = (d / "s.png").string();
+    const SliceResult s = slice_field(f, pts, r, sr, run);
+    CHECK(s.queries.positions == 256 * 128);
+    CHECK(s.shown == 1);
+    CHECK(read_png(sr.output).width == 256);
+
+    const GridSpec g = resample_grid(pts, {5, 3, 2});
+    CHECK(g.origin[0] == 0);
+    CHECK(g.spacing[0] == Approx(0.25));
+    CHECK(g.spacing[1] == Approx(0.25));
+    CHECK(g.spacing[2] == Approx(0.4));
+    resample_field(f, pts, g, (d / "v.nrrd").string(), run);
+    const Volume v = read_volume((d / "v.nrrd").string());
+    CHECK(v.view().at(4, 2, 1) == Approx(2 * 1 - 0.5 + 3 * 0.4 + 1));
+    CHECK(evaluated == 2 + 256 * 128 + 30);
+    CHECK(progressed.load() == evaluated);
 }
