@@ -29,6 +29,7 @@
 #include "kernels/errors.hpp"
 #include "stream/available_cpus.hpp"
 #include "stream/available_memory.hpp"
+#include "stream/volume_fits.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/text_header.hpp"
 
@@ -103,28 +104,9 @@ Volume load_volume(const Args& a, bool map) {
 }
 }  // namespace
 
-std::string byte_size_text(std::uint64_t bytes) {
-    static const char* const kUnit[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
-    double v = static_cast<double>(bytes);
-    int u = 0;
-    while (v >= 1024 && u < 6) v /= 1024, ++u;
-    char b[48];
-    if (u == 0) std::snprintf(b, sizeof b, "%llu bytes", static_cast<unsigned long long>(bytes));
-    else std::snprintf(b, sizeof b, "%.1f %s", v, kUnit[u]);
-    return b;
-}
-
 void check_volume_fits(const Args& a, const std::string& path, const VolumeInfo& vi, bool map) {
-    if (map && vi.maps) return;  // the samples stay in the file (page cache), not in this process's memory
-    const std::uint64_t need = decoded_bytes(vi, path);
     const bool given = a.declared("memory") && a.has("memory");
-    const std::uint64_t budget = given ? parse_memory_size(*a.get("memory")) : available_memory();
-    if (need <= budget) return;
-    throw IoError(path + ": the volume takes " + byte_size_text(need) + " (" + dims_string(vi.grid) + " " +
-                  to_string(vi.type) + ") in memory, more than " +
-                  (given ? "--memory " + byte_size_text(budget)
-                         : "the " + byte_size_text(budget) + " this process may use (physical memory, cgroup limit; --memory sets it)") +
-                  "; a brick store streams it: meshless convert " + path + " -o vol.mlb");
+    meshless::check_volume_fits(path, vi, map, given ? std::optional(parse_memory_size(*a.get("memory"))) : std::nullopt);
 }
 
 void check_option_fits(const Args& a, const std::string& option, const std::string& what, std::uint64_t need,

@@ -44,9 +44,7 @@ Volume load_volume(const Args& a);
 void add_memory_option(Args& a);
 /// Refuses, before anything is read, a volume whose decoded samples exceed the memory budget: --memory
 /// when the command declares it and the user gave it, else available_memory() (physical memory capped
-/// by the cgroup limit, stream/available_memory.hpp). A volume that `map` lets map_volume map costs
-/// no memory of its own and always fits. IoError (exit 2) naming `path`, the size and the budget, and
-/// suggesting `meshless convert` to a brick store (which streams).
+/// by the cgroup limit, stream/available_memory.hpp): stream/volume_fits.hpp with the --memory given.
 void check_volume_fits(const Args& a, const std::string& path, const VolumeInfo& vi, bool map);
 /// Refuses, before any work, an option whose value implies more memory than this process may use
 /// (available_memory(): physical memory, cgroup limit, ulimit -v; not --memory, which budgets the
@@ -57,8 +55,6 @@ void check_option_fits(const Args& a, const std::string& option, const std::stri
                        const std::string& hint = "");
 /// Bytes of the image buffers of a WxH picture at `bytes_per_pixel` (checked: no overflow for 16384^2).
 std::uint64_t image_bytes(int width, int height, std::uint64_t bytes_per_pixel);
-/// "1.5 GiB" (binary units; "512 bytes" below 1 KiB).
-std::string byte_size_text(std::uint64_t bytes);
 
 /// A VOLUME argument: a volume in memory (mapped from the file when it is raw samples, see
 /// map_volume), or a brick store (.mlb) read brick by brick
