@@ -10,7 +10,6 @@
 #include <cstdio>
 
 #include "cli/args.hpp"
-#include "cli/cluster_tree_cli.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
@@ -30,50 +29,6 @@
 #include "ooc/brick_store_point_set.hpp"
 
 namespace meshless::cli {
-
-namespace {
-
-const char* scaling_name(PcaScaling s) { return s == PcaScaling::raw ? "raw" : "normalised"; }
-
-/// Error thresholds for the info table: the root's error times 1/2^k down to the reached error.
-std::vector<double> error_thresholds(const ClusterTree& t) {
-    std::vector<double> e;
-    const double top = t.nodes[0].error;
-    for (double v = top; v > t.stats.error_reached && e.size() < 10; v *= 0.5) e.push_back(v);
-    e.push_back(t.stats.error_reached);
-    return e;
-}
-
-}  // namespace
-
-void info_cluster_tree(const std::string& path) {
-    const ClusterTree t = read_cluster_tree_file(path);
-    const CbtStats& s = t.stats;
-    const CbtParams& p = t.params;
-    std::printf("%s: cluster binary tree (.mlh version %u, dissertation chapter 6)\n", terminal_safe(path).c_str(), kClusterTreeFileVersion);
-    std::printf("  samples: %" PRIu64 " (%" PRIu64 " NaN/Inf dropped), value '%s' %g .. %g\n", s.samples, s.dropped_nonfinite,
-                terminal_safe(t.value_name).c_str(), t.value_range[0], t.value_range[1]);
-    std::printf("  bounds: (%g, %g, %g) .. (%g, %g, %g)\n", t.bounds[0].x, t.bounds[0].y, t.bounds[0].z, t.bounds[1].x,
-                t.bounds[1].y, t.bounds[1].z);
-    std::printf("  nodes: %zu, splits: %" PRIu64 ", skipped splits: %" PRIu64 ", depth: %u\n", t.nodes.size(), s.splits,
-                s.skipped, s.depth);
-    std::printf("  error: root %g, reached %g (the finest level of detail, %" PRIu64 " leaves)\n", t.nodes[0].error,
-                s.error_reached, (t.nodes.size() + 1) / 2);
-    std::printf("  built with: neighbours %u, Hardy's c %g (world), min cluster %u, PCA scaling %s, ", p.neighbours,
-                s.hardy_c_world, p.min_cluster, scaling_name(p.scaling));
-    if (p.max_splits == UINT64_MAX) std::printf("max splits none, ");
-    else std::printf("max splits %" PRIu64 ", ", p.max_splits);
-    std::printf("max error %g\n", p.max_error);
-    const auto per_level = lod_sizes_per_level(t.nodes);
-    std::printf("  level-based LODs (meshless lod --level L):\n    %6s %12s %9s\n", "level", "points", "% samples");
-    for (std::size_t L = 0; L < per_level.size(); ++L)
-        std::printf("    %6zu %12" PRIu64 " %8.2f%%\n", L, per_level[L], 100.0 * per_level[L] / s.samples);
-    std::printf("  error-based LODs (meshless lod --error E):\n    %12s %12s %9s\n", "error", "points", "% samples");
-    for (double e : error_thresholds(t)) {
-        const std::uint64_t n = lod_size_at_error(t.nodes, e);
-        std::printf("    %12.6g %12" PRIu64 " %8.2f%%\n", e, n, 100.0 * n / s.samples);
-    }
-}
 
 namespace {
 
@@ -198,7 +153,7 @@ int cmd_hierarchy(int argc, char** argv) {
                      "c = %g, PCA %s, %d thread%s: read %.3f s, build %.3f s, write %.3f s, %.1f MiB in the builder, "
                      "%" PRIu64 " splits made ahead and not applied, %" PRIu64 " rounds\n",
                      s.samples, s.splits, s.skipped, s.depth, tree.nodes.size(), tree.nodes[0].error, s.error_reached,
-                     s.hardy_c_world, scaling_name(p.scaling), nthreads, nthreads == 1 ? "" : "s", read_s, s.seconds, write_s,
+                     s.hardy_c_world, pca_scaling_name(p.scaling), nthreads, nthreads == 1 ? "" : "s", read_s, s.seconds, write_s,
                      s.memory_bytes / 1048576.0, s.speculative_unused, s.rounds);
     return 0;
 }

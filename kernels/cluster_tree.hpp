@@ -39,6 +39,8 @@ static_assert(sizeof(CbtNode) == 56);
 /// dominates); normalised: positions divided by the input's bounding-box diagonal and values by its
 /// value range, so both span about 1.
 enum class PcaScaling : std::uint32_t { raw = 0, normalised = 1 };
+/// "raw" or "normalised" (the --pca-scaling spelling).
+inline const char* pca_scaling_name(PcaScaling s) { return s == PcaScaling::raw ? "raw" : "normalised"; }
 
 struct CbtParams {
     std::uint64_t max_splits = UINT64_MAX;  ///< stop after this many splits
