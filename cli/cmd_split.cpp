@@ -1,6 +1,6 @@
 // meshless split: a regular volume rewritten as the multiblock and AMR layouts of dissertation
 // chapter 4 (Figure 4.3; section 4.5's test sets): options parsed here, the split and its files by
-// stream/volume_split.hpp (kernels/multiblock_split.hpp has the exact definitions of the layouts).
+// stream/volume_split.hpp. kernels/multiblock_split.hpp has the exact definitions of the layouts.
 // --resample N first resamples the volume trilinearly to N nodes along its longest axis (the
 // dissertation's sets: bucky --resample 33 semi-conforming = 21,114 nodes as in Table 4.1).
 #include <cstdio>

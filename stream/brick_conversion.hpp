@@ -1,7 +1,7 @@
-// The brick-store conversion recipe (docs/architecture.md "Brick store"; dissertation section 3.6),
-// what `meshless convert VOLUME -o vol.mlb` and `meshless synth` run, and any other front end: the
-// volume opened as a slice source (a file streamed slab by slab, standard input spooled, or an
-// upsampled volume), the patient's axes its header gives, and the one-line report of --stats.
+// The brick-store conversion recipe, what `meshless convert VOLUME -o vol.mlb` and `meshless synth`
+// run (and any other front end): the volume opened as a slice source (a file streamed slab by slab,
+// standard input spooled, or an upsampled volume), the patient's axes its header gives, and the
+// one-line report of --stats (docs/architecture.md "Brick store"; dissertation section 3.6).
 // The conversion itself is ooc/brick_converter.hpp's convert_to_brick_store, run by the caller on
 // the source so that it can size its progress line on the source's slices.
 // Units: world coordinates; bytes; seconds (MB = 10^6 bytes in the report).

@@ -1,5 +1,5 @@
-// printf-style formatting into a std::string, for the one-line reports and warnings the recipes
-// return to their front ends (docs/architecture.md "Libraries": recipes return text, front ends print).
+// printf-style formatting into a std::string, for the one-line reports and warnings that recipes
+// return to their front ends. docs/architecture.md "Libraries": recipes return text, front ends print.
 // Throws nothing of its own (std::bad_alloc).
 #pragma once
 #include <algorithm>
