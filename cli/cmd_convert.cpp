@@ -3,12 +3,10 @@
 //   meshless verify vol.mlb...
 // (convert ... -o pts.mlc and verify pts.mlc: point stores, cli/point_store_cli.hpp)
 //   meshless synth --upsample F [--method trilinear|tricubic] VOLUME -o big.mlb
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
-#include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "cli/commands.hpp"
@@ -16,13 +14,8 @@
 #include "cli/progress_meter.hpp"
 #include "cli/errors.hpp"
 #include "cli/point_store_cli.hpp"
-#include "formats/point_store.hpp"
-#include "ooc/brick_converter.hpp"
-#include "ooc/slice_source.hpp"
-#include "ooc/sample_store.hpp"
-#include "ooc/verify_brick_store.hpp"
-#include "formats/stdin_spool.hpp"
-#include "formats/volume_reader.hpp"
+#include "stream/brick_conversion.hpp"
+#include "stream/store_verification.hpp"
 
 namespace meshless::cli {
 
@@ -79,40 +72,17 @@ std::string output_path(const Args& a) {
     return out;
 }
 
-ConvertStats run_conversion(SliceSource& src, const std::string& out, const ConvertParams& p, const Args& a) {
+/// Converts `in` to the store `out` with a progress line over its slices; --stats prints the report.
+void run_conversion(ConversionInput in, const std::string& out, ConvertParams p, const Args& a) {
+    p.patient_axes = in.patient_axes;
+    SliceSource& src = *in.slices;
     ProgressMeter meter("meshless " + a.command(), "slices", static_cast<double>(src.grid().dims[2]), progress_wanted(a), progress_delay());
     const ConvertStats st = convert_to_brick_store(src, out, p, [&](double f) { meter.set_fraction(f); });
     meter.done();
-    if (a.has("stats")) {
-        const GridSpec& g = src.grid();
-        std::fprintf(stderr,
-                     "%s: %lldx%lldx%lld %s -> %s: %llu bricks of %u cells, level %d, %.1f MB in %.3f s (%.1f MB/s), "
-                     "%.1f MB stored, ratio %.2f\n",
-                     a.command().c_str(), static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
-                     static_cast<long long>(g.dims[2]), to_string(src.type()), out.c_str(),
-                     static_cast<unsigned long long>(st.bricks), p.brick_edge, p.zstd_level, st.input_bytes / 1e6, st.seconds,
-                     st.seconds > 0 ? st.input_bytes / 1e6 / st.seconds : 0.0, st.output_bytes / 1e6,
-                     st.output_bytes ? static_cast<double>(st.input_bytes) / static_cast<double>(st.output_bytes) : 0.0);
-    }
-    return st;
+    if (a.has("stats")) std::fprintf(stderr, "%s\n", brick_conversion_report(a.command(), src, out, p, st).c_str());
 }
 
 }  // namespace
-
-/// The patient axes a volume file's header gives (formats/anatomical_frame.hpp), for the store's
-/// header: pictures of the store then face as pictures of the volume do.
-/// A brick store gives the axes it recorded. Nothing is said when the header cannot be probed: the
-/// axes only frame pictures, and the conversion itself reports what is wrong with the input.
-std::optional<std::array<std::array<double, 3>, 3>> patient_axes_of(const std::string& path, const Args& a) {
-    try {
-        if (is_brick_store(path)) return BrickStore::open(path)->info().patient_axes;
-        const std::optional<AnatomicalFrame> f = probe_volume(path, raw_options(a)).frame;
-        if (!f) return std::nullopt;
-        return frame_axes(*f);
-    } catch (const std::exception&) {
-        return std::nullopt;
-    }
-}
 
 int cmd_convert(int argc, char** argv) {
     if (point_store_output_requested(argc, argv)) return cmd_convert_points(argc, argv);
@@ -129,19 +99,9 @@ int cmd_convert(int argc, char** argv) {
     a.epilog("example: meshless convert ../shared/data/tooth/tooth_103x94x161_uint8.raw -o tooth.mlb --stats\n");
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().size() != 1) throw UsageError("expected one VOLUME argument (see meshless convert --help)");
-    ConvertParams p = convert_params(a);
+    const ConvertParams p = convert_params(a);
     const std::string out = output_path(a);
-    if (a.positional()[0] == "-") {  // standard input, spooled (formats/stdin_spool.hpp): streamed when it can be
-        VolumeInput in = open_volume_input(a, /*stream=*/true);
-        if (in.spool) p.patient_axes = patient_axes_of(in.spool->path(), a);
-        std::unique_ptr<SliceSource> src =
-            in.slices ? std::move(in.slices) : make_volume_source(std::move(*in.volume), "- (stdin)");
-        run_conversion(*src, out, p, a);
-        return 0;
-    }
-    auto src = open_slice_source(a.positional()[0], raw_options(a));
-    p.patient_axes = patient_axes_of(a.positional()[0], a);
-    run_conversion(*src, out, p, a);
+    run_conversion(open_conversion_input(a.positional()[0], volume_open_options(a, /*stream=*/true)), out, p, a);
     return 0;
 }
 
@@ -166,43 +126,23 @@ int cmd_verify(int argc, char** argv) {
     if (a.positional().empty()) throw UsageError("missing store argument (see meshless verify --help)");
     int rc = 0;
     const bool several = a.positional().size() > 1;
+    const std::uint64_t memory = parse_memory_size(a.get_or("memory", "256M"));
     for (const std::string& path : a.positional()) {
-        if (is_point_store(path) || lower_extension(path) == ".mlc") {
-            rc = std::max(rc, verify_point_store_cli(path, several, progress_wanted(a)));
-            continue;
-        }
-        if (is_sample_store(path)) {
-            try {
-                const auto store = SampleStore::open(path);
-                store->verify();
-                const std::string ok = "ok: " + std::to_string(store->info().bucket_count) + " buckets, " +
-                                       std::to_string(store->info().key_count) + " cell rows";
-                if (several) std::printf("%s: %s\n", terminal_safe(path).c_str(), ok.c_str());
-                else std::printf("%s\n", ok.c_str());
-            } catch (const FormatError& e) {
-                std::fflush(stdout);
-                std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(e.what()).c_str());
-                rc = 2;
-            } catch (const IoError& e) {
-                std::fflush(stdout);
-                std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(e.what()).c_str());
-                rc = 2;
-            }
-            continue;
-        }
-        ProgressMeter meter = ProgressMeter::of(a, "bricks", 1);
-        const VerifyReport r = verify_brick_store(path, parse_memory_size(a.get_or("memory", "256M")), [&](std::uint64_t done, std::uint64_t total) {
-            if (done == 1) meter.set_total(static_cast<double>(total));
-            meter.add(1);
+        const StoreKind kind = verified_store_kind(path);
+        std::optional<ProgressMeter> meter;  // a sample store reports no progress
+        if (kind != StoreKind::sample) meter.emplace("meshless verify", "bricks", 1, progress_wanted(a), progress_delay());
+        const StoreVerdict v = verify_store(path, kind, memory, [&](std::uint64_t done, std::uint64_t total) {
+            if (done == 1) meter->set_total(static_cast<double>(total));
+            meter->add(1);
         });
-        meter.done();
-        if (r.ok) {
-            if (several) std::printf("%s: %s\n", terminal_safe(path).c_str(), terminal_safe(r.message).c_str());
-            else std::printf("%s\n", terminal_safe(r.message).c_str());
+        if (meter) meter->done();
+        if (v.status == 0) {
+            if (several) std::printf("%s: %s\n", terminal_safe(path).c_str(), terminal_safe(v.message).c_str());
+            else std::printf("%s\n", terminal_safe(v.message).c_str());
         } else {
             std::fflush(stdout);  // the results so far before this error, in a log of both streams
-            std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(r.message).c_str());
-            rc = r.over_budget ? std::max(rc, 1) : 2;
+            std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(v.message).c_str());
+            rc = std::max(rc, v.status);
         }
     }
     std::fflush(stdout);
@@ -228,12 +168,9 @@ int cmd_synth(int argc, char** argv) {
     if (m == "trilinear") mode = Upsampling::trilinear;
     else if (m == "tricubic") mode = Upsampling::tricubic;
     else throw UsageError("--method: expected trilinear or tricubic, got '" + m + "'");
-    ConvertParams p = convert_params(a);
+    const ConvertParams p = convert_params(a);
     const std::string out = output_path(a);
-    const Volume v = load_volume(a);
-    if (a.positional()[0] != "-") p.patient_axes = patient_axes_of(a.positional()[0], a);  // (upsampling keeps the axes)
-    auto src = make_upsampling_source(v, static_cast<int>(f), mode, a.positional()[0]);
-    run_conversion(*src, out, p, a);
+    run_conversion(open_upsampled_input(a.positional()[0], volume_open_options(a, false), static_cast<int>(f), mode), out, p, a);
     return 0;
 }
 

@@ -1,12 +1,7 @@
 // `meshless hierarchy` and `meshless lod` (dissertation sections 6.3-6.5): a cluster binary tree of
 // any volume or scattered data set, saved as .mlh (formats/cluster_tree_file.hpp), and its levels
 // of detail as scattered point sets.
-#include <oneapi/tbb/global_control.h>
-
-#include <algorithm>
 #include <chrono>
-#include <cinttypes>
-#include <cmath>
 #include <cstdio>
 
 #include "cli/args.hpp"
@@ -20,13 +15,9 @@
 #include "formats/cluster_tree_file.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/point_set_writer.hpp"
-#include "formats/vtp_writer.hpp"
-#include "kernels/cluster_binary_tree.hpp"
-#include "kernels/cluster_lod.hpp"
-#include "kernels/errors.hpp"
-#include "kernels/records.hpp"
 #include "ooc/brick_store.hpp"
 #include "ooc/brick_store_point_set.hpp"
+#include "stream/cluster_hierarchy.hpp"
 
 namespace meshless::cli {
 
@@ -108,53 +99,16 @@ int cmd_hierarchy(int argc, char** argv) {
                             : raw_volume ? point_set_from_volume(a.positional().front(), point_set_options(a), raw_options(a))
                                          : read_points_arg(a);
     const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ClusterTree tree;
-    {
-        oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism,
-                                          static_cast<std::size_t>(nthreads));
-        // splits against their most: a leaf per sample (or --max-splits); --max-error may stop sooner
-        const double most = std::min<double>(static_cast<double>(p.max_splits),
-                                             std::max<double>(1, static_cast<double>(points.size()) - 1));
-        ProgressMeter meter = ProgressMeter::of(a, "splits", most);
-        struct Report final : CbtProgress {
-            ProgressMeter& m;
-            explicit Report(ProgressMeter& meter) : m(meter) {}
-            void splits_done(std::uint64_t splits) override { m.set_fraction(static_cast<double>(splits) / m.total()); }
-        } report(meter);
-        try {
-            tree = build_cluster_tree(points.pos, points.value, p, &report);
-        } catch (const InvalidArgument& e) {  // the data cannot make a tree: a data error naming the input
-            std::string msg = e.what();
-            if (msg.rfind("cluster tree: ", 0) == 0) msg = msg.substr(14);
-            throw FormatError(a.positional().front() + ": " + msg);
-        }
-    }
-    tree.stats.dropped_nonfinite += points.dropped_nonfinite;
-    tree.value_name = points.value_name;
+    ProgressMeter meter = ProgressMeter::of(a, "splits", cluster_hierarchy_split_bound(p, points.size()));
+    const ClusterTree tree = build_cluster_hierarchy(points, p, nthreads, a.positional().front(), [&](std::uint64_t splits) {
+        meter.set_fraction(static_cast<double>(splits) / meter.total());
+    });
+    meter.done();
     const auto t1 = std::chrono::steady_clock::now();
     write_cluster_tree_file(out, tree);
     const double write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-    const CbtStats& s = tree.stats;
-    if (s.dropped_nonfinite)
-        std::fprintf(stderr, "meshless hierarchy: warning: %" PRIu64 " samples with NaN/Inf positions or values dropped\n",
-                     s.dropped_nonfinite);
-    if (tree.nodes.size() == 1) {
-        if (p.max_splits == 0)
-            std::fprintf(stderr, "meshless hierarchy: note: --max-splits 0: no split made (error %g): a one-node tree\n",
-                         tree.nodes[0].error);
-        else
-            std::fprintf(stderr,
-                         "meshless hierarchy: note: one cluster (error %g <= --max-error %g, or nothing to split): a one-node tree\n",
-                         tree.nodes[0].error, p.max_error);
-    }
-    if (a.has("stats"))
-        std::fprintf(stderr,
-                     "hierarchy: %" PRIu64 " samples, %" PRIu64 " splits, %" PRIu64 " skipped, depth %u, %zu nodes, error %g -> %g, "
-                     "c = %g, PCA %s, %d thread%s: read %.3f s, build %.3f s, write %.3f s, %.1f MiB in the builder, "
-                     "%" PRIu64 " splits made ahead and not applied, %" PRIu64 " rounds\n",
-                     s.samples, s.splits, s.skipped, s.depth, tree.nodes.size(), tree.nodes[0].error, s.error_reached,
-                     s.hardy_c_world, pca_scaling_name(p.scaling), nthreads, nthreads == 1 ? "" : "s", read_s, s.seconds, write_s,
-                     s.memory_bytes / 1048576.0, s.speculative_unused, s.rounds);
+    for (const std::string& note : cluster_hierarchy_notes(tree, p)) std::fprintf(stderr, "meshless hierarchy: %s\n", note.c_str());
+    if (a.has("stats")) std::fprintf(stderr, "%s\n", cluster_hierarchy_report(tree, p, nthreads, read_s, write_s).c_str());
     return 0;
 }
 
@@ -188,29 +142,11 @@ int cmd_lod(int argc, char** argv) {
     const ClusterTree t = read_cluster_tree_file(path);
     const ClusterTreeLodRequest r = cluster_tree_lod_request(t, o);
     if (r.clamped) std::fprintf(stderr, "meshless lod: warning: %s: %s\n", terminal_safe(path).c_str(), terminal_safe(r.note).c_str());
-    const auto t0 = std::chrono::steady_clock::now();
-    PointSet ps = lod_point_set(t.nodes, r.mode, r.threshold, t.value_name);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // a cluster's value is its fit's at its centre (section 6.3): with rough data it can overshoot the
-    // samples' range, which the points keep (they are the approximation) but the user should know
-    std::size_t outside = 0;
-    double lo = t.value_range[0], hi = t.value_range[1];
-    for (const double v : ps.value)
-        if (v < t.value_range[0] || v > t.value_range[1]) {
-            ++outside;
-            lo = std::min(lo, v);
-            hi = std::max(hi, v);
-        }
-    if (outside > 0)
-        std::fprintf(stderr,
-                     "meshless lod: warning: %zu of %zu cluster values lie outside the samples' range [%g, %g] (from %g to %g): "
-                     "the clusters' fits overshoot there\n",
-                     outside, ps.size(), t.value_range[0], t.value_range[1], lo, hi);
+    const LodExtraction e = extract_lod(t, r);
+    if (const std::string w = lod_overshoot_warning(t, e); !w.empty()) std::fprintf(stderr, "meshless lod: %s\n", w.c_str());
     const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + path};
-    write_point_set(out, ps, comments);
-    if (a.has("stats"))
-        std::fprintf(stderr, "lod: %s of %s: %zu points (%.2f%% of %" PRIu64 " samples), %.4f s\n", r.description.c_str(),
-                     terminal_safe(path).c_str(), ps.size(), 100.0 * ps.size() / t.stats.samples, t.stats.samples, s);
+    write_point_set(out, e.points, comments);
+    if (a.has("stats")) std::fprintf(stderr, "%s\n", lod_report(t, r, path, e).c_str());
     return 0;
 }
 

@@ -1,21 +1,6 @@
 // meshless split: a regular volume rewritten as the multiblock and AMR layouts of dissertation
-// chapter 4 (Figure 4.3; section 4.5's test sets), so that isosurfaces from blocks can be compared
-// with the original volume (kernels/multiblock_split.hpp has the exact definitions):
-//   overlapping      K blocks (--blocks, default 2) along the longest axis, the volume's own nodes,
-//                    neighbours sharing --overlap cell layers (default 2; 0 = conforming)
-//   semi-conforming  2 blocks meeting at a plane: the volume's nodes on one side, every other node
-//                    (half resolution) on the other; on the shared face nodes coincide every second node
-//   non-conforming   2 blocks meeting at a plane: the volume's nodes, and a lattice ~1.5x coarser
-//                    sampled trilinearly, whose nodes on the shared face do not coincide
-//   rotated          K curvilinear blocks over the overlapping ranges, each a 0.8x lattice twisted about
-//                    the longest axis by up to +-15 degrees (flat faces), values trilinear: no node
-//                    shared with the volume or another block
-//   amr              a 3-level cell-centred hierarchy (refinement 2): level 0 = the volume's cells
-//                    coarsened by 4, level 1 (2x) and level 2 (the volume's own cells) boxes where the
-//                    values cross --iso (else the middle half, and its middle half); a cell's value is
-//                    the mean of the finest cells it covers, a finest cell's the mean of its 8 corners
-// Output: PREFIX.vtm + PREFIX/PREFIX_<b>.vts (VTK XML StructuredGrid pieces), or for amr
-// PREFIX.vthb + PREFIX/PREFIX_<n>.vti (ImageData with CellData); every file atomic, the index last.
+// chapter 4 (Figure 4.3; section 4.5's test sets): options parsed here, the split and its files by
+// stream/volume_split.hpp. kernels/multiblock_split.hpp has the exact definitions of the layouts.
 // --resample N first resamples the volume trilinearly to N nodes along its longest axis (the
 // dissertation's sets: bucky --resample 33 semi-conforming = 21,114 nodes as in Table 4.1).
 #include <cstdio>
@@ -24,9 +9,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
-#include "formats/vthb_writer.hpp"
-#include "formats/vtm_writer.hpp"
-#include "kernels/multiblock_split.hpp"
+#include "stream/volume_split.hpp"
 
 namespace meshless::cli {
 
@@ -75,7 +58,8 @@ int cmd_split(int argc, char** argv) {
     const std::string want = *layout == SplitLayout::amr ? ".vthb" : ".vtm";
     if (ext != want)
         throw UsageError("-o: the " + std::string(to_string(*layout)) + " layout writes a " + want + " file, got '" + out + "'");
-    SplitParams sp;
+    VolumeSplitOptions so;
+    so.layout = *layout;
     const long long k = a.get_int_or("blocks", 2), ov = a.get_int_or("overlap", 2);
     if (k < 1 || k > 1024) throw UsageError("--blocks: expected 1..1024");
     if (ov < 0 || ov > 1 << 20) throw UsageError("--overlap: expected a number of cells >= 0");
@@ -83,9 +67,9 @@ int cmd_split(int argc, char** argv) {
         throw UsageError("--blocks and --overlap apply to the overlapping and rotated layouts only");
     if ((a.has("iso") || a.has("tile")) && *layout != SplitLayout::amr)
         throw UsageError("--iso and --tile apply to the amr layout only");
-    sp.blocks = static_cast<int>(k);
-    sp.overlap = static_cast<int>(ov);
-    const std::string name = a.get_or("name", "scalars");
+    so.split.blocks = static_cast<int>(k);
+    so.split.overlap = static_cast<int>(ov);
+    so.name = a.get_or("name", "scalars");
     Volume v = load_volume(a);
     if (a.has("resample")) {
         const long long n = a.get_int_or("resample", 0);
@@ -96,33 +80,12 @@ int cmd_split(int argc, char** argv) {
     std::printf("split: %s (%lldx%lldx%lld), layout %s\n", terminal_safe(a.positional()[0]).c_str(), static_cast<long long>(g.dims[0]),
                 static_cast<long long>(g.dims[1]), static_cast<long long>(g.dims[2]), to_string(*layout));
     if (*layout == SplitLayout::amr) {
-        AmrParams ap;
-        if (a.has("iso")) ap.iso = parse_finite(a.require("iso"), "--iso");
+        if (a.has("iso")) so.amr.iso = parse_finite(a.require("iso"), "--iso");
         const long long t = a.get_int_or("tile", 8);
         if (t < 2 || t > 4096) throw UsageError("--tile: expected 2..4096 cells");
-        ap.tile = static_cast<int>(t);
-        const AmrHierarchy h = split_amr(v.view(), ap, name);
-        const auto pieces = write_vthb(out, h);
-        long long cells[3] = {0, 0, 0}, boxes[3] = {0, 0, 0};
-        for (const AmrBox& b : h.boxes) {
-            const auto c = b.cells();
-            cells[b.level] += c[0] * c[1] * c[2];
-            ++boxes[b.level];
-        }
-        for (int l = 0; l < 3; ++l)
-            std::printf("  level %d: %lld boxes, %lld cells, spacing %g\n", l, boxes[l], cells[l], h.spacing(l)[0]);
-        std::printf("wrote %s and %zu pieces (%lld cells in all)\n", terminal_safe(out).c_str(), pieces.size(), cells[0] + cells[1] + cells[2]);
-        return 0;
+        so.amr.tile = static_cast<int>(t);
     }
-    const Multiblock mb = split_volume(v.view(), *layout, sp, name);
-    const auto pieces = write_vtm(out, mb);
-    long long total = 0;
-    for (const auto& b : mb.blocks) {
-        std::printf("  %s: %lldx%lldx%lld nodes\n", terminal_safe(b.name).c_str(), static_cast<long long>(b.dims[0]),
-                    static_cast<long long>(b.dims[1]), static_cast<long long>(b.dims[2]));
-        total += b.node_count();
-    }
-    std::printf("wrote %s and %zu pieces (%lld nodes in all)\n", terminal_safe(out).c_str(), pieces.size(), total);
+    write_volume_split(v, so, out, stdout);
     return 0;
 }
 

@@ -15,7 +15,6 @@
 #include "formats/point_store.hpp"
 #include "formats/text_header.hpp"
 #include "ooc/point_store_writer.hpp"
-#include "ooc/verify_point_store.hpp"
 
 namespace meshless::cli {
 
@@ -95,23 +94,6 @@ int cmd_convert_points(int argc, char** argv) {
                      terminal_safe(out).c_str(), static_cast<unsigned long long>(st.bricks), p.brick_points,
                      static_cast<unsigned long long>(st.runs), st.runs == 1 ? "" : "s", st.output_bytes / 1e6, st.seconds);
     return 0;
-}
-
-int verify_point_store_cli(const std::string& path, bool several, bool progress) {
-    ProgressMeter meter("meshless verify", "bricks", 1, progress, progress_delay());
-    const PointStoreVerifyReport r = verify_point_store(path, [&](std::uint64_t done, std::uint64_t total) {
-        if (done == 1) meter.set_total(static_cast<double>(total));
-        meter.add(1);
-    });
-    meter.done();
-    if (r.ok) {
-        if (several) std::printf("%s: %s\n", terminal_safe(path).c_str(), r.message.c_str());
-        else std::printf("%s\n", r.message.c_str());
-        return 0;
-    }
-    std::fflush(stdout);
-    std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(r.message).c_str());
-    return 2;
 }
 
 }  // namespace meshless::cli

@@ -1,11 +1,10 @@
 // Point stores (.mlc, formats/point_store_format.hpp) from the command line:
 //   meshless convert POINTS... -o pts.mlc [--memory BYTES] [--brick-points B] [--zstd-level N] [--threads N]
-//   meshless verify pts.mlc          (cmd_verify hands a point store to verify_point_store_cli)
+//   (meshless verify pts.mlc: stream/store_verification.hpp, as every store)
 // `convert` picks this when its -o/--output names a .mlc; `convert VOLUME -o vol.mlb` is unchanged.
 // Errors as every command: UsageError/InvalidArgument exit 1 (a --memory too small for one brick),
 // FormatError/IoError exit 2.
 #pragma once
-#include <string>
 
 namespace meshless::cli {
 
@@ -13,8 +12,5 @@ namespace meshless::cli {
 bool point_store_output_requested(int argc, char** argv);
 /// `meshless convert POINTS... -o pts.mlc`.
 int cmd_convert_points(int argc, char** argv);
-/// Verifies one point store; prints "ok: ..." (prefixed by the path when `several`) or the damage
-/// on stderr. Returns the exit status (0 or 2).
-int verify_point_store_cli(const std::string& path, bool several, bool progress);
 
 }  // namespace meshless::cli

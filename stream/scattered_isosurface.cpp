@@ -18,6 +18,7 @@
 #include "stream/record_vector_source.hpp"
 #include "stream/stencil_source.hpp"
 #include "stream/stream_metadata.hpp"
+#include "stream/text_format.hpp"
 
 namespace meshless {
 
@@ -60,13 +61,6 @@ std::size_t distinct_positions(const std::vector<Vec3>& pos, std::size_t enough)
 
 const char* axis_name(int a) { return a == 0 ? "x" : (a == 1 ? "y" : "z"); }
 
-std::string format(const char* fmt, auto... args) {
-    const int len = std::snprintf(nullptr, 0, fmt, args...);
-    std::string s(static_cast<std::size_t>(std::max(len, 0)), '\0');
-    std::snprintf(s.data(), s.size() + 1, fmt, args...);
-    return s;
-}
-
 }  // namespace
 
 void warn_about_binning(const BinningGrid& grid, std::int64_t most, std::uint64_t points, const std::string& name,
@@ -76,12 +70,12 @@ void warn_about_binning(const BinningGrid& grid, std::int64_t most, std::uint64_
         std::string axes;
         for (int ax = 0; ax < 3; ++ax)
             if (grid.degenerate[static_cast<std::size_t>(ax)]) axes += std::string(axes.empty() ? "" : ", ") + axis_name(ax);
-        warn(name, format("all points lie on a %s (no extent along %s): the binning grid gives %s one cell; the surface is "
+        warn(name, format_text("all points lie on a %s (no extent along %s): the binning grid gives %s one cell; the surface is "
                           "the field's where it defines one off the data",
                           degenerate == 1 ? "plane" : "line", axes.c_str(), degenerate == 1 ? "that axis" : "those axes"));
     }
     if (grid.coarsened)
-        warn(name, format("the binning rule asks for level %d (%lld cells); coarsened to level %d (%lld cells) by --max-cells "
+        warn(name, format_text("the binning rule asks for level %d (%lld cells); coarsened to level %d (%lld cells) by --max-cells "
                           "%lld / --max-level %d: stencils hold more points",
                           grid.rule_level,
                           static_cast<long long>(std::pow(std::ldexp(1.0, grid.rule_level) + 2, 3 - degenerate) * std::pow(3.0, degenerate)),
@@ -89,7 +83,7 @@ void warn_about_binning(const BinningGrid& grid, std::int64_t most, std::uint64_
     // section 5.8: "pathological point distributions ... causing the tetrahedrization of a possibly large
     // number of points" (e.g. two far-apart clusters: the depth-first rule stops at the root)
     if (most > 20000 && double(most) > 0.25 * double(points))
-        warn(name, format("one 3x3x3 stencil of the level-%d binning grid holds %lld of the %llu points (a pathological "
+        warn(name, format_text("one 3x3x3 stencil of the level-%d binning grid holds %lld of the %llu points (a pathological "
                           "distribution for the binning rule, section 5.8): its Delaunay runs on one thread",
                           grid.level, static_cast<long long>(most), static_cast<unsigned long long>(points)));
 }

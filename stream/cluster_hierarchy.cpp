@@ -1,0 +1,101 @@
+#include "stream/cluster_hierarchy.hpp"
+
+#include <oneapi/tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+
+#include "formats/terminal_safe.hpp"
+#include "kernels/cluster_lod.hpp"
+#include "kernels/errors.hpp"
+#include "stream/text_format.hpp"
+
+namespace meshless {
+
+double cluster_hierarchy_split_bound(const CbtParams& p, std::size_t samples) {
+    return std::min<double>(static_cast<double>(p.max_splits), std::max<double>(1, static_cast<double>(samples) - 1));
+}
+
+ClusterTree build_cluster_hierarchy(const PointSet& points, const CbtParams& p, int threads, const std::string& input,
+                                    const std::function<void(std::uint64_t)>& progress) {
+    ClusterTree tree;
+    {
+        oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+        struct Report final : CbtProgress {
+            const std::function<void(std::uint64_t)>& f;
+            explicit Report(const std::function<void(std::uint64_t)>& fn) : f(fn) {}
+            void splits_done(std::uint64_t splits) override {
+                if (f) f(splits);
+            }
+        } report(progress);
+        try {
+            tree = build_cluster_tree(points.pos, points.value, p, &report);
+        } catch (const InvalidArgument& e) {  // the data cannot make a tree: a data error naming the input
+            std::string msg = e.what();
+            if (msg.rfind("cluster tree: ", 0) == 0) msg = msg.substr(14);
+            throw FormatError(input + ": " + msg);
+        }
+    }
+    tree.stats.dropped_nonfinite += points.dropped_nonfinite;
+    tree.value_name = points.value_name;
+    return tree;
+}
+
+std::vector<std::string> cluster_hierarchy_notes(const ClusterTree& tree, const CbtParams& p) {
+    std::vector<std::string> notes;
+    const CbtStats& s = tree.stats;
+    if (s.dropped_nonfinite)
+        notes.push_back(format_text("warning: %" PRIu64 " samples with NaN/Inf positions or values dropped", s.dropped_nonfinite));
+    if (tree.nodes.size() == 1) {
+        if (p.max_splits == 0)
+            notes.push_back(format_text("note: --max-splits 0: no split made (error %g): a one-node tree", tree.nodes[0].error));
+        else
+            notes.push_back(format_text("note: one cluster (error %g <= --max-error %g, or nothing to split): a one-node tree",
+                                   tree.nodes[0].error, p.max_error));
+    }
+    return notes;
+}
+
+std::string cluster_hierarchy_report(const ClusterTree& tree, const CbtParams& p, int threads, double read_seconds,
+                                     double write_seconds) {
+    const CbtStats& s = tree.stats;
+    return format_text("hierarchy: %" PRIu64 " samples, %" PRIu64 " splits, %" PRIu64 " skipped, depth %u, %zu nodes, error %g -> %g, "
+                  "c = %g, PCA %s, %d thread%s: read %.3f s, build %.3f s, write %.3f s, %.1f MiB in the builder, "
+                  "%" PRIu64 " splits made ahead and not applied, %" PRIu64 " rounds",
+                  s.samples, s.splits, s.skipped, s.depth, tree.nodes.size(), tree.nodes[0].error, s.error_reached,
+                  s.hardy_c_world, pca_scaling_name(p.scaling), threads, threads == 1 ? "" : "s", read_seconds, s.seconds,
+                  write_seconds, s.memory_bytes / 1048576.0, s.speculative_unused, s.rounds);
+}
+
+LodExtraction extract_lod(const ClusterTree& t, const ClusterTreeLodRequest& r) {
+    LodExtraction e;
+    const auto t0 = std::chrono::steady_clock::now();
+    e.points = lod_point_set(t.nodes, r.mode, r.threshold, t.value_name);
+    e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    e.lo = t.value_range[0];
+    e.hi = t.value_range[1];
+    for (const double v : e.points.value)
+        if (v < t.value_range[0] || v > t.value_range[1]) {
+            ++e.outside;
+            e.lo = std::min(e.lo, v);
+            e.hi = std::max(e.hi, v);
+        }
+    return e;
+}
+
+std::string lod_overshoot_warning(const ClusterTree& t, const LodExtraction& e) {
+    if (e.outside == 0) return {};
+    return format_text("warning: %zu of %zu cluster values lie outside the samples' range [%g, %g] (from %g to %g): "
+                  "the clusters' fits overshoot there",
+                  e.outside, e.points.size(), t.value_range[0], t.value_range[1], e.lo, e.hi);
+}
+
+std::string lod_report(const ClusterTree& t, const ClusterTreeLodRequest& r, const std::string& path, const LodExtraction& e) {
+    return format_text("lod: %s of %s: %zu points (%.2f%% of %" PRIu64 " samples), %.4f s", r.description.c_str(),
+                  terminal_safe(path).c_str(), e.points.size(), 100.0 * e.points.size() / t.stats.samples, t.stats.samples,
+                  e.seconds);
+}
+
+}  // namespace meshless
