@@ -3,6 +3,8 @@
 // itself (interpolation), and the count of ill-conditioned locals on dense data with a sharp edge.
 #include <catch2/catch.hpp>
 
+#include "test_size.hpp"
+
 #include <cmath>
 #include <random>
 #include <vector>
@@ -14,6 +16,7 @@
 #include "kernels/point_set.hpp"
 
 using namespace meshless;
+using meshless::test::test_size;
 
 namespace {
 
@@ -74,12 +77,13 @@ TEST_CASE("dense data with a sharp edge: local c keeps the locals well condition
     // (0.26, ~30x the spacing: what the paper's relative c becomes on ~10^7 points) makes many locals
     // ill-conditioned; capped at 8x each local's spacing, and refitted at 1x where still
     // ill-conditioned, the locals interpolate.
-    const PointSet ps = make_points(uniform(60000, 11));
+    const PointSet ps = make_points(uniform(test_size(60000, 20000), 11));  // (tests/test_size.hpp)
     for (FieldKind kind : {FieldKind::mpu, FieldKind::rbf_grid}) {
         INFO(field_kind_name(kind));
         FieldParams local;
         local.kind = kind;
-        local.hardy_c_rel = 0.15;
+        // a third of the points in the sanitizer tier: c grown as their spacing, (60000 / 20000)^(1/3)
+        local.hardy_c_rel = test_size(0.15, 0.22);
         FieldParams global = local;
         global.hardy_c_spacing = 0;
         global.hardy_c_rough = 0;
@@ -105,7 +109,7 @@ TEST_CASE("dense data with a sharp edge: local c keeps the locals well condition
 TEST_CASE("mpu: a local fits its blend sphere's points, or its nearest min points, at any density", "[rbf][hardy-c]") {
     // Two densities a factor 8 apart end at the same octree depth in some regions and one deeper in
     // others; the fits stay about mpu_min_points large instead of up to N (the MPU sphere's count).
-    for (std::size_t n : {20000u, 70000u}) {
+    for (std::size_t n : {test_size(20000u, 5000u), test_size(70000u, 17500u)}) {  // (tests/test_size.hpp)
         INFO(n);
         const PointSet ps = make_points(uniform(n, 12));
         FieldParams p;
@@ -156,7 +160,7 @@ TEST_CASE("leave-one-out error of a multiquadric fit: Rippa's formula equals ref
 }
 
 TEST_CASE("the second, narrow c is kept at sharp edges and rarely on smooth data", "[rbf][hardy-c]") {
-    const auto pos = uniform(30000, 31);
+    const auto pos = uniform(test_size(30000, 8000), 31);  // (tests/test_size.hpp)
     PointSet smooth = make_points(pos);
     for (std::size_t i = 0; i < pos.size(); ++i)
         smooth.value[i] = std::sin(3 * pos[i].x) * std::cos(2 * pos[i].y) + pos[i].z * pos[i].z;

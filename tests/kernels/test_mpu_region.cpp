@@ -6,6 +6,8 @@
 // needs and holds no fits to evaluate.
 #include <catch2/catch.hpp>
 
+#include "test_size.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -18,6 +20,7 @@
 #include "kernels/mpu_fit_cache.hpp"
 
 using namespace meshless;
+using meshless::test::test_size;
 
 namespace {
 
@@ -35,12 +38,13 @@ std::vector<Vec3> uneven_points(std::uint64_t seed) {
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     std::normal_distribution<double> g(0.0, 0.08);
     std::vector<Vec3> p;
-    for (int i = 0; i < 4000; ++i) {
+    // half the points in the sanitizer tier (tests/test_size.hpp): the same kinds of leaves
+    for (int i = 0; i < test_size(4000, 2000); ++i) {
         const Vec3 v{u(rng), u(rng), 2 * u(rng)};
         if (!(v.x > 0.3 && v.y > 0.3)) p.push_back(v);
     }
     for (const Vec3 c : {Vec3{-0.5, -0.5, -0.1}, Vec3{0.2, -0.4, 0.3}, Vec3{-0.3, 0.5, 1.2}})
-        for (int i = 0; i < 6000; ++i) p.push_back({c.x + g(rng), c.y + g(rng), c.z + 2 * g(rng)});
+        for (int i = 0; i < test_size(6000, 3000); ++i) p.push_back({c.x + g(rng), c.y + g(rng), c.z + 2 * g(rng)});
     return p;
 }
 
