@@ -60,19 +60,16 @@ FieldProjectParams newton_params(const Args& a) {
     return p;
 }
 
-void print_newton_stats(const char* cmd, const std::string& field, const FieldProjectParams& p, const FieldNewtonStats& s,
-                        double busy_seconds) {
-    std::fprintf(stderr,
-                 "%s: Newton onto %s (tolerance %g x cell diagonal, <= %d iterations): %lld seeds -> %lld converged; "
-                 "dropped %lld (flat gradient %lld, too far %lld, not converged %lld, stalled %lld, non-finite %lld); "
-                 "%.2f evaluations/seed; %.0f points/s per core (%.3f s busy)\n",
-                 cmd, field.c_str(), p.seed_tolerance, p.newton.max_iterations, static_cast<long long>(s.input),
-                 static_cast<long long>(s.converged), static_cast<long long>(s.dropped()), static_cast<long long>(s.flat),
-                 static_cast<long long>(s.too_far), static_cast<long long>(s.not_converged), static_cast<long long>(s.stalled),
-                 static_cast<long long>(s.nonfinite), s.input ? double(s.evaluations) / double(s.input) : 0.0,
-                 busy_seconds > 0 ? double(s.converged) / busy_seconds : 0.0, busy_seconds);
+std::optional<std::string> point_outputs_png(const Args& a) {
+    const auto out = a.get("output");
+    const auto png = a.get("png");
+    if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
+    if (out) geometry_output_format(a, *out, "an oriented point set");
+    if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
+    if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
+        throw UsageError("-o and --png name the same output '" + *out + "'");
+    return png;
 }
-
 
 namespace {
 
@@ -93,20 +90,6 @@ void warn_if_inactive(const BlockInput& in, double iso) {
     if (in.plan.active_cells == 0 && iso >= in.plan.value_range[0] && iso <= in.plan.value_range[1])
         std::fprintf(stderr, "meshless: warning: %s: no cell with valid corners is crossed by isovalue %g; the outputs will be empty\n",
                      terminal_safe(in.source).c_str(), iso);
-}
-
-// ------------------------------------------------------------------ statistics
-
-void print_seed_stats(const char* cmd, const BlockInput& in, const BlockSeedStats& s, int n) {
-    std::fprintf(stderr,
-                 "%s: %zu blocks, %lld cells (skipped: %lld with an invalid corner, %lld collapsed/inverted, %lld covered by "
-                 "a finer level), %lld active cells, %lld triangles (%lld of zero area skipped), %lld seeds (n = %d, %zu per "
-                 "triangle)\n",
-                 cmd, in.mb.blocks.size(), static_cast<long long>(s.cells), static_cast<long long>(s.invalid_cells),
-                 static_cast<long long>(s.degenerate_cells), static_cast<long long>(s.covered_cells),
-                 static_cast<long long>(s.active_cells),
-                 static_cast<long long>(s.triangles), static_cast<long long>(s.zero_area_triangles),
-                 static_cast<long long>(s.seeds), n, lattice_size(n));
 }
 
 }  // namespace
@@ -187,13 +170,7 @@ int isosurface_blocks(int argc, char** argv) {
     if (launched_world_size() > 1)
         throw UsageError("multiblock inputs are not split over MPI ranks: run meshless isosurface BLOCKS... without mpirun");
     const double iso = parse_finite(a.require("iso"), "--iso");
-    const auto out = a.get("output");
-    const auto png = a.get("png");
-    if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
-    if (out) geometry_output_format(a, *out, "an oriented point set");
-    if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
-    if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
-        throw UsageError("-o and --png name the same output '" + *out + "'");
+    const auto png = point_outputs_png(a);
     const int n = lattice_n(a);
     const FieldProjectParams np = newton_params(a);
     RenderSettings rs = render_settings(a);
@@ -241,8 +218,8 @@ int isosurface_blocks(int argc, char** argv) {
 
     if (a.has("stats")) {
         const char* cmd = "isosurface";
-        print_seed_stats(cmd, in, st.seeds, n);
-        if (st.projected) print_newton_stats(cmd, field_name, np, st.newton, st.newton_busy_seconds);
+        print_block_seed_stats(stderr, cmd, in, st.seeds, n);
+        if (st.projected) print_newton_stats(stderr, cmd, field_name, np, st.newton, st.newton_busy_seconds);
         std::fprintf(stderr,
                      "%s: %zu points; time: read %.3f s, plan %.3f s, field %.3f s, seeds + Newton + output %.3f s "
                      "(busy: seeds %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
@@ -281,7 +258,7 @@ int generate_blocks(int argc, char** argv) {
     const BlockSeedStats seeds = generate_block_seeds(in, iso, n, sink, {nthreads});
     out.commit();
     if (a.has("stats")) {
-        print_seed_stats("generate", in, seeds, n);
+        print_block_seed_stats(stderr, "generate", in, seeds, n);
         std::fprintf(stderr, "generate: read %.3f s, plan %.3f s, total %.3f s\n", in.read_seconds, in.plan_seconds, since(t0));
     }
     return 0;
@@ -330,7 +307,7 @@ int project_seeds(int argc, char** argv) {
     const SeedProjectionResult pr = project_seed_stream(reader, *field.field, iso, np, sink, nthreads);
     out.commit();
     if (a.has("stats")) {
-        print_newton_stats("project", field.field->name(), np, pr.stats, pr.busy_seconds);
+        print_newton_stats(stderr, "project", field.field->name(), np, pr.stats, pr.busy_seconds);
         std::fprintf(stderr, "project: field %.3f s, total %.3f s\n", field_seconds, since(t0));
     }
     return 0;

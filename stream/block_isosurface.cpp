@@ -9,6 +9,7 @@
 
 #include "formats/multiblock_reader.hpp"
 #include "kernels/amr_cover.hpp"
+#include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
 #include "stream/block_cell_source.hpp"
 #include "stream/record_vector_source.hpp"
@@ -90,6 +91,18 @@ BlockSeedStats generate_block_seeds(const BlockIsosurfaceInput& in, double iso, 
     const Stage* stages[] = {&seed};
     run_pipeline(source, stages, sink, opt);
     return seed.stats();
+}
+
+void print_block_seed_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockSeedStats& s, int n) {
+    std::fprintf(out,
+                 "%s: %zu blocks, %lld cells (skipped: %lld with an invalid corner, %lld collapsed/inverted, %lld covered by "
+                 "a finer level), %lld active cells, %lld triangles (%lld of zero area skipped), %lld seeds (n = %d, %zu per "
+                 "triangle)\n",
+                 cmd, in.mb.blocks.size(), static_cast<long long>(s.cells), static_cast<long long>(s.invalid_cells),
+                 static_cast<long long>(s.degenerate_cells), static_cast<long long>(s.covered_cells),
+                 static_cast<long long>(s.active_cells),
+                 static_cast<long long>(s.triangles), static_cast<long long>(s.zero_area_triangles),
+                 static_cast<long long>(s.seeds), n, lattice_size(n));
 }
 
 }  // namespace meshless

@@ -8,6 +8,7 @@
 // The bytes do not depend on the thread count. Throws FormatError for unusable data (named in the
 // message), what the readers and stages throw otherwise.
 #pragma once
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -82,5 +83,9 @@ BlockIsosurfaceStats run_block_isosurface(const BlockIsosurfaceInput& in, const 
 
 /// The seed stream alone (`meshless generate BLOCKS...`): cells -> seeds -> sink.
 BlockSeedStats generate_block_seeds(const BlockIsosurfaceInput& in, double iso, int n, Sink& sink, const RunOptions& opt);
+
+/// The statistics line of the seeds (blocks, cells skipped and why, triangles, seeds of the lattice
+/// of parameter n) written to `out`, prefixed `cmd: `.
+void print_block_seed_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockSeedStats& s, int n);
 
 }  // namespace meshless

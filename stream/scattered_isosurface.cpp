@@ -11,6 +11,8 @@
 #include <optional>
 #include <span>
 
+#include "formats/terminal_safe.hpp"
+#include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/marching_stencils.hpp"
 #include "stream/dedup_sink.hpp"
@@ -219,6 +221,90 @@ StencilSeedStats generate_scattered_seeds(const ScatteredIsosurfaceInput& in, co
     const Stage* stages[] = {&seed};
     run_pipeline(source, stages, sink, opt);
     return seed.stats();
+}
+
+StencilRankResult run_scattered_isosurface_rank(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n,
+                                                const FieldProjectParams& np, double dedup, int rank, int ranks,
+                                                RankChannel* channel, Sink* out, const RunOptions& opt,
+                                                std::function<void(std::exception_ptr)> on_deal_error) {
+    if (rank != 0) {
+        if (!field) return {};
+        const StencilInput sin = in.stencils(*field);
+        return run_stencils_rank(sin, iso, n, np, rank, ranks, *channel, nullptr, opt);
+    }
+    std::optional<DedupSink> dd;
+    if (dedup > 0) dd.emplace(*out, dedup, 0.1 * in.grid.diagonal());
+    Sink& sink = dd ? static_cast<Sink&>(*dd) : *out;
+    if (!field) {
+        sink.finish();
+        return {};
+    }
+    const StencilInput sin = in.stencils(*field);
+    return run_stencils_rank(sin, iso, n, np, 0, ranks, *channel, &sink, opt, std::move(on_deal_error));
+}
+
+StencilRankResult sum_stencil_rank_stats(const StencilRankResult& mine,
+                                         const std::function<std::vector<std::int64_t>(const std::vector<std::int64_t>&)>& sum_to_root) {
+    const auto v = mine.seeds.as_array();
+    const FieldNewtonStats& ns = mine.newton;
+    std::vector<std::int64_t> all(v.begin(), v.end());
+    for (std::int64_t x : {ns.input, ns.converged, ns.flat, ns.too_far, ns.not_converged, ns.stalled, ns.nonfinite, ns.evaluations})
+        all.push_back(x);
+    const std::vector<std::int64_t> sums = sum_to_root(all);
+    StencilRankResult tot;
+    tot.rows_per_rank = mine.rows_per_rank;
+    if (sums.size() != all.size()) return tot;
+    std::array<std::int64_t, StencilSeedStats::kCounters> sv{};
+    std::copy(sums.begin(), sums.begin() + StencilSeedStats::kCounters, sv.begin());
+    sv[StencilSeedStats::kMaxIndex] = v[StencilSeedStats::kMaxIndex];  // (rank 0's)
+    tot.seeds = StencilSeedStats::from_array(sv);
+    const std::size_t k = StencilSeedStats::kCounters;
+    FieldNewtonStats& t = tot.newton;
+    t.input = sums[k]; t.converged = sums[k + 1]; t.flat = sums[k + 2]; t.too_far = sums[k + 3];
+    t.not_converged = sums[k + 4]; t.stalled = sums[k + 5]; t.nonfinite = sums[k + 6]; t.evaluations = sums[k + 7];
+    return tot;
+}
+
+BinningSummary binning_summary(const ScatteredIsosurfaceInput& in) {
+    return BinningSummary{in.grid, in.points.size(), in.points.dropped_nonfinite, in.bins.empty_cells, in.bins.empty_interior_cells,
+                          in.bins.max_per_cell};
+}
+
+void print_scattered_stats(std::FILE* out, const char* cmd, const BinningSummary& b, const StencilSeedStats& s, int n) {
+    const auto& g = b.grid;
+    std::fprintf(out,
+                 "%s: %llu points (%llu NaN/Inf dropped); binning level %d (rule %d%s), grid %lldx%lldx%lld = %lld cells, "
+                 "%lld empty (%lld inside the border layer), at most %u points in a cell\n",
+                 cmd, static_cast<unsigned long long>(b.points), static_cast<unsigned long long>(b.dropped), g.level, g.rule_level,
+                 g.coarsened ? ", coarsened" : "", static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
+                 static_cast<long long>(g.dims[2]), static_cast<long long>(g.cell_count()), static_cast<long long>(b.empty),
+                 static_cast<long long>(b.empty_interior), b.max_per_cell);
+    std::fprintf(out,
+                 "%s: %lld stencils (%lld crossed, largest %lld points), %lld regularisation points made on the fly "
+                 "(%lld beyond --reg-gap), "
+                 "%lld Delaunay failures, %lld tets (%lld owned, %lld with a NaN value), %lld triangles (%lld of zero area), "
+                 "%lld seeds (n = %d, %zu per triangle)\n",
+                 cmd, static_cast<long long>(s.stencils), static_cast<long long>(s.crossed_stencils),
+                 static_cast<long long>(s.max_stencil_points), static_cast<long long>(s.regularisation_points),
+                 static_cast<long long>(s.uncovered_regularisation),
+                 static_cast<long long>(s.delaunay_failures), static_cast<long long>(s.tets), static_cast<long long>(s.owned_tets),
+                 static_cast<long long>(s.nonfinite_tets), static_cast<long long>(s.triangles),
+                 static_cast<long long>(s.zero_area_triangles), static_cast<long long>(s.seeds), n, lattice_size(n));
+}
+
+void print_dedup_stats(std::FILE* out, const char* cmd, double dedup, std::int64_t removed) {
+    std::fprintf(out, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, dedup, static_cast<long long>(removed));
+}
+
+void warn_if_unconverged(std::FILE* out, const std::string& source, const ScatteredIsosurfaceStats& st,
+                         const std::string& field_name) {
+    const FieldNewtonStats& ns = st.newton;
+    if (st.projected && ns.input > 0 && 2 * ns.converged < ns.input)
+        std::fprintf(out,
+                     "meshless: warning: %s: %lld of %lld seeds did not converge onto the %s field's isosurface (too far %lld, "
+                     "non-finite %lld): the field does not resolve this point distribution there\n",
+                     terminal_safe(source).c_str(), static_cast<long long>(ns.dropped()), static_cast<long long>(ns.input),
+                     field_name.c_str(), static_cast<long long>(ns.too_far), static_cast<long long>(ns.nonfinite));
 }
 
 }  // namespace meshless

@@ -13,6 +13,8 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <cstdio>
+#include <exception>
 #include <functional>
 #include <memory>
 #include <string>
@@ -26,6 +28,7 @@
 #include "stream/field_project_stage.hpp"
 #include "stream/runner.hpp"
 #include "stream/seed_projection.hpp"
+#include "stream/stencil_ranks.hpp"
 #include "stream/stencil_seed_stage.hpp"
 
 namespace meshless {
@@ -106,5 +109,42 @@ ScatteredIsosurfaceStats run_scattered_isosurface(const ScatteredIsosurfaceInput
 /// without a field).
 StencilSeedStats generate_scattered_seeds(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n, Sink& sink,
                                           const RunOptions& opt);
+
+/// One rank's part of run_scattered_isosurface under a RankChannel (stream/stencil_ranks.hpp): the
+/// stencil rows dealt on request, rank 0 merging every rank's points into `out` in the
+/// single-process order (out is ignored on other ranks). dedup as run_scattered_isosurface (rank 0's
+/// side). A null field (iso outside the data) sends an empty stream and needs no channel (channel
+/// may then be null); otherwise every rank runs with one. Each rank's statistics cover its own rows
+/// (sum_stencil_rank_stats).
+StencilRankResult run_scattered_isosurface_rank(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n,
+                                                const FieldProjectParams& np, double dedup, int rank, int ranks,
+                                                RankChannel* channel, Sink* out, const RunOptions& opt,
+                                                std::function<void(std::exception_ptr)> on_deal_error = {});
+
+/// Every rank's statistics summed by sum_to_root (element-wise over the ranks, the result on rank 0;
+/// collective): rank 0 gets the totals (the largest stencil and rows_per_rank: its own figures);
+/// other ranks' results are meaningless.
+StencilRankResult sum_stencil_rank_stats(const StencilRankResult& mine,
+                                         const std::function<std::vector<std::int64_t>(const std::vector<std::int64_t>&)>& sum_to_root);
+
+/// The binning line of the statistics: the grid, the points, the empty cells.
+struct BinningSummary {
+    const BinningGrid& grid;
+    std::uint64_t points, dropped;
+    std::int64_t empty, empty_interior;
+    std::uint32_t max_per_cell;
+};
+/// Of points binned in memory (a point store's plan: stream/scattered_store_isosurface.hpp).
+BinningSummary binning_summary(const ScatteredIsosurfaceInput& in);
+
+/// The statistics lines of the binning (section 5.3) and the stencils (regularisation, Delaunay,
+/// marching tetrahedra, seeds on the lattice of parameter n) written to `out`, each prefixed `cmd: `.
+void print_scattered_stats(std::FILE* out, const char* cmd, const BinningSummary& b, const StencilSeedStats& s, int n);
+/// The statistics line of --dedup (the fraction and the points it removed).
+void print_dedup_stats(std::FILE* out, const char* cmd, double dedup, std::int64_t removed);
+/// The warning (to `out`) when fewer than half of the projected seeds converged onto the field's
+/// isosurface (the field does not resolve the points there); nothing otherwise.
+void warn_if_unconverged(std::FILE* out, const std::string& source, const ScatteredIsosurfaceStats& st,
+                         const std::string& field_name);
 
 }  // namespace meshless

@@ -589,4 +589,20 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
     return st;
 }
 
+BinningSummary binning_summary(const ScatteredStorePlan& plan) {
+    return BinningSummary{plan.grid, plan.frame.points, plan.dropped_nonfinite, plan.empty_cells, plan.empty_interior_cells,
+                          plan.max_per_cell};
+}
+
+void print_store_report(std::FILE* out, const char* cmd, const ScatteredStorePlan& plan, const ScatteredStoreReport& rep) {
+    std::fprintf(out,
+                 "%s: point store in %d slabs (%d built again over more points; halo up to %.1f cells), at most %llu of %llu points "
+                 "loaded at once (%llu loaded in all), %llu locals (%llu fits copied from the slab before, %llu regularised), largest slab field %.1f MiB\n",
+                 cmd, rep.slabs, rep.retries, rep.halo_cells, static_cast<unsigned long long>(rep.most_loaded),
+                 static_cast<unsigned long long>(plan.frame.points), static_cast<unsigned long long>(rep.loaded),
+                 static_cast<unsigned long long>(rep.field.locals), static_cast<unsigned long long>(rep.reused_fits),
+                 static_cast<unsigned long long>(rep.field.regularised),
+                 static_cast<double>(rep.field.memory_bytes) / 1048576.0);
+}
+
 }  // namespace meshless

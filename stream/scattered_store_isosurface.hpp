@@ -31,6 +31,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -107,5 +108,12 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                                                         Sink& sink, const RunOptions& opt,
                                                         const std::function<void(double)>& progress = {},
                                                         ScatteredStoreReport* report = nullptr);
+
+/// The binning line's figures of the plan (what print_scattered_stats writes for points in memory).
+BinningSummary binning_summary(const ScatteredStorePlan& plan);
+
+/// The statistics line of a slab run (slabs, rebuilds, halo, points loaded, the slab fields) written
+/// to `out`, prefixed `cmd: `.
+void print_store_report(std::FILE* out, const char* cmd, const ScatteredStorePlan& plan, const ScatteredStoreReport& rep);
 
 }  // namespace meshless

@@ -5,8 +5,10 @@
 // the runner. One graph for both recipes (stream/block_isosurface.hpp, stream/scattered_isosurface.hpp).
 // Throws what the stages and the sink throw.
 #pragma once
+#include <cstdio>
 #include <functional>
 #include <span>
+#include <string>
 
 #include "kernels/field.hpp"
 #include "stream/field_project_stage.hpp"
@@ -33,5 +35,10 @@ SeedProjection run_seed_projection(Source& source, const SeedStage& seed, const 
     run_pipeline(source, std::span<const Stage* const>(stages, draw ? 4 : 3), sink, opt);
     return {project.stats(), seed.busy_seconds(), project.busy_seconds()};
 }
+
+/// The statistics line of the Newton projection (`cmd`: the line's prefix, `field`: the field's
+/// name, busy_seconds: the projection's busy time, 0 when unknown) written to `out`.
+void print_newton_stats(std::FILE* out, const char* cmd, const std::string& field, const FieldProjectParams& p,
+                        const FieldNewtonStats& s, double busy_seconds);
 
 }  // namespace meshless
