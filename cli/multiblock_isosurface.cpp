@@ -216,16 +216,9 @@ int isosurface_blocks(int argc, char** argv) {
     }, unused, /*parallel_draw=*/true, /*with_blocks=*/true);
     const double graph_seconds = since(t0);
 
-    if (a.has("stats")) {
-        const char* cmd = "isosurface";
-        print_block_seed_stats(stderr, cmd, in, st.seeds, n);
-        if (st.projected) print_newton_stats(stderr, cmd, field_name, np, st.newton, st.newton_busy_seconds);
-        std::fprintf(stderr,
-                     "%s: %zu points; time: read %.3f s, plan %.3f s, field %.3f s, seeds + Newton + output %.3f s "
-                     "(busy: seeds %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
-                     cmd, points, in.read_seconds, in.plan_seconds, field_seconds, graph_seconds,
-                     st.seed_busy_seconds, st.newton_busy_seconds, nthreads, since(t_start));
-    }
+    if (a.has("stats"))
+        print_block_isosurface_stats(stderr, "isosurface", in, st, n, field_name, np, points, {field_seconds, graph_seconds, since(t_start)},
+                                     nthreads);
     return 0;
 }
 

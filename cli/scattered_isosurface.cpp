@@ -330,18 +330,9 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
                              "more memory makes fewer, faster slabs\n",
                      terminal_safe(*a.get("memory")).c_str(), rep.slabs,
                      static_cast<double>(rep.loaded) / static_cast<double>(plan.frame.points));
-    if (a.has("stats")) {
-        const char* cmd = "isosurface";
-        print_scattered_stats(stderr, cmd, binning_summary(plan), st.seeds, j.n);
-        print_newton_stats(stderr, cmd, "mpu", j.np, st.newton, st.newton_busy_seconds);
-        if (j.dedup > 0) print_dedup_stats(stderr, cmd, j.dedup, st.dedup_removed);
-        print_store_report(stderr, cmd, plan, rep);
-        std::fprintf(stderr,
-                     "%s: %zu points; time: plan (%d scans of the store) %.3f s, read %.3f s, coverage %.3f s and field %.3f s side by side, "
-                     "isosurface %.3f s (busy: stencils %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
-                     cmd, points, plan.scans, plan.seconds, rep.read_seconds, rep.coverage_seconds, rep.field_seconds, since(t0),
-                     st.seed_busy_seconds, st.newton_busy_seconds, j.nthreads, since(t_start));
-    }
+    if (a.has("stats"))
+        print_store_isosurface_stats(stderr, "isosurface", plan, rep, st, j.n, j.np, j.dedup, points, {0, since(t0), since(t_start)},
+                                     j.nthreads);
     return 0;
 }
 
@@ -374,19 +365,9 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
     }, unused, /*parallel_draw=*/j.dedup == 0, /*with_blocks=*/false);
     const double graph_seconds = since(t0);
     warn_if_unconverged(stderr, in.source, st, j.field_name);
-    if (a.has("stats")) {
-        const char* cmd = "isosurface";
-        const StencilSeedStats& s = st.seeds;
-        print_scattered_stats(stderr, cmd, binning_summary(in), s, j.n);
-        if (st.projected) print_newton_stats(stderr, cmd, j.field_name, j.np, st.newton, st.newton_busy_seconds);
-        if (j.dedup > 0) print_dedup_stats(stderr, cmd, j.dedup, st.dedup_removed);
-        std::fprintf(stderr,
-                     "%s: %zu points; time: read %.3f s, octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, regularisation %.3f s busy, "
-                     "isosurface (stencils + Delaunay + seeds + Newton + output) %.3f s (busy: stencils %.3f s of which "
-                     "Delaunay %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
-                     cmd, points, in.read_seconds, in.octree_seconds, in.coverage_seconds, j.field_seconds, 1e-9 * double(s.regularisation_ns),
-                     graph_seconds, st.seed_busy_seconds, 1e-9 * double(s.delaunay_ns), st.newton_busy_seconds, j.nthreads, since(t_start));
-    }
+    if (a.has("stats"))
+        print_scattered_isosurface_stats(stderr, "isosurface", in, st, j.n, j.field_name, j.np, j.dedup, points,
+                                         {j.field_seconds, graph_seconds, since(t_start)}, j.nthreads);
     return 0;
 }
 

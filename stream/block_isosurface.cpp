@@ -105,4 +105,15 @@ void print_block_seed_stats(std::FILE* out, const char* cmd, const BlockIsosurfa
                  static_cast<long long>(s.seeds), n, lattice_size(n));
 }
 
+void print_block_isosurface_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockIsosurfaceStats& st,
+                                  int n, const std::string& field_name, const FieldProjectParams& np, std::size_t points,
+                                  const IsosurfaceRunTimes& t, int threads) {
+    print_block_seed_stats(out, cmd, in, st.seeds, n);
+    if (st.projected) print_newton_stats(out, cmd, field_name, np, st.newton, st.newton_busy_seconds);
+    std::fprintf(out,
+                 "%s: %zu points; time: read %.3f s, plan %.3f s, field %.3f s, seeds + Newton + output %.3f s "
+                 "(busy: seeds %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
+                 cmd, points, in.read_seconds, in.plan_seconds, t.field, t.graph, st.seed_busy_seconds, st.newton_busy_seconds,
+                 threads, t.total);
+}
 }  // namespace meshless

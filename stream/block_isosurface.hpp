@@ -87,5 +87,9 @@ BlockSeedStats generate_block_seeds(const BlockIsosurfaceInput& in, double iso, 
 /// The statistics line of the seeds (blocks, cells skipped and why, triangles, seeds of the lattice
 /// of parameter n) written to `out`, prefixed `cmd: `.
 void print_block_seed_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockSeedStats& s, int n);
-
+/// The statistics of one run to `out`: the seeds, the Newton projection (when one ran, onto
+/// `field_name`), the points written and the times (threads: the run's workers).
+void print_block_isosurface_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockIsosurfaceStats& st,
+                                  int n, const std::string& field_name, const FieldProjectParams& np, std::size_t points,
+                                  const IsosurfaceRunTimes& t, int threads);
 }  // namespace meshless

@@ -307,4 +307,19 @@ void warn_if_unconverged(std::FILE* out, const std::string& source, const Scatte
                      field_name.c_str(), static_cast<long long>(ns.too_far), static_cast<long long>(ns.nonfinite));
 }
 
+void print_scattered_isosurface_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in,
+                                      const ScatteredIsosurfaceStats& st, int n, const std::string& field_name,
+                                      const FieldProjectParams& np, double dedup, std::size_t points,
+                                      const IsosurfaceRunTimes& t, int threads) {
+    const StencilSeedStats& s = st.seeds;
+    print_scattered_stats(out, cmd, binning_summary(in), s, n);
+    if (st.projected) print_newton_stats(out, cmd, field_name, np, st.newton, st.newton_busy_seconds);
+    if (dedup > 0) print_dedup_stats(out, cmd, dedup, st.dedup_removed);
+    std::fprintf(out,
+                 "%s: %zu points; time: read %.3f s, octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, regularisation %.3f s busy, "
+                 "isosurface (stencils + Delaunay + seeds + Newton + output) %.3f s (busy: stencils %.3f s of which "
+                 "Delaunay %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
+                 cmd, points, in.read_seconds, in.octree_seconds, in.coverage_seconds, t.field, 1e-9 * double(s.regularisation_ns),
+                 t.graph, st.seed_busy_seconds, 1e-9 * double(s.delaunay_ns), st.newton_busy_seconds, threads, t.total);
+}
 }  // namespace meshless

@@ -142,6 +142,13 @@ BinningSummary binning_summary(const ScatteredIsosurfaceInput& in);
 void print_scattered_stats(std::FILE* out, const char* cmd, const BinningSummary& b, const StencilSeedStats& s, int n);
 /// The statistics line of --dedup (the fraction and the points it removed).
 void print_dedup_stats(std::FILE* out, const char* cmd, double dedup, std::int64_t removed);
+/// The statistics of one in-memory run to `out`: binning and stencils, the Newton projection (when
+/// one ran, onto `field_name`), --dedup (dedup > 0), the points written and the times (threads: the
+/// run's workers).
+void print_scattered_isosurface_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in,
+                                      const ScatteredIsosurfaceStats& st, int n, const std::string& field_name,
+                                      const FieldProjectParams& np, double dedup, std::size_t points,
+                                      const IsosurfaceRunTimes& t, int threads);
 /// The warning (to `out`) when fewer than half of the projected seeds converged onto the field's
 /// isosurface (the field does not resolve the points there); nothing otherwise.
 void warn_if_unconverged(std::FILE* out, const std::string& source, const ScatteredIsosurfaceStats& st,

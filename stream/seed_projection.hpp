@@ -36,6 +36,12 @@ SeedProjection run_seed_projection(Source& source, const SeedStage& seed, const 
     return {project.stats(), seed.busy_seconds(), project.busy_seconds()};
 }
 
+/// The wall times (seconds) a front end measured around an isosurface run, for its statistics:
+/// the field's build, the graph, the whole command.
+struct IsosurfaceRunTimes {
+    double field = 0, graph = 0, total = 0;
+};
+
 /// The statistics line of the Newton projection (`cmd`: the line's prefix, `field`: the field's
 /// name, busy_seconds: the projection's busy time, 0 when unknown) written to `out`.
 void print_newton_stats(std::FILE* out, const char* cmd, const std::string& field, const FieldProjectParams& p,
