@@ -250,10 +250,7 @@ int generate_blocks(int argc, char** argv) {
     StreamSink sink(out.f, out.name, RecordKind::seed, block_isosurface_meta(in, iso, n, a.command_line()), a.has("compress"));
     const BlockSeedStats seeds = generate_block_seeds(in, iso, n, sink, {nthreads});
     out.commit();
-    if (a.has("stats")) {
-        print_block_seed_stats(stderr, "generate", in, seeds, n);
-        std::fprintf(stderr, "generate: read %.3f s, plan %.3f s, total %.3f s\n", in.read_seconds, in.plan_seconds, since(t0));
-    }
+    if (a.has("stats")) print_block_generate_stats(stderr, "generate", in, seeds, n, since(t0));
     return 0;
 }
 

@@ -280,15 +280,8 @@ int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSessio
     }
     const StencilRankResult tot = sum_stencil_rank_stats(rr, [&mpi](const std::vector<std::int64_t>& v) { return mpi.sum_to_root(v); });
     if (!root || !a.has("stats")) return 0;
-    print_scattered_stats(stderr, "isosurface", binning_summary(j.in), tot.seeds, j.n);
-    print_newton_stats(stderr, "isosurface", j.field_name, j.np, tot.newton, 0.0);
-    std::string dealt;
-    for (std::size_t r = 0; r < rr.rows_per_rank.size(); ++r)
-        dealt += (r ? " / " : "") + std::to_string(rr.rows_per_rank[r]);
-    std::fprintf(stderr, "isosurface: %zu points over %d ranks x %d thread(s); stencil rows dealt on request: %s; time: read %.3f s, "
-                 "octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s (rank 0)\n",
-                 points, mpi.size(), j.nthreads, dealt.empty() ? "none" : dealt.c_str(), j.in.read_seconds, j.in.octree_seconds,
-                 j.in.coverage_seconds, j.field_seconds, since(t_start));
+    print_scattered_ranks_stats(stderr, "isosurface", j.in, tot, j.n, j.field_name, j.np, points, mpi.size(),
+                                {j.field_seconds, 0, since(t_start)}, j.nthreads);
     return 0;
 }
 
@@ -405,11 +398,7 @@ int generate_scattered(int argc, char** argv) {
     StreamSink sink(out.f, out.name, RecordKind::seed, scattered_isosurface_meta(in, iso, n, a.command_line()), a.has("compress"));
     const StencilSeedStats seeds = generate_scattered_seeds(in, field.field.get(), iso, n, sink, {nthreads});
     out.commit();
-    if (a.has("stats")) {
-        print_scattered_stats(stderr, "generate", binning_summary(in), seeds, n);
-        std::fprintf(stderr, "generate: read %.3f s, octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s\n",
-                     in.read_seconds, in.octree_seconds, in.coverage_seconds, field_seconds, since(t0));
-    }
+    if (a.has("stats")) print_scattered_generate_stats(stderr, "generate", in, seeds, n, {field_seconds, 0, since(t0)});
     return 0;
 }
 

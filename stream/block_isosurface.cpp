@@ -116,4 +116,10 @@ void print_block_isosurface_stats(std::FILE* out, const char* cmd, const BlockIs
                  cmd, points, in.read_seconds, in.plan_seconds, t.field, t.graph, st.seed_busy_seconds, st.newton_busy_seconds,
                  threads, t.total);
 }
+
+void print_block_generate_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockSeedStats& seeds, int n,
+                                double total_seconds) {
+    print_block_seed_stats(out, cmd, in, seeds, n);
+    std::fprintf(out, "%s: read %.3f s, plan %.3f s, total %.3f s\n", cmd, in.read_seconds, in.plan_seconds, total_seconds);
+}
 }  // namespace meshless

@@ -92,4 +92,8 @@ void print_block_seed_stats(std::FILE* out, const char* cmd, const BlockIsosurfa
 void print_block_isosurface_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockIsosurfaceStats& st,
                                   int n, const std::string& field_name, const FieldProjectParams& np, std::size_t points,
                                   const IsosurfaceRunTimes& t, int threads);
+/// The statistics of the seed stream alone (generate_block_seeds): the seeds and the times
+/// (total_seconds: the whole command's).
+void print_block_generate_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockSeedStats& seeds, int n,
+                                double total_seconds);
 }  // namespace meshless

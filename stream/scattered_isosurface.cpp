@@ -322,4 +322,25 @@ void print_scattered_isosurface_stats(std::FILE* out, const char* cmd, const Sca
                  cmd, points, in.read_seconds, in.octree_seconds, in.coverage_seconds, t.field, 1e-9 * double(s.regularisation_ns),
                  t.graph, st.seed_busy_seconds, 1e-9 * double(s.delaunay_ns), st.newton_busy_seconds, threads, t.total);
 }
+
+void print_scattered_ranks_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in, const StencilRankResult& tot,
+                                 int n, const std::string& field_name, const FieldProjectParams& np, std::size_t points, int ranks,
+                                 const IsosurfaceRunTimes& t, int threads) {
+    print_scattered_stats(out, cmd, binning_summary(in), tot.seeds, n);
+    print_newton_stats(out, cmd, field_name, np, tot.newton, 0.0);
+    std::string dealt;
+    for (std::size_t r = 0; r < tot.rows_per_rank.size(); ++r)
+        dealt += (r ? " / " : "") + std::to_string(tot.rows_per_rank[r]);
+    std::fprintf(out, "%s: %zu points over %d ranks x %d thread(s); stencil rows dealt on request: %s; time: read %.3f s, "
+                 "octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s (rank 0)\n",
+                 cmd, points, ranks, threads, dealt.empty() ? "none" : dealt.c_str(), in.read_seconds, in.octree_seconds,
+                 in.coverage_seconds, t.field, t.total);
+}
+
+void print_scattered_generate_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in, const StencilSeedStats& seeds,
+                                    int n, const IsosurfaceRunTimes& t) {
+    print_scattered_stats(out, cmd, binning_summary(in), seeds, n);
+    std::fprintf(out, "%s: read %.3f s, octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s\n",
+                 cmd, in.read_seconds, in.octree_seconds, in.coverage_seconds, t.field, t.total);
+}
 }  // namespace meshless

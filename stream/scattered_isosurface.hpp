@@ -149,6 +149,15 @@ void print_scattered_isosurface_stats(std::FILE* out, const char* cmd, const Sca
                                       const ScatteredIsosurfaceStats& st, int n, const std::string& field_name,
                                       const FieldProjectParams& np, double dedup, std::size_t points,
                                       const IsosurfaceRunTimes& t, int threads);
+/// The same of a run split over `ranks` ranks (sum_stencil_rank_stats' totals, on rank 0; the
+/// Newton busy time unknown; t.graph unused).
+void print_scattered_ranks_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in, const StencilRankResult& tot,
+                                 int n, const std::string& field_name, const FieldProjectParams& np, std::size_t points, int ranks,
+                                 const IsosurfaceRunTimes& t, int threads);
+/// The statistics of the seed stream alone (generate_scattered_seeds): binning and stencils, the
+/// times (t.field: the field's build, t.total; t.graph unused).
+void print_scattered_generate_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in, const StencilSeedStats& seeds,
+                                    int n, const IsosurfaceRunTimes& t);
 /// The warning (to `out`) when fewer than half of the projected seeds converged onto the field's
 /// isosurface (the field does not resolve the points there); nothing otherwise.
 void warn_if_unconverged(std::FILE* out, const std::string& source, const ScatteredIsosurfaceStats& st,
