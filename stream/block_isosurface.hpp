@@ -5,8 +5,9 @@
 //   every block's valid nodes (stream/field_project_stage.hpp) [-> the splat stage] -> the sink.
 // The field is the caller's (kernels/make_field.hpp, or a fitted .mlf): the recipe only runs the
 // graph. Memory: the blocks as read + the seed plan (one int64 a block) + the batches in flight.
-// The bytes do not depend on the thread count. Throws FormatError for unusable data (named in the
-// message), what the readers and stages throw otherwise.
+// The bytes do not depend on the thread count; the --stats lines of a run are written to a FILE*
+// here. Throws FormatError for unusable data (named in the message), what the readers and stages
+// throw otherwise.
 #pragma once
 #include <cstdio>
 #include <functional>

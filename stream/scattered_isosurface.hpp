@@ -8,7 +8,9 @@
 // The field is the caller's (kernels/make_field.hpp or a fitted .mlf); build_alongside_coverage
 // overlaps its build with the regularisation's support test. Memory: the points + their bins (4
 // bytes a binning cell) + the support test's kd-tree + the batches in flight. The bytes do not
-// depend on the thread count (under MPI: stream/stencil_ranks.hpp). Throws FormatError for
+// depend on the thread count. Under MPI (or any RankChannel) run_scattered_isosurface_rank splits the
+// stencil rows over the ranks (stream/stencil_ranks.hpp) and sum_stencil_rank_stats sums their
+// statistics. The --stats lines of each run are written to a FILE* here. Throws FormatError for
 // unusable data (fewer than 4 distinct points), what the kernels and stages throw otherwise.
 #pragma once
 #include <array>

@@ -2,7 +2,8 @@
 // 5.6): the source's work units -> a progress counter -> the seed stage (marching-cubes seeds of
 // blocks, stream/block_seed_stage.hpp, or of stencils, stream/stencil_seed_stage.hpp) ->
 // safeguarded Newton onto the field (stream/field_project_stage.hpp) [-> draw] -> the sink, through
-// the runner. One graph for both recipes (stream/block_isosurface.hpp, stream/scattered_isosurface.hpp).
+// the runner. One graph for both recipes (stream/block_isosurface.hpp, stream/scattered_isosurface.hpp),
+// and the statistics line of its Newton projection that both print (to any FILE*).
 // Throws what the stages and the sink throw.
 #pragma once
 #include <cstdio>
