@@ -76,17 +76,6 @@ InputWarning stderr_warning() {
     };
 }
 
-/// The field (only when `crossed`: an empty output needs none) built side by side with the
-/// regularisation's support test (build_alongside_coverage). share: as for build_field.
-BuiltField build_field_and_coverage(const Args& a, ScatteredInput& in, bool crossed, double& field_seconds,
-                                    const FitShare* share = nullptr) {
-    BuiltField field;
-    field_seconds = 0;
-    if (!crossed) return field;
-    field_seconds = build_alongside_coverage(in, threads(a), [&] { field = build_field(a, in.points, {}, share); });
-    return field;
-}
-
 ScatteredInput read_scattered(const Args& a, bool warn = true) {
     if (a.positional().empty()) throw UsageError("missing POINTS argument (see meshless " + a.command() + " --help)");
     const BinningGridParams bp = binning_params(a);
@@ -203,10 +192,7 @@ struct ScatteredJob {
     int nthreads = 1;
     std::optional<std::string> png;
     ScatteredInput in;
-    StreamMeta meta;
-    BuiltField field;
-    std::string field_name;
-    double field_seconds = 0;
+    ScatteredField f;  ///< the field, its name and time, the metadata
 };
 
 /// The options of the job, checked before any reading; the colour choice is returned.
@@ -231,19 +217,13 @@ ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
     const ColorChoice cc = parse_scattered_options(a, j);
     j.in = read_scattered(a, root);
     apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
-    const bool crossed = j.in.crosses(j.iso);
-    if (!crossed && root) warn_if_iso_outside(j.iso, j.in.points.value_range(), j.in.source);
-    j.meta = scattered_isosurface_meta(j.in, j.iso, j.n, a.command_line());
-    widen_frame_for_travel(j.meta, j.np.seed_max_travel);
-
-    // the field: only when the isovalue is within the data (an empty output needs none)
+    if (!j.in.crosses(j.iso) && root) warn_if_iso_outside(j.iso, j.in.points.value_range(), j.in.source);
     // under mpirun the ranks share the mpu field's local fits (every rank ends with the whole field)
     std::optional<FitShare> share;
     if (mpi)
         share = FitShare{mpi->rank(), mpi->size(), [mpi](std::span<const std::byte> mine) { return mpi->allgather(mine); }};
-    j.field = build_field_and_coverage(a, j.in, crossed, j.field_seconds, share ? &*share : nullptr);
-    j.field_name = j.field.field ? j.field.field->name() : field_kind_arg(a);
-    add_projection_meta(j.meta, j.field_name, j.np);
+    j.f = fit_scattered_field(j.in, j.iso, j.n, a.command_line(), &j.np, j.nthreads, field_kind_arg(a),
+                              [&] { return build_field(a, j.in.points, {}, share ? &*share : nullptr); });
     return j;
 }
 
@@ -251,7 +231,7 @@ ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
 /// (stream/stencil_ranks.hpp); the statistics are summed to rank 0.
 int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSession& mpi, ScatteredJob& j) {
     const bool root = mpi.rank() == 0;
-    const Field* field = j.field.field.get();
+    const Field* field = j.f.field.field.get();
     std::optional<MpiChannel> channel;  // (none without a field: an empty output)
     if (field) channel.emplace(mpi);
     RankChannel* ch = channel ? &*channel : nullptr;
@@ -259,7 +239,7 @@ int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSessio
     std::size_t points = 0;
     if (root) {
         IsoSplatResult unused;
-        points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
+        points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
             // the deal's thread failing leaves the other ranks waiting for rows: end the job
             const auto deal_failed = [&mpi](std::exception_ptr e) {
                 try {
@@ -280,8 +260,8 @@ int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSessio
     }
     const StencilRankResult tot = sum_stencil_rank_stats(rr, [&mpi](const std::vector<std::int64_t>& v) { return mpi.sum_to_root(v); });
     if (!root || !a.has("stats")) return 0;
-    print_scattered_ranks_stats(stderr, "isosurface", j.in, tot, j.n, j.field_name, j.np, points, mpi.size(),
-                                {j.field_seconds, 0, since(t_start)}, j.nthreads);
+    print_scattered_ranks_stats(stderr, "isosurface", j.in, tot, j.n, j.f.name, j.np, points, mpi.size(),
+                                {j.f.seconds, 0, since(t_start)}, j.nthreads);
     return 0;
 }
 
@@ -304,15 +284,15 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
     const ScatteredStorePlan plan = plan_scattered_store(*store, joined_names(a.positional()), binning_params(a), stderr_warning());
     apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
     if (!plan.crosses(j.iso)) warn_if_iso_outside(j.iso, plan.value_range, plan.source);
-    j.meta = scattered_store_meta(plan, j.iso, j.n, a.command_line());
-    widen_frame_for_travel(j.meta, j.np.seed_max_travel);
-    add_projection_meta(j.meta, "mpu", j.np);
-    if (j.dedup > 0) j.meta.set("dedup", j.dedup);
+    j.f.meta = scattered_store_meta(plan, j.iso, j.n, a.command_line());
+    widen_frame_for_travel(j.f.meta, j.np.seed_max_travel);
+    add_projection_meta(j.f.meta, "mpu", j.np);
+    if (j.dedup > 0) j.f.meta.set("dedup", j.dedup);
     ScatteredIsosurfaceStats st;
     ScatteredStoreReport rep;
     IsoSplatResult unused;
     const auto t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
+    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
         ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(StencilGrid(plan.grid.dims).total()));
         st = run_scattered_store_isosurface(*store, plan, fp, sp, j.iso, j.n, j.np, j.dedup, sink, {j.nthreads},
                                             [&](double k) { meter.add(k); }, &rep);
@@ -337,19 +317,19 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
     ScatteredJob j = prepare_scattered(a, mpi);
     if (mpi) return isosurface_scattered_mpi(a, t_start, *mpi, j);
     const ScatteredInput& in = j.in;
-    if (j.dedup > 0) j.meta.set("dedup", j.dedup);
+    if (j.dedup > 0) j.f.meta.set("dedup", j.dedup);
     ScatteredIsosurfaceStats st;
     IsoSplatResult unused;
     const auto t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.meta, j.rs, j.nthreads, [&](const Stage* draw, Sink& sink) {
+    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage* draw, Sink& sink) {
         const auto g0 = Clock::now();
         // --dedup: the removal runs in sequence order on the sink side (the picture is then drawn there too)
-        if (!j.field.field) {
+        if (!j.f.field.field) {
             st = run_scattered_isosurface(in, nullptr, j.iso, j.n, j.np, j.dedup, draw, sink, {j.nthreads});
         } else {
             // the stencils as the source hands them out, counted ahead of seeding
             ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(StencilGrid(in.grid.dims).total()));
-            st = run_scattered_isosurface(in, j.field.field.get(), j.iso, j.n, j.np, j.dedup, draw, sink, {j.nthreads},
+            st = run_scattered_isosurface(in, j.f.field.field.get(), j.iso, j.n, j.np, j.dedup, draw, sink, {j.nthreads},
                                           [&](double k) { meter.add(k); });
         }
         IsoSplatResult r;
@@ -357,10 +337,10 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
         return r;
     }, unused, /*parallel_draw=*/j.dedup == 0, /*with_blocks=*/false);
     const double graph_seconds = since(t0);
-    warn_if_unconverged(stderr, in.source, st, j.field_name);
+    warn_if_unconverged(stderr, in.source, st, j.f.name);
     if (a.has("stats"))
-        print_scattered_isosurface_stats(stderr, "isosurface", in, st, j.n, j.field_name, j.np, j.dedup, points,
-                                         {j.field_seconds, graph_seconds, since(t_start)}, j.nthreads);
+        print_scattered_isosurface_stats(stderr, "isosurface", in, st, j.n, j.f.name, j.np, j.dedup, points,
+                                         {j.f.seconds, graph_seconds, since(t_start)}, j.nthreads);
     return 0;
 }
 
@@ -391,14 +371,13 @@ int generate_scattered(int argc, char** argv) {
     const auto t0 = Clock::now();
     BinaryStreamOutput out(a.get_or("output", "-"), "a seed stream");
     ScatteredInput in = read_scattered(a);
-    const bool crossed = in.crosses(iso);
-    if (!crossed) warn_if_iso_outside(iso, in.points.value_range(), in.source);
-    double field_seconds = 0;
-    BuiltField field = build_field_and_coverage(a, in, crossed, field_seconds);
-    StreamSink sink(out.f, out.name, RecordKind::seed, scattered_isosurface_meta(in, iso, n, a.command_line()), a.has("compress"));
-    const StencilSeedStats seeds = generate_scattered_seeds(in, field.field.get(), iso, n, sink, {nthreads});
+    if (!in.crosses(iso)) warn_if_iso_outside(iso, in.points.value_range(), in.source);
+    const ScatteredField f = fit_scattered_field(in, iso, n, a.command_line(), nullptr, nthreads, field_kind_arg(a),
+                                                 [&] { return build_field(a, in.points); });
+    StreamSink sink(out.f, out.name, RecordKind::seed, f.meta, a.has("compress"));
+    const StencilSeedStats seeds = generate_scattered_seeds(in, f.field.field.get(), iso, n, sink, {nthreads});
     out.commit();
-    if (a.has("stats")) print_scattered_generate_stats(stderr, "generate", in, seeds, n, {field_seconds, 0, since(t0)});
+    if (a.has("stats")) print_scattered_generate_stats(stderr, "generate", in, seeds, n, {f.seconds, 0, since(t0)});
     return 0;
 }
 
