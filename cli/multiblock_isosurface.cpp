@@ -184,31 +184,21 @@ int isosurface_blocks(int argc, char** argv) {
     apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
     rs.legend_blocks = static_cast<std::uint32_t>(in.mb.blocks.size());
     warn_if_inactive(in, iso);
-    StreamMeta meta = block_isosurface_meta(in, iso, n, a.command_line());
-
-    // the field: only when some cell is crossed (an empty output needs none)
-    auto t0 = Clock::now();
-    BuiltField field;
-    // (the name the built field reports; without a field, as --field names it)
-    std::string field_name = a.get_or("field", "rbf-grid");
-    if (in.plan.active_cells > 0) {
-        field = build_field(a, to_point_set(in.mb));
-        field_name = field.field->name();
-    }
-    const double field_seconds = since(t0);
-    add_projection_meta(meta, field_name, np);
+    // the field: only when some cell is crossed; without one, its name as --field gives it
+    const IsosurfaceField f =
+        fit_block_field(in, iso, n, a.command_line(), np, a.get_or("field", "rbf-grid"), [&](const PointSet& p) { return build_field(a, p); });
 
     BlockIsosurfaceStats st;
     IsoSplatResult unused;
-    t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, "an oriented point set"), png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+    const auto t0 = Clock::now();
+    const std::size_t points = run_to_outputs(geometry_output(a, "an oriented point set"), png, f.meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
         const auto g0 = Clock::now();
         // the blocks' cells as the source hands them out, counted ahead of seeding
-        if (!field.field) {
+        if (!f.field.field) {
             st = run_block_isosurface(in, nullptr, iso, n, np, draw, sink, {nthreads});
         } else {
             ProgressMeter meter = ProgressMeter::of(a, "cells", static_cast<double>(in.cells()));
-            st = run_block_isosurface(in, field.field.get(), iso, n, np, draw, sink, {nthreads}, [&](double k) { meter.add(k); });
+            st = run_block_isosurface(in, f.field.field.get(), iso, n, np, draw, sink, {nthreads}, [&](double k) { meter.add(k); });
         }
         IsoSplatResult r;
         r.seconds = since(g0);
@@ -217,7 +207,7 @@ int isosurface_blocks(int argc, char** argv) {
     const double graph_seconds = since(t0);
 
     if (a.has("stats"))
-        print_block_isosurface_stats(stderr, "isosurface", in, st, n, field_name, np, points, {field_seconds, graph_seconds, since(t_start)},
+        print_block_isosurface_stats(stderr, "isosurface", in, st, n, f.name, np, points, {f.seconds, graph_seconds, since(t_start)},
                                      nthreads);
     return 0;
 }

@@ -192,7 +192,7 @@ struct ScatteredJob {
     int nthreads = 1;
     std::optional<std::string> png;
     ScatteredInput in;
-    ScatteredField f;  ///< the field, its name and time, the metadata
+    IsosurfaceField f;  ///< the field, its name and time, the metadata
 };
 
 /// The options of the job, checked before any reading; the colour choice is returned.
@@ -372,7 +372,7 @@ int generate_scattered(int argc, char** argv) {
     BinaryStreamOutput out(a.get_or("output", "-"), "a seed stream");
     ScatteredInput in = read_scattered(a);
     if (!in.crosses(iso)) warn_if_iso_outside(iso, in.points.value_range(), in.source);
-    const ScatteredField f = fit_scattered_field(in, iso, n, a.command_line(), nullptr, nthreads, field_kind_arg(a),
+    const IsosurfaceField f = fit_scattered_field(in, iso, n, a.command_line(), nullptr, nthreads, field_kind_arg(a),
                                                  [&] { return build_field(a, in.points); });
     StreamSink sink(out.f, out.name, RecordKind::seed, f.meta, a.has("compress"));
     const StencilSeedStats seeds = generate_scattered_seeds(in, f.field.field.get(), iso, n, sink, {nthreads});

@@ -12,6 +12,7 @@
 #include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
 #include "stream/block_cell_source.hpp"
+#include "stream/projection_meta.hpp"
 #include "stream/record_vector_source.hpp"
 #include "stream/stream_metadata.hpp"
 
@@ -121,5 +122,21 @@ void print_block_generate_stats(std::FILE* out, const char* cmd, const BlockIsos
                                 double total_seconds) {
     print_block_seed_stats(out, cmd, in, seeds, n);
     std::fprintf(out, "%s: read %.3f s, plan %.3f s, total %.3f s\n", cmd, in.read_seconds, in.plan_seconds, total_seconds);
+}
+
+IsosurfaceField fit_block_field(const BlockIsosurfaceInput& in, double iso, int n, const std::string& producer,
+                                const FieldProjectParams& np, const std::string& kind,
+                                const std::function<BuiltField(const PointSet&)>& build) {
+    IsosurfaceField f;
+    f.meta = block_isosurface_meta(in, iso, n, producer);
+    const auto t0 = Clock::now();
+    f.name = kind;
+    if (in.plan.active_cells > 0) {
+        f.field = build(to_point_set(in.mb));
+        f.name = f.field.field->name();
+    }
+    f.seconds = since(t0);
+    add_projection_meta(f.meta, f.name, np);
+    return f;
 }
 }  // namespace meshless

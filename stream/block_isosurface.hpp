@@ -69,6 +69,13 @@ BlockIsosurfaceInput plan_block_isosurface(Multiblock mb, const std::string& sou
 /// box when none does). n: the lattice parameter; producer: the command line.
 StreamMeta block_isosurface_meta(const BlockIsosurfaceInput& in, double iso, int n, const std::string& producer);
 
+/// The field of a job over `in`: build(the blocks' valid nodes) (the caller's: kernels/make_field.hpp,
+/// a fitted .mlf), run only when some cell is crossed; and its metadata, block_isosurface_meta(in,
+/// iso, n, producer) with the projection's keys (np). kind: the name without a field.
+IsosurfaceField fit_block_field(const BlockIsosurfaceInput& in, double iso, int n, const std::string& producer,
+                                const FieldProjectParams& np, const std::string& kind,
+                                const std::function<BuiltField(const PointSet&)>& build);
+
 /// What one run did.
 struct BlockIsosurfaceStats : SeedProjection {  ///< newton, seed/newton busy seconds
     BlockSeedStats seeds;          ///< without a field: only `cells` (planned, not seeded)

@@ -159,10 +159,10 @@ double build_alongside_coverage(ScatteredIsosurfaceInput& in, int threads, const
     return seconds;
 }
 
-ScatteredField fit_scattered_field(ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer,
+IsosurfaceField fit_scattered_field(ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer,
                                    const FieldProjectParams* np, int threads, const std::string& kind,
                                    const std::function<BuiltField()>& build) {
-    ScatteredField f;
+    IsosurfaceField f;
     f.meta = scattered_isosurface_meta(in, iso, n, producer);
     if (np) widen_frame_for_travel(f.meta, np->seed_max_travel);
     if (in.crosses(iso)) f.seconds = build_alongside_coverage(in, threads, [&] { f.field = build(); });

@@ -72,21 +72,13 @@ ScatteredIsosurfaceInput bin_scattered_points(PointSet points, const std::string
 /// the thread count.
 double build_alongside_coverage(ScatteredIsosurfaceInput& in, int threads, const std::function<void()>& build);
 
-/// The field and metadata of a run over binned points (fit_scattered_field).
-struct ScatteredField {
-    BuiltField field;    ///< empty when iso does not cross the data (an empty output needs none)
-    std::string name;    ///< the built field's name, else the kind the caller named
-    double seconds = 0;  ///< build()'s own time
-    StreamMeta meta;     ///< scattered_isosurface_meta, for an isosurface widened and with the projection's keys
-};
-
 /// The field of a job over `in`: build() (the caller's: kernels/make_field.hpp, a fitted .mlf, the
 /// ranks' shared fits), run only when iso crosses the data, side by side with the support test
 /// (build_alongside_coverage, `threads` workers); and its metadata, scattered_isosurface_meta(in,
 /// iso, n, producer), with np (an isosurface, not the seeds alone) widened for np's travel
 /// (widen_frame_for_travel) and with the projection's keys (add_projection_meta). kind: the name
 /// without a field.
-ScatteredField fit_scattered_field(ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer,
+IsosurfaceField fit_scattered_field(ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer,
                                    const FieldProjectParams* np, int threads, const std::string& kind,
                                    const std::function<BuiltField()>& build);
 

@@ -11,7 +11,9 @@
 #include <span>
 #include <string>
 
+#include "formats/point_stream.hpp"
 #include "kernels/field.hpp"
+#include "stream/field_data.hpp"
 #include "stream/field_project_stage.hpp"
 #include "stream/progress_stage.hpp"
 #include "stream/runner.hpp"
@@ -36,6 +38,15 @@ SeedProjection run_seed_projection(Source& source, const SeedStage& seed, const 
     run_pipeline(source, std::span<const Stage* const>(stages, draw ? 4 : 3), sink, opt);
     return {project.stats(), seed.busy_seconds(), project.busy_seconds()};
 }
+
+/// The field and metadata of an isosurface job (stream/block_isosurface.hpp fit_block_field,
+/// stream/scattered_isosurface.hpp fit_scattered_field).
+struct IsosurfaceField {
+    BuiltField field;    ///< empty when the isovalue crosses no data (an empty output needs none)
+    std::string name;    ///< the built field's name, else the kind the caller named
+    double seconds = 0;  ///< the build's own time
+    StreamMeta meta;     ///< the recipe's metadata, for an isosurface with the projection's keys
+};
 
 /// The wall times (seconds) a front end measured around an isosurface run, for its statistics:
 /// the field's build, the graph, the whole command.
