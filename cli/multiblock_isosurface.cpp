@@ -267,24 +267,15 @@ int project_seeds(int argc, char** argv) {
     const auto t0 = Clock::now();
     InputFile in(a.get_or("input", "-"));
     StreamReader reader(in.f, in.name);
-    if (reader.kind() != RecordKind::seed)
-        throw FormatError(in.name + ": not a seed stream; --field projects the seeds of 'meshless generate BLOCKS...' "
-                          "(sample streams are projected without --field)");
+    require_seed_stream(reader, in.name);
     reader.read_meta();
-    StreamMeta meta = reader.meta();
-    const double iso = stream_iso(a, meta);
-    meta.set("iso", iso);
+    const double iso = stream_iso(a, reader.meta());
     BinaryStreamOutput out(a.get_or("output", "-"), "a point stream");
     const auto t1 = Clock::now();
     BuiltField field = field_file_arg(a) && a.positional().empty() ? load_field_arg(a)
                                                                    : build_field(a, read_points_arg(a));
     const double field_seconds = since(t1);
-    add_projection_meta(meta, field.field->name(), np);
-    widen_frame_for_travel(meta, np.seed_max_travel);
-    // multiblock seeds carry block ids; scattered ones (cli/scattered_isosurface.hpp) do not
-    const bool with_blocks = meta.get("method").value_or("") != "scattered";
-    StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"), with_blocks);
-    const SeedProjectionResult pr = project_seed_stream(reader, *field.field, iso, np, sink, nthreads);
+    const SeedProjectionResult pr = project_seed_stream(reader, *field.field, iso, np, out.f, out.name, a.has("compress"), nthreads);
     out.commit();
     if (a.has("stats")) {
         print_newton_stats(stderr, "project", field.field->name(), np, pr.stats, pr.busy_seconds);
