@@ -28,17 +28,6 @@ namespace {
 
 constexpr const char* kPointsWhat = "an oriented point set";
 
-void print_stats(const std::string& path, double iso, Projection mode, const IsoSplatResult& r, std::size_t points,
-                 int nthreads, int ranks) {
-    std::fprintf(stderr,
-                 "isosurface: %s iso %g: %lld active cells, %zu points (%s projection; discarded: %lld too far, %lld flat, "
-                 "%lld missed; %lld cells with NaN/Inf skipped), %.3f s on %d thread(s) x %d rank(s)\n",
-                 terminal_safe(path).c_str(), iso, static_cast<long long>(r.sampling.active_cells), points, to_string(mode),
-                 static_cast<long long>(r.projection.too_far), static_cast<long long>(r.projection.flat),
-                 static_cast<long long>(r.projection.missed), static_cast<long long>(r.sampling.nonfinite_cells), r.seconds,
-                 nthreads, ranks);
-}
-
 /// The picture of points whose metadata records their volume: its patient axes for the default
 /// camera (unless --up) and, without --range, its value range for --color value — what splat of
 /// the same points' PLY or stream draws.
@@ -65,7 +54,7 @@ int isosurface_sample_store(const Args& a, double iso, Projection mode, const Sa
     const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
         return run_isosplat_sample_store(source, iso, mode, sink, {nthreads}, PipelineShape::two_stage, {nullptr, draw});
     }, r);
-    if (a.has("stats")) print_stats(path, iso, mode, r, points, nthreads, 1);
+    if (a.has("stats")) print_isosplat_stats(stderr, path, iso, mode, r, points, nthreads, 1);
     return 0;
 }
 
@@ -137,13 +126,7 @@ int cmd_isosurface(int argc, char** argv) {
     if (const auto other = isosurface_of_blocks_or_points(a, argc, argv)) return *other;
     if (!a.parse(argc, argv, 2)) return 0;
     const double iso = parse_finite(a.require("iso"), "--iso");
-    const auto out = a.get("output");
-    const auto png = a.get("png");
-    if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
-    if (out) geometry_output_format(a, *out, kPointsWhat);
-    if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
-    if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
-        throw UsageError("-o and --png name the same output '" + *out + "'");
+    const auto png = point_outputs_png(a);
     const Projection mode = parse_projection(a.get_or("projection", "approx"));
     const SamplingParams sp = sampling_params(a);
     RenderSettings rs = render_settings(a);
@@ -174,7 +157,7 @@ int cmd_isosurface(int argc, char** argv) {
                                                              return IsoSplatResult{};
                                                          }, unused, /*parallel_draw=*/false);
                                                      });
-        if (m.root && a.has("stats")) print_stats(m.path, iso, mode, m.result, m.points, nthreads, m.ranks);
+        if (m.root && a.has("stats")) print_isosplat_stats(stderr, m.path, iso, mode, m.result, m.points, nthreads, m.ranks);
         return 0;
     }
     if (!a.positional().empty() && is_sample_store(a.positional()[0]))
@@ -198,7 +181,7 @@ int cmd_isosurface(int argc, char** argv) {
         return run_isosplat_input(in, iso, mode, sp, sink, nthreads, PipelineShape::fused, {&progress, draw});
     }, r);
     meter.done();
-    if (a.has("stats")) print_stats(in.path, iso, mode, r, points, nthreads, 1);
+    if (a.has("stats")) print_isosplat_stats(stderr, in.path, iso, mode, r, points, nthreads, 1);
     return 0;
 }
 

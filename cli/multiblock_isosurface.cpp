@@ -60,19 +60,16 @@ FieldProjectParams newton_params(const Args& a) {
     return p;
 }
 
-void print_newton_stats(const char* cmd, const std::string& field, const FieldProjectParams& p, const FieldNewtonStats& s,
-                        double busy_seconds) {
-    std::fprintf(stderr,
-                 "%s: Newton onto %s (tolerance %g x cell diagonal, <= %d iterations): %lld seeds -> %lld converged; "
-                 "dropped %lld (flat gradient %lld, too far %lld, not converged %lld, stalled %lld, non-finite %lld); "
-                 "%.2f evaluations/seed; %.0f points/s per core (%.3f s busy)\n",
-                 cmd, field.c_str(), p.seed_tolerance, p.newton.max_iterations, static_cast<long long>(s.input),
-                 static_cast<long long>(s.converged), static_cast<long long>(s.dropped()), static_cast<long long>(s.flat),
-                 static_cast<long long>(s.too_far), static_cast<long long>(s.not_converged), static_cast<long long>(s.stalled),
-                 static_cast<long long>(s.nonfinite), s.input ? double(s.evaluations) / double(s.input) : 0.0,
-                 busy_seconds > 0 ? double(s.converged) / busy_seconds : 0.0, busy_seconds);
+std::optional<std::string> point_outputs_png(const Args& a) {
+    const auto out = a.get("output");
+    const auto png = a.get("png");
+    if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
+    if (out) geometry_output_format(a, *out, "an oriented point set");
+    if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
+    if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
+        throw UsageError("-o and --png name the same output '" + *out + "'");
+    return png;
 }
-
 
 namespace {
 
@@ -93,20 +90,6 @@ void warn_if_inactive(const BlockInput& in, double iso) {
     if (in.plan.active_cells == 0 && iso >= in.plan.value_range[0] && iso <= in.plan.value_range[1])
         std::fprintf(stderr, "meshless: warning: %s: no cell with valid corners is crossed by isovalue %g; the outputs will be empty\n",
                      terminal_safe(in.source).c_str(), iso);
-}
-
-// ------------------------------------------------------------------ statistics
-
-void print_seed_stats(const char* cmd, const BlockInput& in, const BlockSeedStats& s, int n) {
-    std::fprintf(stderr,
-                 "%s: %zu blocks, %lld cells (skipped: %lld with an invalid corner, %lld collapsed/inverted, %lld covered by "
-                 "a finer level), %lld active cells, %lld triangles (%lld of zero area skipped), %lld seeds (n = %d, %zu per "
-                 "triangle)\n",
-                 cmd, in.mb.blocks.size(), static_cast<long long>(s.cells), static_cast<long long>(s.invalid_cells),
-                 static_cast<long long>(s.degenerate_cells), static_cast<long long>(s.covered_cells),
-                 static_cast<long long>(s.active_cells),
-                 static_cast<long long>(s.triangles), static_cast<long long>(s.zero_area_triangles),
-                 static_cast<long long>(s.seeds), n, lattice_size(n));
 }
 
 }  // namespace
@@ -187,13 +170,7 @@ int isosurface_blocks(int argc, char** argv) {
     if (launched_world_size() > 1)
         throw UsageError("multiblock inputs are not split over MPI ranks: run meshless isosurface BLOCKS... without mpirun");
     const double iso = parse_finite(a.require("iso"), "--iso");
-    const auto out = a.get("output");
-    const auto png = a.get("png");
-    if (!out && !png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
-    if (out) geometry_output_format(a, *out, "an oriented point set");
-    if (png) require_output_extension(*png, ".png", "--png", "a PNG image");
-    if (out && png && *out == *png && (*out == "-" || !is_streaming_output(*out)))
-        throw UsageError("-o and --png name the same output '" + *out + "'");
+    const auto png = point_outputs_png(a);
     const int n = lattice_n(a);
     const FieldProjectParams np = newton_params(a);
     RenderSettings rs = render_settings(a);
@@ -207,31 +184,21 @@ int isosurface_blocks(int argc, char** argv) {
     apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
     rs.legend_blocks = static_cast<std::uint32_t>(in.mb.blocks.size());
     warn_if_inactive(in, iso);
-    StreamMeta meta = block_isosurface_meta(in, iso, n, a.command_line());
-
-    // the field: only when some cell is crossed (an empty output needs none)
-    auto t0 = Clock::now();
-    BuiltField field;
-    // (the name the built field reports; without a field, as --field names it)
-    std::string field_name = a.get_or("field", "rbf-grid");
-    if (in.plan.active_cells > 0) {
-        field = build_field(a, to_point_set(in.mb));
-        field_name = field.field->name();
-    }
-    const double field_seconds = since(t0);
-    add_projection_meta(meta, field_name, np);
+    // the field: only when some cell is crossed; without one, its name as --field gives it
+    const IsosurfaceField f =
+        fit_block_field(in, iso, n, a.command_line(), np, a.get_or("field", "rbf-grid"), [&](const PointSet& p) { return build_field(a, p); });
 
     BlockIsosurfaceStats st;
     IsoSplatResult unused;
-    t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, "an oriented point set"), png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
+    const auto t0 = Clock::now();
+    const std::size_t points = run_to_outputs(geometry_output(a, "an oriented point set"), png, f.meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
         const auto g0 = Clock::now();
         // the blocks' cells as the source hands them out, counted ahead of seeding
-        if (!field.field) {
+        if (!f.field.field) {
             st = run_block_isosurface(in, nullptr, iso, n, np, draw, sink, {nthreads});
         } else {
             ProgressMeter meter = ProgressMeter::of(a, "cells", static_cast<double>(in.cells()));
-            st = run_block_isosurface(in, field.field.get(), iso, n, np, draw, sink, {nthreads}, [&](double k) { meter.add(k); });
+            st = run_block_isosurface(in, f.field.field.get(), iso, n, np, draw, sink, {nthreads}, [&](double k) { meter.add(k); });
         }
         IsoSplatResult r;
         r.seconds = since(g0);
@@ -239,16 +206,9 @@ int isosurface_blocks(int argc, char** argv) {
     }, unused, /*parallel_draw=*/true, /*with_blocks=*/true);
     const double graph_seconds = since(t0);
 
-    if (a.has("stats")) {
-        const char* cmd = "isosurface";
-        print_seed_stats(cmd, in, st.seeds, n);
-        if (st.projected) print_newton_stats(cmd, field_name, np, st.newton, st.newton_busy_seconds);
-        std::fprintf(stderr,
-                     "%s: %zu points; time: read %.3f s, plan %.3f s, field %.3f s, seeds + Newton + output %.3f s "
-                     "(busy: seeds %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
-                     cmd, points, in.read_seconds, in.plan_seconds, field_seconds, graph_seconds,
-                     st.seed_busy_seconds, st.newton_busy_seconds, nthreads, since(t_start));
-    }
+    if (a.has("stats"))
+        print_block_isosurface_stats(stderr, "isosurface", in, st, n, f.name, np, points, {f.seconds, graph_seconds, since(t_start)},
+                                     nthreads);
     return 0;
 }
 
@@ -280,10 +240,7 @@ int generate_blocks(int argc, char** argv) {
     StreamSink sink(out.f, out.name, RecordKind::seed, block_isosurface_meta(in, iso, n, a.command_line()), a.has("compress"));
     const BlockSeedStats seeds = generate_block_seeds(in, iso, n, sink, {nthreads});
     out.commit();
-    if (a.has("stats")) {
-        print_seed_stats("generate", in, seeds, n);
-        std::fprintf(stderr, "generate: read %.3f s, plan %.3f s, total %.3f s\n", in.read_seconds, in.plan_seconds, since(t0));
-    }
+    if (a.has("stats")) print_block_generate_stats(stderr, "generate", in, seeds, n, since(t0));
     return 0;
 }
 
@@ -310,27 +267,18 @@ int project_seeds(int argc, char** argv) {
     const auto t0 = Clock::now();
     InputFile in(a.get_or("input", "-"));
     StreamReader reader(in.f, in.name);
-    if (reader.kind() != RecordKind::seed)
-        throw FormatError(in.name + ": not a seed stream; --field projects the seeds of 'meshless generate BLOCKS...' "
-                          "(sample streams are projected without --field)");
+    require_seed_stream(reader, in.name);
     reader.read_meta();
-    StreamMeta meta = reader.meta();
-    const double iso = stream_iso(a, meta);
-    meta.set("iso", iso);
+    const double iso = stream_iso(a, reader.meta());
     BinaryStreamOutput out(a.get_or("output", "-"), "a point stream");
     const auto t1 = Clock::now();
     BuiltField field = field_file_arg(a) && a.positional().empty() ? load_field_arg(a)
                                                                    : build_field(a, read_points_arg(a));
     const double field_seconds = since(t1);
-    add_projection_meta(meta, field.field->name(), np);
-    widen_frame_for_travel(meta, np.seed_max_travel);
-    // multiblock seeds carry block ids; scattered ones (cli/scattered_isosurface.hpp) do not
-    const bool with_blocks = meta.get("method").value_or("") != "scattered";
-    StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"), with_blocks);
-    const SeedProjectionResult pr = project_seed_stream(reader, *field.field, iso, np, sink, nthreads);
+    const SeedProjectionResult pr = project_seed_stream(reader, *field.field, iso, np, out.f, out.name, a.has("compress"), nthreads);
     out.commit();
     if (a.has("stats")) {
-        print_newton_stats("project", field.field->name(), np, pr.stats, pr.busy_seconds);
+        print_newton_stats(stderr, "project", field.field->name(), np, pr.stats, pr.busy_seconds);
         std::fprintf(stderr, "project: field %.3f s, total %.3f s\n", field_seconds, since(t0));
     }
     return 0;

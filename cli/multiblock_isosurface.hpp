@@ -2,7 +2,7 @@
 //   meshless isosurface BLOCKS... --iso V -o out.ply [--png out.png] [--field KIND] [--samples N] ...
 //   meshless generate BLOCKS... --iso V [--samples N]            (a seed stream)
 //   meshless project --field KIND DATA... [< seeds]              (seed stream -> points with blocks)
-// Option parsing over the recipe of stream/block_isosurface.hpp (block cells -> marching-cubes seeds
+// Option parsing over the recipe of stream/block_isosurface.hpp (which also prints its --stats) (block cells -> marching-cubes seeds
 // on the barycentric lattice -> Newton onto one continuous meshless field built from every block's
 // valid nodes) -> PLY (with a `block` property) and/or PNG. The piped stages give the same bytes as the in-process command for any --threads
 // (same batches, same field from the same data).
@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <initializer_list>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "cli/args.hpp"
@@ -35,9 +36,9 @@ int lattice_n(const Args& a, int default_n = kDefaultLatticeN);
 /// --max-travel's default: kDefaultMaxTravel, stream/projection_meta.hpp).
 void add_newton_options(Args& a);
 FieldProjectParams newton_params(const Args& a);
-/// The --stats line of the Newton projection.
-void print_newton_stats(const char* cmd, const std::string& field, const FieldProjectParams& p, const FieldNewtonStats& s,
-                        double busy_seconds);
+/// -o FILE (an oriented point set: .ply, .vtp, '-') and --png FILE of an isosurface command,
+/// checked (one at least; not the same file); returns --png. Throws UsageError.
+std::optional<std::string> point_outputs_png(const Args& a);
 
 /// The positional arguments of argv[first..argc) under the option declarations of `parsers`
 /// (an option that takes a value in any of them consumes the next argument).

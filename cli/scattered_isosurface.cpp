@@ -22,13 +22,10 @@
 #include "cli/point_set_cli.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/volume_reader.hpp"
-#include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/scattered_binning_grid.hpp"
-#include "stream/dedup_sink.hpp"
 #include "stream/field_project_stage.hpp"
 #include "stream/runner.hpp"
-#include "stream/stencil_ranks.hpp"
 #include "stream/stencil_source.hpp"
 #include "stream/stream_endpoints.hpp"
 
@@ -72,15 +69,11 @@ BinningGridParams binning_params(const Args& a) {
 
 using ScatteredInput = ScatteredIsosurfaceInput;
 
-/// The field (only when `crossed`: an empty output needs none) built side by side with the
-/// regularisation's support test (build_alongside_coverage). share: as for build_field.
-BuiltField build_field_and_coverage(const Args& a, ScatteredInput& in, bool crossed, double& field_seconds,
-                                    const FitShare* share = nullptr) {
-    BuiltField field;
-    field_seconds = 0;
-    if (!crossed) return field;
-    field_seconds = build_alongside_coverage(in, threads(a), [&] { field = build_field(a, in.points, {}, share); });
-    return field;
+/// The input warnings (binning, the plan) as `meshless: warning: SUBJECT: WHAT` lines on stderr.
+InputWarning stderr_warning() {
+    return [](const std::string& subject, const std::string& what) {
+        std::fprintf(stderr, "meshless: warning: %s: %s\n", terminal_safe(subject).c_str(), what.c_str());
+    };
 }
 
 ScatteredInput read_scattered(const Args& a, bool warn = true) {
@@ -89,49 +82,10 @@ ScatteredInput read_scattered(const Args& a, bool warn = true) {
     const auto t0 = Clock::now();
     PointSet points = read_points_arg(a);
     const double read_seconds = since(t0);
-    InputWarning to_stderr;
-    if (warn)
-        to_stderr = [](const std::string& subject, const std::string& what) {
-            std::fprintf(stderr, "meshless: warning: %s: %s\n", terminal_safe(subject).c_str(), what.c_str());
-        };
-    ScatteredInput in = bin_scattered_points(std::move(points), joined_names(a.positional()), a.positional()[0], bp, reg_gap(a), to_stderr);
+    ScatteredInput in = bin_scattered_points(std::move(points), joined_names(a.positional()), a.positional()[0], bp, reg_gap(a),
+                                             warn ? stderr_warning() : InputWarning{});
     in.read_seconds = read_seconds;
     return in;
-}
-
-/// The binning line of --stats: the grid, the points, the empty cells.
-struct BinningSummary {
-    const BinningGrid& g;
-    std::uint64_t points, dropped;
-    std::int64_t empty, empty_interior;
-    std::uint32_t max_per_cell;
-};
-
-void print_scattered_stats(const char* cmd, const BinningSummary& b, const StencilSeedStats& s, int n) {
-    const auto& g = b.g;
-    std::fprintf(stderr,
-                 "%s: %llu points (%llu NaN/Inf dropped); binning level %d (rule %d%s), grid %lldx%lldx%lld = %lld cells, "
-                 "%lld empty (%lld inside the border layer), at most %u points in a cell\n",
-                 cmd, static_cast<unsigned long long>(b.points), static_cast<unsigned long long>(b.dropped), g.level, g.rule_level,
-                 g.coarsened ? ", coarsened" : "", static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
-                 static_cast<long long>(g.dims[2]), static_cast<long long>(g.cell_count()), static_cast<long long>(b.empty),
-                 static_cast<long long>(b.empty_interior), b.max_per_cell);
-    std::fprintf(stderr,
-                 "%s: %lld stencils (%lld crossed, largest %lld points), %lld regularisation points made on the fly "
-                 "(%lld beyond --reg-gap), "
-                 "%lld Delaunay failures, %lld tets (%lld owned, %lld with a NaN value), %lld triangles (%lld of zero area), "
-                 "%lld seeds (n = %d, %zu per triangle)\n",
-                 cmd, static_cast<long long>(s.stencils), static_cast<long long>(s.crossed_stencils),
-                 static_cast<long long>(s.max_stencil_points), static_cast<long long>(s.regularisation_points),
-                 static_cast<long long>(s.uncovered_regularisation),
-                 static_cast<long long>(s.delaunay_failures), static_cast<long long>(s.tets), static_cast<long long>(s.owned_tets),
-                 static_cast<long long>(s.nonfinite_tets), static_cast<long long>(s.triangles),
-                 static_cast<long long>(s.zero_area_triangles), static_cast<long long>(s.seeds), n, lattice_size(n));
-}
-
-void print_scattered_stats(const char* cmd, const ScatteredInput& in, const StencilSeedStats& s, int n) {
-    print_scattered_stats(cmd, BinningSummary{in.grid, in.points.size(), in.points.dropped_nonfinite, in.bins.empty_cells,
-                                              in.bins.empty_interior_cells, in.bins.max_per_cell}, s, n);
 }
 
 void add_scattered_options(Args& a) {
@@ -238,22 +192,13 @@ struct ScatteredJob {
     int nthreads = 1;
     std::optional<std::string> png;
     ScatteredInput in;
-    StreamMeta meta;
-    BuiltField field;
-    std::string field_name;
-    double field_seconds = 0;
+    IsosurfaceField f;  ///< the field, its name and time, the metadata
 };
 
 /// The options of the job, checked before any reading; the colour choice is returned.
 ColorChoice parse_scattered_options(const Args& a, ScatteredJob& j) {
     j.iso = parse_finite(a.require("iso"), "--iso");
-    const auto out = a.get("output");
-    j.png = a.get("png");
-    if (!out && !j.png) throw UsageError("nothing to write: give -o FILE and/or --png FILE");
-    if (out) geometry_output_format(a, *out, kPointsWhat);
-    if (j.png) require_output_extension(*j.png, ".png", "--png", "a PNG image");
-    if (out && j.png && *out == *j.png && (*out == "-" || !is_streaming_output(*out)))
-        throw UsageError("-o and --png name the same output '" + *out + "'");
+    j.png = point_outputs_png(a);
     j.n = lattice_n(a, kScatteredLatticeN);
     j.np = newton_params(a);
     (void)binning_params(a);
@@ -272,19 +217,13 @@ ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
     const ColorChoice cc = parse_scattered_options(a, j);
     j.in = read_scattered(a, root);
     apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
-    const bool crossed = j.in.crosses(j.iso);
-    if (!crossed && root) warn_if_iso_outside(j.iso, j.in.points.value_range(), j.in.source);
-    j.meta = scattered_isosurface_meta(j.in, j.iso, j.n, a.command_line());
-    widen_frame_for_travel(j.meta, j.np.seed_max_travel);
-
-    // the field: only when the isovalue is within the data (an empty output needs none)
+    if (!j.in.crosses(j.iso) && root) warn_if_iso_outside(j.iso, j.in.points.value_range(), j.in.source);
     // under mpirun the ranks share the mpu field's local fits (every rank ends with the whole field)
     std::optional<FitShare> share;
     if (mpi)
         share = FitShare{mpi->rank(), mpi->size(), [mpi](std::span<const std::byte> mine) { return mpi->allgather(mine); }};
-    j.field = build_field_and_coverage(a, j.in, crossed, j.field_seconds, share ? &*share : nullptr);
-    j.field_name = j.field.field ? j.field.field->name() : field_kind_arg(a);
-    add_projection_meta(j.meta, j.field_name, j.np);
+    j.f = fit_scattered_field(j.in, j.iso, j.n, a.command_line(), &j.np, j.nthreads, field_kind_arg(a),
+                              [&] { return build_field(a, j.in.points, {}, share ? &*share : nullptr); });
     return j;
 }
 
@@ -292,19 +231,15 @@ ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
 /// (stream/stencil_ranks.hpp); the statistics are summed to rank 0.
 int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSession& mpi, ScatteredJob& j) {
     const bool root = mpi.rank() == 0;
-    const Field* field = j.field.field.get();
-    std::optional<MpiChannel> channel;
+    const Field* field = j.f.field.field.get();
+    std::optional<MpiChannel> channel;  // (none without a field: an empty output)
     if (field) channel.emplace(mpi);
-    std::optional<StencilInput> sin;
-    if (field) sin.emplace(j.in.stencils(*field));
+    RankChannel* ch = channel ? &*channel : nullptr;
     StencilRankResult rr;
-    std::optional<DedupSink> dd;
     std::size_t points = 0;
     if (root) {
         IsoSplatResult unused;
-        points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.meta, j.rs, j.nthreads, [&](const Stage*, Sink& out_sink) {
-            if (j.dedup > 0) dd.emplace(out_sink, j.dedup, 0.1 * j.in.grid.diagonal());
-            Sink& sink = dd ? static_cast<Sink&>(*dd) : out_sink;
+        points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
             // the deal's thread failing leaves the other ranks waiting for rows: end the job
             const auto deal_failed = [&mpi](std::exception_ptr e) {
                 try {
@@ -316,36 +251,17 @@ int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSessio
                     mpi.abort(kExitInternal);
                 }
             };
-            if (field) rr = run_stencils_rank(*sin, j.iso, j.n, j.np, 0, mpi.size(), *channel, &sink, {j.nthreads}, deal_failed);
-            else sink.finish();
+            rr = run_scattered_isosurface_rank(j.in, field, j.iso, j.n, j.np, j.dedup, 0, mpi.size(), ch, &sink, {j.nthreads},
+                                               deal_failed);
             return IsoSplatResult{};
         }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
-    } else if (field) {
-        rr = run_stencils_rank(*sin, j.iso, j.n, j.np, mpi.rank(), mpi.size(), *channel, nullptr, {j.nthreads});
+    } else {
+        rr = run_scattered_isosurface_rank(j.in, field, j.iso, j.n, j.np, j.dedup, mpi.rank(), mpi.size(), ch, nullptr, {j.nthreads});
     }
-    auto v = rr.seeds.as_array();
-    const FieldNewtonStats& ns = rr.newton;
-    std::vector<std::int64_t> all(v.begin(), v.end());
-    for (std::int64_t x : {ns.input, ns.converged, ns.flat, ns.too_far, ns.not_converged, ns.stalled, ns.nonfinite, ns.evaluations})
-        all.push_back(x);
-    const std::vector<std::int64_t> sums = mpi.sum_to_root(all);
+    const StencilRankResult tot = sum_stencil_rank_stats(rr, [&mpi](const std::vector<std::int64_t>& v) { return mpi.sum_to_root(v); });
     if (!root || !a.has("stats")) return 0;
-    std::array<std::int64_t, StencilSeedStats::kCounters> sv{};
-    std::copy(sums.begin(), sums.begin() + StencilSeedStats::kCounters, sv.begin());
-    sv[StencilSeedStats::kMaxIndex] = v[StencilSeedStats::kMaxIndex];  // (rank 0's)
-    print_scattered_stats("isosurface", j.in, StencilSeedStats::from_array(sv), j.n);
-    FieldNewtonStats tot;
-    const std::size_t k = StencilSeedStats::kCounters;
-    tot.input = sums[k]; tot.converged = sums[k + 1]; tot.flat = sums[k + 2]; tot.too_far = sums[k + 3];
-    tot.not_converged = sums[k + 4]; tot.stalled = sums[k + 5]; tot.nonfinite = sums[k + 6]; tot.evaluations = sums[k + 7];
-    print_newton_stats("isosurface", j.field_name, j.np, tot, 0.0);
-    std::string dealt;
-    for (std::size_t r = 0; r < rr.rows_per_rank.size(); ++r)
-        dealt += (r ? " / " : "") + std::to_string(rr.rows_per_rank[r]);
-    std::fprintf(stderr, "isosurface: %zu points over %d ranks x %d thread(s); stencil rows dealt on request: %s; time: read %.3f s, "
-                 "octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s (rank 0)\n",
-                 points, mpi.size(), j.nthreads, dealt.empty() ? "none" : dealt.c_str(), j.in.read_seconds, j.in.octree_seconds,
-                 j.in.coverage_seconds, j.field_seconds, since(t_start));
+    print_scattered_ranks_stats(stderr, "isosurface", j.in, tot, j.n, j.f.name, j.np, points, mpi.size(),
+                                {j.f.seconds, 0, since(t_start)}, j.nthreads);
     return 0;
 }
 
@@ -365,21 +281,18 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
     sp.reg_gap = reg_gap(a);
     const std::string& path = a.positional()[0];
     const auto store = PointStore::open(path);
-    const InputWarning to_stderr = [](const std::string& subject, const std::string& what) {
-        std::fprintf(stderr, "meshless: warning: %s: %s\n", terminal_safe(subject).c_str(), what.c_str());
-    };
-    const ScatteredStorePlan plan = plan_scattered_store(*store, joined_names(a.positional()), binning_params(a), to_stderr);
+    const ScatteredStorePlan plan = plan_scattered_store(*store, joined_names(a.positional()), binning_params(a), stderr_warning());
     apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
     if (!plan.crosses(j.iso)) warn_if_iso_outside(j.iso, plan.value_range, plan.source);
-    j.meta = scattered_store_meta(plan, j.iso, j.n, a.command_line());
-    widen_frame_for_travel(j.meta, j.np.seed_max_travel);
-    add_projection_meta(j.meta, "mpu", j.np);
-    if (j.dedup > 0) j.meta.set("dedup", j.dedup);
+    j.f.meta = scattered_store_meta(plan, j.iso, j.n, a.command_line());
+    widen_frame_for_travel(j.f.meta, j.np.seed_max_travel);
+    add_projection_meta(j.f.meta, "mpu", j.np);
+    if (j.dedup > 0) j.f.meta.set("dedup", j.dedup);
     ScatteredIsosurfaceStats st;
     ScatteredStoreReport rep;
     IsoSplatResult unused;
     const auto t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
+    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
         ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(StencilGrid(plan.grid.dims).total()));
         st = run_scattered_store_isosurface(*store, plan, fp, sp, j.iso, j.n, j.np, j.dedup, sink, {j.nthreads},
                                             [&](double k) { meter.add(k); }, &rep);
@@ -390,27 +303,9 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
                              "more memory makes fewer, faster slabs\n",
                      terminal_safe(*a.get("memory")).c_str(), rep.slabs,
                      static_cast<double>(rep.loaded) / static_cast<double>(plan.frame.points));
-    if (a.has("stats")) {
-        const char* cmd = "isosurface";
-        print_scattered_stats(cmd, BinningSummary{plan.grid, plan.frame.points, plan.dropped_nonfinite, plan.empty_cells,
-                                                  plan.empty_interior_cells, plan.max_per_cell}, st.seeds, j.n);
-        print_newton_stats(cmd, "mpu", j.np, st.newton, st.newton_busy_seconds);
-        if (j.dedup > 0)
-            std::fprintf(stderr, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, j.dedup, static_cast<long long>(st.dedup_removed));
-        std::fprintf(stderr,
-                     "%s: point store in %d slabs (%d built again over more points; halo up to %.1f cells), at most %llu of %llu points "
-                     "loaded at once (%llu loaded in all), %llu locals (%llu fits copied from the slab before, %llu regularised), largest slab field %.1f MiB\n",
-                     cmd, rep.slabs, rep.retries, rep.halo_cells, static_cast<unsigned long long>(rep.most_loaded),
-                     static_cast<unsigned long long>(plan.frame.points), static_cast<unsigned long long>(rep.loaded),
-                     static_cast<unsigned long long>(rep.field.locals), static_cast<unsigned long long>(rep.reused_fits),
-                     static_cast<unsigned long long>(rep.field.regularised),
-                     static_cast<double>(rep.field.memory_bytes) / 1048576.0);
-        std::fprintf(stderr,
-                     "%s: %zu points; time: plan (%d scans of the store) %.3f s, read %.3f s, coverage %.3f s and field %.3f s side by side, "
-                     "isosurface %.3f s (busy: stencils %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
-                     cmd, points, plan.scans, plan.seconds, rep.read_seconds, rep.coverage_seconds, rep.field_seconds, since(t0),
-                     st.seed_busy_seconds, st.newton_busy_seconds, j.nthreads, since(t_start));
-    }
+    if (a.has("stats"))
+        print_store_isosurface_stats(stderr, "isosurface", plan, rep, st, j.n, j.np, j.dedup, points, {0, since(t0), since(t_start)},
+                                     j.nthreads);
     return 0;
 }
 
@@ -422,19 +317,19 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
     ScatteredJob j = prepare_scattered(a, mpi);
     if (mpi) return isosurface_scattered_mpi(a, t_start, *mpi, j);
     const ScatteredInput& in = j.in;
-    if (j.dedup > 0) j.meta.set("dedup", j.dedup);
+    if (j.dedup > 0) j.f.meta.set("dedup", j.dedup);
     ScatteredIsosurfaceStats st;
     IsoSplatResult unused;
     const auto t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.meta, j.rs, j.nthreads, [&](const Stage* draw, Sink& sink) {
+    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage* draw, Sink& sink) {
         const auto g0 = Clock::now();
         // --dedup: the removal runs in sequence order on the sink side (the picture is then drawn there too)
-        if (!j.field.field) {
+        if (!j.f.field.field) {
             st = run_scattered_isosurface(in, nullptr, j.iso, j.n, j.np, j.dedup, draw, sink, {j.nthreads});
         } else {
             // the stencils as the source hands them out, counted ahead of seeding
             ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(StencilGrid(in.grid.dims).total()));
-            st = run_scattered_isosurface(in, j.field.field.get(), j.iso, j.n, j.np, j.dedup, draw, sink, {j.nthreads},
+            st = run_scattered_isosurface(in, j.f.field.field.get(), j.iso, j.n, j.np, j.dedup, draw, sink, {j.nthreads},
                                           [&](double k) { meter.add(k); });
         }
         IsoSplatResult r;
@@ -442,27 +337,10 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
         return r;
     }, unused, /*parallel_draw=*/j.dedup == 0, /*with_blocks=*/false);
     const double graph_seconds = since(t0);
-    const FieldNewtonStats& ns = st.newton;
-    if (st.projected && ns.input > 0 && 2 * ns.converged < ns.input)
-        std::fprintf(stderr,
-                     "meshless: warning: %s: %lld of %lld seeds did not converge onto the %s field's isosurface (too far %lld, "
-                     "non-finite %lld): the field does not resolve this point distribution there\n",
-                     terminal_safe(in.source).c_str(), static_cast<long long>(ns.dropped()), static_cast<long long>(ns.input),
-                     j.field_name.c_str(), static_cast<long long>(ns.too_far), static_cast<long long>(ns.nonfinite));
-    if (a.has("stats")) {
-        const char* cmd = "isosurface";
-        const StencilSeedStats& s = st.seeds;
-        print_scattered_stats(cmd, in, s, j.n);
-        if (st.projected) print_newton_stats(cmd, j.field_name, j.np, ns, st.newton_busy_seconds);
-        if (j.dedup > 0)
-            std::fprintf(stderr, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, j.dedup, static_cast<long long>(st.dedup_removed));
-        std::fprintf(stderr,
-                     "%s: %zu points; time: read %.3f s, octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, regularisation %.3f s busy, "
-                     "isosurface (stencils + Delaunay + seeds + Newton + output) %.3f s (busy: stencils %.3f s of which "
-                     "Delaunay %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
-                     cmd, points, in.read_seconds, in.octree_seconds, in.coverage_seconds, j.field_seconds, 1e-9 * double(s.regularisation_ns),
-                     graph_seconds, st.seed_busy_seconds, 1e-9 * double(s.delaunay_ns), st.newton_busy_seconds, j.nthreads, since(t_start));
-    }
+    warn_if_unconverged(stderr, in.source, st, j.f.name);
+    if (a.has("stats"))
+        print_scattered_isosurface_stats(stderr, "isosurface", in, st, j.n, j.f.name, j.np, j.dedup, points,
+                                         {j.f.seconds, graph_seconds, since(t_start)}, j.nthreads);
     return 0;
 }
 
@@ -493,18 +371,13 @@ int generate_scattered(int argc, char** argv) {
     const auto t0 = Clock::now();
     BinaryStreamOutput out(a.get_or("output", "-"), "a seed stream");
     ScatteredInput in = read_scattered(a);
-    const bool crossed = in.crosses(iso);
-    if (!crossed) warn_if_iso_outside(iso, in.points.value_range(), in.source);
-    double field_seconds = 0;
-    BuiltField field = build_field_and_coverage(a, in, crossed, field_seconds);
-    StreamSink sink(out.f, out.name, RecordKind::seed, scattered_isosurface_meta(in, iso, n, a.command_line()), a.has("compress"));
-    const StencilSeedStats seeds = generate_scattered_seeds(in, field.field.get(), iso, n, sink, {nthreads});
+    if (!in.crosses(iso)) warn_if_iso_outside(iso, in.points.value_range(), in.source);
+    const IsosurfaceField f = fit_scattered_field(in, iso, n, a.command_line(), nullptr, nthreads, field_kind_arg(a),
+                                                 [&] { return build_field(a, in.points); });
+    StreamSink sink(out.f, out.name, RecordKind::seed, f.meta, a.has("compress"));
+    const StencilSeedStats seeds = generate_scattered_seeds(in, f.field.field.get(), iso, n, sink, {nthreads});
     out.commit();
-    if (a.has("stats")) {
-        print_scattered_stats("generate", in, seeds, n);
-        std::fprintf(stderr, "generate: read %.3f s, octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s\n",
-                     in.read_seconds, in.octree_seconds, in.coverage_seconds, field_seconds, since(t0));
-    }
+    if (a.has("stats")) print_scattered_generate_stats(stderr, "generate", in, seeds, n, {f.seconds, 0, since(t0)});
     return 0;
 }
 

@@ -9,8 +9,10 @@
 
 #include "formats/multiblock_reader.hpp"
 #include "kernels/amr_cover.hpp"
+#include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
 #include "stream/block_cell_source.hpp"
+#include "stream/projection_meta.hpp"
 #include "stream/record_vector_source.hpp"
 #include "stream/stream_metadata.hpp"
 
@@ -92,4 +94,49 @@ BlockSeedStats generate_block_seeds(const BlockIsosurfaceInput& in, double iso, 
     return seed.stats();
 }
 
+void print_block_seed_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockSeedStats& s, int n) {
+    std::fprintf(out,
+                 "%s: %zu blocks, %lld cells (skipped: %lld with an invalid corner, %lld collapsed/inverted, %lld covered by "
+                 "a finer level), %lld active cells, %lld triangles (%lld of zero area skipped), %lld seeds (n = %d, %zu per "
+                 "triangle)\n",
+                 cmd, in.mb.blocks.size(), static_cast<long long>(s.cells), static_cast<long long>(s.invalid_cells),
+                 static_cast<long long>(s.degenerate_cells), static_cast<long long>(s.covered_cells),
+                 static_cast<long long>(s.active_cells),
+                 static_cast<long long>(s.triangles), static_cast<long long>(s.zero_area_triangles),
+                 static_cast<long long>(s.seeds), n, lattice_size(n));
+}
+
+void print_block_isosurface_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockIsosurfaceStats& st,
+                                  int n, const std::string& field_name, const FieldProjectParams& np, std::size_t points,
+                                  const IsosurfaceRunTimes& t, int threads) {
+    print_block_seed_stats(out, cmd, in, st.seeds, n);
+    if (st.projected) print_newton_stats(out, cmd, field_name, np, st.newton, st.newton_busy_seconds);
+    std::fprintf(out,
+                 "%s: %zu points; time: read %.3f s, plan %.3f s, field %.3f s, seeds + Newton + output %.3f s "
+                 "(busy: seeds %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
+                 cmd, points, in.read_seconds, in.plan_seconds, t.field, t.graph, st.seed_busy_seconds, st.newton_busy_seconds,
+                 threads, t.total);
+}
+
+void print_block_generate_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockSeedStats& seeds, int n,
+                                double total_seconds) {
+    print_block_seed_stats(out, cmd, in, seeds, n);
+    std::fprintf(out, "%s: read %.3f s, plan %.3f s, total %.3f s\n", cmd, in.read_seconds, in.plan_seconds, total_seconds);
+}
+
+IsosurfaceField fit_block_field(const BlockIsosurfaceInput& in, double iso, int n, const std::string& producer,
+                                const FieldProjectParams& np, const std::string& kind,
+                                const std::function<BuiltField(const PointSet&)>& build) {
+    IsosurfaceField f;
+    f.meta = block_isosurface_meta(in, iso, n, producer);
+    const auto t0 = Clock::now();
+    f.name = kind;
+    if (in.plan.active_cells > 0) {
+        f.field = build(to_point_set(in.mb));
+        f.name = f.field.field->name();
+    }
+    f.seconds = since(t0);
+    add_projection_meta(f.meta, f.name, np);
+    return f;
+}
 }  // namespace meshless

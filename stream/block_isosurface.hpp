@@ -5,9 +5,11 @@
 //   every block's valid nodes (stream/field_project_stage.hpp) [-> the splat stage] -> the sink.
 // The field is the caller's (kernels/make_field.hpp, or a fitted .mlf): the recipe only runs the
 // graph. Memory: the blocks as read + the seed plan (one int64 a block) + the batches in flight.
-// The bytes do not depend on the thread count. Throws FormatError for unusable data (named in the
-// message), what the readers and stages throw otherwise.
+// The bytes do not depend on the thread count; the --stats lines of a run are written to a FILE*
+// here. Throws FormatError for unusable data (named in the message), what the readers and stages
+// throw otherwise.
 #pragma once
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -67,6 +69,13 @@ BlockIsosurfaceInput plan_block_isosurface(Multiblock mb, const std::string& sou
 /// box when none does). n: the lattice parameter; producer: the command line.
 StreamMeta block_isosurface_meta(const BlockIsosurfaceInput& in, double iso, int n, const std::string& producer);
 
+/// The field of a job over `in`: build(the blocks' valid nodes) (the caller's: kernels/make_field.hpp,
+/// a fitted .mlf), run only when some cell is crossed; and its metadata, block_isosurface_meta(in,
+/// iso, n, producer) with the projection's keys (np). kind: the name without a field.
+IsosurfaceField fit_block_field(const BlockIsosurfaceInput& in, double iso, int n, const std::string& producer,
+                                const FieldProjectParams& np, const std::string& kind,
+                                const std::function<BuiltField(const PointSet&)>& build);
+
 /// What one run did.
 struct BlockIsosurfaceStats : SeedProjection {  ///< newton, seed/newton busy seconds
     BlockSeedStats seeds;          ///< without a field: only `cells` (planned, not seeded)
@@ -83,4 +92,16 @@ BlockIsosurfaceStats run_block_isosurface(const BlockIsosurfaceInput& in, const 
 /// The seed stream alone (`meshless generate BLOCKS...`): cells -> seeds -> sink.
 BlockSeedStats generate_block_seeds(const BlockIsosurfaceInput& in, double iso, int n, Sink& sink, const RunOptions& opt);
 
+/// The statistics line of the seeds (blocks, cells skipped and why, triangles, seeds of the lattice
+/// of parameter n) written to `out`, prefixed `cmd: `.
+void print_block_seed_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockSeedStats& s, int n);
+/// The statistics of one run to `out`: the seeds, the Newton projection (when one ran, onto
+/// `field_name`), the points written and the times (threads: the run's workers).
+void print_block_isosurface_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockIsosurfaceStats& st,
+                                  int n, const std::string& field_name, const FieldProjectParams& np, std::size_t points,
+                                  const IsosurfaceRunTimes& t, int threads);
+/// The statistics of the seed stream alone (generate_block_seeds): the seeds and the times
+/// (total_seconds: the whole command's).
+void print_block_generate_stats(std::FILE* out, const char* cmd, const BlockIsosurfaceInput& in, const BlockSeedStats& seeds, int n,
+                                double total_seconds);
 }  // namespace meshless

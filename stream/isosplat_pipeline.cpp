@@ -1,8 +1,10 @@
 #include "stream/isosplat_pipeline.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <vector>
 
+#include "formats/terminal_safe.hpp"
 #include "stream/brick_source.hpp"
 #include "stream/cell_row_source.hpp"
 #include "stream/generate_project_stage.hpp"
@@ -94,6 +96,17 @@ IsoSplatResult run_isosplat_sample_store(SampleStoreSource& source, double iso, 
     r.sampling.active_cells = static_cast<std::int64_t>(source.emitted());
     if (shape != PipelineShape::samples_only) r.projection = project.stats();
     return r;
+}
+
+void print_isosplat_stats(std::FILE* out, const std::string& path, double iso, Projection mode, const IsoSplatResult& r,
+                          std::size_t points, int nthreads, int ranks) {
+    std::fprintf(out,
+                 "isosurface: %s iso %g: %lld active cells, %zu points (%s projection; discarded: %lld too far, %lld flat, "
+                 "%lld missed; %lld cells with NaN/Inf skipped), %.3f s on %d thread(s) x %d rank(s)\n",
+                 terminal_safe(path).c_str(), iso, static_cast<long long>(r.sampling.active_cells), points, to_string(mode),
+                 static_cast<long long>(r.projection.too_far), static_cast<long long>(r.projection.flat),
+                 static_cast<long long>(r.projection.missed), static_cast<long long>(r.sampling.nonfinite_cells), r.seconds,
+                 nthreads, ranks);
 }
 
 }  // namespace meshless

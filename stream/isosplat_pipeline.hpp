@@ -5,6 +5,9 @@
 // (meshless generate | meshless project | ...), give the same batches in the same order, hence the
 // same output bytes. Throws what the sink throws (IoError, BrokenPipe).
 #pragma once
+#include <cstdio>
+#include <string>
+
 #include "kernels/cell_sampling.hpp"
 #include "kernels/project_sample.hpp"
 #include "ooc/brick_cache.hpp"
@@ -20,6 +23,11 @@ struct IsoSplatResult {
     ProjectionStats projection;
     double seconds = 0;  ///< wall time of generate + project + sink
 };
+
+/// The statistics line of one isosurface run (`path` at `iso`: active cells, points, the
+/// projection's discards, the NaN/Inf cells skipped, wall time on nthreads x ranks) written to `out`.
+void print_isosplat_stats(std::FILE* out, const std::string& path, double iso, Projection mode, const IsoSplatResult& r,
+                          std::size_t points, int nthreads, int ranks);
 
 /// How the stages are arranged: `fused` generates and projects in one stage (no SampleRecords are
 /// stored); `two_stage` runs the generate and project stages one after the other, exactly as the

@@ -1,6 +1,8 @@
 #include "stream/sample_stream_projection.hpp"
 
+#include "kernels/errors.hpp"
 #include "stream/project_stage.hpp"
+#include "stream/projection_meta.hpp"
 #include "stream/runner.hpp"
 
 namespace meshless {
@@ -13,8 +15,21 @@ ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projecti
     return project.stats();
 }
 
+void require_seed_stream(const StreamReader& reader, const std::string& name) {
+    if (reader.kind() != RecordKind::seed)
+        throw FormatError(name + ": not a seed stream; --field projects the seeds of 'meshless generate BLOCKS...' "
+                          "(sample streams are projected without --field)");
+}
+
 SeedProjectionResult project_seed_stream(StreamReader& reader, const Field& field, double iso, const FieldProjectParams& np,
-                                         StreamSink& sink, int threads) {
+                                         std::FILE* out, const std::string& name, bool compress, int threads) {
+    StreamMeta meta = reader.meta();
+    meta.set("iso", iso);
+    add_projection_meta(meta, field.name(), np);
+    widen_frame_for_travel(meta, np.seed_max_travel);
+    // multiblock seeds carry block ids; scattered ones (stream/scattered_isosurface.hpp) do not
+    const bool with_blocks = meta.get("method").value_or("") != "scattered";
+    StreamSink sink(out, name, RecordKind::point, meta, compress, with_blocks);
     StreamSource source(reader);
     FieldProjectStage project(field, iso, np);
     const Stage* stages[] = {&project};

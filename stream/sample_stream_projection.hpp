@@ -5,6 +5,9 @@
 // Throws what the stream reader, the projection and the sinks throw (FormatError naming the
 // stream, IoError, BrokenPipe); the bytes do not depend on the thread count.
 #pragma once
+#include <cstdio>
+#include <string>
+
 #include "formats/point_stream.hpp"
 #include "kernels/field.hpp"
 #include "kernels/project_sample.hpp"
@@ -24,10 +27,16 @@ struct SeedProjectionResult {
     double busy_seconds = 0;
 };
 
-/// Projects every seed `reader` delivers onto field = iso (sections 4.4, 5.6: Newton steps along
-/// the gradient, FieldProjectStage) on `threads` threads, into `sink` (a point stream).
+/// Throws FormatError (naming `name`) unless `reader` holds a seed stream (`meshless generate`'s).
+void require_seed_stream(const StreamReader& reader, const std::string& name);
+
+/// Projects every seed `reader` delivers (its metadata read) onto field = iso (sections 4.4, 5.6:
+/// Newton steps along the gradient, FieldProjectStage) on `threads` threads, into a point stream
+/// on `out` (named `name`; compress: zstd DATA frames). Its metadata: the seeds' with iso, the
+/// projection's keys and the frame widened for np's travel; its points carry the block they were
+/// seeded in unless the seeds are scattered (method=scattered).
 SeedProjectionResult project_seed_stream(StreamReader& reader, const Field& field, double iso, const FieldProjectParams& np,
-                                         StreamSink& sink, int threads);
+                                         std::FILE* out, const std::string& name, bool compress, int threads);
 
 /// Writes every point `reader` delivers to `sink` (PLY or VTP), in stream order.
 void write_point_stream(StreamReader& reader, PointFileSink& sink);

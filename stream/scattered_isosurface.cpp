@@ -11,6 +11,8 @@
 #include <optional>
 #include <span>
 
+#include "formats/terminal_safe.hpp"
+#include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/marching_stencils.hpp"
 #include "stream/dedup_sink.hpp"
@@ -151,6 +153,18 @@ double build_alongside_coverage(ScatteredIsosurfaceInput& in, int threads, const
     return seconds;
 }
 
+IsosurfaceField fit_scattered_field(ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer,
+                                   const FieldProjectParams* np, int threads, const std::string& kind,
+                                   const std::function<BuiltField()>& build) {
+    IsosurfaceField f;
+    f.meta = scattered_isosurface_meta(in, iso, n, producer);
+    if (np) widen_frame_for_travel(f.meta, np->seed_max_travel);
+    if (in.crosses(iso)) f.seconds = build_alongside_coverage(in, threads, [&] { f.field = build(); });
+    f.name = f.field.field ? f.field.field->name() : kind;
+    if (np) add_projection_meta(f.meta, f.name, *np);
+    return f;
+}
+
 StreamMeta scattered_isosurface_meta(const ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer) {
     return scattered_isosurface_meta(in.grid, in.points.size(), in.points.value_range(), in.source, iso, n, producer);
 }
@@ -215,4 +229,124 @@ StencilSeedStats generate_scattered_seeds(const ScatteredIsosurfaceInput& in, co
     return seed.stats();
 }
 
+StencilRankResult run_scattered_isosurface_rank(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n,
+                                                const FieldProjectParams& np, double dedup, int rank, int ranks,
+                                                RankChannel* channel, Sink* out, const RunOptions& opt,
+                                                std::function<void(std::exception_ptr)> on_deal_error) {
+    if (rank != 0) {
+        if (!field) return {};
+        const StencilInput sin = in.stencils(*field);
+        return run_stencils_rank(sin, iso, n, np, rank, ranks, *channel, nullptr, opt);
+    }
+    std::optional<DedupSink> dd;
+    if (dedup > 0) dd.emplace(*out, dedup, 0.1 * in.grid.diagonal());
+    Sink& sink = dd ? static_cast<Sink&>(*dd) : *out;
+    if (!field) {
+        sink.finish();
+        return {};
+    }
+    const StencilInput sin = in.stencils(*field);
+    return run_stencils_rank(sin, iso, n, np, 0, ranks, *channel, &sink, opt, std::move(on_deal_error));
+}
+
+StencilRankResult sum_stencil_rank_stats(const StencilRankResult& mine,
+                                         const std::function<std::vector<std::int64_t>(const std::vector<std::int64_t>&)>& sum_to_root) {
+    const auto v = mine.seeds.as_array();
+    const FieldNewtonStats& ns = mine.newton;
+    std::vector<std::int64_t> all(v.begin(), v.end());
+    for (std::int64_t x : {ns.input, ns.converged, ns.flat, ns.too_far, ns.not_converged, ns.stalled, ns.nonfinite, ns.evaluations})
+        all.push_back(x);
+    const std::vector<std::int64_t> sums = sum_to_root(all);
+    StencilRankResult tot;
+    tot.rows_per_rank = mine.rows_per_rank;
+    if (sums.size() != all.size()) return tot;
+    std::array<std::int64_t, StencilSeedStats::kCounters> sv{};
+    std::copy(sums.begin(), sums.begin() + StencilSeedStats::kCounters, sv.begin());
+    sv[StencilSeedStats::kMaxIndex] = v[StencilSeedStats::kMaxIndex];  // (rank 0's)
+    tot.seeds = StencilSeedStats::from_array(sv);
+    const std::size_t k = StencilSeedStats::kCounters;
+    FieldNewtonStats& t = tot.newton;
+    t.input = sums[k]; t.converged = sums[k + 1]; t.flat = sums[k + 2]; t.too_far = sums[k + 3];
+    t.not_converged = sums[k + 4]; t.stalled = sums[k + 5]; t.nonfinite = sums[k + 6]; t.evaluations = sums[k + 7];
+    return tot;
+}
+
+BinningSummary binning_summary(const ScatteredIsosurfaceInput& in) {
+    return BinningSummary{in.grid, in.points.size(), in.points.dropped_nonfinite, in.bins.empty_cells, in.bins.empty_interior_cells,
+                          in.bins.max_per_cell};
+}
+
+void print_scattered_stats(std::FILE* out, const char* cmd, const BinningSummary& b, const StencilSeedStats& s, int n) {
+    const auto& g = b.grid;
+    std::fprintf(out,
+                 "%s: %llu points (%llu NaN/Inf dropped); binning level %d (rule %d%s), grid %lldx%lldx%lld = %lld cells, "
+                 "%lld empty (%lld inside the border layer), at most %u points in a cell\n",
+                 cmd, static_cast<unsigned long long>(b.points), static_cast<unsigned long long>(b.dropped), g.level, g.rule_level,
+                 g.coarsened ? ", coarsened" : "", static_cast<long long>(g.dims[0]), static_cast<long long>(g.dims[1]),
+                 static_cast<long long>(g.dims[2]), static_cast<long long>(g.cell_count()), static_cast<long long>(b.empty),
+                 static_cast<long long>(b.empty_interior), b.max_per_cell);
+    std::fprintf(out,
+                 "%s: %lld stencils (%lld crossed, largest %lld points), %lld regularisation points made on the fly "
+                 "(%lld beyond --reg-gap), "
+                 "%lld Delaunay failures, %lld tets (%lld owned, %lld with a NaN value), %lld triangles (%lld of zero area), "
+                 "%lld seeds (n = %d, %zu per triangle)\n",
+                 cmd, static_cast<long long>(s.stencils), static_cast<long long>(s.crossed_stencils),
+                 static_cast<long long>(s.max_stencil_points), static_cast<long long>(s.regularisation_points),
+                 static_cast<long long>(s.uncovered_regularisation),
+                 static_cast<long long>(s.delaunay_failures), static_cast<long long>(s.tets), static_cast<long long>(s.owned_tets),
+                 static_cast<long long>(s.nonfinite_tets), static_cast<long long>(s.triangles),
+                 static_cast<long long>(s.zero_area_triangles), static_cast<long long>(s.seeds), n, lattice_size(n));
+}
+
+void print_dedup_stats(std::FILE* out, const char* cmd, double dedup, std::int64_t removed) {
+    std::fprintf(out, "%s: --dedup %g removed %lld near-duplicate points\n", cmd, dedup, static_cast<long long>(removed));
+}
+
+void warn_if_unconverged(std::FILE* out, const std::string& source, const ScatteredIsosurfaceStats& st,
+                         const std::string& field_name) {
+    const FieldNewtonStats& ns = st.newton;
+    if (st.projected && ns.input > 0 && 2 * ns.converged < ns.input)
+        std::fprintf(out,
+                     "meshless: warning: %s: %lld of %lld seeds did not converge onto the %s field's isosurface (too far %lld, "
+                     "non-finite %lld): the field does not resolve this point distribution there\n",
+                     terminal_safe(source).c_str(), static_cast<long long>(ns.dropped()), static_cast<long long>(ns.input),
+                     field_name.c_str(), static_cast<long long>(ns.too_far), static_cast<long long>(ns.nonfinite));
+}
+
+void print_scattered_isosurface_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in,
+                                      const ScatteredIsosurfaceStats& st, int n, const std::string& field_name,
+                                      const FieldProjectParams& np, double dedup, std::size_t points,
+                                      const IsosurfaceRunTimes& t, int threads) {
+    const StencilSeedStats& s = st.seeds;
+    print_scattered_stats(out, cmd, binning_summary(in), s, n);
+    if (st.projected) print_newton_stats(out, cmd, field_name, np, st.newton, st.newton_busy_seconds);
+    if (dedup > 0) print_dedup_stats(out, cmd, dedup, st.dedup_removed);
+    std::fprintf(out,
+                 "%s: %zu points; time: read %.3f s, octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, regularisation %.3f s busy, "
+                 "isosurface (stencils + Delaunay + seeds + Newton + output) %.3f s (busy: stencils %.3f s of which "
+                 "Delaunay %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
+                 cmd, points, in.read_seconds, in.octree_seconds, in.coverage_seconds, t.field, 1e-9 * double(s.regularisation_ns),
+                 t.graph, st.seed_busy_seconds, 1e-9 * double(s.delaunay_ns), st.newton_busy_seconds, threads, t.total);
+}
+
+void print_scattered_ranks_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in, const StencilRankResult& tot,
+                                 int n, const std::string& field_name, const FieldProjectParams& np, std::size_t points, int ranks,
+                                 const IsosurfaceRunTimes& t, int threads) {
+    print_scattered_stats(out, cmd, binning_summary(in), tot.seeds, n);
+    print_newton_stats(out, cmd, field_name, np, tot.newton, 0.0);
+    std::string dealt;
+    for (std::size_t r = 0; r < tot.rows_per_rank.size(); ++r)
+        dealt += (r ? " / " : "") + std::to_string(tot.rows_per_rank[r]);
+    std::fprintf(out, "%s: %zu points over %d ranks x %d thread(s); stencil rows dealt on request: %s; time: read %.3f s, "
+                 "octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s (rank 0)\n",
+                 cmd, points, ranks, threads, dealt.empty() ? "none" : dealt.c_str(), in.read_seconds, in.octree_seconds,
+                 in.coverage_seconds, t.field, t.total);
+}
+
+void print_scattered_generate_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in, const StencilSeedStats& seeds,
+                                    int n, const IsosurfaceRunTimes& t) {
+    print_scattered_stats(out, cmd, binning_summary(in), seeds, n);
+    std::fprintf(out, "%s: read %.3f s, octree + binning %.3f s, coverage %.3f s and field %.3f s side by side, total %.3f s\n",
+                 cmd, in.read_seconds, in.octree_seconds, in.coverage_seconds, t.field, t.total);
+}
 }  // namespace meshless

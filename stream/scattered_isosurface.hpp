@@ -8,11 +8,15 @@
 // The field is the caller's (kernels/make_field.hpp or a fitted .mlf); build_alongside_coverage
 // overlaps its build with the regularisation's support test. Memory: the points + their bins (4
 // bytes a binning cell) + the support test's kd-tree + the batches in flight. The bytes do not
-// depend on the thread count (under MPI: stream/stencil_ranks.hpp). Throws FormatError for
+// depend on the thread count. Under MPI (or any RankChannel) run_scattered_isosurface_rank splits the
+// stencil rows over the ranks (stream/stencil_ranks.hpp) and sum_stencil_rank_stats sums their
+// statistics. The --stats lines of each run are written to a FILE* here. Throws FormatError for
 // unusable data (fewer than 4 distinct points), what the kernels and stages throw otherwise.
 #pragma once
 #include <array>
 #include <cstdint>
+#include <cstdio>
+#include <exception>
 #include <functional>
 #include <memory>
 #include <string>
@@ -26,6 +30,7 @@
 #include "stream/field_project_stage.hpp"
 #include "stream/runner.hpp"
 #include "stream/seed_projection.hpp"
+#include "stream/stencil_ranks.hpp"
 #include "stream/stencil_seed_stage.hpp"
 
 namespace meshless {
@@ -67,6 +72,16 @@ ScatteredIsosurfaceInput bin_scattered_points(PointSet points, const std::string
 /// the thread count.
 double build_alongside_coverage(ScatteredIsosurfaceInput& in, int threads, const std::function<void()>& build);
 
+/// The field of a job over `in`: build() (the caller's: kernels/make_field.hpp, a fitted .mlf, the
+/// ranks' shared fits), run only when iso crosses the data, side by side with the support test
+/// (build_alongside_coverage, `threads` workers); and its metadata, scattered_isosurface_meta(in,
+/// iso, n, producer), with np (an isosurface, not the seeds alone) widened for np's travel
+/// (widen_frame_for_travel) and with the projection's keys (add_projection_meta). kind: the name
+/// without a field.
+IsosurfaceField fit_scattered_field(ScatteredIsosurfaceInput& in, double iso, int n, const std::string& producer,
+                                   const FieldProjectParams* np, int threads, const std::string& kind,
+                                   const std::function<BuiltField()>& build);
+
 /// What generate writes and isosurface records (the same keys on both paths). The camera's frame:
 /// the binning grid with its border layer, where the regularisation points lie and so the
 /// stencils' tetrahedra and the seeds, widened by how far Newton may move a seed
@@ -106,5 +121,58 @@ ScatteredIsosurfaceStats run_scattered_isosurface(const ScatteredIsosurfaceInput
 /// without a field).
 StencilSeedStats generate_scattered_seeds(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n, Sink& sink,
                                           const RunOptions& opt);
+
+/// One rank's part of run_scattered_isosurface under a RankChannel (stream/stencil_ranks.hpp): the
+/// stencil rows dealt on request, rank 0 merging every rank's points into `out` in the
+/// single-process order (out is ignored on other ranks). dedup as run_scattered_isosurface (rank 0's
+/// side). A null field (iso outside the data) sends an empty stream and needs no channel (channel
+/// may then be null); otherwise every rank runs with one. Each rank's statistics cover its own rows
+/// (sum_stencil_rank_stats).
+StencilRankResult run_scattered_isosurface_rank(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n,
+                                                const FieldProjectParams& np, double dedup, int rank, int ranks,
+                                                RankChannel* channel, Sink* out, const RunOptions& opt,
+                                                std::function<void(std::exception_ptr)> on_deal_error = {});
+
+/// Every rank's statistics summed by sum_to_root (element-wise over the ranks, the result on rank 0;
+/// collective): rank 0 gets the totals (the largest stencil and rows_per_rank: its own figures);
+/// other ranks' results are meaningless.
+StencilRankResult sum_stencil_rank_stats(const StencilRankResult& mine,
+                                         const std::function<std::vector<std::int64_t>(const std::vector<std::int64_t>&)>& sum_to_root);
+
+/// The binning line of the statistics: the grid, the points, the empty cells.
+struct BinningSummary {
+    const BinningGrid& grid;
+    std::uint64_t points, dropped;
+    std::int64_t empty, empty_interior;
+    std::uint32_t max_per_cell;
+};
+/// Of points binned in memory (a point store's plan: stream/scattered_store_isosurface.hpp).
+BinningSummary binning_summary(const ScatteredIsosurfaceInput& in);
+
+/// The statistics lines of the binning (section 5.3) and the stencils (regularisation, Delaunay,
+/// marching tetrahedra, seeds on the lattice of parameter n) written to `out`, each prefixed `cmd: `.
+void print_scattered_stats(std::FILE* out, const char* cmd, const BinningSummary& b, const StencilSeedStats& s, int n);
+/// The statistics line of --dedup (the fraction and the points it removed).
+void print_dedup_stats(std::FILE* out, const char* cmd, double dedup, std::int64_t removed);
+/// The statistics of one in-memory run to `out`: binning and stencils, the Newton projection (when
+/// one ran, onto `field_name`), --dedup (dedup > 0), the points written and the times (threads: the
+/// run's workers).
+void print_scattered_isosurface_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in,
+                                      const ScatteredIsosurfaceStats& st, int n, const std::string& field_name,
+                                      const FieldProjectParams& np, double dedup, std::size_t points,
+                                      const IsosurfaceRunTimes& t, int threads);
+/// The same of a run split over `ranks` ranks (sum_stencil_rank_stats' totals, on rank 0; the
+/// Newton busy time unknown; t.graph unused).
+void print_scattered_ranks_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in, const StencilRankResult& tot,
+                                 int n, const std::string& field_name, const FieldProjectParams& np, std::size_t points, int ranks,
+                                 const IsosurfaceRunTimes& t, int threads);
+/// The statistics of the seed stream alone (generate_scattered_seeds): binning and stencils, the
+/// times (t.field: the field's build, t.total; t.graph unused).
+void print_scattered_generate_stats(std::FILE* out, const char* cmd, const ScatteredIsosurfaceInput& in, const StencilSeedStats& seeds,
+                                    int n, const IsosurfaceRunTimes& t);
+/// The warning (to `out`) when fewer than half of the projected seeds converged onto the field's
+/// isosurface (the field does not resolve the points there); nothing otherwise.
+void warn_if_unconverged(std::FILE* out, const std::string& source, const ScatteredIsosurfaceStats& st,
+                         const std::string& field_name);
 
 }  // namespace meshless

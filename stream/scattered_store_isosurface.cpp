@@ -589,4 +589,30 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
     return st;
 }
 
+BinningSummary binning_summary(const ScatteredStorePlan& plan) {
+    return BinningSummary{plan.grid, plan.frame.points, plan.dropped_nonfinite, plan.empty_cells, plan.empty_interior_cells,
+                          plan.max_per_cell};
+}
+
+void print_store_isosurface_stats(std::FILE* out, const char* cmd, const ScatteredStorePlan& plan, const ScatteredStoreReport& rep,
+                                  const ScatteredIsosurfaceStats& st, int n, const FieldProjectParams& np, double dedup,
+                                  std::size_t points, const IsosurfaceRunTimes& t, int threads) {
+    print_scattered_stats(out, cmd, binning_summary(plan), st.seeds, n);
+    print_newton_stats(out, cmd, "mpu", np, st.newton, st.newton_busy_seconds);
+    if (dedup > 0) print_dedup_stats(out, cmd, dedup, st.dedup_removed);
+    std::fprintf(out,
+                 "%s: point store in %d slabs (%d built again over more points; halo up to %.1f cells), at most %llu of %llu points "
+                 "loaded at once (%llu loaded in all), %llu locals (%llu fits copied from the slab before, %llu regularised), largest slab field %.1f MiB\n",
+                 cmd, rep.slabs, rep.retries, rep.halo_cells, static_cast<unsigned long long>(rep.most_loaded),
+                 static_cast<unsigned long long>(plan.frame.points), static_cast<unsigned long long>(rep.loaded),
+                 static_cast<unsigned long long>(rep.field.locals), static_cast<unsigned long long>(rep.reused_fits),
+                 static_cast<unsigned long long>(rep.field.regularised),
+                 static_cast<double>(rep.field.memory_bytes) / 1048576.0);
+    std::fprintf(out,
+                 "%s: %zu points; time: plan (%d scans of the store) %.3f s, read %.3f s, coverage %.3f s and field %.3f s side by side, "
+                 "isosurface %.3f s (busy: stencils %.3f s, Newton %.3f s over %d thread(s)), total %.3f s\n",
+                 cmd, points, plan.scans, plan.seconds, rep.read_seconds, rep.coverage_seconds, rep.field_seconds, t.graph,
+                 st.seed_busy_seconds, st.newton_busy_seconds, threads, t.total);
+}
+
 }  // namespace meshless

@@ -31,6 +31,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -107,5 +108,15 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                                                         Sink& sink, const RunOptions& opt,
                                                         const std::function<void(double)>& progress = {},
                                                         ScatteredStoreReport* report = nullptr);
+
+/// The binning line's figures of the plan (what print_scattered_stats writes for points in memory).
+BinningSummary binning_summary(const ScatteredStorePlan& plan);
+
+/// The statistics of one slab run to `out`, each line prefixed `cmd: `: binning and stencils, the
+/// Newton projection, --dedup (dedup > 0), the slabs (rebuilds, halo, points loaded, the slab
+/// fields), the points written and the times (t.graph: the run; threads: its workers).
+void print_store_isosurface_stats(std::FILE* out, const char* cmd, const ScatteredStorePlan& plan, const ScatteredStoreReport& rep,
+                                  const ScatteredIsosurfaceStats& st, int n, const FieldProjectParams& np, double dedup,
+                                  std::size_t points, const IsosurfaceRunTimes& t, int threads);
 
 }  // namespace meshless

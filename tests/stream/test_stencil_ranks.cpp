@@ -1,11 +1,14 @@
 // The scattered isosurface over ranks (stream/stencil_ranks.hpp) with the dynamic deal of stencil
 // rows (stream/unit_deal.hpp), ranks as threads joined by the in-memory channel: the single-process
 // bytes for any number of ranks and threads, a slow rank dealt fewer rows than the others (the deal
-// balances), and the dealer's bookkeeping (owners only of dealt units, rows once each, in order).
+// balances), and the dealer's bookkeeping (owners only of dealt units, rows once each, in order);
+// the recipe's rank split (stream/scattered_isosurface.hpp run_scattered_isosurface_rank, with
+// --dedup) against run_scattered_isosurface, and the sum of the ranks' statistics.
 #include <catch2/catch.hpp>
 
 #include <chrono>
 #include <cstring>
+#include <mutex>
 #include <numeric>
 #include <random>
 #include <thread>
@@ -13,6 +16,7 @@
 #include "kernels/errors.hpp"
 #include "kernels/scattered_binning_grid.hpp"
 #include "stream/runner.hpp"
+#include "stream/scattered_isosurface.hpp"
 #include "stream/stencil_ranks.hpp"
 #include "stream/stencil_source.hpp"
 #include "stream/unit_deal.hpp"
@@ -153,4 +157,63 @@ TEST_CASE("stencil ranks: a slow rank is dealt fewer rows, the bytes stay the sa
     // each of the slow rank's rows costs >= 20 ms per field call; the others take the rest
     CHECK(r0.rows_per_rank[2] < r0.rows_per_rank[0]);
     CHECK(r0.rows_per_rank[2] < r0.rows_per_rank[1]);
+}
+
+TEST_CASE("scattered isosurface rank split: the single-process bytes (with and without dedup), an empty run, the summed statistics",
+          "[stream][scattered][mpi]") {
+    const Scene s;
+    const test::SphereDistance f;
+    PointSet ps;
+    ps.pos = s.pos;
+    ps.value = s.val;
+    ps.blocks.push_back({"scene", {static_cast<std::int64_t>(s.pos.size()), 1, 1}, 0, s.pos.size()});
+    ScatteredIsosurfaceInput in = bin_scattered_points(std::move(ps), "scene", "scene", BinningGridParams{}, 0, {});
+    FieldProjectParams np;
+    np.seed_tolerance = 0.01;
+    const double iso = 0.55;
+    for (const double dedup : {0.0, 0.5}) {
+        Collect single;
+        const ScatteredIsosurfaceStats one = run_scattered_isosurface(in, &f, iso, 2, np, dedup, nullptr, single, {2});
+        const int ranks = 3;
+        Hub hub(ranks, 4);
+        Collect merged;
+        std::vector<StencilRankResult> res(ranks);
+        std::vector<std::thread> workers;
+        for (int r = 0; r < ranks; ++r)
+            workers.emplace_back([&, r] {
+                HubChannel ch(hub, r);
+                res[static_cast<std::size_t>(r)] =
+                    run_scattered_isosurface_rank(in, &f, iso, 2, np, dedup, r, ranks, &ch, r == 0 ? &merged : nullptr, {1});
+            });
+        for (auto& w : workers) w.join();
+        CHECK(bytes_of(merged.points) == bytes_of(single.points));
+        // the sum over the ranks: every counter but the largest stencil (rank 0's)
+        std::vector<std::vector<std::int64_t>> sent;
+        std::mutex m;
+        const auto gather = [&](const std::vector<std::int64_t>& v) {
+            const std::lock_guard<std::mutex> lock(m);
+            sent.push_back(v);
+            return std::vector<std::int64_t>{};
+        };
+        for (int r = 1; r < ranks; ++r) (void)sum_stencil_rank_stats(res[static_cast<std::size_t>(r)], gather);
+        const auto sum_all = [&](const std::vector<std::int64_t>& v) {
+            std::vector<std::int64_t> t = v;
+            for (const auto& o : sent)
+                for (std::size_t i = 0; i < t.size(); ++i) t[i] += o[i];
+            return t;
+        };
+        const StencilRankResult tot = sum_stencil_rank_stats(res[0], sum_all);
+        CHECK(tot.seeds.seeds == one.seeds.seeds);
+        CHECK(tot.seeds.triangles == one.seeds.triangles);
+        CHECK(tot.seeds.max_stencil_points == res[0].seeds.max_stencil_points);
+        CHECK(tot.newton.input == one.newton.input);
+        CHECK(tot.newton.converged == one.newton.converged);
+        CHECK(tot.rows_per_rank == res[0].rows_per_rank);
+    }
+    // no field (the isovalue outside the data): rank 0 finishes an empty output, no channel needed
+    Collect empty;
+    const StencilRankResult none = run_scattered_isosurface_rank(in, nullptr, 9, 2, np, 0.5, 0, 2, nullptr, &empty, {1});
+    CHECK(empty.points.empty());
+    CHECK(none.seeds.seeds == 0);
+    CHECK(run_scattered_isosurface_rank(in, nullptr, 9, 2, np, 0, 1, 2, nullptr, nullptr, {1}).seeds.seeds == 0);
 }
