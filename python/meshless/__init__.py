@@ -29,7 +29,7 @@ import numpy as _np
 from . import _core
 from ._core import DataError
 
-__all__ = ["DataError", "PointSet", "Field", "isosurface", "isosurface_points", "isosurface_blocks", "mc", "read_points"]
+__all__ = ["DataError", "PointSet", "Field", "isosurface", "isosurface_points", "isosurface_blocks", "mc", "read_points", "info"]
 
 
 class PointSet:
@@ -236,6 +236,15 @@ def read_points(path):
     x y z nx ny nz radius value vertices) as a PointSet; `comments` holds the PLY's comments (the
     isovalue, the field, the bounds the command recorded)."""
     return PointSet(_core._read_points(str(path)))
+
+
+def info(path, *, value_range=False):
+    """What `meshless info PATH` prints about a file the tool reads or writes (volumes, brick, sample
+    and point stores, point/sample streams, PLY point sets and meshes, PNG, .mlf, .mlh, multiblock and
+    AMR grids, point sets), as a string with the same bytes; value_range=True also reads a volume
+    whole for its value range (`--value-range`). A damaged or unknown file raises DataError, one
+    that cannot be read OSError."""
+    return _core._info(str(path), bool(value_range))
 
 
 def mc(volume, iso, *, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), threads=0):

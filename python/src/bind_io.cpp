@@ -1,15 +1,20 @@
 // Point sets to and from files in the Python module (python/README.md): read_points reads the
 // oriented points `meshless isosurface` writes as PLY (formats/ply_points.hpp, the reader `splat`
 // uses) into the arrays of a PointSet; write_points writes a PointSet's arrays as that PLY
-// (binary little endian, x y z nx ny nz radius value [block]), atomically, for MeshLab and ParaView.
+// (binary little endian, x y z nx ny nz radius value [block]), atomically, for MeshLab and ParaView;
+// info describes any file the tool reads or writes, as `meshless info` does (stream/file_info.hpp).
 #include <pybind11/stl.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
 
 #include "arrays.hpp"
 #include "bindings.hpp"
 #include "formats/ply_points.hpp"
+#include "stream/file_info.hpp"
 #include "point_arrays.hpp"
 
 namespace meshless::python {
@@ -61,9 +66,31 @@ void write_points(const std::string& path, const py::array& points, const py::ar
                           std::span<const std::uint32_t>(ids));
 }
 
+/// The report `meshless info PATH [--value-range]` prints, as a string (the same bytes).
+std::string info(const std::string& path, bool value_range) {
+    if (path == "-") throw py::value_error("info: give a file's path (standard input is the CLI's)");
+    FileInfoOptions o;
+    o.value_range = value_range;
+    char* text = nullptr;
+    std::size_t size = 0;
+    struct Buffer {  // freed on every path, after the stream that fills it is closed
+        char*& text;
+        ~Buffer() { std::free(text); }
+    } buffer{text};
+    {
+        std::FILE* out = open_memstream(&text, &size);
+        if (!out) throw std::bad_alloc();
+        const std::unique_ptr<std::FILE, int (*)(std::FILE*)> closer(out, &std::fclose);
+        py::gil_scoped_release free;
+        describe_file(path, o, out);
+    }  // closed: text and size final
+    return std::string(text ? text : "", size);
+}
+
 }  // namespace
 
 void bind_io(py::module_& m) {
+    m.def("_info", &info, py::arg("path"), py::arg("value_range"));
     m.def("_read_points", &read_points, py::arg("path"));
     m.def("_write_points", &write_points, py::arg("path"), py::arg("points"), py::arg("normals"), py::arg("radius"),
           py::arg("values"), py::arg("block"));

@@ -318,5 +318,29 @@ class MarchingCubes(unittest.TestCase):
         self.assertLess(vols[0], 0)
 
 
+class Info(unittest.TestCase):
+    def test_the_report_of_meshless_info_byte_for_byte(self):
+        with tempfile.TemporaryDirectory() as d:
+            v, sp, org = sphere_volume(n=16)
+            ply = os.path.join(d, "s.ply")
+            meshless.isosurface(v, 0.5, spacing=sp, origin=org).write(ply)
+            nrrd = os.path.join(d, "v.nrrd")
+            with open(nrrd, "wb") as f:
+                f.write(b"NRRD0004\ntype: float\ndimension: 3\nsizes: 16 16 16\nendian: little\nencoding: raw\n\n")
+                f.write(np.ascontiguousarray(v.T, dtype="<f4").tobytes())
+            for path, extra in ((ply, []), (nrrd, []), (nrrd, ["--value-range"])):
+                cli = subprocess.run([MESHLESS, "info", path] + extra, check=True, capture_output=True).stdout.decode()
+                self.assertEqual(meshless.info(path, value_range=bool(extra)), cli)
+            lo, hi = float(v.min()), float(v.max())
+            self.assertIn(f"value range: {lo:g} .. {hi:g}\n", meshless.info(nrrd, value_range=True))
+            bad = os.path.join(d, "bad.nrrd")
+            with open(bad, "wb") as f:
+                f.write(b"NRRD0004\ntype: float\ndimension: 3\nsizes: 16 16 16\nencoding: raw\n\nshort")
+            with self.assertRaises(meshless.DataError):
+                meshless.info(bad)
+            with self.assertRaises(OSError):
+                meshless.info(os.path.join(d, "missing.nrrd"))
+
+
 if __name__ == "__main__":
     unittest.main()
