@@ -4,6 +4,8 @@
 // (error falls with more points), shifted/scaled copies of the same data, and thread counts.
 #include <catch2/catch.hpp>
 
+#include "test_size.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -30,6 +32,7 @@
 #include "kernels/rbf_grid_field.hpp"
 
 using namespace meshless;
+using meshless::test::test_size;
 
 namespace {
 
@@ -436,7 +439,7 @@ TEST_CASE("Franke 3-D: error falls with more points, local fields near the globa
 }
 
 TEST_CASE("a 1e6 offset gives the same errors as no offset, anisotropic scales work", "[rbf]") {
-    const auto pos = random_points(4000, {0, 0, 0}, {1, 1, 1}, 71);
+    const auto pos = random_points(test_size(4000, 2000), {0, 0, 0}, {1, 1, 1}, 71);  // (tests/test_size.hpp)
     const auto at = random_points(1000, {0.05, 0.05, 0.05}, {0.95, 0.95, 0.95}, 72);
     const Vec3 shift{1e6, -2e6, 3e6};
     std::vector<Vec3> shifted(pos);
@@ -559,7 +562,7 @@ TEST_CASE("coplanar and collinear point sets give finite fields that reproduce l
 }
 
 TEST_CASE("construction is deterministic across thread counts", "[rbf]") {
-    const auto pos = random_points(6000, {0, 0, 0}, {1, 2, 1}, 101);
+    const auto pos = random_points(test_size(6000, 3000), {0, 0, 0}, {1, 2, 1}, 101);  // (tests/test_size.hpp)
     const PointSet ps = make_points(pos, franke3);
     const auto at = random_points(500, {0, 0, 0}, {1, 2, 1}, 102);
     for (const Variant& var : all_variants()) {
