@@ -17,7 +17,8 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 data=${MESHLESS_DATA:-$root/../shared/data}
 all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
      fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_plot3d fuzz_vtp fuzz_vts fuzz_csv fuzz_npy fuzz_points_raw
-     fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file fuzz_point_store)
+     fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file fuzz_point_store
+     fuzz_positions)
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
@@ -91,6 +92,7 @@ for i in 0 1; do have "plot3d/multicomb_$i.vts" && seed fuzz_vts "comb$i" < "$da
 have scattered/sparsePoints.txt && seed fuzz_csv sparse < "$data/scattered/sparsePoints.txt"
 have scattered/gravi.txt && head -c 2000 "$data/scattered/gravi.txt" | seed fuzz_csv gravi
 printf 'x,y,z,value\n0,0,0,1\n1,0,0,2\n0,1,0,3\n0,0,1,4\n' | seed fuzz_csv small
+printf 'x,y,z\n# probe positions\n0,0,0\n1.5;2\t3\n\n-4 5e-3 6 extra\n' | seed fuzz_positions small
 have scattered/Particles.raw && seed fuzz_points_raw particles < "$data/scattered/Particles.raw"
 have bucky/Bucky_32x32x32_uint8.raw && head -c 4096 "$data/bucky/Bucky_32x32x32_uint8.raw" | seed fuzz_points_raw volume
 # the stream, store, PLY, PNG, .mlf and .mlh formats: written by a meshless binary when one is built

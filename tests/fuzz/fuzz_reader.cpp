@@ -1,10 +1,11 @@
 // One libFuzzer source, built once per decoder (tests/fuzz/CMakeLists.txt: fuzz_nrrd, fuzz_mha,
 // fuzz_vtk_legacy, fuzz_vti, fuzz_vtkjs, fuzz_slc, fuzz_nifti, fuzz_nifti_gz, fuzz_voreen,
 // fuzz_raw_sidecar, fuzz_plot3d, fuzz_vtp, fuzz_vts, fuzz_csv, fuzz_npy, fuzz_points_raw, fuzz_point_stream, fuzz_mlb,
-// fuzz_mls). Compile definitions pick the decoder:
+// fuzz_mls, fuzz_positions). Compile definitions pick the decoder:
 //   FUZZ_KIND   1 volume (read_volume + probe_volume), 2 point set (read_point_set + probe), 3 the
 //               binary point/sample stream (StreamReader), 4 a brick store .mlb (open + verify),
-//               5 a sample store .mls (open; its .mlb from the second file)
+//               5 a sample store .mls (open; its .mlb from the second file), 6 a list of
+//               positions (read_positions, `probe --at-file`)
 //   FUZZ_MAIN   the name the input is written under (its extension selects the reader)
 //   FUZZ_SECOND optional: a second file; the input is then "MAIN \0 SECOND" (split at the first NUL)
 //   FUZZ_READ   optional: the file handed to the reader (default FUZZ_MAIN; fuzz_raw_sidecar reads
@@ -36,6 +37,10 @@
 #include "ooc/verify_brick_store.hpp"
 #elif FUZZ_KIND == 5
 #include "ooc/sample_store.hpp"
+#elif FUZZ_KIND == 6
+#include <cmath>
+
+#include "formats/position_list.hpp"
 #endif
 
 #ifndef FUZZ_SECOND
@@ -95,6 +100,12 @@ void run(const std::string& path) {
     (void)verify_brick_store(path, std::uint64_t{256} << 20);
 #elif FUZZ_KIND == 5
     (void)SampleStore::open(path);
+#elif FUZZ_KIND == 6
+    // oracle: at least one position, every coordinate finite
+    const std::vector<Vec3> p = read_positions(path);
+    if (p.empty()) __builtin_trap();
+    for (const Vec3& v : p)
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) __builtin_trap();
 #endif
 }
 
