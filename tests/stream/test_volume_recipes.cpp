@@ -57,8 +57,9 @@ TEST_CASE("a converted brick store verifies, and a small budget and damage are t
     CHECK(verify_store(out, StoreKind::brick, 16).status == 1);
     {
         std::fstream f(out, std::ios::in | std::ios::out | std::ios::binary);
-        f.seekp(200);
-        f.write("XXXXXXXX", 8);
+        f.seekp(200);  // eight bytes of a brick overwritten: the damage verify must find (status 2)
+        const char damage[8] = {'\x58', '\x58', '\x58', '\x58', '\x58', '\x58', '\x58', '\x58'};
+        f.write(damage, sizeof damage);
     }
     CHECK(verify_store(out, StoreKind::brick, std::uint64_t{256} << 20).status == 2);
 }
