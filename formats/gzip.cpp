@@ -106,7 +106,7 @@ void InflateReader::skip(std::uint64_t n) {
     std::vector<unsigned char> buf(std::min<std::uint64_t>(n, 1 << 16));
     while (n) {
         const std::size_t k = static_cast<std::size_t>(std::min<std::uint64_t>(n, buf.size()));
-        read_exact(buf.data(), k, "data");
+        read_exact(buf.data(), k, "payload");
         n -= k;
     }
 }

@@ -200,19 +200,6 @@ Volume apply_scaling(Volume v, const NiftiHeader& h) {
 
 }  // namespace
 
-VolumeInfo probe_nifti(const std::string& path, const ReferencePolicy& refs) {
-    const NiftiHeader h = read_header(path);
-    VolumeInfo i;
-    i.format = "nifti";
-    i.grid = h.grid;
-    const std::string data = h.pair ? image_file_for(path, refs) : path;
-    i.type = (h.slope != 0 && std::isfinite(h.slope) && !(h.slope == 1 && h.inter == 0)) ? SampleType::f32
-                                                                                         : volume_type_for(h.type);
-    i.encoding = is_gz(data) ? "gzip" : "raw";
-    i.data_files = {data};
-    i.frame = h.frame;
-    return i;
-}
 
 namespace {
 // A gzipped payload's size, proven against deflate's largest expansion before anything is allocated.
@@ -237,6 +224,25 @@ PayloadPlan raw_plan(const NiftiHeader& h, const std::string& data) {
     return plan;
 }
 }  // namespace
+
+VolumeInfo probe_nifti(const std::string& path, const ReferencePolicy& refs) {
+    const NiftiHeader h = read_header(path);
+    VolumeInfo i;
+    i.format = "nifti";
+    i.grid = h.grid;
+    const std::string data = h.pair ? image_file_for(path, refs) : path;
+    i.type = (h.slope != 0 && std::isfinite(h.slope) && !(h.slope == 1 && h.inter == 0)) ? SampleType::f32
+                                                                                         : volume_type_for(h.type);
+    // the payload's claim against the file, as read_nifti checks it before allocating
+    if (is_gz(data))
+        gz_payload_bytes(h, data);
+    else
+        check_payload_plan(raw_plan(h, data));
+    i.encoding = is_gz(data) ? "gzip" : "raw";
+    i.data_files = {data};
+    i.frame = h.frame;
+    return i;
+}
 
 void prove_nifti(const std::string& path, const ReferencePolicy& refs) {
     const NiftiHeader h = read_header(path);

@@ -19,6 +19,8 @@
 namespace meshless {
 
 /// `refs`: where a pair's .img may lie (formats/reference_policy.hpp; ReferenceRefused outside it).
+/// The header, and the payload's claim against the data file's size (deflate's 1032:1 for .gz):
+/// what read_nifti refuses before allocating, probe_nifti refuses with the same message.
 VolumeInfo probe_nifti(const std::string& path, const ReferencePolicy& refs = {});
 Volume read_nifti(const std::string& path, const ReferencePolicy& refs = {});
 /// read_nifti's checks, a gzipped payload inflated through a small buffer (meshless info). Throws as read_nifti.

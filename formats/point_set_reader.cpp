@@ -12,6 +12,7 @@
 #include "formats/points_text.hpp"
 #include "formats/points_vtp.hpp"
 #include "formats/points_vts.hpp"
+#include "formats/raw_volume.hpp"
 #include "formats/point_store.hpp"
 #include "formats/text_header.hpp"
 #include "formats/volume_reader.hpp"
@@ -25,7 +26,10 @@ std::string ext_of(const std::string& path) {
     return e;
 }
 
+// A .raw is a volume when its name says a volume's shape (name_XxYxZ_type.raw: the volume's reader
+// then names what is wrong with it) or its layout comes from elsewhere (a Voreen .dat sidecar).
 bool volume_claims(const std::string& path) {
+    if (parse_raw_name(path)) return true;
     try {
         (void)probe_volume(path);
         return true;

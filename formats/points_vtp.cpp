@@ -42,10 +42,9 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
         std::array<std::int64_t, 3> dims{0, 1, 1};
         std::uint64_t n = 0;
         if (structured) {
-            const auto ext = parse_ints(piece.attr("Extent", top.attr("WholeExtent")), 6, path, "Extent");
-            const std::string ctx = path + ": Extent of piece " + std::to_string(piece_no);
-            for (int a = 0; a < 3; ++a) dims[a] = checked_extent(ext[2 * a], ext[2 * a + 1], ctx);
-            n = checked_volume(dims[0], dims[1], dims[2], ctx);
+            const VtkPieceExtent E = vtk_piece_extent(piece.attr("Extent", top.attr("WholeExtent")), path, piece_no);
+            dims = E.dims;
+            n = E.points;
         } else {
             const auto np = parse_int(piece.attr("NumberOfPoints", "0"), path, "NumberOfPoints");
             n = checked_count(np, path + ": NumberOfPoints of piece " + std::to_string(piece_no));

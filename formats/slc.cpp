@@ -72,29 +72,16 @@ SlcHeader parse_header(Scanner& s) {
 
 }  // namespace
 
-VolumeInfo probe_slc(const std::string& path) {
-    const std::string text = read_file_prefix(path, 512);
-    Scanner s{path, reinterpret_cast<const std::byte*>(text.data()), text.size()};
-    const SlcHeader h = parse_header(s);
-    VolumeInfo i;
-    i.format = "slc";
-    i.grid = h.grid;
-    i.type = SampleType::u8;
-    i.encoding = h.compression == 1 ? "rle" : "raw";
-    i.data_files = {path};
-    return i;
-}
-
 namespace {
 
 // After the header: skips the icon and proves the slice bytes can hold the claimed voxels
 // (before anything is allocated). Returns the voxel count.
-std::uint64_t check_body(const std::vector<std::byte>& file, Scanner& s, const SlcHeader& h, const std::string& path) {
+std::uint64_t check_body(std::uint64_t file_size, Scanner& s, const SlcHeader& h, const std::string& path) {
     const std::int64_t iw = s.integer("icon width"), ih = s.integer("icon height");
     s.expect_x("icon size");
     const std::string icon_ctx = path + ": SLC icon size";
     const std::uint64_t icon = checked_mul(checked_mul(checked_count(iw, icon_ctx), checked_count(ih, icon_ctx), icon_ctx), 3, icon_ctx);
-    if (icon > file.size() - s.pos)
+    if (icon > file_size - s.pos)
         throw FormatError(path + ": SLC icon " + std::to_string(iw) + "x" + std::to_string(ih) + " at offset " +
                           std::to_string(s.pos) + " runs past the end of the file");
     s.pos += static_cast<std::size_t>(icon);
@@ -103,7 +90,7 @@ std::uint64_t check_body(const std::vector<std::byte>& file, Scanner& s, const S
     // most half a plane, see below) and run-length coding expands at most 127 bytes per 2, so
     // the file must hold at least voxels/254 slice bytes (raw slices: every voxel).
     const std::uint64_t voxels = static_cast<std::uint64_t>(h.grid.voxel_count());
-    const std::uint64_t rest = file.size() - s.pos;
+    const std::uint64_t rest = file_size - s.pos;
     if ((h.compression == 0 && voxels > rest) || (h.compression == 1 && voxels / 254 > rest))
         throw FormatError(path + ": SLC header claims " + dims_string(h.grid) + " voxels, more than the " +
                           std::to_string(rest) + " slice bytes after offset " + std::to_string(s.pos) + " can hold");
@@ -165,11 +152,27 @@ void decode_slices(const std::vector<std::byte>& file, Scanner& s, const SlcHead
 
 }  // namespace
 
+VolumeInfo probe_slc(const std::string& path) {
+    // the header and the icon's size are text at the start; the claim is checked against the file's
+    // size as read_slc checks it, so a bomb is refused here with read_slc's message
+    const std::string text = read_file_prefix(path, 4096);
+    Scanner s{path, reinterpret_cast<const std::byte*>(text.data()), text.size()};
+    const SlcHeader h = parse_header(s);
+    check_body(regular_file_size(path), s, h, path);
+    VolumeInfo i;
+    i.format = "slc";
+    i.grid = h.grid;
+    i.type = SampleType::u8;
+    i.encoding = h.compression == 1 ? "rle" : "raw";
+    i.data_files = {path};
+    return i;
+}
+
 Volume read_slc(const std::string& path) {
     const std::vector<std::byte> file = read_file_bytes(path);
     Scanner s{path, file.data(), file.size()};
     const SlcHeader h = parse_header(s);
-    const std::uint64_t voxels = check_body(file, s, h, path);
+    const std::uint64_t voxels = check_body(file.size(), s, h, path);
     Volume v;
     v.grid = h.grid;
     v.type = SampleType::u8;
@@ -184,7 +187,7 @@ void prove_slc(const std::string& path) {
     const std::vector<std::byte> file = read_file_bytes(path);
     Scanner s{path, file.data(), file.size()};
     const SlcHeader h = parse_header(s);
-    check_body(file, s, h, path);
+    check_body(file.size(), s, h, path);
     // one plane, reused (its size was bounded by the file above)
     SampleBytes plane = SampleBytes::lazy_zeroed(static_cast<std::size_t>(h.grid.dims[0] * h.grid.dims[1]));
     decode_slices(file, s, h, path, [&](std::int64_t) { return reinterpret_cast<unsigned char*>(plane.data()); });

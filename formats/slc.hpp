@@ -17,6 +17,8 @@
 
 namespace meshless {
 
+/// The header, the icon's size and the claimed voxels against the file's size (read_slc's checks
+/// before it allocates, with its messages); reads the first 4 KiB.
 VolumeInfo probe_slc(const std::string& path);
 Volume read_slc(const std::string& path);
 /// read_slc's checks and slice decoding into one reused plane (meshless info). Throws as read_slc.

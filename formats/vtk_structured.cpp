@@ -152,21 +152,12 @@ VtkStructuredFile read_vtk_structured(const std::string& path, const PointSetOpt
         const std::string where = "piece " + std::to_string(piece_no);
         if (piece.empty()) throw FormatError(path + ": " + where + " is empty");
         VtkStructuredPiece P;
-        const std::string ext_text = piece.attr("Extent", top.attr("WholeExtent"));
-        const auto ext = vtk_xml_numbers<std::int64_t>(ext_text, 6, path, where + " Extent");
-        std::array<std::int64_t, 3> dims{}, cells{};
-        std::uint64_t npoints = 1, ncells = 1;
-        for (int a = 0; a < 3; ++a) {
-            const std::int64_t lo = ext[2 * a], hi = ext[2 * a + 1];
-            if (hi < lo || lo < -(std::int64_t(1) << 40) || hi > (std::int64_t(1) << 40))
-                throw FormatError(path + ": " + where + ": bad Extent '" + esc(ext_text) + "'");
-            dims[a] = hi - lo + 1;
-            cells[a] = dims[a] > 1 ? dims[a] - 1 : 1;
-            if (!mul_ok(npoints, static_cast<std::uint64_t>(dims[a]), npoints) ||
-                !mul_ok(ncells, static_cast<std::uint64_t>(cells[a]), ncells))
-                throw FormatError(path + ": " + where + ": Extent '" + esc(ext_text) + "' overflows");
-            P.extent[2 * a] = lo, P.extent[2 * a + 1] = hi;
-        }
+        const VtkPieceExtent E = vtk_piece_extent(piece.attr("Extent", top.attr("WholeExtent")), path, piece_no);
+        const std::array<std::int64_t, 6>& ext = E.extent;
+        const std::array<std::int64_t, 3>& dims = E.dims;
+        const std::array<std::int64_t, 3>& cells = E.cells;
+        const std::uint64_t npoints = E.points, ncells = E.cell_count;
+        P.extent = E.extent;
         // the scalar
         std::string pd_scalars, cd_scalars;
         std::vector<Cand> all = section_arrays(piece, "PointData", false, path, pd_scalars);

@@ -333,6 +333,24 @@ std::vector<T> vtk_xml_numbers(const std::string& text, std::size_t n, const std
     return out;
 }
 
+VtkPieceExtent vtk_piece_extent(const std::string& text, const std::string& path, int piece_no) {
+    const std::string where = "piece " + std::to_string(piece_no);
+    const auto ext = vtk_xml_numbers<std::int64_t>(text, 6, path, where + " Extent");
+    VtkPieceExtent e;
+    for (int a = 0; a < 3; ++a) {
+        const std::int64_t lo = ext[2 * a], hi = ext[2 * a + 1];
+        if (hi < lo || lo < -(std::int64_t(1) << 40) || hi > (std::int64_t(1) << 40))
+            throw FormatError(path + ": " + where + ": bad Extent '" + ply_escape(text, 96) + "'");
+        e.extent[2 * a] = lo, e.extent[2 * a + 1] = hi;
+        e.dims[a] = hi - lo + 1;
+        e.cells[a] = e.dims[a] > 1 ? e.dims[a] - 1 : 1;
+        if (__builtin_mul_overflow(e.points, static_cast<std::uint64_t>(e.dims[a]), &e.points) ||
+            __builtin_mul_overflow(e.cell_count, static_cast<std::uint64_t>(e.cells[a]), &e.cell_count))
+            throw FormatError(path + ": " + where + ": Extent '" + ply_escape(text, 96) + "' overflows");
+    }
+    return e;
+}
+
 template std::vector<double> vtk_xml_numbers<double>(const std::string&, std::size_t, const std::string&, const std::string&);
 template std::vector<std::int64_t> vtk_xml_numbers<std::int64_t>(const std::string&, std::size_t, const std::string&,
                                                                  const std::string&);

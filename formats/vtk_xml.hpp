@@ -13,6 +13,7 @@
 // size mismatches). Thread-safety: a parsed document is read-only; distinct documents are independent.
 // Dissertation: input plumbing (chapter 3 volumes, chapters 4-5 scattered and multiblock data).
 #pragma once
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -113,5 +114,18 @@ std::vector<double> vtk_xml_read_array(const VtkXmlDocument& d, const VtkXmlElem
 /// non-number or a count other than n.
 template <class T>
 std::vector<T> vtk_xml_numbers(const std::string& text, std::size_t n, const std::string& path, const std::string& what);
+
+/// The Extent of a piece of a StructuredGrid/RectilinearGrid file (the `whole` extent when the piece
+/// has none): lo hi per axis, `dims` the points per axis, `cells` the cells per axis (a flat axis
+/// counts one), `points` and `cell_count` their products. FormatError "PATH: piece N: bad Extent
+/// '<text>'" when a number is missing or hi < lo or a bound lies beyond ±2^40, "... overflows" when
+/// a product does not fit 64 bits. Both readers of such files (grid and points) call it, so they
+/// refuse a piece with one message.
+struct VtkPieceExtent {
+    std::array<std::int64_t, 6> extent{};
+    std::array<std::int64_t, 3> dims{}, cells{};
+    std::uint64_t points = 1, cell_count = 1;
+};
+VtkPieceExtent vtk_piece_extent(const std::string& text, const std::string& path, int piece_no);
 
 }  // namespace meshless

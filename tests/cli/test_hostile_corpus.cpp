@@ -305,14 +305,18 @@ TEST_CASE("must-fail corpus: every hostile file exits 2 with one clean line nami
                                                                              : fs::path(k.file).filename().string();
         const std::string out = (d.path / "out.ply").string();
         // `info` proves the payload as the readers do: every defect, header or payload (a bomb, a
-        // truncated or corrupt payload), fails it exactly as it fails the reading command
+        // truncated or corrupt payload), fails it exactly as it fails the reading command, with the
+        // same message (a claim the file cannot hold is a data error before it is a memory one)
         std::vector<std::string> cmds;
         cmds.push_back("MESHLESS info " + in);
         cmds.push_back(k.volume ? "MESHLESS isosurface " + in + " --iso 0.5 -o " + out
                                 : "MESHLESS fit " + in + " -o " + (d.path / "out.mlf").string());
+        if (k.volume) cmds.push_back("MESHLESS convert " + in + " -o " + (d.path / "out.mlb").string());
+        std::vector<std::string> messages;
         for (const auto& cmd : cmds) {
             INFO(k.label << ": " << cmd);
             const RunResult r = sh(cmd, d);
+            messages.push_back(r.err);
             INFO("stderr: " << r.err);
             CHECK(r.code == 2);
             CHECK(!r.err.empty());
@@ -324,9 +328,14 @@ TEST_CASE("must-fail corpus: every hostile file exits 2 with one clean line nami
             CHECK(!has_control_bytes(r.err));
             CHECK(!fs::exists(out));
             CHECK(!fs::exists(d.path / "out.mlf"));
+            CHECK(!fs::exists(d.path / "out.mlb"));
             for (const auto& e : fs::directory_iterator(d.path))
                 CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
         }
+        // and with the reader's words: "meshless info: MSG" and "meshless isosurface: MSG"
+        const auto words = [](const std::string& m) { return m.substr(std::min(m.size(), m.find(": ") + 2)); };
+        INFO(k.label);
+        for (std::size_t c = 1; c < messages.size(); ++c) CHECK(words(messages[0]) == words(messages[c]));
     }
     // every child (and grandchild) the cases ran, its largest resident set: a header's claim must
     // never become resident memory (the bombs claim 4 GiB and more)
