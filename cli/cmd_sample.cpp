@@ -1,6 +1,7 @@
 // meshless sample: scattered points from a volume (uniform random positions in the volume's
 // bounds, values by trilinear interpolation, dissertation Eq. 3.1): options parsed here, the points
 // drawn by stream/volume_sampling.hpp.
+#include <cstdint>
 #include <cstdio>
 
 #include "cli/commands.hpp"
@@ -17,7 +18,7 @@ int cmd_sample(int argc, char** argv) {
            "trilinear interpolation. PLY (binary, double x y z value), CSV (header x,y,z,value) or VTP (float32\n"
            "points with a value array, for ParaView).\n"
            "The same seed gives the same points.");
-    a.option("count", "n", "N", "number of points (required, >= 1)")
+    a.option("count", "n", "N", "number of points (required, >= 1; held in memory, 32 bytes each)")
         .option("seed", "", "S", "random seed", "1")
         .option("output", "o", "FILE", "output .ply, .csv or .vtp ('-' = CSV on stdout; required)");
     add_volume_options(a);
@@ -28,6 +29,10 @@ int cmd_sample(int argc, char** argv) {
     const std::string out = a.require("output");
     require_point_set_output(out, "a point set with values");
     const long long seed = a.get_int_or("seed", 1);
+    // the points are held whole before they are written: position and value, 32 bytes a point
+    const std::uint64_t n = static_cast<std::uint64_t>(count);
+    check_option_fits(a, "--count " + std::to_string(count), "the points (32 bytes each)",
+                      n > UINT64_MAX / 32 ? UINT64_MAX : n * 32, "");
     const Volume v = load_volume(a);
     const VolumeSample sample = sample_volume(v, static_cast<std::uint64_t>(count), static_cast<std::uint64_t>(seed), a.positional()[0]);
     write_point_set(out, sample.points, {"source " + a.positional()[0], "producer meshless sample", "seed " + std::to_string(seed)});

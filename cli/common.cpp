@@ -30,7 +30,7 @@ void add_volume_options(Args& a) {
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z")
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
         .option("endian", "", "little|big", "raw volumes: byte order of the samples", "little")
-        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing in world units", "1,1,1");
+        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1");
 }
 
 RawOptions raw_options(const Args& a) {
@@ -54,7 +54,9 @@ RawOptions raw_options(const Args& a) {
     raw.big_endian = endian == "big";
     if (auto s = a.get_triple("spacing")) {
         for (double x : *s)
-            if (!(x > 0)) throw UsageError("--spacing: spacings must be positive");
+            if (!(x > 0) || !(x <= 3.4028234663852886e38))  // finite, and within the float32 range points are written in
+                throw UsageError("--spacing: spacings must be positive and at most 3.4e38 (the float32 range), got " +
+                                 a.get_or("spacing", ""));
         raw.spacing = *s;
     }
     return raw;

@@ -660,7 +660,9 @@ TEST_CASE("unbounded parameters: refused before any work with exit 1 and one lin
     };
     spit(d.path / "p197.csv", points(197));
     spit(d.path / "p150k.csv", points(150000));
+    spit(d.path / "v_8x8x8_uint8.raw", std::string(512, '\x07'));
     const std::string p197 = (d.path / "p197.csv").string(), p150k = (d.path / "p150k.csv").string();
+    const std::string vol = (d.path / "v_8x8x8_uint8.raw").string();
     const std::string out = (d.path / "out").string();
     struct Param {
         std::string cmd, option;
@@ -679,6 +681,10 @@ TEST_CASE("unbounded parameters: refused before any work with exit 1 and one lin
         {"ulimit -v 2097152; MESHLESS isosurface " + p197 + " --iso 0 --max-cells 2147483648 -o " + out + ".ply", "--max-cells"},
         {"MESHLESS isosurface " + p197 + " --iso 0 --max-cells 4294967296 -o " + out + ".ply", "--max-cells"},
         {"MESHLESS hierarchy " + p197 + " --neighbours 100000 -o " + out + ".mlh", "--neighbours"},
+        {"MESHLESS sample " + vol + " --count 100000000000000 -o " + out + ".ply", "--count 100000000000000"},
+        {"ulimit -v 2097152; MESHLESS sample " + vol + " --count 100000000 -o " + out + ".ply", "--count 100000000"},
+        {"MESHLESS isosurface " + vol + " --spacing 1e308,1,1 --iso 3 -o " + out + ".ply", "--spacing"},
+        {"MESHLESS isosurface " + vol + " --spacing inf,1,1 --iso 3 -o " + out + ".ply", "--spacing"},
     };
     for (const auto& c : cases) {
 #ifdef MESHLESS_SANITIZED
