@@ -78,7 +78,7 @@ int cmd_hierarchy(int argc, char** argv) {
     add_point_set_options(a, /*with_endian=*/true);
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z (a raw file whose name does not give them)")
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
-        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing in world units", "1,1,1");
+        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1");
     add_thread_option(a);
     add_quiet_option(a);
     a.positionals(1, 1000);
