@@ -91,9 +91,9 @@ int cmd_hierarchy(int argc, char** argv) {
     const int nthreads = threads(a);
 
     const auto t0 = std::chrono::steady_clock::now();
-    // a raw volume described on the command line (--dims; --endian gives its byte order)
-    const bool raw_volume = a.has("dims") || a.has("type");
-    if (raw_volume && a.positional().size() != 1) throw UsageError("--dims/--type: one raw volume, not " + std::to_string(a.positional().size()) + " inputs");
+    // a raw volume described on the command line (--dims, --type, --spacing; --endian gives its byte order)
+    const bool raw_volume = a.has("dims") || a.has("type") || a.has("spacing");
+    if (raw_volume && a.positional().size() != 1) throw UsageError("--dims/--type/--spacing: one raw volume, not " + std::to_string(a.positional().size()) + " inputs");
     const PointSet points = a.positional().size() == 1 && is_brick_store(a.positional().front())
                                 ? point_set_from_brick_store(a.positional().front())
                             : raw_volume ? point_set_from_volume(a.positional().front(), point_set_options(a), raw_options(a))

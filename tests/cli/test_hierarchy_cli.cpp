@@ -207,6 +207,12 @@ TEST_CASE("meshless hierarchy: a raw volume described by --dims/--type gives the
         CHECK(a.nodes[i].value == b.nodes[i].value);
         CHECK(a.nodes[i].child == b.nodes[i].child);
     }
+    // a raw file whose name gives its shape takes --spacing alone (it was ignored without --dims/--type)
+    spit(d / "named_6x5x4_uint8.raw", bytes);
+    REQUIRE(sh("MESHLESS hierarchy " + D + "/named_6x5x4_uint8.raw --spacing 2,1,1 -o " + D + "/s.mlh", d).code == 0);
+    const ClusterTree s = read_cluster_tree_file(D + "/s.mlh");
+    REQUIRE(s.nodes.size() == a.nodes.size());
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) CHECK(a.nodes[i].centre.x == s.nodes[i].centre.x);
     // dims that do not match the file: one line naming it, nothing written
     const auto bad = sh("MESHLESS hierarchy " + D + "/plain.raw --dims 6,5,5 --type uint8 -o " + D + "/bad.mlh", d);
     CHECK(bad.code != 0);
