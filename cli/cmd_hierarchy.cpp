@@ -97,7 +97,7 @@ int cmd_hierarchy(int argc, char** argv) {
     const PointSet points = a.positional().size() == 1 && is_brick_store(a.positional().front())
                                 ? point_set_from_brick_store(a.positional().front())
                             : raw_volume ? point_set_from_volume(a.positional().front(), point_set_options(a), raw_options(a))
-                                         : read_points_arg(a);
+                                         : read_points_arg(a, /*warn_dropped=*/false);  // the tree's notes count them
     const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ProgressMeter meter = ProgressMeter::of(a, "splits", cluster_hierarchy_split_bound(p, points.size()));
     const ClusterTree tree = build_cluster_hierarchy(points, p, nthreads, a.positional().front(), [&](std::uint64_t splits) {

@@ -144,7 +144,7 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
     return p;
 }
 
-PointSet read_field_points(const std::vector<std::string>& paths, const Args& a) {
+PointSet read_field_points(const std::vector<std::string>& paths, const Args& a, bool warn_dropped) {
     for (const auto& p : paths)  // the point-set readers go by the file's extension (and some reread it)
         if (p == "-")
             throw UsageError("-: meshless " + a.command() + " reads its data (point sets, volumes, multiblock sets) from files "
@@ -163,12 +163,12 @@ PointSet read_field_points(const std::vector<std::string>& paths, const Args& a)
     const InputWarning to_stderr = [&a](const std::string& subject, const std::string& what) {
         std::fprintf(stderr, "meshless %s: warning: %s: %s\n", a.command().c_str(), terminal_safe(subject).c_str(), terminal_safe(what).c_str());
     };
-    return meshless::read_field_points(paths, point_set_options(a), a.command(), to_stderr);
+    return meshless::read_field_points(paths, point_set_options(a), a.command(), to_stderr, warn_dropped);
 }
 
-PointSet read_points_arg(const Args& a) {
+PointSet read_points_arg(const Args& a, bool warn_dropped) {
     if (a.positional().empty()) throw UsageError("missing POINTS argument (see meshless " + a.command() + " --help)");
-    return read_field_points(a.positional(), a);
+    return read_field_points(a.positional(), a, warn_dropped);
 }
 
 std::unique_ptr<Field> fit_input_field(const Args& a, const PointSet& points, const FieldParams& params, FieldBuildStats& stats,

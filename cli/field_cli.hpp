@@ -37,10 +37,11 @@ std::optional<std::string> field_file_arg(const Args& a);
 
 /// stream/field_data.hpp read_field_points with the point-set options, after the UsageErrors of
 /// data the command cannot read together ("-", a volume among several files, --lod-level or
-/// --lod-error without a cluster tree); warnings go to stderr.
-PointSet read_field_points(const std::vector<std::string>& paths, const Args& a);
+/// --lod-error without a cluster tree); warnings go to stderr (the samples dropped as NaN/Inf among
+/// them unless `warn_dropped` is false: a command that reports them itself).
+PointSet read_field_points(const std::vector<std::string>& paths, const Args& a, bool warn_dropped = true);
 /// read_field_points of the positional POINTS files.
-PointSet read_points_arg(const Args& a);
+PointSet read_points_arg(const Args& a, bool warn_dropped = true);
 
 /// fit_data_field (stream/field_data.hpp) under --threads, with a progress line of the local fits
 /// on commands that declare --quiet; first a UsageError when the mpu octree --alpha implies would not

@@ -24,22 +24,29 @@ std::string data_field_default(const std::vector<std::string>& paths) {
     return all_multiblock(paths) ? kBlocksFieldDefault : kPointsFieldDefault;
 }
 
-PointSet read_field_points(const std::vector<std::string>& paths, const PointSetOptions& options, const std::string& command,
-                           const InputWarning& warn) {
+namespace {
+PointSet read_any_points(const std::vector<std::string>& paths, const PointSetOptions& options, const InputWarning& warn) {
     if (all_multiblock(paths)) return to_point_set(read_multiblock(paths, options));
     for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so
         if (is_cluster_tree_file(p)) {
             const ClusterTreeLodRequest r = cluster_tree_lod_request(read_cluster_tree_file(p), options);
             if (r.clamped && warn) warn(p, r.note);
         }
-    PointSet ps = read_point_set(paths, options);
+    return read_point_set(paths, options);
+}
+}  // namespace
+
+PointSet read_field_points(const std::vector<std::string>& paths, const PointSetOptions& options, const std::string& command,
+                           const InputWarning& warn, bool warn_dropped) {
+    PointSet ps = read_any_points(paths, options, warn);
+    std::string names;
+    for (const auto& p : paths) names += (names.empty() ? "" : ", ") + p;
+    if (warn && warn_dropped && ps.dropped_nonfinite > 0)
+        warn(names, std::to_string(ps.dropped_nonfinite) + " points with a NaN/Inf position or value dropped (--strict refuses them)");
     // every command that reads points this way fits, probes, renders or clusters their values
-    if (!ps.has_values) {
-        std::string names;
-        for (const auto& p : paths) names += (names.empty() ? "" : ", ") + p;
+    if (!ps.has_values)
         throw FormatError(names + ": the points carry no values (positions only); meshless " + command +
                           " needs a value at each point");
-    }
     return ps;
 }
 

@@ -51,10 +51,12 @@ using InputWarning = std::function<void(const std::string& subject, const std::s
 /// (looks_like_multiblock: .vts .vtm .vthb, PLOT3D) through read_multiblock and to_point_set (every
 /// valid node, the set the block commands build their field from), else through read_point_set.
 /// `command` names the command in the messages ("probe"); warn (may be empty) hears of a level of
-/// detail asked beyond a cluster tree. FormatError for positions-only points (no value to fit,
-/// probe, render or cluster).
+/// detail asked beyond a cluster tree and, unless `warn_dropped` is false (a caller that reports
+/// them itself), of the samples the readers dropped for a NaN/Inf position or value (--strict
+/// refuses them instead). FormatError for positions-only points (no value to fit, probe, render
+/// or cluster).
 PointSet read_field_points(const std::vector<std::string>& paths, const PointSetOptions& options, const std::string& command,
-                           const InputWarning& warn = {});
+                           const InputWarning& warn = {}, bool warn_dropped = true);
 
 /// A field and where its data covers space (null coverage: values are the field's own, neither
 /// masked nor kept within the data's range).

@@ -121,8 +121,6 @@ ScatteredIsosurfaceInput bin_scattered_points(PointSet points, const std::string
     ScatteredIsosurfaceInput in;
     in.source = source;
     in.points = std::move(points);
-    if (warn && in.points.dropped_nonfinite > 0)
-        warn(name, std::to_string(in.points.dropped_nonfinite) + " points with a NaN/Inf position or value dropped");
     if (distinct_positions(in.points.pos, 4) < 4)
         throw FormatError(name + ": fewer than 4 distinct point positions; a volume needs at least 4 points not all in one place");
     const auto t0 = Clock::now();

@@ -59,8 +59,9 @@ struct ScatteredIsosurfaceInput {
 };
 
 /// Bins `points` (section 5.3). `name`: the file the messages name. warn (may be empty: no
-/// warnings, and the largest stencil is not counted): points dropped as NaN/Inf, a plane or line
-/// of points, a coarsened grid, one stencil with most of the points (section 5.8). Throws
+/// warnings, and the largest stencil is not counted): a plane or line of points, a coarsened grid,
+/// one stencil with most of the points (section 5.8; points the reader dropped as NaN/Inf are
+/// read_field_points' warning). Throws
 /// FormatError when fewer than 4 positions are distinct.
 ScatteredIsosurfaceInput bin_scattered_points(PointSet points, const std::string& source, const std::string& name,
                                               const BinningGridParams& bp, double reg_gap, const InputWarning& warn);

@@ -331,6 +331,20 @@ TEST_CASE("isosurface POINTS: fewer than 4 distinct points is a data error, NaN/
     CHECK_THAT(r.err, Catch::Contains("4 points with a NaN/Inf position or value dropped"));
     CHECK_THAT(r.err, Catch::Contains("2000 points (4 NaN/Inf dropped)"));
     CHECK(ply_count((d / "n.ply").string()) > 1000);
+    // every command that reads points says so once, under its own name; --strict refuses them
+    for (const std::string cmd : {"fit " + nan + " -o " + D + "/n.mlf", "probe " + nan + " --at 0,0,0",
+                                  "isosurface " + nan + " --iso 0.6 -o " + D + "/n2.ply"}) {
+        INFO(cmd);
+        r = sh("MESHLESS " + cmd, d);
+        CHECK(r.code == 0);
+        const std::string w = "meshless " + cmd.substr(0, cmd.find(' ')) + ": warning: " + nan +
+                              ": 4 points with a NaN/Inf position or value dropped";
+        CHECK_THAT(r.err, Catch::Contains(w));
+        CHECK(r.err.find("NaN/Inf") == r.err.rfind("NaN/Inf"));
+    }
+    r = sh("MESHLESS fit " + nan + " --strict -o " + D + "/s.mlf", d);
+    CHECK(r.code == 2);
+    CHECK_FALSE(fs::exists(d / "s.mlf"));
 }
 
 TEST_CASE("isosurface POINTS: an isovalue outside the value range warns and writes empty valid outputs", "[cli][scattered]") {
