@@ -135,8 +135,8 @@ for t in "${targets[@]}"; do
   mkdir -p "$seeds/$t"
   # -seed: a fixed sequence of inputs (FUZZ_SEED, default 1), so a short CI run replays a prefix of what a
   # longer run with the same seed already explored; FUZZ_SEED=0 lets libFuzzer pick one
-  # the header fields that name files, and path references out of a header's folder
-  dict=$root/tests/fuzz/references.dict
+  # the header fields that name files, path references out of a header's folder, huge and non-finite numbers
+  dict=$root/tests/fuzz/fuzz.dict
   (cd "$out" && "$exe_t" corpus "$seeds/$t" -seed="${FUZZ_SEED:-1}" -max_total_time="$secs" -rss_limit_mb=2048 \
         -malloc_limit_mb=1024 -timeout=10 -max_len=65536 -print_final_stats=1 -dict="$dict" > log.txt 2>&1)
   rc=$?
