@@ -102,13 +102,14 @@ std::uint64_t image_bytes(int width, int height, std::uint64_t bytes_per_pixel) 
 Volume load_volume(const Args& a) { return load_volume(volume_arg(a), volume_open_options(a, false)); }
 
 void add_sampling_options(Args& a) {
-    a.option("radius-scale", "", "S", "splat radius = S * half the cell diagonal", "1");
+    a.option("radius-scale", "", "S", "splat radius = S * half the cell diagonal, 0 < S <= 1000", "1");
 }
 
 SamplingParams sampling_params(const Args& a) {
     SamplingParams sp;
     sp.radius_scale = a.get_double_or("radius-scale", 1.0);
-    if (!(sp.radius_scale > 0)) throw UsageError("--radius-scale: must be positive");
+    if (!(sp.radius_scale > 0 && sp.radius_scale <= 1000))  // beyond, a splat covers the whole volume
+        throw UsageError("--radius-scale: expected 0 < S <= 1000, got " + a.get_or("radius-scale", ""));
     return sp;
 }
 

@@ -685,6 +685,7 @@ TEST_CASE("unbounded parameters: refused before any work with exit 1 and one lin
         {"ulimit -v 2097152; MESHLESS sample " + vol + " --count 100000000 -o " + out + ".ply", "--count 100000000"},
         {"MESHLESS isosurface " + vol + " --spacing 1e308,1,1 --iso 3 -o " + out + ".ply", "--spacing"},
         {"MESHLESS isosurface " + vol + " --spacing inf,1,1 --iso 3 -o " + out + ".ply", "--spacing"},
+        {"MESHLESS isosurface " + vol + " --radius-scale 1e300 --iso 3 -o " + out + ".ply", "--radius-scale"},
     };
     for (const auto& c : cases) {
 #ifdef MESHLESS_SANITIZED
