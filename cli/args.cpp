@@ -31,6 +31,16 @@ double parse_finite(const std::string& s, const std::string& what) {
     return v;
 }
 
+std::function<void(const std::string&)> in_range(const std::string& option, double lo, bool lo_inclusive, double hi) {
+    return [=](const std::string& s) {
+        const double v = parse_finite(s, option);
+        if (lo_inclusive ? v >= lo && v <= hi : v > lo && v <= hi) return;
+        char range[96];
+        std::snprintf(range, sizeof range, "%s%g, %g]", lo_inclusive ? "[" : "(", lo, hi);
+        throw UsageError(option + ": expected a number in " + range + ", got '" + s + "'");
+    };
+}
+
 long long parse_int(const std::string& s, const std::string& what) {
     char* end = nullptr;
     const long long v = std::strtoll(s.c_str(), &end, 10);

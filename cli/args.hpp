@@ -94,6 +94,9 @@ private:
 double parse_double(const std::string& s, const std::string& what);
 /// The same, refusing NaN and infinities.
 double parse_finite(const std::string& s, const std::string& what);
+/// A validate() check: a finite number in (lo, hi], or [lo, hi] when `lo_inclusive`; UsageError
+/// "OPTION: expected a number in (lo, hi], got 'V'" otherwise.
+std::function<void(const std::string&)> in_range(const std::string& option, double lo, bool lo_inclusive, double hi);
 long long parse_int(const std::string& s, const std::string& what);
 /// "WxH" with both in [lo, hi]; throws UsageError naming `what`.
 std::array<int, 2> parse_size(const std::string& s, const std::string& what, int lo, int hi);

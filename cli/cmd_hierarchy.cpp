@@ -39,12 +39,8 @@ CbtParams hierarchy_params(const Args& a) {
     const long long k = a.get_int_or("neighbours", 25);
     if (k < 1 || k > 1000) throw UsageError("--neighbours: expected 1..1000");
     p.neighbours = static_cast<std::uint32_t>(k);
-    p.hardy_c_rel = parse_finite(a.get_or("hardy-c", "0.025"), "--hardy-c");
-    if (p.hardy_c_rel < 0) throw UsageError("--hardy-c: expected a number >= 0");
-    if (auto c = a.get("hardy-c-world")) {
-        p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
-        if (p.hardy_c_world <= 0) throw UsageError("--hardy-c-world: expected a number > 0");
-    }
+    p.hardy_c_rel = parse_finite(a.get_or("hardy-c", "0.025"), "--hardy-c");  // ranges: checked at parse
+    if (auto c = a.get("hardy-c-world")) p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
     const std::string sc = a.get_or("pca-scaling", "normalised");
     if (sc == "raw") p.scaling = PcaScaling::raw;
     else if (sc == "normalised" || sc == "normalized") p.scaling = PcaScaling::normalised;
@@ -69,8 +65,10 @@ int cmd_hierarchy(int argc, char** argv) {
         .option("max-error", "", "E", "stop when the worst cluster error is <= E", "0")
         .option("min-cluster", "", "N", "clusters with fewer samples are not split (>= 2)", "2")
         .option("neighbours", "", "K", "f_c from the min(|C|, K) samples nearest the centre", "25")
-        .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal", "0.025")
-        .option("hardy-c-world", "", "C", "Hardy's constant in world units (overrides --hardy-c)")
+        .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal, in [0, 100]", "0.025")
+        .validate(in_range("--hardy-c", 0, true, 100))
+        .option("hardy-c-world", "", "C", "Hardy's constant in world units, in (0, 1e150] (overrides --hardy-c)")
+        .validate(in_range("--hardy-c-world", 0, false, 1e150))
         .option("pca-scaling", "", "normalised|raw",
                 "PCA of (x,y,z,f) in units scaled to the bounding-box diagonal and the value range, or in the data's units",
                 "normalised")

@@ -46,17 +46,21 @@ void add_field_options(Args& a, bool with_coverage, const std::string& default_k
         .option("max-points", "", "N", "mpu: subdivide while a node's sphere holds more than N points", "140")
         .option("alpha", "", "A", "mpu: sphere of influence = A x node diagonal, in (0.5, 4]; the octree and its fits grow "
                                   "as A^3 and must fit in memory", "0.75")
-        .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal (0.003 for a "
-                                     ".mlh level of detail)", "0.025")
-        .option("hardy-c-world", "", "C", "Hardy's constant in world units (overrides --hardy-c)")
+        .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal, in (0, 100] "
+                                     "(0.003 for a .mlh level of detail)", "0.025")
+        .validate(in_range("--hardy-c", 0, false, 100))
+        .option("hardy-c-world", "", "C", "Hardy's constant in world units, in (0, 1e150] (overrides --hardy-c)")
+        .validate(in_range("--hardy-c-world", 0, false, 1e150))
         .option("hardy-c-spacing", "", "K",
                 "rbf-grid, mpu: a local fit's c is at most K x its point spacing (mean nearest-neighbour distance), "
-                "which keeps dense data well conditioned; 0 = the global c everywhere (the paper)",
+                "which keeps dense data well conditioned; 0 = the global c everywhere (the paper); 0..1e6",
                 "8")
+        .validate(in_range("--hardy-c-spacing", 0, true, 1e6))
         .option("hardy-c-rough", "", "K",
                 "rbf-grid, mpu: each local is also fitted with c = K x its point spacing and keeps the fit that predicts "
-                "its own points better (leave-one-out; the narrow c wins at sharp edges); 0 = one fit",
+                "its own points better (leave-one-out; the narrow c wins at sharp edges); 0 = one fit; 0..1e6",
                 "1")
+        .validate(in_range("--hardy-c-rough", 0, true, 1e6))
         .flag("normalise-axes", "scale each axis so the bounding box is a cube (axes in unrelated units)");
     if (with_coverage)
         a.option("max-gap", "", "F", "positions farther than F x the local point spacing (8th-neighbour distance) "
@@ -123,20 +127,13 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
     if (!(p.mpu_alpha > 0.5) || p.mpu_alpha > kMaxMpuAlpha)  // 0.5: the sphere no longer covers its cube
         throw UsageError("--alpha: expected a factor in (0.5, 4], got " + a.get_or("alpha", "0.75"));
     if (const auto c = a.get("hardy-c")) {
-        p.hardy_c_rel = parse_finite(*c, "--hardy-c");
-        if (!(p.hardy_c_rel > 0)) throw UsageError("--hardy-c: expected a number > 0, got " + *c);
+        p.hardy_c_rel = parse_finite(*c, "--hardy-c");  // its range: checked at parse (in_range)
     } else  // a cluster tree's level of detail gets its own default c (kernels/field_params.hpp)
         for (const std::string& in : a.positional())
             if (is_cluster_tree_file(in)) p.hardy_c_rel = kLodHardyCRel;
-    if (auto c = a.get("hardy-c-world")) {
-        p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
-        if (!(p.hardy_c_world > 0)) throw UsageError("--hardy-c-world: expected a number > 0, got " + *c);
-    }
+    if (auto c = a.get("hardy-c-world")) p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
     for (const auto& [opt, to] : {std::pair<const char*, double*>{"hardy-c-spacing", &p.hardy_c_spacing}, {"hardy-c-rough", &p.hardy_c_rough}})
-        if (auto k = a.get(opt)) {
-            *to = parse_finite(*k, "--" + std::string(opt));
-            if (!(*to >= 0) || *to > 1e6) throw UsageError("--" + std::string(opt) + ": expected a factor in 0..1e6, got " + *k);
-        }
+        if (auto k = a.get(opt)) *to = parse_finite(*k, "--" + std::string(opt));
     p.normalise_axes = a.has("normalise-axes");
     const long long k = a.get_int_or("local-points", FieldParams{}.rbf_grid_local_points);
     if (k < 0 || k > 100000) throw UsageError("--local-points: expected 0..100000");

@@ -9,6 +9,10 @@ void add_point_set_options(Args& a, bool with_endian) {
         .option("value", "", "NAME|INDEX", "point sets: the scalar (column, PLY property, VTK array, PLOT3D q name or function variable)")
         .option("q", "", "FILE", "PLOT3D: q file (default: the xyz file's sibling, e.g. combxyz.bin -> combq.bin)")
         .option("q-component", "", "N", "PLOT3D: q component 0..4 (rho, rho u, rho v, rho w, rho E) or 5 = speed", "0")
+        .validate([](const std::string& v) {
+            const long long qc = parse_int(v, "--q-component");
+            if (qc < 0 || qc > 5) throw UsageError("--q-component: expected 0..5, got " + v);
+        })
         .option("function", "", "FILE", "PLOT3D: function file (.f) giving the values")
         .flag("allow-trailing", "point sets: ignore bytes after the data the header describes (noted)")
         .flag("strict", "point sets: refuse NaN/Inf samples (with the line) instead of dropping them")
