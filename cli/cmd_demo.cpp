@@ -33,6 +33,11 @@ int cmd_demo(int argc, char** argv) {
     if (n < 8 || n > 1024) throw UsageError("--n: expected 8..1024");
     const std::filesystem::path dir = a.get_or("output", ".");
     if (dir == "-") throw UsageError("-o -: the demo writes a folder of files (a PLY and a PNG), not one stream to standard output");
+    // "-o pic.png" means a file to whoever types it: a folder of that name would surprise them
+    std::error_code ec;
+    const std::string ext = dir.extension().string();
+    if (!std::filesystem::is_directory(dir, ec) && (ext == ".png" || ext == ".ply" || ext == ".vtp" || ext == ".csv" || ext == ".nrrd"))
+        throw UsageError("-o " + dir.string() + ": the demo writes a folder (DIR/demo.ply and DIR/demo.png); give a folder name");
     RenderSettings rs = render_settings(a);  // option errors (--size over the memory) before the folder is made
     make_output_folder(dir.string());
 

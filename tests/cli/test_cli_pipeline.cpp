@@ -253,6 +253,11 @@ TEST_CASE("demo writes a PLY and a PNG", "[cli]") {
     CHECK(fs::file_size(d / "out/demo.png") > 1000);
     auto r = sh("MESHLESS info " + D + "/out/demo.png " + D + "/out/demo.ply", d);
     CHECK(r.code == 0);
+    // -o with a file's extension is refused, not made a folder of that name
+    r = sh("MESHLESS demo -o " + D + "/pic.png --n 16", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("give a folder name"));
+    CHECK_FALSE(fs::exists(d / "pic.png"));
 }
 
 TEST_CASE("demo equals isosurface on the same analytic volume: PLY and PNG bytes", "[cli]") {
