@@ -145,7 +145,8 @@ void add_orbit_options(Args& a, const char* default_size) {
         .option("up", "", "AXIS", "the world axis that points up in the picture: x, y, z, -x, -y or -z (superior, unless given, for a volume whose header gives the patient's axes)", "y")
         .option("view", "", "NAME", "a named view instead of --azimuth/--elevation: +x -x +y -y +z -z (the camera looks "
                                     "along that axis) or iso (looks along -1,-1,-1)")
-        .option("zoom", "", "Z", "zoom factor (1 frames the subject: the surface's bounds recorded in the stream or PLY, or the active bricks/blocks; render: the data's box or --bounds)", "1")
+        .option("zoom", "", "Z", "zoom factor in (0, 1e6] (1 frames the subject: the surface's bounds recorded in the stream or PLY, or the active bricks/blocks; render: the data's box or --bounds)", "1")
+        .validate(in_range("--zoom", 0, false, 1e6))
         .flag("ortho", "orthographic instead of perspective projection");
 }
 
@@ -247,7 +248,6 @@ Camera camera_from(const Args& a, const char* default_size) {
     // (without --up, a volume's header may still choose the up axis: apply_anatomical_default warns then)
     if (const auto dir = view_direction(a)) set_view(c, *dir, a.get("view").value_or(""), a.declared("up") && a.has("up"));
     c.zoom = parse_finite(a.get_or("zoom", "1"), "--zoom");
-    if (!(c.zoom > 0)) throw UsageError("--zoom: must be positive");
     c.perspective = !a.has("ortho");
     return c;
 }
