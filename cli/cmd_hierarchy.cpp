@@ -114,7 +114,9 @@ int cmd_lod(int argc, char** argv) {
     Args a("lod", "tree.mlh (--level L | --error E) -o lod.ply|lod.csv|lod.vtp",
            "Extracts a level of detail from a cluster binary tree (dissertation section 6.4): a depth-first\n"
            "traversal taking the clusters at depth L (level-based) or the first clusters of error <= E on\n"
-           "every path (error-based); a leaf met before is taken as it is. The cluster centres and values are\n"
+           "every path (error-based); a leaf met before is taken as it is. The points are listed coarse to\n"
+           "fine: any first N of them hold one point below each cluster of a coarser cut of the tree, so a\n"
+           "prefix is itself a level of detail spread over all the data. The cluster centres and values are\n"
            "a scattered data set (section 6.5): every command reading point sets takes it, or the .mlh itself\n"
            "with --lod-level/--lod-error. A level beyond the depth or an error below the one reached gives the\n"
            "finest level of detail (with a warning).");

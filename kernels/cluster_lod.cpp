@@ -38,8 +38,26 @@ std::vector<std::uint32_t> lod_nodes(std::span<const CbtNode> nodes, LodMode mod
     return out;
 }
 
+std::vector<std::uint32_t> lod_coarse_to_fine_order(std::span<const CbtNode> nodes, std::vector<std::uint32_t> ids) {
+    // key[i]: the depth of the shallowest cluster node i's representative chain starts at. A
+    // split passes its cluster's key to the larger child (the first on a tie) and starts a new
+    // chain at the other child's depth; children are numbered after their parents, so one pass
+    // in number order sees every parent before its children.
+    std::vector<std::uint32_t> key(nodes.size(), 0);
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        const CbtNode& d = nodes[i];
+        if (d.leaf()) continue;
+        const std::uint32_t a = d.child, b = d.child + 1;
+        const bool first_larger = nodes[a].count >= nodes[b].count;
+        key[first_larger ? a : b] = key[i];
+        key[first_larger ? b : a] = nodes[first_larger ? b : a].depth;
+    }
+    std::stable_sort(ids.begin(), ids.end(), [&](std::uint32_t x, std::uint32_t y) { return key[x] < key[y]; });
+    return ids;
+}
+
 PointSet lod_point_set(std::span<const CbtNode> nodes, LodMode mode, double threshold, const std::string& value_name) {
-    const std::vector<std::uint32_t> ids = lod_nodes(nodes, mode, threshold);
+    const std::vector<std::uint32_t> ids = lod_coarse_to_fine_order(nodes, lod_nodes(nodes, mode, threshold));
     PointSet ps;
     ps.pos.resize(ids.size());
     ps.value.resize(ids.size());

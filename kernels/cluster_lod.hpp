@@ -7,10 +7,15 @@
 // A level beyond the depth, or an error below the finest LOD's error, gives the finest LOD (every
 // leaf); the caller warns (LodRequest::clamped tells it).
 // The selection is the depth-first one, computed in one sequential pass over the nodes in number
-// order (children are numbered after their parents), so a LOD comes out in node-number order
-// (the order of refinement), not in depth-first order; as a scattered data set the order is
-// immaterial. Preconditions: a valid tree (kernels/cluster_tree.hpp validate_cluster_tree).
-// Cost: O(nodes), one byte per node of scratch. Thread-safety: pure functions. Throws only bad_alloc.
+// order (children are numbered after their parents); lod_nodes gives it in node-number order.
+// lod_point_set lists it coarse to fine (lod_coarse_to_fine_order): every cluster of the tree is
+// represented by one LOD node below it, the one reached through its larger child at every split,
+// and the LOD nodes are listed by the depth of the shallowest cluster they represent, so the first
+// k nodes hold one node below each cluster of a coarser cut of the tree: any prefix of a LOD is a
+// LOD of its size, spread over the whole data (a viewer or a pipe may stop reading early).
+// Preconditions: a valid tree (kernels/cluster_tree.hpp validate_cluster_tree).
+// Cost: O(nodes) time and 4 bytes per node of scratch, plus the sort of the LOD's nodes.
+// Thread-safety: pure functions. Throws only bad_alloc.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -26,7 +31,11 @@ enum class LodMode { level, error };
 /// The node numbers of the LOD, ascending.
 std::vector<std::uint32_t> lod_nodes(std::span<const CbtNode> nodes, LodMode mode, double threshold);
 
-/// The LOD as a point set (centres, values; one block "lod"); value_name as given.
+/// `ids` (a LOD, e.g. lod_nodes') reordered coarse to fine (see above): stably by the depth of the
+/// shallowest cluster each node represents, node number breaking ties.
+std::vector<std::uint32_t> lod_coarse_to_fine_order(std::span<const CbtNode> nodes, std::vector<std::uint32_t> ids);
+
+/// The LOD as a point set (centres, values; one block "lod"), coarse to fine; value_name as given.
 PointSet lod_point_set(std::span<const CbtNode> nodes, LodMode mode, double threshold, const std::string& value_name);
 
 /// LOD sizes for every level 0..depth (index = level), in one pass over the nodes.

@@ -72,12 +72,46 @@ TEST_CASE("LOD traversal: level- and error-based equal a brute-force depth-first
     CHECK(lod_nodes(t.nodes, LodMode::level, 1000).size() == leaves);
     CHECK(lod_nodes(t.nodes, LodMode::error, -1).size() == leaves);
     CHECK(lod_request_clamped(t.nodes, LodMode::error, t.stats.error_reached * 0.5) == (t.stats.error_reached > 0));
-    // the point set carries the centres and values in traversal order
+    // the point set carries the centres and values, coarse to fine
     const PointSet ps = lod_point_set(t.nodes, LodMode::level, 5, "v");
-    const auto ids = lod_nodes(t.nodes, LodMode::level, 5);
+    const auto ids = lod_coarse_to_fine_order(t.nodes, lod_nodes(t.nodes, LodMode::level, 5));
     REQUIRE(ps.size() == ids.size());
     for (std::size_t i = 0; i < ids.size(); ++i) {
         CHECK(ps.pos[i].x == t.nodes[ids[i]].centre.x);
         CHECK(ps.value[i] == t.nodes[ids[i]].value);
+    }
+}
+
+TEST_CASE("LOD order: every prefix of a LOD holds one node below each cluster of a coarser cut", "[kernels][cbt]") {
+    const ClusterTree t = sample_tree();
+    // parent of each node, to find a node's ancestor at depth k
+    std::vector<std::uint32_t> parent(t.nodes.size(), 0);
+    for (std::uint32_t i = 0; i < t.nodes.size(); ++i)
+        if (!t.nodes[i].leaf()) parent[t.nodes[i].child] = parent[t.nodes[i].child + 1] = i;
+    const auto at_depth = [&](std::uint32_t i, std::uint32_t k) {
+        while (t.nodes[i].depth > k) i = parent[i];
+        return i;
+    };
+    for (const auto& [mode, threshold] : {std::pair{LodMode::level, 7.0}, std::pair{LodMode::level, 1000.0}, std::pair{LodMode::error, 3.0}}) {
+        const auto plain = lod_nodes(t.nodes, mode, threshold);
+        const auto order = lod_coarse_to_fine_order(t.nodes, plain);
+        auto sorted = order;
+        std::sort(sorted.begin(), sorted.end());
+        REQUIRE(sorted == plain);  // the same nodes
+        std::uint32_t deepest = 0;
+        for (std::uint32_t i : plain) deepest = std::max(deepest, t.nodes[i].depth);
+        for (std::uint32_t k = 0; k <= deepest; ++k) {
+            // the level-k cut above this LOD: the level-k LOD's nodes that are ancestors of (or are) LOD nodes
+            std::vector<std::uint32_t> cut;
+            for (std::uint32_t i : plain) cut.push_back(at_depth(i, k));
+            std::sort(cut.begin(), cut.end());
+            cut.erase(std::unique(cut.begin(), cut.end()), cut.end());
+            // the first cut.size() nodes of the order: one below each cluster of the cut
+            std::vector<std::uint32_t> seen;
+            for (std::size_t j = 0; j < cut.size(); ++j) seen.push_back(at_depth(order[j], k));
+            std::sort(seen.begin(), seen.end());
+            INFO("k " << k << ", threshold " << threshold);
+            CHECK(seen == cut);
+        }
     }
 }
