@@ -23,6 +23,7 @@ Functions (keyword-only options; ``threads=0`` means every core this process may
     render(volume | store | field, ...)     ray-cast volume rendering (sections 6.6, 7.4): an Image
     splat(pointset | path, ...)             surface splatting of oriented points (section 3.6): an Image
     read_image(path), Image.save(path)      PNG pictures in and out (the product's PNG reader and writer)
+    hierarchy(points, values, ...)          the cluster binary tree of chapter 6; tree.lod(level=|error=)
     open_store(path), Store.isosurface(iso) a brick store's isosurface as a generator of batches (section 3.6)
 Errors: ValueError for bad arguments; DataError (a ValueError) for unusable data, with the command's
 one-line message; OSError when a file cannot be read or written.
@@ -33,8 +34,8 @@ import numpy as _np
 from . import _core
 from ._core import DataError
 
-__all__ = ["DataError", "PointSet", "Field", "Image", "Store", "isosurface", "isosurface_points",
-           "isosurface_blocks", "mc", "read_points", "info", "render", "splat", "read_image", "open_store"]
+__all__ = ["DataError", "PointSet", "Field", "Image", "ClusterTree", "Store", "isosurface", "isosurface_points",
+           "isosurface_blocks", "mc", "read_points", "info", "render", "splat", "read_image", "hierarchy", "open_store"]
 
 
 class PointSet:
@@ -46,6 +47,8 @@ class PointSet:
         radius  (n,)   float32  splat radius, world units
         values  (n,)   float32  the field's value at each point (the isovalue, within the projection's tolerance)
         block   (n,)   uint32   isosurface_blocks only: the block each point was seeded in, else None
+    A level of detail (ClusterTree.lod) is scattered data: points (n, 3) and values (n,) float64, no
+    normals or radius (None).
         stats   dict            what the run counted (cells, seeds, Newton outcomes, ...)
         warnings list of str    what the run warned about (isosurface_points)
         comments list of str    read_points: the PLY's comments
@@ -56,8 +59,8 @@ class PointSet:
 
     def __init__(self, arrays):
         self.points = arrays["points"]
-        self.normals = arrays["normals"]
-        self.radius = arrays["radius"]
+        self.normals = arrays.get("normals")
+        self.radius = arrays.get("radius")
         self.values = arrays["values"]
         self.block = arrays.get("block")
         self.stats = arrays.get("stats", {})
@@ -67,6 +70,9 @@ class PointSet:
     def write(self, path):
         """Writes the points as the PLY `meshless isosurface -o out.ply` writes (binary little endian,
         x y z nx ny nz radius value, and block when there are block ids), atomically."""
+        if self.normals is None:
+            raise ValueError("write: a level of detail has no normals; write its points and values with NumPy "
+                             "(or `meshless lod TREE.mlh -o lod.ply`)")
         _core._write_points(str(path), self.points, self.normals, self.radius, self.values, self.block)
 
     def __len__(self):
@@ -388,6 +394,8 @@ def splat(source, *, size=(800, 800), azimuth=None, elevation=None, up=None, vie
     cam = _camera(size, azimuth, elevation, up, view, zoom, ortho)
     args = (cam, str(kernel), str(shading), str(color), str(colormap), range, bool(colorbar), int(threads))
     if isinstance(source, PointSet):
+        if source.normals is None:
+            raise ValueError("splat: the points have no normals (a level of detail); render(Field(...)) draws scattered data")
         import tempfile, os
         with tempfile.TemporaryDirectory(prefix="meshless-splat-") as d:
             path = os.path.join(d, "points.ply")
@@ -395,6 +403,67 @@ def splat(source, *, size=(800, 800), azimuth=None, elevation=None, up=None, vie
                                 source.comments or None)
             return Image(_core._splat(path, *args))
     return Image(_core._splat(str(source), *args))
+
+
+class ClusterTree:
+    """The cluster binary tree of dissertation chapter 6 (sections 6.1, 6.3), made by hierarchy() or
+    ClusterTree.load(path) (a .mlh of `meshless hierarchy`).
+
+    lod(level=L) or lod(error=E): a level of detail (section 6.4), the clusters at depth L or the
+    first clusters of error <= E on every path, as a PointSet of scattered data (section 6.5):
+    points (n, 3) and values (n,) float64 owning the extraction's buffers, normals and radius None;
+    the points `meshless lod TREE --level L -o lod.ply` writes, in its order. A level beyond the depth
+    or an error below the one reached gives the finest level (a warning in `warnings`).
+    save(path) writes the .mlh `meshless hierarchy` writes (the same bytes for the same samples,
+    options and value name). Attributes: depth, stats, bounds, value_range, value_name, notes."""
+
+    __slots__ = ("_t",)
+
+    def __init__(self, tree):
+        self._t = tree
+
+    def lod(self, *, level=None, error=None):
+        return PointSet(self._t._lod(None if level is None else int(level), None if error is None else float(error)))
+
+    def save(self, path):
+        self._t._save(str(path))
+
+    @staticmethod
+    def load(path):
+        return ClusterTree(_core._ClusterTree._load(str(path)))
+
+    depth = property(lambda self: self._t.depth)
+    stats = property(lambda self: self._t.stats)
+    bounds = property(lambda self: self._t.bounds)
+    value_range = property(lambda self: self._t.value_range)
+    value_name = property(lambda self: self._t.value_name)
+    notes = property(lambda self: list(self._t.notes))
+
+    def __repr__(self):
+        s = self.stats
+        return "meshless.ClusterTree(%d samples, %d nodes, depth %d)" % (s["samples"], s["nodes"], s["depth"])
+
+
+def hierarchy(points, values=None, *, max_splits=None, max_error=0.0, min_cluster=2, neighbours=25, hardy_c=0.025,
+              hardy_c_world=None, pca_scaling="normalised", value_name="", threads=0):
+    """Builds the cluster binary tree of dissertation chapter 6 (sections 6.1, 6.3), what
+    `meshless hierarchy` runs with the options of the same names: one cluster of every sample,
+    refined by splitting the cluster of largest error along the plane through its centre normal to
+    the dominant principal axis of its (x, y, z, f) samples.
+
+    points: (n, 3) world positions with values (n,), or a PointSet (its points and values); rows
+    with a NaN/Inf are dropped (counted in stats). value_name: what the .mlh records as the values'
+    name. The tree does not depend on `threads`. Returns a ClusterTree."""
+    if isinstance(points, PointSet):
+        if values is not None:
+            raise ValueError("hierarchy(pointset): the values are the PointSet's; give no values")
+        points, values = points.points, points.values
+    elif values is None:
+        raise ValueError("hierarchy: give points (n, 3) and values (n,), or a PointSet")
+    params = _core._hierarchy_params(max_splits, float(max_error), int(min_cluster), int(neighbours), float(hardy_c),
+                                     hardy_c_world, str(pca_scaling))
+    return ClusterTree(_core._hierarchy(_np.asarray(points, dtype=_np.float64), _np.asarray(values, dtype=_np.float64),
+                                        params, int(threads), str(value_name)))
 
 
 class Store:

@@ -517,6 +517,85 @@ class Pictures(unittest.TestCase):
             self.assertTrue(np.array_equal(meshless.splat(ply, size=(120, 100), elevation=35).pixels, ref))
 
 
+class LevelsOfDetail(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.pts, cls.val = scattered(3000)
+
+    def test_the_tree_and_its_levels_equal_meshless_hierarchy_and_lod(self):
+        tree = meshless.hierarchy(self.pts, self.val, value_name="v", threads=2)
+        self.assertEqual(tree.stats["samples"], len(self.pts))
+        self.assertGreater(tree.depth, 5)
+        with tempfile.TemporaryDirectory() as d:
+            csv, mlh = os.path.join(d, "p.csv"), os.path.join(d, "t.mlh")
+            write_csv(csv, self.pts, self.val)
+            cli("hierarchy", csv, "-o", mlh, "--threads", "1")
+            tree.save(os.path.join(d, "py.mlh"))
+            with open(mlh, "rb") as a, open(os.path.join(d, "py.mlh"), "rb") as b:
+                self.assertEqual(a.read(), b.read())
+            loaded = meshless.ClusterTree.load(mlh)
+            for flag, value, kw in (("--level", "6", {"level": 6}), ("--error", "0.05", {"error": 0.05}),
+                                    ("--level", "0", {"level": 0})):
+                out = os.path.join(d, "lod.ply")
+                cli("lod", mlh, flag, value, "-o", out)
+                want = read_ply_vertices(out)
+                for t in (tree, loaded):
+                    got = t.lod(**kw)
+                    self.assertEqual(got.points.dtype, np.float64)
+                    self.assertTrue(np.array_equal(got.points, xyz(want)), kw)
+                    self.assertTrue(np.array_equal(got.values, want["value"]), kw)
+                    self.assertIsNone(got.normals)
+                back = meshless.read_points(out)  # the module's reader: the same points, as float32
+                self.assertTrue(np.array_equal(back.points, tree.lod(**kw).points.astype(np.float32)))
+        self.assertEqual(len(tree.lod(level=0)), 1)
+        self.assertEqual(len(tree.lod(level=2)), 4)
+
+    def test_lod_arrays_own_the_extraction_and_a_point_set_builds_a_tree(self):
+        tree = meshless.hierarchy(self.pts, self.val, max_splits=200)
+        lod = tree.lod(level=30)  # beyond the depth: the finest, with a warning
+        self.assertEqual(len(lod), 201)
+        self.assertTrue(any("finest" in w or "depth" in w for w in lod.warnings), lod.warnings)
+        assert_owns_its_buffer(self, lod.points)
+        assert_owns_its_buffer(self, lod.values)
+        self.assertEqual(lod.points.shape, (201, 3))
+        v, sp, org = sphere_volume(n=24)
+        surf = meshless.isosurface(v, 0.5, spacing=sp, origin=org)
+        self.assertEqual(len(meshless.hierarchy(surf).lod(level=3)), 1)  # one value everywhere: nothing to split
+        surf.values[:] = surf.points[:, 2]  # the PointSet's own buffer: its values are now the height
+        t = meshless.hierarchy(surf, min_cluster=50)
+        self.assertEqual(t.stats["samples"], len(surf))
+        u = meshless.hierarchy(surf.points.astype(np.float64), surf.values.astype(np.float64), min_cluster=50)
+        self.assertEqual(len(t.lod(level=3)), 8)
+        self.assertTrue(np.array_equal(t.lod(level=5).points, u.lod(level=5).points))
+        with self.assertRaises(ValueError):
+            lod.write("x.ply")  # no normals
+
+    def test_bad_arguments_and_files(self):
+        tree = meshless.hierarchy(self.pts[:200], self.val[:200])
+        for call in (lambda: tree.lod(),
+                     lambda: tree.lod(level=1, error=1.0),
+                     lambda: tree.lod(level=-1),
+                     lambda: tree.lod(error=float("nan")),
+                     lambda: meshless.hierarchy(self.pts),
+                     lambda: meshless.hierarchy(self.pts[:, :2], self.val),
+                     lambda: meshless.hierarchy(self.pts, self.val[:10]),
+                     lambda: meshless.hierarchy(self.pts, self.val, min_cluster=1),
+                     lambda: meshless.hierarchy(self.pts, self.val, neighbours=0),
+                     lambda: meshless.hierarchy(self.pts, self.val, pca_scaling="pca"),
+                     lambda: meshless.hierarchy(self.pts, self.val, max_error=-1)):
+            with self.assertRaises(ValueError):
+                call()
+        with self.assertRaises(meshless.DataError):
+            meshless.hierarchy(np.full((10, 3), np.nan), np.zeros(10))  # no finite sample
+        with tempfile.TemporaryDirectory() as d:
+            with self.assertRaises(OSError):
+                meshless.ClusterTree.load(os.path.join(d, "missing.mlh"))
+            with open(os.path.join(d, "bad.mlh"), "wb") as f:
+                f.write(b"\x89MLH\r\n\x1a\n" + bytes(100))
+            with self.assertRaises(meshless.DataError):
+                meshless.ClusterTree.load(os.path.join(d, "bad.mlh"))
+
+
 @unittest.skipUnless(os.path.exists(TOOTH), "needs ../shared/data")
 class BrickStores(unittest.TestCase):
     @classmethod
