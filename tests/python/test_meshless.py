@@ -7,6 +7,7 @@ skipped without it).
 """
 import os
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -641,6 +642,23 @@ class BrickStores(unittest.TestCase):
             del h  # never started by the caller: dropped, its thread stopped
         self.assertLessEqual(len(os.listdir("/proc/self/task")), before)  # the graphs' threads joined
         self.assertEqual(len(list(store.isosurface(1e9))), 0)  # nothing active
+
+    def test_memory_stays_the_cache_and_a_few_batches_while_a_slow_consumer_reads(self):
+        big = os.path.join(self.dir.name, "tooth4.mlb")  # 98 M voxels, about 31 MiB of points at 100.5
+        cli("synth", "--upsample", "4", TOOTH, "-o", big)
+        script = (
+            "import resource, sys, time, meshless\n"
+            "store = meshless.open_store(sys.argv[1])\n"
+            "base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+            "n = 0\n"
+            "for b in store.isosurface(100.5, memory='4M', threads=2):\n"
+            "    n += len(b)\n"
+            "    time.sleep(0.0005)  # slower than the graph: an unbounded queue would hold every batch\n"
+            "print(n * 32, (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - base) * 1024)\n")
+        r = subprocess.run([sys.executable, "-c", script, big], capture_output=True, check=True, text=True)
+        output, growth = map(int, r.stdout.split())
+        self.assertGreater(output, 25 << 20)
+        self.assertLess(growth, output // 2, "peak RSS grew %.1f MiB for %.1f MiB of points" % (growth / 2**20, output / 2**20))
 
     def test_bad_stores_and_arguments(self):
         store = meshless.open_store(self.mlb)
