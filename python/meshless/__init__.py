@@ -47,11 +47,11 @@ class PointSet:
         radius  (n,)   float32  splat radius, world units
         values  (n,)   float32  the field's value at each point (the isovalue, within the projection's tolerance)
         block   (n,)   uint32   isosurface_blocks only: the block each point was seeded in, else None
-    A level of detail (ClusterTree.lod) is scattered data: points (n, 3) and values (n,) float64, no
-    normals or radius (None).
         stats   dict            what the run counted (cells, seeds, Newton outcomes, ...)
         warnings list of str    what the run warned about (isosurface_points)
         comments list of str    read_points: the PLY's comments
+    A level of detail (ClusterTree.lod) is scattered data: points (n, 3) and values (n,) float64 owning
+    the extraction's buffers, normals and radius None.
     Methods: write(path) writes the PLY `meshless isosurface` writes.
     """
 
