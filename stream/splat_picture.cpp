@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "formats/file_names.hpp"
@@ -92,7 +93,8 @@ SplatReport splat_mesh(RenderSettings rs, const SplatRequest& r) {
     TriangleStats st;
     Image picture = render_triangles(mesh, cam, rs.shading, bounds, &st);
     decorate_picture(rs, picture);
-    write_png(picture, r.png);
+    if (r.picture) r.picture(std::move(picture));
+    else write_png(picture, r.png);
     rep.triangles_drawn = static_cast<long long>(st.triangles_drawn);
     rep.fragments = static_cast<long long>(st.fragments);
     rep.seconds = seconds_since(t0);
@@ -238,7 +240,8 @@ SplatReport splat_picture(RenderSettings rs, const SplatRequest& r) {
     run_pipeline(*source, stages, sink, {r.threads});
     Image picture = sink.image();
     decorate_picture(rs, picture);
-    write_png(picture, r.png);
+    if (r.picture) r.picture(std::move(picture));
+    else write_png(picture, r.png);
     SplatReport rep;
     rep.drawn = sink.points();
     rep.seconds = seconds_since(t0);

@@ -5,7 +5,8 @@
 // graph: source -> [project] -> draw (parallel) -> splat sink; points are drawn as they arrive
 // (memory: the image buffers and a batch) unless the frame or the colours need them all first, when
 // they go once to a point spool (an unlinked file in $TMPDIR) that is replayed.
-// Units: world units; pictures are 8-bit RGB PNGs of the camera's size, written atomically.
+// Units: world units; pictures are 8-bit RGB PNGs of the camera's size, written atomically (or handed
+// to SplatRequest::picture).
 // Throws InvalidArgument for a request the input cannot satisfy (an isovalue for points, colour by
 // value of a mesh, colour by block of points without block ids, unprojected seeds), FormatError for
 // bad files, IoError when a picture cannot be written. The bytes do not depend on the thread count.
@@ -37,6 +38,9 @@ struct SplatRequest {
     std::function<void(const AnatomicalFrame&, Camera&)> anatomical_camera;
     std::function<void(const std::string&)> warn;  ///< one-line warnings (may be empty)
     std::function<void()> frame_written;           ///< a turntable frame was written (may be empty)
+    /// One picture (frames == 0): when set, receives the finished picture (legend drawn) instead of
+    /// its being written to `png` (front ends that keep pictures in memory: the Python module).
+    std::function<void(Image&&)> picture;
 };
 
 /// What was drawn and how long it took.

@@ -20,6 +20,11 @@ Functions (keyword-only options; ``threads=0`` means every core this process may
     Field(points, values, kind=...)         a meshless field: field(q) -> values, field.gradient(q), save/load .mlf
     mc(volume, iso, ...)                    the marching-cubes mesh (the baseline): vertices, faces, normals
     read_points(path), PointSet.write(path) oriented points from and to PLY
+    render(volume | store | field, ...)     ray-cast volume rendering (sections 6.6, 7.4): an Image
+    splat(pointset | path, ...)             surface splatting of oriented points (section 3.6): an Image
+    read_image(path), Image.save(path)      PNG pictures in and out (the product's PNG reader and writer)
+    hierarchy(points, values, ...)          the cluster binary tree of chapter 6; tree.lod(level=|error=)
+    open_store(path), Store.isosurface(iso) a brick store's isosurface as a generator of batches (section 3.6)
 Errors: ValueError for bad arguments; DataError (a ValueError) for unusable data, with the command's
 one-line message; OSError when a file cannot be read or written.
 """
@@ -29,7 +34,8 @@ import numpy as _np
 from . import _core
 from ._core import DataError
 
-__all__ = ["DataError", "PointSet", "Field", "isosurface", "isosurface_points", "isosurface_blocks", "mc", "read_points", "info"]
+__all__ = ["DataError", "PointSet", "Field", "Image", "ClusterTree", "Store", "isosurface", "isosurface_points",
+           "isosurface_blocks", "mc", "read_points", "info", "render", "splat", "read_image", "hierarchy", "open_store"]
 
 
 class PointSet:
@@ -44,6 +50,8 @@ class PointSet:
         stats   dict            what the run counted (cells, seeds, Newton outcomes, ...)
         warnings list of str    what the run warned about (isosurface_points)
         comments list of str    read_points: the PLY's comments
+    A level of detail (ClusterTree.lod) is scattered data: points (n, 3) and values (n,) float64 owning
+    the extraction's buffers, normals and radius None.
     Methods: write(path) writes the PLY `meshless isosurface` writes.
     """
 
@@ -51,8 +59,8 @@ class PointSet:
 
     def __init__(self, arrays):
         self.points = arrays["points"]
-        self.normals = arrays["normals"]
-        self.radius = arrays["radius"]
+        self.normals = arrays.get("normals")
+        self.radius = arrays.get("radius")
         self.values = arrays["values"]
         self.block = arrays.get("block")
         self.stats = arrays.get("stats", {})
@@ -62,6 +70,9 @@ class PointSet:
     def write(self, path):
         """Writes the points as the PLY `meshless isosurface -o out.ply` writes (binary little endian,
         x y z nx ny nz radius value, and block when there are block ids), atomically."""
+        if self.normals is None:
+            raise ValueError("write: a level of detail has no normals; write its points and values with NumPy "
+                             "(or `meshless lod TREE.mlh -o lod.ply`)")
         _core._write_points(str(path), self.points, self.normals, self.radius, self.values, self.block)
 
     def __len__(self):
@@ -253,3 +264,255 @@ def mc(volume, iso, *, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), threads=
     faces wind counter-clockwise seen from the normal side, as in VTK and scikit-image's
     marching_cubes(..., gradient_direction="descent")."""
     return _core._mc(_np.asanyarray(volume), float(iso), spacing, origin, int(threads))
+
+
+class Image:
+    """A picture made by render() or splat(), or read by read_image(): 8-bit RGB, top row first.
+
+    Attributes:
+        pixels   (height, width, 3) uint8  the recipe's own buffer (nothing was copied; read-only
+                                          use is expected, writes change this Image)
+        stats    dict                     what the run counted (rays, samples, points drawn, seconds)
+        warnings list of str              what the command would have printed to stderr
+    Methods: save(path) writes the PNG the command writes (formats/png_writer, the same bytes);
+    _repr_png_() gives those bytes to Jupyter; np.asarray(image) is `pixels`.
+    The command's pictures carry no alpha (they are composited over the background), so there is no
+    fourth channel."""
+
+    __slots__ = ("pixels", "stats", "warnings")
+
+    def __init__(self, arrays):
+        self.pixels = arrays["pixels"]
+        self.stats = arrays.get("stats", {})
+        self.warnings = list(arrays.get("warnings", []))
+
+    @property
+    def width(self):
+        return self.pixels.shape[1]
+
+    @property
+    def height(self):
+        return self.pixels.shape[0]
+
+    def __array__(self, dtype=None, copy=None):
+        if dtype is not None and _np.dtype(dtype) != self.pixels.dtype:
+            return self.pixels.astype(dtype)
+        return self.pixels.copy() if copy else self.pixels
+
+    def save(self, path):
+        """Writes the picture as the PNG `meshless render/splat -o path` writes (8-bit RGB), atomically."""
+        _core._write_png(self.pixels, str(path))
+
+    def _repr_png_(self):
+        return _core._png_bytes(self.pixels)
+
+    def __repr__(self):
+        return "meshless.Image(%dx%d)" % (self.width, self.height)
+
+
+def read_image(path):
+    """A PNG file as an Image (any PNG, converted to 8-bit RGB as `meshless render --compare` reads it)."""
+    return Image({"pixels": _core._read_png(str(path))})
+
+
+def _camera(size, azimuth, elevation, up, view, zoom, ortho):
+    w, h = size
+    return {"size": (int(w), int(h)), "azimuth": None if azimuth is None else float(azimuth),
+            "elevation": None if elevation is None else float(elevation), "up": up, "view": view,
+            "zoom": float(zoom), "ortho": bool(ortho)}
+
+
+_SIZE_SUFFIX = {"": 0, "B": 0, "K": 10, "M": 20, "G": 30, "T": 40}
+
+
+def _memory_bytes(memory):
+    """'256M', '1G', '512K', a byte count (int or digits): bytes, as the commands' --memory reads them."""
+    if isinstance(memory, int):
+        n = memory
+    else:
+        import re
+        m = re.fullmatch(r"(\d+)([KMGT]?)(I?B)?|(\d+)(B)", str(memory).strip().upper())
+        if not m:
+            raise ValueError("memory: expected a size like 256M, 1G, 512K or a byte count, got %r" % (memory,))
+        n = int(m.group(1) or m.group(4)) << _SIZE_SUFFIX[m.group(2) or ""]
+    if n <= 0:
+        raise ValueError("memory: expected a positive size, got %r" % (memory,))
+    return n
+
+
+def render(source, *, points=None, values=None, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), tf="grey",
+           range=None, step=None, ref_step=None, bounds=None, shade=False, no_skip=False, background=(0.0, 0.0, 0.0),
+           size=(512, 512), azimuth=None, elevation=None, up=None, view=None, zoom=1.0, ortho=False, memory="256M",
+           threads=0):
+    """Direct volume rendering by ray casting the field itself (dissertation section 6.6, Figure 6.6;
+    section 7.4), what `meshless render` runs with the options of the same names: front-to-back
+    emission-absorption compositing, the opacity corrected for the step, early ray termination,
+    empty-space skipping. Returns an Image whose pixels equal those of `meshless render ... -o x.png`.
+
+    source: a volume (3-D array indexed [x, y, z], spacing and origin in world units per axis, used
+    in place when Fortran-ordered, else copied once to Fortran order), sampled trilinearly; a Store
+    (open_store), read through its brick cache within `memory` ('256M', '1G' or bytes); or a Field,
+    sampled over `points` (n, 3) and `values` (n,), the data it was fitted to (they give the box and
+    the empty-space bounds).
+    tf: a preset ("grey", "viridis", "ct-bone", "ct-skin") spanning `range` (lo, hi; default the
+    data's value range) or a file of 'value r g b a' rows. step, ref_step: world units between samples
+    and the slab the opacities are for (default half the voxel or mean point spacing). bounds:
+    (x0, y0, z0, x1, y1, z1), the frame. background: RGB in [0, 1].
+    Camera: size (width, height) pixels; azimuth, elevation degrees (default 30, 20); up ("x", "-z",
+    ...); view ("+x" ... "-z", "iso"); zoom; ortho. threads=0: every CPU; the pixels do not depend on it."""
+    cam = _camera(size, azimuth, elevation, up, view, zoom, ortho)
+    memory = _memory_bytes(memory)
+    opts = {"tf": str(tf), "range": range, "step": step, "ref_step": ref_step,
+            "bounds": None if bounds is None else [float(b) for b in bounds], "shade": bool(shade),
+            "no_skip": bool(no_skip), "background": background, "threads": int(threads)}
+    if isinstance(source, Field):
+        if points is None or values is None:
+            raise ValueError("render(field): give points= and values=, the data the field was fitted to")
+        return Image(_core._render_points(source._f, _np.asarray(points, dtype=_np.float64),
+                                          _np.asarray(values, dtype=_np.float64), cam, opts))
+    if points is not None or values is not None:
+        raise ValueError("points= and values= go with a Field; a volume or store carries its own samples")
+    if isinstance(source, Store):
+        return Image(_core._render_store(source.path, memory, cam, opts))
+    if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__"):
+        raise ValueError("render: give a volume array, a Store (meshless.open_store) or a Field, not a path")
+    return Image(_core._render_volume(_np.asanyarray(source), spacing, origin, cam, opts))
+
+
+def splat(source, *, size=(800, 800), azimuth=None, elevation=None, up=None, view=None, zoom=1.0, ortho=False,
+          kernel="ewa", shading="phong", color="auto", colormap="viridis", range=None, colorbar=False, threads=0):
+    """Surface splatting of oriented points (dissertation section 3.6), what `meshless splat` runs
+    with the options of the same names: quad or EWA kernels, depth-tested, normalised, lit by a
+    headlight. Returns an Image whose pixels equal those of `meshless splat ... -o x.png`.
+
+    source: a PointSet (isosurface(), read_points(); written once to a temporary PLY with its
+    comments, which the recipe reads in place, so a PointSet read from a file frames and colours as
+    that file does), or the path of a PLY point set, a `meshless mc` mesh PLY or a point stream.
+    color: "auto", "value", "block", "normal" or "none"; colormap "viridis", "coolwarm", "gray";
+    range (lo, hi) of the colour map; colorbar draws the legend. kernel "ewa" or "quad"; shading
+    "phong" or "lambert". Camera options as render(); size (width, height) pixels, default 800x800."""
+    cam = _camera(size, azimuth, elevation, up, view, zoom, ortho)
+    args = (cam, str(kernel), str(shading), str(color), str(colormap), range, bool(colorbar), int(threads))
+    if isinstance(source, PointSet):
+        if source.normals is None:
+            raise ValueError("splat: the points have no normals (a level of detail); render(Field(...)) draws scattered data")
+        import tempfile, os
+        with tempfile.TemporaryDirectory(prefix="meshless-splat-") as d:
+            path = os.path.join(d, "points.ply")
+            _core._write_points(path, source.points, source.normals, source.radius, source.values, source.block,
+                                source.comments or None)
+            return Image(_core._splat(path, *args))
+    return Image(_core._splat(str(source), *args))
+
+
+class ClusterTree:
+    """The cluster binary tree of dissertation chapter 6 (sections 6.1, 6.3), made by hierarchy() or
+    ClusterTree.load(path) (a .mlh of `meshless hierarchy`).
+
+    lod(level=L) or lod(error=E): a level of detail (section 6.4), the clusters at depth L or the
+    first clusters of error <= E on every path, as a PointSet of scattered data (section 6.5):
+    points (n, 3) and values (n,) float64 owning the extraction's buffers, normals and radius None;
+    the points `meshless lod TREE --level L -o lod.ply` writes, in its order. A level beyond the depth
+    or an error below the one reached gives the finest level (a warning in `warnings`).
+    save(path) writes the .mlh `meshless hierarchy` writes (the same bytes for the same samples,
+    options and value name). Attributes: depth, stats, bounds, value_range, value_name, notes."""
+
+    __slots__ = ("_t",)
+
+    def __init__(self, tree):
+        self._t = tree
+
+    def lod(self, *, level=None, error=None):
+        return PointSet(self._t._lod(None if level is None else int(level), None if error is None else float(error)))
+
+    def save(self, path):
+        self._t._save(str(path))
+
+    @staticmethod
+    def load(path):
+        return ClusterTree(_core._ClusterTree._load(str(path)))
+
+    depth = property(lambda self: self._t.depth)
+    stats = property(lambda self: self._t.stats)
+    bounds = property(lambda self: self._t.bounds)
+    value_range = property(lambda self: self._t.value_range)
+    value_name = property(lambda self: self._t.value_name)
+    notes = property(lambda self: list(self._t.notes))
+
+    def __repr__(self):
+        s = self.stats
+        return "meshless.ClusterTree(%d samples, %d nodes, depth %d)" % (s["samples"], s["nodes"], s["depth"])
+
+
+def hierarchy(points, values=None, *, max_splits=None, max_error=0.0, min_cluster=2, neighbours=25, hardy_c=0.025,
+              hardy_c_world=None, pca_scaling="normalised", value_name="", threads=0):
+    """Builds the cluster binary tree of dissertation chapter 6 (sections 6.1, 6.3), what
+    `meshless hierarchy` runs with the options of the same names: one cluster of every sample,
+    refined by splitting the cluster of largest error along the plane through its centre normal to
+    the dominant principal axis of its (x, y, z, f) samples.
+
+    points: (n, 3) world positions with values (n,), or a PointSet (its points and values); rows
+    with a NaN/Inf are dropped (counted in stats). value_name: what the .mlh records as the values'
+    name. The tree does not depend on `threads`. Returns a ClusterTree."""
+    if isinstance(points, PointSet):
+        if values is not None:
+            raise ValueError("hierarchy(pointset): the values are the PointSet's; give no values")
+        points, values = points.points, points.values
+    elif values is None:
+        raise ValueError("hierarchy: give points (n, 3) and values (n,), or a PointSet")
+    params = _core._hierarchy_params(max_splits, float(max_error), int(min_cluster), int(neighbours), float(hardy_c),
+                                     hardy_c_world, str(pca_scaling))
+    return ClusterTree(_core._hierarchy(_np.asarray(points, dtype=_np.float64), _np.asarray(values, dtype=_np.float64),
+                                        params, int(threads), str(value_name)))
+
+
+class Store:
+    """A brick store (.mlb, `meshless convert VOLUME -o vol.mlb`; dissertation section 3.6: Morton-
+    ordered zstd bricks with a value-range index), opened by open_store(path).
+
+    Attributes: path, dims (nx, ny, nz), spacing, origin (world units), value_range, dtype.
+    isosurface(iso, ...) runs `meshless isosurface vol.mlb --iso V` over the bricks the isosurface
+    crosses and yields its points batch by batch; render(store, ...) ray casts it."""
+
+    __slots__ = ("_s",)
+
+    def __init__(self, s):
+        self._s = s
+
+    path = property(lambda self: self._s.path)
+    dims = property(lambda self: self._s.dims)
+    spacing = property(lambda self: self._s.spacing)
+    origin = property(lambda self: self._s.origin)
+    value_range = property(lambda self: self._s.value_range)
+    dtype = property(lambda self: self._s.dtype)
+
+    def isosurface(self, iso, *, projection="approx", memory="256M", threads=0):
+        """A generator of PointSets, the isosurface's points batch by batch (chapter 3 over the store's
+        active bricks, read through a brick cache of `memory` bytes: '256M', '1G' or an int). Their
+        concatenation is what `meshless isosurface STORE --iso V` writes, in its order, for any
+        `threads`. Memory stays the cache, the batches in flight and at most 4 finished batches,
+        whatever the store's size; the graph runs on its own threads, the GIL released, and stops
+        when the generator is closed or dropped. A damaged brick raises DataError at the batch it is
+        met, after those before it."""
+        # started here, so that bad options and a damaged header raise at the call
+        return _batches(self._s._isosurface(float(iso), str(projection), _memory_bytes(memory), int(threads)))
+
+    def __repr__(self):
+        return "meshless.Store(%r, dims=%s)" % (self.path, self.dims)
+
+
+def _batches(run):
+    try:
+        while True:
+            arrays = run._next()
+            if arrays is None:
+                return
+            yield PointSet(arrays)
+    finally:
+        run._stop()
+
+
+def open_store(path):
+    """Opens a brick store (.mlb): DataError when the file is not one or is damaged, OSError when it
+    cannot be read. Returns a Store."""
+    return Store(_core._Store._open(str(path)))

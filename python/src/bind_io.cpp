@@ -34,7 +34,7 @@ py::dict read_points(const std::string& path) {
 }
 
 void write_points(const std::string& path, const py::array& points, const py::array& normals, const py::array& radius,
-                  const py::array& values, const py::object& block) {
+                  const py::array& values, const py::object& block, const py::object& comments) {
     std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext != ".ply") throw py::value_error(path + ": write_points writes PLY (.ply); for .vtp use meshless.isosurface's CLI");
@@ -60,10 +60,18 @@ void write_points(const std::string& path, const py::array& points, const py::ar
         if (!b || b.ndim() != 1 || b.shape(0) != count) throw py::value_error("block: expected an (n,) array of block ids");
         ids.assign(b.data(), b.data() + count);
     }
+    // the comments given (a point set read back keeps what the command recorded: the isovalue, the
+    // surface's bounds that frame its pictures), else the one line that says what the file holds
+    std::vector<std::string> lines;
+    if (!comments.is_none()) lines = comments.cast<std::vector<std::string>>();
+    for (const std::string& c : lines)
+        if (c.find_first_of("\r\n") != std::string::npos) throw py::value_error("comments: one line each (no newlines)");
+    if (lines.empty())
+        lines = {block.is_none() ? "meshless oriented point set: x y z, unit normal, splat radius, value"
+                                 : "meshless oriented point set: x y z, unit normal, splat radius, value, block"};
     py::gil_scoped_release free;
-    if (block.is_none()) write_ply_points(path, rec, {"meshless oriented point set: x y z, unit normal, splat radius, value"});
-    else write_ply_points(path, rec, {"meshless oriented point set: x y z, unit normal, splat radius, value, block"},
-                          std::span<const std::uint32_t>(ids));
+    if (block.is_none()) write_ply_points(path, rec, lines);
+    else write_ply_points(path, rec, lines, std::span<const std::uint32_t>(ids));
 }
 
 /// The report `meshless info PATH [--value-range]` prints, as a string (the same bytes).
@@ -93,7 +101,7 @@ void bind_io(py::module_& m) {
     m.def("_info", &info, py::arg("path"), py::arg("value_range"));
     m.def("_read_points", &read_points, py::arg("path"));
     m.def("_write_points", &write_points, py::arg("path"), py::arg("points"), py::arg("normals"), py::arg("radius"),
-          py::arg("values"), py::arg("block"));
+          py::arg("values"), py::arg("block"), py::arg("comments") = py::none());
 }
 
 }  // namespace meshless::python

@@ -10,5 +10,8 @@ void bind_isosurface(pybind11::module_& m);
 void bind_field(pybind11::module_& m);
 void bind_mesh(pybind11::module_& m);
 void bind_io(pybind11::module_& m);
+void bind_picture(pybind11::module_& m);
+void bind_hierarchy(pybind11::module_& m);
+void bind_store(pybind11::module_& m);
 
 }  // namespace meshless::python

@@ -26,4 +26,7 @@ PYBIND11_MODULE(_core, m) {
     meshless::python::bind_field(m);
     meshless::python::bind_mesh(m);
     meshless::python::bind_io(m);
+    meshless::python::bind_picture(m);
+    meshless::python::bind_hierarchy(m);
+    meshless::python::bind_store(m);
 }

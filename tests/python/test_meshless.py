@@ -7,6 +7,7 @@ skipped without it).
 """
 import os
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -19,6 +20,7 @@ import meshless
 MESHLESS = os.environ.get("MESHLESS", "meshless")
 DATA = os.environ.get("MESHLESS_SHARED_DATA", "")
 TOOTH = os.path.join(DATA, "tooth", "tooth_103x94x161_uint8.raw")
+FUEL = os.path.join(DATA, "fuel", "fuel_64x64x64_uint8.raw")
 
 
 def read_ply_points(path):
@@ -340,6 +342,378 @@ class Info(unittest.TestCase):
                 meshless.info(bad)
             with self.assertRaises(OSError):
                 meshless.info(os.path.join(d, "missing.nrrd"))
+
+
+def cli(*args):
+    """Runs this build's meshless with the given arguments (stderr kept for the failure message)."""
+    r = subprocess.run([MESHLESS] + [str(a) for a in args], capture_output=True)
+    if r.returncode != 0:
+        raise AssertionError("meshless %s: exit %d: %s" % (" ".join(map(str, args)), r.returncode, r.stderr.decode()))
+    return r
+
+
+def read_ply_vertices(path):
+    """Every vertex property of a binary little-endian PLY, in the file's types (float, double, uint)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    lines = data[:end].decode().splitlines()
+    assert "format binary_little_endian 1.0" in lines, lines[:3]
+    types = {"float": "<f4", "float32": "<f4", "double": "<f8", "float64": "<f8", "uint": "<u4", "uint32": "<u4",
+             "uchar": "u1", "uint8": "u1", "int": "<i4"}
+    props, n, inside = [], 0, False
+    for line in lines:
+        w = line.split()
+        if w[:2] == ["element", "vertex"]:
+            n, inside = int(w[2]), True
+        elif w[:1] == ["element"]:
+            inside = False
+        elif w[:1] == ["property"] and inside:
+            props.append((w[2], types[w[1]]))
+    dt = np.dtype(props)
+    return np.frombuffer(data[end:end + n * dt.itemsize], dt)
+
+
+def xyz(v):
+    return np.stack([v["x"], v["y"], v["z"]], 1)
+
+
+def scattered(n=3000, seed=11):
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform(0, 1, (n, 3))
+    return pts, np.sin(5 * pts[:, 0]) + pts[:, 1] * pts[:, 2] + 0.3 * pts[:, 2]
+
+
+def write_csv(path, pts, val):
+    np.savetxt(path, np.column_stack([pts, val]), delimiter=",", fmt="%.17g", header="x,y,z,v", comments="")
+
+
+def assert_owns_its_buffer(test, a):
+    """The array is a view of a buffer the library filled (a capsule base), not a copy NumPy made."""
+    test.assertFalse(a.flags.owndata)
+    test.assertIsNotNone(a.base)
+    test.assertNotIsInstance(a.base, np.ndarray)
+
+
+class Pictures(unittest.TestCase):
+    @unittest.skipUnless(os.path.exists(FUEL), "needs ../shared/data")
+    def test_render_of_a_volume_has_the_pixels_and_png_bytes_of_meshless_render(self):
+        vol = np.fromfile(FUEL, np.uint8).reshape(64, 64, 64).T
+        opts = dict(size=(96, 80), tf="viridis", shade=True, azimuth=40, elevation=-15)
+        img = meshless.render(vol, threads=2, **opts)
+        self.assertEqual(img.pixels.shape, (80, 96, 3))
+        self.assertEqual(img.pixels.dtype, np.uint8)
+        assert_owns_its_buffer(self, img.pixels)
+        self.assertTrue(np.shares_memory(np.asarray(img), img.pixels))
+        self.assertGreater(img.stats["rays_hit"], 0)
+        with tempfile.TemporaryDirectory() as d:
+            png = os.path.join(d, "cli.png")
+            cli("render", FUEL, "--size", "96x80", "--tf", "viridis", "--shade", "--azimuth", "40", "--elevation", "-15",
+                "--threads", "1", "-o", png)
+            ref = meshless.read_image(png)
+            assert_owns_its_buffer(self, ref.pixels)
+            self.assertTrue(np.array_equal(img.pixels, ref.pixels))
+            self.assertGreater(len(np.unique(img.pixels.reshape(-1, 3), axis=0)), 50)  # a picture, not a blank
+            with open(png, "rb") as f:
+                cli_bytes = f.read()
+            self.assertEqual(img._repr_png_(), cli_bytes)  # the product's own PNG writer
+            img.save(os.path.join(d, "py.png"))
+            with open(os.path.join(d, "py.png"), "rb") as f:
+                self.assertEqual(f.read(), cli_bytes)
+            # a C-ordered copy of the same volume: the same picture (one Fortran-ordered copy inside)
+            c = meshless.render(np.ascontiguousarray(vol), threads=1, **opts)
+            self.assertTrue(np.array_equal(c.pixels, ref.pixels))
+            # the brick store through its cache, as `meshless render vol.mlb --memory 16M`
+            mlb = os.path.join(d, "fuel.mlb")
+            cli("convert", FUEL, "-o", mlb)
+            cli("render", mlb, "--memory", "16M", "--size", "64x64", "--tf", "viridis", "--view", "+z", "-o", png)
+            s = meshless.render(meshless.open_store(mlb), memory="16M", size=(64, 64), tf="viridis", view="+z")
+            self.assertTrue(np.array_equal(s.pixels, meshless.read_image(png).pixels))
+            self.assertGreater((s.pixels.sum(2) > 0).sum(), 200)  # the fuel drawn, not a blank
+
+    def test_render_of_a_field_over_its_points_equals_meshless_render_of_the_points(self):
+        pts, val = scattered(2500)
+        with tempfile.TemporaryDirectory() as d:
+            csv, png = os.path.join(d, "p.csv"), os.path.join(d, "f.png")
+            write_csv(csv, pts, val)
+            cli("render", csv, "--field", "mpu", "--size", "48x40", "--tf", "grey", "--range", "0,1.5", "--ortho", "-o", png)
+            f = meshless.Field(pts, val, threads=2)
+            img = meshless.render(f, points=pts, values=val, size=(48, 40), range=(0, 1.5), ortho=True)
+            self.assertTrue(np.array_equal(img.pixels, meshless.read_image(png).pixels))
+            self.assertGreater(img.pixels.max(), 0)
+        with self.assertRaises(ValueError):
+            meshless.render(f)  # the field's points are needed for its box
+        with self.assertRaises(ValueError):
+            meshless.render(f, points=pts[:, :2], values=val)
+
+    def test_render_of_a_synthetic_sphere_is_round_and_independent_of_threads(self):
+        v, sp, org = sphere_volume(n=40)
+        a = meshless.render(v, spacing=sp, origin=org, size=(64, 64), view="+z", ortho=True, tf="grey", range=(0, 0.6), threads=1)
+        b = meshless.render(v, spacing=sp, origin=org, size=(64, 64), view="+z", ortho=True, tf="grey", range=(0, 0.6), threads=2)
+        self.assertTrue(np.array_equal(a.pixels, b.pixels))
+        lum = a.pixels.astype(float).sum(2)
+        self.assertTrue(np.allclose(lum, lum[::-1, :], atol=3) and np.allclose(lum, lum[:, ::-1], atol=3))  # symmetric
+        self.assertEqual(lum[0, 0], 0)  # outside the box: the background
+        self.assertGreater(lum[32, 32], 0)
+
+    def test_bad_render_and_splat_arguments_raise_value_errors(self):
+        v, sp, org = sphere_volume(n=8)
+        for call in (lambda: meshless.render(np.zeros((4, 4))),
+                     lambda: meshless.render(v, size=(0, 10)),
+                     lambda: meshless.render(v, tf="no-such-preset-or-file"),
+                     lambda: meshless.render(v, range=(2, 1)),
+                     lambda: meshless.render(v, view="+q"),
+                     lambda: meshless.render(v, view="+x", azimuth=10),
+                     lambda: meshless.render(v, up="w"),
+                     lambda: meshless.render(v, background=(2, 0, 0)),
+                     lambda: meshless.render(v, step=0),
+                     lambda: meshless.render(v, bounds=(0, 0, 0, 1, 1)),
+                     lambda: meshless.render(v, threads=-1),
+                     lambda: meshless.render(v, points=np.zeros((3, 3))),
+                     lambda: meshless.render("vol.raw"),
+                     lambda: meshless.render(v, memory="12Q"),
+                     lambda: meshless.splat(meshless.isosurface(v, 0.5), kernel="round"),
+                     lambda: meshless.splat(meshless.isosurface(v, 0.5), color="red"),
+                     lambda: meshless.Image({"pixels": np.zeros((4, 4), np.uint8)}).save("x.png")):
+            with self.assertRaises(ValueError):
+                call()
+
+    def test_splat_has_the_pixels_of_meshless_splat_for_a_file_and_a_point_set(self):
+        v, sp, org = sphere_volume(n=32)
+        s = meshless.isosurface(v, 0.5, spacing=sp, origin=org)
+        with tempfile.TemporaryDirectory() as d:
+            ply, png = os.path.join(d, "s.ply"), os.path.join(d, "s.png")
+            s.write(ply)
+            for opts, args in (({}, []),
+                               ({"kernel": "quad", "color": "normal", "size": (70, 50), "azimuth": 120},
+                                ["--kernel", "quad", "--color", "normal", "--size", "70x50", "--azimuth", "120"]),
+                               ({"color": "value", "range": (0.4, 0.6), "colorbar": True, "shading": "lambert", "size": (90, 90)},
+                                ["--color", "value", "--range", "0.4,0.6", "--colorbar", "--shading", "lambert", "--size", "90x90"])):
+                cli("splat", ply, "-o", png, *args)
+                ref = meshless.read_image(png).pixels
+                from_set = meshless.splat(s, threads=2, **opts)
+                from_file = meshless.splat(ply, threads=1, **opts)
+                self.assertTrue(np.array_equal(from_set.pixels, ref), opts)
+                self.assertTrue(np.array_equal(from_file.pixels, ref), opts)
+                assert_owns_its_buffer(self, from_set.pixels)
+                self.assertEqual(from_set.stats["drawn"], len(s))
+            with self.assertRaises(OSError):
+                meshless.splat(os.path.join(d, "missing.ply"))
+            with open(os.path.join(d, "bad.png"), "wb") as f:
+                f.write(b"\x89PNG\r\n\x1a\nnot really")
+            with self.assertRaises(meshless.DataError):
+                meshless.read_image(os.path.join(d, "bad.png"))
+            with self.assertRaises(OSError):
+                meshless.read_image(os.path.join(d, "missing.png"))
+
+    @unittest.skipUnless(os.path.exists(TOOTH), "needs ../shared/data")
+    def test_splat_of_points_read_back_frames_them_as_the_file_records(self):
+        with tempfile.TemporaryDirectory() as d:
+            ply, png = os.path.join(d, "t.ply"), os.path.join(d, "t.png")
+            cli("isosurface", TOOTH, "--iso", "100.5", "-o", ply)
+            cli("splat", ply, "-o", png, "--size", "120x100", "--elevation", "35")
+            ref = meshless.read_image(png).pixels
+            back = meshless.read_points(ply)  # its comments record the surface's bounds, the frame
+            self.assertTrue(np.array_equal(meshless.splat(back, size=(120, 100), elevation=35).pixels, ref))
+            self.assertTrue(np.array_equal(meshless.splat(ply, size=(120, 100), elevation=35).pixels, ref))
+
+
+class LevelsOfDetail(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.pts, cls.val = scattered(3000)
+
+    def test_the_tree_and_its_levels_equal_meshless_hierarchy_and_lod(self):
+        tree = meshless.hierarchy(self.pts, self.val, value_name="v", threads=2)
+        self.assertEqual(tree.stats["samples"], len(self.pts))
+        self.assertGreater(tree.depth, 5)
+        with tempfile.TemporaryDirectory() as d:
+            csv, mlh = os.path.join(d, "p.csv"), os.path.join(d, "t.mlh")
+            write_csv(csv, self.pts, self.val)
+            cli("hierarchy", csv, "-o", mlh, "--threads", "1")
+            tree.save(os.path.join(d, "py.mlh"))
+            with open(mlh, "rb") as a, open(os.path.join(d, "py.mlh"), "rb") as b:
+                self.assertEqual(a.read(), b.read())
+            loaded = meshless.ClusterTree.load(mlh)
+            for flag, value, kw in (("--level", "6", {"level": 6}), ("--error", "0.05", {"error": 0.05}),
+                                    ("--level", "0", {"level": 0})):
+                out = os.path.join(d, "lod.ply")
+                cli("lod", mlh, flag, value, "-o", out)
+                want = read_ply_vertices(out)
+                for t in (tree, loaded):
+                    got = t.lod(**kw)
+                    self.assertEqual(got.points.dtype, np.float64)
+                    self.assertTrue(np.array_equal(got.points, xyz(want)), kw)
+                    self.assertTrue(np.array_equal(got.values, want["value"]), kw)
+                    self.assertIsNone(got.normals)
+                back = meshless.read_points(out)  # the module's reader: the same points, as float32
+                self.assertTrue(np.array_equal(back.points, tree.lod(**kw).points.astype(np.float32)))
+        self.assertEqual(len(tree.lod(level=0)), 1)
+        self.assertEqual(len(tree.lod(level=2)), 4)
+
+    def test_lod_arrays_own_the_extraction_and_a_point_set_builds_a_tree(self):
+        tree = meshless.hierarchy(self.pts, self.val, max_splits=200)
+        lod = tree.lod(level=30)  # beyond the depth: the finest, with a warning
+        self.assertEqual(len(lod), 201)
+        self.assertTrue(any("finest" in w or "depth" in w for w in lod.warnings), lod.warnings)
+        assert_owns_its_buffer(self, lod.points)
+        assert_owns_its_buffer(self, lod.values)
+        self.assertEqual(lod.points.shape, (201, 3))
+        v, sp, org = sphere_volume(n=24)
+        surf = meshless.isosurface(v, 0.5, spacing=sp, origin=org)
+        self.assertEqual(len(meshless.hierarchy(surf).lod(level=3)), 1)  # one value everywhere: nothing to split
+        surf.values[:] = surf.points[:, 2]  # the PointSet's own buffer: its values are now the height
+        t = meshless.hierarchy(surf, min_cluster=50)
+        self.assertEqual(t.stats["samples"], len(surf))
+        u = meshless.hierarchy(surf.points.astype(np.float64), surf.values.astype(np.float64), min_cluster=50)
+        self.assertEqual(len(t.lod(level=3)), 8)
+        self.assertTrue(np.array_equal(t.lod(level=5).points, u.lod(level=5).points))
+        with self.assertRaises(ValueError):
+            lod.write("x.ply")  # no normals
+
+    def test_bad_arguments_and_files(self):
+        tree = meshless.hierarchy(self.pts[:200], self.val[:200])
+        for call in (lambda: tree.lod(),
+                     lambda: tree.lod(level=1, error=1.0),
+                     lambda: tree.lod(level=-1),
+                     lambda: tree.lod(error=float("nan")),
+                     lambda: meshless.hierarchy(self.pts),
+                     lambda: meshless.hierarchy(self.pts[:, :2], self.val),
+                     lambda: meshless.hierarchy(self.pts, self.val[:10]),
+                     lambda: meshless.hierarchy(self.pts, self.val, min_cluster=1),
+                     lambda: meshless.hierarchy(self.pts, self.val, neighbours=0),
+                     lambda: meshless.hierarchy(self.pts, self.val, pca_scaling="pca"),
+                     lambda: meshless.hierarchy(self.pts, self.val, max_error=-1)):
+            with self.assertRaises(ValueError):
+                call()
+        with self.assertRaises(meshless.DataError):
+            meshless.hierarchy(np.full((10, 3), np.nan), np.zeros(10))  # no finite sample
+        with tempfile.TemporaryDirectory() as d:
+            with self.assertRaises(OSError):
+                meshless.ClusterTree.load(os.path.join(d, "missing.mlh"))
+            with open(os.path.join(d, "bad.mlh"), "wb") as f:
+                f.write(b"\x89MLH\r\n\x1a\n" + bytes(100))
+            with self.assertRaises(meshless.DataError):
+                meshless.ClusterTree.load(os.path.join(d, "bad.mlh"))
+
+
+@unittest.skipUnless(os.path.exists(TOOTH), "needs ../shared/data")
+class BrickStores(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.TemporaryDirectory()
+        cls.mlb = os.path.join(cls.dir.name, "tooth.mlb")
+        cli("convert", TOOTH, "-o", cls.mlb)
+        cls.ply = os.path.join(cls.dir.name, "tooth.ply")
+        cli("isosurface", cls.mlb, "--iso", "100.5", "--memory", "16M", "-o", cls.ply)
+        cls.want = read_ply_vertices(cls.ply)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.dir.cleanup()
+
+    def test_the_batches_concatenated_are_meshless_isosurface_of_the_store(self):
+        store = meshless.open_store(self.mlb)
+        self.assertEqual(store.dims, (103, 94, 161))
+        self.assertEqual(store.dtype, "uint8")
+        for threads in (1, 2):
+            batches = list(store.isosurface(100.5, memory="16M", threads=threads))
+            self.assertGreater(len(batches), 1)
+            for b in batches:
+                assert_owns_its_buffer(self, b.points)
+                self.assertIs(b.points.base, b.normals.base)
+            pts = np.concatenate([b.points for b in batches])
+            self.assertEqual(len(pts), len(self.want))
+            self.assertTrue(np.array_equal(pts, xyz(self.want)))
+            self.assertTrue(np.array_equal(np.concatenate([b.normals for b in batches]),
+                                           np.stack([self.want["nx"], self.want["ny"], self.want["nz"]], 1)))
+            self.assertTrue(np.array_equal(np.concatenate([b.radius for b in batches]), self.want["radius"]))
+
+    def test_closing_early_stops_the_graph_and_nothing_is_left_running(self):
+        store = meshless.open_store(self.mlb)
+        sum(len(b) for b in store.isosurface(100.5, memory="4M", threads=2))  # the worker pool started
+        before = len(os.listdir("/proc/self/task"))
+        for _ in range(3):
+            g = store.isosurface(100.5, memory="4M", threads=2)
+            first = next(g)
+            self.assertGreater(len(first), 0)
+            g.close()
+            h = store.isosurface(100.5, threads=1)
+            del h  # never started by the caller: dropped, its thread stopped
+        self.assertLessEqual(len(os.listdir("/proc/self/task")), before)  # the graphs' threads joined
+        self.assertEqual(len(list(store.isosurface(1e9))), 0)  # nothing active
+
+    def test_memory_stays_the_cache_and_a_few_batches_while_a_slow_consumer_reads(self):
+        big = os.path.join(self.dir.name, "tooth4.mlb")  # 98 M voxels, about 31 MiB of points at 100.5
+        cli("synth", "--upsample", "4", TOOTH, "-o", big)
+        script = (
+            "import resource, sys, time, meshless\n"
+            "store = meshless.open_store(sys.argv[1])\n"
+            "base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+            "n = 0\n"
+            "for b in store.isosurface(100.5, memory='4M', threads=2):\n"
+            "    n += len(b)\n"
+            "    time.sleep(0.0005)  # slower than the graph: an unbounded queue would hold every batch\n"
+            "print(n * 32, (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - base) * 1024)\n")
+        r = subprocess.run([sys.executable, "-c", script, big], capture_output=True, check=True, text=True)
+        output, growth = map(int, r.stdout.split())
+        self.assertGreater(output, 25 << 20)
+        self.assertLess(growth, output // 2, "peak RSS grew %.1f MiB for %.1f MiB of points" % (growth / 2**20, output / 2**20))
+
+    def test_bad_stores_and_arguments(self):
+        store = meshless.open_store(self.mlb)
+        for call in (lambda: store.isosurface(float("nan")),
+                     lambda: store.isosurface(100.5, memory="12Q"),
+                     lambda: store.isosurface(100.5, memory="1K"),
+                     lambda: store.isosurface(100.5, projection="fast"),
+                     lambda: store.isosurface(100.5, threads=-2)):
+            with self.assertRaises(ValueError):
+                call()
+        with self.assertRaises(meshless.DataError):
+            meshless.open_store(TOOTH)  # a raw volume, not a store
+        with self.assertRaises(OSError):
+            meshless.open_store(os.path.join(self.dir.name, "missing.mlb"))
+        with open(self.mlb, "rb") as f:
+            data = bytearray(f.read())
+        bad = os.path.join(self.dir.name, "damaged.mlb")
+        data[len(data) // 4: 3 * len(data) // 4] = bytes(3 * len(data) // 4 - len(data) // 4)  # bricks zeroed
+        with open(bad, "wb") as f:
+            f.write(bytes(data))
+        with self.assertRaises(meshless.DataError):
+            for _ in meshless.open_store(bad).isosurface(100.5):
+                pass
+
+
+class ReleasedGil(unittest.TestCase):
+    def test_two_python_threads_render_and_splat_at_once_with_the_same_results(self):
+        v, sp, org = sphere_volume(n=96)
+        surf = meshless.isosurface(v, 0.5, spacing=sp, origin=org)
+        jobs = [lambda: meshless.render(v, spacing=sp, origin=org, size=(200, 200), shade=True, threads=1).pixels,
+                lambda: meshless.splat(surf, size=(300, 300), threads=1).pixels]
+        t0 = time.perf_counter()
+        want = [job() for job in jobs]
+        sequential = time.perf_counter() - t0
+        got = [None, None]
+        busy = threading.Event()
+
+        def run(i):
+            busy.set()
+            got[i] = jobs[i]()
+
+        threads = [threading.Thread(target=run, args=(i,)) for i in range(2)]
+        t0 = time.perf_counter()
+        for t in threads:
+            t.start()
+        busy.wait()
+        spins = 0
+        while any(t.is_alive() for t in threads):
+            spins += 1
+        for t in threads:
+            t.join()
+        concurrent = time.perf_counter() - t0
+        self.assertTrue(np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1]))
+        self.assertGreater(spins, 10000)  # this thread ran while both pictures were made
+        print("\nGIL: render + splat sequential %.3f s, two threads %.3f s" % (sequential, concurrent))
 
 
 if __name__ == "__main__":
