@@ -23,7 +23,8 @@
 //       voxel (the evaluation is subsampled, the tree and the fields use every sample). The trees are
 //       refined to 16% of the samples (--max-splits) so the 15% LOD exists. A last column gives the
 //       RMSE of the LOD of a tree built with raw PCA scaling at about the same count (the measurement
-//       behind the default scaling). --quick: silicium only.
+//       behind the default scaling), and one the first points of the finest LOD, which `lod` lists
+//       coarse to fine (a prefix read by a viewer that stops early). --quick: silicium only.
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -126,16 +127,21 @@ void compare_row(const std::string& name, const PointSet& all, const ClusterTree
     for (std::size_t i = 0; i < m; ++i) dec[i] = static_cast<std::size_t>((static_cast<unsigned __int128>(i) * n) / m);
     // the raw-scaling tree's LOD closest to the same count (the PCA scaling choice, kernels/cluster_tree.hpp)
     const PointSet raw = lod_point_set(raw_tree.nodes, LodMode::error, error_for_size(raw_tree, m), all.value_name);
-    const PointSet sets[4] = {cbt, subset(all, rnd), subset(all, dec), raw};
+    // the first m points of the finest LOD, which lod lists coarse to fine (kernels/cluster_lod.hpp)
+    PointSet prefix = lod_point_set(tree.nodes, LodMode::level, 1e9, all.value_name);
+    std::vector<std::size_t> first(std::min(m, prefix.size()));
+    std::iota(first.begin(), first.end(), std::size_t{0});
+    prefix = subset(prefix, first);
+    const PointSet sets[5] = {cbt, subset(all, rnd), subset(all, dec), raw, prefix};
     std::vector<Vec3> q;
     std::vector<double> ref;
     for (std::size_t i = 0; i < n; i += eval_stride) {
         q.push_back(all.pos[i]);
         ref.push_back(all.value[i]);
     }
-    std::vector<std::vector<double>> val(4, std::vector<double>(q.size()));
+    std::vector<std::vector<double>> val(5, std::vector<double>(q.size()));
     double build_s = 0;
-    for (int s = 0; s < 4; ++s) {
+    for (int s = 0; s < 5; ++s) {
         FieldParams fp;
         fp.kind = FieldKind::mpu;
         if (hardy_c_rel > 0) fp.hardy_c_rel = hardy_c_rel;
@@ -144,15 +150,17 @@ void compare_row(const std::string& name, const PointSet& all, const ClusterTree
         build_s += sw.ms() / 1000;
         f->evaluate(q, val[s], {});
     }
-    Rmse r[4];
+    Rmse r[5];
     std::size_t used = 0, skipped = 0;
     for (std::size_t i = 0; i < q.size(); ++i) {
-        if (!std::isfinite(val[0][i]) || !std::isfinite(val[1][i]) || !std::isfinite(val[2][i]) || !std::isfinite(val[3][i])) {
+        bool finite = true;
+        for (int s = 0; s < 5; ++s) finite = finite && std::isfinite(val[s][i]);
+        if (!finite) {
             ++skipped;
             continue;
         }
         ++used;
-        for (int s = 0; s < 4; ++s) {
+        for (int s = 0; s < 5; ++s) {
             const double d = val[s][i] - ref[i];
             r[s].rmse += d * d;
             r[s].max = std::max(r[s].max, std::abs(d));
@@ -162,7 +170,7 @@ void compare_row(const std::string& name, const PointSet& all, const ClusterTree
     const char* best = r[0].rmse <= std::min(r[1].rmse, r[2].rmse) ? "CBT" : (r[1].rmse <= r[2].rmse ? "random" : "decimation");
     t.add({name, fmt("%.0f%%", frac * 100), fmt("%zu", m), fmt("%.4g", e), fmt("%.3f", r[0].rmse), fmt("%.3f", r[1].rmse),
            fmt("%.3f", r[2].rmse), fmt("%.1f / %.1f / %.1f", r[0].max, r[1].max, r[2].max), best,
-           fmt("%zu: %.3f", raw.size(), r[3].rmse),
+           fmt("%zu: %.3f", raw.size(), r[3].rmse), fmt("%.3f", r[4].rmse),
            fmt("%zu (%zu non-finite left out)", used, skipped)});
 }
 
@@ -319,10 +327,10 @@ void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& sil_gi
     if (cs.empty()) cs.push_back(0);  // the field's default
     r.note("(e) mpu field of each point set evaluated at the original voxels; RMSE in data units; equal point counts "
            "(the CBT LOD's size); one table per data set and Hardy c (relative to the point set's bounding-box diagonal; "
-           "the same c for all four sets of a row).");
+           "the same c for all five sets of a row).");
     Table ct;
     ct.header = {"data", "points", "count", "CBT error E", "RMSE CBT", "RMSE random", "RMSE decimation", "max err C/R/D", "best",
-                 "CBT raw PCA: count: RMSE", "voxels evaluated"};
+                 "CBT raw PCA: count: RMSE", "RMSE finest LOD's prefix", "voxels evaluated"};
     auto compare = [&](const std::string& name, const PointSet& ps, std::size_t stride) {
         CbtParams p;
         p.max_splits = static_cast<std::uint64_t>(0.16 * ps.size());
