@@ -8,9 +8,9 @@
 //      the global c is below the cap) keeps the paper's c.
 //   2. The local is fitted again with c = hardy_c_rough x s (when that is smaller), and keeps the
 //      fit with the smaller RMS leave-one-out error (Rippa's formula, kernels/multiquadric.hpp:
-//      the error of predicting each point from the others, at the cost of about one more
-//      triangular solve per fit). A wide, flat basis is the more accurate on smooth data; at sharp
-//      edges (CT) it overshoots, and often is ill-conditioned, so it needs huge cancelling
+//      the error of predicting each point from the others, for about the cost of the factorisation).
+//      A wide, flat basis is the more accurate on smooth data; at sharp edges (CT) it overshoots,
+//      and often is ill-conditioned, so it needs huge cancelling
 //      coefficients or a ridge; the narrow basis is conditioned and interpolates there. Measured on
 //      1 M CT samples: RMS error against the volume 10.75 -> 7.21, max 385 -> 147, fit 8.7 -> 13.0 s;
 //      Franke and Marschner-Lobb at 10^3..10^6 points unchanged.

@@ -8,8 +8,9 @@
 // 42 % of the MPU locals needed a ridge). The local spacing keeps c / spacing bounded at any density.
 //
 // Units: those of pos (the caller's frame). Shapes: idx indexes pos. Cost: idx.size()^2 / 2
-// distance evaluations. Returns 0 for fewer than two points or when every point coincides.
-// Thread-safety: a pure function. Throws nothing.
+// distance evaluations, packet-wide over a per-thread structure-of-arrays copy of the points.
+// Returns 0 for fewer than two points or when every point coincides.
+// Thread-safety: thread-safe (its scratch is per thread). Throws only std::bad_alloc.
 #pragma once
 #include <cstdint>
 #include <span>

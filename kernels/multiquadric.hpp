@@ -79,7 +79,7 @@ public:
     /// Fit H to the points pos[idx[k]] with values value[idx[k]], k < idx.size() (>= 1, distinct
     /// points, finite). c >= 0 in the frame's units. Writes lambda (lambda.size() == idx.size();
     /// only the first out.count entries are meaningful) and out (out.first is left as given).
-    /// With leave_one_out, also the fit's leave-one-out error (about 3x the cost of the fit alone).
+    /// With leave_one_out, also the fit's leave-one-out error (costs about a second factorisation).
     MultiquadricFitResult fit(std::span<const Vec3> pos, std::span<const double> value,
                               std::span<const std::uint32_t> idx, double c, MultiquadricLocal& out,
                               std::span<double> lambda, bool leave_one_out = false);

@@ -35,14 +35,40 @@ using MapM = Eigen::Map<Eigen::MatrixXd>;
 struct Workspace {
     Eigen::VectorXd a_buf, m_buf, s_buf;
     Eigen::MatrixXd P;
-    Eigen::VectorXd g, rhs, mu, lam, t, r, v, p;
-    Eigen::MatrixXd Qd, Zt;  // leave-one-out: Q dense, then L^-1 Z^T
+    Eigen::VectorXd g, rhs, mu, lam, t, r;
+    Eigen::VectorXd li_buf, inv_tmp;  // leave-one-out: L^-1 (m x m) and lower_inverse's scratch
+    Eigen::MatrixXd V, U, Y, X; // the reflectors as a block (n x h): V, V T, A V T, Y_b - V_b K / 2
+    Eigen::MatrixXd W, B;       // leave-one-out: V_b T^T and L^-1 of it (m x h)
+    Eigen::VectorXd y;          // leave-one-out: L^-1 z_k
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
     static double* square(Eigen::VectorXd& b, Eigen::Index n) {
         if (b.size() < n * n) b.resize(n * n);
         return b.data();
     }
 };
+
+// X = L^-1 for the lower triangle L of an k x k block (X: k x k, its upper triangle set to zero), by
+// halves: [L11 0; L21 L22]^-1 = [X11 0; -X22 L21 X11, X22], so the work is the m^3/3 flops of the
+// inverse in matrix products, where one triangular solve of the identity does m^3 (it does not
+// know the right-hand side's zeros). tmp: scratch that only grows.
+using RefM = Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+using RefCM = Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+void lower_inverse(RefCM L, RefM X, Eigen::VectorXd& tmp) {
+    const Eigen::Index k = L.rows();
+    if (k <= 16) {
+        X.setIdentity();
+        L.triangularView<Eigen::Lower>().solveInPlace(X);
+        return;
+    }
+    const Eigen::Index a = k / 2, b = k - a;
+    lower_inverse(L.topLeftCorner(a, a), X.topLeftCorner(a, a), tmp);
+    lower_inverse(L.bottomRightCorner(b, b), X.bottomRightCorner(b, b), tmp);
+    if (tmp.size() < a * b) tmp.resize(a * b);
+    MapM P(tmp.data(), b, a);
+    P.noalias() = L.bottomLeftCorner(b, a) * X.topLeftCorner(a, a).triangularView<Eigen::Lower>();
+    X.bottomLeftCorner(b, a).noalias() = -(X.bottomRightCorner(b, b).triangularView<Eigen::Lower>() * P);
+    X.topRightCorner(a, b).setZero();
+}
 
 void* mqfit_create() { return new Workspace; }
 void mqfit_destroy(void* w) { delete static_cast<Workspace*>(w); }
@@ -129,7 +155,6 @@ void mqfit_fit(void* ws, meshless_mqfit::Io& io) {
     // Multiquadric matrix in scaled coordinates.
     const double cs2 = (c * invL) * (c * invL);
     MapM A(Workspace::square(w.a_buf, n), n, n);
-    MapM M(Workspace::square(w.m_buf, n), n, n);
     {   // lower triangle column by column, packet-wide (sqrt is correctly rounded in every lane,
         // the sum is left to right as written: the same bits as a scalar loop)
         const auto qx = w.P.col(1).array(), qy = w.P.col(2).array(), qz = w.P.col(3).array();
@@ -142,28 +167,48 @@ void mqfit_fit(void* ws, meshless_mqfit::Io& io) {
     }  // only the lower triangle of A (and of M below) is ever read
     // Null-space reduction: Z = trailing n-r columns of Q; S = -Z^T A Z is SPD.
     const auto Q = w.qr.householderQ();
-    // M = Q^T A Q, applying each reflector H_k = I - tau v v^T from both sides as one symmetric
-    // rank-2 update of the lower triangle: H A H = A - v w^T - w v^T, w = p - (tau/2)(p.v) v, p = tau A v.
-    M.triangularView<Eigen::Lower>() = A;
-    for (Eigen::Index k = 0; k < w.qr.hCoeffs().size(); ++k) {
-        const double tau = w.qr.hCoeffs()(k);
-        if (tau == 0) continue;
-        w.v.setZero(n);
-        w.v(k) = 1;
-        w.v.tail(n - k - 1) = w.qr.matrixQR().col(k).tail(n - k - 1);
-        w.p.noalias() = tau * (M.selfadjointView<Eigen::Lower>() * w.v);
-        w.p -= (0.5 * tau * w.p.dot(w.v)) * w.v;
-        M.selfadjointView<Eigen::Lower>().rankUpdate(w.v, w.p, -1.0);
-    }
+    // The h <= 4 reflectors H_k = I - tau_k v_k v_k^T as one block (LAPACK's larft): Q = H_0 .. H_{h-1}
+    // = I - V T V^T, V unit lower trapezoidal (n x h), T upper triangular. Then Z = E - U V_b^T
+    // (E: the last m columns of I, U = V T, V_b = the last m rows of V) and, with Y = A U,
+    // K = U^T Y and X = Y_b - V_b K / 2 (Y_b: the last m rows of Y),
+    //   Z^T A Z = A_bb - X V_b^T - V_b X^T      (A_bb: A's trailing m x m block),
+    // a rank-2h update of the lower triangle of A_bb: one pass over the matrix, where applying the
+    // reflectors one by one from both sides (symmetric rank-2 updates) took four over all of A.
+    const Eigen::Index h = w.qr.hCoeffs().size();
     const Eigen::Index m = n - r;
+    Eigen::Matrix4d T = Eigen::Matrix4d::Zero();
+    w.V.setZero(n, h);
+    for (Eigen::Index k = 0; k < h; ++k) {
+        w.V(k, k) = 1;
+        w.V.col(k).tail(n - k - 1) = w.qr.matrixQR().col(k).tail(n - k - 1);
+        const double tau = w.qr.hCoeffs()(k);
+        T(k, k) = tau;
+        for (Eigen::Index i = 0; i < k; ++i) {  // T(0:k, k) = -tau T(0:k, 0:k) V(:, 0:k)^T v_k
+            double acc = 0;
+            for (Eigen::Index j = i; j < k; ++j) acc += T(i, j) * w.V.col(j).dot(w.V.col(k));
+            T(i, k) = -tau * acc;
+        }
+    }
+    w.U.noalias() = w.V * T.topLeftCorner(h, h);
+    w.Y.noalias() = A.selfadjointView<Eigen::Lower>() * w.U;
+    const Eigen::Matrix4d K = [&] {
+        Eigen::Matrix4d k4 = Eigen::Matrix4d::Zero();
+        k4.topLeftCorner(h, h).noalias() = w.U.transpose() * w.Y;
+        return k4;
+    }();
+    w.X.noalias() = w.Y.bottomRows(m) - 0.5 * (w.V.bottomRows(m) * K.topLeftCorner(h, h));
+    MapM M(Workspace::square(w.m_buf, m), m, m);  // Z^T A Z, lower triangle
+    M.triangularView<Eigen::Lower>() = A.bottomRightCorner(m, m);
+    M.triangularView<Eigen::Lower>() -= w.X * w.V.bottomRows(m).transpose();
+    M.triangularView<Eigen::Lower>() -= w.V.bottomRows(m) * w.X.transpose();
     w.t = Q.adjoint() * w.g;
     w.rhs = -w.t.tail(m);
-    const double diag_mean = -M.bottomRightCorner(m, m).diagonal().mean();
+    const double diag_mean = -M.diagonal().mean();
 
     MapM S(Workspace::square(w.s_buf, m), m, m);
     using InPlaceLlt = Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>>;  // factors S in place (lower triangle)
     auto fill_s = [&](double ridge) {
-        S.triangularView<Eigen::Lower>() = -M.bottomRightCorner(m, m);
+        S.triangularView<Eigen::Lower>() = -M;
         if (ridge != 0) S.diagonal().array() += ridge;
     };
     auto finish = [&](const InPlaceLlt& llt, int oc) -> bool {
@@ -190,12 +235,19 @@ void mqfit_fit(void* ws, meshless_mqfit::Io& io) {
             // Rippa's leave-one-out error of the whole augmented system [A P; P^T 0]: e_k =
             // lambda_k / (its inverse)_kk, whose top-left block is Z (Z^T A Z)^-1 Z^T = -Z S^-1 Z^T,
             // so (inverse)_kk = -|L^-1 z_k|^2 with S = L L^T (z_k: row k of Z).
-            w.Qd = Q;
-            w.Zt = w.Qd.rightCols(m).transpose();
-            llt.matrixL().solveInPlace(w.Zt);
+            // Q = I - V T V^T (the h <= 4 reflectors as one block: V unit lower trapezoidal, T upper
+            // triangular, LAPACK's larft), so z_k = e_{k-r} [k >= r] - W V(k, :)^T with W = V(r:, :) T^T,
+            // and L^-1 z_k = (column k - r of L^-1) - (L^-1 W) V(k, :)^T: L^-1 costs m^3/3 (its
+            // columns start on the diagonal), where L^-1 Z^T over the dense Z took m^2 n.
+            w.W.noalias() = w.V.bottomRows(m) * T.topLeftCorner(h, h).transpose();
+            MapM Li(Workspace::square(w.li_buf, m), m, m);  // L^-1 (zeros above the diagonal)
+            lower_inverse(S, Li, w.inv_tmp);
+            w.B.noalias() = Li.triangularView<Eigen::Lower>() * w.W;
             double sum = 0;
             for (Eigen::Index k = 0; k < n; ++k) {
-                const double d = w.Zt.col(k).squaredNorm();
+                w.y.noalias() = -(w.B * w.V.row(k).transpose());
+                if (k >= r) w.y.tail(m - (k - r)) += Li.col(k - r).tail(m - (k - r));
+                const double d = w.y.squaredNorm();
                 const double e = d > 0 ? w.lam(k) / d : 0.0;
                 sum += e * e;
             }
