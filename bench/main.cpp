@@ -53,8 +53,14 @@ std::string default_meshless() {
     return "meshless";
 }
 
+// $MESHLESS_DATA, else ../shared/data from the working folder, else the one beside the repository
+// this bench was built from (so a run from another folder still finds the real data sets)
 std::string default_data_dir() {
     if (const char* e = std::getenv("MESHLESS_DATA"); e && *e) return e;
+    std::error_code ec;
+    if (fs::is_directory("../shared/data", ec)) return "../shared/data";
+    const fs::path beside = fs::path(MESHLESS_BENCH_SOURCE_DIR).parent_path().parent_path() / "shared" / "data";
+    if (fs::is_directory(beside, ec)) return beside.string();
     return "../shared/data";
 }
 
@@ -97,7 +103,7 @@ int bench_main(int argc, char** argv) {
            "  scale     the scattered isosurface of 10^5..3x10^6 LIDC2 samples (--sizes): in memory, from a point\n"
            "            store (.mlc) in one slab and within 2/3 of its memory (same bytes?), the VTK peer; not in all\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
-    a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data)")
+    a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data, else the one beside the source tree)")
         .option("reps", "", "N", "repetitions per isosurface (default 10); process: best of N runs (default 3)")
         .option("isovalues", "", "K", "isosurfaces per volume", "16")
         .option("markdown", "", "FILE", "also write the tables as markdown to FILE (nothing is written without it)")
