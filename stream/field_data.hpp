@@ -51,8 +51,10 @@ using InputWarning = std::function<void(const std::string& subject, const std::s
 /// (looks_like_multiblock: .vts .vtm .vthb, PLOT3D) through read_multiblock and to_point_set (every
 /// valid node, the set the block commands build their field from), else through read_point_set.
 /// `command` names the command in the messages ("probe"); warn (may be empty) hears of a level of
-/// detail asked beyond a cluster tree. FormatError for positions-only points (no value to fit,
-/// probe, render or cluster).
+/// detail asked beyond a cluster tree. InvalidArgument, before any reading, for data the command
+/// cannot read together ("-": the readers go by the file's name and contents; a volume among several
+/// files; a level of detail asked of files that are no cluster tree); FormatError for positions-only
+/// points (no value to fit, probe, render or cluster).
 PointSet read_field_points(const std::vector<std::string>& paths, const PointSetOptions& options, const std::string& command,
                            const InputWarning& warn = {});
 
