@@ -31,7 +31,7 @@
 #include "ooc/brick_converter.hpp"
 #include "ooc/brick_index.hpp"
 #include "ooc/brick_store.hpp"
-#include "cli/mpi_backend.hpp"
+#include "stream/mpi_backend.hpp"
 #include "ooc/sample_store.hpp"
 #include "ooc/sample_store_writer.hpp"
 #include "ooc/slice_source.hpp"
@@ -754,8 +754,8 @@ void run_ooc(const BenchOptions& o, Report& r) {
     OocScratch scratch(o.scratch_dir, o.keep);
     const std::string exe = o.meshless;
     const int reps = o.quick ? 1 : std::clamp(o.reps, 1, 3);
-    // the executable runs under mpirun when its MPI plugin sits beside it (cli/mpi_backend.hpp)
-    const bool mpi_built = std::filesystem::exists(std::filesystem::path(exe).parent_path() / cli::kMpiPluginFile);
+    // the executable runs under mpirun when its MPI plugin sits beside it (stream/mpi_backend.hpp)
+    const bool mpi_built = std::filesystem::exists(std::filesystem::path(exe).parent_path() / meshless::kMpiPluginFile);
     const bool mpi = !o.quick && mpi_built && command_exists("mpirun");
     r.note(fmt("Machine: %s, %s RAM; scratch folder %s (%s free)%s; MPI %s. Single-threaded unless stated; ratios "
                "are measured in this run.",

@@ -10,23 +10,21 @@
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
 #include "cli/field_cli.hpp"
-#include "cli/isosurface_mpi.hpp"
 #include "cli/multiblock_isosurface.hpp"
-#include "cli/mpi_session.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/scattered_isosurface.hpp"
 #include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "kernels/errors.hpp"
+#include "stream/isosplat_mpi.hpp"
+#include "stream/mpi_session.hpp"
 #include "stream/progress_stage.hpp"
 #include "stream/sample_store_source.hpp"
 
 namespace meshless::cli {
 
 namespace {
-
-constexpr const char* kPointsWhat = "an oriented point set";
 
 /// The picture of points whose metadata records their volume: its patient axes for the default
 /// camera (unless --up) and, without --range, its value range for --color value — what splat of
@@ -56,6 +54,30 @@ int isosurface_sample_store(const Args& a, double iso, Projection mode, const Sa
     }, r);
     if (a.has("stats")) print_isosplat_stats(stderr, path, iso, mode, r, points, nthreads, 1);
     return 0;
+}
+
+/// `mpirun -np N meshless isosurface vol.mlb ...` (stream/isosplat_mpi.hpp): rank 0 writes through the
+/// outputs of one process, with the volume's camera and range; a failing rank ends the job.
+MpiIsosurfaceResult isosurface_mpi(const Args& a, int argc, char** argv, double iso, Projection mode, const SamplingParams& sp,
+                                   int nthreads, const RenderSettings& rs, bool range_given) {
+    MpiSession mpi(&argc, &argv);
+    try {
+        VolumeInput in = open_volume_input(a);
+        return run_isosplat_mpi(mpi, in, iso, mode, sp, nthreads, a.command_line(),
+                                [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
+                                    warn_if_iso_outside(iso, in.value_range(), in.path);
+                                    RenderSettings root_rs = rs;
+                                    picture_from_meta(a, meta, range_given, iso, root_rs);
+                                    IsoSplatResult unused;
+                                    return run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, root_rs, nthreads,
+                                                          [&](const Stage*, Sink& sink) {
+                                                              produce(sink);
+                                                              return IsoSplatResult{};
+                                                          }, unused, /*parallel_draw=*/false);
+                                });
+    } catch (const std::exception& e) {
+        end_mpi_job(mpi, "isosurface", e);
+    }
 }
 
 }  // namespace
@@ -147,16 +169,7 @@ int cmd_isosurface(int argc, char** argv) {
         if (!a.positional().empty() && is_sample_store(a.positional()[0]))
             throw UsageError(a.positional()[0] + ": MPI runs need a brick store (.mlb); a sample store (.mls) runs in one "
                              "process (meshless isosurface STORE.mls, or its .mlb under mpirun)");
-        const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads,
-                                                     [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
-                                                         IsoSplatResult unused;
-                                                         RenderSettings root_rs = rs;  // the volume's camera and range, as one process
-                                                         picture_from_meta(a, meta, cc.range.has_value(), iso, root_rs);
-                                                         return run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, root_rs, nthreads, [&](const Stage*, Sink& sink) {
-                                                             produce(sink);
-                                                             return IsoSplatResult{};
-                                                         }, unused, /*parallel_draw=*/false);
-                                                     });
+        const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads, rs, cc.range.has_value());
         if (m.root && a.has("stats")) print_isosplat_stats(stderr, m.path, iso, mode, m.result, m.points, nthreads, m.ranks);
         return 0;
     }

@@ -19,14 +19,11 @@
 #include "stream/naive_block_mc.hpp"
 #include "stream/mesh_sink.hpp"
 #include "stream/volume_marching_cubes.hpp"
+#include "stream/seconds_since.hpp"
 
 namespace meshless::cli {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// The naive per-block marching cubes of a multiblock input (section 4.2).
 int mc_blocks(const Args& a, double iso, const std::string& out, GeometryFormat format) {

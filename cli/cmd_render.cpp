@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <exception>
@@ -24,7 +23,6 @@
 #include "formats/multiblock_reader.hpp"
 #include "formats/png_reader.hpp"
 #include "formats/png_writer.hpp"
-#include "formats/transfer_function_file.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/image_compare.hpp"
@@ -104,19 +102,7 @@ TransferFunction transfer_function_arg(const Args& a, const std::array<double, 2
         range = {parse_finite(r->substr(0, comma), "--range"), parse_finite(r->substr(comma + 1), "--range")};
         if (!(range[0] < range[1])) throw UsageError("--range: LO must be less than HI, got '" + *r + "'");
     }
-    if (is_transfer_function_preset(tf)) {
-        if (!(range[0] < range[1])) range = {range[0], range[0] + 1};  // constant data
-        if (!std::isfinite(range[0]) || !std::isfinite(range[1])) range = {0, 1};
-        return transfer_function_preset(tf, range[0], range[1]);
-    }
-    if (a.has("range")) throw UsageError("--range applies to the transfer-function presets; " + tf + " gives its own values");
-    std::error_code ec;
-    if (!std::filesystem::exists(tf, ec)) {
-        std::string names;
-        for (auto n : transfer_function_preset_names()) names += (names.empty() ? "" : ", ") + std::string(n);
-        throw UsageError("--tf " + tf + ": neither a preset (" + names + ") nor an existing file of 'value r g b a' rows");
-    }
-    return read_transfer_function_file(tf);
+    return render_transfer_function(tf, range, a.has("range"));
 }
 
 std::string psnr_text(double psnr) {

@@ -51,12 +51,7 @@ int generate_all(const Args& a) {
     const SampleStoreBuildStats st = write_sample_store(*in.store, out, params);
     meter.done();
     if (a.has("stats"))
-        std::fprintf(stderr, "generate --all: %s: %llu non-constant cells as %llu cell-row keys in %llu span-space buckets "
-                     "(%u levels%s), %llu constant and %llu NaN/Inf cells skipped, %.1f MiB\n",
-                     terminal_safe(in.path).c_str(), static_cast<unsigned long long>(st.cells), static_cast<unsigned long long>(st.keys),
-                     static_cast<unsigned long long>(st.buckets), st.levels, st.exact_levels ? ", exact" : "",
-                     static_cast<unsigned long long>(st.constant_cells), static_cast<unsigned long long>(st.nonfinite_cells),
-                     st.file_bytes / 1048576.0);
+        std::fprintf(stderr, "%s\n", sample_store_stats_line(st, in.path).c_str());
     return 0;
 }
 
@@ -133,10 +128,7 @@ int cmd_project(int argc, char** argv) {
     BinaryStreamOutput out(a.get_or("output", "-"), "a point stream");
     InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
     StreamReader reader(in.f, in.name);
-    if (reader.kind() == RecordKind::seed)
-        throw UsageError(in.name + ": holds multiblock seeds; project them onto a field: meshless project --field KIND BLOCKS...");
-    if (reader.kind() != RecordKind::sample)
-        throw FormatError(in.name + ": holds projected points, expected a sample stream from 'meshless generate'");
+    require_sample_stream(reader, in.name);
     reader.read_meta();
     StreamMeta meta = reader.meta();
     const double iso = stream_iso(a, meta);
@@ -172,27 +164,12 @@ int cmd_write(int argc, char** argv) {
     const GeometryOutput out = *geometry_output(a, "an oriented point set");
     InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
     StreamReader reader(in.f, in.name);
-    if (reader.kind() != RecordKind::point)
-        throw FormatError(in.name + (reader.kind() == RecordKind::seed ? ": holds unprojected seeds; run 'meshless project --field KIND BLOCKS...' first"
-                                                                      : ": holds unprojected samples; run 'meshless project' first"));
+    require_point_stream(reader, in.name);
     reader.read_meta();
     std::optional<ShadingParams> colors;
-    if (out.ply_color) {
-        const ColorChoice cc = color_choice(a);
-        colors.emplace();
-        colors->color_by = *out.ply_color;
-        colors->colormap = cc.colormap;
-        const auto lo = reader.meta().get_double("value_min"), hi = reader.meta().get_double("value_max");
-        if (cc.range) {
-            colors->value_lo = (*cc.range)[0];
-            colors->value_hi = (*cc.range)[1];
-        } else if (lo && hi) {
-            colors->value_lo = *lo;
-            colors->value_hi = *hi;
-        } else if (*out.ply_color == ColorBy::value) {
-            throw UsageError("--ply-color value: " + in.name + " records no value range; give --range LO,HI");
-        }
-    }
+    if (out.ply_color)
+        colors = point_file_colors(*out.ply_color, color_choice(a), reader.meta().get_double("value_min"),
+                                   reader.meta().get_double("value_max"), in.name);
     PointFileSink sink(out.path, out.format, ply_comments(reader.meta()), vtp_options(a, 0), reader.has_blocks(), colors);
     write_point_stream(reader, sink);
     return 0;

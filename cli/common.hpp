@@ -127,6 +127,8 @@ void require_point_set_output(const std::string& path, const char* what);
 /// files only), so the message does not offer '-'.
 const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
                                             const char* what, bool to_stdout = true);
+/// What an isosurface's point output is, in the messages of geometry_output.
+inline constexpr const char* kPointsWhat = "an oriented point set";
 /// --format ply|vtp: the geometry format of -o when its name does not say it (stdout, odd names).
 void add_geometry_format_option(Args& a);
 /// The one place geometry outputs (points, meshes) are chosen: `path`'s extension (.ply or .vtp,

@@ -17,6 +17,10 @@
 #include "kernels/errors.hpp"
 #include "stream/pipe_closure.hpp"
 
+namespace meshless {
+class MpiSession;
+}
+
 namespace meshless::cli {
 
 /// The user asked for something inconsistent on the command line (bad flag, missing argument,
@@ -37,5 +41,12 @@ int exit_code(const std::exception& e) noexcept;
 /// "internal error: " when exit_code(e) is kExitInternal; passed through terminal_safe (formats/terminal_safe.hpp; the
 /// readers escape what they quote from files; this is the last line of defence).
 std::string error_message(const std::exception& e);
+
+/// Under mpirun, one failing rank ends the job (nothing is renamed into place, every rank exits
+/// non-zero): prints "meshless COMMAND (rank R of N): MESSAGE" on stderr (not for a closed downstream
+/// pipe, exit 0, which still aborts: the other ranks may wait on it) and aborts with exit_code(e).
+[[noreturn]] void end_mpi_job(MpiSession& mpi, const char* command, const std::exception& e);
+/// The same for an error caught on another thread (an exception not derived from std::exception: exit 3, quietly).
+[[noreturn]] void end_mpi_job(MpiSession& mpi, const char* command, std::exception_ptr e);
 
 }  // namespace meshless::cli

@@ -142,21 +142,6 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
 }
 
 PointSet read_field_points(const std::vector<std::string>& paths, const Args& a, bool warn_dropped) {
-    for (const auto& p : paths)  // the point-set readers go by the file's extension (and some reread it)
-        if (p == "-")
-            throw UsageError("-: meshless " + a.command() + " reads its data (point sets, volumes, multiblock sets) from files "
-                             "(their names and contents say the format), not from standard input");
-    if (!all_multiblock(paths)) {
-        if (paths.size() > 1)  // volumes read as points (their voxels) would be mixed into one set
-            for (const auto& p : paths)
-                if (looks_like_volume(p) && !looks_like_multiblock(p) && !looks_like_point_set(p))
-                    throw UsageError(p + " is a volume: meshless " + a.command() + " takes one volume, or point sets (several are "
-                                     "one set), or the blocks of one multiblock grid");
-        const bool tree = std::any_of(paths.begin(), paths.end(), [](const std::string& p) { return is_cluster_tree_file(p); });
-        for (const char* o : {"lod-level", "lod-error"})
-            if (!tree && a.declared(o) && a.has(o))
-                throw UsageError("--" + std::string(o) + " picks a level of detail of a cluster tree (.mlh); " + paths.front() + " is none");
-    }
     const InputWarning to_stderr = [&a](const std::string& subject, const std::string& what) {
         std::fprintf(stderr, "meshless %s: warning: %s: %s\n", a.command().c_str(), terminal_safe(subject).c_str(), terminal_safe(what).c_str());
     };

@@ -35,10 +35,9 @@ FieldParams field_params(const Args& a, const std::string& default_kind = {});
 /// nullopt for a field kind (rbf-grid, mpu, global-rbf).
 std::optional<std::string> field_file_arg(const Args& a);
 
-/// stream/field_data.hpp read_field_points with the point-set options, after the UsageErrors of
-/// data the command cannot read together ("-", a volume among several files, --lod-level or
-/// --lod-error without a cluster tree); warnings go to stderr (the samples dropped as NaN/Inf among
-/// them unless `warn_dropped` is false: a command that reports them itself).
+/// stream/field_data.hpp read_field_points with the point-set options; warnings go to stderr (the
+/// samples dropped as NaN/Inf among them unless `warn_dropped` is false: a command that reports them
+/// itself).
 PointSet read_field_points(const std::vector<std::string>& paths, const Args& a, bool warn_dropped = true);
 /// read_field_points of the positional POINTS files.
 PointSet read_points_arg(const Args& a, bool warn_dropped = true);

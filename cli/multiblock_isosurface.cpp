@@ -13,7 +13,7 @@
 #include "cli/errors.hpp"
 #include "cli/stream_output.hpp"
 #include "cli/field_cli.hpp"
-#include "cli/mpi_session.hpp"
+#include "stream/mpi_session.hpp"
 #include "cli/point_set_cli.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
@@ -23,6 +23,7 @@
 #include "stream/field_project_stage.hpp"
 #include "stream/sample_stream_projection.hpp"
 #include "stream/stream_endpoints.hpp"
+#include "stream/seconds_since.hpp"
 
 namespace meshless::cli {
 
@@ -74,7 +75,6 @@ std::optional<std::string> point_outputs_png(const Args& a) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // ------------------------------------------------------------------ inputs
 
@@ -201,13 +201,13 @@ int isosurface_blocks(int argc, char** argv) {
             st = run_block_isosurface(in, f.field.field.get(), iso, n, np, draw, sink, {nthreads}, [&](double k) { meter.add(k); });
         }
         IsoSplatResult r;
-        r.seconds = since(g0);
+        r.seconds = seconds_since(g0);
         return r;
     }, unused, /*parallel_draw=*/true, /*with_blocks=*/true);
-    const double graph_seconds = since(t0);
+    const double graph_seconds = seconds_since(t0);
 
     if (a.has("stats"))
-        print_block_isosurface_stats(stderr, "isosurface", in, st, n, f.name, np, points, {f.seconds, graph_seconds, since(t_start)},
+        print_block_isosurface_stats(stderr, "isosurface", in, st, n, f.name, np, points, {f.seconds, graph_seconds, seconds_since(t_start)},
                                      nthreads);
     return 0;
 }
@@ -240,7 +240,7 @@ int generate_blocks(int argc, char** argv) {
     StreamSink sink(out.f, out.name, RecordKind::seed, block_isosurface_meta(in, iso, n, a.command_line()), a.has("compress"));
     const BlockSeedStats seeds = generate_block_seeds(in, iso, n, sink, {nthreads});
     out.commit();
-    if (a.has("stats")) print_block_generate_stats(stderr, "generate", in, seeds, n, since(t0));
+    if (a.has("stats")) print_block_generate_stats(stderr, "generate", in, seeds, n, seconds_since(t0));
     return 0;
 }
 
@@ -274,12 +274,12 @@ int project_seeds(int argc, char** argv) {
     const auto t1 = Clock::now();
     BuiltField field = field_file_arg(a) && a.positional().empty() ? load_field_arg(a)
                                                                    : build_field(a, read_points_arg(a));
-    const double field_seconds = since(t1);
+    const double field_seconds = seconds_since(t1);
     const SeedProjectionResult pr = project_seed_stream(reader, *field.field, iso, np, out.f, out.name, a.has("compress"), nthreads);
     out.commit();
     if (a.has("stats")) {
         print_newton_stats(stderr, "project", field.field->name(), np, pr.stats, pr.busy_seconds);
-        std::fprintf(stderr, "project: field %.3f s, total %.3f s\n", field_seconds, since(t0));
+        std::fprintf(stderr, "project: field %.3f s, total %.3f s\n", field_seconds, seconds_since(t0));
     }
     return 0;
 }

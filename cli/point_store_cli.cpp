@@ -86,13 +86,7 @@ int cmd_convert_points(int argc, char** argv) {
             if (std::strcmp(phase, "write") == 0 && total > 0) meter.set_fraction(static_cast<double>(done) / static_cast<double>(total));
         });
     meter.done();
-    if (a.has("stats"))
-        std::fprintf(stderr,
-                     "convert: %llu points (%llu NaN/Inf dropped) -> %s: %llu bricks of at most %u points, %llu sorted "
-                     "run%s spilled, %.1f MB in %.3f s\n",
-                     static_cast<unsigned long long>(st.points), static_cast<unsigned long long>(st.dropped_nonfinite),
-                     terminal_safe(out).c_str(), static_cast<unsigned long long>(st.bricks), p.brick_points,
-                     static_cast<unsigned long long>(st.runs), st.runs == 1 ? "" : "s", st.output_bytes / 1e6, st.seconds);
+    if (a.has("stats")) std::fprintf(stderr, "%s\n", point_store_stats_line(st, out, p.brick_points).c_str());
     return 0;
 }
 

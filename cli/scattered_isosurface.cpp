@@ -13,9 +13,10 @@
 #include "cli/errors.hpp"
 #include "cli/stream_output.hpp"
 #include "cli/field_cli.hpp"
-#include "cli/mpi_session.hpp"
+#include "stream/mpi_session.hpp"
 #include "cli/multiblock_isosurface.hpp"
 #include "stream/scattered_isosurface.hpp"
+#include "stream/scattered_isosurface_mpi.hpp"
 #include "stream/scattered_store_isosurface.hpp"
 #include "formats/point_store.hpp"
 #include "stream/available_memory.hpp"
@@ -28,15 +29,13 @@
 #include "stream/runner.hpp"
 #include "stream/stencil_source.hpp"
 #include "stream/stream_endpoints.hpp"
+#include "stream/seconds_since.hpp"
 
 namespace meshless::cli {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-constexpr const char* kPointsWhat = "an oriented point set";
 
 void add_binning_options(Args& a) {
     a.option("max-cells", "", "N", "cap on the binning grid's cells (section 5.3), 27..2^31 (4 bytes a cell must fit in "
@@ -81,7 +80,7 @@ ScatteredInput read_scattered(const Args& a, bool warn = true) {
     const BinningGridParams bp = binning_params(a);
     const auto t0 = Clock::now();
     PointSet points = read_points_arg(a);
-    const double read_seconds = since(t0);
+    const double read_seconds = seconds_since(t0);
     ScatteredInput in = bin_scattered_points(std::move(points), joined_names(a.positional()), a.positional()[0], bp, reg_gap(a),
                                              warn ? stderr_warning() : InputWarning{});
     in.read_seconds = read_seconds;
@@ -171,11 +170,7 @@ int isosurface_scattered(int argc, char** argv) {
         return isosurface_scattered_run(a, t_start, mpi.get());
     } catch (const std::exception& e) {
         if (!mpi) throw;
-        // one failing rank ends the job: nothing is renamed into place, every rank exits non-zero
-        const int code = exit_code(e);
-        if (code != kExitOk)
-            std::fprintf(stderr, "meshless isosurface (rank %d of %d): %s\n", mpi->rank(), mpi->size(), error_message(e).c_str());
-        mpi->abort(code);
+        end_mpi_job(*mpi, "isosurface", e);
     }
 }
 
@@ -220,8 +215,7 @@ ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
     if (!j.in.crosses(j.iso) && root) warn_if_iso_outside(j.iso, j.in.points.value_range(), j.in.source);
     // under mpirun the ranks share the mpu field's local fits (every rank ends with the whole field)
     std::optional<FitShare> share;
-    if (mpi)
-        share = FitShare{mpi->rank(), mpi->size(), [mpi](std::span<const std::byte> mine) { return mpi->allgather(mine); }};
+    if (mpi) share = mpi_fit_share(*mpi);
     j.f = fit_scattered_field(j.in, j.iso, j.n, a.command_line(), &j.np, j.nthreads, field_kind_arg(a),
                               [&] { return build_field(a, j.in.points, {}, share ? &*share : nullptr); });
     return j;
@@ -230,38 +224,20 @@ ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
 /// Under mpirun: the stencil rows are dealt to the ranks on request, rank 0 writes
 /// (stream/stencil_ranks.hpp); the statistics are summed to rank 0.
 int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSession& mpi, ScatteredJob& j) {
-    const bool root = mpi.rank() == 0;
-    const Field* field = j.f.field.field.get();
-    std::optional<MpiChannel> channel;  // (none without a field: an empty output)
-    if (field) channel.emplace(mpi);
-    RankChannel* ch = channel ? &*channel : nullptr;
-    StencilRankResult rr;
-    std::size_t points = 0;
-    if (root) {
-        IsoSplatResult unused;
-        points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
-            // the deal's thread failing leaves the other ranks waiting for rows: end the job
-            const auto deal_failed = [&mpi](std::exception_ptr e) {
-                try {
-                    std::rethrow_exception(e);
-                } catch (const std::exception& x) {
-                    std::fprintf(stderr, "meshless isosurface (rank 0 of %d): %s\n", mpi.size(), error_message(x).c_str());
-                    mpi.abort(exit_code(x));
-                } catch (...) {
-                    mpi.abort(kExitInternal);
-                }
-            };
-            rr = run_scattered_isosurface_rank(j.in, field, j.iso, j.n, j.np, j.dedup, 0, mpi.size(), ch, &sink, {j.nthreads},
-                                               deal_failed);
-            return IsoSplatResult{};
-        }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
-    } else {
-        rr = run_scattered_isosurface_rank(j.in, field, j.iso, j.n, j.np, j.dedup, mpi.rank(), mpi.size(), ch, nullptr, {j.nthreads});
-    }
-    const StencilRankResult tot = sum_stencil_rank_stats(rr, [&mpi](const std::vector<std::int64_t>& v) { return mpi.sum_to_root(v); });
-    if (!root || !a.has("stats")) return 0;
-    print_scattered_ranks_stats(stderr, "isosurface", j.in, tot, j.n, j.f.name, j.np, points, mpi.size(),
-                                {j.f.seconds, 0, since(t_start)}, j.nthreads);
+    const ScatteredMpiResult r = run_scattered_isosurface_mpi(
+        mpi, j.in, j.f.field.field.get(), j.iso, j.n, j.np, j.dedup, j.nthreads,
+        [&](const std::function<void(Sink&)>& produce) {
+            IsoSplatResult unused;
+            return run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
+                produce(sink);
+                return IsoSplatResult{};
+            }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
+        },
+        // the deal's thread failing leaves the other ranks waiting for rows: end the job
+        [&mpi](std::exception_ptr e) { end_mpi_job(mpi, "isosurface", e); });
+    if (mpi.rank() != 0 || !a.has("stats")) return 0;
+    print_scattered_ranks_stats(stderr, "isosurface", j.in, r.totals, j.n, j.f.name, j.np, r.points, mpi.size(),
+                                {j.f.seconds, 0, seconds_since(t_start)}, j.nthreads);
     return 0;
 }
 
@@ -304,7 +280,7 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
                      terminal_safe(*a.get("memory")).c_str(), rep.slabs,
                      static_cast<double>(rep.loaded) / static_cast<double>(plan.frame.points));
     if (a.has("stats"))
-        print_store_isosurface_stats(stderr, "isosurface", plan, rep, st, j.n, j.np, j.dedup, points, {0, since(t0), since(t_start)},
+        print_store_isosurface_stats(stderr, "isosurface", plan, rep, st, j.n, j.np, j.dedup, points, {0, seconds_since(t0), seconds_since(t_start)},
                                      j.nthreads);
     return 0;
 }
@@ -333,14 +309,14 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
                                           [&](double k) { meter.add(k); });
         }
         IsoSplatResult r;
-        r.seconds = since(g0);
+        r.seconds = seconds_since(g0);
         return r;
     }, unused, /*parallel_draw=*/j.dedup == 0, /*with_blocks=*/false);
-    const double graph_seconds = since(t0);
+    const double graph_seconds = seconds_since(t0);
     warn_if_unconverged(stderr, in.source, st, j.f.name);
     if (a.has("stats"))
         print_scattered_isosurface_stats(stderr, "isosurface", in, st, j.n, j.f.name, j.np, j.dedup, points,
-                                         {j.f.seconds, graph_seconds, since(t_start)}, j.nthreads);
+                                         {j.f.seconds, graph_seconds, seconds_since(t_start)}, j.nthreads);
     return 0;
 }
 
@@ -377,7 +353,7 @@ int generate_scattered(int argc, char** argv) {
     StreamSink sink(out.f, out.name, RecordKind::seed, f.meta, a.has("compress"));
     const StencilSeedStats seeds = generate_scattered_seeds(in, f.field.field.get(), iso, n, sink, {nthreads});
     out.commit();
-    if (a.has("stats")) print_scattered_generate_stats(stderr, "generate", in, seeds, n, {f.seconds, 0, since(t0)});
+    if (a.has("stats")) print_scattered_generate_stats(stderr, "generate", in, seeds, n, {f.seconds, 0, seconds_since(t0)});
     return 0;
 }
 

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -25,6 +26,7 @@
 #include "formats/atomic_file.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/temporary_files.hpp"
+#include "formats/terminal_safe.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
@@ -420,6 +422,16 @@ PointStoreStats convert_to_point_store(const std::vector<std::string>& paths, co
     return convert_points_to_point_store(
         [&](const std::function<void(std::span<const double>)>& chunk) { return stream_point_set(paths, options, chunk); },
         source, out_path, params, progress);
+}
+
+std::string point_store_stats_line(const PointStoreStats& st, const std::string& output, std::uint32_t brick_points) {
+    char head[128], tail[256];
+    std::snprintf(head, sizeof head, "convert: %llu points (%llu NaN/Inf dropped) -> ", static_cast<unsigned long long>(st.points),
+                  static_cast<unsigned long long>(st.dropped_nonfinite));
+    std::snprintf(tail, sizeof tail, ": %llu bricks of at most %u points, %llu sorted run%s spilled, %.1f MB in %.3f s",
+                  static_cast<unsigned long long>(st.bricks), brick_points, static_cast<unsigned long long>(st.runs),
+                  st.runs == 1 ? "" : "s", static_cast<double>(st.output_bytes) / 1e6, st.seconds);
+    return head + terminal_safe(output) + tail;
 }
 
 }  // namespace meshless

@@ -58,6 +58,11 @@ struct PointStoreStats {
     double seconds = 0;
 };
 
+/// The one-line report of a conversion (`meshless convert POINTS -o pts.mlc --stats`, no newline):
+/// "convert: N points (K NaN/Inf dropped) -> OUTPUT: B bricks of at most P points, R sorted run(s)
+/// spilled, S MB in T s" (MB = 10^6 bytes of output, T wall seconds; OUTPUT made terminal_safe).
+std::string point_store_stats_line(const PointStoreStats& st, const std::string& output, std::uint32_t brick_points);
+
 /// progress(phase, done, total): phase "read" (points read; total 0 = unknown), "sort" (runs
 /// sorted or merged), "write" (points written of total).
 using PointStoreProgress = std::function<void(const char* phase, std::uint64_t done, std::uint64_t total)>;

@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
 
 #include "formats/atomic_file.hpp"
+#include "formats/terminal_safe.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/brick_store_identity.hpp"
 #include "ooc/row_key_codec.hpp"
@@ -239,6 +241,18 @@ SampleStoreBuildStats write_sample_store(const BrickStore& store, const std::str
     out.levels = L.count;
     out.exact_levels = L.exact;
     return out;
+}
+
+std::string sample_store_stats_line(const SampleStoreBuildStats& st, const std::string& source) {
+    char tail[320];
+    std::snprintf(tail, sizeof tail,
+                  ": %llu non-constant cells as %llu cell-row keys in %llu span-space buckets (%u levels%s), %llu constant and "
+                  "%llu NaN/Inf cells skipped, %.1f MiB",
+                  static_cast<unsigned long long>(st.cells), static_cast<unsigned long long>(st.keys),
+                  static_cast<unsigned long long>(st.buckets), st.levels, st.exact_levels ? ", exact" : "",
+                  static_cast<unsigned long long>(st.constant_cells), static_cast<unsigned long long>(st.nonfinite_cells),
+                  static_cast<double>(st.file_bytes) / 1048576.0);
+    return "generate --all: " + terminal_safe(source) + tail;
 }
 
 }  // namespace meshless

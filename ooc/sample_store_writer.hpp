@@ -31,6 +31,11 @@ struct SampleStoreBuildStats {
     bool exact_levels = false;
 };
 
+/// The one-line report of a build (`meshless generate VOL.mlb --all -o vol.mls --stats`, no newline):
+/// "generate --all: SOURCE: N non-constant cells as K cell-row keys in B span-space buckets (L levels[, exact]),
+/// C constant and F NaN/Inf cells skipped, S MiB" (S = file bytes / 2^20; SOURCE made terminal_safe).
+std::string sample_store_stats_line(const SampleStoreBuildStats& st, const std::string& source);
+
 /// Writes the sample store of `store` (opened from store.path()) to `path`; the .mls records the
 /// .mlb's path relative to the .mls's folder (absolute when no relative path exists) and its identity.
 SampleStoreBuildStats write_sample_store(const BrickStore& store, const std::string& path,

@@ -15,19 +15,19 @@
 #include "stream/projection_meta.hpp"
 #include "stream/record_vector_source.hpp"
 #include "stream/stream_metadata.hpp"
+#include "stream/seconds_since.hpp"
 
 namespace meshless {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 }  // namespace
 
 BlockIsosurfaceInput read_block_input(const std::vector<std::string>& paths, const PointSetOptions& options,
                                       const std::string& source, double iso) {
     const auto t0 = Clock::now();
     Multiblock mb = read_multiblock(paths, options);
-    const double read_seconds = since(t0);
+    const double read_seconds = seconds_since(t0);
     if (mb.blocks.size() > std::numeric_limits<std::uint32_t>::max())
         throw FormatError(paths.at(0) + ": " + std::to_string(mb.blocks.size()) + " blocks, more than block ids can number");
     BlockIsosurfaceInput in = plan_block_isosurface(std::move(mb), source, iso);
@@ -44,7 +44,7 @@ BlockIsosurfaceInput plan_block_isosurface(Multiblock mb, const std::string& sou
     const auto t0 = Clock::now();
     if (has_cell_centred_blocks(in.mb)) in.padded = amr_seed_blocks(in.mb);
     in.plan = plan_block_seeds(in.seed_blocks(), iso);
-    in.plan_seconds = since(t0);
+    in.plan_seconds = seconds_since(t0);
     if (std::isnan(in.plan.value_range[0]))
         throw FormatError(in.source + ": every node is blanked or non-finite; there is no data to contour");
     return in;
@@ -135,7 +135,7 @@ IsosurfaceField fit_block_field(const BlockIsosurfaceInput& in, double iso, int 
         f.field = build(to_point_set(in.mb));
         f.name = f.field.field->name();
     }
-    f.seconds = since(t0);
+    f.seconds = seconds_since(t0);
     add_projection_meta(f.meta, f.name, np);
     return f;
 }

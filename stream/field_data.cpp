@@ -8,6 +8,7 @@
 #include "formats/cluster_tree_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
+#include "formats/volume_reader.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/make_field.hpp"
 #include "kernels/point_set_identity.hpp"
@@ -25,8 +26,22 @@ std::string data_field_default(const std::vector<std::string>& paths) {
 }
 
 namespace {
-PointSet read_any_points(const std::vector<std::string>& paths, const PointSetOptions& options, const InputWarning& warn) {
+PointSet read_any_points(const std::vector<std::string>& paths, const PointSetOptions& options, const std::string& command,
+                         const InputWarning& warn) {
+    for (const auto& p : paths)  // the point-set readers go by the file's extension (and some reread it)
+        if (p == "-")
+            throw InvalidArgument("-: meshless " + command + " reads its data (point sets, volumes, multiblock sets) from files "
+                                  "(their names and contents say the format), not from standard input");
     if (all_multiblock(paths)) return to_point_set(read_multiblock(paths, options));
+    if (paths.size() > 1)  // volumes read as points (their voxels) would be mixed into one set
+        for (const auto& p : paths)
+            if (looks_like_volume(p) && !looks_like_multiblock(p) && !looks_like_point_set(p))
+                throw InvalidArgument(p + " is a volume: meshless " + command + " takes one volume, or point sets (several are "
+                                      "one set), or the blocks of one multiblock grid");
+    const bool tree = std::any_of(paths.begin(), paths.end(), [](const std::string& p) { return is_cluster_tree_file(p); });
+    if (!tree && (options.lod_level || options.lod_error))
+        throw InvalidArgument(std::string("--") + (options.lod_level ? "lod-level" : "lod-error") +
+                              " picks a level of detail of a cluster tree (.mlh); " + paths.front() + " is none");
     for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so
         if (is_cluster_tree_file(p)) {
             const ClusterTreeLodRequest r = cluster_tree_lod_request(read_cluster_tree_file(p), options);
@@ -38,7 +53,7 @@ PointSet read_any_points(const std::vector<std::string>& paths, const PointSetOp
 
 PointSet read_field_points(const std::vector<std::string>& paths, const PointSetOptions& options, const std::string& command,
                            const InputWarning& warn, bool warn_dropped) {
-    PointSet ps = read_any_points(paths, options, warn);
+    PointSet ps = read_any_points(paths, options, command, warn);
     std::string names;
     for (const auto& p : paths) names += (names.empty() ? "" : ", ") + p;
     if (warn && warn_dropped && ps.dropped_nonfinite > 0)

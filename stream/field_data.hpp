@@ -53,8 +53,10 @@ using InputWarning = std::function<void(const std::string& subject, const std::s
 /// `command` names the command in the messages ("probe"); warn (may be empty) hears of a level of
 /// detail asked beyond a cluster tree and, unless `warn_dropped` is false (a caller that reports
 /// them itself), of the samples the readers dropped for a NaN/Inf position or value (--strict
-/// refuses them instead). FormatError for positions-only points (no value to fit, probe, render
-/// or cluster).
+/// refuses them instead). InvalidArgument, before any reading, for data the command cannot read
+/// together ("-": the readers go by the file's name and contents; a volume among several files; a
+/// level of detail asked of files that are no cluster tree); FormatError for positions-only points
+/// (no value to fit, probe, render or cluster).
 PointSet read_field_points(const std::vector<std::string>& paths, const PointSetOptions& options, const std::string& command,
                            const InputWarning& warn = {}, bool warn_dropped = true);
 

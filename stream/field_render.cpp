@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 
+#include "formats/transfer_function_file.hpp"
 #include "kernels/block_minmax.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/merge_near_duplicates.hpp"
@@ -105,6 +107,22 @@ RenderResult render_field(RenderInput& in, const Camera& cam, const TransferFunc
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.picture = compose_over_background(rgba, rp.background);
     return r;
+}
+
+TransferFunction render_transfer_function(const std::string& name, std::array<double, 2> range, bool range_given) {
+    if (is_transfer_function_preset(name)) {
+        if (!(range[0] < range[1])) range = {range[0], range[0] + 1};  // constant data
+        if (!std::isfinite(range[0]) || !std::isfinite(range[1])) range = {0, 1};
+        return transfer_function_preset(name, range[0], range[1]);
+    }
+    if (range_given) throw InvalidArgument("--range applies to the transfer-function presets; " + name + " gives its own values");
+    std::error_code ec;
+    if (!std::filesystem::exists(name, ec)) {
+        std::string names;
+        for (auto n : transfer_function_preset_names()) names += (names.empty() ? "" : ", ") + std::string(n);
+        throw InvalidArgument("--tf " + name + ": neither a preset (" + names + ") nor an existing file of 'value r g b a' rows");
+    }
+    return read_transfer_function_file(name);
 }
 
 }  // namespace meshless

@@ -71,6 +71,13 @@ struct RenderResult {
     double seconds = 0;    ///< the ray casting's wall time
 };
 
+/// The transfer function of a render (`meshless render --tf NAME`): a preset (kernels/transfer_function.hpp)
+/// spanning `range` (a constant range [v, v] becomes [v, v + 1], a non-finite one [0, 1]), or a file of
+/// 'value r g b a' rows (formats/transfer_function_file.hpp), which brings its own values. Throws
+/// InvalidArgument when `range_given` (the user chose the range) with a file, or when `name` is neither a
+/// preset nor an existing file; what the file reader throws (FormatError, IoError).
+TransferFunction render_transfer_function(const std::string& name, std::array<double, 2> range, bool range_given);
+
 /// Ray casts `in` as `cam` sees it (dissertation section 7.4); `progress` (may be empty) receives
 /// the finished fraction of the rays, serialised.
 RenderResult render_field(RenderInput& in, const Camera& cam, const TransferFunction& tf, const RenderOptions& o,

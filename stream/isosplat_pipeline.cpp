@@ -11,14 +11,11 @@
 #include "stream/generate_stage.hpp"
 #include "stream/project_stage.hpp"
 #include "stream/slab_source.hpp"
+#include "stream/seconds_since.hpp"
 
 namespace meshless {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// [extra.first] + middle + [extra.last]: the stages present, in order.
 std::vector<const Stage*> with_extras(std::initializer_list<const Stage*> middle, const IsoSplatStages& extra) {

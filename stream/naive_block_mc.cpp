@@ -8,14 +8,9 @@
 #include "kernels/hex_point_location.hpp"
 #include "stream/mesh_sink.hpp"
 #include "stream/runner.hpp"
+#include "stream/seconds_since.hpp"
 
 namespace meshless {
-
-namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 CrackEdgeStats multiblock_crack_edges(const Multiblock& mb, const WeldedMesh& w) {
     std::vector<BoundaryEdge> boundary;

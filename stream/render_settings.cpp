@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "kernels/colorbar.hpp"
+#include "kernels/errors.hpp"
 
 namespace meshless {
 
@@ -21,6 +22,23 @@ ColorBy color_by(const ColorChoice& c, ColorBy automatic) {
         case ColorRequest::automatic: break;
     }
     return automatic;
+}
+
+ShadingParams point_file_colors(ColorBy by, const ColorChoice& c, const std::optional<double>& value_min,
+                                const std::optional<double>& value_max, const std::string& source) {
+    ShadingParams colors;
+    colors.color_by = by;
+    colors.colormap = c.colormap;
+    if (c.range) {
+        colors.value_lo = (*c.range)[0];
+        colors.value_hi = (*c.range)[1];
+    } else if (value_min && value_max) {
+        colors.value_lo = *value_min;
+        colors.value_hi = *value_max;
+    } else if (by == ColorBy::value) {
+        throw InvalidArgument("--ply-color value: " + source + " records no value range; give --range LO,HI");
+    }
+    return colors;
 }
 
 void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std::array<double, 2>& range,

@@ -46,6 +46,12 @@ struct ColorChoice {
 /// The colouring a request asks for; `automatic` is what "auto" means for this input.
 ColorBy color_by(const ColorChoice& c, ColorBy automatic);
 
+/// The colours a point file carries (`--ply-color`, stream/point_file_sink.hpp): coloured `by`, with c's
+/// colormap, over c's range, else over the recorded value range [value_min, value_max] of the points'
+/// volume. Throws InvalidArgument (naming `source`) when `by` is value and neither range is known.
+ShadingParams point_file_colors(ColorBy by, const ColorChoice& c, const std::optional<double>& value_min,
+                                const std::optional<double>& value_max, const std::string& source);
+
 /// Sets rs.shading's colouring (by, colormap, range) and rs.colorbar; `warn` (may be empty)
 /// receives a one-line warning when a legend was asked for a picture coloured by neither value nor
 /// block (none is drawn).

@@ -15,6 +15,19 @@ ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projecti
     return project.stats();
 }
 
+void require_sample_stream(const StreamReader& reader, const std::string& name) {
+    if (reader.kind() == RecordKind::seed)
+        throw InvalidArgument(name + ": holds multiblock seeds; project them onto a field: meshless project --field KIND BLOCKS...");
+    if (reader.kind() != RecordKind::sample)
+        throw FormatError(name + ": holds projected points, expected a sample stream from 'meshless generate'");
+}
+
+void require_point_stream(const StreamReader& reader, const std::string& name) {
+    if (reader.kind() != RecordKind::point)
+        throw FormatError(name + (reader.kind() == RecordKind::seed ? ": holds unprojected seeds; run 'meshless project --field KIND BLOCKS...' first"
+                                                                   : ": holds unprojected samples; run 'meshless project' first"));
+}
+
 void require_seed_stream(const StreamReader& reader, const std::string& name) {
     if (reader.kind() != RecordKind::seed)
         throw FormatError(name + ": not a seed stream; --field projects the seeds of 'meshless generate BLOCKS...' "

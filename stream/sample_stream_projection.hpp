@@ -17,6 +17,11 @@
 
 namespace meshless {
 
+/// Throws unless `reader` holds a sample stream (`meshless generate VOLUME`'s), naming `name`: InvalidArgument
+/// for a seed stream (it is projected onto a field: `meshless project --field KIND BLOCKS...`), FormatError
+/// for a point stream.
+void require_sample_stream(const StreamReader& reader, const std::string& name);
+
 /// Projects every sample `reader` delivers onto f = iso (section 3.3: approx, Eq. 3.5; exact, Eq.
 /// 3.3; or none) on `threads` threads, into `sink` (a point stream); returns the projection's counts.
 ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projection mode, StreamSink& sink, int threads);
@@ -37,6 +42,10 @@ void require_seed_stream(const StreamReader& reader, const std::string& name);
 /// seeded in unless the seeds are scattered (method=scattered).
 SeedProjectionResult project_seed_stream(StreamReader& reader, const Field& field, double iso, const FieldProjectParams& np,
                                          std::FILE* out, const std::string& name, bool compress, int threads);
+
+/// Throws FormatError (naming `name`, and the command that projects them) unless `reader` holds a
+/// point stream (projected points).
+void require_point_stream(const StreamReader& reader, const std::string& name);
 
 /// Writes every point `reader` delivers to `sink` (PLY or VTP), in stream order.
 void write_point_stream(StreamReader& reader, PointFileSink& sink);

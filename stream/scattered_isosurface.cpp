@@ -21,13 +21,13 @@
 #include "stream/stencil_source.hpp"
 #include "stream/stream_metadata.hpp"
 #include "stream/text_format.hpp"
+#include "stream/seconds_since.hpp"
 
 namespace meshless {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 }  // namespace
 
@@ -126,7 +126,7 @@ ScatteredIsosurfaceInput bin_scattered_points(PointSet points, const std::string
     const auto t0 = Clock::now();
     in.grid = make_binning_grid(in.points.pos, bp);
     in.bins = bin_points(in.grid, in.points.pos);
-    in.octree_seconds = since(t0);
+    in.octree_seconds = seconds_since(t0);
     in.reg_gap = reg_gap;
     if (warn) warn_about_binning(in.grid, largest_stencil_points(in.grid, in.bins), in.points.size(), name, bp, warn);
     return in;
@@ -140,13 +140,13 @@ double build_alongside_coverage(ScatteredIsosurfaceInput& in, int threads, const
         [&] {
             const auto t0 = Clock::now();
             build();
-            seconds = since(t0);
+            seconds = seconds_since(t0);
         },
         [&] {
             if (in.reg_gap <= 0) return;
             const auto t0 = Clock::now();
             in.coverage = std::make_unique<PointCoverage>(in.points.pos, in.reg_gap);
-            in.coverage_seconds = since(t0);
+            in.coverage_seconds = seconds_since(t0);
         });
     return seconds;
 }

@@ -19,13 +19,13 @@
 #include "stream/dedup_sink.hpp"
 #include "stream/stencil_seed_stage.hpp"
 #include "stream/stencil_source.hpp"
+#include "stream/seconds_since.hpp"
 
 namespace meshless {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Every point of the store, brick by brick, in store order (the order the in-memory path reads).
@@ -55,9 +55,9 @@ public:
 
 /// The store's bricks in a uniform grid over its bounds (each listed in the cells its box meets),
 /// to find the bricks a ball or a z range meets without scanning them all.
-class BrickIndex {
+class StoreBrickIndex {
 public:
-    explicit BrickIndex(const PointStore& store) : bricks_(store.bricks()) {
+    explicit StoreBrickIndex(const PointStore& store) : bricks_(store.bricks()) {
         const PointStoreInfo& in = store.info();
         lo_ = Vec3{in.lo[0], in.lo[1], in.lo[2]};
         const Vec3 hi{in.hi[0], in.hi[1], in.hi[2]};
@@ -199,7 +199,7 @@ PointSet load_slab(const PointStore& store, const Slab& slab, double& seconds) {
     ps.has_values = store.info().has_values;
     ps.blocks.push_back(PointSetBlock{std::filesystem::path(store.path()).filename().string(),
                                       {static_cast<std::int64_t>(ps.pos.size()), 1, 1}, 0, ps.pos.size()});
-    seconds += since(t0);
+    seconds += seconds_since(t0);
     return ps;
 }
 
@@ -300,7 +300,7 @@ ScatteredStorePlan plan_scattered_store(const PointStore& store, const std::stri
                               at(i, j - 1, k - 1) + at(i - 1, j - 1, k - 1);
             }
     if (warn) warn_about_binning(g, plan.largest_stencil, plan.frame.points, store.path(), bp, warn);
-    plan.seconds = since(t0);
+    plan.seconds = seconds_since(t0);
     return plan;
 }
 
@@ -400,7 +400,7 @@ double first_halo(const ScatteredStorePlan& plan, const FieldParams& field_param
 /// The field is built on several threads: each count reads the brick index under a lock.
 class SlabRegion {
 public:
-    SlabRegion(const PointStore& store, const ScatteredStorePlan& plan, const BrickIndex& index, const Slab& slab, double pad) {
+    SlabRegion(const PointStore& store, const ScatteredStorePlan& plan, const StoreBrickIndex& index, const Slab& slab, double pad) {
         const BinningGrid& g = plan.grid;
         region.frame = plan.frame;
         region.query = {Vec3{g.origin.x - pad, g.origin.y - pad, slab.query[0]},
@@ -440,7 +440,7 @@ void add_slab_stats(ScatteredIsosurfaceStats& st, const ScatteredIsosurfaceStats
 
 /// The bricks above world z = from that the lacking balls of earlier slabs meet (the balls wholly
 /// below are dropped from `seen`): uneven data asks for the same far points slab after slab.
-std::vector<char> bricks_still_lacking(const PointStore& store, const BrickIndex& index, std::vector<std::pair<Vec3, double>>& seen,
+std::vector<char> bricks_still_lacking(const PointStore& store, const StoreBrickIndex& index, std::vector<std::pair<Vec3, double>>& seen,
                                        double from) {
     std::vector<char> extra(store.bricks().size(), 0);
     std::erase_if(seen, [&](const std::pair<Vec3, double>& b) { return b.first.z + b.second < from; });
@@ -476,7 +476,7 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
     // Newton's reach from a seed (max travel cell diagonals), one diagonal more for a last trial step
     const double pad = (np.seed_max_travel + 1) * diag * (1 + 1e-6);
     const SlabPlanner planner(store, plan, pad);
-    const BrickIndex index(store);
+    const StoreBrickIndex index(store);
     const double fixed = 8.0 * static_cast<double>(g.cell_count());  // the bins' index, and slack for the counts
     const double budget = static_cast<double>(sp.memory_bytes) - fixed;
     // the fits kept for the next slab: those of the last slab, and the current one's as it keeps them (about as many)

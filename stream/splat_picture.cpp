@@ -23,14 +23,11 @@
 #include "stream/stream_endpoints.hpp"
 #include "stream/stream_metadata.hpp"
 #include "stream/turntable.hpp"
+#include "stream/seconds_since.hpp"
 
 namespace meshless {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 bool ply_has_vertex_property(const std::string& path, const char* name) {
     PlyReader r(path);

@@ -1,6 +1,6 @@
-// cli/mpi_session.hpp over the MPI plugin (cli/mpi_backend.hpp): the executable itself does not
+// stream/mpi_session.hpp over the MPI plugin (stream/mpi_backend.hpp): the executable itself does not
 // link MPI; the plugin is loaded only when a session starts (under mpirun).
-#include "cli/mpi_session.hpp"
+#include "stream/mpi_session.hpp"
 
 #include <dlfcn.h>
 #include <unistd.h>
@@ -11,9 +11,9 @@
 #include <string>
 #include <system_error>
 
-#include "cli/errors.hpp"
+#include "kernels/errors.hpp"
 
-namespace meshless::cli {
+namespace meshless {
 
 namespace {
 /// The plugin's path: beside the running executable.
@@ -36,13 +36,13 @@ bool mpi_built() { return ::access(plugin_path().c_str(), R_OK) == 0; }
 MpiSession::MpiSession(int* argc, char*** argv) {
     const std::string path = plugin_path();
     if (!mpi_built())
-        throw UsageError("this meshless has no MPI plugin (" + path +
+        throw InvalidArgument("this meshless has no MPI plugin (" + path +
                          " is missing: install libopenmpi-dev and rebuild, scripts/setup.sh build)");
     // RTLD_GLOBAL: Open MPI dlopens its own components, which need libmpi's symbols
     plugin_ = ::dlopen(path.c_str(), RTLD_NOW | RTLD_GLOBAL);
-    if (!plugin_) throw UsageError(path + ": cannot load the MPI plugin (" + std::string(::dlerror()) + ")");
+    if (!plugin_) throw InvalidArgument(path + ": cannot load the MPI plugin (" + std::string(::dlerror()) + ")");
     const auto make = reinterpret_cast<MpiBackendFactory>(::dlsym(plugin_, kMpiBackendSymbol));
-    if (!make) throw UsageError(path + ": not a meshless MPI plugin (no " + std::string(kMpiBackendSymbol) + ")");
+    if (!make) throw InvalidArgument(path + ": not a meshless MPI plugin (no " + std::string(kMpiBackendSymbol) + ")");
     backend_.reset(make(argc, argv));
     rank_ = backend_->rank();
     size_ = backend_->size();
@@ -74,4 +74,4 @@ std::optional<std::size_t> MpiChannel::request_unit() { return backend_.request_
 std::optional<int> MpiChannel::poll_request() { return backend_.poll_request(); }
 void MpiChannel::grant(int rank, std::optional<std::size_t> unit) { backend_.grant(rank, unit); }
 
-}  // namespace meshless::cli
+}  // namespace meshless

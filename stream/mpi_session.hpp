@@ -1,14 +1,14 @@
 // MPI for `mpirun -np N meshless isosurface vol.mlb ...` (docs/architecture.md "Distribution"): the session
 // (init/finalize, rank, size, reductions, abort) and MpiChannel, the RankChannel over which ranks
 // stream their batches to rank 0 (stream/rank_merge.hpp), so the merged output is byte-identical to
-// the single-process run and rank 0 never holds it. The MPI headers stay inside
-// cli/mpi_session.cpp (built when CMake finds MPI; otherwise cli/mpi_session_none.cpp reports that
-// this build has no MPI). A launch under mpirun is recognised from the launcher's environment
-// (OMPI_COMM_WORLD_SIZE, PMI_SIZE, PMIX_RANK); a plain run never initialises MPI, and never loads
-// it: the MPI code lives in a plugin beside the executable (cli/mpi_backend.hpp), loaded by the
-// MpiSession constructor.
-// Failure: a rank that fails prints its error and aborts the whole job (MPI_Abort), so no rank
-// presents partial output as complete (rank 0 writes through a temporary name + rename).
+// the single-process run and rank 0 never holds it. No MPI header is included here: a launch under
+// mpirun is recognised from the launcher's environment (OMPI_COMM_WORLD_SIZE, PMI_SIZE); a plain
+// run never initialises MPI, and never loads it: the MPI code lives in a plugin beside the
+// executable (stream/mpi_backend.hpp, built from stream/mpi_plugin/ when CMake finds MPI), loaded by
+// the MpiSession constructor (dlopen of the file beside /proc/self/exe).
+// Failure: the front end that catches a rank's error prints it and calls abort(), which ends the whole
+// job (MPI_Abort), so no rank presents partial output as complete (rank 0 writes through a temporary
+// name + rename). Thread-safety: the plugin serialises its MPI calls (stream/mpi_backend.hpp).
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -16,10 +16,10 @@
 #include <span>
 #include <vector>
 
-#include "cli/mpi_backend.hpp"
+#include "stream/mpi_backend.hpp"
 #include "stream/rank_merge.hpp"
 
-namespace meshless::cli {
+namespace meshless {
 
 /// World size the launcher announced (1 when not launched by mpirun).
 int launched_world_size();
@@ -28,8 +28,9 @@ bool mpi_built();
 
 class MpiSession {
 public:
-    /// Loads the MPI plugin and runs MPI_Init; throws UsageError when the build has no MPI or the
-    /// plugin cannot be loaded (the message names the file and dlerror()).
+    /// Loads the MPI plugin and runs MPI_Init; throws InvalidArgument (kernels/errors.hpp: the run
+    /// asks for what this build cannot do) when the build has no MPI plugin or it cannot be loaded
+    /// (the message names the file and dlerror()).
     MpiSession(int* argc, char*** argv);
     ~MpiSession();
     MpiSession(const MpiSession&) = delete;
@@ -71,4 +72,4 @@ private:
     MpiBackend& backend_;
 };
 
-}  // namespace meshless::cli
+}  // namespace meshless

@@ -1,8 +1,8 @@
 // The interface between the `meshless` executable and its MPI plugin (libmeshless_mpi.so, built
-// from cli/mpi_plugin/ beside the executable when CMake finds MPI). The executable does not link
+// from stream/mpi_plugin/ into the executable's folder when CMake finds MPI). The executable does not link
 // MPI: every command would pay for loading libmpi and its dependencies at start-up (about 6 ms of
 // CPU per process, measured: 13 ms with, 7 ms without), which pipes of stages and nightly batches
-// pay once per process. cli/mpi_session.cpp loads the plugin (dlopen, RTLD_GLOBAL so that Open MPI
+// pay once per process. stream/mpi_session.cpp loads the plugin (dlopen, RTLD_GLOBAL so that Open MPI
 // finds its own components) only when the process was launched by mpirun.
 // Header-only and ABI-neutral apart from std::vector and std::optional (plugin and executable come
 // from one build; the symbol's version changes with the interface). Thread-safety: the plugin
@@ -14,7 +14,7 @@
 #include <optional>
 #include <vector>
 
-namespace meshless::cli {
+namespace meshless {
 
 class MpiBackend {
 public:
@@ -25,7 +25,7 @@ public:
     virtual void sum_to_root(const std::int64_t* in, std::int64_t* out, int n) = 0;
     /// Ends every rank of the job with `code` (does not return).
     [[noreturn]] virtual void abort(int code) = 0;
-    /// The byte channel to rank 0 (see cli/mpi_session.hpp MpiChannel); one open at a time.
+    /// The byte channel to rank 0 (see stream/mpi_session.hpp MpiChannel); one open at a time.
     virtual void open_channel(int window) = 0;
     virtual void close_channel() = 0;
     virtual void send_to_root(std::vector<std::byte> message) = 0;
@@ -47,4 +47,4 @@ inline constexpr const char* kMpiBackendSymbol = "meshless_mpi_backend_v3";
 /// The plugin's file name, looked up beside the executable.
 inline constexpr const char* kMpiPluginFile = "libmeshless_mpi.so";
 
-}  // namespace meshless::cli
+}  // namespace meshless

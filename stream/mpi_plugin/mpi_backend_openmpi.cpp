@@ -1,6 +1,6 @@
-// The MPI plugin (libmeshless_mpi.so, see cli/mpi_backend.hpp): the only code that includes
-// mpi.h. Loaded by cli/mpi_session.cpp when `meshless` runs under mpirun.
-#include "cli/mpi_backend.hpp"
+// The MPI plugin (libmeshless_mpi.so, see stream/mpi_backend.hpp): the only code that includes
+// mpi.h. Loaded by stream/mpi_session.cpp when `meshless` runs under mpirun.
+#include "stream/mpi_backend.hpp"
 
 #include <mpi.h>
 
@@ -15,7 +15,7 @@
 #include <string>
 #include <thread>
 
-namespace meshless::cli {
+namespace meshless {
 
 namespace {
 constexpr int kStreamTag = 11, kRequestTag = 12, kGrantTag = 13;
@@ -204,8 +204,8 @@ private:
     int rank_ = 0, size_ = 1;
 };
 
-}  // namespace meshless::cli
+}  // namespace meshless
 
-extern "C" __attribute__((visibility("default"))) meshless::cli::MpiBackend* meshless_mpi_backend_v3(int* argc, char*** argv) {
-    return new meshless::cli::OpenMpiBackend(argc, argv);
+extern "C" __attribute__((visibility("default"))) meshless::MpiBackend* meshless_mpi_backend_v3(int* argc, char*** argv) {
+    return new meshless::OpenMpiBackend(argc, argv);
 }
