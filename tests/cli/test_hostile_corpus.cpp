@@ -675,7 +675,7 @@ TEST_CASE("unbounded parameters: refused before any work with exit 1 and one lin
         {"MESHLESS probe " + p197 + " --field mpu --alpha 100 --at 0,0,0", "--alpha"},
         {"ulimit -v 524288; MESHLESS fit " + p150k + " --field mpu --alpha 4 -o " + out + ".mlf", "--alpha 4"},
         {"ulimit -v 2097152; MESHLESS splat " + p197 + " --size 16384x16384 -o " + out + ".png", "--size 16384x16384"},
-        {"ulimit -v 2097152; MESHLESS demo --size 16384x16384 -o " + out + ".png", "--size 16384x16384"},
+        {"ulimit -v 2097152; MESHLESS demo --size 16384x16384 -o " + out + "_demo", "--size 16384x16384"},
         {"ulimit -v 524288; MESHLESS slice " + p197 + " --plane z=0 --size 16384x16384 -o " + out + ".png", "--size 16384x16384"},
         {"MESHLESS slice " + p197 + " --plane z=0 --size 16385x16 -o " + out + ".png", "--size"},
         {"ulimit -v 2097152; MESHLESS isosurface " + p197 + " --iso 0 --max-cells 2147483648 -o " + out + ".ply", "--max-cells"},

@@ -173,7 +173,7 @@ TEST_CASE("every command interrupted mid-run by SIGINT, SIGTERM or SIGHUP exits 
         {"resample", {"resample", pts, "--grid", "256,256,256", "-j", "1", "-o", "OUT"}, "v.nrrd"},
         {"probe", {"probe", pts, "--at-file", pts, "-j", "1", "-o", "OUT"}, "p.csv"},
         {"hierarchy", {"hierarchy", lidc2(), "-j", "1", "-o", "OUT"}, "h.mlh"},
-        {"demo", {"demo", "--size", "8192x8192", "-o", "OUT"}, "d.png"},
+        {"demo", {"demo", "--size", "8192x8192", "-o", "OUT"}, "demo_out"},
         {"generate", {"generate", "-", "--iso", "100.5", "-o", "OUT"}, "g.bin", true},  // spooling its volume
         {"project", {"project", "-", "-o", "OUT"}, "p.bin", true},
         {"write", {"write", "-", "-o", "OUT"}, "w.ply", true},
