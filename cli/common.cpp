@@ -197,73 +197,37 @@ void apply_color(RenderSettings& rs, ColorBy by, const ColorChoice& c, const std
     meshless::apply_color(rs, by, c, range, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
 }
 
-std::optional<Vec3> view_direction(const Args& a) {
-    const auto view = a.get("view");
-    if (!view) return std::nullopt;
-    if (a.has("azimuth") || a.has("elevation"))
-        throw UsageError("--view " + *view + " sets the camera's direction: drop --azimuth/--elevation");
-    if (*view == "iso") return Vec3{-1, -1, -1};
-    if (view->size() == 2 && (view->at(0) == '+' || view->at(0) == '-') && view->at(1) >= 'x' && view->at(1) <= 'z') {
-        Vec3 dir{0, 0, 0};
-        const double s = view->at(0) == '+' ? 1.0 : -1.0;
-        if (view->at(1) == 'x') dir.x = s;
-        else if (view->at(1) == 'y') dir.y = s;
-        else dir.z = s;
-        return dir;
-    }
-    throw UsageError("--view: expected +x, -x, +y, -y, +z, -z or iso, got '" + *view + "'");
-}
-
-void set_view(Camera& c, const Vec3& dir, const std::string& view_name, bool warn) {
-    view_angles(dir, c.up_axis, c.up_negative, c.azimuth_deg, c.elevation_deg);
-    // looking along the up axis leaves the picture's up to chance: say so (the camera then takes
-    // azimuth 0 about the up axis, a fixed but arbitrary roll)
-    if (warn && dir[c.up_axis] != 0 && dir[(c.up_axis + 1) % 3] == 0 && dir[(c.up_axis + 2) % 3] == 0)
-        std::fprintf(stderr, "meshless: warning: --view %s looks along the up axis (%s%c): the picture's up is arbitrary; give "
-                             "--up another axis\n",
-                     view_name.c_str(), c.up_negative ? "-" : "", static_cast<char>('x' + c.up_axis));
-}
-
-Camera camera_from(const Args& a, const char* default_size) {
-    Camera c;
+CameraRequest camera_request(const Args& a, const char* default_size) {
+    CameraRequest r;
     const std::string size = a.get_or("size", default_size);
     const auto wh = parse_size(size, "--size", 1, 16384);
-    c.width = wh[0];
-    c.height = wh[1];
+    r.width = wh[0];
+    r.height = wh[1];
+    if (a.has("azimuth")) r.azimuth = parse_finite(*a.get("azimuth"), "--azimuth");
+    if (a.has("elevation")) r.elevation = parse_finite(*a.get("elevation"), "--elevation");
+    if (a.declared("up") && a.has("up")) r.up = a.get("up");
+    if (a.declared("view")) r.view = a.get("view");
+    r.zoom = parse_finite(a.get_or("zoom", "1"), "--zoom");
+    r.ortho = a.has("ortho");
+    return r;
+}
+
+namespace {
+void camera_warning(const std::string& line) { std::fprintf(stderr, "meshless: warning: %s\n", line.c_str()); }
+}  // namespace
+
+Camera camera_from(const Args& a, const char* default_size) {
+    const CameraRequest r = camera_request(a, default_size);
     // before any work: the picture's buffers (splat: two depth-key buffers of 8 bytes a pixel and the
     // RGB image; render: RGBA floats and the RGB image), at least 19 bytes a pixel
-    check_option_fits(a, "--size " + size, "the image buffers (at least 19 bytes a pixel)", image_bytes(wh[0], wh[1], 19),
-                      "give a smaller --size");
-    c.azimuth_deg = parse_finite(a.get_or("azimuth", "30"), "--azimuth");
-    c.elevation_deg = parse_finite(a.get_or("elevation", "20"), "--elevation");
-    if (a.declared("up")) {
-        const std::string up = a.get_or("up", "y");
-        const bool neg = !up.empty() && up[0] == '-';
-        const std::string axis = up.substr(neg || (!up.empty() && up[0] == '+') ? 1 : 0);
-        if (axis != "x" && axis != "y" && axis != "z")
-            throw UsageError("--up: expected x, y, z, -x, -y or -z, got '" + up + "'");
-        c.up_axis = axis[0] - 'x';
-        c.up_negative = neg;
-    }
+    check_option_fits(a, "--size " + a.get_or("size", default_size), "the image buffers (at least 19 bytes a pixel)",
+                      image_bytes(r.width, r.height, 19), "give a smaller --size");
     // (without --up, a volume's header may still choose the up axis: apply_anatomical_default warns then)
-    if (const auto dir = view_direction(a)) set_view(c, *dir, a.get("view").value_or(""), a.declared("up") && a.has("up"));
-    c.zoom = parse_finite(a.get_or("zoom", "1"), "--zoom");
-    c.perspective = !a.has("ortho");
-    return c;
+    return request_camera(r, camera_warning);
 }
 
 void apply_anatomical_frame(const Args& a, const AnatomicalFrame& f, Camera& c) {
-    if (a.declared("up") && a.has("up")) return;  // the user chose the camera's up
-    // --azimuth / --elevation (the camera's, 30 and 20 unless given) turn the face-on view
-    const AnatomicalView av = anatomical_view(f.axis, c.azimuth_deg, c.elevation_deg);
-    if (const auto dir = a.declared("view") ? view_direction(a) : std::nullopt) {
-        // --view names the direction, the header keeps superior up (as --up's help says)
-        c.up_axis = av.up_axis;
-        c.up_negative = av.up_negative;
-        set_view(c, *dir, *a.get("view"), true);
-        return;
-    }
-    apply_view(av, c);
+    apply_anatomical_camera(camera_request(a, "1x1"), f, c, camera_warning);
 }
 
 std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli/args.hpp"
+#include "stream/camera_request.hpp"
 #include "stream/render_settings.hpp"
 #include "formats/file_names.hpp"
 #include "formats/input_file.hpp"
@@ -73,14 +74,11 @@ int threads(const Args& a);
 
 /// --size WxH --azimuth --elevation --up --view --zoom --ortho: where the camera looks from.
 void add_orbit_options(Args& a, const char* default_size);
-/// The camera of add_orbit_options (UsageError for bad values, --view with --azimuth/--elevation).
+/// The camera of add_orbit_options (stream/camera_request.hpp: UsageError or InvalidArgument for bad
+/// values, --view with --azimuth/--elevation; a --size whose buffers would not fit in memory).
 Camera camera_from(const Args& a, const char* default_size);
-/// --view's world direction (nullopt without it; UsageError for a bad name or with --azimuth/--elevation).
-std::optional<Vec3> view_direction(const Args& a);
-/// Points the camera along dir in its up frame (view_angles); with warn, a direction along the up
-/// axis warns on stderr that the picture's up is arbitrary (camera_from warns when --up was given,
-/// apply_anatomical_default when the header's superior axis is the up axis).
-void set_view(Camera& c, const Vec3& dir, const std::string& view_name, bool warn);
+/// add_orbit_options' values as stream/camera_request.hpp takes them.
+CameraRequest camera_request(const Args& a, const char* default_size);
 /// The default camera of data whose patient's axes are known (kernels/anatomical_view.hpp): as
 /// apply_anatomical_default, for a frame from elsewhere (the `patient_axes` a PLY or stream records).
 void apply_anatomical_frame(const Args& a, const AnatomicalFrame& f, Camera& c);

@@ -18,7 +18,7 @@
 
 #include "arrays.hpp"
 #include "bindings.hpp"
-#include "camera_options.hpp"
+#include "stream/camera_request.hpp"
 #include "field_object.hpp"
 #include "image_array.hpp"
 #include "formats/png_reader.hpp"
@@ -46,8 +46,9 @@ std::optional<T> opt(const py::dict& d, const char* key) {
     return d[key].cast<T>();
 }
 
-CameraOptions camera_options(const py::dict& d) {
-    CameraOptions o;
+CameraRequest camera_options(const py::dict& d) {
+    CameraRequest o;
+    o.option_prefix = "";
     const auto size = d["size"].cast<std::vector<long long>>();
     if (size.size() != 2 || size[0] < 1 || size[0] > 16384 || size[1] < 1 || size[1] > 16384)
         throw py::value_error("size: expected (width, height), 1..16384 pixels each");
@@ -94,10 +95,11 @@ TransferFunction transfer_function(const std::string& tf, const std::optional<st
 
 /// What render() does after its input is open, as `meshless render` does it.
 py::dict render_input(RenderInput& in, const py::dict& camera, const py::dict& o) {
-    const CameraOptions co = camera_options(camera);
+    const CameraRequest co = camera_options(camera);
     std::vector<std::string> warnings;
-    Camera cam = camera_of(co, &warnings);
-    if (in.volume && in.volume->frame) apply_anatomical(co, *in.volume->frame, cam, &warnings);
+    const CameraWarning warn = [&warnings](const std::string& line) { warnings.push_back(line); };
+    Camera cam = request_camera(co, warn);
+    if (in.volume && in.volume->frame) apply_anatomical_camera(co, *in.volume->frame, cam, warn);
     RenderOptions ro;
     ro.shade = o["shade"].cast<bool>();
     ro.no_skip = o["no_skip"].cast<bool>();
@@ -197,11 +199,15 @@ ColorChoice color_choice(const std::string& color, const std::string& colormap, 
 
 py::dict splat(const std::string& path, const py::dict& camera, const std::string& kernel, const std::string& shading,
                const std::string& color, const std::string& colormap, const py::object& range, bool colorbar, int threads) {
-    const CameraOptions co = camera_options(camera);
+    const CameraRequest co = camera_options(camera);
     std::vector<std::string> warnings;
     std::mutex said;
+    const CameraWarning warn = [&](const std::string& line) {
+        const std::lock_guard<std::mutex> lock(said);
+        warnings.push_back(line);
+    };
     RenderSettings rs;
-    rs.camera = camera_of(co, &warnings);
+    rs.camera = request_camera(co, warn);
     if (kernel == "quad") rs.kernel = SplatKernel::quad;
     else if (kernel == "ewa") rs.kernel = SplatKernel::ewa;
     else throw py::value_error("kernel: expected 'quad' or 'ewa', got '" + kernel + "'");
@@ -216,7 +222,7 @@ py::dict splat(const std::string& path, const py::dict& camera, const std::strin
         if (!iso) throw InvalidArgument(path + ": the stream records no isovalue; project it first (meshless project)");
         return std::pair(*iso, Projection::approx);
     };
-    r.anatomical_camera = [&](const AnatomicalFrame& f, Camera& c) { apply_anatomical(co, f, c, &warnings); };
+    r.anatomical_camera = [&](const AnatomicalFrame& f, Camera& c) { apply_anatomical_camera(co, f, c, warn); };
     r.warn = [&](const std::string& line) {
         const std::lock_guard<std::mutex> lock(said);
         warnings.push_back(line);
