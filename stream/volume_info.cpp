@@ -59,6 +59,7 @@ void describe_volume(const std::string& path, const RawOptions& raw, bool value_
     print_dims(g, out);
     std::fprintf(out, "  type: %s\n  spacing: %g %g %g\n  origin: %g %g %g\n", to_string(vi.type), g.spacing[0], g.spacing[1],
                  g.spacing[2], g.origin[0], g.origin[1], g.origin[2]);
+    if (!vi.series.empty()) std::fprintf(out, "  series: %s\n", terminal_safe(vi.series).c_str());
     if (!vi.encoding.empty()) std::fprintf(out, "  encoding: %s\n", vi.encoding.c_str());
     // every file the header makes the readers open, as named and resolved (`..`, symbolic links)
     if (!vi.data_files.empty()) {
