@@ -130,7 +130,32 @@ DicomSliceHeader read_dicom_slice_header(const std::string& path) {
     h.sop_class_uid = text_of(ds, gdcm::Tag(0x0008, 0x0016));
     h.series_uid = text_of(ds, gdcm::Tag(0x0020, 0x000e));
     h.series_description = text_of(ds, gdcm::Tag(0x0008, 0x103e));
-    h.has_pixel_data = ds.FindDataElement(kPixelData) || reader.GetStreamCurrentPosition() < h.file_size;
+    // Pixel Data's element header, where GDCM stopped: its length proven against the file's bytes
+    h.has_pixel_data = ds.FindDataElement(kPixelData);
+    const std::uint64_t at = reader.GetStreamCurrentPosition();
+    if (at < h.file_size) {
+        unsigned char e[12] = {};
+        FileRangeReader in(path);
+        const std::uint64_t n = std::min<std::uint64_t>(12, h.file_size - at);
+        in.read_into(at, n, reinterpret_cast<std::byte*>(e));
+        const bool tag = n >= 8 && (big ? (e[0] == 0x7f && e[1] == 0xe0 && e[2] == 0x00 && e[3] == 0x10)
+                                        : (e[0] == 0xe0 && e[1] == 0x7f && e[2] == 0x10 && e[3] == 0x00));
+        if (tag) {
+            h.has_pixel_data = true;
+            const bool explicit_vr = ts.IsExplicit();
+            if (explicit_vr && n < 12) throw FormatError(path + ": truncated Pixel Data element header");
+            const unsigned char* l = explicit_vr ? e + 8 : e + 4;
+            const std::uint32_t vl = big ? (std::uint32_t{l[0]} << 24 | std::uint32_t{l[1]} << 16 | std::uint32_t{l[2]} << 8 | l[3])
+                                         : (std::uint32_t{l[3]} << 24 | std::uint32_t{l[2]} << 16 | std::uint32_t{l[1]} << 8 | l[0]);
+            const std::uint64_t after = h.file_size - at - (explicit_vr ? 12 : 8);
+            if (vl != 0xffffffffu) {
+                if (vl > after)
+                    throw FormatError(path + ": truncated: Pixel Data claims " + std::to_string(vl) + " bytes, the file holds " +
+                                      std::to_string(after) + " after it");
+                h.pixel_data_length = vl;
+            }
+        }
+    }
     h.rows = us_of(ds, gdcm::Tag(0x0028, 0x0010), big, path, "Rows").value_or(0);
     h.columns = us_of(ds, gdcm::Tag(0x0028, 0x0011), big, path, "Columns").value_or(0);
     h.bits_allocated = us_of(ds, gdcm::Tag(0x0028, 0x0100), big, path, "Bits Allocated").value_or(0);
@@ -164,9 +189,13 @@ void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
                                            static_cast<std::uint64_t>(h.stored_bytes()), path + ": pixel bytes");
     // the file proves the bytes before GDCM allocates them
     const std::uint64_t size = regular_file_size(path);
-    if (!h.compressed && size < want)
+    if (!h.compressed && (size < want || (h.pixel_data_length && *h.pixel_data_length < want)))
         throw FormatError(path + ": truncated: Rows x Columns (" + std::to_string(h.rows) + " x " + std::to_string(h.columns) +
-                          ") takes " + std::to_string(want) + " bytes of pixel data, the file has " + std::to_string(size));
+                          ") takes " + std::to_string(want) + " bytes of pixel data, the file has " +
+                          std::to_string(h.pixel_data_length.value_or(size)));
+    if (h.compressed && h.pixel_data_length)
+        throw FormatError(path + ": compressed transfer syntax " + escape_field(h.transfer_syntax) +
+                          " with a defined-length Pixel Data element (encapsulated pixel data has an undefined length)");
     if (h.compressed && want / kDicomMaxCompression > size)
         throw FormatError(path + ": compressed pixel data of " + std::to_string(size) + " bytes cannot hold Rows x Columns (" +
                           std::to_string(h.rows) + " x " + std::to_string(h.columns) + ", more than " +

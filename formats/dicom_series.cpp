@@ -77,6 +77,9 @@ void check_and_sort(DicomSeries& s, const std::string& path) {
                               std::to_string(h.rows) + ", " + std::to_string(h.samples_per_pixel) + " sample(s) per pixel, " +
                               std::to_string(h.bits_allocated) + " bits allocated, " + std::to_string(h.frames) +
                               " frame(s); one 8- or 16-bit sample per pixel, one frame, is read)");
+        if (!h.photometric.empty() && h.photometric != "MONOCHROME1" && h.photometric != "MONOCHROME2")
+            throw FormatError(in + name_of(h.file) + ": unsupported pixel data (Photometric Interpretation '" +
+                              escape_field(h.photometric) + "'; MONOCHROME1 and MONOCHROME2 are read)");
         if (h.rows != first.rows || h.columns != first.columns)
             throw FormatError(in + "mixed sizes: " + name_of(first.file) + " is " + std::to_string(first.columns) + " x " +
                               std::to_string(first.rows) + ", " + name_of(h.file) + " is " + std::to_string(h.columns) + " x " +
@@ -196,10 +199,11 @@ void check_and_sort(DicomSeries& s, const std::string& path) {
                                                   static_cast<std::uint64_t>(first.stored_bytes()), in + "slice bytes");
     checked_mul(checked_mul(slice_bytes, n, in + "slices"), sample_size(s.type), in + "volume bytes");
     for (const auto& h : sl) {
-        if (!h.compressed && h.file_size < slice_bytes)
+        const std::uint64_t holds = h.pixel_data_length.value_or(h.file_size);
+        if (!h.compressed && holds < slice_bytes)
             throw FormatError(in + name_of(h.file) + ": truncated: Rows x Columns (" + std::to_string(h.columns) + " x " +
                               std::to_string(h.rows) + ") takes " + std::to_string(slice_bytes) + " bytes of pixel data, the file has " +
-                              std::to_string(h.file_size));
+                              std::to_string(holds));
         if (h.compressed && slice_bytes / kDicomMaxCompression > h.file_size)
             throw FormatError(in + name_of(h.file) + ": compressed pixel data of " + std::to_string(h.file_size) +
                               " bytes cannot hold Rows x Columns (" + std::to_string(h.columns) + " x " + std::to_string(h.rows) +

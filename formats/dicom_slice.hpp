@@ -11,9 +11,11 @@
 // for 8 bits allocated, 2 for 16; bits above Bits Stored masked off and, for signed pixels,
 // sign-extended from Bits Stored. Compressed transfer syntaxes are decoded by GDCM (JPEG, JPEG-LS,
 // JPEG 2000, RLE, deflate, as the GDCM build supports them).
-// Hostile input: before GDCM decodes, the pixel bytes the header claims are proven against the
-// file: an uncompressed Pixel Data element must hold Rows x Columns x bytes (its length and the
-// file's size), a compressed one may expand at most kDicomMaxCompression times the file's size.
+// Hostile input: Pixel Data's value length is read (12 bytes) where GDCM stopped, and refused when the
+// file does not hold it, so GDCM never allocates for a length the file cannot back; before GDCM
+// decodes, the pixel bytes the header claims are proven against the file: an uncompressed Pixel Data
+// element must hold Rows x Columns x bytes, a compressed one may expand at most kDicomMaxCompression
+// times the file's size.
 // Throws IoError (cannot open), FormatError (not DICOM, unreadable data set, missing Pixel Data,
 // decoding failed, decoded size not the header's); messages are one line starting with the path,
 // bytes quoted from the file escaped (escape_field). Thread-safety: reentrant (GDCM's trace output
@@ -50,6 +52,9 @@ struct DicomSliceHeader {
     std::optional<std::array<double, 2>> pixel_spacing;  ///< (0028,0030) row spacing, column spacing, mm
     double slope = 1.0, intercept = 0.0;    ///< (0028,1053), (0028,1052)
     std::uint64_t file_size = 0;            ///< bytes
+    /// Pixel Data's value length as the element says it (checked against the bytes after it);
+    /// nullopt for an encapsulated (undefined-length) element or none.
+    std::optional<std::uint64_t> pixel_data_length;
 
     /// Bytes per stored sample (1 or 2); 0 for pixel data this reader does not take.
     int stored_bytes() const { return bits_allocated == 8 ? 1 : bits_allocated == 16 ? 2 : 0; }
