@@ -1,4 +1,5 @@
-// The GDCM boundary (formats/dicom_slice.hpp): the only source file that includes GDCM. Attributes
+// The GDCM boundary (formats/dicom_slice.hpp): the only source file that includes GDCM. Every file
+// is walked first (formats/dicom_structure.hpp: Debian's GDCM asserts on malformed elements). Attributes
 // are taken from the data set GDCM parsed up to Pixel Data; the pixels through gdcm::ImageReader,
 // which decodes the compressed transfer syntaxes, after the file has proven the bytes they claim.
 #include "formats/dicom_slice.hpp"
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "formats/binary_file.hpp"
+#include "formats/dicom_structure.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
@@ -109,6 +111,7 @@ DicomSliceHeader read_dicom_slice_header(const std::string& path) {
     h.file = path;
     h.file_size = regular_file_size(path);
     if (!has_dicom_magic(path)) throw FormatError(path + ": not a DICOM file (no 'DICM' after the 128-byte preamble)");
+    check_dicom_structure(path);  // GDCM asserts (aborts) on malformed elements: none reach it
     gdcm::Reader reader;
     reader.SetFileName(path.c_str());
     bool ok = false;
@@ -200,6 +203,7 @@ void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
         throw FormatError(path + ": compressed pixel data of " + std::to_string(size) + " bytes cannot hold Rows x Columns (" +
                           std::to_string(h.rows) + " x " + std::to_string(h.columns) + ", more than " +
                           std::to_string(kDicomMaxCompression) + ":1)");
+    check_dicom_structure(path);  // as read_dicom_slice_header: the file may have changed since
     gdcm::ImageReader reader;
     reader.SetFileName(path.c_str());
     bool ok = false;

@@ -11,7 +11,8 @@
 // for 8 bits allocated, 2 for 16; bits above Bits Stored masked off and, for signed pixels,
 // sign-extended from Bits Stored. Compressed transfer syntaxes are decoded by GDCM (JPEG, JPEG-LS,
 // JPEG 2000, RLE, deflate, as the GDCM build supports them).
-// Hostile input: Pixel Data's value length is read (12 bytes) where GDCM stopped, and refused when the
+// Hostile input: the file's element structure is walked before GDCM parses it (formats/dicom_structure.hpp:
+// Debian's GDCM aborts on a malformed element); Pixel Data's value length is read (12 bytes) where GDCM stopped, and refused when the
 // file does not hold it, so GDCM never allocates for a length the file cannot back; before GDCM
 // decodes, the pixel bytes the header claims are proven against the file: an uncompressed Pixel Data
 // element must hold Rows x Columns x bytes, a compressed one may expand at most kDicomMaxCompression
