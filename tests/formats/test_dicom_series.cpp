@@ -150,6 +150,25 @@ TEST_CASE("dicom: detection by the DICM magic, folders and DICOMDIR", "[formats]
     CHECK(is_dicom_input(named.string()));
 }
 
+TEST_CASE("dicom: a DICOMDIR stands for the DICOM files under its folder", "[formats][dicom]") {
+    TempDir dir("dicom-dicomdir");
+    const auto p = make_dicom_case("flipped", dir);
+    if (!p) return;
+    const fs::path root = dir / "media";
+    fs::create_directories(root / "A" / "B");
+    for (const auto& e : fs::directory_iterator(*p)) fs::copy_file(e.path(), root / "A" / "B" / e.path().filename());
+    {
+        std::FILE* out = std::fopen((root / "DICOMDIR").string().c_str(), "wb");  // its records are not read
+        REQUIRE(out);
+        std::fclose(out);
+    }
+    CHECK(looks_like_volume((root / "DICOMDIR").string()));
+    const Volume a = read_volume((root / "DICOMDIR").string());
+    const Volume b = read_volume(p->string());
+    CHECK(a.grid == b.grid);
+    CHECK(same_samples(a, b));
+}
+
 #else
 
 TEST_CASE("dicom: a build without GDCM refuses a DICOM input in one line", "[formats][dicom]") {
