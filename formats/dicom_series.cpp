@@ -234,34 +234,57 @@ bool looks_like_dicom(const std::string& path, std::size_t scan) {
     }
 }
 
-DicomSeries open_dicom_series(const std::string& path, const std::string& choice, const ReferencePolicy& refs) {
+namespace {
+
+// The image series of an input: headers grouped by Series Instance UID (in UID order), those
+// without any Pixel Data left out.
+struct Collected {
+    std::map<std::string, std::vector<DicomSliceHeader>> groups;
+    std::vector<const std::vector<DicomSliceHeader>*> images;
+    std::vector<DicomSeriesSummary> series;
+};
+
+void collect(const std::string& path, const ReferencePolicy& refs, Collected& c) {
     if (!dicom_reader_available()) read_dicom_slice_header(path);  // throws: this build has no DICOM reader
     std::string only_series_of;
     const std::vector<std::string> files = gather(path, refs, only_series_of);
-    std::map<std::string, std::vector<DicomSliceHeader>> groups;  // by Series Instance UID
     std::string only_uid;
     for (const auto& f : files) {
         DicomSliceHeader h = read_dicom_slice_header(f);
         if (f == only_series_of) only_uid = h.series_uid;
-        groups[h.series_uid].push_back(std::move(h));
+        c.groups[h.series_uid].push_back(std::move(h));
     }
     if (!only_series_of.empty())
-        for (auto it = groups.begin(); it != groups.end();) it = it->first == only_uid ? std::next(it) : groups.erase(it);
-    DicomSeries s;
-    s.input = path;
-    std::vector<const std::vector<DicomSliceHeader>*> images;
+        for (auto it = c.groups.begin(); it != c.groups.end();) it = it->first == only_uid ? std::next(it) : c.groups.erase(it);
     std::size_t without_pixels = 0;
-    for (const auto& [uid, g] : groups) {
+    for (const auto& [uid, g] : c.groups) {
         if (std::none_of(g.begin(), g.end(), [](const DicomSliceHeader& h) { return h.has_pixel_data; })) {
             without_pixels += g.size();
             continue;
         }
-        images.push_back(&g);
-        s.series.push_back(DicomSeriesSummary{uid, g.front().series_description, static_cast<std::int64_t>(g.size()),
+        c.images.push_back(&g);
+        c.series.push_back(DicomSeriesSummary{uid, g.front().series_description, static_cast<std::int64_t>(g.size()),
                                               g.front().columns, g.front().rows});
     }
-    if (images.empty())
+    if (c.images.empty())
         throw FormatError(path + ": no image series (" + std::to_string(without_pixels) + " DICOM file(s), none with Pixel Data)");
+}
+
+}  // namespace
+
+std::vector<DicomSeriesSummary> list_dicom_series(const std::string& path, const ReferencePolicy& refs) {
+    Collected c;
+    collect(path, refs, c);
+    return c.series;
+}
+
+DicomSeries open_dicom_series(const std::string& path, const std::string& choice, const ReferencePolicy& refs) {
+    Collected c;
+    collect(path, refs, c);
+    DicomSeries s;
+    s.input = path;
+    s.series = c.series;
+    const auto& images = c.images;
     std::size_t pick = 0;
     auto listing = [&] {
         std::string l;
@@ -270,7 +293,7 @@ DicomSeries open_dicom_series(const std::string& path, const std::string& choice
         return l;
     };
     if (!choice.empty()) {
-        const bool number = std::all_of(choice.begin(), choice.end(), [](char c) { return c >= '0' && c <= '9'; }) && choice.size() < 9;
+        const bool number = std::all_of(choice.begin(), choice.end(), [](char ch) { return ch >= '0' && ch <= '9'; }) && choice.size() < 9;
         std::size_t i = 0;
         for (; i < s.series.size(); ++i)
             if (s.series[i].uid == choice || (number && std::stoul(choice) == i + 1)) break;

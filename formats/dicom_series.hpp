@@ -76,6 +76,10 @@ bool looks_like_dicom(const std::string& path, std::size_t scan = 64);
 /// every file read (ReferenceRefused).
 DicomSeries open_dicom_series(const std::string& path, const std::string& choice = {}, const ReferencePolicy& refs = {});
 
+/// The image series of the input, in listing order (headers only; no series is checked). Throws as
+/// open_dicom_series for the input itself (no DICOM files, no image series, unreadable headers).
+std::vector<DicomSeriesSummary> list_dicom_series(const std::string& path, const ReferencePolicy& refs = {});
+
 /// Volume slice k (0 <= k < dims[2]) into `out`: Columns x Rows samples of s.type, x fastest.
 /// `scratch` is a reused buffer for the decoded file. Throws as decode_dicom_slice.
 void read_dicom_series_slice(const DicomSeries& s, std::int64_t k, std::byte* out, std::vector<std::byte>& scratch);

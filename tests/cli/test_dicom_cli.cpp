@@ -62,6 +62,11 @@ TEST_CASE("dicom cli: two series are listed and refused, --series picks each by 
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
     CHECK_THAT(r.err, Contains("holds 2 series") && Contains("'first'") && Contains("'second'") && Contains("--series"));
     CHECK_FALSE(fs::exists(d / "x.ply"));
+    // info lists them (exit 0); with --series it describes one and names the others
+    r = sh("MESHLESS info " + p, d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Contains(": DICOM, 2 series") && Contains("  1) 1.2.826.0.1.3680043.8.498.100 'first', 6 slices, 32 x 30") &&
+                          Contains("  2) 1.2.826.0.1.3680043.8.498.200 'second', 5 slices, 16 x 16"));
     r = sh("MESHLESS info " + p + " --series 2", d);
     CHECK(r.code == 0);
     CHECK_THAT(r.out, Contains("16 x 16 x 5") && Contains("series: 2 of 2: 1.2.826.0.1.3680043.8.498.200 'second'"));
