@@ -76,7 +76,8 @@ int cmd_hierarchy(int argc, char** argv) {
     add_point_set_options(a, /*with_endian=*/true);
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z (a raw file whose name does not give them)")
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
-        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1");
+        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1")
+        .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)");
     add_thread_option(a);
     add_quiet_option(a);
     a.positionals(1, 1000);
@@ -90,8 +91,8 @@ int cmd_hierarchy(int argc, char** argv) {
 
     const auto t0 = std::chrono::steady_clock::now();
     // a raw volume described on the command line (--dims, --type, --spacing; --endian gives its byte order)
-    const bool raw_volume = a.has("dims") || a.has("type") || a.has("spacing");
-    if (raw_volume && a.positional().size() != 1) throw UsageError("--dims/--type/--spacing: one raw volume, not " + std::to_string(a.positional().size()) + " inputs");
+    const bool raw_volume = a.has("dims") || a.has("type") || a.has("spacing") || a.has("series");
+    if (raw_volume && a.positional().size() != 1) throw UsageError("--dims/--type/--spacing/--series: one volume, not " + std::to_string(a.positional().size()) + " inputs");
     const PointSet points = a.positional().size() == 1 && is_brick_store(a.positional().front())
                                 ? point_set_from_brick_store(a.positional().front())
                             : raw_volume ? point_set_from_volume(a.positional().front(), point_set_options(a), raw_options(a))

@@ -30,7 +30,8 @@ void add_volume_options(Args& a) {
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z")
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
         .option("endian", "", "little|big", "raw volumes: byte order of the samples", "little")
-        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1");
+        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1")
+        .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)");
 }
 
 RawOptions raw_options(const Args& a) {
@@ -58,6 +59,10 @@ RawOptions raw_options(const Args& a) {
                 throw UsageError("--spacing: spacings must be positive and at most 3.4e38 (the float32 range), got " +
                                  a.get_or("spacing", ""));
         raw.spacing = *s;
+    }
+    if (auto s = a.get("series")) {
+        if (s->empty()) throw UsageError("--series: expected a Series Instance UID or a series number");
+        raw.series = *s;
     }
     return raw;
 }

@@ -1,10 +1,12 @@
 #include "formats/volume_reader.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <new>
 #include <filesystem>
 
 #include "formats/binary_file.hpp"
+#include "formats/dicom_series.hpp"
 #include "formats/gzip.hpp"
 #include "formats/metaimage.hpp"
 #include "formats/nifti.hpp"
@@ -27,7 +29,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum class Fmt { raw, nrrd, metaimage, vtk_legacy, vti, vtkjs, slc, nifti, voreen_dat, unknown };
+enum class Fmt { raw, nrrd, metaimage, vtk_legacy, vti, vtkjs, slc, nifti, voreen_dat, dicom, unknown };
 
 bool ends_with(const std::string& s, const char* suf) {
     const std::size_t n = std::strlen(suf);
@@ -50,6 +52,7 @@ Fmt by_extension(const std::string& path) {
 
 Fmt by_content(const std::string& path, const RawOptions& raw) {
     const std::string h = read_file_prefix(path, 4096);
+    if (h.size() >= 132 && h.compare(128, 4, "DICM") == 0) return Fmt::dicom;
     if (h.rfind("NRRD", 0) == 0) return Fmt::nrrd;
     if (to_lower(h.substr(0, 14)) == "# vtk datafile") return Fmt::vtk_legacy;
     if (h.rfind("<?xml", 0) == 0 || h.rfind("<VTKFile", 0) == 0) return Fmt::vti;
@@ -75,9 +78,11 @@ Fmt detect(const std::string& path, const RawOptions& raw) {
     if (fs::is_directory(path, ec)) {
         check_reference(raw.references, path, (fs::path(path) / "index.json").string());
         if (fs::is_regular_file(fs::path(path) / "index.json", ec)) return Fmt::vtkjs;
-        throw IoError(path + ": is a directory, expected a volume file (or a vtk-js directory with index.json)");
+        if (looks_like_dicom(path, std::size_t(-1))) return Fmt::dicom;
+        throw IoError(path + ": is a directory, expected a volume file (or a vtk-js directory with index.json, or a DICOM series)");
     }
     if (!fs::exists(path, ec)) throw IoError(path + ": cannot open: No such file or directory");
+    if (to_lower(fs::path(path).filename().string()) == "dicomdir") return Fmt::dicom;
     const Fmt e = by_extension(path);
     if (e != Fmt::unknown) return e;
     const Fmt c = by_content(path, raw);
@@ -129,6 +134,7 @@ Volume read_volume_unnamed(const std::string& path, const RawOptions& raw) {
         case Fmt::slc: return read_slc(path);
         case Fmt::nifti: return read_nifti(path, raw.references);
         case Fmt::voreen_dat: return read_payload(confined(plan_voreen_dat(path), path, raw.references));
+        case Fmt::dicom: return read_dicom_series(open_dicom_series(path, raw.series, raw.references));
         case Fmt::unknown: break;
     }
     throw FormatError(path + ": unrecognized volume format");
@@ -155,6 +161,30 @@ VolumeInfo mappable_info(const PayloadPlan& plan) {
 }
 }  // namespace
 
+// A DICOM series as a VolumeInfo: its files, its transfer syntax, the series read and the others.
+static VolumeInfo dicom_info(const DicomSeries& s) {
+    VolumeInfo i;
+    i.format = "dicom";
+    i.grid = s.grid;
+    i.type = s.type;
+    i.frame = s.frame;
+    std::vector<std::string> syntaxes;
+    for (const auto& h : s.slices) {
+        i.data_files.push_back(h.file);
+        if (std::find(syntaxes.begin(), syntaxes.end(), h.transfer_syntax) == syntaxes.end()) syntaxes.push_back(h.transfer_syntax);
+    }
+    i.encoding = "transfer syntax";
+    for (std::size_t k = 0; k < syntaxes.size(); ++k) i.encoding += (k ? ", " : " ") + escape_field(syntaxes[k]);
+    if (s.rescaled) i.encoding += "; Rescale Slope/Intercept applied per slice";
+    for (std::size_t k = 0; k < s.series.size(); ++k)
+        if (s.series[k].uid == s.uid) {
+            i.series = std::to_string(k + 1) + " of " + std::to_string(s.series.size()) + ": " + describe_dicom_series(s.series[k]);
+            for (std::size_t o = 0; o < s.series.size(); ++o)
+                if (o != k) i.series += "; also " + std::to_string(o + 1) + ") " + describe_dicom_series(s.series[o]);
+        }
+    return i;
+}
+
 VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {
         case Fmt::raw: return mappable_info(confined(plan_raw(path, raw), path, raw.references));
@@ -166,6 +196,7 @@ VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
         case Fmt::vtkjs: return probe_vtkjs_image(path, raw.references);
         case Fmt::slc: return probe_slc(path);
         case Fmt::nifti: return probe_nifti(path, raw.references);
+        case Fmt::dicom: return dicom_info(open_dicom_series(path, raw.series, raw.references));
         case Fmt::unknown: break;
     }
     throw FormatError(path + ": unrecognized volume format");
@@ -183,6 +214,12 @@ VolumeInfo prove_volume(const std::string& path, const RawOptions& raw) {
         case Fmt::vti: prove_vti(path); break;
         case Fmt::slc: prove_slc(path); break;
         case Fmt::nifti: prove_nifti(path, raw.references); break;
+        case Fmt::dicom: {  // every slice decoded through one reused buffer
+            const DicomSeries s = open_dicom_series(path, raw.series, raw.references);
+            std::vector<std::byte> slice(static_cast<std::size_t>(s.grid.dims[0] * s.grid.dims[1]) * sample_size(s.type)), scratch;
+            for (std::int64_t k = 0; k < s.grid.dims[2]; ++k) read_dicom_series_slice(s, k, slice.data(), scratch);
+            return dicom_info(s);
+        }
         case Fmt::unknown: throw FormatError(path + ": unrecognized volume format");
     }
     return probe_volume(path, raw);
@@ -193,11 +230,19 @@ std::uint64_t decoded_bytes(const VolumeInfo& vi, const std::string& path) {
                        path + ": decoded size (" + dims_string(vi.grid) + ")");
 }
 
+bool is_dicom_input(const std::string& path, const RawOptions& raw) {
+    try {
+        return detect(path, raw) == Fmt::dicom;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
 bool looks_like_volume(const std::string& path) {
     std::error_code ec;
-    if (fs::is_directory(path, ec)) return fs::is_regular_file(fs::path(path) / "index.json", ec);
+    if (fs::is_directory(path, ec)) return fs::is_regular_file(fs::path(path) / "index.json", ec) || looks_like_dicom(path);
     const Fmt e = by_extension(path);
-    if (e == Fmt::unknown) return false;
+    if (e == Fmt::unknown) return looks_like_dicom(path);
     if (e == Fmt::vtkjs || e == Fmt::voreen_dat) {
         // .json only when it is a vtk-js image index; .dat only when it is a Voreen sidecar
         try {

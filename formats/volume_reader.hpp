@@ -1,6 +1,6 @@
 // Regular-volume readers: one entry point that dispatches on extension (and content) to the
 // per-format readers (raw, NRRD, MetaImage, VTK legacy, VTK XML .vti, vtk-js index.json, SLC,
-// NIfTI-1, Voreen .dat).
+// NIfTI-1, Voreen .dat, DICOM series: a folder, DICOMDIR or slice file, formats/dicom_series.hpp).
 //
 // Output: a Volume with samples x fastest, then y, then z, in host (little-endian) order.
 // Types: uint8, int16, uint16, float32 are kept; int8 widens to int16; int32/uint32/int64/
@@ -44,11 +44,14 @@ struct RawOptions {
     bool big_endian = false;
     std::optional<std::array<double, 3>> spacing;
     ReferencePolicy references;
+    /// DICOM: the series to read from an input holding several, by Series Instance UID or by its
+    /// 1-based number in the input's listing (empty: the only one; formats/dicom_series.hpp).
+    std::string series;
 };
 
 /// Reads a whole volume. Dispatch: .raw .nrrd .nhdr .mhd .mha .vtk .vti (file: VTK XML,
 /// directory: vtk-js) .json (vtk-js index) .slc .nii .nii.gz .hdr .dat, a directory holding
-/// index.json, else by content (magic).
+/// index.json, a DICOM folder, DICOMDIR or slice file ("DICM" at byte 128), else by content (magic).
 Volume read_volume(const std::string& path, const RawOptions& raw = {});
 
 /// The same volume as read_volume, read the fastest way for one pass over it: when the samples are
@@ -58,13 +61,14 @@ Volume read_volume(const std::string& path, const RawOptions& raw = {});
 Volume map_volume(const std::string& path, const RawOptions& raw = {});
 
 struct VolumeInfo {
-    std::string format;                   ///< "raw", "nrrd", "metaimage", "vtk-legacy", "vti", "vtkjs", "slc", "nifti", "voreen-dat"
+    std::string format;                   ///< "raw", "nrrd", "metaimage", "vtk-legacy", "vti", "vtkjs", "slc", "nifti", "voreen-dat", "dicom"
     GridSpec grid;
     SampleType type = SampleType::u8;     ///< the type read_volume returns
     std::string encoding;                 ///< "raw", "gzip", "ascii", "rle", "base64", "base64+zlib", "appended-raw", ...
     std::vector<std::string> data_files;  ///< files holding the payload (the path itself when attached)
     bool maps = false;                    ///< map_volume maps the file: the samples cost no memory of their own
     std::optional<AnatomicalFrame> frame; ///< the patient's axes, where the header says them (formats/anatomical_frame.hpp)
+    std::string series;                   ///< DICOM: the series read and the others of the input (escaped), else empty
 };
 
 /// Parses headers only (no payload read, no decompression beyond a NIfTI .gz header).
@@ -82,7 +86,12 @@ VolumeInfo prove_volume(const std::string& path, const RawOptions& raw = {});
 std::uint64_t decoded_bytes(const VolumeInfo& vi, const std::string& path);
 
 /// By extension: .raw .nrrd .nhdr .mhd .mha .vtk .vti .slc .nii .nii.gz .dat, a .json that is
-/// a vtk-js index, or a directory holding index.json. Does not open the payload.
+/// a vtk-js index, a directory holding index.json; a DICOM file, DICOMDIR or a folder with a DICOM
+/// file among its first 64 entries (formats/dicom_series.hpp looks_like_dicom). Does not open the payload.
 bool looks_like_volume(const std::string& path);
+
+/// read_volume would read `path` as a DICOM series (formats/dicom_series.hpp): streaming readers
+/// (ooc/slice_source.hpp) read it slice by slice. Reads no more than the detection does; never throws.
+bool is_dicom_input(const std::string& path, const RawOptions& raw = {});
 
 }  // namespace meshless

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "formats/binary_file.hpp"
+#include "formats/dicom_series.hpp"
 #include "ooc/brick_slice_source.hpp"
 #include "formats/gzip.hpp"
 #include "formats/metaimage.hpp"
@@ -45,6 +46,25 @@ public:
 private:
     Volume v_;
     std::string name_;
+};
+
+/// A DICOM series, one file decoded per slice (memory: one slice and its decoded file).
+class DicomSliceSource final : public SliceSource {
+public:
+    DicomSliceSource(DicomSeries s, std::string name) : s_(std::move(s)), name_(std::move(name)) {}
+    const GridSpec& grid() const override { return s_.grid; }
+    SampleType type() const override { return s_.type; }
+    std::string name() const override { return name_; }
+    void read_slices(std::int64_t k, std::int64_t count, std::byte* out) override {
+        check_range(*this, k, count);
+        const std::size_t slice = static_cast<std::size_t>(s_.grid.dims[0] * s_.grid.dims[1]) * sample_size(s_.type);
+        for (std::int64_t i = 0; i < count; ++i) read_dicom_series_slice(s_, k + i, out + static_cast<std::size_t>(i) * slice, scratch_);
+    }
+
+private:
+    DicomSeries s_;
+    std::string name_;
+    std::vector<std::byte> scratch_;
 };
 
 /// Executes a payload plan (raw or gzip, no line skip) slab by slab: random access for raw files,
@@ -277,6 +297,8 @@ private:
 
 std::unique_ptr<SliceSource> open_slice_source(const std::string& path, const RawOptions& raw) {
     if (is_brick_store(path)) return open_brick_store_slices(path);
+    if (is_dicom_input(path, raw))
+        return std::make_unique<DicomSliceSource>(open_dicom_series(path, raw.series, raw.references), path);
     if (auto plan = streamable_plan(path, raw)) return std::make_unique<PlanSliceSource>(std::move(*plan), path);
     return std::make_unique<MemorySliceSource>(read_volume(path, raw), path);
 }

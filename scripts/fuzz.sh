@@ -18,13 +18,19 @@ data=${MESHLESS_DATA:-$root/../shared/data}
 all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
      fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_plot3d fuzz_vtp fuzz_vts fuzz_csv fuzz_npy fuzz_points_raw
      fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file fuzz_point_store
-     fuzz_positions)
+     fuzz_positions fuzz_dicom)
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
 if [ ! -f "$build/build.ninja" ]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_C_COMPILER=clang-14 \
         -DMESHLESS_BUILD_FUZZ=ON -DMESHLESS_BUILD_TESTS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo || exit 2
+fi
+# fuzz_dicom exists only in a build with the DICOM reader (GDCM found: MESHLESS_WITH_DICOM)
+if ! grep -q '^MESHLESS_WITH_DICOM:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null; then
+  kept=()
+  for t in "${targets[@]}"; do [ "$t" = fuzz_dicom ] && echo "fuzz.sh: $build has no DICOM reader: fuzz_dicom left out" >&2 || kept+=("$t"); done
+  targets=("${kept[@]}")
 fi
 cmake --build "$build" --target "${targets[@]}" || exit 2
 
@@ -95,6 +101,13 @@ printf 'x,y,z,value\n0,0,0,1\n1,0,0,2\n0,1,0,3\n0,0,1,4\n' | seed fuzz_csv small
 printf 'x,y,z\n# probe positions\n0,0,0\n1.5;2\t3\n\n-4 5e-3 6 extra\n' | seed fuzz_positions small
 have scattered/Particles.raw && seed fuzz_points_raw particles < "$data/scattered/Particles.raw"
 have bucky/Bucky_32x32x32_uint8.raw && head -c 4096 "$data/bucky/Bucky_32x32x32_uint8.raw" | seed fuzz_points_raw volume
+# DICOM slices written by pydicom (tests/formats/make_dicom_series.py; skipped without python3-pydicom)
+dtmp=$(mktemp -d)
+if /usr/bin/python3 "$root/tests/formats/make_dicom_series.py" rle "$dtmp/s" 2>/dev/null; then
+  seed fuzz_dicom plain < "$dtmp/s/plain/slice0000.dcm"
+  seed fuzz_dicom rle < "$dtmp/s/rle/slice0000.dcm"
+fi
+rm -rf "$dtmp"
 # the stream, store, PLY, PNG, .mlf and .mlh formats: written by a meshless binary when one is built
 # (MESHLESS_EXE, else the one of BUILD_DIR, else the one of build/; optional)
 exe=${MESHLESS_EXE:-$build/cli/meshless}

@@ -76,6 +76,7 @@ void walk(const fs::path& root, const fs::path& dir, bool recursive, const std::
     std::set<std::string> payloads;
     for (const auto& e : entries) {
         if (lower_extension(e.string()) == ".raw" || e.filename().string().front() == '.' || !looks_like_volume(e.string())) continue;
+        if (payloads.count(canonical_or_self(e))) continue;  // one slice of a DICOM series already probed: the series is listed
         try {
             RawOptions confined;
             confined.references.root = root.string();  // a header naming files outside the archive lists none

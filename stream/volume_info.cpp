@@ -1,6 +1,7 @@
 #include "stream/volume_info.hpp"
 
 #include "formats/anatomical_frame.hpp"
+#include "formats/dicom_series.hpp"
 #include "formats/reference_policy.hpp"
 #include "formats/terminal_safe.hpp"
 #include "ooc/brick_store.hpp"
@@ -51,6 +52,16 @@ void describe_brick_store(const std::string& path, std::FILE* out) {
 }
 
 void describe_volume(const std::string& path, const RawOptions& raw, bool value_range, std::FILE* out) {
+    // a DICOM folder of several series: listed (each reading command refuses it, naming them the same way)
+    if (raw.series.empty() && is_dicom_input(path, raw)) {
+        const std::vector<DicomSeriesSummary> all = list_dicom_series(path, raw.references);
+        if (all.size() > 1) {
+            std::fprintf(out, "%s: DICOM, %zu series (read one with --series N or --series UID)\n", terminal_safe(path).c_str(), all.size());
+            for (std::size_t i = 0; i < all.size(); ++i)
+                std::fprintf(out, "  %zu) %s\n", i + 1, terminal_safe(describe_dicom_series(all[i])).c_str());
+            return;
+        }
+    }
     // the payload proven as the readers would before allocating it, and decoded through a small
     // buffer: a bomb, a truncated or a corrupt payload fails here as it fails every reading command
     const VolumeInfo vi = prove_volume(path, raw);
@@ -59,6 +70,7 @@ void describe_volume(const std::string& path, const RawOptions& raw, bool value_
     print_dims(g, out);
     std::fprintf(out, "  type: %s\n  spacing: %g %g %g\n  origin: %g %g %g\n", to_string(vi.type), g.spacing[0], g.spacing[1],
                  g.spacing[2], g.origin[0], g.origin[1], g.origin[2]);
+    if (!vi.series.empty()) std::fprintf(out, "  series: %s\n", terminal_safe(vi.series).c_str());
     if (!vi.encoding.empty()) std::fprintf(out, "  encoding: %s\n", vi.encoding.c_str());
     // every file the header makes the readers open, as named and resolved (`..`, symbolic links)
     if (!vi.data_files.empty()) {

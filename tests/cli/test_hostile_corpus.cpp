@@ -60,6 +60,45 @@ std::string u32le(std::uint32_t v) {
     return s;
 }
 
+// A DICOM slice file in explicit VR little endian (or `syntax`), written byte by byte: the meta group,
+// then the attributes the series reader takes; `pixels` as Pixel Data (an encapsulated syntax gets
+// an undefined-length item sequence holding one empty fragment).
+std::string dcm_element(std::uint16_t g, std::uint16_t e, const char* vr, std::string v) {
+    if (v.size() % 2) v += (std::string(vr) == "UI" || std::string(vr) == "OB") ? '\0' : ' ';
+    std::string out(4, '\0');
+    std::memcpy(out.data(), &g, 2);
+    std::memcpy(out.data() + 2, &e, 2);
+    out += vr;
+    const std::string long_vrs = "OB OW OF SQ UT UN";
+    if (long_vrs.find(vr) != std::string::npos) {
+        out += std::string(2, '\0') + u32le(static_cast<std::uint32_t>(v.size()));
+    } else {
+        const auto n = static_cast<std::uint16_t>(v.size());
+        out += std::string(reinterpret_cast<const char*>(&n), 2);
+    }
+    return out + v;
+}
+std::string us(std::uint16_t v) { return std::string(reinterpret_cast<const char*>(&v), 2); }
+std::string dicom_slice(std::uint16_t rows, std::uint16_t cols, const std::string& pixels, const std::string& position = "0\\0\\0",
+                        const std::string& description = "s", const std::string& series = "1.2.3.4",
+                        const std::string& syntax = "1.2.840.10008.1.2.1", const std::string& photometric = "MONOCHROME2") {
+    std::string meta = dcm_element(2, 1, "OB", std::string("\0\1", 2)) + dcm_element(2, 2, "UI", "1.2.840.10008.5.1.4.1.1.2") +
+                       dcm_element(2, 3, "UI", "1.2.3.4.5") + dcm_element(2, 0x10, "UI", syntax);
+    std::string out = std::string(128, '\0') + "DICM" + dcm_element(2, 0, "UL", u32le(static_cast<std::uint32_t>(meta.size()))) + meta;
+    out += dcm_element(8, 0x16, "UI", "1.2.840.10008.5.1.4.1.1.2") + dcm_element(8, 0x18, "UI", "1.2.3.4.5") +
+           dcm_element(8, 0x103e, "LO", description) + dcm_element(0x20, 0x0e, "UI", series) +
+           dcm_element(0x20, 0x32, "DS", position) + dcm_element(0x20, 0x37, "DS", "1\\0\\0\\0\\1\\0") +
+           dcm_element(0x28, 2, "US", us(1)) + dcm_element(0x28, 4, "CS", photometric) + dcm_element(0x28, 0x10, "US", us(rows)) +
+           dcm_element(0x28, 0x11, "US", us(cols)) + dcm_element(0x28, 0x30, "DS", "1\\1") + dcm_element(0x28, 0x100, "US", us(16)) +
+           dcm_element(0x28, 0x101, "US", us(16)) + dcm_element(0x28, 0x102, "US", us(15)) + dcm_element(0x28, 0x103, "US", us(0));
+    if (syntax == "1.2.840.10008.1.2.1") return out + dcm_element(0x7fe0, 0x10, "OW", pixels);
+    std::string px = std::string("\xe0\x7f\x10\x00OB\0\0\xff\xff\xff\xff", 12);
+    px += std::string("\xfe\xff\x00\xe0", 4) + u32le(0);                        // the basic offset table, empty
+    px += std::string("\xfe\xff\x00\xe0", 4) + u32le(static_cast<std::uint32_t>(pixels.size())) + pixels;  // one fragment
+    px += std::string("\xfe\xff\xdd\xe0", 4) + u32le(0);                        // the sequence delimiter
+    return out + px;
+}
+
 struct Case {
     std::string label;                                       // format / defect class
     std::string file;                                        // the file the command reads
@@ -237,6 +276,17 @@ std::vector<Case> corpus() {
     add("nifti gzip bomb", "bomb.nii.gz", gzip_of(nifti(32767, 32767, 32767, 1, 0, "")));
     add("nifti truncated", "tr.nii", nifti(64, 64, 64, 1, 0, zeros(100)));
     add("nifti NaN origin", "nanorg.nii", nifti(4, 4, 4, 1, std::nanf(""), zeros(64)));
+    // DICOM (each in its own folder: a slice file is read as its folder's series)
+    c.push_back(Case{"dicom Rows x Columns beyond the file", "dcmclaim/s.dcm", {{"dcmclaim/s.dcm", dicom_slice(65535, 65535, zeros(8))}}});
+    c.push_back(Case{"dicom compressed bomb", "dcmbomb/s.dcm",
+                     {{"dcmbomb/s.dcm", dicom_slice(65535, 65535, zeros(64), "0\\0\\0", "s", "1.2.3.4", "1.2.840.10008.1.2.5")}}});
+    c.push_back(Case{"dicom truncated pixel data", "dcmtrunc/s.dcm",
+                     {{"dcmtrunc/s.dcm", dicom_slice(64, 64, zeros(8192)).substr(0, 600 + 4096)}}});
+    c.push_back(Case{"dicom control bytes in a Photometric Interpretation", "dcmesc/s.dcm",
+                     {{"dcmesc/s.dcm", dicom_slice(4, 4, zeros(32), "0\\0\\0", "s", "1.2.3.4", "1.2.840.10008.1.2.1", kEsc)}}});
+    c.push_back(Case{"dicom control bytes in a position", "dcmpos/s.dcm",
+                     {{"dcmpos/s.dcm", dicom_slice(4, 4, zeros(32), "1\\" + kEsc)}}});
+    c.push_back(Case{"dicom truncated data set", "dcmhead/s.dcm", {{"dcmhead/s.dcm", dicom_slice(4, 4, zeros(32)).substr(0, 200)}}});
     // Voreen .dat (+ raw)
     c.push_back(Case{"voreen overflowing dims", "ov.dat",
                      {{"ov.dat", "ObjectFileName: ov.raw\nResolution: " + big + "\nSliceThickness: 1 1 1\nFormat: UCHAR\n"},
