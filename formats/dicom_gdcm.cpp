@@ -1,12 +1,15 @@
 // The GDCM boundary (formats/dicom_slice.hpp): the only source file that includes GDCM. Every file
 // is walked first (formats/dicom_structure.hpp: Debian's GDCM asserts on malformed elements). Attributes
-// are taken from the data set GDCM parsed up to Pixel Data; the pixels through gdcm::ImageReader,
-// which decodes the compressed transfer syntaxes, after the file has proven the bytes they claim.
+// are taken from the data set GDCM parsed up to Pixel Data; the pixels through gdcm::ImageReader
+// after the file has proven the bytes they claim. Compressed transfer syntaxes are refused: GDCM's
+// decoders assert (abort) on damaged streams.
 #include "formats/dicom_slice.hpp"
 
 #include <gdcmDataSet.h>
 #include <gdcmFile.h>
 #include <gdcmFileMetaInformation.h>
+#include <gdcmGlobal.h>
+#include <gdcmDicts.h>
 #include <gdcmImage.h>
 #include <gdcmImageReader.h>
 #include <gdcmReader.h>
@@ -101,6 +104,22 @@ std::optional<int> us_of(const gdcm::DataSet& ds, const gdcm::Tag& t, bool big_e
     return big_endian ? (b0 << 8) | b1 : (b1 << 8) | b0;
 }
 
+// GDCM's readers take the image attributes (groups 0008, 0018, 0020, 0028) through gdcm::Attribute,
+// which asserts that an element's VR is compatible with the dictionary's (found by fuzz_dicom: Bits
+// Stored given another VR aborted the process): such an element is refused here first.
+void check_dictionary_vrs(const gdcm::DataSet& ds, const std::string& path) {
+    const gdcm::Dicts& dicts = gdcm::Global::GetInstance().GetDicts();
+    for (const gdcm::DataElement& de : ds.GetDES()) {
+        const gdcm::Tag& t = de.GetTag();
+        const std::uint16_t g = t.GetGroup();
+        if (g != 0x0008 && g != 0x0018 && g != 0x0020 && g != 0x0028) continue;
+        const gdcm::VR dict_vr = dicts.GetDictEntry(t).GetVR();
+        if (dict_vr == gdcm::VR::INVALID || de.GetVR() == gdcm::VR::INVALID || dict_vr.Compatible(de.GetVR())) continue;
+        throw FormatError(path + ": element " + tag_name(t) + " has the VR '" + escape_field(gdcm::VR::GetVRString(de.GetVR())) +
+                          "', the dictionary's is '" + gdcm::VR::GetVRString(dict_vr) + "'");
+    }
+}
+
 }  // namespace
 
 bool dicom_reader_available() { return true; }
@@ -125,11 +144,17 @@ DicomSliceHeader read_dicom_slice_header(const std::string& path) {
     if (!ok) throw FormatError(path + ": unreadable DICOM data set (GDCM could not parse it; truncated or corrupt)");
     const gdcm::File& f = reader.GetFile();
     const gdcm::DataSet& ds = f.GetDataSet();
+    check_dictionary_vrs(ds, path);
     const gdcm::TransferSyntax& ts = f.GetHeader().GetDataSetTransferSyntax();
     const bool big = ts.GetSwapCode() == gdcm::SwapCode::BigEndian;
     h.transfer_syntax = text_of(f.GetHeader(), gdcm::Tag(0x0002, 0x0010));
     if (h.transfer_syntax.empty() && ts.GetString()) h.transfer_syntax = ts.GetString();
     h.compressed = ts.IsEncapsulated();
+    // GDCM's decoders (RLE, JPEG family) assert on damaged streams (fuzz_dicom: RLECodec::Decode
+    // aborted the process), so compressed pixel data is refused until it is decoded here safely
+    if (h.compressed)
+        throw FormatError(path + ": compressed transfer syntax " + escape_field(h.transfer_syntax) +
+                          " is not read (only uncompressed series: decompress it first, e.g. gdcmconv --raw)");
     h.sop_class_uid = text_of(ds, gdcm::Tag(0x0008, 0x0016));
     h.series_uid = text_of(ds, gdcm::Tag(0x0020, 0x000e));
     h.series_description = text_of(ds, gdcm::Tag(0x0008, 0x103e));
@@ -204,6 +229,18 @@ void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
                           std::to_string(h.rows) + " x " + std::to_string(h.columns) + ", more than " +
                           std::to_string(kDicomMaxCompression) + ":1)");
     check_dicom_structure(path);  // as read_dicom_slice_header: the file may have changed since
+    {
+        gdcm::Reader header;  // the attributes ImageReader takes, checked as read_dicom_slice_header checks them
+        header.SetFileName(path.c_str());
+        bool parsed = false;
+        try {
+            parsed = header.ReadUpToTag(kPixelData);
+        } catch (const std::exception&) {
+            parsed = false;
+        }
+        if (!parsed) throw FormatError(path + ": unreadable DICOM data set (GDCM could not parse it; truncated or corrupt)");
+        check_dictionary_vrs(header.GetFile().GetDataSet(), path);
+    }
     gdcm::ImageReader reader;
     reader.SetFileName(path.c_str());
     bool ok = false;

@@ -1,6 +1,6 @@
 // DICOM series through GDCM (formats/dicom_series.hpp): a CT-like series in shuffled file order
-// equals its NRRD, backwards axes land in world order as the NRRD reader puts them, RLE equals the
-// uncompressed series, series are listed and chosen, and every defect is refused with its message.
+// equals its NRRD, backwards axes land in world order as the NRRD reader puts them, a compressed
+// (RLE) series is refused, series are listed and chosen, and every defect is refused with its message.
 // The series are written at test time with pydicom (tests/dicom_test_data.hpp).
 #include <catch2/catch.hpp>
 #include <cstring>
@@ -75,15 +75,17 @@ TEST_CASE("dicom: backward column direction and normal are reversed to world ord
     check_same_frame(probe_volume(f->string()), probe_volume(f->string() + ".nrrd"));
 }
 
-TEST_CASE("dicom: an RLE Lossless series decodes to the uncompressed one", "[formats][dicom]") {
+TEST_CASE("dicom: a compressed (RLE Lossless) series is refused in one line, the uncompressed one read", "[formats][dicom]") {
+    // GDCM's decoders assert on damaged streams (fuzz_dicom found RLECodec::Decode aborting): until
+    // they are decoded safely, compressed series are refused with what to do
     TempDir dir("dicom-rle");
     const auto r = make_dicom_case("rle", dir);
     if (!r) return;
     const Volume plain = read_volume((*r / "plain").string());
-    const Volume rle = read_volume((*r / "rle").string());
-    CHECK(plain.grid == rle.grid);
-    CHECK(same_samples(plain, rle));
-    CHECK_THAT(probe_volume((*r / "rle").string()).encoding, Contains("1.2.840.10008.1.2.5"));
+    CHECK(plain.grid.voxel_count() > 0);
+    CHECK_THROWS_WITH(read_volume((*r / "rle").string()),
+                      Contains("compressed transfer syntax 1.2.840.10008.1.2.5") && Contains("decompress it first"));
+    CHECK_THROWS_AS(probe_volume((*r / "rle").string()), FormatError);
 }
 
 TEST_CASE("dicom: a folder of two series is refused listing both, --series picks each", "[formats][dicom]") {
