@@ -52,10 +52,12 @@ public:
             throw FormatError(path_ + ": unsupported DICOM transfer syntax 1.2.840.10008.1.2.1.99 (deflated data set)");
         const bool explicit_vr = syntax != "1.2.840.10008.1.2";
         const bool big = syntax == "1.2.840.10008.1.2.2";
+        encapsulated_ = explicit_vr && syntax != "1.2.840.10008.1.2.1" && !big;
         walk(at, size_, explicit_vr, big, 0, false);
     }
 
 private:
+    bool encapsulated_ = false;  ///< the transfer syntax is none of the three uncompressed ones
     [[noreturn]] void fail(std::uint64_t at, const std::string& what) const {
         throw FormatError(path_ + ": malformed DICOM at byte " + std::to_string(at) + ": " + what);
     }
@@ -130,6 +132,10 @@ private:
             }
             const std::string_view vr(h.vr, h.vr[0] ? 2 : 0);
             const bool pixel = h.group == 0x7fe0 && h.element == 0x0010;
+            // (GDCM asserts on Pixel Data inside an item, or of undefined length in an uncompressed syntax)
+            if (pixel && depth > 0) fail(at, "Pixel Data (7FE0,0010) inside a sequence item");
+            if (pixel && h.length == kUndefined && !encapsulated_)
+                fail(at, "Pixel Data (7FE0,0010) of undefined length in an uncompressed transfer syntax");
             if (h.length == kUndefined) {
                 if (explicit_vr && vr != "SQ" && vr != "UN" && !pixel)
                     fail(at, "element " + tag_text(h) + " (" + std::string(vr) + ") has an undefined length");

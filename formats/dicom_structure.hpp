@@ -10,7 +10,8 @@
 // Each element's header and value must lie within the file; an undefined length is accepted only where
 // DICOM allows one (a sequence, an item, encapsulated pixel data, UN); explicit VRs must be among
 // those GDCM 3.0 reads (the 64-bit OV, SV, UV and unknown codes reach an assertion in it: refused).
-// A deflated data set (1.2.840.10008.1.2.1.99) is refused (not walked).
+// Pixel Data must be a top-level element, of defined length in an uncompressed transfer syntax
+// (GDCM asserts otherwise). A deflated data set (1.2.840.10008.1.2.1.99) is refused (not walked).
 // Throws FormatError "PATH: ..." naming the fault and its byte offset; IoError when the file cannot be
 // read. Reads element headers only (values are skipped). Thread-safety: reentrant.
 // Dissertation: none (input plumbing).
