@@ -9,14 +9,15 @@
 // order: [0] between rows (along the column direction, y), [1] between columns (along x).
 // decode_dicom_slice writes Rows x Columns stored samples, x fastest, host byte order: 1 byte each
 // for 8 bits allocated, 2 for 16; bits above Bits Stored masked off and, for signed pixels,
-// sign-extended from Bits Stored. Compressed transfer syntaxes are decoded by GDCM (JPEG, JPEG-LS,
-// JPEG 2000, RLE, deflate, as the GDCM build supports them).
+// sign-extended from Bits Stored. Compressed transfer syntaxes are refused (FormatError) by
+// read_dicom_slice_header: GDCM's decoders assert (abort the process) on damaged streams.
 // Hostile input: the file's element structure is walked before GDCM parses it (formats/dicom_structure.hpp:
 // Debian's GDCM aborts on a malformed element); Pixel Data's value length is read (12 bytes) where GDCM stopped, and refused when the
 // file does not hold it, so GDCM never allocates for a length the file cannot back; before GDCM
 // decodes, the pixel bytes the header claims are proven against the file: an uncompressed Pixel Data
-// element must hold Rows x Columns x bytes, a compressed one may expand at most kDicomMaxCompression
-// times the file's size.
+// element must hold Rows x Columns x bytes (the compressed bound, kDicomMaxCompression times the
+// file's size, stays for when compressed syntaxes are decoded again); the image attributes' VRs are
+// checked against the dictionary before GDCM's readers take them.
 // Throws IoError (cannot open), FormatError (not DICOM, unreadable data set, missing Pixel Data,
 // decoding failed, decoded size not the header's); messages are one line starting with the path,
 // bytes quoted from the file escaped (escape_field). Thread-safety: reentrant (GDCM's trace output
