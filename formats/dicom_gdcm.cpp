@@ -104,6 +104,20 @@ std::optional<int> us_of(const gdcm::DataSet& ds, const gdcm::Tag& t, bool big_e
     return big_endian ? (b0 << 8) | b1 : (b1 << 8) | b0;
 }
 
+// One GDCM read: its exceptions and its failure as one FormatError line naming the file.
+template <class Read>
+void gdcm_read(Read&& read, const std::string& path, const char* what, const std::string& failed) {
+    bool ok = false;
+    try {
+        ok = read();
+    } catch (const std::bad_alloc&) {
+        throw FormatError(path + ": unreadable DICOM " + what + " (an element's length is larger than memory)");
+    } catch (const std::exception&) {
+        ok = false;
+    }
+    if (!ok) throw FormatError(path + ": " + failed);
+}
+
 // GDCM's readers take the image attributes (groups 0008, 0018, 0020, 0028) through gdcm::Attribute,
 // which asserts that an element's VR is compatible with the dictionary's (found by fuzz_dicom: Bits
 // Stored given another VR aborted the process): such an element is refused here first.
@@ -133,15 +147,8 @@ DicomSliceHeader read_dicom_slice_header(const std::string& path) {
     check_dicom_structure(path);  // GDCM asserts (aborts) on malformed elements: none reach it
     gdcm::Reader reader;
     reader.SetFileName(path.c_str());
-    bool ok = false;
-    try {
-        ok = reader.ReadUpToTag(kPixelData);
-    } catch (const std::bad_alloc&) {
-        throw FormatError(path + ": unreadable DICOM data set (an element's length is larger than memory)");
-    } catch (const std::exception&) {
-        ok = false;
-    }
-    if (!ok) throw FormatError(path + ": unreadable DICOM data set (GDCM could not parse it; truncated or corrupt)");
+    gdcm_read([&] { return reader.ReadUpToTag(kPixelData); }, path, "data set",
+              "unreadable DICOM data set (GDCM could not parse it; truncated or corrupt)");
     const gdcm::File& f = reader.GetFile();
     const gdcm::DataSet& ds = f.GetDataSet();
     check_dictionary_vrs(ds, path);
@@ -232,26 +239,14 @@ void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
     {
         gdcm::Reader header;  // the attributes ImageReader takes, checked as read_dicom_slice_header checks them
         header.SetFileName(path.c_str());
-        bool parsed = false;
-        try {
-            parsed = header.ReadUpToTag(kPixelData);
-        } catch (const std::exception&) {
-            parsed = false;
-        }
-        if (!parsed) throw FormatError(path + ": unreadable DICOM data set (GDCM could not parse it; truncated or corrupt)");
+        gdcm_read([&] { return header.ReadUpToTag(kPixelData); }, path, "data set",
+                  "unreadable DICOM data set (GDCM could not parse it; truncated or corrupt)");
         check_dictionary_vrs(header.GetFile().GetDataSet(), path);
     }
     gdcm::ImageReader reader;
     reader.SetFileName(path.c_str());
-    bool ok = false;
-    try {
-        ok = reader.Read();
-    } catch (const std::bad_alloc&) {
-        throw FormatError(path + ": unreadable DICOM pixel data (an element's length is larger than memory)");
-    } catch (const std::exception&) {
-        ok = false;
-    }
-    if (!ok) throw FormatError(path + ": unreadable DICOM image (GDCM could not read its pixel data; truncated, corrupt or not an image)");
+    gdcm_read([&] { return reader.Read(); }, path, "pixel data",
+              "unreadable DICOM image (GDCM could not read its pixel data; truncated, corrupt or not an image)");
     const gdcm::Image& img = reader.GetImage();
     const gdcm::PixelFormat& pf = img.GetPixelFormat();
     if (img.GetNumberOfDimensions() != 2 || img.GetDimension(0) != h.columns || img.GetDimension(1) != h.rows ||
