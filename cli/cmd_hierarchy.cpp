@@ -45,6 +45,15 @@ CbtParams hierarchy_params(const Args& a) {
     if (sc == "raw") p.scaling = PcaScaling::raw;
     else if (sc == "normalised" || sc == "normalized") p.scaling = PcaScaling::normalised;
     else throw UsageError("--pca-scaling: expected normalised or raw, got '" + sc + "'");
+    const std::string order = a.get_or("split-order", "weighted");
+    if (order == "weighted") p.order = CbtSplitOrder::weighted;
+    else if (order == "max-error") p.order = CbtSplitOrder::max_error;
+    else throw UsageError("--split-order: expected weighted or max-error, got '" + order + "'");
+    p.size_term = parse_finite(a.get_or("size-term", "0.2"), "--size-term");  // range: checked at parse
+    const std::string value = a.get_or("cluster-value", "mean");
+    if (value == "mean") p.value = CbtValueKind::mean;
+    else if (value == "fit") p.value = CbtValueKind::fit;
+    else throw UsageError("--cluster-value: expected mean or fit, got '" + value + "'");
     return p;
 }
 
@@ -55,19 +64,27 @@ int cmd_hierarchy(int argc, char** argv) {
            "Builds the cluster binary tree of dissertation chapter 6 (sections 6.1, 6.3) of any scalar data:\n"
            "a volume (each voxel a sample; a .mlb brick store is read brick by brick), scattered points or\n"
            "multiblock grids. One cluster of every sample\n"
-           "is refined by splitting the cluster of largest error sigma_c = max |f_j - f_c| along the plane\n"
-           "through its centre normal to the dominant principal axis of its (x, y, z, f) samples; f_c is a\n"
-           "local multiquadric over the min(|C|, k) samples nearest the centre. Splits that leave a side empty\n"
-           "are skipped (counted). The tree (.mlh) is the same for any --threads; meshless lod, meshless info\n"
-           "and every command reading point sets (--lod-level/--lod-error) take it.");
+           "is refined by splitting, along the plane through its centre normal to the dominant principal axis\n"
+           "of its (x, y, z, f) samples, the cluster of largest |C| x (sigma_c^2 + t^2) (weighted: t = the size\n"
+           "term x the value range, so large quiet clusters are split too and the point density of a level\n"
+           "of detail does not jump) or of largest error sigma_c = max |f_j - f_c| (max-error, as in section\n"
+           "6.3); f_c is the mean of the cluster's samples, or (fit) a local multiquadric over the\n"
+           "min(|C|, k) samples nearest the centre. The defaults reconstruct best (the levels of detail beat\n"
+           "random samples of their size). Splits that leave a side empty are skipped (counted). The tree\n"
+           "(.mlh) is the same for any --threads; meshless lod, meshless info and every command reading point\n"
+           "sets (--lod-count/--lod-fraction/--lod-level/--lod-error) take it.");
     a.option("output", "o", "FILE", "the tree (.mlh, required)")
         .option("max-splits", "", "N", "stop after N splits (default: none)")
         .option("max-error", "", "E", "stop when the worst cluster error is <= E", "0")
         .option("min-cluster", "", "N", "clusters with fewer samples are not split (>= 2)", "2")
-        .option("neighbours", "", "K", "f_c from the min(|C|, K) samples nearest the centre", "25")
-        .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal, in [0, 100]", "0.025")
+        .option("split-order", "", "weighted|max-error", "which cluster is split next (see above)", "weighted")
+        .option("size-term", "", "T", "weighted order: t relative to the value range, in [0, 100] (0: no size term)", "0.2")
+        .validate(in_range("--size-term", 0, true, 100))
+        .option("cluster-value", "", "mean|fit", "f_c: the mean of the cluster's samples or a local multiquadric fit", "mean")
+        .option("neighbours", "", "K", "fit: f_c from the min(|C|, K) samples nearest the centre", "25")
+        .option("hardy-c", "", "C", "fit: Hardy's multiquadric constant relative to the bounding-box diagonal, in [0, 100]", "0.025")
         .validate(in_range("--hardy-c", 0, true, 100))
-        .option("hardy-c-world", "", "C", "Hardy's constant in world units, in (0, 1e150] (overrides --hardy-c)")
+        .option("hardy-c-world", "", "C", "fit: Hardy's constant in world units, in (0, 1e150] (overrides --hardy-c)")
         .validate(in_range("--hardy-c-world", 0, false, 1e150))
         .option("pca-scaling", "", "normalised|raw",
                 "PCA of (x,y,z,f) in units scaled to the bounding-box diagonal and the value range, or in the data's units",
@@ -112,16 +129,21 @@ int cmd_hierarchy(int argc, char** argv) {
 }
 
 int cmd_lod(int argc, char** argv) {
-    Args a("lod", "tree.mlh (--level L | --error E) -o lod.ply|lod.csv|lod.vtp",
-           "Extracts a level of detail from a cluster binary tree (dissertation section 6.4): a depth-first\n"
-           "traversal taking the clusters at depth L (level-based) or the first clusters of error <= E on\n"
-           "every path (error-based); a leaf met before is taken as it is. The points are listed coarse to\n"
+    Args a("lod", "tree.mlh (--count N | --fraction F | --level L | --error E) -o lod.ply|lod.csv|lod.vtp",
+           "Extracts a level of detail from a cluster binary tree: the clusters left after the refinement's\n"
+           "first N - 1 splits (--count N, or --fraction F of the samples: the size the tree was refined\n"
+           "best to), or (dissertation section 6.4) a depth-first traversal taking the clusters at depth L\n"
+           "(level-based) or the first clusters of error <= E on every path (error-based); a leaf met\n"
+           "before is taken as it is. The points are listed coarse to\n"
            "fine: any first N of them hold one point below each cluster of a coarser cut of the tree, so a\n"
            "prefix is itself a level of detail spread over all the data. The cluster centres and values are\n"
            "a scattered data set (section 6.5): every command reading point sets takes it, or the .mlh itself\n"
-           "with --lod-level/--lod-error. A level beyond the depth or an error below the one reached gives the\n"
-           "finest level of detail (with a warning).");
+           "with --lod-count/--lod-fraction/--lod-level/--lod-error. A count beyond the leaves, a level beyond\n"
+           "the depth or an error below the one reached gives the finest level of detail (with a warning).");
     a.option("output", "o", "FILE", "the points: .ply (binary, double), .csv or .vtp (required)")
+        .option("count", "", "N", "the N clusters left after the first N - 1 splits")
+        .option("fraction", "", "F", "the same for N = F x the samples (rounded, at least 1), 0 < F <= 1")
+        .validate(in_range("--fraction", 0, false, 1))
         .option("level", "", "L", "level-based: clusters at depth L (0 = the root)")
         .option("error", "", "E", "error-based: clusters whose error is <= E")
         .flag("stats", "print the LOD's size and the extraction time to stderr");
@@ -129,9 +151,14 @@ int cmd_lod(int argc, char** argv) {
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string out = a.require("output");
     require_point_set_output(out, "a level of detail");
-    if (a.has("level") == a.has("error")) throw UsageError("give one of --level L or --error E");
+    if (int(a.has("level")) + int(a.has("error")) + int(a.has("count")) + int(a.has("fraction")) != 1)
+        throw UsageError("give one of --count N, --fraction F, --level L or --error E");
     PointSetOptions o;
-    if (auto v = a.get("level")) {
+    if (auto v = a.get("count")) {
+        o.lod_count = lod_count_arg(*v, "--count");
+    } else if (auto f = a.get("fraction")) {
+        o.lod_fraction = parse_finite(*f, "--fraction");
+    } else if (auto v = a.get("level")) {
         const long long L = parse_int(*v, "--level");
         if (L < 0 || L > 0xFFFFFFFFll) throw UsageError("--level: expected a depth >= 0");
         o.lod_level = static_cast<std::uint32_t>(L);

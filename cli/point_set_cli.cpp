@@ -4,6 +4,12 @@
 
 namespace meshless::cli {
 
+std::uint64_t lod_count_arg(const std::string& v, const std::string& option) {
+    const long long n = parse_int(v, option);
+    if (n < 1) throw UsageError(option + ": expected a count >= 1");
+    return static_cast<std::uint64_t>(n);
+}
+
 void add_point_set_options(Args& a, bool with_endian) {
     a.option("columns", "", "X,Y,Z[,V]", "point sets (text, raw): columns by header name or 0-based index")
         .option("value", "", "NAME|INDEX", "point sets: the scalar (column, PLY property, VTK array, PLOT3D q name or function variable)")
@@ -18,7 +24,10 @@ void add_point_set_options(Args& a, bool with_endian) {
         .flag("strict", "point sets: refuse NaN/Inf samples (with the line) instead of dropping them")
         .flag("merge-blocks", "point sets: one block instead of one per grid/piece/file")
         .option("lod-level", "", "L", "cluster trees (.mlh): the level-based level of detail at depth L (default: the finest)")
-        .option("lod-error", "", "E", "cluster trees (.mlh): the error-based level of detail at error E");
+        .option("lod-error", "", "E", "cluster trees (.mlh): the error-based level of detail at error E")
+        .option("lod-count", "", "N", "cluster trees (.mlh): the level of detail of N points (the refinement's first N - 1 splits)")
+        .option("lod-fraction", "", "F", "cluster trees (.mlh): the level of detail of F x the samples, 0 < F <= 1")
+        .validate(in_range("--lod-fraction", 0, false, 1));
     if (with_endian) a.option("endian", "", "little|big", "binary point sets: byte order (default: detected)");
 }
 
@@ -44,7 +53,8 @@ PointSetOptions point_set_options(const Args& a) {
     o.allow_trailing = a.has("allow-trailing");
     o.strict = a.has("strict");
     o.merge_blocks = a.has("merge-blocks");
-    if (a.has("lod-level") && a.has("lod-error")) throw UsageError("--lod-level and --lod-error: give one of them");
+    if (int(a.has("lod-level")) + int(a.has("lod-error")) + int(a.has("lod-count")) + int(a.has("lod-fraction")) > 1)
+        throw UsageError("--lod-level, --lod-error, --lod-count, --lod-fraction: give one of them");
     if (auto v = a.get("lod-level")) {
         const long long L = parse_int(*v, "--lod-level");
         if (L < 0 || L > 0xFFFFFFFFll) throw UsageError("--lod-level: expected a depth >= 0");
@@ -54,6 +64,8 @@ PointSetOptions point_set_options(const Args& a) {
         o.lod_error = parse_finite(*v, "--lod-error");
         if (*o.lod_error < 0) throw UsageError("--lod-error: expected a number >= 0");
     }
+    if (auto v = a.get("lod-count")) o.lod_count = lod_count_arg(*v, "--lod-count");
+    if (auto v = a.get("lod-fraction")) o.lod_fraction = parse_finite(*v, "--lod-fraction");
     return o;
 }
 

@@ -12,5 +12,7 @@ namespace meshless::cli {
 void add_point_set_options(Args& a, bool with_endian);
 /// The options given; --endian absent = detect.
 PointSetOptions point_set_options(const Args& a);
+/// A level of detail's point count (--lod-count, lod --count): an integer >= 1, else UsageError.
+std::uint64_t lod_count_arg(const std::string& v, const std::string& option);
 
 }  // namespace meshless::cli

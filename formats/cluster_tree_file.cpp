@@ -60,6 +60,9 @@ std::string meta_bytes(const ClusterTree& t) {
     }
     put<double>(m, t.value_range[0]);
     put<double>(m, t.value_range[1]);
+    put<std::uint32_t>(m, static_cast<std::uint32_t>(p.order));
+    put<std::uint32_t>(m, static_cast<std::uint32_t>(p.value));
+    put<double>(m, p.size_term);
     const std::string name = t.value_name.substr(0, kMaxNameBytes);
     put<std::uint32_t>(m, static_cast<std::uint32_t>(name.size()));
     m += name;
@@ -131,10 +134,12 @@ ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> b, const std
         throw fail(size, "truncated: the header needs " + std::to_string(kClusterTreeHeaderBytes) + " bytes, the file has " +
                              std::to_string(size));
     const std::uint32_t version = get<std::uint32_t>(b.data() + 8);
-    if (version != kClusterTreeFileVersion)
+    if (version != kClusterTreeFileVersion && version != 1)
         throw fail(8, "version " + std::to_string(version) + ": made by a " +
-                          (version > kClusterTreeFileVersion ? "newer" : "older") + " version of meshless (this one reads version " +
+                          (version > kClusterTreeFileVersion ? "newer" : "older") + " version of meshless (this one reads versions 1 and " +
                           std::to_string(kClusterTreeFileVersion) + ")");
+    // version 1 has no split order, cluster value kind or size term: the dissertation's (max error, fit)
+    const std::size_t fixed_meta = version == 1 ? kClusterTreeMetaFixedBytesV1 : kClusterTreeMetaFixedBytes;
     if (!crc_matches(get<std::uint32_t>(b.data() + 60), crc32_ieee(0, b.data(), 60))) throw fail(60, "header checksum mismatch");
     if (get<std::uint32_t>(b.data() + 12) != kClusterTreeHeaderBytes) throw fail(12, "header size is not 64");
     for (std::size_t i = 40; i < 60; ++i)
@@ -147,9 +152,9 @@ ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> b, const std
                                              std::to_string(size)
                                        : std::to_string(size - declared) + " bytes after the declared end (" +
                                              std::to_string(declared) + " bytes)");
-    if (meta < kClusterTreeMetaFixedBytes || meta > kClusterTreeMetaFixedBytes + kMaxNameBytes)
-        throw fail(24, "meta size " + std::to_string(meta) + " outside " + std::to_string(kClusterTreeMetaFixedBytes) + ".." +
-                           std::to_string(kClusterTreeMetaFixedBytes + kMaxNameBytes));
+    if (meta < fixed_meta || meta > fixed_meta + kMaxNameBytes)
+        throw fail(24, "meta size " + std::to_string(meta) + " outside " + std::to_string(fixed_meta) + ".." +
+                           std::to_string(fixed_meta + kMaxNameBytes));
     const std::uint64_t fixed = kClusterTreeHeaderBytes + meta + 8;
     if (n == 0 || n > (size - std::min(size, fixed)) / kClusterTreeNodeBytes || fixed + n * kClusterTreeNodeBytes != size)
         throw fail(32, std::to_string(n) + " nodes do not fill the file's " + std::to_string(size) + " bytes (" +
@@ -183,10 +188,23 @@ ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> b, const std
     for (int i = 0; i < 8; ++i) f[i] = get<double>(m + 96 + 8 * i);
     t.bounds = {Vec3{f[0], f[1], f[2]}, Vec3{f[3], f[4], f[5]}};
     t.value_range = {f[6], f[7]};
-    const std::uint32_t name_bytes = get<std::uint32_t>(m + 160);
-    if (name_bytes != meta - kClusterTreeMetaFixedBytes)
-        throw fail(off(160), "name of " + std::to_string(name_bytes) + " bytes in a meta of " + std::to_string(meta));
-    t.value_name.assign(reinterpret_cast<const char*>(m + 164), name_bytes);
+    const std::size_t name_at = fixed_meta - 4;
+    const std::uint32_t name_bytes = get<std::uint32_t>(m + name_at);
+    if (name_bytes != meta - fixed_meta)
+        throw fail(off(name_at), "name of " + std::to_string(name_bytes) + " bytes in a meta of " + std::to_string(meta));
+    t.value_name.assign(reinterpret_cast<const char*>(m + fixed_meta), name_bytes);
+    p.order = CbtSplitOrder::max_error;
+    p.value = CbtValueKind::fit;
+    p.size_term = 0;
+    if (version >= 2) {
+        const std::uint32_t order = get<std::uint32_t>(m + 160), kind = get<std::uint32_t>(m + 164);
+        if (order > 1) throw fail(off(160), "unknown split order " + std::to_string(order));
+        if (kind > 1) throw fail(off(164), "unknown cluster value kind " + std::to_string(kind));
+        p.order = static_cast<CbtSplitOrder>(order);
+        p.value = static_cast<CbtValueKind>(kind);
+        p.size_term = get<double>(m + 168);
+        if (!(p.size_term >= 0 && p.size_term <= 100)) throw fail(off(168), "size term outside [0, 100]");
+    }
     if (scaling > 1) throw fail(off(44), "unknown PCA scaling " + std::to_string(scaling));
     p.scaling = static_cast<PcaScaling>(scaling);
     if (p.neighbours < 1) throw fail(off(36), "neighbours 0");

@@ -1,16 +1,19 @@
-// The cluster-binary-tree file (".mlh", magic "\x89MLH\r\n\x1a\n"), version 1: the hierarchy of
+// The cluster-binary-tree file (".mlh", magic "\x89MLH\r\n\x1a\n"), version 2: the hierarchy of
 // dissertation chapter 6 (kernels/cluster_tree.hpp) built once by `meshless hierarchy` and read by
 // `meshless lod`, `meshless info` and every command that reads a point set (a level of detail of
 // it, formats/point_set_reader.hpp).
 //
 // Layout, all little endian:
-//   header (64 bytes): magic[8] | u32 version (1) | u32 header bytes (64) | u64 file bytes |
+//   header (64 bytes): magic[8] | u32 version (2) | u32 header bytes (64) | u64 file bytes |
 //       u64 meta bytes (M) | u64 node count (N) | zero padding to 60 | u32 CRC-32 of bytes [0, 60)
 //   meta (M bytes, at 64): u64 samples | u64 dropped non-finite | u64 splits | u64 skipped splits |
 //       u32 depth | u32 neighbours (k) | u32 min cluster | u32 PCA scaling (0 raw, 1 normalised) |
 //       u64 max splits | f64 max error | f64 hardy_c_rel | f64 hardy_c_world (requested, 0 = relative) |
 //       f64 Hardy's c used (world) | f64 error reached | f64 bounds lo[3], hi[3] | f64 value min, max |
-//       u32 name bytes (<= 1024) | name (the value's name)            -> M = 164 + name bytes
+//       u32 split order (0 max error, 1 weighted) | u32 cluster value (0 fit, 1 mean) | f64 size term |
+//       u32 name bytes (<= 1024) | name (the value's name)            -> M = 180 + name bytes
+//   Version 1 (still read) has no split order, cluster value or size term (M = 164 + name bytes):
+//   its trees were built with the dissertation's max-error order and fitted values.
 //   u32 CRC-32 of the meta bytes
 //   nodes (N x 56 bytes): f64 centre[3] | f64 value | f64 error | u32 count | u32 depth |
 //       u32 first child (0 = leaf) | u32 flags (bit 0: skipped split)
@@ -36,9 +39,10 @@
 
 namespace meshless {
 
-inline constexpr std::uint32_t kClusterTreeFileVersion = 1;
+inline constexpr std::uint32_t kClusterTreeFileVersion = 2;
 inline constexpr std::size_t kClusterTreeHeaderBytes = 64;
-inline constexpr std::size_t kClusterTreeMetaFixedBytes = 164;
+inline constexpr std::size_t kClusterTreeMetaFixedBytes = 180;
+inline constexpr std::size_t kClusterTreeMetaFixedBytesV1 = 164;
 inline constexpr std::size_t kClusterTreeNodeBytes = 56;
 inline constexpr char kClusterTreeMagic[8] = {'\x89', 'M', 'L', 'H', '\r', '\n', '\x1a', '\n'};
 

@@ -45,10 +45,14 @@ struct PointSetOptions {
     /// Refuse NaN/Inf coordinates or values (with the line/record) instead of dropping them.
     bool strict = false;
     /// .mlh cluster trees (formats/cluster_tree_file.hpp): the level of detail read (dissertation
-    /// section 6.4): level-based at depth lod_level, or error-based at lod_error; neither: the finest
-    /// (every leaf). A level beyond the depth or an error below the reached one gives the finest.
+    /// section 6.4): level-based at depth lod_level, error-based at lod_error, or the refinement's
+    /// first lod_count points (or lod_fraction x the samples, rounded, at least 1); none: the finest
+    /// (every leaf). A level beyond the depth, an error below the reached one or more points than
+    /// leaves gives the finest.
     std::optional<std::uint32_t> lod_level;
     std::optional<double> lod_error;
+    std::optional<std::uint64_t> lod_count;
+    std::optional<double> lod_fraction;
 };
 
 /// Accumulates samples and blocks for one reader call.

@@ -216,9 +216,30 @@ PointSet point_set_from_cluster_tree(const std::string& path, const PointSetOpti
 }
 
 ClusterTreeLodRequest cluster_tree_lod_request(const ClusterTree& t, const PointSetOptions& o) {
-    if (o.lod_level && o.lod_error) throw InvalidArgument("a level of detail is chosen by level or by error, not both");
+    if (int(o.lod_level.has_value()) + int(o.lod_error.has_value()) + int(o.lod_count.has_value()) +
+            int(o.lod_fraction.has_value()) > 1)
+        throw InvalidArgument("a level of detail is chosen by one of level, error, count or fraction");
     ClusterTreeLodRequest r;
-    if (o.lod_error) {
+    if (o.lod_count || o.lod_fraction) {
+        double n = 0;
+        if (o.lod_fraction) {
+            if (!(*o.lod_fraction > 0 && *o.lod_fraction <= 1)) throw InvalidArgument("LOD fraction: expected a number in (0, 1]");
+            n = std::max(1.0, std::round(*o.lod_fraction * static_cast<double>(t.stats.samples)));
+        } else {
+            if (*o.lod_count < 1) throw InvalidArgument("LOD count: expected a count >= 1");
+            n = static_cast<double>(*o.lod_count);
+        }
+        const std::uint64_t leaves = t.stats.splits + 1;
+        r.mode = LodMode::count;
+        r.threshold = n;
+        r.clamped = n > static_cast<double>(leaves);
+        char buf[96];
+        if (o.lod_fraction) std::snprintf(buf, sizeof buf, "fraction %g (%.0f points)", *o.lod_fraction, n);
+        else std::snprintf(buf, sizeof buf, "count %.0f", n);
+        r.description = buf;
+        if (r.clamped)
+            r.note = std::string(buf) + " is more than the tree's " + std::to_string(leaves) + " leaves: the finest level of detail";
+    } else if (o.lod_error) {
         if (!std::isfinite(*o.lod_error) || *o.lod_error < 0) throw InvalidArgument("LOD error: expected a finite number >= 0");
         r.mode = LodMode::error;
         r.threshold = *o.lod_error;

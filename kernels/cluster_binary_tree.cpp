@@ -24,7 +24,7 @@ namespace meshless {
 namespace {
 
 struct QueueEntry {
-    double error;
+    double error;  // the split priority (split_key): sigma_c, or the weighted one
     std::uint32_t node;
     double prio;  // min of the errors from the root down to this node: the serial order splits in falling prio
 };
@@ -59,6 +59,12 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
     if (!std::isfinite(params.hardy_c_rel) || params.hardy_c_rel < 0 || !std::isfinite(params.hardy_c_world) ||
         params.hardy_c_world < 0)
         throw InvalidArgument("cluster tree: Hardy's c must be a finite number >= 0");
+    if (!(params.size_term >= 0 && params.size_term <= 100))
+        throw InvalidArgument("cluster tree: the size term must be in [0, 100]");
+    if (params.order != CbtSplitOrder::max_error && params.order != CbtSplitOrder::weighted)
+        throw InvalidArgument("cluster tree: unknown split order");
+    if (params.value != CbtValueKind::fit && params.value != CbtValueKind::mean)
+        throw InvalidArgument("cluster tree: unknown cluster value kind");
     if (pos.size() >= 0xFFFFFFFFull) throw InvalidArgument("cluster tree: 2^32 samples or more");
 
     ClusterTree tree;
@@ -100,18 +106,24 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
     }
 
     tbb::enumerable_thread_specific<ClusterValueEvaluator> evaluators(
-        [&] { return ClusterValueEvaluator(params.neighbours, c); });
+        [&] { return ClusterValueEvaluator(params.neighbours, c, params.value); });
     // A big cluster's evaluation waits on oneTBB tasks, and a waiting thread may pick up another
     // cluster's task: it gets its own evaluator, so a thread's scratch is never used re-entrantly.
     auto evaluate = [&](std::uint32_t first, std::uint32_t count) {
         const std::span<const std::uint32_t> r(idx.data() + first, count);
         if (count >= chunks::kParallelItems) {
-            ClusterValueEvaluator own(params.neighbours, c);
+            ClusterValueEvaluator own(params.neighbours, c, params.value);
             return own.evaluate(pos, value, r);
         }
         return evaluators.local().evaluate(pos, value, r);
     };
 
+    // the split priority of a cluster (CbtSplitOrder); t^2 = (size term x value range)^2
+    const double t2 = std::pow(params.size_term * (vhi - vlo), 2);
+    const bool weighted = params.order == CbtSplitOrder::weighted;
+    auto split_key = [&](double error, std::uint32_t count) {
+        return weighted ? static_cast<double>(count) * (error * error + t2) : error;
+    };
     std::vector<CbtNode>& nodes = tree.nodes;
     std::vector<std::uint32_t> first;   // per node: start of its range in idx
     std::vector<double> mean_value;     // per node: the PCA's value centre
@@ -130,13 +142,18 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
     // The queue in two tiers: a heap (WorseFirst) of the entries with prio >= theta, and the others
     // unordered. The serial order pops the largest prio in the queue (see the header), so while the
     // heap has entries its top is the queue's top, and the heap stays small (a round's worth).
-    auto offerable = [&](std::uint32_t count, double error) { return count >= params.min_cluster && error > params.max_error; };
+    // the size term also splits exact clusters, unless a max_error asks to stop at that error
+    const bool split_exact = weighted && t2 > 0 && params.max_error == 0;
+    auto offerable = [&](std::uint32_t count, double error) {
+        return count >= params.min_cluster && (error > params.max_error || split_exact);
+    };
     std::vector<QueueEntry> queue, below;
     double theta = -std::numeric_limits<double>::infinity();
     auto offer = [&](std::uint32_t id, double parent_prio) {
         const CbtNode& d = nodes[id];
         if (offerable(d.count, d.error)) {
-            const QueueEntry q{d.error, id, std::min(parent_prio, d.error)};
+            const double key = split_key(d.error, d.count);
+            const QueueEntry q{key, id, std::min(parent_prio, key)};
             if (q.prio >= theta) {
                 queue.push_back(q);
                 std::push_heap(queue.begin(), queue.end(), WorseFirst{});
@@ -225,7 +242,7 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
             bool go[2];
             double pr[2];
             for (int k = 0; k < 2; ++k) {
-                pr[k] = std::min(prio, sp.r.child[k].error);
+                pr[k] = std::min(prio, split_key(sp.r.child[k].error, cnt[k]));
                 go[k] = offerable(cnt[k], sp.r.child[k].error) && pr[k] >= tau;
             }
             auto child = [&](int k) {

@@ -1,12 +1,15 @@
 // Builds the cluster binary tree (CBT) of dissertation sections 6.1 and 6.3 from scattered samples
 // (a volume's voxels, a point set, multiblock nodes): one initial cluster of every sample; a
-// priority queue ordered by the cluster error sigma_c (largest first, ties by node number); the
-// worst cluster is split by its PCA plane (kernels/cluster_pca_split.hpp) and its two children get
-// their centre, value and error (kernels/cluster_value.hpp) and join the queue; a split that leaves
-// one side empty is a skipped split, counted, flagged on the node and not re-queued. Clusters of
-// fewer than min_cluster samples, or whose error is <= max_error, are never queued. Refinement stops
-// after max_splits splits or when the queue's worst error is <= max_error (max_error = 0 refines
-// until every cluster is exact or unsplittable).
+// priority queue ordered by the split priority (kernels/cluster_tree.hpp CbtSplitOrder: the cluster
+// error sigma_c as in the dissertation, or |C| x (sigma_c^2 + t^2); largest first, ties by node
+// number); the first cluster is split by its PCA plane (kernels/cluster_pca_split.hpp) and its two
+// children get their centre, value and error (kernels/cluster_value.hpp) and join the queue; a split
+// that leaves one side empty is a skipped split, counted, flagged on the node and not re-queued.
+// Clusters of fewer than min_cluster samples, or whose error is <= max_error, are never queued
+// (except that the weighted order with a size term and max_error = 0 also splits exact clusters).
+// Refinement stops after max_splits splits or when no cluster is left to split (max_error = 0
+// refines until every cluster is exact or unsplittable). Node numbers follow the splits, so the
+// first s splits' leaves are the s + 1 point level of detail (kernels/cluster_lod.hpp, LodMode::count).
 //
 // Samples whose position or value is NaN/Inf are left out and counted. InvalidArgument when fewer
 // than 2 finite samples remain, when all of them lie at one position, when there are 2^32 or more,
@@ -22,7 +25,7 @@
 // Threads: the per-cluster work runs on oneTBB. Splits are computed ahead in rounds and applied
 // in exactly the serial order, numbering the nodes as a serial run would; each split is a pure
 // function of its cluster's samples, and clusters occupy disjoint ranges of the index permutation.
-// The serial order splits clusters in falling priority p = the smallest error on the path from the
+// The serial order splits clusters in falling priority p = the smallest split priority on the path from the
 // root (a best-first search pops its nodes in falling path minimum), so a round picks a threshold
 // tau and computes, on parallel tasks, every queued cluster with p >= tau and every descendant with
 // p >= tau (subtrees are independent); the serial loop then applies results until it reaches a

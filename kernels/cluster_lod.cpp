@@ -32,6 +32,10 @@ std::vector<std::uint32_t> lod_nodes(std::span<const CbtNode> nodes, LodMode mod
     if (mode == LodMode::level) {
         const double L = threshold;
         traverse(nodes, [L](const CbtNode& d) { return static_cast<double>(d.depth) >= L; }, &out, nullptr);
+    } else if (mode == LodMode::count) {
+        // the first k = N - 1 splits made nodes 1 .. 2k: a node whose children are numbered later is cut there
+        const double cut = 2 * (std::max(threshold, 1.0) - 1) + 1;
+        traverse(nodes, [cut](const CbtNode& d) { return static_cast<double>(d.child) >= cut; }, &out, nullptr);
     } else {
         traverse(nodes, [threshold](const CbtNode& d) { return d.error <= threshold; }, &out, nullptr);
     }
@@ -97,6 +101,7 @@ std::uint64_t lod_size_at_error(std::span<const CbtNode> nodes, double error) {
 bool lod_request_clamped(std::span<const CbtNode> nodes, LodMode mode, double threshold) {
     const CbtStats s = cluster_tree_stats(nodes);
     if (mode == LodMode::level) return threshold > static_cast<double>(s.depth);
+    if (mode == LodMode::count) return threshold > static_cast<double>(s.splits + 1);
     return threshold < s.error_reached;
 }
 

@@ -4,8 +4,8 @@
 // <= E, descending otherwise; a leaf met on the way is taken as it is ("we use the cluster at the
 // leaf and continue traversal"). The nodes taken, their centres and values, are a scattered data
 // set of the field at that resolution (section 6.5).
-// A level beyond the depth, or an error below the finest LOD's error, gives the finest LOD (every
-// leaf); the caller warns (LodRequest::clamped tells it).
+// A level beyond the depth, an error below the finest LOD's error, or a count above the leaves gives
+// the finest LOD (every leaf); the caller warns (LodRequest::clamped tells it).
 // The selection is the depth-first one, computed in one sequential pass over the nodes in number
 // order (children are numbered after their parents); lod_nodes gives it in node-number order.
 // lod_point_set lists it coarse to fine (lod_coarse_to_fine_order): every cluster of the tree is
@@ -26,7 +26,11 @@
 
 namespace meshless {
 
-enum class LodMode { level, error };
+/// level: the clusters at depth L; error: the first clusters of error <= E on every path; count:
+/// the leaves after the first N - 1 splits of the refinement (N points, the build's own order:
+/// node numbers follow the splits), which for the weighted split order is the level of detail
+/// the refinement makes best at that size.
+enum class LodMode { level, error, count };
 
 /// The node numbers of the LOD, ascending.
 std::vector<std::uint32_t> lod_nodes(std::span<const CbtNode> nodes, LodMode mode, double threshold);

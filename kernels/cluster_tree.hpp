@@ -24,7 +24,7 @@ inline constexpr std::uint32_t kCbtSkippedSplit = 1;  ///< split attempted, one 
 
 struct CbtNode {
     Vec3 centre;              ///< p_c, mean of the cluster's sample positions
-    double value = 0;         ///< f_c, local multiquadric over the min(|C|, k) samples nearest p_c
+    double value = 0;         ///< f_c: the local multiquadric over the min(|C|, k) samples nearest p_c, or the mean of the cluster's samples (CbtValueKind)
     double error = 0;         ///< sigma_c = max_j |f_j - f_c| over the cluster, >= 0
     std::uint32_t count = 0;  ///< samples in the cluster, >= 1
     std::uint32_t depth = 0;  ///< root 0
@@ -42,6 +42,24 @@ enum class PcaScaling : std::uint32_t { raw = 0, normalised = 1 };
 /// "raw" or "normalised" (the --pca-scaling spelling).
 inline const char* pca_scaling_name(PcaScaling s) { return s == PcaScaling::raw ? "raw" : "normalised"; }
 
+/// Which cluster the refinement splits next (kernels/cluster_binary_tree.hpp):
+/// max_error: the largest sigma_c, as in dissertation section 6.3 (the refinement drives the
+/// worst deviation down, and its splits gather at edges and noise);
+/// weighted: the largest |C| x (sigma_c^2 + t^2), t = size_term x the value range: a bound on the
+/// cluster's squared error summed over its samples, plus a term that splits large quiet clusters
+/// too, so the point density of a level of detail does not jump (the fields reconstruct poorly
+/// across such jumps). Chosen by measurement (bench/MEASURED.md, "Levels of detail that beat
+/// random samples").
+enum class CbtSplitOrder : std::uint32_t { max_error = 0, weighted = 1 };
+/// "max-error" or "weighted" (the --split-order spelling).
+inline const char* split_order_name(CbtSplitOrder o) { return o == CbtSplitOrder::max_error ? "max-error" : "weighted"; }
+
+/// A cluster's value f_c: fit, the local multiquadric at its centre (section 6.3); mean, the mean
+/// of its samples (the constant of least squared error over the cluster).
+enum class CbtValueKind : std::uint32_t { fit = 0, mean = 1 };
+/// "fit" or "mean" (the --cluster-value spelling).
+inline const char* cluster_value_name(CbtValueKind v) { return v == CbtValueKind::fit ? "fit" : "mean"; }
+
 struct CbtParams {
     std::uint64_t max_splits = UINT64_MAX;  ///< stop after this many splits
     double max_error = 0;                   ///< stop when the worst queued error is <= this
@@ -50,6 +68,9 @@ struct CbtParams {
     double hardy_c_rel = 0.025;             ///< Hardy's c relative to the input's bounding-box diagonal
     double hardy_c_world = 0;               ///< > 0: Hardy's c in world units (overrides hardy_c_rel)
     PcaScaling scaling = PcaScaling::normalised;  ///< default chosen by measurement, see cluster_binary_tree.hpp
+    CbtSplitOrder order = CbtSplitOrder::weighted;  ///< default chosen by measurement, see above
+    double size_term = 0.2;                 ///< t of the weighted order, relative to the value range, in [0, 100]
+    CbtValueKind value = CbtValueKind::mean;  ///< default chosen by measurement, see above
 };
 
 struct CbtStats {

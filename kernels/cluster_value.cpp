@@ -21,6 +21,18 @@ void keep_smallest(std::vector<Cand>& v, std::size_t k) {
     std::sort(v.begin(), v.end());
 }
 
+/// max_j |value[idx[j]] - f|, in fixed chunks (the same bits for any thread count).
+double max_deviation(std::span<const double> value, std::span<const std::uint32_t> idx, double f) {
+    return chunks::reduce(
+        idx.size(), 0.0,
+        [&](std::size_t b, std::size_t e) {
+            double m = 0;
+            for (std::size_t i = b; i < e; ++i) m = std::max(m, std::abs(value[idx[i]] - f));
+            return m;
+        },
+        [](double a, double b) { return std::max(a, b); });
+}
+
 }  // namespace
 
 ClusterValue ClusterValueEvaluator::evaluate(std::span<const Vec3> pos, std::span<const double> value,
@@ -50,6 +62,12 @@ ClusterValue ClusterValueEvaluator::evaluate(std::span<const Vec3> pos, std::spa
     out.centre = {t[0] * inv, t[1] * inv, t[2] * inv};
     out.mean_value = t[3] * inv;
     const Vec3 c = out.centre;
+    sel_.clear();
+    if (kind_ == CbtValueKind::mean) {
+        out.value = out.mean_value;
+        out.error = max_deviation(value, idx, out.value);
+        return out;
+    }
     auto d2 = [&](std::uint32_t j) {
         const Vec3 d = pos[j] - c;
         return dot(d, d);
@@ -73,7 +91,6 @@ ClusterValue ClusterValueEvaluator::evaluate(std::span<const Vec3> pos, std::spa
         for (const auto& v : best) cand_.insert(cand_.end(), v.begin(), v.end());
         keep_smallest(cand_, want);
     }
-    sel_.clear();
     for (std::size_t i = 0; i < cand_.size(); ++i) {
         const Vec3& p = pos[cand_[i].second];
         bool dup = false;
@@ -96,15 +113,7 @@ ClusterValue ClusterValueEvaluator::evaluate(std::span<const Vec3> pos, std::spa
         fc = s / static_cast<double>(sel_.size());
     }
     out.value = fc;
-    // error
-    out.error = chunks::reduce(
-        n, 0.0,
-        [&](std::size_t b, std::size_t e) {
-            double m = 0;
-            for (std::size_t i = b; i < e; ++i) m = std::max(m, std::abs(value[idx[i]] - fc));
-            return m;
-        },
-        [](double a, double b) { return std::max(a, b); });
+    out.error = max_deviation(value, idx, fc);
     return out;
 }
 

@@ -100,8 +100,9 @@ void describe_cluster_tree(const std::string& path, std::FILE* out) {
                  s.skipped, s.depth);
     std::fprintf(out, "  error: root %g, reached %g (the finest level of detail, %" PRIu64 " leaves)\n", t.nodes[0].error,
                  s.error_reached, (t.nodes.size() + 1) / 2);
-    std::fprintf(out, "  built with: neighbours %u, Hardy's c %g (world), min cluster %u, PCA scaling %s, ", p.neighbours,
-                 s.hardy_c_world, p.min_cluster, pca_scaling_name(p.scaling));
+    std::fprintf(out, "  built with: split order %s (size term %g), cluster value %s, neighbours %u, Hardy's c %g (world), min cluster %u, PCA scaling %s, ",
+                 split_order_name(p.order), p.size_term, cluster_value_name(p.value), p.neighbours, s.hardy_c_world, p.min_cluster,
+                 pca_scaling_name(p.scaling));
     if (p.max_splits == UINT64_MAX) std::fprintf(out, "max splits none, ");
     else std::fprintf(out, "max splits %" PRIu64 ", ", p.max_splits);
     std::fprintf(out, "max error %g\n", p.max_error);

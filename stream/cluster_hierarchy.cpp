@@ -62,10 +62,10 @@ std::string cluster_hierarchy_report(const ClusterTree& tree, const CbtParams& p
                                      double write_seconds) {
     const CbtStats& s = tree.stats;
     return format_text("hierarchy: %" PRIu64 " samples, %" PRIu64 " splits, %" PRIu64 " skipped, depth %u, %zu nodes, error %g -> %g, "
-                  "c = %g, PCA %s, %d thread%s: read %.3f s, build %.3f s, write %.3f s, %.1f MiB in the builder, "
+                  "split order %s (size term %g), cluster value %s, c = %g, PCA %s, %d thread%s: read %.3f s, build %.3f s, write %.3f s, %.1f MiB in the builder, "
                   "%" PRIu64 " splits made ahead and not applied, %" PRIu64 " rounds",
                   s.samples, s.splits, s.skipped, s.depth, tree.nodes.size(), tree.nodes[0].error, s.error_reached,
-                  s.hardy_c_world, pca_scaling_name(p.scaling), threads, threads == 1 ? "" : "s", read_seconds, s.seconds,
+                  split_order_name(p.order), p.size_term, cluster_value_name(p.value), s.hardy_c_world, pca_scaling_name(p.scaling), threads, threads == 1 ? "" : "s", read_seconds, s.seconds,
                   write_seconds, s.memory_bytes / 1048576.0, s.speculative_unused, s.rounds);
 }
 

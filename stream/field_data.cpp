@@ -39,8 +39,12 @@ PointSet read_any_points(const std::vector<std::string>& paths, const PointSetOp
                 throw InvalidArgument(p + " is a volume: meshless " + command + " takes one volume, or point sets (several are "
                                       "one set), or the blocks of one multiblock grid");
     const bool tree = std::any_of(paths.begin(), paths.end(), [](const std::string& p) { return is_cluster_tree_file(p); });
-    if (!tree && (options.lod_level || options.lod_error))
-        throw InvalidArgument(std::string("--") + (options.lod_level ? "lod-level" : "lod-error") +
+    if (!tree && (options.lod_level || options.lod_error || options.lod_count || options.lod_fraction))
+        throw InvalidArgument(std::string("--") +
+                              (options.lod_level   ? "lod-level"
+                               : options.lod_error ? "lod-error"
+                               : options.lod_count ? "lod-count"
+                                                   : "lod-fraction") +
                               " picks a level of detail of a cluster tree (.mlh); " + paths.front() + " is none");
     for (const auto& p : paths)  // a level of detail of a cluster tree beyond the tree: say so
         if (is_cluster_tree_file(p)) {

@@ -107,6 +107,65 @@ TEST_CASE("meshless hierarchy: the same .mlh for 1 and 2 threads, lod and info r
     CHECK(warned.err.find("beyond the depth") != std::string::npos);
 }
 
+TEST_CASE("meshless lod --count/--fraction: the first N - 1 splits, and --lod-count reads the same", "[cli][cbt]") {
+    TempDir d("hier_count");
+    const std::string vol = write_uint8_analytic_volume(d, "ml", AnalyticField::marschner_lobb, 20, 200, 20);
+    const std::string D = d.path.string();
+    REQUIRE(sh("MESHLESS hierarchy " + vol + " -o " + D + "/t.mlh --max-splits 400", d).code == 0);
+    const ClusterTree t = read_cluster_tree_file(D + "/t.mlh");
+    CHECK(t.params.order == CbtSplitOrder::weighted);
+    CHECK(t.params.value == CbtValueKind::mean);
+    // --count 160 = --fraction 0.02 of 8000 samples: the same points, as the library lists them
+    REQUIRE(sh("MESHLESS lod " + D + "/t.mlh --count 160 -o " + D + "/c.csv", d).code == 0);
+    REQUIRE(sh("MESHLESS lod " + D + "/t.mlh --fraction 0.02 -o " + D + "/f.csv", d).code == 0);
+    CHECK(slurp(d / "c.csv") == slurp(d / "f.csv"));
+    const PointSet want = lod_point_set(t.nodes, LodMode::count, 160, t.value_name);
+    REQUIRE(want.size() == 160);
+    std::istringstream csv(slurp(d / "c.csv"));
+    std::string line;
+    std::getline(csv, line);
+    std::size_t rows = 0;
+    while (std::getline(csv, line)) {
+        double x, y, z, v;
+        char c;
+        std::istringstream ls(line);
+        ls >> x >> c >> y >> c >> z >> c >> v;
+        REQUIRE(rows < want.size());
+        CHECK(x == want.pos[rows].x);
+        CHECK(v == want.value[rows]);
+        ++rows;
+    }
+    CHECK(rows == 160);
+    const std::string at = " --at 10,10,10 --at 5.5,12,3 --field mpu --hardy-c 0.01";
+    const auto a = sh("MESHLESS probe " + D + "/t.mlh --lod-count 160" + at, d), b = sh("MESHLESS probe " + D + "/c.csv" + at, d);
+    REQUIRE(a.code == 0);
+    CHECK(a.out == b.out);
+    // beyond the leaves: warn, the finest
+    const auto many = sh("MESHLESS lod " + D + "/t.mlh --count 100000 -o " + D + "/m.csv", d);
+    CHECK(many.code == 0);
+    CHECK(many.err.find("more than the tree's 401 leaves") != std::string::npos);
+    // usage errors: exit 1, one line, nothing written
+    for (const std::string bad : {"--count 0", "--fraction 0", "--fraction 1.5", "--count 5 --level 2", "--fraction nan"}) {
+        const auto r = sh("MESHLESS lod " + D + "/t.mlh " + bad + " -o " + D + "/bad.csv", d);
+        INFO(bad << ": " << r.err);
+        CHECK(r.code == 1);
+        CHECK(one_line(r.err));
+        CHECK_FALSE(std::filesystem::exists(d / "bad.csv"));
+    }
+    for (const std::string bad : {"--split-order best", "--size-term -1", "--size-term 101", "--cluster-value median"}) {
+        const auto r = sh("MESHLESS hierarchy " + vol + " " + bad + " -o " + D + "/bad.mlh", d);
+        INFO(bad << ": " << r.err);
+        CHECK(r.code == 1);
+        CHECK(one_line(r.err));
+        CHECK_FALSE(std::filesystem::exists(d / "bad.mlh"));
+    }
+    // the dissertation's tree: max-error order, fitted values, recorded in the file and in info
+    REQUIRE(sh("MESHLESS hierarchy " + vol + " --split-order max-error --cluster-value fit --max-splits 50 -o " + D + "/m.mlh", d).code == 0);
+    const auto info = sh("MESHLESS info " + D + "/m.mlh", d);
+    CHECK(info.out.find("split order max-error") != std::string::npos);
+    CHECK(info.out.find("cluster value fit") != std::string::npos);
+}
+
 TEST_CASE("meshless lod: cluster values beyond the samples' range are kept and warned about", "[cli][cbt]") {
     // newcomer trial 2: lod of a uint8 set wrote values down to -1.05 without a word. Values 0 or
     // 100 at random on a jittered grid: a cluster's fit at its centre overshoots them.
@@ -120,7 +179,7 @@ TEST_CASE("meshless lod: cluster values beyond the samples' range are kept and w
                 rows += std::to_string(i + 0.6 * u() - 0.3) + "," + std::to_string(j + 0.6 * u() - 0.3) + "," +
                         std::to_string(k + 0.6 * u() - 0.3) + "," + (u() < 0.5 ? "0" : "100") + "\n";
     const std::string csv = write_csv(d, "noisy.csv", rows), D = d.path.string();
-    REQUIRE(sh("MESHLESS hierarchy " + csv + " -o " + D + "/n.mlh", d).code == 0);
+    REQUIRE(sh("MESHLESS hierarchy " + csv + " --cluster-value fit -o " + D + "/n.mlh", d).code == 0);  // means cannot overshoot
     const ClusterTree t = read_cluster_tree_file(D + "/n.mlh");
     std::uint32_t depth = 0;
     for (const CbtNode& n : t.nodes) depth = std::max(depth, n.depth);

@@ -103,6 +103,34 @@ TEST_CASE(".mlh round trip: same nodes, metadata and bytes", "[formats][cbt]") {
     CHECK(parse_error(disk).empty());
 }
 
+TEST_CASE(".mlh version 1 (no split order, cluster value or size term) is read as max-error order and fits", "[formats][cbt]") {
+    ClusterTree t = small_tree();
+    t.params.order = CbtSplitOrder::max_error;
+    t.params.value = CbtValueKind::fit;
+    t.params.size_term = 0;
+    const std::string v2 = cluster_tree_bytes(t);
+    REQUIRE(get_at<std::uint32_t>(v2, 8) == 2);
+    // version 1: the same bytes without the 16 at meta offset 160 (order, value kind, size term)
+    std::string v1 = v2.substr(0, 64 + 160) + v2.substr(64 + 176);
+    put_at<std::uint32_t>(v1, 8, 1);
+    put_at<std::uint64_t>(v1, 16, v1.size());
+    put_at<std::uint64_t>(v1, 24, get_at<std::uint64_t>(v2, 24) - 16);
+    fix_crcs(v1);
+    const ClusterTree r = parse_cluster_tree_bytes(std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(v1.data()), v1.size()), "v1.mlh");
+    CHECK(r.params.order == CbtSplitOrder::max_error);
+    CHECK(r.params.value == CbtValueKind::fit);
+    CHECK(r.params.size_term == 0);
+    CHECK(r.value_name == "density");
+    CHECK(cluster_tree_bytes(r) == v2);  // written again as version 2: the same tree
+    // and the defaults round-trip as version 2
+    const ClusterTree d = small_tree();
+    const std::string b = cluster_tree_bytes(d);
+    const ClusterTree rd = parse_cluster_tree_bytes(std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(b.data()), b.size()), "d.mlh");
+    CHECK(rd.params.order == CbtSplitOrder::weighted);
+    CHECK(rd.params.value == CbtValueKind::mean);
+    CHECK(rd.params.size_term == d.params.size_term);
+}
+
 TEST_CASE(".mlh must-fail files, one per defect class", "[formats][cbt]") {
     const std::string good = cluster_tree_bytes(small_tree());
     REQUIRE(parse_error(good).empty());
@@ -127,7 +155,7 @@ TEST_CASE(".mlh must-fail files, one per defect class", "[formats][cbt]") {
         b[1] = 'X';
         expect(b, "magic", false);
         b = good;
-        put_at<std::uint32_t>(b, 8, 2);
+        put_at<std::uint32_t>(b, 8, 3);
         expect(b, "newer version");
         put_at<std::uint32_t>(b, 8, 0);
         expect(b, "older version");
@@ -209,8 +237,20 @@ TEST_CASE(".mlh must-fail files, one per defect class", "[formats][cbt]") {
         put_at<std::uint32_t>(b, node_at(good, 2) + 52, 4);
         expect(b, "flags");
         b = good;
-        put_at<std::uint32_t>(b, 64 + 160, 3);
+        put_at<std::uint32_t>(b, 64 + 176, 3);
         expect(b, "name");
+        b = good;
+        put_at<std::uint32_t>(b, 64 + 160, 2);
+        expect(b, "split order");
+        b = good;
+        put_at<std::uint32_t>(b, 64 + 164, 7);
+        expect(b, "cluster value");
+        b = good;
+        put_at<double>(b, 64 + 168, -0.5);
+        expect(b, "size term");
+        b = good;
+        put_at<double>(b, 64 + 168, std::nan(""));
+        expect(b, "size term");
         b = good;
         put_at<std::uint32_t>(b, 64 + 44, 9);
         expect(b, "scaling");

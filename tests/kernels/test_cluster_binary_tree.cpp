@@ -84,6 +84,11 @@ TEST_CASE("cluster value: centre, multiquadric value and error against oracles",
 TEST_CASE("cluster tree: splits follow the error queue, prefixes equal smaller --max-splits", "[kernels][cbt]") {
     const Samples s = grid(20, 14, 10);
     CbtParams p;
+    // both split orders, both cluster values: max-error order with fitted values (section 6.3) and the
+    // weighted order, |C| x (sigma^2 + t^2), with means
+    const bool weighted = GENERATE(false, true);
+    p.order = weighted ? CbtSplitOrder::weighted : CbtSplitOrder::max_error;
+    p.value = weighted ? CbtValueKind::mean : CbtValueKind::fit;
     p.max_splits = 400;
     const ClusterTree full = build_cluster_tree(s.pos, s.value, p);
     REQUIRE(full.stats.skipped == 0);
@@ -96,11 +101,16 @@ TEST_CASE("cluster tree: splits follow the error queue, prefixes equal smaller -
     std::set<std::uint32_t> leaves = {0};
     for (std::uint32_t t = 0; t < 400; ++t) {
         const std::uint32_t split = parent[2 * t + 1];
-        // worst: largest error, then smallest number, among leaves with >= 2 samples
+        // worst: largest priority (error, or the weighted one), then smallest number, among leaves with >= 2 samples
+        const double t2 = std::pow(p.size_term * (full.value_range[1] - full.value_range[0]), 2);
+        auto key = [&](std::uint32_t l) {
+            const CbtNode& d = full.nodes[l];
+            return weighted ? d.count * (d.error * d.error + t2) : d.error;
+        };
         std::uint32_t worst = UINT32_MAX;
         for (std::uint32_t l : leaves) {
             if (full.nodes[l].count < 2) continue;
-            if (worst == UINT32_MAX || full.nodes[l].error > full.nodes[worst].error) worst = l;
+            if (worst == UINT32_MAX || key(l) > key(worst)) worst = l;
         }
         REQUIRE(split == worst);
         leaves.erase(split);

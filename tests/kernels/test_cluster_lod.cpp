@@ -115,3 +115,21 @@ TEST_CASE("LOD order: every prefix of a LOD holds one node below each cluster of
         }
     }
 }
+
+TEST_CASE("LOD by count: the leaves after the first N - 1 splits, any N", "[kernels][cbt]") {
+    const ClusterTree t = sample_tree();
+    const std::uint64_t leaves = t.stats.splits + 1;
+    for (std::uint64_t n : {std::uint64_t{1}, std::uint64_t{2}, std::uint64_t{3}, std::uint64_t{57}, leaves - 1, leaves}) {
+        // brute force: nodes numbered below 2(n-1)+1 exist after n-1 splits; of those, the ones not split yet
+        const std::uint64_t cut = 2 * (n - 1) + 1;
+        std::vector<std::uint32_t> want;
+        for (std::uint32_t i = 0; i < cut; ++i)
+            if (t.nodes[i].leaf() || t.nodes[i].child >= cut) want.push_back(i);
+        const auto got = lod_nodes(t.nodes, LodMode::count, static_cast<double>(n));
+        CHECK(got == want);
+        CHECK(got.size() == n);
+        CHECK_FALSE(lod_request_clamped(t.nodes, LodMode::count, static_cast<double>(n)));
+    }
+    CHECK(lod_request_clamped(t.nodes, LodMode::count, static_cast<double>(leaves + 1)));
+    CHECK(lod_nodes(t.nodes, LodMode::count, static_cast<double>(leaves + 5)).size() == leaves);  // the finest
+}
