@@ -546,8 +546,13 @@ class LevelsOfDetail(unittest.TestCase):
                     self.assertTrue(np.array_equal(got.points, xyz(want)), kw)
                     self.assertTrue(np.array_equal(got.values, want["value"]), kw)
                     self.assertIsNone(got.normals)
-                back = meshless.read_points(out)  # the module's reader: the same points, as float32
-                self.assertTrue(np.array_equal(back.points, tree.lod(**kw).points.astype(np.float32)))
+                if len(want) < 4:  # the point-set readers need 4 points
+                    with self.assertRaises(meshless.DataError):
+                        meshless.read_points(out)
+                    continue
+                back = meshless.read_points(out)  # the commands' reader: the same points, as float64
+                self.assertTrue(np.array_equal(back.points, tree.lod(**kw).points))
+                self.assertIsNone(back.normals)
         self.assertEqual(len(tree.lod(level=0)), 1)
         self.assertEqual(len(tree.lod(level=2)), 4)
 
@@ -569,7 +574,7 @@ class LevelsOfDetail(unittest.TestCase):
         self.assertEqual(len(t.lod(level=3)), 8)
         self.assertTrue(np.array_equal(t.lod(level=5).points, u.lod(level=5).points))
         with self.assertRaises(ValueError):
-            lod.write("x.ply")  # no normals
+            lod.write("x.obj")  # scattered data: .ply, .csv or .vtp
 
     def test_bad_arguments_and_files(self):
         tree = meshless.hierarchy(self.pts[:200], self.val[:200])
