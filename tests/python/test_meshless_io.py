@@ -25,6 +25,7 @@ TOOTH = os.path.join(DATA, "tooth", "tooth_103x94x161_uint8.raw")
 HEADSQ = os.path.join(DATA, "vtk_headsq", "quarter.nhdr")
 MNI = os.path.join(DATA, "mni152_brain", "avg152T1_RL_nifti.nii.gz")
 COMB = os.path.join(DATA, "plot3d", "combxyz.bin")
+LIDC2 = os.path.join(DATA, "vtkjs_LIDC2", "LIDC2.vti")
 MULTICOMB = [os.path.join(DATA, "plot3d", "multicomb_%d.vts" % i) for i in range(3)]
 
 try:
@@ -123,6 +124,16 @@ class ReadVolume(unittest.TestCase):
         self.assertIsNotNone(v.patient_axes)
         self.assertTrue(np.allclose(np.abs(v.patient_axes), np.eye(3)))
         self.assertEqual((int(v.array.min()), int(v.array.max())), (0, 255))  # SOURCES.md's range
+
+    @unittest.skipUnless(os.path.isdir(LIDC2), "needs ../shared/data")
+    def test_a_vtkjs_volume_equals_its_gzip_payload_read_by_numpy(self):
+        v = meshless.read_volume(os.path.join(LIDC2, "index.json"))
+        (gz,) = [os.path.join(LIDC2, "data", n) for n in os.listdir(os.path.join(LIDC2, "data"))]
+        with gzip.open(gz) as f:
+            want = np.frombuffer(f.read(), np.uint8).reshape(133, 256, 256).T
+        self.assertEqual((v.format, v.spacing), ("vtkjs", (1.40625, 1.40625, 2.5)))
+        self.assertTrue(np.array_equal(v.array, want))
+        self.assertTrue(v.array.flags.f_contiguous and not v.array.flags.owndata)
 
     def test_a_nrrd_written_by_numpy_reads_back_and_options_and_errors(self):
         vol = sphere(24)
