@@ -9,7 +9,6 @@ need it are skipped without it).
 import gzip
 import os
 import signal
-import subprocess
 import tempfile
 import threading
 import time
@@ -18,12 +17,10 @@ import unittest
 import numpy as np
 
 import meshless
+from test_meshless import SANITIZED, cli, xyz  # (the module's other tests; functions only)
+from test_meshless import read_ply_vertices as ply_vertices
 
-MESHLESS = os.environ.get("MESHLESS", "meshless")
 DATA = os.environ.get("MESHLESS_SHARED_DATA", "")
-# the sanitizer tier preloads its runtime into python3; the meshless it runs carries its own
-CLI_ENV = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
-SANITIZED = os.environ.get("MESHLESS_SANITIZED") == "1"
 TOOTH = os.path.join(DATA, "tooth", "tooth_103x94x161_uint8.raw")
 HEADSQ = os.path.join(DATA, "vtk_headsq", "quarter.nhdr")
 MNI = os.path.join(DATA, "mni152_brain", "avg152T1_RL_nifti.nii.gz")
@@ -36,30 +33,6 @@ try:
     HAVE_VTK = True
 except ImportError:
     HAVE_VTK = False
-
-
-def cli(*args):
-    """Runs this build's meshless (stderr kept for the failure message)."""
-    r = subprocess.run([MESHLESS] + [str(a) for a in args], capture_output=True, env=CLI_ENV)
-    if r.returncode != 0:
-        raise AssertionError("meshless %s: exit %d: %s" % (" ".join(map(str, args)), r.returncode, r.stderr.decode()))
-    return r
-
-
-def ply_vertices(path):
-    """The vertices of a binary little-endian PLY point set, in the file's types."""
-    with open(path, "rb") as f:
-        data = f.read()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    lines = data[:end].decode().splitlines()
-    types = {"float": "<f4", "double": "<f8", "uint": "<u4", "uchar": "u1"}
-    n = int(next(line for line in lines if line.startswith("element vertex")).split()[2])
-    dt = np.dtype([(line.split()[2], types[line.split()[1]]) for line in lines if line.startswith("property")])
-    return np.frombuffer(data[end:end + n * dt.itemsize], dt)
-
-
-def xyz(v):
-    return np.stack([v["x"], v["y"], v["z"]], 1)
 
 
 def read_bytes(path):
