@@ -332,9 +332,12 @@ def isosurface_blocks(blocks, iso, *, field="rbf-grid", samples=3, tolerance=0.0
 
     blocks: a list of (coords, values) or (coords, values, iblank): coords (ni, nj, nk, 3) world
     positions, values (ni, nj, nk), iblank (ni, nj, nk) with 0 = blanked (PLOT3D's IBLANK). Nodes with a
-    NaN/Inf are blanked too. Returns a PointSet whose `block` says which block seeded each point."""
+    NaN/Inf are blanked too. Or the Blocks of read_multiblock (an AMR hierarchy's boxes with their
+    levels and covered nodes, as `meshless isosurface` takes them). Returns a PointSet whose `block` says which block seeded each point."""
     params = _field_params(field, **field_options)
-    return PointSet(_core._isosurface_blocks([tuple(b) for b in blocks], float(iso), params, int(samples), float(tolerance),
+    blocks = [(b.coords, b.values, b.valid, b.covered, b.level, b.cell_centred) if isinstance(b, Block) else tuple(b)
+              for b in blocks]
+    return PointSet(_core._isosurface_blocks(blocks, float(iso), params, int(samples), float(tolerance),
                                              int(max_iterations), float(max_travel), int(threads)))
 
 
@@ -389,7 +392,7 @@ class Block:
     coords (ni, nj, nk, 3) and values (ni, nj, nk) float64 views of the reader's lattice (no copy),
     valid (ni, nj, nk) uint8 or None (0: IBLANK 0 or a NaN/Inf node), covered (uint8 or None: AMR
     nodes a finer level covers), name, level (AMR), cell_centred. A Block unpacks as
-    (coords, values, valid) for isosurface_blocks."""
+    (coords, values, valid); isosurface_blocks takes it whole."""
 
     __slots__ = ("coords", "values", "valid", "covered", "name", "level", "cell_centred")
 

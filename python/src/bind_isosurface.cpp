@@ -106,11 +106,14 @@ py::dict isosurface_points(const py::array& points, const py::array& values, dou
     return out;
 }
 
-/// One block: (coords (ni, nj, nk, 3), values (ni, nj, nk)[, iblank (ni, nj, nk), 0 = blanked]).
+/// One block: (coords (ni, nj, nk, 3), values (ni, nj, nk)[, iblank (ni, nj, nk), 0 = blanked
+/// [, covered (ni, nj, nk) or None, level, cell_centred]]): the last three are an AMR box's, as
+/// read_multiblock reads them (kernels/structured_block.hpp).
 StructuredBlock block_of(const py::handle& item, std::size_t index) {
     const auto t = item.cast<py::tuple>();
     const std::string what = "blocks[" + std::to_string(index) + "]";
-    if (t.size() < 2 || t.size() > 3) throw py::value_error(what + ": expected (coords, values) or (coords, values, iblank)");
+    if (t.size() < 2 || t.size() == 4 || t.size() == 5 || t.size() > 6)
+        throw py::value_error(what + ": expected (coords, values), (coords, values, iblank) or a Block of read_multiblock");
     auto xyz = py::array_t<double, py::array::forcecast>::ensure(t[0]);
     if (!xyz || xyz.ndim() != 4 || xyz.shape(3) != 3) throw py::value_error(what + ": coords must be an (ni, nj, nk, 3) array");
     auto val = py::array_t<double, py::array::forcecast>::ensure(t[1]);
@@ -145,6 +148,21 @@ StructuredBlock block_of(const py::handle& item, std::size_t index) {
                 if (!ok) valid[n] = 0, any_invalid = true;
             }
     if (any_invalid) b.valid = std::move(valid);
+    if (t.size() == 6) {  // an AMR box: the nodes a finer level covers, its level, cell centres
+        if (!t[3].is_none()) {
+            const auto cov = py::array_t<std::uint8_t, py::array::forcecast>::ensure(t[3]);
+            if (!cov || cov.ndim() != 3 || cov.shape(0) != val.shape(0) || cov.shape(1) != val.shape(1) || cov.shape(2) != val.shape(2))
+                throw py::value_error(what + ": covered must be an (ni, nj, nk) array matching values");
+            const auto c3 = cov.unchecked<3>();
+            b.covered.assign(count, 0);
+            for (py::ssize_t k = 0; k < val.shape(2); ++k)
+                for (py::ssize_t j = 0; j < val.shape(1); ++j)
+                    for (py::ssize_t i = 0; i < val.shape(0); ++i) b.covered[static_cast<std::size_t>(b.index(i, j, k))] = c3(i, j, k) ? 1 : 0;
+        }
+        b.level = t[4].cast<int>();
+        if (b.level < 0) throw py::value_error(what + ": level must be >= 0");
+        b.cell_centred = t[5].cast<bool>();
+    }
     return b;
 }
 
