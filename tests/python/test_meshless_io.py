@@ -442,7 +442,7 @@ class Interrupt(unittest.TestCase):
         for _ in range(3):
             interrupted, latency = self.interrupted_call(lambda: meshless.isosurface(vol, 0.1, threads=2))
             self.assertTrue(interrupted)
-            self.assertLess(latency, 1.0)
+            self.assertLess(latency, 3.0 if SANITIZED else 1.0)  # (instrumented batches take longer to drain)
             rss.append(rss_kib())
         if not SANITIZED:  # (ASan's quarantine holds freed blocks)
             self.assertLess(rss[-1] - rss[0], 64 * 1024)  # the partial results freed each time
