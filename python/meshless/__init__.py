@@ -19,12 +19,16 @@ Functions (keyword-only options; ``threads=0`` means every core this process may
     isosurface_blocks(blocks, iso, ...)     crack-free isosurface of overlapping curvilinear blocks (chapter 4)
     Field(points, values, kind=...)         a meshless field: field(q) -> values, field.gradient(q), save/load .mlf
     mc(volume, iso, ...)                    the marching-cubes mesh (the baseline): vertices, faces, normals
-    read_points(path), PointSet.write(path) oriented points from and to PLY
+    read_volume(path, ...)                  any volume the commands read, as a Volume ([x, y, z] array, mapped when raw)
+    read_points(path, ...), PointSet.save() oriented or scattered points from any point file; saved as the commands write
+    read_multiblock(paths, ...)             curvilinear blocks and AMR boxes (chapter 4) as Blocks
+    from_vtk(obj), obj.to_vtk()             VTK/PyVista datasets in and out (VTK's buffers, no copy where they fit)
     render(volume | store | field, ...)     ray-cast volume rendering (sections 6.6, 7.4): an Image
     splat(pointset | path, ...)             surface splatting of oriented points (section 3.6): an Image
     read_image(path), Image.save(path)      PNG pictures in and out (the product's PNG reader and writer)
     hierarchy(points, values, ...)          the cluster binary tree of chapter 6; tree.lod(level=|error=)
-    open_store(path), Store.isosurface(iso) a brick store's isosurface as a generator of batches (section 3.6)
+    open_store(path), Store.isosurface(iso) a brick, sample or point store's isosurface as a generator of batches
+Ctrl-C interrupts isosurface(), isosurface_points() and isosurface_blocks() within a second.
 Errors: ValueError for bad arguments; DataError (a ValueError) for unusable data, with the command's
 one-line message; OSError when a file cannot be read or written.
 """
