@@ -19,12 +19,16 @@ Functions (keyword-only options; ``threads=0`` means every core this process may
     isosurface_blocks(blocks, iso, ...)     crack-free isosurface of overlapping curvilinear blocks (chapter 4)
     Field(points, values, kind=...)         a meshless field: field(q) -> values, field.gradient(q), save/load .mlf
     mc(volume, iso, ...)                    the marching-cubes mesh (the baseline): vertices, faces, normals
-    read_points(path), PointSet.write(path) oriented points from and to PLY
+    read_volume(path, ...)                  any volume the commands read, as a Volume ([x, y, z] array, mapped when raw)
+    read_points(path, ...), PointSet.save() oriented or scattered points from any point file; saved as the commands write
+    read_multiblock(paths, ...)             curvilinear blocks and AMR boxes (chapter 4) as Blocks
+    from_vtk(obj), obj.to_vtk()             VTK/PyVista datasets in and out (VTK's buffers, no copy where they fit)
     render(volume | store | field, ...)     ray-cast volume rendering (sections 6.6, 7.4): an Image
     splat(pointset | path, ...)             surface splatting of oriented points (section 3.6): an Image
     read_image(path), Image.save(path)      PNG pictures in and out (the product's PNG reader and writer)
     hierarchy(points, values, ...)          the cluster binary tree of chapter 6; tree.lod(level=|error=)
-    open_store(path), Store.isosurface(iso) a brick store's isosurface as a generator of batches (section 3.6)
+    open_store(path), Store.isosurface(iso) a brick, sample or point store's isosurface as a generator of batches
+Ctrl-C interrupts isosurface(), isosurface_points() and isosurface_blocks() within a second.
 Errors: ValueError for bad arguments; DataError (a ValueError) for unusable data, with the command's
 one-line message; OSError when a file cannot be read or written.
 """
@@ -34,7 +38,7 @@ import numpy as _np
 from . import _core
 from ._core import DataError
 
-__all__ = ["DataError", "PointSet", "Field", "Image", "ClusterTree", "Store", "isosurface", "isosurface_points",
+__all__ = ["DataError", "PointSet", "Volume", "Block", "Multiblock", "read_volume", "read_multiblock", "from_vtk", "Field", "Image", "ClusterTree", "Store", "isosurface", "isosurface_points",
            "isosurface_blocks", "mc", "read_points", "info", "render", "splat", "read_image", "hierarchy", "open_store"]
 
 
@@ -49,13 +53,19 @@ class PointSet:
         block   (n,)   uint32   isosurface_blocks only: the block each point was seeded in, else None
         stats   dict            what the run counted (cells, seeds, Newton outcomes, ...)
         warnings list of str    what the run warned about (isosurface_points)
-        comments list of str    read_points: the PLY's comments
-    A level of detail (ClusterTree.lod) is scattered data: points (n, 3) and values (n,) float64 owning
-    the extraction's buffers, normals and radius None.
-    Methods: write(path) writes the PLY `meshless isosurface` writes.
+        comments list of str    read_points: the PLY's comments (written back by save)
+        value_name str          scattered data: the values' name in the file ("" when none)
+        blocks   list of dict   read_points of scattered data: the file's blocks (name, dims, first, count)
+    Scattered data (a level of detail, ClusterTree.lod; read_points of a CSV, VTP, PLOT3D, .npy, .mlc,
+    ... file) is points (n, 3) and values (n,) float64 owning the reader's or the extraction's
+    buffers, normals and radius None.
+    Methods: save(path) (or write(path)) writes by extension what the commands write for the same
+    data: oriented points as `meshless isosurface -o x.ply|x.vtp`, scattered data as
+    `meshless lod -o x.ply|x.csv|x.vtp`; to_vtk(), to_pyvista().
     """
 
-    __slots__ = ("points", "normals", "radius", "values", "block", "stats", "warnings", "comments")
+    __slots__ = ("points", "normals", "radius", "values", "block", "stats", "warnings", "comments", "value_name",
+                 "blocks", "has_values")
 
     def __init__(self, arrays):
         self.points = arrays["points"]
@@ -66,14 +76,26 @@ class PointSet:
         self.stats = arrays.get("stats", {})
         self.warnings = list(arrays.get("warnings", []))
         self.comments = list(arrays.get("comments", []))
+        self.value_name = arrays.get("value_name", "")
+        self.blocks = list(arrays.get("blocks", []))
+        self.has_values = bool(arrays.get("has_values", True))
 
-    def write(self, path):
-        """Writes the points as the PLY `meshless isosurface -o out.ply` writes (binary little endian,
-        x y z nx ny nz radius value, and block when there are block ids), atomically."""
+    def save(self, path):
+        """Writes the points by extension, atomically, the bytes the commands write for the same data
+        (with `comments` as the file's comments):
+        oriented points (normals and radius): .ply as `meshless isosurface -o out.ply` (binary little
+        endian, x y z nx ny nz radius value, and block when there are block ids), .vtp as `-o out.vtp`;
+        scattered data (normals None): .ply (double x y z value), .csv (x,y,z,value, 17 digits) or
+        .vtp, as `meshless lod -o`. Another extension raises ValueError."""
+        path = str(path)
         if self.normals is None:
-            raise ValueError("write: a level of detail has no normals; write its points and values with NumPy "
-                             "(or `meshless lod TREE.mlh -o lod.ply`)")
-        _core._write_points(str(path), self.points, self.normals, self.radius, self.values, self.block)
+            _core._write_point_set(path, self.points, self.values, str(self.value_name or ""), self.has_values,
+                                   list(self.comments))
+            return
+        _core._write_points(path, self.points, self.normals, self.radius, self.values, self.block,
+                            list(self.comments) or None)
+
+    write = save
 
     def __len__(self):
         return len(self.points)
@@ -82,10 +104,11 @@ class PointSet:
         return "meshless.PointSet(%d points)" % len(self)
 
     def to_vtk(self):
-        """A vtkPolyData with one vertex cell per point, the normals as its Normals and `radius`,
-        `value` (and `block`) point arrays: what `meshless isosurface -o out.vtp` writes, for
-        ParaView and VTK pipelines. Needs VTK's Python module (python3-vtk9); the arrays are copied
-        into VTK's."""
+        """A vtkPolyData with one vertex cell per point: oriented points with the normals as its
+        Normals and `radius`, `value` (and `block`) point arrays, what `meshless isosurface -o
+        out.vtp` writes; scattered data with its values as the array named `value_name` (or
+        "value"). For ParaView and VTK pipelines; from_vtk() reads it back. Needs VTK's Python
+        module (python3-vtk9); the arrays are copied into VTK's."""
         from vtkmodules.util import numpy_support as ns
         from vtkmodules.vtkCommonCore import vtkPoints
         from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
@@ -100,16 +123,22 @@ class PointSet:
         poly = vtkPolyData()
         poly.SetPoints(pts)
         poly.SetVerts(cells)
-        normals = ns.numpy_to_vtk(_np.ascontiguousarray(self.normals), deep=True)
-        normals.SetName("Normals")
-        poly.GetPointData().SetNormals(normals)
-        for name, arr in (("radius", self.radius), ("value", self.values), ("block", self.block)):
+        if self.normals is not None:
+            normals = ns.numpy_to_vtk(_np.ascontiguousarray(self.normals), deep=True)
+            normals.SetName("Normals")
+            poly.GetPointData().SetNormals(normals)
+            arrays = (("radius", self.radius), ("value", self.values), ("block", self.block))
+            active = "value"
+        else:
+            active = self.value_name or "value"
+            arrays = ((active, self.values),)
+        for name, arr in arrays:
             if arr is None:
                 continue
             a = ns.numpy_to_vtk(_np.ascontiguousarray(arr), deep=True)
             a.SetName(name)
             poly.GetPointData().AddArray(a)
-        poly.GetPointData().SetActiveScalars("value")
+        poly.GetPointData().SetActiveScalars(active)
         return poly
 
     def to_pyvista(self):
@@ -118,16 +147,87 @@ class PointSet:
         return pyvista.wrap(self.to_vtk())
 
 
-def isosurface(volume, iso, *, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), projection="approx", threads=0):
+class Volume:
+    """A regular volume read by read_volume(): its samples and where they lie.
+
+    Attributes:
+        array        (nx, ny, nz) ndarray indexed [x, y, z] (Fortran order), uint8, int16, uint16 or
+                     float32: the reader's own buffer, owned by the array (a raw payload is a private
+                     mapping of the file: nothing read or copied until touched; writes stay in memory)
+        spacing      (sx, sy, sz) world units between samples; origin (x, y, z) of sample [0, 0, 0]
+        patient_axes (3, 3) float64 or None: row i is the LPS direction of world axis i, where the
+                     header says it (NIfTI sform/qform, NRRD space, MetaImage TransformMatrix)
+        patient_axes_source  the header fields it came from, or None
+        format       the reader's name ("raw", "nrrd", "metaimage", "vti", "nifti", "dicom", ...)
+        warnings     list of str: what the command would warn about (raw options a header overrides)
+    np.asarray(volume) is `array`; isosurface(), mc() and render() take a Volume with its spacing and
+    origin."""
+
+    __slots__ = ("array", "spacing", "origin", "patient_axes", "patient_axes_source", "format", "warnings")
+
+    def __init__(self, arrays):
+        self.array = arrays["array"]
+        self.spacing = tuple(arrays["spacing"])
+        self.origin = tuple(arrays["origin"])
+        self.patient_axes = arrays.get("patient_axes")
+        self.patient_axes_source = arrays.get("patient_axes_source")
+        self.format = arrays.get("format", "")
+        self.warnings = list(arrays.get("warnings", []))
+
+    shape = property(lambda self: self.array.shape)
+    dtype = property(lambda self: self.array.dtype)
+
+    def __array__(self, dtype=None, copy=None):
+        if dtype is not None and _np.dtype(dtype) != self.array.dtype:
+            return self.array.astype(dtype)
+        return self.array.copy() if copy else self.array
+
+    def __repr__(self):
+        return "meshless.Volume(%s %s, spacing=%s)" % ("x".join(map(str, self.shape)), self.dtype, self.spacing)
+
+    def to_vtk(self):
+        """A vtkImageData over the same samples (no copy: VTK's scalars array `values` is the
+        array's memory, which the vtkImageData keeps alive), spacing and origin. Needs VTK's Python
+        module (python3-vtk9)."""
+        from vtkmodules.util import numpy_support as ns
+        from vtkmodules.vtkCommonDataModel import vtkImageData
+
+        flat = self.array.ravel(order="F")  # a view: the array is Fortran-ordered
+        img = vtkImageData()
+        img.SetDimensions(*self.shape)
+        img.SetSpacing(*self.spacing)
+        img.SetOrigin(*self.origin)
+        scalars = ns.numpy_to_vtk(flat, deep=False)
+        scalars.SetName("values")
+        img.GetPointData().SetScalars(scalars)
+        return img
+
+    def to_pyvista(self):
+        """The same as a pyvista.ImageData (needs PyVista)."""
+        import pyvista
+        return pyvista.wrap(self.to_vtk())
+
+
+def _volume_args(volume, spacing, origin):
+    """A Volume's array with its spacing and origin unless given; defaults 1 and 0 for arrays."""
+    if isinstance(volume, Volume):
+        return (volume.array, volume.spacing if spacing is None else spacing,
+                volume.origin if origin is None else origin)
+    return (_np.asanyarray(volume), (1.0, 1.0, 1.0) if spacing is None else spacing,
+            (0.0, 0.0, 0.0) if origin is None else origin)
+
+
+def isosurface(volume, iso, *, spacing=None, origin=None, projection="approx", threads=0):
     """Iso-splatting of a regular volume (dissertation chapter 3): one sample per active cell,
     projected onto the trilinear isosurface ("approx": Newton steps, the default; "exact": ray
     casting within the cell; "none": the cell samples). The same points `meshless isosurface` writes
     for the same volume (in another order for a C-ordered array).
 
-    volume: 3-D array indexed [x, y, z]; spacing, origin: world units per axis. An np.memmap of a
+    volume: 3-D array indexed [x, y, z] or a Volume (read_volume; its spacing and origin unless
+    given); spacing, origin: world units per axis (default 1 and 0). An np.memmap of a
     file (modes r, r+, w+) is read slab by slab and its pages handed back as they are done, so a
     volume bigger than RAM takes a few slabs of memory. Returns a PointSet."""
-    volume = _np.asanyarray(volume)
+    volume, spacing, origin = _volume_args(volume, spacing, origin)
     # a file mapped shared (np.memmap modes r, r+, w+) streams slab by slab, its pages handed back
     # as they are done: bounded memory for volumes bigger than RAM; the same points
     shared = isinstance(volume, _np.memmap) and getattr(volume, "mode", None) in ("r", "r+", "w+", "readonly", "readwrite", "write")
@@ -236,17 +336,205 @@ def isosurface_blocks(blocks, iso, *, field="rbf-grid", samples=3, tolerance=0.0
 
     blocks: a list of (coords, values) or (coords, values, iblank): coords (ni, nj, nk, 3) world
     positions, values (ni, nj, nk), iblank (ni, nj, nk) with 0 = blanked (PLOT3D's IBLANK). Nodes with a
-    NaN/Inf are blanked too. Returns a PointSet whose `block` says which block seeded each point."""
+    NaN/Inf are blanked too. Or the Blocks of read_multiblock (an AMR hierarchy's boxes with their
+    levels and covered nodes, as `meshless isosurface` takes them). Returns a PointSet whose `block` says which block seeded each point."""
     params = _field_params(field, **field_options)
-    return PointSet(_core._isosurface_blocks(list(blocks), float(iso), params, int(samples), float(tolerance),
+    blocks = [(b.coords, b.values, b.valid, b.covered, b.level, b.cell_centred) if isinstance(b, Block) else tuple(b)
+              for b in blocks]
+    return PointSet(_core._isosurface_blocks(blocks, float(iso), params, int(samples), float(tolerance),
                                              int(max_iterations), float(max_travel), int(threads)))
 
 
-def read_points(path):
-    """The oriented points of a PLY point set (`meshless isosurface -o out.ply`, or any PLY with
-    x y z nx ny nz radius value vertices) as a PointSet; `comments` holds the PLY's comments (the
-    isovalue, the field, the bounds the command recorded)."""
-    return PointSet(_core._read_points(str(path)))
+def read_points(path, *, value="", columns="", q_component=0, level=None, error=None):
+    """A point set from any file the commands read points from, as a PointSet, through their readers
+    (dissertation chapters 4-5 inputs):
+    - an oriented PLY point set (`meshless isosurface -o out.ply`: x y z nx ny nz radius value
+      vertices): oriented points (float32), `comments` the PLY's (isovalue, field, bounds);
+    - scattered data: CSV/TSV/text, PLY, VTP, VTS, NumPy .npy, PLOT3D (.xyz/.bin + q, .p3d), a point
+      store (.mlc, every brick), a level of detail of a .mlh (level= or error=; the finest without),
+      a volume (one point per voxel): points (n, 3) and values (n,) float64 views of the reader's
+      buffers (no copy), `value_name`, `blocks`; rows with a NaN/Inf dropped (stats).
+    value, columns, q_component: as `meshless fit --value/--columns/--q-component` (the scalar by
+    name; text columns "x,y,z,value"; PLOT3D q component 0..5). DataError for a damaged file,
+    OSError for one that cannot be read."""
+    return PointSet(_core._read_point_set(str(path), str(value), str(columns), int(q_component),
+                                          None if level is None else int(level), None if error is None else float(error)))
+
+
+def read_volume(path, *, spacing=None, origin=None, series="", dims=None, dtype=None, big_endian=False, memory=None):
+    """A regular volume from any file `meshless isosurface` reads (raw name_XxYxZ_type.raw, NRRD,
+    MetaImage, VTK legacy, VTI, vtk.js, SLC, NIfTI, Voreen .dat, a DICOM folder/DICOMDIR/slice, a
+    brick store .mlb read whole), through the command's reader, as a Volume whose array is indexed
+    [x, y, z]. Samples lying raw in the file in host byte order are mapped, not read: the array is
+    the mapping, nothing copied (a compressed or converted payload is decoded once, into the array's
+    own buffer).
+
+    dims (nx, ny, nz), dtype ("uint8", "int16", "uint16", "float32"), big_endian, spacing: a raw
+    file's layout, as --dims/--type/--endian/--spacing (a file that describes itself keeps its own,
+    with a warning in `warnings`); spacing and origin given also replace what the file says in the
+    result. series: the DICOM series (Series Instance UID or its number), as --series. memory: the
+    most bytes a volume read whole may take ('2G' or an int; default the machine's memory), as
+    --memory. DataError for a damaged file, OSError for one that cannot be read or does not fit."""
+    sp = None if spacing is None else tuple(float(x) for x in spacing)
+    vol = Volume(_core._read_volume(str(path), None if dims is None else tuple(int(n) for n in dims),
+                                    None if dtype is None else _np.dtype(dtype).name, bool(big_endian), sp, str(series),
+                                    None if memory is None else _memory_bytes(memory)))
+    if sp is not None:
+        if len(sp) != 3 or not all(_np.isfinite(sp)) or min(sp) <= 0:
+            raise ValueError("spacing: expected three numbers > 0")
+        vol.spacing = sp
+    if origin is not None:
+        org = tuple(float(x) for x in origin)
+        if len(org) != 3 or not all(_np.isfinite(org)):
+            raise ValueError("origin: expected three finite numbers")
+        vol.origin = org
+    return vol
+
+
+class Block:
+    """One curvilinear block or AMR box of read_multiblock (dissertation chapter 4), i fastest:
+    coords (ni, nj, nk, 3) and values (ni, nj, nk) float64 views of the reader's lattice (no copy),
+    valid (ni, nj, nk) uint8 or None (0: IBLANK 0 or a NaN/Inf node), covered (uint8 or None: AMR
+    nodes a finer level covers), name, level (AMR), cell_centred. A Block unpacks as
+    (coords, values, valid); isosurface_blocks takes it whole."""
+
+    __slots__ = ("coords", "values", "valid", "covered", "name", "level", "cell_centred")
+
+    def __init__(self, d):
+        for k in Block.__slots__:
+            setattr(self, k, d[k])
+
+    def __iter__(self):
+        return iter((self.coords, self.values, self.valid))
+
+    def __len__(self):
+        return 3
+
+    def __getitem__(self, i):
+        return (self.coords, self.values, self.valid)[i]
+
+    def __repr__(self):
+        return "meshless.Block(%r, %s)" % (self.name, "x".join(map(str, self.values.shape)))
+
+
+class Multiblock(list):
+    """The blocks of read_multiblock (a list of Block), with value_name, format ("plot3d", "vts",
+    "vtm", "vthb", "vtm-amr", "volume"), notes and stats (blanked, nonfinite, covered nodes)."""
+
+    def __init__(self, d, blocks=()):
+        super().__init__([Block(b) for b in d["blocks"]] + [Block(b) for b in blocks])
+        self.value_name, self.format = d["value_name"], d["format"]
+        self.notes, self.stats = list(d["notes"]), dict(d["stats"])
+
+
+def _vtk_point_array(data, name):
+    """A point-data array of a VTK dataset as NumPy (a view of VTK's buffer), by name or the active
+    scalars, else the first array; None when there is none."""
+    from vtkmodules.util import numpy_support as ns
+    pd = data.GetPointData()
+    arr = pd.GetArray(name) if name else (pd.GetScalars() or (pd.GetArray(0) if pd.GetNumberOfArrays() else None))
+    if name and arr is None:
+        raise ValueError("from_vtk: the dataset has no point array named %r" % (name,))
+    if arr is None:
+        return None, ""
+    a = ns.vtk_to_numpy(arr)
+    if a.ndim != 1:
+        raise ValueError("from_vtk: point array %r has %d components; give array= a scalar one" % (arr.GetName(), a.shape[1]))
+    return a, arr.GetName() or ""
+
+
+def _vtk_block(grid, name, array):
+    """A vtkStructuredGrid as a Block: coords and values are views of VTK's buffers (i fastest)."""
+    from vtkmodules.util import numpy_support as ns
+    ni, nj, nk = grid.GetDimensions()
+    pts = ns.vtk_to_numpy(grid.GetPoints().GetData()).astype(_np.float64, copy=False)
+    vals, _ = _vtk_point_array(grid, array)
+    if vals is None:
+        raise ValueError("from_vtk: structured grid %r has no point scalars" % (name,))
+    ghosts = grid.GetPointData().GetArray("vtkGhostType")
+    valid = None
+    if ghosts is not None:  # HIDDENPOINT (2): VTK's blanking, PLOT3D's IBLANK 0
+        valid = ((ns.vtk_to_numpy(ghosts) & 2) == 0).astype(_np.uint8).reshape(nk, nj, ni).T
+    return {"coords": pts.reshape(nk, nj, ni, 3).transpose(2, 1, 0, 3),
+            "values": vals.astype(_np.float64, copy=False).reshape(nk, nj, ni).T, "valid": valid, "covered": None,
+            "name": name, "level": 0, "cell_centred": False}
+
+
+def from_vtk(obj, *, array=None):
+    """A VTK or PyVista dataset as the module's objects, through VTK's buffers (vtk.util.numpy_support:
+    no copy where the dtype already fits):
+    - vtkImageData (pyvista.ImageData/UniformGrid) -> Volume: the point scalars (or `array`) as an
+      [x, y, z] Fortran-ordered view of VTK's buffer (uint8, int16, uint16, float32 in place, other
+      types converted once by isosurface()), spacing, origin (a direction matrix is not applied);
+    - vtkPolyData (pyvista.PolyData) -> PointSet: with `Normals` and a `radius` array (what
+      PointSet.to_vtk() and `meshless isosurface -o x.vtp` make), oriented points whose arrays are
+      views of VTK's (float32); otherwise scattered data, points (n, 3) and the point scalars (or
+      `array`) as values, float64;
+    - vtkStructuredGrid -> Multiblock of one Block (coords (ni, nj, nk, 3), values, valid from the
+      ghost array's hidden points: VTK's blanking);
+    - vtkMultiBlockDataSet -> Multiblock of its structured grids (nested sets flattened, in order).
+    The returned arrays keep the VTK arrays alive. Needs VTK's Python module (python3-vtk9): the
+    meshless module itself imports without it. ValueError for other datasets."""
+    from vtkmodules.util import numpy_support as ns
+    from vtkmodules.vtkCommonDataModel import vtkImageData, vtkMultiBlockDataSet, vtkPolyData, vtkStructuredGrid
+
+    if isinstance(obj, vtkImageData):
+        nx, ny, nz = obj.GetDimensions()
+        vals, _ = _vtk_point_array(obj, array)
+        if vals is None:
+            raise ValueError("from_vtk: the image data has no point scalars")
+        return Volume({"array": vals.reshape(nz, ny, nx).T, "spacing": obj.GetSpacing(), "origin": obj.GetOrigin(),
+                       "format": "vtk"})
+    if isinstance(obj, vtkPolyData):
+        pd = obj.GetPointData()
+        n = obj.GetNumberOfPoints()
+        pts = ns.vtk_to_numpy(obj.GetPoints().GetData()) if n else _np.zeros((0, 3))
+        normals, radius = pd.GetNormals(), pd.GetArray("radius")
+        if normals is not None and radius is not None and array is None:
+            value = pd.GetArray("value")
+            d = {"points": pts.astype(_np.float32, copy=False),
+                 "normals": ns.vtk_to_numpy(normals).astype(_np.float32, copy=False),
+                 "radius": ns.vtk_to_numpy(radius).astype(_np.float32, copy=False),
+                 "values": (ns.vtk_to_numpy(value) if value is not None else _np.zeros(n)).astype(_np.float32, copy=False)}
+            block = pd.GetArray("block")
+            if block is not None:
+                d["block"] = ns.vtk_to_numpy(block).astype(_np.uint32, copy=False)
+            return PointSet(d)
+        vals, name = _vtk_point_array(obj, array)
+        return PointSet({"points": pts.astype(_np.float64, copy=False),
+                         "values": _np.zeros(n) if vals is None else vals.astype(_np.float64, copy=False),
+                         "value_name": name, "has_values": vals is not None})
+    if isinstance(obj, vtkStructuredGrid):
+        return Multiblock({"blocks": [], "value_name": "", "format": "vtk", "notes": [], "stats": {}},
+                          [_vtk_block(obj, "block 0", array)])
+    if isinstance(obj, vtkMultiBlockDataSet):
+        blocks = []
+
+        def walk(mb, prefix):
+            for i in range(mb.GetNumberOfBlocks()):
+                b = mb.GetBlock(i)
+                name = prefix + str(i)
+                if isinstance(b, vtkMultiBlockDataSet):
+                    walk(b, name + ".")
+                elif isinstance(b, vtkStructuredGrid):
+                    blocks.append(_vtk_block(b, "block " + name, array))
+                elif b is not None:
+                    raise ValueError("from_vtk: block %s is a %s; blocks are vtkStructuredGrid" % (name, b.GetClassName()))
+        walk(obj, "")
+        return Multiblock({"blocks": [], "value_name": "", "format": "vtk", "notes": [], "stats": {}}, blocks)
+    raise ValueError("from_vtk: expected vtkImageData, vtkPolyData, vtkStructuredGrid or vtkMultiBlockDataSet (or their "
+                     "PyVista wrappers), got %s" % type(obj).__name__)
+
+
+def read_multiblock(paths, *, value="", q_component=0):
+    """Multiblock grids and AMR hierarchies with their blocks kept (dissertation chapter 4), through
+    the reader of `meshless isosurface BLOCKS` and `meshless mc BLOCKS`: PLOT3D (.xyz/.x/.g/.bin with
+    its q file, .p3d), VTK XML .vts/.vti/.vtr, .vtm, .vthb and older AMR .vtm; several files give
+    their blocks in order. value, q_component: the scalar, as --value/--q-component. Returns a
+    Multiblock, a list of Block, which isosurface_blocks takes as it is."""
+    if isinstance(paths, (str, bytes)) or hasattr(paths, "__fspath__"):
+        paths = [paths]
+    return Multiblock(_core._read_multiblock([str(p) for p in paths], str(value), int(q_component)))
 
 
 def info(path, *, value_range=False):
@@ -258,12 +546,13 @@ def info(path, *, value_range=False):
     return _core._info(str(path), bool(value_range))
 
 
-def mc(volume, iso, *, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), threads=0):
+def mc(volume, iso, *, spacing=None, origin=None, threads=0):
     """The marching-cubes mesh of a volume (the triangle baseline, `meshless mc`): (vertices (n, 3)
     float32, faces (m, 3) uint32, normals (n, 3) float32). Normals point toward decreasing values and
     faces wind counter-clockwise seen from the normal side, as in VTK and scikit-image's
     marching_cubes(..., gradient_direction="descent")."""
-    return _core._mc(_np.asanyarray(volume), float(iso), spacing, origin, int(threads))
+    volume, spacing, origin = _volume_args(volume, spacing, origin)
+    return _core._mc(volume, float(iso), spacing, origin, int(threads))
 
 
 class Image:
@@ -340,7 +629,7 @@ def _memory_bytes(memory):
     return n
 
 
-def render(source, *, points=None, values=None, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), tf="grey",
+def render(source, *, points=None, values=None, spacing=None, origin=None, tf="grey",
            range=None, step=None, ref_step=None, bounds=None, shade=False, no_skip=False, background=(0.0, 0.0, 0.0),
            size=(512, 512), azimuth=None, elevation=None, up=None, view=None, zoom=1.0, ortho=False, memory="256M",
            threads=0):
@@ -373,10 +662,13 @@ def render(source, *, points=None, values=None, spacing=(1.0, 1.0, 1.0), origin=
     if points is not None or values is not None:
         raise ValueError("points= and values= go with a Field; a volume or store carries its own samples")
     if isinstance(source, Store):
+        if source.kind != "brick":
+            raise ValueError("render: %s is a %s store; render ray casts a brick store (.mlb)" % (source.path, source.kind))
         return Image(_core._render_store(source.path, memory, cam, opts))
     if isinstance(source, (str, bytes)) or hasattr(source, "__fspath__"):
         raise ValueError("render: give a volume array, a Store (meshless.open_store) or a Field, not a path")
-    return Image(_core._render_volume(_np.asanyarray(source), spacing, origin, cam, opts))
+    source, spacing, origin = _volume_args(source, spacing, origin)
+    return Image(_core._render_volume(source, spacing, origin, cam, opts))
 
 
 def splat(source, *, size=(800, 800), azimuth=None, elevation=None, up=None, view=None, zoom=1.0, ortho=False,
@@ -423,7 +715,9 @@ class ClusterTree:
         self._t = tree
 
     def lod(self, *, level=None, error=None):
-        return PointSet(self._t._lod(None if level is None else int(level), None if error is None else float(error)))
+        arrays = self._t._lod(None if level is None else int(level), None if error is None else float(error))
+        arrays.setdefault("value_name", self.value_name)
+        return PointSet(arrays)
 
     def save(self, path):
         self._t._save(str(path))
@@ -467,12 +761,18 @@ def hierarchy(points, values=None, *, max_splits=None, max_error=0.0, min_cluste
 
 
 class Store:
-    """A brick store (.mlb, `meshless convert VOLUME -o vol.mlb`; dissertation section 3.6: Morton-
-    ordered zstd bricks with a value-range index), opened by open_store(path).
+    """A store opened by open_store(path) (dissertation section 3.6 and chapter 5 out of core):
+    kind "brick": a brick store (.mlb, `meshless convert VOLUME -o vol.mlb`: Morton-ordered zstd
+    bricks with a value-range index); "sample": a sample store (.mls, `meshless convert vol.mlb -o
+    vol.mls`: paradigm (A), a span-space index of the cells over its .mlb); "point": a point store
+    (.mlc, `meshless convert POINTS -o pts.mlc`: scattered points in Morton-ordered bricks).
 
-    Attributes: path, dims (nx, ny, nz), spacing, origin (world units), value_range, dtype.
-    isosurface(iso, ...) runs `meshless isosurface vol.mlb --iso V` over the bricks the isosurface
-    crosses and yields its points batch by batch; render(store, ...) ray casts it."""
+    Attributes: path, kind, value_range; brick and sample stores: dims (nx, ny, nz), spacing, origin
+    (world units), dtype; point stores: count, brick_count, bounds ((lo), (hi)), value_name.
+    info(): the report of `meshless info STORE`.
+    isosurface(iso, ...) yields the isosurface's points batch by batch, what `meshless isosurface
+    STORE --iso V` writes, in its order; bricks() (point stores) yields each brick's points;
+    render(store, ...) ray casts a brick store."""
 
     __slots__ = ("_s",)
 
@@ -480,39 +780,79 @@ class Store:
         self._s = s
 
     path = property(lambda self: self._s.path)
-    dims = property(lambda self: self._s.dims)
-    spacing = property(lambda self: self._s.spacing)
-    origin = property(lambda self: self._s.origin)
+    kind = property(lambda self: self._s.kind)
+    dims = property(lambda self: self._s.dims if self._s.kind != "point" else None)
+    spacing = property(lambda self: self._s.spacing if self._s.kind != "point" else None)
+    origin = property(lambda self: self._s.origin if self._s.kind != "point" else None)
     value_range = property(lambda self: self._s.value_range)
-    dtype = property(lambda self: self._s.dtype)
+    dtype = property(lambda self: self._s.dtype if self._s.kind != "point" else "float64")
+    count = property(lambda self: self._s.count if self._s.kind == "point" else None)
+    brick_count = property(lambda self: self._s.brick_count if self._s.kind == "point" else None)
+    bounds = property(lambda self: self._s.bounds if self._s.kind == "point" else None)
+    value_name = property(lambda self: self._s.value_name if self._s.kind == "point" else "")
 
-    def isosurface(self, iso, *, projection="approx", memory="256M", threads=0):
-        """A generator of PointSets, the isosurface's points batch by batch (chapter 3 over the store's
-        active bricks, read through a brick cache of `memory` bytes: '256M', '1G' or an int). Their
-        concatenation is what `meshless isosurface STORE --iso V` writes, in its order, for any
-        `threads`. Memory stays the cache, the batches in flight and at most 4 finished batches,
-        whatever the store's size; the graph runs on its own threads, the GIL released, and stops
-        when the generator is closed or dropped. A damaged brick raises DataError at the batch it is
-        met, after those before it."""
+    def info(self):
+        """The report `meshless info STORE` prints (the same bytes)."""
+        return info(self.path)
+
+    def isosurface(self, iso, *, projection="approx", memory="256M", threads=0, field="mpu", samples=2, reg_gap=4.0,
+                   max_cells=20_000_000, max_level=10, tolerance=0.01, max_iterations=20, max_travel=2.0,
+                   **field_options):
+        """A generator of PointSets, the isosurface's points batch by batch; their concatenation is
+        what `meshless isosurface STORE --iso V` writes, in its order, for any `threads`.
+
+        Brick store: chapter 3 over the active bricks, read through a brick cache of `memory` bytes
+        ('256M', '1G' or an int); sample store: paradigm (A) (section 3.5), the candidate rows of its
+        span-space index recomputed from its .mlb (the .mlb's points); projection as isosurface().
+        Point store: chapter 5 slab by slab (the mpu field, max_travel > 0), the store's points and
+        their field within `memory` ('1G' as `--memory 1G`); samples, reg_gap, max_cells,
+        max_level, tolerance, max_iterations, max_travel and the field options as
+        isosurface_points(); warnings of the plan in the generator's first PointSet.
+        Memory stays the store's budget, the batches in flight and at most 4 finished batches; the
+        graph runs on its own threads, the GIL released, and stops when the generator is closed or
+        dropped. A damaged brick raises DataError at the batch it is met, after those before it."""
         # started here, so that bad options and a damaged header raise at the call
+        if self.kind == "point":
+            if projection != "approx":
+                raise ValueError("projection: a point store's points are projected onto its field (Newton)")
+            warnings = []
+            run = self._s._point_isosurface(float(iso), _field_params(field, **field_options), int(samples),
+                                            float(reg_gap), int(max_cells), int(max_level), float(tolerance),
+                                            int(max_iterations), float(max_travel), _memory_bytes(memory), int(threads),
+                                            warnings)
+            return _batches(run, warnings)
+        if field != "mpu" or field_options:
+            raise ValueError("field options apply to a point store (.mlc); %s is a %s store" % (self.path, self.kind))
         return _batches(self._s._isosurface(float(iso), str(projection), _memory_bytes(memory), int(threads)))
 
+    def bricks(self):
+        """A point store's bricks, one PointSet each (points (count, 3), values (count,) float64 views
+        of the decoded brick; stats: brick, level, key, first, bounds), in the store's Morton order:
+        their concatenation is read_points(STORE). One brick in memory at a time."""
+        if self.kind != "point":
+            raise ValueError("bricks: %s is a %s store; bricks() reads a point store's (.mlc)" % (self.path, self.kind))
+        return (PointSet(self._s._brick(i)) for i in range(self._s.brick_count))
+
     def __repr__(self):
-        return "meshless.Store(%r, dims=%s)" % (self.path, self.dims)
+        if self.kind == "point":
+            return "meshless.Store(%r, point store, %d points)" % (self.path, self.count)
+        return "meshless.Store(%r, %s store, dims=%s)" % (self.path, self.kind, self.dims)
 
 
-def _batches(run):
+def _batches(run, warnings=()):
     try:
         while True:
             arrays = run._next()
             if arrays is None:
                 return
+            if warnings:
+                arrays["warnings"], warnings = list(warnings), ()
             yield PointSet(arrays)
     finally:
         run._stop()
 
 
 def open_store(path):
-    """Opens a brick store (.mlb): DataError when the file is not one or is damaged, OSError when it
-    cannot be read. Returns a Store."""
+    """Opens a brick store (.mlb), a sample store (.mls) or a point store (.mlc), by content: DataError
+    when the file is none of them or is damaged, OSError when it cannot be read. Returns a Store."""
     return Store(_core._Store._open(str(path)))

@@ -1,7 +1,8 @@
 // The isosurfaces of the Python module (python/README.md): chapter 3 on a NumPy volume
 // (stream/isosplat_pipeline.hpp), chapter 4 on curvilinear blocks (stream/block_isosurface.hpp),
 // chapter 5 on scattered points (stream/scattered_isosurface.hpp). Each runs the recipe a CLI
-// command runs, into a CollectSink, with the GIL released.
+// command runs, into a CollectSink, with the GIL released; Ctrl-C stops it at its next batch
+// (interrupt.hpp).
 #include <pybind11/stl.h>
 
 #include <cmath>
@@ -14,6 +15,8 @@
 #include "bindings.hpp"
 #include "point_arrays.hpp"
 #include "field_object.hpp"
+#include "interrupt.hpp"
+#include "iso_params.hpp"
 #include "kernels/barycentric_lattice.hpp"
 #include "stream/block_isosurface.hpp"
 #include "stream/field_evaluation.hpp"
@@ -26,49 +29,23 @@ namespace meshless::python {
 
 namespace {
 
-Projection projection_of(const std::string& s) {
-    if (s == "approx") return Projection::approx;
-    if (s == "exact") return Projection::exact;
-    if (s == "none") return Projection::none;
-    throw py::value_error("projection: expected 'approx', 'exact' or 'none', got '" + s + "'");
-}
-
-double finite_iso(double iso) {
-    if (!std::isfinite(iso)) throw py::value_error("iso: expected a finite number");
-    return iso;
-}
-
-FieldProjectParams newton_params(double tolerance, int max_iterations, double max_travel) {
-    if (!(tolerance > 0) || tolerance > 1) throw py::value_error("tolerance: expected a fraction of the cell diagonal in (0, 1]");
-    if (max_iterations < 1 || max_iterations > 1000) throw py::value_error("max_iterations: expected 1..1000");
-    if (!(max_travel >= 0)) throw py::value_error("max_travel: expected a number of cell diagonals >= 0 (0: no limit)");
-    FieldProjectParams p;
-    p.seed_tolerance = tolerance;
-    p.newton.max_iterations = max_iterations;
-    p.seed_max_travel = max_travel == 0 ? std::numeric_limits<double>::infinity() : max_travel;
-    return p;
-}
-
-int lattice(int samples) {
-    if (samples < 1 || samples > kMaxLatticeN) throw py::value_error("samples: expected 1.." + std::to_string(kMaxLatticeN));
-    return samples;
-}
-
 py::dict isosurface_volume(const py::array& volume, double iso, const py::object& spacing, const py::object& origin,
                            const std::string& projection, int threads, bool shared_mapping) {
     const VolumeArray v = volume_view(volume, triple(spacing, "spacing"), triple(origin, "origin"));
     const Projection mode = projection_of(projection);
+    const double level = finite_iso(iso);
+    const bool slabs = shared_mapping && v.keep.is(volume);  // a file mapped shared, used in place: slab by slab
     CollectSink sink;
     IsoSplatResult r;
-    {
-        py::gil_scoped_release free;
-        if (shared_mapping && v.keep.is(volume)) {  // a file mapped shared, used in place: slab by slab
+    run_interruptible([&](const std::atomic<bool>& stop) {
+        StopSink guarded(sink, stop);
+        if (slabs) {
             ArraySlices slices(v.view, /*release_pages=*/true);
-            r = run_isosplat_slabs(slices, finite_iso(iso), mode, SamplingParams{}, sink, {threads});
+            r = run_isosplat_slabs(slices, level, mode, SamplingParams{}, guarded, {threads});
         } else {
-            r = run_isosplat(v.view, finite_iso(iso), mode, SamplingParams{}, sink, {threads});
+            r = run_isosplat(v.view, level, mode, SamplingParams{}, guarded, {threads});
         }
-    }
+    });
     py::dict out = point_arrays(std::move(sink.points), nullptr, v.axes_swapped);
     out["stats"] = py::dict(py::arg("active_cells") = r.sampling.active_cells, py::arg("nonfinite_cells") = r.sampling.nonfinite_cells,
                             py::arg("too_far") = r.projection.too_far, py::arg("flat") = r.projection.flat,
@@ -102,11 +79,11 @@ py::dict isosurface_points(const py::array& points, const py::array& values, dou
     std::vector<PointRecord> records;
     ScatteredIsosurfaceStats st;
     std::unique_ptr<Field> built;
-    {
-        py::gil_scoped_release free;
+    const double level = finite_iso(iso);
+    run_interruptible([&](const std::atomic<bool>& stop) {
         ScatteredIsosurfaceInput in = bin_scattered_points(std::move(pts), "points", "points", bp, reg_gap,
                                                            [&](const std::string& s, const std::string& w) { said.emplace_back(s, w); });
-        const bool crossed = in.crosses(finite_iso(iso));
+        const bool crossed = in.crosses(level);
         const Field* field = given ? given->field.get() : nullptr;
         if (crossed) {
             build_alongside_coverage(in, threads, [&] {
@@ -114,10 +91,12 @@ py::dict isosurface_points(const py::array& points, const py::array& values, dou
             });
             if (!given) field = built.get();
         }
+        if (stop) throw Stopped{};
         CollectSink sink;
-        st = run_scattered_isosurface(in, crossed ? field : nullptr, iso, n, np, 0, nullptr, sink, {threads});
+        StopSink guarded(sink, stop);
+        st = run_scattered_isosurface(in, crossed ? field : nullptr, iso, n, np, 0, nullptr, guarded, {threads});
         records = std::move(sink.points);
-    }
+    });
     for (const auto& [s, w] : said) warnings.append(s + ": " + w);
     py::dict out = point_arrays(std::move(records));
     out["stats"] = py::dict(py::arg("stencils") = st.seeds.stencils, py::arg("crossed_stencils") = st.seeds.crossed_stencils,
@@ -127,11 +106,14 @@ py::dict isosurface_points(const py::array& points, const py::array& values, dou
     return out;
 }
 
-/// One block: (coords (ni, nj, nk, 3), values (ni, nj, nk)[, iblank (ni, nj, nk), 0 = blanked]).
+/// One block: (coords (ni, nj, nk, 3), values (ni, nj, nk)[, iblank (ni, nj, nk), 0 = blanked
+/// [, covered (ni, nj, nk) or None, level, cell_centred]]): the last three are an AMR box's, as
+/// read_multiblock reads them (kernels/structured_block.hpp).
 StructuredBlock block_of(const py::handle& item, std::size_t index) {
     const auto t = item.cast<py::tuple>();
     const std::string what = "blocks[" + std::to_string(index) + "]";
-    if (t.size() < 2 || t.size() > 3) throw py::value_error(what + ": expected (coords, values) or (coords, values, iblank)");
+    if (t.size() < 2 || t.size() == 4 || t.size() == 5 || t.size() > 6)
+        throw py::value_error(what + ": expected (coords, values), (coords, values, iblank) or a Block of read_multiblock");
     auto xyz = py::array_t<double, py::array::forcecast>::ensure(t[0]);
     if (!xyz || xyz.ndim() != 4 || xyz.shape(3) != 3) throw py::value_error(what + ": coords must be an (ni, nj, nk, 3) array");
     auto val = py::array_t<double, py::array::forcecast>::ensure(t[1]);
@@ -166,6 +148,21 @@ StructuredBlock block_of(const py::handle& item, std::size_t index) {
                 if (!ok) valid[n] = 0, any_invalid = true;
             }
     if (any_invalid) b.valid = std::move(valid);
+    if (t.size() == 6) {  // an AMR box: the nodes a finer level covers, its level, cell centres
+        if (!t[3].is_none()) {
+            const auto cov = py::array_t<std::uint8_t, py::array::forcecast>::ensure(t[3]);
+            if (!cov || cov.ndim() != 3 || cov.shape(0) != val.shape(0) || cov.shape(1) != val.shape(1) || cov.shape(2) != val.shape(2))
+                throw py::value_error(what + ": covered must be an (ni, nj, nk) array matching values");
+            const auto c3 = cov.unchecked<3>();
+            b.covered.assign(count, 0);
+            for (py::ssize_t k = 0; k < val.shape(2); ++k)
+                for (py::ssize_t j = 0; j < val.shape(1); ++j)
+                    for (py::ssize_t i = 0; i < val.shape(0); ++i) b.covered[static_cast<std::size_t>(b.index(i, j, k))] = c3(i, j, k) ? 1 : 0;
+        }
+        b.level = t[4].cast<int>();
+        if (b.level < 0) throw py::value_error(what + ": level must be >= 0");
+        b.cell_centred = t[5].cast<bool>();
+    }
     return b;
 }
 
@@ -180,16 +177,18 @@ py::dict isosurface_blocks(const py::list& blocks, double iso, const FieldParams
     std::vector<PointRecord> records;
     std::vector<std::uint32_t> ids;
     BlockIsosurfaceStats st;
-    {
-        py::gil_scoped_release free;
-        const BlockIsosurfaceInput in = plan_block_isosurface(std::move(mb), "blocks", finite_iso(iso));
+    const double level = finite_iso(iso);
+    run_interruptible([&](const std::atomic<bool>& stop) {
+        const BlockIsosurfaceInput in = plan_block_isosurface(std::move(mb), "blocks", level);
         std::unique_ptr<Field> field;
         if (in.plan.active_cells > 0) field = fit_field(to_point_set(in.mb), params, threads);
+        if (stop) throw Stopped{};
         CollectSink sink;
-        st = run_block_isosurface(in, field.get(), iso, n, np, nullptr, sink, {threads});
+        StopSink guarded(sink, stop);
+        st = run_block_isosurface(in, field.get(), iso, n, np, nullptr, guarded, {threads});
         records = std::move(sink.points);
         ids = std::move(sink.blocks);
-    }
+    });
     if (ids.size() != records.size()) ids.assign(records.size(), 0);
     py::dict out = point_arrays(std::move(records), &ids);
     out["stats"] = py::dict(py::arg("cells") = st.seeds.cells, py::arg("active_cells") = st.seeds.active_cells,

@@ -1,15 +1,22 @@
-// Brick stores in the Python module (python/README.md): meshless.open_store opens a .mlb (`meshless
-// convert VOLUME -o vol.mlb`, ooc/brick_store.hpp) through stream/volume_input.hpp, the one place a
-// volume input is opened; Store.isosurface runs the chapter-3 graph over its active bricks
-// (stream/volume_input.hpp run_isosplat_input, what `meshless isosurface vol.mlb` runs) and hands
-// the points out batch by batch, in the order the command writes them, to a Python generator.
-// Threads: the graph runs on a thread of its own (and its workers) with the GIL released; it
-// delivers each batch's points into a queue of at most kQueued batches and waits while the queue is
-// full, so memory stays the brick cache (`memory`), the batches in flight and those queued, whatever
-// the store's size. The generator takes them with the GIL released while it waits. Closing the
-// generator early (or dropping it) stops the graph at its next batch and joins the thread.
-// Errors of the graph (a damaged brick: DataError; a read failure: OSError) are raised by the
-// generator's next step, after the batches before them.
+// Stores in the Python module (python/README.md), opened by meshless.open_store:
+// - a brick store (.mlb, `meshless convert VOLUME -o vol.mlb`, ooc/brick_store.hpp) through
+//   stream/volume_input.hpp, the one place a volume input is opened; its isosurface is the chapter-3
+//   graph over its active bricks (run_isosplat_input, what `meshless isosurface vol.mlb` runs);
+// - a sample store (.mls, `meshless convert vol.mlb -o vol.mls`, ooc/sample_store.hpp): paradigm (A)
+//   of section 3.5, its candidate rows from the span-space index (stream/sample_store_source.hpp,
+//   run_isosplat_sample_store, what `meshless isosurface vol.mls` runs: the .mlb's points);
+// - a point store (.mlc, `meshless convert POINTS -o pts.mlc`, formats/point_store.hpp): its bricks
+//   one by one (bricks()), and the scattered isosurface of chapter 5 slab by slab within a memory
+//   budget (stream/scattered_store_isosurface.hpp plan_scattered_store and
+//   run_scattered_store_isosurface, the recipe `meshless isosurface pts.mlc --memory M` runs).
+// Isosurfaces are handed out batch by batch, in the order the command writes them, to a Python
+// generator. Threads: the graph runs on a thread of its own (and its workers) with the GIL
+// released; it delivers each batch's points into a queue of at most kQueued batches and waits while
+// the queue is full, so memory stays the store's budget (brick cache, slab), the batches in flight
+// and those queued, whatever the store's size. The generator takes them with the GIL released while
+// it waits. Closing the generator early (or dropping it) stops the graph at its next batch and joins
+// the thread. Errors of the graph (a damaged brick: DataError; a read failure: OSError) are raised
+// by the generator's next step, after the batches before them.
 #include <pybind11/stl.h>
 
 #include <condition_variable>
@@ -24,8 +31,13 @@
 #include "bindings.hpp"
 #include "point_arrays.hpp"
 #include "kernels/errors.hpp"
+#include "formats/point_store.hpp"
+#include "iso_params.hpp"
 #include "ooc/brick_store.hpp"
+#include "ooc/sample_store.hpp"
 #include "stream/available_cpus.hpp"
+#include "stream/sample_store_source.hpp"
+#include "stream/scattered_store_isosurface.hpp"
 #include "stream/stage.hpp"
 #include "stream/volume_input.hpp"
 
@@ -33,22 +45,43 @@ namespace meshless::python {
 
 namespace {
 
-/// An open brick store: its path and what its header says.
+enum class StoreKind { brick, sample, point };
+
+/// An open store: its path and what its header says.
 struct StoreObject {
     std::string path;
-    GridSpec grid;
+    StoreKind kind = StoreKind::brick;
+    GridSpec grid;                       ///< brick and sample stores
     std::array<double, 2> range{0, 0};
     SampleType type = SampleType::u8;
+    PointStoreInfo points;               ///< point stores
+    std::shared_ptr<const PointStore> point_store;
 };
 
 std::unique_ptr<StoreObject> open_store(const std::string& path) {
     auto s = std::make_unique<StoreObject>();
     s->path = path;
     py::gil_scoped_release free;
+    if (is_sample_store(path)) {
+        const auto st = SampleStore::open(path);
+        s->kind = StoreKind::sample;
+        s->grid = st->info().grid;
+        s->type = st->info().type;
+        s->range = {st->info().value_lo, st->info().value_hi};
+        return s;
+    }
+    if (is_point_store(path)) {
+        s->kind = StoreKind::point;
+        s->point_store = PointStore::open(path);
+        s->points = s->point_store->info();
+        s->range = {s->points.value_min, s->points.value_max};
+        return s;
+    }
     if (!is_brick_store(path)) {
         std::error_code ec;
         if (!std::filesystem::exists(path, ec)) throw IoError(path + ": cannot open: no such file");
-        throw FormatError(path + ": not a brick store (.mlb; meshless convert VOLUME -o vol.mlb makes one)");
+        throw FormatError(path + ": not a store (a brick store .mlb, sample store .mls or point store .mlc; "
+                                 "meshless convert makes them)");
     }
     VolumeOpenOptions o;
     o.memory = std::uint64_t{16} << 20;  // the header and index only
@@ -67,21 +100,19 @@ class StoreIsosurface {
 public:
     static constexpr std::size_t kQueued = 4;
 
-    StoreIsosurface(const StoreObject& s, double iso, Projection mode, std::uint64_t memory, int threads) {
-        VolumeOpenOptions o;
-        o.memory = memory;
-        o.stream = true;
-        o.threads = threads;
-        {
-            py::gil_scoped_release free;
-            in_ = std::make_unique<VolumeInput>(open_volume_input(s.path, o));  // a damaged header fails here, at the call
-        }
-        worker_ = std::thread([this, iso, mode, threads] {
+    /// What a run counted, by name.
+    using Counts = std::vector<std::pair<std::string, double>>;
+    /// The graph, run on the worker into the sink; fills the counts.
+    using Run = std::function<void(Sink&, Counts&)>;
+
+    explicit StoreIsosurface(Run run) : run_(std::move(run)) {
+        worker_ = std::thread([this] {
             try {
                 QueueSink sink(*this);
-                const IsoSplatResult r = run_isosplat_input(*in_, iso, mode, SamplingParams{}, sink, threads, PipelineShape::fused);
+                Counts c;
+                run_(sink, c);
                 const std::lock_guard<std::mutex> lock(m_);
-                result_ = r;
+                counts_ = std::move(c);
             } catch (const Cancelled&) {
             } catch (...) {
                 const std::lock_guard<std::mutex> lock(m_);
@@ -125,9 +156,10 @@ public:
     /// What the run counted (complete once the generator is exhausted).
     py::dict stats() const {
         const std::lock_guard<std::mutex> lock(m_);
-        return py::dict(py::arg("active_cells") = result_.sampling.active_cells, py::arg("too_far") = result_.projection.too_far,
-                        py::arg("flat") = result_.projection.flat, py::arg("missed") = result_.projection.missed,
-                        py::arg("seconds") = result_.seconds, py::arg("done") = done_);
+        py::dict d;
+        for (const auto& [name, value] : counts_) d[py::str(name)] = value;
+        d["done"] = done_;
+        return d;
     }
 
     /// Stops the graph (at its next batch) and joins its thread; the queued batches are dropped.
@@ -163,27 +195,130 @@ private:
         if (worker_.joinable()) worker_.join();
     }
 
-    std::unique_ptr<VolumeInput> in_;
+    Run run_;
     std::thread worker_;
     mutable std::mutex m_;
     std::condition_variable cv_;
     std::deque<std::vector<PointRecord>> queue_;
     bool done_ = false, cancelled_ = false, finished_ = false;
     std::exception_ptr error_;
-    IsoSplatResult result_;
+    Counts counts_;
 };
 
-std::unique_ptr<StoreIsosurface> store_isosurface(const StoreObject& s, double iso, const std::string& projection,
-                                                  std::uint64_t memory, int threads) {
-    if (!std::isfinite(iso)) throw py::value_error("iso: expected a finite number");
-    Projection mode;
-    if (projection == "approx") mode = Projection::approx;
-    else if (projection == "exact") mode = Projection::exact;
-    else if (projection == "none") mode = Projection::none;
-    else throw py::value_error("projection: expected 'approx', 'exact' or 'none', got '" + projection + "'");
+StoreIsosurface::Counts isosplat_counts(const IsoSplatResult& r) {
+    return {{"active_cells", static_cast<double>(r.sampling.active_cells)}, {"too_far", static_cast<double>(r.projection.too_far)},
+            {"flat", static_cast<double>(r.projection.flat)}, {"missed", static_cast<double>(r.projection.missed)},
+            {"seconds", r.seconds}};
+}
+
+/// The isosurface of a brick or sample store (chapter 3); damage to a header or to the candidate
+/// buckets fails here, at the call.
+std::unique_ptr<StoreIsosurface> volume_store_isosurface(const StoreObject& s, double iso, const std::string& projection,
+                                                         std::uint64_t memory, int threads) {
+    if (s.kind == StoreKind::point) throw py::value_error(s.path + ": a point store's isosurface takes the scattered options (field, samples, ...)");
+    const double level = finite_iso(iso);
+    const Projection mode = projection_of(projection);
     if (memory < (std::uint64_t{1} << 20)) throw py::value_error("memory: expected at least 1M (the brick cache's budget)");
     if (threads < 0 || threads > 1024) throw py::value_error("threads: expected 0..1024 (0: every CPU this process may use)");
-    return std::make_unique<StoreIsosurface>(s, iso, mode, memory, threads == 0 ? available_cpus() : threads);
+    const int n = threads == 0 ? available_cpus() : threads;
+    py::gil_scoped_release free;
+    if (s.kind == StoreKind::sample) {
+        std::shared_ptr<const SampleStore> store = SampleStore::open(s.path);
+        auto source = std::make_shared<SampleStoreSource>(*store, level, SamplingParams{});  // reads the candidate buckets
+        return std::make_unique<StoreIsosurface>([store, source, level, mode, n](Sink& sink, StoreIsosurface::Counts& c) {
+            const IsoSplatResult r = run_isosplat_sample_store(*source, level, mode, sink, {n}, PipelineShape::two_stage);
+            c = isosplat_counts(r);
+            c.emplace_back("samples", static_cast<double>(source->emitted()));
+        });
+    }
+    VolumeOpenOptions o;
+    o.memory = memory;
+    o.stream = true;
+    o.threads = n;
+    auto in = std::make_shared<VolumeInput>(open_volume_input(s.path, o));
+    return std::make_unique<StoreIsosurface>([in, level, mode, n](Sink& sink, StoreIsosurface::Counts& c) {
+        c = isosplat_counts(run_isosplat_input(*in, level, mode, SamplingParams{}, sink, n, PipelineShape::fused));
+    });
+}
+
+/// The scattered isosurface of a point store (chapter 5), slab by slab within `memory`; the plan
+/// (scans of the store) runs here, at the call, so its errors and warnings come first.
+std::unique_ptr<StoreIsosurface> point_store_isosurface(const StoreObject& s, double iso, const FieldParams& field, int samples,
+                                                        double reg_gap, long long max_cells, int max_level, double tolerance,
+                                                        int max_iterations, double max_travel, std::uint64_t memory, int threads,
+                                                        py::list& warnings) {
+    const double level = finite_iso(iso);
+    if (field.kind != FieldKind::mpu) throw py::value_error("field: a point store's isosurface is built slab by slab with the mpu field");
+    if (!(max_travel > 0)) throw py::value_error("max_travel: a point store's slabs need a limit > 0 (cell diagonals)");
+    const int n = lattice(samples);
+    const FieldProjectParams np = newton_params(tolerance, max_iterations, max_travel);
+    if (!(reg_gap >= 0)) throw py::value_error("reg_gap: expected a factor >= 0");
+    if (max_cells < 27 || max_cells > (1LL << 31)) throw py::value_error("max_cells: expected 27..2^31");
+    if (max_level < 0 || max_level > 12) throw py::value_error("max_level: expected 0..12");
+    if (memory < (std::uint64_t{1} << 20)) throw py::value_error("memory: expected at least 1M");
+    if (threads < 0 || threads > 1024) throw py::value_error("threads: expected 0..1024 (0: every CPU this process may use)");
+    const int workers = threads == 0 ? available_cpus() : threads;
+    BinningGridParams bp;
+    bp.max_cells = max_cells;
+    bp.max_level = max_level;
+    ScatteredStoreParams sp;
+    sp.memory_bytes = memory;
+    sp.reg_gap = reg_gap;
+    std::vector<std::string> said;
+    std::shared_ptr<const ScatteredStorePlan> plan;
+    {
+        py::gil_scoped_release free;
+        plan = std::make_shared<const ScatteredStorePlan>(plan_scattered_store(
+            *s.point_store, s.path, bp, [&](const std::string& subject, const std::string& w) { said.push_back(subject + ": " + w); }));
+    }
+    for (const std::string& w : said) warnings.append(w);
+    std::shared_ptr<const PointStore> store = s.point_store;
+    py::gil_scoped_release free;
+    return std::make_unique<StoreIsosurface>([store, plan, field, sp, level, n, np, workers](Sink& sink, StoreIsosurface::Counts& c) {
+        ScatteredStoreReport rep;
+        const ScatteredIsosurfaceStats st = run_scattered_store_isosurface(*store, *plan, field, sp, level, n, np, 0, sink, {workers}, {}, &rep);
+        c = {{"stencils", static_cast<double>(st.seeds.stencils)}, {"seeds", static_cast<double>(st.seeds.seeds)},
+             {"converged", static_cast<double>(st.newton.converged)}, {"slabs", static_cast<double>(rep.slabs)},
+             {"retries", static_cast<double>(rep.retries)}, {"most_loaded", static_cast<double>(rep.most_loaded)},
+             {"loaded", static_cast<double>(rep.loaded)}};
+    });
+}
+
+/// Brick i of a point store: points (count, 3) and values (count,) float64 views of one decoded buffer.
+py::dict point_brick(const StoreObject& s, std::size_t i) {
+    if (s.kind != StoreKind::point) throw py::value_error(s.path + ": bricks() reads a point store's (.mlc) bricks");
+    if (i >= s.point_store->bricks().size()) throw py::index_error("brick " + std::to_string(i) + " of " + std::to_string(s.point_store->bricks().size()));
+    std::vector<double> xyzv;
+    {
+        py::gil_scoped_release free;
+        s.point_store->read_brick(i, xyzv);
+    }
+    const auto count = static_cast<py::ssize_t>(xyzv.size() / 4);
+    double* data = nullptr;
+    static const double none[4] = {0, 0, 0, 0};
+    const py::capsule base = owning_capsule(std::move(xyzv), &data);
+    const double* d = data ? data : none;
+    constexpr auto f = static_cast<py::ssize_t>(sizeof(double));
+    const PointBrickEntry& e = s.point_store->bricks()[i];
+    py::dict out;
+    out["points"] = py::array_t<double>({count, py::ssize_t{3}}, {4 * f, f}, d, base);
+    out["values"] = py::array_t<double>({count}, {4 * f}, d + 3, base);
+    out["value_name"] = s.points.value_name;
+    out["has_values"] = s.points.has_values;
+    out["blocks"] = py::list();
+    out["stats"] = py::dict(py::arg("brick") = i, py::arg("level") = e.level, py::arg("key") = e.key,
+                            py::arg("first") = e.first, py::arg("bounds") = py::make_tuple(py::make_tuple(e.lo[0], e.lo[1], e.lo[2]),
+                                                                                           py::make_tuple(e.hi[0], e.hi[1], e.hi[2])));
+    return out;
+}
+
+const char* kind_name(StoreKind k) {
+    switch (k) {
+        case StoreKind::sample: return "sample";
+        case StoreKind::point: return "point";
+        case StoreKind::brick: break;
+    }
+    return "brick";
 }
 
 }  // namespace
@@ -205,7 +340,19 @@ void bind_store(py::module_& m) {
             }
             return std::string("float32");
         })
-        .def("_isosurface", &store_isosurface, py::arg("iso"), py::arg("projection"), py::arg("memory"), py::arg("threads"));
+        .def_property_readonly("kind", [](const StoreObject& s) { return std::string(kind_name(s.kind)); })
+        .def_property_readonly("count", [](const StoreObject& s) { return s.points.points; })
+        .def_property_readonly("brick_count", [](const StoreObject& s) { return s.point_store ? s.point_store->bricks().size() : std::size_t{0}; })
+        .def_property_readonly("bounds", [](const StoreObject& s) {
+            return py::make_tuple(py::make_tuple(s.points.lo[0], s.points.lo[1], s.points.lo[2]),
+                                  py::make_tuple(s.points.hi[0], s.points.hi[1], s.points.hi[2]));
+        })
+        .def_property_readonly("value_name", [](const StoreObject& s) { return s.points.value_name; })
+        .def("_brick", &point_brick, py::arg("index"))
+        .def("_isosurface", &volume_store_isosurface, py::arg("iso"), py::arg("projection"), py::arg("memory"), py::arg("threads"))
+        .def("_point_isosurface", &point_store_isosurface, py::arg("iso"), py::arg("field"), py::arg("samples"), py::arg("reg_gap"),
+             py::arg("max_cells"), py::arg("max_level"), py::arg("tolerance"), py::arg("max_iterations"), py::arg("max_travel"),
+             py::arg("memory"), py::arg("threads"), py::arg("warnings"));
     py::class_<StoreIsosurface>(m, "_StoreIsosurface")
         .def("_next", &StoreIsosurface::next)
         .def("_stop", &StoreIsosurface::stop)

@@ -13,5 +13,6 @@ void bind_io(pybind11::module_& m);
 void bind_picture(pybind11::module_& m);
 void bind_hierarchy(pybind11::module_& m);
 void bind_store(pybind11::module_& m);
+void bind_read(pybind11::module_& m);
 
 }  // namespace meshless::python

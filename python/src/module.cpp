@@ -29,4 +29,5 @@ PYBIND11_MODULE(_core, m) {
     meshless::python::bind_picture(m);
     meshless::python::bind_hierarchy(m);
     meshless::python::bind_store(m);
+    meshless::python::bind_read(m);
 }

@@ -19,6 +19,9 @@ import meshless
 
 MESHLESS = os.environ.get("MESHLESS", "meshless")
 DATA = os.environ.get("MESHLESS_SHARED_DATA", "")
+# the sanitizer tier preloads its runtime into python3; the meshless it runs carries its own
+CLI_ENV = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+SANITIZED = os.environ.get("MESHLESS_SANITIZED") == "1"
 TOOTH = os.path.join(DATA, "tooth", "tooth_103x94x161_uint8.raw")
 FUEL = os.path.join(DATA, "fuel", "fuel_64x64x64_uint8.raw")
 
@@ -89,7 +92,7 @@ class VolumeIsosurface(unittest.TestCase):
         s = meshless.isosurface(vol, 100.5, threads=2)
         with tempfile.TemporaryDirectory() as d:
             out = os.path.join(d, "t.ply")
-            subprocess.run([MESHLESS, "isosurface", TOOTH, "--iso", "100.5", "-o", out, "--threads", "1"], check=True)
+            subprocess.run([MESHLESS, "isosurface", TOOTH, "--iso", "100.5", "-o", out, "--threads", "1"], check=True, env=CLI_ENV)
             p = read_ply_points(out)
             self.assertEqual(len(p), len(s))
             self.assertTrue(np.array_equal(np.stack([p["x"], p["y"], p["z"]], 1), s.points))
@@ -180,7 +183,7 @@ class Fields(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             csv = os.path.join(d, "p.csv")
             np.savetxt(csv, np.column_stack([self.pts, self.val]), delimiter=",", fmt="%.17g", header="x,y,z,v", comments="")
-            subprocess.run([MESHLESS, "fit", csv, "-o", os.path.join(d, "cli.mlf")], check=True, stderr=subprocess.DEVNULL)
+            subprocess.run([MESHLESS, "fit", csv, "-o", os.path.join(d, "cli.mlf")], check=True, env=CLI_ENV, stderr=subprocess.DEVNULL)
             f = meshless.Field(self.pts, self.val, value_name="v")
             f.save(os.path.join(d, "py.mlf"))
             with open(os.path.join(d, "cli.mlf"), "rb") as a, open(os.path.join(d, "py.mlf"), "rb") as b:
@@ -251,7 +254,7 @@ class ScatteredAndBlocks(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             csv, ply = os.path.join(d, "p.csv"), os.path.join(d, "s.ply")
             np.savetxt(csv, np.column_stack([pts, val]), delimiter=",", fmt="%.17g", header="x,y,z,v", comments="")
-            subprocess.run([MESHLESS, "isosurface", csv, "--iso", "0.5", "-o", ply, "--threads", "2"], check=True)
+            subprocess.run([MESHLESS, "isosurface", csv, "--iso", "0.5", "-o", ply, "--threads", "2"], check=True, env=CLI_ENV)
             p = read_ply_points(ply)
         q = meshless.isosurface_points(pts, val, 0.5, threads=1)
         self.assertEqual(len(p), len(q))
@@ -331,7 +334,7 @@ class Info(unittest.TestCase):
                 f.write(b"NRRD0004\ntype: float\ndimension: 3\nsizes: 16 16 16\nendian: little\nencoding: raw\n\n")
                 f.write(np.ascontiguousarray(v.T, dtype="<f4").tobytes())
             for path, extra in ((ply, []), (nrrd, []), (nrrd, ["--value-range"])):
-                cli = subprocess.run([MESHLESS, "info", path] + extra, check=True, capture_output=True).stdout.decode()
+                cli = subprocess.run([MESHLESS, "info", path] + extra, check=True, env=CLI_ENV, capture_output=True).stdout.decode()
                 self.assertEqual(meshless.info(path, value_range=bool(extra)), cli)
             lo, hi = float(v.min()), float(v.max())
             self.assertIn(f"value range: {lo:g} .. {hi:g}\n", meshless.info(nrrd, value_range=True))
@@ -346,7 +349,7 @@ class Info(unittest.TestCase):
 
 def cli(*args):
     """Runs this build's meshless with the given arguments (stderr kept for the failure message)."""
-    r = subprocess.run([MESHLESS] + [str(a) for a in args], capture_output=True)
+    r = subprocess.run([MESHLESS] + [str(a) for a in args], capture_output=True, env=CLI_ENV)
     if r.returncode != 0:
         raise AssertionError("meshless %s: exit %d: %s" % (" ".join(map(str, args)), r.returncode, r.stderr.decode()))
     return r
@@ -546,8 +549,13 @@ class LevelsOfDetail(unittest.TestCase):
                     self.assertTrue(np.array_equal(got.points, xyz(want)), kw)
                     self.assertTrue(np.array_equal(got.values, want["value"]), kw)
                     self.assertIsNone(got.normals)
-                back = meshless.read_points(out)  # the module's reader: the same points, as float32
-                self.assertTrue(np.array_equal(back.points, tree.lod(**kw).points.astype(np.float32)))
+                if len(want) < 4:  # the point-set readers need 4 points
+                    with self.assertRaises(meshless.DataError):
+                        meshless.read_points(out)
+                    continue
+                back = meshless.read_points(out)  # the commands' reader: the same points, as float64
+                self.assertTrue(np.array_equal(back.points, tree.lod(**kw).points))
+                self.assertIsNone(back.normals)
         self.assertEqual(len(tree.lod(level=0)), 1)
         self.assertEqual(len(tree.lod(level=2)), 4)
 
@@ -569,7 +577,7 @@ class LevelsOfDetail(unittest.TestCase):
         self.assertEqual(len(t.lod(level=3)), 8)
         self.assertTrue(np.array_equal(t.lod(level=5).points, u.lod(level=5).points))
         with self.assertRaises(ValueError):
-            lod.write("x.ply")  # no normals
+            lod.write("x.obj")  # scattered data: .ply, .csv or .vtp
 
     def test_bad_arguments_and_files(self):
         tree = meshless.hierarchy(self.pts[:200], self.val[:200])
@@ -643,6 +651,7 @@ class BrickStores(unittest.TestCase):
         self.assertLessEqual(len(os.listdir("/proc/self/task")), before)  # the graphs' threads joined
         self.assertEqual(len(list(store.isosurface(1e9))), 0)  # nothing active
 
+    @unittest.skipIf(SANITIZED, "RSS bounds: ASan's shadow memory and quarantine count in RSS")
     def test_memory_stays_the_cache_and_a_few_batches_while_a_slow_consumer_reads(self):
         big = os.path.join(self.dir.name, "tooth4.mlb")  # 98 M voxels, about 31 MiB of points at 100.5
         cli("synth", "--upsample", "4", TOOTH, "-o", big)
