@@ -701,11 +701,12 @@ class ClusterTree:
     """The cluster binary tree of dissertation chapter 6 (sections 6.1, 6.3), made by hierarchy() or
     ClusterTree.load(path) (a .mlh of `meshless hierarchy`).
 
-    lod(level=L) or lod(error=E): a level of detail (section 6.4), the clusters at depth L or the
-    first clusters of error <= E on every path, as a PointSet of scattered data (section 6.5):
+    lod(count=N), lod(fraction=F), lod(level=L) or lod(error=E): a level of detail, the N (or F x the
+    samples) clusters left after the refinement's first splits, or (section 6.4) the clusters at
+    depth L or the first clusters of error <= E on every path, as a PointSet of scattered data (section 6.5):
     points (n, 3) and values (n,) float64 owning the extraction's buffers, normals and radius None;
-    the points `meshless lod TREE --level L -o lod.ply` writes, in its order. A level beyond the depth
-    or an error below the one reached gives the finest level (a warning in `warnings`).
+    the points `meshless lod TREE --level L -o lod.ply` writes, in its order. A count beyond the leaves,
+    a level beyond the depth or an error below the one reached gives the finest level (a warning in `warnings`).
     save(path) writes the .mlh `meshless hierarchy` writes (the same bytes for the same samples,
     options and value name). Attributes: depth, stats, bounds, value_range, value_name, notes."""
 
@@ -714,8 +715,9 @@ class ClusterTree:
     def __init__(self, tree):
         self._t = tree
 
-    def lod(self, *, level=None, error=None):
-        arrays = self._t._lod(None if level is None else int(level), None if error is None else float(error))
+    def lod(self, *, count=None, fraction=None, level=None, error=None):
+        arrays = self._t._lod(None if level is None else int(level), None if error is None else float(error),
+                              None if count is None else int(count), None if fraction is None else float(fraction))
         arrays.setdefault("value_name", self.value_name)
         return PointSet(arrays)
 
@@ -739,11 +741,14 @@ class ClusterTree:
 
 
 def hierarchy(points, values=None, *, max_splits=None, max_error=0.0, min_cluster=2, neighbours=25, hardy_c=0.025,
-              hardy_c_world=None, pca_scaling="normalised", value_name="", threads=0):
+              hardy_c_world=None, pca_scaling="normalised", split_order="weighted", size_term=0.2, cluster_value="mean",
+              value_name="", threads=0):
     """Builds the cluster binary tree of dissertation chapter 6 (sections 6.1, 6.3), what
     `meshless hierarchy` runs with the options of the same names: one cluster of every sample,
-    refined by splitting the cluster of largest error along the plane through its centre normal to
-    the dominant principal axis of its (x, y, z, f) samples.
+    refined by splitting, along the plane through its centre normal to the dominant principal axis
+    of its (x, y, z, f) samples, the cluster of largest |C| (sigma^2 + t^2) (split_order="weighted",
+    t = size_term x the value range) or of largest error sigma (split_order="max-error", the
+    dissertation's); cluster values are means (cluster_value="mean") or local multiquadric fits ("fit").
 
     points: (n, 3) world positions with values (n,), or a PointSet (its points and values); rows
     with a NaN/Inf are dropped (counted in stats). value_name: what the .mlh records as the values'
@@ -755,7 +760,7 @@ def hierarchy(points, values=None, *, max_splits=None, max_error=0.0, min_cluste
     elif values is None:
         raise ValueError("hierarchy: give points (n, 3) and values (n,), or a PointSet")
     params = _core._hierarchy_params(max_splits, float(max_error), int(min_cluster), int(neighbours), float(hardy_c),
-                                     hardy_c_world, str(pca_scaling))
+                                     hardy_c_world, str(pca_scaling), str(split_order), float(size_term), str(cluster_value))
     return ClusterTree(_core._hierarchy(_np.asarray(points, dtype=_np.float64), _np.asarray(values, dtype=_np.float64),
                                         params, int(threads), str(value_name)))
 

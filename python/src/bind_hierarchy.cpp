@@ -32,7 +32,8 @@ struct TreeObject {
 };
 
 CbtParams hierarchy_params(const py::object& max_splits, double max_error, long long min_cluster, long long neighbours,
-                           double hardy_c, const py::object& hardy_c_world, const std::string& pca_scaling) {
+                           double hardy_c, const py::object& hardy_c_world, const std::string& pca_scaling,
+                           const std::string& split_order, double size_term, const std::string& cluster_value) {
     CbtParams p;
     if (!max_splits.is_none()) {
         const long long n = max_splits.cast<long long>();
@@ -54,6 +55,14 @@ CbtParams hierarchy_params(const py::object& max_splits, double max_error, long 
     if (pca_scaling == "raw") p.scaling = PcaScaling::raw;
     else if (pca_scaling == "normalised" || pca_scaling == "normalized") p.scaling = PcaScaling::normalised;
     else throw py::value_error("pca_scaling: expected 'normalised' or 'raw', got '" + pca_scaling + "'");
+    if (split_order == "weighted") p.order = CbtSplitOrder::weighted;
+    else if (split_order == "max-error" || split_order == "max_error") p.order = CbtSplitOrder::max_error;
+    else throw py::value_error("split_order: expected 'weighted' or 'max-error', got '" + split_order + "'");
+    if (!(size_term >= 0 && size_term <= 100)) throw py::value_error("size_term: expected a number in [0, 100]");
+    p.size_term = size_term;
+    if (cluster_value == "mean") p.value = CbtValueKind::mean;
+    else if (cluster_value == "fit") p.value = CbtValueKind::fit;
+    else throw py::value_error("cluster_value: expected 'mean' or 'fit', got '" + cluster_value + "'");
     return p;
 }
 
@@ -69,10 +78,20 @@ std::unique_ptr<TreeObject> hierarchy(const py::array& points, const py::array& 
     return t;
 }
 
-py::dict lod(const TreeObject& t, const py::object& level, const py::object& error) {
-    if (level.is_none() == error.is_none()) throw py::value_error("lod: give one of level= or error=");
+py::dict lod(const TreeObject& t, const py::object& level, const py::object& error, const py::object& count,
+             const py::object& fraction) {
+    if (int(!level.is_none()) + int(!error.is_none()) + int(!count.is_none()) + int(!fraction.is_none()) != 1)
+        throw py::value_error("lod: give one of count=, fraction=, level= or error=");
     PointSetOptions o;
-    if (!level.is_none()) {
+    if (!count.is_none()) {
+        const long long n = count.cast<long long>();
+        if (n < 1) throw py::value_error("count: expected a count >= 1");
+        o.lod_count = static_cast<std::uint64_t>(n);
+    } else if (!fraction.is_none()) {
+        const double f = fraction.cast<double>();
+        if (!(f > 0 && f <= 1)) throw py::value_error("fraction: expected a number in (0, 1]");
+        o.lod_fraction = f;
+    } else if (!level.is_none()) {
         const long long L = level.cast<long long>();
         if (L < 0 || L > 0xFFFFFFFFll) throw py::value_error("level: expected a depth >= 0");
         o.lod_level = static_cast<std::uint32_t>(L);
@@ -121,10 +140,11 @@ py::dict tree_stats(const TreeObject& t) {
 void bind_hierarchy(py::module_& m) {
     py::class_<CbtParams>(m, "_HierarchyParams");
     m.def("_hierarchy_params", &hierarchy_params, py::arg("max_splits"), py::arg("max_error"), py::arg("min_cluster"),
-          py::arg("neighbours"), py::arg("hardy_c"), py::arg("hardy_c_world"), py::arg("pca_scaling"));
+          py::arg("neighbours"), py::arg("hardy_c"), py::arg("hardy_c_world"), py::arg("pca_scaling"), py::arg("split_order"),
+          py::arg("size_term"), py::arg("cluster_value"));
     m.def("_hierarchy", &hierarchy, py::arg("points"), py::arg("values"), py::arg("params"), py::arg("threads"), py::arg("value_name"));
     py::class_<TreeObject>(m, "_ClusterTree")
-        .def("_lod", &lod, py::arg("level"), py::arg("error"))
+        .def("_lod", &lod, py::arg("level"), py::arg("error"), py::arg("count"), py::arg("fraction"))
         .def("_save", [](const TreeObject& t, const std::string& path) {
             py::gil_scoped_release free;
             write_cluster_tree_file(path, t.tree);

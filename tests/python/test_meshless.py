@@ -539,7 +539,8 @@ class LevelsOfDetail(unittest.TestCase):
                 self.assertEqual(a.read(), b.read())
             loaded = meshless.ClusterTree.load(mlh)
             for flag, value, kw in (("--level", "6", {"level": 6}), ("--error", "0.05", {"error": 0.05}),
-                                    ("--level", "0", {"level": 0})):
+                                    ("--level", "0", {"level": 0}), ("--count", "37", {"count": 37}),
+                                    ("--fraction", "0.01", {"fraction": 0.01})):
                 out = os.path.join(d, "lod.ply")
                 cli("lod", mlh, flag, value, "-o", out)
                 want = read_ply_vertices(out)
@@ -583,6 +584,12 @@ class LevelsOfDetail(unittest.TestCase):
         tree = meshless.hierarchy(self.pts[:200], self.val[:200])
         for call in (lambda: tree.lod(),
                      lambda: tree.lod(level=1, error=1.0),
+                     lambda: tree.lod(count=0),
+                     lambda: tree.lod(fraction=1.5),
+                     lambda: tree.lod(count=3, fraction=0.1),
+                     lambda: meshless.hierarchy(self.pts, self.val, split_order="best"),
+                     lambda: meshless.hierarchy(self.pts, self.val, size_term=-1),
+                     lambda: meshless.hierarchy(self.pts, self.val, cluster_value="median"),
                      lambda: tree.lod(level=-1),
                      lambda: tree.lod(error=float("nan")),
                      lambda: meshless.hierarchy(self.pts),
