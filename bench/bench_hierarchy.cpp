@@ -14,17 +14,18 @@
 //   (c) LOD extraction rate: the finest level- and error-based LODs of the head tree, nodes visited
 //       per second (best of 5).
 //   (d) peak RSS of `meshless hierarchy` on the head store, bytes per input sample.
-//   (e) at 1%, 5% and 15% of the samples: the CBT error-based LOD (threshold found by bisection on
-//       the tree, the LOD's size is the point count used for the others), a uniform random
-//       subsample and a regular decimation (every (n/m)-th voxel in file order) of the same count;
-//       the mpu field (section 5.5, defaults) of each evaluated at the original voxels, RMSE and max
-//       error against the voxel values, over the voxels where all three fields are finite (the
-//       others counted). Silicium and the head x1 at every voxel; LIDC2 (8.7 M voxels) at every 8th
-//       voxel (the evaluation is subsampled, the tree and the fields use every sample). The trees are
-//       refined to 16% of the samples (--max-splits) so the 15% LOD exists. A last column gives the
-//       RMSE of the LOD of a tree built with raw PCA scaling at about the same count (the measurement
-//       behind the default scaling), and one the first points of the finest LOD, which `lod` lists
-//       coarse to fine (a prefix read by a viewer that stops early). --quick: silicium only.
+//   (e) at 1%, 2%, 5% and 15% of the samples (m points): the default tree's LOD of m points (the
+//       leaves after its first m - 1 splits, `lod --count m`), a uniform random subsample and a
+//       regular decimation (every (n/m)-th voxel in file order) of the same count; the mpu field
+//       (section 5.5, defaults or --hardy-c) of each evaluated at the original voxels, RMSE and max
+//       error against the voxel values, over the voxels where all fields are finite (the others
+//       counted). Silicium and the head x1 at every voxel; the tooth at every 4th, LIDC2 (8.7 M
+//       voxels) at every 8th voxel (the evaluation is subsampled, the tree and the fields use every
+//       sample). The trees are refined to 16% of the samples (--max-splits) so the 15% LOD exists.
+//       Two more columns: the dissertation's tree (max-error order, fitted cluster values; its
+//       error-based LOD closest to m points), and the first m points of the default tree's finest
+//       LOD, which `lod` lists coarse to fine (a prefix read by a viewer that stops early).
+//       --quick: silicium only.
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -110,13 +111,12 @@ struct Rmse {
     std::size_t nan = 0;
 };
 
-void compare_row(const std::string& name, const PointSet& all, const ClusterTree& tree, const ClusterTree& raw_tree, double frac,
+void compare_row(const std::string& name, const PointSet& all, const ClusterTree& tree, const ClusterTree& paper_tree, double frac,
                  std::size_t eval_stride, double hardy_c_rel, Table& t) {
     const std::size_t n = all.size();
-    const std::uint64_t target = static_cast<std::uint64_t>(std::llround(frac * n));
-    const double e = error_for_size(tree, target);
-    const PointSet cbt = lod_point_set(tree.nodes, LodMode::error, e, all.value_name);
-    const std::size_t m = cbt.size();
+    const std::uint64_t m = static_cast<std::uint64_t>(std::llround(frac * n));
+    // the default tree's LOD of m points: the leaves after its first m - 1 splits (LodMode::count)
+    const PointSet cbt = lod_point_set(tree.nodes, LodMode::count, static_cast<double>(m), all.value_name);
     std::vector<std::size_t> ids(n);
     std::iota(ids.begin(), ids.end(), std::size_t{0});
     SplitMix rng{12345};
@@ -125,14 +125,15 @@ void compare_row(const std::string& name, const PointSet& all, const ClusterTree
     std::sort(rnd.begin(), rnd.end());
     std::vector<std::size_t> dec(m);
     for (std::size_t i = 0; i < m; ++i) dec[i] = static_cast<std::size_t>((static_cast<unsigned __int128>(i) * n) / m);
-    // the raw-scaling tree's LOD closest to the same count (the PCA scaling choice, kernels/cluster_tree.hpp)
-    const PointSet raw = lod_point_set(raw_tree.nodes, LodMode::error, error_for_size(raw_tree, m), all.value_name);
-    // the first m points of the finest LOD, which lod lists coarse to fine (kernels/cluster_lod.hpp)
+    // the dissertation's tree (max-error order, fitted values): its error-based LOD closest to m points
+    const double e = error_for_size(paper_tree, m);
+    const PointSet paper = lod_point_set(paper_tree.nodes, LodMode::error, e, all.value_name);
+    // the first m points of the default tree's finest LOD, which lod lists coarse to fine (kernels/cluster_lod.hpp)
     PointSet prefix = lod_point_set(tree.nodes, LodMode::level, 1e9, all.value_name);
-    std::vector<std::size_t> first(std::min(m, prefix.size()));
+    std::vector<std::size_t> first(std::min<std::size_t>(m, prefix.size()));
     std::iota(first.begin(), first.end(), std::size_t{0});
     prefix = subset(prefix, first);
-    const PointSet sets[5] = {cbt, subset(all, rnd), subset(all, dec), raw, prefix};
+    const PointSet sets[5] = {cbt, subset(all, rnd), subset(all, dec), paper, prefix};
     std::vector<Vec3> q;
     std::vector<double> ref;
     for (std::size_t i = 0; i < n; i += eval_stride) {
@@ -168,10 +169,10 @@ void compare_row(const std::string& name, const PointSet& all, const ClusterTree
     }
     for (auto& x : r) x.rmse = used ? std::sqrt(x.rmse / used) : NAN;
     const char* best = r[0].rmse <= std::min(r[1].rmse, r[2].rmse) ? "CBT" : (r[1].rmse <= r[2].rmse ? "random" : "decimation");
-    t.add({name, fmt("%.0f%%", frac * 100), fmt("%zu", m), fmt("%.4g", e), fmt("%.3f", r[0].rmse), fmt("%.3f", r[1].rmse),
-           fmt("%.3f", r[2].rmse), fmt("%.1f / %.1f / %.1f", r[0].max, r[1].max, r[2].max), best,
-           fmt("%zu: %.3f", raw.size(), r[3].rmse), fmt("%.3f", r[4].rmse),
-           fmt("%zu (%zu non-finite left out)", used, skipped)});
+    t.add({name, fmt("%.0f%%", frac * 100), fmt("%llu", static_cast<unsigned long long>(m)), fmt("%.3f", r[0].rmse),
+           fmt("%.3f", r[1].rmse), fmt("%.3f", r[2].rmse), fmt("%.2f / %.2f", r[0].rmse / r[1].rmse, r[0].rmse / r[2].rmse),
+           fmt("%.1f / %.1f / %.1f", r[0].max, r[1].max, r[2].max), best, fmt("%zu: %.3f", paper.size(), r[3].rmse),
+           fmt("%.3f", r[4].rmse), fmt("%zu (%zu non-finite left out)", used, skipped)});
 }
 
 }  // namespace
@@ -315,6 +316,7 @@ void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& sil_gi
     const fs::path si = data / "silicium" / "silicium_98x34x34_uint8.raw";
     const fs::path head = data / "vtk_headsq" / "quarter.nhdr";
     const fs::path lidc = data / "vtkjs_LIDC2" / "LIDC2.vti";
+    const fs::path tooth = data / "tooth" / "tooth_103x94x161_uint8.raw";
     const PointSet sil = !sil_given.pos.empty() || !fs::exists(si) ? sil_given : point_set_from_volume(si.string());
     // (e) reconstruction error at equal point counts
     std::vector<double> cs;
@@ -329,25 +331,27 @@ void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& sil_gi
            "(the CBT LOD's size); one table per data set and Hardy c (relative to the point set's bounding-box diagonal; "
            "the same c for all five sets of a row).");
     Table ct;
-    ct.header = {"data", "points", "count", "CBT error E", "RMSE CBT", "RMSE random", "RMSE decimation", "max err C/R/D", "best",
-                 "CBT raw PCA: count: RMSE", "RMSE finest LOD's prefix", "voxels evaluated"};
+    ct.header = {"data", "points", "count", "RMSE CBT", "RMSE random", "RMSE decimation", "CBT / random / decimation",
+                 "max err C/R/D", "best", "dissertation's CBT: count: RMSE", "RMSE finest LOD's prefix", "voxels evaluated"};
     auto compare = [&](const std::string& name, const PointSet& ps, std::size_t stride) {
-        CbtParams p;
+        CbtParams p;  // the defaults (weighted order, cluster means)
         p.max_splits = static_cast<std::uint64_t>(0.16 * ps.size());
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
         const ClusterTree t = build_cluster_tree(ps.pos, ps.value, p);
-        p.scaling = PcaScaling::raw;
-        const ClusterTree raw = build_cluster_tree(ps.pos, ps.value, p);
+        p.order = CbtSplitOrder::max_error;  // the dissertation's: section 6.3
+        p.value = CbtValueKind::fit;
+        const ClusterTree paper = build_cluster_tree(ps.pos, ps.value, p);
         for (double c : cs) {
             r.note(name + ", mpu Hardy c = " + (c > 0 ? fmt("%g", c) : fmt("%g (default)", FieldParams{}.hardy_c_rel)) +
                    " x bounding-box diagonal");
-            for (double f : {0.01, 0.05, 0.15}) compare_row(name, ps, t, raw, f, stride, c, ct);
+            for (double f : {0.01, 0.02, 0.05, 0.15}) compare_row(name, ps, t, paper, f, stride, c, ct);
             r.table(ct);
             ct.rows.clear();
         }
     };
     if (!sil.pos.empty()) compare("silicium", sil, 1);
     if (!o.quick && fs::exists(head)) compare("head x1 (64x64x93)", point_set_from_volume(head.string()), 1);
+    if (!o.quick && fs::exists(tooth)) compare("tooth (103x94x161)", point_set_from_volume(tooth.string()), 4);
     if (!o.quick && fs::exists(lidc)) compare("LIDC2 chest CT (256x256x133)", point_set_from_volume(lidc.string()), 8);
 }
 

@@ -13,8 +13,10 @@
 #include "cli/progress_meter.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/cluster_tree_file.hpp"
+#include "formats/field_hint.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/point_set_writer.hpp"
+#include "kernels/field_params.hpp"
 #include "ooc/brick_store.hpp"
 #include "ooc/brick_store_point_set.hpp"
 #include "stream/cluster_hierarchy.hpp"
@@ -172,7 +174,8 @@ int cmd_lod(int argc, char** argv) {
     if (r.clamped) std::fprintf(stderr, "meshless lod: warning: %s: %s\n", terminal_safe(path).c_str(), terminal_safe(r.note).c_str());
     const LodExtraction e = extract_lod(t, r);
     if (const std::string w = lod_overshoot_warning(t, e); !w.empty()) std::fprintf(stderr, "meshless lod: %s\n", w.c_str());
-    const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + path};
+    // the Hardy c its points reconstruct best with travels with them (formats/field_hint.hpp)
+    const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + path, field_hint_line(kLodHardyCRel)};
     write_point_set(out, e.points, comments);
     if (a.has("stats")) std::fprintf(stderr, "%s\n", lod_report(t, r, path, e).c_str());
     return 0;

@@ -8,6 +8,7 @@
 #include "cli/point_set_cli.hpp"
 #include "cli/progress_meter.hpp"
 #include "formats/cluster_tree_file.hpp"
+#include "formats/field_hint.hpp"
 #include "formats/file_names.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
@@ -128,9 +129,13 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
         throw UsageError("--alpha: expected a factor in (0.5, 4], got " + a.get_or("alpha", "0.75"));
     if (const auto c = a.get("hardy-c")) {
         p.hardy_c_rel = parse_finite(*c, "--hardy-c");  // its range: checked at parse (in_range)
-    } else  // a cluster tree's level of detail gets its own default c (kernels/field_params.hpp)
-        for (const std::string& in : a.positional())
+    } else  // a level of detail gets its own default c (kernels/field_params.hpp): a cluster tree's, or the one its file carries
+        for (const std::string& in : a.positional()) {
             if (is_cluster_tree_file(in)) p.hardy_c_rel = kLodHardyCRel;
+            else if (const auto c = point_file_field_hint(in)) p.hardy_c_rel = *c;
+            else continue;
+            break;
+        }
     if (auto c = a.get("hardy-c-world")) p.hardy_c_world = parse_finite(*c, "--hardy-c-world");
     for (const auto& [opt, to] : {std::pair<const char*, double*>{"hardy-c-spacing", &p.hardy_c_spacing}, {"hardy-c-rough", &p.hardy_c_rough}})
         if (auto k = a.get(opt)) *to = parse_finite(*k, "--" + std::string(opt));

@@ -140,6 +140,20 @@ TEST_CASE("meshless lod --count/--fraction: the first N - 1 splits, and --lod-co
     const auto a = sh("MESHLESS probe " + D + "/t.mlh --lod-count 160" + at, d), b = sh("MESHLESS probe " + D + "/c.csv" + at, d);
     REQUIRE(a.code == 0);
     CHECK(a.out == b.out);
+    // the LOD's files carry its Hardy c (formats/field_hint.hpp): a field of the PLY or VTP is the
+    // field of the .mlh's LOD without flags; --hardy-c still wins; CSV carries none
+    const std::string at0 = " --at 10,10,10 --at 5.5,12,3 --field mpu";
+    REQUIRE(sh("MESHLESS lod " + D + "/t.mlh --count 160 -o " + D + "/c.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS lod " + D + "/t.mlh --count 160 -o " + D + "/c.vtp", d).code == 0);
+    const auto tree_default = sh("MESHLESS probe " + D + "/t.mlh --lod-count 160" + at0, d);
+    REQUIRE(tree_default.code == 0);
+    CHECK(sh("MESHLESS probe " + D + "/c.ply" + at0, d).out == tree_default.out);
+    const auto vtp = sh("MESHLESS probe " + D + "/c.vtp" + at0, d);  // float32 positions: compared with itself
+    CHECK(vtp.out == sh("MESHLESS probe " + D + "/c.vtp" + at0 + " --hardy-c 0.003", d).out);
+    CHECK(vtp.out != sh("MESHLESS probe " + D + "/c.vtp" + at0 + " --hardy-c 0.025", d).out);
+    CHECK(sh("MESHLESS probe " + D + "/c.csv" + at0 + " --hardy-c 0.003", d).out == tree_default.out);
+    CHECK(sh("MESHLESS probe " + D + "/c.csv" + at0, d).out != tree_default.out);
+    CHECK(sh("MESHLESS probe " + D + "/c.ply" + at0 + " --hardy-c 0.01", d).out == a.out);
     // beyond the leaves: warn, the finest
     const auto many = sh("MESHLESS lod " + D + "/t.mlh --count 100000 -o " + D + "/m.csv", d);
     CHECK(many.code == 0);
