@@ -2,6 +2,7 @@
 // any volume or scattered data set, saved as .mlh (formats/cluster_tree_file.hpp), and its levels
 // of detail as scattered point sets.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "cli/args.hpp"
@@ -19,6 +20,7 @@
 #include "kernels/field_params.hpp"
 #include "ooc/brick_store.hpp"
 #include "ooc/brick_store_point_set.hpp"
+#include "stream/certified_lod.hpp"
 #include "stream/cluster_hierarchy.hpp"
 
 namespace meshless::cli {
@@ -59,6 +61,63 @@ CbtParams hierarchy_params(const Args& a) {
     return p;
 }
 
+/// --dims/--type/--spacing/--series (raw volumes), the point-set options: what hierarchy and lod --samples read.
+void add_sample_options(Args& a) {
+    add_point_set_options(a, /*with_endian=*/true);
+    a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z (a raw file whose name does not give them)")
+        .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
+        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1")
+        .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)");
+}
+
+/// The samples of a tree (hierarchy INPUT..., lod --samples INPUT): a brick store brick by brick, a
+/// raw volume described by --dims/--type/--spacing/--series (--endian its byte order), or volumes,
+/// point sets and multiblock grids as every point command reads them (NaN/Inf counted, not warned:
+/// the tree's notes count them).
+PointSet tree_samples(const Args& a, const std::vector<std::string>& paths) {
+    const bool raw_volume = a.has("dims") || a.has("type") || a.has("spacing") || a.has("series");
+    if (raw_volume && paths.size() != 1)
+        throw UsageError("--dims/--type/--spacing/--series: one volume, not " + std::to_string(paths.size()) + " inputs");
+    if (paths.size() == 1 && is_brick_store(paths.front())) return point_set_from_brick_store(paths.front());
+    if (raw_volume) return point_set_from_volume(paths.front(), point_set_options(a), raw_options(a));
+    return read_field_points(paths, a, /*warn_dropped=*/false);
+}
+
+/// lod --max-error E --samples INPUT: the certified level of detail (stream/certified_lod.hpp).
+int certified_lod_run(const Args& a, const std::string& out) {
+    const double e = parse_finite(*a.get("max-error"), "--max-error");
+    if (e < 0) throw UsageError("--max-error: expected a number >= 0");
+    const std::string& path = a.positional().front();
+    const ClusterTree t = read_cluster_tree_file(path);
+    FieldParams fp;  // the mpu field (section 5.5) with the c a reader of the LOD's file uses (formats/field_hint.hpp)
+    fp.kind = FieldKind::mpu;
+    fp.hardy_c_rel = a.has("hardy-c") ? parse_finite(*a.get("hardy-c"), "--hardy-c") : kLodHardyCRel;
+    const std::string samples_path = *a.get("samples");
+    const PointSet samples = tree_samples(a, {samples_path});
+    const auto t0 = std::chrono::steady_clock::now();
+    ProgressMeter meter = ProgressMeter::of(a, "trials", std::log2(static_cast<double>(t.stats.splits + 1)) + 2);
+    CertifiedLod c;
+    int trials = 0;
+    try {
+        c = certified_lod(t, samples, e, fp, threads(a), [&](std::uint64_t, double) { meter.set_fraction(++trials / meter.total()); });
+    } catch (const InvalidArgument& x) {
+        throw FormatError(samples_path + ": " + x.what() + " (" + path + ")");
+    }
+    meter.done();
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!c.reached)
+        std::fprintf(stderr, "meshless lod: warning: %s: no level of detail reaches --max-error %g: the finest (%llu points) is within %g\n",
+                     terminal_safe(path).c_str(), e, static_cast<unsigned long long>(c.count), c.max_error);
+    char desc[160];
+    std::snprintf(desc, sizeof desc, "certified max error %.17g (asked %.17g) at %llu samples, count %llu", c.max_error, e,
+                  static_cast<unsigned long long>(c.samples), static_cast<unsigned long long>(c.count));
+    write_point_set(out, c.points, {"meshless lod " + std::string(desc) + " of " + path, field_hint_line(fp.hardy_c_rel)});
+    if (a.has("stats"))
+        std::fprintf(stderr, "lod: %s: %llu points, max error %g over %llu samples (asked %g), %d trials, %.3f s\n", terminal_safe(path).c_str(),
+                     static_cast<unsigned long long>(c.count), c.max_error, static_cast<unsigned long long>(c.samples), e, c.trials, secs);
+    return 0;
+}
+
 }  // namespace
 
 int cmd_hierarchy(int argc, char** argv) {
@@ -92,11 +151,7 @@ int cmd_hierarchy(int argc, char** argv) {
                 "PCA of (x,y,z,f) in units scaled to the bounding-box diagonal and the value range, or in the data's units",
                 "normalised")
         .flag("stats", "print splits, skipped splits, depth, error, time and memory to stderr");
-    add_point_set_options(a, /*with_endian=*/true);
-    a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z (a raw file whose name does not give them)")
-        .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
-        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1")
-        .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)");
+    add_sample_options(a);
     add_thread_option(a);
     add_quiet_option(a);
     a.positionals(1, 1000);
@@ -109,13 +164,7 @@ int cmd_hierarchy(int argc, char** argv) {
     const int nthreads = threads(a);
 
     const auto t0 = std::chrono::steady_clock::now();
-    // a raw volume described on the command line (--dims, --type, --spacing; --endian gives its byte order)
-    const bool raw_volume = a.has("dims") || a.has("type") || a.has("spacing") || a.has("series");
-    if (raw_volume && a.positional().size() != 1) throw UsageError("--dims/--type/--spacing/--series: one volume, not " + std::to_string(a.positional().size()) + " inputs");
-    const PointSet points = a.positional().size() == 1 && is_brick_store(a.positional().front())
-                                ? point_set_from_brick_store(a.positional().front())
-                            : raw_volume ? point_set_from_volume(a.positional().front(), point_set_options(a), raw_options(a))
-                                         : read_points_arg(a, /*warn_dropped=*/false);  // the tree's notes count them
+    const PointSet points = tree_samples(a, a.positional());
     const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ProgressMeter meter = ProgressMeter::of(a, "splits", cluster_hierarchy_split_bound(p, points.size()));
     const ClusterTree tree = build_cluster_hierarchy(points, p, nthreads, a.positional().front(), [&](std::uint64_t splits) {
@@ -146,15 +195,25 @@ int cmd_lod(int argc, char** argv) {
         .option("count", "", "N", "the N clusters left after the first N - 1 splits")
         .option("fraction", "", "F", "the same for N = F x the samples (rounded, at least 1), 0 < F <= 1")
         .validate(in_range("--fraction", 0, false, 1))
+        .option("max-error", "", "E", "certified: the smallest level of detail (by count) whose field is within E of every\n"
+                "sample of --samples (checked at each; bisection over the count)")
+        .option("samples", "", "INPUT", "--max-error: the data the tree was built from (as given to hierarchy)")
+        .option("hardy-c", "", "C", "--max-error: the mpu field's Hardy c relative to the bounding-box diagonal, in (0, 100]\n"
+                "(default: a level of detail's, 0.003, as its readers use it)")
+        .validate(in_range("--hardy-c", 0, false, 100))
         .option("level", "", "L", "level-based: clusters at depth L (0 = the root)")
         .option("error", "", "E", "error-based: clusters whose error is <= E")
         .flag("stats", "print the LOD's size and the extraction time to stderr");
+    add_sample_options(a);
+    add_thread_option(a);
     a.positionals(1, 1);
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string out = a.require("output");
     require_point_set_output(out, "a level of detail");
-    if (int(a.has("level")) + int(a.has("error")) + int(a.has("count")) + int(a.has("fraction")) != 1)
-        throw UsageError("give one of --count N, --fraction F, --level L or --error E");
+    if (int(a.has("level")) + int(a.has("error")) + int(a.has("count")) + int(a.has("fraction")) + int(a.has("max-error")) != 1)
+        throw UsageError("give one of --count N, --fraction F, --level L, --error E or --max-error E");
+    if (a.has("max-error") != a.has("samples")) throw UsageError("--max-error E needs --samples INPUT (the tree's data), and --samples needs --max-error");
+    if (a.has("max-error")) return certified_lod_run(a, out);
     PointSetOptions o;
     if (auto v = a.get("count")) {
         o.lod_count = lod_count_arg(*v, "--count");

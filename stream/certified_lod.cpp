@@ -1,0 +1,103 @@
+#include "stream/certified_lod.hpp"
+
+#include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/parallel_reduce.h>
+#include <oneapi/tbb/blocked_range.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "kernels/cluster_lod.hpp"
+#include "kernels/errors.hpp"
+#include "kernels/make_field.hpp"
+
+namespace meshless {
+
+namespace {
+
+/// The largest |field - value| over the samples (inf where the field is NaN), evaluated in batches.
+double max_error_at(const Field& f, const PointSet& s) {
+    constexpr std::size_t kBatch = 4096;
+    const std::size_t n = s.size();
+    return oneapi::tbb::parallel_reduce(
+        oneapi::tbb::blocked_range<std::size_t>(0, n, kBatch), 0.0,
+        [&](const oneapi::tbb::blocked_range<std::size_t>& r, double m) {
+            std::vector<double> v(r.size());
+            f.evaluate(std::span<const Vec3>(s.pos.data() + r.begin(), r.size()), v, {});
+            for (std::size_t i = 0; i < r.size(); ++i) {
+                const double d = std::abs(v[i] - s.value[r.begin() + i]);
+                m = std::max(m, std::isnan(d) ? std::numeric_limits<double>::infinity() : d);
+            }
+            return m;
+        },
+        [](double a, double b) { return std::max(a, b); });
+}
+
+}  // namespace
+
+CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, double max_error, const FieldParams& field, int threads,
+                           const std::function<void(std::uint64_t, double)>& trial) {
+    if (!std::isfinite(max_error) || max_error < 0) throw InvalidArgument("certified LOD: the error must be a finite number >= 0");
+    // the samples the tree was built from: the same count of finite samples and the same bounds
+    PointSet finite;
+    finite.value_name = samples.value_name;
+    finite.pos.reserve(samples.size());
+    finite.value.reserve(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        const Vec3& p = samples.pos[i];
+        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(samples.value[i])) {
+            finite.pos.push_back(p);
+            finite.value.push_back(samples.value[i]);
+        }
+    }
+    finite.blocks.push_back(PointSetBlock{"samples", {static_cast<std::int64_t>(finite.size()), 1, 1}, 0, finite.size()});
+    if (finite.size() != tree.stats.samples)
+        throw InvalidArgument("the samples are not the tree's: " + std::to_string(finite.size()) + " finite samples, the tree has " +
+                              std::to_string(tree.stats.samples));
+    const auto b = finite.bounds();
+    for (int k = 0; k < 3; ++k) {
+        const double lo[2] = {b[0][k], tree.bounds[0][k]}, hi[2] = {b[1][k], tree.bounds[1][k]};
+        if (lo[0] != lo[1] || hi[0] != hi[1]) throw InvalidArgument("the samples are not the tree's: their bounds differ");
+    }
+    oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(std::max(1, threads)));
+    CertifiedLod out;
+    out.samples = finite.size();
+    auto error_of = [&](std::uint64_t n, PointSet& lod) {
+        lod = lod_point_set(tree.nodes, LodMode::count, static_cast<double>(n), tree.value_name);
+        double e = std::numeric_limits<double>::infinity();
+        if (lod.size() >= 2) {  // a field needs points; one point is a constant
+            const auto f = make_field(lod, field);
+            e = max_error_at(*f, finite);
+        }
+        ++out.trials;
+        if (trial) trial(n, e);
+        return e;
+    };
+    const std::uint64_t leaves = tree.stats.splits + 1;
+    PointSet best;
+    double best_error = error_of(leaves, best);
+    std::uint64_t lo = 1, hi = leaves;
+    if (best_error <= max_error) {
+        while (lo < hi) {
+            const std::uint64_t mid = lo + (hi - lo) / 2;
+            PointSet lod;
+            const double e = error_of(mid, lod);
+            if (e <= max_error) {
+                hi = mid;
+                best = std::move(lod);
+                best_error = e;
+            } else {
+                lo = mid + 1;
+            }
+        }
+        out.reached = true;
+    }
+    out.count = best.size();
+    out.max_error = best_error;
+    out.points = std::move(best);
+    return out;
+}
+
+}  // namespace meshless

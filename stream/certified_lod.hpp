@@ -1,0 +1,38 @@
+// A certified level of detail: the smallest level of detail by count (kernels/cluster_lod.hpp,
+// LodMode::count) whose reconstruction by a meshless field is within E of EVERY sample the tree was
+// built from, checked at every sample, not estimated. What `meshless lod --max-error E --samples
+// INPUT` runs. Dissertation chapter 6 bounds a cluster's own deviation (sigma_c, section 6.3);
+// this bounds what a user sees: the field of the LOD's points (section 6.5) at the data.
+// Search: the finest LOD is tried first (when it misses E, no LOD of the tree reaches it: the result
+// says so and holds the finest); then bisection on the count N in [1, leaves], each trial building
+// the field of LOD(N) and evaluating it at every sample (a sample where the field is NaN fails). The
+// error need not fall monotonically with N: the result is within E, and LOD(N - 1) was tried and
+// missed E (N = 1 excepted), but a smaller N that also reaches E may exist between the trials.
+// Units: the samples' world coordinates and data units. Cost: about log2(leaves) + 1 fields built
+// and evaluated at every sample. Threads: at most `threads` workers. Throws InvalidArgument when the
+// samples are not the tree's (another count or bounds) or E is negative or not finite, and what
+// make_field throws.
+#pragma once
+#include <cstdint>
+#include <functional>
+
+#include "kernels/cluster_tree.hpp"
+#include "kernels/field_params.hpp"
+#include "kernels/point_set.hpp"
+
+namespace meshless {
+
+struct CertifiedLod {
+    PointSet points;              ///< the LOD, coarse to fine (lod_point_set)
+    std::uint64_t count = 0;      ///< its size N
+    double max_error = 0;         ///< max over every sample of |field(p_j) - f_j| for this LOD (inf when a field value is NaN)
+    bool reached = false;         ///< max_error <= E (false: the finest LOD, which misses E)
+    int trials = 0;               ///< fields built and evaluated
+    std::uint64_t samples = 0;    ///< samples checked per trial
+};
+
+/// `trial(count, max_error)` is called after each trial (progress, --stats).
+CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, double max_error, const FieldParams& field, int threads,
+                           const std::function<void(std::uint64_t, double)>& trial = {});
+
+}  // namespace meshless
