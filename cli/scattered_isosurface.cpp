@@ -136,7 +136,7 @@ int isosurface_scattered(int argc, char** argv) {
            "isosurface by safeguarded Newton iteration (section 5.6), of the MPU field (section 5.5) unless\n"
            "--field names another. Writes an oriented point set (binary PLY: x y z nx ny nz radius value, or\n"
            ".vtp) and/or a splatted PNG.\n"
-           "POINTS: CSV/TSV/text, PLY, VTP, raw float32 records, .npy (see meshless info), or a point store (.mlc,\n"
+           "POINTS: CSV/TSV/text, PLY, VTP, VTU nodes, raw float32 records, .npy (see meshless info), or a point store (.mlc,\n"
            "made by meshless convert): with the mpu field and a limited --max-travel it runs in z slabs within\n"
            "--memory, the bytes of the store read whole for any budget (a PLY of the same points gives the same\n"
            "samples in another order).");
