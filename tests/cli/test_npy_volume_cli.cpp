@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cli/cli_harness.hpp"
+#include "npy_test_data.hpp"
 
 using namespace meshless;
 using namespace meshless::test;
@@ -17,27 +18,11 @@ using namespace meshless::test;
 namespace {
 
 std::string npy_header(const std::string& descr, bool fortran, const std::string& shape) {
-    std::string h = "{'descr': '" + descr + "', 'fortran_order': " + (fortran ? "True" : "False") + ", 'shape': " + shape + ", }";
-    while ((10 + h.size() + 1) % 64) h += ' ';
-    h += '\n';
-    std::string out("\x93NUMPY\x01\x00", 8);
-    out += static_cast<char>(h.size() & 0xff);
-    out += static_cast<char>(h.size() >> 8);
-    return out + h;
+    return npy_prefix("{'descr': '" + descr + "', 'fortran_order': " + (fortran ? "True" : "False") + ", 'shape': " + shape + ", }");
 }
 
 // Lines naming the input (PLY comments, the stream's producer) differ between vol.npy and the raw file.
-std::string without_names(const std::string& bytes) {
-    std::string out;
-    for (std::size_t at = 0; at < bytes.size();) {
-        const std::size_t nl = bytes.find('\n', at);
-        const std::size_t end = nl == std::string::npos ? bytes.size() : nl + 1;
-        const std::string line = bytes.substr(at, end - at);
-        if (line.find("vol") == std::string::npos) out += line;
-        at = end;
-    }
-    return out;
-}
+std::string without_names(const std::string& bytes) { return lines_without(bytes, "vol"); }
 
 }  // namespace
 

@@ -18,18 +18,7 @@ namespace {
 
 /// The file's bytes without the lines that name the input or the command (PLY comments, NRRD
 /// key/value lines, a store's recorded source): what differs between a.vtu and a.vtp by design.
-std::string without_names(const std::string& bytes) {
-    std::string out;
-    std::size_t at = 0;
-    while (at < bytes.size()) {
-        const std::size_t nl = bytes.find('\n', at);
-        const std::size_t end = nl == std::string::npos ? bytes.size() : nl + 1;
-        const std::string line = bytes.substr(at, end - at);
-        if (line.find("pts.vt") == std::string::npos) out += line;
-        at = end;
-    }
-    return out;
-}
+std::string without_names(const std::string& bytes) { return lines_without(bytes, "pts.vt"); }
 
 }  // namespace
 

@@ -19,26 +19,18 @@
 #include "formats/point_set_reader.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/errors.hpp"
+#include "npy_test_data.hpp"
 #include "test_paths.hpp"
 
 using namespace meshless;
 using meshless::test::error_of;
+using meshless::test::npy_prefix;
 using meshless::test::TempDir;
 
 namespace {
 
 constexpr int NX = 5, NY = 4, NZ = 3;
 double oracle(int i, int j, int k) { return i + 5 * j + 20 * k; }
-
-std::string npy_prefix(const std::string& dict) {
-    std::string h = dict;
-    while ((10 + h.size() + 1) % 64) h += ' ';
-    h += '\n';
-    std::string out("\x93NUMPY\x01\x00", 8);
-    out += static_cast<char>(h.size() & 0xff);
-    out += static_cast<char>(h.size() >> 8);
-    return out + h;
-}
 
 template <class T>
 std::string encode(T v, bool big) {
