@@ -23,30 +23,40 @@ TEST_CASE("empty isosurfaces: one warning line and exit 0, --fail-empty exits 4 
     const std::string D = d.path.string() + "/";
     const std::string vol = write_uint8_analytic_volume(d, "vol", AnalyticField::torus, 20, 200.0, 0.0);
     const std::string name = std::filesystem::path(vol).filename().string();
+    // scattered points for the chapter-5 isosurface: a 6^3 lattice, value x + y + z (0 .. 15)
+    std::string csv = "x,y,z,value\n";
+    for (int k = 0; k < 6; ++k)
+        for (int j = 0; j < 6; ++j)
+            for (int i = 0; i < 6; ++i)
+                csv += std::to_string(i) + "," + std::to_string(j) + "," + std::to_string(k) + "," + std::to_string(i + j + k) + "\n";
+    spit(d.path / "pts.csv", csv);
     struct Cmd {
-        std::string line, out;
+        std::string line, out, input, ok_iso;  // line: ISO stands for the isovalue
     };
     const Cmd cmds[] = {
-        {"MESHLESS isosurface " + vol + " --iso 300 -o " + D + "i.ply", D + "i.ply"},
-        {"MESHLESS mc " + vol + " --iso 300 -o " + D + "m.ply", D + "m.ply"},
-        {"MESHLESS generate " + vol + " --iso 300 -o " + D + "g.mlp", D + "g.mlp"},
+        {"MESHLESS isosurface " + vol + " --iso ISO -o " + D + "i.ply", D + "i.ply", name, "100.5"},
+        {"MESHLESS mc " + vol + " --iso ISO -o " + D + "m.ply", D + "m.ply", name, "100.5"},
+        {"MESHLESS generate " + vol + " --iso ISO -o " + D + "g.mlp", D + "g.mlp", name, "100.5"},
+        {"MESHLESS isosurface " + D + "pts.csv --iso ISO -o " + D + "p.ply", D + "p.ply", "pts.csv", "7.5"},
     };
+    auto with_iso = [](std::string line, const std::string& iso) { return line.replace(line.find("ISO"), 3, iso); };
     for (const Cmd& c : cmds) {
         for (int fail = 0; fail < 2; ++fail) {
             std::filesystem::remove(c.out);
-            const RunResult r = sh(c.line + (fail ? " --fail-empty" : ""), d);
-            INFO(c.line << (fail ? " --fail-empty" : "") << ": " << r.err);
+            const std::string line = with_iso(c.line, "300") + (fail ? " --fail-empty" : "");
+            const RunResult r = sh(line, d);
+            INFO(line << ": " << r.err);
             CHECK(r.code == (fail ? 4 : 0));
             CHECK(lines(r.err) == 1);
-            CHECK(r.err.find(name) != std::string::npos);
+            CHECK(r.err.find(c.input) != std::string::npos);
             CHECK(r.err.find("outside the data range") != std::string::npos);
             CHECK(std::filesystem::exists(c.out));  // valid and empty
-            if (c.out == D + "i.ply") CHECK(slurp(c.out).find("element vertex 0") != std::string::npos);
+            if (c.out.size() > 4 && c.out.substr(c.out.size() - 4) == ".ply" && c.out != D + "m.ply")
+                CHECK(slurp(c.out).find("element vertex 0") != std::string::npos);
         }
         // a surface that is not empty: exit 0 with --fail-empty, nothing on stderr
-        std::string ok = c.line;
-        ok.replace(ok.find("--iso 300"), 9, "--iso 100.5");
-        const RunResult r = sh(ok + " --fail-empty", d);
+        const std::string ok = with_iso(c.line, c.ok_iso) + " --fail-empty";
+        const RunResult r = sh(ok, d);
         INFO(ok << ": " << r.err);
         CHECK(r.code == 0);
         CHECK(r.err.empty());
