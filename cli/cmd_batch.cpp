@@ -144,13 +144,15 @@ int cmd_batch(int argc, char** argv) {
         .option("projection", "", "MODE", "approx | exact | none", "approx")
         .flag("recursive", "ARCHIVE_DIR: also walk subfolders (outputs mirror them)")
         .flag("rehash", "hash every input, even when its size and time are those recorded");
+    add_fail_empty_option(a);
     add_sampling_options(a);
     add_memory_option(a);
     add_thread_option(a);
     add_quiet_option(a);
     a.epilog("examples: meshless batch ../shared/data/fuel -o out --iso 20.5 --iso 100.5\n"
              "          meshless batch archive.txt -o /data/points --iso 500 --formats ply,stream --memory 1G\n"
-             "exit status: 0 everything done or up to date, 2 some volume failed or was refused (see the table), 1 usage error.\n");
+             "exit status: 0 everything done or up to date, 2 some volume failed or was refused (see the table), 1 usage error,\n"
+             "             4 (with --fail-empty, none failed) some isovalue gave an empty point set.\n");
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().empty()) throw UsageError("missing ARCHIVE_DIR or MANIFEST (see meshless batch --help)");
 
@@ -166,7 +168,8 @@ int cmd_batch(int argc, char** argv) {
     };
     const BatchRun run = run_batch(a.positional()[0], s, cb);
     print_batch_summary(stdout, run);
-    return run.any_failed() ? 2 : 0;
+    if (run.any_failed()) return kExitData;
+    return run.any_empty() && a.has("fail-empty") ? kExitEmpty : kExitOk;
 }
 
 }  // namespace meshless::cli

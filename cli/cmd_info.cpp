@@ -17,8 +17,8 @@ int cmd_info(int argc, char** argv) {
            "is checked and decoded through a small buffer, so bombs, truncated or corrupt data are reported),\n"
            "point/sample streams (records, frames, metadata; checks the END frame), brick stores (.mlb),\n"
            "sample stores (.mls), fitted fields (.mlf: kind, parameters, the data it was fitted to), PLY (point sets are read through, so truncation is reported), PNG, and\n"
-           "scattered/multiblock point sets (CSV/TSV/text, .vtp, .vts, PLOT3D .bin/.xyz/.p3d, raw float32\n"
-           "records, .npy): points, blocks and dims, value name and range, bounds, dropped samples;\n"
+           "scattered/multiblock point sets (CSV/TSV/text, .vtp, .vts, .vtu nodes, PLOT3D .bin/.xyz/.p3d, raw\n"
+           "float32 records, 2-D .npy; a 3-D .npy is a volume): points, blocks and dims, value name and range, bounds, dropped samples;\n"
            "VTK multiblock .vtm and AMR .vthb/.vtm hierarchies: levels, boxes per level, refinement,\n"
            "spacing, arrays with their centring, the chosen array's range (--value), blocks and dims.\n"
            "Files that cannot be described are reported on stderr; the others are still described.");

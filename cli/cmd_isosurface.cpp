@@ -43,7 +43,7 @@ int isosurface_sample_store(const Args& a, double iso, Projection mode, const Sa
                             RenderSettings rs, bool range_given, int nthreads) {
     const std::string path = a.positional()[0];
     const auto store = SampleStore::open(path);
-    warn_if_iso_outside(iso, {store->info().value_lo, store->info().value_hi}, path);
+    const bool warned = warn_if_iso_outside(iso, {store->info().value_lo, store->info().value_hi}, path);
     StreamMeta meta = sample_store_meta(*store, iso, a.command_line());
     meta.set("projection", to_string(mode));
     picture_from_meta(a, meta, range_given, iso, rs);
@@ -53,7 +53,7 @@ int isosurface_sample_store(const Args& a, double iso, Projection mode, const Sa
         return run_isosplat_sample_store(source, iso, mode, sink, {nthreads}, PipelineShape::two_stage, {nullptr, draw});
     }, r);
     if (a.has("stats")) print_isosplat_stats(stderr, path, iso, mode, r, points, nthreads, 1);
-    return 0;
+    return empty_result_exit(a, points, "points", iso, path, warned);
 }
 
 /// `mpirun -np N meshless isosurface vol.mlb ...` (stream/isosplat_mpi.hpp): rank 0 writes through the
@@ -121,7 +121,8 @@ int cmd_isosurface(int argc, char** argv) {
            "(binary PLY: x y z nx ny nz radius value, or VTK XML PolyData .vtp with vertex cells, Normals,\n"
            "radius, value) and/or a surface-splatted picture.\n"
            "VOLUME: raw (name_XxYxZ_type.raw or --dims/--type), NRRD (.nrrd/.nhdr), MetaImage (.mhd/.mha),\n"
-           "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI, or a brick store (.mlb,\n"
+           "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI, a 3-D NumPy .npy (shape\n"
+           "(nz, ny, nx), --spacing), a DICOM series, or a brick store (.mlb,\n"
            "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory,\n"
            "or a paradigm (A) sample store (.mls, see meshless generate --all): only its candidate cell rows.");
     a.option("iso", "", "V", "isovalue (required)")
@@ -129,6 +130,7 @@ int cmd_isosurface(int argc, char** argv) {
         .option("png", "", "FILE", "also render the points to this PNG")
         .option("projection", "", "MODE", "approx (one Newton step, Eq. 3.5) | exact (ray-trilinear cubic, Eq. 3.3) | none", "approx")
         .flag("stats", "print counts (active cells, discarded samples) and timing to stderr");
+    add_fail_empty_option(a);
     add_geometry_format_option(a);
     add_ply_color_option(a);
     add_sampling_options(a);
@@ -140,7 +142,7 @@ int cmd_isosurface(int argc, char** argv) {
     add_color_options(a);
     a.epilog("BLOCKS (PLOT3D, .vts pieces, .vtm/.vthb, or several files): the multiblock/AMR isosurface of chapter 4\n"
              "          (meshless isosurface BLOCKS... --help for its options).\n"
-             "POINTS (scattered: CSV/TSV, PLY, VTP, raw records, .npy, point stores .mlc): the isosurface of chapter 5\n"
+             "POINTS (scattered: CSV/TSV, PLY, VTP, VTU nodes, raw records, 2-D .npy, point stores .mlc): the isosurface of chapter 5\n"
              "          (meshless isosurface POINTS --help for its options).\n"
              "examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
              "          meshless isosurface vol.mlb --iso 100.5 --memory 256M -o out.ply\n"
@@ -183,8 +185,8 @@ int cmd_isosurface(int argc, char** argv) {
         rs.shading.value_lo = meta.get_double("value_min").value_or(iso);
         rs.shading.value_hi = meta.get_double("value_max").value_or(iso);
     }
-    warn_if_iso_outside(iso, {meta.get_double("value_min").value_or(NAN), meta.get_double("value_max").value_or(NAN)},
-                        in.path);
+    const bool warned = warn_if_iso_outside(
+        iso, {meta.get_double("value_min").value_or(NAN), meta.get_double("value_max").value_or(NAN)}, in.path);
     meta.set("projection", to_string(mode));
 
     IsoSplatResult r;
@@ -195,7 +197,7 @@ int cmd_isosurface(int argc, char** argv) {
     }, r);
     meter.done();
     if (a.has("stats")) print_isosplat_stats(stderr, in.path, iso, mode, r, points, nthreads, 1);
-    return 0;
+    return empty_result_exit(a, points, "points", iso, in.path, warned);
 }
 
 }  // namespace meshless::cli

@@ -37,11 +37,12 @@ int mc_blocks(const Args& a, double iso, const std::string& out, GeometryFormat 
                 lo = std::min(lo, b.value[static_cast<std::size_t>(n)]);
                 hi = std::max(hi, b.value[static_cast<std::size_t>(n)]);
             }
-    warn_if_iso_outside(iso, {lo, hi}, name);
+    const bool warned = warn_if_iso_outside(iso, {lo, hi}, name);
     const double read_s = seconds_since(t0);
     // census -> block cell layers -> per-block marching cubes -> welding PLY mesh writer (+ stats)
     const NaiveMcResult r = naive_block_marching_cubes(mb, iso, threads(a), out, a.has("stats"), format, vtp_options(a, threads(a)));
-    if (!a.has("stats")) return 0;
+    const int code = empty_result_exit(a, r.mesh.triangle_count(), "triangles", iso, name, warned);
+    if (!a.has("stats")) return code;
     const BlockMcTotals& tot = r.totals;
     const Mesh& mesh = r.mesh;
     long long all_degenerate = 0;
@@ -73,7 +74,7 @@ int mc_blocks(const Args& a, double iso, const std::string& out, GeometryFormat 
                  "box-overlapping candidates, %lld collinear triangles skipped; %.3f s\n",
                  static_cast<long long>(ps.intersecting), static_cast<long long>(ps.duplicates),
                  static_cast<long long>(ps.candidates), static_cast<long long>(ps.degenerate), r.pair_seconds);
-    return 0;
+    return code;
 }
 
 }  // namespace
@@ -110,6 +111,7 @@ int cmd_mc(int argc, char** argv) {
     a.option("iso", "", "V", "isovalue (required)")
         .option("output", "o", "FILE", "mesh output (required): .ply binary PLY or .vtp VTK XML PolyData (polygons, Normals, per-cell 'block'); '-' = stdout")
         .flag("stats", "print counts and timing to stderr (BLOCKS: also crack edges and intersecting pairs)");
+    add_fail_empty_option(a);
     add_geometry_format_option(a);
     add_volume_options(a);
     add_point_set_options(a, false);
@@ -126,7 +128,7 @@ int cmd_mc(int argc, char** argv) {
     if (a.positional().size() > 1 || looks_like_multiblock(a.positional()[0])) return mc_blocks(a, iso, out, format);
     VolumeInput in = open_volume_input(a);
     const std::string& path = in.path;
-    warn_if_iso_outside(iso, in.value_range(), path);
+    const bool warned = warn_if_iso_outside(iso, in.value_range(), path);
     const auto t0 = std::chrono::steady_clock::now();
     MeshWeldSink sink(out, format, vtp_options(a, threads(a)));
     ProgressMeter meter = ProgressMeter::of(a, in.store ? "bricks" : "cell layers", marching_cubes_work(in, iso));
@@ -138,7 +140,7 @@ int cmd_mc(int argc, char** argv) {
         std::fprintf(stderr, "mc: %s iso %g: %lld active cells, %zu vertices, %zu triangles, %.1f MiB, %.3f s (%lld cells with NaN/Inf skipped)\n",
                      terminal_safe(path).c_str(), iso, static_cast<long long>(st.active_cells), mesh.vertex_count(), mesh.triangle_count(),
                      mesh.memory_bytes() / 1048576.0, secs, static_cast<long long>(st.skipped_nonfinite));
-    return 0;
+    return empty_result_exit(a, mesh.triangle_count(), "triangles", iso, path, warned);
 }
 
 }  // namespace meshless::cli

@@ -161,6 +161,13 @@ void declare_render_options(Args& a) {
              "          meshless render points.ply --field mpu -o lod.png --compare chest.png --diff diff.png\n");
 }
 
+/// True when every pixel of `p` has the first pixel's colour (nothing drawn over the background).
+bool uniform_picture(const Image& p) {
+    for (std::size_t i = 3; i < p.rgb.size(); ++i)
+        if (p.rgb[i] != p.rgb[i % 3]) return false;
+    return true;
+}
+
 /// --bounds X0,Y0,Z0,X1,Y1,Z1 (stream/field_render.hpp render_frame), if given.
 std::optional<std::array<Vec3, 2>> bounds_arg(const Args& a) {
     const auto b = a.get("bounds");
@@ -232,6 +239,12 @@ int cmd_render(int argc, char** argv) {
     meter.done();
     const Image& picture = rr.picture;
     const RayCastStats& st = rr.stats;
+    // a point set whose picture is one colour (a PLY isosurface's points all carry the isovalue: a
+    // constant field that the transfer function maps to nothing) says so instead of a silent black image
+    if (!in.volume && uniform_picture(picture))
+        std::fprintf(stderr, "meshless render: warning: %s: the picture is all background (values %g .. %g; an isosurface's "
+                             "points carry one value: splat them instead, meshless splat)\n",
+                     terminal_safe(a.positional()[0]).c_str(), in.range[0], in.range[1]);
     // a closed stdout (-o - | head) still lets --diff be written; then the quiet exit
     PipeClosure pipe;
     const bool png_live = pipe.step([&] { write_png(picture, png_file); });

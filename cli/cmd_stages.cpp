@@ -69,6 +69,7 @@ int cmd_generate(int argc, char** argv) {
         .flag("all", "paradigm (A): index the cells of a brick store for every isovalue into a sample store (-o FILE.mls)")
         .option("output", "o", "FILE", "stream output, '-' = stdout", "-")
         .flag("stats", "print sample counts and timing to stderr");
+    add_fail_empty_option(a);
     add_compress_option(a);
     add_sampling_options(a);
     add_volume_options(a);
@@ -100,13 +101,13 @@ int cmd_generate(int argc, char** argv) {
     // floats hold exactly: the encoder checks their positions and takes their values from the corners
     sink.index_cells(cell_grid(in.grid()), SampleCellEncoder::Verify::position);
     const IsoSplatResult r = run_isosplat_input(in, iso, Projection::approx, sp, sink, nthreads, PipelineShape::samples_only);
-    warn_if_nothing_active(in, iso, r.sampling);
+    const bool warned = warn_if_nothing_active(in, iso, r.sampling);
     if (a.has("stats"))
         std::fprintf(stderr, "generate: %s iso %g: %lld samples (active cells), %lld cells with NaN/Inf skipped, %.3f s\n",
                      terminal_safe(in.path).c_str(), iso, static_cast<long long>(r.sampling.active_cells),
                      static_cast<long long>(r.sampling.nonfinite_cells), r.seconds);
     out.commit();
-    return 0;
+    return empty_result_exit(a, static_cast<std::uint64_t>(r.sampling.active_cells), "samples", iso, in.path, warned);
 }
 
 int cmd_project(int argc, char** argv) {

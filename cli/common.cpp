@@ -372,16 +372,35 @@ std::optional<GeometryOutput> geometry_output(const Args& a, const char* what) {
     return g;
 }
 
-void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source) {
-    if (std::isnan(range[0]))
+bool warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source) {
+    if (std::isnan(range[0])) {
         std::fprintf(stderr, "meshless: warning: %s has no finite samples; the outputs will be empty\n", terminal_safe(source).c_str());
-    else if (iso < range[0] || iso > range[1])
+        return true;
+    }
+    if (iso < range[0] || iso > range[1]) {
         std::fprintf(stderr, "meshless: warning: %s: isovalue %g is outside the data range [%g, %g]; the outputs will be empty\n",
                      terminal_safe(source).c_str(), iso, range[0], range[1]);
+        return true;
+    }
+    return false;
 }
 
-void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s) {
-    if (s.active_cells == 0) warn_if_iso_outside(iso, in.value_range(), in.path);
+bool warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s) {
+    return s.active_cells == 0 && warn_if_iso_outside(iso, in.value_range(), in.path);
+}
+
+void add_fail_empty_option(Args& a) {
+    a.flag("fail-empty", "an empty result (isovalue outside the data, or crossing no cell) exits 4 instead of 0 "
+                         "(the empty outputs are still written)");
+}
+
+int empty_result_exit(const Args& a, std::uint64_t count, const char* what, double iso, const std::string& source,
+                      bool warned) {
+    if (count > 0) return 0;
+    if (!warned)
+        std::fprintf(stderr, "meshless: warning: %s: the isosurface at %g is empty (no %s); the outputs are empty\n",
+                     terminal_safe(source).c_str(), iso, what);
+    return a.has("fail-empty") ? kExitEmpty : 0;
 }
 
 bool stderr_is_tty() { return ::isatty(2) == 1; }

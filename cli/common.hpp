@@ -109,8 +109,15 @@ double stream_iso(const Args& a, const StreamMeta& m);
 /// --projection: "none" | "approx" | "exact" (kernels/project_sample.hpp); UsageError otherwise.
 Projection parse_projection(const std::string& s);
 
-/// Warns on stderr when iso lies outside [lo, hi] (the outputs will be empty but valid).
-void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source);
+/// Warns on stderr when iso lies outside [lo, hi] (the outputs will be empty but valid); true when it warned.
+bool warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source);
+/// --fail-empty: an empty result (no point, triangle or sample) exits kExitEmpty (cli/errors.hpp).
+void add_fail_empty_option(Args& a);
+/// After a command made `count` `what`s ("points", "triangles", "samples") at `iso` from `source`:
+/// when none, one warning line on stderr naming the source (unless `warned`: an earlier line said
+/// the outputs will be empty), and kExitEmpty with --fail-empty; otherwise 0.
+int empty_result_exit(const Args& a, std::uint64_t count, const char* what, double iso, const std::string& source,
+                      bool warned);
 /// UsageError "refusing to write WHAT to a terminal" when `path` is "-" and standard output is a
 /// terminal (binary outputs: streams, PLY, VTP, PNG, NRRD, stores).
 void refuse_binary_to_terminal(const std::string& path, const std::string& what);
@@ -146,7 +153,8 @@ std::optional<GeometryOutput> geometry_output(const Args& a, const char* what);
 /// After a paradigm (C) run: when it found no active cell, warn_if_iso_outside with the input's value
 /// range (computed only then). A run that found an active cell has iso inside the range, so the
 /// volume is not read an extra time to say nothing.
-void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s);
+/// True when it warned.
+bool warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s);
 
 /// True when stderr is a terminal (progress and timing chatter go there only then, or with --stats).
 bool stderr_is_tty();

@@ -6,6 +6,9 @@
 //           InvalidArgument (a parameter outside a function's domain, usually from the command line)
 //   exit 2: FormatError (bad input data), IoError (the environment failed), std::bad_alloc
 //   exit 3: anything else (an internal error)
+//   exit 4: an empty result under --fail-empty (isosurface, mc, generate: no point, triangle or
+//           sample; batch: an isovalue of some volume gave none) — the outputs are written, valid
+//           and empty; without --fail-empty the same run warns and exits 0 (cli/common.hpp)
 // Thread-safety: stateless functions.
 #pragma once
 #include <exception>
@@ -33,6 +36,7 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitUsage = 1;
 inline constexpr int kExitData = 2;
 inline constexpr int kExitInternal = 3;
+inline constexpr int kExitEmpty = 4;
 
 /// The exit code for an exception that ended a command (see the table above).
 int exit_code(const std::exception& e) noexcept;

@@ -43,8 +43,8 @@ bool point_store_output_requested(int argc, char** argv) {
 
 int cmd_convert_points(int argc, char** argv) {
     Args a("convert", "POINTS... -o pts.mlc [--memory BYTES] [--brick-points B] [--zstd-level N] [--threads N]",
-           "Converts point sets (any file the point-set readers take: CSV/TSV/text, PLY, .vtp, .vts, PLOT3D,\n"
-           "raw float32 records, .npy, .mlc; several files = one set) into a point store (.mlc): the points\n"
+           "Converts point sets (any file the point-set readers take: CSV/TSV/text, PLY, .vtp, .vts, .vtu,\n"
+           "PLOT3D, raw float32 records, .npy, .mlc; several files = one set) into a point store (.mlc): the points\n"
            "in Morton order, cut into zstd-compressed bricks that are octree cells of at most B points, with\n"
            "per-brick bounds, counts, value ranges and CRC-32s in a tail index (section 3.6's Morton order).\n"
            "NaN/Inf points are dropped and counted. Memory stays within --memory for any number of points\n"

@@ -136,13 +136,14 @@ int isosurface_scattered(int argc, char** argv) {
            "isosurface by safeguarded Newton iteration (section 5.6), of the MPU field (section 5.5) unless\n"
            "--field names another. Writes an oriented point set (binary PLY: x y z nx ny nz radius value, or\n"
            ".vtp) and/or a splatted PNG.\n"
-           "POINTS: CSV/TSV/text, PLY, VTP, raw float32 records, .npy (see meshless info), or a point store (.mlc,\n"
+           "POINTS: CSV/TSV/text, PLY, VTP, VTU nodes, raw float32 records, .npy (see meshless info), or a point store (.mlc,\n"
            "made by meshless convert): with the mpu field and a limited --max-travel it runs in z slabs within\n"
            "--memory, the bytes of the store read whole for any budget (a PLY of the same points gives the same\n"
            "samples in another order).");
     a.option("iso", "", "V", "isovalue (required)")
         .option("output", "o", "FILE", "point set output: .ply or .vtp; '-' = stdout")
         .option("png", "", "FILE", "also render the points to this PNG");
+    add_fail_empty_option(a);
     add_geometry_format_option(a);
     add_ply_color_option(a);
     add_scattered_options(a);
@@ -188,6 +189,7 @@ struct ScatteredJob {
     std::optional<std::string> png;
     ScatteredInput in;
     IsosurfaceField f;  ///< the field, its name and time, the metadata
+    bool warned = false;  ///< a line already said the isovalue lies outside the data
 };
 
 /// The options of the job, checked before any reading; the colour choice is returned.
@@ -212,7 +214,7 @@ ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
     const ColorChoice cc = parse_scattered_options(a, j);
     j.in = read_scattered(a, root);
     apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
-    if (!j.in.crosses(j.iso) && root) warn_if_iso_outside(j.iso, j.in.points.value_range(), j.in.source);
+    if (!j.in.crosses(j.iso) && root) j.warned = warn_if_iso_outside(j.iso, j.in.points.value_range(), j.in.source);
     // under mpirun the ranks share the mpu field's local fits (every rank ends with the whole field)
     std::optional<FitShare> share;
     if (mpi) share = mpi_fit_share(*mpi);
@@ -259,7 +261,7 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
     const auto store = PointStore::open(path);
     const ScatteredStorePlan plan = plan_scattered_store(*store, joined_names(a.positional()), binning_params(a), stderr_warning());
     apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
-    if (!plan.crosses(j.iso)) warn_if_iso_outside(j.iso, plan.value_range, plan.source);
+    if (!plan.crosses(j.iso)) j.warned = warn_if_iso_outside(j.iso, plan.value_range, plan.source);
     j.f.meta = scattered_store_meta(plan, j.iso, j.n, a.command_line());
     widen_frame_for_travel(j.f.meta, j.np.seed_max_travel);
     add_projection_meta(j.f.meta, "mpu", j.np);
@@ -282,7 +284,7 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
     if (a.has("stats"))
         print_store_isosurface_stats(stderr, "isosurface", plan, rep, st, j.n, j.np, j.dedup, points, {0, seconds_since(t0), seconds_since(t_start)},
                                      j.nthreads);
-    return 0;
+    return empty_result_exit(a, points, "points", j.iso, plan.source, j.warned);
 }
 
 int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
@@ -317,7 +319,7 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
     if (a.has("stats"))
         print_scattered_isosurface_stats(stderr, "isosurface", in, st, j.n, j.f.name, j.np, j.dedup, points,
                                          {j.f.seconds, graph_seconds, seconds_since(t_start)}, j.nthreads);
-    return 0;
+    return empty_result_exit(a, points, "points", j.iso, in.source, j.warned);
 }
 
 }  // namespace

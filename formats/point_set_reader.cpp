@@ -6,12 +6,14 @@
 
 #include "formats/binary_file.hpp"
 #include "formats/cluster_tree_file.hpp"
+#include "formats/npy_header.hpp"
 #include "formats/plot3d.hpp"
 #include "formats/points_ply.hpp"
 #include "formats/points_raw.hpp"
 #include "formats/points_text.hpp"
 #include "formats/points_vtp.hpp"
 #include "formats/points_vts.hpp"
+#include "formats/points_vtu.hpp"
 #include "formats/raw_volume.hpp"
 #include "formats/point_store.hpp"
 #include "formats/text_header.hpp"
@@ -38,7 +40,7 @@ bool volume_claims(const std::string& path) {
     }
 }
 
-enum class Fmt { text, ply, vtp, vts, raw, npy, plot3d, p3d, volume, mlh, mlc };
+enum class Fmt { text, ply, vtp, vts, vtu, raw, npy, plot3d, p3d, volume, mlh, mlc };
 
 Fmt choose(const std::string& path) {
     const std::string e = ext_of(path);
@@ -48,7 +50,8 @@ Fmt choose(const std::string& path) {
     if (e == ".mlc" || is_point_store(path)) return Fmt::mlc;
     if (e == ".vtp") return Fmt::vtp;
     if (e == ".vts") return Fmt::vts;
-    if (e == ".npy") return Fmt::npy;
+    if (e == ".vtu") return Fmt::vtu;
+    if (e == ".npy") return npy_ndim(path) == 3 ? Fmt::volume : Fmt::npy;  // a 3-D array is a volume
     if (e == ".p3d") return Fmt::p3d;
     if (e == ".xyz" || e == ".x" || e == ".g") return Fmt::plot3d;
     if (e == ".raw") return volume_claims(path) ? Fmt::volume : Fmt::raw;
@@ -57,9 +60,10 @@ Fmt choose(const std::string& path) {
     // by content
     const std::string head = read_file_prefix(path, 64);
     if (head.rfind("ply", 0) == 0) return Fmt::ply;
-    if (head.rfind("\x93NUMPY", 0) == 0) return Fmt::npy;
+    if (head.rfind("\x93NUMPY", 0) == 0) return npy_ndim(path) == 3 ? Fmt::volume : Fmt::npy;
     if (head.find("<VTKFile") != std::string::npos || head.rfind("<?xml", 0) == 0) {
         const std::string more = read_file_prefix(path, 4096);
+        if (more.find("UnstructuredGrid") != std::string::npos) return Fmt::vtu;
         return more.find("StructuredGrid") != std::string::npos ? Fmt::vts : Fmt::vtp;
     }
     if (looks_like_plot3d_xyz(path)) return Fmt::plot3d;
@@ -76,6 +80,7 @@ const char* fmt_name(Fmt f) {
         case Fmt::ply: return "ply";
         case Fmt::vtp: return "vtp";
         case Fmt::vts: return "vts";
+        case Fmt::vtu: return "vtu";
         case Fmt::raw: return "raw-float32";
         case Fmt::npy: return "npy";
         case Fmt::plot3d: return "plot3d";
@@ -130,6 +135,7 @@ PointSet read_one(const std::string& path, const PointSetOptions& o, Fmt f, std:
         case Fmt::ply: ps = read_points_ply(path, o, notes); break;
         case Fmt::vtp: ps = read_points_vtp(path, o, notes); break;
         case Fmt::vts: ps = read_points_vts(path, o, notes); break;
+        case Fmt::vtu: ps = read_points_vtu(path, o, notes); break;
         case Fmt::raw: ps = read_points_raw(path, o, notes); break;
         case Fmt::npy: ps = read_points_npy(path, o, notes); break;
         case Fmt::plot3d: ps = read_plot3d(path, o, notes); break;
@@ -267,9 +273,10 @@ bool looks_like_point_set(const std::string& path) {
     if (!std::filesystem::is_regular_file(path, ec)) return false;
     const std::string e = ext_of(path);
     if (e == ".csv" || e == ".tsv" || e == ".txt" || e == ".pts" || e == ".asc" || e == ".xyzv" || e == ".vtp" ||
-        e == ".vts" || e == ".npy" || e == ".p3d" || e == ".xyz" || e == ".x" || e == ".g")
+        e == ".vts" || e == ".vtu" || e == ".p3d" || e == ".xyz" || e == ".x" || e == ".g")
         return true;
     if (e == ".mlh" || e == ".mlc") return true;
+    if (e == ".npy") return npy_ndim(path) != 3;  // a 3-D array is a volume (formats/npy_volume.hpp)
     if (e == ".raw") return !volume_claims(path);
     if (e == ".bin") return looks_like_plot3d_xyz(path);
     return false;

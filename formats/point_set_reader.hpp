@@ -1,10 +1,11 @@
 // Scattered and multiblock point sets with one scalar each (dissertation chapters 4-5 inputs):
 // one entry point that dispatches on extension and content to the per-format readers
-// (points_text, points_ply, points_vtp, points_vts, points_raw (+ .npy), plot3d), plus regular
+// (points_text, points_ply, points_vtp, points_vts, points_vtu, points_raw (+ .npy), plot3d), plus regular
 // volumes read as one point per voxel.
 //
 // Dispatch: .csv .tsv .txt .dat(text) .pts .asc -> text; .ply -> PLY; .vtp -> VTK PolyData;
-// .vts -> VTK StructuredGrid; .npy -> NumPy; .p3d (JSON meta) .xyz .x .bin(PLOT3D) .q? -> PLOT3D;
+// .vts -> VTK StructuredGrid; .vtu -> the nodes of a VTK UnstructuredGrid (cells not used);
+// .npy -> NumPy (a 2-D array; a 3-D one is a volume, formats/npy_volume.hpp); .p3d (JSON meta) .xyz .x .bin(PLOT3D) .q? -> PLOT3D;
 // .mlh: a level of detail of a cluster tree (point_set_from_cluster_tree); .mlc (or the point store
 // magic): a point store, every brick (formats/point_store.hpp);
 // .raw: a regular volume when the volume readers can describe it, else float32 records; other
@@ -40,7 +41,7 @@ PointSet read_point_set(const std::vector<std::string>& paths, const PointSetOpt
 /// What `meshless info` prints: the format, notes (files paired, bytes ignored) and the whole set's
 /// statistics. Reads the data (the statistics need it).
 struct PointSetInfo {
-    std::string format;                 ///< "text", "ply", "vtp", "vts", "raw-float32", "npy", "plot3d", "volume", "point-store"
+    std::string format;                 ///< "text", "ply", "vtp", "vts", "vtu", "raw-float32", "npy", "plot3d", "volume", "point-store"
     std::vector<std::string> notes;     ///< e.g. "q file: combq.bin", "484 trailing bytes ignored"
     PointSet set;
 };

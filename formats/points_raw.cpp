@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "formats/binary_file.hpp"
+#include "formats/npy_header.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/text_header.hpp"
 
@@ -106,63 +107,17 @@ PointSet read_points_raw(const std::string& path, const PointSetOptions& o, std:
 
 PointSet read_points_npy(const std::string& path, const PointSetOptions& o, std::vector<std::string>* notes) {
     const auto bytes = read_file_bytes(path);
-    if (bytes.size() < 10 || std::memcmp(bytes.data(), "\x93NUMPY", 6) != 0)
-        throw FormatError(path + ": not a NumPy .npy file (missing \\x93NUMPY magic)");
-    const unsigned major = static_cast<unsigned char>(bytes[6]);
-    std::size_t hlen = 0, hstart = 0;
-    if (major == 1) {
-        hlen = static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
-        hstart = 10;
-    } else if (major == 2 || major == 3) {
-        if (bytes.size() < 12) throw FormatError(path + ": truncated .npy header");
-        std::uint32_t l;
-        std::memcpy(&l, bytes.data() + 8, 4);
-        if (!host_is_little_endian()) l = __builtin_bswap32(l);
-        hlen = l;
-        hstart = 12;
-    } else {
-        throw FormatError(path + ": unsupported .npy version " + std::to_string(major));
-    }
-    if (hstart + hlen > bytes.size()) throw FormatError(path + ": truncated .npy header");
-    const std::string h(reinterpret_cast<const char*>(bytes.data()) + hstart, hlen);
-    auto value_of = [&](const char* key) -> std::string {
-        const std::size_t k = h.find(std::string("'") + key + "'");
-        if (k == std::string::npos) throw FormatError(path + ": malformed .npy header (no '" + key + "')");
-        std::size_t c = h.find(':', k);
-        if (c == std::string::npos) throw FormatError(path + ": malformed .npy header");
-        ++c;
-        while (c < h.size() && h[c] == ' ') ++c;
-        if (c >= h.size()) throw FormatError(path + ": malformed .npy header (no value for '" + key + "')");
-        std::size_t e = c;
-        if (h[c] == '(') e = h.find(')', c) + 1;
-        else if (h[c] == '\'') e = h.find('\'', c + 1) + 1;
-        else while (e < h.size() && h[e] != ',' && h[e] != '}') ++e;
-        if (e == 0 || e > h.size()) throw FormatError(path + ": malformed .npy header");
-        return h.substr(c, e - c);
-    };
-    const std::string descr = value_of("descr");
-    const std::string fortran = value_of("fortran_order");
-    const std::string shape = value_of("shape");
-    std::size_t es = 0;
-    bool big = false;
-    if (descr == "'<f4'") es = 4;
-    else if (descr == "'>f4'") es = 4, big = true;
-    else if (descr == "'<f8'") es = 8;
-    else if (descr == "'>f8'") es = 8, big = true;
-    else throw FormatError(path + ": unsupported .npy dtype " + escape_field(descr) + " (float32/float64 supported)");
-    std::vector<std::int64_t> dims;
-    {
-        if (shape.size() < 2 || shape.front() != '(' || shape.back() != ')')
-            throw FormatError(path + ": .npy shape " + escape_field(shape) + " is not a tuple");
-        std::string s = shape.substr(1, shape.size() - 2);
-        for (char& c : s)
-            if (c == ',') c = ' ';
-        for (const auto& t : split_ws(s)) dims.push_back(parse_int(t, path, "shape"));
-    }
-    if (dims.size() != 2 || dims[1] < 3 || dims[0] < 0)
-        throw FormatError(path + ": .npy shape " + escape_field(shape) + ", expected (N, 3) positions or (N, k>=4) x,y,z,value...");
+    const NpyHeader hd = parse_npy_header(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
+    if (hd.type != StoredType::f32 && hd.type != StoredType::f64)
+        throw FormatError(path + ": unsupported .npy dtype '" + escape_field(hd.descr) + "' for points (float32/float64 supported)");
+    const std::size_t es = stored_size(hd.type);
+    const bool big = hd.big_endian;
+    const std::vector<std::int64_t>& dims = hd.shape;
+    if (dims.size() != 2 || dims[1] < 3)
+        throw FormatError(path + ": .npy shape " + npy_shape_text(dims) +
+                          ", expected (N, 3) positions or (N, k>=4) x,y,z,value... (a 3-D array is read as a volume)");
     const auto N = static_cast<std::uint64_t>(dims[0]), K = static_cast<std::uint64_t>(dims[1]);
-    const std::size_t data = hstart + hlen;
+    const std::size_t data = static_cast<std::size_t>(hd.data_offset);
     const std::uint64_t need = checked_mul(checked_mul(N, K, path + ": .npy shape"), es, path + ": .npy shape");
     if (bytes.size() - data < need)
         throw FormatError(path + ": truncated .npy data: " + std::to_string(bytes.size() - data) + " of " + std::to_string(need) + " bytes");
@@ -171,7 +126,7 @@ PointSet read_points_npy(const std::string& path, const PointSetOptions& o, std:
             throw FormatError(path + ": " + std::to_string(bytes.size() - data - need) + " trailing bytes after the .npy array");
         if (notes) notes->push_back(std::to_string(bytes.size() - data - need) + " trailing bytes ignored");
     }
-    const bool forder = fortran == "True";
+    const bool forder = hd.fortran_order;
     const bool has_v = K >= 4;
     std::uint64_t vc = 3;
     if (o.value_index) {

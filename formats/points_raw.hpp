@@ -8,7 +8,8 @@
 // plausible is refused ("looks big-endian"); with the order detected, a file whose non-zero
 // coordinates are not 90 % plausible (a raw volume read without --dims) is refused. A size that is not a whole number of records is
 // refused (trailing bytes) unless allow_trailing.
-// NumPy: versions 1-3, dtype <f4 >f4 <f8 >f8, shape (N,3) (positions only, has_values = false)
+// NumPy (the header: formats/npy_header.hpp): versions 1-3, dtype <f4 >f4 <f8 >f8, a 2-D shape
+// (3-D arrays are volumes, formats/npy_volume.hpp): (N,3) (positions only, has_values = false)
 // or (N,k>=4) (value = column options.value_index, default 3), C or Fortran order; bytes after
 // the array are refused unless allow_trailing.
 // Throws FormatError/IoError naming the path. Thread-safety: reentrant.

@@ -32,12 +32,16 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
     bool has_values = false, first_piece = true;
     int piece_no = 0;
     std::uint64_t polys = 0, strips = 0;  // PolyData: a surface mesh, whose vertices are read
+    std::uint64_t cells = 0;              // UnstructuredGrid: cells, not used (the nodes are the points)
     for (const VtkXmlElement& piece : top.children("Piece")) {
         if (vtk_type == "PolyData") {
             const std::int64_t np = parse_int(piece.attr("NumberOfPolys", "0"), path, "NumberOfPolys");
             const std::int64_t ns = parse_int(piece.attr("NumberOfStrips", "0"), path, "NumberOfStrips");
             if (np > 0) polys += static_cast<std::uint64_t>(np);
             if (ns > 0) strips += static_cast<std::uint64_t>(ns);
+        } else if (vtk_type == "UnstructuredGrid") {
+            const std::int64_t nc = parse_int(piece.attr("NumberOfCells", "0"), path, "NumberOfCells");
+            if (nc > 0) cells += static_cast<std::uint64_t>(nc);
         }
         std::array<std::int64_t, 3> dims{0, 1, 1};
         std::uint64_t n = 0;
@@ -126,6 +130,9 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
     if (notes && polys + strips > 0)
         notes->push_back(std::to_string(polys) + " polygons" + (strips ? ", " + std::to_string(strips) + " triangle strips" : "") +
                          ": a surface mesh, read as the points of its vertices");
+    if (notes && cells > 0)
+        notes->push_back(std::to_string(cells) + " cells: not used, the " + std::to_string(b.set().pos.size()) +
+                         " nodes are read as scattered points");
     return b.finish(value_name, has_values);
 }
 

@@ -1,5 +1,5 @@
 // Scattered points with a scalar from VTK XML PolyData (.vtp), and the shared piece reader used
-// for StructuredGrid (.vts, formats/points_vts.hpp). Dissertation chapters 4-5 inputs.
+// for StructuredGrid (.vts, formats/points_vts.hpp) and UnstructuredGrid (.vtu, formats/points_vtu.hpp). Dissertation chapters 4-5 inputs.
 //
 // Every <Piece> becomes a block (PolyData: {NumberOfPoints,1,1}; StructuredGrid: the Extent's
 // dims, x fastest as VTK stores them). Points: the <Points> DataArray (3 components, any type).
@@ -21,7 +21,9 @@ namespace meshless {
 PointSet read_points_vtp(const std::string& path, const PointSetOptions& options,
                          std::vector<std::string>* notes = nullptr);
 
-/// The piece reader behind .vtp and .vts: `vtk_type` is "PolyData" or "StructuredGrid".
+/// The piece reader behind .vtp, .vts and .vtu: `vtk_type` is "PolyData", "StructuredGrid" or
+/// "UnstructuredGrid" (read as PolyData is: NumberOfPoints per piece; its cells are counted in a
+/// note and not used).
 PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_type, const PointSetOptions& options,
                              std::vector<std::string>* notes = nullptr);
 

@@ -10,6 +10,8 @@
 #include "formats/gzip.hpp"
 #include "formats/metaimage.hpp"
 #include "formats/nifti.hpp"
+#include "formats/npy_header.hpp"
+#include "formats/npy_volume.hpp"
 #include "formats/nrrd.hpp"
 #include "formats/payload.hpp"
 #include "formats/raw_volume.hpp"
@@ -29,7 +31,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum class Fmt { raw, nrrd, metaimage, vtk_legacy, vti, vtkjs, slc, nifti, voreen_dat, dicom, unknown };
+enum class Fmt { raw, npy, nrrd, metaimage, vtk_legacy, vti, vtkjs, slc, nifti, voreen_dat, dicom, unknown };
 
 bool ends_with(const std::string& s, const char* suf) {
     const std::size_t n = std::strlen(suf);
@@ -47,6 +49,7 @@ Fmt by_extension(const std::string& path) {
     if (ends_with(l, ".slc")) return Fmt::slc;
     if (ends_with(l, ".dat")) return Fmt::voreen_dat;
     if (ends_with(l, ".raw")) return Fmt::raw;
+    if (ends_with(l, ".npy")) return Fmt::npy;
     return Fmt::unknown;
 }
 
@@ -54,6 +57,7 @@ Fmt by_content(const std::string& path, const RawOptions& raw) {
     const std::string h = read_file_prefix(path, 4096);
     if (h.size() >= 132 && h.compare(128, 4, "DICM") == 0) return Fmt::dicom;
     if (h.rfind("NRRD", 0) == 0) return Fmt::nrrd;
+    if (h.rfind("\x93NUMPY", 0) == 0) return Fmt::npy;
     if (to_lower(h.substr(0, 14)) == "# vtk datafile") return Fmt::vtk_legacy;
     if (h.rfind("<?xml", 0) == 0 || h.rfind("<VTKFile", 0) == 0) return Fmt::vti;
     if (h.rfind("11111", 0) == 0) return Fmt::slc;
@@ -126,6 +130,7 @@ namespace {
 Volume read_volume_unnamed(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {
         case Fmt::raw: return read_payload(confined(plan_raw(path, raw), path, raw.references));
+        case Fmt::npy: return read_payload(plan_npy(path, raw));
         case Fmt::nrrd: return read_payload(confined(plan_nrrd(path), path, raw.references));
         case Fmt::metaimage: return read_payload(confined(plan_metaimage(path), path, raw.references));
         case Fmt::vtk_legacy: return read_vtk_legacy(path);
@@ -143,6 +148,7 @@ Volume read_volume_unnamed(const std::string& path, const RawOptions& raw) {
 Volume map_volume_unnamed(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {
         case Fmt::raw: return read_payload(confined(plan_raw(path, raw), path, raw.references), true);
+        case Fmt::npy: return read_payload(plan_npy(path, raw), true);
         case Fmt::nrrd: return read_payload(confined(plan_nrrd(path), path, raw.references), true);
         case Fmt::metaimage: return read_payload(confined(plan_metaimage(path), path, raw.references), true);
         case Fmt::voreen_dat: return read_payload(confined(plan_voreen_dat(path), path, raw.references), true);
@@ -188,6 +194,7 @@ static VolumeInfo dicom_info(const DicomSeries& s) {
 VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
     switch (detect(path, raw)) {
         case Fmt::raw: return mappable_info(confined(plan_raw(path, raw), path, raw.references));
+        case Fmt::npy: return mappable_info(plan_npy(path, raw));
         case Fmt::nrrd: return mappable_info(confined(plan_nrrd(path), path, raw.references));
         case Fmt::metaimage: return mappable_info(confined(plan_metaimage(path), path, raw.references));
         case Fmt::voreen_dat: return mappable_info(confined(plan_voreen_dat(path), path, raw.references));
@@ -206,6 +213,7 @@ VolumeInfo prove_volume(const std::string& path, const RawOptions& raw) {
     const Fmt f = detect(path, raw);
     switch (f) {
         case Fmt::raw: prove_payload(confined(plan_raw(path, raw), path, raw.references)); break;
+        case Fmt::npy: prove_payload(plan_npy(path, raw)); break;
         case Fmt::nrrd: prove_payload(confined(plan_nrrd(path), path, raw.references)); break;
         case Fmt::metaimage: prove_payload(confined(plan_metaimage(path), path, raw.references)); break;
         case Fmt::voreen_dat: prove_payload(confined(plan_voreen_dat(path), path, raw.references)); break;
@@ -243,6 +251,7 @@ bool looks_like_volume(const std::string& path) {
     if (fs::is_directory(path, ec)) return fs::is_regular_file(fs::path(path) / "index.json", ec) || looks_like_dicom(path);
     const Fmt e = by_extension(path);
     if (e == Fmt::unknown) return looks_like_dicom(path);
+    if (e == Fmt::npy) return npy_ndim(path) == 3;  // a 2-D .npy is a point set
     if (e == Fmt::vtkjs || e == Fmt::voreen_dat) {
         // .json only when it is a vtk-js image index; .dat only when it is a Voreen sidecar
         try {

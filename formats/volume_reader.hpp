@@ -1,6 +1,7 @@
 // Regular-volume readers: one entry point that dispatches on extension (and content) to the
 // per-format readers (raw, NRRD, MetaImage, VTK legacy, VTK XML .vti, vtk-js index.json, SLC,
-// NIfTI-1, Voreen .dat, DICOM series: a folder, DICOMDIR or slice file, formats/dicom_series.hpp).
+// NIfTI-1, Voreen .dat, DICOM series: a folder, DICOMDIR or slice file, formats/dicom_series.hpp;
+// NumPy .npy 3-D arrays, formats/npy_volume.hpp).
 //
 // Output: a Volume with samples x fastest, then y, then z, in host (little-endian) order.
 // Types: uint8, int16, uint16, float32 are kept; int8 widens to int16; int32/uint32/int64/
@@ -49,19 +50,19 @@ struct RawOptions {
     std::string series;
 };
 
-/// Reads a whole volume. Dispatch: .raw .nrrd .nhdr .mhd .mha .vtk .vti (file: VTK XML,
+/// Reads a whole volume. Dispatch: .raw .npy .nrrd .nhdr .mhd .mha .vtk .vti (file: VTK XML,
 /// directory: vtk-js) .json (vtk-js index) .slc .nii .nii.gz .hdr .dat, a directory holding
 /// index.json, a DICOM folder, DICOMDIR or slice file ("DICM" at byte 128), else by content (magic).
 Volume read_volume(const std::string& path, const RawOptions& raw = {});
 
 /// The same volume as read_volume, read the fastest way for one pass over it: when the samples are
-/// one uncompressed file in host byte order and a native type (raw, NRRD, MetaImage, Voreen .dat
+/// one uncompressed file in host byte order and a native type (raw, .npy, NRRD, MetaImage, Voreen .dat
 /// with raw encoding), the Volume maps the file (formats/mapped_file.hpp: no read, no copy; the
 /// file must not be truncated while the Volume lives); every other case is read_volume.
 Volume map_volume(const std::string& path, const RawOptions& raw = {});
 
 struct VolumeInfo {
-    std::string format;                   ///< "raw", "nrrd", "metaimage", "vtk-legacy", "vti", "vtkjs", "slc", "nifti", "voreen-dat", "dicom"
+    std::string format;                   ///< "raw", "npy", "nrrd", "metaimage", "vtk-legacy", "vti", "vtkjs", "slc", "nifti", "voreen-dat", "dicom"
     GridSpec grid;
     SampleType type = SampleType::u8;     ///< the type read_volume returns
     std::string encoding;                 ///< "raw", "gzip", "ascii", "rle", "base64", "base64+zlib", "appended-raw", ...
@@ -85,7 +86,7 @@ VolumeInfo prove_volume(const std::string& path, const RawOptions& raw = {});
 /// The bytes the samples of `vi` take once decoded into memory (voxels x sample size, checked).
 std::uint64_t decoded_bytes(const VolumeInfo& vi, const std::string& path);
 
-/// By extension: .raw .nrrd .nhdr .mhd .mha .vtk .vti .slc .nii .nii.gz .dat, a .json that is
+/// By extension: .raw .nrrd .nhdr .mhd .mha .vtk .vti .slc .nii .nii.gz .dat, a .npy of 3 dimensions, a .json that is
 /// a vtk-js index, a directory holding index.json; a DICOM file, DICOMDIR or a folder with a DICOM
 /// file among its first 64 entries (formats/dicom_series.hpp looks_like_dicom). Does not open the payload.
 bool looks_like_volume(const std::string& path);

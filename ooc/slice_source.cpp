@@ -12,6 +12,7 @@
 #include "ooc/brick_slice_source.hpp"
 #include "formats/gzip.hpp"
 #include "formats/metaimage.hpp"
+#include "formats/npy_volume.hpp"
 #include "formats/nrrd.hpp"
 #include "formats/payload.hpp"
 #include "formats/raw_volume.hpp"
@@ -157,6 +158,7 @@ std::optional<PayloadPlan> streamable_plan(const std::string& path, const RawOpt
     const VolumeInfo vi = probe_volume(path, raw);
     PayloadPlan plan;
     if (vi.format == "raw") plan = plan_raw(path, raw);
+    else if (vi.format == "npy") plan = plan_npy(path, raw);
     else if (vi.format == "nrrd") plan = plan_nrrd(path);
     else if (vi.format == "metaimage") plan = plan_metaimage(path);
     else if (vi.format == "voreen-dat") plan = plan_voreen_dat(path);

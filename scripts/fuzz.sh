@@ -16,7 +16,7 @@ shift $(( $# > 2 ? 2 : $# ))
 root=$(cd "$(dirname "$0")/.." && pwd)
 data=${MESHLESS_DATA:-$root/../shared/data}
 all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
-     fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_plot3d fuzz_vtp fuzz_vts fuzz_csv fuzz_npy fuzz_points_raw
+     fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_npy_volume fuzz_plot3d fuzz_vtp fuzz_vts fuzz_vtu fuzz_csv fuzz_npy fuzz_points_raw
      fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file fuzz_point_store
      fuzz_positions fuzz_dicom)
 targets=("$@")
@@ -88,6 +88,13 @@ hdr += ' ' * ((64 - (10 + len(hdr) + 1) % 64) % 64) + '\n'
 npy = b'\x93NUMPY\x01\x00' + struct.pack('<H', len(hdr)) + hdr.encode() + struct.pack('<12f', *range(12))
 os.makedirs(os.path.join(d, 'fuzz_npy'), exist_ok=True)
 open(os.path.join(d, 'fuzz_npy', 'small'), 'wb').write(npy)
+for name, descr, order in (('c', '<i2', 'False'), ('f', '>f4', 'True')):  # 3-D arrays: volumes
+    hdr = "{'descr': '%s', 'fortran_order': %s, 'shape': (2, 3, 4), }" % (descr, order)
+    hdr += ' ' * ((64 - (10 + len(hdr) + 1) % 64) % 64) + '\n'
+    vol = b'\x93NUMPY\x01\x00' + struct.pack('<H', len(hdr)) + hdr.encode() + bytes(range(24 * int(descr[2])))
+    for t in ('fuzz_npy_volume', 'fuzz_npy'):
+        os.makedirs(os.path.join(d, t), exist_ok=True)
+        open(os.path.join(d, t, 'volume_' + name), 'wb').write(vol)
 EOF
 have mni152_brain/avg152T1_RL_nifti.nii.gz && seed fuzz_nifti_gz mni < "$data/mni152_brain/avg152T1_RL_nifti.nii.gz"
 have scattered/dark_matter_halo/halo_low_res.npy && seed fuzz_npy halo < "$data/scattered/dark_matter_halo/halo_low_res.npy"
@@ -95,6 +102,19 @@ have plot3d/mbwavelet_ascii.xyz && { cat "$data/plot3d/mbwavelet_ascii.xyz"; pri
 have plot3d/multi-bin.xyz && seed fuzz_plot3d multibin < "$data/plot3d/multi-bin.xyz"
 have scattered/probes/probes.vtp && seed fuzz_vtp probes < "$data/scattered/probes/probes.vtp"
 for i in 0 1; do have "plot3d/multicomb_$i.vts" && seed fuzz_vts "comb$i" < "$data/plot3d/multicomb_$i.vts"; done
+# .vtu seeds: one node set with one tetrahedron, ascii and zlib-compressed appended (VTK's writer when
+# python3-vtk9 is installed)
+printf '<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">\n<UnstructuredGrid>\n<Piece NumberOfPoints="4" NumberOfCells="1">\n<PointData Scalars="s">\n<DataArray type="Float32" Name="s" format="ascii">1 2 3 4</DataArray>\n</PointData>\n<Points>\n<DataArray type="Float32" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 0 1 0 0 0 1</DataArray>\n</Points>\n<Cells>\n<DataArray type="Int64" Name="connectivity" format="ascii">0 1 2 3</DataArray>\n<DataArray type="Int64" Name="offsets" format="ascii">4</DataArray>\n<DataArray type="UInt8" Name="types" format="ascii">10</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n' | seed fuzz_vtu ascii
+vtmp=$(mktemp -d)
+if /usr/bin/python3 -c 'import vtk
+p = vtk.vtkPoints(); s = vtk.vtkFloatArray(); s.SetName("s")
+for i in range(8): p.InsertNextPoint(i % 2, i // 2 % 2, i // 4); s.InsertNextValue(i)
+g = vtk.vtkUnstructuredGrid(); g.SetPoints(p); g.GetPointData().SetScalars(s)
+w = vtk.vtkXMLUnstructuredGridWriter(); w.SetInputData(g); w.SetFileName("'"$vtmp"'/z.vtu")
+w.SetDataModeToAppended(); w.SetCompressorTypeToZLib(); w.Write()' 2>/dev/null; then
+  seed fuzz_vtu zlib < "$vtmp/z.vtu"
+fi
+rm -rf "$vtmp"
 have scattered/sparsePoints.txt && seed fuzz_csv sparse < "$data/scattered/sparsePoints.txt"
 have scattered/gravi.txt && head -c 2000 "$data/scattered/gravi.txt" | seed fuzz_csv gravi
 printf 'x,y,z,value\n0,0,0,1\n1,0,0,2\n0,1,0,3\n0,0,1,4\n' | seed fuzz_csv small

@@ -175,13 +175,15 @@ public:
             const bool do_ply = s_.ply && !up_to_date(ply, ply_side);
             const bool do_mlp = s_.stream && !up_to_date(mlp, mlp_side);
             r.current += (s_.ply && !do_ply) + (s_.stream && !do_mlp);
-            if (!do_ply && !do_mlp) continue;
-            const std::uint32_t c = crc();
-            if (!store) {
+            if (!s_.ply && !s_.stream) continue;
+            if (!store) {  // the store's index says which isovalues give empty point sets, done or up to date
                 store = BrickStore::open(mlb);
                 cache = std::make_unique<BrickCache>(*store, s_.memory);
                 index = std::make_unique<BrickIndex>(*store);
             }
+            r.empty += index->active(iso).empty();
+            if (!do_ply && !do_mlp) continue;
+            const std::uint32_t c = crc();
             progress_.show("iso " + iso_name);
             const auto& si = store->info();
             if (cb_.iso_range) cb_.iso_range(iso, {si.value_min, si.value_max}, item_.path);
@@ -344,6 +346,10 @@ BatchItemResult run_item(const BatchSettings& s, const BatchItem& item, const Ba
 }  // namespace
 
 std::string batch_iso_name(double iso) { return fmt("%.9g", iso); }
+
+bool BatchRun::any_empty() const {
+    return std::any_of(items.begin(), items.end(), [](const BatchItemResult& r) { return r.empty > 0; });
+}
 
 bool BatchRun::any_failed() const {
     return std::any_of(items.begin(), items.end(),

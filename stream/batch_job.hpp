@@ -59,6 +59,7 @@ struct BatchItemResult {
     std::string name;  ///< output name (stream/batch_archive.hpp)
     BatchStatus status = BatchStatus::failed;
     int written = 0, current = 0;  ///< outputs written, outputs found up to date (also when failed)
+    int empty = 0;                 ///< isovalues whose point sets hold no point (the isovalue crosses no brick)
     double seconds = 0;
     std::string message;    ///< why it failed or was refused ("not attempted: ..." after a full disk)
     std::string stops_run;  ///< non-empty: why the run stops after this volume ("out of disk space in OUT")
@@ -69,6 +70,8 @@ struct BatchRun {
     double seconds = 0;                  ///< the volumes' loop, from after the sweep of temporaries
     /// Some volume failed or was refused.
     bool any_failed() const;
+    /// Some isovalue of some volume gave an empty point set (`meshless batch --fail-empty`).
+    bool any_empty() const;
 };
 
 /// A step of the running volume, for a progress line.

@@ -24,10 +24,14 @@ void print_batch_summary(std::FILE* out, const BatchRun& run) {
     std::size_t w = 6;
     for (const auto& r : run.items) w = std::max(w, terminal_safe(r.name).size());
     std::fprintf(out, "%-*s  %-10s  %7s  %10s  %8s\n", static_cast<int>(w), "volume", "result", "written", "up to date", "seconds");
-    int done = 0, current = 0, failed = 0, refused = 0, written = 0, outputs_current = 0;
+    int done = 0, current = 0, failed = 0, refused = 0, written = 0, outputs_current = 0, empty = 0;
     for (const auto& r : run.items) {
+        std::string note = terminal_safe(r.message);
+        if (r.empty > 0)
+            note += (note.empty() ? "" : "; ") + std::string("empty at ") + std::to_string(r.empty) + " isovalue(s)";
         std::fprintf(out, "%-*s  %-10s  %7d  %10d  %8.2f%s%s\n", static_cast<int>(w), terminal_safe(r.name).c_str(), status_text(r.status),
-                     r.written, r.current, r.seconds, r.message.empty() ? "" : "  ", terminal_safe(r.message).c_str());
+                     r.written, r.current, r.seconds, note.empty() ? "" : "  ", note.c_str());
+        empty += r.empty > 0;
         done += r.status == BatchStatus::done;
         current += r.status == BatchStatus::up_to_date;
         failed += r.status == BatchStatus::failed;
@@ -35,7 +39,8 @@ void print_batch_summary(std::FILE* out, const BatchRun& run) {
         written += r.written;
         outputs_current += r.current;
     }
-    const std::string refused_text = refused ? ", " + std::to_string(refused) + " refused" : "";
+    const std::string refused_text = (refused ? ", " + std::to_string(refused) + " refused" : "") +
+                                     (empty ? ", " + std::to_string(empty) + " with empty point sets" : "");
     std::fprintf(out, "%zu volume(s): %d done, %d up to date, %d failed%s; %d output(s) written, %d up to date; %.2f s\n",
                  run.items.size(), done, current, failed, refused_text.c_str(), written, outputs_current, run.seconds);
     std::fflush(out);

@@ -6,7 +6,8 @@
 //   knee    FAILED            0           0      0.01  knee.raw: truncated ...
 //   2 volume(s): 1 done, 0 up to date, 1 failed; 3 output(s) written, 0 up to date; 12.40 s
 // Names and messages pass through terminal_safe (formats/terminal_safe.hpp); ", N refused" joins the
-// totals only when some volume was refused. Flushes `out`; write errors are not reported. Reentrant.
+// totals only when some volume was refused, ", N with empty point sets" only when some isovalue of
+// some volume crossed no brick (its row then says "empty at K isovalue(s)"). Flushes `out`; write errors are not reported. Reentrant.
 #pragma once
 #include <cstdio>
 

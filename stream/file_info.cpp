@@ -64,9 +64,10 @@ void describe_png(const std::string& path, std::FILE* out) {
     std::fprintf(out, "%s: PNG image, %u x %u\n", terminal_safe(path).c_str(), be32(16), be32(20));
 }
 
+// Collections, and a RectilinearGrid (.vtr): read as blocks, as isosurface and mc read them.
 bool is_collection(const std::string& path) {
     const std::string e = lower_extension(path);
-    return e == ".vtm" || e == ".vthb";
+    return e == ".vtm" || e == ".vthb" || e == ".vtr";
 }
 
 }  // namespace

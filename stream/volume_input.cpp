@@ -19,6 +19,12 @@ constexpr int kFramingBlockEdge = 32;  // the default brick edge of meshless con
 void warn_if_raw_options_ignored(const std::string& path, const VolumeOpenOptions& o) {
     if (!o.raw_given || !o.warn) return;
     const VolumeInfo vi = probe_volume(path, o.raw);
+    if (vi.format == "npy") {  // the header gives the shape and dtype, --spacing the geometry it lacks
+        if (o.raw.dims || o.raw.type || o.raw.big_endian)
+            o.warn("warning: " + terminal_safe(path) + " is a .npy file, whose header gives its shape and dtype: --dims, " +
+                   "--type and --endian are ignored");
+        return;
+    }
     if (vi.format != "raw")
         o.warn("warning: " + terminal_safe(path) + " is a " + vi.format +
                " file, which describes itself: --dims, --type, --endian and --spacing are ignored");
@@ -27,7 +33,7 @@ void warn_if_raw_options_ignored(const std::string& path, const VolumeOpenOption
 /// Formats whose payload open_slice_source streams from disk (raw or gzip samples).
 bool streamable(const std::string& path, const RawOptions& raw) {
     const VolumeInfo vi = probe_volume(path, raw);
-    return (vi.format == "raw" || vi.format == "nrrd" || vi.format == "metaimage" || vi.format == "voreen-dat") &&
+    return (vi.format == "raw" || vi.format == "npy" || vi.format == "nrrd" || vi.format == "metaimage" || vi.format == "voreen-dat") &&
            (vi.encoding == "raw" || vi.encoding == "gzip");
 }
 

@@ -45,6 +45,19 @@ inline RunResult sh(std::string cmd, const TempDir& dir) {
     return r;
 }
 
+/// `bytes` without the lines (newline-terminated, or the last one) that contain `needle`: outputs
+/// compared across inputs of other names, less the lines that record the input's name.
+inline std::string lines_without(const std::string& bytes, const std::string& needle) {
+    std::string out;
+    for (std::size_t at = 0; at < bytes.size();) {
+        const std::size_t nl = bytes.find('\n', at);
+        const std::size_t end = nl == std::string::npos ? bytes.size() : nl + 1;
+        if (bytes.substr(at, end - at).find(needle) == std::string::npos) out.append(bytes, at, end - at);
+        at = end;
+    }
+    return out;
+}
+
 inline void spit(const std::filesystem::path& p, const std::string& bytes) {
     std::ofstream out(p, std::ios::binary);
     out << bytes;

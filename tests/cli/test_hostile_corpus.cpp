@@ -314,6 +314,34 @@ std::vector<Case> corpus() {
         "<StructuredGrid WholeExtent=\"-9223372036854775808 9223372036854775807 0 0 0 0\">\n"
         "<Piece Extent=\"-9223372036854775808 9223372036854775807 0 0 0 0\">\n<Points>\n<DataArray type=\"Float32\" "
         "NumberOfComponents=\"3\" format=\"ascii\">0 0 0</DataArray>\n</Points>\n</Piece>\n</StructuredGrid>\n</VTKFile>\n", false);
+    {  // .vtu (the nodes of an UnstructuredGrid): one file per defect class
+        auto vtu = [](const std::string& attrs, const std::string& np, const std::string& body, const std::string& appended) {
+            return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\"" +
+                   attrs + ">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"" + np + "\" NumberOfCells=\"0\">\n" + body +
+                   "</Piece>\n</UnstructuredGrid>\n" +
+                   (appended.empty() ? "" : "<AppendedData encoding=\"raw\">\n_" + appended + "\n</AppendedData>\n") + "</VTKFile>\n";
+        };
+        const std::string app = "<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"appended\" offset=\"0\"/>\n</Points>\n";
+        const std::string ascii = "<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0 0 0 1</DataArray>\n</Points>\n";
+        add("vtu overflowing count", "ov.vtu", vtu("", "9223372036854775807", ascii, ""), false);
+        {  // the file ends 20 bytes into a 48-byte array
+            const std::string whole = vtu("", "4", app, u32le(48) + std::string(20, '\1'));
+            add("vtu truncated appended data", "tr.vtu", whole.substr(0, whole.find('_', whole.find("<AppendedData")) + 25), false);
+        }
+        add("vtu bad base64", "b64.vtu",
+            vtu("", "4", "<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"binary\">MAAA" + kEsc +
+                         "</DataArray>\n</Points>\n", ""), false);
+        add("vtu compressed block claiming more than it holds", "claim.vtu",
+            vtu(" compressor=\"vtkZLibDataCompressor\"", "16000",
+                "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"appended\" offset=\"0\"/>\n</Points>\n<!--" +
+                    std::string(4000, ' ') + "-->\n",
+                u32le(1) + u32le(384000) + u32le(384000) + u32le(1) + "x"), false);
+        const std::string bomb = zlib_of(zeros(1 << 20));
+        add("vtu decompression bomb", "bomb.vtu",
+            vtu(" compressor=\"vtkZLibDataCompressor\"", "4", app,
+                u32le(1) + u32le(48) + u32le(48) + u32le(static_cast<std::uint32_t>(bomb.size())) + bomb), false);
+        add("vtu missing Points", "nopts.vtu", vtu("", "4", "", ""), false);
+    }
     add("vtp control bytes", "esc.vtp",
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"" + kEsc + "\" version=\"0.1\" byte_order=\"LittleEndian\">\n</VTKFile>\n", false);
     {

@@ -92,4 +92,17 @@ print("bounds: %.9g %.9g %.9g .. %.9g %.9g %.9g" % (tuple(min(b[2*a], bi[2*a]) f
     REQUIRE(mb.code == 0);
     for (int i = 3; i < 5; ++i) CHECK_THAT(mb.out, Catch::Contains(want[i]));
     CHECK_THAT(mb.out, Catch::Contains("mb_2.vtr: 3 x 4 x 2 points"));
+    // the .vtr alone: info describes the block isosurface reads (not "unrecognized volume format")
+    int vtrs = 0;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(d.path))
+        if (e.path().extension() == ".vtr") {
+            ++vtrs;
+            const auto vtr = sh("MESHLESS info " + e.path().string(), d);
+            INFO(vtr.err);
+            CHECK(vtr.code == 0);
+            CHECK_THAT(vtr.out, Catch::Contains("3 x 4 x 2 points"));
+            CHECK_THAT(vtr.out, Catch::Contains("range 7 .. 41.5"));
+            CHECK(sh("MESHLESS isosurface " + e.path().string() + " --iso 20 -o " + (d / "vtr.ply").string(), d).code == 0);
+        }
+    CHECK(vtrs == 1);
 }

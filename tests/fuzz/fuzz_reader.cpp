@@ -1,6 +1,6 @@
 // One libFuzzer source, built once per decoder (tests/fuzz/CMakeLists.txt: fuzz_nrrd, fuzz_mha,
-// fuzz_vtk_legacy, fuzz_vti, fuzz_vtkjs, fuzz_slc, fuzz_nifti, fuzz_nifti_gz, fuzz_voreen,
-// fuzz_raw_sidecar, fuzz_dicom, fuzz_plot3d, fuzz_vtp, fuzz_vts, fuzz_csv, fuzz_npy, fuzz_points_raw, fuzz_point_stream, fuzz_mlb,
+// fuzz_vtk_legacy, fuzz_vti, fuzz_vtkjs, fuzz_slc, fuzz_nifti, fuzz_nifti_gz, fuzz_voreen, fuzz_npy_volume,
+// fuzz_raw_sidecar, fuzz_dicom, fuzz_plot3d, fuzz_vtp, fuzz_vts, fuzz_vtu, fuzz_csv, fuzz_npy, fuzz_points_raw, fuzz_point_stream, fuzz_mlb,
 // fuzz_mls, fuzz_positions). Compile definitions pick the decoder:
 //   FUZZ_KIND   1 volume (read_volume + probe_volume), 2 point set (read_point_set + probe), 3 the
 //               binary point/sample stream (StreamReader), 4 a brick store .mlb (open + verify),

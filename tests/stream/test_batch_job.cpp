@@ -87,6 +87,7 @@ TEST_CASE("batch job: a bad volume among good ones, the callbacks, a rerun up to
     CHECK(run.items[2].written == 0);
     CHECK_THAT(run.items[2].message, Catch::Contains("c_16x16x16_uint8.raw"));
     CHECK(run.any_failed());
+    CHECK(run.items[0].empty == 1);  // isovalue 1000: no brick crosses it
     CHECK(done == std::vector<std::string>{"a_16x16x16_uint8", "b_16x16x16_uint8", "c_16x16x16_uint8"});
     CHECK(ranges == std::vector<std::string>{"a_16x16x16_uint8.raw 100.5 241", "a_16x16x16_uint8.raw 1000 241",
                                              "b_16x16x16_uint8.raw 100.5 241", "b_16x16x16_uint8.raw 1000 241"});
@@ -113,7 +114,13 @@ TEST_CASE("batch job: a bad volume among good ones, the callbacks, a rerun up to
     std::fclose(table);
     CHECK(text.rfind("volume            result      written  up to date   seconds\n"
                      "a_16x16x16_uint8  up to date        0           5  ", 0) == 0);
-    CHECK_THAT(text, Catch::Contains("\n3 volume(s): 0 done, 2 up to date, 1 failed; 0 output(s) written, 10 up to date; "));
+    // isovalue 1000 lies above the ball's 241: an empty point set per volume, counted up to date too
+    CHECK(again.items[0].empty == 1);
+    CHECK(again.items[1].empty == 1);
+    CHECK(again.any_empty());
+    CHECK_THAT(text, Catch::Contains("a_16x16x16_uint8  up to date        0           5      0.00  empty at 1 isovalue(s)\n"));
+    CHECK_THAT(text, Catch::Contains("\n3 volume(s): 0 done, 2 up to date, 1 failed, 2 with empty point sets; 0 output(s) written, "
+                                     "10 up to date; "));
 
     CHECK_THROWS_AS(run_batch((d / "arch" / "a_16x16x16_uint8.raw").string(), s, {}), InvalidArgument);
     CHECK_THROWS_AS(run_batch((d / "missing").string(), s, {}), IoError);
