@@ -7,10 +7,14 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <thread>
 
+#include <oneapi/tbb/global_control.h>
+
 #include "formats/atomic_file.hpp"
+#include "kernels/splitmix.hpp"
 
 namespace meshless::bench {
 
@@ -28,6 +32,40 @@ std::string fmt(const char* format, ...) {
     va_end(ap);
     s.resize(static_cast<std::size_t>(n));
     return s;
+}
+
+std::vector<Vec3> random_box(const Vec3& lo, const Vec3& hi, std::size_t n, std::uint64_t seed) {
+    SplitMix rng{seed};
+    std::vector<Vec3> p(n);
+    const Vec3 e = hi - lo;
+    for (auto& q : p) {
+        const double x = rng.unit(), y = rng.unit(), z = rng.unit();
+        q = Vec3{lo.x + x * e.x, lo.y + y * e.y, lo.z + z * e.z};
+    }
+    return p;
+}
+
+EvalRate eval_rate_one_thread(const Field& f, const std::vector<Vec3>& p, int reps) {
+    std::vector<double> v(p.size());
+    std::vector<Vec3> g(p.size());
+    oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, 1);
+    const auto thread_cpu_s = [] {
+        timespec ts{};
+        ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+        return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+    };
+    double best = std::numeric_limits<double>::infinity(), best_cpu = best;
+    for (int i = 0; i < std::max(reps, 1); ++i) {
+        const double c0 = thread_cpu_s();
+        Stopwatch sw;
+        f.evaluate(p, v, g);
+        best = std::min(best, sw.ms() / 1e3);
+        best_cpu = std::min(best_cpu, thread_cpu_s() - c0);
+    }
+    std::size_t bad = 0;
+    for (double x : v) bad += !std::isfinite(x);
+    const double n = static_cast<double>(p.size());
+    return {n / best, n / best_cpu, static_cast<double>(bad) / n};
 }
 
 std::pair<std::string, int> capture(const std::string& cmd) {

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "kernels/field.hpp"
 #include "kernels/grid.hpp"
 #include "kernels/point_set.hpp"
 
@@ -91,6 +92,17 @@ public:
 private:
     std::chrono::steady_clock::time_point t0_;
 };
+
+/// n uniform random points in the box [lo, hi] (SplitMix with this seed: the same points on every run).
+std::vector<Vec3> random_box(const Vec3& lo, const Vec3& hi, std::size_t n, std::uint64_t seed);
+
+/// Value + gradient evaluations of f on one thread (tbb::global_control) over the batch p, best of
+/// reps (>= 1): per wall second, per CPU second of the calling thread (the same on an idle machine;
+/// on a shared one the CPU rate is the field's own), and the fraction of values that are not finite.
+struct EvalRate {
+    double per_s = 0, per_cpu_s = 0, nan_share = 0;
+};
+EvalRate eval_rate_one_thread(const Field& f, const std::vector<Vec3>& p, int reps);
 
 /// printf-style formatting into a std::string.
 std::string fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));

@@ -66,16 +66,6 @@ constexpr double kMiB = 1024.0 * 1024.0;
 // ---- random numbers, test functions -----------------------------------------------------------
 
 
-std::vector<Vec3> random_box(const Vec3& lo, const Vec3& hi, std::size_t n, std::uint64_t seed) {
-    SplitMix rng{seed};
-    std::vector<Vec3> p(n);
-    const Vec3 e = hi - lo;
-    for (auto& q : p) {
-        const double x = rng.unit(), y = rng.unit(), z = rng.unit();
-        q = Vec3{lo.x + x * e.x, lo.y + y * e.y, lo.z + z * e.z};
-    }
-    return p;
-}
 
 /// Franke's 3-D test function on [0,1]^3.
 double franke3(const Vec3& p) {
@@ -581,19 +571,8 @@ double best_build(const BenchOptions& o, const PointSet& ps, FieldKind k, int th
 /// the field's bounds, best of reps. Also the fraction of non-finite values.
 std::pair<double, double> eval_rate(const Field& f, int reps, std::uint64_t seed) {
     const auto b = f.bounds();
-    const std::vector<Vec3> p = random_box(b[0], b[1], kEvalBatch, seed);
-    std::vector<double> v(p.size());
-    std::vector<Vec3> g(p.size());
-    oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, 1);
-    double best = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < reps; ++i) {
-        Stopwatch sw;
-        f.evaluate(p, v, g);
-        best = std::min(best, sw.ms() / 1e3);
-    }
-    std::size_t bad = 0;
-    for (double x : v) bad += !std::isfinite(x);
-    return {static_cast<double>(p.size()) / best, static_cast<double>(bad) / static_cast<double>(p.size())};
+    const EvalRate e = eval_rate_one_thread(f, random_box(b[0], b[1], kEvalBatch, seed), reps);
+    return {e.per_s, e.nan_share};
 }
 
 /// Nanoseconds per multiquadric term (value + gradient) of the sum kernel alone, its data in

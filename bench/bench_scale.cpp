@@ -12,6 +12,10 @@
 //      the 8 closest points, onto a grid with about as many nodes as points, then vtkFlyingEdges3D.
 // Ratios: time per point against the smallest size (linearity), the slab run against the one-slab
 // run, and the in-memory run against the peer. Peak RSS: the command's own (run_sh's wrapper).
+// A second table builds the mpu and rbf-grid fields of each set in this process (make_field, all
+// threads: wall and CPU seconds) and times their evaluation (value + gradient, one thread) at random
+// points in the bounds and at the nodes of a regular grid over them, against the targets.
+#include <sys/resource.h>
 #include <sys/types.h>
 #include <unistd.h>
 
@@ -22,6 +26,9 @@
 #include <vector>
 
 #include "bench/bench_common.hpp"
+#include "formats/point_set_reader.hpp"
+#include "kernels/make_field.hpp"
+#include "kernels/mpu_field.hpp"
 
 namespace meshless::bench {
 
@@ -31,6 +38,9 @@ namespace fs = std::filesystem;
 
 constexpr double kLimit = 3600;  // seconds a command may take
 constexpr double kMiB = 1024.0 * 1024.0;
+constexpr std::size_t kEvalPoints = 100000;  // evaluation batch (random points; the grid has about as many nodes)
+constexpr double kEvalTargetM = 4.0;         // value + gradient >= 4 M points/s per core at 10^6 points
+constexpr double kBuildTargetS = 2.0;        // construction of 10^6 points <= 2 s on 2 cores
 
 struct Step {
     Run run;
@@ -50,6 +60,70 @@ std::string after(const std::string& text, const std::string& label) {
     std::size_t e = at + label.size();
     while (e < text.size() && text[e] >= '0' && text[e] <= '9') ++e;
     return text.substr(at + label.size(), e - at - label.size());
+}
+
+// User + system CPU seconds of this process so far.
+double cpu_seconds() {
+    rusage u{};
+    ::getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// The nodes of a g^3 grid over the box [lo, hi], x fastest (the order of a slice or a resample).
+std::vector<Vec3> grid_nodes(const Vec3& lo, const Vec3& hi, int g) {
+    std::vector<Vec3> p;
+    p.reserve(static_cast<std::size_t>(g) * static_cast<std::size_t>(g) * static_cast<std::size_t>(g));
+    const Vec3 step = (hi - lo) * (1.0 / (g - 1));
+    for (int k = 0; k < g; ++k)
+        for (int j = 0; j < g; ++j)
+            for (int i = 0; i < g; ++i) p.push_back(lo + Vec3{i * step.x, j * step.y, k * step.z});
+    return p;
+}
+
+// The rows of the field table for the point set `set` of n points: mpu and rbf-grid built here.
+void field_rows(const fs::path& set, std::size_t n, Table& t) {
+    std::fprintf(stderr, "bench scale: fields of %s\n", set.string().c_str());
+    PointSet ps;
+    try {
+        ps = read_point_set(set.string());
+    } catch (const std::exception& e) {
+        t.add({fmt("%zu", n), "-", std::string("read: ") + e.what(), "-", "-", "-", "-", "-", "-", "-", "-"});
+        return;
+    }
+    for (FieldKind k : {FieldKind::mpu, FieldKind::rbf_grid}) {
+        const std::string name(field_kind_name(k));
+        FieldParams params;
+        params.kind = k;
+        FieldBuildStats st;
+        std::unique_ptr<Field> f;
+        const double cpu0 = cpu_seconds();
+        Stopwatch sw;
+        try {
+            f = make_field(ps, params, &st);
+        } catch (const std::exception& e) {
+            t.add({fmt("%zu", n), name, std::string("build: ") + e.what(), "-", "-", "-", "-", "-", "-", "-", "-"});
+            continue;
+        }
+        const double wall = sw.ms() / 1e3, cpu = cpu_seconds() - cpu0;
+        const auto b = f->bounds();
+        const EvalRate random = eval_rate_one_thread(*f, random_box(b[0], b[1], kEvalPoints, 4242), 3);
+        const int g = static_cast<int>(std::lround(std::cbrt(static_cast<double>(kEvalPoints))));
+        const EvalRate grid = eval_rate_one_thread(*f, grid_nodes(b[0], b[1], g), 3);
+        std::string terms = "-";  // the multiquadric terms an mpu query sums (mean over the random points)
+        if (const auto* m = dynamic_cast<const MpuField*>(f.get())) {
+            double sum = 0;
+            const std::vector<Vec3> q = random_box(b[0], b[1], kEvalPoints / 10, 4242);
+            for (const Vec3& x : q) sum += static_cast<double>(m->terms_at(x));
+            terms = fmt("%.0f", sum / static_cast<double>(q.size()));
+        }
+        const bool at_1m = n == 1000000;
+        t.add({fmt("%zu", n), name, fmt("%.2f", wall), fmt("%.2f", cpu), fmt("%llu", static_cast<unsigned long long>(st.locals)),
+               fmt("%.0f", static_cast<double>(st.memory_bytes) / kMiB), fmt("%.2f (%.2f)", random.per_s / 1e6, random.per_cpu_s / 1e6),
+               fmt("%.2f (%.2f)", grid.per_s / 1e6, grid.per_cpu_s / 1e6), fmt("%.1f / %.1f", 100 * random.nan_share, 100 * grid.nan_share),
+               terms,
+               at_1m ? fmt("build %s, eval %s", wall <= kBuildTargetS ? "PASS" : "FAIL", random.per_s / 1e6 >= kEvalTargetM ? "PASS" : "FAIL")
+                     : std::string("-")});
+    }
 }
 
 }  // namespace
@@ -78,6 +152,9 @@ void run_scale(const BenchOptions& o, Report& r) {
     Table t;
     t.header = {"points", "in memory s", "MiB", "s / point vs first", "convert s", "MiB", ".mlc one slab s", "MiB", "M MiB",
                 ".mlc at M s", "MiB", "slabs", "fits copied", "at M / one slab", "same bytes", "peer s", "MiB", "in memory / peer"};
+    Table ft;
+    ft.header = {"points", "field", "build s", "build CPU s", "locals", "field MiB", "eval random Mpts/s", "eval grid Mpts/s",
+                 "NaN % (random / grid)", "terms/query", "targets at 10^6"};
     double first_per_point = 0;
     for (std::size_t n : sizes) {
         std::vector<std::string> row{fmt("%zu", n)};
@@ -129,6 +206,7 @@ void run_scale(const BenchOptions& o, Report& r) {
             row.resize(t.header.size(), "-");
         }
         t.add(row);
+        field_rows(set, n, ft);
         for (const char* f : {"a.ply", "b.ply", "c.ply", "peer.ply"}) fs::remove(out / f, ec);
         if (own_work) fs::remove(set, ec);
         fs::remove(store, ec);
@@ -136,6 +214,13 @@ void run_scale(const BenchOptions& o, Report& r) {
     r.table(t);
     r.note("Targets (the out-of-core goals): the slab run's bytes equal the one-slab run's, at <= 1.5x its time; time per point "
            "within 1.3x from 10^6 to 10^7; the in-memory run no slower than the peer.");
+    r.table(ft);
+    r.note(fmt("The fields of the same sets built in this process by make_field (all threads; build CPU s: user + system "
+               "seconds of the build) with the `fit` defaults; evaluation: value + gradient on one thread, best of 3, in M points per wall second (per CPU second of the thread), at %zu "
+               "random points inside the bounds and at the nodes of a regular grid over them (about as many, x fastest); "
+               "terms/query: the multiquadric terms an mpu query sums (MpuField::terms_at, mean over a tenth of the random points). "
+               "Targets at 10^6 points: construction <= %.0f s (on 2 cores), evaluation >= %.0f M points/s (random points).",
+               kEvalPoints, kBuildTargetS, kEvalTargetM));
     fs::remove_all(own_work ? work : out, ec);
 }
 

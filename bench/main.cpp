@@ -101,7 +101,8 @@ int bench_main(int argc, char** argv) {
            "  python    the Python module: equality with the CLI, peak RSS on an np.memmap volume, call overhead,\n"
            "            two threads vs two calls in sequence, Field vs SciPy RBFInterpolator (bench/python_module.py)\n"
            "  scale     the scattered isosurface of 10^5..3x10^6 LIDC2 samples (--sizes): in memory, from a point\n"
-           "            store (.mlc) in one slab and within 2/3 of its memory (same bytes?), the VTK peer; not in all\n"
+           "            store (.mlc) in one slab and within 2/3 of its memory (same bytes?), the VTK peer; the mpu and\n"
+           "            rbf-grid fields' construction and one-core evaluation rate at each size; not in all\n"
            "  all       everything (the default; ooc only with --with-ooc or 16 GiB free in the scratch folder)");
     a.option("data", "", "DIR", "shared test data folder ($MESHLESS_DATA, else ../shared/data, else the one beside the source tree)")
         .option("reps", "", "N", "repetitions per isosurface (default 10); process: best of N runs (default 3)")

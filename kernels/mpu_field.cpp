@@ -80,6 +80,7 @@ struct OctreeBuilder {
     std::vector<std::pair<std::uint64_t, std::uint32_t>> leaf_range{};  // (first, count) per local
     std::vector<Ancestor> path{};                            // ancestors, root first
     std::vector<std::pair<double, std::uint32_t>> near{};
+    std::vector<double> d2s{}, sel{};  // squared distances in list order, and a copy to select from
     std::uint64_t grown = 0, capped = 0, spanned = 0, pruned = 0;
     std::uint32_t depth_reached = 0;
     bool inexact = false;  // a list this region build read may lack points of the whole set
@@ -107,6 +108,40 @@ struct OctreeBuilder {
     }
 
     double radius_of(double half) const { return alpha * 2.0 * std::sqrt(3.0) * half; }
+
+    // d2s = the squared distances from c of the points of `list`, in list order.
+    void distances(const std::vector<std::uint32_t>& list, const Vec3& c) {
+        d2s.resize(list.size());
+        for (std::size_t j = 0; j < list.size(); ++j) {
+            const Vec3 e = pos[list[j]] - c;
+            d2s[j] = dot(e, e);
+        }
+    }
+    // The (k+1)-th smallest of d2s (k < d2s.size()): a selection over the distances alone, which
+    // moves 8-byte keys where one over (distance, index) pairs moved 16 and compared the index on
+    // ties; the value is the same. guess2 > 0: a squared distance that likely holds more than k of
+    // them: the selection then runs over those alone (the same (k+1)-th smallest when more than k
+    // are at most guess2; else over all).
+    double kth_distance(std::size_t k, double guess2 = 0) {
+        std::size_t m = 0;
+        if (guess2 > 0) {  // (branch-free: whether a point passes is not predictable)
+            sel.resize(d2s.size());
+            for (double d2 : d2s) {
+                sel[m] = d2;
+                m += d2 <= guess2;
+            }
+            sel.resize(m);
+        }
+        if (m <= k) sel.assign(d2s.begin(), d2s.end());
+        std::nth_element(sel.begin(), sel.begin() + static_cast<std::ptrdiff_t>(k), sel.end());
+        return sel[k];
+    }
+    // The points of `list` with d2s <= r2, in list order (ascending when the list is).
+    void within(const std::vector<std::uint32_t>& list, double r2, std::vector<std::uint32_t>& out) const {
+        out.clear();
+        for (std::size_t j = 0; j < list.size(); ++j)
+            if (d2s[j] <= r2) out.push_back(list[j]);
+    }
 
     // Appends the subtree built by `sub` (its node 0 is this builder's node `at`) in DFS order and
     // frees sub's arrays (the point lists are held twice only for the subtree being appended).
@@ -146,12 +181,17 @@ struct OctreeBuilder {
         }
         const double r = nodes[static_cast<std::size_t>(first)].r;  // the same for the 8 (same half edge)
         const double r2 = r * r;
+        // child q's centre takes coordinate (q & 1, q & 2, q & 4) of two per axis, so the six squared
+        // axis offsets make the eight squared distances: (dx^2 + dy^2) + dz^2, the bits of dot(e, e)
+        // (no contraction: -ffp-contract=off), where each child took three subtractions and products
+        const double cx[2] = {c[0].x, c[1].x}, cy[2] = {c[0].y, c[2].y}, cz[2] = {c[0].z, c[4].z};
         for (std::uint32_t i : cand) {
             const Vec3 p = pos[i];
-            for (int q = 0; q < 8; ++q) {
-                const Vec3 e = p - c[q];
-                if (dot(e, e) <= r2) in[static_cast<std::size_t>(q)].push_back(i);
-            }
+            const double sx[2] = {(p.x - cx[0]) * (p.x - cx[0]), (p.x - cx[1]) * (p.x - cx[1])};
+            const double sy[2] = {(p.y - cy[0]) * (p.y - cy[0]), (p.y - cy[1]) * (p.y - cy[1])};
+            const double sz[2] = {(p.z - cz[0]) * (p.z - cz[0]), (p.z - cz[1]) * (p.z - cz[1])};
+            for (int q = 0; q < 8; ++q)
+                if ((sx[q & 1] + sy[(q >> 1) & 1]) + sz[(q >> 2) & 1] <= r2) in[static_cast<std::size_t>(q)].push_back(i);
         }
         return in;
     }
@@ -225,25 +265,15 @@ struct OctreeBuilder {
             // about min_pts^3 however dense the data (the whole fit sphere held up to N points:
             // 8x the work of a min_pts fit, and the points beyond the blend sphere never weigh).
             const double rb = std::min(r, blend_alpha * 2.0 * std::sqrt(3.0) * nodes[node].half);
-            near.clear();
-            std::size_t within = 0;
-            for (std::uint32_t i : inside) {
-                const Vec3 e = pos[i] - c;
-                near.emplace_back(dot(e, e), i);
-                within += near.back().first <= rb * rb;
-            }
+            distances(inside, c);
+            std::size_t held = 0;
+            for (double d2 : d2s) held += d2 <= rb * rb;
             double rfit = rb;
-            if (within < min_pts) {
-                std::nth_element(near.begin(), near.begin() + (min_pts - 1), near.end());
-                rfit = std::max(rb, std::sqrt(near[min_pts - 1].first) * (1 + 1e-9) + 1e-300);
-            }
+            if (held < min_pts) rfit = std::max(rb, std::sqrt(kth_distance(min_pts - 1)) * (1 + 1e-9) + 1e-300);
             need(missing(c, rfit) == 0, c, rfit);
-            const double rf2 = rfit * rfit;
             std::vector<std::uint32_t> keep;
-            keep.reserve(std::max<std::size_t>(within, min_pts));
-            for (const auto& [d2, i] : near)
-                if (d2 <= rf2) keep.push_back(i);
-            std::sort(keep.begin(), keep.end());
+            keep.reserve(std::max<std::size_t>(held, min_pts));
+            within(inside, rfit * rfit, keep);  // (ascending: inside is)
             inside.swap(keep);
             nodes[node].r = rfit;
         } else if (inside.size() < min_pts && !path.empty()) {
@@ -257,23 +287,16 @@ struct OctreeBuilder {
                     need(list.size() + missing_a < min_pts, path[a].c, path[a].r);
                     continue;
                 }
-                near.clear();
-                for (std::uint32_t i : list) {
-                    const Vec3 e = pos[i] - c;
-                    near.emplace_back(dot(e, e), i);
-                }
-                const std::size_t k = std::min<std::size_t>(min_pts, near.size()) - 1;
-                std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(k), near.end());
-                const double rk = std::sqrt(near[k].first) * (1 + 1e-9) + 1e-300;
+                distances(list, c);
+                const std::size_t k = std::min<std::size_t>(min_pts, list.size()) - 1;
+                // the guess: 1.5 x the (k+1)-th neighbour's distance were the ancestor's points even
+                const double guess = 1.5 * path[a].r * std::cbrt(static_cast<double>(k + 1) / static_cast<double>(list.size()));
+                const double rk = std::sqrt(kth_distance(k, guess * guess)) * (1 + 1e-9) + 1e-300;
                 if (list.size() < min_pts) need(missing_a == 0, path[a].c, path[a].r);
                 else need(missing(c, rk) == 0, c, rk);
                 const double rnew = std::max(r, rk);
                 if (a > 0 && rnew + norm(path[a].c - c) > path[a].r) continue;
-                const double rn2 = rnew * rnew;
-                inside.clear();
-                for (const auto& [d2, i] : near)
-                    if (d2 <= rn2) inside.push_back(i);
-                std::sort(inside.begin(), inside.end());
+                within(list, rnew * rnew, inside);  // (ascending: the ancestor's list is)
                 nodes[node].r = rnew;
                 leaf_grown = true;
                 break;

@@ -47,7 +47,8 @@ struct Workspace {
     }
 };
 
-// X = L^-1 for the lower triangle L of an k x k block (X: k x k, its upper triangle set to zero), by
+// X = L^-1 for the lower triangle L of an k x k block (X: k x k; only its lower triangle is written,
+// and zeros above the diagonal inside the diagonal blocks of <= 16 columns), by
 // halves: [L11 0; L21 L22]^-1 = [X11 0; -X22 L21 X11, X22], so the work is the m^3/3 flops of the
 // inverse in matrix products, where one triangular solve of the identity does m^3 (it does not
 // know the right-hand side's zeros). tmp: scratch that only grows.
@@ -67,7 +68,7 @@ void lower_inverse(RefCM L, RefM X, Eigen::VectorXd& tmp) {
     MapM P(tmp.data(), b, a);
     P.noalias() = L.bottomLeftCorner(b, a) * X.topLeftCorner(a, a).triangularView<Eigen::Lower>();
     X.bottomLeftCorner(b, a).noalias() = -(X.bottomRightCorner(b, b).triangularView<Eigen::Lower>() * P);
-    X.topRightCorner(a, b).setZero();
+    // (the top-right block is left as it was: every reader takes the lower triangle)
 }
 
 void* mqfit_create() { return new Workspace; }
@@ -240,7 +241,7 @@ void mqfit_fit(void* ws, meshless_mqfit::Io& io) {
             // and L^-1 z_k = (column k - r of L^-1) - (L^-1 W) V(k, :)^T: L^-1 costs m^3/3 (its
             // columns start on the diagonal), where L^-1 Z^T over the dense Z took m^2 n.
             w.W.noalias() = w.V.bottomRows(m) * T.topLeftCorner(h, h).transpose();
-            MapM Li(Workspace::square(w.li_buf, m), m, m);  // L^-1 (zeros above the diagonal)
+            MapM Li(Workspace::square(w.li_buf, m), m, m);  // L^-1 (its lower triangle; read only as such)
             lower_inverse(S, Li, w.inv_tmp);
             w.B.noalias() = Li.triangularView<Eigen::Lower>() * w.W;
             double sum = 0;

@@ -6,6 +6,8 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <sstream>
+#include <string>
 
 #include "cli/cli_harness.hpp"
 
@@ -135,4 +137,31 @@ TEST_CASE("meshless-bench smoke: scattered --quick runs every part, peers in the
 
     CHECK(sh(kBench + " scattered --sizes 5", dir).code == 1);
     CHECK(sh(kBench + " scattered --peer-timeout -1", dir).code == 1);
+}
+
+TEST_CASE("meshless-bench smoke: scale --quick runs the whole processes and builds and evaluates both fields", "[bench]") {
+    if (!have_shared_data()) return;  // (LIDC2.vti is in the shared data folder)
+    TempDir dir("bench-scale");
+    const RunResult r = sh(kBench + " scale --quick --no-peers --sizes 5000 --data " + shared_data().string() + " --meshless " + meshless_exe(), dir);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    INFO(r.out);
+    CHECK(contains(r.out, "SAME"));  // the slab run wrote the one-slab run's bytes
+    CHECK_FALSE(contains(r.out, "DIFFERENT"));
+    CHECK(contains(r.out, "eval random Mpts/s"));
+    CHECK(contains(r.out, "terms/query"));
+    // one row per field, each with its numbers (a failed build or read is a "build: ..." / "read: ..." cell)
+    const auto row_of = [&](const std::string& field) {  // a table line "5000 <spaces> field ..."
+        std::istringstream lines(r.out);
+        for (std::string line; std::getline(lines, line);) {
+            std::istringstream words(line);
+            std::string n, f;
+            if (words >> n >> f && n == "5000" && f == field) return true;
+        }
+        return false;
+    };
+    CHECK(row_of("mpu"));
+    CHECK(row_of("rbf-grid"));
+    CHECK_FALSE(contains(r.out, "build: "));
+    CHECK_FALSE(contains(r.out, "read: "));
 }
