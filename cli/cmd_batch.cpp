@@ -159,7 +159,7 @@ int cmd_batch(int argc, char** argv) {
     BatchCallbacks cb;
     cb.parse_raw = manifest_raw_options;
     cb.progress = [&](const BatchProgress& p) { line.show(p); };
-    cb.iso_range = warn_if_iso_outside;
+    cb.iso_range = [](double iso, const std::array<double, 2>& range, const std::string& source) { warn_if_iso_outside(iso, range, source); };
     cb.item_done = [&](const BatchItemResult& r) {
         line.clear();
         report_item(r);

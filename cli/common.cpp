@@ -372,14 +372,6 @@ std::optional<GeometryOutput> geometry_output(const Args& a, const char* what) {
     return g;
 }
 
-void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source) {
-    if (std::isnan(range[0]))
-        std::fprintf(stderr, "meshless: warning: %s has no finite samples; the outputs will be empty\n", terminal_safe(source).c_str());
-    else if (iso < range[0] || iso > range[1])
-        std::fprintf(stderr, "meshless: warning: %s: isovalue %g is outside the data range [%g, %g]; the outputs will be empty\n",
-                     terminal_safe(source).c_str(), iso, range[0], range[1]);
-}
-
 void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s) {
     if (s.active_cells == 0) warn_if_iso_outside(iso, in.value_range(), in.path);
 }

@@ -27,6 +27,7 @@
 #include "ooc/brick_cache.hpp"
 #include "ooc/brick_index.hpp"
 #include "ooc/slice_source.hpp"
+#include "stream/iso_range_warning.hpp"
 #include "stream/isosplat_pipeline.hpp"
 #include "stream/point_outputs.hpp"
 #include "stream/stream_metadata.hpp"
@@ -109,8 +110,6 @@ double stream_iso(const Args& a, const StreamMeta& m);
 /// --projection: "none" | "approx" | "exact" (kernels/project_sample.hpp); UsageError otherwise.
 Projection parse_projection(const std::string& s);
 
-/// Warns on stderr when iso lies outside [lo, hi] (the outputs will be empty but valid).
-void warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source);
 /// UsageError "refusing to write WHAT to a terminal" when `path` is "-" and standard output is a
 /// terminal (binary outputs: streams, PLY, VTP, PNG, NRRD, stores).
 void refuse_binary_to_terminal(const std::string& path, const std::string& what);

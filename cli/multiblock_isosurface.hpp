@@ -2,7 +2,7 @@
 //   meshless isosurface BLOCKS... --iso V -o out.ply [--png out.png] [--field KIND] [--samples N] ...
 //   meshless generate BLOCKS... --iso V [--samples N]            (a seed stream)
 //   meshless project --field KIND DATA... [< seeds]              (seed stream -> points with blocks)
-// Option parsing over the recipe of stream/block_isosurface.hpp (which also prints its --stats) (block cells -> marching-cubes seeds
+// Option parsing over the recipe of stream/block_isosurface_job.hpp (which also prints its --stats; stream/block_isosurface.hpp: (block cells -> marching-cubes seeds
 // on the barycentric lattice -> Newton onto one continuous meshless field built from every block's
 // valid nodes) -> PLY (with a `block` property) and/or PNG. The piped stages give the same bytes as the in-process command for any --threads
 // (same batches, same field from the same data).

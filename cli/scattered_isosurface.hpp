@@ -4,7 +4,7 @@
 //   meshless generate POINTS --iso V [--samples N]            (a seed stream)
 //   meshless project --field F.mlf|KIND [POINTS] [< seeds]    (seed stream -> points; the multiblock
 //                                                              command, cli/multiblock_isosurface.hpp)
-// option parsing over the recipe of stream/scattered_isosurface.hpp (the binning grid -> marching
+// option parsing over the recipe of stream/scattered_isosurface_job.hpp (stream/scattered_isosurface.hpp: the binning grid -> marching
 // stencils, each regularised on the fly, tetrahedralised by CGAL and contoured by marching
 // tetrahedra, seeded on the barycentric lattice -> Newton onto the meshless field) -> PLY/VTP
 // and/or PNG; under mpirun the stencil rows are dealt to the ranks (run_scattered_isosurface_rank; the
