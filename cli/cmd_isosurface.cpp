@@ -13,7 +13,6 @@
 #include "cli/multiblock_isosurface.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/scattered_isosurface.hpp"
-#include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "kernels/errors.hpp"

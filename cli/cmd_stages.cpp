@@ -10,7 +10,7 @@
 #include "cli/common.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/errors.hpp"
-#include "cli/stream_output.hpp"
+#include "formats/binary_stream_output.hpp"
 #include "cli/field_cli.hpp"
 #include "cli/multiblock_isosurface.hpp"
 #include "cli/scattered_isosurface.hpp"

@@ -292,31 +292,6 @@ double stream_iso(const Args& a, const StreamMeta& m) {
     return iso;
 }
 
-void require_point_set_output(const std::string& path, const char* what) {
-    if (!point_set_output_name(path))
-        throw UsageError("-o '" + path + "': this output is " + what + ", written to a .ply (binary PLY), .csv or .vtp "
-                         "(VTK XML PolyData) file (outputs are chosen by extension; '-' for CSV on stdout)");
-}
-
-void refuse_binary_to_terminal(const std::string& path, const std::string& what) {
-    if (path == "-" && ::isatty(1))
-        throw UsageError("refusing to write " + what + " to a terminal (pipe it or use -o FILE)");
-}
-
-const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
-                                            const char* what, bool to_stdout) {
-    if (std::string_view(ext) != ".csv") refuse_binary_to_terminal(path, what);
-    if (path == "-" || is_streaming_output(path)) return path;
-    const std::string e(ext);
-    auto lower = [](char c) { return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c); };
-    bool ok = path.size() > e.size();
-    for (std::size_t i = 0; ok && i < e.size(); ++i) ok = lower(path[path.size() - e.size() + i]) == e[i];
-    if (!ok)
-        throw UsageError(std::string(option) + " '" + path + "': this output is " + what + ", written to a " + e +
-                         " file (outputs are chosen by extension" + (to_stdout ? "; '-' for stdout)" : ")"));
-    return path;
-}
-
 void add_geometry_format_option(Args& a) {
     a.option("format", "", "ply|vtp",
              "format of -o when its name does not end in .ply or .vtp ('-' for stdout: default ply); "
@@ -335,20 +310,7 @@ VtpOptions vtp_options(const Args& a, int threads) {
 }
 
 GeometryFormat geometry_output_format(const Args& a, const std::string& path, const char* what) {
-    refuse_binary_to_terminal(path, what);  // binary PLY, VTP's appended arrays
-    const auto by_name = geometry_format_of(path);
-    if (const auto f = a.get("format")) {
-        const auto given = parse_geometry_format(*f);
-        if (!given) throw UsageError("--format: expected ply or vtp, got '" + *f + "'");
-        if (by_name && *by_name != *given)
-            throw UsageError("-o '" + path + "': the name says " + to_string(*by_name) + " but --format says " + *f);
-        return *given;
-    }
-    if (by_name) return *by_name;
-    if (path == "-" || is_streaming_output(path)) return GeometryFormat::ply;
-    throw UsageError("-o '" + path + "': this output is " + what +
-                     ", written to a .ply (binary PLY) or .vtp (VTK XML PolyData) file (outputs are chosen by extension; "
-                     "--format ply|vtp for other names, '-' for stdout)");
+    return meshless::geometry_output_format(path, a.get("format"), what);
 }
 
 void add_ply_color_option(Args& a) {

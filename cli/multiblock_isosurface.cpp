@@ -11,7 +11,7 @@
 
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
-#include "cli/stream_output.hpp"
+#include "formats/binary_stream_output.hpp"
 #include "cli/field_cli.hpp"
 #include "stream/mpi_session.hpp"
 #include "cli/point_set_cli.hpp"
