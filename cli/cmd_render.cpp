@@ -29,6 +29,7 @@
 #include "kernels/ray_caster.hpp"
 #include "ooc/brick_store.hpp"
 #include "stream/field_render.hpp"
+#include "stream/render_outputs.hpp"
 
 namespace meshless::cli {
 
@@ -103,13 +104,6 @@ TransferFunction transfer_function_arg(const Args& a, const std::array<double, 2
         if (!(range[0] < range[1])) throw UsageError("--range: LO must be less than HI, got '" + *r + "'");
     }
     return render_transfer_function(tf, range, a.has("range"));
-}
-
-std::string psnr_text(double psnr) {
-    if (std::isinf(psnr)) return "inf";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", psnr);
-    return buf;
 }
 
 /// render --help: what it draws and how.
@@ -230,35 +224,15 @@ int cmd_render(int argc, char** argv) {
     auto progress = [&](double f) { meter.set_fraction(f); };
     const RenderResult rr = render_field(in, cam, tf, ro, show ? std::function<void(double)>(progress) : std::function<void(double)>());
     meter.done();
-    const Image& picture = rr.picture;
-    const RayCastStats& st = rr.stats;
-    // a closed stdout (-o - | head) still lets --diff be written; then the quiet exit
-    PipeClosure pipe;
-    const bool png_live = pipe.step([&] { write_png(picture, png_file); });
-    if ((tty && !a.has("quiet")) || a.has("stats"))
-        std::fprintf(stderr,
-                     "render: %s, %dx%d, step %g (ref %g), %d thread(s): %.3f s; %llu rays hit, %llu samples (%.2f M/s), "
-                     "%llu skipped as empty, %llu rays terminated early\n",
-                     in.what.c_str(), cam.width, cam.height, rr.params.step, rr.params.ref_step, ro.threads, rr.seconds,
-                     static_cast<unsigned long long>(st.rays_hit), static_cast<unsigned long long>(st.samples),
-                     1e-6 * static_cast<double>(st.samples) / std::max(rr.seconds, 1e-9), static_cast<unsigned long long>(st.skipped),
-                     static_cast<unsigned long long>(st.terminated));
-    if (ref) {
-        if (ref->width != picture.width || ref->height != picture.height)  // checked above against --size
-            throw std::logic_error("render: the picture is not the size the camera asked for");
-        const ImageDifference d = compare_images(picture, *ref);
-        // on stdout, unless a picture goes there (-o - or --diff -)
-        std::fprintf(png == "-" || a.get_or("diff", "") == "-" ? stderr : stdout, "RMSE %.4f PSNR %s dB (max difference %d, %llu of %llu pixels differ)\n",
-                     d.rmse, psnr_text(d.psnr).c_str(), d.max_abs, static_cast<unsigned long long>(d.differing_pixels),
-                     static_cast<unsigned long long>(picture.width) * static_cast<unsigned long long>(picture.height));
-        if (diff_file)
-            pipe.step([&] {
-                write_png(difference_image(picture, *ref, gain), *diff_file);
-                diff_file->commit();
-            });
-    }
-    if (png_live) pipe.step([&] { png_file.commit(); });
-    pipe.rethrow_if_closed();
+    RenderFiles files;
+    files.png = &png_file;
+    if (ref) files.reference = &*ref;
+    if (diff_file) files.diff = &*diff_file;
+    files.diff_gain = gain;
+    // the comparison on stdout, unless a picture goes there (-o - or --diff -)
+    files.comparison = png == "-" || a.get_or("diff", "") == "-" ? stderr : stdout;
+    if ((tty && !a.has("quiet")) || a.has("stats")) files.stats = stderr;
+    write_render_files(in, cam, rr, ro.threads, files);
     return 0;
 }
 

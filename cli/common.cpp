@@ -334,10 +334,6 @@ std::optional<GeometryOutput> geometry_output(const Args& a, const char* what) {
     return g;
 }
 
-void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s) {
-    if (s.active_cells == 0) warn_if_iso_outside(iso, in.value_range(), in.path);
-}
-
 bool stderr_is_tty() { return ::isatty(2) == 1; }
 
 }  // namespace meshless::cli

@@ -125,11 +125,6 @@ void add_ply_color_option(Args& a);
 VtpOptions vtp_options(const Args& a, int threads);
 /// -o (when given) with its format from geometry_output_format.
 std::optional<GeometryOutput> geometry_output(const Args& a, const char* what);
-/// After a paradigm (C) run: when it found no active cell, warn_if_iso_outside with the input's value
-/// range (computed only then). A run that found an active cell has iso inside the range, so the
-/// volume is not read an extra time to say nothing.
-void warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s);
-
 /// True when stderr is a terminal (progress and timing chatter go there only then, or with --stats).
 bool stderr_is_tty();
 
