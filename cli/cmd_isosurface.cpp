@@ -48,7 +48,7 @@ std::optional<int> isosurface_of_blocks_or_points(const Args& a, int argc, char*
         if (positionals[0] == "BLOCKS") return isosurface_blocks(argc, argv);
         if (positionals[0] == "POINTS") return isosurface_scattered(argc, argv);
     }
-    if (blocks_invocation(positionals)) return isosurface_blocks(argc, argv);
+    if (names_blocks(positionals)) return isosurface_blocks(argc, argv);
     // scattered point sets (chapter 5)
     if (scattered_invocation(positionals, argc, argv)) return isosurface_scattered(argc, argv);
     return std::nullopt;

@@ -86,7 +86,7 @@ int cmd_generate(int argc, char** argv) {
         add_field_options(scattered, /*with_coverage=*/false);
         scattered.option("max-cells", "", "", "").option("max-level", "", "", "").option("reg-gap", "", "", "");
         const auto positionals = scan_positionals(argc, argv, 2, {&a, &blocks, &scattered});
-        if (blocks_invocation(positionals)) return generate_blocks(argc, argv);
+        if (names_blocks(positionals)) return generate_blocks(argc, argv);
         if (scattered_invocation(positionals, argc, argv)) return generate_scattered(argc, argv);
     }
     if (!a.parse(argc, argv, 2)) return 0;

@@ -15,6 +15,7 @@
 #include "cli/field_cli.hpp"
 #include "stream/mpi_session.hpp"
 #include "cli/point_set_cli.hpp"
+#include "formats/input_kind.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/volume_reader.hpp"
@@ -112,14 +113,6 @@ std::vector<std::string> scan_positionals(int argc, char** argv, int first, std:
             }
     }
     return pos;
-}
-
-bool blocks_invocation(const std::vector<std::string>& positionals) {
-    for (const auto& p : positionals)
-        if (looks_like_multiblock(p)) return true;
-    // several inputs are blocks (pieces of a multiblock set) unless the first is a volume: then the
-    // volume command reports the extra argument
-    return positionals.size() > 1 && !looks_like_volume(positionals[0]);
 }
 
 bool project_seeds_invocation(int argc, char** argv) {

@@ -19,6 +19,7 @@
 #include "stream/scattered_isosurface_job.hpp"
 #include "stream/scattered_isosurface_mpi.hpp"
 #include "stream/scattered_store_isosurface.hpp"
+#include "formats/input_kind.hpp"
 #include "formats/point_store.hpp"
 #include "stream/available_memory.hpp"
 #include "cli/point_set_cli.hpp"
@@ -104,19 +105,13 @@ double dedup_fraction(const Args& a) {
 // ------------------------------------------------------------------ dispatch
 
 bool scattered_invocation(const std::vector<std::string>& positionals, int argc, char** argv) {
-    if (positionals.empty() || blocks_invocation(positionals)) return false;
-    const std::string& p = positionals[0];
-    const std::string e = lower_extension(p);
-    // a .raw without the name convention is a volume when --dims describes it
-    if (e == ".raw")
-        for (int i = 2; i < argc; ++i) {
-            const std::string tok = argv[i];
-            if (tok == "--") break;
-            if (tok == "--dims" || tok.rfind("--dims=", 0) == 0) return false;
-        }
-    if (looks_like_point_set(p)) return true;
-    std::error_code ec;
-    return e == ".ply" && std::filesystem::is_regular_file(p, ec) && !looks_like_volume(p);
+    bool raw_dims = false;  // a .raw given --dims is a volume
+    for (int i = 2; i < argc; ++i) {
+        const std::string tok = argv[i];
+        if (tok == "--") break;
+        if (tok == "--dims" || tok.rfind("--dims=", 0) == 0) raw_dims = true;
+    }
+    return names_scattered_points(positionals, raw_dims);
 }
 
 // ------------------------------------------------------------------ isosurface POINTS
