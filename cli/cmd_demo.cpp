@@ -1,8 +1,7 @@
 // meshless demo: the main job on an embedded default, no input file needed. Builds an analytic
 // volume, extracts its isosurface by iso-splatting (paradigm C, approximate projection) and writes
-// DIR/demo.ply and DIR/demo.png (EWA splats, Phong shading), through the graph of `meshless
-// isosurface` (stream/isosplat_pipeline.hpp, stream/point_outputs.hpp): the same points and picture as `meshless isosurface` on
-// the same volume, framed on the surface; nothing is collected.
+// DIR/demo.ply and DIR/demo.png (EWA splats, Phong shading): options parsed here, the run by
+// stream/analytic_demo.hpp (the graph and outputs of `meshless isosurface`).
 #include <cstdio>
 #include <filesystem>
 

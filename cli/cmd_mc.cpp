@@ -95,11 +95,7 @@ int cmd_mc(int argc, char** argv) {
     const McStats st = run_marching_cubes(in, iso, sink, threads(a), [&](double n) { meter.add(n); });
     meter.done();
     const double secs = seconds_since(t0);
-    const Mesh& mesh = sink.mesh();
-    if (a.has("stats"))
-        std::fprintf(stderr, "mc: %s iso %g: %lld active cells, %zu vertices, %zu triangles, %.1f MiB, %.3f s (%lld cells with NaN/Inf skipped)\n",
-                     terminal_safe(path).c_str(), iso, static_cast<long long>(st.active_cells), mesh.vertex_count(), mesh.triangle_count(),
-                     mesh.memory_bytes() / 1048576.0, secs, static_cast<long long>(st.skipped_nonfinite));
+    if (a.has("stats")) print_marching_cubes_stats(stderr, path, iso, st, sink.mesh(), secs);
     return 0;
 }
 

@@ -4,7 +4,8 @@
 // brick cache, within --memory); scattered points and multiblock grids through a meshless field
 // (rbf-grid, mpu, global-rbf, or a fitted .mlf). Nothing is resampled onto a grid first.
 // The recipe is stream/field_render.hpp (the field, its empty-space boxes, the frame, the picture);
-// this file reads the options, picks the input and the transfer function, and writes / compares.
+// this file reads the options and picks the input and the transfer function; stream/render_outputs.hpp
+// writes the picture and compares it.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

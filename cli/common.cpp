@@ -178,13 +178,7 @@ void add_color_options(Args& a) {
 
 ColorChoice color_choice(const Args& a) {
     ColorChoice c;
-    const std::string m = a.get_or("color", "auto");
-    if (m == "auto") c.request = ColorRequest::automatic;
-    else if (m == "value") c.request = ColorRequest::value;
-    else if (m == "block") c.request = ColorRequest::block;
-    else if (m == "normal") c.request = ColorRequest::normal;
-    else if (m == "none") c.request = ColorRequest::none;
-    else throw UsageError("--color: expected value, block, normal or none, got '" + m + "'");
+    c.request = parse_color_request(a.get_or("color", "auto"));
     if (!parse_colormap(a.get_or("colormap", "viridis"), c.colormap))
         throw UsageError("--colormap: expected viridis, coolwarm or gray, got '" + a.get_or("colormap", "") + "'");
     if (auto r = a.get("range")) {
@@ -242,27 +236,8 @@ std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const Vol
 }
 
 
-namespace {
-
-ShadingParams shading_from(const Args& a) {
-    ShadingParams s;
-    const std::string m = a.get_or("shading", "phong");
-    if (m == "lambert") s.specular = 0;
-    else if (m != "phong") throw UsageError("--shading: expected phong or lambert, got '" + m + "'");
-    return s;
-}
-
-SplatKernel kernel_from(const Args& a) {
-    const std::string k = a.get_or("kernel", "ewa");
-    if (k == "quad") return SplatKernel::quad;
-    if (k == "ewa") return SplatKernel::ewa;
-    throw UsageError("--kernel: expected quad or ewa, got '" + k + "'");
-}
-
-}  // namespace
-
 RenderSettings render_settings(const Args& a) {
-    RenderSettings rs{camera_from(a, "800x800"), kernel_from(a), shading_from(a)};
+    RenderSettings rs{camera_from(a, "800x800"), parse_splat_kernel(a.get_or("kernel", "ewa")), parse_shading(a.get_or("shading", "phong"))};
     // --memory bounds the process: the EWA picture's footprints take an eighth of it at most
     if (a.declared("memory") && a.has("memory"))
         rs.spool_memory = std::min<std::uint64_t>(SplatSink::kSpoolMemory, parse_memory_size(*a.get("memory")) / 8);

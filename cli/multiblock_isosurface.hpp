@@ -2,9 +2,10 @@
 //   meshless isosurface BLOCKS... --iso V -o out.ply [--png out.png] [--field KIND] [--samples N] ...
 //   meshless generate BLOCKS... --iso V [--samples N]            (a seed stream)
 //   meshless project --field KIND DATA... [< seeds]              (seed stream -> points with blocks)
-// Option parsing over the recipe of stream/block_isosurface_job.hpp (which also prints its --stats; stream/block_isosurface.hpp: (block cells -> marching-cubes seeds
+// Option parsing over the recipes of stream/block_isosurface.hpp (block cells -> marching-cubes seeds
 // on the barycentric lattice -> Newton onto one continuous meshless field built from every block's
-// valid nodes) -> PLY (with a `block` property) and/or PNG. The piped stages give the same bytes as the in-process command for any --threads
+// valid nodes) and stream/block_isosurface_job.hpp (-> PLY with a `block` property and/or PNG, the
+// --stats block). The piped stages give the same bytes as the in-process command for any --threads
 // (same batches, same field from the same data).
 // cmd_isosurface / cmd_generate / cmd_project hand their arguments here when formats/input_kind.hpp names_blocks() /
 // project_seeds_invocation() say so. Throws UsageError for bad options, what the readers and
