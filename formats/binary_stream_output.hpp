@@ -10,6 +10,7 @@
 #include <string>
 
 #include "formats/atomic_file.hpp"
+#include "formats/output_names.hpp"
 
 namespace meshless {
 
@@ -18,7 +19,12 @@ struct BinaryStreamOutput {
     std::FILE* f = nullptr;
     std::string name;
     /// what: the stream's kind for the messages ("a sample stream", "a point stream", "a seed stream").
-    BinaryStreamOutput(const std::string& path, const char* what);
+    BinaryStreamOutput(const std::string& path, const char* what) : name(path) {
+        check_stream_output_name(path, what);
+        refuse_binary_to_terminal(path, "a binary stream");
+        file = std::make_unique<AtomicFile>(path);
+        f = file->handle();
+    }
     void commit() { file->commit(); }
 };
 
