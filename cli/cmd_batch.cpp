@@ -44,17 +44,6 @@ private:
     std::string last_what_;
 };
 
-/// A volume that failed or was refused, on stderr; a full disk says that the run stops.
-void report_item(const BatchItemResult& r) {
-    if (r.status != BatchStatus::failed && r.status != BatchStatus::refused) return;
-    std::fprintf(stderr, "meshless batch: %s: %s\n", terminal_safe(r.name).c_str(), terminal_safe(r.message).c_str());
-    if (!r.stops_run.empty())
-        std::fprintf(stderr,
-                     "meshless batch: %s; stopping. Finished outputs are kept, temporaries removed; free some space "
-                     "and run the same command again to finish the rest\n",
-                     terminal_safe(r.stops_run).c_str());
-}
-
 /// A manifest line's raw options, parsed as the command line's (InvalidArgument for a bad one).
 RawOptions manifest_raw_options(const std::vector<std::string>& options) {
     std::vector<std::string> words{"meshless", "batch"};
@@ -161,10 +150,10 @@ int cmd_batch(int argc, char** argv) {
     BatchCallbacks cb;
     cb.parse_raw = manifest_raw_options;
     cb.progress = [&](const BatchProgress& p) { line.show(p); };
-    cb.iso_range = warn_if_iso_outside;
+    cb.iso_range = [](double iso, const std::array<double, 2>& range, const std::string& source) { warn_if_iso_outside(iso, range, source); };
     cb.item_done = [&](const BatchItemResult& r) {
         line.clear();
-        report_item(r);
+        print_batch_item_failure(stderr, r);
     };
     const BatchRun run = run_batch(a.positional()[0], s, cb);
     print_batch_summary(stdout, run);

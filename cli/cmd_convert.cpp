@@ -136,14 +136,8 @@ int cmd_verify(int argc, char** argv) {
             meter->add(1);
         });
         if (meter) meter->done();
-        if (v.status == 0) {
-            if (several) std::printf("%s: %s\n", terminal_safe(path).c_str(), terminal_safe(v.message).c_str());
-            else std::printf("%s\n", terminal_safe(v.message).c_str());
-        } else {
-            std::fflush(stdout);  // the results so far before this error, in a log of both streams
-            std::fprintf(stderr, "meshless verify: %s\n", terminal_safe(v.message).c_str());
-            rc = std::max(rc, v.status);
-        }
+        print_store_verdict(stdout, stderr, path, v, several);
+        rc = std::max(rc, v.status);
     }
     std::fflush(stdout);
     return rc;

@@ -1,8 +1,7 @@
 // meshless demo: the main job on an embedded default, no input file needed. Builds an analytic
 // volume, extracts its isosurface by iso-splatting (paradigm C, approximate projection) and writes
-// DIR/demo.ply and DIR/demo.png (EWA splats, Phong shading), through the graph of `meshless
-// isosurface` (stream/isosplat_pipeline.hpp, stream/point_outputs.hpp): the same points and picture as `meshless isosurface` on
-// the same volume, framed on the surface; nothing is collected.
+// DIR/demo.ply and DIR/demo.png (EWA splats, Phong shading): options parsed here, the run by
+// stream/analytic_demo.hpp (the graph and outputs of `meshless isosurface`).
 #include <cstdio>
 #include <filesystem>
 
@@ -11,6 +10,7 @@
 #include "cli/errors.hpp"
 #include "formats/output_folder.hpp"
 #include "kernels/analytic_volumes.hpp"
+#include "stream/analytic_demo.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless::cli {
@@ -41,25 +41,14 @@ int cmd_demo(int argc, char** argv) {
     RenderSettings rs = render_settings(a);  // option errors (--size over the memory) before the folder is made
     make_output_folder(dir.string());
 
-    VolumeInput in;
-    in.path = std::string("demo-") + to_string(field);
-    in.volume = make_analytic_volume(field, n);
-    in.threads = threads(a);
-    const double iso = default_iso(field);
-    StreamMeta meta = volume_meta(in, iso, a.command_line());  // value range and surface bounds
-    meta.set("projection", "approx");
-    // the surface is framed by 32-cell blocks; the torus and the sphere leave much of theirs empty
-    if (!a.has("zoom") && (field == AnalyticField::torus || field == AnalyticField::sphere)) rs.camera.zoom = 1.6;
-    const int nthreads = in.threads;
-    const std::string ply = (dir / "demo.ply").string(), png = (dir / "demo.png").string();
-    IsoSplatResult r;
-    const std::size_t points = run_to_outputs(GeometryOutput{ply, GeometryFormat::ply, {}, std::nullopt}, png, meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
-        return run_isosplat_input(in, iso, Projection::approx, SamplingParams{}, sink, nthreads, PipelineShape::fused, {nullptr, draw});
-    }, r);
-    std::printf("demo: %s field on a %lld^3 grid, iso %g: %zu points from %lld active cells in %.3f s\n"
-                "wrote %s and %s\n",
-                to_string(field), n, iso, points, static_cast<long long>(r.sampling.active_cells), r.seconds,
-                terminal_safe(ply).c_str(), terminal_safe(png).c_str());
+    AnalyticDemo d;
+    d.field = field;
+    d.n = n;
+    d.rs = rs;
+    d.zoom_given = a.has("zoom");
+    d.threads = threads(a);
+    d.producer = a.command_line();
+    run_analytic_demo(d, dir.string());
     return 0;
 }
 

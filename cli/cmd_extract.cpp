@@ -13,8 +13,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
-#include "cli/stream_output.hpp"
-#include "cli/sample_store_cli.hpp"
+#include "formats/binary_stream_output.hpp"
 #include "formats/atomic_file.hpp"
 #include "ooc/sample_store.hpp"
 #include "stream/isosplat_pipeline.hpp"
@@ -22,16 +21,6 @@
 #include "stream/stream_endpoints.hpp"
 
 namespace meshless::cli {
-
-StreamMeta sample_store_meta(const SampleStore& store, double iso, const std::string& producer) {
-    const BrickStore& mlb = store.brick_store();
-    const BrickStoreInfo& bi = mlb.info();
-    StreamMeta m = volume_meta(mlb.path(), bi.grid, bi.type, {bi.value_min, bi.value_max}, iso, producer);
-    m.set("paradigm", "A");
-    set_surface_bounds(m, store_surface_bounds(mlb, BrickIndex(mlb), iso));  // frames as the .mlb's graph does
-    set_patient_axes(m, store_frame(bi));  // and faces alike
-    return m;
-}
 
 int cmd_extract(int argc, char** argv) {
     Args a("extract", "STORE.mls --iso V [-o FILE|-]",

@@ -22,31 +22,12 @@ namespace meshless::cli {
 
 namespace {
 
-/// --stats: how many positions lay outside the data and how many values were kept within its range.
-/// Without --stats, a warning when more than a tenth of the values inside the data had to be
-/// clamped (under --extrapolate nan, where no value outside is clamped): the field overshoots its data there (sparse or noisy values), and the picture's flat
-/// areas at the range's ends are the clamp's, not the data's.
-void report_support(const Args& a, const BuiltField& f, const FieldQueryStats& e) {
-    if (!f.coverage) return;
-    static constexpr const char* kModes[] = {"NaN", "clamped", "the nearest data value"};
-    if (a.has("stats"))
-        std::fprintf(stderr, "%s: %zu positions outside the data (%s), %zu values kept within the data range\n",
-                     a.command().c_str(), e.uncovered, kModes[static_cast<int>(f.extrapolate)], e.clamped);
-    // (under --extrapolate nan, the default, only positions inside the data are clamped)
-    const std::size_t inside = e.positions - std::min(e.positions, e.uncovered);
-    if (f.extrapolate == Extrapolate::nan && inside > 0 && 10 * e.clamped > inside)
-        std::fprintf(stderr,
-                     "meshless %s: warning: %zu of the %zu values inside the data (%.0f %%) lay outside its value range "
-                     "and were clamped to it: the field overshoots its data there\n",
-                     a.command().c_str(), e.clamped, inside, 100.0 * static_cast<double>(e.clamped) / static_cast<double>(inside));
-}
-
 /// A query run under --threads that counts positions on `meter`, and clears it and reports the
 /// support (then `more`) once the field was evaluated.
 FieldQueryRun query_run(const Args& a, const BuiltField& f, ProgressMeter& meter, std::function<void(const FieldQueryStats&)> more = {}) {
     return {threads(a), [&meter](double n) { meter.add(n); }, [&a, &f, &meter, more](const FieldQueryStats& s) {
                 meter.done();
-                report_support(a, f, s);
+                report_field_support(stderr, a.command(), f, s, a.has("stats"));
                 if (more) more(s);
             }};
 }

@@ -54,9 +54,7 @@ int cmd_fit(int argc, char** argv) {
     const double write_s = since(t_write);
     if (a.has("stats")) {
         print_field_build_report(stderr, a.command(), params, points, st);
-        std::fprintf(stderr, "fit: read %.3f s, fit %.3f s, wrote %s (%" PRIu64 " bytes, identity %s) in %.3f s\n", read_s,
-                     st.build_seconds, terminal_safe(out).c_str(), regular_file_size(out),
-                     describe_identity(data.identity).c_str(), write_s);
+        print_fit_report(stderr, out, data, st, read_s, write_s);
     }
     return 0;
 }

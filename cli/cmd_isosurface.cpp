@@ -13,74 +13,16 @@
 #include "cli/multiblock_isosurface.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/scattered_isosurface.hpp"
-#include "cli/sample_store_cli.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "kernels/errors.hpp"
+#include "stream/isosplat_job.hpp"
 #include "stream/isosplat_mpi.hpp"
 #include "stream/mpi_session.hpp"
 #include "stream/progress_stage.hpp"
 #include "stream/sample_store_source.hpp"
 
 namespace meshless::cli {
-
-namespace {
-
-/// The picture of points whose metadata records their volume: its patient axes for the default
-/// camera (unless --up) and, without --range, its value range for --color value — what splat of
-/// the same points' PLY or stream draws.
-void picture_from_meta(const Args& a, const StreamMeta& meta, bool range_given, double iso, RenderSettings& rs) {
-    if (const auto f = meta_patient_axes(meta)) apply_anatomical_frame(a, *f, rs.camera);
-    if (!range_given) {
-        rs.shading.value_lo = meta.get_double("value_min").value_or(iso);
-        rs.shading.value_hi = meta.get_double("value_max").value_or(iso);
-    }
-}
-
-/// A sample store (.mls) input: paradigm (A) in one process (section 3.5, Table 3.1): the store's
-/// candidate rows, recomputed from its .mlb, projected; the same points as from the .mlb.
-int isosurface_sample_store(const Args& a, double iso, Projection mode, const SamplingParams& sp,
-                            RenderSettings rs, bool range_given, int nthreads) {
-    const std::string path = a.positional()[0];
-    const auto store = SampleStore::open(path);
-    const bool warned = warn_if_iso_outside(iso, {store->info().value_lo, store->info().value_hi}, path);
-    StreamMeta meta = sample_store_meta(*store, iso, a.command_line());
-    meta.set("projection", to_string(mode));
-    picture_from_meta(a, meta, range_given, iso, rs);
-    SampleStoreSource source(*store, iso, sp);
-    IsoSplatResult r;
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
-        return run_isosplat_sample_store(source, iso, mode, sink, {nthreads}, PipelineShape::two_stage, {nullptr, draw});
-    }, r);
-    if (a.has("stats")) print_isosplat_stats(stderr, path, iso, mode, r, points, nthreads, 1);
-    return empty_result_exit(a, points, "points", iso, path, warned);
-}
-
-/// `mpirun -np N meshless isosurface vol.mlb ...` (stream/isosplat_mpi.hpp): rank 0 writes through the
-/// outputs of one process, with the volume's camera and range; a failing rank ends the job.
-MpiIsosurfaceResult isosurface_mpi(const Args& a, int argc, char** argv, double iso, Projection mode, const SamplingParams& sp,
-                                   int nthreads, const RenderSettings& rs, bool range_given) {
-    MpiSession mpi(&argc, &argv);
-    try {
-        VolumeInput in = open_volume_input(a);
-        return run_isosplat_mpi(mpi, in, iso, mode, sp, nthreads, a.command_line(),
-                                [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
-                                    warn_if_iso_outside(iso, in.value_range(), in.path);
-                                    RenderSettings root_rs = rs;
-                                    picture_from_meta(a, meta, range_given, iso, root_rs);
-                                    IsoSplatResult unused;
-                                    return run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, root_rs, nthreads,
-                                                          [&](const Stage*, Sink& sink) {
-                                                              produce(sink);
-                                                              return IsoSplatResult{};
-                                                          }, unused, /*parallel_draw=*/false);
-                                });
-    } catch (const std::exception& e) {
-        end_mpi_job(mpi, "isosurface", e);
-    }
-}
-
-}  // namespace
 
 namespace {
 
@@ -106,7 +48,7 @@ std::optional<int> isosurface_of_blocks_or_points(const Args& a, int argc, char*
         if (positionals[0] == "BLOCKS") return isosurface_blocks(argc, argv);
         if (positionals[0] == "POINTS") return isosurface_scattered(argc, argv);
     }
-    if (blocks_invocation(positionals)) return isosurface_blocks(argc, argv);
+    if (names_blocks(positionals)) return isosurface_blocks(argc, argv);
     // scattered point sets (chapter 5)
     if (scattered_invocation(positionals, argc, argv)) return isosurface_scattered(argc, argv);
     return std::nullopt;
@@ -149,13 +91,14 @@ int cmd_isosurface(int argc, char** argv) {
              "          mpirun -np 4 meshless isosurface vol.mlb --iso 100.5 -o out.ply   (ranks split the active bricks)\n");
     if (const auto other = isosurface_of_blocks_or_points(a, argc, argv)) return *other;
     if (!a.parse(argc, argv, 2)) return 0;
-    const double iso = parse_finite(a.require("iso"), "--iso");
-    const auto png = point_outputs_png(a);
-    const Projection mode = parse_projection(a.get_or("projection", "approx"));
-    const SamplingParams sp = sampling_params(a);
-    RenderSettings rs = render_settings(a);
+    IsosplatJob j;
+    j.iso = parse_finite(a.require("iso"), "--iso");
+    j.png = point_outputs_png(a);
+    j.mode = parse_projection(a.get_or("projection", "approx"));
+    j.sp = sampling_params(a);
+    j.rs = render_settings(a);
     const ColorChoice cc = color_choice(a);
-    const int nthreads = threads(a);
+    j.threads = threads(a);
     // Colours: the points of an isosurface all carry the isovalue, so the default is the uniform
     // surface colour; --color value maps it within --range, else within the volume's value range.
     // (block colours need points seeded in blocks: multiblock input, Batch::point_block)
@@ -163,41 +106,40 @@ int cmd_isosurface(int argc, char** argv) {
     if (cc.request == ColorRequest::block && !multiblock_input)
         throw UsageError((a.positional().empty() ? std::string("the input") : a.positional()[0]) +
                          ": a volume has no blocks; --color block needs multiblock points");
-    // (the range without --range: the volume's, set below once it is read; the MPI and sample-store
+    // (the range without --range: the volume's, set by the job once it is read; the MPI and sample-store
     // paths map the isovalue to the middle of the colour map)
-    apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
+    apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
+    j.range_given = cc.range.has_value();
+    j.producer = a.command_line();
+    j.out = [&a] { return geometry_output(a, kPointsWhat); };
+    j.anatomical_camera = [&a](const AnatomicalFrame& f, Camera& c) { apply_anatomical_frame(a, f, c); };
+    j.up_given = a.has("up");
+    j.progress = progress_counter(a);
+    if (a.has("stats")) j.stats = stderr;
+    bool warned = false;  // the run said its outputs will be empty (an isovalue outside the data)
+    j.warned = &warned;
 
     if (launched_world_size() > 1) {
         if (!a.positional().empty() && is_sample_store(a.positional()[0]))
             throw UsageError(a.positional()[0] + ": MPI runs need a brick store (.mlb); a sample store (.mls) runs in one "
                              "process (meshless isosurface STORE.mls, or its .mlb under mpirun)");
-        const MpiIsosurfaceResult m = isosurface_mpi(a, argc, argv, iso, mode, sp, nthreads, rs, cc.range.has_value());
-        if (m.root && a.has("stats")) print_isosplat_stats(stderr, m.path, iso, mode, m.result, m.points, nthreads, m.ranks);
+        // rank 0 writes through the outputs of one process; a failing rank ends the job
+        MpiSession mpi(&argc, &argv);
+        try {
+            VolumeInput in = open_volume_input(a);
+            run_isosplat_mpi_job(j, mpi, in);
+        } catch (const std::exception& e) {
+            end_mpi_job(mpi, "isosurface", e);
+        }
         return 0;
     }
-    if (!a.positional().empty() && is_sample_store(a.positional()[0]))
-        return isosurface_sample_store(a, iso, mode, sp, rs, cc.range.has_value(), nthreads);
-
-    VolumeInput in = open_volume_input(a, /*stream=*/true);
-    if (png) apply_anatomical_default(a, in, rs.camera);  // head up, face to the viewer, where the header says
-    StreamMeta meta = volume_meta(in, iso, a.command_line());  // value range and surface bounds, one pass
-    if (!cc.range) {
-        rs.shading.value_lo = meta.get_double("value_min").value_or(iso);
-        rs.shading.value_hi = meta.get_double("value_max").value_or(iso);
+    if (!a.positional().empty() && is_sample_store(a.positional()[0])) {
+        const std::size_t points = run_isosplat_sample_store_job(j, a.positional()[0]);
+        return empty_result_exit(a, points, "points", j.iso, a.positional()[0], warned);
     }
-    const bool warned = warn_if_iso_outside(
-        iso, {meta.get_double("value_min").value_or(NAN), meta.get_double("value_max").value_or(NAN)}, in.path);
-    meta.set("projection", to_string(mode));
-
-    IsoSplatResult r;
-    ProgressMeter meter = ProgressMeter::of(a, "cell rows", isosurface_work(in, iso));
-    const ProgressStage progress([&](double n) { meter.add(n); }, work_units);
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), a.get("png"), meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
-        return run_isosplat_input(in, iso, mode, sp, sink, nthreads, PipelineShape::fused, {&progress, draw});
-    }, r);
-    meter.done();
-    if (a.has("stats")) print_isosplat_stats(stderr, in.path, iso, mode, r, points, nthreads, 1);
-    return empty_result_exit(a, points, "points", iso, in.path, warned);
+    VolumeInput in = open_volume_input(a, /*stream=*/true);
+    const std::size_t points = run_isosplat_job(j, in);
+    return empty_result_exit(a, points, "points", j.iso, in.path, warned);
 }
 
 }  // namespace meshless::cli

@@ -30,51 +30,12 @@ int mc_blocks(const Args& a, double iso, const std::string& out, GeometryFormat 
     const auto t0 = std::chrono::steady_clock::now();
     const Multiblock mb = read_multiblock(a.positional(), point_set_options(a));
     const std::string& name = a.positional().size() == 1 ? a.positional()[0] : a.positional()[0] + " ...";
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (const auto& b : mb.blocks)
-        for (std::int64_t n = 0; n < b.node_count(); ++n)
-            if (b.is_valid(n) && std::isfinite(b.value[static_cast<std::size_t>(n)])) {
-                lo = std::min(lo, b.value[static_cast<std::size_t>(n)]);
-                hi = std::max(hi, b.value[static_cast<std::size_t>(n)]);
-            }
-    const bool warned = warn_if_iso_outside(iso, {lo, hi}, name);
+    const bool warned = warn_if_iso_outside(iso, multiblock_value_range(mb), name);
     const double read_s = seconds_since(t0);
     // census -> block cell layers -> per-block marching cubes -> welding PLY mesh writer (+ stats)
     const NaiveMcResult r = naive_block_marching_cubes(mb, iso, threads(a), out, a.has("stats"), format, vtp_options(a, threads(a)));
-    const int code = empty_result_exit(a, r.mesh.triangle_count(), "triangles", iso, name, warned);
-    if (!a.has("stats")) return code;
-    const BlockMcTotals& tot = r.totals;
-    const Mesh& mesh = r.mesh;
-    long long all_degenerate = 0;
-    for (const auto& o : r.census) all_degenerate += o.degenerate;
-    std::fprintf(stderr,
-                 "mc: %s: %zu block(s), iso %g: %lld cells, %lld active, skipped %lld with an invalid corner and %lld "
-                 "collapsed/inverted crossed by the surface (of %lld collapsed/inverted); %zu vertices, %zu triangles; read %.3f s, "
-                 "marching cubes %.3f s\n",
-                 name.c_str(), mb.blocks.size(), iso, static_cast<long long>(tot.cells), static_cast<long long>(tot.active_cells),
-                 static_cast<long long>(tot.skipped_invalid), static_cast<long long>(tot.skipped_degenerate), all_degenerate,
-                 mesh.vertex_count(), mesh.triangle_count(), read_s, r.mc_seconds);
-    std::vector<std::int64_t> per_block(mb.blocks.size(), 0);
-    for (std::uint32_t b : mesh.block) ++per_block[b];
-    for (std::size_t b = 0; b < mb.blocks.size(); ++b)
-        std::fprintf(stderr, "mc:   block %zu '%s' (%lldx%lldx%lld, %s): %lld triangles\n", b, terminal_safe(mb.blocks[b].name).c_str(),
-                     static_cast<long long>(mb.blocks[b].dims[0]), static_cast<long long>(mb.blocks[b].dims[1]),
-                     static_cast<long long>(mb.blocks[b].dims[2]), r.census[b].left_handed() ? "left-handed" : "right-handed",
-                     static_cast<long long>(per_block[b]));
-    const CrackEdgeStats& cs = *r.cracks;
-    const TrianglePairStats& ps = *r.pairs;
-    std::fprintf(stderr,
-                 "mc: welded by position: %lld vertices, %lld edges, %lld boundary, %lld crack edges (boundary edges inside "
-                 "another block), %lld non-manifold, %lld degenerate triangles; %.3f s\n",
-                 static_cast<long long>(cs.vertices), static_cast<long long>(cs.edges), static_cast<long long>(cs.boundary_edges),
-                 static_cast<long long>(cs.crack_edges), static_cast<long long>(cs.nonmanifold_edges),
-                 static_cast<long long>(cs.degenerate_triangles), r.crack_seconds);
-    std::fprintf(stderr,
-                 "mc: triangle pairs from different blocks: %lld intersecting, %lld duplicated (same vertices), %lld "
-                 "box-overlapping candidates, %lld collinear triangles skipped; %.3f s\n",
-                 static_cast<long long>(ps.intersecting), static_cast<long long>(ps.duplicates),
-                 static_cast<long long>(ps.candidates), static_cast<long long>(ps.degenerate), r.pair_seconds);
-    return code;
+    if (a.has("stats")) print_naive_block_mc_stats(stderr, name, mb, iso, r, read_s);
+    return empty_result_exit(a, r.mesh.triangle_count(), "triangles", iso, name, warned);
 }
 
 }  // namespace
@@ -135,12 +96,8 @@ int cmd_mc(int argc, char** argv) {
     const McStats st = run_marching_cubes(in, iso, sink, threads(a), [&](double n) { meter.add(n); });
     meter.done();
     const double secs = seconds_since(t0);
-    const Mesh& mesh = sink.mesh();
-    if (a.has("stats"))
-        std::fprintf(stderr, "mc: %s iso %g: %lld active cells, %zu vertices, %zu triangles, %.1f MiB, %.3f s (%lld cells with NaN/Inf skipped)\n",
-                     terminal_safe(path).c_str(), iso, static_cast<long long>(st.active_cells), mesh.vertex_count(), mesh.triangle_count(),
-                     mesh.memory_bytes() / 1048576.0, secs, static_cast<long long>(st.skipped_nonfinite));
-    return empty_result_exit(a, mesh.triangle_count(), "triangles", iso, path, warned);
+    if (a.has("stats")) print_marching_cubes_stats(stderr, path, iso, st, sink.mesh(), secs);
+    return empty_result_exit(a, sink.mesh().triangle_count(), "triangles", iso, path, warned);
 }
 
 }  // namespace meshless::cli

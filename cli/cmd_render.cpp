@@ -4,7 +4,8 @@
 // brick cache, within --memory); scattered points and multiblock grids through a meshless field
 // (rbf-grid, mpu, global-rbf, or a fitted .mlf). Nothing is resampled onto a grid first.
 // The recipe is stream/field_render.hpp (the field, its empty-space boxes, the frame, the picture);
-// this file reads the options, picks the input and the transfer function, and writes / compares.
+// this file reads the options and picks the input and the transfer function; stream/render_outputs.hpp
+// writes the picture and compares it.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -29,6 +30,7 @@
 #include "kernels/ray_caster.hpp"
 #include "ooc/brick_store.hpp"
 #include "stream/field_render.hpp"
+#include "stream/render_outputs.hpp"
 
 namespace meshless::cli {
 
@@ -103,13 +105,6 @@ TransferFunction transfer_function_arg(const Args& a, const std::array<double, 2
         if (!(range[0] < range[1])) throw UsageError("--range: LO must be less than HI, got '" + *r + "'");
     }
     return render_transfer_function(tf, range, a.has("range"));
-}
-
-std::string psnr_text(double psnr) {
-    if (std::isinf(psnr)) return "inf";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", psnr);
-    return buf;
 }
 
 /// render --help: what it draws and how.
@@ -237,41 +232,21 @@ int cmd_render(int argc, char** argv) {
     auto progress = [&](double f) { meter.set_fraction(f); };
     const RenderResult rr = render_field(in, cam, tf, ro, show ? std::function<void(double)>(progress) : std::function<void(double)>());
     meter.done();
-    const Image& picture = rr.picture;
-    const RayCastStats& st = rr.stats;
     // a point set whose picture is one colour (a PLY isosurface's points all carry the isovalue: a
     // constant field that the transfer function maps to nothing) says so instead of a silent black image
-    if (!in.volume && uniform_picture(picture))
+    if (!in.volume && uniform_picture(rr.picture))
         std::fprintf(stderr, "meshless render: warning: %s: the picture is all background (values %g .. %g; an isosurface's "
                              "points carry one value: splat them instead, meshless splat)\n",
                      terminal_safe(a.positional()[0]).c_str(), in.range[0], in.range[1]);
-    // a closed stdout (-o - | head) still lets --diff be written; then the quiet exit
-    PipeClosure pipe;
-    const bool png_live = pipe.step([&] { write_png(picture, png_file); });
-    if ((tty && !a.has("quiet")) || a.has("stats"))
-        std::fprintf(stderr,
-                     "render: %s, %dx%d, step %g (ref %g), %d thread(s): %.3f s; %llu rays hit, %llu samples (%.2f M/s), "
-                     "%llu skipped as empty, %llu rays terminated early\n",
-                     in.what.c_str(), cam.width, cam.height, rr.params.step, rr.params.ref_step, ro.threads, rr.seconds,
-                     static_cast<unsigned long long>(st.rays_hit), static_cast<unsigned long long>(st.samples),
-                     1e-6 * static_cast<double>(st.samples) / std::max(rr.seconds, 1e-9), static_cast<unsigned long long>(st.skipped),
-                     static_cast<unsigned long long>(st.terminated));
-    if (ref) {
-        if (ref->width != picture.width || ref->height != picture.height)  // checked above against --size
-            throw std::logic_error("render: the picture is not the size the camera asked for");
-        const ImageDifference d = compare_images(picture, *ref);
-        // on stdout, unless a picture goes there (-o - or --diff -)
-        std::fprintf(png == "-" || a.get_or("diff", "") == "-" ? stderr : stdout, "RMSE %.4f PSNR %s dB (max difference %d, %llu of %llu pixels differ)\n",
-                     d.rmse, psnr_text(d.psnr).c_str(), d.max_abs, static_cast<unsigned long long>(d.differing_pixels),
-                     static_cast<unsigned long long>(picture.width) * static_cast<unsigned long long>(picture.height));
-        if (diff_file)
-            pipe.step([&] {
-                write_png(difference_image(picture, *ref, gain), *diff_file);
-                diff_file->commit();
-            });
-    }
-    if (png_live) pipe.step([&] { png_file.commit(); });
-    pipe.rethrow_if_closed();
+    RenderFiles files;
+    files.png = &png_file;
+    if (ref) files.reference = &*ref;
+    if (diff_file) files.diff = &*diff_file;
+    files.diff_gain = gain;
+    // the comparison on stdout, unless a picture goes there (-o - or --diff -)
+    files.comparison = png == "-" || a.get_or("diff", "") == "-" ? stderr : stdout;
+    if ((tty && !a.has("quiet")) || a.has("stats")) files.stats = stderr;
+    write_render_files(in, cam, rr, ro.threads, files);
     return 0;
 }
 

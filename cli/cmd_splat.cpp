@@ -78,23 +78,7 @@ int cmd_splat(int argc, char** argv) {
     }
     const SplatReport rep = splat_picture(rs, r);
     if (meter) meter->done();
-    const Camera& cam = rep.camera;
-    if (rep.frames > 0)
-        std::fprintf(stderr, "splat: turntable of %d frames, %llu %s, %dx%d%s: %.2f ms/frame (min %.2f, max %.2f)\n",
-                     rep.frames, static_cast<unsigned long long>(rep.drawn), rep.mesh ? "triangles" : "points", cam.width,
-                     cam.height, rep.mesh ? "" : rs.kernel == SplatKernel::quad ? " quad" : " ewa", 1e3 * rep.mean_seconds,
-                     1e3 * rep.min_seconds, 1e3 * rep.max_seconds);
-    else if (stderr_is_tty() || a.has("stats")) {
-        if (rep.mesh)
-            std::fprintf(stderr, "splat: %llu triangles (%lld drawn, %lld fragments), %dx%d: %.3f s\n",
-                         static_cast<unsigned long long>(rep.drawn), rep.triangles_drawn, rep.fragments, cam.width,
-                         cam.height, rep.seconds);
-        else
-            std::fprintf(stderr, "splat: %llu points, %dx%d %s, %d thread(s): %.3f s (%.2f M points/s)\n",
-                         static_cast<unsigned long long>(rep.drawn), cam.width, cam.height,
-                         rs.kernel == SplatKernel::quad ? "quad" : "ewa", r.threads, rep.seconds,
-                         1e-6 * static_cast<double>(rep.drawn) / std::max(1e-9, rep.seconds));
-    }
+    if (rep.frames > 0 || stderr_is_tty() || a.has("stats")) print_splat_report(stderr, rep, rs.kernel, r.threads);
     return 0;
 }
 

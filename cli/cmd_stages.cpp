@@ -10,7 +10,7 @@
 #include "cli/common.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/errors.hpp"
-#include "cli/stream_output.hpp"
+#include "formats/binary_stream_output.hpp"
 #include "cli/field_cli.hpp"
 #include "cli/multiblock_isosurface.hpp"
 #include "cli/scattered_isosurface.hpp"
@@ -20,6 +20,7 @@
 #include "ooc/sample_store_writer.hpp"
 #include "stream/cell_row_source.hpp"
 #include "stream/generate_stage.hpp"
+#include "stream/sample_stream_generation.hpp"
 #include "stream/point_file_sink.hpp"
 #include "stream/sample_stream_projection.hpp"
 #include "stream/stream_endpoints.hpp"
@@ -86,7 +87,7 @@ int cmd_generate(int argc, char** argv) {
         add_field_options(scattered, /*with_coverage=*/false);
         scattered.option("max-cells", "", "", "").option("max-level", "", "", "").option("reg-gap", "", "", "");
         const auto positionals = scan_positionals(argc, argv, 2, {&a, &blocks, &scattered});
-        if (blocks_invocation(positionals)) return generate_blocks(argc, argv);
+        if (names_blocks(positionals)) return generate_blocks(argc, argv);
         if (scattered_invocation(positionals, argc, argv)) return generate_scattered(argc, argv);
     }
     if (!a.parse(argc, argv, 2)) return 0;
@@ -96,16 +97,9 @@ int cmd_generate(int argc, char** argv) {
     const int nthreads = threads(a);
     BinaryStreamOutput out(a.get_or("output", "-"), "a sample stream");
     VolumeInput in = open_volume_input(a, /*stream=*/true);
-    StreamSink sink(out.f, out.name, RecordKind::sample, volume_meta(in, iso, a.command_line()), a.has("compress"));
-    // the records are sample_active_cells' on a volume of uint8/int16/uint16/float32 values, which
-    // floats hold exactly: the encoder checks their positions and takes their values from the corners
-    sink.index_cells(cell_grid(in.grid()), SampleCellEncoder::Verify::position);
-    const IsoSplatResult r = run_isosplat_input(in, iso, Projection::approx, sp, sink, nthreads, PipelineShape::samples_only);
-    const bool warned = warn_if_nothing_active(in, iso, r.sampling);
-    if (a.has("stats"))
-        std::fprintf(stderr, "generate: %s iso %g: %lld samples (active cells), %lld cells with NaN/Inf skipped, %.3f s\n",
-                     terminal_safe(in.path).c_str(), iso, static_cast<long long>(r.sampling.active_cells),
-                     static_cast<long long>(r.sampling.nonfinite_cells), r.seconds);
+    bool warned = false;
+    const IsoSplatResult r = generate_sample_stream(in, iso, sp, out.f, out.name, a.command_line(), a.has("compress"), nthreads, stderr, &warned);
+    if (a.has("stats")) print_generate_stats(stderr, in.path, iso, r);
     out.commit();
     return empty_result_exit(a, static_cast<std::uint64_t>(r.sampling.active_cells), "samples", iso, in.path, warned);
 }
@@ -131,21 +125,10 @@ int cmd_project(int argc, char** argv) {
     StreamReader reader(in.f, in.name);
     require_sample_stream(reader, in.name);
     reader.read_meta();
-    StreamMeta meta = reader.meta();
-    const double iso = stream_iso(a, meta);
-    if (mode == Projection::exact && meta.get("sample_corners") == "none")
-        throw FormatError(in.name + ": samples from a paradigm (A) sample store carry no cell corners; "
-                          "--projection exact needs them, use approx");
-    meta.set("iso", iso);
-    meta.set("projection", to_string(mode));
-    StreamSink sink(out.f, out.name, RecordKind::point, meta, a.has("compress"));
-    const ProjectionStats s = project_sample_stream(reader, iso, mode, sink, nthreads);
+    const double iso = stream_iso(a, reader.meta());
+    const ProjectionStats s = project_sample_stream(reader, in.name, iso, mode, out.f, out.name, a.has("compress"), nthreads);
     out.commit();
-    if (a.has("stats")) {
-        std::fprintf(stderr, "project: %lld samples -> %lld points (%s; discarded: %lld too far, %lld flat, %lld missed)\n",
-                     static_cast<long long>(s.input), static_cast<long long>(s.output), to_string(mode),
-                     static_cast<long long>(s.too_far), static_cast<long long>(s.flat), static_cast<long long>(s.missed));
-    }
+    if (a.has("stats")) print_projection_stats(stderr, mode, s);
     return 0;
 }
 

@@ -178,13 +178,7 @@ void add_color_options(Args& a) {
 
 ColorChoice color_choice(const Args& a) {
     ColorChoice c;
-    const std::string m = a.get_or("color", "auto");
-    if (m == "auto") c.request = ColorRequest::automatic;
-    else if (m == "value") c.request = ColorRequest::value;
-    else if (m == "block") c.request = ColorRequest::block;
-    else if (m == "normal") c.request = ColorRequest::normal;
-    else if (m == "none") c.request = ColorRequest::none;
-    else throw UsageError("--color: expected value, block, normal or none, got '" + m + "'");
+    c.request = parse_color_request(a.get_or("color", "auto"));
     if (!parse_colormap(a.get_or("colormap", "viridis"), c.colormap))
         throw UsageError("--colormap: expected viridis, coolwarm or gray, got '" + a.get_or("colormap", "") + "'");
     if (auto r = a.get("range")) {
@@ -242,27 +236,8 @@ std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const Vol
 }
 
 
-namespace {
-
-ShadingParams shading_from(const Args& a) {
-    ShadingParams s;
-    const std::string m = a.get_or("shading", "phong");
-    if (m == "lambert") s.specular = 0;
-    else if (m != "phong") throw UsageError("--shading: expected phong or lambert, got '" + m + "'");
-    return s;
-}
-
-SplatKernel kernel_from(const Args& a) {
-    const std::string k = a.get_or("kernel", "ewa");
-    if (k == "quad") return SplatKernel::quad;
-    if (k == "ewa") return SplatKernel::ewa;
-    throw UsageError("--kernel: expected quad or ewa, got '" + k + "'");
-}
-
-}  // namespace
-
 RenderSettings render_settings(const Args& a) {
-    RenderSettings rs{camera_from(a, "800x800"), kernel_from(a), shading_from(a)};
+    RenderSettings rs{camera_from(a, "800x800"), parse_splat_kernel(a.get_or("kernel", "ewa")), parse_shading(a.get_or("shading", "phong"))};
     // --memory bounds the process: the EWA picture's footprints take an eighth of it at most
     if (a.declared("memory") && a.has("memory"))
         rs.spool_memory = std::min<std::uint64_t>(SplatSink::kSpoolMemory, parse_memory_size(*a.get("memory")) / 8);
@@ -292,31 +267,6 @@ double stream_iso(const Args& a, const StreamMeta& m) {
     return iso;
 }
 
-void require_point_set_output(const std::string& path, const char* what) {
-    if (!point_set_output_name(path))
-        throw UsageError("-o '" + path + "': this output is " + what + ", written to a .ply (binary PLY), .csv or .vtp "
-                         "(VTK XML PolyData) file (outputs are chosen by extension; '-' for CSV on stdout)");
-}
-
-void refuse_binary_to_terminal(const std::string& path, const std::string& what) {
-    if (path == "-" && ::isatty(1))
-        throw UsageError("refusing to write " + what + " to a terminal (pipe it or use -o FILE)");
-}
-
-const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
-                                            const char* what, bool to_stdout) {
-    if (std::string_view(ext) != ".csv") refuse_binary_to_terminal(path, what);
-    if (path == "-" || is_streaming_output(path)) return path;
-    const std::string e(ext);
-    auto lower = [](char c) { return static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c); };
-    bool ok = path.size() > e.size();
-    for (std::size_t i = 0; ok && i < e.size(); ++i) ok = lower(path[path.size() - e.size() + i]) == e[i];
-    if (!ok)
-        throw UsageError(std::string(option) + " '" + path + "': this output is " + what + ", written to a " + e +
-                         " file (outputs are chosen by extension" + (to_stdout ? "; '-' for stdout)" : ")"));
-    return path;
-}
-
 void add_geometry_format_option(Args& a) {
     a.option("format", "", "ply|vtp",
              "format of -o when its name does not end in .ply or .vtp ('-' for stdout: default ply); "
@@ -335,20 +285,7 @@ VtpOptions vtp_options(const Args& a, int threads) {
 }
 
 GeometryFormat geometry_output_format(const Args& a, const std::string& path, const char* what) {
-    refuse_binary_to_terminal(path, what);  // binary PLY, VTP's appended arrays
-    const auto by_name = geometry_format_of(path);
-    if (const auto f = a.get("format")) {
-        const auto given = parse_geometry_format(*f);
-        if (!given) throw UsageError("--format: expected ply or vtp, got '" + *f + "'");
-        if (by_name && *by_name != *given)
-            throw UsageError("-o '" + path + "': the name says " + to_string(*by_name) + " but --format says " + *f);
-        return *given;
-    }
-    if (by_name) return *by_name;
-    if (path == "-" || is_streaming_output(path)) return GeometryFormat::ply;
-    throw UsageError("-o '" + path + "': this output is " + what +
-                     ", written to a .ply (binary PLY) or .vtp (VTK XML PolyData) file (outputs are chosen by extension; "
-                     "--format ply|vtp for other names, '-' for stdout)");
+    return meshless::geometry_output_format(path, a.get("format"), what);
 }
 
 void add_ply_color_option(Args& a) {
@@ -370,23 +307,6 @@ std::optional<GeometryOutput> geometry_output(const Args& a, const char* what) {
             throw UsageError("--ply-color: colours are for PLY output; VTP carries the arrays themselves (colour by them in ParaView)");
     }
     return g;
-}
-
-bool warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source) {
-    if (std::isnan(range[0])) {
-        std::fprintf(stderr, "meshless: warning: %s has no finite samples; the outputs will be empty\n", terminal_safe(source).c_str());
-        return true;
-    }
-    if (iso < range[0] || iso > range[1]) {
-        std::fprintf(stderr, "meshless: warning: %s: isovalue %g is outside the data range [%g, %g]; the outputs will be empty\n",
-                     terminal_safe(source).c_str(), iso, range[0], range[1]);
-        return true;
-    }
-    return false;
-}
-
-bool warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s) {
-    return s.active_cells == 0 && warn_if_iso_outside(iso, in.value_range(), in.path);
 }
 
 void add_fail_empty_option(Args& a) {

@@ -16,6 +16,7 @@
 #include "formats/stdin_spool.hpp"
 #include "formats/anatomical_frame.hpp"
 #include "formats/geometry_format.hpp"
+#include "formats/output_names.hpp"
 #include "formats/vtp_writer.hpp"
 #include "formats/point_stream.hpp"
 #include "kernels/block_minmax.hpp"
@@ -27,6 +28,7 @@
 #include "ooc/brick_cache.hpp"
 #include "ooc/brick_index.hpp"
 #include "ooc/slice_source.hpp"
+#include "stream/iso_range_warning.hpp"
 #include "stream/isosplat_pipeline.hpp"
 #include "stream/point_outputs.hpp"
 #include "stream/stream_metadata.hpp"
@@ -109,8 +111,6 @@ double stream_iso(const Args& a, const StreamMeta& m);
 /// --projection: "none" | "approx" | "exact" (kernels/project_sample.hpp); UsageError otherwise.
 Projection parse_projection(const std::string& s);
 
-/// Warns on stderr when iso lies outside [lo, hi] (the outputs will be empty but valid); true when it warned.
-bool warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source);
 /// --fail-empty: an empty result (no point, triangle or sample) exits kExitEmpty (cli/errors.hpp).
 void add_fail_empty_option(Args& a);
 /// After a command made `count` `what`s ("points", "triangles", "samples") at `iso` from `source`:
@@ -118,29 +118,11 @@ void add_fail_empty_option(Args& a);
 /// the outputs will be empty), and kExitEmpty with --fail-empty; otherwise 0.
 int empty_result_exit(const Args& a, std::uint64_t count, const char* what, double iso, const std::string& source,
                       bool warned);
-/// UsageError "refusing to write WHAT to a terminal" when `path` is "-" and standard output is a
-/// terminal (binary outputs: streams, PLY, VTP, PNG, NRRD, stores).
-void refuse_binary_to_terminal(const std::string& path, const std::string& what);
-/// UsageError unless formats/point_set_writer.hpp takes this -o name (.ply, .csv, .vtp or "-");
-/// `what` says what the output is ("a level of detail").
-void require_point_set_output(const std::string& path, const char* what);
-/// Outputs are chosen by extension: returns `path` when it ends in `ext` (".ply", ".png", ...;
-/// case-insensitive) or is a stream ("-", a device, a FIFO); otherwise throws UsageError naming
-/// the option, the path and what it writes (a file named out.vtp must not receive PLY bytes).
-/// Every output but .csv is binary: "-" on a terminal is refused (refuse_binary_to_terminal).
-/// to_stdout = false: the output cannot go to standard output (a store, a fit, a tree: regular
-/// files only), so the message does not offer '-'.
-const std::string& require_output_extension(const std::string& path, const char* ext, const char* option,
-                                            const char* what, bool to_stdout = true);
 /// What an isosurface's point output is, in the messages of geometry_output.
 inline constexpr const char* kPointsWhat = "an oriented point set";
 /// --format ply|vtp: the geometry format of -o when its name does not say it (stdout, odd names).
 void add_geometry_format_option(Args& a);
-/// The one place geometry outputs (points, meshes) are chosen: `path`'s extension (.ply or .vtp,
-/// any case) or --format. --format given: the path must not end in the other format's extension;
-/// a stream ("-", a device, a FIFO) without --format is PLY (what pipes always got). Any other
-/// name without --format, or --format other than ply|vtp, is a UsageError naming -o, the path and
-/// `what` (e.g. "an oriented point set"); so is "-" when standard output is a terminal.
+/// formats/output_names.hpp geometry_output_format of `path` with --format.
 GeometryFormat geometry_output_format(const Args& a, const std::string& path, const char* what);
 /// --ply-color value|block|normal (point outputs): colours in the PLY for readers that keep only
 /// x y z, normals and red green blue (vtkPLYReader; MeshLab shows them too).
@@ -150,12 +132,6 @@ void add_ply_color_option(Args& a);
 VtpOptions vtp_options(const Args& a, int threads);
 /// -o (when given) with its format from geometry_output_format.
 std::optional<GeometryOutput> geometry_output(const Args& a, const char* what);
-/// After a paradigm (C) run: when it found no active cell, warn_if_iso_outside with the input's value
-/// range (computed only then). A run that found an active cell has iso inside the range, so the
-/// volume is not read an extra time to say nothing.
-/// True when it warned.
-bool warn_if_nothing_active(const VolumeInput& in, double iso, const SamplingStats& s);
-
 /// True when stderr is a terminal (progress and timing chatter go there only then, or with --stats).
 bool stderr_is_tty();
 

@@ -11,15 +11,17 @@
 
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
-#include "cli/stream_output.hpp"
+#include "formats/binary_stream_output.hpp"
 #include "cli/field_cli.hpp"
 #include "stream/mpi_session.hpp"
 #include "cli/point_set_cli.hpp"
+#include "formats/input_kind.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/barycentric_lattice.hpp"
 #include "kernels/errors.hpp"
+#include "stream/block_isosurface_job.hpp"
 #include "stream/field_project_stage.hpp"
 #include "stream/sample_stream_projection.hpp"
 #include "stream/stream_endpoints.hpp"
@@ -85,13 +87,6 @@ BlockInput read_blocks(const Args& a, double iso) {
     return read_block_input(a.positional(), point_set_options(a), joined_names(a.positional()), iso);
 }
 
-void warn_if_inactive(const BlockInput& in, double iso) {
-    if (in.plan.active_cells == 0) warn_if_iso_outside(iso, in.plan.value_range, in.source);
-    if (in.plan.active_cells == 0 && iso >= in.plan.value_range[0] && iso <= in.plan.value_range[1])
-        std::fprintf(stderr, "meshless: warning: %s: no cell with valid corners is crossed by isovalue %g; the outputs will be empty\n",
-                     terminal_safe(in.source).c_str(), iso);
-}
-
 }  // namespace
 
 // ------------------------------------------------------------------ dispatch
@@ -118,14 +113,6 @@ std::vector<std::string> scan_positionals(int argc, char** argv, int first, std:
             }
     }
     return pos;
-}
-
-bool blocks_invocation(const std::vector<std::string>& positionals) {
-    for (const auto& p : positionals)
-        if (looks_like_multiblock(p)) return true;
-    // several inputs are blocks (pieces of a multiblock set) unless the first is a volume: then the
-    // volume command reports the extra argument
-    return positionals.size() > 1 && !looks_like_volume(positionals[0]);
 }
 
 bool project_seeds_invocation(int argc, char** argv) {
@@ -169,46 +156,30 @@ int isosurface_blocks(int argc, char** argv) {
     if (!a.parse(argc, argv, 2)) return 0;
     if (launched_world_size() > 1)
         throw UsageError("multiblock inputs are not split over MPI ranks: run meshless isosurface BLOCKS... without mpirun");
-    const double iso = parse_finite(a.require("iso"), "--iso");
-    const auto png = point_outputs_png(a);
-    const int n = lattice_n(a);
-    const FieldProjectParams np = newton_params(a);
-    RenderSettings rs = render_settings(a);
+    IsosurfaceJob j;
+    j.started = t_start;
+    j.iso = parse_finite(a.require("iso"), "--iso");
+    j.png = point_outputs_png(a);
+    j.n = lattice_n(a);
+    j.np = newton_params(a);
+    j.rs = render_settings(a);
     const ColorChoice cc = color_choice(a);
-    const int nthreads = threads(a);
+    j.threads = threads(a);
 
     if (!field_file_arg(a)) (void)field_params(a);  // option errors before any reading
-    BlockInput in = read_blocks(a, iso);
+    BlockInput in = read_blocks(a, j.iso);
     // Colours: every point carries the isovalue, so the default is the uniform surface colour;
     // --color block colours by the block a point was seeded in.
-    apply_color(rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{iso, iso});
-    rs.legend_blocks = static_cast<std::uint32_t>(in.mb.blocks.size());
-    warn_if_inactive(in, iso);
+    apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
+    j.rs.legend_blocks = static_cast<std::uint32_t>(in.mb.blocks.size());
+    warn_if_no_block_cell_crossed(stderr, in, j.iso);
     // the field: only when some cell is crossed; without one, its name as --field gives it
     const IsosurfaceField f =
-        fit_block_field(in, iso, n, a.command_line(), np, a.get_or("field", "rbf-grid"), [&](const PointSet& p) { return build_field(a, p); });
-
-    BlockIsosurfaceStats st;
-    IsoSplatResult unused;
-    const auto t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, "an oriented point set"), png, f.meta, rs, nthreads, [&](const Stage* draw, Sink& sink) {
-        const auto g0 = Clock::now();
-        // the blocks' cells as the source hands them out, counted ahead of seeding
-        if (!f.field.field) {
-            st = run_block_isosurface(in, nullptr, iso, n, np, draw, sink, {nthreads});
-        } else {
-            ProgressMeter meter = ProgressMeter::of(a, "cells", static_cast<double>(in.cells()));
-            st = run_block_isosurface(in, f.field.field.get(), iso, n, np, draw, sink, {nthreads}, [&](double k) { meter.add(k); });
-        }
-        IsoSplatResult r;
-        r.seconds = seconds_since(g0);
-        return r;
-    }, unused, /*parallel_draw=*/true, /*with_blocks=*/true);
-    const double graph_seconds = seconds_since(t0);
-
-    if (a.has("stats"))
-        print_block_isosurface_stats(stderr, "isosurface", in, st, n, f.name, np, points, {f.seconds, graph_seconds, seconds_since(t_start)},
-                                     nthreads);
+        fit_block_field(in, j.iso, j.n, a.command_line(), j.np, a.get_or("field", "rbf-grid"), [&](const PointSet& p) { return build_field(a, p); });
+    j.out = geometry_output(a, "an oriented point set");
+    j.progress = progress_counter(a);
+    if (a.has("stats")) j.stats = stderr;
+    run_block_isosurface_job(j, in, f, "isosurface");
     return 0;
 }
 
@@ -236,7 +207,7 @@ int generate_blocks(int argc, char** argv) {
     const auto t0 = Clock::now();
     BinaryStreamOutput out(a.get_or("output", "-"), "a seed stream");
     BlockInput in = read_blocks(a, iso);
-    warn_if_inactive(in, iso);
+    warn_if_no_block_cell_crossed(stderr, in, iso);
     StreamSink sink(out.f, out.name, RecordKind::seed, block_isosurface_meta(in, iso, n, a.command_line()), a.has("compress"));
     const BlockSeedStats seeds = generate_block_seeds(in, iso, n, sink, {nthreads});
     out.commit();

@@ -2,11 +2,12 @@
 //   meshless isosurface BLOCKS... --iso V -o out.ply [--png out.png] [--field KIND] [--samples N] ...
 //   meshless generate BLOCKS... --iso V [--samples N]            (a seed stream)
 //   meshless project --field KIND DATA... [< seeds]              (seed stream -> points with blocks)
-// Option parsing over the recipe of stream/block_isosurface.hpp (which also prints its --stats) (block cells -> marching-cubes seeds
+// Option parsing over the recipes of stream/block_isosurface.hpp (block cells -> marching-cubes seeds
 // on the barycentric lattice -> Newton onto one continuous meshless field built from every block's
-// valid nodes) -> PLY (with a `block` property) and/or PNG. The piped stages give the same bytes as the in-process command for any --threads
+// valid nodes) and stream/block_isosurface_job.hpp (-> PLY with a `block` property and/or PNG, the
+// --stats block). The piped stages give the same bytes as the in-process command for any --threads
 // (same batches, same field from the same data).
-// cmd_isosurface / cmd_generate / cmd_project hand their arguments here when blocks_invocation() /
+// cmd_isosurface / cmd_generate / cmd_project hand their arguments here when formats/input_kind.hpp names_blocks() /
 // project_seeds_invocation() say so. Throws UsageError for bad options, what the readers and
 // stages throw otherwise (cli/app.cpp maps them to exit codes).
 #pragma once
@@ -18,6 +19,7 @@
 
 #include "cli/args.hpp"
 #include "formats/atomic_file.hpp"
+#include "formats/input_kind.hpp"
 #include "formats/point_stream.hpp"
 #include "kernels/field_newton_projection.hpp"
 #include "stream/block_isosurface.hpp"
@@ -43,11 +45,6 @@ std::optional<std::string> point_outputs_png(const Args& a);
 /// The positional arguments of argv[first..argc) under the option declarations of `parsers`
 /// (an option that takes a value in any of them consumes the next argument).
 std::vector<std::string> scan_positionals(int argc, char** argv, int first, std::initializer_list<const Args*> parsers);
-
-/// True when the positionals name blocks: one that looks like a multiblock file
-/// (formats/multiblock_reader.hpp looks_like_multiblock), or several inputs the first of which is
-/// not a volume (formats/volume_reader.hpp looks_like_volume).
-bool blocks_invocation(const std::vector<std::string>& positionals);
 
 int isosurface_blocks(int argc, char** argv);
 int generate_blocks(int argc, char** argv);

@@ -1,5 +1,7 @@
 #include "cli/progress_meter.hpp"
 
+#include <memory>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -10,6 +12,13 @@
 namespace meshless::cli {
 
 void add_quiet_option(Args& a) { a.flag("quiet", "no progress line on stderr (it is shown only when stderr is a terminal)"); }
+
+ProgressCounter progress_counter(const Args& a) {
+    return [&a](const std::string& unit, double total) {
+        auto meter = std::make_shared<ProgressMeter>("meshless " + a.command(), unit, total, progress_wanted(a), progress_delay());
+        return std::function<void(double)>([meter](double k) { meter->add(k); });
+    };
+}
 
 namespace {
 bool progress_forced() {

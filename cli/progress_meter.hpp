@@ -16,6 +16,7 @@
 #include <string>
 
 #include "cli/args.hpp"
+#include "stream/progress_stage.hpp"
 
 namespace meshless::cli {
 
@@ -72,5 +73,9 @@ private:
     double last_draw_ = -1;
     bool drawn_ = false;
 };
+
+/// The progress displays of a command for a recipe (stream/progress_stage.hpp ProgressCounter): a
+/// ProgressMeter::of(a, unit, total) for each, cleared when the recipe lets go of its counter.
+ProgressCounter progress_counter(const Args& a);
 
 }  // namespace meshless::cli

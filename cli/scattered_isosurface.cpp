@@ -11,13 +11,15 @@
 
 #include "cli/common.hpp"
 #include "cli/errors.hpp"
-#include "cli/stream_output.hpp"
+#include "formats/binary_stream_output.hpp"
 #include "cli/field_cli.hpp"
 #include "stream/mpi_session.hpp"
 #include "cli/multiblock_isosurface.hpp"
 #include "stream/scattered_isosurface.hpp"
+#include "stream/scattered_isosurface_job.hpp"
 #include "stream/scattered_isosurface_mpi.hpp"
 #include "stream/scattered_store_isosurface.hpp"
+#include "formats/input_kind.hpp"
 #include "formats/point_store.hpp"
 #include "stream/available_memory.hpp"
 #include "cli/point_set_cli.hpp"
@@ -103,19 +105,13 @@ double dedup_fraction(const Args& a) {
 // ------------------------------------------------------------------ dispatch
 
 bool scattered_invocation(const std::vector<std::string>& positionals, int argc, char** argv) {
-    if (positionals.empty() || blocks_invocation(positionals)) return false;
-    const std::string& p = positionals[0];
-    const std::string e = lower_extension(p);
-    // a .raw without the name convention is a volume when --dims describes it
-    if (e == ".raw")
-        for (int i = 2; i < argc; ++i) {
-            const std::string tok = argv[i];
-            if (tok == "--") break;
-            if (tok == "--dims" || tok.rfind("--dims=", 0) == 0) return false;
-        }
-    if (looks_like_point_set(p)) return true;
-    std::error_code ec;
-    return e == ".ply" && std::filesystem::is_regular_file(p, ec) && !looks_like_volume(p);
+    bool raw_dims = false;  // a .raw given --dims is a volume
+    for (int i = 2; i < argc; ++i) {
+        const std::string tok = argv[i];
+        if (tok == "--") break;
+        if (tok == "--dims" || tok.rfind("--dims=", 0) == 0) raw_dims = true;
+    }
+    return names_scattered_points(positionals, raw_dims);
 }
 
 // ------------------------------------------------------------------ isosurface POINTS
@@ -180,67 +176,47 @@ namespace {
 /// What the scattered isosurface prepares before its graph runs (options checked, data read and
 /// binned, field built).
 struct ScatteredJob {
-    double iso = 0;
-    int n = kScatteredLatticeN;
-    FieldProjectParams np;
+    IsosurfaceJob job;
     double dedup = 0;
-    RenderSettings rs;
-    int nthreads = 1;
-    std::optional<std::string> png;
     ScatteredInput in;
     IsosurfaceField f;  ///< the field, its name and time, the metadata
     bool warned = false;  ///< a line already said the isovalue lies outside the data
 };
 
 /// The options of the job, checked before any reading; the colour choice is returned.
-ColorChoice parse_scattered_options(const Args& a, ScatteredJob& j) {
+ColorChoice parse_scattered_options(const Args& a, Clock::time_point t_start, ScatteredJob& s) {
+    IsosurfaceJob& j = s.job;
+    j.started = t_start;
     j.iso = parse_finite(a.require("iso"), "--iso");
     j.png = point_outputs_png(a);
     j.n = lattice_n(a, kScatteredLatticeN);
     j.np = newton_params(a);
     (void)binning_params(a);
-    j.dedup = dedup_fraction(a);
+    s.dedup = dedup_fraction(a);
     j.rs = render_settings(a);
     const ColorChoice cc = color_choice(a);
     if (cc.request == ColorRequest::block) throw UsageError("scattered points have no blocks; --color block needs multiblock input");
-    j.nthreads = threads(a);
+    j.threads = threads(a);
     if (!field_file_arg(a)) (void)field_params(a);  // option errors before any reading
+    j.progress = progress_counter(a);
+    if (a.has("stats")) j.stats = stderr;
     return cc;
 }
 
-ScatteredJob prepare_scattered(const Args& a, MpiSession* mpi) {
+ScatteredJob prepare_scattered(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
     const bool root = !mpi || mpi->rank() == 0;
-    ScatteredJob j;
-    const ColorChoice cc = parse_scattered_options(a, j);
-    j.in = read_scattered(a, root);
+    ScatteredJob s;
+    IsosurfaceJob& j = s.job;
+    const ColorChoice cc = parse_scattered_options(a, t_start, s);
+    s.in = read_scattered(a, root);
     apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
-    if (!j.in.crosses(j.iso) && root) j.warned = warn_if_iso_outside(j.iso, j.in.points.value_range(), j.in.source);
+    if (!s.in.crosses(j.iso) && root) s.warned = warn_if_iso_outside(j.iso, s.in.points.value_range(), s.in.source);
     // under mpirun the ranks share the mpu field's local fits (every rank ends with the whole field)
     std::optional<FitShare> share;
     if (mpi) share = mpi_fit_share(*mpi);
-    j.f = fit_scattered_field(j.in, j.iso, j.n, a.command_line(), &j.np, j.nthreads, field_kind_arg(a),
-                              [&] { return build_field(a, j.in.points, {}, share ? &*share : nullptr); });
-    return j;
-}
-
-/// Under mpirun: the stencil rows are dealt to the ranks on request, rank 0 writes
-/// (stream/stencil_ranks.hpp); the statistics are summed to rank 0.
-int isosurface_scattered_mpi(const Args& a, Clock::time_point t_start, MpiSession& mpi, ScatteredJob& j) {
-    const ScatteredMpiResult r = run_scattered_isosurface_mpi(
-        mpi, j.in, j.f.field.field.get(), j.iso, j.n, j.np, j.dedup, j.nthreads,
-        [&](const std::function<void(Sink&)>& produce) {
-            IsoSplatResult unused;
-            return run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
-                produce(sink);
-                return IsoSplatResult{};
-            }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
-        },
-        // the deal's thread failing leaves the other ranks waiting for rows: end the job
-        [&mpi](std::exception_ptr e) { end_mpi_job(mpi, "isosurface", e); });
-    if (mpi.rank() != 0 || !a.has("stats")) return 0;
-    print_scattered_ranks_stats(stderr, "isosurface", j.in, r.totals, j.n, j.f.name, j.np, r.points, mpi.size(),
-                                {j.f.seconds, 0, seconds_since(t_start)}, j.nthreads);
-    return 0;
+    s.f = fit_scattered_field(s.in, j.iso, j.n, a.command_line(), &j.np, j.threads, field_kind_arg(a),
+                              [&] { return build_field(a, s.in.points, {}, share ? &*share : nullptr); });
+    return s;
 }
 
 /// A point store (.mlc) with the mpu field: slab by slab within --memory (stream/scattered_store_isosurface.hpp).
@@ -251,8 +227,9 @@ bool runs_store_slabs(const Args& a, MpiSession* mpi) {
 }
 
 int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
-    ScatteredJob j;
-    const ColorChoice cc = parse_scattered_options(a, j);
+    ScatteredJob s;
+    IsosurfaceJob& j = s.job;
+    const ColorChoice cc = parse_scattered_options(a, t_start, s);
     const FieldParams fp = field_params(a, kPointsFieldDefault);
     ScatteredStoreParams sp;
     sp.memory_bytes = a.has("memory") ? parse_memory_size(*a.get("memory")) : available_memory();
@@ -261,30 +238,10 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
     const auto store = PointStore::open(path);
     const ScatteredStorePlan plan = plan_scattered_store(*store, joined_names(a.positional()), binning_params(a), stderr_warning());
     apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
-    if (!plan.crosses(j.iso)) j.warned = warn_if_iso_outside(j.iso, plan.value_range, plan.source);
-    j.f.meta = scattered_store_meta(plan, j.iso, j.n, a.command_line());
-    widen_frame_for_travel(j.f.meta, j.np.seed_max_travel);
-    add_projection_meta(j.f.meta, "mpu", j.np);
-    if (j.dedup > 0) j.f.meta.set("dedup", j.dedup);
-    ScatteredIsosurfaceStats st;
-    ScatteredStoreReport rep;
-    IsoSplatResult unused;
-    const auto t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage*, Sink& sink) {
-        ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(StencilGrid(plan.grid.dims).total()));
-        st = run_scattered_store_isosurface(*store, plan, fp, sp, j.iso, j.n, j.np, j.dedup, sink, {j.nthreads},
-                                            [&](double k) { meter.add(k); }, &rep);
-        return IsoSplatResult{};
-    }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
-    if (a.has("memory") && rep.slabs > 1 && rep.loaded > 4 * plan.frame.points)  // (a budget near the least that runs)
-        std::fprintf(stderr, "meshless isosurface: warning: --memory %s made %d slabs that read the points %.0f times over; "
-                             "more memory makes fewer, faster slabs\n",
-                     terminal_safe(*a.get("memory")).c_str(), rep.slabs,
-                     static_cast<double>(rep.loaded) / static_cast<double>(plan.frame.points));
-    if (a.has("stats"))
-        print_store_isosurface_stats(stderr, "isosurface", plan, rep, st, j.n, j.np, j.dedup, points, {0, seconds_since(t0), seconds_since(t_start)},
-                                     j.nthreads);
-    return empty_result_exit(a, points, "points", j.iso, plan.source, j.warned);
+    const bool warned = !plan.crosses(j.iso) && warn_if_iso_outside(j.iso, plan.value_range, plan.source);
+    j.out = geometry_output(a, kPointsWhat);
+    const std::size_t points = run_scattered_store_job(j, s.dedup, *store, plan, fp, sp, a.command_line(), a.get("memory"), "isosurface");
+    return empty_result_exit(a, points, "points", j.iso, plan.source, warned);
 }
 
 int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
@@ -292,34 +249,15 @@ int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSessio
     if (a.has("memory"))  // (a budget the run below cannot keep: say so rather than exceed it silently)
         std::fprintf(stderr, "meshless isosurface: warning: --memory bounds only a point store (.mlc) with the mpu field, "
                              "--max-travel > 0 and no mpirun; these points and their field are held in memory whole\n");
-    ScatteredJob j = prepare_scattered(a, mpi);
-    if (mpi) return isosurface_scattered_mpi(a, t_start, *mpi, j);
-    const ScatteredInput& in = j.in;
-    if (j.dedup > 0) j.f.meta.set("dedup", j.dedup);
-    ScatteredIsosurfaceStats st;
-    IsoSplatResult unused;
-    const auto t0 = Clock::now();
-    const std::size_t points = run_to_outputs(geometry_output(a, kPointsWhat), j.png, j.f.meta, j.rs, j.nthreads, [&](const Stage* draw, Sink& sink) {
-        const auto g0 = Clock::now();
-        // --dedup: the removal runs in sequence order on the sink side (the picture is then drawn there too)
-        if (!j.f.field.field) {
-            st = run_scattered_isosurface(in, nullptr, j.iso, j.n, j.np, j.dedup, draw, sink, {j.nthreads});
-        } else {
-            // the stencils as the source hands them out, counted ahead of seeding
-            ProgressMeter meter = ProgressMeter::of(a, "stencils", static_cast<double>(StencilGrid(in.grid.dims).total()));
-            st = run_scattered_isosurface(in, j.f.field.field.get(), j.iso, j.n, j.np, j.dedup, draw, sink, {j.nthreads},
-                                          [&](double k) { meter.add(k); });
-        }
-        IsoSplatResult r;
-        r.seconds = seconds_since(g0);
-        return r;
-    }, unused, /*parallel_draw=*/j.dedup == 0, /*with_blocks=*/false);
-    const double graph_seconds = seconds_since(t0);
-    warn_if_unconverged(stderr, in.source, st, j.f.name);
-    if (a.has("stats"))
-        print_scattered_isosurface_stats(stderr, "isosurface", in, st, j.n, j.f.name, j.np, j.dedup, points,
-                                         {j.f.seconds, graph_seconds, seconds_since(t_start)}, j.nthreads);
-    return empty_result_exit(a, points, "points", j.iso, in.source, j.warned);
+    ScatteredJob s = prepare_scattered(a, t_start, mpi);
+    s.job.out = geometry_output(a, kPointsWhat);
+    if (mpi) {  // the deal's thread failing leaves the other ranks waiting for rows: end the job
+        run_scattered_isosurface_mpi_job(s.job, s.dedup, *mpi, s.in, s.f, "isosurface",
+                                         [mpi](std::exception_ptr e) { end_mpi_job(*mpi, "isosurface", e); });
+        return 0;
+    }
+    const std::size_t points = run_scattered_isosurface_job(s.job, s.dedup, s.in, s.f, "isosurface");
+    return empty_result_exit(a, points, "points", s.job.iso, s.in.source, s.warned);
 }
 
 }  // namespace

@@ -4,11 +4,11 @@
 //   meshless generate POINTS --iso V [--samples N]            (a seed stream)
 //   meshless project --field F.mlf|KIND [POINTS] [< seeds]    (seed stream -> points; the multiblock
 //                                                              command, cli/multiblock_isosurface.hpp)
-// option parsing over the recipe of stream/scattered_isosurface.hpp (the binning grid -> marching
+// option parsing over the recipes of stream/scattered_isosurface.hpp and stream/scattered_isosurface_job.hpp (the binning grid -> marching
 // stencils, each regularised on the fly, tetrahedralised by CGAL and contoured by marching
 // tetrahedra, seeded on the barycentric lattice -> Newton onto the meshless field) -> PLY/VTP
-// and/or PNG; under mpirun the stencil rows are dealt to the ranks (run_scattered_isosurface_rank; the
-// MPI session and the job's abort stay here, cli/mpi_session.hpp). The pipe gives the same
+// and/or PNG; under mpirun the stencil rows are dealt to the ranks (stream/scattered_isosurface_mpi.hpp; the
+// job's abort stays here, cli/errors.hpp end_mpi_job). The pipe gives the same
 // bytes as the in-process command for any --threads. POINTS: any point set meshless reads (CSV/TSV,
 // PLY, VTP, raw float32 records, .npy; formats/point_set_reader.hpp).
 // Throws UsageError for bad options, FormatError for unusable data (fewer than 4 distinct points),

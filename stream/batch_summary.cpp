@@ -46,4 +46,14 @@ void print_batch_summary(std::FILE* out, const BatchRun& run) {
     std::fflush(out);
 }
 
+void print_batch_item_failure(std::FILE* out, const BatchItemResult& r) {
+    if (r.status != BatchStatus::failed && r.status != BatchStatus::refused) return;
+    std::fprintf(out, "meshless batch: %s: %s\n", terminal_safe(r.name).c_str(), terminal_safe(r.message).c_str());
+    if (!r.stops_run.empty())
+        std::fprintf(out,
+                     "meshless batch: %s; stopping. Finished outputs are kept, temporaries removed; free some space "
+                     "and run the same command again to finish the rest\n",
+                     terminal_safe(r.stops_run).c_str());
+}
+
 }  // namespace meshless

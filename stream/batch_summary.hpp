@@ -16,5 +16,8 @@
 namespace meshless {
 
 void print_batch_summary(std::FILE* out, const BatchRun& run);
+/// The line of a volume that failed or was refused (nothing for the others) to `out`, prefixed
+/// `meshless batch: `; a full disk adds the line that says the run stops.
+void print_batch_item_failure(std::FILE* out, const BatchItemResult& r);
 
 }  // namespace meshless

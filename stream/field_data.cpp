@@ -5,9 +5,11 @@
 #include <cinttypes>
 #include <cstdio>
 
+#include "formats/binary_file.hpp"
 #include "formats/cluster_tree_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
+#include "formats/terminal_safe.hpp"
 #include "formats/volume_reader.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/make_field.hpp"
@@ -125,6 +127,13 @@ void print_field_load_report(std::FILE* out, const std::string& command, const s
                  " merged), %" PRIu64 " local interpolants, %.3f s\n",
                  command.c_str(), std::string(field_kind_name(i.params.kind)).c_str(), path.c_str(), i.file_bytes / 1048576.0,
                  i.data.identity.count, i.stats.merged_points, i.stats.locals, seconds);
+}
+
+void print_fit_report(std::FILE* out, const std::string& path, const FittedData& data, const FieldBuildStats& st, double read_seconds,
+                      double write_seconds) {
+    std::fprintf(out, "fit: read %.3f s, fit %.3f s, wrote %s (%" PRIu64 " bytes, identity %s) in %.3f s\n", read_seconds,
+                 st.build_seconds, terminal_safe(path).c_str(), regular_file_size(path), describe_identity(data.identity).c_str(),
+                 write_seconds);
 }
 
 }  // namespace meshless

@@ -89,6 +89,10 @@ FittedData write_fitted_field(const std::string& path, const Field& field, const
 /// points lay in a plane or line.
 void print_field_build_report(std::FILE* out, const std::string& command, const FieldParams& params, const PointSet& points,
                               const FieldBuildStats& st);
+/// Prints to `out` the line of a fitted field written to `path` ("fit: read ... wrote PATH (N bytes,
+/// identity ...)"; read, fit and write times in seconds).
+void print_fit_report(std::FILE* out, const std::string& path, const FittedData& data, const FieldBuildStats& st, double read_seconds,
+                      double write_seconds);
 /// Prints to `out` the line of a field loaded from `path` ("COMMAND: mpu field loaded from PATH (...)").
 void print_field_load_report(std::FILE* out, const std::string& command, const std::string& path, const FieldFileInfo& info,
                              double seconds);

@@ -120,4 +120,19 @@ FieldQueryStats resample_field(const BuiltField& f, const PointSet& points, cons
     return run_queries(source, f, sink, static_cast<std::size_t>(g.voxel_count()), run);
 }
 
+void report_field_support(std::FILE* out, const std::string& cmd, const BuiltField& f, const FieldQueryStats& e, bool stats) {
+    if (!f.coverage) return;
+    static constexpr const char* kModes[] = {"NaN", "clamped", "the nearest data value"};
+    if (stats)
+        std::fprintf(out, "%s: %zu positions outside the data (%s), %zu values kept within the data range\n",
+                     cmd.c_str(), e.uncovered, kModes[static_cast<int>(f.extrapolate)], e.clamped);
+    // (under --extrapolate nan, the default, only positions inside the data are clamped)
+    const std::size_t inside = e.positions - std::min(e.positions, e.uncovered);
+    if (f.extrapolate == Extrapolate::nan && inside > 0 && 10 * e.clamped > inside)
+        std::fprintf(out,
+                     "meshless %s: warning: %zu of the %zu values inside the data (%.0f %%) lay outside its value range "
+                     "and were clamped to it: the field overshoots its data there\n",
+                     cmd.c_str(), e.clamped, inside, 100.0 * static_cast<double>(e.clamped) / static_cast<double>(inside));
+}
+
 }  // namespace meshless

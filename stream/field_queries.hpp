@@ -17,6 +17,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <optional>
 #include <string>
@@ -35,6 +36,14 @@ namespace meshless {
 struct FieldQueryStats {
     std::size_t positions = 0, uncovered = 0, clamped = 0;
 };
+
+/// What the evaluation found about the data's support (nothing when f has no coverage test): with
+/// `stats`, how many positions lay outside the data and how many values were kept within its range;
+/// and, under Extrapolate::nan (where no value outside is clamped), a warning when more than a tenth
+/// of the values inside the data had to be clamped: the field overshoots its data there (sparse or
+/// noisy values), and a picture's flat areas at the range's ends are the clamp's, not the data's.
+/// Lines to `out`, naming `cmd`.
+void report_field_support(std::FILE* out, const std::string& cmd, const BuiltField& f, const FieldQueryStats& e, bool stats);
 
 /// How a query graph runs.
 struct FieldQueryRun {

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
 
 #include "kernels/hex_point_location.hpp"
 #include "stream/mesh_sink.hpp"
 #include "stream/runner.hpp"
+#include "formats/terminal_safe.hpp"
 #include "stream/seconds_since.hpp"
 
 namespace meshless {
@@ -57,6 +60,52 @@ NaiveMcResult naive_block_marching_cubes(const Multiblock& mb, double iso, int t
     r.pairs = count_intersecting_triangle_pairs(w.xyz, w.tri, w.block);
     r.pair_seconds = seconds_since(t0);
     return r;
+}
+
+std::array<double, 2> multiblock_value_range(const Multiblock& mb) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const auto& b : mb.blocks)
+        for (std::int64_t n = 0; n < b.node_count(); ++n)
+            if (b.is_valid(n) && std::isfinite(b.value[static_cast<std::size_t>(n)])) {
+                lo = std::min(lo, b.value[static_cast<std::size_t>(n)]);
+                hi = std::max(hi, b.value[static_cast<std::size_t>(n)]);
+            }
+    return {lo, hi};
+}
+
+void print_naive_block_mc_stats(std::FILE* out, const std::string& name, const Multiblock& mb, double iso, const NaiveMcResult& r,
+                                double read_seconds) {
+    const BlockMcTotals& tot = r.totals;
+    const Mesh& mesh = r.mesh;
+    long long all_degenerate = 0;
+    for (const auto& o : r.census) all_degenerate += o.degenerate;
+    std::fprintf(out,
+                 "mc: %s: %zu block(s), iso %g: %lld cells, %lld active, skipped %lld with an invalid corner and %lld "
+                 "collapsed/inverted crossed by the surface (of %lld collapsed/inverted); %zu vertices, %zu triangles; read %.3f s, "
+                 "marching cubes %.3f s\n",
+                 name.c_str(), mb.blocks.size(), iso, static_cast<long long>(tot.cells), static_cast<long long>(tot.active_cells),
+                 static_cast<long long>(tot.skipped_invalid), static_cast<long long>(tot.skipped_degenerate), all_degenerate,
+                 mesh.vertex_count(), mesh.triangle_count(), read_seconds, r.mc_seconds);
+    std::vector<std::int64_t> per_block(mb.blocks.size(), 0);
+    for (std::uint32_t b : mesh.block) ++per_block[b];
+    for (std::size_t b = 0; b < mb.blocks.size(); ++b)
+        std::fprintf(out, "mc:   block %zu '%s' (%lldx%lldx%lld, %s): %lld triangles\n", b, terminal_safe(mb.blocks[b].name).c_str(),
+                     static_cast<long long>(mb.blocks[b].dims[0]), static_cast<long long>(mb.blocks[b].dims[1]),
+                     static_cast<long long>(mb.blocks[b].dims[2]), r.census[b].left_handed() ? "left-handed" : "right-handed",
+                     static_cast<long long>(per_block[b]));
+    const CrackEdgeStats& cs = *r.cracks;
+    const TrianglePairStats& ps = *r.pairs;
+    std::fprintf(out,
+                 "mc: welded by position: %lld vertices, %lld edges, %lld boundary, %lld crack edges (boundary edges inside "
+                 "another block), %lld non-manifold, %lld degenerate triangles; %.3f s\n",
+                 static_cast<long long>(cs.vertices), static_cast<long long>(cs.edges), static_cast<long long>(cs.boundary_edges),
+                 static_cast<long long>(cs.crack_edges), static_cast<long long>(cs.nonmanifold_edges),
+                 static_cast<long long>(cs.degenerate_triangles), r.crack_seconds);
+    std::fprintf(out,
+                 "mc: triangle pairs from different blocks: %lld intersecting, %lld duplicated (same vertices), %lld "
+                 "box-overlapping candidates, %lld collinear triangles skipped; %.3f s\n",
+                 static_cast<long long>(ps.intersecting), static_cast<long long>(ps.duplicates),
+                 static_cast<long long>(ps.candidates), static_cast<long long>(ps.degenerate), r.pair_seconds);
 }
 
 }  // namespace meshless

@@ -8,6 +8,8 @@
 // kernels/triangle_pair_intersections.hpp (CGAL).
 // Throws what the graph and the PLY writer throw. Not thread-safe (runs its own graph on `threads`).
 #pragma once
+#include <array>
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +35,16 @@ struct NaiveMcResult {
 /// crack and pair statistics.
 NaiveMcResult naive_block_marching_cubes(const Multiblock& mb, double iso, int threads, const std::string& ply_path = {},
                                          bool stats = false, GeometryFormat format = GeometryFormat::ply, VtpOptions vtp = {});
+
+/// The lowest and highest finite value of `mb`'s valid nodes ({+inf, -inf} when there is none).
+std::array<double, 2> multiblock_value_range(const Multiblock& mb);
+
+/// The statistics of one run (`meshless mc BLOCKS... --stats`) to `out`, each line prefixed `mc: `:
+/// the cells and why some were skipped, the mesh, each block's triangles and orientation, and (as
+/// r carries them) the crack edges and the intersecting triangle pairs, with the times (read_seconds:
+/// reading the blocks).
+void print_naive_block_mc_stats(std::FILE* out, const std::string& name, const Multiblock& mb, double iso, const NaiveMcResult& r,
+                                double read_seconds);
 
 /// Crack edges of a welded mesh of `mb`'s blocks (block ids = indices into mb.blocks).
 CrackEdgeStats multiblock_crack_edges(const Multiblock& mb, const WeldedMesh& w);

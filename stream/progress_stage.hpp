@@ -7,11 +7,16 @@
 // concurrently from the stages' threads and must be thread-safe; the stage changes nothing.
 #pragma once
 #include <functional>
+#include <string>
 #include <utility>
 
 #include "stream/stage.hpp"
 
 namespace meshless {
+
+/// A front end's progress display of `total` work units named `unit` ("cells", "stencils"): returns
+/// the function that counts units done (any thread); the display lives as long as that function.
+using ProgressCounter = std::function<std::function<void(double)>(const std::string& unit, double total)>;
 
 /// The work a source's batch describes: cells.k1 - cells.k0 when it has a cell range, else 1 for
 /// a brick batch (brick >= 0), else its records.

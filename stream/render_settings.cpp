@@ -61,4 +61,26 @@ std::string frame_path(const std::string& path, int i) {
     return path.substr(0, dot) + num + path.substr(dot);
 }
 
+ColorRequest parse_color_request(const std::string& m) {
+    if (m == "auto") return ColorRequest::automatic;
+    if (m == "value") return ColorRequest::value;
+    if (m == "block") return ColorRequest::block;
+    if (m == "normal") return ColorRequest::normal;
+    if (m == "none") return ColorRequest::none;
+    throw InvalidArgument("--color: expected value, block, normal or none, got '" + m + "'");
+}
+
+SplatKernel parse_splat_kernel(const std::string& k) {
+    if (k == "quad") return SplatKernel::quad;
+    if (k == "ewa") return SplatKernel::ewa;
+    throw InvalidArgument("--kernel: expected quad or ewa, got '" + k + "'");
+}
+
+ShadingParams parse_shading(const std::string& m) {
+    ShadingParams s;
+    if (m == "lambert") s.specular = 0;
+    else if (m != "phong") throw InvalidArgument("--shading: expected phong or lambert, got '" + m + "'");
+    return s;
+}
+
 }  // namespace meshless

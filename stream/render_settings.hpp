@@ -43,6 +43,12 @@ struct ColorChoice {
     bool colorbar = false;
 };
 
+/// The words of a front end's picture options (`--color`, `--kernel`, `--shading`): auto | value |
+/// block | normal | none; quad | ewa; phong | lambert. InvalidArgument naming the option otherwise.
+ColorRequest parse_color_request(const std::string& word);
+SplatKernel parse_splat_kernel(const std::string& word);
+ShadingParams parse_shading(const std::string& word);
+
 /// The colouring a request asks for; `automatic` is what "auto" means for this input.
 ColorBy color_by(const ColorChoice& c, ColorBy automatic);
 

@@ -15,6 +15,24 @@ ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projecti
     return project.stats();
 }
 
+ProjectionStats project_sample_stream(StreamReader& reader, const std::string& in_name, double iso, Projection mode, std::FILE* out,
+                                      const std::string& out_name, bool compress, int threads) {
+    StreamMeta meta = reader.meta();
+    if (mode == Projection::exact && meta.get("sample_corners") == "none")
+        throw FormatError(in_name + ": samples from a paradigm (A) sample store carry no cell corners; "
+                          "--projection exact needs them, use approx");
+    meta.set("iso", iso);
+    meta.set("projection", to_string(mode));
+    StreamSink sink(out, out_name, RecordKind::point, meta, compress);
+    return project_sample_stream(reader, iso, mode, sink, threads);
+}
+
+void print_projection_stats(std::FILE* out, Projection mode, const ProjectionStats& s) {
+    std::fprintf(out, "project: %lld samples -> %lld points (%s; discarded: %lld too far, %lld flat, %lld missed)\n",
+                 static_cast<long long>(s.input), static_cast<long long>(s.output), to_string(mode),
+                 static_cast<long long>(s.too_far), static_cast<long long>(s.flat), static_cast<long long>(s.missed));
+}
+
 void require_sample_stream(const StreamReader& reader, const std::string& name) {
     if (reader.kind() == RecordKind::seed)
         throw InvalidArgument(name + ": holds multiblock seeds; project them onto a field: meshless project --field KIND BLOCKS...");

@@ -246,4 +246,24 @@ SplatReport splat_picture(RenderSettings rs, const SplatRequest& r) {
     return rep;
 }
 
+void print_splat_report(std::FILE* out, const SplatReport& rep, SplatKernel kernel, int threads) {
+    const Camera& cam = rep.camera;
+    if (rep.frames > 0)
+        std::fprintf(out, "splat: turntable of %d frames, %llu %s, %dx%d%s: %.2f ms/frame (min %.2f, max %.2f)\n",
+                     rep.frames, static_cast<unsigned long long>(rep.drawn), rep.mesh ? "triangles" : "points", cam.width,
+                     cam.height, rep.mesh ? "" : kernel == SplatKernel::quad ? " quad" : " ewa", 1e3 * rep.mean_seconds,
+                     1e3 * rep.min_seconds, 1e3 * rep.max_seconds);
+    else {
+        if (rep.mesh)
+            std::fprintf(out, "splat: %llu triangles (%lld drawn, %lld fragments), %dx%d: %.3f s\n",
+                         static_cast<unsigned long long>(rep.drawn), rep.triangles_drawn, rep.fragments, cam.width,
+                         cam.height, rep.seconds);
+        else
+            std::fprintf(out, "splat: %llu points, %dx%d %s, %d thread(s): %.3f s (%.2f M points/s)\n",
+                         static_cast<unsigned long long>(rep.drawn), cam.width, cam.height,
+                         kernel == SplatKernel::quad ? "quad" : "ewa", threads, rep.seconds,
+                         1e-6 * static_cast<double>(rep.drawn) / std::max(1e-9, rep.seconds));
+    }
+}
+
 }  // namespace meshless

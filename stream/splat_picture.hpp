@@ -11,6 +11,7 @@
 // value of a mesh, colour by block of points without block ids, unprojected seeds), FormatError for
 // bad files, IoError when a picture cannot be written. The bytes do not depend on the thread count.
 #pragma once
+#include <cstdio>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -57,5 +58,9 @@ struct SplatReport {
 /// Draws the picture(s) of `r` with the settings `rs` (camera, kernel, shading; the colours are
 /// resolved here against the input from r.color) and writes them.
 SplatReport splat_picture(RenderSettings rs, const SplatRequest& r);
+
+/// The report line of splat_picture to `out` (prefixed `splat: `): a turntable's frames and times
+/// per frame, or one picture's points (with the kernel and `threads`) or triangles, its time and rate.
+void print_splat_report(std::FILE* out, const SplatReport& rep, SplatKernel kernel, int threads);
 
 }  // namespace meshless

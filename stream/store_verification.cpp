@@ -1,6 +1,7 @@
 #include "stream/store_verification.hpp"
 
 #include "formats/file_names.hpp"
+#include "formats/terminal_safe.hpp"
 #include "formats/point_store.hpp"
 #include "kernels/errors.hpp"
 #include "ooc/sample_store.hpp"
@@ -37,6 +38,16 @@ StoreVerdict verify_store(const std::string& path, StoreKind kind, std::uint64_t
     }
     const VerifyReport r = verify_brick_store(path, budget_bytes, progress);
     return {r.ok ? 0 : r.over_budget ? 1 : 2, r.message};
+}
+
+void print_store_verdict(std::FILE* out, std::FILE* err, const std::string& path, const StoreVerdict& v, bool several) {
+    if (v.status == 0) {
+        if (several) std::fprintf(out, "%s: %s\n", terminal_safe(path).c_str(), terminal_safe(v.message).c_str());
+        else std::fprintf(out, "%s\n", terminal_safe(v.message).c_str());
+    } else {
+        std::fflush(out);  // the results so far before this error, in a log of both streams
+        std::fprintf(err, "meshless verify: %s\n", terminal_safe(v.message).c_str());
+    }
 }
 
 }  // namespace meshless

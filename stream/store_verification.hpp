@@ -6,6 +6,7 @@
 // Damage is the result, not an exception; throws IoError when a brick or point store cannot be read
 // at all (as the checkers do).
 #pragma once
+#include <cstdio>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -29,5 +30,10 @@ struct StoreVerdict {
 /// (bricks checked, bricks in the store); a sample store reports no progress.
 StoreVerdict verify_store(const std::string& path, StoreKind kind, std::uint64_t budget_bytes,
                           const std::function<void(std::uint64_t, std::uint64_t)>& progress = {});
+
+/// The line of one verdict: "ok: ..." on `out` (prefixed "PATH: " when several stores are checked),
+/// or the damage on `err` prefixed "meshless verify: " (`out` flushed first, so a log of both streams
+/// keeps the order).
+void print_store_verdict(std::FILE* out, std::FILE* err, const std::string& path, const StoreVerdict& v, bool several);
 
 }  // namespace meshless

@@ -51,6 +51,16 @@ StreamMeta volume_meta(const std::string& source, const GridSpec& g, SampleType 
     return m;
 }
 
+StreamMeta sample_store_meta(const SampleStore& store, double iso, const std::string& producer) {
+    const BrickStore& mlb = store.brick_store();
+    const BrickStoreInfo& bi = mlb.info();
+    StreamMeta m = volume_meta(mlb.path(), bi.grid, bi.type, {bi.value_min, bi.value_max}, iso, producer);
+    m.set("paradigm", "A");
+    set_surface_bounds(m, store_surface_bounds(mlb, BrickIndex(mlb), iso));  // frames as the .mlb's graph does
+    set_patient_axes(m, store_frame(bi));  // and faces alike
+    return m;
+}
+
 std::optional<std::array<Vec3, 2>> store_surface_bounds(const BrickStore& store, const BrickIndex& index, double iso) {
     std::optional<VoxelBox> box;
     for (std::size_t i : index.active(iso)) {

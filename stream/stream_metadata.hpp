@@ -16,6 +16,7 @@
 #include "kernels/grid.hpp"
 #include "ooc/brick_index.hpp"
 #include "ooc/brick_store.hpp"
+#include "ooc/sample_store.hpp"
 
 namespace meshless {
 
@@ -48,6 +49,10 @@ inline StreamMeta volume_meta(const std::string& source, const Volume& v, double
 /// framing): the union of the voxel boxes of the bricks active for iso (BrickIndex::active); nullopt
 /// when nothing is active.
 std::optional<std::array<Vec3, 2>> store_surface_bounds(const BrickStore& store, const BrickIndex& index, double iso);
+/// The metadata of paradigm (A) over a sample store (dissertation section 3.5, Table 3.1): volume_meta
+/// of the store's .mlb plus paradigm=A, framed on the surface bounds and patient axes the .mlb
+/// records, so both paradigms give the same PLY comments and pictures.
+StreamMeta sample_store_meta(const SampleStore& store, double iso, const std::string& producer);
 /// Moves bounds_lo/hi (the volume's, from volume_meta) to volume_bounds_lo/hi and records the
 /// surface's as bounds_lo/hi; nullopt (nothing active) keeps the volume's as the frame.
 void set_surface_bounds(StreamMeta& m, const std::optional<std::array<Vec3, 2>>& surface);

@@ -1,5 +1,7 @@
 #include "stream/volume_marching_cubes.hpp"
 
+#include "formats/terminal_safe.hpp"
+
 #include <algorithm>
 #include <memory>
 #include <stdexcept>
@@ -31,6 +33,13 @@ McStats run_marching_cubes(VolumeInput& in, double iso, Sink& sink, int threads,
     const Stage* stages[] = {&counter, stage.get()};
     run_pipeline(*source, stages, sink, {threads});
     return stage->stats();
+}
+
+void print_marching_cubes_stats(std::FILE* out, const std::string& path, double iso, const McStats& st, const Mesh& mesh,
+                                double seconds) {
+    std::fprintf(out, "mc: %s iso %g: %lld active cells, %zu vertices, %zu triangles, %.1f MiB, %.3f s (%lld cells with NaN/Inf skipped)\n",
+                 terminal_safe(path).c_str(), iso, static_cast<long long>(st.active_cells), mesh.vertex_count(), mesh.triangle_count(),
+                 mesh.memory_bytes() / 1048576.0, seconds, static_cast<long long>(st.skipped_nonfinite));
 }
 
 }  // namespace meshless

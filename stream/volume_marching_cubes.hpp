@@ -4,7 +4,9 @@
 // the welded mesh in the sink. Throws what the store and the sink throw; the mesh does not depend on
 // the thread count.
 #pragma once
+#include <cstdio>
 #include <functional>
+#include <string>
 
 #include "stream/marching_cubes_stage.hpp"
 #include "stream/volume_input.hpp"
@@ -20,5 +22,10 @@ double marching_cubes_work(const VolumeInput& in, double iso);
 /// from any thread. Not for a slab-streamed input (open it with stream = false).
 McStats run_marching_cubes(VolumeInput& in, double iso, Sink& sink, int threads,
                            const std::function<void(double)>& progress = {});
+
+/// The statistics line of one run (prefixed `mc: `) to `out`: the active cells, the welded mesh's
+/// size and memory, the time (seconds) and the cells skipped for a NaN/Inf corner.
+void print_marching_cubes_stats(std::FILE* out, const std::string& path, double iso, const McStats& st, const Mesh& mesh,
+                                double seconds);
 
 }  // namespace meshless

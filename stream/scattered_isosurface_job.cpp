@@ -1,0 +1,94 @@
+#include "stream/scattered_isosurface_job.hpp"
+
+#include "formats/terminal_safe.hpp"
+#include "stream/projection_meta.hpp"
+#include "stream/scattered_isosurface_mpi.hpp"
+#include "stream/mpi_session.hpp"
+#include "stream/seconds_since.hpp"
+#include "stream/stencil_source.hpp"
+
+namespace meshless {
+
+namespace {
+
+/// The stencils counted on j's progress (empty: none).
+std::function<void(double)> stencil_progress(const IsosurfaceJob& j, const BinningGrid& grid) {
+    return j.progress ? j.progress("stencils", static_cast<double>(StencilGrid(grid.dims).total())) : std::function<void(double)>();
+}
+
+/// j's outputs for a graph whose batches arrive already made (the MPI root, the slab runs).
+std::size_t write_made_points(const IsosurfaceJob& j, const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
+    IsoSplatResult unused;
+    return run_to_outputs(j.out, j.png, meta, j.rs, j.threads, [&](const Stage*, Sink& sink) {
+        produce(sink);
+        return IsoSplatResult{};
+    }, unused, /*parallel_draw=*/false, /*with_blocks=*/false);
+}
+
+}  // namespace
+
+std::size_t run_scattered_isosurface_job(const IsosurfaceJob& j, double dedup, const ScatteredIsosurfaceInput& in,
+                                         IsosurfaceField& f, const char* cmd, std::FILE* warn) {
+    if (dedup > 0) f.meta.set("dedup", dedup);
+    ScatteredIsosurfaceStats st;
+    IsoSplatResult unused;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::size_t points = run_to_outputs(j.out, j.png, f.meta, j.rs, j.threads, [&](const Stage* draw, Sink& sink) {
+        const auto g0 = std::chrono::steady_clock::now();
+        // --dedup: the removal runs in sequence order on the sink side (the picture is then drawn there too)
+        if (!f.field.field) {
+            st = run_scattered_isosurface(in, nullptr, j.iso, j.n, j.np, dedup, draw, sink, {j.threads});
+        } else {
+            // the stencils as the source hands them out, counted ahead of seeding
+            st = run_scattered_isosurface(in, f.field.field.get(), j.iso, j.n, j.np, dedup, draw, sink, {j.threads},
+                                          stencil_progress(j, in.grid));
+        }
+        IsoSplatResult r;
+        r.seconds = seconds_since(g0);
+        return r;
+    }, unused, /*parallel_draw=*/dedup == 0, /*with_blocks=*/false);
+    const double graph_seconds = seconds_since(t0);
+    warn_if_unconverged(warn, in.source, st, f.name);
+    if (j.stats)
+        print_scattered_isosurface_stats(j.stats, cmd, in, st, j.n, f.name, j.np, dedup, points,
+                                         {f.seconds, graph_seconds, seconds_since(j.started)}, j.threads);
+    return points;
+}
+
+void run_scattered_isosurface_mpi_job(const IsosurfaceJob& j, double dedup, MpiSession& mpi, const ScatteredIsosurfaceInput& in,
+                                      const IsosurfaceField& f, const char* cmd,
+                                      const std::function<void(std::exception_ptr)>& on_deal_error) {
+    const ScatteredMpiResult r = run_scattered_isosurface_mpi(
+        mpi, in, f.field.field.get(), j.iso, j.n, j.np, dedup, j.threads,
+        [&](const std::function<void(Sink&)>& produce) { return write_made_points(j, f.meta, produce); }, on_deal_error);
+    if (mpi.rank() != 0 || !j.stats) return;
+    print_scattered_ranks_stats(j.stats, cmd, in, r.totals, j.n, f.name, j.np, r.points, mpi.size(),
+                                {f.seconds, 0, seconds_since(j.started)}, j.threads);
+}
+
+std::size_t run_scattered_store_job(const IsosurfaceJob& j, double dedup, const PointStore& store, const ScatteredStorePlan& plan,
+                                    const FieldParams& field_params, const ScatteredStoreParams& sp, const std::string& producer,
+                                    const std::optional<std::string>& memory_option, const char* cmd, std::FILE* warn) {
+    StreamMeta meta = scattered_store_meta(plan, j.iso, j.n, producer);
+    widen_frame_for_travel(meta, j.np.seed_max_travel);
+    add_projection_meta(meta, "mpu", j.np);
+    if (dedup > 0) meta.set("dedup", dedup);
+    ScatteredIsosurfaceStats st;
+    ScatteredStoreReport rep;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::size_t points = write_made_points(j, meta, [&](Sink& sink) {
+        st = run_scattered_store_isosurface(store, plan, field_params, sp, j.iso, j.n, j.np, dedup, sink, {j.threads},
+                                            stencil_progress(j, plan.grid), &rep);
+    });
+    if (memory_option && rep.slabs > 1 && rep.loaded > 4 * plan.frame.points)  // (a budget near the least that runs)
+        std::fprintf(warn, "meshless %s: warning: --memory %s made %d slabs that read the points %.0f times over; "
+                           "more memory makes fewer, faster slabs\n",
+                     cmd, terminal_safe(*memory_option).c_str(), rep.slabs,
+                     static_cast<double>(rep.loaded) / static_cast<double>(plan.frame.points));
+    if (j.stats)
+        print_store_isosurface_stats(j.stats, cmd, plan, rep, st, j.n, j.np, dedup, points, {0, seconds_since(t0), seconds_since(j.started)},
+                                     j.threads);
+    return points;
+}
+
+}  // namespace meshless
