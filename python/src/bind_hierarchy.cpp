@@ -17,8 +17,10 @@
 #include "bindings.hpp"
 #include "field_object.hpp"
 #include "formats/cluster_tree_file.hpp"
+#include "formats/field_hint.hpp"
 #include "formats/point_set_reader.hpp"
 #include "kernels/errors.hpp"
+#include "kernels/field_params.hpp"
 #include "stream/available_cpus.hpp"
 #include "stream/cluster_hierarchy.hpp"
 
@@ -121,7 +123,8 @@ py::dict lod(const TreeObject& t, const py::object& level, const py::object& err
     py::dict out;
     out["points"] = view_of<double>(pb, pos ? &pos->x : &no_point.x, {n, 3}, {sizeof(Vec3), sizeof(double)});
     out["values"] = view_of<double>(vb, val ? val : &no_value, {n}, {sizeof(double)});
-    out["comments"] = std::vector<std::string>{"meshless lod " + r.description};
+    // the Hardy c its points reconstruct best with travels with them, as `meshless lod` writes it (formats/field_hint.hpp)
+    out["comments"] = std::vector<std::string>{"meshless lod " + r.description, field_hint_line(kLodHardyCRel)};
     out["warnings"] = warnings;
     out["stats"] = py::dict(py::arg("lod") = r.description, py::arg("points") = n, py::arg("seconds") = e.seconds,
                             py::arg("outside_range") = e.outside);
