@@ -91,7 +91,8 @@ int certified_lod_run(const Args& a, const std::string& out) {
     const ClusterTree t = read_cluster_tree_file(path);
     FieldParams fp;  // the mpu field (section 5.5) with the c a reader of the LOD's file uses (formats/field_hint.hpp)
     fp.kind = FieldKind::mpu;
-    fp.hardy_c_rel = a.has("hardy-c") ? parse_finite(*a.get("hardy-c"), "--hardy-c") : kLodHardyCRel;
+    fp.hardy_c_rel = a.has("hardy-c") ? parse_finite(*a.get("hardy-c"), "--hardy-c")
+                                      : lod_hardy_c_rel(t.params.order == CbtSplitOrder::max_error);
     const std::string samples_path = *a.get("samples");
     const PointSet samples = tree_samples(a, {samples_path});
     const auto t0 = std::chrono::steady_clock::now();
@@ -199,7 +200,7 @@ int cmd_lod(int argc, char** argv) {
                 "sample of --samples (checked at each; bisection over the count)")
         .option("samples", "", "INPUT", "--max-error: the data the tree was built from (as given to hierarchy)")
         .option("hardy-c", "", "C", "--max-error: the mpu field's Hardy c relative to the bounding-box diagonal, in (0, 100]\n"
-                "(default: a level of detail's, 0.003, as its readers use it)")
+                "(default: a level of detail's, as its readers use it: 0.003 for a max-error tree, else 0.025)")
         .validate(in_range("--hardy-c", 0, false, 100))
         .option("level", "", "L", "level-based: clusters at depth L (0 = the root)")
         .option("error", "", "E", "error-based: clusters whose error is <= E")
@@ -234,7 +235,8 @@ int cmd_lod(int argc, char** argv) {
     const LodExtraction e = extract_lod(t, r);
     if (const std::string w = lod_overshoot_warning(t, e); !w.empty()) std::fprintf(stderr, "meshless lod: %s\n", w.c_str());
     // the Hardy c its points reconstruct best with travels with them (formats/field_hint.hpp)
-    const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + path, field_hint_line(kLodHardyCRel)};
+    const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + path,
+                                               field_hint_line(lod_hardy_c_rel(t.params.order == CbtSplitOrder::max_error))};
     write_point_set(out, e.points, comments);
     if (a.has("stats")) std::fprintf(stderr, "%s\n", lod_report(t, r, path, e).c_str());
     return 0;

@@ -131,7 +131,7 @@ FieldParams field_params(const Args& a, const std::string& default_kind) {
         p.hardy_c_rel = parse_finite(*c, "--hardy-c");  // its range: checked at parse (in_range)
     } else  // a level of detail gets its own default c (kernels/field_params.hpp): a cluster tree's, or the one its file carries
         for (const std::string& in : a.positional()) {
-            if (is_cluster_tree_file(in)) p.hardy_c_rel = kLodHardyCRel;
+            if (const auto order = cluster_tree_split_order(in)) p.hardy_c_rel = lod_hardy_c_rel(*order == CbtSplitOrder::max_error);
             else if (const auto c = point_file_field_hint(in)) p.hardy_c_rel = *c;
             else continue;
             break;

@@ -236,6 +236,23 @@ ClusterTree read_cluster_tree_file(const std::string& path) {
                                     path);
 }
 
+std::optional<CbtSplitOrder> cluster_tree_split_order(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return std::nullopt;
+    unsigned char b[kClusterTreeHeaderBytes + kClusterTreeMetaFixedBytes];
+    const std::size_t got = std::fread(b, 1, sizeof b, f);
+    std::fclose(f);
+    if (got < kClusterTreeHeaderBytes || std::memcmp(b, kClusterTreeMagic, 8) != 0) return std::nullopt;
+    const std::uint32_t version = get<std::uint32_t>(b + 8);
+    if (version == 1) return CbtSplitOrder::max_error;
+    if (version != kClusterTreeFileVersion || got < sizeof b) return std::nullopt;
+    const std::uint32_t order = get<std::uint32_t>(b + kClusterTreeHeaderBytes + 160);
+    if (order > 1) return std::nullopt;
+    return static_cast<CbtSplitOrder>(order);
+}
+
 bool is_cluster_tree_file(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) return false;  // a FIFO would block the open

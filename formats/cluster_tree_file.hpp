@@ -32,6 +32,7 @@
 // Thread-safety: reentrant functions.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -58,6 +59,11 @@ ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> bytes, const
 
 /// The file's bytes (what write_cluster_tree_file writes).
 std::string cluster_tree_bytes(const ClusterTree& tree);
+
+/// The split order a .mlh records, from its header and meta alone (version 1: max_error); nullopt
+/// for a file that is no readable .mlh (the full reader then says what is wrong). No checksum is
+/// checked: a hint for what to do with the file, not its contents.
+std::optional<CbtSplitOrder> cluster_tree_split_order(const std::string& path);
 
 /// True when the file starts with the .mlh magic (false for a missing or short file).
 bool is_cluster_tree_file(const std::string& path);

@@ -105,13 +105,18 @@ struct FieldParams {
 };
 
 /// Hardy's c relative to the bounding-box diagonal for a level of detail of a cluster binary tree
-/// (a .mlh read as a point set, kernels/cluster_lod.hpp) when none is given. Its points crowd where
-/// the values change fast, and at the default 0.025 the interpolating multiquadrics overshoot far
-/// between close sibling centres. Measured (meshless-bench hierarchy-rmse --hardy-c 0.025,0.003,
-/// bench/MEASURED.md "Hierarchy"): mpu RMSE of error-based LODs at 1/5/15 % of the samples, 0.025 -> 0.003:
-/// silicium 91.4/95.3/36.1 -> 58.8/86.6/35.9, head 392/431/332 -> 381/279/134, LIDC2 1,686/673/487 ->
-/// 39.6/25.9/25.8 (lower in 9 of 9 rows); volume renderings of LIDC2 LODs 9.0 -> 26.5 dB PSNR.
+/// built with the dissertation's max-error split order (a .mlh read as a point set,
+/// kernels/cluster_lod.hpp) when none is given. Its points crowd where the values change fast, and
+/// at the default 0.025 the interpolating multiquadrics overshoot far between close sibling centres.
+/// Measured (meshless-bench hierarchy-rmse --hardy-c 0.025,0.003, bench/MEASURED.md "Hierarchy"): mpu
+/// RMSE of error-based LODs at 1/5/15 % of the samples, 0.025 -> 0.003: silicium 91.4/95.3/36.1 ->
+/// 58.8/86.6/35.9, head 392/431/332 -> 381/279/134, LIDC2 1,686/673/487 -> 39.6/25.9/25.8 (lower in 9
+/// of 9 rows); volume renderings of LIDC2 LODs 9.0 -> 26.5 dB PSNR. The weighted order's levels of
+/// detail spread their points evenly enough for the default c, which reconstructs them better in 12
+/// of 16 rows (bench/MEASURED.md "Levels of detail that beat random samples"): lod_hardy_c_rel.
 inline constexpr double kLodHardyCRel = 0.003;
+/// The c of a level of detail of a tree built with the max-error split order (or not).
+inline double lod_hardy_c_rel(bool max_error_order) { return max_error_order ? kLodHardyCRel : FieldParams{}.hardy_c_rel; }
 
 /// c in world units for data with bounds [lo, hi] (see the header comment). A degenerate box (all
 /// points equal) gives hardy_c_rel (as if the diagonal were 1).

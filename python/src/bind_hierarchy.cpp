@@ -124,7 +124,7 @@ py::dict lod(const TreeObject& t, const py::object& level, const py::object& err
     out["points"] = view_of<double>(pb, pos ? &pos->x : &no_point.x, {n, 3}, {sizeof(Vec3), sizeof(double)});
     out["values"] = view_of<double>(vb, val ? val : &no_value, {n}, {sizeof(double)});
     // the Hardy c its points reconstruct best with travels with them, as `meshless lod` writes it (formats/field_hint.hpp)
-    out["comments"] = std::vector<std::string>{"meshless lod " + r.description, field_hint_line(kLodHardyCRel)};
+    out["comments"] = std::vector<std::string>{"meshless lod " + r.description, field_hint_line(lod_hardy_c_rel(t.tree.params.order == CbtSplitOrder::max_error))};
     out["warnings"] = warnings;
     out["stats"] = py::dict(py::arg("lod") = r.description, py::arg("points") = n, py::arg("seconds") = e.seconds,
                             py::arg("outside_range") = e.outside);

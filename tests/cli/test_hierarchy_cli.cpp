@@ -32,8 +32,10 @@ TEST_CASE("meshless hierarchy: the same .mlh for 1 and 2 threads, lod and info r
     TempDir d("hier_cli");
     const std::string vol = write_uint8_analytic_volume(d, "ml", AnalyticField::marschner_lobb, 24, 200, 20);
     const std::string D = d.path.string();
-    REQUIRE(sh("MESHLESS hierarchy " + vol + " -o " + D + "/t1.mlh --threads 1 --max-splits 3000", d).code == 0);
-    const auto r2 = sh("MESHLESS hierarchy " + vol + " -o " + D + "/t2.mlh --threads 2 --max-splits 3000 --stats", d);
+    // the dissertation's tree (max-error order, fitted values): its LOD's default c is 0.003 (below)
+    const std::string paper = " --split-order max-error --cluster-value fit";
+    REQUIRE(sh("MESHLESS hierarchy " + vol + paper + " -o " + D + "/t1.mlh --threads 1 --max-splits 3000", d).code == 0);
+    const auto r2 = sh("MESHLESS hierarchy " + vol + paper + " -o " + D + "/t2.mlh --threads 2 --max-splits 3000 --stats", d);
     REQUIRE(r2.code == 0);
     CHECK(r2.err.find("3000 splits") != std::string::npos);
     CHECK(slurp(d / "t1.mlh") == slurp(d / "t2.mlh"));
@@ -82,7 +84,7 @@ TEST_CASE("meshless hierarchy: the same .mlh for 1 and 2 threads, lod and info r
     CHECK(slurp(d / "deep.csv").size() > 0);
 
     // a point-set command reads the .mlh LOD as it reads the same points from a file; a LOD's
-    // default Hardy c is 0.003 x the diagonal (kLodHardyCRel), a file's 0.025, --hardy-c wins
+    // default Hardy c is 0.003 x the diagonal for a max-error tree (kLodHardyCRel), a file's 0.025, --hardy-c wins
     const std::string at = " --at 10,10,10 --at 5.5,12,3 --field mpu";
     const auto from_tree = sh("MESHLESS probe " + D + "/t1.mlh --lod-level 8 --stats" + at, d);
     const auto from_csv = sh("MESHLESS probe " + D + "/l8.csv --hardy-c 0.003 --stats" + at, d);
@@ -141,19 +143,27 @@ TEST_CASE("meshless lod --count/--fraction: the first N - 1 splits, and --lod-co
     REQUIRE(a.code == 0);
     CHECK(a.out == b.out);
     // the LOD's files carry its Hardy c (formats/field_hint.hpp): a field of the PLY or VTP is the
-    // field of the .mlh's LOD without flags; --hardy-c still wins; CSV carries none
+    // field of the .mlh's LOD without flags; --hardy-c still wins; CSV carries none. A weighted
+    // tree's LOD takes the default c (0.025), a max-error tree's 0.003 (kernels/field_params.hpp)
     const std::string at0 = " --at 10,10,10 --at 5.5,12,3 --field mpu";
-    REQUIRE(sh("MESHLESS lod " + D + "/t.mlh --count 160 -o " + D + "/c.ply", d).code == 0);
-    REQUIRE(sh("MESHLESS lod " + D + "/t.mlh --count 160 -o " + D + "/c.vtp", d).code == 0);
     const auto tree_default = sh("MESHLESS probe " + D + "/t.mlh --lod-count 160" + at0, d);
     REQUIRE(tree_default.code == 0);
-    CHECK(sh("MESHLESS probe " + D + "/c.ply" + at0, d).out == tree_default.out);
-    const auto vtp = sh("MESHLESS probe " + D + "/c.vtp" + at0, d);  // float32 positions: compared with itself
-    CHECK(vtp.out == sh("MESHLESS probe " + D + "/c.vtp" + at0 + " --hardy-c 0.003", d).out);
-    CHECK(vtp.out != sh("MESHLESS probe " + D + "/c.vtp" + at0 + " --hardy-c 0.025", d).out);
-    CHECK(sh("MESHLESS probe " + D + "/c.csv" + at0 + " --hardy-c 0.003", d).out == tree_default.out);
-    CHECK(sh("MESHLESS probe " + D + "/c.csv" + at0, d).out != tree_default.out);
-    CHECK(sh("MESHLESS probe " + D + "/c.ply" + at0 + " --hardy-c 0.01", d).out == a.out);
+    CHECK(sh("MESHLESS probe " + D + "/c.csv" + at0, d).out == tree_default.out);
+    REQUIRE(sh("MESHLESS hierarchy " + vol + " --split-order max-error --cluster-value fit --max-splits 400 -o " + D + "/mx.mlh", d).code == 0);
+    REQUIRE(sh("MESHLESS lod " + D + "/mx.mlh --count 160 -o " + D + "/mx.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS lod " + D + "/mx.mlh --count 160 -o " + D + "/mx.vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS lod " + D + "/mx.mlh --count 160 -o " + D + "/mx.csv", d).code == 0);
+    CHECK(slurp(d / "mx.ply").find("comment meshless field: hardy-c-rel 0.003\n") != std::string::npos);
+    const auto mx_tree = sh("MESHLESS probe " + D + "/mx.mlh --lod-count 160" + at0, d);
+    REQUIRE(mx_tree.code == 0);
+    CHECK(sh("MESHLESS probe " + D + "/mx.ply" + at0, d).out == mx_tree.out);
+    CHECK(sh("MESHLESS probe " + D + "/mx.csv" + at0 + " --hardy-c 0.003", d).out == mx_tree.out);
+    CHECK(sh("MESHLESS probe " + D + "/mx.csv" + at0, d).out != mx_tree.out);
+    const auto vtp = sh("MESHLESS probe " + D + "/mx.vtp" + at0, d);  // float32 positions: compared with itself
+    CHECK(vtp.out == sh("MESHLESS probe " + D + "/mx.vtp" + at0 + " --hardy-c 0.003", d).out);
+    CHECK(vtp.out != sh("MESHLESS probe " + D + "/mx.vtp" + at0 + " --hardy-c 0.025", d).out);
+    CHECK(sh("MESHLESS probe " + D + "/mx.ply" + at0 + " --hardy-c 0.01", d).out ==
+          sh("MESHLESS probe " + D + "/mx.mlh --lod-count 160" + at0 + " --hardy-c 0.01", d).out);
     // beyond the leaves: warn, the finest
     const auto many = sh("MESHLESS lod " + D + "/t.mlh --count 100000 -o " + D + "/m.csv", d);
     CHECK(many.code == 0);
