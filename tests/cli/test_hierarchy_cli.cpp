@@ -8,6 +8,8 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "cli/cli_harness.hpp"
 #include "formats/cluster_tree_file.hpp"
@@ -24,6 +26,22 @@ std::string write_csv(const TempDir& d, const std::string& name, const std::stri
     const auto p = d / name;
     spit(p, "x,y,z,value\n" + rows);
     return p.string();
+}
+
+/// The (x, value) of each data row of a CSV that lod wrote (x,y,z,value after a header line).
+std::vector<std::pair<double, double>> csv_x_and_value(const std::string& text) {
+    std::istringstream csv(text);
+    std::string line;
+    std::getline(csv, line);
+    std::vector<std::pair<double, double>> rows;
+    while (std::getline(csv, line)) {
+        double x, y, z, v;
+        char c;
+        std::istringstream ls(line);
+        ls >> x >> c >> y >> c >> z >> c >> v;
+        rows.push_back({x, v});
+    }
+    return rows;
 }
 
 }  // namespace
@@ -50,21 +68,12 @@ TEST_CASE("meshless hierarchy: the same .mlh for 1 and 2 threads, lod and info r
     // lod --level 8 as CSV: exactly the library's traversal, coarse to fine
     REQUIRE(sh("MESHLESS lod " + D + "/t1.mlh --level 8 -o " + D + "/l8.csv", d).code == 0);
     const auto ids = lod_coarse_to_fine_order(t.nodes, lod_nodes(t.nodes, LodMode::level, 8));
-    std::istringstream csv(slurp(d / "l8.csv"));
-    std::string line;
-    std::getline(csv, line);
-    std::size_t rows = 0;
-    while (std::getline(csv, line)) {
-        double x, y, z, v;
-        char c;
-        std::istringstream ls(line);
-        ls >> x >> c >> y >> c >> z >> c >> v;
-        REQUIRE(rows < ids.size());
-        CHECK(x == t.nodes[ids[rows]].centre.x);
-        CHECK(v == t.nodes[ids[rows]].value);
-        ++rows;
+    const auto l8 = csv_x_and_value(slurp(d / "l8.csv"));
+    REQUIRE(l8.size() == ids.size());
+    for (std::size_t i = 0; i < l8.size(); ++i) {
+        CHECK(l8[i].first == t.nodes[ids[i]].centre.x);
+        CHECK(l8[i].second == t.nodes[ids[i]].value);
     }
-    CHECK(rows == ids.size());
     for (const char* ext : {"ply", "vtp"}) CHECK(sh("MESHLESS lod " + D + "/t1.mlh --error 30 -o " + D + "/e." + ext, d).code == 0);
     {
         // LOD samples are not splats: the VTP has positions and values, no (zero) Normals or radius
@@ -123,21 +132,12 @@ TEST_CASE("meshless lod --count/--fraction: the first N - 1 splits, and --lod-co
     CHECK(slurp(d / "c.csv") == slurp(d / "f.csv"));
     const PointSet want = lod_point_set(t.nodes, LodMode::count, 160, t.value_name);
     REQUIRE(want.size() == 160);
-    std::istringstream csv(slurp(d / "c.csv"));
-    std::string line;
-    std::getline(csv, line);
-    std::size_t rows = 0;
-    while (std::getline(csv, line)) {
-        double x, y, z, v;
-        char c;
-        std::istringstream ls(line);
-        ls >> x >> c >> y >> c >> z >> c >> v;
-        REQUIRE(rows < want.size());
-        CHECK(x == want.pos[rows].x);
-        CHECK(v == want.value[rows]);
-        ++rows;
+    const auto got = csv_x_and_value(slurp(d / "c.csv"));
+    REQUIRE(got.size() == 160);
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        CHECK(got[i].first == want.pos[i].x);
+        CHECK(got[i].second == want.value[i]);
     }
-    CHECK(rows == 160);
     const std::string at = " --at 10,10,10 --at 5.5,12,3 --field mpu --hardy-c 0.01";
     const auto a = sh("MESHLESS probe " + D + "/t.mlh --lod-count 160" + at, d), b = sh("MESHLESS probe " + D + "/c.csv" + at, d);
     REQUIRE(a.code == 0);

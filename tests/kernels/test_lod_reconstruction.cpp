@@ -14,21 +14,11 @@
 #include "kernels/cluster_lod.hpp"
 #include "kernels/field_params.hpp"
 #include "kernels/make_field.hpp"
+#include "kernels/splitmix.hpp"
 
 using namespace meshless;
 
 namespace {
-
-struct Rng {  // splitmix64
-    std::uint64_t s;
-    std::uint64_t next() {
-        std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double unit() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-};
 
 PointSet subset(const PointSet& all, const std::vector<std::size_t>& ids) {
     PointSet s;
@@ -63,7 +53,7 @@ double rmse_at_voxels(const PointSet& lod, const PointSet& all) {
 TEST_CASE("LOD reconstruction: the default tree's LOD beats random samples and a decimation of its size", "[kernels][cbt]") {
     // 48 x 40 x 32 voxels: a quiet background (0), a ball of 200 with a noisy inside, a smooth ramp on one side
     PointSet all;
-    Rng rng{2024};
+    SplitMix rng{2024};
     const int nx = 48, ny = 40, nz = 32;
     for (int k = 0; k < nz; ++k)
         for (int j = 0; j < ny; ++j)
