@@ -5,6 +5,7 @@
 // written.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -13,7 +14,10 @@
 
 #include "cli/cli_harness.hpp"
 #include "formats/cluster_tree_file.hpp"
+#include "formats/point_set_reader.hpp"
 #include "kernels/cluster_lod.hpp"
+#include "kernels/field_params.hpp"
+#include "kernels/make_field.hpp"
 
 using namespace meshless;
 using namespace meshless::test;
@@ -304,4 +308,47 @@ TEST_CASE("meshless hierarchy: a raw volume described by --dims/--type gives the
     CHECK(!std::filesystem::exists(d / "bad.mlh"));
     // --dims with two inputs is a usage error
     CHECK(sh("MESHLESS hierarchy " + D + "/plain.raw " + D + "/plain.raw --dims 6,5,4 --type uint8 -o " + D + "/x.mlh", d).code != 0);
+}
+
+TEST_CASE("meshless lod --max-error: within E at every sample, and one point fewer is not", "[cli][cbt]") {
+    TempDir d("hier_cert");
+    const std::string vol = write_uint8_analytic_volume(d, "ml", AnalyticField::marschner_lobb, 12, 200, 20);
+    const std::string D = d.path.string();
+    REQUIRE(sh("MESHLESS hierarchy " + vol + " -o " + D + "/t.mlh", d).code == 0);  // the full tree
+    const ClusterTree t = read_cluster_tree_file(D + "/t.mlh");
+    const PointSet samples = point_set_from_volume(vol);
+    FieldParams fp;  // what a reader of the LOD uses: mpu, a weighted tree's c (the default)
+    fp.kind = FieldKind::mpu;
+    auto max_error = [&](const PointSet& lod) {
+        const auto f = make_field(lod, fp);
+        std::vector<double> v(samples.size());
+        f->evaluate(samples.pos, v, {});
+        double m = 0;
+        for (std::size_t i = 0; i < v.size(); ++i) m = std::max(m, std::isnan(v[i]) ? INFINITY : std::abs(v[i] - samples.value[i]));
+        return m;
+    };
+    for (const double e : {40.0, 10.0}) {
+        const auto r = sh("MESHLESS lod " + D + "/t.mlh --max-error " + std::to_string(e) + " --samples " + vol + " -o " + D +
+                              "/c.ply --stats",
+                          d);
+        REQUIRE(r.code == 0);
+        const std::size_t n = lod_nodes(t.nodes, LodMode::count, 1e18).size();  // the leaves
+        // the count the command chose, from its --stats line "N points, max error ..."
+        const auto at = r.err.find("t.mlh: ");
+        REQUIRE(at != std::string::npos);
+        const std::uint64_t count = std::stoull(r.err.substr(at + 7));
+        REQUIRE(count >= 1);
+        REQUIRE(count <= n);
+        const PointSet lod = lod_point_set(t.nodes, LodMode::count, static_cast<double>(count), t.value_name);
+        INFO("E " << e << ": " << count << " points");
+        CHECK(max_error(lod) <= e);  // checked independently at every sample
+        if (count > 1) CHECK(max_error(lod_point_set(t.nodes, LodMode::count, static_cast<double>(count - 1), t.value_name)) > e);
+        CHECK(slurp(d / "c.ply").find("comment meshless field: hardy-c-rel 0.025\n") != std::string::npos);
+    }
+    // the samples of another data set: exit 2 naming it, nothing written
+    const std::string other = write_uint8_analytic_volume(d, "other", AnalyticField::marschner_lobb, 10, 200, 20);
+    const auto bad = sh("MESHLESS lod " + D + "/t.mlh --max-error 10 --samples " + other + " -o " + D + "/bad.ply", d);
+    CHECK(bad.code == 2);
+    CHECK(bad.err.find("not the tree's") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(d / "bad.ply"));
 }
