@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstdint>
 
 namespace meshless::python {
 
@@ -35,6 +36,12 @@ VolumeArray volume_view(const py::array& in, const std::array<double, 3>& spacin
         if (!a) throw py::value_error("volume: expected an array of real numbers");
         type = SampleType::f32;
     }
+    // samples at an address that is not a multiple of their size (a file mapped at an odd header
+    // length, np.frombuffer at an odd offset): the kernels load whole samples, so they get an aligned
+    // copy in the same order (a NumPy copy is aligned)
+    if (reinterpret_cast<std::uintptr_t>(a.data()) % static_cast<std::uintptr_t>(a.itemsize()) != 0)
+        a = py::module_::import("numpy").attr("array")(a, py::arg("copy") = true,
+                                                        py::arg("order") = (a.flags() & py::array::f_style) ? "F" : "C");
     v.keep = a;
     v.view.data = a.data();
     v.view.type = *type;

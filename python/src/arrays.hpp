@@ -5,7 +5,8 @@
 //   Fortran-ordered array (x fastest, as np.fromfile(f, t).reshape(nz, ny, nx).T gives) is the
 //   tool's own layout; a C-ordered one is seen as the volume with x and z swapped (axes_swapped:
 //   the caller swaps x and z back in what it returns). Other dtypes, byte orders and non-contiguous
-//   views are converted to a Fortran-ordered float32 copy, the only case that copies.
+//   views are converted to a Fortran-ordered float32 copy, and samples at a misaligned address (a
+//   file mapped at an odd header length) to an aligned copy in the same order: the only copies.
 // - owned arrays: results the libraries made in std::vectors are moved into a capsule that the
 //   returned NumPy arrays share as their base, so they own the memory and nothing is copied
 //   (record_field: one field of an array of records, a strided view).
