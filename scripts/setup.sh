@@ -29,8 +29,9 @@ PACKAGES=(build-essential cmake ninja-build pkg-config git
           libopenmpi-dev openmpi-bin)
 # the benchmarks' baselines (bench/flying_edges.py, bench/rbf_reference.py) and /usr/bin/time
 BENCH_PACKAGES=(python3-vtk9 python3-scipy time)
-# the Python module (build, test): pybind11 and Debian's python3 with its headers and NumPy
-PYTHON_PACKAGES=(pybind11-dev python3-dev python3-numpy python3-pytest)
+# the Python module (build, test): pybind11 and Debian's python3 with its headers and NumPy; VTK's
+# Python modules for its to_vtk/from_vtk (their tests and the README's example run them)
+PYTHON_PACKAGES=(pybind11-dev python3-dev python3-numpy python3-pytest python3-vtk9)
 # the sanitizer tier's compiler and its libFuzzer runtime (test, sanitize)
 SANITIZE_PACKAGES=(clang-14 libclang-rt-14-dev)
 # the DICOM reader (GDCM) and the DICOM test series' writer (build, test, sanitize; not demo)
