@@ -13,6 +13,7 @@
 #include "cli/errors.hpp"
 #include "cli/signals.hpp"
 #include "formats/atomic_file.hpp"
+#include "stream/mpi_session.hpp"
 
 namespace meshless::cli {
 
@@ -55,7 +56,8 @@ void print_usage(std::FILE* out) {
                "(C. S. Co, Meshless Methods for Volume Visualization, 2006).\n\ncommands:\n", out);
     for (const auto& c : kCommands) std::fprintf(out, "  %-12s %s\n", c.name, c.summary);
     std::fputs("\nPipes: meshless generate VOL --iso V | meshless project | meshless splat -o img.png\n"
-               "exit codes: 0 success, 1 usage error, 2 bad input data or I/O failure, 3 internal error.\n",
+               "exit codes: 0 success, 1 usage error, 2 bad input data or I/O failure, 3 internal error,\n"
+               "4 empty result with --fail-empty, 128 + signal when interrupted.\n",
                out);
 }
 
@@ -113,6 +115,13 @@ int cli_main(int argc, char** argv) {
 
 namespace {
 
+/// Whether the command line asks for a command's help (--help or -h anywhere after the command).
+bool asks_for_help(int argc, char** argv) {
+    for (int i = 2; i < argc; ++i)
+        if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) return true;
+    return false;
+}
+
 int run_command(int argc, char** argv) {
     if (argc < 2) {
         print_usage(stderr);
@@ -129,6 +138,15 @@ int run_command(int argc, char** argv) {
     }
     for (const auto& c : kCommands) {
         if (name != c.name) continue;
+        // Under mpirun only isosurface shares its work out; any other command would repeat the whole
+        // job on every rank (and race for its outputs): refused, said once, by rank 0.
+        if (launched_world_size() > 1 && name != "isosurface" && !asks_for_help(argc, argv)) {
+            if (launched_world_rank() == 0)
+                std::fprintf(stderr, "meshless %s: runs in one process, not under mpirun (this launch has %d ranks; "
+                             "isosurface is the command that shares its work across ranks): run it without mpirun\n",
+                             c.name, launched_world_size());
+            return kExitUsage;
+        }
         try {
             return c.run(argc, argv);
         } catch (const std::exception& e) {

@@ -31,6 +31,12 @@ int launched_world_size() {
     return 1;
 }
 
+int launched_world_rank() {
+    for (const char* v : {"OMPI_COMM_WORLD_RANK", "PMI_RANK"})
+        if (const char* s = std::getenv(v)) return std::max(0, std::atoi(s));
+    return 0;
+}
+
 bool mpi_built() { return ::access(plugin_path().c_str(), R_OK) == 0; }
 
 MpiSession::MpiSession(int* argc, char*** argv) {

@@ -23,6 +23,8 @@ namespace meshless {
 
 /// World size the launcher announced (1 when not launched by mpirun).
 int launched_world_size();
+/// This process's rank as the launcher announced it (0 when not launched by mpirun).
+int launched_world_rank();
 /// Whether this build can run under MPI.
 bool mpi_built();
 

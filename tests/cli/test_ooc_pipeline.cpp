@@ -128,6 +128,24 @@ TEST_CASE("mpirun -np 2 gives the single-process bytes, a failing rank fails the
     CHECK_THAT(r.err, Catch::Contains("g.mls: MPI runs need a brick store (.mlb)"));
     CHECK_THAT(r.err, !Catch::Contains("unrecognized volume format"));
     CHECK(!fs::exists(d / "two_mls.ply"));
+    // every other command runs in one process: refused under mpirun, said once, nothing written
+    // (it would repeat the whole job on every rank); --help still answers
+    for (const std::string& cmd : {"mc " + D + "/g.mlb --iso 128.5 -o " + D + "/two_mc.ply",
+                                  "render " + D + "/g.mlb --size 32x32 -o " + D + "/two_mc.png",
+                                  "info " + D + "/g.mlb", "batch " + D + " -o " + D + "/two_mc_batch --iso 128.5"}) {
+        INFO(cmd);
+        r = sh(mpirun + "MESHLESS " + cmd, d);
+        CHECK(r.code == 1);
+        const std::string word = cmd.substr(0, cmd.find(' '));
+        CHECK_THAT(r.err, Catch::Contains("meshless " + word + ": runs in one process, not under mpirun (this launch has 2 ranks"));
+        CHECK(r.err.find("runs in one process") == r.err.rfind("runs in one process"));  // rank 0 alone says it
+    }
+    CHECK(!fs::exists(d / "two_mc.ply"));
+    CHECK(!fs::exists(d / "two_mc.png"));
+    CHECK(!fs::exists(d / "two_mc_batch"));
+    r = sh(mpirun + "MESHLESS mc --help", d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("usage: meshless mc"));
 }
 
 TEST_CASE("mc on a brick store welds the seams: the in-memory vertex set and triangle count", "[cli][ooc-pipeline]") {
