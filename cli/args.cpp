@@ -31,6 +31,20 @@ double parse_finite(const std::string& s, const std::string& what) {
     return v;
 }
 
+std::vector<double> parse_finite_list(const std::string& s, const std::string& what, std::size_t max) {
+    std::vector<double> values;
+    for (std::size_t at = 0;;) {
+        const std::size_t comma = s.find(',', at);
+        const std::string item = s.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+        if (item.empty()) throw UsageError(what + ": expected numbers separated by commas, got '" + s + "'");
+        if (values.size() == max)
+            throw UsageError(what + ": at most " + std::to_string(max) + " values, got more in '" + s + "'");
+        values.push_back(parse_finite(item, what));
+        if (comma == std::string::npos) return values;
+        at = comma + 1;
+    }
+}
+
 std::function<void(const std::string&)> in_range(const std::string& option, double lo, bool lo_inclusive, double hi) {
     return [=](const std::string& s) {
         const double v = parse_finite(s, option);

@@ -94,6 +94,9 @@ private:
 double parse_double(const std::string& s, const std::string& what);
 /// The same, refusing NaN and infinities.
 double parse_finite(const std::string& s, const std::string& what);
+/// A comma-separated list of 1..max finite numbers ("100.5" or "60.5,100.5"); throws UsageError
+/// naming `what` for an empty item, a non-finite number or more than max of them.
+std::vector<double> parse_finite_list(const std::string& s, const std::string& what, std::size_t max);
 /// A validate() check: a finite number in (lo, hi], or [lo, hi] when `lo_inclusive`; UsageError
 /// "OPTION: expected a number in (lo, hi], got 'V'" otherwise.
 std::function<void(const std::string&)> in_range(const std::string& option, double lo, bool lo_inclusive, double hi);

@@ -1,4 +1,5 @@
 // meshless isosurface: paradigm (C) iso-splatting in one process (dissertation chapter 3).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -25,6 +26,9 @@
 namespace meshless::cli {
 
 namespace {
+
+/// The most isovalues one run takes (--iso V1,V2,...).
+constexpr std::size_t kMaxIsovalues = 256;
 
 /// BLOCKS (chapter 4) and POINTS (chapter 5) have their own graphs and options: their command's exit
 /// code when the positionals name such an input (`a`: the volume command's options, declared),
@@ -67,7 +71,7 @@ int cmd_isosurface(int argc, char** argv) {
            "(nz, ny, nx), --spacing), a DICOM series, or a brick store (.mlb,\n"
            "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory,\n"
            "or a paradigm (A) sample store (.mls, see meshless generate --all): only its candidate cell rows.");
-    a.option("iso", "", "V", "isovalue (required)")
+    a.option("iso", "", "V[,V2...]", "isovalue (required); several, comma-separated: their surfaces one after another in the same outputs, coloured by isovalue")
         .option("output", "o", "FILE", "point set output (.ply binary PLY, .vtp VTK XML PolyData; '-' for stdout)")
         .option("png", "", "FILE", "also render the points to this PNG")
         .option("projection", "", "MODE", "approx (one Newton step, Eq. 3.5) | exact (ray-trilinear cubic, Eq. 3.3) | none", "approx")
@@ -92,7 +96,9 @@ int cmd_isosurface(int argc, char** argv) {
     if (const auto other = isosurface_of_blocks_or_points(a, argc, argv)) return *other;
     if (!a.parse(argc, argv, 2)) return 0;
     IsosplatJob j;
-    j.iso = parse_finite(a.require("iso"), "--iso");
+    j.isos = parse_finite_list(a.require("iso"), "--iso", kMaxIsovalues);
+    j.iso = j.isos[0];
+    if (j.isos.size() == 1) j.isos.clear();
     j.png = point_outputs_png(a);
     j.mode = parse_projection(a.get_or("projection", "approx"));
     j.sp = sampling_params(a);
@@ -108,8 +114,15 @@ int cmd_isosurface(int argc, char** argv) {
                          ": a volume has no blocks; --color block needs multiblock points");
     // (the range without --range: the volume's, set by the job once it is read; the MPI and sample-store
     // paths map the isovalue to the middle of the colour map)
-    apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
-    j.range_given = cc.range.has_value();
+    // Several isovalues: each surface its colour by default, the colour map spanning the isovalues
+    if (!j.isos.empty()) {
+        const auto [lo, hi] = std::minmax_element(j.isos.begin(), j.isos.end());
+        apply_color(j.rs, color_by(cc, ColorBy::value), cc, cc.range ? *cc.range : std::array<double, 2>{*lo, *hi});
+        j.range_given = true;
+    } else {
+        apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
+        j.range_given = cc.range.has_value();
+    }
     j.producer = a.command_line();
     j.out = [&a] { return geometry_output(a, kPointsWhat); };
     j.anatomical_camera = [&a](const AnatomicalFrame& f, Camera& c) { apply_anatomical_frame(a, f, c); };
@@ -120,6 +133,7 @@ int cmd_isosurface(int argc, char** argv) {
     j.warned = &warned;
 
     if (launched_world_size() > 1) {
+        single_iso(a, "runs under mpirun");
         if (!a.positional().empty() && is_sample_store(a.positional()[0]))
             throw UsageError(a.positional()[0] + ": MPI runs need a brick store (.mlb); a sample store (.mls) runs in one "
                              "process (meshless isosurface STORE.mls, or its .mlb under mpirun)");

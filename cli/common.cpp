@@ -314,6 +314,14 @@ void add_fail_empty_option(Args& a) {
                          "(the empty outputs are still written)");
 }
 
+double single_iso(const Args& a, const std::string& what) {
+    const std::string v = a.require("iso");
+    if (v.find(',') != std::string::npos)
+        throw UsageError("--iso: " + what + " take one isovalue a run (several, comma-separated, are for volumes, brick "
+                         "and sample stores in one process), got '" + v + "'");
+    return parse_finite(v, "--iso");
+}
+
 int empty_result_exit(const Args& a, std::uint64_t count, const char* what, double iso, const std::string& source,
                       bool warned) {
     if (count > 0) return 0;

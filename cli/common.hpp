@@ -111,6 +111,10 @@ double stream_iso(const Args& a, const StreamMeta& m);
 /// --projection: "none" | "approx" | "exact" (kernels/project_sample.hpp); UsageError otherwise.
 Projection parse_projection(const std::string& s);
 
+/// --iso of an input that takes one isovalue a run (`what`: "multiblock grids", "scattered points",
+/// "mpirun"); UsageError for a list (several isovalues are for volumes and stores in one process).
+double single_iso(const Args& a, const std::string& what);
+
 /// --fail-empty: an empty result (no point, triangle or sample) exits kExitEmpty (cli/errors.hpp).
 void add_fail_empty_option(Args& a);
 /// After a command made `count` `what`s ("points", "triangles", "samples") at `iso` from `source`:

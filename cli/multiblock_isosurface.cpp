@@ -158,7 +158,7 @@ int isosurface_blocks(int argc, char** argv) {
         throw UsageError("multiblock inputs are not split over MPI ranks: run meshless isosurface BLOCKS... without mpirun");
     IsosurfaceJob j;
     j.started = t_start;
-    j.iso = parse_finite(a.require("iso"), "--iso");
+    j.iso = single_iso(a, "multiblock grids");
     j.png = point_outputs_png(a);
     j.n = lattice_n(a);
     j.np = newton_params(a);

@@ -187,7 +187,7 @@ struct ScatteredJob {
 ColorChoice parse_scattered_options(const Args& a, Clock::time_point t_start, ScatteredJob& s) {
     IsosurfaceJob& j = s.job;
     j.started = t_start;
-    j.iso = parse_finite(a.require("iso"), "--iso");
+    j.iso = single_iso(a, "scattered points");
     j.png = point_outputs_png(a);
     j.n = lattice_n(a, kScatteredLatticeN);
     j.np = newton_params(a);

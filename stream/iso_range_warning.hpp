@@ -10,6 +10,8 @@
 namespace meshless {
 
 /// Warns on `out` when iso lies outside [lo, hi] = range (NaN lo: no finite samples); true when it warned.
-bool warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source, std::FILE* out = stderr);
+/// one_of_several: iso is one of a run's several isovalues (the line says its surface is empty, not the outputs).
+bool warn_if_iso_outside(double iso, const std::array<double, 2>& range, const std::string& source, std::FILE* out = stderr,
+                         bool one_of_several = false);
 
 }  // namespace meshless

@@ -1,7 +1,9 @@
 #include "stream/isosplat_job.hpp"
 
+#include <algorithm>
 #include <cmath>
 
+#include "kernels/errors.hpp"
 #include "ooc/sample_store.hpp"
 #include "stream/iso_range_warning.hpp"
 #include "stream/sample_store_source.hpp"
@@ -14,6 +16,67 @@ namespace {
 /// The picture of points whose metadata records their volume: its patient axes for the default
 /// camera and, without a given range, its value range for the value colours — what splat of the
 /// same points' PLY or stream draws.
+/// The isovalues of a job in order: its `isos`, or `iso` alone.
+std::vector<double> isovalues_of(const IsosplatJob& j) { return j.isos.empty() ? std::vector<double>{j.iso} : j.isos; }
+
+/// Hands batches on to `to` with their sequence numbers continued from one graph run to the next,
+/// and leaves its finish() to the caller: the runs of several isovalues into one set of outputs.
+class ContinuedSink final : public Sink {
+public:
+    explicit ContinuedSink(Sink& to) : to_(to) {}
+    void consume(Batch&& b) override {
+        b.seq = next(b.seq);
+        points_ += b.points.size();
+        to_.consume(std::move(b));
+    }
+    void observe(const Batch& b) override {
+        Batch copy = b;
+        consume(std::move(copy));
+    }
+    void finish() override {  // the next run's batches follow this one's
+        base_ = end_;
+        last_points_ = points_;
+        points_ = 0;
+    }
+    /// The points of the run that finished last.
+    std::size_t last_run_points() const { return last_points_; }
+
+private:
+    std::uint64_t next(std::uint64_t seq) {
+        end_ = std::max(end_, base_ + seq + 1);
+        return base_ + seq;
+    }
+    Sink& to_;
+    std::uint64_t base_ = 0, end_ = 0;
+    std::size_t points_ = 0, last_points_ = 0;
+};
+
+/// Records the isovalues of a job of several in `meta` (instead of `iso`: the points do not lie on
+/// one surface) and frames the union of their surfaces. `bounds(iso)` gives one surface's.
+void set_isovalues(StreamMeta& meta, const std::vector<double>& isos,
+                   const std::function<std::optional<std::array<Vec3, 2>>(double)>& bounds) {
+    if (isos.size() < 2) return;
+    std::string list;
+    std::optional<std::array<Vec3, 2>> all;
+    for (double v : isos) {
+        StreamMeta one;
+        one.set("iso", v);  // (the number as the metadata writes it)
+        list += (list.empty() ? "" : ",") + *one.get("iso");
+        if (const auto b = bounds(v)) {
+            if (!all) all = *b;
+            const Vec3 &lo = (*all)[0], &hi = (*all)[1];
+            all = std::array<Vec3, 2>{Vec3{std::min(lo.x, (*b)[0].x), std::min(lo.y, (*b)[0].y), std::min(lo.z, (*b)[0].z)},
+                                      Vec3{std::max(hi.x, (*b)[1].x), std::max(hi.y, (*b)[1].y), std::max(hi.z, (*b)[1].z)}};
+        }
+    }
+    meta.kv.erase("iso");
+    meta.set("isovalues", list);
+    if (all) {
+        meta.set("bounds_lo", triple((*all)[0].x, (*all)[0].y, (*all)[0].z));
+        meta.set("bounds_hi", triple((*all)[1].x, (*all)[1].y, (*all)[1].z));
+    }
+}
+
 RenderSettings picture_from_meta(const IsosplatJob& j, const StreamMeta& meta) {
     RenderSettings rs = j.rs;
     if (const auto f = meta_patient_axes(meta); f && j.anatomical_camera) j.anatomical_camera(*f, rs.camera);
@@ -27,47 +90,78 @@ RenderSettings picture_from_meta(const IsosplatJob& j, const StreamMeta& meta) {
 }  // namespace
 
 std::size_t run_isosplat_job(const IsosplatJob& j, VolumeInput& in) {
+    const std::vector<double> isos = isovalues_of(j);
     RenderSettings rs = j.rs;
     // head up, face to the viewer, where the header says
     if (j.png && !j.up_given && in.frame && j.anatomical_camera) j.anatomical_camera(*in.frame, rs.camera);
-    StreamMeta meta = volume_meta(in, j.iso, j.producer);  // value range and surface bounds, one pass
+    StreamMeta meta = volume_meta(in, isos[0], j.producer);  // value range and surface bounds, one pass
+    set_isovalues(meta, isos, [&](double v) { return surface_bounds(in, v); });
     if (!j.range_given) {
         rs.shading.value_lo = meta.get_double("value_min").value_or(j.iso);
         rs.shading.value_hi = meta.get_double("value_max").value_or(j.iso);
     }
-    const bool said = warn_if_iso_outside(j.iso, {meta.get_double("value_min").value_or(NAN), meta.get_double("value_max").value_or(NAN)}, in.path);
+    bool said = false;
+    for (double v : isos)
+        said = warn_if_iso_outside(v, {meta.get_double("value_min").value_or(NAN), meta.get_double("value_max").value_or(NAN)}, in.path,
+                                   stderr, isos.size() > 1) || said;
     if (j.warned) *j.warned = said;
     meta.set("projection", to_string(j.mode));
-    IsoSplatResult r;
+    std::vector<IsoSplatResult> r(isos.size());
+    std::vector<std::size_t> counts(isos.size());
     std::size_t points = 0;
     {  // (the progress display goes before the statistics)
-        const auto counted = j.progress ? j.progress("cell rows", isosurface_work(in, j.iso)) : std::function<void(double)>();
+        double work = 0;
+        for (double v : isos) work += isosurface_work(in, v);
+        const auto counted = j.progress ? j.progress("cell rows", work) : std::function<void(double)>();
         const ProgressStage progress([&](double n) { if (counted) counted(n); }, work_units);
+        IsoSplatResult unused;
         points = run_to_outputs(j.out(), j.png, meta, rs, j.threads, [&](const Stage* draw, Sink& sink) {
-            return run_isosplat_input(in, j.iso, j.mode, j.sp, sink, j.threads, PipelineShape::fused, {&progress, draw});
-        }, r);
+            ContinuedSink continued(sink);
+            for (std::size_t i = 0; i < isos.size(); ++i) {
+                r[i] = run_isosplat_input(in, isos[i], j.mode, j.sp, continued, j.threads, PipelineShape::fused, {&progress, draw});
+                counts[i] = continued.last_run_points();
+            }
+            sink.finish();
+            return r[0];
+        }, unused);
     }
-    if (j.stats) print_isosplat_stats(j.stats, in.path, j.iso, j.mode, r, points, j.threads, 1);
+    if (j.stats)
+        for (std::size_t i = 0; i < isos.size(); ++i)
+            print_isosplat_stats(j.stats, in.path, isos[i], j.mode, r[i], isos.size() > 1 ? counts[i] : points, j.threads, 1);
     return points;
 }
 
 std::size_t run_isosplat_sample_store_job(const IsosplatJob& j, const std::string& path) {
+    const std::vector<double> isos = isovalues_of(j);
     const auto store = SampleStore::open(path);
-    const bool said = warn_if_iso_outside(j.iso, {store->info().value_lo, store->info().value_hi}, path);
+    bool said = false;
+    for (double v : isos) said = warn_if_iso_outside(v, {store->info().value_lo, store->info().value_hi}, path, stderr, isos.size() > 1) || said;
     if (j.warned) *j.warned = said;
-    StreamMeta meta = sample_store_meta(*store, j.iso, j.producer);
+    StreamMeta meta = sample_store_meta(*store, isos[0], j.producer);
+    set_isovalues(meta, isos, [&](double v) { return meta_bounds(sample_store_meta(*store, v, j.producer)); });
     meta.set("projection", to_string(j.mode));
     const RenderSettings rs = picture_from_meta(j, meta);
-    SampleStoreSource source(*store, j.iso, j.sp);
-    IsoSplatResult r;
+    std::vector<IsoSplatResult> r(isos.size());
+    std::vector<std::size_t> counts(isos.size());
+    IsoSplatResult unused;
     const std::size_t points = run_to_outputs(j.out(), j.png, meta, rs, j.threads, [&](const Stage* draw, Sink& sink) {
-        return run_isosplat_sample_store(source, j.iso, j.mode, sink, {j.threads}, PipelineShape::two_stage, {nullptr, draw});
-    }, r);
-    if (j.stats) print_isosplat_stats(j.stats, path, j.iso, j.mode, r, points, j.threads, 1);
+        ContinuedSink continued(sink);
+        for (std::size_t i = 0; i < isos.size(); ++i) {
+            SampleStoreSource source(*store, isos[i], j.sp);
+            r[i] = run_isosplat_sample_store(source, isos[i], j.mode, continued, {j.threads}, PipelineShape::two_stage, {nullptr, draw});
+            counts[i] = continued.last_run_points();
+        }
+        sink.finish();
+        return r[0];
+    }, unused);
+    if (j.stats)
+        for (std::size_t i = 0; i < isos.size(); ++i)
+            print_isosplat_stats(j.stats, path, isos[i], j.mode, r[i], isos.size() > 1 ? counts[i] : points, j.threads, 1);
     return points;
 }
 
 void run_isosplat_mpi_job(const IsosplatJob& j, MpiSession& mpi, VolumeInput& in) {
+    if (j.isos.size() > 1) throw InvalidArgument("--iso: several isovalues run in one process; under mpirun give one isovalue per run");
     const MpiIsosurfaceResult m = run_isosplat_mpi(mpi, in, j.iso, j.mode, j.sp, j.threads, j.producer,
                                                    [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {
                                                        const bool said = warn_if_iso_outside(j.iso, in.value_range(), in.path);

@@ -12,6 +12,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "formats/anatomical_frame.hpp"
 #include "kernels/splat_rasterizer.hpp"
@@ -23,7 +24,13 @@
 namespace meshless {
 
 struct IsosplatJob {
-    double iso = 0;
+    double iso = 0;             ///< the isovalue (the first of `isos` when several are given)
+    /// Several isovalues (`isosurface --iso V1,V2,...`), in order; empty: `iso` alone. Their surfaces
+    /// run one after another into the same outputs: the points are those of one run per value,
+    /// concatenated in this order (each point's value is its isovalue); the metadata records
+    /// `isovalues V1,V2,...` instead of `iso`, and the frame is the union of the surfaces' bounds.
+    /// A volume or a sample store; not under mpirun (run_isosplat_mpi_job throws InvalidArgument).
+    std::vector<double> isos;
     Projection mode = Projection::approx;
     SamplingParams sp;
     RenderSettings rs;          ///< camera, kernel, shading, colours; the value range is set here unless range_given

@@ -1,0 +1,102 @@
+// Several isovalues in one run (`isosurface VOLUME --iso V1,V2,...`): the outputs hold the points of
+// one run per value, concatenated in the order given (the oracle: the single runs' PLY bodies), from
+// a volume, a brick store and a sample store alike; the header records the isovalues; the picture
+// colours each surface and equals `splat` of the PLY; the inputs that take one isovalue a run say so.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include "cli/cli_harness.hpp"
+
+using namespace meshless;
+using namespace meshless::test;
+
+namespace {
+/// The bytes after a PLY's header.
+std::string ply_body(const std::filesystem::path& p) {
+    const std::string b = slurp(p);
+    const std::size_t at = b.find("end_header\n");
+    REQUIRE(at != std::string::npos);
+    return b.substr(at + 11);
+}
+std::string ply_header(const std::filesystem::path& p) {
+    const std::string b = slurp(p);
+    return b.substr(0, b.find("end_header\n"));
+}
+std::size_t count_of(const std::string& s, const std::string& needle) {
+    std::size_t n = 0;
+    for (std::size_t at = s.find(needle); at != std::string::npos; at = s.find(needle, at + 1)) ++n;
+    return n;
+}
+}  // namespace
+
+TEST_CASE("isosurface --iso V1,V2: one run per value concatenated, from a volume and both stores", "[cli][isovalues]") {
+    TempDir d("isovalues");
+    const std::string D = d.path.string() + "/";
+    const std::string vol = write_uint8_analytic_volume(d, "vol", AnalyticField::torus, 24, 200.0, 0.0);
+    REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "v.mlb --brick 8", d).code == 0);
+    REQUIRE(sh("MESHLESS generate " + D + "v.mlb --all -o " + D + "v.mls", d).code == 0);
+    for (const std::string& in : {vol, D + "v.mlb", D + "v.mls"}) {
+        INFO(in);
+        REQUIRE(sh("MESHLESS isosurface " + in + " --iso 60.5 -o " + D + "a.ply", d).code == 0);
+        REQUIRE(sh("MESHLESS isosurface " + in + " --iso 150.5 -o " + D + "b.ply", d).code == 0);
+        const auto r = sh("MESHLESS isosurface " + in + " --iso 150.5,60.5 -o " + D + "ba.ply --png " + D + "ba.png --stats", d);
+        REQUIRE(r.code == 0);
+        const std::string a = ply_body(d / "a.ply"), b = ply_body(d / "b.ply");
+        REQUIRE(a.size() > 32 * 100);
+        REQUIRE(b.size() > 32 * 100);
+        CHECK(ply_body(d / "ba.ply") == b + a);  // in the order given
+        const std::string h = ply_header(d / "ba.ply");
+        CHECK_THAT(h, Catch::Contains("comment isovalues 150.5,60.5\n"));
+        CHECK_THAT(h, !Catch::Contains("comment iso "));
+        CHECK_THAT(h, Catch::Contains("element vertex " + std::to_string((a.size() + b.size()) / 32) + "\n"));
+        CHECK(count_of(r.err, " iso 150.5: ") == 1);  // one --stats line per isovalue
+        CHECK(count_of(r.err, " iso 60.5: ") == 1);
+        // the picture colours each surface by its isovalue, as splat of the PLY draws it
+        REQUIRE(sh("MESHLESS splat " + D + "ba.ply -o " + D + "ba_splat.png", d).code == 0);
+        CHECK(slurp(d / "ba.png") == slurp(d / "ba_splat.png"));
+        REQUIRE(sh("MESHLESS isosurface " + in + " --iso 60.5 --png " + D + "a.png", d).code == 0);
+        CHECK(slurp(d / "ba.png") != slurp(d / "a.png"));
+    }
+    // a VTP holds the same points as the PLY
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 150.5,60.5 -o " + D + "ba.vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 150.5,60.5 -o " + D + "ba2.ply", d).code == 0);
+    const auto info = sh("MESHLESS info " + D + "ba.vtp", d);
+    CHECK_THAT(info.out + info.err, Catch::Contains(std::to_string(ply_body(d / "ba2.ply").size() / 32)));
+}
+
+TEST_CASE("isosurface --iso lists: bad items, values outside the data, inputs that take one value", "[cli][isovalues]") {
+    TempDir d("isovalues-bad");
+    const std::string D = d.path.string() + "/";
+    const std::string vol = write_uint8_analytic_volume(d, "vol", AnalyticField::torus, 16, 200.0, 0.0);
+    auto r = sh("MESHLESS isosurface " + vol + " --iso 60.5,,100 -o " + D + "x.ply", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("--iso: expected numbers separated by commas, got '60.5,,100'"));
+    r = sh("MESHLESS isosurface " + vol + " --iso 60.5,nan -o " + D + "x.ply", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("--iso: expected a finite number, got 'nan'"));
+    CHECK_FALSE(std::filesystem::exists(d / "x.ply"));
+    // one value outside the data: its surface is empty, the run is not
+    r = sh("MESHLESS isosurface " + vol + " --iso 60.5,999 -o " + D + "x.ply --fail-empty", d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("isovalue 999 is outside the data range [13, 255]; its surface will be empty"));
+    r = sh("MESHLESS isosurface " + vol + " --iso 998,999 -o " + D + "y.ply --fail-empty", d);
+    CHECK(r.code == 4);
+    CHECK(std::filesystem::exists(d / "y.ply"));
+    // scattered points and mpirun take one isovalue a run
+    std::string csv = "x,y,z,value\n";
+    for (int k = 0; k < 5; ++k)
+        for (int j = 0; j < 5; ++j)
+            for (int i = 0; i < 5; ++i)
+                csv += std::to_string(i) + "," + std::to_string(j) + "," + std::to_string(k) + "," + std::to_string(i + j + k) + "\n";
+    spit(d.path / "pts.csv", csv);
+    r = sh("MESHLESS isosurface " + D + "pts.csv --iso 3.5,5.5 -o " + D + "p.ply", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("--iso: scattered points take one isovalue a run"));
+    r = sh("OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0 MESHLESS isosurface " + vol + " --iso 60.5,100.5 -o " + D + "m.ply", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("--iso: runs under mpirun take one isovalue a run"));
+    CHECK_FALSE(std::filesystem::exists(d / "m.ply"));
+}
