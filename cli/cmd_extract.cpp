@@ -36,7 +36,7 @@ int cmd_extract(int argc, char** argv) {
     a.positionals(1, 1);
     a.epilog("example: meshless extract vol.mls --iso 100.5 | meshless project | meshless write -o out.ply\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    const double iso = parse_finite(a.require("iso"), "--iso");
+    const double iso = single_iso(a, "sample streams (extract)");
     const SamplingParams sp = sampling_params(a);
     const std::string path = a.positional()[0];
     const auto store = SampleStore::open(path);

@@ -27,9 +27,6 @@ namespace meshless::cli {
 
 namespace {
 
-/// The most isovalues one run takes (--iso V1,V2,...).
-constexpr std::size_t kMaxIsovalues = 256;
-
 /// BLOCKS (chapter 4) and POINTS (chapter 5) have their own graphs and options: their command's exit
 /// code when the positionals name such an input (`a`: the volume command's options, declared),
 /// else nullopt (a volume).
@@ -96,7 +93,7 @@ int cmd_isosurface(int argc, char** argv) {
     if (const auto other = isosurface_of_blocks_or_points(a, argc, argv)) return *other;
     if (!a.parse(argc, argv, 2)) return 0;
     IsosplatJob j;
-    j.isos = parse_finite_list(a.require("iso"), "--iso", kMaxIsovalues);
+    j.isos = isovalue_list(a);
     j.iso = j.isos[0];
     if (j.isos.size() == 1) j.isos.clear();
     j.png = point_outputs_png(a);

@@ -69,7 +69,7 @@ int cmd_mc(int argc, char** argv) {
            "    edge (CGAL box intersection + exact predicates); triangles of different blocks with the\n"
            "    same three vertices (overlapping blocks with coincident nodes) are counted apart as\n"
            "    duplicated pairs.");
-    a.option("iso", "", "V", "isovalue (required)")
+    a.option("iso", "", "V[,V2...]", "isovalue (required); several, comma-separated: their surfaces in one mesh, in this order")
         .option("output", "o", "FILE", "mesh output (required): .ply binary PLY or .vtp VTK XML PolyData (polygons, Normals, per-cell 'block'); '-' = stdout")
         .flag("stats", "print counts and timing to stderr (BLOCKS: also crack edges and intersecting pairs)");
     add_fail_empty_option(a);
@@ -83,21 +83,28 @@ int cmd_mc(int argc, char** argv) {
     a.epilog("examples: meshless mc vol.nrrd --iso 100.5 -o mesh.ply\n"
              "          meshless mc multicomb_0.vts multicomb_1.vts multicomb_2.vts --iso 0.4 -o naive.ply --stats\n");
     if (!a.parse(argc, argv, 2)) return 0;
-    const double iso = parse_finite(a.require("iso"), "--iso");
     const std::string out = a.require("output");
     const GeometryFormat format = geometry_output_format(a, out, "a triangle mesh");
-    if (a.positional().size() > 1 || looks_like_multiblock(a.positional()[0])) return mc_blocks(a, iso, out, format);
+    if (a.positional().size() > 1 || looks_like_multiblock(a.positional()[0]))
+        return mc_blocks(a, single_iso(a, "multiblock grids"), out, format);
+    const std::vector<double> isos = isovalue_list(a);
     VolumeInput in = open_volume_input(a);
     const std::string& path = in.path;
-    const bool warned = warn_if_iso_outside(iso, in.value_range(), path);
+    bool warned = false;
+    for (double iso : isos) warned = warn_if_iso_outside(iso, in.value_range(), path, stderr, isos.size() > 1) || warned;
     const auto t0 = std::chrono::steady_clock::now();
     MeshWeldSink sink(out, format, vtp_options(a, threads(a)));
-    ProgressMeter meter = ProgressMeter::of(a, in.store ? "bricks" : "cell layers", marching_cubes_work(in, iso));
-    const McStats st = run_marching_cubes(in, iso, sink, threads(a), [&](double n) { meter.add(n); });
+    double work = 0;
+    for (double iso : isos) work += marching_cubes_work(in, iso);
+    ProgressMeter meter = ProgressMeter::of(a, in.store ? "bricks" : "cell layers", work);
+    const std::vector<McSurface> surfaces = run_marching_cubes(in, isos, sink, threads(a), [&](double n) { meter.add(n); });
     meter.done();
     const double secs = seconds_since(t0);
-    if (a.has("stats")) print_marching_cubes_stats(stderr, path, iso, st, sink.mesh(), secs);
-    return empty_result_exit(a, sink.mesh().triangle_count(), "triangles", iso, path, warned);
+    if (a.has("stats"))
+        for (std::size_t i = 0; i < isos.size(); ++i)
+            print_marching_cubes_stats(stderr, path, isos[i], surfaces[i].stats, surfaces[i].vertices, surfaces[i].triangles,
+                                       sink.mesh().memory_bytes(), secs);
+    return empty_result_exit(a, sink.mesh().triangle_count(), "triangles", isos[0], path, warned);
 }
 
 }  // namespace meshless::cli

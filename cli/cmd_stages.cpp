@@ -92,7 +92,7 @@ int cmd_generate(int argc, char** argv) {
     }
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.has("all")) return generate_all(a);
-    const double iso = parse_finite(a.require("iso"), "--iso");
+    const double iso = single_iso(a, "sample streams (generate)");
     const SamplingParams sp = sampling_params(a);
     const int nthreads = threads(a);
     BinaryStreamOutput out(a.get_or("output", "-"), "a sample stream");

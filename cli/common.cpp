@@ -314,11 +314,13 @@ void add_fail_empty_option(Args& a) {
                          "(the empty outputs are still written)");
 }
 
+std::vector<double> isovalue_list(const Args& a) { return parse_finite_list(a.require("iso"), "--iso", 256); }
+
 double single_iso(const Args& a, const std::string& what) {
     const std::string v = a.require("iso");
     if (v.find(',') != std::string::npos)
-        throw UsageError("--iso: " + what + " take one isovalue a run (several, comma-separated, are for volumes, brick "
-                         "and sample stores in one process), got '" + v + "'");
+        throw UsageError("--iso: " + what + " take one isovalue a run (several, comma-separated, are for isosurface and mc of "
+                         "a volume or a store, in one process), got '" + v + "'");
     return parse_finite(v, "--iso");
 }
 

@@ -111,6 +111,8 @@ double stream_iso(const Args& a, const StreamMeta& m);
 /// --projection: "none" | "approx" | "exact" (kernels/project_sample.hpp); UsageError otherwise.
 Projection parse_projection(const std::string& s);
 
+/// --iso V or V1,V2,... (at most 256 values): the isovalues of a volume's isosurface or mesh, in order.
+std::vector<double> isovalue_list(const Args& a);
 /// --iso of an input that takes one isovalue a run (`what`: "multiblock grids", "scattered points",
 /// "mpirun"); UsageError for a list (several isovalues are for volumes and stores in one process).
 double single_iso(const Args& a, const std::string& what);

@@ -25,6 +25,9 @@ public:
     void consume(Batch&& b) override;
     void finish() override;
     const Mesh& mesh() const { return mesh_; }
+    /// Ends one surface of several (marching cubes at several isovalues): the next pieces' seam
+    /// vertices are welded among themselves only, never to this surface's.
+    void end_surface() { seam_.clear(); }
 
 private:
     std::string path_;

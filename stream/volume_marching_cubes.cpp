@@ -35,11 +35,41 @@ McStats run_marching_cubes(VolumeInput& in, double iso, Sink& sink, int threads,
     return stage->stats();
 }
 
-void print_marching_cubes_stats(std::FILE* out, const std::string& path, double iso, const McStats& st, const Mesh& mesh,
-                                double seconds) {
+namespace {
+/// Hands the pieces of one surface to the mesh and, at the surface's end, starts the next one
+/// (MeshWeldSink::end_surface) instead of writing the mesh.
+class SurfaceSink final : public Sink {
+public:
+    explicit SurfaceSink(MeshWeldSink& mesh) : mesh_(mesh) {}
+    void consume(Batch&& b) override { mesh_.consume(std::move(b)); }
+    void finish() override { mesh_.end_surface(); }
+
+private:
+    MeshWeldSink& mesh_;
+};
+}  // namespace
+
+std::vector<McSurface> run_marching_cubes(VolumeInput& in, const std::vector<double>& isos, MeshWeldSink& sink, int threads,
+                                          const std::function<void(double)>& progress) {
+    std::vector<McSurface> surfaces;
+    SurfaceSink one(sink);
+    for (double iso : isos) {
+        const std::size_t v0 = sink.mesh().vertex_count(), t0 = sink.mesh().triangle_count();
+        McSurface s;
+        s.stats = run_marching_cubes(in, iso, one, threads, progress);
+        s.vertices = sink.mesh().vertex_count() - v0;
+        s.triangles = sink.mesh().triangle_count() - t0;
+        surfaces.push_back(s);
+    }
+    sink.finish();
+    return surfaces;
+}
+
+void print_marching_cubes_stats(std::FILE* out, const std::string& path, double iso, const McStats& st, std::size_t vertices,
+                                std::size_t triangles, std::size_t bytes, double seconds) {
     std::fprintf(out, "mc: %s iso %g: %lld active cells, %zu vertices, %zu triangles, %.1f MiB, %.3f s (%lld cells with NaN/Inf skipped)\n",
-                 terminal_safe(path).c_str(), iso, static_cast<long long>(st.active_cells), mesh.vertex_count(), mesh.triangle_count(),
-                 mesh.memory_bytes() / 1048576.0, seconds, static_cast<long long>(st.skipped_nonfinite));
+                 terminal_safe(path).c_str(), iso, static_cast<long long>(st.active_cells), vertices, triangles,
+                 bytes / 1048576.0, seconds, static_cast<long long>(st.skipped_nonfinite));
 }
 
 }  // namespace meshless

@@ -2,6 +2,7 @@
 // one run per value, concatenated in the order given (the oracle: the single runs' PLY bodies), from
 // a volume, a brick store and a sample store alike; the header records the isovalues; the picture
 // colours each surface and equals `splat` of the PLY; the inputs that take one isovalue a run say so.
+// `mc --iso V1,V2,...`: one mesh holding the single runs' meshes in order, none welded to another.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "cli/cli_harness.hpp"
+#include "formats/ply_mesh.hpp"
 
 using namespace meshless;
 using namespace meshless::test;
@@ -99,4 +101,34 @@ TEST_CASE("isosurface --iso lists: bad items, values outside the data, inputs th
     CHECK(r.code == 1);
     CHECK_THAT(r.err, Catch::Contains("--iso: runs under mpirun take one isovalue a run"));
     CHECK_FALSE(std::filesystem::exists(d / "m.ply"));
+}
+
+TEST_CASE("mc --iso V1,V2: the single runs' meshes one after another, each welded on its own", "[cli][isovalues]") {
+    TempDir d("isovalues-mc");
+    const std::string D = d.path.string() + "/";
+    const std::string vol = write_uint8_analytic_volume(d, "vol", AnalyticField::torus, 24, 200.0, 0.0);
+    REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "v.mlb --brick 8", d).code == 0);
+    for (const std::string& in : {vol, D + "v.mlb"}) {
+        INFO(in);
+        REQUIRE(sh("MESHLESS mc " + in + " --iso 150.5 -o " + D + "a.ply", d).code == 0);
+        REQUIRE(sh("MESHLESS mc " + in + " --iso 60.5 -o " + D + "b.ply", d).code == 0);
+        const auto r = sh("MESHLESS mc " + in + " --iso 150.5,60.5 -o " + D + "ab.ply --stats --threads 2", d);
+        REQUIRE(r.code == 0);
+        CHECK(count_of(r.err, "mc: ") == 2);
+        const Mesh a = read_ply_mesh(D + "a.ply"), b = read_ply_mesh(D + "b.ply"), ab = read_ply_mesh(D + "ab.ply");
+        REQUIRE(a.triangle_count() > 100);
+        REQUIRE(b.triangle_count() > 100);
+        std::vector<float> xyz = a.xyz, normals = a.normals;
+        xyz.insert(xyz.end(), b.xyz.begin(), b.xyz.end());
+        normals.insert(normals.end(), b.normals.begin(), b.normals.end());
+        std::vector<std::uint32_t> tri = a.tri;
+        for (std::uint32_t t : b.tri) tri.push_back(t + static_cast<std::uint32_t>(a.vertex_count()));
+        CHECK(ab.xyz == xyz);
+        CHECK(ab.normals == normals);
+        CHECK(ab.tri == tri);
+    }
+    auto r = sh("MESHLESS mc " + vol + " --iso 150.5,999 -o " + D + "c.ply", d);
+    CHECK(r.code == 0);
+    CHECK_THAT(r.err, Catch::Contains("isovalue 999 is outside the data range"));
+    CHECK_THAT(r.err, Catch::Contains("its surface will be empty"));
 }
