@@ -16,7 +16,9 @@ namespace meshless::cli {
 constexpr const char* kSplatHelp =
            "Renders oriented points by surface splatting (software): quadrilateral (QSplat-style) or\n"
            "elliptical EWA kernels with depth-tested, normalised accumulation and Phong shading.\n"
-           "INPUT is a point stream (stdin by default) or a .ply point set. Given a sample stream (from\n"
+           "INPUT is a point stream (stdin by default), a .ply point set or a .vtp of oriented points (Normals,\n"
+           "radius and value point arrays, as isosurface -o points.vtp writes them; read whole, 32 bytes a\n"
+           "point). Given a sample stream (from\n"
            "`meshless generate` or `meshless extract`), it projects at render time (paradigms B and D of\n"
            "Table 3.1): the isovalue comes from --iso or the stream. Points are drawn as they arrive (memory =\n"
            "the image buffers + one batch; the EWA kernel spools the points to an unlinked file in $TMPDIR\n"
@@ -37,7 +39,7 @@ constexpr const char* kSplatHelp =
            "(the faces' block ids; a mesh has no values for --color value); single-threaded.";
 
 int cmd_splat(int argc, char** argv) {
-    Args a("splat", "[INPUT|-|MESH.ply] -o img.png [--kernel quad|ewa] [--turntable N] [camera options]",
+    Args a("splat", "[INPUT.ply|INPUT.vtp|-|MESH.ply] -o img.png [--kernel quad|ewa] [--turntable N] [camera options]",
            kSplatHelp);
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("iso", "", "V", "sample streams: isovalue to project onto (default: the stream's)")

@@ -16,7 +16,7 @@ shift $(( $# > 2 ? 2 : $# ))
 root=$(cd "$(dirname "$0")/.." && pwd)
 data=${MESHLESS_DATA:-$root/../shared/data}
 all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
-     fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_npy_volume fuzz_plot3d fuzz_vtp fuzz_vts fuzz_vtu fuzz_csv fuzz_npy fuzz_points_raw
+     fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_npy_volume fuzz_plot3d fuzz_vtp fuzz_oriented_vtp fuzz_vts fuzz_vtu fuzz_csv fuzz_npy fuzz_points_raw
      fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file fuzz_point_store
      fuzz_positions fuzz_dicom)
 targets=("$@")
@@ -101,6 +101,16 @@ have scattered/dark_matter_halo/halo_low_res.npy && seed fuzz_npy halo < "$data/
 have plot3d/mbwavelet_ascii.xyz && { cat "$data/plot3d/mbwavelet_ascii.xyz"; printf '\0'; cat "$data/plot3d/mbwavelet_ascii.q"; } | seed fuzz_plot3d mbwavelet
 have plot3d/multi-bin.xyz && seed fuzz_plot3d multibin < "$data/plot3d/multi-bin.xyz"
 have scattered/probes/probes.vtp && seed fuzz_vtp probes < "$data/scattered/probes/probes.vtp"
+# oriented points (splat's .vtp): a small isosurface written by this build, and one by hand in ascii
+printf '<?xml version="1.0"?>\n<VTKFile type="PolyData" version="0.1" byte_order="LittleEndian">\n<PolyData>\n<Piece NumberOfPoints="2">\n<PointData Normals="Normals">\n<DataArray type="Float32" Name="Normals" NumberOfComponents="3" format="ascii">0 0 1 1 0 0</DataArray>\n<DataArray type="Float32" Name="radius" format="ascii">0.5 0.5</DataArray>\n<DataArray type="Float32" Name="value" format="ascii">1 1</DataArray>\n</PointData>\n<Points>\n<DataArray type="Float32" NumberOfComponents="3" format="ascii">0 0 0 1 0 0</DataArray>\n</Points>\n</Piece>\n</PolyData>\n</VTKFile>\n' | seed fuzz_oriented_vtp ascii
+otmp=$(mktemp -d)
+if [ -x "$build/cli/meshless" ] && /usr/bin/python3 -c 'import sys
+n = 10
+sys.stdout.buffer.write(bytes(min(255, int(40 * ((x - 4.5) ** 2 + (y - 4.5) ** 2 + (z - 4.5) ** 2) ** 0.5)) for z in range(n) for y in range(n) for x in range(n)))' > "$otmp/s_10x10x10_uint8.raw" &&
+   "$build/cli/meshless" isosurface "$otmp/s_10x10x10_uint8.raw" --iso 100.5 -o "$otmp/s.vtp" 2>/dev/null; then
+  seed fuzz_oriented_vtp zlib < "$otmp/s.vtp"
+fi
+rm -rf "$otmp"
 for i in 0 1; do have "plot3d/multicomb_$i.vts" && seed fuzz_vts "comb$i" < "$data/plot3d/multicomb_$i.vts"; done
 # .vtu seeds: one node set with one tetrahedron, ascii and zlib-compressed appended (VTK's writer when
 # python3-vtk9 is installed)

@@ -10,14 +10,17 @@
 
 #include "formats/file_names.hpp"
 #include "formats/input_file.hpp"
+#include "formats/oriented_points_vtp.hpp"
 #include "formats/ply.hpp"
 #include "formats/ply_mesh.hpp"
 #include "formats/png_writer.hpp"
+#include "formats/terminal_safe.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/triangle_rasterizer.hpp"
 #include "stream/ply_source.hpp"
 #include "stream/point_spool.hpp"
 #include "stream/project_stage.hpp"
+#include "stream/record_vector_source.hpp"
 #include "stream/runner.hpp"
 #include "stream/splat_sink.hpp"
 #include "stream/stream_endpoints.hpp"
@@ -111,6 +114,17 @@ struct SplatInput {
 SplatInput open_splat_input(const SplatRequest& r, bool is_ply) {
     const std::string& input = r.input;
     SplatInput in;
+    if (ends_with_ci(input, ".vtp")) {  // read whole: 32 bytes a point
+        if (r.iso_given) throw InvalidArgument("--iso applies to sample streams; " + input + " holds projected points");
+        OrientedPointsVtp vtp = read_oriented_points_vtp(input);
+        if (vtp.dropped > 0 && r.warn)
+            r.warn("meshless splat: warning: " + terminal_safe(input) + ": " + std::to_string(vtp.dropped) +
+                   " points with a non-finite position, normal, radius or value (or a zero normal or radius) dropped");
+        in.bounds = ply_picture_bounds(vtp.comments);  // the metadata the writer records, as a PLY's comments
+        in.recorded = ply_comments_meta(vtp.comments);
+        in.source = std::make_unique<RecordVectorSource>(std::move(vtp.points));
+        return in;
+    }
     if (is_ply) {
         if (r.iso_given) throw InvalidArgument("--iso applies to sample streams; " + input + " holds projected points");
         auto ply = std::make_unique<PlySource>(input);
@@ -140,10 +154,10 @@ SplatInput open_splat_input(const SplatRequest& r, bool is_ply) {
 
 /// Point files meshless writes that splat does not draw: a FormatError that says what to write instead.
 void refuse_unsplattable_point_file(const std::string& input) {
-    for (const char* other : {".vtp", ".csv", ".tsv", ".txt"})
+    for (const char* other : {".csv", ".tsv", ".txt"})
         if (ends_with_ci(input, other))
-            throw FormatError(input + ": splat draws .ply point sets and meshless point streams, not " + (other + 1) +
-                              " files (write the points as .ply: meshless isosurface ... -o points.ply)");
+            throw FormatError(input + ": splat draws oriented points (.ply, .vtp, meshless point streams), not " + (other + 1) +
+                              " files (meshless isosurface ... -o points.ply writes them)");
 }
 
 /// A turntable: every frame replays the spool.

@@ -168,14 +168,14 @@ TEST_CASE("a point or sample stream with a NaN or infinite record is refused by 
     CHECK_FALSE(fs::exists(d.path / "s.png"));
 }
 
-TEST_CASE("splat: a VTP point set or a PLY on stdin is refused with what it is", "[cli][splat]") {
+TEST_CASE("splat: a CSV point set or a PLY on stdin is refused with what it is", "[cli][splat]") {
     TempDir d("splatother");
     const std::string vol = corner_ball(d), D = d.path.string();
-    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "/a.vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS sample " + vol + " --count 100 -o " + D + "/a.csv", d).code == 0);
     REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "/a.ply", d).code == 0);
-    const auto v = sh("MESHLESS splat " + D + "/a.vtp -o " + D + "/v.png", d);
+    const auto v = sh("MESHLESS splat " + D + "/a.csv -o " + D + "/v.png", d);
     CHECK(v.code == 2);
-    CHECK_THAT(v.err, Catch::Contains("a.vtp: splat draws .ply point sets and meshless point streams, not vtp files"));
+    CHECK_THAT(v.err, Catch::Contains("a.csv: splat draws oriented points (.ply, .vtp, meshless point streams), not csv files"));
     const auto p = sh("cat " + D + "/a.ply | MESHLESS splat - -o " + D + "/p.png", d);
     CHECK(p.code == 2);
     CHECK_THAT(p.err, Catch::Contains("it is a PLY file: give its path"));

@@ -243,3 +243,32 @@ TEST_CASE("ply-color: red green blue per point (normal, value, block), kept by v
     INFO(r.err);
     CHECK(r.out == std::to_string(n) + " 3\n");
 }
+
+TEST_CASE("splat of a .vtp of oriented points draws the picture of the same points' PLY", "[cli][vtp][splat]") {
+    TempDir d("vtp-splat");
+    const std::string D = d.path.string() + "/";
+    const std::string vol = write_uint8_analytic_volume(d, "vol", AnalyticField::torus, 24, 200.0, 0.0);
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "p.ply", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "p.vtp", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o " + D + "raw.vtp --vtp-compression none", d).code == 0);
+    for (const char* opts : {"", " --kernel ewa", " --color normal --azimuth 40"}) {
+        INFO(opts);
+        REQUIRE(sh("MESHLESS splat " + D + "p.ply -o " + D + "from_ply.png" + opts, d).code == 0);
+        REQUIRE(sh("MESHLESS splat " + D + "p.vtp -o " + D + "from_vtp.png" + opts, d).code == 0);
+        REQUIRE(sh("MESHLESS splat " + D + "raw.vtp -o " + D + "from_raw.png" + opts, d).code == 0);
+        CHECK(slurp(d / "from_ply.png") == slurp(d / "from_vtp.png"));
+        CHECK(slurp(d / "from_ply.png") == slurp(d / "from_raw.png"));
+    }
+    // a mesh, and points without normals (a level of detail's), are refused with what to do
+    REQUIRE(sh("MESHLESS mc " + vol + " --iso 100.5 -o " + D + "m.vtp", d).code == 0);
+    auto r = sh("MESHLESS splat " + D + "m.vtp -o " + D + "x.png", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("m.vtp: piece 0 is a surface mesh"));
+    REQUIRE(sh("MESHLESS sample " + vol + " --count 500 -o " + D + "s.vtp", d).code == 0);
+    r = sh("MESHLESS splat " + D + "s.vtp -o " + D + "x.png", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("s.vtp: piece 0: splat draws oriented points"));
+    CHECK_FALSE(std::filesystem::exists(d / "x.png"));
+    r = sh("MESHLESS splat " + D + "p.vtp --iso 3 -o " + D + "x.png", d);
+    CHECK(r.code == 1);
+}

@@ -1,6 +1,6 @@
 // One libFuzzer source, built once per decoder (tests/fuzz/CMakeLists.txt: fuzz_nrrd, fuzz_mha,
 // fuzz_vtk_legacy, fuzz_vti, fuzz_vtkjs, fuzz_slc, fuzz_nifti, fuzz_nifti_gz, fuzz_voreen, fuzz_npy_volume,
-// fuzz_raw_sidecar, fuzz_dicom, fuzz_plot3d, fuzz_vtp, fuzz_vts, fuzz_vtu, fuzz_csv, fuzz_npy, fuzz_points_raw, fuzz_point_stream, fuzz_mlb,
+// fuzz_raw_sidecar, fuzz_dicom, fuzz_plot3d, fuzz_vtp, fuzz_oriented_vtp, fuzz_vts, fuzz_vtu, fuzz_csv, fuzz_npy, fuzz_points_raw, fuzz_point_stream, fuzz_mlb,
 // fuzz_mls, fuzz_positions). Compile definitions pick the decoder:
 //   FUZZ_KIND   1 volume (read_volume + probe_volume), 2 point set (read_point_set + probe), 3 the
 //               binary point/sample stream (StreamReader), 4 a brick store .mlb (open + verify),
@@ -41,6 +41,10 @@
 #include <cmath>
 
 #include "formats/position_list.hpp"
+#elif FUZZ_KIND == 7
+#include <cmath>
+
+#include "formats/oriented_points_vtp.hpp"
 #endif
 
 #ifndef FUZZ_SECOND
@@ -106,6 +110,16 @@ void run(const std::string& path) {
     if (p.empty()) __builtin_trap();
     for (const Vec3& v : p)
         if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) __builtin_trap();
+#elif FUZZ_KIND == 7
+    // oracle: every record kept is finite, with a unit normal and a positive radius
+    for (const PointRecord& r : read_oriented_points_vtp(path).points) {
+        double len2 = 0;
+        for (int a = 0; a < 3; ++a) {
+            if (!std::isfinite(r.pos[a]) || !std::isfinite(r.normal[a])) __builtin_trap();
+            len2 += double(r.normal[a]) * r.normal[a];
+        }
+        if (!(std::abs(len2 - 1) < 1e-4) || !(r.radius > 0) || !std::isfinite(r.radius) || !std::isfinite(r.value)) __builtin_trap();
+    }
 #endif
 }
 
