@@ -21,6 +21,7 @@
 #include "formats/vti.hpp"
 #include "formats/vtk_legacy.hpp"
 #include "formats/vtkjs_image.hpp"
+#include "formats/zarr.hpp"
 #include "formats/reference_policy.hpp"
 #include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
@@ -31,7 +32,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum class Fmt { raw, npy, nrrd, metaimage, vtk_legacy, vti, vtkjs, slc, nifti, voreen_dat, dicom, unknown };
+enum class Fmt { raw, npy, nrrd, metaimage, vtk_legacy, vti, vtkjs, slc, nifti, voreen_dat, dicom, zarr, unknown };
 
 bool ends_with(const std::string& s, const char* suf) {
     const std::size_t n = std::strlen(suf);
@@ -80,13 +81,15 @@ Fmt detect(const std::string& path, const RawOptions& raw) {
     check_reference(raw.references, path, path);
     std::error_code ec;
     if (fs::is_directory(path, ec)) {
+        if (is_zarr_input(path)) return Fmt::zarr;
         check_reference(raw.references, path, (fs::path(path) / "index.json").string());
         if (fs::is_regular_file(fs::path(path) / "index.json", ec)) return Fmt::vtkjs;
         if (looks_like_dicom(path, std::size_t(-1))) return Fmt::dicom;
-        throw IoError(path + ": is a directory, expected a volume file (or a vtk-js directory with index.json, or a DICOM series)");
+        throw IoError(path + ": is a directory, expected a volume file (or a vtk-js directory with index.json, a DICOM series, or a Zarr store)");
     }
     if (!fs::exists(path, ec)) throw IoError(path + ": cannot open: No such file or directory");
     if (to_lower(fs::path(path).filename().string()) == "dicomdir") return Fmt::dicom;
+    if (fs::path(path).filename() == ".zarray") return Fmt::zarr;
     const Fmt e = by_extension(path);
     if (e != Fmt::unknown) return e;
     const Fmt c = by_content(path, raw);
@@ -140,6 +143,7 @@ Volume read_volume_unnamed(const std::string& path, const RawOptions& raw) {
         case Fmt::nifti: return read_nifti(path, raw.references);
         case Fmt::voreen_dat: return read_payload(confined(plan_voreen_dat(path), path, raw.references));
         case Fmt::dicom: return read_dicom_series(open_dicom_series(path, raw.series, raw.references));
+        case Fmt::zarr: return read_zarr(path, raw);
         case Fmt::unknown: break;
     }
     throw FormatError(path + ": unrecognized volume format");
@@ -204,6 +208,7 @@ VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
         case Fmt::slc: return probe_slc(path);
         case Fmt::nifti: return probe_nifti(path, raw.references);
         case Fmt::dicom: return dicom_info(open_dicom_series(path, raw.series, raw.references));
+        case Fmt::zarr: return probe_zarr(path, raw);
         case Fmt::unknown: break;
     }
     throw FormatError(path + ": unrecognized volume format");
@@ -222,6 +227,7 @@ VolumeInfo prove_volume(const std::string& path, const RawOptions& raw) {
         case Fmt::vti: prove_vti(path); break;
         case Fmt::slc: prove_slc(path); break;
         case Fmt::nifti: prove_nifti(path, raw.references); break;
+        case Fmt::zarr: return prove_zarr(path, raw);
         case Fmt::dicom: {  // every slice decoded through one reused buffer
             const DicomSeries s = open_dicom_series(path, raw.series, raw.references);
             std::vector<std::byte> slice(static_cast<std::size_t>(s.grid.dims[0] * s.grid.dims[1]) * sample_size(s.type)), scratch;
@@ -248,7 +254,9 @@ bool is_dicom_input(const std::string& path, const RawOptions& raw) {
 
 bool looks_like_volume(const std::string& path) {
     std::error_code ec;
-    if (fs::is_directory(path, ec)) return fs::is_regular_file(fs::path(path) / "index.json", ec) || looks_like_dicom(path);
+    if (fs::is_directory(path, ec))
+        return fs::is_regular_file(fs::path(path) / "index.json", ec) || looks_like_zarr(path) || looks_like_dicom(path);
+    if (fs::path(path).filename() == ".zarray") return true;
     const Fmt e = by_extension(path);
     if (e == Fmt::unknown) return looks_like_dicom(path);
     if (e == Fmt::npy) return npy_ndim(path) == 3;  // a 2-D .npy is a point set

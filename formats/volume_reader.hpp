@@ -1,7 +1,7 @@
 // Regular-volume readers: one entry point that dispatches on extension (and content) to the
 // per-format readers (raw, NRRD, MetaImage, VTK legacy, VTK XML .vti, vtk-js index.json, SLC,
 // NIfTI-1, Voreen .dat, DICOM series: a folder, DICOMDIR or slice file, formats/dicom_series.hpp;
-// NumPy .npy 3-D arrays, formats/npy_volume.hpp).
+// NumPy .npy 3-D arrays, formats/npy_volume.hpp; Zarr v2 stores and OME-Zarr images, formats/zarr.hpp).
 //
 // Output: a Volume with samples x fastest, then y, then z, in host (little-endian) order.
 // Types: uint8, int16, uint16, float32 are kept; int8 widens to int16; int32/uint32/int64/
@@ -52,7 +52,9 @@ struct RawOptions {
 
 /// Reads a whole volume. Dispatch: .raw .npy .nrrd .nhdr .mhd .mha .vtk .vti (file: VTK XML,
 /// directory: vtk-js) .json (vtk-js index) .slc .nii .nii.gz .hdr .dat, a directory holding
-/// index.json, a DICOM folder, DICOMDIR or slice file ("DICM" at byte 128), else by content (magic).
+/// index.json, a Zarr v2 store (a folder with .zarray, an OME-Zarr folder with .zattrs multiscales, a
+/// folder named *.zarr, or the .zarray itself: formats/zarr.hpp), a DICOM folder, DICOMDIR or slice
+/// file ("DICM" at byte 128), else by content (magic).
 Volume read_volume(const std::string& path, const RawOptions& raw = {});
 
 /// The same volume as read_volume, read the fastest way for one pass over it: when the samples are
@@ -62,7 +64,7 @@ Volume read_volume(const std::string& path, const RawOptions& raw = {});
 Volume map_volume(const std::string& path, const RawOptions& raw = {});
 
 struct VolumeInfo {
-    std::string format;                   ///< "raw", "npy", "nrrd", "metaimage", "vtk-legacy", "vti", "vtkjs", "slc", "nifti", "voreen-dat", "dicom"
+    std::string format;                   ///< "raw", "npy", "nrrd", "metaimage", "vtk-legacy", "vti", "vtkjs", "slc", "nifti", "voreen-dat", "dicom", "zarr", "ome-zarr"
     GridSpec grid;
     SampleType type = SampleType::u8;     ///< the type read_volume returns
     std::string encoding;                 ///< "raw", "gzip", "ascii", "rle", "base64", "base64+zlib", "appended-raw", ...
@@ -87,7 +89,7 @@ VolumeInfo prove_volume(const std::string& path, const RawOptions& raw = {});
 std::uint64_t decoded_bytes(const VolumeInfo& vi, const std::string& path);
 
 /// By extension: .raw .nrrd .nhdr .mhd .mha .vtk .vti .slc .nii .nii.gz .dat, a .npy of 3 dimensions, a .json that is
-/// a vtk-js index, a directory holding index.json; a DICOM file, DICOMDIR or a folder with a DICOM
+/// a vtk-js index, a directory holding index.json; a Zarr store (formats/zarr.hpp looks_like_zarr); a DICOM file, DICOMDIR or a folder with a DICOM
 /// file among its first 64 entries (formats/dicom_series.hpp looks_like_dicom). Does not open the payload.
 bool looks_like_volume(const std::string& path);
 

@@ -18,6 +18,7 @@
 #include "formats/raw_volume.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/voreen_dat.hpp"
+#include "formats/zarr.hpp"
 #include "formats/reference_policy.hpp"
 #include "kernels/errors.hpp"
 
@@ -152,6 +153,43 @@ private:
     std::unique_ptr<InflateReader> inflate_;
     std::size_t inflate_file_ = 0;
     std::uint64_t skip_ = 0;
+};
+
+/// A Zarr store, one z-row of chunks decoded at a time (memory: the row, one chunk and its file).
+class ZarrSliceSource final : public SliceSource {
+public:
+    ZarrSliceSource(ZarrArray a, std::string name) : rows_(std::move(a)), name_(std::move(name)) {}
+    const GridSpec& grid() const override { return rows_.array().grid; }
+    SampleType type() const override { return rows_.type(); }
+    std::string name() const override { return name_; }
+    void read_slices(std::int64_t k, std::int64_t count, std::byte* out) override {
+        check_range(*this, k, count);
+        const GridSpec& g = grid();
+        const std::int64_t cz = rows_.array().chunk[2];
+        const std::size_t slice = static_cast<std::size_t>(g.dims[0] * g.dims[1]) * sample_size(type());
+        for (std::int64_t s = k; s < k + count;) {
+            const std::int64_t r = s / cz, z0 = r * cz, z1 = std::min(g.dims[2], z0 + cz);
+            const std::int64_t take = std::min(k + count, z1) - s;
+            std::byte* dst = out + static_cast<std::size_t>(s - k) * slice;
+            if (s == z0 && take == z1 - z0) {  // the whole row asked for: decoded in place
+                rows_.read_row(r, dst);
+            } else {
+                if (row_ != r) {
+                    buffer_.resize(static_cast<std::size_t>(z1 - z0) * slice);
+                    rows_.read_row(r, buffer_.data());
+                    row_ = r;
+                }
+                std::memcpy(dst, buffer_.data() + static_cast<std::size_t>(s - z0) * slice, static_cast<std::size_t>(take) * slice);
+            }
+            s += take;
+        }
+    }
+
+private:
+    ZarrChunkRows rows_;
+    std::string name_;
+    std::vector<std::byte> buffer_;  // the row read last
+    std::int64_t row_ = -1;
 };
 
 std::optional<PayloadPlan> streamable_plan(const std::string& path, const RawOptions& raw) {
@@ -301,6 +339,10 @@ std::unique_ptr<SliceSource> open_slice_source(const std::string& path, const Ra
     if (is_brick_store(path)) return open_brick_store_slices(path);
     if (is_dicom_input(path, raw))
         return std::make_unique<DicomSliceSource>(open_dicom_series(path, raw.series, raw.references), path);
+    if (is_zarr_input(path)) {
+        check_reference(raw.references, path, path);
+        return std::make_unique<ZarrSliceSource>(open_zarr(path, raw), path);
+    }
     if (auto plan = streamable_plan(path, raw)) return std::make_unique<PlanSliceSource>(std::move(*plan), path);
     return std::make_unique<MemorySliceSource>(read_volume(path, raw), path);
 }

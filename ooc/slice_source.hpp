@@ -3,7 +3,8 @@
 //   open_slice_source: raw files, and NRRD/MetaImage/Voreen headers whose payload is raw or gzip
 //     (one file or a list of slab files, no line skip), stream from disk slab by slab, converted to
 //     the same sample type read_volume gives; a DICOM series decodes one slice file at a time
-//     (formats/dicom_series.hpp); other formats are read whole and served from memory.
+//     (formats/dicom_series.hpp); a Zarr store decodes one z-row of chunks at a time (formats/zarr.hpp);
+//     other formats are read whole and served from memory.
 //   make_upsampling_source: trilinear or tricubic (Catmull-Rom, clamped at the borders) upsampling
 //     of an in-memory volume by an integer factor f: dims (n-1)*f+1 (1 stays 1), spacing/f, same
 //     origin and sample type (integers rounded to nearest and clamped), computed slice by slice

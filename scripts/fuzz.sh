@@ -18,7 +18,7 @@ data=${MESHLESS_DATA:-$root/../shared/data}
 all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
      fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_npy_volume fuzz_plot3d fuzz_vtp fuzz_oriented_vtp fuzz_vts fuzz_vtu fuzz_csv fuzz_npy fuzz_points_raw
      fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file fuzz_point_store
-     fuzz_positions fuzz_dicom)
+     fuzz_positions fuzz_dicom fuzz_zarr)
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
@@ -96,6 +96,12 @@ for name, descr, order in (('c', '<i2', 'False'), ('f', '>f4', 'True')):  # 3-D 
         os.makedirs(os.path.join(d, t), exist_ok=True)
         open(os.path.join(d, t, 'volume_' + name), 'wb').write(vol)
 EOF
+# Zarr stores: the .zarray, a NUL, chunk 0.0.0 (uncompressed, zlib, zstd; a 4x4x2 array in one chunk)
+zarray() { printf '{"zarr_format": 2, "shape": [2, 4, 4], "chunks": [%s], "dtype": "%s", "compressor": %s, "fill_value": 0, "filters": null, "order": "%s"}\0' "$@"; }
+{ zarray "2, 4, 4" "|u1" null C; z64 32; } | seed fuzz_zarr raw
+{ zarray "2, 4, 4" "<i2" '{"id": "zlib", "level": 1}' F; z64 64 | python3 -c 'import sys, zlib; sys.stdout.buffer.write(zlib.compress(sys.stdin.buffer.read()))'; } | seed fuzz_zarr zlib
+{ zarray "1, 2, 4" ">f4" '{"id": "gzip", "level": 1}' C; z64 32 | gz; } | seed fuzz_zarr gzip
+command -v zstd >/dev/null && { zarray "2, 4, 4" "<u2" '{"id": "zstd", "level": 1}' C; z64 64 | zstd -q -c; } | seed fuzz_zarr zstd
 have mni152_brain/avg152T1_RL_nifti.nii.gz && seed fuzz_nifti_gz mni < "$data/mni152_brain/avg152T1_RL_nifti.nii.gz"
 have scattered/dark_matter_halo/halo_low_res.npy && seed fuzz_npy halo < "$data/scattered/dark_matter_halo/halo_low_res.npy"
 have plot3d/mbwavelet_ascii.xyz && { cat "$data/plot3d/mbwavelet_ascii.xyz"; printf '\0'; cat "$data/plot3d/mbwavelet_ascii.q"; } | seed fuzz_plot3d mbwavelet

@@ -25,13 +25,14 @@ JOBS="${JOBS:-$(nproc)}"
 PACKAGES=(build-essential cmake ninja-build pkg-config git
           libeigen3-dev libnanoflann-dev libboost-iostreams-dev libzstd-dev libcgal-dev
           catch2 libtbb-dev libpng-dev zlib1g-dev libcli11-dev libdeflate-dev
-          libpugixml-dev libsimdjson-dev
+          libpugixml-dev libsimdjson-dev libblosc-dev
           libopenmpi-dev openmpi-bin)
 # the benchmarks' baselines (bench/flying_edges.py, bench/rbf_reference.py) and /usr/bin/time
 BENCH_PACKAGES=(python3-vtk9 python3-scipy time)
 # the Python module (build, test): pybind11 and Debian's python3 with its headers and NumPy; VTK's
-# Python modules for its to_vtk/from_vtk (their tests and the README's example run them)
-PYTHON_PACKAGES=(pybind11-dev python3-dev python3-numpy python3-pytest python3-vtk9)
+# Python modules for its to_vtk/from_vtk (their tests and the README's example run them); zarr-python,
+# the Zarr reader's second writer in tests/cli/test_zarr_cli.cpp (skipped without it)
+PYTHON_PACKAGES=(pybind11-dev python3-dev python3-numpy python3-pytest python3-vtk9 python3-zarr)
 # the sanitizer tier's compiler and its libFuzzer runtime (test, sanitize)
 SANITIZE_PACKAGES=(clang-14 libclang-rt-14-dev)
 # the DICOM reader (GDCM) and the DICOM test series' writer (build, test, sanitize; not demo)

@@ -19,6 +19,15 @@ constexpr int kFramingBlockEdge = 32;  // the default brick edge of meshless con
 void warn_if_raw_options_ignored(const std::string& path, const VolumeOpenOptions& o) {
     if (!o.raw_given || !o.warn) return;
     const VolumeInfo vi = probe_volume(path, o.raw);
+    if (vi.format == "zarr" || vi.format == "ome-zarr") {  // .zarray gives the shape and dtype; OME-Zarr its scale
+        if (o.raw.dims || o.raw.type || o.raw.big_endian)
+            o.warn("warning: " + terminal_safe(path) + " is a Zarr store, whose .zarray gives its shape and dtype: --dims, " +
+                   "--type and --endian are ignored");
+        if (o.raw.spacing && vi.grid.spacing != *o.raw.spacing)
+            o.warn("warning: " + terminal_safe(path) + " is an OME-Zarr image whose coordinateTransformations give its scale: " +
+                   "--spacing is ignored");
+        return;
+    }
     if (vi.format == "npy") {  // the header gives the shape and dtype, --spacing the geometry it lacks
         if (o.raw.dims || o.raw.type || o.raw.big_endian)
             o.warn("warning: " + terminal_safe(path) + " is a .npy file, whose header gives its shape and dtype: --dims, " +
@@ -30,9 +39,10 @@ void warn_if_raw_options_ignored(const std::string& path, const VolumeOpenOption
                " file, which describes itself: --dims, --type, --endian and --spacing are ignored");
 }
 
-/// Formats whose payload open_slice_source streams from disk (raw or gzip samples).
+/// Formats whose payload open_slice_source streams from disk (raw or gzip samples, Zarr chunk rows).
 bool streamable(const std::string& path, const RawOptions& raw) {
     const VolumeInfo vi = probe_volume(path, raw);
+    if (vi.format == "zarr" || vi.format == "ome-zarr") return true;
     return (vi.format == "raw" || vi.format == "npy" || vi.format == "nrrd" || vi.format == "metaimage" || vi.format == "voreen-dat") &&
            (vi.encoding == "raw" || vi.encoding == "gzip");
 }
@@ -158,7 +168,8 @@ VolumeInput open_volume_input(const std::string& path, const VolumeOpenOptions& 
                        " is streamed slab by slab");
             warn_if_raw_options_ignored(in.path, o);
             in.slices = open_slice_source(in.path, raw);
-            if (probe_volume(in.path, raw).encoding == "raw")  // any k, any reader: parallel passes
+            if (const VolumeInfo vi = probe_volume(in.path, raw);  // any k, any reader: parallel passes
+                vi.encoding == "raw" || vi.format == "zarr" || vi.format == "ome-zarr")
                 in.reopen = [path = in.path, raw] { return open_slice_source(path, raw); };
         } else {
             in.volume = load_volume(in.path, o, /*map=*/true);
