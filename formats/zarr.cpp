@@ -32,6 +32,8 @@ namespace {
 
 /// The largest decoded chunk read (numcodecs' Blosc and zarr-python limit chunks to 2 GiB too).
 constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{1} << 31;
+/// The most chunk files a store may name (a folder of more is not a store anyone wrote).
+constexpr std::uint64_t kMaxChunkFiles = std::uint64_t{1} << 31;
 /// .zarray and .zattrs documents larger than this are not metadata.
 constexpr std::uint64_t kMaxMetadataBytes = std::uint64_t{16} << 20;
 
@@ -292,6 +294,9 @@ ZarrArray parse_zarray(std::string_view text, const std::string& zarray) {
                                   file + ": chunk count");
     }
     (void)checked_mul(samples, stored_size(a.type), shape_ctx);
+    if (chunk_files > kMaxChunkFiles)
+        fail(file, "shape " + list_text(a.shape) + " in chunks " + list_text(a.chunks) + " makes " + std::to_string(chunk_files) +
+                       " chunks, more than a store holds (at most 2^31)");
     a.chunk_bytes = checked_mul(chunk_samples, stored_size(a.type), file + ": chunks " + list_text(a.chunks));
     if (a.chunk_bytes > kMaxChunkBytes)
         fail(file, "chunks " + list_text(a.chunks) + " of " + std::string(to_string(a.type)) + " hold " + std::to_string(a.chunk_bytes) +

@@ -19,10 +19,10 @@
 // Memory: ZarrChunkRows decodes one z-row of chunks at a time (chunk depth cz slices), so the slab
 // streamer (ooc/slice_source.hpp) holds one row, one chunk and its compressed bytes.
 // Hostile stores: every size is checked before anything is allocated from it (shape and chunk
-// products overflow-checked; a chunk at most 2 GiB; a chunk file larger than its chunk compresses
-// to is refused before it is read; a deflate chunk must hold at least 1/1032 of its decoded size;
-// a zstd frame's or blosc header's declared size must equal the chunk's; decoding never writes
-// beyond one chunk, so a bomb stops at the chunk's size). Chunk paths are computed from chunk
+// products overflow-checked; a chunk at most 2 GiB, at most 2^31 chunks; a chunk file larger
+// than its chunk compresses to is refused before it is read; a deflate chunk must hold at least
+// 1/1032 of its decoded size; a zstd frame's or blosc header's declared size must equal the
+// chunk's; decoding never writes beyond one chunk, so a bomb stops at the chunk's size). Chunk paths are computed from chunk
 // indices, never taken from the JSON; an OME-Zarr dataset `path` must be relative, without `..`
 // or odd characters. RawOptions::references confines the store, its level and each chunk file.
 // Throws FormatError naming the .zarray (a field and what is wrong with it, bytes from the file

@@ -180,6 +180,7 @@ TEST_CASE("zarr: must-fail stores, one per defect class", "[formats][zarr]") {
     CHECK_THAT(err("negative", zarray("[2, -4, 4]", s3)), Contains("negative/.zarray: \"shape\"[1] -4 is not an integer in 0.."));
     CHECK_THAT(err("fraction", zarray("[2, 4.5, 4]", s3)), Contains("\"shape\"[1] 4.5 is not an integer"));
     CHECK_THAT(err("overflow", zarray("[4294967296, 4294967296, 4294967296]", s3)), Contains("overflow/.zarray: shape (4294967296, 4294967296, 4294967296)") && Contains("size overflow"));
+    CHECK_THAT(err("manychunks", zarray("[65536, 65536, 65536]", "[1, 1, 2]")), Contains("makes 140737488355328 chunks, more than a store holds"));
     CHECK_THAT(err("empty", zarray("[2, 0, 4]", s3)), Contains("shape (2, 0, 4) has an empty axis"));
     CHECK_THAT(err("chunkcount", zarray(s3, "[2, 4]")), Contains("chunks (2, 4) do not have one entry per axis"));
     CHECK_THAT(err("hugechunk", zarray("[2048, 2048, 2048]", "[2048, 2048, 1024]")), Contains("more than the 2 GiB a chunk may hold"));
