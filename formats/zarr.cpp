@@ -7,6 +7,7 @@
 #endif
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -312,6 +313,7 @@ ZarrArray parse_zarray(std::string_view text, const std::string& zarray) {
         if (!sep->is_string() || (sep->str != "." && sep->str != "/"))
             fail(file, "dimension_separator " + json_text(*sep) + " is not \".\" or \"/\"");
         a.separator = sep->str[0];
+        a.separator_given = true;
     }
     const Json* filters = doc.find("filters");
     if (filters && !filters->is_null() && !(filters->is_array() && filters->arr.empty())) {
@@ -513,9 +515,18 @@ void ZarrChunkRows::read_row(std::int64_t r, std::byte* out, bool out_zeroed) {
         for (std::int64_t ix = 0; ix < a_.count[0]; ++ix) {
             const std::int64_t x0 = ix * cx, y0 = iy * cy;
             const std::int64_t xc = std::min(cx, nx - x0), yc = std::min(cy, ny - y0);
-            const std::string file = zarr_chunk_path(a_, ix, iy, r);
+            std::string file = zarr_chunk_path(a_, ix, iy, r);
             std::error_code ec;
-            const fs::file_status st = fs::status(file, ec);
+            fs::file_status st = fs::status(file, ec);
+            if (st.type() == fs::file_type::not_found && !a_.separator_given) {  // nested keys, the separator unnamed
+                ZarrArray nested = a_;
+                nested.separator = '/';
+                const std::string other = zarr_chunk_path(nested, ix, iy, r);
+                if (fs::status(other, ec).type() != fs::file_type::not_found) {
+                    file = other;
+                    st = fs::status(file, ec);
+                }
+            }
             const std::byte* samples = nullptr;  // volume samples, x fastest, chunk-sized
             if (st.type() == fs::file_type::not_found) {
                 // a missing chunk: fill_value

@@ -3,7 +3,8 @@
 //
 // Layout: a folder with `.zarray` (JSON: zarr_format 2, shape, chunks, dtype, order, fill_value,
 // compressor, filters, dimension_separator) and one file per chunk, named by its chunk indices
-// joined by "." ("2.0.1") or, with dimension_separator "/", nested folders ("2/0/1"). Order "C":
+// joined by "." ("2.0.1") or, with dimension_separator "/", nested folders ("2/0/1"; tried too for a
+// chunk missing as "2.0.1" when .zarray names no separator, as NestedDirectoryStore wrote). Order "C":
 // shape (nz, ny, nx), x fastest, as NumPy and Zarr store a volume; order "F": shape (nx, ny, nz),
 // x fastest too (as formats/npy_volume.hpp reads Fortran .npy). Axes of size 1 before a C array's
 // last three (after an F array's first three) are dropped: OME-Zarr's (t, c, z, y, x) of one time
@@ -59,6 +60,7 @@ struct ZarrArray {
     bool big_endian = false;
     bool fortran = false;
     char separator = '.';
+    bool separator_given = false;        ///< .zarray names dimension_separator (else "." and, for a missing chunk, "/" tried)
     ZarrCompressor compressor = ZarrCompressor::none;
     std::string compressor_text;         ///< "zstd level 3", "blosc lz4 shuffle", ...
     double fill = 0;                     ///< fill_value (null: 0)

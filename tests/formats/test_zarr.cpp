@@ -92,6 +92,20 @@ TEST_CASE("zarr: every dtype, order, compressor and separator reads the oracle, 
         }
 }
 
+TEST_CASE("zarr: nested chunk folders are found when .zarray names no dimension_separator", "[formats][zarr]") {
+    TempDir d("zarr-nested");
+    ZarrWriteOptions o;
+    o.separator = '/';
+    o.chunks = {4, 5, 6};
+    o.compressor = "zlib";
+    write_zarr(d.path / "n.zarr", oracle_values(), NX, NY, NZ, o);
+    std::string za = meshless::test::slurp_file(d.path / "n.zarr" / ".zarray");
+    za.erase(za.find("\"dimension_separator\""), std::string("\"dimension_separator\": \"/\",\n  ").size());
+    zarr_put(d.path / "n.zarr" / ".zarray", za);
+    CHECK(za.find("dimension_separator") == std::string::npos);
+    CHECK(samples_of(read_volume((d.path / "n.zarr").string())) == oracle_values());
+}
+
 TEST_CASE("zarr: missing chunks read as fill_value, NaN included", "[formats][zarr]") {
     TempDir d("zarr-fill");
     std::vector<double> values = oracle_values();
