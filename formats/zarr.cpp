@@ -1,5 +1,8 @@
 #include "formats/zarr.hpp"
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
 #include <zstd.h>
 #include <zstd_errors.h>
 #if MESHLESS_HAVE_BLOSC
@@ -12,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -496,80 +500,108 @@ void decode_zarr_chunk(const ZarrArray& a, const std::byte* data, std::size_t n,
     }
 }
 
-ZarrChunkRows::ZarrChunkRows(ZarrArray a) : a_(std::move(a)) {
+// One thread's buffers: a chunk file's bytes, the decoded chunk, the chunk as volume samples.
+struct ZarrChunkRows::Scratch {
+    struct Buffers {
+        std::vector<std::byte> packed, chunk, converted;
+    };
+    tbb::enumerable_thread_specific<Buffers> local;
+};
+
+ZarrChunkRows::ZarrChunkRows(ZarrArray a) : a_(std::move(a)), scratch_(std::make_unique<Scratch>()) {
     type_ = volume_type_for(a_.type);
     fill_ = fill_sample(a_);
 }
+ZarrChunkRows::~ZarrChunkRows() = default;
+ZarrChunkRows::ZarrChunkRows(ZarrChunkRows&&) noexcept = default;
 
-void ZarrChunkRows::read_row(std::int64_t r, std::byte* out, bool out_zeroed) {
+void ZarrChunkRows::read_chunk(std::int64_t ix, std::int64_t iy, std::int64_t r, std::byte* out, bool out_zeroed) {
     const std::int64_t nx = a_.grid.dims[0], ny = a_.grid.dims[1], nz = a_.grid.dims[2];
     const std::int64_t cx = a_.chunk[0], cy = a_.chunk[1], cz = a_.chunk[2];
-    if (r < 0 || r >= a_.count[2]) throw InvalidArgument(a_.folder + ": chunk row " + std::to_string(r) + " outside the array");
     const std::size_t vs = sample_size(type_);
     const std::int64_t z0 = r * cz, zc = std::min(cz, nz - z0);
     const std::size_t want = static_cast<std::size_t>(a_.chunk_bytes);
     // the most a chunk file may hold: its chunk compressed by any coding we read, with overhead
     const std::uint64_t plausible = a_.chunk_bytes + a_.chunk_bytes / 128 + 1024;
-    const bool zero_fill = std::all_of(fill_.begin(), fill_.end(), [](std::byte b) { return b == std::byte{0}; });
-    for (std::int64_t iy = 0; iy < a_.count[1]; ++iy)
-        for (std::int64_t ix = 0; ix < a_.count[0]; ++ix) {
-            const std::int64_t x0 = ix * cx, y0 = iy * cy;
-            const std::int64_t xc = std::min(cx, nx - x0), yc = std::min(cy, ny - y0);
-            std::string file = zarr_chunk_path(a_, ix, iy, r);
-            std::error_code ec;
-            fs::file_status st = fs::status(file, ec);
-            if (st.type() == fs::file_type::not_found && !a_.separator_given) {  // nested keys, the separator unnamed
-                ZarrArray nested = a_;
-                nested.separator = '/';
-                const std::string other = zarr_chunk_path(nested, ix, iy, r);
-                if (fs::status(other, ec).type() != fs::file_type::not_found) {
-                    file = other;
-                    st = fs::status(file, ec);
-                }
-            }
-            const std::byte* samples = nullptr;  // volume samples, x fastest, chunk-sized
-            if (st.type() == fs::file_type::not_found) {
-                // a missing chunk: fill_value
-            } else {
-                check_reference(a_.references, a_.zarray, file);
-                const std::uint64_t size = regular_file_size(file);
-                if (size > plausible)
-                    fail(file, "chunk file of " + std::to_string(size) + " bytes is larger than a chunk of " + std::to_string(want) +
-                                   " bytes compresses to (" + a_.compressor_text + ")");
-                if (chunk_.size() != want) chunk_.resize(want);
-                if (a_.compressor == ZarrCompressor::none) {
-                    if (size != want)
-                        fail(file, "uncompressed chunk of " + std::to_string(size) + " bytes, expected " + std::to_string(want) +
-                                       " (chunks " + list_text(a_.chunks) + " of " + to_string(a_.type) + ")");
-                    read_file_range_into(file, 0, size, chunk_.data());
-                } else {
-                    packed_.resize(static_cast<std::size_t>(size));
-                    read_file_range_into(file, 0, size, packed_.data());
-                    decode_zarr_chunk(a_, packed_.data(), packed_.size(), chunk_.data(), file);
-                }
-                const std::size_t chunk_samples = want / stored_size(a_.type);
-                if (native(a_.type)) {
-                    if (a_.big_endian == host_is_little_endian()) byte_swap_in_place(chunk_.data(), want, stored_size(a_.type));
-                    samples = chunk_.data();
-                } else {
-                    GridSpec g;
-                    g.dims = {static_cast<std::int64_t>(chunk_samples), 1, 1};
-                    const Volume v = make_volume(std::vector<std::byte>(chunk_), a_.type, a_.big_endian, g, file);
-                    converted_.assign(v.bytes.begin(), v.bytes.end());
-                    samples = converted_.data();
-                }
-            }
-            if (!out || (!samples && out_zeroed && zero_fill)) continue;
-            for (std::int64_t z = 0; z < zc; ++z)
-                for (std::int64_t y = 0; y < yc; ++y) {
-                    std::byte* dst = out + static_cast<std::size_t>(((z * ny) + y0 + y) * nx + x0) * vs;
-                    if (samples) {
-                        std::memcpy(dst, samples + static_cast<std::size_t>((z * cy + y) * cx) * vs, static_cast<std::size_t>(xc) * vs);
-                    } else {
-                        for (std::int64_t x = 0; x < xc; ++x) std::memcpy(dst + static_cast<std::size_t>(x) * vs, fill_.data(), vs);
-                    }
-                }
+    const std::int64_t x0 = ix * cx, y0 = iy * cy;
+    const std::int64_t xc = std::min(cx, nx - x0), yc = std::min(cy, ny - y0);
+    std::string file = zarr_chunk_path(a_, ix, iy, r);
+    std::error_code ec;
+    fs::file_status st = fs::status(file, ec);
+    if (st.type() == fs::file_type::not_found && !a_.separator_given) {  // nested keys, the separator unnamed
+        ZarrArray nested = a_;
+        nested.separator = '/';
+        const std::string other = zarr_chunk_path(nested, ix, iy, r);
+        if (fs::status(other, ec).type() != fs::file_type::not_found) {
+            file = other;
+            st = fs::status(file, ec);
         }
+    }
+    const std::byte* samples = nullptr;  // volume samples, x fastest, chunk-sized; none: fill_value
+    if (st.type() != fs::file_type::not_found) {
+        Scratch::Buffers& b = scratch_->local.local();
+        check_reference(a_.references, a_.zarray, file);
+        const std::uint64_t size = regular_file_size(file);
+        if (size > plausible)
+            fail(file, "chunk file of " + std::to_string(size) + " bytes is larger than a chunk of " + std::to_string(want) +
+                           " bytes compresses to (" + a_.compressor_text + ")");
+        if (b.chunk.size() != want) b.chunk.resize(want);
+        if (a_.compressor == ZarrCompressor::none) {
+            if (size != want)
+                fail(file, "uncompressed chunk of " + std::to_string(size) + " bytes, expected " + std::to_string(want) + " (chunks " +
+                               list_text(a_.chunks) + " of " + to_string(a_.type) + ")");
+            read_file_range_into(file, 0, size, b.chunk.data());
+        } else {
+            b.packed.resize(static_cast<std::size_t>(size));
+            read_file_range_into(file, 0, size, b.packed.data());
+            decode_zarr_chunk(a_, b.packed.data(), b.packed.size(), b.chunk.data(), file);
+        }
+        if (native(a_.type)) {
+            if (a_.big_endian == host_is_little_endian()) byte_swap_in_place(b.chunk.data(), want, stored_size(a_.type));
+            samples = b.chunk.data();
+        } else {
+            GridSpec g;
+            g.dims = {static_cast<std::int64_t>(want / stored_size(a_.type)), 1, 1};
+            const Volume v = make_volume(std::vector<std::byte>(b.chunk), a_.type, a_.big_endian, g, file);
+            b.converted.assign(v.bytes.begin(), v.bytes.end());
+            samples = b.converted.data();
+        }
+    }
+    const bool zero_fill = std::all_of(fill_.begin(), fill_.end(), [](std::byte v) { return v == std::byte{0}; });
+    if (!out || (!samples && out_zeroed && zero_fill)) return;
+    for (std::int64_t z = 0; z < zc; ++z)
+        for (std::int64_t y = 0; y < yc; ++y) {
+            std::byte* dst = out + static_cast<std::size_t>(((z * ny) + y0 + y) * nx + x0) * vs;
+            if (samples) {
+                std::memcpy(dst, samples + static_cast<std::size_t>((z * cy + y) * cx) * vs, static_cast<std::size_t>(xc) * vs);
+            } else {
+                for (std::int64_t x = 0; x < xc; ++x) std::memcpy(dst + static_cast<std::size_t>(x) * vs, fill_.data(), vs);
+            }
+        }
+}
+
+void ZarrChunkRows::read_row(std::int64_t r, std::byte* out, bool out_zeroed) {
+    if (r < 0 || r >= a_.count[2]) throw InvalidArgument(a_.folder + ": chunk row " + std::to_string(r) + " outside the array");
+    const std::int64_t n = a_.count[0] * a_.count[1];
+    // the chunks of the row decoded in parallel (the caller's TBB arena: --threads), each writing its
+    // own part of the row; the first failing chunk in key order is reported, whatever the schedule
+    std::vector<std::exception_ptr> failed(static_cast<std::size_t>(n));
+    auto one = [&](std::int64_t c) {
+        try {
+            read_chunk(c % a_.count[0], c / a_.count[0], r, out, out_zeroed);
+        } catch (...) {
+            failed[static_cast<std::size_t>(c)] = std::current_exception();
+        }
+    };
+    if (n == 1) {
+        one(0);
+    } else {
+        tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, n, 1), [&](const tbb::blocked_range<std::int64_t>& q) {
+            for (std::int64_t c = q.begin(); c < q.end(); ++c) one(c);
+        });
+    }
+    for (const std::exception_ptr& e : failed)
+        if (e) std::rethrow_exception(e);
 }
 
 Volume read_zarr(const std::string& path, const RawOptions& raw) {

@@ -18,7 +18,8 @@
 // multiscale's own (when present), origin from their `translation`s; otherwise RawOptions::spacing
 // (default 1,1,1), origin 0.
 // Memory: ZarrChunkRows decodes one z-row of chunks at a time (chunk depth cz slices), so the slab
-// streamer (ooc/slice_source.hpp) holds one row, one chunk and its compressed bytes.
+// streamer (ooc/slice_source.hpp) holds one row, and one chunk and its compressed bytes per thread
+// decoding the row's chunks (TBB, in the caller's arena).
 // Hostile stores: every size is checked before anything is allocated from it (shape and chunk
 // products overflow-checked; a chunk at most 2 GiB, at most 2^31 chunks; a chunk file larger
 // than its chunk compresses to is refused before it is read; a deflate chunk must hold at least
@@ -29,12 +30,13 @@
 // Throws FormatError naming the .zarray (a field and what is wrong with it, bytes from the file
 // escaped by escape_field) or the chunk file (truncated, corrupt, wrong size); IoError for a
 // folder that is not a Zarr store or a chunk that cannot be read. Thread-safety: reentrant; a
-// ZarrChunkRows is used by one thread at a time.
+// ZarrChunkRows is used by one thread at a time (it runs its own parallel decode).
 // Dissertation: chapter 3 input volumes (section 3.6: volumes bigger than RAM).
 #pragma once
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -99,21 +101,24 @@ void decode_zarr_chunk(const ZarrArray& a, const std::byte* data, std::size_t n,
 class ZarrChunkRows {
 public:
     explicit ZarrChunkRows(ZarrArray a);
+    ~ZarrChunkRows();
+    ZarrChunkRows(ZarrChunkRows&&) noexcept;
     const ZarrArray& array() const { return a_; }
     SampleType type() const { return type_; }
     /// Slices [r * chunk z, min(nz, (r + 1) * chunk z)) into out (nx * ny * their count samples);
     /// out == nullptr decodes and checks every chunk of the row without keeping it. `out_zeroed`:
     /// out holds zeros already, so a missing chunk whose fill_value is stored as zeros is skipped
-    /// (a sparse store read into lazily committed pages costs only its chunks).
+    /// (a sparse store read into lazily committed pages costs only its chunks). The row's chunks
+    /// are decoded in parallel (TBB, in the caller's arena); the first bad chunk in key order throws.
     void read_row(std::int64_t r, std::byte* out, bool out_zeroed = false);
 
 private:
+    struct Scratch;  ///< each thread's chunk buffers (TBB, kept out of this header)
+    void read_chunk(std::int64_t ix, std::int64_t iy, std::int64_t r, std::byte* out, bool out_zeroed);
     ZarrArray a_;
     SampleType type_ = SampleType::u8;
     std::vector<std::byte> fill_;        ///< one volume sample of fill_value
-    std::vector<std::byte> packed_;      ///< a chunk file's bytes
-    std::vector<std::byte> chunk_;       ///< a decoded chunk (stored type, file order)
-    std::vector<std::byte> converted_;   ///< the chunk as volume samples, when the type converts
+    std::unique_ptr<Scratch> scratch_;
 };
 
 Volume read_zarr(const std::string& path, const RawOptions& raw = {});

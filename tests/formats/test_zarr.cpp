@@ -228,6 +228,13 @@ TEST_CASE("zarr: must-fail stores, one per defect class", "[formats][zarr]") {
                Contains("bomb/0.0.0: chunk file of") && Contains("is larger than a chunk of 32 bytes compresses to"));
     CHECK_THAT(err("bomb2", zarray("[64, 1024, 1024]", "[64, 1024, 1024]", "|u1", zlib), zarr_compress(std::string(1000, '\0'), "zlib", 1)),
                Contains("bomb2/0.0.0: a") && Contains("zlib chunk cannot hold 67108864 bytes (deflate expands at most 1032:1)"));
+    // chunks decoded in parallel: the first bad one in key order is reported, whatever the schedule
+    {
+        const std::string dir = store(d, "two", zarray("[2, 4, 64]", "[2, 4, 4]"), std::string(5, '\x01'));
+        for (int c = 1; c < 16; ++c) zarr_put(std::filesystem::path(dir) / ("0.0." + std::to_string(c)), std::string(c == 9 ? 7 : 32, '\x01'));
+        for (int k = 0; k < 20; ++k)
+            CHECK_THAT(error_of([&] { (void)read_volume(dir); }), Contains("two/0.0.0: uncompressed chunk of 5 bytes"));
+    }
     // OME-Zarr: the dataset path stays inside the image folder
     zarr_put(d.path / "up.zarr" / ".zattrs", R"({"multiscales": [{"datasets": [{"path": "../ok"}]}]})");
     CHECK_THAT(error_of([&] { (void)read_volume((d.path / "up.zarr").string()); }),
