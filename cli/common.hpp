@@ -41,9 +41,9 @@ namespace meshless::cli {
 void add_volume_options(Args& a);
 /// The help of --array NAME.
 inline constexpr const char* kArrayOptionHelp =
-    "VTK volumes (.vti, legacy .vtk, vtk.js): the point array to read, by name\n"
-    "                            (default: the active scalars, else the first; meshless info lists them);\n"
-    "                            refused (exit 1) by the formats of one unnamed array: raw, NRRD, NIfTI, .mlb, ...";
+    "VTK volumes (.vti, legacy .vtk, vtk.js): the point array to read, by name (default: the active "
+    "scalars, else the first; meshless info lists them); refused (exit 1) by the formats of one unnamed "
+    "array: raw, NRRD, NIfTI, .mlb, ...";
 /// --array NAME: the point array of a multi-array volume (RawOptions::array, read by raw_options).
 void add_array_option(Args& a);
 /// The raw-volume options given on the command line.

@@ -368,10 +368,10 @@ PayloadPlan plan_vtk_legacy(const std::string& path, const std::string& array, b
         // listing past the array read, a damaged tail ends the list: it is not an error (the payload's
         // own checks report a truncation of the array read, as they always did)
         const auto step = [&](const auto& fn) -> bool {
-            if (!found) return fn();
             try {
                 return fn();
             } catch (const FormatError&) {
+                if (!found) throw;
                 return false;
             }
         };

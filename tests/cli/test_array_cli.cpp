@@ -65,7 +65,7 @@ std::string without_names(const fs::path& p) { return points_of(slurp(p)); }
 
 }  // namespace
 
-TEST_CASE("--array: isosurface and mc of a multi-array .vti equal those of a file holding only that array", "[cli][arrays]") {
+TEST_CASE("array choice: isosurface and mc of a multi-array .vti equal those of a file holding only that array", "[cli][arrays]") {
     TempDir d("array-cli");
     const std::string D = d.path.string();
     spit(d / "in_multi.vti", vti({{"sphere", AnalyticField::sphere}, {"torus", AnalyticField::torus}}));
@@ -99,7 +99,7 @@ TEST_CASE("--array: isosurface and mc of a multi-array .vti equal those of a fil
     CHECK(slurp(d / "multi.mlb") == slurp(d / "torus.mlb"));
 }
 
-TEST_CASE("--array: a legacy .vtk with two SCALARS arrays", "[cli][arrays]") {
+TEST_CASE("array choice: a legacy .vtk with two SCALARS arrays", "[cli][arrays]") {
     TempDir d("array-cli-vtk");
     const std::string D = d.path.string();
     spit(d / "in_two.vtk", legacy({{"sphere", AnalyticField::sphere}, {"torus", AnalyticField::torus}}));
@@ -120,7 +120,7 @@ TEST_CASE("--array: a legacy .vtk with two SCALARS arrays", "[cli][arrays]") {
     CHECK(r.out.find("    torus: float32, 1 component\n") != std::string::npos);
 }
 
-TEST_CASE("--array: info lists the arrays, a missing name exits 2 naming the file and its arrays, "
+TEST_CASE("array choice: info lists the arrays, a missing name exits 2 naming the file and its arrays, "
           "raw files and brick stores refuse it", "[cli][arrays]") {
     TempDir d("array-cli-info");
     const std::string D = d.path.string();
@@ -174,7 +174,7 @@ TEST_CASE("--array: info lists the arrays, a missing name exits 2 naming the fil
     CHECK(!fs::exists(d / "w.mlb"));
 }
 
-TEST_CASE("--array on real data: hydrogen.vti and ironProt.vtk with a second array added", "[cli][arrays][real]") {
+TEST_CASE("array choice on real data: hydrogen.vti and ironProt.vtk with a second array added", "[cli][arrays][real]") {
     if (!have_shared_data()) {
         WARN("shared data not found: skipped");
         return;
@@ -220,4 +220,21 @@ TEST_CASE("--array on real data: hydrogen.vti and ironProt.vtk with a second arr
     r = sh("MESHLESS info " + D + "/in_iron2.vtk", d);
     CHECK(r.out.find("point arrays: 2") != std::string::npos);
     CHECK(r.out.find("    inverted: uint8, 1 component\n") != std::string::npos);
+}
+
+TEST_CASE("array choice on a batch manifest line: the store of the named array, recorded in its sidecar", "[cli][arrays][batch]") {
+    TempDir d("array-cli-batch");
+    const fs::path arch = d / "arch", out = d / "out";
+    fs::create_directories(arch);
+    spit(arch / "in_multi.vti", vti({{"sphere", AnalyticField::sphere}, {"torus", AnalyticField::torus}}));
+    spit(arch / "in_torus.vti", vti({{"torus", AnalyticField::torus}}));
+    spit(arch / "in_other.vti", vti({{"sphere", AnalyticField::sphere}, {"torus", AnalyticField::torus}}));
+    spit(arch / "list.txt", "in_multi.vti --array torus\nin_torus.vti\nin_other.vti --array density\n");
+    const RunResult r = sh("MESHLESS batch " + (arch / "list.txt").string() + " -o " + out.string() + " --iso 0.25", d);
+    CHECK(r.code == 2);  // in_other: no such array, reported alone
+    CHECK_THAT(r.err, Catch::Contains("in_other.vti: no point array named 'density'; its arrays: 'sphere' (float32), 'torus' (float32)"));
+    CHECK_THAT(r.out, Catch::Contains("3 volume(s): 2 done, 0 up to date, 1 failed"));
+    CHECK(slurp(out / "in_multi.mlb") == slurp(out / "in_torus.mlb"));
+    CHECK_THAT(slurp(out / "in_multi.mlb.meta"), Catch::Contains("param.raw=array=torus"));
+    CHECK(points_of(slurp(out / "in_multi_iso0.25.ply")) == points_of(slurp(out / "in_torus_iso0.25.ply")));
 }

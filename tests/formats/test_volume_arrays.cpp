@@ -205,6 +205,14 @@ TEST_CASE("vtk legacy: --array reads a later SCALARS or FIELD array, skipping th
     // listing (meshless info) past the array read: its truncation is the payload's own error, as before
     CHECK_THROWS_AS(prove_volume((dir / "t.vtk").string()), FormatError);
     CHECK(message_of((dir / "t.vtk").string(), {}).find("ends within") == std::string::npos);
+    // the same for a named array, the last, truncated: listing reports the payload's error as reading does
+    const std::string t2 = (dir / "t2.vtk").string();
+    write_file(t2, "# vtk DataFile Version 3.0\nx\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 5 4 3\n"
+                   "POINT_DATA 60\nSCALARS one int\n" + ascii_values(1) + "SCALARS two int\n1 2 3\n");
+    const std::string read_error = message_of(t2, named("two"));
+    CHECK(!read_error.empty());
+    CHECK(read_error.find("ends within") == std::string::npos);
+    CHECK_THROWS_WITH(prove_volume(t2, named("two")), read_error);
 }
 
 TEST_CASE("vtk.js: --array reads the named array, the default is the setScalars one, else the first", "[formats][arrays]") {
@@ -242,7 +250,7 @@ TEST_CASE("vtk.js: --array reads the named array, the default is the setScalars 
     CHECK(values(read_volume(p, named("f2"))) == expected(2));
 }
 
-TEST_CASE("--array: the formats of one unnamed array refuse a name (InvalidArgument)", "[formats][arrays]") {
+TEST_CASE("array choice: the formats of one unnamed array refuse a name (InvalidArgument)", "[formats][arrays]") {
     TempDir dir("arrays-single");
     const std::string raw = (dir / "v_5x4x3_uint8.raw").string();
     write_file(raw, std::string(kCount, '\1'));
