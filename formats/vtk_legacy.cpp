@@ -318,21 +318,26 @@ PayloadPlan plan_vtk_legacy(const std::string& path, const std::string& array, b
     }
     // the point arrays after the first (scan only): listed, their values skipped, the one to read planned
     if (scan) {
+        // lists `a`, makes it the default when it is the first scalars, plans it when it is the one
+        // read, else skips its values; false: stop here (the array read is found, nothing more to list)
+        const auto take = [&](const ArrayHead& a, bool scalars) -> bool {
+            const std::size_t k = plan.arrays.size();
+            plan.arrays.push_back(listed(a));
+            const bool first_scalars = scalars && !have_default;
+            if (first_scalars) plan.default_array = k, have_default = true;
+            if (!found && ((array.empty() && first_scalars) || (!array.empty() && a.name == array))) {
+                plan_array(a);
+                plan.read_array = k, found = true;
+                if (!list_all) return false;
+            }
+            skip_data(a);
+            return true;
+        };
         const auto next_array = [&]() -> bool {  // false: the point data ends (or what follows is not understood)
             if (field_left > 0) {
                 const ArrayHead a = array_head("field");
                 --field_left;
-                const std::size_t k = plan.arrays.size();
-                plan.arrays.push_back(listed(a));
-                const bool first_scalars = !have_default;
-                if (first_scalars) plan.default_array = k, have_default = true;
-                if (!found && ((array.empty() && first_scalars) || (!array.empty() && a.name == array))) {
-                    plan_array(a);
-                    plan.read_array = k, found = true;
-                    if (!list_all) return false;
-                }
-                skip_data(a);
-                return true;
+                return take(a, true);
             }
             if (!c.next_line(line)) return false;
             tk = split_ws(line);
@@ -353,17 +358,7 @@ PayloadPlan plan_vtk_legacy(const std::string& path, const std::string& array, b
             }
             if (key != "scalars" && !is_array_key(key)) return false;  // CELL_DATA, METADATA, ...
             const ArrayHead a = array_head(key);
-            const std::size_t k = plan.arrays.size();
-            plan.arrays.push_back(listed(a));
-            const bool first_scalars = a.scalars && !have_default;
-            if (first_scalars) plan.default_array = k, have_default = true;
-            if (!found && ((array.empty() && first_scalars) || (!array.empty() && a.name == array))) {
-                plan_array(a);
-                plan.read_array = k, found = true;
-                if (!list_all) return false;
-            }
-            skip_data(a);
-            return true;
+            return take(a, a.scalars);
         };
         // listing past the array read, a damaged tail ends the list: it is not an error (the payload's
         // own checks report a truncation of the array read, as they always did)
