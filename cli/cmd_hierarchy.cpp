@@ -61,24 +61,28 @@ CbtParams hierarchy_params(const Args& a) {
     return p;
 }
 
-/// --dims/--type/--spacing/--series (raw volumes), the point-set options: what hierarchy and lod --samples read.
+/// --dims/--type/--spacing/--series/--array (raw volumes), the point-set options: what hierarchy and lod --samples read.
 void add_sample_options(Args& a) {
     add_point_set_options(a, /*with_endian=*/true);
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z (a raw file whose name does not give them)")
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
         .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1")
         .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)");
+    add_array_option(a);
 }
 
 /// The samples of a tree (hierarchy INPUT..., lod --samples INPUT): a brick store brick by brick, a
-/// raw volume described by --dims/--type/--spacing/--series (--endian its byte order), or volumes,
+/// raw volume described by --dims/--type/--spacing/--series/--array (--endian its byte order), or volumes,
 /// point sets and multiblock grids as every point command reads them (NaN/Inf counted, not warned:
 /// the tree's notes count them).
 PointSet tree_samples(const Args& a, const std::vector<std::string>& paths) {
-    const bool raw_volume = a.has("dims") || a.has("type") || a.has("spacing") || a.has("series");
+    const bool raw_volume = a.has("dims") || a.has("type") || a.has("spacing") || a.has("series") || a.has("array");
     if (raw_volume && paths.size() != 1)
-        throw UsageError("--dims/--type/--spacing/--series: one volume, not " + std::to_string(paths.size()) + " inputs");
-    if (paths.size() == 1 && is_brick_store(paths.front())) return point_set_from_brick_store(paths.front());
+        throw UsageError("--dims/--type/--spacing/--series/--array: one volume, not " + std::to_string(paths.size()) + " inputs");
+    if (paths.size() == 1 && is_brick_store(paths.front())) {
+        if (a.has("array")) throw UsageError("--array: " + paths.front() + " is a brick store (.mlb), which holds one unnamed array");
+        return point_set_from_brick_store(paths.front());
+    }
     if (raw_volume) return point_set_from_volume(paths.front(), point_set_options(a), raw_options(a));
     return read_field_points(paths, a, /*warn_dropped=*/false);
 }

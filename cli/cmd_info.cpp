@@ -21,6 +21,8 @@ int cmd_info(int argc, char** argv) {
            "float32 records, 2-D .npy; a 3-D .npy is a volume): points, blocks and dims, value name and range, bounds, dropped samples;\n"
            "VTK multiblock .vtm and AMR .vthb/.vtm hierarchies: levels, boxes per level, refinement,\n"
            "spacing, arrays with their centring, the chosen array's range (--value), blocks and dims.\n"
+           "Volumes of several point arrays (.vti, legacy .vtk, vtk.js) list them (name, type, components) and\n"
+           "say which one is read by default; --array NAME describes that one.\n"
            "Files that cannot be described are reported on stderr; the others are still described.");
     a.flag("value-range", "volumes: also read the samples and print the value range").deprecated_alias("range");
     a.positionals(1, 100000);
@@ -34,6 +36,9 @@ int cmd_info(int argc, char** argv) {
             // a kind's options are parsed when a file of that kind comes: a malformed one stops the
             // run there (exit 1), after the files before it, and is never looked at if no file reads it
             const FileKind kind = file_kind(path, a.has("dims"));
+            if (a.has("array") && (kind == FileKind::brick_store || kind == FileKind::sample_store))
+                throw UsageError("--array: " + path + " is a " + (kind == FileKind::brick_store ? "brick store (.mlb)" : "sample store (.mls)") +
+                                 ", which holds one unnamed array");
             FileInfoOptions o;
             if (kind == FileKind::volume) o.raw = raw_options(a), o.value_range = a.has("value-range");
             if (kind == FileKind::point_set || kind == FileKind::multiblock) o.point_set = point_set_options(a);

@@ -32,6 +32,11 @@ void add_volume_options(Args& a) {
         .option("endian", "", "little|big", "raw volumes: byte order of the samples", "little")
         .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1")
         .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)");
+    add_array_option(a);
+}
+
+void add_array_option(Args& a) {
+    a.option("array", "", "NAME", kArrayOptionHelp);
 }
 
 RawOptions raw_options(const Args& a) {
@@ -63,6 +68,10 @@ RawOptions raw_options(const Args& a) {
     if (auto s = a.get("series")) {
         if (s->empty()) throw UsageError("--series: expected a Series Instance UID or a series number");
         raw.series = *s;
+    }
+    if (auto n = a.get("array")) {
+        if (n->empty()) throw UsageError("--array: expected the name of a point array (meshless info lists them)");
+        raw.array = *n;
     }
     return raw;
 }

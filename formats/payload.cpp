@@ -12,6 +12,7 @@
 #include "formats/gzip.hpp"
 #include "formats/mapped_file.hpp"
 #include "formats/ply.hpp"
+#include "formats/text_header.hpp"
 #include "kernels/checked_size.hpp"
 #include "kernels/flip_axes.hpp"
 #include "kernels/errors.hpp"
@@ -36,7 +37,31 @@ VolumeInfo info_from_plan(const PayloadPlan& plan) {
     i.encoding = to_string(plan.encoding);
     i.data_files = plan.files;
     i.frame = plan.frame;
+    i.arrays = plan.arrays;
+    i.default_array = plan.default_array;
+    i.read_array = plan.read_array;
     return i;
+}
+
+std::size_t choose_volume_array(const std::vector<VolumeArray>& arrays, std::size_t fallback, const std::string& name,
+                                const std::string& path) {
+    if (name.empty()) return fallback;
+    for (std::size_t k = 0; k < arrays.size(); ++k)
+        if (arrays[k].name == name) return k;
+    std::string list;
+    for (const VolumeArray& a : arrays) {
+        list += (list.empty() ? "'" : ", '") + escape_field(a.name) + "' (" + a.type;
+        if (a.components != 1) list += ", " + (a.components > 0 ? std::to_string(a.components) : std::string("?")) + " components";
+        list += ")";
+    }
+    throw FormatError(path + ": no point array named '" + escape_field(name) + "'; " +
+                      (arrays.empty() ? std::string("it has none") : "its arrays: " + list));
+}
+
+void refuse_array_choice(const std::string& name, const std::string& path, const std::string& format) {
+    if (name.empty()) return;
+    throw InvalidArgument(path + ": a " + format + " volume holds one unnamed array: no array '" + escape_field(name) +
+                          "' to choose (only .vti, VTK legacy .vtk and vtk.js volumes name their arrays)");
 }
 
 namespace {

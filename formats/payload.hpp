@@ -41,7 +41,18 @@ struct PayloadPlan {
     std::array<bool, 3> flip{false, false, false};  ///< axes whose file spacing was negative: samples reversed
                                                     ///< after reading (kernels/flip_axes.hpp; grid already positive)
     std::optional<AnatomicalFrame> frame;           ///< what the header says about the patient's axes (after flips)
+    std::vector<VolumeArray> arrays;                ///< multi-array formats: VolumeInfo::arrays
+    std::size_t default_array = 0, read_array = 0;  ///< VolumeInfo::default_array, read_array
 };
+
+/// The index in `arrays` of the array called `name`, or `fallback` (the format's default) when
+/// `name` is empty. FormatError "PATH: no point array named 'NAME'; its arrays: 'a' (float32),
+/// 'b' (float64, 3 components)" (names escaped, formats/text_header.hpp escape_field) when none is.
+std::size_t choose_volume_array(const std::vector<VolumeArray>& arrays, std::size_t fallback, const std::string& name,
+                                const std::string& path);
+/// For the readers of formats with one unnamed array: InvalidArgument "PATH: a FORMAT volume holds
+/// one unnamed array: no array 'NAME' to choose" when `name` is not empty.
+void refuse_array_choice(const std::string& name, const std::string& path, const std::string& format);
 
 /// fn(), its IoError/FormatError about a data file prefixed with the detached header that names it
 /// ("quarter.nhdr: data file ./quarter.1: ..."), unless the message already begins with the header.

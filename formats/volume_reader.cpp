@@ -98,6 +98,32 @@ Fmt detect(const std::string& path, const RawOptions& raw) {
     return c;
 }
 
+const char* format_name(Fmt f) {
+    switch (f) {
+        case Fmt::raw: return "raw";
+        case Fmt::npy: return "npy";
+        case Fmt::nrrd: return "nrrd";
+        case Fmt::metaimage: return "metaimage";
+        case Fmt::vtk_legacy: return "vtk-legacy";
+        case Fmt::vti: return "vti";
+        case Fmt::vtkjs: return "vtkjs";
+        case Fmt::slc: return "slc";
+        case Fmt::nifti: return "nifti";
+        case Fmt::voreen_dat: return "voreen-dat";
+        case Fmt::dicom: return "dicom";
+        case Fmt::zarr: return "zarr";
+        case Fmt::unknown: break;
+    }
+    return "unknown";
+}
+
+// detect, then RawOptions::array refused for a format of one unnamed array (InvalidArgument).
+Fmt detect_reading(const std::string& path, const RawOptions& raw) {
+    const Fmt f = detect(path, raw);
+    if (f != Fmt::vti && f != Fmt::vtk_legacy && f != Fmt::vtkjs) refuse_array_choice(raw.array, path, format_name(f));
+    return f;
+}
+
 // A header's plan, its data files checked against the policy before any is opened.
 PayloadPlan confined(PayloadPlan plan, const std::string& header, const ReferencePolicy& refs) {
     check_references(refs, header, plan.files);
@@ -131,14 +157,14 @@ Volume map_volume(const std::string& path, const RawOptions& raw) {
 namespace {
 
 Volume read_volume_unnamed(const std::string& path, const RawOptions& raw) {
-    switch (detect(path, raw)) {
+    switch (detect_reading(path, raw)) {
         case Fmt::raw: return read_payload(confined(plan_raw(path, raw), path, raw.references));
         case Fmt::npy: return read_payload(plan_npy(path, raw));
         case Fmt::nrrd: return read_payload(confined(plan_nrrd(path), path, raw.references));
         case Fmt::metaimage: return read_payload(confined(plan_metaimage(path), path, raw.references));
-        case Fmt::vtk_legacy: return read_vtk_legacy(path);
-        case Fmt::vti: return read_vti(path);
-        case Fmt::vtkjs: return read_vtkjs_image(path, raw.references);
+        case Fmt::vtk_legacy: return read_vtk_legacy(path, raw.array);
+        case Fmt::vti: return read_vti(path, raw.array);
+        case Fmt::vtkjs: return read_vtkjs_image(path, raw.references, raw.array);
         case Fmt::slc: return read_slc(path);
         case Fmt::nifti: return read_nifti(path, raw.references);
         case Fmt::voreen_dat: return read_payload(confined(plan_voreen_dat(path), path, raw.references));
@@ -150,7 +176,7 @@ Volume read_volume_unnamed(const std::string& path, const RawOptions& raw) {
 }
 
 Volume map_volume_unnamed(const std::string& path, const RawOptions& raw) {
-    switch (detect(path, raw)) {
+    switch (detect_reading(path, raw)) {
         case Fmt::raw: return read_payload(confined(plan_raw(path, raw), path, raw.references), true);
         case Fmt::npy: return read_payload(plan_npy(path, raw), true);
         case Fmt::nrrd: return read_payload(confined(plan_nrrd(path), path, raw.references), true);
@@ -196,15 +222,15 @@ static VolumeInfo dicom_info(const DicomSeries& s) {
 }
 
 VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
-    switch (detect(path, raw)) {
+    switch (detect_reading(path, raw)) {
         case Fmt::raw: return mappable_info(confined(plan_raw(path, raw), path, raw.references));
         case Fmt::npy: return mappable_info(plan_npy(path, raw));
         case Fmt::nrrd: return mappable_info(confined(plan_nrrd(path), path, raw.references));
         case Fmt::metaimage: return mappable_info(confined(plan_metaimage(path), path, raw.references));
         case Fmt::voreen_dat: return mappable_info(confined(plan_voreen_dat(path), path, raw.references));
-        case Fmt::vtk_legacy: return probe_vtk_legacy(path);
-        case Fmt::vti: return probe_vti(path);
-        case Fmt::vtkjs: return probe_vtkjs_image(path, raw.references);
+        case Fmt::vtk_legacy: return probe_vtk_legacy(path, raw.array);
+        case Fmt::vti: return probe_vti(path, raw.array);
+        case Fmt::vtkjs: return probe_vtkjs_image(path, raw.references, raw.array);
         case Fmt::slc: return probe_slc(path);
         case Fmt::nifti: return probe_nifti(path, raw.references);
         case Fmt::dicom: return dicom_info(open_dicom_series(path, raw.series, raw.references));
@@ -215,16 +241,20 @@ VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
 }
 
 VolumeInfo prove_volume(const std::string& path, const RawOptions& raw) {
-    const Fmt f = detect(path, raw);
+    const Fmt f = detect_reading(path, raw);
     switch (f) {
         case Fmt::raw: prove_payload(confined(plan_raw(path, raw), path, raw.references)); break;
         case Fmt::npy: prove_payload(plan_npy(path, raw)); break;
         case Fmt::nrrd: prove_payload(confined(plan_nrrd(path), path, raw.references)); break;
         case Fmt::metaimage: prove_payload(confined(plan_metaimage(path), path, raw.references)); break;
         case Fmt::voreen_dat: prove_payload(confined(plan_voreen_dat(path), path, raw.references)); break;
-        case Fmt::vtk_legacy: prove_payload(plan_vtk_legacy(path)); break;
-        case Fmt::vtkjs: prove_payload(plan_vtkjs_image(path, raw.references)); break;
-        case Fmt::vti: prove_vti(path); break;
+        case Fmt::vtk_legacy: {  // every point array listed (the values of the others skipped)
+            const PayloadPlan plan = plan_vtk_legacy(path, raw.array, /*list_all=*/true);
+            prove_payload(plan);
+            return info_from_plan(plan);
+        }
+        case Fmt::vtkjs: prove_payload(plan_vtkjs_image(path, raw.references, raw.array)); break;
+        case Fmt::vti: prove_vti(path, raw.array); break;
         case Fmt::slc: prove_slc(path); break;
         case Fmt::nifti: prove_nifti(path, raw.references); break;
         case Fmt::zarr: return prove_zarr(path, raw);

@@ -13,11 +13,15 @@
 // (validate_grid: NaN/infinite/zero spacing and NaN origins refused) and a payload's size proven
 // against its file before anything is allocated; compressed payloads are bounded by their coding's
 // largest expansion and decoded into lazily committed pages.
+// Arrays: VTK XML .vti, VTK legacy .vtk and vtk.js images may hold several point arrays;
+// RawOptions::array names the one to read (default: the active scalars where the file names them,
+// else the first). A name the file lacks is a FormatError listing the arrays it has; a name given
+// for a format of one unnamed array (every other format, a brick store too) is an InvalidArgument.
 // References: a detached header's data files are followed wherever the format allows (absolute
 // paths, `..`), unless RawOptions::references confines them (ReferenceRefused, a FormatError).
 // Throws: IoError (cannot open, is a directory, missing data file), FormatError (bad or
 // unsupported content: magic, version, encoding, type, sizes, truncation), InvalidArgument (raw
-// options out of range, see raw_volume.hpp); messages are one
+// options out of range, see raw_volume.hpp; RawOptions::array for a format of one unnamed array); messages are one
 // line starting with the offending path. Thread-safety: reentrant; no shared state.
 // Dissertation: supplies the regular grids of chapter 3 (iso-splatting of volume data).
 #pragma once
@@ -48,6 +52,11 @@ struct RawOptions {
     /// DICOM: the series to read from an input holding several, by Series Instance UID or by its
     /// 1-based number in the input's listing (empty: the only one; formats/dicom_series.hpp).
     std::string series;
+    /// VTK XML .vti, VTK legacy .vtk, vtk.js: the point array to read, by its name in the file (empty:
+    /// the default, the active scalars where the file names them, else the first array). The readers
+    /// of formats with one unnamed array throw InvalidArgument when it is set (formats/payload.hpp
+    /// refuse_array_choice).
+    std::string array;
 };
 
 /// Reads a whole volume. Dispatch: .raw .npy .nrrd .nhdr .mhd .mha .vtk .vti (file: VTK XML,
@@ -63,6 +72,13 @@ Volume read_volume(const std::string& path, const RawOptions& raw = {});
 /// file must not be truncated while the Volume lives); every other case is read_volume.
 Volume map_volume(const std::string& path, const RawOptions& raw = {});
 
+/// One point array of a volume file that may hold several (VTK XML .vti, VTK legacy .vtk, vtk.js).
+struct VolumeArray {
+    std::string name;            ///< as the file spells it (escape it before printing)
+    std::string type;            ///< its stored type (formats/stored_type.hpp: "uint8", "int32", "float64", ...), else the file's type name (escaped)
+    std::int64_t components = 1; ///< values per point (0: unreadable); only 1 can be read as a volume
+};
+
 struct VolumeInfo {
     std::string format;                   ///< "raw", "npy", "nrrd", "metaimage", "vtk-legacy", "vti", "vtkjs", "slc", "nifti", "voreen-dat", "dicom", "zarr", "ome-zarr"
     GridSpec grid;
@@ -72,6 +88,10 @@ struct VolumeInfo {
     bool maps = false;                    ///< map_volume maps the file: the samples cost no memory of their own
     std::optional<AnatomicalFrame> frame; ///< the patient's axes, where the header says them (formats/anatomical_frame.hpp)
     std::string series;                   ///< DICOM: the series read and the others of the input (escaped), else empty
+    std::vector<VolumeArray> arrays;      ///< .vti, .vtk, vtk.js: the point arrays in file order (a legacy file's up to
+                                          ///< its CELL_DATA), else empty
+    std::size_t default_array = 0;        ///< the index in `arrays` read without RawOptions::array
+    std::size_t read_array = 0;           ///< the index in `arrays` read (RawOptions::array, else default_array)
 };
 
 /// Parses headers only (no payload read, no decompression beyond a NIfTI .gz header).
@@ -83,6 +103,8 @@ VolumeInfo probe_volume(const std::string& path, const RawOptions& raw = {});
 /// buffer (one VTI block at a time), SLC slices decoded into one reused plane, ascii values parsed.
 /// A bomb, a truncated or corrupt payload throws here exactly as read_volume would. Memory: a small
 /// buffer, except the document of a VTI or SLC file (read whole, as their readers do) and ascii text.
+/// Its VolumeInfo::arrays of a VTK legacy file lists every point array (probe_volume's stops at the
+/// array read: the values of the others are not skipped).
 VolumeInfo prove_volume(const std::string& path, const RawOptions& raw = {});
 
 /// The bytes the samples of `vi` take once decoded into memory (voxels x sample size, checked).

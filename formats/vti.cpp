@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 #include <cstring>
+#include <charconv>
 #include <map>
 
 #include "formats/base64.hpp"
@@ -37,9 +38,11 @@ struct VtiLayout {
     bool appended_base64 = false;
     std::uint64_t offset = 0;
     std::string encoding_name;
+    std::vector<VolumeArray> arrays;  // every point DataArray
+    std::size_t default_array = 0, read_array = 0;
 };
 
-VtiLayout parse_layout(const VtkXmlDocument& X, const std::string& path) {
+VtiLayout parse_layout(const VtkXmlDocument& X, const std::string& path, const std::string& array) {
     const VtkXmlFile& F = X.file();
     VtiLayout L;
     if (F.type != "ImageData") throw FormatError(path + ": unsupported VTK XML type '" + escape_field(F.type) + "' (ImageData supported)");
@@ -68,10 +71,22 @@ VtiLayout parse_layout(const VtkXmlDocument& X, const std::string& path) {
     const Tag pd = piece.child("PointData");
     if (!pd.found() || pd.empty()) throw FormatError(path + ": no <PointData> arrays");
     const std::string want = attr(pd, "Scalars");
-    Tag chosen;
-    for (const Tag& a : pd.children("DataArray"))
-        if (!chosen.found() || (!want.empty() && attr(a, "Name") == want && attr(chosen, "Name") != want)) chosen = a;
-    if (!chosen.found()) throw FormatError(path + ": no point DataArray");
+    const std::vector<Tag> all = pd.children("DataArray");
+    if (all.empty()) throw FormatError(path + ": no point DataArray");
+    for (std::size_t k = 0; k < all.size(); ++k) {  // the default: the active scalars, else the first
+        VolumeArray a;
+        a.name = attr(all[k], "Name");
+        const std::string tname = attr(all[k], "type");
+        const auto t = vtk_xml_type(tname);
+        a.type = t ? to_string(*t) : escape_field(tname);
+        const std::string nc = attr(all[k], "NumberOfComponents", "1");
+        a.components = 0;
+        std::from_chars(nc.data(), nc.data() + nc.size(), a.components);
+        L.arrays.push_back(std::move(a));
+        if (!want.empty() && L.arrays[k].name == want && L.arrays[L.default_array].name != want) L.default_array = k;
+    }
+    L.read_array = choose_volume_array(L.arrays, L.default_array, array, path);
+    const Tag chosen = all[L.read_array];
     const std::string ncomp = attr(chosen, "NumberOfComponents", "1");
     if (ncomp != "1") throw FormatError(path + ": unsupported DataArray with " + escape_field(ncomp) + " components");
     const std::string tname = attr(chosen, "type");
@@ -123,18 +138,18 @@ std::pair<const std::byte*, std::size_t> binary_bytes(std::string_view doc, cons
 
 }  // namespace
 
-VolumeInfo probe_vti(const std::string& path) {
+VolumeInfo probe_vti(const std::string& path, const std::string& array) {
     const std::uint64_t size = regular_file_size(path);
     // headers are at the front; the chosen array's content may be far away, but probing only
     // needs the tags: read up to 1 MiB, falling back to the whole file when tags straddle it
     std::string doc = read_file_prefix(path, static_cast<std::size_t>(std::min<std::uint64_t>(size, 1 << 20)));
     VtiLayout L;
     try {
-        L = parse_layout(VtkXmlDocument(doc, path), path);
+        L = parse_layout(VtkXmlDocument(doc, path), path, array);
     } catch (const FormatError&) {
         if (doc.size() == size) throw;
         doc = read_file_prefix(path, static_cast<std::size_t>(size));
-        L = parse_layout(VtkXmlDocument(doc, path), path);
+        L = parse_layout(VtkXmlDocument(doc, path), path, array);
     }
     VolumeInfo i;
     i.format = "vti";
@@ -142,6 +157,9 @@ VolumeInfo probe_vti(const std::string& path) {
     i.type = volume_type_for(L.type);
     i.encoding = L.encoding_name;
     i.data_files = {path};
+    i.arrays = L.arrays;
+    i.default_array = L.default_array;
+    i.read_array = L.read_array;
     return i;
 }
 
@@ -154,11 +172,11 @@ struct VtiFile {
     const VtkXmlDocument xml;
     const VtiLayout L;
     const std::uint64_t count, expected;  // samples, payload bytes
-    explicit VtiFile(const std::string& path)
+    VtiFile(const std::string& path, const std::string& array)
         : bytes(read_file_bytes(path)),
           doc(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
           xml(doc, path),
-          L(parse_layout(xml, path)),
+          L(parse_layout(xml, path, array)),
           count(static_cast<std::uint64_t>(L.grid.voxel_count())),
           expected(checked_mul(count, stored_size(L.type), path + ": payload size")) {}
     VtiFile(const VtiFile&) = delete;
@@ -167,8 +185,8 @@ struct VtiFile {
 };
 }  // namespace
 
-Volume read_vti(const std::string& path) {
-    const VtiFile F(path);
+Volume read_vti(const std::string& path, const std::string& array) {
+    const VtiFile F(path, array);
     const VtiLayout& L = F.L;
     if (L.format == "ascii") {
         Volume v = make_volume(parse_ascii_samples(L.content, L.type, static_cast<std::size_t>(F.count), path), L.type,
@@ -184,8 +202,8 @@ Volume read_vti(const std::string& path) {
     return v;
 }
 
-void prove_vti(const std::string& path) {
-    const VtiFile F(path);
+void prove_vti(const std::string& path, const std::string& array) {
+    const VtiFile F(path, array);
     const VtiLayout& L = F.L;
     if (L.format == "ascii") {  // the values' count is bounded by the text: parsing keeps at most 4x its size
         parse_ascii_samples(L.content, L.type, static_cast<std::size_t>(F.count), path);

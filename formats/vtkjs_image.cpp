@@ -46,7 +46,7 @@ const std::string& str(const Json* v, const std::string& path, const char* what)
 }
 }  // namespace
 
-PayloadPlan plan_vtkjs_image(const std::string& in_path, const ReferencePolicy& refs) {
+PayloadPlan plan_vtkjs_image(const std::string& in_path, const ReferencePolicy& refs, const std::string& array) {
     const std::string path = vtkjs_index_path(in_path);
     const std::uint64_t size = regular_file_size(path);
     if (size > (64u << 20)) throw FormatError(path + ": index.json larger than 64 MiB");
@@ -83,30 +83,45 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path, const ReferencePolicy& 
     const Json* pd = root.find("pointData");
     const Json* arrays = pd ? pd->find("arrays") : nullptr;
     if (!arrays || !arrays->is_array() || arrays->arr.empty()) throw FormatError(path + ": no pointData arrays");
-    const Json* chosen = nullptr;
-    for (const auto& a : arrays->arr) {
-        const Json* d = a.find("data");
-        if (!d) continue;
-        const Json* ref = d->find("ref");
-        const Json* reg = ref ? ref->find("registration") : nullptr;
-        if (!chosen) chosen = d;
-        if (reg && reg->is_string() && reg->str == "setScalars") {
-            chosen = d;
-            break;
-        }
-    }
-    if (!chosen) throw FormatError(path + ": no pointData array with 'data'");
-    const Json* nc = chosen->find("numberOfComponents");
-    if (nc && (!nc->is_number() || nc->num != 1))
-        throw FormatError(path + ": unsupported array with " + (nc->is_number() ? num_text(nc->num) : std::string("?")) +
-                          " components");
-    const std::string& dt = str(chosen->find("dataType"), path, "dataType");
     struct M { const char* n; StoredType t; };
     static constexpr M table[] = {
         {"Int8Array", StoredType::i8},    {"Uint8Array", StoredType::u8},   {"Uint8ClampedArray", StoredType::u8},
         {"Int16Array", StoredType::i16},  {"Uint16Array", StoredType::u16}, {"Int32Array", StoredType::i32},
         {"Uint32Array", StoredType::u32}, {"Float32Array", StoredType::f32}, {"Float64Array", StoredType::f64},
         {"BigInt64Array", StoredType::i64}, {"BigUint64Array", StoredType::u64}};
+    // every array with 'data' listed; the default: the one registered with "setScalars", else the first
+    std::vector<const Json*> datas;
+    bool registered = false;
+    for (const auto& a : arrays->arr) {
+        const Json* d = a.find("data");
+        if (!d) continue;
+        const Json* ref = d->find("ref");
+        const Json* reg = ref ? ref->find("registration") : nullptr;
+        if (!registered && reg && reg->is_string() && reg->str == "setScalars") {
+            plan.default_array = datas.size();
+            registered = true;
+        }
+        datas.push_back(d);
+        VolumeArray va;
+        const Json* name = d->find("name");
+        va.name = name && name->is_string() ? name->str : "";
+        const Json* t = d->find("dataType");
+        va.type = t && t->is_string() ? escape_field(t->str) : "?";
+        for (const auto& m : table)  // the type as the other formats name it
+            if (t && t->is_string() && t->str == m.n) va.type = to_string(m.t);
+        const Json* n = d->find("numberOfComponents");
+        va.components = !n ? 1 : n->is_number() && n->num >= 1 && n->num <= 1e9 && n->num == std::floor(n->num)
+                                    ? static_cast<std::int64_t>(n->num) : 0;
+        plan.arrays.push_back(std::move(va));
+    }
+    if (datas.empty()) throw FormatError(path + ": no pointData array with 'data'");
+    plan.read_array = choose_volume_array(plan.arrays, plan.default_array, array, path);
+    const Json* chosen = datas[plan.read_array];
+    const Json* nc = chosen->find("numberOfComponents");
+    if (nc && (!nc->is_number() || nc->num != 1))
+        throw FormatError(path + ": unsupported array with " + (nc->is_number() ? num_text(nc->num) : std::string("?")) +
+                          " components");
+    const std::string& dt = str(chosen->find("dataType"), path, "dataType");
     bool found = false;
     for (const auto& m : table)
         if (dt == m.n) plan.type = m.t, found = true;
@@ -144,9 +159,11 @@ PayloadPlan plan_vtkjs_image(const std::string& in_path, const ReferencePolicy& 
     return plan;
 }
 
-VolumeInfo probe_vtkjs_image(const std::string& path, const ReferencePolicy& refs) {
-    return info_from_plan(plan_vtkjs_image(path, refs));
+VolumeInfo probe_vtkjs_image(const std::string& path, const ReferencePolicy& refs, const std::string& array) {
+    return info_from_plan(plan_vtkjs_image(path, refs, array));
 }
-Volume read_vtkjs_image(const std::string& path, const ReferencePolicy& refs) { return read_payload(plan_vtkjs_image(path, refs)); }
+Volume read_vtkjs_image(const std::string& path, const ReferencePolicy& refs, const std::string& array) {
+    return read_payload(plan_vtkjs_image(path, refs, array));
+}
 
 }  // namespace meshless

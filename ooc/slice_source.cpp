@@ -336,11 +336,17 @@ private:
 }  // namespace
 
 std::unique_ptr<SliceSource> open_slice_source(const std::string& path, const RawOptions& raw) {
-    if (is_brick_store(path)) return open_brick_store_slices(path);
-    if (is_dicom_input(path, raw))
+    if (is_brick_store(path)) {
+        refuse_array_choice(raw.array, path, "brick store (.mlb)");
+        return open_brick_store_slices(path);
+    }
+    if (is_dicom_input(path, raw)) {
+        refuse_array_choice(raw.array, path, "dicom");
         return std::make_unique<DicomSliceSource>(open_dicom_series(path, raw.series, raw.references), path);
+    }
     if (is_zarr_input(path)) {
         check_reference(raw.references, path, path);
+        refuse_array_choice(raw.array, path, "zarr");
         return std::make_unique<ZarrSliceSource>(open_zarr(path, raw), path);
     }
     if (auto plan = streamable_plan(path, raw)) return std::make_unique<PlanSliceSource>(std::move(*plan), path);

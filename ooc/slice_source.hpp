@@ -14,7 +14,8 @@
 // sources are read with increasing, contiguous k (raw files and memory allow any k; gzip payloads
 // restart decompression when asked to go back). A range outside [0, nz) is an InvalidArgument.
 // Throws FormatError/IoError naming the file; InvalidArgument for an upsampling factor outside
-// 1..64 or an upsampled slice wider than 2^31 samples. One source per thread (sources keep read state).
+// 1..64 or an upsampled slice wider than 2^31 samples, and for RawOptions::array given with a
+// brick store, a DICOM series or another format of one unnamed array (formats/payload.hpp). One source per thread (sources keep read state).
 #pragma once
 #include <cstddef>
 #include <memory>

@@ -39,6 +39,7 @@ std::string raw_text(const RawOptions& r) {
     if (r.type) t += std::string(" type=") + to_string(*r.type);
     if (r.big_endian) t += " endian=big";
     if (r.spacing) t += " spacing=" + format_triple(*r.spacing);
+    if (!r.array.empty()) t += " array=" + escape_field(r.array, 256);
     return t.empty() ? t : t.substr(1);
 }
 

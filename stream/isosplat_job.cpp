@@ -77,6 +77,30 @@ void set_isovalues(StreamMeta& meta, const std::vector<double>& isos,
     }
 }
 
+/// The runs of a job's isovalues into one sink: run(i, sink) for each in turn (sequence numbers
+/// continued), the sink finished after the last; r[i] and counts[i] receive each run's result and
+/// points. Returns the first run's result.
+template <class Run>
+IsoSplatResult run_each_isovalue(std::size_t n, Sink& sink, std::vector<IsoSplatResult>& r, std::vector<std::size_t>& counts,
+                                 const Run& run) {
+    r.assign(n, {});
+    counts.assign(n, 0);
+    ContinuedSink continued(sink);
+    for (std::size_t i = 0; i < n; ++i) {
+        r[i] = run(i, continued);
+        counts[i] = continued.last_run_points();
+    }
+    sink.finish();
+    return r[0];
+}
+
+/// The --stats line of each isovalue (one isovalue: the points written).
+void print_each_isovalue(const IsosplatJob& j, const std::string& path, const std::vector<double>& isos,
+                         const std::vector<IsoSplatResult>& r, const std::vector<std::size_t>& counts, std::size_t points) {
+    for (std::size_t i = 0; i < isos.size(); ++i)
+        print_isosplat_stats(j.stats, path, isos[i], j.mode, r[i], isos.size() > 1 ? counts[i] : points, j.threads, 1);
+}
+
 RenderSettings picture_from_meta(const IsosplatJob& j, const StreamMeta& meta) {
     RenderSettings rs = j.rs;
     if (const auto f = meta_patient_axes(meta); f && j.anatomical_camera) j.anatomical_camera(*f, rs.camera);
@@ -106,8 +130,8 @@ std::size_t run_isosplat_job(const IsosplatJob& j, VolumeInput& in) {
                                    stderr, isos.size() > 1) || said;
     if (j.warned) *j.warned = said;
     meta.set("projection", to_string(j.mode));
-    std::vector<IsoSplatResult> r(isos.size());
-    std::vector<std::size_t> counts(isos.size());
+    std::vector<IsoSplatResult> r;
+    std::vector<std::size_t> counts;
     std::size_t points = 0;
     {  // (the progress display goes before the statistics)
         double work = 0;
@@ -116,18 +140,12 @@ std::size_t run_isosplat_job(const IsosplatJob& j, VolumeInput& in) {
         const ProgressStage progress([&](double n) { if (counted) counted(n); }, work_units);
         IsoSplatResult unused;
         points = run_to_outputs(j.out(), j.png, meta, rs, j.threads, [&](const Stage* draw, Sink& sink) {
-            ContinuedSink continued(sink);
-            for (std::size_t i = 0; i < isos.size(); ++i) {
-                r[i] = run_isosplat_input(in, isos[i], j.mode, j.sp, continued, j.threads, PipelineShape::fused, {&progress, draw});
-                counts[i] = continued.last_run_points();
-            }
-            sink.finish();
-            return r[0];
+            return run_each_isovalue(isos.size(), sink, r, counts, [&](std::size_t i, Sink& one) {
+                return run_isosplat_input(in, isos[i], j.mode, j.sp, one, j.threads, PipelineShape::fused, {&progress, draw});
+            });
         }, unused);
     }
-    if (j.stats)
-        for (std::size_t i = 0; i < isos.size(); ++i)
-            print_isosplat_stats(j.stats, in.path, isos[i], j.mode, r[i], isos.size() > 1 ? counts[i] : points, j.threads, 1);
+    if (j.stats) print_each_isovalue(j, in.path, isos, r, counts, points);
     return points;
 }
 
@@ -141,22 +159,16 @@ std::size_t run_isosplat_sample_store_job(const IsosplatJob& j, const std::strin
     set_isovalues(meta, isos, [&](double v) { return meta_bounds(sample_store_meta(*store, v, j.producer)); });
     meta.set("projection", to_string(j.mode));
     const RenderSettings rs = picture_from_meta(j, meta);
-    std::vector<IsoSplatResult> r(isos.size());
-    std::vector<std::size_t> counts(isos.size());
+    std::vector<IsoSplatResult> r;
+    std::vector<std::size_t> counts;
     IsoSplatResult unused;
     const std::size_t points = run_to_outputs(j.out(), j.png, meta, rs, j.threads, [&](const Stage* draw, Sink& sink) {
-        ContinuedSink continued(sink);
-        for (std::size_t i = 0; i < isos.size(); ++i) {
+        return run_each_isovalue(isos.size(), sink, r, counts, [&](std::size_t i, Sink& one) {
             SampleStoreSource source(*store, isos[i], j.sp);
-            r[i] = run_isosplat_sample_store(source, isos[i], j.mode, continued, {j.threads}, PipelineShape::two_stage, {nullptr, draw});
-            counts[i] = continued.last_run_points();
-        }
-        sink.finish();
-        return r[0];
+            return run_isosplat_sample_store(source, isos[i], j.mode, one, {j.threads}, PipelineShape::two_stage, {nullptr, draw});
+        });
     }, unused);
-    if (j.stats)
-        for (std::size_t i = 0; i < isos.size(); ++i)
-            print_isosplat_stats(j.stats, path, isos[i], j.mode, r[i], isos.size() > 1 ? counts[i] : points, j.threads, 1);
+    if (j.stats) print_each_isovalue(j, path, isos, r, counts, points);
     return points;
 }
 

@@ -4,6 +4,7 @@
 #include "formats/dicom_series.hpp"
 #include "formats/reference_policy.hpp"
 #include "formats/terminal_safe.hpp"
+#include "formats/text_header.hpp"
 #include "ooc/brick_store.hpp"
 #include "ooc/sample_store.hpp"
 #include "stream/volume_input.hpp"
@@ -71,6 +72,18 @@ void describe_volume(const std::string& path, const RawOptions& raw, bool value_
     std::fprintf(out, "  type: %s\n  spacing: %g %g %g\n  origin: %g %g %g\n", to_string(vi.type), g.spacing[0], g.spacing[1],
                  g.spacing[2], g.origin[0], g.origin[1], g.origin[2]);
     if (!vi.series.empty()) std::fprintf(out, "  series: %s\n", terminal_safe(vi.series).c_str());
+    if (vi.arrays.size() > 1) {  // a multi-array file: which one is read, and the others
+        std::fprintf(out, "  point arrays: %zu (read one with --array NAME)\n", vi.arrays.size());
+        for (std::size_t k = 0; k < vi.arrays.size(); ++k) {
+            const VolumeArray& v = vi.arrays[k];
+            std::string note;
+            if (k == vi.read_array) note = k == vi.default_array ? "read, the default" : "read (--array)";
+            else if (k == vi.default_array) note = "the default";
+            std::fprintf(out, "    %s: %s, %s%s%s%s\n", escape_field(v.name, 256).c_str(), v.type.c_str(),
+                         v.components > 0 ? std::to_string(v.components).c_str() : "?", v.components == 1 ? " component" : " components",
+                         note.empty() ? "" : "; ", note.c_str());
+        }
+    }
     if (!vi.encoding.empty()) std::fprintf(out, "  encoding: %s\n", vi.encoding.c_str());
     // every file the header makes the readers open, as named and resolved (`..`, symbolic links)
     if (!vi.data_files.empty()) {

@@ -11,7 +11,8 @@
 
 namespace meshless {
 
-/// Format, dims, type, spacing, origin, encoding, the data files opened, patient axes; the payload
+/// Format, dims, type, spacing, origin, the point arrays of a file holding several (which one is read,
+/// which is the default), encoding, the data files opened, patient axes; the payload
 /// decoded through a small buffer. value_range: then read whole and its value range printed.
 void describe_volume(const std::string& path, const RawOptions& raw, bool value_range, std::FILE* out);
 /// Dims, type, spacing, value range, patient axes, bricks, the largest brick, compression.

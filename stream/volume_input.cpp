@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "formats/byte_size_text.hpp"
+#include "formats/payload.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/terminal_safe.hpp"
@@ -15,6 +16,7 @@ namespace meshless {
 namespace {
 
 constexpr int kFramingBlockEdge = 32;  // the default brick edge of meshless convert
+constexpr const char* kBrickStoreFormat = "brick store (.mlb)";  // RawOptions::array refused: one array
 
 void warn_if_raw_options_ignored(const std::string& path, const VolumeOpenOptions& o) {
     if (!o.raw_given || !o.warn) return;
@@ -119,6 +121,7 @@ Volume load_volume(const std::string& path, const VolumeOpenOptions& o, bool map
         });
     }
     if (is_brick_store(path)) {  // commands that need the volume whole
+        refuse_array_choice(o.raw.array, path, kBrickStoreFormat);
         const auto store = BrickStore::open(path);
         VolumeInfo vi;
         vi.grid = store->info().grid;
@@ -155,6 +158,7 @@ VolumeInput open_volume_input(const std::string& path, const VolumeOpenOptions& 
     }
     const bool mlb_name = in.path.size() > 4 && in.path.compare(in.path.size() - 4, 4, ".mlb") == 0;
     if (is_brick_store(in.path) || mlb_name) {  // a damaged .mlb gets the brick store's own diagnosis
+        refuse_array_choice(raw.array, in.path, kBrickStoreFormat);
         in.store = BrickStore::open(in.path);
         in.cache = std::make_unique<BrickCache>(*in.store, o.memory.value_or(kDefaultBrickCacheBytes));
         in.index = std::make_unique<BrickIndex>(*in.store);

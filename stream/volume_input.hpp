@@ -5,6 +5,8 @@
 // volume input is opened, for every front end (the CLI, the Python module).
 // Memory: a volume read whole takes its decoded samples (refused beforehand when they exceed the
 // budget: check_volume_fits); a streamed file or a store takes about one slab or the brick cache.
+// RawOptions::array given for a brick store is an InvalidArgument (it holds one array), as for the
+// formats of one unnamed array (formats/volume_reader.hpp).
 // Throws FormatError for bad data, IoError for files that cannot be read and for a volume that does
 // not fit the budget (naming the file, the size and the budget), both naming the file ("- (stdin)"
 // for standard input). Thread-safety: a VolumeInput is used by one thread at a time; blocks() runs

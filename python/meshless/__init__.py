@@ -361,7 +361,8 @@ def read_points(path, *, value="", columns="", q_component=0, level=None, error=
                                           None if level is None else int(level), None if error is None else float(error)))
 
 
-def read_volume(path, *, spacing=None, origin=None, series="", dims=None, dtype=None, big_endian=False, memory=None):
+def read_volume(path, *, spacing=None, origin=None, series="", array="", dims=None, dtype=None, big_endian=False,
+                memory=None):
     """A regular volume from any file `meshless isosurface` reads (raw name_XxYxZ_type.raw, NRRD,
     MetaImage, VTK legacy, VTI, vtk.js, SLC, NIfTI, Voreen .dat, a DICOM folder/DICOMDIR/slice, a
     brick store .mlb read whole), through the command's reader, as a Volume whose array is indexed
@@ -372,13 +373,15 @@ def read_volume(path, *, spacing=None, origin=None, series="", dims=None, dtype=
     dims (nx, ny, nz), dtype ("uint8", "int16", "uint16", "float32"), big_endian, spacing: a raw
     file's layout, as --dims/--type/--endian/--spacing (a file that describes itself keeps its own,
     with a warning in `warnings`); spacing and origin given also replace what the file says in the
-    result. series: the DICOM series (Series Instance UID or its number), as --series. memory: the
+    result. series: the DICOM series (Series Instance UID or its number), as --series. array: the
+    point array of a .vti, VTK legacy or vtk.js volume holding several, by name, as --array (default:
+    the active scalars, else the first; ValueError for a format of one unnamed array). memory: the
     most bytes a volume read whole may take ('2G' or an int; default the machine's memory), as
     --memory. DataError for a damaged file, OSError for one that cannot be read or does not fit."""
     sp = None if spacing is None else tuple(float(x) for x in spacing)
     vol = Volume(_core._read_volume(str(path), None if dims is None else tuple(int(n) for n in dims),
                                     None if dtype is None else _np.dtype(dtype).name, bool(big_endian), sp, str(series),
-                                    None if memory is None else _memory_bytes(memory)))
+                                    str(array), None if memory is None else _memory_bytes(memory)))
     if sp is not None:
         if len(sp) != 3 or not all(_np.isfinite(sp)) or min(sp) <= 0:
             raise ValueError("spacing: expected three numbers > 0")

@@ -119,6 +119,10 @@ TEST_CASE("zarr stores: isosurface, mc and convert give the raw file's bytes, in
     const RunResult so = sh("MESHLESS isosurface " + D + "img.ome.zarr --iso 100.5 --spacing 0.5,1,2 -o " + D + "w.ply", d);
     CHECK(so.code == 0);
     CHECK(so.err.find("--spacing is ignored") != std::string::npos);
+    // one array: --array names nothing to choose (a usage error, exit 1)
+    const RunResult arr = sh("MESHLESS isosurface " + D + "zlib.zarr --iso 100.5 --array a -o " + D + "w.ply", d);
+    CHECK(arr.code == 1);
+    CHECK(arr.err.find("zlib.zarr: a zarr volume holds one unnamed array: no array 'a' to choose") != std::string::npos);
 }
 
 TEST_CASE("zarr stores: each defect class is refused with one line naming the file and exit 2", "[cli][zarr]") {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../test_paths.hpp"
+#include "point_record_samples.hpp"
 #include "formats/oriented_points_vtp.hpp"
 #include "formats/vtp_writer.hpp"
 #include "kernels/errors.hpp"
@@ -21,19 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-PointRecord record(std::uint64_t i) {
-    const double t = static_cast<double>(i);
-    PointRecord p{};
-    p.pos[0] = static_cast<float>(std::sin(t * 0.37) * 10);
-    p.pos[1] = static_cast<float>(std::cos(t * 0.11) * 5);
-    p.pos[2] = static_cast<float>(t * 1e-3);
-    p.normal[0] = static_cast<float>(std::cos(t));
-    p.normal[1] = static_cast<float>(std::sin(t));
-    p.normal[2] = 0;
-    p.radius = static_cast<float>(0.5 + (i % 7) * 0.01);
-    p.value = static_cast<float>(i % 101) - 50.25f;
-    return p;
-}
+PointRecord record(std::uint64_t i) { return test::sample_point_record(i); }
 
 void write(const fs::path& p, const std::string& bytes) {
     std::ofstream out(p, std::ios::binary);
