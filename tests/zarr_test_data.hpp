@@ -21,6 +21,16 @@
 
 namespace meshless::test {
 
+/// The 13 x 11 x 9 volume the Zarr tests store: sample (i, j, k) = i + 5 j + 20 k, x fastest.
+inline constexpr std::int64_t kZarrNx = 13, kZarrNy = 11, kZarrNz = 9;
+inline std::vector<double> zarr_oracle_values() {
+    std::vector<double> v;
+    for (std::int64_t k = 0; k < kZarrNz; ++k)
+        for (std::int64_t j = 0; j < kZarrNy; ++j)
+            for (std::int64_t i = 0; i < kZarrNx; ++i) v.push_back(static_cast<double>(i + 5 * j + 20 * k));
+    return v;
+}
+
 struct ZarrWriteOptions {
     std::array<std::int64_t, 3> chunks{8, 8, 8};  ///< along z, y, x
     std::string dtype = "|u1";                     ///< |u1 <i2 >i2 <u2 >u2 <f4 >f4 <f8 <i4 ...

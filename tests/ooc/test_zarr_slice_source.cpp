@@ -18,14 +18,8 @@ using meshless::test::write_zarr;
 using meshless::test::ZarrWriteOptions;
 
 namespace {
-constexpr std::int64_t NX = 13, NY = 11, NZ = 9;
-std::vector<double> oracle_values() {
-    std::vector<double> v;
-    for (std::int64_t k = 0; k < NZ; ++k)
-        for (std::int64_t j = 0; j < NY; ++j)
-            for (std::int64_t i = 0; i < NX; ++i) v.push_back(static_cast<double>(i + 5 * j + 20 * k));
-    return v;
-}
+constexpr std::int64_t NX = test::kZarrNx, NY = test::kZarrNy, NZ = test::kZarrNz;
+std::vector<double> oracle_values() { return test::zarr_oracle_values(); }
 }  // namespace
 
 TEST_CASE("zarr: the chunk-row streamer serves any slice range as the whole read", "[ooc][zarr]") {
