@@ -77,7 +77,9 @@ constexpr const char* kBatchHelp =
            "ends the run (stdout); progress is shown on stderr when it is a terminal.\n"
            "An input that is, or whose header names, a file outside its archive folder (ARCHIVE_DIR, or the\n"
            "manifest's folder; `..`, absolute paths and symbolic links resolved) is REFUSED: nothing of it is\n"
-           "read or written, and the run goes on.";
+           "read or written, and the run goes on.\n"
+           "A scheduler's job array splits an archive with --shard K/N: each job converts its share (every\n"
+           "volume in exactly one shard, the largest first), the outputs and sidecars those of one run.";
 
 /// The run's settings from the options (UsageError for a bad value).
 BatchSettings batch_settings(const Args& a, const ConvertParams& defaults) {
@@ -114,6 +116,15 @@ BatchSettings batch_settings(const Args& a, const ConvertParams& defaults) {
     s.memory = parse_memory_size(a.get_or("memory", "256M"));
     s.threads = threads(a);
     s.convert.threads = s.threads;
+    if (const auto shard = a.get("shard")) {
+        const auto slash = shard->find('/');
+        const long long k = slash == std::string::npos ? 0 : parse_int(shard->substr(0, slash), "--shard");
+        const long long n = slash == std::string::npos ? 0 : parse_int(shard->substr(slash + 1), "--shard");
+        if (n < 1 || n > 100000 || k < 1 || k > n)
+            throw UsageError("--shard: expected K/N with 1 <= K <= N <= 100000, got '" + *shard + "'");
+        s.shard = static_cast<std::uint32_t>(k - 1);
+        s.shards = static_cast<std::uint32_t>(n);
+    }
     return s;
 }
 
@@ -133,7 +144,9 @@ int cmd_batch(int argc, char** argv) {
         .deprecated_alias("level")
         .option("projection", "", "MODE", "approx | exact | none", "approx")
         .flag("recursive", "ARCHIVE_DIR: also walk subfolders (outputs mirror them)")
-        .flag("rehash", "hash every input, even when its size and time are those recorded");
+        .flag("rehash", "hash every input, even when its size and time are those recorded")
+        .option("shard", "", "K/N", "convert only shard K of N (K = 1..N, a job array's task): the volumes by size, largest first, "
+                "dealt round-robin; shards run side by side into one OUT_DIR");
     add_fail_empty_option(a);
     add_sampling_options(a);
     add_memory_option(a);

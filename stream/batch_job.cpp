@@ -22,6 +22,7 @@
 #include "ooc/brick_store.hpp"
 #include "ooc/slice_source.hpp"
 #include "stream/batch_lock.hpp"
+#include "stream/batch_shard.hpp"
 #include "stream/batch_sidecar.hpp"
 #include "stream/isosplat_pipeline.hpp"
 #include "stream/point_sinks.hpp"
@@ -363,13 +364,18 @@ BatchRun run_batch(const std::string& archive, const BatchSettings& s, const Bat
     if (!is_dir && looks_like_volume(archive))
         throw InvalidArgument(archive + " is a volume; give a folder of volumes or a manifest (one path per line)");
     make_output_folder(s.out_dir);
-    const BatchDirLock lock(s.out_dir);
+    const BatchDirLock lock(s.out_dir, s.shard, s.shards);
 
-    std::vector<BatchItem> items = is_dir ? list_archive_dir(archive, s.recursive, s.out_dir) : read_manifest(archive, cb.parse_raw);
-    remove_stale_temporaries(plan_outputs(s, items), false);
+    const std::vector<BatchItem> archive_items =
+        is_dir ? list_archive_dir(archive, s.recursive, s.out_dir) : read_manifest(archive, cb.parse_raw);
+    std::vector<BatchItem> items = shard_items(archive_items, s.shard, s.shards);
+    remove_stale_temporaries(plan_outputs(s, items), false);  // (this shard's own: the others may be running)
 
     const auto t0 = Clock::now();
     BatchRun run;
+    run.archive_count = archive_items.size();
+    run.shard = s.shard;
+    run.shards = s.shards;
     std::string disk_full;
     ProgressReport progress(cb.progress, items);
     for (std::size_t i = 0; i < items.size(); ++i) {

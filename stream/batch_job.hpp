@@ -47,6 +47,9 @@ struct BatchSettings {
     SamplingParams sampling;
     std::uint64_t memory = 256ull << 20;  ///< brick cache budget, bytes (as --memory 256M)
     int threads = 1;
+    /// --shard K/N: this run converts the volumes dealt to shard `shard` (0-based) of `shards`
+    /// (stream/batch_shard.hpp); shards of one archive may run at once into the same OUT_DIR.
+    std::uint32_t shard = 0, shards = 1;
 };
 
 /// An isovalue as output names carry it ("%.9g": "_iso100.5").
@@ -66,7 +69,9 @@ struct BatchItemResult {
 };
 
 struct BatchRun {
-    std::vector<BatchItemResult> items;  ///< in archive order
+    std::vector<BatchItemResult> items;  ///< in archive order (a shard's: its own)
+    std::size_t archive_count = 0;       ///< the volumes of the whole archive (a shard converts some of them)
+    std::uint32_t shard = 0, shards = 1; ///< as BatchSettings
     double seconds = 0;                  ///< the volumes' loop, from after the sweep of temporaries
     /// Some volume failed or was refused.
     bool any_failed() const;

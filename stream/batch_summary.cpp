@@ -43,6 +43,9 @@ void print_batch_summary(std::FILE* out, const BatchRun& run) {
                                      (empty ? ", " + std::to_string(empty) + " with empty point sets" : "");
     std::fprintf(out, "%zu volume(s): %d done, %d up to date, %d failed%s; %d output(s) written, %d up to date; %.2f s\n",
                  run.items.size(), done, current, failed, refused_text.c_str(), written, outputs_current, run.seconds);
+    if (run.shards > 1)
+        std::fprintf(out, "shard %u/%u: %zu of the archive's %zu volume(s)\n", run.shard + 1, run.shards, run.items.size(),
+                     run.archive_count);
     std::fflush(out);
 }
 

@@ -42,7 +42,7 @@ std::string write_volume(const fs::path& dir, AnalyticField field, int n, const 
 std::map<std::string, std::string> snapshot(const fs::path& dir) {
     std::map<std::string, std::string> m;
     for (const auto& e : fs::recursive_directory_iterator(dir))
-        if (e.is_regular_file() && e.path().filename() != ".meshless-batch.lock")
+        if (e.is_regular_file() && e.path().filename().string().rfind(".meshless-batch", 0) != 0)  // (the lock files)
             m[e.path().lexically_relative(dir).string()] = slurp(e.path());
     return m;
 }
@@ -346,5 +346,55 @@ TEST_CASE("batch and demo say why they cannot make their output folder", "[batch
         const auto r = sh(cmd, d);
         CHECK(r.code == 2);
         CHECK_THAT(r.err, Catch::Contains((d / "taken").string() + ": cannot create output folder: a file of that name exists"));
+    }
+}
+
+TEST_CASE("batch --shard K/N: every volume in one shard, largest first, shards side by side give one run's outputs", "[batch]") {
+    TempDir d("batch-shard");
+    const fs::path arch = d / "arch";
+    fs::create_directories(arch);
+    // sizes 24^3 > 20^3 > 16^3 > 12^3 > 8^3: dealt round-robin to 2 shards, shard 1 gets the 24^3, 16^3, 8^3
+    int n_of[] = {16, 24, 8, 20, 12};
+    const char* stem[] = {"a", "b", "c", "d", "e"};
+    for (int i = 0; i < 5; ++i) write_volume(arch, AnalyticField::sphere, n_of[i], stem[i]);
+    const std::string A = arch.string(), D = d.path.string();
+    auto whole = sh("MESHLESS batch " + A + " -o " + D + "/whole --iso 100.5", d);
+    REQUIRE(whole.code == 0);
+    // the two shards at once into one folder
+    auto r = sh("( MESHLESS batch " + A + " -o " + D + "/sharded --iso 100.5 --shard 1/2 > " + D + "/s1.txt & "
+                "MESHLESS batch " + A + " -o " + D + "/sharded --iso 100.5 --shard 2/2 > " + D + "/s2.txt; "
+                "s2=$?; wait $!; s1=$?; exit $((s1 | s2)) )", d);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string s1 = slurp(d / "s1.txt"), s2 = slurp(d / "s2.txt");
+    CHECK_THAT(s1, Catch::Contains("shard 1/2: 3 of the archive's 5 volume(s)"));
+    CHECK_THAT(s2, Catch::Contains("shard 2/2: 2 of the archive's 5 volume(s)"));
+    for (const char* v : {"b_24x24x24_uint8", "a_16x16x16_uint8", "c_8x8x8_uint8"}) {
+        CHECK_FALSE(row(s1, v).empty());
+        CHECK(row(s2, v).empty());
+    }
+    for (const char* v : {"d_20x20x20_uint8", "e_12x12x12_uint8"}) {
+        CHECK_FALSE(row(s2, v).empty());
+        CHECK(row(s1, v).empty());
+    }
+    CHECK(snapshot(d / "sharded") == snapshot(d / "whole"));  // outputs and sidecars: one run's
+    // a whole-archive run over the shards' outputs finds everything up to date
+    r = sh("MESHLESS batch " + A + " -o " + D + "/sharded --iso 100.5", d);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("5 volume(s): 0 done, 5 up to date"));
+    // a shard already running, and a shard beside a whole-archive run, are refused (exit 2, nothing written)
+    r = sh("flock " + D + "/sharded/.meshless-batch-shard-1-of-2.lock MESHLESS batch " + A + " -o " + D +
+               "/sharded --iso 60.5 --shard 1/2",
+           d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("shard 1/2 is already running into this folder"));
+    r = sh("flock " + D + "/sharded/.meshless-batch.lock MESHLESS batch " + A + " -o " + D + "/sharded --iso 60.5 --shard 2/2", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("a meshless batch of the whole archive is writing to this folder"));
+    CHECK(fs::exists(d / "whole" / "b_24x24x24_uint8_iso100.5.ply"));
+    CHECK_FALSE(fs::exists(d / "sharded" / "b_24x24x24_uint8_iso60.5.ply"));
+    for (const char* bad : {"0/2", "3/2", "1", "1/0", "a/b"}) {
+        r = sh(std::string("MESHLESS batch ") + A + " -o " + D + "/x --iso 100.5 --shard " + bad, d);
+        CHECK(r.code == 1);
     }
 }
