@@ -217,6 +217,26 @@ def _volume_args(volume, spacing, origin):
             (0.0, 0.0, 0.0) if origin is None else origin)
 
 
+def _isovalues(iso):
+    """iso as a list of floats: one number, or a sequence of them (at least one)."""
+    if _np.ndim(iso) == 0:
+        return [float(iso)]
+    values = [float(v) for v in _np.asarray(iso, dtype=float).ravel()]
+    if not values:
+        raise ValueError("iso: give at least one isovalue")
+    return values
+
+
+def _concatenated(parts, isos):
+    """The point sets of several isovalues one after another (`meshless isosurface --iso V1,V2,...`)."""
+    arrays = {k: _np.concatenate([p[k] for p in parts]) for k in ("points", "normals", "radius", "values")}
+    stats = {k: sum(p["stats"][k] for p in parts) for k in parts[0]["stats"]}
+    stats["isovalues"] = list(isos)
+    arrays["stats"] = stats
+    arrays["warnings"] = [w for p in parts for w in p.get("warnings", [])]
+    return arrays
+
+
 def isosurface(volume, iso, *, spacing=None, origin=None, projection="approx", threads=0):
     """Iso-splatting of a regular volume (dissertation chapter 3): one sample per active cell,
     projected onto the trilinear isosurface ("approx": Newton steps, the default; "exact": ray
@@ -224,14 +244,18 @@ def isosurface(volume, iso, *, spacing=None, origin=None, projection="approx", t
     for the same volume (in another order for a C-ordered array).
 
     volume: 3-D array indexed [x, y, z] or a Volume (read_volume; its spacing and origin unless
-    given); spacing, origin: world units per axis (default 1 and 0). An np.memmap of a
-    file (modes r, r+, w+) is read slab by slab and its pages handed back as they are done, so a
-    volume bigger than RAM takes a few slabs of memory. Returns a PointSet."""
+    given); spacing, origin: world units per axis (default 1 and 0). iso: a number, or a sequence of
+    them: their surfaces one after another, each point's value its isovalue (as `meshless isosurface
+    --iso V1,V2,...`). An np.memmap of a file (modes r, r+, w+) is read slab by slab and its pages
+    handed back as they are done, so a volume bigger than RAM takes a few slabs of memory. Returns a
+    PointSet."""
     volume, spacing, origin = _volume_args(volume, spacing, origin)
     # a file mapped shared (np.memmap modes r, r+, w+) streams slab by slab, its pages handed back
     # as they are done: bounded memory for volumes bigger than RAM; the same points
     shared = isinstance(volume, _np.memmap) and getattr(volume, "mode", None) in ("r", "r+", "w+", "readonly", "readwrite", "write")
-    return PointSet(_core._isosurface_volume(volume, float(iso), spacing, origin, projection, int(threads), bool(shared)))
+    isos = _isovalues(iso)
+    parts = [_core._isosurface_volume(volume, v, spacing, origin, projection, int(threads), bool(shared)) for v in isos]
+    return PointSet(parts[0] if len(parts) == 1 else _concatenated(parts, isos))
 
 
 def _field_params(kind, hardy_c=0.025, hardy_c_world=0.0, binning=5.0, max_points=140, alpha=0.75, local_points=160,
@@ -553,9 +577,16 @@ def mc(volume, iso, *, spacing=None, origin=None, threads=0):
     """The marching-cubes mesh of a volume (the triangle baseline, `meshless mc`): (vertices (n, 3)
     float32, faces (m, 3) uint32, normals (n, 3) float32). Normals point toward decreasing values and
     faces wind counter-clockwise seen from the normal side, as in VTK and scikit-image's
-    marching_cubes(..., gradient_direction="descent")."""
+    marching_cubes(..., gradient_direction="descent"). iso: a number, or a sequence of them: one
+    mesh holding their surfaces in order, none welded to another (as `meshless mc --iso V1,V2,...`)."""
     volume, spacing, origin = _volume_args(volume, spacing, origin)
-    return _core._mc(volume, float(iso), spacing, origin, int(threads))
+    meshes = [_core._mc(volume, v, spacing, origin, int(threads)) for v in _isovalues(iso)]
+    if len(meshes) == 1:
+        return meshes[0]
+    offsets = _np.cumsum([0] + [len(m[0]) for m in meshes[:-1]])
+    return (_np.concatenate([m[0] for m in meshes]),
+            _np.concatenate([m[1] + _np.asarray(o, dtype=m[1].dtype) for m, o in zip(meshes, offsets)]),
+            _np.concatenate([m[2] for m in meshes]))
 
 
 class Image:

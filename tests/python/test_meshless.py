@@ -107,6 +107,24 @@ class VolumeIsosurface(unittest.TestCase):
         m = meshless.isosurface(mm, 100.5)
         self.assertTrue(np.array_equal(m.points, s.points))
 
+    @unittest.skipUnless(os.path.exists(TOOTH), "needs ../shared/data")
+    def test_several_isovalues_are_the_single_runs_concatenated_as_the_cli_writes_them(self):
+        vol = np.fromfile(TOOTH, np.uint8).reshape(161, 94, 103).T
+        a, b = meshless.isosurface(vol, 150.5), meshless.isosurface(vol, 60.5)
+        ab = meshless.isosurface(vol, [150.5, 60.5])
+        for name in ("points", "normals", "radius", "values"):
+            self.assertTrue(np.array_equal(getattr(ab, name), np.concatenate([getattr(a, name), getattr(b, name)])))
+        self.assertEqual(ab.stats["active_cells"], a.stats["active_cells"] + b.stats["active_cells"])
+        self.assertEqual(ab.stats["isovalues"], [150.5, 60.5])
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "t.ply")
+            subprocess.run([MESHLESS, "isosurface", TOOTH, "--iso", "150.5,60.5", "-o", out], check=True, env=CLI_ENV)
+            p = read_ply_points(out)
+            self.assertTrue(np.array_equal(np.stack([p["x"], p["y"], p["z"]], 1), ab.points))
+            self.assertTrue(np.array_equal(p["value"], ab.values))
+        with self.assertRaises(ValueError):
+            meshless.isosurface(vol, [])
+
     def test_to_vtk_gives_the_polydata_paraview_reads(self):
         try:
             from vtkmodules.util import numpy_support as ns
@@ -303,6 +321,15 @@ class ScatteredAndBlocks(unittest.TestCase):
 
 
 class MarchingCubes(unittest.TestCase):
+    def test_several_isovalues_give_one_mesh_of_the_single_meshes_none_welded_to_another(self):
+        v, sp, org = sphere_volume(n=32)
+        (va, fa, na), (vb, fb, nb) = meshless.mc(v, 0.5, spacing=sp, origin=org), meshless.mc(v, 0.2, spacing=sp, origin=org)
+        verts, faces, normals = meshless.mc(v, [0.5, 0.2], spacing=sp, origin=org)
+        self.assertTrue(np.array_equal(verts, np.concatenate([va, vb])))
+        self.assertTrue(np.array_equal(normals, np.concatenate([na, nb])))
+        self.assertTrue(np.array_equal(faces, np.concatenate([fa, fb + len(va)])))
+        self.assertEqual(faces.dtype, fa.dtype)
+
     def test_a_closed_consistently_wound_mesh_in_either_order(self):
         v, sp, org = sphere_volume(n=32)
         meshes = [meshless.mc(v, 0.5, spacing=sp, origin=org), meshless.mc(np.ascontiguousarray(v), 0.5, spacing=sp, origin=org)]
