@@ -31,8 +31,9 @@ PACKAGES=(build-essential cmake ninja-build pkg-config git
 BENCH_PACKAGES=(python3-vtk9 python3-scipy time)
 # the Python module (build, test): pybind11 and Debian's python3 with its headers and NumPy; VTK's
 # Python modules for its to_vtk/from_vtk (their tests and the README's example run them); zarr-python,
-# the Zarr reader's second writer in tests/cli/test_zarr_cli.cpp (skipped without it)
-PYTHON_PACKAGES=(pybind11-dev python3-dev python3-numpy python3-pytest python3-vtk9 python3-zarr)
+# the Zarr reader's second writer in tests/cli/test_zarr_cli.cpp (skipped without it); pip and venv
+# for `pip install ./python` (tests/python/test_pip_install.py)
+PYTHON_PACKAGES=(pybind11-dev python3-dev python3-numpy python3-pytest python3-vtk9 python3-zarr python3-pip python3-venv)
 # the sanitizer tier's compiler and its libFuzzer runtime (test, sanitize)
 SANITIZE_PACKAGES=(clang-14 libclang-rt-14-dev)
 # the DICOM reader (GDCM) and the DICOM test series' writer (build, test, sanitize; not demo)

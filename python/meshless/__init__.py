@@ -36,7 +36,7 @@ one-line message; OSError when a file cannot be read or written.
 import numpy as _np
 
 from . import _core
-from ._core import DataError
+from ._core import DataError, __version__
 
 __all__ = ["DataError", "PointSet", "Volume", "Block", "Multiblock", "read_volume", "read_multiblock", "from_vtk", "Field", "Image", "ClusterTree", "Store", "isosurface", "isosurface_points",
            "isosurface_blocks", "mc", "read_points", "info", "render", "splat", "read_image", "hierarchy", "open_store"]

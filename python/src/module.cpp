@@ -10,6 +10,7 @@ namespace py = pybind11;
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "meshless: point-based isosurfaces, fields and pictures of volume data without meshing (compiled core)";
+    m.attr("__version__") = MESHLESS_VERSION;  // the CMake project's version (python/CMakeLists.txt)
     // bad data (meshless::FormatError): meshless.DataError, a ValueError; I/O: OSError; bad arguments
     // (InvalidArgument, a std::invalid_argument): ValueError, pybind11's own mapping
     static py::exception<meshless::FormatError> data_error(m, "DataError", PyExc_ValueError);
