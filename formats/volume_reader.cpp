@@ -21,6 +21,7 @@
 #include "formats/vti.hpp"
 #include "formats/vtk_legacy.hpp"
 #include "formats/vtkjs_image.hpp"
+#include "formats/hdf5_volume.hpp"
 #include "formats/zarr.hpp"
 #include "formats/reference_policy.hpp"
 #include "kernels/checked_size.hpp"
@@ -32,7 +33,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum class Fmt { raw, npy, nrrd, metaimage, vtk_legacy, vti, vtkjs, slc, nifti, voreen_dat, dicom, zarr, unknown };
+enum class Fmt { raw, npy, nrrd, metaimage, vtk_legacy, vti, vtkjs, slc, nifti, voreen_dat, dicom, zarr, hdf5, unknown };
 
 bool ends_with(const std::string& s, const char* suf) {
     const std::size_t n = std::strlen(suf);
@@ -87,6 +88,7 @@ Fmt detect(const std::string& path, const RawOptions& raw) {
         if (looks_like_dicom(path, std::size_t(-1))) return Fmt::dicom;
         throw IoError(path + ": is a directory, expected a volume file (or a vtk-js directory with index.json, a DICOM series, or a Zarr store)");
     }
+    if (is_hdf5_input(path)) return Fmt::hdf5;  // FILE.h5 or FILE.h5:/DATASET
     if (!fs::exists(path, ec)) throw IoError(path + ": cannot open: No such file or directory");
     if (to_lower(fs::path(path).filename().string()) == "dicomdir") return Fmt::dicom;
     if (fs::path(path).filename() == ".zarray") return Fmt::zarr;
@@ -112,6 +114,7 @@ const char* format_name(Fmt f) {
         case Fmt::voreen_dat: return "voreen-dat";
         case Fmt::dicom: return "dicom";
         case Fmt::zarr: return "zarr";
+        case Fmt::hdf5: return "hdf5";
         case Fmt::unknown: break;
     }
     return "unknown";
@@ -120,7 +123,7 @@ const char* format_name(Fmt f) {
 // detect, then RawOptions::array refused for a format of one unnamed array (InvalidArgument).
 Fmt detect_reading(const std::string& path, const RawOptions& raw) {
     const Fmt f = detect(path, raw);
-    if (f != Fmt::vti && f != Fmt::vtk_legacy && f != Fmt::vtkjs) refuse_array_choice(raw.array, path, format_name(f));
+    if (f != Fmt::vti && f != Fmt::vtk_legacy && f != Fmt::vtkjs && f != Fmt::hdf5) refuse_array_choice(raw.array, path, format_name(f));
     return f;
 }
 
@@ -170,6 +173,7 @@ Volume read_volume_unnamed(const std::string& path, const RawOptions& raw) {
         case Fmt::voreen_dat: return read_payload(confined(plan_voreen_dat(path), path, raw.references));
         case Fmt::dicom: return read_dicom_series(open_dicom_series(path, raw.series, raw.references));
         case Fmt::zarr: return read_zarr(path, raw);
+        case Fmt::hdf5: return read_hdf5(path, raw);
         case Fmt::unknown: break;
     }
     throw FormatError(path + ": unrecognized volume format");
@@ -235,6 +239,7 @@ VolumeInfo probe_volume(const std::string& path, const RawOptions& raw) {
         case Fmt::nifti: return probe_nifti(path, raw.references);
         case Fmt::dicom: return dicom_info(open_dicom_series(path, raw.series, raw.references));
         case Fmt::zarr: return probe_zarr(path, raw);
+        case Fmt::hdf5: return probe_hdf5(path, raw);
         case Fmt::unknown: break;
     }
     throw FormatError(path + ": unrecognized volume format");
@@ -258,6 +263,7 @@ VolumeInfo prove_volume(const std::string& path, const RawOptions& raw) {
         case Fmt::slc: prove_slc(path); break;
         case Fmt::nifti: prove_nifti(path, raw.references); break;
         case Fmt::zarr: return prove_zarr(path, raw);
+        case Fmt::hdf5: return prove_hdf5(path, raw);
         case Fmt::dicom: {  // every slice decoded through one reused buffer
             const DicomSeries s = open_dicom_series(path, raw.series, raw.references);
             std::vector<std::byte> slice(static_cast<std::size_t>(s.grid.dims[0] * s.grid.dims[1]) * sample_size(s.type)), scratch;
@@ -283,6 +289,7 @@ bool is_dicom_input(const std::string& path, const RawOptions& raw) {
 }
 
 bool looks_like_volume(const std::string& path) {
+    if (is_hdf5_input(path)) return true;
     std::error_code ec;
     if (fs::is_directory(path, ec))
         return fs::is_regular_file(fs::path(path) / "index.json", ec) || looks_like_zarr(path) || looks_like_dicom(path);

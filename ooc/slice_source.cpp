@@ -18,6 +18,7 @@
 #include "formats/raw_volume.hpp"
 #include "formats/stored_type.hpp"
 #include "formats/voreen_dat.hpp"
+#include "formats/hdf5_volume.hpp"
 #include "formats/zarr.hpp"
 #include "formats/reference_policy.hpp"
 #include "kernels/errors.hpp"
@@ -192,6 +193,22 @@ private:
     std::int64_t row_ = -1;
 };
 
+// An HDF5 dataset one z-row of chunks at a time (formats/hdf5_volume.hpp).
+class Hdf5SliceSource final : public SliceSource {
+public:
+    explicit Hdf5SliceSource(Hdf5Slices s) : slices_(std::move(s)) {}
+    const GridSpec& grid() const override { return slices_.grid(); }
+    SampleType type() const override { return slices_.type(); }
+    std::string name() const override { return slices_.name(); }
+    void read_slices(std::int64_t k, std::int64_t count, std::byte* out) override {
+        check_range(*this, k, count);
+        slices_.read_slices(k, count, out);
+    }
+
+private:
+    Hdf5Slices slices_;
+};
+
 std::optional<PayloadPlan> streamable_plan(const std::string& path, const RawOptions& raw) {
     const VolumeInfo vi = probe_volume(path, raw);
     PayloadPlan plan;
@@ -348,6 +365,10 @@ std::unique_ptr<SliceSource> open_slice_source(const std::string& path, const Ra
         check_reference(raw.references, path, path);
         refuse_array_choice(raw.array, path, "zarr");
         return std::make_unique<ZarrSliceSource>(open_zarr(path, raw), path);
+    }
+    if (is_hdf5_input(path)) {
+        check_reference(raw.references, path, path);
+        return std::make_unique<Hdf5SliceSource>(Hdf5Slices(path, raw));
     }
     if (auto plan = streamable_plan(path, raw)) return std::make_unique<PlanSliceSource>(std::move(*plan), path);
     return std::make_unique<MemorySliceSource>(read_volume(path, raw), path);

@@ -12,6 +12,7 @@
 #include "formats/point_stream.hpp"
 #include "formats/terminal_safe.hpp"
 #include "kernels/errors.hpp"
+#include "formats/hdf5_volume.hpp"
 #include "ooc/brick_store.hpp"
 #include "ooc/sample_store.hpp"
 #include "stream/built_file_info.hpp"
@@ -73,6 +74,7 @@ bool is_collection(const std::string& path) {
 }  // namespace
 
 FileKind file_kind(const std::string& path, bool raw_dims) {
+    if (is_hdf5_input(path)) return FileKind::volume;  // FILE.h5 or FILE.h5:/DATASET
     unsigned char h[32] = {};
     const std::size_t n = read_head(path, h);
     if (path == "-" || (n >= 8 && std::memcmp(h, "\x89MLS", 4) == 0)) return FileKind::stream;

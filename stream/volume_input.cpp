@@ -30,6 +30,14 @@ void warn_if_raw_options_ignored(const std::string& path, const VolumeOpenOption
                    "--spacing is ignored");
         return;
     }
+    if (vi.format == "hdf5") {  // the dataset gives its shape and type; its attributes, where present, the geometry
+        if (o.raw.dims || o.raw.type || o.raw.big_endian)
+            o.warn("warning: " + terminal_safe(path) + " is an HDF5 dataset, which gives its shape and type: --dims, --type " +
+                   "and --endian are ignored");
+        if (o.raw.spacing && vi.grid.spacing != *o.raw.spacing)
+            o.warn("warning: " + terminal_safe(path) + " is an HDF5 dataset whose attributes give its spacing: --spacing is ignored");
+        return;
+    }
     if (vi.format == "npy") {  // the header gives the shape and dtype, --spacing the geometry it lacks
         if (o.raw.dims || o.raw.type || o.raw.big_endian)
             o.warn("warning: " + terminal_safe(path) + " is a .npy file, whose header gives its shape and dtype: --dims, " +
@@ -44,7 +52,7 @@ void warn_if_raw_options_ignored(const std::string& path, const VolumeOpenOption
 /// Formats whose payload open_slice_source streams from disk (raw or gzip samples, Zarr chunk rows).
 bool streamable(const std::string& path, const RawOptions& raw) {
     const VolumeInfo vi = probe_volume(path, raw);
-    if (vi.format == "zarr" || vi.format == "ome-zarr") return true;
+    if (vi.format == "zarr" || vi.format == "ome-zarr" || vi.format == "hdf5") return true;
     return (vi.format == "raw" || vi.format == "npy" || vi.format == "nrrd" || vi.format == "metaimage" || vi.format == "voreen-dat") &&
            (vi.encoding == "raw" || vi.encoding == "gzip");
 }
