@@ -66,7 +66,7 @@ int cmd_isosurface(int argc, char** argv) {
            "VOLUME: raw (name_XxYxZ_type.raw or --dims/--type), NRRD (.nrrd/.nhdr), MetaImage (.mhd/.mha),\n"
            "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI, a 3-D NumPy .npy (shape\n"
            "(nz, ny, nx), --spacing), a Zarr v2 store or OME-Zarr image (a folder, read chunk row by chunk row),\n"
-           "a DICOM series, or a brick store (.mlb,\n"
+           "an HDF5 dataset (FILE.h5:/PATH, or --array PATH), a DICOM series, or a brick store (.mlb,\n"
            "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory,\n"
            "or a paradigm (A) sample store (.mls, see meshless generate --all): only its candidate cell rows.");
     a.option("iso", "", "V[,V2...]", "isovalue (required); several, comma-separated: their surfaces one after another in the same outputs, coloured by isovalue")

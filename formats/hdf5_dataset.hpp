@@ -32,6 +32,7 @@ namespace meshless {
 /// What a dataset's header says.
 struct Hdf5DatasetHeader {
     std::vector<std::int64_t> shape;                 ///< slowest first, as stored
+    std::vector<std::int64_t> max_shape;             ///< the dimensions it may grow to; -1: unlimited
     std::optional<StoredType> type;                  ///< nullopt: not a type the tool reads (type_text says which)
     std::string type_text;                           ///< "uint16 little-endian", "float16", "string", ...
     std::vector<std::int64_t> chunk;                 ///< chunk dimensions, slowest first; empty unless chunked
@@ -39,6 +40,12 @@ struct Hdf5DatasetHeader {
     std::string filters;                             ///< "deflate 4, shuffle", ... ; "none"
     std::uint64_t storage_bytes = 0;                 ///< bytes the dataset takes in the file (H5Dget_storage_size)
     std::optional<std::uint64_t> data_offset;        ///< contiguous: where its bytes start in the file (nullopt: never written)
+    bool big_endian = false;                         ///< the stored type's byte order
+    /// The filter pipeline in writing order (H5Z ids: 1 deflate, 2 shuffle, 3 fletcher32, ...) and
+    /// each filter's first parameter (deflate: the level).
+    std::vector<int> filters_ids;
+    /// The fill value in the stored type's bytes (what a chunk never written holds), stored_size bytes.
+    std::vector<std::byte> fill;
     /// Numeric attributes of three values on the dataset, by name, as stored (no reordering).
     std::optional<std::array<double, 3>> spacing, origin, element_size_um;
 };
@@ -66,6 +73,12 @@ public:
     Hdf5Dataset(Hdf5Dataset&&) noexcept;
     Hdf5Dataset& operator=(Hdf5Dataset&&) noexcept;
     const Hdf5DatasetHeader& header() const { return header_; }
+    /// The stored (filtered) bytes of the chunk whose first sample is (z, y, x) of the last three
+    /// dimensions (leading ones at 0) into raw, and the mask of the filters skipped for it (bit i:
+    /// filter i of the pipeline); false when the chunk was never written. FormatError when its
+    /// stored size exceeds `max_bytes` (checked before it is read).
+    bool read_chunk(std::int64_t z, std::int64_t y, std::int64_t x, std::uint64_t max_bytes, std::vector<std::byte>& raw,
+                    unsigned& mask);
     /// Reads slices [z0, z0 + count) of the dataset's last three dimensions (the leading ones of
     /// size 1 at index 0) into out, x fastest, converted into `as` in host byte order
     /// (u8, i16, u16 or f32: the Volume types).

@@ -102,12 +102,17 @@ void check_links(hid_t file, const std::string& path, const std::string& where) 
     }
 }
 
-std::vector<std::int64_t> extent(hid_t space, const std::string& where) {
+std::vector<std::int64_t> extent(hid_t space, const std::string& where, std::vector<std::int64_t>* max_shape = nullptr) {
     const int rank = H5Sget_simple_extent_ndims(space);
     if (rank < 0) fail(where, "cannot read the dataspace");
     if (rank > H5S_MAX_RANK) throw FormatError(where + ": " + std::to_string(rank) + " dimensions");
-    hsize_t dims[H5S_MAX_RANK] = {};
-    if (rank > 0 && H5Sget_simple_extent_dims(space, dims, nullptr) < 0) fail(where, "cannot read the dimensions");
+    hsize_t dims[H5S_MAX_RANK] = {}, max[H5S_MAX_RANK] = {};
+    if (rank > 0 && H5Sget_simple_extent_dims(space, dims, max) < 0) fail(where, "cannot read the dimensions");
+    if (max_shape)
+        for (int d = 0; d < rank; ++d)
+            max_shape->push_back(max[d] == H5S_UNLIMITED || max[d] > static_cast<hsize_t>(std::numeric_limits<std::int64_t>::max())
+                                     ? -1
+                                     : static_cast<std::int64_t>(max[d]));
     std::vector<std::int64_t> shape;
     for (int d = 0; d < rank; ++d) {
         if (dims[d] > static_cast<hsize_t>(std::numeric_limits<std::int32_t>::max()))
@@ -179,7 +184,7 @@ std::optional<std::array<double, 3>> triple_attribute(hid_t object, const char* 
     return v;
 }
 
-std::string filter_list(hid_t dcpl, const std::string& where) {
+std::string filter_list(hid_t dcpl, const std::string& where, std::vector<int>& ids) {
     const int n = H5Pget_nfilters(dcpl);
     if (n < 0) fail(where, "cannot read the filter pipeline");
     if (n == 0) return "none";
@@ -207,6 +212,7 @@ std::string filter_list(hid_t dcpl, const std::string& where) {
                                       "filters it has: deflate, shuffle, fletcher32, szip, nbit, scaleoffset; rewrite the "
                                       "dataset with one of them, e.g. h5repack -f GZIP=4)");
         }
+        ids.push_back(static_cast<int>(id));
         text += (text.empty() ? "" : ", ") + one;
     }
     return text;
@@ -215,7 +221,7 @@ std::string filter_list(hid_t dcpl, const std::string& where) {
 }  // namespace
 
 struct Hdf5Dataset::Handles {
-    Id file, dataset, space;
+    Id file, dataset, space, type;
     std::string where;
     std::size_t leading = 0;  ///< dimensions of size 1 before the last three
 };
@@ -279,12 +285,11 @@ Hdf5Dataset::Hdf5Dataset(const std::string& file, const std::string& dataset) : 
     if (!h_->dataset.valid()) fail(where, "cannot open the dataset");
     h_->space = Id(H5Dget_space(h_->dataset.get()), H5Sclose);
     if (!h_->space.valid()) fail(where, "cannot read the dataspace");
-    header_.shape = extent(h_->space.get(), where);
-    {
-        Id type(H5Dget_type(h_->dataset.get()), H5Tclose);
-        if (!type.valid()) fail(where, "cannot read the datatype");
-        header_.type = stored_type(type.get(), header_.type_text);
-    }
+    header_.shape = extent(h_->space.get(), where, &header_.max_shape);
+    h_->type = Id(H5Dget_type(h_->dataset.get()), H5Tclose);
+    if (!h_->type.valid()) fail(where, "cannot read the datatype");
+    header_.type = stored_type(h_->type.get(), header_.type_text);
+    header_.big_endian = H5Tget_order(h_->type.get()) == H5T_ORDER_BE;
     Id dcpl(H5Dget_create_plist(h_->dataset.get()), H5Pclose);
     if (!dcpl.valid()) fail(where, "cannot read the creation properties");
     const H5D_layout_t layout = H5Pget_layout(dcpl.get());
@@ -303,7 +308,15 @@ Hdf5Dataset::Hdf5Dataset(const std::string& file, const std::string& dataset) : 
     if (external != 0)
         throw FormatError(where + ": its raw data are in " + (external > 0 ? std::to_string(external) : std::string("some")) +
                           " external file(s): refused (only the file's own data are read)");
-    header_.filters = filter_list(dcpl.get(), where);
+    header_.filters = filter_list(dcpl.get(), where, header_.filters_ids);
+    if (header_.type) {  // the fill value in the stored type (the default: zeros)
+        header_.fill.assign(stored_size(*header_.type), std::byte{0});
+        H5D_fill_value_t defined = H5D_FILL_VALUE_UNDEFINED;
+        if (H5Pfill_value_defined(dcpl.get(), &defined) >= 0 && defined != H5D_FILL_VALUE_UNDEFINED &&
+            H5Pget_fill_value(dcpl.get(), h_->type.get(), header_.fill.data()) < 0)
+            fail(where, "cannot read the fill value");
+        H5Eclear2(H5E_DEFAULT);
+    }
     header_.storage_bytes = H5Dget_storage_size(h_->dataset.get());
     if (layout == H5D_CONTIGUOUS) {
         const haddr_t at = H5Dget_offset(h_->dataset.get());
@@ -319,6 +332,29 @@ Hdf5Dataset::Hdf5Dataset(const std::string& file, const std::string& dataset) : 
 Hdf5Dataset::~Hdf5Dataset() = default;
 Hdf5Dataset::Hdf5Dataset(Hdf5Dataset&&) noexcept = default;
 Hdf5Dataset& Hdf5Dataset::operator=(Hdf5Dataset&&) noexcept = default;
+
+bool Hdf5Dataset::read_chunk(std::int64_t z, std::int64_t y, std::int64_t x, std::uint64_t max_bytes, std::vector<std::byte>& raw,
+                             unsigned& mask) {
+    const std::size_t rank = header_.shape.size();
+    hsize_t offset[H5S_MAX_RANK] = {};
+    offset[rank - 3] = static_cast<hsize_t>(z);
+    offset[rank - 2] = static_cast<hsize_t>(y);
+    offset[rank - 1] = static_cast<hsize_t>(x);
+    const std::string at = h_->where + ": chunk at (" + std::to_string(z) + ", " + std::to_string(y) + ", " + std::to_string(x) + ")";
+    quiet();
+    hsize_t bytes = 0;
+    if (H5Dget_chunk_storage_size(h_->dataset.get(), offset, &bytes) < 0 || bytes == 0) {
+        H5Eclear2(H5E_DEFAULT);  // never written: the fill value
+        return false;
+    }
+    if (bytes > max_bytes)
+        throw FormatError(at + ": " + std::to_string(bytes) + " stored bytes, more than it can hold (" + std::to_string(max_bytes) + ")");
+    raw.resize(static_cast<std::size_t>(bytes));
+    std::uint32_t filters = 0;
+    if (H5Dread_chunk(h_->dataset.get(), H5P_DEFAULT, offset, &filters, raw.data()) < 0) fail(at, "cannot read its stored bytes");
+    mask = filters;
+    return true;
+}
 
 void Hdf5Dataset::read_slices(std::int64_t z0, std::int64_t count, SampleType as, std::byte* out) {
     const std::size_t rank = header_.shape.size();

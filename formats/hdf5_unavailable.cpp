@@ -24,6 +24,10 @@ Hdf5Dataset::~Hdf5Dataset() = default;
 Hdf5Dataset::Hdf5Dataset(Hdf5Dataset&&) noexcept = default;
 Hdf5Dataset& Hdf5Dataset::operator=(Hdf5Dataset&&) noexcept = default;
 
+bool Hdf5Dataset::read_chunk(std::int64_t, std::int64_t, std::int64_t, std::uint64_t, std::vector<std::byte>&, unsigned&) {
+    no_reader("HDF5 dataset");
+}
+
 void Hdf5Dataset::read_slices(std::int64_t, std::int64_t, SampleType, std::byte*) { no_reader("HDF5 dataset"); }
 
 }  // namespace meshless

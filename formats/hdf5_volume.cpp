@@ -6,6 +6,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "formats/gzip.hpp"
 #include "formats/reference_policy.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/checked_size.hpp"
@@ -19,6 +20,8 @@ namespace {
 
 /// The most slices' bytes a row of a contiguous dataset holds.
 constexpr std::uint64_t kContiguousRowBytes = std::uint64_t{16} << 20;
+/// The largest decoded chunk read (as for Zarr chunks: formats/zarr.hpp).
+constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{1} << 31;
 /// The datasets probe_hdf5 lists.
 constexpr std::size_t kListedDatasets = 64;
 
@@ -73,6 +76,21 @@ std::string chosen_dataset(const Hdf5Path& p, const std::string& path, const Raw
                       (found.size() > 8 ? ", ..." : "") + "): name one as " + escape_field(p.file, 120) + ":/PATH or with --array PATH");
 }
 
+/// The H5Z filters this reader decodes itself (deflate, shuffle, fletcher32): libhdf5 1.10 copies a
+/// chunk that inflates to fewer bytes than its size beyond its buffer, so no filtered chunk is left to it.
+constexpr int kDeflate = 1, kShuffle = 2, kFletcher32 = 3;
+
+/// Bytes grouped by significance (shuffle) back into elements of `size` bytes.
+void unshuffle(std::vector<std::byte>& data, std::size_t size) {
+    const std::size_t n = data.size() / size;
+    if (size < 2 || n < 2) return;
+    std::vector<std::byte> out(data.size());
+    for (std::size_t b = 0; b < size; ++b)
+        for (std::size_t i = 0; i < n; ++i) out[i * size + b] = data[b * n + i];
+    std::copy(data.begin() + static_cast<std::ptrdiff_t>(n * size), data.end(), out.begin() + static_cast<std::ptrdiff_t>(n * size));
+    data.swap(out);
+}
+
 }  // namespace
 
 std::optional<Hdf5Path> hdf5_path(const std::string& path) {
@@ -124,13 +142,38 @@ Hdf5Slices::Hdf5Slices(const std::string& path, const RawOptions& raw)
     type_ = volume_type_for(*h.type);
     const std::uint64_t stored = checked_mul(static_cast<std::uint64_t>(grid_.voxel_count()), stored_size(*h.type), name_ + ": stored size");
     const std::uint64_t slice = static_cast<std::uint64_t>(grid_.dims[0] * grid_.dims[1]) * sample_size(type_);
+    // what the header claims is checked against the file before libhdf5 allocates from it: the
+    // dataset's stored bytes (every chunk, compressed) fit in the file, and a chunk decodes to at
+    // most kMaxChunkBytes
+    std::error_code ec;
+    const std::uintmax_t file_bytes = fs::file_size(file_, ec);
+    if (ec || h.storage_bytes > file_bytes)
+        throw FormatError(name_ + ": its storage claims " + std::to_string(h.storage_bytes) + " bytes, more than the file's " +
+                          std::to_string(file_bytes) + ": truncated or corrupt");
+    if (!h.chunk.empty()) {
+        std::uint64_t chunk_bytes = stored_size(*h.type);
+        for (std::int64_t c : h.chunk) {
+            if (c < 1) throw FormatError(name_ + ": chunk " + shape_text(h.chunk) + " has an empty dimension");
+            chunk_bytes = checked_mul(chunk_bytes, static_cast<std::uint64_t>(c), name_ + ": chunk size");
+        }
+        if (chunk_bytes > kMaxChunkBytes)
+            throw FormatError(name_ + ": chunk " + shape_text(h.chunk) + " of " + std::to_string(chunk_bytes) + " bytes, more than " +
+                              std::to_string(kMaxChunkBytes >> 20) + " MiB");
+    }
+    for (int id : h.filters_ids)
+        if (id != kDeflate && id != kShuffle && id != kFletcher32)
+            throw FormatError(name_ + ": filters " + h.filters + ": only deflate, shuffle and fletcher32 are read (rewrite it with "
+                                      "h5repack -f GZIP=4)");
+    // HDF5 itself never writes a chunk larger than a fixed dimension (only a growable one)
+    for (std::size_t d = 0; h.layout == "chunked" && d < r; ++d)
+        if (h.max_shape.size() == r && h.max_shape[d] >= 0 && h.chunk[d] > h.max_shape[d])
+            throw FormatError(name_ + ": chunk " + shape_text(h.chunk) + " is larger than the dataset " + shape_text(s) +
+                              " along a dimension that cannot grow: corrupt");
     if (h.layout == "contiguous") {
         // the dataset's bytes lie within the file (or were never written: fill values)
         if (h.storage_bytes != 0 && h.storage_bytes != stored)
             throw FormatError(name_ + ": its storage holds " + std::to_string(h.storage_bytes) + " bytes, its shape and type need " +
                               std::to_string(stored));
-        std::error_code ec;
-        const std::uintmax_t file_bytes = fs::file_size(file_, ec);
         if (h.data_offset && (ec || *h.data_offset > file_bytes || h.storage_bytes > file_bytes - *h.data_offset))
             throw FormatError(name_ + ": its " + std::to_string(h.storage_bytes) + " bytes at offset " + std::to_string(*h.data_offset) +
                               " lie beyond the end of the file (" + std::to_string(file_bytes) + " bytes): truncated");
@@ -155,18 +198,75 @@ void Hdf5Slices::read_slices(std::int64_t k, std::int64_t count, std::byte* out)
         const std::int64_t take = std::min(k + count, z1) - s;
         std::byte* dst = out + static_cast<std::size_t>(s - k) * slice;
         if (s == z0 && take == z1 - z0) {
-            dataset_.read_slices(z0, take, type_, dst);
+            read_row(z0, z1, dst);
         } else {
             if (row_index_ != r) {
                 row_.resize(static_cast<std::size_t>(z1 - z0) * slice);
                 row_index_ = -1;
-                dataset_.read_slices(z0, z1 - z0, type_, row_.data());
+                read_row(z0, z1, row_.data());
                 row_index_ = r;
             }
             std::memcpy(dst, row_.data() + static_cast<std::size_t>(s - z0) * slice, static_cast<std::size_t>(take) * slice);
         }
         s += take;
     }
+}
+
+void Hdf5Slices::read_row(std::int64_t z0, std::int64_t z1, std::byte* out) {
+    const Hdf5DatasetHeader& h = dataset_.header();
+    if (h.filters_ids.empty()) {  // stored as it is: libhdf5 reads and converts the slices
+        dataset_.read_slices(z0, z1 - z0, type_, out);
+        return;
+    }
+    // filtered chunks decoded here (see kDeflate), into the stored type, then converted
+    const std::size_t r = h.shape.size(), es = stored_size(*h.type);
+    const std::int64_t cz = h.chunk[r - 3], cy = h.chunk[r - 2], cx = h.chunk[r - 1];
+    const std::int64_t nx = grid_.dims[0], ny = grid_.dims[1], depth = z1 - z0;
+    const std::size_t chunk_bytes = static_cast<std::size_t>(cz * cy * cx) * es;
+    std::vector<std::byte> stored(static_cast<std::size_t>(nx * ny * depth) * es), raw, chunk;
+    for (std::int64_t y0 = 0; y0 < ny; y0 += cy) {
+        for (std::int64_t x0 = 0; x0 < nx; x0 += cx) {
+            unsigned mask = 0;
+            const std::string at = name_ + ": chunk at (" + std::to_string(z0) + ", " + std::to_string(y0) + ", " + std::to_string(x0) + ")";
+            if (!dataset_.read_chunk(z0, y0, x0, std::min<std::uint64_t>(chunk_bytes * kMaxDeflateRatio + 64, kMaxChunkBytes), raw, mask)) {
+                chunk.resize(chunk_bytes);
+                for (std::size_t i = 0; i < chunk_bytes; i += es) std::memcpy(chunk.data() + i, h.fill.data(), es);
+            } else {
+                chunk.swap(raw);
+                for (std::size_t f = h.filters_ids.size(); f-- > 0;) {
+                    if (mask & (1u << f)) continue;  // skipped for this chunk when it was written
+                    switch (h.filters_ids[f]) {
+                        case kFletcher32:  // the checksum's 4 bytes at the end (not verified)
+                            if (chunk.size() < 4) throw FormatError(at + ": shorter than its fletcher32 checksum");
+                            chunk.resize(chunk.size() - 4);
+                            break;
+                        case kDeflate: {
+                            if (chunk_bytes > chunk.size() * kMaxDeflateRatio)
+                                throw FormatError(at + ": " + std::to_string(chunk.size()) + " deflated bytes cannot hold " +
+                                                  std::to_string(chunk_bytes) + " (deflate expands at most 1032:1): truncated");
+                            std::vector<std::byte> inflated(chunk_bytes);
+                            inflate_into(chunk.data(), chunk.size(), inflated.data(), chunk_bytes, at);
+                            chunk.swap(inflated);
+                            break;
+                        }
+                        case kShuffle: unshuffle(chunk, es); break;
+                    }
+                }
+                if (chunk.size() != chunk_bytes)
+                    throw FormatError(at + ": decodes to " + std::to_string(chunk.size()) + " bytes, expected " + std::to_string(chunk_bytes));
+            }
+            // the chunk's part inside the dataset and these slices (chunk: z, y, x with x fastest)
+            const std::int64_t wy = std::min(cy, ny - y0), wx = std::min(cx, nx - x0), wz = std::min(cz, depth);
+            for (std::int64_t k = 0; k < wz; ++k)
+                for (std::int64_t j = 0; j < wy; ++j)
+                    std::memcpy(stored.data() + static_cast<std::size_t>(((k * ny) + y0 + j) * nx + x0) * es,
+                                chunk.data() + static_cast<std::size_t>((k * cy + j) * cx) * es, static_cast<std::size_t>(wx) * es);
+        }
+    }
+    GridSpec g = grid_;
+    g.dims[2] = depth;
+    const Volume v = make_volume(SampleBytes(std::move(stored)), *h.type, h.big_endian, g, name_);
+    std::memcpy(out, v.bytes.data(), v.bytes.size());
 }
 
 Volume read_hdf5(const std::string& path, const RawOptions& raw) {

@@ -15,9 +15,11 @@
 // Memory: Hdf5Slices reads one z-row of chunks (the chunk depth, or slabs of at most 16 MiB of a
 // contiguous dataset) at a time, so the slab streamer (ooc/slice_source.hpp) holds one row.
 // Hostile files: no reference leaves the file (formats/hdf5_dataset.hpp); the file itself is
-// checked against RawOptions::references; sizes are checked before any allocation (each dimension
-// < 2^31, the voxel count by kernels/checked_size.hpp), and a contiguous dataset must lie within
-// the file. Throws FormatError naming "FILE:/DATASET" and what is wrong; IoError when the file
+// checked against RawOptions::references; sizes are checked before libhdf5 or this reader allocates
+// from them (each dimension < 2^31, the voxel count by kernels/checked_size.hpp, a chunk at most
+// 2 GiB decoded, the dataset's stored bytes at most the file's size, a contiguous dataset within
+// the file). A deflate chunk decodes in libhdf5, whose buffer grows to what the chunk inflates to
+// (at most 1032 times its stored size) before the size is checked. Throws FormatError naming "FILE:/DATASET" and what is wrong; IoError when the file
 // cannot be read; InvalidArgument when the path and --array name different datasets.
 // Thread-safety: reentrant; an Hdf5Slices is used by one thread at a time.
 // Dissertation: chapter 3 input volumes (section 3.6: volumes bigger than RAM).
@@ -64,6 +66,10 @@ public:
     void read_slices(std::int64_t k, std::int64_t count, std::byte* out);
 
 private:
+    /// Slices [z0, z1) of one row into out (volume type): libhdf5's read of a dataset stored as it
+    /// is; filtered chunks read as stored and decoded here (deflate, shuffle, fletcher32), each
+    /// checked to decode to exactly its size.
+    void read_row(std::int64_t z0, std::int64_t z1, std::byte* out);
     std::string file_, name_;  // set while dataset_ is constructed: declared before it
     Hdf5Dataset dataset_;
     GridSpec grid_;

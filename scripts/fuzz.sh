@@ -18,7 +18,7 @@ data=${MESHLESS_DATA:-$root/../shared/data}
 all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
      fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_npy_volume fuzz_plot3d fuzz_vtp fuzz_oriented_vtp fuzz_vts fuzz_vtu fuzz_csv fuzz_npy fuzz_points_raw
      fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file fuzz_point_store
-     fuzz_positions fuzz_dicom fuzz_zarr)
+     fuzz_positions fuzz_dicom fuzz_zarr fuzz_hdf5)
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
@@ -30,6 +30,12 @@ fi
 if ! grep -q '^MESHLESS_WITH_DICOM:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null; then
   kept=()
   for t in "${targets[@]}"; do [ "$t" = fuzz_dicom ] && echo "fuzz.sh: $build has no DICOM reader: fuzz_dicom left out" >&2 || kept+=("$t"); done
+  targets=("${kept[@]}")
+fi
+# fuzz_hdf5 exists only in a build with the HDF5 reader (libhdf5 found: MESHLESS_WITH_HDF5)
+if ! grep -q '^MESHLESS_WITH_HDF5:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null; then
+  kept=()
+  for t in "${targets[@]}"; do [ "$t" = fuzz_hdf5 ] && echo "fuzz.sh: $build has no HDF5 reader: fuzz_hdf5 left out" >&2 || kept+=("$t"); done
   targets=("${kept[@]}")
 fi
 cmake --build "$build" --target "${targets[@]}" || exit 2
@@ -102,6 +108,18 @@ zarray() { printf '{"zarr_format": 2, "shape": [2, 4, 4], "chunks": [%s], "dtype
 { zarray "2, 4, 4" "<i2" '{"id": "zlib", "level": 1}' F; z64 64 | python3 -c 'import sys, zlib; sys.stdout.buffer.write(zlib.compress(sys.stdin.buffer.read()))'; } | seed fuzz_zarr zlib
 { zarray "1, 2, 4" ">f4" '{"id": "gzip", "level": 1}' C; z64 32 | gz; } | seed fuzz_zarr gzip
 command -v zstd >/dev/null && { zarray "2, 4, 4" "<u2" '{"id": "zstd", "level": 1}' C; z64 64 | zstd -q -c; } | seed fuzz_zarr zstd
+# HDF5 files (python3-h5py, when installed): a 4x4x2 volume contiguous, and chunked with deflate and shuffle
+/usr/bin/python3 - "$seeds/fuzz_hdf5" <<'EOF' 2>/dev/null || true
+import os, sys
+import numpy as np, h5py
+os.makedirs(sys.argv[1], exist_ok=True)
+v = (np.arange(32, dtype=np.uint16) * 7).reshape(2, 4, 4)
+with h5py.File(os.path.join(sys.argv[1], "contiguous"), "w", libver="earliest") as f:
+    d = f.create_dataset("v", data=v.astype(np.uint8))
+    d.attrs["spacing"] = [1.0, 1.0, 2.0]
+with h5py.File(os.path.join(sys.argv[1], "deflate"), "w", libver="earliest") as f:
+    f.create_dataset("g/v", data=v.astype(">i2"), chunks=(1, 2, 4), compression="gzip", shuffle=True)
+EOF
 have mni152_brain/avg152T1_RL_nifti.nii.gz && seed fuzz_nifti_gz mni < "$data/mni152_brain/avg152T1_RL_nifti.nii.gz"
 have scattered/dark_matter_halo/halo_low_res.npy && seed fuzz_npy halo < "$data/scattered/dark_matter_halo/halo_low_res.npy"
 have plot3d/mbwavelet_ascii.xyz && { cat "$data/plot3d/mbwavelet_ascii.xyz"; printf '\0'; cat "$data/plot3d/mbwavelet_ascii.q"; } | seed fuzz_plot3d mbwavelet

@@ -2,7 +2,7 @@
 # meshless set-up on a fresh Debian 12 machine: installs the Debian packages the project needs,
 # builds in Release what the task needs, then runs it.
 #   scripts/setup.sh demo    install + build the `meshless` executable only + `meshless demo -o out/demo`
-#                            (without the DICOM reader: GDCM is neither installed nor linked)
+#                            (without the DICOM and HDF5 readers: GDCM and libhdf5 are neither installed nor linked)
 #   scripts/setup.sh test    install + build everything, tests and meshless-bench included + ctest,
 #                            then the sanitizer tier (what `sanitize` does)
 #   scripts/setup.sh sanitize  install + build meshless, the tests and the libFuzzer targets with
@@ -38,6 +38,8 @@ PYTHON_PACKAGES=(pybind11-dev python3-dev python3-numpy python3-pytest python3-v
 SANITIZE_PACKAGES=(clang-14 libclang-rt-14-dev)
 # the DICOM reader (GDCM) and the DICOM test series' writer (build, test, sanitize; not demo)
 DICOM_PACKAGES=(libgdcm-dev python3-pydicom)
+# the HDF5 reader (libhdf5) and the HDF5 fuzz seeds' writer (build, test, sanitize; not demo)
+HDF5_PACKAGES=(libhdf5-dev python3-h5py)
 
 install_deps() {
   [ "${SKIP_APT:-0}" = 1 ] && return 0
@@ -90,7 +92,7 @@ install_python_module() {
 # targets (tests/fuzz/); after the suite, scripts/fuzz.sh runs each FUZZ_SECONDS seconds from its
 # seed corpus, and any crash, leak, timeout or OOM fails the tier.
 sanitize() {
-  local DIR="$BUILD_DIR-asan" EXTRA_CMAKE=(-DMESHLESS_SANITIZE=address,undefined -DMESHLESS_WITH_DICOM=ON) fuzz=0
+  local DIR="$BUILD_DIR-asan" EXTRA_CMAKE=(-DMESHLESS_SANITIZE=address,undefined -DMESHLESS_WITH_DICOM=ON -DMESHLESS_WITH_HDF5=ON) fuzz=0
   local secs="${FUZZ_SECONDS:-5}" clang
   clang=$(command -v clang++-14 || true)
   if [ -n "$clang" ] && ls "$("$clang" --print-runtime-dir)"/libclang_rt.fuzzer-*.a >/dev/null 2>&1; then
@@ -119,13 +121,13 @@ sanitize() {
 
 case "$what" in
   deps) install_deps ;;
-  build) install_deps "${PYTHON_PACKAGES[@]}" "${DICOM_PACKAGES[@]}"; EXTRA_CMAKE=(-DMESHLESS_WITH_DICOM=ON); build ON OFF; install_python_module ;;
-  demo) install_deps; EXTRA_CMAKE=(-DMESHLESS_WITH_DICOM=OFF); build OFF OFF meshless; "$BUILD_DIR/cli/meshless" demo -o out/demo ;;
+  build) install_deps "${PYTHON_PACKAGES[@]}" "${DICOM_PACKAGES[@]}" "${HDF5_PACKAGES[@]}"; EXTRA_CMAKE=(-DMESHLESS_WITH_DICOM=ON -DMESHLESS_WITH_HDF5=ON); build ON OFF; install_python_module ;;
+  demo) install_deps; EXTRA_CMAKE=(-DMESHLESS_WITH_DICOM=OFF -DMESHLESS_WITH_HDF5=OFF); build OFF OFF meshless; "$BUILD_DIR/cli/meshless" demo -o out/demo ;;
   test)
-    if [ "${SKIP_SANITIZE:-0}" = 1 ]; then install_deps "${PYTHON_PACKAGES[@]}" "${DICOM_PACKAGES[@]}"; else install_deps "${PYTHON_PACKAGES[@]}" "${DICOM_PACKAGES[@]}" "${SANITIZE_PACKAGES[@]}"; fi
-    EXTRA_CMAKE=(-DMESHLESS_WITH_DICOM=ON); build ON ON; install_python_module; ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS"
+    if [ "${SKIP_SANITIZE:-0}" = 1 ]; then install_deps "${PYTHON_PACKAGES[@]}" "${DICOM_PACKAGES[@]}" "${HDF5_PACKAGES[@]}"; else install_deps "${PYTHON_PACKAGES[@]}" "${DICOM_PACKAGES[@]}" "${HDF5_PACKAGES[@]}" "${SANITIZE_PACKAGES[@]}"; fi
+    EXTRA_CMAKE=(-DMESHLESS_WITH_DICOM=ON -DMESHLESS_WITH_HDF5=ON); build ON ON; install_python_module; ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS"
     [ "${SKIP_SANITIZE:-0}" = 1 ] || sanitize ;;
-  sanitize) install_deps "${SANITIZE_PACKAGES[@]}" "${DICOM_PACKAGES[@]}"; sanitize ;;
+  sanitize) install_deps "${SANITIZE_PACKAGES[@]}" "${DICOM_PACKAGES[@]}" "${HDF5_PACKAGES[@]}"; sanitize ;;
   bench)
     install_deps "${BENCH_PACKAGES[@]}"
     build OFF ON meshless meshless-bench

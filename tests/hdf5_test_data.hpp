@@ -24,6 +24,7 @@ struct Hdf5WriteOptions {
     std::vector<hsize_t> leading;          ///< leading dimensions (of size 1, or not, for must-fail files)
     std::vector<std::pair<std::string, std::vector<double>>> attributes;  ///< numeric attributes on the dataset
     std::vector<double> values;            ///< x fastest: the samples written instead of the oracle (one volume's worth)
+    bool growable = false;                 ///< every dimension unlimited (chunks may then be larger than the data)
 };
 
 /// Closes an HDF5 handle at scope end.
@@ -45,7 +46,8 @@ inline void write_hdf5_volume(const std::string& file, const std::string& path, 
     if (f.id < 0) throw std::runtime_error("cannot create " + file);
     std::vector<hsize_t> dims = o.leading;
     dims.insert(dims.end(), {static_cast<hsize_t>(nz), static_cast<hsize_t>(ny), static_cast<hsize_t>(nx)});
-    H5Handle space{H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose};
+    const std::vector<hsize_t> unlimited(dims.size(), H5S_UNLIMITED);
+    H5Handle space{H5Screate_simple(static_cast<int>(dims.size()), dims.data(), o.growable ? unlimited.data() : nullptr), H5Sclose};
     H5Handle lcpl{H5Pcreate(H5P_LINK_CREATE), H5Pclose};
     H5Pset_create_intermediate_group(lcpl.id, 1);
     H5Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
