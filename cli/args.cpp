@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -57,9 +58,12 @@ std::function<void(const std::string&)> in_range(const std::string& option, doub
 
 long long parse_int(const std::string& s, const std::string& what) {
     char* end = nullptr;
+    errno = 0;
     const long long v = std::strtoll(s.c_str(), &end, 10);
     if (s.empty() || end != s.c_str() + s.size())
         throw UsageError(what + ": expected an integer, got '" + s + "'");
+    if (errno == ERANGE)  // strtoll clamps to LLONG_MIN/MAX: never a silent substitute
+        throw UsageError(what + ": " + s + " is out of range (an integer of at most 18 digits)");
     return v;
 }
 

@@ -21,7 +21,7 @@ int cmd_demo(int argc, char** argv) {
            "DIR/demo.ply (oriented points) and DIR/demo.png (surface-splatted picture).");
     a.option("output", "o", "DIR", "output directory (created if missing)", ".")
         .option("field", "", "NAME", "analytic field: torus | sphere | gyroid | ml (Marschner-Lobb)", "torus")
-        .option("n", "", "N", "grid resolution N^3", "128");
+        .option("n", "", "N", "grid resolution N^3, 8..1024", "128");
     a.positionals(0, 0);
     add_thread_option(a);
     add_camera_options(a);

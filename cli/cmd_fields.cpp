@@ -78,7 +78,7 @@ int cmd_slice(int argc, char** argv) {
         .option("size", "", "WxH", "largest image size, 2..16384 per side (3 bytes a pixel must fit in memory); the aspect follows the bounding box", "1024x1024")
         .option("range", "", "LO,HI", "values mapped to the ends of the colour map (default: the data's range)")
         .option("colormap", "", "NAME", "coolwarm | viridis | gray", "coolwarm")
-        .option("near", "", "D", "overlay data points within D of the plane (default: half the mean point spacing)")
+        .option("near", "", "D", "overlay data points within D >= 0 of the plane (default: half the mean point spacing)")
         .flag("colorbar", "draw the colour map and its value range (--range or the data's) as a legend bar at the right edge");
     add_field_options(a, /*with_coverage=*/true, kDataFieldDefaultHelp);
     add_quiet_option(a);
@@ -102,7 +102,10 @@ int cmd_slice(int argc, char** argv) {
         if (std::sscanf(v->c_str(), "%lf,%lf", &r.range[0], &r.range[1]) != 2 || !(r.range[0] < r.range[1]))
             throw UsageError("--range: expected LO,HI with LO < HI, got '" + *v + "'");
     }
-    if (auto d = a.get("near")) r.near = parse_finite(*d, "--near");
+    if (auto d = a.get("near")) {
+        r.near = parse_finite(*d, "--near");
+        if (*r.near < 0) throw UsageError("--near: expected a distance >= 0, got " + *d);
+    }
     r.colorbar = a.has("colorbar");
     const PlaneRaster raster = slice_raster(pts, axis, at, W, H);
     ProgressMeter meter = ProgressMeter::of(a, "pixels", static_cast<double>(raster.width) * raster.height);
@@ -122,7 +125,7 @@ int cmd_resample(int argc, char** argv) {
            "Resamples a meshless field built from scattered points onto a regular grid over the points'\n"
            "bounding box (float32 NRRD), for the isosurface commands and other tools. Voxels the data does\n"
            "not reach (see --max-gap) are NaN.");
-    a.option("grid", "", "X,Y,Z", "output grid samples along x, y, z (required)")
+    a.option("grid", "", "X,Y,Z", "output grid samples along x, y, z, 2..4096 each (required)")
         .deprecated_alias("dims")
         .option("output", "o", "FILE", "NRRD output (required)");
     add_field_options(a, /*with_coverage=*/true, kDataFieldDefaultHelp);

@@ -27,7 +27,7 @@ int cmd_fit(int argc, char** argv) {
            "data refuse it. DATA: point sets (CSV/text, .ply, .vtp, .npy, raw records) or, when every file\n"
            "is one, multiblock inputs (PLOT3D, .vts, .vtm, .vthb).");
     a.option("output", "o", "FILE", "the fitted field (.mlf, required)")
-        .option("zstd-level", "", "L", "zstd level of the arrays, 0 = stored raw", "1")
+        .option("zstd-level", "", "L", "zstd level of the arrays, 0..19, 0 = stored raw", "1")
         .deprecated_alias("level");
     add_field_options(a, /*with_coverage=*/false, kDataFieldDefaultHelp);
     add_quiet_option(a);

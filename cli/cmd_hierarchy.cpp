@@ -140,14 +140,14 @@ int cmd_hierarchy(int argc, char** argv) {
            "(.mlh) is the same for any --threads; meshless lod, meshless info and every command reading point\n"
            "sets (--lod-count/--lod-fraction/--lod-level/--lod-error) take it.");
     a.option("output", "o", "FILE", "the tree (.mlh, required)")
-        .option("max-splits", "", "N", "stop after N splits (default: none)")
-        .option("max-error", "", "E", "stop when the worst cluster error is <= E", "0")
+        .option("max-splits", "", "N", "stop after N splits, N >= 0 (default: none)")
+        .option("max-error", "", "E", "stop when the worst cluster error is <= E, E >= 0", "0")
         .option("min-cluster", "", "N", "clusters with fewer samples are not split (>= 2)", "2")
         .option("split-order", "", "weighted|max-error", "which cluster is split next (see above)", "weighted")
         .option("size-term", "", "T", "weighted order: t relative to the value range, in [0, 100] (0: no size term)", "0.2")
         .validate(in_range("--size-term", 0, true, 100))
         .option("cluster-value", "", "mean|fit", "f_c: the mean of the cluster's samples or a local multiquadric fit", "mean")
-        .option("neighbours", "", "K", "fit: f_c from the min(|C|, K) samples nearest the centre", "25")
+        .option("neighbours", "", "K", "fit: f_c from the min(|C|, K) samples nearest the centre, 1..1000", "25")
         .option("hardy-c", "", "C", "fit: Hardy's multiquadric constant relative to the bounding-box diagonal, in [0, 100]", "0.025")
         .validate(in_range("--hardy-c", 0, true, 100))
         .option("hardy-c-world", "", "C", "fit: Hardy's constant in world units, in (0, 1e150] (overrides --hardy-c)")
@@ -197,17 +197,17 @@ int cmd_lod(int argc, char** argv) {
            "with --lod-count/--lod-fraction/--lod-level/--lod-error. A count beyond the leaves, a level beyond\n"
            "the depth or an error below the one reached gives the finest level of detail (with a warning).");
     a.option("output", "o", "FILE", "the points: .ply (binary, double), .csv or .vtp (required)")
-        .option("count", "", "N", "the N clusters left after the first N - 1 splits")
+        .option("count", "", "N", "the N clusters left after the first N - 1 splits, N >= 1")
         .option("fraction", "", "F", "the same for N = F x the samples (rounded, at least 1), 0 < F <= 1")
         .validate(in_range("--fraction", 0, false, 1))
-        .option("max-error", "", "E", "certified: the smallest level of detail (by count) whose field is within E of every\n"
+        .option("max-error", "", "E", "certified: the smallest level of detail (by count) whose field is within E >= 0 of every\n"
                 "sample of --samples (checked at each; bisection over the count)")
         .option("samples", "", "INPUT", "--max-error: the data the tree was built from (as given to hierarchy)")
         .option("hardy-c", "", "C", "--max-error: the mpu field's Hardy c relative to the bounding-box diagonal, in (0, 100]\n"
                 "(default: a level of detail's, as its readers use it: 0.003 for a max-error tree, else 0.025)")
         .validate(in_range("--hardy-c", 0, false, 100))
-        .option("level", "", "L", "level-based: clusters at depth L (0 = the root)")
-        .option("error", "", "E", "error-based: clusters whose error is <= E")
+        .option("level", "", "L", "level-based: clusters at depth L >= 0 (0 = the root)")
+        .option("error", "", "E", "error-based: clusters whose error is <= E, E >= 0")
         .flag("stats", "print the LOD's size and the extraction time to stderr");
     add_sample_options(a);
     add_thread_option(a);

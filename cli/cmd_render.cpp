@@ -133,8 +133,8 @@ void declare_render_options(Args& a) {
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("tf", "", "PRESET|FILE", "transfer function: grey | viridis | ct-bone | ct-skin | FILE of 'value r g b a' rows", "grey")
         .option("range", "", "LO,HI", "presets: the value range they span (default: the data's)")
-        .option("step", "", "S", "world units between samples along a ray (default: half the data spacing)")
-        .option("ref-step", "", "S", "the slab thickness the transfer function's opacities are for (default: the default\n"
+        .option("step", "", "S", "world units between samples along a ray, > 0 (default: half the data spacing)")
+        .option("ref-step", "", "S", "the slab thickness the transfer function's opacities are for, > 0 (default: the default\n"
                                     "                            step); give two renderings the same to compare them (a LOD and its original)")
         .option("bounds", "", "X0,Y0,Z0,X1,Y1,Z1", "frame this box instead of the data's bounding box (the same frame\n"
                                                    "                            for a LOD and its original): fields of points are rendered over it,\n"
@@ -144,7 +144,7 @@ void declare_render_options(Args& a) {
         .option("background", "", "R,G,B", "background colour, components in [0, 1]", "0,0,0")
         .option("compare", "", "REF.png", "print RMSE and PSNR of the picture against REF.png")
         .option("diff", "", "FILE.png", "with --compare: write the difference picture")
-        .option("diff-gain", "", "G", "--diff: multiply the differences by G", "1");
+        .option("diff-gain", "", "G", "--diff: multiply the differences by G, > 0", "1");
     add_orbit_options(a, "512x512");
     add_field_options(a, /*with_coverage=*/false, kDataFieldDefaultHelp);  // --field ... --stats, point-set options, --threads
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z")

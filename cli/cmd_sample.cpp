@@ -19,7 +19,7 @@ int cmd_sample(int argc, char** argv) {
            "points with a value array, for ParaView).\n"
            "The same seed gives the same points.");
     a.option("count", "n", "N", "number of points (required, >= 1; held in memory, 32 bytes each)")
-        .option("seed", "", "S", "random seed", "1")
+        .option("seed", "", "S", "random seed, any integer of at most 18 digits", "1")
         .option("output", "o", "FILE", "output .ply, .csv or .vtp ('-' = CSV on stdout; required)");
     add_volume_options(a);
     if (!a.parse(argc, argv, 2)) return 0;

@@ -44,7 +44,7 @@ int cmd_splat(int argc, char** argv) {
     a.option("output", "o", "FILE", "PNG output (required)")
         .option("iso", "", "V", "sample streams: isovalue to project onto (default: the stream's)")
         .option("projection", "", "MODE", "sample streams: approx | exact | none", "approx")
-        .option("turntable", "", "N", "render N frames, 360/N degrees apart about the up axis (--up; y by default), as FILE_000.png ...; reports time per frame")
+        .option("turntable", "", "N", "render N frames (1..3600), 360/N degrees apart about the up axis (--up; y by default), as FILE_000.png ...; reports time per frame")
         .flag("stats", "print the point count, time and throughput to stderr");
     add_camera_options(a);
     add_color_options(a);

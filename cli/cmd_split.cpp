@@ -34,11 +34,11 @@ int cmd_split(int argc, char** argv) {
            "Writes PREFIX.vtm + PREFIX/PREFIX_<b>.vts (VTK XML StructuredGrid), or for amr\n"
            "PREFIX.vthb + PREFIX/PREFIX_<n>.vti (ImageData, CellData); ParaView opens both.");
     a.option("layout", "", "L", "overlapping | semi-conforming | non-conforming | rotated | amr (required)")
-        .option("blocks", "", "K", "overlapping/rotated: number of blocks", "2")
-        .option("overlap", "", "CELLS", "overlapping/rotated: cell layers shared by neighbouring blocks", "2")
-        .option("resample", "", "N", "first resample the volume trilinearly to N nodes along its longest axis")
+        .option("blocks", "", "K", "overlapping/rotated: number of blocks, 1..1024", "2")
+        .option("overlap", "", "CELLS", "overlapping/rotated: cell layers shared by neighbouring blocks, 0..1048576", "2")
+        .option("resample", "", "N", "first resample the volume trilinearly to N nodes along its longest axis, 3..4096")
         .option("iso", "", "V", "amr: refine where the values cross V (default: the middle halves)")
-        .option("tile", "", "CELLS", "amr: box edge in cells of the level being refined", "8")
+        .option("tile", "", "CELLS", "amr: box edge in cells of the level being refined, 2..4096", "8")
         .option("name", "", "NAME", "name of the scalar array in the pieces", "scalars")
         .option("output", "o", "PREFIX.vtm", "output index: .vtm (or .vthb for amr); pieces go to PREFIX/ (required)");
     add_volume_options(a);

@@ -30,7 +30,7 @@ void add_volume_options(Args& a) {
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z")
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
         .option("endian", "", "little|big", "raw volumes: byte order of the samples", "little")
-        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1")
+        .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 1.2e-38..3.4e38", "1,1,1")
         .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)");
     add_array_option(a);
 }
@@ -60,8 +60,10 @@ RawOptions raw_options(const Args& a) {
     raw.big_endian = endian == "big";
     if (auto s = a.get_triple("spacing")) {
         for (double x : *s)
-            if (!(x > 0) || !(x <= 3.4028234663852886e38))  // finite, and within the float32 range points are written in
-                throw UsageError("--spacing: spacings must be positive and at most 3.4e38 (the float32 range), got " +
+            // finite, and within the normal float32 range points are written in; the positions the
+            // spacing gives are checked once the volume's dimensions are known (validate_given_spacing)
+            if (!(x >= 1.1754943508222875e-38) || !(x <= 3.4028234663852886e38))
+                throw UsageError("--spacing: spacings must be at least 1.2e-38 and at most 3.4e38 (the float32 range), got " +
                                  a.get_or("spacing", ""));
         raw.spacing = *s;
     }
@@ -141,7 +143,7 @@ VolumeInput open_volume_input(const Args& a, bool stream) {
 
 void add_thread_option(Args& a) {
     a.option("threads", "j", "N",
-             "worker threads, 0 = every CPU this process may use (affinity mask, cgroup quota); "
+             "worker threads, 0..1024, 0 = every CPU this process may use (affinity mask, cgroup quota); "
              "output bytes do not depend on it", "0");
 }
 

@@ -39,12 +39,12 @@ void add_field_options(Args& a, bool with_coverage, const std::string& default_k
              "rbf-grid (section 4.3) | mpu (section 5.5) | global-rbf (small sets), or a field fitted by "
              "meshless fit (.mlf; it must have been fitted to these points)",
              default_kind)
-        .option("binning", "", "M", "rbf-grid: binning constant m, about points per RBF-grid cell", "5")
+        .option("binning", "", "M", "rbf-grid: binning constant m, about points per RBF-grid cell, > 0 (at most 8 cells a point)", "5")
         .option("support", "", "27|paper", "rbf-grid: blend the 27 neighbour cells (continuous) or the paper's radius 2|s|", "27")
         .option("local-points", "", "K",
-                "rbf-grid: a local fit keeps its nearest max(K, points within its weight radius) points; 0 = all in its 27 cells",
+                "rbf-grid: a local fit keeps its nearest max(K, points within its weight radius) points, 0..100000; 0 = all in its 27 cells",
                 std::to_string(FieldParams{}.rbf_grid_local_points))
-        .option("max-points", "", "N", "mpu: subdivide while a node's sphere holds more than N points", "140")
+        .option("max-points", "", "N", "mpu: subdivide while a node's sphere holds more than N points, 8..100000", "140")
         .option("alpha", "", "A", "mpu: sphere of influence = A x node diagonal, in (0.5, 4]; the octree and its fits grow "
                                   "as A^3 and must fit in memory", "0.75")
         .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal, in (0, 100] "
@@ -64,7 +64,7 @@ void add_field_options(Args& a, bool with_coverage, const std::string& default_k
         .validate(in_range("--hardy-c-rough", 0, true, 1e6))
         .flag("normalise-axes", "scale each axis so the bounding box is a cube (axes in unrelated units)");
     if (with_coverage)
-        a.option("max-gap", "", "F", "positions farther than F x the local point spacing (8th-neighbour distance) "
+        a.option("max-gap", "", "F", "positions farther than F >= 0 x the local point spacing (8th-neighbour distance) "
                  "from the data, and not surrounded by it, are outside it (see --extrapolate); every value is kept "
                  "within the data's value range; 0: the field's raw values everywhere", "1")
             .option("extrapolate", "", "nan|clamp|nearest",

@@ -23,9 +23,9 @@ void add_point_set_options(Args& a, bool with_endian) {
         .flag("allow-trailing", "point sets: ignore bytes after the data the header describes (noted)")
         .flag("strict", "point sets: refuse NaN/Inf samples (with the line) instead of dropping them")
         .flag("merge-blocks", "point sets: one block instead of one per grid/piece/file")
-        .option("lod-level", "", "L", "cluster trees (.mlh): the level-based level of detail at depth L (default: the finest)")
-        .option("lod-error", "", "E", "cluster trees (.mlh): the error-based level of detail at error E")
-        .option("lod-count", "", "N", "cluster trees (.mlh): the level of detail of N points (the refinement's first N - 1 splits)")
+        .option("lod-level", "", "L", "cluster trees (.mlh): the level-based level of detail at depth L >= 0 (default: the finest)")
+        .option("lod-error", "", "E", "cluster trees (.mlh): the error-based level of detail at error E >= 0")
+        .option("lod-count", "", "N", "cluster trees (.mlh): the level of detail of N >= 1 points (the refinement's first N - 1 splits)")
         .option("lod-fraction", "", "F", "cluster trees (.mlh): the level of detail of F x the samples, 0 < F <= 1")
         .validate(in_range("--lod-fraction", 0, false, 1));
     if (with_endian) a.option("endian", "", "little|big", "binary point sets: byte order (default: detected)");

@@ -43,7 +43,7 @@ void add_binning_options(Args& a) {
     a.option("max-cells", "", "N", "cap on the binning grid's cells (section 5.3), 27..2^31 (4 bytes a cell must fit in "
                                    "memory): a finer grid is coarsened, with a warning",
              std::to_string(BinningGridParams{}.max_cells))
-        .option("max-level", "", "L", "cap on the binning level l_b (2^L cells per axis)", std::to_string(BinningGridParams{}.max_level))
+        .option("max-level", "", "L", "cap on the binning level l_b (2^L cells per axis), 0..12", std::to_string(BinningGridParams{}.max_level))
         .option("reg-gap", "", "F",
                 "a regularisation point farther than F x the local point spacing (8th-neighbour distance) from the data "
                 "gets no value (no surface where no data is); 0 = every empty cell gets the field's value", "4");

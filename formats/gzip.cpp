@@ -25,6 +25,7 @@ struct InflateReader::Impl {
     bool z_open = false;
     bool eof_in = false;
     bool finished = false;
+    bool member_ended = false;  // inflate reported the end of a zlib stream or gzip member
     std::vector<unsigned char> in;
     std::uint64_t pos = 0;
 
@@ -41,6 +42,22 @@ struct InflateReader::Impl {
         }
         zs.next_in = in.data();
         zs.avail_in = static_cast<uInt>(got);
+    }
+    // True when the unread input starts with the gzip magic (reading more input when fewer than
+    // two bytes are buffered).
+    bool at_gzip_magic() {
+        if (zs.avail_in < 2 && !eof_in) {
+            const std::size_t keep = zs.avail_in;
+            if (keep) std::memmove(in.data(), zs.next_in, keep);
+            const std::size_t got = std::fread(in.data() + keep, 1, in.size() - keep, f);
+            if (got < in.size() - keep) {
+                if (std::ferror(f)) throw IoError(path + ": read failed: " + std::strerror(errno));
+                eof_in = true;
+            }
+            zs.next_in = in.data();
+            zs.avail_in = static_cast<uInt>(keep + got);
+        }
+        return is_gzip_magic(zs.next_in, zs.avail_in);
     }
 };
 
@@ -67,6 +84,14 @@ std::size_t InflateReader::read(void* dst, std::size_t n) {
     auto* out = static_cast<unsigned char*>(dst);
     std::size_t done = 0;
     while (done < n && !m.finished) {
+        if (m.member_ended) {  // another gzip member may follow; anything else after the last one is padding
+            if (!m.at_gzip_magic()) {
+                m.finished = true;
+                break;
+            }
+            inflateReset(&m.zs);
+            m.member_ended = false;
+        }
         if (m.zs.avail_in == 0) {
             m.refill();
             if (m.zs.avail_in == 0)
@@ -79,13 +104,7 @@ std::size_t InflateReader::read(void* dst, std::size_t n) {
         const int r = inflate(&m.zs, Z_NO_FLUSH);
         done += chunk - m.zs.avail_out;
         if (r == Z_STREAM_END) {
-            // another gzip member may follow
-            if (m.zs.avail_in == 0) m.refill();
-            if (m.zs.avail_in >= 2 && is_gzip_magic(m.zs.next_in, m.zs.avail_in)) {
-                inflateReset(&m.zs);
-            } else {
-                m.finished = true;  // end of data (trailing padding after the last member is ignored)
-            }
+            m.member_ended = true;
         } else if (r != Z_OK && r != Z_BUF_ERROR) {
             throw FormatError(m.path + ": corrupt compressed data: " + (m.zs.msg ? m.zs.msg : "inflate error"));
         }
@@ -100,6 +119,31 @@ void InflateReader::read_exact(void* dst, std::size_t n, const char* what) {
     if (got != n)
         throw FormatError(impl_->path + ": compressed " + what + " ends after " + std::to_string(before + got) +
                           " bytes, expected " + std::to_string(before + n));
+}
+
+void InflateReader::expect_end(std::uint64_t expected) {
+    Impl& m = *impl_;
+    // the member that delivered the last byte must end without another byte, and no further
+    // gzip member may follow it (gzip_tail_rule in gzip.hpp)
+    while (!m.finished && !m.member_ended) {
+        if (m.zs.avail_in == 0) {
+            m.refill();
+            if (m.zs.avail_in == 0)
+                throw FormatError(m.path + ": compressed data ends unexpectedly after " + std::to_string(m.pos) +
+                                  " decompressed bytes");
+        }
+        unsigned char extra = 0;
+        m.zs.next_out = &extra;
+        m.zs.avail_out = 1;
+        const uInt before = m.zs.avail_in;
+        const int r = inflate(&m.zs, Z_NO_FLUSH);
+        if (m.zs.avail_out == 0) throw FormatError(gzip_overrun_message(m.path, expected));
+        if (r == Z_STREAM_END) m.member_ended = true;
+        else if ((r != Z_OK && r != Z_BUF_ERROR) || (r == Z_BUF_ERROR && m.zs.avail_in == before && before))
+            throw FormatError(m.path + ": corrupt compressed data: " + (m.zs.msg ? m.zs.msg : "inflate error"));
+    }
+    if (m.member_ended && m.at_gzip_magic()) throw FormatError(gzip_overrun_message(m.path, expected));
+    m.finished = true;
 }
 
 void InflateReader::skip(std::uint64_t n) {
@@ -133,13 +177,16 @@ void inflate_into(const std::byte* data, std::size_t n, std::byte* dst, std::siz
             gzip ? libdeflate_gzip_decompress_ex(d.get(), data + in, n - in, dst + out, expected - out, &used, &made)
                  : libdeflate_zlib_decompress_ex(d.get(), data + in, n - in, dst + out, expected - out, &used, &made);
         if (r == LIBDEFLATE_INSUFFICIENT_SPACE)
-            throw FormatError(path + ": compressed data decompresses to more than " + std::to_string(expected) + " bytes");
+            throw FormatError(gzip_overrun_message(path, expected));
         if (r != LIBDEFLATE_SUCCESS)
             throw FormatError(path + ": corrupt compressed data (a damaged or truncated " + (gzip ? "gzip member" : "zlib stream") +
                               (out ? " after " + std::to_string(out) + " decompressed bytes)" : ")"));
         in += used;
         out += made;
-        if (out == expected) return;  // bytes after the member that completes the data are padding
+        if (out == expected) {  // gzip_tail_rule: a further member is refused, other bytes are padding
+            if (is_gzip_magic(data + in, n - in)) throw FormatError(gzip_overrun_message(path, expected));
+            return;
+        }
         if (!gzip || !is_gzip_magic(data + in, n - in))  // no further gzip member
             throw FormatError(path + ": compressed data ends after " + std::to_string(out) + " decompressed bytes, expected " +
                               std::to_string(expected));
@@ -163,6 +210,10 @@ SampleBytes inflate_file(const std::string& path, std::uint64_t offset, std::uin
     inflate_into(in.data(), in.size(), out, static_cast<std::size_t>(total), path);
     if (n == 0) return SampleBytes();
     return SampleBytes::adopt(out + skip, static_cast<std::size_t>(n), owner);
+}
+
+std::string gzip_overrun_message(const std::string& path, std::uint64_t expected) {
+    return path + ": compressed data decompresses to more than " + std::to_string(expected) + " bytes";
 }
 
 bool is_gzip_magic(const void* data, std::size_t n) {

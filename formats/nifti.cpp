@@ -251,6 +251,7 @@ void prove_nifti(const std::string& path, const ReferencePolicy& refs) {
     const std::uint64_t bytes = gz_payload_bytes(h, data);
     InflateReader r(data);
     r.skip(h.vox_offset + bytes);  // streamed through a small buffer: nothing kept
+    r.expect_end(h.vox_offset + bytes);  // the gzip tail rule, as read_nifti applies it
 }
 
 Volume read_nifti(const std::string& path, const ReferencePolicy& refs) {

@@ -32,6 +32,7 @@ PayloadPlan plan_npy(const std::string& path, const RawOptions& raw) {
         for (int a = 0; a < 3; ++a)
             if (!((*raw.spacing)[a] > 0)) throw InvalidArgument(path + ": spacing must be > 0");
         plan.grid.spacing = *raw.spacing;
+        validate_given_spacing(plan.grid, path);  // a spacing given, not read: the caller's fault
     }
     return plan;
 }

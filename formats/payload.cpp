@@ -255,7 +255,9 @@ void prove_payload_files(const PayloadPlan& plan) {
         const std::string& file = plan.files[f];
         if (plan.encoding == PayloadEncoding::gzip) {
             InflateReader r(file, starts[f]);
-            r.skip(static_cast<std::uint64_t>(plan.byte_skip) + share);  // bounded above: no overflow
+            const std::uint64_t want = static_cast<std::uint64_t>(plan.byte_skip) + share;  // bounded above: no overflow
+            r.skip(want);
+            r.expect_end(want);  // the gzip tail rule, as read_payload applies it
         } else {
             const std::uint64_t size = regular_file_size(file);
             const auto bytes = read_file_range(file, starts[f], size - std::min(size, starts[f]));

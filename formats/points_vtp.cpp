@@ -5,6 +5,7 @@
 
 #include "formats/binary_file.hpp"
 #include "formats/text_header.hpp"
+#include "formats/vtk_structured.hpp"
 #include "formats/vtk_xml.hpp"
 #include "kernels/checked_size.hpp"
 
@@ -48,6 +49,7 @@ PointSet read_points_vtk_xml(const std::string& path, const std::string& vtk_typ
         if (structured) {
             const VtkPieceExtent E = vtk_piece_extent(piece.attr("Extent", top.attr("WholeExtent")), path, piece_no);
             dims = E.dims;
+            check_vtk_array_components(piece, path);  // every array, as the block commands' reader
             n = E.points;
         } else {
             const auto np = parse_int(piece.attr("NumberOfPoints", "0"), path, "NumberOfPoints");

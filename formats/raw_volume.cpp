@@ -104,6 +104,7 @@ PayloadPlan plan_raw(const std::string& path, const RawOptions& opts) {
     if (!have_dims || !have_type)
         throw FormatError(path + ": raw volume without layout: name it name_XxYxZ_type.raw, add a .dat, or give "
                                  "dims and type");
+    if (opts.spacing) validate_given_spacing(plan.grid, path);  // a spacing given, not read: the caller's fault
     return plan;
 }
 

@@ -92,6 +92,15 @@ void check_fits(const VtkXmlElement& a, std::uint64_t count, const VtkXmlFile& F
                           " values, more than the " + std::to_string(file_bytes) + "-byte file can hold");
 }
 
+}  // namespace
+
+void check_vtk_array_components(const VtkXmlElement& piece, const std::string& path) {
+    for (const char* section : {"PointData", "CellData"})
+        for (const VtkXmlElement& a : piece.child(section).children("DataArray")) (void)components_of(a, path);
+}
+
+namespace {
+
 Vec3 mat(const std::array<double, 9>& d, double x, double y, double z) {
     return Vec3{d[0] * x + d[1] * y + d[2] * z, d[3] * x + d[4] * y + d[5] * z, d[6] * x + d[7] * y + d[8] * z};
 }

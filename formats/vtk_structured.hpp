@@ -59,6 +59,14 @@ struct VtkStructuredFile {
 /// Reads every piece of a .vti/.vts/.vtr file (blocks named "FILE" or "FILE piece N").
 VtkStructuredFile read_vtk_structured(const std::string& path, const PointSetOptions& options);
 
+class VtkXmlElement;
+
+/// Checks the NumberOfComponents of every DataArray of a piece's <PointData> and <CellData>
+/// (an integer 1..4096), as read_vtk_structured does, used or not: FormatError "PATH: DataArray
+/// 'NAME': bad NumberOfComponents 'C'". The .vts point-set reader runs it too, so that `info` and
+/// the block commands refuse the same files with the same words.
+void check_vtk_array_components(const VtkXmlElement& piece, const std::string& path);
+
 /// "name (cell, 3 components)" lists for messages and `info` (names escaped).
 std::string describe_arrays(const std::vector<VtkArrayDesc>& arrays, bool scalars_only = false);
 

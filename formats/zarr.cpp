@@ -425,14 +425,18 @@ ZarrArray open_zarr(const std::string& path, const RawOptions& raw) {
                     fail(zattrs, "scale gives axis " + std::to_string(a.axis[ax]) + " a spacing of " + number_text(a.grid.spacing[ax]) +
                                      " (must be > 0)");
         }
-        validate_grid(a.grid, zattrs);
+        if (raw.spacing && !scaled) validate_given_spacing(a.grid, zattrs);
+        else validate_grid(a.grid, zattrs);
         return a;
     }
     const std::string za = (folder / ".zarray").string();
     check_reference(raw.references, f, za);
     ZarrArray a = parse_zarray(read_metadata(za), za);
     a.references = raw.references;
-    if (raw.spacing) a.grid.spacing = *raw.spacing;
+    if (raw.spacing) {
+        a.grid.spacing = *raw.spacing;
+        validate_given_spacing(a.grid, za);  // a spacing given, not read: the caller's fault
+    }
     return a;
 }
 

@@ -94,6 +94,26 @@ void validate_grid(const GridSpec& g, std::string_view context) {
     }
 }
 
+void validate_given_spacing(const GridSpec& g, std::string_view context) {
+    constexpr double kFloatMax = std::numeric_limits<float>::max(), kFloatMin = std::numeric_limits<float>::min();
+    const std::string given = "--spacing " + number(g.spacing[0]) + "," + number(g.spacing[1]) + "," + number(g.spacing[2]) + ": " +
+                              std::string(context) + ": ";
+    static const char* axis[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+        const double s = g.spacing[a];
+        if (!std::isfinite(s) || !(s >= kFloatMin))
+            throw InvalidArgument(given + "spacing along " + axis[a] + " must be finite and at least " + number(kFloatMin) +
+                                  " (the smallest normal float32 the point records hold)");
+        if (!std::isfinite(g.origin[a]) || g.dims[a] < 1) continue;  // the file's fault: validate_grid says so
+        const double far = g.origin[a] + static_cast<double>(g.dims[a] - 1) * s;
+        if (!(std::fabs(far) <= kFloatMax))
+            throw InvalidArgument(given + "spacing " + number(s) + " along " + axis[a] + " puts the last of " +
+                                  std::to_string(g.dims[a]) + " samples at " + number(far) + ", beyond the float32 range (" +
+                                  number(kFloatMax) + ") the point records hold");
+    }
+    validate_grid(g, context);
+}
+
 double VolumeView::at(std::int64_t linear) const {
     assert(linear >= 0 && linear < grid.voxel_count());
     return visit_samples(*this, [&](auto* p) { return static_cast<double>(p[linear]); });

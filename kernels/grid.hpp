@@ -48,6 +48,12 @@ struct GridSpec {
 /// or "CONTEXT: origin ... put samples at ..." (context: the file's path, conventionally).
 void validate_grid(const GridSpec& g, std::string_view context);
 
+/// The same checks for a grid whose spacing the caller gave (a command's --spacing, the Python
+/// module's spacing=) rather than the file: a spacing that is not finite and >= the smallest normal
+/// float32, or that puts samples beyond the float32 range, is the parameter's fault: InvalidArgument
+/// "--spacing SX,SY,SZ: CONTEXT: ..." (exit 1 in the CLI). Other defects as validate_grid.
+void validate_given_spacing(const GridSpec& g, std::string_view context);
+
 /// Non-owning view of samples in their native type. The viewed memory must outlive the view.
 struct VolumeView {
     const void* data = nullptr;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <string>
 
@@ -67,7 +68,20 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
             if (active[a] && w[a] / s < 0.5) { active[a] = false; changed = true; }
         if (!changed) break;
     }
+    // the binning constant sets the cell count (about n / m): one too small for the points asks for
+    // more cells than the field may hold, a parameter's fault that names the option
+    const auto too_large = [&](double cells) {
+        char m[32];
+        std::snprintf(m, sizeof m, "%g", params.binning_m);
+        char c[32];
+        std::snprintf(c, sizeof c, "%.4g", cells);
+        return InvalidArgument(std::string("--binning ") + m + ": rbf-grid: an internal grid of " + c + " cells for " +
+                               std::to_string(n) + " points is too large (at most 8 cells a point; a larger --binning gives fewer)");
+    };
     double sc[3];
+    double cells_wanted = 1;
+    for (int a = 0; a < 3; ++a) cells_wanted *= active[a] ? std::max(1.0, std::round(w[a] / s)) : 1.0;
+    if (!(cells_wanted <= static_cast<double>(8 * n + 64)) || !(cells_wanted <= 0x7FFFFFFF)) throw too_large(cells_wanted);
     for (int a = 0; a < 3; ++a) {
         n_[a] = active[a] ? std::max<std::int64_t>(1, std::llround(w[a] / s)) : 1;
         sc[a] = w[a] / static_cast<double>(n_[a]);
@@ -76,7 +90,7 @@ RbfGridField::RbfGridField(const PointSet& points, const FieldParams& params, Fi
     inv_s_ = {n_[0] > 1 ? 1 / sc[0] : 0.0, n_[1] > 1 ? 1 / sc[1] : 0.0, n_[2] > 1 ? 1 / sc[2] : 0.0};
     const std::int64_t ncells = n_[0] * n_[1] * n_[2];
     if (ncells > static_cast<std::int64_t>(8 * n + 64) || ncells > 0x7FFFFFFF)
-        throw InvalidArgument("rbf-grid: internal grid of " + std::to_string(ncells) + " cells is too large");
+        throw too_large(static_cast<double>(ncells));
     st.grid_dims = {n_[0], n_[1], n_[2]};
 
     const double diag = norm(s_);

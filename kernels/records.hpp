@@ -6,6 +6,7 @@
 //   from (lower corner, edge lengths, eight corner values) so that both the approximate (Eq. 3.5)
 //   and the exact (Eq. 3.3) projection can run downstream without the volume.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <type_traits>
 
@@ -18,6 +19,19 @@ struct PointRecord {
     float value;      ///< field value at pos (== iso when projected exactly)
 };
 static_assert(sizeof(PointRecord) == 32 && std::is_trivially_copyable_v<PointRecord>);
+
+/// True when an oriented point can be drawn: finite position, normal, radius and value, a radius
+/// > 0 and a normal of non-zero finite length. The oriented-point readers splat draws from (PLY,
+/// VTP) drop the others and count them.
+inline bool drawable(const PointRecord& p) {
+    double len2 = 0;
+    bool ok = std::isfinite(p.radius) && p.radius > 0 && std::isfinite(p.value);
+    for (int a = 0; a < 3; ++a) {
+        ok = ok && std::isfinite(p.pos[a]) && std::isfinite(p.normal[a]);
+        len2 += static_cast<double>(p.normal[a]) * p.normal[a];
+    }
+    return ok && len2 > 0 && std::isfinite(len2);
+}
 
 struct SampleRecord {
     float pos[3];        ///< sample position (cell centre in paradigm C), world units

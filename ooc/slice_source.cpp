@@ -133,10 +133,8 @@ private:
                 const std::uint64_t pos = inflate_->position() - skip_;
                 if (pos < in_file) inflate_->skip(in_file - pos);
                 inflate_->read_exact(dst, static_cast<std::size_t>(take), "payload");
-                std::byte extra;  // the file's share is complete: its stream must end here, as read_payload requires
-                if (in_file + take == share_ && inflate_->read(&extra, 1) != 0)
-                    throw FormatError(file + ": compressed data decompresses to more than " + std::to_string(skip_ + share_) +
-                                      " bytes");
+                // the file's share is complete: its stream must end here (the gzip tail rule, as read_payload)
+                if (in_file + take == share_) inflate_->expect_end(skip_ + share_);
             }
             dst += take;
             begin += take;

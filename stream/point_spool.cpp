@@ -101,6 +101,7 @@ void PointSpool::fail(const char* what, int err) const {
 
 void PointSpool::Tally::add(std::span<const PointRecord> points) {
     bounds.add(points);
+    for (const PointRecord& p : points) undrawable += drawable(p) ? 0 : 1;
     // In float, without branches (as PointBounds::add): a non-finite value offers +inf to the
     // minimum and -inf to the maximum; min and max keep the first of equal values, as the
     // sequential fold did, so the same range, signed zeros included.
@@ -120,6 +121,7 @@ void PointSpool::Tally::add(std::span<const PointRecord> points) {
 
 void PointSpool::Tally::merge(const Tally& o) {
     bounds.merge(o.bounds);
+    undrawable += o.undrawable;
     if (!o.any) return;
     lo = any ? std::min(lo, o.lo) : o.lo;
     hi = any ? std::max(hi, o.hi) : o.hi;

@@ -68,6 +68,9 @@ public:
     std::array<Vec3, 2> bounds() const { return tally_.bounds.bounds(); }
     /// {min, max} of the finite values appended; nullopt when there is none.
     std::optional<std::array<double, 2>> value_range() const;
+    /// How many of the points appended (in place: of the file's points) cannot be drawn
+    /// (kernels/records.hpp drawable); splat spools a PLY with any through a filter instead.
+    std::uint64_t undrawable() const { return tally_.undrawable; }
     /// True when the points came with block ids.
     bool has_blocks() const { return blocks_ != nullptr; }
     /// 1 + the largest block id appended (0 without ids).
@@ -98,6 +101,7 @@ private:
         PointBounds bounds;
         double lo = 0, hi = 0;
         bool any = false;
+        std::uint64_t undrawable = 0;
         void add(std::span<const PointRecord> points);
         void merge(const Tally& o);
     };

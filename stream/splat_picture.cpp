@@ -109,6 +109,7 @@ struct SplatInput {
     std::optional<std::array<Vec3, 2>> bounds;  ///< the frame the input records (the surface's)
     std::unique_ptr<ProjectStage> project;      ///< sample streams: projection at render time
     StreamMeta recorded;                        ///< the PLY comments or the stream's metadata
+    PlySource* ply = nullptr;                   ///< a PLY's source (source): it counts the points it drops
 };
 
 SplatInput open_splat_input(const SplatRequest& r, bool is_ply) {
@@ -127,7 +128,8 @@ SplatInput open_splat_input(const SplatRequest& r, bool is_ply) {
     }
     if (is_ply) {
         if (r.iso_given) throw InvalidArgument("--iso applies to sample streams; " + input + " holds projected points");
-        auto ply = std::make_unique<PlySource>(input);
+        auto ply = std::make_unique<PlySource>(input, /*drop_undrawable=*/true);  // as the VTP reader drops them
+        in.ply = ply.get();
         in.bounds = ply_picture_bounds(ply->comments());  // the surface bounds recorded by isosurface/write
         in.recorded = ply_comments_meta(ply->comments());
         in.source = std::move(ply);
@@ -195,6 +197,14 @@ SplatReport splat_picture(RenderSettings rs, const SplatRequest& r) {
     std::optional<std::array<Vec3, 2>>& bounds = in.bounds;
     std::vector<const Stage*> stages;
     if (in.project) stages.push_back(in.project.get());
+    // a PLY's points that cannot be drawn, counted by its source: said once, as the VTP reader's
+    bool warned = false;
+    const auto warn_dropped = [&] {
+        if (warned || !in.ply || in.ply->dropped() == 0 || !r.warn) return;
+        warned = true;
+        r.warn("meshless splat: warning: " + terminal_safe(input) + ": " + std::to_string(in.ply->dropped()) +
+               " points with a non-finite position, normal, radius or value (or a zero normal or radius) dropped");
+    };
     // Colours: an isosurface (the input records its isovalue) is not coloured by value by default;
     // colour by value maps it within the data's value range where the input records one (as
     // isosurface --png does: its points all hold the isovalue), and a block legend lists the blocks
@@ -223,11 +233,14 @@ SplatReport splat_picture(RenderSettings rs, const SplatRequest& r) {
     if (r.frames > 0 || !bounds || color_pass) {
         // a PLY file of PointRecords is its own spool (read once here, replayed from the file)
         if (is_ply && PointSpool::can_be_in_place(input)) spool.emplace(PointSpool::InPlace{}, input, r.threads);
-        else {
+        // points that cannot be drawn are dropped, counted and said: such a file is spooled through its filter
+        if (spool && spool->undrawable() > 0) spool.reset();
+        if (!spool) {
             spool.emplace("splat-spool");
             run_pipeline(*source, stages, *spool, {r.threads});
         }
         if (!bounds) bounds = spool->bounds();
+        warn_dropped();
         if (cc.request == ColorRequest::block && spool->size() > 0 && !spool->has_blocks())
             throw InvalidArgument(input + ": the points carry no block ids; --color block needs multiblock points");
     }
@@ -249,6 +262,7 @@ SplatReport splat_picture(RenderSettings rs, const SplatRequest& r) {
     SplatSink sink(cam, rs.kernel, rs.shading, *bounds, r.threads, spool ? &*spool : nullptr);
     stages.push_back(&sink.stage());
     run_pipeline(*source, stages, sink, {r.threads});
+    warn_dropped();
     Image picture = sink.image();
     decorate_picture(rs, picture);
     if (r.picture) r.picture(std::move(picture));

@@ -15,6 +15,9 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -183,6 +186,12 @@ std::vector<Case> corpus() {
         nrrd("type: uint8\ndimension: 3\nsizes: 16 16 16\nencoding: gzip\n", gzip_of(zeros(1000))));
     add("nrrd corrupt gzip", "corrupt.nrrd",
         nrrd("type: uint8\ndimension: 3\nsizes: 16 16 16\nencoding: gzip\n", "\x1f\x8b\x08\x00garbage-garbage-garbage"));
+    // the gzip tail rule (formats/gzip.hpp): after the payload's bytes, a further member, whole or
+    // only begun, is refused by info and every reader with the same words
+    add("nrrd gzip payload and a second gzip member", "twomember.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: gzip\n", gzip_of(zeros(64)) + gzip_of("x")));
+    add("nrrd gzip payload and stray gzip magic", "straymagic.nrrd",
+        nrrd("type: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: gzip\n", gzip_of(zeros(64)) + "\x1f\x8b"));
     add("nrrd truncated raw", "trraw.nrrd", nrrd("type: uint8\ndimension: 3\nsizes: 16 16 16\nencoding: raw\n", zeros(100)));
     add("nrrd truncated ascii", "trascii.nrrd",
         nrrd("type: uint8\ndimension: 3\nsizes: 1024 1024 1024\nencoding: ascii\n", "1 2 3 4\n"));
@@ -255,6 +264,8 @@ std::vector<Case> corpus() {
                       {"ovjs/data/s", zeros(100)}}});
     c.push_back(Case{"vtkjs huge extent", "hugejs/index.json",
                      {{"hugejs/index.json", vtkjs_index("0,1e300,0,0,0,0", "1,1,1", "Uint8Array")}, {"hugejs/data/s", zeros(100)}}});
+    c.push_back(Case{"vtkjs spacing putting samples beyond float32", "farjs/index.json",
+                     {{"farjs/index.json", vtkjs_index("0,3,0,3,0,3", "2e38,1,1", "Uint8Array")}, {"farjs/data/s", zeros(64)}}});
     c.push_back(Case{"vtkjs control bytes", "escjs/index.json",
                      {{"escjs/index.json", vtkjs_index("0,3,0,3,0,3", "1,1,1", "\\u001b[31mX")}, {"escjs/data/s", zeros(64)}}});
     c.push_back(Case{"vtkjs zero spacing", "zerojs/index.json",
@@ -314,6 +325,15 @@ std::vector<Case> corpus() {
         "<StructuredGrid WholeExtent=\"-9223372036854775808 9223372036854775807 0 0 0 0\">\n"
         "<Piece Extent=\"-9223372036854775808 9223372036854775807 0 0 0 0\">\n<Points>\n<DataArray type=\"Float32\" "
         "NumberOfComponents=\"3\" format=\"ascii\">0 0 0</DataArray>\n</Points>\n</Piece>\n</StructuredGrid>\n</VTKFile>\n", false);
+    // an array no command uses, its NumberOfComponents no number: refused by info as by the block readers
+    add("vts unused array with a bad NumberOfComponents", "badcomp.vts",
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"StructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        "<StructuredGrid WholeExtent=\"0 1 0 1 0 1\">\n<Piece Extent=\"0 1 0 1 0 1\">\n<PointData Scalars=\"s\">\n"
+        "<DataArray type=\"Float32\" Name=\"s\" format=\"ascii\">0 1 2 3 4 5 6 7</DataArray>\n"
+        "<DataArray type=\"Float32\" Name=\"unused\" NumberOfComponents=\"x\" format=\"ascii\">0 1 2 3 4 5 6 7</DataArray>\n"
+        "</PointData>\n<Points>\n<DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">"
+        "0 0 0 1 0 0 0 1 0 1 1 0 0 0 1 1 0 1 0 1 1 1 1 1</DataArray>\n</Points>\n</Piece>\n</StructuredGrid>\n</VTKFile>\n",
+        false);
     {  // .vtu (the nodes of an UnstructuredGrid): one file per defect class
         auto vtu = [](const std::string& attrs, const std::string& np, const std::string& body, const std::string& appended) {
             return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\"" +
@@ -356,6 +376,9 @@ std::vector<Case> corpus() {
     }
     return c;
 }
+
+// The message without its "meshless COMMAND: " prefix.
+std::string words_of(const std::string& m) { return m.substr(std::min(m.size(), m.find(": ") + 2)); }
 
 // Bytes a terminal would interpret: C0 controls other than the message's final newline, DEL.
 bool has_control_bytes(const std::string& s) {
@@ -722,6 +745,151 @@ TEST_CASE("references out of the archive: batch refuses each input, writes nothi
     CHECK(v.out.find("linkdir/s.raw -> " + fs::weakly_canonical(secret / "s.raw").string()) != std::string::npos);
 }
 
+TEST_CASE("the gzip tail rule: info, isosurface, convert, sample and mc agree on what may follow a gzip payload",
+          "[cli][hostile]") {
+    TempDir d("hostile-gzip-tail");
+    const std::string fields = "type: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: gzip\n";
+    std::string plain;
+    for (int i = 0; i < 64; ++i) plain += static_cast<char>(i);
+    const std::string member = gzip_of(plain);
+    const auto commands = [&](const std::string& in) {
+        return std::vector<std::string>{
+            "MESHLESS info " + in,
+            "MESHLESS isosurface " + in + " --iso 20.5 -o " + (d.path / "o.ply").string(),
+            "MESHLESS convert " + in + " -o " + (d.path / "o.mlb").string(),
+            "MESHLESS sample " + in + " --count 10 -o " + (d.path / "o_s.ply").string(),
+            "MESHLESS mc " + in + " --iso 20.5 -o " + (d.path / "o_mc.ply").string(),
+        };
+    };
+    // refused everywhere, in the same words: a second member, the magic of one, a member that decodes to more
+    for (const auto& [name, payload] : std::vector<std::pair<std::string, std::string>>{
+             {"second.nrrd", member + gzip_of("x")},
+             {"magic.nrrd", member + "\x1f\x8b"},
+             {"empty_member.nrrd", member + gzip_of("")},
+             {"longer.nrrd", gzip_of(plain + "x")}}) {
+        spit(d.path / name, nrrd(fields, payload));
+        std::vector<std::string> messages;
+        for (const std::string& cmd : commands((d.path / name).string())) {
+            INFO(cmd);
+            const RunResult r = sh(cmd, d);
+            INFO("stderr: " << r.err);
+            CHECK(r.code == 2);
+            CHECK(r.err.find(name + ": compressed data decompresses to more than 64 bytes") != std::string::npos);
+            messages.push_back(words_of(r.err));
+        }
+        for (const auto& m : messages) CHECK(m == messages.front());
+    }
+    // other padding is accepted everywhere
+    for (const auto& [name, payload] : std::vector<std::pair<std::string, std::string>>{
+             {"zero.nrrd", member + std::string(1, '\0')}, {"pad.nrrd", member + "padding\n"}, {"one_1f.nrrd", member + "\x1f"}}) {
+        spit(d.path / name, nrrd(fields, payload));
+        for (const std::string& cmd : commands((d.path / name).string())) {
+            INFO(cmd);
+            const RunResult r = sh(cmd, d);
+            INFO("stderr: " << r.err);
+            CHECK(r.code == 0);
+        }
+    }
+}
+
+TEST_CASE("a brick store whose header puts samples beyond float32 is refused by verify, info and isosurface",
+          "[cli][hostile]") {
+    TempDir d("hostile-mlb-origin");
+    spit(d.path / "v_4x4x4_uint8.raw", std::string(64, '\x07'));
+    const std::string mlb = (d.path / "far.mlb").string();
+    REQUIRE(sh("MESHLESS convert " + (d.path / "v_4x4x4_uint8.raw").string() + " -o " + mlb, d).code == 0);
+    REQUIRE(sh("MESHLESS verify " + mlb, d).code == 0);
+    std::string bytes = slurp(mlb);
+    REQUIRE(bytes.size() > 256);
+    const double far = 1e308;  // header: magic, version, size, dims[3], then origin[3] at byte 40
+    std::memcpy(bytes.data() + 40, &far, 8);
+    const std::uint32_t crc = meshless::crc32_ieee(0, bytes.data(), 252);  // the header's CRC-32 of bytes [0, 252)
+    std::memcpy(bytes.data() + 252, &crc, 4);
+    spit(mlb, bytes);
+    for (const std::string& cmd : {"MESHLESS verify " + mlb, "MESHLESS info " + mlb,
+                                   "MESHLESS isosurface " + mlb + " --iso 3 -o " + (d.path / "o.ply").string()}) {
+        INFO(cmd);
+        const RunResult r = sh(cmd, d);
+        INFO("stderr: " << r.err);
+        CHECK(r.code == 2);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        CHECK(r.err.find("far.mlb") != std::string::npos);
+        CHECK(r.err.find("float32") != std::string::npos);
+    }
+    CHECK(!fs::exists(d.path / "o.ply"));
+}
+
+TEST_CASE("info - on a point or sample stream without its END frame fails as the stream's readers do", "[cli][hostile]") {
+    TempDir d("hostile-stream-end");
+    spit(d.path / "v_8x8x8_uint8.raw", [] {
+        std::string v;
+        for (int k = 0; k < 8; ++k)
+            for (int j = 0; j < 8; ++j)
+                for (int i = 0; i < 8; ++i) v += static_cast<char>((i + j + k) * 10);
+        return v;
+    }());
+    const std::string vol = (d.path / "v_8x8x8_uint8.raw").string();
+    const std::string samples = (d.path / "s.mls").string(), points = (d.path / "p.mls").string();
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 50.5 > " + samples, d).code == 0);
+    REQUIRE(sh("MESHLESS project < " + samples + " > " + points, d).code == 0);
+    for (const auto& [whole, reader] : std::vector<std::pair<std::string, std::string>>{
+             {samples, "MESHLESS project"}, {points, "MESHLESS write -o " + (d.path / "o.ply").string()}}) {
+        const std::string bytes = slurp(whole);
+        REQUIRE(sh("MESHLESS info - < " + whole, d).code == 0);
+        // the END frame (a 32-byte frame header and no payload, docs/formats.md) is the stream's last bytes
+        REQUIRE(bytes.size() > 64);
+        const std::size_t cut = bytes.size() - 32;
+        spit(d.path / "cut.mls", bytes.substr(0, cut));
+        const std::string in = (d.path / "cut.mls").string();
+        const RunResult i = sh("MESHLESS info - < " + in, d);
+        const RunResult r = sh(reader + " < " + in + " > " + (d.path / "out.bin").string(), d);
+        INFO(whole << ": info: " << i.err << "reader: " << r.err);
+        CHECK(i.code == 2);
+        CHECK(r.code == 2);
+        CHECK(std::count(i.err.begin(), i.err.end(), '\n') == 1);
+        CHECK(!has_control_bytes(i.err));
+        CHECK(words_of(i.err) == words_of(r.err));
+    }
+    CHECK(!fs::exists(d.path / "o.ply"));
+}
+
+TEST_CASE("splat drops the PLY points it cannot draw, counts them and warns, as it does for a VTP", "[cli][hostile]") {
+    TempDir d("hostile-splat-nan");
+    spit(d.path / "v_8x8x8_uint8.raw", [] {
+        std::string v;
+        for (int k = 0; k < 8; ++k)
+            for (int j = 0; j < 8; ++j)
+                for (int i = 0; i < 8; ++i) v += static_cast<char>((i + j + k) * 10);
+        return v;
+    }());
+    const std::string ply = (d.path / "p.ply").string();
+    REQUIRE(sh("MESHLESS isosurface " + (d.path / "v_8x8x8_uint8.raw").string() + " --iso 50.5 -o " + ply, d).code == 0);
+    std::string bytes = slurp(ply);
+    const std::size_t body = bytes.find("end_header\n") + 11;
+    REQUIRE((bytes.size() - body) % 32 == 0);
+    REQUIRE((bytes.size() - body) / 32 >= 4);
+    const float nan = std::nanf(""), inf = INFINITY;
+    std::memcpy(bytes.data() + body + 0 * 32 + 4, &nan, 4);       // record 0: y is NaN
+    std::memcpy(bytes.data() + body + 2 * 32 + 12 + 8, &inf, 4);  // record 2: nz is infinite
+    const std::string bad = (d.path / "nan.ply").string();
+    spit(bad, bytes);
+    // with bounds recorded (streamed), with a spool (a turntable), and as EWA (two passes)
+    for (const std::string& extra : {std::string(), std::string(" --turntable 2"), std::string(" --kernel ewa")}) {
+        const std::string png = (d.path / "o.png").string();
+        const RunResult r = sh("MESHLESS splat " + bad + " -o " + png + " --size 64x64" + extra, d);
+        INFO(extra << ": " << r.err);
+        CHECK(r.code == 0);
+        CHECK(r.err.find("nan.ply: 2 points with a non-finite position, normal, radius or value") != std::string::npos);
+        // said once (a turntable also reports its frames)
+        std::size_t warnings = 0;
+        for (std::size_t at = 0; (at = r.err.find("warning", at)) != std::string::npos; ++at) ++warnings;
+        CHECK(warnings == 1);
+    }
+    const RunResult ok = sh("MESHLESS splat " + ply + " -o " + (d.path / "ok.png").string() + " --size 64x64", d);
+    CHECK(ok.code == 0);
+    CHECK(ok.err.empty());
+}
+
 TEST_CASE("unbounded parameters: refused before any work with exit 1 and one line naming the option, nothing written",
           "[cli][hostile]") {
     TempDir d("hostile-params");
@@ -763,6 +931,13 @@ TEST_CASE("unbounded parameters: refused before any work with exit 1 and one lin
         {"ulimit -v 2097152; MESHLESS sample " + vol + " --count 100000000 -o " + out + ".ply", "--count 100000000"},
         {"MESHLESS isosurface " + vol + " --spacing 1e308,1,1 --iso 3 -o " + out + ".ply", "--spacing"},
         {"MESHLESS isosurface " + vol + " --spacing inf,1,1 --iso 3 -o " + out + ".ply", "--spacing"},
+        // each spacing within float32, the samples it puts (8 of them) beyond it: the option's fault
+        {"MESHLESS isosurface " + vol + " --spacing 3e38,1,1 --iso 3 -o " + out + ".ply", "--spacing"},
+        {"MESHLESS info " + vol + " --spacing 1,1e38,1", "--spacing"},
+        {"MESHLESS hierarchy " + p197 + " --max-splits 99999999999999999999 -o " + out + ".mlh", "--max-splits"},
+        {"MESHLESS hierarchy " + p197 + " --max-splits -99999999999999999999 -o " + out + ".mlh", "--max-splits"},
+        {"MESHLESS fit " + p197 + " --field rbf-grid --binning 1e-9 -o " + out + ".mlf", "--binning"},
+        {"ulimit -v 2097152; MESHLESS render " + vol + " --size 16384x16384 -o " + out + ".png", "--size 16384x16384"},
         {"MESHLESS isosurface " + vol + " --radius-scale 1e300 --iso 3 -o " + out + ".ply", "--radius-scale"},
     };
     for (const auto& c : cases) {
@@ -784,4 +959,50 @@ TEST_CASE("unbounded parameters: refused before any work with exit 1 and one lin
         for (const char* ext : {".mlf", ".png", ".ply", ".mlh"}) CHECK(!fs::exists(out + ext));
         for (const auto& e : fs::directory_iterator(d.path)) CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
     }
+}
+
+TEST_CASE("every numeric option's --help states the range it is checked against", "[cli][hostile]") {
+    TempDir d("hostile-help-ranges");
+    const RunResult top = sh("MESHLESS --help", d);
+    REQUIRE(top.code == 0);
+    // the commands: the lines "  NAME   what it does" between "commands:" and the blank line after them
+    std::vector<std::string> commands;
+    {
+        std::istringstream in(top.out.substr(top.out.find("commands:")));
+        std::string line;
+        std::getline(in, line);
+        while (std::getline(in, line) && !line.empty())
+            if (line.size() > 2 && line[2] != ' ') commands.push_back(line.substr(2, line.find(' ', 2) - 2));
+    }
+    REQUIRE(commands.size() >= 20);
+    // metavars of one number (letters the options use for counts, sizes and factors; not V, an
+    // isovalue, nor DEG, an angle: any finite number)
+    const std::set<std::string> numeric = {"N", "K", "B", "L", "M", "S", "E", "F", "G", "C", "A", "D", "Z", "CELLS", "WxH"};
+    const std::regex option(R"(^  (?:-\w, )?--([\w-]+) (\S+)(?:\s+(.*))?$)");
+    const std::regex range(R"(\d\.\.-?\d|[<>]=? ?-?\d|[\[(]-?[\d.e+]+, ?[\d.e+^]+[\])]|any integer)");
+    int checked = 0;
+    for (const std::string& c : commands) {
+        const RunResult h = sh("MESHLESS " + c + " --help", d);
+        REQUIRE(h.code == 0);
+        // each option with its help, continuation lines joined
+        std::vector<std::array<std::string, 3>> opts;
+        std::istringstream in(h.out);
+        std::string line;
+        bool in_options = false;
+        while (std::getline(in, line)) {
+            if (line == "options:") in_options = true;
+            if (!in_options) continue;
+            std::smatch m;
+            if (std::regex_match(line, m, option)) opts.push_back({m[1].str(), m[2].str(), m[3].str()});
+            else if (!opts.empty() && line.rfind("      ", 0) == 0) opts.back()[2] += " " + line.substr(line.find_first_not_of(' '));
+            else if (line.empty()) in_options = false;
+        }
+        for (const auto& [name, metavar, help] : opts) {
+            if (!numeric.count(metavar) || help.find(" | ") != std::string::npos) continue;  // an enumeration
+            INFO("meshless " << c << " --" << name << " " << metavar << ": " << help);
+            CHECK(std::regex_search(help, range));
+            ++checked;
+        }
+    }
+    CHECK(checked >= 60);
 }

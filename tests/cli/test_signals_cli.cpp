@@ -155,6 +155,11 @@ TEST_CASE("every command interrupted mid-run by SIGINT, SIGTERM or SIGHUP exits 
     const std::string big = (dir / "big.mlb").string(), pts = (dir / "pts.csv").string();
     REQUIRE(sh("MESHLESS synth --upsample 2 " + lidc2() + " -o " + big, dir).code == 0);
     REQUIRE(sh("MESHLESS sample " + big + " --count 200000 --seed 1 -o " + pts, dir).code == 0);
+    // a cluster tree of fewer points, whose certified level of detail (a field fitted and checked
+    // at every sample, per step of a bisection) takes seconds
+    const std::string few = (dir / "few.csv").string(), tree = (dir / "few.mlh").string();
+    REQUIRE(sh("MESHLESS sample " + big + " --count 20000 --seed 2 -o " + few, dir).code == 0);
+    REQUIRE(sh("MESHLESS hierarchy " + few + " -o " + tree, dir).code == 0);
     fs::create_directories(dir / "out");
     struct Timed {
         const char* name;
@@ -179,6 +184,8 @@ TEST_CASE("every command interrupted mid-run by SIGINT, SIGTERM or SIGHUP exits 
         {"write", {"write", "-", "-o", "OUT"}, "w.ply", true},
         {"splat", {"splat", "-", "-o", "OUT"}, "s.png", true},
         {"info", {"info", "-"}, "none", true},
+        {"verify", {"verify", big, big, big, big, big, big, big, big}, "none"},  // every brick of each, decompressed
+        {"lod", {"lod", tree, "--max-error", "0", "--samples", few, "-j", "1", "-o", "OUT"}, "l.ply"},
     };
     for (const auto& c : cases)
         for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
