@@ -1,5 +1,8 @@
 #include "formats/hdf5_volume.hpp"
 
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
@@ -218,23 +221,46 @@ void Hdf5Slices::read_row(std::int64_t z0, std::int64_t z1, std::byte* out) {
         dataset_.read_slices(z0, z1 - z0, type_, out);
         return;
     }
-    // filtered chunks decoded here (see kDeflate), into the stored type, then converted
+    // filtered chunks (see kDeflate): their stored bytes read one after another (libhdf5 serialises
+    // its calls), then decoded in parallel (TBB, in the caller's arena) into the row in the stored
+    // type, which is the output itself when the stored type is the volume's in host order
     const std::size_t r = h.shape.size(), es = stored_size(*h.type);
     const std::int64_t cz = h.chunk[r - 3], cy = h.chunk[r - 2], cx = h.chunk[r - 1];
     const std::int64_t nx = grid_.dims[0], ny = grid_.dims[1], depth = z1 - z0;
     const std::size_t chunk_bytes = static_cast<std::size_t>(cz * cy * cx) * es;
-    std::vector<std::byte> stored(static_cast<std::size_t>(nx * ny * depth) * es), raw, chunk;
-    for (std::int64_t y0 = 0; y0 < ny; y0 += cy) {
+    const StoredType t = *h.type;  // kept as it is stored (formats/stored_type.hpp): u8, i16, u16, f32
+    const bool native = t == StoredType::u8 || t == StoredType::i16 || t == StoredType::u16 || t == StoredType::f32;
+    const bool in_place = native && (es == 1 || h.big_endian != host_is_little_endian());
+    std::vector<std::byte> converted;
+    if (!in_place) converted.resize(static_cast<std::size_t>(nx * ny * depth) * es);
+    std::byte* stored = in_place ? out : converted.data();
+    struct Chunk {
+        std::int64_t y0, x0;
+        bool present;
+        unsigned mask;
+        std::vector<std::byte> raw;
+    };
+    std::vector<Chunk> chunks;
+    for (std::int64_t y0 = 0; y0 < ny; y0 += cy)
         for (std::int64_t x0 = 0; x0 < nx; x0 += cx) {
-            unsigned mask = 0;
-            const std::string at = name_ + ": chunk at (" + std::to_string(z0) + ", " + std::to_string(y0) + ", " + std::to_string(x0) + ")";
-            if (!dataset_.read_chunk(z0, y0, x0, std::min<std::uint64_t>(chunk_bytes * kMaxDeflateRatio + 64, kMaxChunkBytes), raw, mask)) {
+            Chunk c{y0, x0, false, 0, {}};
+            c.present = dataset_.read_chunk(z0, y0, x0, std::min<std::uint64_t>(chunk_bytes * kMaxDeflateRatio + 64, kMaxChunkBytes),
+                                            c.raw, c.mask);
+            chunks.push_back(std::move(c));
+        }
+    std::vector<std::exception_ptr> failed(chunks.size());
+    auto one = [&](std::size_t i) {
+        try {
+            Chunk& c = chunks[i];
+            const std::string at = name_ + ": chunk at (" + std::to_string(z0) + ", " + std::to_string(c.y0) + ", " + std::to_string(c.x0) + ")";
+            std::vector<std::byte> chunk;
+            if (!c.present) {
                 chunk.resize(chunk_bytes);
-                for (std::size_t i = 0; i < chunk_bytes; i += es) std::memcpy(chunk.data() + i, h.fill.data(), es);
+                for (std::size_t k = 0; k < chunk_bytes; k += es) std::memcpy(chunk.data() + k, h.fill.data(), es);
             } else {
-                chunk.swap(raw);
+                chunk.swap(c.raw);
                 for (std::size_t f = h.filters_ids.size(); f-- > 0;) {
-                    if (mask & (1u << f)) continue;  // skipped for this chunk when it was written
+                    if (c.mask & (1u << f)) continue;  // skipped for this chunk when it was written
                     switch (h.filters_ids[f]) {
                         case kFletcher32:  // the checksum's 4 bytes at the end (not verified)
                             if (chunk.size() < 4) throw FormatError(at + ": shorter than its fletcher32 checksum");
@@ -256,16 +282,24 @@ void Hdf5Slices::read_row(std::int64_t z0, std::int64_t z1, std::byte* out) {
                     throw FormatError(at + ": decodes to " + std::to_string(chunk.size()) + " bytes, expected " + std::to_string(chunk_bytes));
             }
             // the chunk's part inside the dataset and these slices (chunk: z, y, x with x fastest)
-            const std::int64_t wy = std::min(cy, ny - y0), wx = std::min(cx, nx - x0), wz = std::min(cz, depth);
+            const std::int64_t wy = std::min(cy, ny - c.y0), wx = std::min(cx, nx - c.x0), wz = std::min(cz, depth);
             for (std::int64_t k = 0; k < wz; ++k)
                 for (std::int64_t j = 0; j < wy; ++j)
-                    std::memcpy(stored.data() + static_cast<std::size_t>(((k * ny) + y0 + j) * nx + x0) * es,
+                    std::memcpy(stored + static_cast<std::size_t>(((k * ny) + c.y0 + j) * nx + c.x0) * es,
                                 chunk.data() + static_cast<std::size_t>((k * cy + j) * cx) * es, static_cast<std::size_t>(wx) * es);
+        } catch (...) {
+            failed[i] = std::current_exception();
         }
-    }
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks.size(), 1), [&](const tbb::blocked_range<std::size_t>& q) {
+        for (std::size_t i = q.begin(); i < q.end(); ++i) one(i);
+    });
+    for (const std::exception_ptr& e : failed)  // the first bad chunk in the row's order
+        if (e) std::rethrow_exception(e);
+    if (in_place) return;
     GridSpec g = grid_;
     g.dims[2] = depth;
-    const Volume v = make_volume(SampleBytes(std::move(stored)), *h.type, h.big_endian, g, name_);
+    const Volume v = make_volume(SampleBytes(std::move(converted)), *h.type, h.big_endian, g, name_);
     std::memcpy(out, v.bytes.data(), v.bytes.size());
 }
 
