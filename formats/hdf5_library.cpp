@@ -208,9 +208,8 @@ std::string filter_list(hid_t dcpl, const std::string& where, std::vector<int>& 
         }
         if (H5Zfilter_avail(id) <= 0) {
             H5Eclear2(H5E_DEFAULT);
-            throw FormatError(where + ": compressed with " + one + ", which this build's libhdf5 cannot decode (the HDF5 "
-                                      "filters it has: deflate, shuffle, fletcher32, szip, nbit, scaleoffset; rewrite the "
-                                      "dataset with one of them, e.g. h5repack -f GZIP=4)");
+            throw FormatError(where + ": compressed with " + one + ", which this build's libhdf5 cannot decode (rewrite "
+                                      "the dataset with deflate, e.g. h5repack -f GZIP=4)");
         }
         ids.push_back(static_cast<int>(id));
         text += (text.empty() ? "" : ", ") + one;

@@ -6,8 +6,10 @@
 // 1 are dropped ((1, 1, nz, ny, nx) of one time point and one channel is a volume). Types: every
 // integer of 1, 2, 4 or 8 bytes and IEEE float32/float64, of either byte order, converted by libhdf5
 // into the Volume types (formats/stored_type.hpp volume_type_for: u8, i8 -> i16, u16, i16, f32).
-// Storage: contiguous, compact or chunked, with the filters libhdf5 decodes (deflate, shuffle,
-// fletcher32, szip, nbit, scaleoffset); chunks never written read as the dataset's fill value.
+// Storage: contiguous, compact or chunked; filtered chunks (deflate, shuffle, fletcher32: what h5py
+// writes) are read as stored and decoded here, in parallel (TBB, in the caller's arena), each checked
+// to decode to exactly its size (libhdf5 1.10 reads past its buffer when a chunk inflates short);
+// other filters are refused. Chunks never written read as the dataset's fill value.
 // Geometry: the dataset's attributes `spacing` and `origin` (three numbers each, x, y, z order, as
 // the tool's --spacing), else `element_size_um` (ImageJ's and ilastik's, z, y, x order) for the
 // spacing; RawOptions::spacing where the file gives none; origin 0 otherwise. Checked by
