@@ -388,8 +388,9 @@ def read_points(path, *, value="", columns="", q_component=0, level=None, error=
 def read_volume(path, *, spacing=None, origin=None, series="", array="", dims=None, dtype=None, big_endian=False,
                 memory=None):
     """A regular volume from any file `meshless isosurface` reads (raw name_XxYxZ_type.raw, NRRD,
-    MetaImage, VTK legacy, VTI, vtk.js, SLC, NIfTI, Voreen .dat, a DICOM folder/DICOMDIR/slice, a
-    brick store .mlb read whole), through the command's reader, as a Volume whose array is indexed
+    MetaImage, VTK legacy, VTI, vtk.js, SLC, NIfTI, Voreen .dat, a DICOM folder/DICOMDIR/slice, a 3-D
+    .npy, a Zarr store, an HDF5 dataset "file.h5:/group/name", a brick store .mlb read whole), through
+    the command's reader, as a Volume whose array is indexed
     [x, y, z]. Samples lying raw in the file in host byte order are mapped, not read: the array is
     the mapping, nothing copied (a compressed or converted payload is decoded once, into the array's
     own buffer).
@@ -398,8 +399,9 @@ def read_volume(path, *, spacing=None, origin=None, series="", array="", dims=No
     file's layout, as --dims/--type/--endian/--spacing (a file that describes itself keeps its own,
     with a warning in `warnings`); spacing and origin given also replace what the file says in the
     result. series: the DICOM series (Series Instance UID or its number), as --series. array: the
-    point array of a .vti, VTK legacy or vtk.js volume holding several, by name, as --array (default:
-    the active scalars, else the first; ValueError for a format of one unnamed array). memory: the
+    point array of a .vti, VTK legacy or vtk.js volume holding several, by name, or the dataset of an
+    HDF5 file ("/group/name"), as --array (default: the active scalars, else the first; an HDF5 file's
+    only 3-D dataset; ValueError for a format of one unnamed array). memory: the
     most bytes a volume read whole may take ('2G' or an int; default the machine's memory), as
     --memory. DataError for a damaged file, OSError for one that cannot be read or does not fit."""
     sp = None if spacing is None else tuple(float(x) for x in spacing)
