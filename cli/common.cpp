@@ -31,7 +31,9 @@ void add_volume_options(Args& a) {
         .option("type", "", "T", "raw volumes: uint8 | int16 | uint16 | float32")
         .option("endian", "", "little|big", "raw volumes: byte order of the samples", "little")
         .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 1.2e-38..3.4e38", "1,1,1")
-        .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)");
+        .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)")
+        .option("resolution-level", "", "N", "OME-Zarr images: the multiscale level to read, 0..(levels - 1), 0 the full resolution "
+                                             "(meshless info shows the count)", "0");
     add_array_option(a);
 }
 
@@ -74,6 +76,11 @@ RawOptions raw_options(const Args& a) {
     if (auto n = a.get("array")) {
         if (n->empty()) throw UsageError("--array: expected the name of a point array (meshless info lists them)");
         raw.array = *n;
+    }
+    if (a.declared("resolution-level")) {
+        const long long level = a.get_int_or("resolution-level", 0);
+        if (level < 0 || level > 64) throw UsageError("--resolution-level: expected a level in 0..64, got " + std::to_string(level));
+        raw.resolution_level = static_cast<int>(level);
     }
     return raw;
 }

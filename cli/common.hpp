@@ -37,13 +37,14 @@
 
 namespace meshless::cli {
 
-/// --dims --type --endian --spacing for raw volumes, --series (DICOM), --array (add_array_option).
+/// --dims --type --endian --spacing for raw volumes, --series (DICOM), --resolution-level (OME-Zarr),
+/// --array (add_array_option).
 void add_volume_options(Args& a);
 /// The help of --array NAME.
 inline constexpr const char* kArrayOptionHelp =
     "VTK volumes (.vti, legacy .vtk, vtk.js): the point array to read, by name (default: the active "
-    "scalars, else the first; meshless info lists them); refused (exit 1) by the formats of one unnamed "
-    "array: raw, NRRD, NIfTI, .mlb, ...";
+    "scalars, else the first; meshless info lists them); HDF5 files: the dataset (/group/name; default: "
+    "the file's only 3-D dataset); refused (exit 1) by the formats of one unnamed array: raw, NRRD, NIfTI, .mlb, ...";
 /// --array NAME: the point array of a multi-array volume (RawOptions::array, read by raw_options).
 void add_array_option(Args& a);
 /// The raw-volume options given on the command line.

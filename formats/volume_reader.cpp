@@ -124,6 +124,9 @@ const char* format_name(Fmt f) {
 Fmt detect_reading(const std::string& path, const RawOptions& raw) {
     const Fmt f = detect(path, raw);
     if (f != Fmt::vti && f != Fmt::vtk_legacy && f != Fmt::vtkjs && f != Fmt::hdf5) refuse_array_choice(raw.array, path, format_name(f));
+    if (f != Fmt::zarr && raw.resolution_level != 0)
+        throw InvalidArgument(path + ": a " + std::string(format_name(f)) +
+                              " volume has one resolution: --resolution-level applies to OME-Zarr images (multiscales)");
     return f;
 }
 

@@ -57,6 +57,9 @@ struct RawOptions {
     /// of formats with one unnamed array throw InvalidArgument when it is set (formats/payload.hpp
     /// refuse_array_choice).
     std::string array;
+    /// OME-Zarr images: the multiscale level to read (0: the full resolution; formats/zarr.hpp).
+    /// Other formats hold one resolution: their readers throw InvalidArgument when it is not 0.
+    int resolution_level = 0;
 };
 
 /// Reads a whole volume. Dispatch: .raw .npy .nrrd .nhdr .mhd .mha .vtk .vti (file: VTK XML,

@@ -384,30 +384,39 @@ ZarrArray open_zarr(const std::string& path, const RawOptions& raw) {
         const Json& m = ms->arr[0];
         const Json* ds = m.find("datasets");
         if (!ds || !ds->is_array() || ds->arr.empty()) fail(zattrs, "multiscales[0] has no datasets");
-        const Json* p = ds->arr[0].find("path");
-        if (!p || !p->is_string()) fail(zattrs, "multiscales[0].datasets[0] has no \"path\" string");
+        const std::size_t L = static_cast<std::size_t>(raw.resolution_level);
+        if (L >= ds->arr.size())
+            throw InvalidArgument(f + ": resolution level " + std::to_string(L) + " asked, the image has " + std::to_string(ds->arr.size()) +
+                                  " (0.." + std::to_string(ds->arr.size() - 1) + ", 0 the full resolution)");
+        const Json& dataset = ds->arr[L];
+        const std::string dname = "multiscales[0].datasets[" + std::to_string(L) + "]";
+        const Json* p = dataset.find("path");
+        if (!p || !p->is_string()) fail(zattrs, dname + " has no \"path\" string");
         if (!plain_relative_path(p->str))
             fail(zattrs, "dataset path \"" + escape_field(p->str) + "\" is not a relative path of plain names (no \"..\", no \"/\" first)");
         level = p->str;
         array_folder = folder / level;
         const std::string za = (array_folder / ".zarray").string();
         check_reference(raw.references, zattrs, za);
-        if (!fs::is_regular_file(za, ec)) throw IoError(zattrs + ": level 0 \"" + escape_field(level) + "\" has no .zarray (" + za + ")");
-        // the transformations of level 0, then the multiscale's own (applied after)
+        if (!fs::is_regular_file(za, ec))
+            throw IoError(zattrs + ": level " + std::to_string(L) + " \"" + escape_field(level) + "\" has no .zarray (" + za + ")");
+        // the transformations of the level, then the multiscale's own (applied after)
         ZarrArray a = parse_zarray(read_metadata(za), za);
         const std::size_t n = a.shape.size();
         scale.assign(n, 1.0);
         translation.assign(n, 0.0);
-        transformations(ds->arr[0].find("coordinateTransformations"), zattrs, n, scale, translation);
+        transformations(dataset.find("coordinateTransformations"), zattrs, n, scale, translation);
         std::vector<double> s2(n, 1.0), t2(n, 0.0);
         transformations(m.find("coordinateTransformations"), zattrs, n, s2, t2);
-        const bool scaled = ds->arr[0].find("coordinateTransformations") || m.find("coordinateTransformations");
+        const bool scaled = dataset.find("coordinateTransformations") || m.find("coordinateTransformations");
         for (std::size_t i = 0; i < n; ++i) {
             translation[i] = translation[i] * s2[i] + t2[i];
             scale[i] *= s2[i];
         }
         a.format = "ome-zarr";
         a.level = escape_field(level);
+        a.level_index = static_cast<int>(L);
+        a.level_count = static_cast<int>(ds->arr.size());
         a.zattrs = zattrs;
         a.references = raw.references;
         for (int ax = 0; ax < 3; ++ax) {
@@ -429,6 +438,8 @@ ZarrArray open_zarr(const std::string& path, const RawOptions& raw) {
         else validate_grid(a.grid, zattrs);
         return a;
     }
+    if (raw.resolution_level != 0)
+        throw InvalidArgument(f + ": a Zarr array has one resolution: --resolution-level applies to OME-Zarr images (multiscales)");
     const std::string za = (folder / ".zarray").string();
     check_reference(raw.references, f, za);
     ZarrArray a = parse_zarray(read_metadata(za), za);
@@ -631,7 +642,10 @@ VolumeInfo probe_zarr(const std::string& path, const RawOptions& raw) {
     i.type = volume_type_for(a.type);
     std::string chunks = "(";
     for (std::size_t k = 0; k < a.chunks.size(); ++k) chunks += (k ? ", " : "") + std::to_string(a.chunks[k]);
-    i.encoding = "Zarr v2" + (a.level.empty() ? std::string() : ", level 0 \"" + a.level + "\"") + ", shape " + list_text(a.shape) +
+    i.encoding = "Zarr v2" +
+                 (a.level.empty() ? std::string()
+                                  : ", level " + std::to_string(a.level_index) + " \"" + a.level + "\" of " + std::to_string(a.level_count)) +
+                 ", shape " + list_text(a.shape) +
                  " order " + (a.fortran ? "F" : "C") + ", dtype " + a.dtype + ", chunks " + list_text(a.chunks) + " (" +
                  std::to_string(a.count[0] * a.count[1] * a.count[2]) + " chunk files, separator '" + a.separator +
                  "'), compressor " + a.compressor_text + ", fill_value " + number_text(a.fill);

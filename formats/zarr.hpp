@@ -1,5 +1,6 @@
 // Zarr v2 directory stores holding a 3-D array, read as regular volumes; OME-Zarr images (a folder
-// whose .zattrs has `multiscales`) read at their first dataset (level 0, the full resolution).
+// whose .zattrs has `multiscales`) read at the dataset RawOptions::resolution_level names (0, the
+// default: the full resolution; InvalidArgument beyond the image's levels, or for a plain array).
 //
 // Layout: a folder with `.zarray` (JSON: zarr_format 2, shape, chunks, dtype, order, fill_value,
 // compressor, filters, dimension_separator) and one file per chunk, named by its chunk indices
@@ -53,7 +54,9 @@ struct ZarrArray {
     std::string folder;                  ///< the array's folder (chunk keys are relative to it)
     std::string zarray;                  ///< its .zarray (messages name it)
     std::string format = "zarr";         ///< "zarr" or "ome-zarr"
-    std::string level;                   ///< OME-Zarr: the dataset path read (level 0, escaped), else empty
+    std::string level;                   ///< OME-Zarr: the dataset path read (escaped), else empty
+    int level_index = 0;                 ///< OME-Zarr: the level read (RawOptions::resolution_level; 0: full resolution)
+    int level_count = 1;                 ///< OME-Zarr: the levels of its first multiscale
     std::string zattrs;                  ///< OME-Zarr: the image's .zattrs, else empty
     std::vector<std::int64_t> shape;     ///< as listed
     std::vector<std::int64_t> chunks;    ///< as listed
@@ -78,8 +81,8 @@ struct ZarrArray {
 /// The grid's spacing is 1, origin 0.
 ZarrArray parse_zarray(std::string_view text, const std::string& zarray);
 
-/// The store at `path` (an array folder, its .zarray, or an OME-Zarr image folder: level 0) with
-/// its geometry (OME-Zarr scale, else raw.spacing).
+/// The store at `path` (an array folder, its .zarray, or an OME-Zarr image folder: the level
+/// raw.resolution_level) with its geometry (OME-Zarr scale of that level, else raw.spacing).
 ZarrArray open_zarr(const std::string& path, const RawOptions& raw = {});
 
 /// A folder holding .zarray or zarr.json, or .zattrs with "multiscales"; a file named .zarray.

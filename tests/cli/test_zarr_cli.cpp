@@ -123,6 +123,18 @@ TEST_CASE("zarr stores: isosurface, mc and convert give the raw file's bytes, in
     const RunResult arr = sh("MESHLESS isosurface " + D + "zlib.zarr --iso 100.5 --array a -o " + D + "w.ply", d);
     CHECK(arr.code == 1);
     CHECK(arr.err.find("zlib.zarr: a zarr volume holds one unnamed array: no array 'a' to choose") != std::string::npos);
+    // --resolution-level: an OME-Zarr image's level 1 (the writer's: constant, so no surface), beyond
+    // its levels and on a plain store a usage error (exit 1)
+    const RunResult l1 = sh("MESHLESS info " + D + "img.ome.zarr --resolution-level 1", d);
+    CHECK(l1.code == 0);
+    CHECK(l1.out.find("level 1 \"1\" of 2") != std::string::npos);
+    CHECK(l1.out.find("dims: 52 x 47 x 81") != std::string::npos);
+    const RunResult l5 = sh("MESHLESS isosurface " + D + "img.ome.zarr --resolution-level 5 --iso 100.5 -o " + D + "w.ply", d);
+    CHECK(l5.code == 1);
+    CHECK(l5.err.find("resolution level 5 asked, the image has 2") != std::string::npos);
+    const RunResult lp = sh("MESHLESS convert " + D + "zlib.zarr --resolution-level 1 -o " + D + "w.mlb", d);
+    CHECK(lp.code == 1);
+    CHECK(lp.err.find("a Zarr array has one resolution") != std::string::npos);
 }
 
 TEST_CASE("zarr stores: each defect class is refused with one line naming the file and exit 2", "[cli][zarr]") {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -166,6 +167,36 @@ TEST_CASE("zarr: OME-Zarr reads level 0 with its scale and translation, plain st
                                Contains("compressor none"));
     CHECK(looks_like_volume((d.path / "p.zarr").string()));
     CHECK(looks_like_volume((d.path / "img.ome.zarr").string()));
+}
+
+TEST_CASE("zarr: an OME-Zarr image's other resolution levels by RawOptions::resolution_level, refused beyond them and elsewhere", "[formats][zarr]") {
+    TempDir d("zarr-levels");
+    ZarrWriteOptions o;
+    o.leading = {1};  // (c, z, y, x)
+    o.chunks = {4, 4, 4};
+    write_ome_zarr(d.path / "img.ome.zarr", oracle_values(), NX, NY, NZ, {2.5, 0.5, 0.25}, {10, 20, 30}, o);
+    const std::string img = (d.path / "img.ome.zarr").string();
+    RawOptions raw;
+    raw.resolution_level = 1;  // the writer's level 1: half the samples, constant 3, scale 2
+    const Volume v = read_volume(img, raw);
+    CHECK(v.grid.dims == std::array<std::int64_t, 3>{(NX + 1) / 2, (NY + 1) / 2, (NZ + 1) / 2});
+    CHECK(v.grid.spacing == std::array<double, 3>{2, 2, 2});
+    CHECK(v.grid.origin == std::array<double, 3>{0, 0, 0});
+    for (double x : samples_of(v)) CHECK(x == 3);
+    CHECK_THAT(probe_volume(img, raw).encoding, Contains("level 1 \"1\" of 2"));
+    CHECK_THAT(probe_volume(img).encoding, Contains("level 0 \"0\" of 2"));
+    raw.resolution_level = 2;
+    CHECK_THROWS_WITH(read_volume(img, raw), Contains("resolution level 2 asked, the image has 2 (0..1, 0 the full resolution)"));
+    write_zarr(d.path / "p.zarr", oracle_values(), NX, NY, NZ, {});
+    raw.resolution_level = 1;
+    CHECK_THROWS_WITH(read_volume((d.path / "p.zarr").string(), raw), Contains("a Zarr array has one resolution"));
+    CHECK_THROWS_AS(read_volume((d.path / "p.zarr").string(), raw), InvalidArgument);
+    const std::string nrrd = (d.path / "v.nrrd").string();
+    {
+        std::ofstream f(nrrd, std::ios::binary);
+        f << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n" << std::string(8, '\0');
+    }
+    CHECK_THROWS_WITH(read_volume(nrrd, raw), Contains("a nrrd volume has one resolution: --resolution-level applies to OME-Zarr images"));
 }
 
 TEST_CASE("zarr: must-fail stores, one per defect class", "[formats][zarr]") {
