@@ -386,7 +386,7 @@ def read_points(path, *, value="", columns="", q_component=0, level=None, error=
 
 
 def read_volume(path, *, spacing=None, origin=None, series="", array="", dims=None, dtype=None, big_endian=False,
-                memory=None):
+                memory=None, resolution_level=0):
     """A regular volume from any file `meshless isosurface` reads (raw name_XxYxZ_type.raw, NRRD,
     MetaImage, VTK legacy, VTI, vtk.js, SLC, NIfTI, Voreen .dat, a DICOM folder/DICOMDIR/slice, a 3-D
     .npy, a Zarr store, an HDF5 dataset "file.h5:/group/name", a brick store .mlb read whole), through
@@ -401,13 +401,14 @@ def read_volume(path, *, spacing=None, origin=None, series="", array="", dims=No
     result. series: the DICOM series (Series Instance UID or its number), as --series. array: the
     point array of a .vti, VTK legacy or vtk.js volume holding several, by name, or the dataset of an
     HDF5 file ("/group/name"), as --array (default: the active scalars, else the first; an HDF5 file's
-    only 3-D dataset; ValueError for a format of one unnamed array). memory: the
+    only 3-D dataset; ValueError for a format of one unnamed array). resolution_level: an OME-Zarr
+    image's multiscale level, 0 the full resolution, as --resolution-level. memory: the
     most bytes a volume read whole may take ('2G' or an int; default the machine's memory), as
     --memory. DataError for a damaged file, OSError for one that cannot be read or does not fit."""
     sp = None if spacing is None else tuple(float(x) for x in spacing)
     vol = Volume(_core._read_volume(str(path), None if dims is None else tuple(int(n) for n in dims),
                                     None if dtype is None else _np.dtype(dtype).name, bool(big_endian), sp, str(series),
-                                    str(array), None if memory is None else _memory_bytes(memory)))
+                                    str(array), None if memory is None else _memory_bytes(memory), int(resolution_level)))
     if sp is not None:
         if len(sp) != 3 or not all(_np.isfinite(sp)) or min(sp) <= 0:
             raise ValueError("spacing: expected three numbers > 0")

@@ -60,7 +60,7 @@ py::array volume_array(Volume&& v) {
 py::dict read_volume(const std::string& path, const std::optional<std::array<std::int64_t, 3>>& dims,
                      const std::optional<std::string>& dtype, bool big_endian,
                      const std::optional<std::array<double, 3>>& spacing, const std::string& series,
-                     const std::string& array, const std::optional<std::uint64_t>& memory) {
+                     const std::string& array, const std::optional<std::uint64_t>& memory, int resolution_level) {
     if (path == "-") throw py::value_error("read_volume: give a file's path (standard input is the CLI's)");
     VolumeOpenOptions o;
     o.raw.dims = dims;
@@ -78,6 +78,8 @@ py::dict read_volume(const std::string& path, const std::optional<std::array<std
     o.raw.spacing = spacing;
     o.raw.series = series;
     o.raw.array = array;
+    if (resolution_level < 0) throw py::value_error("resolution_level: expected a level >= 0");
+    o.raw.resolution_level = resolution_level;
     o.raw_given = dims || dtype || big_endian || spacing;
     o.memory = memory;
     std::vector<std::string> warnings;
@@ -236,7 +238,7 @@ py::dict read_blocks(const std::vector<std::string>& paths, const std::string& v
 
 void bind_read(py::module_& m) {
     m.def("_read_volume", &read_volume, py::arg("path"), py::arg("dims"), py::arg("dtype"), py::arg("big_endian"),
-          py::arg("spacing"), py::arg("series"), py::arg("array"), py::arg("memory"));
+          py::arg("spacing"), py::arg("series"), py::arg("array"), py::arg("memory"), py::arg("resolution_level"));
     m.def("_read_point_set", &read_point_set_arrays, py::arg("path"), py::arg("value"), py::arg("columns"),
           py::arg("q_component"), py::arg("level"), py::arg("error"));
     m.def("_read_multiblock", &read_blocks, py::arg("paths"), py::arg("value"), py::arg("q_component"));

@@ -197,6 +197,31 @@ class ReadVolume(unittest.TestCase):
         self.assertTrue(np.array_equal(a, vol))  # the mapping outlives the deleted file and the Volume
         self.assertTrue(np.array_equal(b.array, vol))
 
+    def test_an_hdf5_dataset_by_path_or_array_and_the_levels_of_other_formats_refused(self):
+        try:
+            import h5py
+        except ImportError:
+            self.skipTest("python3-h5py is not installed")
+        vol = sphere(20)
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "two.h5")
+            with h5py.File(path, "w") as f:
+                f.create_dataset("scans/ct", data=vol.T, chunks=(4, 8, 20), compression="gzip", shuffle=True)  # (z, y, x)
+                f.create_dataset("other", data=vol.T.astype(np.uint8))
+            a = meshless.read_volume(path + ":/scans/ct")
+            self.assertEqual(a.format, "hdf5")
+            self.assertTrue(np.array_equal(a.array, vol))
+            b = meshless.read_volume(path, array="other")
+            self.assertEqual(b.array.dtype, np.uint8)
+            with self.assertRaises(meshless.DataError) as e:
+                meshless.read_volume(path)
+            self.assertIn("holds 2 volumes (/other, /scans/ct)", str(e.exception))
+            raw = os.path.join(d, "s_20x20x20_float32.raw")
+            vol.T.tofile(raw)
+            with self.assertRaises(ValueError) as e:
+                meshless.read_volume(raw, resolution_level=1)
+            self.assertIn("--resolution-level applies to OME-Zarr images", str(e.exception))
+
 
 class ReadPointsAndWriters(unittest.TestCase):
     def test_csv_points_are_the_numbers_written_and_views_of_the_readers_buffers(self):
