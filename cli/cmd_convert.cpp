@@ -96,6 +96,7 @@ int cmd_convert(int argc, char** argv) {
            "pts.mlc --help lists its options).");
     add_store_options(a);
     add_volume_options(a);
+    add_crop_option(a);
     a.epilog("example: meshless convert ../shared/data/tooth/tooth_103x94x161_uint8.raw -o tooth.mlb --stats\n");
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().size() != 1) throw UsageError("expected one VOLUME argument (see meshless convert --help)");

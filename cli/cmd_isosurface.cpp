@@ -79,6 +79,7 @@ int cmd_isosurface(int argc, char** argv) {
     add_ply_color_option(a);
     add_sampling_options(a);
     add_volume_options(a);
+    add_crop_option(a);
     add_memory_option(a);
     add_thread_option(a);
     add_quiet_option(a);

@@ -75,6 +75,7 @@ int cmd_mc(int argc, char** argv) {
     add_fail_empty_option(a);
     add_geometry_format_option(a);
     add_volume_options(a);
+    add_crop_option(a);
     add_point_set_options(a, false);
     add_memory_option(a);
     add_thread_option(a);

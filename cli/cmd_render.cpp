@@ -82,11 +82,12 @@ CliRenderInput open_render_input(const Args& a) {
         if (kind == "trilinear")
             throw UsageError("--field trilinear: " + first + " is not a volume; scattered points and multiblock grids render "
                              "through rbf-grid, mpu, global-rbf or a fitted .mlf");
-        for (const char* o : {"dims", "type", "spacing", "array", "memory"})
+        for (const char* o : {"dims", "type", "spacing", "array", "memory", "crop"})
             if (a.declared(o) && a.has(o))
                 throw UsageError("--" + std::string(o) + " applies to volumes" +
                                  (std::string(o) == "memory"  ? std::string(" read from brick stores (.mlb)")
                                   : std::string(o) == "array" ? std::string(" (.vti, .vtk, vtk.js)")
+                                  : std::string(o) == "crop"  ? std::string()
                                                               : std::string(" (raw)")) +
                                  "; " + first + " is read as points");
         const PointSet pts = read_field_points(pos, a);
@@ -152,6 +153,7 @@ void declare_render_options(Args& a) {
         .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 0 < s <= 3.4e38", "1,1,1")
         .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)");
     add_array_option(a);
+    add_crop_option(a);
     add_memory_option(a);
     add_quiet_option(a);
     a.positionals(1, 1000);

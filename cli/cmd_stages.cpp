@@ -74,6 +74,7 @@ int cmd_generate(int argc, char** argv) {
     add_compress_option(a);
     add_sampling_options(a);
     add_volume_options(a);
+    add_crop_option(a);
     add_memory_option(a);
     add_thread_option(a);
     add_quiet_option(a);

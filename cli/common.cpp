@@ -85,9 +85,22 @@ RawOptions raw_options(const Args& a) {
     return raw;
 }
 
+void add_crop_option(Args& a) {
+    a.option("crop", "", "X0,Y0,Z0,X1,Y1,Z1",
+             "only the samples inside this box, world units, corners included (at least 2 along each axis); "
+             "a brick store reads only the bricks it touches")
+        .validate([](const std::string& v) {
+            if (parse_finite_list(v, "--crop", 6).size() != 6) throw UsageError("--crop: expected X0,Y0,Z0,X1,Y1,Z1, got '" + v + "'");
+        });
+}
+
 VolumeOpenOptions volume_open_options(const Args& a, bool stream) {
     VolumeOpenOptions o;
     o.raw = raw_options(a);
+    if (a.declared("crop") && a.has("crop")) {
+        const std::vector<double> c = parse_finite_list(*a.get("crop"), "--crop", 6);
+        o.crop = std::array<double, 6>{c[0], c[1], c[2], c[3], c[4], c[5]};
+    }
     o.raw_given = a.has("dims") || a.has("type") || a.has("endian") || a.has("spacing");
     o.stream = stream;
     if (a.declared("memory") && a.has("memory")) o.memory = parse_memory_size(*a.get("memory"));

@@ -45,6 +45,9 @@ inline constexpr const char* kArrayOptionHelp =
     "VTK volumes (.vti, legacy .vtk, vtk.js): the point array to read, by name (default: the active "
     "scalars, else the first; meshless info lists them); HDF5 files: the dataset (/group/name; default: "
     "the file's only 3-D dataset); refused (exit 1) by the formats of one unnamed array: raw, NRRD, NIfTI, .mlb, ...";
+/// --crop X0,Y0,Z0,X1,Y1,Z1: the box of samples a volume command works on (VolumeOpenOptions::crop,
+/// read by volume_open_options; six finite numbers checked at parse).
+void add_crop_option(Args& a);
 /// --array NAME: the point array of a multi-array volume (RawOptions::array, read by raw_options).
 void add_array_option(Args& a);
 /// The raw-volume options given on the command line.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <map>
+#include <optional>
 
 namespace meshless {
 
@@ -19,6 +20,10 @@ public:
     const GridSpec& grid() const override { return store_->info().grid; }
     SampleType type() const override { return store_->info().type; }
     std::string name() const override { return name_; }
+    void restrict_xy(std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1) override {
+        window_ = {x0, x1, y0, y1};
+        current_ = ~0u;  // the layer in memory may lack bricks of the new window
+    }
 
     void read_slices(std::int64_t k, std::int64_t count, std::byte* out) override {
         const GridSpec& g = grid();
@@ -51,6 +56,12 @@ private:
         for (std::uint32_t by = 0; by < per_axis[1]; ++by)
             for (std::uint32_t bx = 0; bx < per_axis[0]; ++bx) {
                 const std::size_t i = by_coord_.at({bx, by, layer});
+                if (window_) {  // only the bricks whose samples meet the window
+                    const GridSpec bg = store_->brick_grid(i);
+                    const auto first = store_->brick_first_voxel(i);
+                    const auto& w = *window_;
+                    if (first[0] > w[1] || first[0] + bg.dims[0] - 1 < w[0] || first[1] > w[3] || first[1] + bg.dims[1] - 1 < w[2]) continue;
+                }
                 std::vector<std::byte> bytes;
                 store_->read_brick(i, bytes);
                 layer_.emplace_back(i, std::move(bytes));
@@ -62,6 +73,7 @@ private:
     std::string name_;
     std::map<std::array<std::uint32_t, 3>, std::size_t> by_coord_;
     std::uint32_t current_ = ~0u;
+    std::optional<std::array<std::int64_t, 4>> window_;  ///< x0, x1, y0, y1 (restrict_xy)
     std::vector<std::pair<std::size_t, std::vector<std::byte>>> layer_;
 };
 

@@ -34,6 +34,12 @@ public:
     virtual void read_slices(std::int64_t k, std::int64_t count, std::byte* out) = 0;
     /// Human-readable name for messages (the input path).
     virtual std::string name() const = 0;
+    /// Only samples with x in [x0, x1] and y in [y0, y1] will be used from now on: a source may
+    /// leave the others of later slices unwritten (a brick store then reads only the bricks of that
+    /// window: ooc/cropped_slice_source.hpp). The default reads every sample.
+    virtual void restrict_xy(std::int64_t x0, std::int64_t x1, std::int64_t y0, std::int64_t y1) {
+        (void)x0, (void)x1, (void)y0, (void)y1;
+    }
 };
 
 std::unique_ptr<SliceSource> open_slice_source(const std::string& path, const RawOptions& raw = {});

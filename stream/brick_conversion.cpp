@@ -30,7 +30,12 @@ ConversionInput open_conversion_input(const std::string& path, const VolumeOpenO
         c.slices = in.slices ? std::move(in.slices) : make_volume_source(std::move(*in.volume), "- (stdin)");
         return c;
     }
-    c.slices = open_slice_source(path, o.raw);
+    if (o.crop) {  // the crop's slices (a brick store's: only the bricks the crop touches)
+        VolumeInput in = open_volume_input(path, o);
+        c.slices = in.slices ? std::move(in.slices) : make_volume_source(std::move(*in.volume), path);
+    } else {
+        c.slices = open_slice_source(path, o.raw);
+    }
     c.patient_axes = patient_axes_of(path, o.raw);
     return c;
 }

@@ -1,5 +1,9 @@
 #include "stream/volume_input.hpp"
 
+#include "kernels/volume_crop.hpp"
+#include "ooc/brick_slice_source.hpp"
+#include "ooc/cropped_slice_source.hpp"
+
 #include <stdexcept>
 
 #include "formats/byte_size_text.hpp"
@@ -120,7 +124,54 @@ void check_volume_fits(const std::string& name, const VolumeInfo& vi, bool map, 
                   "; a brick store streams it: meshless convert " + name + " -o vol.mlb");
 }
 
+namespace {
+
+/// open_volume_input with VolumeOpenOptions::crop: the whole input opened as usual (a brick store
+/// as slices of the bricks the crop touches), then cropped (kernels/volume_crop.hpp).
+VolumeInput open_cropped(const std::string& path, const VolumeOpenOptions& o) {
+    VolumeOpenOptions whole = o;
+    whole.crop.reset();
+    const bool mlb_name = path.size() > 4 && path.compare(path.size() - 4, 4, ".mlb") == 0;
+    if (path != "-" && (is_brick_store(path) || mlb_name)) {
+        refuse_array_choice(o.raw.array, path, kBrickStoreFormat);
+        VolumeInput in;
+        in.path = path;
+        in.threads = o.threads;
+        in.frame = store_frame(BrickStore::open(path)->info());
+        auto slices = open_brick_store_slices(path);
+        const VoxelBox box = crop_voxels(slices->grid(), *o.crop, path);
+        in.slices = make_cropped_source(std::move(slices), box);
+        in.reopen = [path, box] { return make_cropped_source(open_brick_store_slices(path), box); };
+        if (!o.stream) {  // the crop read whole, through the bricks it touches
+            VolumeInfo vi;
+            vi.grid = in.slices->grid();
+            vi.type = in.slices->type();
+            check_volume_fits(path, vi, false, o.memory);
+            Volume v(vi.grid, vi.type);
+            in.slices->read_slices(0, vi.grid.dims[2], v.bytes.data());
+            in.volume = std::move(v);
+            in.slices.reset();
+            in.reopen = nullptr;
+        }
+        return in;
+    }
+    VolumeInput in = open_volume_input(path, whole);
+    const VoxelBox box = crop_voxels(in.grid(), *o.crop, path == "-" ? "- (stdin)" : path);
+    if (in.volume) in.volume = crop_volume(*in.volume, box);
+    if (in.slices) in.slices = make_cropped_source(std::move(in.slices), box);
+    if (in.reopen) in.reopen = [reopen = in.reopen, box] { return make_cropped_source(reopen(), box); };
+    return in;
+}
+
+}  // namespace
+
 Volume load_volume(const std::string& path, const VolumeOpenOptions& o, bool map) {
+    if (o.crop) {  // the crop, read whole
+        VolumeOpenOptions whole = o;
+        whole.stream = false;
+        VolumeInput in = open_cropped(path, whole);
+        return std::move(*in.volume);
+    }
     if (path == "-") {  // a mapping outlives the spool's descriptor; a read copies
         const StdinSpool spool;
         return spool.readable_errors([&] {
@@ -143,6 +194,7 @@ Volume load_volume(const std::string& path, const VolumeOpenOptions& o, bool map
 }
 
 VolumeInput open_volume_input(const std::string& path, const VolumeOpenOptions& o) {
+    if (o.crop) return open_cropped(path, o);
     VolumeInput in;
     in.path = path;
     const RawOptions& raw = o.raw;

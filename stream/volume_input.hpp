@@ -48,6 +48,11 @@ struct VolumeOpenOptions {
     /// (physical memory capped by the cgroup limit, stream/available_memory.hpp).
     std::optional<std::uint64_t> memory;
     int threads = 1;  ///< threads of VolumeInput::blocks() (its result does not depend on them)
+    /// A box in world units {x0, y0, z0, x1, y1, z1}: only the samples inside it, as a volume of
+    /// their own (kernels/volume_crop.hpp; InvalidArgument when it keeps fewer than 2 samples along
+    /// an axis). A brick store is then read as slices of the bricks the crop touches (no brick
+    /// index: the cropped volume's min/max pass frames the stream, as for a file).
+    std::optional<std::array<double, 6>> crop;
     /// Receives one-line warnings (already escaped for a terminal; the caller adds who speaks), e.g.
     /// "warning: f.nrrd is a nrrd file, which describes itself: ...". Empty: no warnings.
     std::function<void(const std::string&)> warn;
