@@ -22,6 +22,7 @@ int cmd_sample(int argc, char** argv) {
         .option("seed", "", "S", "random seed, any integer of at most 18 digits", "1")
         .option("output", "o", "FILE", "output .ply, .csv or .vtp ('-' = CSV on stdout; required)");
     add_volume_options(a);
+    add_crop_option(a);
     if (!a.parse(argc, argv, 2)) return 0;
     const long long count = a.get_int_or("count", -1);
     if (!a.has("count")) throw UsageError("missing --count N");

@@ -42,6 +42,7 @@ int cmd_split(int argc, char** argv) {
         .option("name", "", "NAME", "name of the scalar array in the pieces", "scalars")
         .option("output", "o", "PREFIX.vtm", "output index: .vtm (or .vthb for amr); pieces go to PREFIX/ (required)");
     add_volume_options(a);
+    add_crop_option(a);
     a.positionals(1, 1);
     a.epilog("examples (the dissertation's multiblock sets, section 4.5 / Table 4.1):\n"
              "  meshless split ../shared/data/bucky/Bucky_32x32x32_uint8.raw --layout semi-conforming --resample 33 -o bucky.vtm\n"

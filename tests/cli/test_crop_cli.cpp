@@ -76,6 +76,10 @@ TEST_CASE("--crop gives the bytes of the cropped samples written as a file of th
             if (c.out == "t.ply") CHECK(slurp(D + "got" + c.out + ".png") == slurp(D + "want" + c.out + ".png"));
         }
     }
+    // sample: scattered samples of the crop only (the same generator and seed as of the cropped file)
+    REQUIRE(sh("MESHLESS sample " + kTooth + " --count 2000 " + crop + " -o " + D + "s.csv", d).code == 0);
+    REQUIRE(sh("MESHLESS sample " + D + "cut.vtk --count 2000 -o " + D + "want_s.csv", d).code == 0);
+    CHECK(slurp(D + "s.csv") == slurp(D + "want_s.csv"));
     // the stages joined by pipes give the in-process bytes
     const RunResult piped = sh("MESHLESS generate " + kTooth + " --iso 100.5 " + crop + " | MESHLESS project | MESHLESS write -o " + D +
                                    "p.ply",
