@@ -138,12 +138,12 @@ int run_command(int argc, char** argv) {
     }
     for (const auto& c : kCommands) {
         if (name != c.name) continue;
-        // Under mpirun only isosurface shares its work out; any other command would repeat the whole
-        // job on every rank (and race for its outputs): refused, said once, by rank 0.
-        if (launched_world_size() > 1 && name != "isosurface" && !asks_for_help(argc, argv)) {
+        // Under mpirun only isosurface and batch share their work out; any other command would repeat
+        // the whole job on every rank (and race for its outputs): refused, said once, by rank 0.
+        if (launched_world_size() > 1 && name != "isosurface" && name != "batch" && !asks_for_help(argc, argv)) {
             if (launched_world_rank() == 0)
                 std::fprintf(stderr, "meshless %s: runs in one process, not under mpirun (this launch has %d ranks; "
-                             "isosurface is the command that shares its work across ranks): run it without mpirun\n",
+                             "isosurface and batch are the commands that share their work across ranks): run it without mpirun\n",
                              c.name, launched_world_size());
             return kExitUsage;
         }

@@ -10,6 +10,7 @@
 #include "cli/errors.hpp"
 #include "cli/progress_meter.hpp"
 #include "stream/batch_job.hpp"
+#include "stream/batch_ranks.hpp"
 #include "stream/batch_summary.hpp"
 
 namespace meshless::cli {
@@ -79,7 +80,9 @@ constexpr const char* kBatchHelp =
            "manifest's folder; `..`, absolute paths and symbolic links resolved) is REFUSED: nothing of it is\n"
            "read or written, and the run goes on.\n"
            "A scheduler's job array splits an archive with --shard K/N: each job converts its share (every\n"
-           "volume in exactly one shard, the largest first), the outputs and sidecars those of one run.";
+           "volume in exactly one shard, the largest first), the outputs and sidecars those of one run.\n"
+           "Under mpirun -np N, rank K takes the share of --shard K+1/N and rank 0 prints the one summary of\n"
+           "the whole archive (and gives the exit status); the outputs are those of one process.";
 
 /// The run's settings from the options (UsageError for a bad value).
 BatchSettings batch_settings(const Args& a, const ConvertParams& defaults) {
@@ -169,6 +172,20 @@ int cmd_batch(int argc, char** argv) {
         line.clear();
         print_batch_item_failure(stderr, r);
     };
+    if (launched_world_size() > 1) {  // the ranks share the archive; rank 0 prints the one summary
+        MpiSession mpi(&argc, &argv);
+        try {
+            if (mpi.rank() != 0) cb.progress = nullptr;
+            const BatchRun run = run_batch_ranks(a.positional()[0], s, cb, mpi);
+            if (mpi.rank() != 0) return kExitOk;
+            line.clear();
+            print_batch_summary(stdout, run);
+            if (run.any_failed()) return kExitData;
+            return run.any_empty() && a.has("fail-empty") ? kExitEmpty : kExitOk;
+        } catch (const std::exception& e) {
+            end_mpi_job(mpi, "batch", e);
+        }
+    }
     const BatchRun run = run_batch(a.positional()[0], s, cb);
     print_batch_summary(stdout, run);
     if (run.any_failed()) return kExitData;

@@ -3,6 +3,8 @@
 // `generate --all`; rank failures fail the whole job without output.
 #include <catch2/catch.hpp>
 
+#include <tuple>
+
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
@@ -132,7 +134,7 @@ TEST_CASE("mpirun -np 2 gives the single-process bytes, a failing rank fails the
     // (it would repeat the whole job on every rank); --help still answers
     for (const std::string& cmd : {"mc " + D + "/g.mlb --iso 128.5 -o " + D + "/two_mc.ply",
                                   "render " + D + "/g.mlb --size 32x32 -o " + D + "/two_mc.png",
-                                  "info " + D + "/g.mlb", "batch " + D + " -o " + D + "/two_mc_batch --iso 128.5"}) {
+                                  "info " + D + "/g.mlb"}) {
         INFO(cmd);
         r = sh(mpirun + "MESHLESS " + cmd, d);
         CHECK(r.code == 1);
@@ -142,10 +144,66 @@ TEST_CASE("mpirun -np 2 gives the single-process bytes, a failing rank fails the
     }
     CHECK(!fs::exists(d / "two_mc.ply"));
     CHECK(!fs::exists(d / "two_mc.png"));
-    CHECK(!fs::exists(d / "two_mc_batch"));
     r = sh(mpirun + "MESHLESS mc --help", d);
     CHECK(r.code == 0);
     CHECK_THAT(r.out, Catch::Contains("usage: meshless mc"));
+}
+
+TEST_CASE("mpirun -np 2 batch: the volumes dealt to the ranks, one process's outputs and one summary", "[cli][ooc-pipeline][mpi]") {
+    TempDir d("mpi-batch");
+    if (sh("command -v mpirun", d).code != 0) {
+        WARN("mpirun not installed: MPI test skipped");
+        return;
+    }
+#ifdef MESHLESS_SANITIZED
+    const std::string mpi_env = "LSAN_OPTIONS=detect_leaks=0 ";  // (see the test above)
+#else
+    const std::string mpi_env;
+#endif
+    const std::string mpirun = mpi_env + "mpirun --allow-run-as-root --oversubscribe -np 2 ";
+    const fs::path arch = d / "archive";
+    fs::create_directories(arch);
+    const TempDir& dir = d;
+    for (const auto& [name, field, n] : {std::tuple{"gyroid", AnalyticField::gyroid, 48}, std::tuple{"ball", AnalyticField::sphere, 40},
+                                        std::tuple{"small", AnalyticField::gyroid, 24}}) {
+        const std::string v = write_uint8_analytic_volume(dir, name, field, n, 80.0, 128.0);
+        fs::rename(v, arch / fs::path(v).filename());
+    }
+    spit(arch / "broken_8x8x8_uint8.raw", std::string(100, 'x'));  // too short: fails, on whichever rank
+    const std::string A = arch.string(), D = d.path.string();
+    const RunResult one = sh("MESHLESS batch " + A + " -o " + D + "/one --iso 128.5 --iso 150.5", d);
+    CHECK(one.code == 2);
+    RunResult two = sh(mpirun + "MESHLESS batch " + A + " -o " + D + "/two --iso 128.5 --iso 150.5", d);
+    if (two.code != 2 && two.err.find("without MPI") != std::string::npos) {
+        WARN("this build has no MPI: MPI test skipped");
+        return;
+    }
+    INFO(two.err);
+    CHECK(two.code == 2);
+    // one summary (rank 0's), every volume in archive order, the broken one failed
+    CHECK(two.out.find("4 volume(s): 3 done, 0 up to date, 1 failed") != std::string::npos);
+    CHECK(two.out.find("4 volume(s)") == two.out.rfind("4 volume(s)"));
+    CHECK(two.out.find("ball") < two.out.find("broken"));
+    CHECK(two.out.find("broken") < two.out.find("gyroid"));
+    CHECK(two.out.find("gyroid") < two.out.find("small"));
+    // the outputs of one process, byte for byte (stores and point sets)
+    int compared = 0;
+    for (const auto& e : fs::directory_iterator(d / "one")) {
+        const std::string ext = e.path().extension().string();
+        if (ext != ".ply" && ext != ".mlb") continue;
+        INFO(e.path().filename());
+        REQUIRE(fs::exists(d / "two" / e.path().filename()));
+        CHECK(slurp(e.path()) == slurp(d / "two" / e.path().filename()));
+        ++compared;
+    }
+    CHECK(compared == 9);  // 3 stores, 2 isovalues each
+    // a rerun finds everything up to date on every rank
+    two = sh(mpirun + "MESHLESS batch " + A + " -o " + D + "/two --iso 128.5 --iso 150.5", d);
+    CHECK(two.out.find("4 volume(s): 0 done, 3 up to date, 1 failed") != std::string::npos);
+    // --shard is for runs without mpirun
+    const RunResult shard = sh(mpirun + "MESHLESS batch " + A + " -o " + D + "/three --iso 128.5 --shard 1/2", d);
+    CHECK(shard.code == 1);
+    CHECK(shard.err.find("--shard is for runs without mpirun") != std::string::npos);
 }
 
 TEST_CASE("mc on a brick store welds the seams: the in-memory vertex set and triangle count", "[cli][ooc-pipeline]") {
