@@ -125,6 +125,7 @@ int cmd_isosurface(int argc, char** argv) {
     j.producer = a.command_line();
     j.out = [&a] { return geometry_output(a, kPointsWhat); };
     j.anatomical_camera = [&a](const AnatomicalFrame& f, Camera& c) { apply_anatomical_frame(a, f, c); };
+    j.no_axes_hint = [&a](const std::string& volume) { no_patient_axes_hint(a, volume); };
     j.up_given = a.has("up");
     j.progress = progress_counter(a);
     if (a.has("stats")) j.stats = stderr;

@@ -263,7 +263,16 @@ void apply_anatomical_frame(const Args& a, const AnatomicalFrame& f, Camera& c) 
 std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c) {
     if (a.declared("up") && a.has("up")) return std::nullopt;
     if (in.frame) apply_anatomical_frame(a, *in.frame, c);
+    else no_patient_axes_hint(a, in.path);
     return in.frame;
+}
+
+void no_patient_axes_hint(const Args& a, const std::string& volume) {
+    if (!stderr_is_tty() || (a.declared("view") && a.has("view"))) return;
+    std::fprintf(stderr,
+                 "meshless %s: note: %s says nothing of the patient's axes (as NIfTI, NRRD, MetaImage and DICOM headers do): "
+                 "the picture shows its x, y, z as they are; --up, --view, --azimuth and --elevation turn the camera\n",
+                 a.command().c_str(), terminal_safe(volume).c_str());
 }
 
 

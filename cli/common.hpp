@@ -102,6 +102,9 @@ void apply_anatomical_frame(const Args& a, const AnatomicalFrame& f, Camera& c);
 /// camera looks along the named direction with superior up. Otherwise (formats that say nothing) the
 /// camera is left as it is. Returns the frame used, if any.
 std::optional<AnatomicalFrame> apply_anatomical_default(const Args& a, const VolumeInput& in, Camera& c);
+/// One note on stderr, when it is a terminal and --view was not given, that `volume` gives no
+/// patient's axes and how to turn the camera (pictures of such a volume may show it on its side).
+void no_patient_axes_hint(const Args& a, const std::string& volume);
 /// add_orbit_options (800x800) and --kernel quad|ewa --shading: the splat pictures' options.
 void add_camera_options(Args& a);
 /// Camera, kernel and shading from the camera options.

@@ -118,6 +118,7 @@ std::size_t run_isosplat_job(const IsosplatJob& j, VolumeInput& in) {
     RenderSettings rs = j.rs;
     // head up, face to the viewer, where the header says
     if (j.png && !j.up_given && in.frame && j.anatomical_camera) j.anatomical_camera(*in.frame, rs.camera);
+    if (j.png && !j.up_given && !in.frame && j.no_axes_hint) j.no_axes_hint(in.path);
     StreamMeta meta = volume_meta(in, isos[0], j.producer);  // value range and surface bounds, one pass
     set_isovalues(meta, isos, [&](double v) { return surface_bounds(in, v); });
     if (!j.range_given) {

@@ -44,6 +44,9 @@ struct IsosplatJob {
     /// empty. up_given: the front end's up axis was given (a volume's own axes then leave the camera alone).
     std::function<void(const AnatomicalFrame&, Camera&)> anatomical_camera;
     bool up_given = false;
+    /// Called once when a picture is made of a volume whose header says nothing of the patient's
+    /// axes (and no up axis was given): the front end may say how to turn the camera. May be empty.
+    std::function<void(const std::string& volume)> no_axes_hint;
     ProgressCounter progress;   ///< may be empty
     std::FILE* stats = nullptr; ///< --stats: the line is written here (null: none)
     bool* warned = nullptr;     ///< when given: set to whether the run warned that its outputs will be empty

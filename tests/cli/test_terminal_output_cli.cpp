@@ -4,12 +4,14 @@
 // script(1) (util-linux/bsdutils); without it the test says so and passes nothing.
 #include <catch2/catch.hpp>
 
+#include <filesystem>
 #include <string>
 
 #include "cli_harness.hpp"
 
 using namespace meshless;
 using namespace meshless::test;
+namespace fs = std::filesystem;
 
 TEST_CASE("binary outputs refuse a terminal, text outputs reach it", "[cli][tty]") {
     TempDir d("tty");
@@ -46,4 +48,32 @@ TEST_CASE("binary outputs refuse a terminal, text outputs reach it", "[cli][tty]
     CHECK_THAT(csv.out, Catch::Contains("x,y,z,value"));
     // and piped, the binary bytes flow as before
     CHECK(sh("MESHLESS isosurface " + vol + " --iso 100.5 -o - | cmp - " + ply, d).code == 0);
+}
+
+TEST_CASE("a picture of a volume without patient's axes notes how to turn the camera, on a terminal only", "[cli][tty]") {
+    TempDir d("tty-axes");
+    if (sh("command -v script >/dev/null", d).code != 0) {
+        WARN("no script(1): the terminal cases were not run");
+        return;
+    }
+    const std::string vol = write_uint8_analytic_volume(d, "torus", AnalyticField::torus, 20, 200.0, 0.0);
+    auto on_tty = [&](const std::string& cmd) { return sh("script -qec \"" + cmd + "\" /dev/null", d); };
+    const std::string note = "says nothing of the patient's axes";
+    for (const std::string& cmd : {"MESHLESS isosurface " + vol + " --iso 100.5 --png " + (d / "t.png").string(),
+                                   "MESHLESS render " + vol + " --size 32x32 -o " + (d / "r.png").string()}) {
+        INFO(cmd);
+        const auto tty = on_tty(cmd);
+        CHECK(tty.code == 0);
+        CHECK_THAT(tty.out, Catch::Contains(note) && Catch::Contains("--up, --view, --azimuth and --elevation turn the camera"));
+        const auto piped = sh(cmd, d);  // not a terminal: no chatter
+        CHECK(piped.code == 0);
+        CHECK(piped.err.find(note) == std::string::npos);
+        CHECK(on_tty(cmd + " --up z").out.find(note) == std::string::npos);  // the user chose the camera
+    }
+    // a header that says where the patient's axes point: no note
+    spit(d / "h.nhdr", "NRRD0004\ntype: uint8\ndimension: 3\nspace: right-anterior-superior\nsizes: 20 20 20\n"
+                       "space directions: (1,0,0) (0,1,0) (0,0,1)\nspace origin: (0,0,0)\nencoding: raw\ndata file: " +
+                           fs::path(vol).filename().string() + "\n");
+    CHECK(on_tty("MESHLESS isosurface " + (d / "h.nhdr").string() + " --iso 100.5 --png " + (d / "h.png").string()).out.find(note) ==
+          std::string::npos);
 }
