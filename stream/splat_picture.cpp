@@ -254,7 +254,8 @@ SplatReport splat_picture(RenderSettings rs, const SplatRequest& r) {
     }
     if (spool) {
         if (r.frames > 0) return splat_turntable(*spool, *bounds, rs, r);
-        source = std::make_unique<PointSpoolSource>(*spool);
+        source = std::make_unique<PointSpoolSource>(*spool);  // the PLY's source (and its count, said above) is gone
+        in.ply = nullptr;
         stages.clear();  // projected already
     }
     const Camera& cam = rs.camera;
