@@ -32,8 +32,8 @@ void add_volume_options(Args& a) {
         .option("endian", "", "little|big", "raw volumes: byte order of the samples", "little")
         .option("spacing", "", "SX,SY,SZ", "raw volumes: voxel spacing, world units, 1.2e-38..3.4e38", "1,1,1")
         .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)")
-        .option("resolution-level", "", "N", "OME-Zarr images: the multiscale level to read, 0..(levels - 1), 0 the full resolution "
-                                             "(meshless info shows the count)", "0");
+        .option("resolution-level", "", "N", "OME-Zarr images: the multiscale level to read, 0..64 (at most the image's levels - 1, "
+                                             "which meshless info shows), 0 the full resolution", "0");
     add_array_option(a);
 }
 

@@ -24,7 +24,7 @@ std::string body(const std::string& ply) { return ply.substr(ply.find("end_heade
 
 }  // namespace
 
-TEST_CASE("--crop gives the bytes of the cropped samples written as a file of their own", "[cli][crop]") {
+TEST_CASE("crop: --crop gives the bytes of the cropped samples written as a file of their own", "[cli][crop]") {
     if (!std::filesystem::exists(kTooth)) {
         WARN("skipped: " << kTooth << " is absent");
         return;
@@ -89,7 +89,7 @@ TEST_CASE("--crop gives the bytes of the cropped samples written as a file of th
     CHECK(body(slurp(D + "p.ply")) == body(slurp(D + "wanti.ply")));
 }
 
-TEST_CASE("--crop: an empty or malformed box and a box given to points are usage errors", "[cli][crop]") {
+TEST_CASE("crop: an empty or malformed box and a box given to points are usage errors", "[cli][crop]") {
     TempDir d("crop-cli-bad");
     const std::string D = d.path.string() + "/";
     {
