@@ -58,6 +58,14 @@ inline std::string lines_without(const std::string& bytes, const std::string& ne
     return out;
 }
 
+/// The tooth CT of ../shared/data (103 x 94 x 161 uint8): the volume the format tests write in other
+/// formats and compare against.
+inline const std::string kToothRaw = std::string(MESHLESS_SHARED_DATA) + "/tooth/tooth_103x94x161_uint8.raw";
+
+/// A PLY's bytes less its comments and the lines naming the tooth: outputs of the same samples read
+/// from files of other names and formats, compared.
+inline std::string without_tooth_names(const std::string& bytes) { return lines_without(lines_without(bytes, "tooth"), "comment"); }
+
 inline void spit(const std::filesystem::path& p, const std::string& bytes) {
     std::ofstream out(p, std::ios::binary);
     out << bytes;

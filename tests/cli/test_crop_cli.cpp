@@ -18,7 +18,7 @@ using namespace meshless::test;
 
 namespace {
 
-const std::string kTooth = std::string(MESHLESS_SHARED_DATA) + "/tooth/tooth_103x94x161_uint8.raw";
+const std::string& kTooth = kToothRaw;
 
 std::string body(const std::string& ply) { return ply.substr(ply.find("end_header\n")); }
 

@@ -22,9 +22,7 @@ using namespace meshless::test;
 
 namespace {
 
-const std::string kTooth = std::string(MESHLESS_SHARED_DATA) + "/tooth/tooth_103x94x161_uint8.raw";
-
-std::string without_names(const std::string& bytes) { return lines_without(lines_without(bytes, "tooth"), "comment"); }
+const std::string& kTooth = kToothRaw;
 
 }  // namespace
 
@@ -79,7 +77,7 @@ TEST_CASE("hdf5 datasets: isosurface, mc and convert give the raw file's bytes, 
             REQUIRE(h.code == 0);
             CHECK(h.err.find("warning") == std::string::npos);
             const std::string got = slurp(out);
-            if (c.out != "c.mlb") CHECK(without_names(got) == without_names(want));
+            if (c.out != "c.mlb") CHECK(without_tooth_names(got) == without_tooth_names(want));
             else if (in.find("two.h5:/scans") == std::string::npos) CHECK(got == want);  // float64 is stored as float32
         }
     }

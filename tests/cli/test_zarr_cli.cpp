@@ -20,9 +20,7 @@ using namespace meshless::test;
 
 namespace {
 
-const std::string kTooth = std::string(MESHLESS_SHARED_DATA) + "/tooth/tooth_103x94x161_uint8.raw";
-
-std::string without_names(const std::string& bytes) { return lines_without(lines_without(bytes, "tooth"), "comment"); }
+const std::string& kTooth = kToothRaw;
 
 }  // namespace
 
@@ -98,7 +96,7 @@ TEST_CASE("zarr stores: isosurface, mc and convert give the raw file's bytes, in
             CHECK(z.err.find("warning") == std::string::npos);
             const std::string got = slurp(D + s.name + c.out);
             if (c.out == "c.mlb") CHECK(got.size() == want.size());  // a PLY's comment names its input
-            CHECK(without_names(got) == without_names(want));
+            CHECK(without_tooth_names(got) == without_tooth_names(want));
         }
     }
     const RunResult info = sh("MESHLESS info " + D + "zlib.zarr", d);
@@ -217,7 +215,7 @@ TEST_CASE("zarr stores written by zarr-python read as the raw file (skipped with
             const RunResult r = sh(line, d);
             INFO(line << ": " << r.err);
             REQUIRE(r.code == 0);
-            out[k] = without_names(slurp(D + std::to_string(k) + ".ply"));
+            out[k] = without_tooth_names(slurp(D + std::to_string(k) + ".ply"));
         }
         INFO(p.store);
         CHECK(out[0] == out[1]);
