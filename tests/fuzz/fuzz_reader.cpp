@@ -1,13 +1,14 @@
 // One libFuzzer source, built once per decoder (tests/fuzz/CMakeLists.txt: fuzz_nrrd, fuzz_mha,
 // fuzz_vtk_legacy, fuzz_vti, fuzz_vtkjs, fuzz_slc, fuzz_nifti, fuzz_nifti_gz, fuzz_voreen, fuzz_npy_volume,
 // fuzz_raw_sidecar, fuzz_dicom, fuzz_plot3d, fuzz_vtp, fuzz_oriented_vtp, fuzz_vts, fuzz_vtu, fuzz_csv, fuzz_npy, fuzz_points_raw, fuzz_point_stream, fuzz_mlb,
-// fuzz_mls, fuzz_positions, fuzz_zarr). Compile definitions pick the decoder:
+// fuzz_mls, fuzz_positions, fuzz_zarr, fuzz_hdf5). Compile definitions pick the decoder:
 //   FUZZ_KIND   1 volume (read_volume + probe_volume), 2 point set (read_point_set + probe), 3 the
 //               binary point/sample stream (StreamReader), 4 a brick store .mlb (open + verify),
 //               5 a sample store .mls (open; its .mlb from the second file), 6 a list of
 //               positions (read_positions, `probe --at-file`), 7 oriented points (.vtp), 8 a Zarr
 //               store (as 1, but a store whose chunks or samples claim more than 64 MiB is only
-//               probed: a missing chunk is legitimately its fill value, so a large claim is no defect)
+//               probed: a missing chunk is legitimately its fill value, so a large claim is no defect),
+//               9 an HDF5 dataset (the same, for chunks never written)
 //   FUZZ_MAIN   the name the input is written under (its extension selects the reader)
 //   FUZZ_SECOND optional: a second file; the input is then "MAIN \0 SECOND" (split at the first NUL)
 //   FUZZ_READ   optional: the file handed to the reader (default FUZZ_MAIN; fuzz_raw_sidecar reads
@@ -50,6 +51,8 @@
 #elif FUZZ_KIND == 8
 #include "formats/volume_reader.hpp"
 #include "formats/zarr.hpp"
+#elif FUZZ_KIND == 9
+#include "formats/volume_reader.hpp"
 #endif
 
 #ifndef FUZZ_SECOND
@@ -92,6 +95,13 @@ void run(const std::string& path) {
     const VolumeInfo i = probe_volume(path);
     constexpr std::uint64_t kMax = std::uint64_t{64} << 20;
     if (a.chunk_bytes > kMax || decoded_bytes(i, path) > kMax) return;
+    (void)prove_volume(path);
+    const Volume v = read_volume(path);
+    if (v.bytes.size() != static_cast<std::size_t>(v.grid.voxel_count()) * sample_size(v.type)) __builtin_trap();
+    if (i.grid.dims != v.grid.dims) __builtin_trap();
+#elif FUZZ_KIND == 9
+    const VolumeInfo i = probe_volume(path);
+    if (decoded_bytes(i, path) > (std::uint64_t{64} << 20)) return;  // chunks never written: fill values, no defect
     (void)prove_volume(path);
     const Volume v = read_volume(path);
     if (v.bytes.size() != static_cast<std::size_t>(v.grid.voxel_count()) * sample_size(v.type)) __builtin_trap();
