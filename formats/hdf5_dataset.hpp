@@ -6,7 +6,9 @@
 // Shapes: `shape` is the dataset's dimensions as stored, slowest first (C order: a volume written by
 // NumPy/h5py as (nz, ny, nx) has x fastest). Reads are hyperslabs of whole z-slices, converted by
 // libhdf5 from the file's type and byte order into the host's native type asked for.
-// Hostile files: no path is followed outside the file (external links, external raw-data files and
+// Hostile files: every file's structure is first parsed by libhdf5 in a child process, and a file
+// that makes libhdf5 crash there is refused (libhdf5 1.10 can dereference a failed allocation on a
+// corrupt file); no path is followed outside the file (external links, external raw-data files and
 // virtual datasets are refused before anything is read); filters libhdf5 cannot decode (Blosc, LZ4,
 // ... plugins) are refused naming the filter; libhdf5's own error stack is not printed, its
 // innermost message is quoted (escaped) in ours.
@@ -69,6 +71,10 @@ public:
     /// Opens `dataset` ("/a/b") of `file`; every link on its path must be a hard or soft link of
     /// the file (an external link is refused), and its raw data must be in the file.
     Hdf5Dataset(const std::string& file, const std::string& dataset);
+    /// Where the file's structure is parsed first: in a child process (the default, see
+    /// hdf5_library.cpp preflight), or here only (the child itself).
+    enum class Parsed { in_a_child_first, here };
+    Hdf5Dataset(const std::string& file, const std::string& dataset, Parsed parsed);
     ~Hdf5Dataset();
     Hdf5Dataset(Hdf5Dataset&&) noexcept;
     Hdf5Dataset& operator=(Hdf5Dataset&&) noexcept;

@@ -20,6 +20,7 @@ bool hdf5_reader_available() { return false; }
 std::vector<Hdf5Listing> hdf5_volume_datasets(const std::string& file, std::size_t, bool&) { no_reader(file); }
 
 Hdf5Dataset::Hdf5Dataset(const std::string& file, const std::string&) { no_reader(file); }
+Hdf5Dataset::Hdf5Dataset(const std::string& file, const std::string&, Parsed) { no_reader(file); }
 Hdf5Dataset::~Hdf5Dataset() = default;
 Hdf5Dataset::Hdf5Dataset(Hdf5Dataset&&) noexcept = default;
 Hdf5Dataset& Hdf5Dataset::operator=(Hdf5Dataset&&) noexcept = default;
