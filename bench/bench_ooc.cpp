@@ -144,6 +144,7 @@ struct Best {
 /// Counts the records of the batches it receives (samples or points) and drops them.
 class CountSink final : public Sink {
 public:
+    PayloadSet takes() const override { return {Payload::samples, Payload::points}; }
     void consume(Batch&& b) override { n += b.count(); }
     std::uint64_t n = 0;
 };

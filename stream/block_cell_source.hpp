@@ -21,6 +21,7 @@ std::int64_t block_seed_unit_cells(int n);
 
 class BlockCellSource final : public Source {
 public:
+    Payload gives() const override { return Payload::cells; }
     /// first_cell: per block its first global cell index, size blocks + 1 (BlockSeedPlan::first_cell).
     BlockCellSource(std::vector<std::int64_t> first_cell, std::int64_t cells_per_unit);
     std::optional<Batch> next() override;

@@ -72,7 +72,7 @@ BlockIsosurfaceStats run_block_isosurface(const BlockIsosurfaceInput& in, const 
                                           const std::function<void(double)>& progress) {
     BlockIsosurfaceStats st;
     if (!field) {
-        RecordVectorSource empty(std::vector<PointRecord>{});
+        EmptySource empty(Payload::points);
         const Stage* stages[] = {draw};
         run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, opt);
         st.seeds.cells = in.plan.total_cells();

@@ -63,6 +63,8 @@ std::vector<std::int64_t> first_layers(const Multiblock& mb) {
 
 class CensusStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::cells; }
+    Payload gives(Payload) const override { return Payload::cells; }
     explicit CensusStage(const Multiblock& mb) : mb_(mb), first_(first_layers(mb)), sums_(4 * mb.blocks.size()) {}
     void process(Batch& b) const override {
         const std::size_t blk = block_of(first_, b.cells.k0);
@@ -89,6 +91,7 @@ private:
 
 class DiscardSink final : public Sink {
 public:
+    PayloadSet takes() const override { return PayloadSet::any(); }
     void consume(Batch&&) override {}
     void observe(const Batch&) override {}
 };
@@ -121,7 +124,6 @@ BlockMcStage::BlockMcStage(const Multiblock& mb, double iso, std::vector<BlockOr
 }
 
 void BlockMcStage::process(Batch& b) const {
-    if (b.kind != RecordKind::mesh) throw FormatError("block marching cubes: expected cell-layer work batches");
     // the block holding global layer k0 (batches never span blocks)
     const std::size_t blk = block_of(first_layer_, b.cells.k0);
     const StructuredBlock& sb = mb_.blocks[blk];

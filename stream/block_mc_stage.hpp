@@ -26,6 +26,7 @@ namespace meshless {
 
 class BlockMcSource final : public Source {
 public:
+    Payload gives() const override { return Payload::cells; }
     static constexpr std::int64_t kCellsPerBatch = std::int64_t{1} << 16;
     explicit BlockMcSource(const Multiblock& mb, std::int64_t cells_per_batch = kCellsPerBatch);
     std::optional<Batch> next() override;
@@ -51,6 +52,8 @@ std::vector<BlockOrientation> block_census(const Multiblock& mb, int threads);
 
 class BlockMcStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::cells; }
+    Payload gives(Payload) const override { return Payload::mesh; }
     /// census: block_census(mb, ...).
     BlockMcStage(const Multiblock& mb, double iso, std::vector<BlockOrientation> census);
     void process(Batch& b) const override;

@@ -20,6 +20,8 @@ namespace meshless {
 
 class BlockSeedStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::cells; }
+    Payload gives(Payload) const override { return Payload::seeds; }
     /// plan = plan_block_seeds(mb, iso); n = lattice parameter (InvalidArgument unless 1..kMaxLatticeN).
     BlockSeedStage(const Multiblock& mb, const BlockSeedPlan& plan, double iso, int n);
     void process(Batch& b) const override;

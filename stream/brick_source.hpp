@@ -18,6 +18,7 @@ namespace meshless {
 
 class BrickSource final : public Source {
 public:
+    Payload gives() const override { return Payload::cells; }
     /// bricks: indices into store.bricks(), in the order to emit (Morton order for whole runs).
     BrickSource(const BrickStore& store, std::vector<std::size_t> bricks);
     std::optional<Batch> next() override;
@@ -32,6 +33,8 @@ private:
 
 class BrickGenerateStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::cells; }
+    Payload gives(Payload) const override { return fused_ ? Payload::points : Payload::samples; }
     /// fused: project at once with `mode` (points out); nullopt: emit samples (as `generate`).
     BrickGenerateStage(const BrickStore& store, BrickCache& cache, double iso, SamplingParams p,
                        std::optional<Projection> fused)

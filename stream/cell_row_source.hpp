@@ -10,6 +10,7 @@ namespace meshless {
 
 class CellRowSource final : public Source {
 public:
+    Payload gives() const override { return Payload::cells; }
     explicit CellRowSource(const GridSpec& g);
     std::optional<Batch> next() override;
     std::int64_t rows_per_batch() const { return rows_per_batch_; }

@@ -13,6 +13,7 @@ namespace meshless {
 
 class DedupSink final : public Sink {
 public:
+    PayloadSet takes() const override { return next_.takes(); }
     DedupSink(Sink& next, double fraction, double cell) : next_(next), dedup_(fraction, cell) {}
     void consume(Batch&& b) override;
     void finish() override { next_.finish(); }

@@ -5,7 +5,6 @@
 namespace meshless {
 
 void FieldEvaluateStage::process(Batch& b) const {
-    if (b.kind != RecordKind::query) throw FormatError("field evaluation: expected query positions");
     FieldQueries& q = b.query;
     q.value.resize(q.at.size());
     q.grad.assign(q.want_grad ? q.at.size() : 0, Vec3{});

@@ -17,6 +17,8 @@ namespace meshless {
 
 class FieldEvaluateStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::queries; }
+    Payload gives(Payload) const override { return Payload::queries; }
     FieldEvaluateStage(const Field& f, const PointCoverage* coverage = nullptr, Extrapolate mode = Extrapolate::nan)
         : f_(f), coverage_(coverage), mode_(mode) {}
     void process(Batch& b) const override;

@@ -18,6 +18,7 @@ namespace {
 /// Copies each evaluated batch into the caller's arrays (batches arrive in sequence order).
 class SpanSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::queries; }
     SpanSink(std::span<double> value, std::span<Vec3> grad) : value_(value), grad_(grad) {}
     void consume(Batch&& b) override {
         const FieldQueries& q = b.query;

@@ -50,6 +50,8 @@ struct FieldProjectParams {
 
 class FieldProjectStage final : public Stage {
 public:
+    PayloadSet takes() const override { return {Payload::samples, Payload::points, Payload::seeds}; }
+    Payload gives(Payload) const override { return Payload::points; }
     FieldProjectStage(const Field& f, double iso, FieldProjectParams p = {}) : f_(f), iso_(iso), p_(p) {}
     void process(Batch& b) const override;
     FieldNewtonStats stats() const { return stats_.load(); }

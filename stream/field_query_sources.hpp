@@ -18,6 +18,7 @@ inline constexpr std::size_t kQueriesPerBatch = 4096;
 
 class QueryListSource final : public Source {
 public:
+    Payload gives() const override { return Payload::queries; }
     QueryListSource(std::vector<Vec3> at, bool want_grad, std::size_t batch_queries = kQueriesPerBatch);
     std::optional<Batch> next() override;
 
@@ -41,6 +42,7 @@ struct PlaneRaster {
 
 class PlaneRasterSource final : public Source {
 public:
+    Payload gives() const override { return Payload::queries; }
     explicit PlaneRasterSource(const PlaneRaster& r, std::size_t batch_queries = kQueriesPerBatch)
         : r_(r), per_(batch_queries ? batch_queries : 1) {}
     std::optional<Batch> next() override;
@@ -53,6 +55,7 @@ private:
 
 class GridRasterSource final : public Source {
 public:
+    Payload gives() const override { return Payload::queries; }
     explicit GridRasterSource(const GridSpec& g, std::size_t batch_queries = kQueriesPerBatch)
         : g_(g), per_(batch_queries ? batch_queries : 1) {}
     std::optional<Batch> next() override;

@@ -12,7 +12,7 @@ namespace meshless {
 namespace {
 
 void require_values(const Batch& b, const char* who) {
-    if (b.kind != RecordKind::query || b.query.value.size() != b.query.at.size())
+    if (b.query.value.size() != b.query.at.size())
         throw FormatError(std::string(who) + ": expected evaluated field queries");
 }
 

@@ -19,6 +19,7 @@ namespace meshless {
 
 class ProbeCsvSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::queries; }
     explicit ProbeCsvSink(const std::string& path);
     void consume(Batch&& b) override;
     void finish() override;
@@ -29,6 +30,7 @@ private:
 
 class SliceImageSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::queries; }
     SliceImageSink(int width, int height, Colormap cmap, double lo, double hi);
     void consume(Batch&& b) override;
     const Image& image() const { return img_; }
@@ -43,6 +45,7 @@ private:
 
 class NrrdVolumeSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::queries; }
     NrrdVolumeSink(const GridSpec& g, const std::string& path, const std::string& comment);
     void consume(Batch&& b) override;
     /// Throws std::logic_error when fewer samples than the grid holds arrived (nothing is committed).

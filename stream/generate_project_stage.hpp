@@ -11,6 +11,8 @@ namespace meshless {
 
 class GenerateProjectStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::cells; }
+    Payload gives(Payload) const override { return Payload::points; }
     /// The volume must outlive the stage. Batches carrying a chunk (stream/slab_source.hpp) are
     /// sampled from the chunk instead; for a run made only of those, v needs no data (grid and type).
     GenerateProjectStage(VolumeView v, double iso, SamplingParams p, Projection mode)

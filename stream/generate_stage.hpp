@@ -9,6 +9,8 @@ namespace meshless {
 
 class GenerateStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::cells; }
+    Payload gives(Payload) const override { return Payload::samples; }
     /// The volume must outlive the stage. Batches carrying a chunk (stream/slab_source.hpp) are
     /// sampled from the chunk instead; for a run made only of those, v needs no data (grid and type).
     GenerateStage(VolumeView v, double iso, SamplingParams p = {}) : v_(v), iso_(iso), p_(p) {}

@@ -23,6 +23,7 @@ std::vector<double> isovalues_of(const IsosplatJob& j) { return j.isos.empty() ?
 /// and leaves its finish() to the caller: the runs of several isovalues into one set of outputs.
 class ContinuedSink final : public Sink {
 public:
+    PayloadSet takes() const override { return to_.takes(); }
     explicit ContinuedSink(Sink& to) : to_(to) {}
     void consume(Batch&& b) override {
         b.seq = next(b.seq);

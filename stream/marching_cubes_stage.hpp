@@ -25,6 +25,7 @@ namespace meshless {
 /// slices k and k+1), at most kMcCellsPerBatch cells (at least one layer) each.
 class McSlabSource final : public Source {
 public:
+    Payload gives() const override { return Payload::cells; }
     static constexpr std::int64_t kMcCellsPerBatch = std::int64_t{1} << 18;
     explicit McSlabSource(const GridSpec& g, std::int64_t cells_per_batch = kMcCellsPerBatch);
     std::optional<Batch> next() override;
@@ -37,6 +38,7 @@ private:
 /// One batch per brick (Batch::brick = index into store.bricks()), in the given order.
 class McBrickSource final : public Source {
 public:
+    Payload gives() const override { return Payload::cells; }
     explicit McBrickSource(std::vector<std::size_t> bricks) : bricks_(std::move(bricks)) {}
     std::optional<Batch> next() override;
 
@@ -47,6 +49,8 @@ private:
 
 class MarchingCubesStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::cells; }
+    Payload gives(Payload) const override { return Payload::mesh; }
     /// Slabs of an in-memory volume.
     MarchingCubesStage(VolumeView v, double iso) : v_(v), iso_(iso) {}
     /// Bricks of a store through the cache.

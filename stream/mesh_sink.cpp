@@ -12,7 +12,6 @@
 namespace meshless {
 
 void MeshWeldSink::consume(Batch&& b) {
-    if (b.kind != RecordKind::mesh) throw FormatError("mesh writer: input holds points or samples, expected mesh pieces");
     const Mesh& m = b.mesh;
     const std::size_t n = m.vertex_count();
     remap_.resize(n);

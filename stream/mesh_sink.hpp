@@ -19,6 +19,7 @@ namespace meshless {
 
 class MeshWeldSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::mesh; }
     /// vtp: the VTP writer's settings (compression, compressing threads), unused for PLY.
     explicit MeshWeldSink(std::string path = {}, GeometryFormat format = GeometryFormat::ply, VtpOptions vtp = {})
         : path_(std::move(path)), format_(format), vtp_(vtp) {}

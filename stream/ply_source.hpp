@@ -15,6 +15,7 @@ namespace meshless {
 
 class PlySource final : public Source {
 public:
+    Payload gives() const override { return Payload::points; }
     explicit PlySource(const std::string& path, bool drop_undrawable = false) : r_(path), drop_(drop_undrawable) {}
     const std::vector<std::string>& comments() const { return r_.comments(); }
     std::uint64_t count() const { return r_.count(); }

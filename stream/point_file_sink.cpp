@@ -5,8 +5,6 @@
 namespace meshless {
 
 void VtpSink::observe(const Batch& b) {
-    if (b.kind != RecordKind::point)
-        throw FormatError("point writer: input holds unprojected samples; run 'meshless project' first");
     w_.append(b.points, blocks_ ? std::span<const std::uint32_t>(b.point_block) : std::span<const std::uint32_t>{});
 }
 

@@ -19,6 +19,7 @@ namespace meshless {
 
 class VtpSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::points; }
     /// with_blocks: the batches' block ids become the `block` array (the multiblock path); without
     /// it they are not written, as in the PLY and the point stream of the same points.
     VtpSink(const std::string& path, const std::vector<std::string>& comments, VtpOptions options = {},
@@ -36,6 +37,7 @@ private:
 
 class PointFileSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::points; }
     /// vtp: the VTP writer's settings (compression, compressing threads), unused for PLY.
     /// with_blocks: the PLY declares the `block` property and the VTP writes the `block` array
     /// (the multiblock path, a stream with block ids); without it neither carries block ids.

@@ -19,6 +19,7 @@ namespace {
 /// Hands batches on to `to` (or drops them when null) but leaves its finish() to the caller.
 class HeldSink final : public Sink {
 public:
+    PayloadSet takes() const override { return to_ ? to_->takes() : PayloadSet::any(); }
     explicit HeldSink(Sink* to) : to_(to) {}
     void consume(Batch&& b) override {
         if (to_) to_->consume(std::move(b));
@@ -36,6 +37,7 @@ private:
 /// (the MPI root merges its own batches, which carry them, with other ranks', which do not).
 class PictureSpoolSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::points; }
     PictureSpoolSink(PointSpool& spool, bool blocks) : spool_(spool), blocks_(blocks) {}
     void consume(Batch&& b) override { observe(b); }
     void observe(const Batch& b) override {

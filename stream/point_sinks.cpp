@@ -7,13 +7,6 @@
 
 namespace meshless {
 
-namespace {
-void require_points(const Batch& b) {
-    if (b.kind != RecordKind::point)
-        throw FormatError("point writer: input holds unprojected samples; run 'meshless project' first");
-}
-}  // namespace
-
 PlySink::PlySink(const std::string& path, const std::vector<std::string>& comments, bool with_blocks,
                  std::optional<ShadingParams> colors)
     : path_(path), comments_(comments), blocks_(with_blocks), colors_(colors) {
@@ -36,7 +29,6 @@ void PlySink::colors_of(std::span<const PointRecord> pts, std::span<const std::u
 }
 
 void PlySink::consume(Batch&& b) {
-    require_points(b);
     if (blocks_ && b.point_block.size() != b.points.size())
         throw FormatError("PLY writer: a batch of " + std::to_string(b.points.size()) + " points has " +
                           std::to_string(b.point_block.size()) + " block ids");
@@ -75,7 +67,6 @@ void PlySink::finish() {
 }
 
 void CollectSink::consume(Batch&& b) {
-    require_points(b);
     size_ += b.points.size();
     if (keep_chunks_) {
         if (!b.points.empty()) chunks.push_back(std::move(b.points));

@@ -18,6 +18,7 @@ namespace meshless {
 
 class PlySink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::points; }
     /// with_blocks: the PLY gets the `block` property from Batch::point_block (multiblock points; a
     /// batch without block ids is then a FormatError).
     /// colors: the PLY gets `red green blue`, each point's base colour under these settings
@@ -43,6 +44,7 @@ private:
 
 class CollectSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::points; }
     /// keep_chunks = false: `points` holds everything, in order (one flat array).
     /// keep_chunks = true: each batch's array is kept as it came in `chunks` (no copying; for
     /// consumers that iterate, such as the benchmarks); `points` stays empty.

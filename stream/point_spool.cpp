@@ -146,8 +146,6 @@ void PointSpool::append(std::span<const PointRecord> points, std::span<const std
 }
 
 void PointSpool::observe(const Batch& b) {
-    if (b.kind != RecordKind::point)
-        throw FormatError("point spool: input holds unprojected samples; run 'meshless project' first");
     append(b.points, b.point_block);
 }
 

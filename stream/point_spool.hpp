@@ -42,6 +42,7 @@ class PlyPointReader;
 
 class PointSpool final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::points; }
     /// Creates and unlinks the file; `purpose` goes into its name (e.g. "splat-spool").
     explicit PointSpool(const std::string& purpose = "point-spool");
     /// Whether the PLY file at path can be a spool in place (see above); false for anything else,
@@ -111,6 +112,7 @@ private:
 
 class PointSpoolSource final : public Source {
 public:
+    Payload gives() const override { return Payload::points; }
     /// Flushes the spool; the spool must outlive the source and not grow while it is read.
     explicit PointSpoolSource(PointSpool& spool, std::size_t batch_records = kMaxBatchRecords);
     std::optional<Batch> next() override;

@@ -28,6 +28,8 @@ inline double work_units(const Batch& b) {
 
 class ProgressStage final : public Stage {
 public:
+    PayloadSet takes() const override { return PayloadSet::any(); }
+    Payload gives(Payload given) const override { return given; }
     using Measure = double (*)(const Batch&);
     explicit ProgressStage(std::function<void(double)> report, Measure measure = nullptr)
         : report_(std::move(report)), measure_(measure) {}

@@ -5,7 +5,6 @@
 namespace meshless {
 
 void ProjectStage::process(Batch& b) const {
-    if (b.kind != RecordKind::sample) throw FormatError("project: input holds points, expected unprojected samples");
     ProjectionStats s;
     b.points.clear();
     b.points.reserve(b.samples.size());

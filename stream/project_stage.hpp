@@ -9,6 +9,8 @@ namespace meshless {
 
 class ProjectStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::samples; }
+    Payload gives(Payload) const override { return Payload::points; }
     ProjectStage(double iso, Projection mode) : iso_(iso), mode_(mode) {}
     void process(Batch& b) const override;
     ProjectionStats stats() const { return stats_.load(); }

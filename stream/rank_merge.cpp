@@ -81,7 +81,6 @@ void RankSendSink::end_units_before(std::size_t unit) {
 
 void RankSendSink::consume(Batch&& b) {
     const std::size_t unit = tags_.pop();
-    if (b.kind != RecordKind::point) throw FormatError("rank merge: rank " + std::to_string(rank_) + " produced samples, expected points");
     end_units_before(unit);
     if (units_.at(next_) != unit)
         throw std::logic_error("rank merge: rank " + std::to_string(rank_) + " got a batch of unit " + std::to_string(unit) +
@@ -131,7 +130,6 @@ void RankMergeSink::write_units_before(std::size_t unit) {
 
 void RankMergeSink::consume(Batch&& b) {
     const std::size_t unit = tags_.pop();
-    if (b.kind != RecordKind::point) throw FormatError("rank merge: rank 0 produced samples, expected points");
     if (unit < next_unit_ || owner_(unit) != 0)
         throw std::logic_error("rank merge: rank 0 got a batch of unit " + std::to_string(unit) + " out of order");
     write_units_before(unit);

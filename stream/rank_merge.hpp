@@ -86,6 +86,7 @@ private:
 /// Wraps a source and records unit_of(batch) for each batch it emits.
 class TaggingSource final : public Source {
 public:
+    Payload gives() const override { return inner_.gives(); }
     TaggingSource(Source& inner, UnitTags& tags, std::function<std::size_t(const Batch&)> unit_of)
         : inner_(inner), tags_(tags), unit_of_(std::move(unit_of)) {}
     std::optional<Batch> next() override;
@@ -99,6 +100,7 @@ private:
 /// Rank r > 0: the point batches of its units (in increasing unit order) to rank 0.
 class RankSendSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::points; }
     /// A static deal: the rank's units, all known.
     RankSendSink(RankChannel& ch, UnitTags& tags, int rank, std::vector<std::size_t> my_units);
     /// A dynamic deal: `my_units` grows as the rank's source is dealt units (it must hold every unit
@@ -120,6 +122,7 @@ private:
 /// Rank 0: its own batches and the other ranks' messages, in unit order, into `out`.
 class RankMergeSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::points; }
     /// A static deal: unit u is rank unit_owner(u, ranks)'s.
     RankMergeSink(RankChannel& ch, UnitTags& tags, std::size_t units, int ranks, Sink& out)
         : RankMergeSink(ch, tags, units, [ranks](std::size_t u) { return unit_owner(u, ranks); }, out) {}

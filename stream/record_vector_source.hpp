@@ -12,6 +12,7 @@ namespace meshless {
 
 class RecordVectorSource final : public Source {
 public:
+    Payload gives() const override { return payload_of(kind_); }
     explicit RecordVectorSource(std::vector<PointRecord> points, std::size_t batch_records = kMaxBatchRecords)
         : kind_(RecordKind::point), points_(std::move(points)), per_(clamp_batch(batch_records)) {}
     explicit RecordVectorSource(std::vector<SampleRecord> samples, std::size_t batch_records = kMaxBatchRecords)
@@ -38,6 +39,18 @@ private:
     std::size_t per_;
     std::size_t at_ = 0;
     std::uint64_t seq_ = 0;
+};
+
+/// A source of no batch that declares `payload`: the run of an empty job (no field, an isovalue outside
+/// the data) through the graph its outputs expect, so that they are written empty but valid.
+class EmptySource final : public Source {
+public:
+    explicit EmptySource(Payload payload) : payload_(payload) {}
+    std::optional<Batch> next() override { return std::nullopt; }
+    Payload gives() const override { return payload_; }
+
+private:
+    Payload payload_;
 };
 
 }  // namespace meshless

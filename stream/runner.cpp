@@ -6,6 +6,7 @@
 
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "stream/available_cpus.hpp"
@@ -53,10 +54,19 @@ private:
     std::vector<std::vector<SampleRecord>> samples_;
 };
 
+/// Throws GraphError when a batch reaching the sink is not of the payload the graph declared.
+void check_delivered(const Batch& b, Payload declared, const Source& source, std::span<const Stage* const> stages) {
+    if (declared == Payload::cells ? b.count() == 0 : b.kind == record_kind_of(declared)) return;
+    const std::string last = stages.empty() ? graph_node_name(typeid(source)) : graph_node_name(typeid(*stages.back()));
+    throw GraphError("stage graph: " + last + " delivered batch " + std::to_string(b.seq) + " tagged " +
+                     payload_name(payload_of(b.kind)) + ", it declared " + payload_name(declared));
+}
+
 }  // namespace
 
 void run_pipeline(Source& source, std::span<const Stage* const> stages, Sink& sink,
                   const RunOptions& opt) {
+    const Payload declared = check_graph(source, stages, sink);
     int threads = opt.threads;
     if (threads <= 0) threads = available_cpus();
     if (threads == 1) {
@@ -64,6 +74,7 @@ void run_pipeline(Source& source, std::span<const Stage* const> stages, Sink& si
         while (auto b = source.next()) {
             pool.refill(*b);
             for (const Stage* s : stages) s->process(*b);
+            check_delivered(*b, declared, source, stages);
             sink.consume(std::move(*b));
             if (!source.recycle(*b)) pool.reclaim(*b);
         }
@@ -114,6 +125,7 @@ void run_pipeline(Source& source, std::span<const Stage* const> stages, Sink& si
                 oneapi::tbb::make_filter<Batch*, void>(
                     oneapi::tbb::filter_mode::serial_in_order,
                     [&](Batch* b) {
+                        check_delivered(*b, declared, source, stages);
                         sink.consume(std::move(*b));
                         if (!source.recycle(*b)) pool.reclaim(*b);
                         std::lock_guard lock(free_mutex);

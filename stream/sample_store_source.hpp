@@ -15,6 +15,7 @@ namespace meshless {
 
 class SampleStoreSource final : public Source {
 public:
+    Payload gives() const override { return Payload::samples; }
     SampleStoreSource(const SampleStore& store, double iso, const SamplingParams& params = {})
         : query_(store, iso, params) {}
     std::optional<Batch> next() override;

@@ -199,7 +199,7 @@ ScatteredIsosurfaceStats run_scattered_isosurface(const ScatteredIsosurfaceInput
     if (dedup > 0) dedup_sink.emplace(out, dedup, 0.1 * in.grid.diagonal());
     Sink& sink = dedup_sink ? static_cast<Sink&>(*dedup_sink) : out;
     if (!field) {
-        RecordVectorSource empty(std::vector<PointRecord>{});
+        EmptySource empty(Payload::points);
         const Stage* stages[] = {draw};
         run_pipeline(empty, std::span<const Stage* const>(stages, draw ? 1 : 0), sink, opt);
     } else {
@@ -216,7 +216,7 @@ ScatteredIsosurfaceStats run_scattered_isosurface(const ScatteredIsosurfaceInput
 StencilSeedStats generate_scattered_seeds(const ScatteredIsosurfaceInput& in, const Field* field, double iso, int n, Sink& sink,
                                           const RunOptions& opt) {
     if (!field) {
-        RecordVectorSource empty(std::vector<PointRecord>{});
+        EmptySource empty(Payload::seeds);
         run_pipeline(empty, {}, sink, opt);
         return {};
     }

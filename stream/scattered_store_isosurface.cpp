@@ -48,6 +48,7 @@ void scan_store(const PointStore& store, const std::function<void(std::span<cons
 /// Collects a slab's batches until the slab is known to be exact.
 class SlabBuffer final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::points; }
     void consume(Batch&& b) override { batches.push_back(std::move(b)); }
     void finish() override {}
     std::vector<Batch> batches;

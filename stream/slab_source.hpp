@@ -23,6 +23,7 @@ namespace meshless {
 
 class SlabSource final : public Source {
 public:
+    Payload gives() const override { return Payload::cells; }
     /// The slice source must outlive this source. chunk_bytes: target size of one chunk (at least
     /// two slices are read whatever it says).
     explicit SlabSource(SliceSource& slices, std::size_t chunk_bytes = std::size_t{2} << 20);

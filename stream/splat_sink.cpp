@@ -91,8 +91,6 @@ struct SplatSink::Canvases {
 
 namespace {
 void require_points(const Batch& b, const ShadingParams& sh) {
-    if (b.kind != RecordKind::point)
-        throw FormatError("splat: input holds unprojected samples; run 'meshless project' first");
     if (sh.color_by == ColorBy::block && !b.points.empty() && b.point_block.size() != b.points.size())
         throw FormatError("splat: colouring by block (--color block), but the points carry no block ids");
 }
@@ -100,6 +98,8 @@ void require_points(const Batch& b, const ShadingParams& sh) {
 
 class SplatSink::DrawStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::points; }
+    Payload gives(Payload) const override { return Payload::points; }
     explicit DrawStage(SplatSink& s) : s_(s) {}
     void process(Batch& b) const override {
         require_points(b, s_.shading_);

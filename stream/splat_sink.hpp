@@ -52,6 +52,7 @@ namespace meshless {
 
 class SplatSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::points; }
     /// replay (ewa only, may be null): a flushed spool holding exactly the points this sink will be
     /// given (in any order); it must outlive finish().
     SplatSink(const Camera& cam, SplatKernel kernel, const ShadingParams& shading, const std::array<Vec3, 2>& bounds,

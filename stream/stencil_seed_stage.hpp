@@ -19,6 +19,8 @@ namespace meshless {
 
 class StencilSeedStage final : public Stage {
 public:
+    PayloadSet takes() const override { return Payload::cells; }
+    Payload gives(Payload) const override { return Payload::seeds; }
     /// n = lattice parameter (InvalidArgument unless 1..kMaxLatticeN).
     StencilSeedStage(const StencilInput& in, double iso, int n);
     void process(Batch& b) const override;

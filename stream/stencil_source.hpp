@@ -24,6 +24,7 @@ inline constexpr std::int64_t kStencilsPerUnit = 8;
 
 class StencilSource final : public Source {
 public:
+    Payload gives() const override { return Payload::cells; }
     /// The work of stencil range [first, last) in whole rows: first and last are multiples of the
     /// row length Sx (the MPI ranks' ranges), or 0 and grid.total() for all.
     StencilSource(const StencilGrid& grid, std::int64_t per_unit = kStencilsPerUnit);

@@ -19,6 +19,7 @@ namespace meshless {
 
 class StreamSource final : public Source {
 public:
+    Payload gives() const override { return payload_of(r_.kind()); }
     /// The reader must outlive the source; its META must already be read (read_meta()).
     explicit StreamSource(StreamReader& r) : r_(r) {}
     std::optional<Batch> next() override;
@@ -37,6 +38,7 @@ private:
 
 class StreamSink final : public Sink {
 public:
+    PayloadSet takes() const override { return payload_of(kind_); }
     /// Writes the stream header and META immediately; one DATA frame per non-empty batch.
     /// with_blocks (points only): records carry Batch::point_block (kStreamFlagBlocks).
     StreamSink(std::FILE* f, std::string name, RecordKind kind, const StreamMeta& meta, bool compress = false,

@@ -18,6 +18,7 @@ namespace meshless {
 
 class TeeSink final : public Sink {
 public:
+    PayloadSet takes() const override { return first_.takes() & second_.takes(); }
     TeeSink(Sink& first, Sink& second) : first_(first), second_(second) {}
     void consume(Batch&& b) override {
         if (live_[0]) guarded(0, [&] { first_.observe(b); });  // no copy when the first sink only reads (SplatSink)

@@ -40,6 +40,7 @@ namespace {
 /// (MeshWeldSink::end_surface) instead of writing the mesh.
 class SurfaceSink final : public Sink {
 public:
+    PayloadSet takes() const override { return Payload::mesh; }
     explicit SurfaceSink(MeshWeldSink& mesh) : mesh_(mesh) {}
     void consume(Batch&& b) override { mesh_.consume(std::move(b)); }
     void finish() override { mesh_.end_surface(); }

@@ -177,6 +177,7 @@ public:
 private:
     class QueueSink final : public Sink {
     public:
+    PayloadSet takes() const override { return Payload::points; }
         explicit QueueSink(StoreIsosurface& q) : q_(q) {}
         void consume(Batch&& b) override {
             if (b.points.empty()) return;

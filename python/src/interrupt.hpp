@@ -28,6 +28,7 @@ struct Stopped : std::exception {
 /// Forwards to `sink`, and throws Stopped before a batch once `stop` is set.
 class StopSink final : public Sink {
 public:
+    PayloadSet takes() const override { return sink_.takes(); }
     StopSink(Sink& sink, const std::atomic<bool>& stop) : sink_(sink), stop_(stop) {}
     void consume(Batch&& b) override {
         if (stop_.load(std::memory_order_relaxed)) throw Stopped{};

@@ -100,6 +100,7 @@ TEST_CASE("FieldProjectStage on trilinear samples: on the trilinear surface, nor
     const double iso = default_iso(AnalyticField::torus);
     // the samples `meshless generate` would write (cell centres of active cells)
     struct SampleSink final : Sink {
+        PayloadSet takes() const override { return Payload::samples; }
         std::vector<SampleRecord> s;
         void consume(Batch&& b) override { s.insert(s.end(), b.samples.begin(), b.samples.end()); }
     } samples;

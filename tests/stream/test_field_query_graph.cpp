@@ -39,6 +39,7 @@ public:
 };
 
 struct KeepSink final : Sink {
+    PayloadSet takes() const override { return Payload::queries; }
     std::vector<Vec3> at, grad;
     std::vector<double> value;
     std::vector<std::size_t> sizes;

@@ -10,6 +10,7 @@
 #include "kernels/analytic_volumes.hpp"
 #include "ooc/brick_index.hpp"
 #include "ooc/ooc_test_util.hpp"
+#include "stream/record_vector_source.hpp"
 #include "stream/marching_cubes_stage.hpp"
 #include "stream/mesh_sink.hpp"
 #include "stream/runner.hpp"
@@ -119,7 +120,6 @@ TEST_CASE("mc graph over bricks: the in-memory vertex set and triangles, any thr
 
 TEST_CASE("mesh sink refuses point batches", "[mc-graph]") {
     MeshWeldSink sink;
-    Batch b;
-    b.kind = RecordKind::point;
-    CHECK_THROWS_WITH(sink.consume(std::move(b)), Catch::Contains("expected mesh"));
+    RecordVectorSource points(std::vector<PointRecord>(3));
+    CHECK_THROWS_WITH(run_pipeline(points, {}, sink), "stage graph: MeshWeldSink takes mesh pieces, RecordVectorSource gives points");
 }

@@ -32,6 +32,7 @@ using namespace meshless;
 namespace {
 
 struct Collect final : Sink {
+    PayloadSet takes() const override { return Payload::points; }
     std::vector<Vec3> pos, normal;
     std::vector<float> radius;
     void consume(Batch&& b) override {

@@ -44,6 +44,7 @@ double sphere(const Vec3& p) { return norm(p); }
 
 /// Keeps points and their block ids, in order.
 struct BlockCollect final : Sink {
+    PayloadSet takes() const override { return {Payload::points, Payload::seeds}; }
     std::vector<PointRecord> points;
     std::vector<std::uint32_t> block;
     std::vector<SeedRecord> seeds;

@@ -50,6 +50,7 @@ Volume field_volume(bool ball) {
 double iso_of(bool ball) { return ball ? 1.0 - kR : kR; }
 
 struct Collect final : Sink {
+    PayloadSet takes() const override { return Payload::points; }
     std::vector<PointRecord> points;
     void consume(Batch&& b) override { points.insert(points.end(), b.points.begin(), b.points.end()); }
 };

@@ -16,6 +16,7 @@
 
 #include "kernels/errors.hpp"
 #include "formats/ply_points.hpp"
+#include "stream/record_vector_source.hpp"
 #include "stream/point_sinks.hpp"
 #include "stream/point_spool.hpp"
 #include "stream/runner.hpp"
@@ -143,6 +144,7 @@ TEST_CASE("point spool: empty, a graph can end in it, samples are refused", "[po
     PointSpool sunk;
     std::vector<PointRecord> copy = pts;
     struct Once final : Source {
+        Payload gives() const override { return Payload::points; }
         std::vector<PointRecord>* p;
         bool done = false;
         std::optional<Batch> next() override {
@@ -161,10 +163,9 @@ TEST_CASE("point spool: empty, a graph can end in it, samples are refused", "[po
     run_pipeline(replay, {}, out, {1});
     CHECK(same(out.points, pts));
 
-    Batch b;
-    b.kind = RecordKind::sample;
-    b.samples.resize(2);
-    CHECK_THROWS_AS(sunk.consume(std::move(b)), FormatError);
+    RecordVectorSource samples(std::vector<SampleRecord>(2));  // a graph of samples into it is refused
+    CHECK(sunk.takes() == PayloadSet(Payload::points));
+    CHECK_THROWS_AS(run_pipeline(samples, {}, sunk, {1}), GraphError);
 }
 
 TEST_CASE("point spool: the file is unlinked in $TMPDIR, errors name it", "[point_spool]") {
@@ -206,6 +207,7 @@ TEST_CASE("point spool: the replaying source holds at most one batch", "[point_s
 
         // a sink that only reads: arrays come back and are reused, one kept at a time
         struct Count final : Sink {
+            PayloadSet takes() const override { return Payload::points; }
             std::size_t n = 0;
             void consume(Batch&& b) override { n += b.points.size(); }
         } count;

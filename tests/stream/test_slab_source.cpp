@@ -104,6 +104,7 @@ TEST_CASE("slab streaming through the generate stage gives the in-memory samples
     GenerateStage gen(VolumeView{nullptr, v.type, v.grid}, 100.5);
     const Stage* stages[] = {&gen};
     struct SampleCollect final : Sink {
+        PayloadSet takes() const override { return Payload::samples; }
         std::vector<SampleRecord> all;
         std::uint64_t last_seq = 0;
         bool ordered = true;

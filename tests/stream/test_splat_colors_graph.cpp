@@ -35,6 +35,7 @@ Points sphere(int n) {
 /// Batches of `per` points with their block ids (or none).
 class VectorSource final : public Source {
 public:
+    Payload gives() const override { return Payload::points; }
     VectorSource(const Points& p, std::size_t per, bool with_blocks) : p_(p), per_(per), blocks_(with_blocks) {}
     std::optional<Batch> next() override {
         if (at_ >= p_.pts.size()) return std::nullopt;

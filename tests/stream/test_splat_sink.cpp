@@ -22,6 +22,7 @@
 
 #include "formats/ply_points.hpp"
 #include "kernels/errors.hpp"
+#include "stream/record_vector_source.hpp"
 #include "stream/ply_source.hpp"
 #include "stream/point_sinks.hpp"
 #include "stream/runner.hpp"
@@ -102,6 +103,7 @@ const std::array<Vec3, 2> kBox{Vec3{-1, -1, -1}, Vec3{1.2, 1, 1}};
 
 class VectorSource final : public Source {
 public:
+    Payload gives() const override { return Payload::points; }
     VectorSource(const std::vector<PointRecord>& pts, std::vector<std::size_t> sizes) : pts_(pts), sizes_(std::move(sizes)) {}
     std::optional<Batch> next() override {
         if (at_ >= pts_.size() && !(pts_.empty() && seq_ == 0)) return std::nullopt;
@@ -219,10 +221,8 @@ TEST_CASE("splat sink: empty stream gives the background, samples are refused", 
             REQUIRE(img.rgb[i + 2] == 56);
         }
         SplatSink s2(test_camera(), k, sh, kBox);
-        Batch b;
-        b.kind = RecordKind::sample;
-        b.samples.resize(3);
-        CHECK_THROWS_AS(s2.consume(std::move(b)), FormatError);
+        RecordVectorSource samples(std::vector<SampleRecord>(3));  // a graph of samples into it is refused
+        CHECK_THROWS_AS(run_pipeline(samples, {}, s2, {1}), GraphError);
     }
 }
 

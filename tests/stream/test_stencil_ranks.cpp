@@ -31,6 +31,7 @@ using meshless::test::HubChannel;
 namespace {
 
 struct Collect final : Sink {
+    PayloadSet takes() const override { return Payload::points; }
     std::vector<PointRecord> points;
     void consume(Batch&& b) override { points.insert(points.end(), b.points.begin(), b.points.end()); }
 };

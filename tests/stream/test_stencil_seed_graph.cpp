@@ -22,6 +22,7 @@ using namespace meshless;
 namespace {
 
 struct Collect final : Sink {
+    PayloadSet takes() const override { return Payload::points; }
     std::vector<PointRecord> points;
     std::vector<std::uint64_t> seqs;
     void consume(Batch&& b) override {
