@@ -2,7 +2,6 @@
 // any volume or scattered data set, saved as .mlh (formats/cluster_tree_file.hpp), and its levels
 // of detail as scattered point sets.
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 
 #include "cli/args.hpp"
@@ -14,12 +13,7 @@
 #include "cli/progress_meter.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/cluster_tree_file.hpp"
-#include "formats/field_hint.hpp"
 #include "formats/point_set_reader.hpp"
-#include "formats/point_set_writer.hpp"
-#include "kernels/field_params.hpp"
-#include "ooc/brick_store.hpp"
-#include "ooc/brick_store_point_set.hpp"
 #include "stream/certified_lod.hpp"
 #include "stream/cluster_hierarchy.hpp"
 
@@ -71,55 +65,39 @@ void add_sample_options(Args& a) {
     add_array_option(a);
 }
 
-/// The samples of a tree (hierarchy INPUT..., lod --samples INPUT): a brick store brick by brick, a
-/// raw volume described by --dims/--type/--spacing/--series/--array (--endian its byte order), or volumes,
-/// point sets and multiblock grids as every point command reads them (NaN/Inf counted, not warned:
-/// the tree's notes count them).
-PointSet tree_samples(const Args& a, const std::vector<std::string>& paths) {
-    const bool raw_volume = a.has("dims") || a.has("type") || a.has("spacing") || a.has("series") || a.has("array");
-    if (raw_volume && paths.size() != 1)
-        throw UsageError("--dims/--type/--spacing/--series/--array: one volume, not " + std::to_string(paths.size()) + " inputs");
-    if (paths.size() == 1 && is_brick_store(paths.front())) {
-        if (a.has("array")) throw UsageError("--array: " + paths.front() + " is a brick store (.mlb), which holds one unnamed array");
-        return point_set_from_brick_store(paths.front());
-    }
-    if (raw_volume) return point_set_from_volume(paths.front(), point_set_options(a), raw_options(a));
-    return read_field_points(paths, a, /*warn_dropped=*/false);
+/// What hierarchy INPUT... and lod --samples INPUT read (stream/cluster_hierarchy.hpp read_tree_samples).
+TreeSamplesInput tree_samples_input(const Args& a, const std::vector<std::string>& paths) {
+    TreeSamplesInput in;
+    in.paths = paths;
+    in.raw_given = a.has("dims") || a.has("type") || a.has("spacing") || a.has("series") || a.has("array");
+    in.array_given = a.has("array");
+    if (in.raw_given) in.raw = raw_options(a);
+    in.points = point_set_options(a);
+    in.command = a.command();
+    in.warn = [&a](const std::string& subject, const std::string& what) {
+        std::fprintf(stderr, "meshless %s: warning: %s: %s\n", a.command().c_str(), terminal_safe(subject).c_str(), terminal_safe(what).c_str());
+    };
+    return in;
 }
 
 /// lod --max-error E --samples INPUT: the certified level of detail (stream/certified_lod.hpp).
 int certified_lod_run(const Args& a, const std::string& out) {
-    const double e = parse_finite(*a.get("max-error"), "--max-error");
-    if (e < 0) throw UsageError("--max-error: expected a number >= 0");
-    const std::string& path = a.positional().front();
-    const ClusterTree t = read_cluster_tree_file(path);
-    FieldParams fp;  // the mpu field (section 5.5) with the c a reader of the LOD's file uses (formats/field_hint.hpp)
-    fp.kind = FieldKind::mpu;
-    fp.hardy_c_rel = a.has("hardy-c") ? parse_finite(*a.get("hardy-c"), "--hardy-c")
-                                      : lod_hardy_c_rel(t.params.order == CbtSplitOrder::max_error);
-    const std::string samples_path = *a.get("samples");
-    const PointSet samples = tree_samples(a, {samples_path});
-    const auto t0 = std::chrono::steady_clock::now();
-    ProgressMeter meter = ProgressMeter::of(a, "trials", std::log2(static_cast<double>(t.stats.splits + 1)) + 2);
-    CertifiedLod c;
-    int trials = 0;
-    try {
-        c = certified_lod(t, samples, e, fp, threads(a), [&](std::uint64_t, double) { meter.set_fraction(++trials / meter.total()); });
-    } catch (const InvalidArgument& x) {
-        throw FormatError(samples_path + ": " + x.what() + " (" + path + ")");
-    }
+    CertifiedLodJob job;
+    job.max_error = parse_finite(*a.get("max-error"), "--max-error");
+    if (job.max_error < 0) throw UsageError("--max-error: expected a number >= 0");
+    job.tree_path = a.positional().front();
+    job.out = out;
+    if (a.has("hardy-c")) job.hardy_c_rel = parse_finite(*a.get("hardy-c"), "--hardy-c");
+    job.samples = tree_samples_input(a, {*a.get("samples")});
+    job.threads = threads(a);
+    ProgressMeter meter = ProgressMeter::of(a, "trials", 1);
+    job.progress = [&meter](double done, double total) {
+        meter.set_total(total);
+        meter.set_fraction(done / total);
+    };
+    if (a.has("stats")) job.stats = stderr;
+    run_certified_lod_job(job);
     meter.done();
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!c.reached)
-        std::fprintf(stderr, "meshless lod: warning: %s: no level of detail reaches --max-error %g: the finest (%llu points) is within %g\n",
-                     terminal_safe(path).c_str(), e, static_cast<unsigned long long>(c.count), c.max_error);
-    char desc[160];
-    std::snprintf(desc, sizeof desc, "certified max error %.17g (asked %.17g) at %llu samples, count %llu", c.max_error, e,
-                  static_cast<unsigned long long>(c.samples), static_cast<unsigned long long>(c.count));
-    write_point_set(out, c.points, {"meshless lod " + std::string(desc) + " of " + path, field_hint_line(fp.hardy_c_rel)});
-    if (a.has("stats"))
-        std::fprintf(stderr, "lod: %s: %llu points, max error %g over %llu samples (asked %g), %d trials, %.3f s\n", terminal_safe(path).c_str(),
-                     static_cast<unsigned long long>(c.count), c.max_error, static_cast<unsigned long long>(c.samples), e, c.trials, secs);
     return 0;
 }
 
@@ -169,7 +147,7 @@ int cmd_hierarchy(int argc, char** argv) {
     const int nthreads = threads(a);
 
     const auto t0 = std::chrono::steady_clock::now();
-    const PointSet points = tree_samples(a, a.positional());
+    const PointSet points = read_tree_samples(tree_samples_input(a, a.positional()));
     const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ProgressMeter meter = ProgressMeter::of(a, "splits", cluster_hierarchy_split_bound(p, points.size()));
     const ClusterTree tree = build_cluster_hierarchy(points, p, nthreads, a.positional().front(), [&](std::uint64_t splits) {
@@ -232,17 +210,7 @@ int cmd_lod(int argc, char** argv) {
         o.lod_error = parse_finite(*a.get("error"), "--error");
         if (*o.lod_error < 0) throw UsageError("--error: expected a number >= 0");
     }
-    const std::string& path = a.positional().front();
-    const ClusterTree t = read_cluster_tree_file(path);
-    const ClusterTreeLodRequest r = cluster_tree_lod_request(t, o);
-    if (r.clamped) std::fprintf(stderr, "meshless lod: warning: %s: %s\n", terminal_safe(path).c_str(), terminal_safe(r.note).c_str());
-    const LodExtraction e = extract_lod(t, r);
-    if (const std::string w = lod_overshoot_warning(t, e); !w.empty()) std::fprintf(stderr, "meshless lod: %s\n", w.c_str());
-    // the Hardy c its points reconstruct best with travels with them (formats/field_hint.hpp)
-    const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + path,
-                                               field_hint_line(lod_hardy_c_rel(t.params.order == CbtSplitOrder::max_error))};
-    write_point_set(out, e.points, comments);
-    if (a.has("stats")) std::fprintf(stderr, "%s\n", lod_report(t, r, path, e).c_str());
+    run_lod_job(a.positional().front(), o, out, stderr, a.has("stats") ? stderr : nullptr);
     return 0;
 }
 

@@ -5,10 +5,15 @@
 #include <oneapi/tbb/blocked_range.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include "formats/cluster_tree_file.hpp"
+#include "formats/field_hint.hpp"
+#include "formats/point_set_writer.hpp"
+#include "formats/terminal_safe.hpp"
 #include "kernels/cluster_lod.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/make_field.hpp"
@@ -98,6 +103,40 @@ CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, dou
     out.max_error = best_error;
     out.points = std::move(best);
     return out;
+}
+
+CertifiedLod run_certified_lod_job(const CertifiedLodJob& job) {
+    const ClusterTree t = read_cluster_tree_file(job.tree_path);
+    FieldParams fp;  // the mpu field (section 5.5) with the c a reader of the LOD's file uses
+    fp.kind = FieldKind::mpu;
+    fp.hardy_c_rel = job.hardy_c_rel ? *job.hardy_c_rel : lod_hardy_c_rel(t.params.order == CbtSplitOrder::max_error);
+    const PointSet samples = read_tree_samples(job.samples);
+    const std::string& samples_path = job.samples.paths.front();
+    const auto t0 = std::chrono::steady_clock::now();
+    const double expected = std::log2(static_cast<double>(t.stats.splits + 1)) + 2;
+    CertifiedLod c;
+    int trials = 0;
+    try {
+        c = certified_lod(t, samples, job.max_error, fp, job.threads, [&](std::uint64_t, double) {
+            if (job.progress) job.progress(++trials, expected);
+        });
+    } catch (const InvalidArgument& x) {
+        throw FormatError(samples_path + ": " + x.what() + " (" + job.tree_path + ")");
+    }
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::string path = terminal_safe(job.tree_path);
+    if (!c.reached && job.warnings)
+        std::fprintf(job.warnings, "meshless lod: warning: %s: no level of detail reaches --max-error %g: the finest (%llu points) is within %g\n",
+                     path.c_str(), job.max_error, static_cast<unsigned long long>(c.count), c.max_error);
+    char desc[160];
+    std::snprintf(desc, sizeof desc, "certified max error %.17g (asked %.17g) at %llu samples, count %llu", c.max_error, job.max_error,
+                  static_cast<unsigned long long>(c.samples), static_cast<unsigned long long>(c.count));
+    write_point_set(job.out, c.points, {"meshless lod " + std::string(desc) + " of " + job.tree_path, field_hint_line(fp.hardy_c_rel)});
+    if (job.stats)
+        std::fprintf(job.stats, "lod: %s: %llu points, max error %g over %llu samples (asked %g), %d trials, %.3f s\n", path.c_str(),
+                     static_cast<unsigned long long>(c.count), c.max_error, static_cast<unsigned long long>(c.samples), job.max_error,
+                     c.trials, secs);
+    return c;
 }
 
 }  // namespace meshless

@@ -14,11 +14,15 @@
 // make_field throws.
 #pragma once
 #include <cstdint>
+#include <cstdio>
 #include <functional>
+#include <optional>
+#include <string>
 
 #include "kernels/cluster_tree.hpp"
 #include "kernels/field_params.hpp"
 #include "kernels/point_set.hpp"
+#include "stream/cluster_hierarchy.hpp"
 
 namespace meshless {
 
@@ -34,5 +38,25 @@ struct CertifiedLod {
 /// `trial(count, max_error)` is called after each trial (progress, --stats).
 CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, double max_error, const FieldParams& field, int threads,
                            const std::function<void(std::uint64_t, double)>& trial = {});
+
+/// `meshless lod TREE --max-error E --samples INPUT -o OUT`: the tree read, its samples read, the
+/// certified LOD written to `out` (.ply/.csv/.vtp, formats/point_set_writer.hpp) with a comment saying
+/// what was certified and the Hardy c its readers use (formats/field_hint.hpp), which is also the c of
+/// the certifying mpu field: `hardy_c_rel`, or a LOD's default for the tree's order. A missed E is a
+/// warning line on `warnings`; `stats` (when set) gets the --stats line.
+struct CertifiedLodJob {
+    std::string tree_path, out;
+    TreeSamplesInput samples;
+    double max_error = 0;
+    std::optional<double> hardy_c_rel;
+    int threads = 1;
+    std::function<void(double done, double total)> progress;  ///< trials done of an estimated total (log2(splits + 1) + 2)
+    std::FILE* warnings = stderr;
+    std::FILE* stats = nullptr;
+};
+
+/// Throws what certified_lod, the readers and the writer throw; InvalidArgument from certified_lod
+/// (samples that are not the tree's) becomes FormatError "SAMPLES: ... (TREE)".
+CertifiedLod run_certified_lod_job(const CertifiedLodJob& job);
 
 }  // namespace meshless

@@ -7,7 +7,12 @@
 #include <cinttypes>
 #include <cstdio>
 
+#include "formats/cluster_tree_file.hpp"
+#include "formats/field_hint.hpp"
+#include "formats/point_set_writer.hpp"
 #include "formats/terminal_safe.hpp"
+#include "ooc/brick_store.hpp"
+#include "ooc/brick_store_point_set.hpp"
 #include "kernels/cluster_lod.hpp"
 #include "kernels/errors.hpp"
 #include "stream/text_format.hpp"
@@ -96,6 +101,32 @@ std::string lod_report(const ClusterTree& t, const ClusterTreeLodRequest& r, con
     return format_text("lod: %s of %s: %zu points (%.2f%% of %" PRIu64 " samples), %.4f s", r.description.c_str(),
                   terminal_safe(path).c_str(), e.points.size(), 100.0 * e.points.size() / t.stats.samples, t.stats.samples,
                   e.seconds);
+}
+
+PointSet read_tree_samples(const TreeSamplesInput& in) {
+    if (in.raw_given && in.paths.size() != 1)
+        throw InvalidArgument("--dims/--type/--spacing/--series/--array: one volume, not " + std::to_string(in.paths.size()) + " inputs");
+    if (in.paths.size() == 1 && is_brick_store(in.paths.front())) {
+        if (in.array_given) throw InvalidArgument("--array: " + in.paths.front() + " is a brick store (.mlb), which holds one unnamed array");
+        return point_set_from_brick_store(in.paths.front());
+    }
+    if (in.raw_given) return point_set_from_volume(in.paths.front(), in.points, in.raw);
+    return read_field_points(in.paths, in.points, in.command, in.warn, /*warn_dropped=*/false);
+}
+
+LodExtraction run_lod_job(const std::string& tree_path, const PointSetOptions& request, const std::string& out, std::FILE* warnings,
+                          std::FILE* stats) {
+    const ClusterTree t = read_cluster_tree_file(tree_path);
+    const ClusterTreeLodRequest r = cluster_tree_lod_request(t, request);
+    if (r.clamped && warnings)
+        std::fprintf(warnings, "meshless lod: warning: %s: %s\n", terminal_safe(tree_path).c_str(), terminal_safe(r.note).c_str());
+    LodExtraction e = extract_lod(t, r);
+    if (const std::string w = lod_overshoot_warning(t, e); !w.empty() && warnings) std::fprintf(warnings, "meshless lod: %s\n", w.c_str());
+    const std::vector<std::string> comments = {"meshless lod " + r.description + " of " + tree_path,
+                                               field_hint_line(lod_hardy_c_rel(t.params.order == CbtSplitOrder::max_error))};
+    write_point_set(out, e.points, comments);
+    if (stats) std::fprintf(stats, "%s\n", lod_report(t, r, tree_path, e).c_str());
+    return e;
 }
 
 }  // namespace meshless

@@ -9,15 +9,35 @@
 // build_cluster_tree for parameters out of their domain.
 #pragma once
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "formats/point_set_reader.hpp"
+#include "formats/volume_reader.hpp"
 #include "kernels/cluster_binary_tree.hpp"
 #include "kernels/point_set.hpp"
+#include "stream/field_data.hpp"
 
 namespace meshless {
+
+/// What a tree is built from: `hierarchy INPUT...` and `lod --max-error E --samples INPUT`.
+struct TreeSamplesInput {
+    std::vector<std::string> paths;
+    PointSetOptions points;          ///< the point readers' options (--strict, --value, ...)
+    RawOptions raw;                  ///< a raw volume's description and the array to read
+    bool raw_given = false;          ///< the caller described a raw volume (--dims/--type/--spacing/--series/--array)
+    bool array_given = false;        ///< the caller named an array (refused for a brick store: it holds one)
+    std::string command = "hierarchy";  ///< for the messages
+    InputWarning warn;               ///< hears of readers' warnings (a level of detail beyond a tree)
+};
+
+/// The samples of a tree: a brick store brick by brick, a raw volume as `raw` describes it, or
+/// volumes, point sets and multiblock grids as every point command reads them (stream/field_data.hpp;
+/// NaN/Inf samples counted, not warned: the tree's notes count them). InvalidArgument for a raw
+/// description with several inputs or an array of a brick store; the readers' errors.
+PointSet read_tree_samples(const TreeSamplesInput& in);
 
 /// The most splits a build of `samples` samples with `p` makes (a leaf per sample, or
 /// p.max_splits; --max-error may stop sooner): the total of a progress line.
@@ -55,5 +75,12 @@ std::string lod_overshoot_warning(const ClusterTree& t, const LodExtraction& e);
 
 /// The --stats line of an extraction from the tree at `path` (no newline): "lod: DESC of PATH: ...".
 std::string lod_report(const ClusterTree& t, const ClusterTreeLodRequest& r, const std::string& path, const LodExtraction& e);
+
+/// `meshless lod TREE (--count | --fraction | --level | --error) -o OUT`: the LOD that `request`'s
+/// lod_* asks of the tree at `tree_path`, written to `out` (.ply/.csv/.vtp) with its description and
+/// the Hardy c its points reconstruct best with (formats/field_hint.hpp); a clamped request and
+/// overshooting cluster values are warning lines on `warnings`, `stats` (when set) gets the --stats line.
+LodExtraction run_lod_job(const std::string& tree_path, const PointSetOptions& request, const std::string& out, std::FILE* warnings,
+                          std::FILE* stats);
 
 }  // namespace meshless
