@@ -13,6 +13,7 @@
 #include "cli/progress_meter.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/cluster_tree_file.hpp"
+#include "kernels/field_params.hpp"
 #include "formats/point_set_reader.hpp"
 #include "stream/certified_lod.hpp"
 #include "stream/cluster_hierarchy.hpp"
@@ -133,6 +134,13 @@ int cmd_hierarchy(int argc, char** argv) {
         .option("pca-scaling", "", "normalised|raw",
                 "PCA of (x,y,z,f) in units scaled to the bounding-box diagonal and the value range, or in the data's units",
                 "normalised")
+        .option("certify", "", "F1,F2,...",
+                "also certify the levels of detail of these fractions of the samples, each in (0, 1], at most 64: the largest\n"
+                "error of their mpu field at every sample, stored in the tree (meshless info lists it); one field per size")
+        .validate([](const std::string& v) {
+            for (double f : parse_finite_list(v, "--certify", kMaxCertifiedErrors))
+                if (!(f > 0 && f <= 1)) throw UsageError("--certify: expected fractions in (0, 1], got '" + v + "'");
+        })
         .flag("stats", "print splits, skipped splits, depth, error, time and memory to stderr");
     add_sample_options(a);
     add_thread_option(a);
@@ -150,10 +158,17 @@ int cmd_hierarchy(int argc, char** argv) {
     const PointSet points = read_tree_samples(tree_samples_input(a, a.positional()));
     const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ProgressMeter meter = ProgressMeter::of(a, "splits", cluster_hierarchy_split_bound(p, points.size()));
-    const ClusterTree tree = build_cluster_hierarchy(points, p, nthreads, a.positional().front(), [&](std::uint64_t splits) {
+    ClusterTree tree = build_cluster_hierarchy(points, p, nthreads, a.positional().front(), [&](std::uint64_t splits) {
         meter.set_fraction(static_cast<double>(splits) / meter.total());
     });
     meter.done();
+    if (auto c = a.get("certify")) {
+        const std::vector<std::uint64_t> counts = certify_counts(tree, parse_finite_list(*c, "--certify", kMaxCertifiedErrors));
+        ProgressMeter sizes = ProgressMeter::of(a, "certified sizes", static_cast<double>(counts.size()));
+        tree.certified = certify_lod_sizes(tree, points, counts, lod_hardy_c_rel(p.order == CbtSplitOrder::max_error), nthreads,
+                                           [&](std::uint64_t, double) { sizes.add(1); });
+        sizes.done();
+    }
     const auto t1 = std::chrono::steady_clock::now();
     write_cluster_tree_file(out, tree);
     const double write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <vector>
 
 #include "formats/atomic_file.hpp"
@@ -66,12 +67,52 @@ std::string meta_bytes(const ClusterTree& t) {
     const std::string name = t.value_name.substr(0, kMaxNameBytes);
     put<std::uint32_t>(m, static_cast<std::uint32_t>(name.size()));
     m += name;
+    if (t.certified.empty()) return m;  // version 2
+    if (t.certified.size() > kMaxCertifiedErrors)
+        throw InvalidArgument("cluster tree: " + std::to_string(t.certified.size()) + " certified errors, at most " +
+                              std::to_string(kMaxCertifiedErrors));
+    put<std::uint32_t>(m, static_cast<std::uint32_t>(t.certified.size()));
+    for (const CertifiedError& c : t.certified) {
+        put<std::uint64_t>(m, c.count);
+        put<double>(m, c.max_error);
+        put<double>(m, c.hardy_c_rel);
+    }
     return m;
 }
 
-std::string header_bytes(std::uint64_t file_bytes, std::uint64_t meta, std::uint64_t nodes) {
+/// The version a tree is written in: 3 with certified errors, else 2 (what readers before 3 read).
+std::uint32_t version_of(const ClusterTree& t) { return t.certified.empty() ? 2 : 3; }
+
+/// The certified errors of a version 3 meta, `at` bytes into it (after the name), checked.
+std::vector<CertifiedError> parse_certified(const unsigned char* m, std::uint64_t at, std::uint64_t meta, std::uint64_t leaves,
+                                            const std::function<FormatError(std::uint64_t, const std::string&)>& fail) {
+    if (meta - at < 4) throw fail(kClusterTreeHeaderBytes + at, "version 3 meta without its certified error count");
+    const std::uint32_t k = get<std::uint32_t>(m + at);
+    if (k > kMaxCertifiedErrors)
+        throw fail(kClusterTreeHeaderBytes + at, std::to_string(k) + " certified errors, at most " + std::to_string(kMaxCertifiedErrors));
+    if (meta - at - 4 != std::uint64_t{k} * kClusterTreeCertifiedBytes)
+        throw fail(kClusterTreeHeaderBytes + at, std::to_string(k) + " certified errors do not fill the " + std::to_string(meta - at - 4) +
+                                                     " meta bytes after the count");
+    std::vector<CertifiedError> out(k);
+    for (std::uint32_t i = 0; i < k; ++i) {
+        const std::uint64_t o = at + 4 + std::uint64_t{i} * kClusterTreeCertifiedBytes;
+        CertifiedError& c = out[i];
+        c.count = get<std::uint64_t>(m + o);
+        c.max_error = get<double>(m + o + 8);
+        c.hardy_c_rel = get<double>(m + o + 16);
+        const std::string which = "certified error " + std::to_string(i) + ": ";
+        if (c.count < 1 || c.count > leaves)
+            throw fail(kClusterTreeHeaderBytes + o, which + "count " + std::to_string(c.count) + " outside 1.." + std::to_string(leaves));
+        if (i > 0 && c.count <= out[i - 1].count) throw fail(kClusterTreeHeaderBytes + o, which + "counts not ascending");
+        if (std::isnan(c.max_error) || c.max_error < 0) throw fail(kClusterTreeHeaderBytes + o + 8, which + "error negative or NaN");
+        if (!(c.hardy_c_rel > 0 && c.hardy_c_rel <= 100)) throw fail(kClusterTreeHeaderBytes + o + 16, which + "Hardy c outside (0, 100]");
+    }
+    return out;
+}
+
+std::string header_bytes(std::uint32_t version, std::uint64_t file_bytes, std::uint64_t meta, std::uint64_t nodes) {
     std::string h(kClusterTreeMagic, 8);
-    put<std::uint32_t>(h, kClusterTreeFileVersion);
+    put<std::uint32_t>(h, version);
     put<std::uint32_t>(h, static_cast<std::uint32_t>(kClusterTreeHeaderBytes));
     put<std::uint64_t>(h, file_bytes);
     put<std::uint64_t>(h, meta);
@@ -87,7 +128,7 @@ std::string cluster_tree_bytes(const ClusterTree& tree) {
     const std::string meta = meta_bytes(tree);
     const std::uint64_t n = tree.nodes.size();
     const std::uint64_t total = kClusterTreeHeaderBytes + meta.size() + 4 + n * kClusterTreeNodeBytes + 4;
-    std::string out = header_bytes(total, meta.size(), n);
+    std::string out = header_bytes(version_of(tree), total, meta.size(), n);
     out += meta;
     put<std::uint32_t>(out, crc32_ieee(0, meta.data(), meta.size()));
     const std::size_t at = out.size();
@@ -104,7 +145,7 @@ void write_cluster_tree_file(const std::string& path, const ClusterTree& tree) {
     const std::uint64_t n = tree.nodes.size();
     const std::uint64_t total = kClusterTreeHeaderBytes + meta.size() + 4 + n * kClusterTreeNodeBytes + 4;
     AtomicFile f(path, Durability::fsync);
-    f.write(header_bytes(total, meta.size(), n));
+    f.write(header_bytes(version_of(tree), total, meta.size(), n));
     f.write(meta);
     std::string crc;
     put<std::uint32_t>(crc, crc32_ieee(0, meta.data(), meta.size()));
@@ -134,9 +175,9 @@ ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> b, const std
         throw fail(size, "truncated: the header needs " + std::to_string(kClusterTreeHeaderBytes) + " bytes, the file has " +
                              std::to_string(size));
     const std::uint32_t version = get<std::uint32_t>(b.data() + 8);
-    if (version != kClusterTreeFileVersion && version != 1)
+    if (version < 1 || version > kClusterTreeFileVersion)
         throw fail(8, "version " + std::to_string(version) + ": made by a " +
-                          (version > kClusterTreeFileVersion ? "newer" : "older") + " version of meshless (this one reads versions 1 and " +
+                          (version > kClusterTreeFileVersion ? "newer" : "older") + " version of meshless (this one reads versions 1 to " +
                           std::to_string(kClusterTreeFileVersion) + ")");
     // version 1 has no split order, cluster value kind or size term: the dissertation's (max error, fit)
     const std::size_t fixed_meta = version == 1 ? kClusterTreeMetaFixedBytesV1 : kClusterTreeMetaFixedBytes;
@@ -152,9 +193,9 @@ ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> b, const std
                                              std::to_string(size)
                                        : std::to_string(size - declared) + " bytes after the declared end (" +
                                              std::to_string(declared) + " bytes)");
-    if (meta < fixed_meta || meta > fixed_meta + kMaxNameBytes)
-        throw fail(24, "meta size " + std::to_string(meta) + " outside " + std::to_string(fixed_meta) + ".." +
-                           std::to_string(fixed_meta + kMaxNameBytes));
+    const std::uint64_t max_meta = fixed_meta + kMaxNameBytes + (version >= 3 ? 4 + kMaxCertifiedErrors * kClusterTreeCertifiedBytes : 0);
+    if (meta < fixed_meta || meta > max_meta)
+        throw fail(24, "meta size " + std::to_string(meta) + " outside " + std::to_string(fixed_meta) + ".." + std::to_string(max_meta));
     const std::uint64_t fixed = kClusterTreeHeaderBytes + meta + 8;
     if (n == 0 || n > (size - std::min(size, fixed)) / kClusterTreeNodeBytes || fixed + n * kClusterTreeNodeBytes != size)
         throw fail(32, std::to_string(n) + " nodes do not fill the file's " + std::to_string(size) + " bytes (" +
@@ -190,7 +231,7 @@ ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> b, const std
     t.value_range = {f[6], f[7]};
     const std::size_t name_at = fixed_meta - 4;
     const std::uint32_t name_bytes = get<std::uint32_t>(m + name_at);
-    if (name_bytes != meta - fixed_meta)
+    if (version < 3 ? name_bytes != meta - fixed_meta : name_bytes > std::min<std::uint64_t>(kMaxNameBytes, meta - fixed_meta))
         throw fail(off(name_at), "name of " + std::to_string(name_bytes) + " bytes in a meta of " + std::to_string(meta));
     t.value_name.assign(reinterpret_cast<const char*>(m + fixed_meta), name_bytes);
     p.order = CbtSplitOrder::max_error;
@@ -217,6 +258,7 @@ ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> b, const std
     if (s.samples < 2 || s.samples >= 0xFFFFFFFFull) throw fail(off(0), std::to_string(s.samples) + " samples (2 .. 2^32 - 2 expected)");
     if (n != 2 * s.splits + 1)
         throw fail(off(16), std::to_string(s.splits) + " splits claimed, " + std::to_string(n) + " nodes (2 x splits + 1 expected)");
+    if (version >= 3) t.certified = parse_certified(m, fixed_meta + name_bytes, meta, s.splits + 1, fail);
 
     t.nodes.resize(n);
     std::memcpy(t.nodes.data(), b.data() + nodes_at, n * kClusterTreeNodeBytes);
@@ -247,10 +289,21 @@ std::optional<CbtSplitOrder> cluster_tree_split_order(const std::string& path) {
     if (got < kClusterTreeHeaderBytes || std::memcmp(b, kClusterTreeMagic, 8) != 0) return std::nullopt;
     const std::uint32_t version = get<std::uint32_t>(b + 8);
     if (version == 1) return CbtSplitOrder::max_error;
-    if (version != kClusterTreeFileVersion || got < sizeof b) return std::nullopt;
+    if (version < 2 || version > kClusterTreeFileVersion || got < sizeof b) return std::nullopt;
     const std::uint32_t order = get<std::uint32_t>(b + kClusterTreeHeaderBytes + 160);
     if (order > 1) return std::nullopt;
     return static_cast<CbtSplitOrder>(order);
+}
+
+std::uint32_t cluster_tree_file_version(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return 0;
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return 0;
+    unsigned char b[12];
+    const bool ok = std::fread(b, 1, sizeof b, f) == sizeof b && std::memcmp(b, kClusterTreeMagic, 8) == 0;
+    std::fclose(f);
+    return ok ? get<std::uint32_t>(b + 8) : 0;
 }
 
 bool is_cluster_tree_file(const std::string& path) {

@@ -12,6 +12,11 @@
 //       f64 Hardy's c used (world) | f64 error reached | f64 bounds lo[3], hi[3] | f64 value min, max |
 //       u32 split order (0 max error, 1 weighted) | u32 cluster value (0 fit, 1 mean) | f64 size term |
 //       u32 name bytes (<= 1024) | name (the value's name)            -> M = 180 + name bytes
+//   Version 3 (written when the tree carries certified errors, else version 2) appends to the meta:
+//       u32 K (<= 64) | K x (u64 LOD count | f64 max error | f64 Hardy c relative)
+//                                                                      -> M = 184 + name bytes + 24 K
+//   the counts strictly ascending in 1 .. splits + 1, the errors >= 0 (+inf: the LOD's field is NaN
+//   somewhere), the c in (0, 100].
 //   Version 1 (still read) has no split order, cluster value or size term (M = 164 + name bytes):
 //   its trees were built with the dissertation's max-error order and fitted values.
 //   u32 CRC-32 of the meta bytes
@@ -40,16 +45,21 @@
 
 namespace meshless {
 
-inline constexpr std::uint32_t kClusterTreeFileVersion = 2;
+inline constexpr std::uint32_t kClusterTreeFileVersion = 3;  ///< the newest read; 2 written when no certified errors
 inline constexpr std::size_t kClusterTreeHeaderBytes = 64;
 inline constexpr std::size_t kClusterTreeMetaFixedBytes = 180;
 inline constexpr std::size_t kClusterTreeMetaFixedBytesV1 = 164;
 inline constexpr std::size_t kClusterTreeNodeBytes = 56;
+inline constexpr std::size_t kClusterTreeCertifiedBytes = 24;
 inline constexpr char kClusterTreeMagic[8] = {'\x89', 'M', 'L', 'H', '\r', '\n', '\x1a', '\n'};
 
 /// Writes `tree` to `path` atomically (tree.stats.seconds and memory_bytes are not stored).
 /// InvalidArgument for "-" or a non-regular output; IoError when it cannot be written.
 void write_cluster_tree_file(const std::string& path, const ClusterTree& tree);
+
+/// The version a .mlh's header declares (0 when the file cannot be read or is no cluster tree);
+/// what `info` shows of a file that read_cluster_tree_file accepted.
+std::uint32_t cluster_tree_file_version(const std::string& path);
 
 /// Reads and validates a .mlh (see the checks above); stats.seconds is 0.
 ClusterTree read_cluster_tree_file(const std::string& path);

@@ -89,8 +89,22 @@ struct CbtStats {
     std::uint64_t memory_bytes = 0;       ///< bytes of the permutation and the nodes (with their ranges) at the end
 };
 
+/// The certified error of one level of detail (stream/certified_lod.hpp): the largest |field - f_j|
+/// over every sample j the tree was built from, of the mpu field (section 5.5) of LOD(count) with
+/// Hardy's c = hardy_c_rel x the LOD's bounding-box diagonal; +inf when that field is NaN somewhere
+/// (or the LOD has fewer than 4 distinct points, the least a field is built from). Data units.
+struct CertifiedError {
+    std::uint64_t count = 0;
+    double max_error = 0;
+    double hardy_c_rel = 0;
+};
+
+/// The most certified errors a tree carries.
+inline constexpr std::size_t kMaxCertifiedErrors = 64;
+
 struct ClusterTree {
     std::vector<CbtNode> nodes;
+    std::vector<CertifiedError> certified;  ///< by count, ascending (hierarchy --certify); may be empty
     CbtParams params;
     CbtStats stats;
     std::array<Vec3, 2> bounds{};           ///< of the samples

@@ -184,6 +184,8 @@ if [ -x "$exe" ] && have fuel/fuel_64x64x64_uint8.raw && have bucky/Bucky_32x32x
   for m in 0 3; do
     "$exe" hierarchy "$bucky" --max-splits $m -o "$tmp/t$m.mlh" >/dev/null 2>&1 && seed fuzz_cluster_tree_file "t$m" < "$tmp/t$m.mlh"
   done
+  # version 3: with certified errors
+  "$exe" hierarchy "$bucky" --max-splits 40 --certify 0.0001,0.001 -o "$tmp/tc.mlh" >/dev/null 2>&1 && seed fuzz_cluster_tree_file tc < "$tmp/tc.mlh"
   if have scattered/sparsePoints.txt; then
     for k in rbf-grid mpu; do
       "$exe" fit "$data/scattered/sparsePoints.txt" --field $k -o "$tmp/$k.mlf" >/dev/null 2>&1 && seed fuzz_field_file "$k" < "$tmp/$k.mlf"

@@ -91,7 +91,7 @@ void describe_cluster_tree(const std::string& path, std::FILE* out) {
     const CbtStats& s = t.stats;
     const CbtParams& p = t.params;
     std::fprintf(out, "%s: cluster binary tree (.mlh version %u, dissertation chapter 6)\n", terminal_safe(path).c_str(),
-                 kClusterTreeFileVersion);
+                 cluster_tree_file_version(path));
     std::fprintf(out, "  samples: %" PRIu64 " (%" PRIu64 " NaN/Inf dropped), value '%s' %g .. %g\n", s.samples,
                  s.dropped_nonfinite, terminal_safe(t.value_name).c_str(), t.value_range[0], t.value_range[1]);
     std::fprintf(out, "  bounds: (%g, %g, %g) .. (%g, %g, %g)\n", t.bounds[0].x, t.bounds[0].y, t.bounds[0].z, t.bounds[1].x,
@@ -115,6 +115,15 @@ void describe_cluster_tree(const std::string& path, std::FILE* out) {
         const std::uint64_t n = lod_size_at_error(t.nodes, e);
         std::fprintf(out, "    %12.6g %12" PRIu64 " %8.2f%%\n", e, n, 100.0 * n / s.samples);
     }
+    if (t.certified.empty()) {
+        std::fprintf(out, "  certified errors: none (meshless hierarchy --certify F1,F2,... stores them)\n");
+        return;
+    }
+    std::fprintf(out, "  certified errors (meshless lod --count N: the mpu field of its points at every sample):\n"
+                      "    %12s %9s %14s %9s\n", "points", "% samples", "max error", "Hardy c");
+    for (const CertifiedError& c : t.certified)
+        std::fprintf(out, "    %12" PRIu64 " %8.2f%% %14.6g %9g\n", c.count, 100.0 * static_cast<double>(c.count) / static_cast<double>(s.samples),
+                     c.max_error, c.hardy_c_rel);
 }
 
 }  // namespace meshless

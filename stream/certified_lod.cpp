@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "formats/cluster_tree_file.hpp"
@@ -40,12 +41,8 @@ double max_error_at(const Field& f, const PointSet& s) {
         [](double a, double b) { return std::max(a, b); });
 }
 
-}  // namespace
-
-CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, double max_error, const FieldParams& field, int threads,
-                           const std::function<void(std::uint64_t, double)>& trial) {
-    if (!std::isfinite(max_error) || max_error < 0) throw InvalidArgument("certified LOD: the error must be a finite number >= 0");
-    // the samples the tree was built from: the same count of finite samples and the same bounds
+/// The finite samples of `samples`, checked to be the tree's (InvalidArgument otherwise).
+PointSet tree_samples_checked(const ClusterTree& tree, const PointSet& samples) {
     PointSet finite;
     finite.value_name = samples.value_name;
     finite.pos.reserve(samples.size());
@@ -66,16 +63,35 @@ CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, dou
         const double lo[2] = {b[0][k], tree.bounds[0][k]}, hi[2] = {b[1][k], tree.bounds[1][k]};
         if (lo[0] != lo[1] || hi[0] != hi[1]) throw InvalidArgument("the samples are not the tree's: their bounds differ");
     }
+    return finite;
+}
+
+/// The certified error of LOD(n): the mpu field of its points evaluated at every sample; `lod` gets the points.
+double lod_error(const ClusterTree& tree, const PointSet& finite, std::uint64_t n, const FieldParams& field, PointSet& lod) {
+    lod = lod_point_set(tree.nodes, LodMode::count, static_cast<double>(n), tree.value_name);
+    // a field needs 4 distinct points: a LOD of fewer reconstructs nothing, its error is +inf
+    if (lod.size() < 4) return std::numeric_limits<double>::infinity();
+    std::unique_ptr<Field> f;
+    try {
+        f = make_field(lod, field);
+    } catch (const FormatError&) {  // fewer than 4 distinct points once near-duplicates are merged
+        return std::numeric_limits<double>::infinity();
+    }
+    return max_error_at(*f, finite);
+}
+
+}  // namespace
+
+CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, double max_error, const FieldParams& field, int threads,
+                           const std::function<void(std::uint64_t, double)>& trial) {
+    if (!std::isfinite(max_error) || max_error < 0) throw InvalidArgument("certified LOD: the error must be a finite number >= 0");
+    // the samples the tree was built from: the same count of finite samples and the same bounds
+    const PointSet finite = tree_samples_checked(tree, samples);
     oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(std::max(1, threads)));
     CertifiedLod out;
     out.samples = finite.size();
     auto error_of = [&](std::uint64_t n, PointSet& lod) {
-        lod = lod_point_set(tree.nodes, LodMode::count, static_cast<double>(n), tree.value_name);
-        double e = std::numeric_limits<double>::infinity();
-        if (lod.size() >= 2) {  // a field needs points; one point is a constant
-            const auto f = make_field(lod, field);
-            e = max_error_at(*f, finite);
-        }
+        const double e = lod_error(tree, finite, n, field, lod);
         ++out.trials;
         if (trial) trial(n, e);
         return e;
@@ -102,6 +118,41 @@ CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, dou
     out.count = best.size();
     out.max_error = best_error;
     out.points = std::move(best);
+    return out;
+}
+
+std::vector<std::uint64_t> certify_counts(const ClusterTree& tree, std::span<const double> fractions) {
+    const std::uint64_t leaves = tree.stats.splits + 1;
+    std::vector<std::uint64_t> counts;
+    for (double f : fractions) {
+        if (!(f > 0 && f <= 1)) throw InvalidArgument("certified LOD: a fraction of the samples must lie in (0, 1]");
+        const double n = std::round(f * static_cast<double>(tree.stats.samples));
+        counts.push_back(std::clamp<std::uint64_t>(static_cast<std::uint64_t>(std::max(1.0, n)), 1, leaves));
+    }
+    std::sort(counts.begin(), counts.end());
+    counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+    if (counts.size() > kMaxCertifiedErrors)
+        throw InvalidArgument("certified LOD: at most " + std::to_string(kMaxCertifiedErrors) + " sizes, got " + std::to_string(counts.size()));
+    return counts;
+}
+
+std::vector<CertifiedError> certify_lod_sizes(const ClusterTree& tree, const PointSet& samples, std::span<const std::uint64_t> counts,
+                                              double hardy_c_rel, int threads, const std::function<void(std::uint64_t, double)>& trial) {
+    if (!(hardy_c_rel > 0 && hardy_c_rel <= 100)) throw InvalidArgument("certified LOD: Hardy's c must lie in (0, 100]");
+    const PointSet finite = tree_samples_checked(tree, samples);
+    oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(std::max(1, threads)));
+    FieldParams fp;
+    fp.kind = FieldKind::mpu;
+    fp.hardy_c_rel = hardy_c_rel;
+    std::vector<CertifiedError> out;
+    for (std::uint64_t n : counts) {
+        if (n < 1 || n > tree.stats.splits + 1 || (!out.empty() && n <= out.back().count))
+            throw InvalidArgument("certified LOD: counts must ascend within 1.." + std::to_string(tree.stats.splits + 1));
+        PointSet lod;
+        const double e = lod_error(tree, finite, n, fp, lod);
+        out.push_back(CertifiedError{n, e, hardy_c_rel});
+        if (trial) trial(n, e);
+    }
     return out;
 }
 

@@ -17,6 +17,8 @@
 #include <cstdio>
 #include <functional>
 #include <optional>
+#include <span>
+#include <vector>
 #include <string>
 
 #include "kernels/cluster_tree.hpp"
@@ -29,7 +31,7 @@ namespace meshless {
 struct CertifiedLod {
     PointSet points;              ///< the LOD, coarse to fine (lod_point_set)
     std::uint64_t count = 0;      ///< its size N
-    double max_error = 0;         ///< max over every sample of |field(p_j) - f_j| for this LOD (inf when a field value is NaN)
+    double max_error = 0;         ///< max over every sample of |field(p_j) - f_j| for this LOD (inf when a field value is NaN or it has fewer than 4 distinct points)
     bool reached = false;         ///< max_error <= E (false: the finest LOD, which misses E)
     int trials = 0;               ///< fields built and evaluated
     std::uint64_t samples = 0;    ///< samples checked per trial
@@ -38,6 +40,19 @@ struct CertifiedLod {
 /// `trial(count, max_error)` is called after each trial (progress, --stats).
 CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, double max_error, const FieldParams& field, int threads,
                            const std::function<void(std::uint64_t, double)>& trial = {});
+
+/// The LOD counts of `fractions` of the tree's samples (rounded, at least 1, at most the leaves),
+/// ascending without repeats. InvalidArgument for a fraction outside (0, 1] or more than
+/// kMaxCertifiedErrors sizes.
+std::vector<std::uint64_t> certify_counts(const ClusterTree& tree, std::span<const double> fractions);
+
+/// The certified error of LOD(n) for each of `counts` (ascending, within 1..leaves): the largest
+/// |field - f_j| over every sample, of the mpu field with Hardy's c relative `hardy_c_rel`, as
+/// certified_lod measures it; what `hierarchy --certify` stores in the tree and `info` lists.
+/// `trial(count, error)` after each. InvalidArgument for samples that are not the tree's, counts out
+/// of order or range, a c outside (0, 100]; what make_field throws.
+std::vector<CertifiedError> certify_lod_sizes(const ClusterTree& tree, const PointSet& samples, std::span<const std::uint64_t> counts,
+                                              double hardy_c_rel, int threads, const std::function<void(std::uint64_t, double)>& trial = {});
 
 /// `meshless lod TREE --max-error E --samples INPUT -o OUT`: the tree read, its samples read, the
 /// certified LOD written to `out` (.ply/.csv/.vtp, formats/point_set_writer.hpp) with a comment saying

@@ -352,3 +352,60 @@ TEST_CASE("meshless lod --max-error: within E at every sample, and one point few
     CHECK(bad.err.find("not the tree's") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(d / "bad.ply"));
 }
+
+TEST_CASE("meshless hierarchy --certify: info lists the error of each size, as probe of the lod's points measures it", "[cli][cbt]") {
+    TempDir d("hier_certify");
+    const std::string vol = write_uint8_analytic_volume(d, "ml", AnalyticField::marschner_lobb, 12, 200, 20);
+    const std::string D = d.path.string();
+    REQUIRE(sh("MESHLESS hierarchy " + vol + " -o " + D + "/plain.mlh", d).code == 0);
+    REQUIRE(sh("MESHLESS hierarchy " + vol + " --certify 0.15,0.05,0.05 -o " + D + "/t.mlh --threads 2", d).code == 0);
+    REQUIRE(sh("MESHLESS hierarchy " + vol + " --certify 0.05,0.15 -o " + D + "/t1.mlh --threads 1", d).code == 0);
+    CHECK(slurp(d / "t.mlh") == slurp(d / "t1.mlh"));  // the same bytes for any thread count and order of the sizes
+    const ClusterTree plain = read_cluster_tree_file(D + "/plain.mlh");
+    const ClusterTree t = read_cluster_tree_file(D + "/t.mlh");
+    CHECK(plain.certified.empty());
+    CHECK(cluster_tree_file_version(D + "/plain.mlh") == 2);  // a tree without them stays version 2, byte for byte
+    CHECK(cluster_tree_file_version(D + "/t.mlh") == 3);
+    CHECK(t.nodes.size() == plain.nodes.size());
+    REQUIRE(t.certified.size() == 2);  // 0.05 twice is one size
+    const PointSet samples = point_set_from_volume(vol);
+    for (const CertifiedError& c : t.certified) {
+        CHECK(c.count == static_cast<std::uint64_t>(std::llround((c.count == t.certified[0].count ? 0.05 : 0.15) * samples.size())));
+        CHECK(c.hardy_c_rel == 0.025);  // a weighted tree's LOD c, the one its files carry
+        // oracle: the lod's file read back by probe (the c from its comment) at every sample
+        const std::string lod = D + "/l" + std::to_string(c.count) + ".ply";
+        REQUIRE(sh("MESHLESS lod " + D + "/t.mlh --count " + std::to_string(c.count) + " -o " + lod, d).code == 0);
+        std::string at;
+        for (const Vec3& p : samples.pos) at += std::to_string(p.x) + "," + std::to_string(p.y) + "," + std::to_string(p.z) + "\n";
+        spit(d / "at.csv", at);
+        const auto r = sh("MESHLESS probe " + lod + " --at-file " + D + "/at.csv --max-gap 0", d);
+        REQUIRE(r.code == 0);
+        std::istringstream csv(r.out);
+        std::string line;
+        std::getline(csv, line);
+        double worst = 0;
+        for (std::size_t i = 0; std::getline(csv, line); ++i) {
+            std::istringstream row(line);
+            std::string cell;
+            for (int k = 0; k < 4; ++k) std::getline(row, cell, ',');
+            worst = std::max(worst, std::abs(std::stod(cell) - samples.value[i]));
+        }
+        INFO(c.count << " points");
+        CHECK(worst == Approx(c.max_error).epsilon(1e-6));  // (the CSV prints 7 digits)
+    }
+    const auto info = sh("MESHLESS info " + D + "/t.mlh", d);
+    REQUIRE(info.code == 0);
+    CHECK(info.out.find(".mlh version 3") != std::string::npos);
+    CHECK(info.out.find("certified errors (meshless lod --count N") != std::string::npos);
+    char row[64];
+    std::snprintf(row, sizeof row, "%14.6g", t.certified[1].max_error);
+    CHECK(info.out.find(row) != std::string::npos);
+    CHECK(sh("MESHLESS info " + D + "/plain.mlh", d).out.find("certified errors: none") != std::string::npos);
+    // bad sizes: one line, exit 1, nothing written
+    for (const char* bad : {"0", "1.5", "nan", "0.1,-0.2"}) {
+        const auto r = sh("MESHLESS hierarchy " + vol + " --certify " + bad + " -o " + D + "/bad.mlh", d);
+        CHECK(r.code == 1);
+        CHECK(one_line(r.err));
+        CHECK_FALSE(std::filesystem::exists(d / "bad.mlh"));
+    }
+}

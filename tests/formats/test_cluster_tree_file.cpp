@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -155,7 +157,7 @@ TEST_CASE(".mlh must-fail files, one per defect class", "[formats][cbt]") {
         b[1] = 'X';
         expect(b, "magic", false);
         b = good;
-        put_at<std::uint32_t>(b, 8, 3);
+        put_at<std::uint32_t>(b, 8, 4);
         expect(b, "newer version");
         put_at<std::uint32_t>(b, 8, 0);
         expect(b, "older version");
@@ -262,4 +264,94 @@ TEST_CASE(".mlh writing refuses streams and leaves nothing on failure", "[format
     CHECK_THROWS_AS(write_cluster_tree_file("-", t), InvalidArgument);
     CHECK_THROWS_AS(write_cluster_tree_file("/nonexistent-dir/x.mlh", t), IoError);
     CHECK_FALSE(is_cluster_tree_file("/nonexistent-dir/x.mlh"));
+}
+
+namespace {
+
+/// small_tree with three certified errors (version 3).
+ClusterTree certified_tree() {
+    ClusterTree t = small_tree();
+    t.certified = {{1, INFINITY, 0.025}, {10, 12.5, 0.025}, {61, 0.25, 0.003}};
+    return t;
+}
+
+/// Where the certified table starts in a file of certified_tree(): after the header, the fixed meta and the name.
+constexpr std::size_t kTableAt = 64 + kClusterTreeMetaFixedBytes + 7;  // "density"
+
+}  // namespace
+
+TEST_CASE(".mlh version 3: certified errors round trip, a tree without them stays version 2", "[formats][cbt]") {
+    const ClusterTree t = certified_tree();
+    const std::string b = cluster_tree_bytes(t);
+    CHECK(get_at<std::uint32_t>(b, 8) == 3);
+    CHECK(get_at<std::uint64_t>(b, 24) == kClusterTreeMetaFixedBytes + 7 + 4 + 3 * kClusterTreeCertifiedBytes);
+    CHECK(get_at<std::uint32_t>(cluster_tree_bytes(small_tree()), 8) == 2);
+    const ClusterTree r = parse_cluster_tree_bytes(std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(b.data()), b.size()), "t.mlh");
+    REQUIRE(r.certified.size() == 3);
+    for (std::size_t i = 0; i < 3; ++i) {
+        CHECK(r.certified[i].count == t.certified[i].count);
+        CHECK(r.certified[i].max_error == t.certified[i].max_error);
+        CHECK(r.certified[i].hardy_c_rel == t.certified[i].hardy_c_rel);
+    }
+    CHECK(r.value_name == "density");
+    CHECK(cluster_tree_bytes(r) == b);
+    TempDir d("mlh3");
+    write_cluster_tree_file((d / "t.mlh").string(), t);
+    std::ifstream in(d / "t.mlh", std::ios::binary);
+    CHECK(std::string(std::istreambuf_iterator<char>(in), {}) == b);
+    CHECK(cluster_tree_file_version((d / "t.mlh").string()) == 3);
+    ClusterTree many = small_tree();
+    for (std::uint64_t k = 1; k <= kMaxCertifiedErrors + 1; ++k) many.certified.push_back({k, 1, 0.025});
+    CHECK_THROWS_AS(cluster_tree_bytes(many), InvalidArgument);
+}
+
+TEST_CASE(".mlh version 3 must-fail files: the certified table's defects", "[formats][cbt]") {
+    const std::string good = cluster_tree_bytes(certified_tree());
+    REQUIRE(parse_error(good).empty());
+    auto expect = [&](std::string b, const std::string& what) {
+        fix_crcs(b);
+        const std::string e = parse_error(b);
+        INFO(what << " -> '" << e << "'");
+        CHECK(e.find("t.mlh: offset ") == 0);
+        CHECK(e.find('\n') == std::string::npos);
+        CHECK(e.find(what) != std::string::npos);
+    };
+    const std::size_t entry = kTableAt + 4;  // the first entry
+    std::string b = good;
+    put_at<std::uint32_t>(b, kTableAt, 4);  // one more than the bytes hold
+    expect(b, "do not fill");
+    put_at<std::uint32_t>(b, kTableAt, 65);
+    expect(b, "at most 64");
+    b = good;
+    put_at<std::uint64_t>(b, entry, 0);
+    expect(b, "count 0 outside 1..61");
+    b = good;
+    put_at<std::uint64_t>(b, entry + 2 * 24, 62);  // beyond the leaves
+    expect(b, "count 62 outside 1..61");
+    b = good;
+    put_at<std::uint64_t>(b, entry + 24, 1);  // equal to the one before
+    expect(b, "not ascending");
+    b = good;
+    put_at<double>(b, entry + 24 + 8, -1.0);
+    expect(b, "negative or NaN");
+    put_at<double>(b, entry + 24 + 8, NAN);
+    expect(b, "negative or NaN");
+    b = good;
+    put_at<double>(b, entry + 16, 0.0);
+    expect(b, "Hardy c outside");
+    put_at<double>(b, entry + 16, INFINITY);
+    expect(b, "Hardy c outside");
+    // a name that claims the table's bytes
+    b = good;
+    put_at<std::uint32_t>(b, kTableAt - 7 - 4, 7 + 4 + 3 * 24 + 1);
+    expect(b, "name of");
+    // a version 2 file with the table's bytes: its name does not fill the meta
+    b = good;
+    put_at<std::uint32_t>(b, 8, 2);
+    expect(b, "name of");
+    // a version 3 file without the table
+    b = good.substr(0, kTableAt) + good.substr(kTableAt + 4 + 3 * 24);
+    put_at<std::uint64_t>(b, 24, kClusterTreeMetaFixedBytes + 7);
+    put_at<std::uint64_t>(b, 16, b.size());
+    expect(b, "without its certified error count");
 }
