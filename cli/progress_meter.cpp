@@ -53,9 +53,10 @@ double steady_seconds() {
 
 std::string rate_text(double r) {
     char b[32];
-    if (r >= 1e9) std::snprintf(b, sizeof b, "%.3gG ", r / 1e9);
-    else if (r >= 1e6) std::snprintf(b, sizeof b, "%.3gM ", r / 1e6);
-    else if (r >= 1e3) std::snprintf(b, sizeof b, "%.3gk ", r / 1e3);
+    // thresholds at 999.5 of the smaller unit: %.3g would print 999.7k as "1e+03k"
+    if (r >= 999.5e6) std::snprintf(b, sizeof b, "%.3gG ", r / 1e9);
+    else if (r >= 999.5e3) std::snprintf(b, sizeof b, "%.3gM ", r / 1e6);
+    else if (r >= 999.5) std::snprintf(b, sizeof b, "%.3gk ", r / 1e3);
     else std::snprintf(b, sizeof b, "%.3g ", r);
     return b;
 }

@@ -206,6 +206,9 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
     spec_of.reserve(nodes.capacity());
     std::uint64_t computed = 0;  // splits computed (applied or not)
     std::mutex progress_mutex;   // the progress callback is called by one thread at a time
+    // samples in computed clusters that will not be split (not offerable, or their split was skipped):
+    // with no max_splits to stop the build, the share of the samples that reached their leaf
+    std::atomic<std::uint64_t> settled{offerable(nodes[0].count, nodes[0].error) ? 0 : n};
 
     const std::uint64_t most_splits = std::min<std::uint64_t>(params.max_splits, n - 1);
 
@@ -224,26 +227,32 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
         std::function<void(std::uint32_t, std::uint32_t, const Vec3&, double, double, std::uint32_t&)> visit;
         visit = [&](std::uint32_t start, std::uint32_t count, const Vec3& centre, double mean, double prio,
                     std::uint32_t& slot) {
-            if (slot == kNoSpec) {
+            const bool fresh = slot == kNoSpec;  // computed now (each cluster's samples are settled once)
+            if (fresh) {
                 if (budget.fetch_sub(1, std::memory_order_relaxed) <= 0) return;
                 const std::uint32_t s = alloc();
                 specs[s] = Spec{split(start, count, centre, mean), {kNoSpec, kNoSpec}};
                 const std::uint64_t m = made.fetch_add(1, std::memory_order_relaxed) + 1;
                 if (progress && m % kProgressEvery == 0) {  // one round may be the whole tree: report within it
                     const std::lock_guard<std::mutex> lock(progress_mutex);
-                    progress->splits_done(computed + m);
+                    progress->splits_done(computed + m, settled.load(std::memory_order_relaxed));
                 }
                 slot = s;
             }
             Spec& sp = specs[slot];
-            if (sp.r.skipped) return;
+            if (sp.r.skipped) {
+                if (fresh) settled.fetch_add(count, std::memory_order_relaxed);
+                return;
+            }
             const std::uint32_t cnt[2] = {sp.r.behind, count - sp.r.behind};
             const std::uint32_t st0[2] = {start, start + sp.r.behind};
             bool go[2];
             double pr[2];
             for (int k = 0; k < 2; ++k) {
                 pr[k] = std::min(prio, split_key(sp.r.child[k].error, cnt[k]));
-                go[k] = offerable(cnt[k], sp.r.child[k].error) && pr[k] >= tau;
+                const bool splits = offerable(cnt[k], sp.r.child[k].error);
+                if (!splits && fresh) settled.fetch_add(cnt[k], std::memory_order_relaxed);
+                go[k] = splits && pr[k] >= tau;
             }
             auto child = [&](int k) {
                 visit(st0[k], cnt[k], sp.r.child[k].centre, sp.r.child[k].mean_value, pr[k], sp.child_spec[k]);
@@ -305,7 +314,7 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
             expand_round(tau, static_cast<std::int64_t>(std::min(left, most_splits) + kPadSplits));
             growth = std::max(1.0, static_cast<double>(computed - before) / static_cast<double>(queue.size()));
             ++st.rounds;
-            if (progress) progress->splits_done(computed);
+            if (progress) progress->splits_done(computed, settled.load(std::memory_order_relaxed));
             continue;
         }
         const QueueEntry e = queue.front();

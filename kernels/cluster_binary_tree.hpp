@@ -54,11 +54,14 @@
 namespace meshless {
 
 /// Optional progress callback: called with the splits computed so far (rising; at the end the
-/// splits made plus the few computed in vain), every 1,024 splits and after each round, by one
-/// thread at a time but not always the caller's.
+/// splits made plus the few computed in vain) and the samples settled (in computed clusters that
+/// will not be split: error <= max_error, fewer than min_cluster samples, or a skipped split; all of
+/// them when a build without max_splits ends), every 1,024 splits and after each round, by one
+/// thread at a time but not always the caller's. Settled samples measure a --max-error build, whose
+/// split count is not known in advance.
 struct CbtProgress {
     virtual ~CbtProgress() = default;
-    virtual void splits_done(std::uint64_t splits) = 0;
+    virtual void splits_done(std::uint64_t splits, std::uint64_t settled) = 0;
 };
 
 ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double> value, const CbtParams& params,

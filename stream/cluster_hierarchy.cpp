@@ -23,16 +23,20 @@ double cluster_hierarchy_split_bound(const CbtParams& p, std::size_t samples) {
     return std::min<double>(static_cast<double>(p.max_splits), std::max<double>(1, static_cast<double>(samples) - 1));
 }
 
+bool cluster_hierarchy_counts_settled(const CbtParams& p, std::size_t samples) {
+    return p.max_error > 0 && static_cast<double>(p.max_splits) >= static_cast<double>(samples) - 1;
+}
+
 ClusterTree build_cluster_hierarchy(const PointSet& points, const CbtParams& p, int threads, const std::string& input,
-                                    const std::function<void(std::uint64_t)>& progress) {
+                                    const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
     ClusterTree tree;
     {
         oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
         struct Report final : CbtProgress {
-            const std::function<void(std::uint64_t)>& f;
-            explicit Report(const std::function<void(std::uint64_t)>& fn) : f(fn) {}
-            void splits_done(std::uint64_t splits) override {
-                if (f) f(splits);
+            const std::function<void(std::uint64_t, std::uint64_t)>& f;
+            explicit Report(const std::function<void(std::uint64_t, std::uint64_t)>& fn) : f(fn) {}
+            void splits_done(std::uint64_t splits, std::uint64_t settled) override {
+                if (f) f(splits, settled);
             }
         } report(progress);
         try {

@@ -43,11 +43,16 @@ PointSet read_tree_samples(const TreeSamplesInput& in);
 /// p.max_splits; --max-error may stop sooner): the total of a progress line.
 double cluster_hierarchy_split_bound(const CbtParams& p, std::size_t samples);
 
-/// build_cluster_tree of `points` with at most `threads` workers, progress(splits done) after each
-/// round when given; the tree counts the points' dropped NaN/Inf samples and takes their value name.
+/// Whether a build's progress is better measured in samples settled than in splits: a --max-error
+/// build that no max_splits stops, whose split count is not known in advance (the bound of
+/// cluster_hierarchy_split_bound is a leaf per sample, far above what it makes).
+bool cluster_hierarchy_counts_settled(const CbtParams& p, std::size_t samples);
+
+/// build_cluster_tree of `points` with at most `threads` workers, progress(splits done, samples
+/// settled) after each round and every 1,024 splits when given (kernels/cluster_binary_tree.hpp); the tree counts the points' dropped NaN/Inf samples and takes their value name.
 /// A data error (InvalidArgument "cluster tree: ...") becomes FormatError "INPUT: ...".
 ClusterTree build_cluster_hierarchy(const PointSet& points, const CbtParams& p, int threads, const std::string& input,
-                                    const std::function<void(std::uint64_t)>& progress = {});
+                                    const std::function<void(std::uint64_t, std::uint64_t)>& progress = {});
 
 /// The warnings and notes of a build, one line each without the command's name ("warning: N
 /// samples with NaN/Inf ... dropped", "note: ... a one-node tree").

@@ -91,6 +91,8 @@ TEST_CASE("progress lines: multiblock and scattered isosurfaces, fit and hierarc
     check_progress("MESHLESS isosurface " + D + "/p.csv --iso 12 -o " + D + "/s.ply", "isosurface", "stencils", d);
     check_progress("MESHLESS fit " + D + "/p.csv -o " + D + "/p.mlf", "fit", "local fits", d);
     check_progress("MESHLESS hierarchy " + D + "/p.csv -o " + D + "/p.mlh", "hierarchy", "", d);
+    // a --max-error build makes an unknown number of splits: it counts the samples settled in their leaves
+    check_progress("MESHLESS hierarchy " + D + "/p.csv --max-error 0.5 -o " + D + "/pe.mlh", "hierarchy", "samples", d);
     if (test::reduced_test_sizes()) {  // (the combustor's field takes minutes instrumented: blocks of a small ball)
         const std::string ball = write_uint8_analytic_volume(d, "ball", AnalyticField::sphere, 16, 200.0, 0.0);
         REQUIRE(sh("MESHLESS split " + ball + " --layout overlapping -o " + D + "/b.vtm", d).code == 0);

@@ -32,6 +32,8 @@ TEST_CASE("progress line: percent, rate and ETA", "[cli][progress]") {
     ProgressMeter big("x", "voxels", 4e9, true, 1.0, f, [&] { return now; });
     CHECK(big.line(1e9, 500.0) == "x:  25% 2M voxels/s, ETA 25:00");
     CHECK(big.line(1e9, 3600.0) == "x:  25% 278k voxels/s, ETA 3:00:00");
+    CHECK(big.line(999.7e3, 1.0) == "x:   0% 1M voxels/s, ETA 1:06:40");  // not "1e+03k"
+    CHECK(big.line(999.4e3, 1.0).find(" 999k voxels/s") != std::string::npos);
     std::fclose(f);
 }
 

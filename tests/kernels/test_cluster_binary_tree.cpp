@@ -259,3 +259,35 @@ TEST_CASE("cluster tree: bad and degenerate input", "[kernels][cbt]") {
     p.min_cluster = 1;
     CHECK_THROWS_AS(build_cluster_tree(g.pos, g.value, p), InvalidArgument);
 }
+
+TEST_CASE("cluster tree: progress counts the samples settled in their leaves, all of them when a --max-error build ends", "[kernels][cbt]") {
+    const Samples s = grid(40, 30, 20);
+    struct Record final : CbtProgress {
+        std::vector<std::pair<std::uint64_t, std::uint64_t>> calls;
+        void splits_done(std::uint64_t splits, std::uint64_t settled) override { calls.emplace_back(splits, settled); }
+    };
+    for (int threads : {1, 2}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+        for (const CbtSplitOrder order : {CbtSplitOrder::weighted, CbtSplitOrder::max_error}) {
+            CbtParams p;
+            p.order = order;
+            p.max_error = 20;
+            Record r;
+            const ClusterTree t = build_cluster_tree(s.pos, s.value, p, &r);
+            INFO(threads << " threads, order " << static_cast<int>(order));
+            REQUIRE_FALSE(r.calls.empty());
+            for (std::size_t i = 1; i < r.calls.size(); ++i) {  // both rise
+                CHECK(r.calls[i].first >= r.calls[i - 1].first);
+                CHECK(r.calls[i].second >= r.calls[i - 1].second);
+            }
+            CHECK(r.calls.back().first == t.stats.splits + t.stats.skipped);
+            CHECK(r.calls.back().second == s.pos.size());  // every sample reached its leaf, counted once
+        }
+    }
+    // a root already within max_error is settled from the start
+    CbtParams loose;
+    loose.max_error = 1e9;
+    Record r;
+    (void)build_cluster_tree(s.pos, s.value, loose, &r);
+    for (const auto& c : r.calls) CHECK(c.second == s.pos.size());
+}
