@@ -81,8 +81,9 @@ constexpr const char* kBatchHelp =
            "read or written, and the run goes on.\n"
            "A scheduler's job array splits an archive with --shard K/N: each job converts its share (every\n"
            "volume in exactly one shard, the largest first), the outputs and sidecars those of one run.\n"
-           "Under mpirun -np N, rank K takes the share of --shard K+1/N and rank 0 prints the one summary of\n"
-           "the whole archive (and gives the exit status); the outputs are those of one process.";
+           "Under mpirun -np N, rank 0 deals the volumes to the ranks on request, largest first (a rank asks\n"
+           "for its next when it has finished one), and prints the one summary of the whole archive (and\n"
+           "gives the exit status); the outputs are those of one process.";
 
 /// The run's settings from the options (UsageError for a bad value).
 BatchSettings batch_settings(const Args& a, const ConvertParams& defaults) {
@@ -176,7 +177,7 @@ int cmd_batch(int argc, char** argv) {
         MpiSession mpi(&argc, &argv);
         try {
             if (mpi.rank() != 0) cb.progress = nullptr;
-            const BatchRun run = run_batch_ranks(a.positional()[0], s, cb, mpi);
+            const BatchRun run = run_batch_ranks(a.positional()[0], s, cb, mpi, [&mpi](std::exception_ptr e) { end_mpi_job(mpi, "batch", e); });
             if (mpi.rank() != 0) return kExitOk;
             line.clear();
             print_batch_summary(stdout, run);

@@ -68,8 +68,10 @@ void remove_quietly(const std::string& p) {
 /// one's conversion fraction.
 class ProgressReport {
 public:
-    ProgressReport(const std::function<void(const BatchProgress&)>& report, const std::vector<BatchItem>& items)
-        : report_(report) {
+    /// dealt_share (a dynamic deal): the batch fraction is the share of the archive dealt to any rank.
+    ProgressReport(const std::function<void(const BatchProgress&)>& report, const std::vector<BatchItem>& items,
+                   std::function<double()> dealt_share = {})
+        : report_(report), dealt_share_(std::move(dealt_share)) {
         p_.count = items.size();
         for (const BatchItem& it : items) {
             std::error_code ec;
@@ -92,13 +94,15 @@ public:
         const double cur = p_.index < weight_.size() ? weight_[p_.index] * item_fraction_ : 0;
         p_.what = what;
         p_.fraction = fraction;
-        p_.batch = total_ > 0 ? std::clamp((finished_ + cur) / total_, 0.0, 1.0) : 0;
+        p_.batch = dealt_share_ ? std::clamp(dealt_share_(), 0.0, 1.0)
+                                : total_ > 0 ? std::clamp((finished_ + cur) / total_, 0.0, 1.0) : 0;
         p_.seconds = std::chrono::duration<double>(Clock::now() - start_).count();
         report_(p_);
     }
 
 private:
     const std::function<void(const BatchProgress&)>& report_;
+    std::function<double()> dealt_share_;
     BatchProgress p_;
     std::vector<double> weight_;  ///< per volume: its input bytes (at least 1)
     double total_ = 0, finished_ = 0;
@@ -368,8 +372,13 @@ BatchRun run_batch(const std::string& archive, const BatchSettings& s, const Bat
 
     const std::vector<BatchItem> archive_items =
         is_dir ? list_archive_dir(archive, s.recursive, s.out_dir) : read_manifest(archive, cb.parse_raw);
-    std::vector<BatchItem> items = shard_items(archive_items, s.shard, s.shards);
-    remove_stale_temporaries(plan_outputs(s, items), false);  // (this shard's own: the others may be running)
+    // a shard's volumes, known now; or (a dynamic deal) the whole archive by size, dealt as the run goes
+    std::vector<BatchItem> items = s.deal ? archive_items : shard_items(archive_items, s.shard, s.shards);
+    const std::vector<std::size_t> by_size = s.deal ? size_order(archive_items) : std::vector<std::size_t>{};
+    // every rank of a deal plans the whole archive (the same names collide everywhere); stale temporaries:
+    // a shard sweeps its own (the others may be running), a deal's shard 0 the archive's before its first deal
+    const std::vector<std::string> planned = plan_outputs(s, items);
+    if (!s.deal || s.shard == 0) remove_stale_temporaries(planned, false);
 
     const auto t0 = Clock::now();
     BatchRun run;
@@ -377,17 +386,25 @@ BatchRun run_batch(const std::string& archive, const BatchSettings& s, const Bat
     run.shard = s.shard;
     run.shards = s.shards;
     std::string disk_full;
-    ProgressReport progress(cb.progress, items);
-    for (std::size_t i = 0; i < items.size(); ++i) {
+    ProgressReport progress(cb.progress, items, s.deal ? s.dealt_share : std::function<double()>{});
+    std::size_t next = 0;
+    auto next_item = [&]() -> std::optional<std::size_t> {
+        if (!s.deal) return next < items.size() ? std::optional<std::size_t>(next++) : std::nullopt;
+        const std::optional<std::size_t> pos = s.deal();
+        if (pos && *pos >= by_size.size())
+            throw std::logic_error("batch: the deal gave volume " + std::to_string(*pos) + " of " + std::to_string(by_size.size()));
+        return pos ? std::optional<std::size_t>(by_size[*pos]) : std::nullopt;
+    };
+    while (const std::optional<std::size_t> i = next_item()) {
         if (!disk_full.empty()) {
             BatchItemResult r;
-            r.name = items[i].name;
+            r.name = items[*i].name;
             r.message = "not attempted: " + disk_full;
             run.items.push_back(std::move(r));
             continue;
         }
-        progress.start_item(i, items[i].name);
-        BatchItemResult r = run_item(s, items[i], cb, progress);
+        progress.start_item(*i, items[*i].name);
+        BatchItemResult r = run_item(s, items[*i], cb, progress);
         progress.finish_item();
         disk_full = r.stops_run;
         if (cb.item_done) cb.item_done(r);

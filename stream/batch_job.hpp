@@ -25,6 +25,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,14 @@ struct BatchSettings {
     /// --shard K/N: this run converts the volumes dealt to shard `shard` (0-based) of `shards`
     /// (stream/batch_shard.hpp); shards of one archive may run at once into the same OUT_DIR.
     std::uint32_t shard = 0, shards = 1;
+    /// A dynamic deal (mpirun, stream/batch_ranks.hpp): when set, the run converts the volumes this
+    /// returns — positions in size_order of the archive (stream/batch_shard.hpp), largest first —
+    /// until it returns nullopt, called first after the sweep of temporaries (`shard` 0 sweeps the
+    /// whole archive's, the others none); `shard`/`shards` then name only the lock.
+    std::function<std::optional<std::size_t>()> deal;
+    /// With a deal: the share of the archive's bytes dealt so far, for the progress line (the batch
+    /// fraction is then the run's, not this rank's alone).
+    std::function<double()> dealt_share;
 };
 
 /// An isovalue as output names carry it ("%.9g": "_iso100.5").

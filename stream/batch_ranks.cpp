@@ -4,9 +4,12 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <optional>
 
 #include "kernels/errors.hpp"
 #include "stream/batch_archive.hpp"
+#include "stream/batch_shard.hpp"
+#include "stream/unit_deal.hpp"
 
 namespace meshless {
 
@@ -76,11 +79,45 @@ double as_double(std::uint64_t bits) {
 
 }  // namespace
 
-BatchRun run_batch_ranks(const std::string& archive, BatchSettings s, const BatchCallbacks& cb, MpiSession& mpi) {
+BatchRun run_batch_ranks(const std::string& archive, BatchSettings s, const BatchCallbacks& cb, MpiSession& mpi,
+                         std::function<void(std::exception_ptr)> on_deal_error) {
     if (s.shards != 1) throw InvalidArgument("batch under mpirun deals the volumes to the ranks itself: --shard is for runs without mpirun");
     s.shard = static_cast<std::uint32_t>(mpi.rank());
     s.shards = static_cast<std::uint32_t>(mpi.size());
+    std::error_code ec;
+    const auto listing = [&] {
+        return std::filesystem::is_directory(archive, ec) ? list_archive_dir(archive, s.recursive, s.out_dir)
+                                                          : read_manifest(archive, cb.parse_raw);
+    };
+    MpiChannel channel(mpi);
+    std::optional<UnitDealer> dealer;
+    std::optional<UnitDealService> service;
+    std::vector<double> dealt_bytes;  // rank 0: the archive's bytes in the first k volumes of the size order, k = 0..
+    if (mpi.rank() == 0) {
+        // the first deal, after run_batch checked the archive and swept the temporaries, lists the
+        // archive by size and starts answering the other ranks
+        s.deal = [&]() -> std::optional<std::size_t> {
+            if (!service) {
+                std::vector<std::uint64_t> bytes;
+                const std::vector<BatchItem> items = listing();
+                dealt_bytes.assign(1, 0.0);
+                for (const std::size_t i : size_order(items, &bytes)) dealt_bytes.push_back(dealt_bytes.back() + static_cast<double>(bytes[i]));
+                dealer.emplace(items.size(), mpi.size());
+                service.emplace(channel, *dealer, mpi.size(), on_deal_error);
+            }
+            return dealer->take(0);
+        };
+        s.dealt_share = [&] {
+            if (!dealer || dealt_bytes.back() <= 0) return 0.0;
+            std::size_t k = 0;
+            for (const std::size_t n : dealer->dealt_per_rank()) k += n;
+            return dealt_bytes[std::min(k, dealt_bytes.size() - 1)] / dealt_bytes.back();
+        };
+    } else {
+        s.deal = [&] { return channel.request_unit(); };
+    }
     BatchRun mine = run_batch(archive, s, cb);
+    if (service) service->finish();
     const std::vector<std::byte> all = mpi.allgather(encode(mine));
     if (mpi.rank() != 0) return mine;
     BatchRun run;
@@ -106,10 +143,7 @@ BatchRun run_batch_ranks(const std::string& archive, BatchSettings s, const Batc
         }
     }
     // archive order, as one process lists it (names are distinct: they are the outputs' names)
-    std::error_code ec;
-    const std::vector<BatchItem> listed = std::filesystem::is_directory(archive, ec)
-                                              ? list_archive_dir(archive, s.recursive, s.out_dir)
-                                              : read_manifest(archive, cb.parse_raw);
+    const std::vector<BatchItem> listed = listing();
     std::map<std::string, std::size_t> order;
     for (std::size_t i = 0; i < listed.size(); ++i) order.emplace(listed[i].name, i);
     std::stable_sort(run.items.begin(), run.items.end(), [&](const BatchItemResult& a, const BatchItemResult& b) {

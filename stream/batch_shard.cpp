@@ -23,13 +23,19 @@ std::uint64_t input_bytes(const std::string& path) {
     return ec ? 1 : std::max<std::uint64_t>(1, bytes);
 }
 
-std::vector<BatchItem> shard_items(const std::vector<BatchItem>& items, std::uint32_t k, std::uint32_t n) {
-    if (n <= 1) return items;
+std::vector<std::size_t> size_order(const std::vector<BatchItem>& items, std::vector<std::uint64_t>* bytes_out) {
     std::vector<std::uint64_t> bytes(items.size());
     for (std::size_t i = 0; i < items.size(); ++i) bytes[i] = items[i].error.empty() ? input_bytes(items[i].path) : 1;
     std::vector<std::size_t> order(items.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return bytes[a] > bytes[b]; });
+    if (bytes_out) *bytes_out = std::move(bytes);
+    return order;
+}
+
+std::vector<BatchItem> shard_items(const std::vector<BatchItem>& items, std::uint32_t k, std::uint32_t n) {
+    if (n <= 1) return items;
+    const std::vector<std::size_t> order = size_order(items);
     std::vector<bool> mine(items.size(), false);
     for (std::size_t r = 0; r < order.size(); ++r)
         if (r % n == k) mine[order[r]] = true;

@@ -12,6 +12,11 @@
 
 namespace meshless {
 
+/// The positions of `items` ordered by input size, largest first (ties in archive order): the order
+/// in which shards and the dynamic deal of an MPI launch take them. `bytes` (when given) gets each
+/// item's input bytes (1 for an item with an error), indexed like `items`.
+std::vector<std::size_t> size_order(const std::vector<BatchItem>& items, std::vector<std::uint64_t>* bytes = nullptr);
+
 /// The items of shard `k` (0-based) of `n` (n >= 1, k < n), in archive order.
 std::vector<BatchItem> shard_items(const std::vector<BatchItem>& items, std::uint32_t k, std::uint32_t n);
 

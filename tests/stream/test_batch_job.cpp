@@ -9,6 +9,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <mutex>
+#include <optional>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -16,6 +20,7 @@
 #include "kernels/errors.hpp"
 #include "stream/batch_archive.hpp"
 #include "stream/batch_job.hpp"
+#include "stream/batch_shard.hpp"
 #include "stream/batch_summary.hpp"
 #include "test_paths.hpp"
 
@@ -178,4 +183,71 @@ TEST_CASE("batch output names: volume_stem and batch_iso_name", "[stream][batch]
     CHECK(volume_stem("noext") == "noext");
     CHECK(batch_iso_name(100.5) == "100.5");
     CHECK(batch_iso_name(1.0 / 3) == "0.333333333");
+}
+
+TEST_CASE("batch job: a dynamic deal converts what it is dealt, largest first, two ranks as threads give one run's outputs", "[stream][batch]") {
+    TempDir d("batch-deal");
+    fs::create_directories(d / "arch");
+    // sizes: big (24^3) > b, c, e (16^3) > a short file (a failure)
+    {
+        std::string big(24 * 24 * 24, '\0');
+        for (std::size_t i = 0; i < big.size(); ++i) big[i] = static_cast<char>((i * 7) % 256);
+        write_text(d / "arch" / "big_24x24x24_uint8.raw", big);
+    }
+    for (const char* n : {"b", "c", "e"}) write_ball(d / "arch" / (std::string(n) + "_16x16x16_uint8.raw"));
+    write_text(d / "arch" / "a_16x16x16_uint8.raw", "short");
+    BatchSettings s;
+    s.isos = {100.5};
+    s.out_dir = (d / "one").string();
+    const BatchRun one = run_batch((d / "arch").string(), s, {});
+    REQUIRE(one.items.size() == 5);
+
+    // the deal's order: positions in the size order, taken by two "ranks" (threads) from one counter
+    std::vector<BatchItem> listed = list_archive_dir((d / "arch").string(), false, "");
+    const std::vector<std::size_t> order = size_order(listed);
+    CHECK(listed[order[0]].name == "big_24x24x24_uint8");  // the largest is dealt first
+    CHECK(listed[order.back()].name == "a_16x16x16_uint8");
+    std::mutex m;
+    std::size_t next = 0;
+    std::vector<std::pair<int, std::size_t>> dealt;
+    auto deal_to = [&](int rank) {
+        return [&, rank]() -> std::optional<std::size_t> {
+            std::lock_guard lock(m);
+            if (next >= order.size()) return std::nullopt;
+            dealt.emplace_back(rank, next);
+            return next++;
+        };
+    };
+    BatchRun runs[2];
+    {
+        std::vector<std::jthread> ranks;
+        for (int r = 0; r < 2; ++r)
+            ranks.emplace_back([&, r] {
+                BatchSettings t = s;
+                t.out_dir = (d / "two").string();
+                t.shard = static_cast<std::uint32_t>(r);
+                t.shards = 2;
+                t.deal = deal_to(r);
+                runs[r] = run_batch((d / "arch").string(), t, {});
+            });
+    }
+    CHECK(dealt.size() == 5);
+    CHECK(runs[0].items.size() + runs[1].items.size() == 5);
+    std::vector<std::string> names;
+    for (const BatchRun& r : runs)
+        for (const BatchItemResult& x : r.items) names.push_back(x.name);
+    std::sort(names.begin(), names.end());
+    CHECK(std::adjacent_find(names.begin(), names.end()) == names.end());  // each volume converted once
+    for (const auto& e : fs::directory_iterator(d / "one")) {
+        if (e.path().extension() != ".ply" && e.path().extension() != ".mlb") continue;
+        INFO(e.path().filename());
+        REQUIRE(fs::exists(d / "two" / e.path().filename()));
+        std::ifstream a(e.path(), std::ios::binary), b(d / "two" / e.path().filename(), std::ios::binary);
+        CHECK(std::string(std::istreambuf_iterator<char>(a), {}) == std::string(std::istreambuf_iterator<char>(b), {}));
+    }
+    // a deal beyond the archive is a programming error
+    BatchSettings bad = s;
+    bad.out_dir = (d / "bad").string();
+    bad.deal = [calls = 0]() mutable -> std::optional<std::size_t> { return calls++ == 0 ? std::optional<std::size_t>(99) : std::nullopt; };
+    CHECK_THROWS_AS(run_batch((d / "arch").string(), bad, {}), std::logic_error);
 }
