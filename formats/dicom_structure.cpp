@@ -122,12 +122,19 @@ private:
                          std::to_string(end > h.value_at ? end - h.value_at : 0) + " are left");
     }
 
+    // Past an item or sequence delimiter, whose length must be 0 (PS3.5 7.5): GDCM allocates a value
+    // of the length it claims (fuzz_dicom: 2 GiB from a 12-byte delimiter).
+    std::uint64_t delimiter_end(std::uint64_t at, const Header& h) {
+        if (h.length != 0) fail(at, "delimiter " + tag_text(h) + " with a length of " + std::to_string(h.length) + " (0 expected)");
+        return h.value_at;
+    }
+
     // Elements in [at, end); in an undefined-length item, up to and past its delimiter (returned).
     std::uint64_t walk(std::uint64_t at, std::uint64_t end, bool explicit_vr, bool big, int depth, bool in_undefined_item) {
         while (at < end) {
             const Header h = header(at, explicit_vr, big);
             if (h.group == 0xfffe) {
-                if (in_undefined_item && h.element == 0xe00d) return h.value_at;
+                if (in_undefined_item && h.element == 0xe00d) return delimiter_end(at, h);
                 fail(at, "item tag " + tag_text(h) + " outside a sequence");
             }
             const std::string_view vr(h.vr, h.vr[0] ? 2 : 0);
@@ -158,7 +165,7 @@ private:
         for (;;) {
             const Header h = header(at, false, big);
             if (h.group != 0xfffe) fail(at, "expected an item in a sequence, found " + tag_text(h));
-            if (h.element == 0xe0dd) return h.value_at;
+            if (h.element == 0xe0dd) return delimiter_end(at, h);
             if (h.element != 0xe000) fail(at, "unexpected " + tag_text(h) + " in a sequence");
             if (h.length == kUndefined) {
                 if (pixel) fail(at, "a pixel data fragment of undefined length");

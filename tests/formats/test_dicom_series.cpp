@@ -5,6 +5,8 @@
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "dicom_test_data.hpp"
 #include "error_of.hpp"
@@ -223,5 +225,35 @@ TEST_CASE("dicom: a slice cut at any byte is refused, never aborts inside GDCM",
         fs::remove_all(d);
     }
     CHECK(refused > 800);
+}
+#endif
+
+#if MESHLESS_DICOM
+// GDCM allocates a value of the length a delimiter claims (fuzz_dicom: 2 GiB from the sequence delimiter
+// that ends encapsulated pixel data): a delimiter's length must be 0, checked before GDCM reads the file.
+TEST_CASE("dicom: a delimiter with a length is refused before GDCM allocates it", "[formats][dicom]") {
+    TempDir dir("dicom-delim");
+    const auto r = make_dicom_case("rle", dir);
+    if (!r) return;
+    const fs::path slice = *r / "rle" / "slice0000.dcm";
+    std::string bytes;
+    {
+        std::ifstream in(slice, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    // the encapsulated pixel data ends with the sequence delimiter (FFFE,E0DD) and its zero length
+    REQUIRE(bytes.size() > 8);
+    REQUIRE(bytes.compare(bytes.size() - 8, 8, std::string("\xfe\xff\xdd\xe0\0\0\0\0", 8)) == 0);
+    bytes.replace(bytes.size() - 4, 4, std::string("\xff\xff\x7f\x7f", 4));
+    const fs::path bad = dir / "bad";
+    fs::create_directories(bad);
+    {
+        std::ofstream out(bad / "s.dcm", std::ios::binary);
+        out << bytes;
+    }
+    const std::string e = error_of([&] { probe_volume((bad / "s.dcm").string()); });
+    CHECK(e.rfind((bad / "s.dcm").string() + ": ", 0) == 0);
+    CHECK(e.find("delimiter (FFFE,E0DD) with a length of 2139095039 (0 expected)") != std::string::npos);
+    CHECK(e.find('\n') == std::string::npos);
 }
 #endif
