@@ -165,23 +165,32 @@ int cmd_hierarchy(int argc, char** argv) {
         meter.set_fraction(static_cast<double>(settled ? done : splits) / meter.total());
     });
     meter.done();
+    double certify_s = 0;
     if (auto c = a.get("certify")) {
-        const std::vector<std::uint64_t> counts = certify_counts(tree, parse_finite_list(*c, "--certify", kMaxCertifiedErrors));
+        const auto tc = std::chrono::steady_clock::now();
+        const std::vector<double> fractions = parse_finite_list(*c, "--certify", kMaxCertifiedErrors);
+        const std::vector<std::uint64_t> counts = certify_counts(tree, fractions);
+        if (counts.size() < fractions.size())
+            std::fprintf(stderr, "meshless hierarchy: note: --certify: %zu fractions give %zu distinct sizes of at most %llu points (the tree's leaves)\n",
+                         fractions.size(), counts.size(), static_cast<unsigned long long>(tree.stats.splits + 1));
         ProgressMeter sizes = ProgressMeter::of(a, "certified sizes", static_cast<double>(counts.size()));
         tree.certified = certify_lod_sizes(tree, points, counts, lod_hardy_c_rel(p.order == CbtSplitOrder::max_error), nthreads,
                                            [&](std::uint64_t, double) { sizes.add(1); });
         sizes.done();
+        certify_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tc).count();
     }
     const auto t1 = std::chrono::steady_clock::now();
     write_cluster_tree_file(out, tree);
     const double write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     for (const std::string& note : cluster_hierarchy_notes(tree, p)) std::fprintf(stderr, "meshless hierarchy: %s\n", note.c_str());
     if (a.has("stats")) std::fprintf(stderr, "%s\n", cluster_hierarchy_report(tree, p, nthreads, read_s, write_s).c_str());
+    if (a.has("stats") && !tree.certified.empty())
+        std::fprintf(stderr, "hierarchy: certified %zu level-of-detail sizes at every sample in %.3f s\n", tree.certified.size(), certify_s);
     return 0;
 }
 
 int cmd_lod(int argc, char** argv) {
-    Args a("lod", "tree.mlh (--count N | --fraction F | --level L | --error E) -o lod.ply|lod.csv|lod.vtp",
+    Args a("lod", "tree.mlh (--count N | --fraction F | --level L | --error E | --max-error E --samples INPUT) -o lod.ply|lod.csv|lod.vtp",
            "Extracts a level of detail from a cluster binary tree: the clusters left after the refinement's\n"
            "first N - 1 splits (--count N, or --fraction F of the samples: the size the tree was refined\n"
            "best to), or (dissertation section 6.4) a depth-first traversal taking the clusters at depth L\n"
@@ -196,8 +205,10 @@ int cmd_lod(int argc, char** argv) {
         .option("count", "", "N", "the N clusters left after the first N - 1 splits, N >= 1")
         .option("fraction", "", "F", "the same for N = F x the samples (rounded, at least 1), 0 < F <= 1")
         .validate(in_range("--fraction", 0, false, 1))
-        .option("max-error", "", "E", "certified: the smallest level of detail (by count) whose field is within E >= 0 of every\n"
-                "sample of --samples (checked at each; bisection over the count)")
+        .option("max-error", "", "E", "certified: a level of detail (by count) whose field is within E >= 0 of every sample of\n"
+                "--samples (checked at each), found by bisection over the count: one point fewer misses E, a smaller\n"
+                "one may exist where the error does not fall with the count; a size the tree certified (hierarchy\n"
+                "--certify) within E bounds the search. Unreachable: a warning and the finest level of detail")
         .option("samples", "", "INPUT", "--max-error: the data the tree was built from (as given to hierarchy)")
         .option("hardy-c", "", "C", "--max-error: the mpu field's Hardy c relative to the bounding-box diagonal, in (0, 100]\n"
                 "(default: a level of detail's, as its readers use it: 0.003 for a max-error tree, else 0.025)")
@@ -207,6 +218,7 @@ int cmd_lod(int argc, char** argv) {
         .flag("stats", "print the LOD's size and the extraction time to stderr");
     add_sample_options(a);
     add_thread_option(a);
+    add_quiet_option(a);
     a.positionals(1, 1);
     if (!a.parse(argc, argv, 2)) return 0;
     const std::string out = a.require("output");

@@ -48,7 +48,7 @@ void add_field_options(Args& a, bool with_coverage, const std::string& default_k
         .option("alpha", "", "A", "mpu: sphere of influence = A x node diagonal, in (0.5, 4]; the octree and its fits grow "
                                   "as A^3 and must fit in memory", "0.75")
         .option("hardy-c", "", "C", "Hardy's multiquadric constant relative to the bounding-box diagonal, in (0, 100] "
-                                     "(0.003 for a .mlh level of detail)", "0.025")
+                                     "(a level of detail of a max-error .mlh tree: 0.003)", "0.025")
         .validate(in_range("--hardy-c", 0, false, 100))
         .option("hardy-c-world", "", "C", "Hardy's constant in world units, in (0, 1e150] (overrides --hardy-c)")
         .validate(in_range("--hardy-c-world", 0, false, 1e150))

@@ -119,7 +119,8 @@ void describe_cluster_tree(const std::string& path, std::FILE* out) {
         std::fprintf(out, "  certified errors: none (meshless hierarchy --certify F1,F2,... stores them)\n");
         return;
     }
-    std::fprintf(out, "  certified errors (meshless lod --count N: the mpu field of its points at every sample):\n"
+    std::fprintf(out, "  certified errors (meshless lod --count N: the mpu field of its points at every sample; inf: the field is\n"
+                      "  undefined at some sample, or the level of detail has fewer than 4 distinct points):\n"
                       "    %12s %9s %14s %9s\n", "points", "% samples", "max error", "Hardy c");
     for (const CertifiedError& c : t.certified)
         std::fprintf(out, "    %12" PRIu64 " %8.2f%% %14.6g %9g\n", c.count, 100.0 * static_cast<double>(c.count) / static_cast<double>(s.samples),

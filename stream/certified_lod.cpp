@@ -83,7 +83,7 @@ double lod_error(const ClusterTree& tree, const PointSet& finite, std::uint64_t 
 }  // namespace
 
 CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, double max_error, const FieldParams& field, int threads,
-                           const std::function<void(std::uint64_t, double)>& trial) {
+                           const std::function<void(std::uint64_t, double)>& trial, std::optional<CertifiedError> known) {
     if (!std::isfinite(max_error) || max_error < 0) throw InvalidArgument("certified LOD: the error must be a finite number >= 0");
     // the samples the tree was built from: the same count of finite samples and the same bounds
     const PointSet finite = tree_samples_checked(tree, samples);
@@ -98,8 +98,16 @@ CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, dou
     };
     const std::uint64_t leaves = tree.stats.splits + 1;
     PointSet best;
-    double best_error = error_of(leaves, best);
+    double best_error = 0;
     std::uint64_t lo = 1, hi = leaves;
+    if (known && known->max_error <= max_error && known->count >= 1 && known->count <= leaves) {
+        // a size certified within E already: the search runs below it, the finest need not be tried
+        hi = known->count;
+        best = lod_point_set(tree.nodes, LodMode::count, static_cast<double>(hi), tree.value_name);
+        best_error = known->max_error;
+    } else {
+        best_error = error_of(leaves, best);
+    }
     if (best_error <= max_error) {
         while (lo < hi) {
             const std::uint64_t mid = lo + (hi - lo) / 2;
@@ -165,12 +173,19 @@ CertifiedLod run_certified_lod_job(const CertifiedLodJob& job) {
     const std::string& samples_path = job.samples.paths.front();
     const auto t0 = std::chrono::steady_clock::now();
     const double expected = std::log2(static_cast<double>(t.stats.splits + 1)) + 2;
+    // the smallest size the tree certified within E with this field, if any (hierarchy --certify)
+    std::optional<CertifiedError> known;
+    for (const CertifiedError& e : t.certified)
+        if (e.hardy_c_rel == fp.hardy_c_rel && e.max_error <= job.max_error) {
+            known = e;
+            break;
+        }
     CertifiedLod c;
     int trials = 0;
     try {
         c = certified_lod(t, samples, job.max_error, fp, job.threads, [&](std::uint64_t, double) {
             if (job.progress) job.progress(++trials, expected);
-        });
+        }, known);
     } catch (const InvalidArgument& x) {
         throw FormatError(samples_path + ": " + x.what() + " (" + job.tree_path + ")");
     }

@@ -37,9 +37,12 @@ struct CertifiedLod {
     std::uint64_t samples = 0;    ///< samples checked per trial
 };
 
-/// `trial(count, max_error)` is called after each trial (progress, --stats).
+/// `trial(count, max_error)` is called after each trial (progress, --stats). `known`: a size already
+/// certified within max_error with this `field` (a tree's certificate, certify_lod_sizes): the
+/// bisection then runs in [1, known.count] and the finest LOD is not tried.
 CertifiedLod certified_lod(const ClusterTree& tree, const PointSet& samples, double max_error, const FieldParams& field, int threads,
-                           const std::function<void(std::uint64_t, double)>& trial = {});
+                           const std::function<void(std::uint64_t, double)>& trial = {},
+                           std::optional<CertifiedError> known = std::nullopt);
 
 /// The LOD counts of `fractions` of the tree's samples (rounded, at least 1, at most the leaves),
 /// ascending without repeats. InvalidArgument for a fraction outside (0, 1] or more than

@@ -401,6 +401,17 @@ TEST_CASE("meshless hierarchy --certify: info lists the error of each size, as p
     std::snprintf(row, sizeof row, "%14.6g", t.certified[1].max_error);
     CHECK(info.out.find(row) != std::string::npos);
     CHECK(sh("MESHLESS info " + D + "/plain.mlh", d).out.find("certified errors: none") != std::string::npos);
+    // lod --max-error at a certified error: the certified size bounds the search (never a larger LOD)
+    {
+        const CertifiedError& c = t.certified[0];
+        char e[64];
+        std::snprintf(e, sizeof e, "%.17g", c.max_error);
+        const auto r = sh("MESHLESS lod " + D + "/t.mlh --max-error " + e + " --samples " + vol + " -o " + D + "/c.ply --stats", d);
+        REQUIRE(r.code == 0);
+        const auto at = r.err.find("t.mlh: ");
+        REQUIRE(at != std::string::npos);
+        CHECK(std::stoull(r.err.substr(at + 7)) <= c.count);
+    }
     // bad sizes: one line, exit 1, nothing written
     for (const char* bad : {"0", "1.5", "nan", "0.1,-0.2"}) {
         const auto r = sh("MESHLESS hierarchy " + vol + " --certify " + bad + " -o " + D + "/bad.mlh", d);
