@@ -157,12 +157,12 @@ int cmd_hierarchy(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     const PointSet points = read_tree_samples(tree_samples_input(a, a.positional()));
     const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // a --max-error build makes an unknown number of splits: its progress is the samples that reached their leaf
+    // a --max-error build makes an unknown number of splits: its progress counts the samples that reached their leaf
     const bool settled = cluster_hierarchy_counts_settled(p, points.size());
     ProgressMeter meter = settled ? ProgressMeter::of(a, "samples", static_cast<double>(points.size()))
                                   : ProgressMeter::of(a, "splits", cluster_hierarchy_split_bound(p, points.size()));
-    ClusterTree tree = build_cluster_hierarchy(points, p, nthreads, a.positional().front(), [&](std::uint64_t splits, std::uint64_t done) {
-        meter.set_fraction(static_cast<double>(settled ? done : splits) / meter.total());
+    ClusterTree tree = build_cluster_hierarchy(points, p, nthreads, a.positional().front(), [&](const CbtProgressReport& b) {
+        meter.set_fraction(cluster_hierarchy_progress(p, points.size(), b));
     });
     meter.done();
     double certify_s = 0;

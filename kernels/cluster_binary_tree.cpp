@@ -209,6 +209,7 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
     // samples in computed clusters that will not be split (not offerable, or their split was skipped):
     // with no max_splits to stop the build, the share of the samples that reached their leaf
     std::atomic<std::uint64_t> settled{offerable(nodes[0].count, nodes[0].error) ? 0 : n};
+    std::atomic<std::uint64_t> work{0};  // samples the computed splits took
 
     const std::uint64_t most_splits = std::min<std::uint64_t>(params.max_splits, n - 1);
 
@@ -232,10 +233,11 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
                 if (budget.fetch_sub(1, std::memory_order_relaxed) <= 0) return;
                 const std::uint32_t s = alloc();
                 specs[s] = Spec{split(start, count, centre, mean), {kNoSpec, kNoSpec}};
+                work.fetch_add(count, std::memory_order_relaxed);
                 const std::uint64_t m = made.fetch_add(1, std::memory_order_relaxed) + 1;
                 if (progress && m % kProgressEvery == 0) {  // one round may be the whole tree: report within it
                     const std::lock_guard<std::mutex> lock(progress_mutex);
-                    progress->splits_done(computed + m, settled.load(std::memory_order_relaxed));
+                    progress->splits_done({computed + m, settled.load(std::memory_order_relaxed), st.splits, work.load(std::memory_order_relaxed)});
                 }
                 slot = s;
             }
@@ -314,7 +316,7 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
             expand_round(tau, static_cast<std::int64_t>(std::min(left, most_splits) + kPadSplits));
             growth = std::max(1.0, static_cast<double>(computed - before) / static_cast<double>(queue.size()));
             ++st.rounds;
-            if (progress) progress->splits_done(computed, settled.load(std::memory_order_relaxed));
+            if (progress) progress->splits_done({computed, settled.load(std::memory_order_relaxed), st.splits, work.load(std::memory_order_relaxed)});
             continue;
         }
         const QueueEntry e = queue.front();
@@ -335,10 +337,12 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
         spec_of.push_back(sp.child_spec[1]);
         nodes[e.node].child = a;
         ++st.splits;
+        if (progress && st.splits % kProgressEvery == 0) progress->splits_done({computed, settled.load(std::memory_order_relaxed), st.splits, work.load(std::memory_order_relaxed)});
         st.depth = std::max(st.depth, depth);
         offer(a, e.prio);
         offer(b, e.prio);
     }
+    if (progress) progress->splits_done({computed, settled.load(std::memory_order_relaxed), st.splits, work.load(std::memory_order_relaxed)});
     st.speculative_unused = computed - st.splits - st.skipped;
     st.error_reached = 0;
     for (const CbtNode& d : nodes)

@@ -3,6 +3,7 @@
 #include <oneapi/tbb/global_control.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
@@ -27,16 +28,27 @@ bool cluster_hierarchy_counts_settled(const CbtParams& p, std::size_t samples) {
     return p.max_error > 0 && static_cast<double>(p.max_splits) >= static_cast<double>(samples) - 1;
 }
 
+double cluster_hierarchy_progress(const CbtParams& p, std::size_t samples, const CbtProgressReport& b) {
+    const double bound = cluster_hierarchy_split_bound(p, samples);
+    if (cluster_hierarchy_counts_settled(p, samples)) {
+        const double settled = samples > 0 ? static_cast<double>(b.settled) / static_cast<double>(samples) : 1;
+        const double applied = b.computed > 0 ? static_cast<double>(b.applied) / static_cast<double>(b.computed) : 0;
+        return std::clamp(0.5 * settled + 0.5 * applied, 0.0, 1.0);
+    }
+    const double work = static_cast<double>(samples) * std::log2(bound + 1);
+    return std::clamp(0.5 * std::min(1.0, static_cast<double>(b.work) / work) + 0.5 * static_cast<double>(b.applied) / bound, 0.0, 1.0);
+}
+
 ClusterTree build_cluster_hierarchy(const PointSet& points, const CbtParams& p, int threads, const std::string& input,
-                                    const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
+                                    const std::function<void(const CbtProgressReport&)>& progress) {
     ClusterTree tree;
     {
         oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
         struct Report final : CbtProgress {
-            const std::function<void(std::uint64_t, std::uint64_t)>& f;
-            explicit Report(const std::function<void(std::uint64_t, std::uint64_t)>& fn) : f(fn) {}
-            void splits_done(std::uint64_t splits, std::uint64_t settled) override {
-                if (f) f(splits, settled);
+            const std::function<void(const CbtProgressReport&)>& f;
+            explicit Report(const std::function<void(const CbtProgressReport&)>& fn) : f(fn) {}
+            void splits_done(const CbtProgressReport& r) override {
+                if (f) f(r);
             }
         } report(progress);
         try {

@@ -48,11 +48,17 @@ double cluster_hierarchy_split_bound(const CbtParams& p, std::size_t samples);
 /// cluster_hierarchy_split_bound is a leaf per sample, far above what it makes).
 bool cluster_hierarchy_counts_settled(const CbtParams& p, std::size_t samples);
 
-/// build_cluster_tree of `points` with at most `threads` workers, progress(splits done, samples
-/// settled) after each round and every 1,024 splits when given (kernels/cluster_binary_tree.hpp); the tree counts the points' dropped NaN/Inf samples and takes their value name.
+/// The fraction of a build done, 0..1, for a progress line: computing the splits and applying them
+/// weighed equally (they take about equal time); computing measured in samples settled when
+/// cluster_hierarchy_counts_settled, else in the samples the splits took of about samples x
+/// log2(bound + 1) (a balanced tree's), applying in splits of those computed (of the bound).
+double cluster_hierarchy_progress(const CbtParams& p, std::size_t samples, const CbtProgressReport& b);
+
+/// build_cluster_tree of `points` with at most `threads` workers, progress(report) after each round
+/// and every 1,024 splits computed or applied when given (kernels/cluster_binary_tree.hpp); the tree counts the points' dropped NaN/Inf samples and takes their value name.
 /// A data error (InvalidArgument "cluster tree: ...") becomes FormatError "INPUT: ...".
 ClusterTree build_cluster_hierarchy(const PointSet& points, const CbtParams& p, int threads, const std::string& input,
-                                    const std::function<void(std::uint64_t, std::uint64_t)>& progress = {});
+                                    const std::function<void(const CbtProgressReport&)>& progress = {});
 
 /// The warnings and notes of a build, one line each without the command's name ("warning: N
 /// samples with NaN/Inf ... dropped", "note: ... a one-node tree").

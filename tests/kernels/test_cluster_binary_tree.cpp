@@ -264,7 +264,16 @@ TEST_CASE("cluster tree: progress counts the samples settled in their leaves, al
     const Samples s = grid(40, 30, 20);
     struct Record final : CbtProgress {
         std::vector<std::pair<std::uint64_t, std::uint64_t>> calls;
-        void splits_done(std::uint64_t splits, std::uint64_t settled) override { calls.emplace_back(splits, settled); }
+        std::uint64_t applied = 0;
+        std::uint64_t work = 0;
+        void splits_done(const CbtProgressReport& r) override {
+            calls.emplace_back(r.computed, r.settled);
+            CHECK(r.applied >= applied);  // rises
+            CHECK(r.applied <= r.computed);   // never more applied than computed
+            CHECK(r.work >= work);
+            applied = r.applied;
+            work = r.work;
+        }
     };
     for (int threads : {1, 2}) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
@@ -282,6 +291,11 @@ TEST_CASE("cluster tree: progress counts the samples settled in their leaves, al
             }
             CHECK(r.calls.back().first == t.stats.splits + t.stats.skipped);
             CHECK(r.calls.back().second == s.pos.size());  // every sample reached its leaf, counted once
+            CHECK(r.applied == t.stats.splits);  // the last report: every split applied
+            // the work: every computed split's samples, the sum over the inner nodes' counts
+            std::uint64_t inner = 0;
+            for (const CbtNode& nd : t.nodes) inner += nd.leaf() && !(nd.flags & kCbtSkippedSplit) ? 0 : nd.count;
+            CHECK(r.work == inner);
         }
     }
     // a root already within max_error is settled from the start
