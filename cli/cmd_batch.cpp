@@ -62,6 +62,17 @@ RawOptions manifest_raw_options(const std::vector<std::string>& options) {
     }
 }
 
+/// The summary on stdout and the exit status of a run: 2 when a volume failed, 4 with --fail-empty when
+/// an isovalue gave an empty point set or the archive holds no volume (warned on stderr), else 0.
+int batch_result(const Args& a, const BatchRun& run) {
+    print_batch_summary(stdout, run);
+    if (run.archive_count == 0)
+        std::fprintf(stderr, "meshless batch: warning: %s: no volumes (a folder's volume files, or a manifest's paths)\n",
+                     terminal_safe(a.positional()[0]).c_str());
+    if (run.any_failed()) return kExitData;
+    return (run.any_empty() || run.archive_count == 0) && a.has("fail-empty") ? kExitEmpty : kExitOk;
+}
+
 /// batch --help: the nightly job.
 constexpr const char* kBatchHelp =
            "The nightly job: converts every volume of an archive to a brick store OUT_DIR/NAME.mlb and\n"
@@ -159,7 +170,7 @@ int cmd_batch(int argc, char** argv) {
     a.epilog("examples: meshless batch ../shared/data/fuel -o out --iso 20.5 --iso 100.5\n"
              "          meshless batch archive.txt -o /data/points --iso 500 --formats ply,stream --memory 1G\n"
              "exit status: 0 everything done or up to date, 2 some volume failed or was refused (see the table), 1 usage error,\n"
-             "             4 (with --fail-empty, none failed) some isovalue gave an empty point set.\n");
+             "             4 (with --fail-empty, none failed) some isovalue gave an empty point set, or the archive holds no volume.\n");
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.positional().empty()) throw UsageError("missing ARCHIVE_DIR or MANIFEST (see meshless batch --help)");
 
@@ -180,17 +191,12 @@ int cmd_batch(int argc, char** argv) {
             const BatchRun run = run_batch_ranks(a.positional()[0], s, cb, mpi, [&mpi](std::exception_ptr e) { end_mpi_job(mpi, "batch", e); });
             if (mpi.rank() != 0) return kExitOk;
             line.clear();
-            print_batch_summary(stdout, run);
-            if (run.any_failed()) return kExitData;
-            return run.any_empty() && a.has("fail-empty") ? kExitEmpty : kExitOk;
+            return batch_result(a, run);
         } catch (const std::exception& e) {
             end_mpi_job(mpi, "batch", e);
         }
     }
-    const BatchRun run = run_batch(a.positional()[0], s, cb);
-    print_batch_summary(stdout, run);
-    if (run.any_failed()) return kExitData;
-    return run.any_empty() && a.has("fail-empty") ? kExitEmpty : kExitOk;
+    return batch_result(a, run_batch(a.positional()[0], s, cb));
 }
 
 }  // namespace meshless::cli

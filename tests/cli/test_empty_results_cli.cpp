@@ -86,6 +86,12 @@ TEST_CASE("batch: the summary counts empty point sets, --fail-empty exits 4, a f
     // a failed volume beside it: 2
     spit(d.path / "a" / "bad_8x8x8_uint8.raw", "short");
     CHECK(sh("MESHLESS batch " + D + "a -o " + D + "out --iso 100.5 --iso 300 --quiet --fail-empty", d).code == 2);
+    // an archive without volumes: a warning naming it, exit 0, or 4 with --fail-empty
+    std::filesystem::create_directories(d.path / "none");
+    const auto none = sh("MESHLESS batch " + D + "none -o " + D + "out2 --iso 100.5 --quiet", d);
+    CHECK(none.code == 0);
+    CHECK(none.err.find("meshless batch: warning: " + D + "none: no volumes") != std::string::npos);
+    CHECK(sh("MESHLESS batch " + D + "none -o " + D + "out2 --iso 100.5 --quiet --fail-empty", d).code == 4);
 }
 
 TEST_CASE("render of an isosurface's points warns that the picture is all background", "[cli][empty][render]") {
