@@ -73,6 +73,11 @@ int cmd_isosurface(int argc, char** argv) {
         .option("output", "o", "FILE", "point set output (.ply binary PLY, .vtp VTK XML PolyData; '-' for stdout)")
         .option("png", "", "FILE", "also render the points to this PNG")
         .option("projection", "", "MODE", "approx (one Newton step, Eq. 3.5) | exact (ray-trilinear cubic, Eq. 3.3) | none", "approx")
+        .option("color-by", "", "ARRAY",
+                "colour by another array of the volume (of a .vti, VTK legacy or vtk.js file; an HDF5 dataset's path):\n"
+                "each point's value becomes ARRAY's trilinear value at the point, written to the point set\n"
+                "(its comments name the array) and mapped by --png over ARRAY's range (or --range); the\n"
+                "array is read whole into memory. One process, a volume (not a sample store)")
         .flag("stats", "print counts (active cells, discarded samples) and timing to stderr");
     add_fail_empty_option(a);
     add_geometry_format_option(a);
@@ -114,7 +119,11 @@ int cmd_isosurface(int argc, char** argv) {
     // (the range without --range: the volume's, set by the job once it is read; the MPI and sample-store
     // paths map the isovalue to the middle of the colour map)
     // Several isovalues: each surface its colour by default, the colour map spanning the isovalues
-    if (!j.isos.empty()) {
+    if (const auto name = a.get("color-by")) {  // the array's values: mapped over its range, set by the job
+        if (name->empty()) throw UsageError("--color-by: expected the name of an array (meshless info lists them)");
+        apply_color(j.rs, color_by(cc, ColorBy::value), cc, cc.range ? *cc.range : std::array<double, 2>{0, 1});
+        j.range_given = cc.range.has_value();
+    } else if (!j.isos.empty()) {
         const auto [lo, hi] = std::minmax_element(j.isos.begin(), j.isos.end());
         apply_color(j.rs, color_by(cc, ColorBy::value), cc, cc.range ? *cc.range : std::array<double, 2>{*lo, *hi});
         j.range_given = true;
@@ -134,6 +143,7 @@ int cmd_isosurface(int argc, char** argv) {
 
     if (launched_world_size() > 1) {
         single_iso(a, "runs under mpirun");
+        if (a.has("color-by")) throw UsageError("--color-by runs in one process, not under mpirun");
         if (!a.positional().empty() && is_sample_store(a.positional()[0]))
             throw UsageError(a.positional()[0] + ": MPI runs need a brick store (.mlb); a sample store (.mls) runs in one "
                              "process (meshless isosurface STORE.mls, or its .mlb under mpirun)");
@@ -148,10 +158,16 @@ int cmd_isosurface(int argc, char** argv) {
         return 0;
     }
     if (!a.positional().empty() && is_sample_store(a.positional()[0])) {
+        if (a.has("color-by")) throw UsageError("--color-by: " + a.positional()[0] + " is a sample store, which holds one array (give the volume itself)");
         const std::size_t points = run_isosplat_sample_store_job(j, a.positional()[0]);
         return empty_result_exit(a, points, "points", j.iso, a.positional()[0], warned);
     }
     VolumeInput in = open_volume_input(a, /*stream=*/true);
+    if (const auto name = a.get("color-by")) {
+        VolumeOpenOptions o = volume_open_options(a, false);
+        o.raw.array = *name;
+        j.color_by = std::make_shared<const ColorByArray>(ColorByArray{*name, load_volume(in.path, o)});
+    }
     const std::size_t points = run_isosplat_job(j, in);
     return empty_result_exit(a, points, "points", j.iso, in.path, warned);
 }

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
 
 #include "kernels/errors.hpp"
 #include "ooc/sample_store.hpp"
+#include "stream/color_by_stage.hpp"
 #include "stream/iso_range_warning.hpp"
 #include "stream/sample_store_source.hpp"
 #include "stream/stream_metadata.hpp"
@@ -102,6 +105,29 @@ void print_each_isovalue(const IsosplatJob& j, const std::string& path, const st
         print_isosplat_stats(j.stats, path, isos[i], j.mode, r[i], isos.size() > 1 ? counts[i] : points, j.threads, 1);
 }
 
+/// --color-by: the stage that gives each point the other array's value, with the array's name and
+/// value range in the metadata and (unless given) the picture's colour range; nullopt without it.
+std::optional<ColorByStage> color_by_stage(const IsosplatJob& j, const VolumeInput& in, StreamMeta& meta, RenderSettings& rs) {
+    if (!j.color_by) return std::nullopt;
+    const Volume& c = j.color_by->volume;
+    if (!(c.grid == in.grid()))
+        throw InvalidArgument("--color-by " + j.color_by->name + ": its grid differs from the volume's (" + in.path + ")");
+    const std::array<double, 2> range = value_range(c.view());
+    meta.set("value_name", j.color_by->name);
+    meta.set("value_min", range[0]);
+    meta.set("value_max", range[1]);
+    if (!j.range_given) {
+        rs.shading.value_lo = range[0];
+        rs.shading.value_hi = range[1];
+    }
+    return std::optional<ColorByStage>(std::in_place, c.view());
+}
+
+/// The sample-store and MPI jobs: --color-by needs the volume's arrays.
+void refuse_color_by(const IsosplatJob& j, const char* where) {
+    if (j.color_by) throw InvalidArgument("--color-by " + j.color_by->name + ": " + where + " (give the volume itself)");
+}
+
 RenderSettings picture_from_meta(const IsosplatJob& j, const StreamMeta& meta) {
     RenderSettings rs = j.rs;
     if (const auto f = meta_patient_axes(meta); f && j.anatomical_camera) j.anatomical_camera(*f, rs.camera);
@@ -132,6 +158,7 @@ std::size_t run_isosplat_job(const IsosplatJob& j, VolumeInput& in) {
                                    stderr, isos.size() > 1) || said;
     if (j.warned) *j.warned = said;
     meta.set("projection", to_string(j.mode));
+    const std::optional<ColorByStage> recolour = color_by_stage(j, in, meta, rs);
     std::vector<IsoSplatResult> r;
     std::vector<std::size_t> counts;
     std::size_t points = 0;
@@ -143,7 +170,8 @@ std::size_t run_isosplat_job(const IsosplatJob& j, VolumeInput& in) {
         IsoSplatResult unused;
         points = run_to_outputs(j.out(), j.png, meta, rs, j.threads, [&](const Stage* draw, Sink& sink) {
             return run_each_isovalue(isos.size(), sink, r, counts, [&](std::size_t i, Sink& one) {
-                return run_isosplat_input(in, isos[i], j.mode, j.sp, one, j.threads, PipelineShape::fused, {&progress, draw});
+                return run_isosplat_input(in, isos[i], j.mode, j.sp, one, j.threads, PipelineShape::fused,
+                                          {&progress, draw, recolour ? &*recolour : nullptr});
             });
         }, unused);
     }
@@ -152,6 +180,7 @@ std::size_t run_isosplat_job(const IsosplatJob& j, VolumeInput& in) {
 }
 
 std::size_t run_isosplat_sample_store_job(const IsosplatJob& j, const std::string& path) {
+    refuse_color_by(j, "a sample store holds one array");
     const std::vector<double> isos = isovalues_of(j);
     const auto store = SampleStore::open(path);
     bool said = false;
@@ -175,6 +204,7 @@ std::size_t run_isosplat_sample_store_job(const IsosplatJob& j, const std::strin
 }
 
 void run_isosplat_mpi_job(const IsosplatJob& j, MpiSession& mpi, VolumeInput& in) {
+    refuse_color_by(j, "runs in one process, not under mpirun");
     if (j.isos.size() > 1) throw InvalidArgument("--iso: several isovalues run in one process; under mpirun give one isovalue per run");
     const MpiIsosurfaceResult m = run_isosplat_mpi(mpi, in, j.iso, j.mode, j.sp, j.threads, j.producer,
                                                    [&](const StreamMeta& meta, const std::function<void(Sink&)>& produce) {

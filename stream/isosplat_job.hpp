@@ -10,6 +10,7 @@
 #pragma once
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,6 +23,12 @@
 #include "stream/volume_input.hpp"
 
 namespace meshless {
+
+/// Another array of the job's volume, by name (`--color-by NAME`).
+struct ColorByArray {
+    std::string name;
+    Volume volume;
+};
 
 struct IsosplatJob {
     double iso = 0;             ///< the isovalue (the first of `isos` when several are given)
@@ -47,6 +54,11 @@ struct IsosplatJob {
     /// Called once when a picture is made of a volume whose header says nothing of the patient's
     /// axes (and no up axis was given): the front end may say how to turn the camera. May be empty.
     std::function<void(const std::string& volume)> no_axes_hint;
+    /// --color-by: each point's value becomes this array's at the point (stream/color_by_stage.hpp);
+    /// its grid must be the volume's. The metadata then records `value_name` and the array's value
+    /// range (the picture's colour range unless range_given). A volume only: the sample-store and MPI
+    /// jobs throw InvalidArgument.
+    std::shared_ptr<const ColorByArray> color_by;
     ProgressCounter progress;   ///< may be empty
     std::FILE* stats = nullptr; ///< --stats: the line is written here (null: none)
     bool* warned = nullptr;     ///< when given: set to whether the run warned that its outputs will be empty

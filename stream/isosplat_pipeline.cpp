@@ -22,6 +22,7 @@ std::vector<const Stage*> with_extras(std::initializer_list<const Stage*> middle
     std::vector<const Stage*> v;
     if (extra.first) v.push_back(extra.first);
     v.insert(v.end(), middle.begin(), middle.end());
+    if (extra.before_last) v.push_back(extra.before_last);
     if (extra.last) v.push_back(extra.last);
     return v;
 }

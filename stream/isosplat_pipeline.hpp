@@ -38,10 +38,12 @@ enum class PipelineShape { fused, two_stage, samples_only };
 /// Stages a caller adds around generate + project: `first` sees the source's batches (a
 /// ProgressStage counting cell rows, stream/progress_stage.hpp), `last` the projected points (the
 /// splat sink's draw stage, run in the runner's parallel section). Either may be null. Neither
-/// changes the batches, so the sink gets the same bytes with or without them.
+/// changes the batches, so the sink gets the same bytes with or without them. `before_last` (may be
+/// null) does: it sees the projected points before `last` (--color-by's values, ColorByStage).
 struct IsoSplatStages {
     const Stage* first = nullptr;
     const Stage* last = nullptr;
+    const Stage* before_last = nullptr;  ///< on the projected points, before `last` (ColorByStage)
 };
 IsoSplatResult run_isosplat(const VolumeView& v, double iso, Projection mode, const SamplingParams& sp,
                             Sink& sink, const RunOptions& opt = {}, PipelineShape shape = PipelineShape::fused,

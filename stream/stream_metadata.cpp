@@ -107,7 +107,7 @@ std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
     for (const char* k : {"source", "iso", "isovalues", "projection", "field", "samples", "tolerance", "blocks", "grid_dims", "grid_spacing",
                           "bounds_lo", "bounds_hi", "frame", "volume_bounds_lo", "volume_bounds_hi", "value_min", "value_max",
-                          "patient_axes"})
+                          "value_name", "patient_axes"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
 }

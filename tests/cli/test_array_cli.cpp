@@ -6,12 +6,15 @@
 #include <catch2/catch.hpp>
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "cli/cli_harness.hpp"
+#include "formats/ply_points.hpp"
 #include "kernels/analytic_volumes.hpp"
+#include "kernels/multiblock_split.hpp"
 
 using namespace meshless;
 using namespace meshless::test;
@@ -237,4 +240,49 @@ TEST_CASE("array choice on a batch manifest line: the store of the named array, 
     CHECK(slurp(out / "in_multi.mlb") == slurp(out / "in_torus.mlb"));
     CHECK_THAT(slurp(out / "in_multi.mlb.meta"), Catch::Contains("param.raw=array=torus"));
     CHECK(points_of(slurp(out / "in_multi_iso0.25.ply")) == points_of(slurp(out / "in_torus_iso0.25.ply")));
+}
+
+TEST_CASE("isosurface --color-by ARRAY: each point's value is the other array's trilinear value there, the points unchanged",
+          "[cli][arrays]") {
+    TempDir d("color-by");
+    const std::string D = d.path.string();
+    spit(d / "two.vti", vti({{"sphere", AnalyticField::sphere}, {"torus", AnalyticField::torus}}));
+    REQUIRE(sh("MESHLESS isosurface " + D + "/two.vti --iso 0.6 -o " + D + "/plain.ply --png " + D + "/plain.png --size 64x64", d).code == 0);
+    const RunResult r = sh("MESHLESS isosurface " + D + "/two.vti --iso 0.6 --color-by torus -o " + D + "/c.ply --png " + D +
+                               "/c.png --size 64x64",
+                           d);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const PlyPoints plain = read_ply_points((d / "plain.ply").string()), c = read_ply_points((d / "c.ply").string());
+    REQUIRE(c.points.size() == plain.points.size());
+    REQUIRE(c.points.size() > 100);
+    // oracle: the torus array sampled at each point (the same analytic grid the file holds)
+    const Volume torus = make_analytic_volume(AnalyticField::torus, kN);
+    int differs = 0;
+    for (std::size_t i = 0; i < c.points.size(); ++i) {
+        const PointRecord &p = c.points[i], &q = plain.points[i];
+        CHECK(std::memcmp(p.pos, q.pos, sizeof p.pos) == 0);  // the same surface
+        CHECK(std::memcmp(p.normal, q.normal, sizeof p.normal) == 0);
+        const double want = sample_trilinear(torus.view(), Vec3{p.pos[0], p.pos[1], p.pos[2]});
+        CHECK(p.value == static_cast<float>(want));
+        differs += p.value != q.value;
+    }
+    CHECK(differs > 0);
+    const std::string bytes = slurp(d / "c.ply");
+    CHECK(bytes.find("comment value_name torus\n") != std::string::npos);
+    CHECK(bytes.find("comment iso 0.") != std::string::npos);  // the surface's isovalue stays recorded
+    CHECK(slurp(d / "c.png") != slurp(d / "plain.png"));          // coloured by the array
+    // a missing array: exit 2 naming the file's arrays; a sample store or an empty name: exit 1, nothing written
+    const RunResult missing = sh("MESHLESS isosurface " + D + "/two.vti --iso 0.6 --color-by nope -o " + D + "/m.ply", d);
+    CHECK(missing.code == 2);
+    CHECK(missing.err.find("'sphere'") != std::string::npos);
+    CHECK_FALSE(fs::exists(d / "m.ply"));
+    CHECK(sh("MESHLESS isosurface " + D + "/two.vti --iso 0.6 --color-by '' -o " + D + "/m.ply", d).code == 1);
+    REQUIRE(sh("MESHLESS convert " + D + "/two.vti -o " + D + "/two.mlb", d).code == 0);
+    REQUIRE(sh("MESHLESS generate " + D + "/two.mlb --all -o " + D + "/two.mls", d).code == 0);
+    const RunResult store = sh("MESHLESS isosurface " + D + "/two.mls --iso 0.6 --color-by torus -o " + D + "/m.ply", d);
+    CHECK(store.code == 1);
+    CHECK(store.err.find("sample store") != std::string::npos);
+    CHECK(sh("MESHLESS isosurface " + D + "/two.mlb --iso 0.6 --color-by torus -o " + D + "/m.ply", d).code != 0);
+    CHECK_FALSE(fs::exists(d / "m.ply"));
 }
