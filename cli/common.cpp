@@ -202,8 +202,9 @@ void add_color_options(Args& a) {
         .option("colormap", "", "NAME", "--color value: viridis (perceptually uniform) | coolwarm | gray", "viridis")
         .option("range", "", "LO,HI", "--color value: the colour map's value range (default: the points' min,max;\n                            "
                                      "isosurface: the volume's)")
-        .flag("colorbar", "draw a legend into the picture: a colour bar with the value range (--color value) or the\n"
-                          "                            block palette's swatches with their ids (--color block)");
+        .flag("colorbar", "draw a legend into the picture: a colour bar with the value range (--color value; titled\n"
+                          "                            with the array's name where the points record one: isosurface --color-by) or\n"
+                          "                            the block palette's swatches with their ids (--color block)");
 }
 
 

@@ -15,12 +15,30 @@ const std::uint8_t* glyph(char c) {
     static constexpr std::uint8_t minus[5] = {0, 0, 7, 0, 0};
     static constexpr std::uint8_t plus[5] = {0, 2, 7, 2, 0};
     static constexpr std::uint8_t dot[5] = {0, 0, 0, 0, 2};
-    static constexpr std::uint8_t e[5] = {2, 5, 7, 4, 3};
+    static constexpr std::uint8_t e[5] = {2, 5, 7, 4, 3};  // the exponent of "%.3g" ("1e+03")
+    static constexpr std::uint8_t letters[26][5] = {
+        {2, 5, 7, 5, 5}, {6, 5, 6, 5, 6}, {3, 4, 4, 4, 3}, {6, 5, 5, 5, 6}, {7, 4, 6, 4, 7}, {7, 4, 6, 4, 4},
+        {3, 4, 5, 5, 3}, {5, 5, 7, 5, 5}, {7, 2, 2, 2, 7}, {1, 1, 1, 5, 2}, {5, 5, 6, 5, 5}, {4, 4, 4, 4, 7},
+        {5, 7, 7, 5, 5}, {6, 5, 5, 5, 5}, {2, 5, 5, 5, 2}, {6, 5, 6, 4, 4}, {2, 5, 5, 6, 3}, {6, 5, 6, 5, 5},
+        {3, 4, 2, 1, 6}, {7, 2, 2, 2, 2}, {5, 5, 5, 5, 7}, {5, 5, 5, 5, 2}, {5, 5, 7, 7, 5}, {5, 5, 2, 5, 5},
+        {5, 5, 2, 2, 2}, {7, 1, 2, 4, 7}};
+    static constexpr std::uint8_t underscore[5] = {0, 0, 0, 0, 7};
+    static constexpr std::uint8_t colon[5] = {0, 2, 0, 2, 0};
+    static constexpr std::uint8_t slash[5] = {1, 1, 2, 4, 4};
+    static constexpr std::uint8_t open[5] = {1, 2, 2, 2, 1};
+    static constexpr std::uint8_t close[5] = {4, 2, 2, 2, 4};
     if (c >= '0' && c <= '9') return digits[c - '0'];
     if (c == '-') return minus;
     if (c == '+') return plus;
     if (c == '.') return dot;
-    if (c == 'e' || c == 'E') return e;
+    if (c == 'e') return e;
+    if (c >= 'A' && c <= 'Z') return letters[c - 'A'];
+    if (c >= 'a' && c <= 'z') return letters[c - 'a'];  // (titles: one case)
+    if (c == '_') return underscore;
+    if (c == ':') return colon;
+    if (c == '/') return slash;
+    if (c == '(') return open;
+    if (c == ')') return close;
     return nullptr;
 }
 
@@ -67,7 +85,7 @@ ColorbarLayout colorbar_layout(int width, int height) {
     return l;
 }
 
-void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std::uint8_t, 3> ink) {
+void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std::uint8_t, 3> ink, const std::string& title) {
     const ColorbarLayout l = colorbar_layout(img.width, img.height);
     if (!l.drawn || img.rgb.size() != 3 * static_cast<std::size_t>(img.width) * img.height) return;
     const int n = l.y1 - l.y0;
@@ -88,6 +106,11 @@ void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std:
     const std::string top = format_value(hi), bottom = format_value(lo);
     draw_label(img, std::max(0, l.x1 + 1 - label_width(top, s)), l.y0 - 3 - 5 * s, s, top, ink);
     draw_label(img, std::max(0, l.x1 + 1 - label_width(bottom, s)), l.y1 + 3, s, bottom, ink);
+    if (!title.empty()) {  // above the top value, upper case, right-aligned to the bar (from the left edge when wider)
+        std::string t = title;
+        for (char& c : t) c = c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c;
+        draw_label(img, std::max(2, l.x1 + 1 - label_width(t, s)), l.y0 - 6 - 10 * s, s, t, ink);
+    }
 }
 
 void draw_block_legend(Image& img, std::uint32_t blocks, std::array<std::uint8_t, 3> ink) {

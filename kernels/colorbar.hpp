@@ -1,7 +1,8 @@
 // A colour bar legend drawn into a rendered picture (meshless splat / isosurface --png --colorbar):
 // a vertical bar of the colour map at the right edge, value hi at its top and lo at its bottom,
 // framed by a 1-pixel border, with the two values printed (printf "%.3g") above and below it in
-// a built-in 3x5 bitmap font (digits, '-', '+', '.', 'e'; other characters are left blank).
+// a built-in 3x5 bitmap font (digits, letters in one case, '-', '+', '.', '_', ':', '/', '(', ')';
+// other characters are left blank), and a title (the array's name) above them when given.
 // Layout (colorbar_layout): scale s = max(1, min(W, H) / 160); bar width 6s, from y = H/5 to
 // y = 4H/5 (exclusive), right edge 4s + 2 pixels from the image's right edge. Pictures smaller than
 // 48 x 48 pixels get no bar (nothing drawn).
@@ -25,7 +26,9 @@ struct ColorbarLayout {
 ColorbarLayout colorbar_layout(int width, int height);
 
 /// The colour of bar row y (y0 <= y < y1): map_color(m, hi - (y - y0 + 0.5) / (y1 - y0) * (hi - lo), lo, hi).
-void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std::uint8_t, 3> ink = {255, 255, 255});
+/// `title` (may be empty): drawn in upper case above the top value, right-aligned to the bar.
+void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std::uint8_t, 3> ink = {255, 255, 255},
+                   const std::string& title = {});
 
 /// The block legend (--color block --colorbar): one swatch per palette colour in use, categorical_color(0)
 /// ... categorical_color(n - 1) with n = min(blocks, kCategoricalColors) (blocks 0: all of them),

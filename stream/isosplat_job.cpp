@@ -120,6 +120,7 @@ std::optional<ColorByStage> color_by_stage(const IsosplatJob& j, const VolumeInp
         rs.shading.value_lo = range[0];
         rs.shading.value_hi = range[1];
     }
+    rs.legend_title = j.color_by->name;
     return std::optional<ColorByStage>(std::in_place, c.view());
 }
 

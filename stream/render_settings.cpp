@@ -9,7 +9,7 @@ namespace meshless {
 
 void decorate_picture(const RenderSettings& rs, Image& img) {
     if (rs.colorbar && rs.shading.color_by == ColorBy::value)
-        draw_colorbar(img, rs.shading.colormap, rs.shading.value_lo, rs.shading.value_hi);
+        draw_colorbar(img, rs.shading.colormap, rs.shading.value_lo, rs.shading.value_hi, {255, 255, 255}, rs.legend_title);
     if (rs.colorbar && rs.shading.color_by == ColorBy::block) draw_block_legend(img, rs.legend_blocks);
 }
 

@@ -20,6 +20,7 @@ struct RenderSettings {
     ShadingParams shading;   ///< colours included (ShadingParams::color_by, colormap, value range)
     bool colorbar = false;   ///< draw the legend (kernels/colorbar.hpp): the value bar, or the block swatches
     std::uint32_t legend_blocks = 0;  ///< --color block: the number of blocks (0: unknown, all palette colours)
+    std::string legend_title;  ///< the value bar's title: the name of the array the values are (empty: none)
     /// EWA: bytes of footprints the splat sink keeps in memory (SplatSink::set_spool_memory); with
     /// --memory, which bounds the process (the brick cache), an eighth of it at most.
     std::size_t spool_memory = SplatSink::kSpoolMemory;

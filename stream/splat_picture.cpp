@@ -210,11 +210,15 @@ SplatReport splat_picture(RenderSettings rs, const SplatRequest& r) {
     // isosurface --png does: its points all hold the isovalue), and a block legend lists the blocks
     // it records.
     const StreamMeta& recorded = in.recorded;
-    const bool isosurface_input = recorded.get("iso").has_value();
+    // an isosurface coloured by another array (isosurface --color-by) records the array's name: its
+    // values vary, within the range it records, and name the legend
+    const std::optional<std::string> value_name = recorded.get("value_name");
+    const bool isosurface_input = recorded.get("iso").has_value() && !value_name;
     std::optional<std::array<double, 2>> data_range;
     if (const auto lo = recorded.get_double("value_min"), hi = recorded.get_double("value_max");
-        isosurface_input && lo && hi && std::isfinite(*lo) && std::isfinite(*hi) && *lo < *hi)
+        (isosurface_input || value_name) && lo && hi && std::isfinite(*lo) && std::isfinite(*hi) && *lo < *hi)
         data_range = std::array<double, 2>{*lo, *hi};
+    if (value_name) rs.legend_title = *value_name;
     // the patient's axes of the volume the points came from: the picture isosurface --png draws
     // (head up, face to the viewer) unless the caller says otherwise
     if (const auto f = meta_patient_axes(recorded); f && r.anatomical_camera) r.anatomical_camera(*f, rs.camera);

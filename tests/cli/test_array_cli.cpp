@@ -272,6 +272,13 @@ TEST_CASE("isosurface --color-by ARRAY: each point's value is the other array's 
     CHECK(bytes.find("comment value_name torus\n") != std::string::npos);
     CHECK(bytes.find("comment iso 0.") != std::string::npos);  // the surface's isovalue stays recorded
     CHECK(slurp(d / "c.png") != slurp(d / "plain.png"));          // coloured by the array
+    // splat of the point set draws the picture isosurface --png drew: coloured by the array over its
+    // recorded range, the legend titled with its name
+    REQUIRE(sh("MESHLESS isosurface " + D + "/two.vti --iso 0.6 --color-by torus -o " + D + "/c.ply --png " + D +
+                   "/cbar.png --size 96x96 --colorbar",
+               d).code == 0);
+    REQUIRE(sh("MESHLESS splat " + D + "/c.ply -o " + D + "/s.png --size 96x96 --colorbar", d).code == 0);
+    CHECK(slurp(d / "s.png") == slurp(d / "cbar.png"));
     // a missing array: exit 2 naming the file's arrays; a sample store or an empty name: exit 1, nothing written
     const RunResult missing = sh("MESHLESS isosurface " + D + "/two.vti --iso 0.6 --color-by nope -o " + D + "/m.ply", d);
     CHECK(missing.code == 2);

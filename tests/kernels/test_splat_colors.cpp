@@ -180,8 +180,46 @@ TEST_CASE("colour bar: the bitmap font draws digits, '-', '.', 'e', '+' and skip
     CHECK(ink_count(".") == 1);
     CHECK(ink_count("e") > 0);
     CHECK(ink_count("+") == 5);
-    CHECK(ink_count("x") == 0);
+    CHECK(ink_count("#") == 0);
     CHECK(ink_count("1e-3") == ink_count("1") + ink_count("e") + ink_count("-") + ink_count("3"));
+}
+
+TEST_CASE("colour bar: the font's letters are 26 distinct glyphs in one case, a title drawn above the values", "[splat][color]") {
+    auto pixels = [](const std::string& s) {
+        Image img;
+        img.width = 8;
+        img.height = 8;
+        img.rgb.assign(3 * 8 * 8, 0);
+        draw_label(img, 0, 0, 1, s, {255, 255, 255});
+        std::string on;
+        for (std::size_t i = 0; i < img.rgb.size(); i += 3) on += img.rgb[i] == 255 ? '#' : '.';
+        return on;
+    };
+    std::set<std::string> glyphs;
+    for (char c = 'A'; c <= 'Z'; ++c) {
+        const std::string g = pixels(std::string(1, c));
+        CHECK(g.find('#') != std::string::npos);
+        glyphs.insert(g);
+        if (c != 'E') CHECK(pixels(std::string(1, static_cast<char>(c - 'A' + 'a'))) == g);  // ('e' is the exponent's)
+    }
+    CHECK(glyphs.size() == 26);
+    for (const char* c : {"_", ":", "/", "(", ")"}) CHECK(pixels(c).find('#') != std::string::npos);
+    // the title: ink in the rows above the top value's label, none there without it
+    auto title_ink = [](const std::string& title) {
+        Image img;
+        img.width = 320;
+        img.height = 240;
+        img.rgb.assign(3 * 320 * 240, 0);
+        draw_colorbar(img, Colormap::viridis, 0, 1, {255, 255, 255}, title);
+        const ColorbarLayout l = colorbar_layout(320, 240);
+        int n = 0;
+        for (int y = 0; y < l.y0 - 3 - 5 * l.scale - 1; ++y)
+            for (int x = 0; x < 320; ++x) n += img.at(x, y)[0] == 255;
+        return n;
+    };
+    CHECK(title_ink("") == 0);
+    CHECK(title_ink("temperature") > 20);
+    CHECK(title_ink("temperature") == title_ink("TEMPERATURE"));
 }
 
 TEST_CASE("block legend: one swatch of the palette per block, labelled", "[splat][color]") {
