@@ -204,7 +204,10 @@ void add_color_options(Args& a) {
                                      "isosurface: the volume's)")
         .flag("colorbar", "draw a legend into the picture: a colour bar with the value range (--color value; titled\n"
                           "                            with the array's name where the points record one: isosurface --color-by) or\n"
-                          "                            the block palette's swatches with their ids (--color block)");
+                          "                            the block palette's swatches with their ids (--color block)")
+        .flag("axes", "draw the world axes (x red, y green, z blue, from the bottom left corner, as the camera sees\n"
+                      "                            them) and a scale bar of a round length in world units (1, 2 or 5 x 10^k, at the\n"
+                      "                            depth of the framed centre) into the picture");
 }
 
 
@@ -282,6 +285,7 @@ RenderSettings render_settings(const Args& a) {
     // --memory bounds the process: the EWA picture's footprints take an eighth of it at most
     if (a.declared("memory") && a.has("memory"))
         rs.spool_memory = std::min<std::uint64_t>(SplatSink::kSpoolMemory, parse_memory_size(*a.get("memory")) / 8);
+    rs.axes = a.declared("axes") && a.has("axes");
     return rs;
 }
 

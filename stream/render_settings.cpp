@@ -2,12 +2,14 @@
 
 #include <cstdio>
 
+#include "kernels/axes_overlay.hpp"
 #include "kernels/colorbar.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
 
-void decorate_picture(const RenderSettings& rs, Image& img) {
+void decorate_picture(const RenderSettings& rs, Image& img, const ViewTransform* view) {
+    if (rs.axes && view) draw_axes(img, *view);
     if (rs.colorbar && rs.shading.color_by == ColorBy::value)
         draw_colorbar(img, rs.shading.colormap, rs.shading.value_lo, rs.shading.value_hi, {255, 255, 255}, rs.legend_title);
     if (rs.colorbar && rs.shading.color_by == ColorBy::block) draw_block_legend(img, rs.legend_blocks);

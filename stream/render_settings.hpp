@@ -21,6 +21,7 @@ struct RenderSettings {
     bool colorbar = false;   ///< draw the legend (kernels/colorbar.hpp): the value bar, or the block swatches
     std::uint32_t legend_blocks = 0;  ///< --color block: the number of blocks (0: unknown, all palette colours)
     std::string legend_title;  ///< the value bar's title: the name of the array the values are (empty: none)
+    bool axes = false;         ///< draw the axes triad and the scale bar (kernels/axes_overlay.hpp)
     /// EWA: bytes of footprints the splat sink keeps in memory (SplatSink::set_spool_memory); with
     /// --memory, which bounds the process (the brick cache), an eighth of it at most.
     std::size_t spool_memory = SplatSink::kSpoolMemory;
@@ -28,8 +29,9 @@ struct RenderSettings {
 
 /// The overlays the settings ask for, drawn into a rendered picture before it is written (with
 /// rs.colorbar): the colour bar of the value range when colouring by value, the block swatches when
-/// colouring by block.
-void decorate_picture(const RenderSettings& rs, Image& img);
+/// colouring by block; with rs.axes and a view (the picture's camera over its framed box), the axes
+/// triad and the scale bar.
+void decorate_picture(const RenderSettings& rs, Image& img, const ViewTransform* view = nullptr);
 
 /// What a front end's colour option asked for, before it is resolved against the input ("auto":
 /// value when the points' values vary and the input is not an isosurface, else none).

@@ -80,7 +80,8 @@ SplatReport splat_mesh(RenderSettings rs, const SplatRequest& r) {
             sum += s;
             lo = std::min(lo, s);
             hi = std::max(hi, s);
-            decorate_picture(rs, img);
+            const ViewTransform view = make_view(c, bounds[0], bounds[1]);
+            decorate_picture(rs, img, &view);
             write_png(img, frame_path(r.png, static_cast<int>(i)));
             if (r.frame_written) r.frame_written();
         }
@@ -92,7 +93,8 @@ SplatReport splat_mesh(RenderSettings rs, const SplatRequest& r) {
     }
     TriangleStats st;
     Image picture = render_triangles(mesh, cam, rs.shading, bounds, &st);
-    decorate_picture(rs, picture);
+    const ViewTransform view = make_view(cam, bounds[0], bounds[1]);
+    decorate_picture(rs, picture, &view);
     if (r.picture) r.picture(std::move(picture));
     else write_png(picture, r.png);
     rep.triangles_drawn = static_cast<long long>(st.triangles_drawn);
@@ -169,7 +171,10 @@ SplatReport splat_turntable(PointSpool& spool, const std::array<Vec3, 2>& bounds
     const auto t = render_turntable(spool, bounds, cam, rs.kernel, rs.shading, static_cast<int>(r.frames), r.threads,
                                     [&](int i, const Image& img) {
                                         Image framed = img;
-                                        decorate_picture(rs, framed);
+                                        Camera c = cam;
+                                        c.azimuth_deg = cam.azimuth_deg + 360.0 * i / static_cast<double>(r.frames);
+                                        const ViewTransform view = make_view(c, bounds[0], bounds[1]);
+                                        decorate_picture(rs, framed, &view);
                                         write_png(framed, frame_path(r.png, i));
                                         if (r.frame_written) r.frame_written();
                                     });
@@ -269,7 +274,7 @@ SplatReport splat_picture(RenderSettings rs, const SplatRequest& r) {
     run_pipeline(*source, stages, sink, {r.threads});
     warn_dropped();
     Image picture = sink.image();
-    decorate_picture(rs, picture);
+    decorate_picture(rs, picture, &sink.frame().view());
     if (r.picture) r.picture(std::move(picture));
     else write_png(picture, r.png);
     SplatReport rep;
