@@ -145,7 +145,10 @@ void declare_render_options(Args& a) {
         .option("background", "", "R,G,B", "background colour, components in [0, 1]", "0,0,0")
         .option("compare", "", "REF.png", "print RMSE and PSNR of the picture against REF.png")
         .option("diff", "", "FILE.png", "with --compare: write the difference picture")
-        .option("diff-gain", "", "G", "--diff: multiply the differences by G, > 0", "1");
+        .option("diff-gain", "", "G", "--diff: multiply the differences by G, > 0", "1")
+        .flag("colorbar", "draw the transfer function's legend: its colours from the top value to the bottom one, its\n"
+                          "                            opacity as a grey strip beside them (white: opaque), titled with --array's name")
+        .flag("axes", "draw the world axes (x red, y green, z blue) and a scale bar of a round world length");
     add_orbit_options(a, "512x512");
     add_field_options(a, /*with_coverage=*/false, kDataFieldDefaultHelp);  // --field ... --stats, point-set options, --threads
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z")
@@ -248,6 +251,9 @@ int cmd_render(int argc, char** argv) {
     if (ref) files.reference = &*ref;
     if (diff_file) files.diff = &*diff_file;
     files.diff_gain = gain;
+    if (a.has("colorbar")) files.legend = &tf;
+    files.legend_title = a.get_or("array", "");
+    files.axes = a.has("axes");
     // the comparison on stdout, unless a picture goes there (-o - or --diff -)
     files.comparison = png == "-" || a.get_or("diff", "") == "-" ? stderr : stdout;
     if ((tty && !a.has("quiet")) || a.has("stats")) files.stats = stderr;

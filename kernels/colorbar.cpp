@@ -1,6 +1,7 @@
 #include "kernels/colorbar.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace meshless {
@@ -85,13 +86,17 @@ ColorbarLayout colorbar_layout(int width, int height) {
     return l;
 }
 
-void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std::uint8_t, 3> ink, const std::string& title) {
+namespace {
+
+/// The bar of `row_colour(v)` from hi (top) to lo (bottom) with its frame, values and title.
+template <class RowColour>
+void draw_value_bar(Image& img, double lo, double hi, std::array<std::uint8_t, 3> ink, const std::string& title, RowColour&& row_colour) {
     const ColorbarLayout l = colorbar_layout(img.width, img.height);
     if (!l.drawn || img.rgb.size() != 3 * static_cast<std::size_t>(img.width) * img.height) return;
     const int n = l.y1 - l.y0;
     for (int y = l.y0; y < l.y1; ++y) {
         const double v = hi - (y - l.y0 + 0.5) / n * (hi - lo);
-        const auto c = map_color(m, v, lo, hi);
+        const auto c = row_colour(v, y);
         for (int x = l.x0; x < l.x1; ++x) put(img, x, y, c);
     }
     for (int x = l.x0 - 1; x <= l.x1; ++x) {
@@ -111,6 +116,25 @@ void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std:
         for (char& c : t) c = c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c;
         draw_label(img, std::max(2, l.x1 + 1 - label_width(t, s)), l.y0 - 6 - 10 * s, s, t, ink);
     }
+}
+
+}  // namespace
+
+void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std::uint8_t, 3> ink, const std::string& title) {
+    draw_value_bar(img, lo, hi, ink, title, [&](double v, int) { return map_color(m, v, lo, hi); });
+}
+
+void draw_transfer_legend(Image& img, const TransferFunction& tf, std::array<std::uint8_t, 3> ink, const std::string& title) {
+    const ColorbarLayout l = colorbar_layout(img.width, img.height);
+    if (!l.drawn || img.rgb.size() != 3 * static_cast<std::size_t>(img.width) * img.height) return;
+    auto byte = [](double c) { return static_cast<std::uint8_t>(std::lround(255 * std::clamp(c, 0.0, 1.0))); };
+    const int s = l.scale;
+    draw_value_bar(img, tf.lo(), tf.hi(), ink, title, [&](double v, int y) {
+        const auto c = tf.at(v);
+        const std::uint8_t a = byte(c[3]);  // the opacity strip left of the frame
+        for (int x = l.x0 - 2 - 2 * s; x < l.x0 - 2; ++x) put(img, x, y, {a, a, a});
+        return std::array<std::uint8_t, 3>{byte(c[0]), byte(c[1]), byte(c[2])};
+    });
 }
 
 void draw_block_legend(Image& img, std::uint32_t blocks, std::array<std::uint8_t, 3> ink) {

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "kernels/colormap.hpp"
+#include "kernels/transfer_function.hpp"
 #include "kernels/splat_rasterizer.hpp"
 
 namespace meshless {
@@ -29,6 +30,12 @@ ColorbarLayout colorbar_layout(int width, int height);
 /// `title` (may be empty): drawn in upper case above the top value, right-aligned to the bar.
 void draw_colorbar(Image& img, Colormap m, double lo, double hi, std::array<std::uint8_t, 3> ink = {255, 255, 255},
                    const std::string& title = {});
+
+/// The transfer function's legend (`render --colorbar`): the bar's rows in the function's colours
+/// from tf.hi() (top) to tf.lo() (bottom), beside it on the left a strip 2s wide whose grey level is
+/// the opacity (white: opaque), the two values and `title` (may be empty) as draw_colorbar's.
+void draw_transfer_legend(Image& img, const TransferFunction& tf, std::array<std::uint8_t, 3> ink = {255, 255, 255},
+                          const std::string& title = {});
 
 /// The block legend (--color block --colorbar): one swatch per palette colour in use, categorical_color(0)
 /// ... categorical_color(n - 1) with n = min(blocks, kCategoricalColors) (blocks 0: all of them),

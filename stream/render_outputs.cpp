@@ -6,6 +6,8 @@
 #include <string>
 
 #include "formats/png_writer.hpp"
+#include "kernels/axes_overlay.hpp"
+#include "kernels/colorbar.hpp"
 #include "kernels/image_compare.hpp"
 #include "stream/pipe_closure.hpp"
 
@@ -23,7 +25,14 @@ std::string psnr_text(double psnr) {
 }  // namespace
 
 void write_render_files(const RenderInput& in, const Camera& cam, const RenderResult& rr, int threads, const RenderFiles& f) {
-    const Image& picture = rr.picture;
+    // the legend and the axes drawn into the written picture (and so into the one compared)
+    Image decorated;
+    if (f.legend || f.axes) {
+        decorated = rr.picture;
+        if (f.legend) draw_transfer_legend(decorated, *f.legend, {255, 255, 255}, f.legend_title);
+        if (f.axes) draw_axes(decorated, make_view(cam, in.box[0], in.box[1]));
+    }
+    const Image& picture = f.legend || f.axes ? decorated : rr.picture;
     const RayCastStats& st = rr.stats;
     // a closed stdout (-o - | head) still lets the difference picture be written; then the quiet exit
     PipeClosure pipe;

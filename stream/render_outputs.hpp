@@ -21,6 +21,11 @@ struct RenderFiles {
     double diff_gain = 1;
     std::FILE* comparison = stdout;    ///< where the RMSE/PSNR line goes
     std::FILE* stats = nullptr;        ///< where the statistics line goes (null: none)
+    /// --colorbar: the transfer function's legend (kernels/colorbar.hpp draw_transfer_legend), titled
+    /// legend_title (may be empty); null: none.
+    const TransferFunction* legend = nullptr;
+    std::string legend_title;
+    bool axes = false;  ///< --axes: the triad and the scale bar of the camera over the input's box
 };
 
 /// Writes rr.picture of `in` (camera `cam`, `threads` ray-casting threads, for the statistics) to `f`.

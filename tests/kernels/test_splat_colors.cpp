@@ -243,3 +243,26 @@ TEST_CASE("block legend: one swatch of the palette per block, labelled", "[splat
     draw_block_legend(all, 0);  // unknown count: the whole palette
     CHECK(all.at((l.x0 + l.x1) / 2, l.y0 + 9 * (6 * l.scale + 2) + 1) == categorical_color(9));
 }
+
+TEST_CASE("transfer function legend: rows in the function's colours from hi to lo, the opacity as grey beside them",
+          "[splat][color]") {
+    const TransferFunction tf({{10, 0, 0, 1, 0}, {20, 1, 0.5, 0, 1}});
+    Image img;
+    img.width = 320;
+    img.height = 240;
+    img.rgb.assign(3 * 320 * 240, 0);
+    draw_transfer_legend(img, tf, {255, 255, 255}, "density");
+    const ColorbarLayout l = colorbar_layout(320, 240);
+    const int n = l.y1 - l.y0;
+    auto byte = [](double c) { return static_cast<std::uint8_t>(std::lround(255 * c)); };
+    for (const int y : {l.y0, (l.y0 + l.y1) / 2, l.y1 - 1}) {
+        const double v = 20 - (y - l.y0 + 0.5) / n * 10;
+        const auto c = tf.at(v);
+        CHECK(img.at(l.x0, y) == std::array<std::uint8_t, 3>{byte(c[0]), byte(c[1]), byte(c[2])});
+        CHECK(img.at(l.x0 - 3, y) == std::array<std::uint8_t, 3>{byte(c[3]), byte(c[3]), byte(c[3])});
+    }
+    int title = 0;  // the title's ink above the top value
+    for (int y = 0; y < l.y0 - 3 - 5 * l.scale - 1; ++y)
+        for (int x = 0; x < 320; ++x) title += img.at(x, y)[0] == 255;
+    CHECK(title > 20);
+}
