@@ -11,14 +11,6 @@ namespace meshless {
 
 namespace {
 
-void put(Image& img, int x, int y, std::array<std::uint8_t, 3> c) {
-    if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
-    std::uint8_t* p = &img.rgb[3 * (static_cast<std::size_t>(y) * img.width + x)];
-    p[0] = c[0];
-    p[1] = c[1];
-    p[2] = c[2];
-}
-
 /// A line from (x0, y0) to (x1, y1), `t` pixels thick (a t x t square at each step).
 void line(Image& img, double x0, double y0, double x1, double y1, int t, std::array<std::uint8_t, 3> c) {
     const int steps = std::max(1, static_cast<int>(std::ceil(std::max(std::abs(x1 - x0), std::abs(y1 - y0)))));
@@ -26,7 +18,7 @@ void line(Image& img, double x0, double y0, double x1, double y1, int t, std::ar
         const double f = static_cast<double>(i) / steps;
         const int x = static_cast<int>(std::lround(x0 + f * (x1 - x0))), y = static_cast<int>(std::lround(y0 + f * (y1 - y0)));
         for (int dy = 0; dy < t; ++dy)
-            for (int dx = 0; dx < t; ++dx) put(img, x + dx - t / 2, y + dy - t / 2, c);
+            for (int dx = 0; dx < t; ++dx) put_pixel(img, x + dx - t / 2, y + dy - t / 2, c);
     }
 }
 

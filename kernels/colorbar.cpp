@@ -43,13 +43,7 @@ const std::uint8_t* glyph(char c) {
     return nullptr;
 }
 
-void put(Image& img, int x, int y, std::array<std::uint8_t, 3> c) {
-    if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
-    std::uint8_t* p = &img.rgb[3 * (static_cast<std::size_t>(y) * img.width + x)];
-    p[0] = c[0];
-    p[1] = c[1];
-    p[2] = c[2];
-}
+void put(Image& img, int x, int y, std::array<std::uint8_t, 3> c) { put_pixel(img, x, y, c); }
 
 std::string format_value(double v) {
     char buf[32];
@@ -58,6 +52,14 @@ std::string format_value(double v) {
 }
 
 }  // namespace
+
+void put_pixel(Image& img, int x, int y, std::array<std::uint8_t, 3> c) {
+    if (x < 0 || y < 0 || x >= img.width || y >= img.height) return;
+    std::uint8_t* p = &img.rgb[3 * (static_cast<std::size_t>(y) * img.width + x)];
+    p[0] = c[0];
+    p[1] = c[1];
+    p[2] = c[2];
+}
 
 int label_width(const std::string& text, int s) { return text.empty() ? 0 : (4 * static_cast<int>(text.size()) - 1) * s; }
 

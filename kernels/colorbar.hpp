@@ -43,6 +43,9 @@ void draw_transfer_legend(Image& img, const TransferFunction& tf, std::array<std
 /// labelled with its id at its left; ids >= kCategoricalColors reuse the colours (id modulo 10).
 void draw_block_legend(Image& img, std::uint32_t blocks, std::array<std::uint8_t, 3> ink = {255, 255, 255});
 
+/// Sets pixel (x, y) to `c`; pixels outside the picture are skipped.
+void put_pixel(Image& img, int x, int y, std::array<std::uint8_t, 3> c);
+
 /// Draws `text` with its top-left corner at (x, y), each font pixel s x s image pixels (clipped).
 void draw_label(Image& img, int x, int y, int s, const std::string& text, std::array<std::uint8_t, 3> ink);
 /// Width in pixels of `text` drawn at scale s (4 font pixels per character, minus the last gap).

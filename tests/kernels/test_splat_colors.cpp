@@ -163,16 +163,24 @@ TEST_CASE("colour bar: the bar's rows follow the map from hi (top) to lo (bottom
     CHECK(std::all_of(tiny.rgb.begin(), tiny.rgb.end(), [](std::uint8_t v) { return v == 7; }));
 }
 
+namespace {
+/// `s` drawn at scale 1 into a black w x 8 picture: '#' for each inked pixel, '.' for the others.
+std::string label_pixels(const std::string& s, int w) {
+    Image img;
+    img.width = w;
+    img.height = 8;
+    img.rgb.assign(3 * static_cast<std::size_t>(w) * 8, 0);
+    draw_label(img, 0, 0, 1, s, {255, 255, 255});
+    std::string on;
+    for (std::size_t i = 0; i < img.rgb.size(); i += 3) on += img.rgb[i] == 255 ? '#' : '.';
+    return on;
+}
+}  // namespace
+
 TEST_CASE("colour bar: the bitmap font draws digits, '-', '.', 'e', '+' and skips others", "[splat][color]") {
     auto ink_count = [](const std::string& s) {
-        Image img;
-        img.width = 64;
-        img.height = 8;
-        img.rgb.assign(3 * 64 * 8, 0);
-        draw_label(img, 0, 0, 1, s, {255, 255, 255});
-        int n = 0;
-        for (std::size_t i = 0; i < img.rgb.size(); i += 3) n += img.rgb[i] == 255;
-        return n;
+        const std::string on = label_pixels(s, 64);
+        return static_cast<int>(std::count(on.begin(), on.end(), '#'));
     };
     CHECK(ink_count("8") == 13);
     CHECK(ink_count("1") == 8);
@@ -185,16 +193,7 @@ TEST_CASE("colour bar: the bitmap font draws digits, '-', '.', 'e', '+' and skip
 }
 
 TEST_CASE("colour bar: the font's letters are 26 distinct glyphs in one case, a title drawn above the values", "[splat][color]") {
-    auto pixels = [](const std::string& s) {
-        Image img;
-        img.width = 8;
-        img.height = 8;
-        img.rgb.assign(3 * 8 * 8, 0);
-        draw_label(img, 0, 0, 1, s, {255, 255, 255});
-        std::string on;
-        for (std::size_t i = 0; i < img.rgb.size(); i += 3) on += img.rgb[i] == 255 ? '#' : '.';
-        return on;
-    };
+    auto pixels = [](const std::string& s) { return label_pixels(s, 8); };
     std::set<std::string> glyphs;
     for (char c = 'A'; c <= 'Z'; ++c) {
         const std::string g = pixels(std::string(1, c));
