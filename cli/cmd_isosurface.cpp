@@ -14,6 +14,7 @@
 #include "cli/multiblock_isosurface.hpp"
 #include "cli/progress_meter.hpp"
 #include "cli/scattered_isosurface.hpp"
+#include "formats/hdf5_volume.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "kernels/errors.hpp"
@@ -166,7 +167,8 @@ int cmd_isosurface(int argc, char** argv) {
     if (const auto name = a.get("color-by")) {
         VolumeOpenOptions o = volume_open_options(a, false);
         o.raw.array = *name;
-        j.color_by = std::make_shared<const ColorByArray>(ColorByArray{*name, load_volume(in.path, o)});
+        const auto h5 = hdf5_path(in.path);  // FILE.h5:/DATASET: the other array is another dataset of FILE
+        j.color_by = std::make_shared<const ColorByArray>(ColorByArray{*name, load_volume(h5 && !h5->dataset.empty() ? h5->file : in.path, o)});
     }
     const std::size_t points = run_isosplat_job(j, in);
     return empty_result_exit(a, points, "points", j.iso, in.path, warned);

@@ -6,12 +6,14 @@
 // without a choice, and each defect class, are refused with one line naming the file and exit 2.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "cli/cli_harness.hpp"
+#include "formats/ply_points.hpp"
 #include "test_paths.hpp"
 
 #if MESHLESS_HDF5
@@ -139,6 +141,28 @@ TEST_CASE("hdf5 datasets: each defect class is refused with one line naming the 
             CHECK_FALSE(std::filesystem::exists(D + "out.ply"));
             CHECK_FALSE(std::filesystem::exists(D + "out.mlb"));
         }
+    }
+}
+
+TEST_CASE("hdf5 datasets: isosurface FILE.h5:/ct --color-by /other colours by another dataset of the file", "[cli][hdf5]") {
+    TempDir d("hdf5-colorby");
+    const std::string D = d.path.string() + "/";
+    write_hdf5_volume(D + "two.h5", "/ct", 24, 20, 16);  // the oracle's values, (i + 5j + 20k) % 113
+    Hdf5WriteOptions height;
+    for (int k = 0; k < 16; ++k)
+        for (int j = 0; j < 20; ++j)
+            for (int i = 0; i < 24; ++i) height.values.push_back(k * 10);
+    write_hdf5_volume(D + "two.h5", "/height", 24, 20, 16, height, /*append=*/true);
+    for (const std::string& in : {D + "two.h5:/ct", D + "two.h5 --array /ct"}) {
+        INFO(in);
+        const RunResult r = sh("MESHLESS isosurface " + in + " --iso 40.5 --color-by /height -o " + D + "c.ply", d);
+        INFO(r.err);
+        REQUIRE(r.code == 0);
+        const PlyPoints p = read_ply_points(D + "c.ply");
+        REQUIRE(p.points.size() > 10);
+        // the height array is 10 z, sampled clamped into the grid's box (points may lie a little outside it)
+        for (const PointRecord& q : p.points) CHECK(q.value == Approx(10 * std::clamp(static_cast<double>(q.pos[2]), 0.0, 15.0)).margin(1e-3));
+        CHECK(slurp(D + "c.ply").find("comment value_name /height\n") != std::string::npos);
     }
 }
 
