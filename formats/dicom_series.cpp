@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 
+#include "kernels/significant_text.hpp"
 #include "formats/binary_file.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/checked_size.hpp"
@@ -58,11 +59,7 @@ std::vector<std::string> gather(const std::string& path, const ReferencePolicy& 
 Vec3 v3(const double* a) { return Vec3{a[0], a[1], a[2]}; }
 
 // A distance for a message: 6 significant digits (a step of 1.7999999999999998 says 1.8).
-std::string num6(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
+std::string num6(double v) { return significant_text(v, 6); }
 std::string mm(double v) { return num6(v) + " mm"; }
 
 // The rules a series must keep to be one regular grid; `s.slices` sorted along the normal on return.

@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 
+#include "kernels/significant_text.hpp"
 #include "formats/crc32.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
@@ -100,11 +101,7 @@ void deinterleave_point_blocks(const char* records, std::size_t n, std::vector<P
 
 void StreamMeta::set(const std::string& k, const std::string& v) { kv[k] = line_breaks_escaped(v); }
 
-void StreamMeta::set(const std::string& k, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    kv[k] = buf;
-}
+void StreamMeta::set(const std::string& k, double v) { kv[k] = significant_text(v, 17); }
 
 std::optional<std::string> StreamMeta::get(const std::string& k) const {
     auto it = kv.find(k);

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "kernels/significant_text.hpp"
 #include "formats/vtk_xml_output.hpp"
 #include "kernels/errors.hpp"
 
@@ -10,11 +11,7 @@ namespace meshless {
 
 namespace {
 
-std::string num(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return b;
-}
+std::string num(double v) { return significant_text(v, 17); }
 
 std::string triple(const std::array<double, 3>& v) { return num(v[0]) + " " + num(v[1]) + " " + num(v[2]); }
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "kernels/significant_text.hpp"
 #include "formats/binary_file.hpp"
 #include "formats/gzip.hpp"
 #include "formats/json.hpp"
@@ -25,11 +26,7 @@ std::string vtkjs_index_path(const std::string& path) {
 
 namespace {
 // A JSON number for a message (no cast: the number may be anything).
-std::string num_text(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return b;
-}
+std::string num_text(double v) { return significant_text(v, 17); }
 std::vector<double> numbers(const Json* v, std::size_t n, const std::string& path, const char* what) {
     if (!v || !v->is_array() || v->arr.size() != n)
         throw FormatError(path + ": '" + what + "' must be an array of " + std::to_string(n) + " numbers");

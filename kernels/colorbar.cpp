@@ -1,4 +1,5 @@
 #include "kernels/colorbar.hpp"
+#include "kernels/significant_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -45,11 +46,7 @@ const std::uint8_t* glyph(char c) {
 
 void put(Image& img, int x, int y, std::array<std::uint8_t, 3> c) { put_pixel(img, x, y, c); }
 
-std::string format_value(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-    return buf;
-}
+std::string format_value(double v) { return significant_text(v, 3); }
 
 }  // namespace
 

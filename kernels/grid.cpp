@@ -1,5 +1,6 @@
 #include "kernels/grid.hpp"
 
+#include "kernels/significant_text.hpp"
 #include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
 
@@ -61,11 +62,7 @@ std::int64_t GridSpec::cell_count() const {
 }
 
 namespace {
-std::string number(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
+std::string number(double v) { return significant_text(v, 6); }
 }  // namespace
 
 void validate_grid(const GridSpec& g, std::string_view context) {

@@ -4,16 +4,13 @@
 #include <cstdio>
 #include <cstring>
 
+#include "kernels/significant_text.hpp"
 #include "kernels/errors.hpp"
 
 namespace meshless {
 
 namespace {
-std::string number(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.9g", v);
-    return b;
-}
+std::string number(double v) { return significant_text(v, 9); }
 }  // namespace
 
 VoxelBox crop_voxels(const GridSpec& g, const std::array<double, 6>& world, const std::string& name) {
