@@ -47,6 +47,23 @@ inline RunResult sh(std::string cmd, const TempDir& dir) {
 
 /// `bytes` without the lines (newline-terminated, or the last one) that contain `needle`: outputs
 /// compared across inputs of other names, less the lines that record the input's name.
+/// Whether a program is on the PATH (`command -v NAME`): tests of terminals (script) and MPI (mpirun) skip without it.
+inline bool have_command(const std::string& name, const TempDir& dir) { return sh("command -v " + name + " >/dev/null", dir).code == 0; }
+
+/// The prefix that runs a command on `ranks` MPI ranks ("mpirun ... -np N "), or "" when mpirun is not
+/// installed (the caller skips). Sanitizer tier: the ranks run without leak detection (ASan and UBSan
+/// stay on): OpenMPI dlcloses its components at MPI_Finalize, so their exit-time allocations are
+/// reported from "<unknown module>", which no suppression (tests/lsan_suppressions.txt) can name.
+inline std::string mpirun_prefix(const TempDir& dir, int ranks = 2) {
+    if (!have_command("mpirun", dir)) return "";
+#ifdef MESHLESS_SANITIZED
+    const std::string env = "LSAN_OPTIONS=detect_leaks=0 ";
+#else
+    const std::string env;
+#endif
+    return env + "mpirun --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) + " ";
+}
+
 inline std::string lines_without(const std::string& bytes, const std::string& needle) {
     std::string out;
     for (std::size_t at = 0; at < bytes.size();) {

@@ -84,22 +84,14 @@ TEST_CASE("paradigm (A): generate --all, extract, project at render time or in a
 
 TEST_CASE("mpirun -np 2 gives the single-process bytes, a failing rank fails the job with no output", "[cli][ooc-pipeline][mpi]") {
     TempDir d("mpi");
-    if (sh("command -v mpirun", d).code != 0) {
+    const std::string mpirun = mpirun_prefix(d);
+    if (mpirun.empty()) {
         WARN("mpirun not installed: MPI test skipped");
         return;
     }
     const std::string vol = gyroid_volume(d), D = d.path.string();
     REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "/g.mlb --brick 16", d).code == 0);
     REQUIRE(sh("MESHLESS isosurface " + D + "/g.mlb --iso 128.5 -o " + D + "/one.ply", d).code == 0);
-#ifdef MESHLESS_SANITIZED
-    // Sanitizer tier: the ranks run without leak detection (ASan and UBSan stay on). OpenMPI
-    // dlcloses its components at MPI_Finalize, so their exit-time allocations are reported from
-    // "<unknown module>", which no suppression (tests/lsan_suppressions.txt) can name.
-    const std::string mpi_env = "LSAN_OPTIONS=detect_leaks=0 ";
-#else
-    const std::string mpi_env;
-#endif
-    const std::string mpirun = mpi_env + "mpirun --allow-run-as-root --oversubscribe -np 2 ";
     auto r = sh(mpirun + "MESHLESS isosurface " + D + "/g.mlb --iso 128.5 -o " + D + "/two.ply --stats", d);
     if (r.code != 0 && r.err.find("without MPI") != std::string::npos) {
         WARN("this build has no MPI: MPI test skipped");
@@ -109,7 +101,7 @@ TEST_CASE("mpirun -np 2 gives the single-process bytes, a failing rank fails the
     CHECK_THAT(r.err, Catch::Contains("2 rank(s)"));
     CHECK(slurp(d / "one.ply") == slurp(d / "two.ply"));
     // three ranks (one owning fewer bricks), two threads each: the same bytes
-    r = sh(mpi_env + "mpirun --allow-run-as-root --oversubscribe -np 3 MESHLESS isosurface " + D + "/g.mlb --iso 128.5 -o " + D +
+    r = sh(mpirun_prefix(d, 3) + "MESHLESS isosurface " + D + "/g.mlb --iso 128.5 -o " + D +
                "/three.ply --threads 2 --memory 64K",
            d);
     REQUIRE(r.code == 0);
@@ -151,16 +143,11 @@ TEST_CASE("mpirun -np 2 gives the single-process bytes, a failing rank fails the
 
 TEST_CASE("mpirun -np 2 batch: the volumes dealt to the ranks, one process's outputs and one summary", "[cli][ooc-pipeline][mpi]") {
     TempDir d("mpi-batch");
-    if (sh("command -v mpirun", d).code != 0) {
+    const std::string mpirun = mpirun_prefix(d);
+    if (mpirun.empty()) {
         WARN("mpirun not installed: MPI test skipped");
         return;
     }
-#ifdef MESHLESS_SANITIZED
-    const std::string mpi_env = "LSAN_OPTIONS=detect_leaks=0 ";  // (see the test above)
-#else
-    const std::string mpi_env;
-#endif
-    const std::string mpirun = mpi_env + "mpirun --allow-run-as-root --oversubscribe -np 2 ";
     const fs::path arch = d / "archive";
     fs::create_directories(arch);
     const TempDir& dir = d;

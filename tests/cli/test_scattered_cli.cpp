@@ -365,20 +365,16 @@ TEST_CASE("isosurface POINTS: an isovalue outside the value range warns and writ
 
 TEST_CASE("mpirun -np 2 isosurface POINTS gives the single-process bytes", "[cli][scattered][mpi]") {
     TempDir d("scmpi");
-    if (sh("command -v mpirun", d).code != 0) {
+    const std::string mpirun = mpirun_prefix(d);
+    if (mpirun.empty()) {
         WARN("mpirun not installed: MPI test skipped");
         return;
     }
-#ifdef MESHLESS_SANITIZED
-    const std::string mpi_env = "LSAN_OPTIONS=detect_leaks=0 ";  // (see test_ooc_pipeline.cpp)
-#else
-    const std::string mpi_env;
-#endif
     const std::string D = d.path.string();
     const std::string pts = write_csv(d, "sphere.csv", sphere_points(4000, 12));
     const std::string common = " --iso 0.6 --threads 1 --size 96x96 --stats";
     REQUIRE(sh("MESHLESS isosurface " + pts + common + " -o " + D + "/one.ply --png " + D + "/one.png", d).code == 0);
-    auto r = sh(mpi_env + "mpirun --allow-run-as-root --oversubscribe -np 2 MESHLESS isosurface " + pts + common + " -o " + D +
+    auto r = sh(mpirun + "MESHLESS isosurface " + pts + common + " -o " + D +
                     "/two.ply --png " + D + "/two.png",
                 d);
     REQUIRE(r.code == 0);
@@ -392,13 +388,13 @@ TEST_CASE("mpirun -np 2 isosurface POINTS gives the single-process bytes", "[cli
     CHECK(slurp(d / "one.png") == slurp(d / "two.png"));
     // three ranks, with --dedup on rank 0's side: still the single-process bytes
     REQUIRE(sh("MESHLESS isosurface " + pts + " --iso 0.6 --dedup 0.5 -o " + D + "/dd1.ply", d).code == 0);
-    REQUIRE(sh(mpi_env + "mpirun --allow-run-as-root --oversubscribe -np 3 MESHLESS isosurface " + pts + " --iso 0.6 --dedup 0.5 -o " + D +
+    REQUIRE(sh(mpirun_prefix(d, 3) + "MESHLESS isosurface " + pts + " --iso 0.6 --dedup 0.5 -o " + D +
                    "/dd3.ply",
                d).code == 0);
     CHECK(slurp(d / "dd1.ply") == slurp(d / "dd3.ply"));
     // a failing rank (fewer than 4 distinct points: every rank fails) fails the job with no output
     const std::vector<P4> three = {{0, 0, 0, 1}, {1, 0, 0, 2}, {0, 1, 0, 3}};
-    r = sh(mpi_env + "mpirun --allow-run-as-root --oversubscribe -np 2 MESHLESS isosurface " + write_csv(d, "three.csv", three) +
+    r = sh(mpirun + "MESHLESS isosurface " + write_csv(d, "three.csv", three) +
                " --iso 1.5 -o " + D + "/bad.ply",
            d);
     CHECK(r.code != 0);

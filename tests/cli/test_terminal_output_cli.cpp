@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 
 TEST_CASE("binary outputs refuse a terminal, text outputs reach it", "[cli][tty]") {
     TempDir d("tty");
-    if (sh("command -v script >/dev/null", d).code != 0) {
+    if (!have_command("script", d)) {
         WARN("no script(1): the terminal cases were not run");
         return;
     }
@@ -52,7 +52,7 @@ TEST_CASE("binary outputs refuse a terminal, text outputs reach it", "[cli][tty]
 
 TEST_CASE("a picture of a volume without patient's axes notes how to turn the camera, on a terminal only", "[cli][tty]") {
     TempDir d("tty-axes");
-    if (sh("command -v script >/dev/null", d).code != 0) {
+    if (!have_command("script", d)) {
         WARN("no script(1): the terminal cases were not run");
         return;
     }
