@@ -281,7 +281,10 @@ void no_patient_axes_hint(const Args& a, const std::string& volume) {
 
 
 RenderSettings render_settings(const Args& a) {
-    RenderSettings rs{camera_from(a, "800x800"), parse_splat_kernel(a.get_or("kernel", "ewa")), parse_shading(a.get_or("shading", "phong"))};
+    RenderSettings rs;
+    rs.camera = camera_from(a, "800x800");
+    rs.kernel = parse_splat_kernel(a.get_or("kernel", "ewa"));
+    rs.shading = parse_shading(a.get_or("shading", "phong"));
     // --memory bounds the process: the EWA picture's footprints take an eighth of it at most
     if (a.declared("memory") && a.has("memory"))
         rs.spool_memory = std::min<std::uint64_t>(SplatSink::kSpoolMemory, parse_memory_size(*a.get("memory")) / 8);

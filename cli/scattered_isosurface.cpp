@@ -135,7 +135,8 @@ int isosurface_scattered(int argc, char** argv) {
            "POINTS: CSV/TSV/text, PLY, VTP, VTU nodes, raw float32 records, .npy (see meshless info), or a point store (.mlc,\n"
            "made by meshless convert): with the mpu field and a limited --max-travel it runs in z slabs within\n"
            "--memory, the bytes of the store read whole for any budget (a PLY of the same points gives the same\n"
-           "samples in another order).");
+           "samples in another order). Under mpirun each rank takes its own z layers of a store and reads only\n"
+           "the points they need; other points are read by every rank, which builds the whole field.");
     a.option("iso", "", "V", "isovalue (required)")
         .option("output", "o", "FILE", "point set output: .ply or .vtp; '-' = stdout")
         .option("png", "", "FILE", "also render the points to this PNG");
@@ -150,13 +151,15 @@ int isosurface_scattered(int argc, char** argv) {
     add_camera_options(a);
     add_color_options(a);
     a.option("memory", "", "BYTES",
-             "a point store (.mlc) with the mpu field and --max-travel > 0, one process: the budget its slabs are sized "
-             "to, e.g. 512M, 2G (default: the memory this process may use); the output does not depend on it. Budgets "
+             "a point store (.mlc) with the mpu field and --max-travel > 0: the budget its slabs are sized "
+             "to, e.g. 512M, 2G, each rank's under mpirun (default: the memory this process may use, shared by the ranks "
+             "on a machine); the output does not depend on it. Budgets "
              "near the least that runs make many thin slabs, each a rebuild of its overlap: see --stats")
         .validate([](const std::string& v) { (void)parse_memory_size(v); });
     a.positionals(1, 1u << 20);
     a.epilog("examples: meshless sample ../shared/data/bucky/Bucky_32x32x32_uint8.raw -n 20000 -o bucky.ply && meshless isosurface bucky.ply --iso 100 -o b.ply --png b.png --stats\n"
              "          meshless convert bucky.ply -o bucky.mlc && meshless isosurface bucky.mlc --iso 100 -o b.ply --memory 64M\n"
+             "mpirun:   mpirun -np 4 meshless isosurface bucky.mlc --iso 100 -o b.ply --memory 64M --threads 1\n"
              "pipes:    meshless fit POINTS -o f.mlf && meshless generate POINTS --iso V | meshless project --field f.mlf | meshless splat -o img.png\n");
     a.input_variant("scattered points");
     if (!a.parse(argc, argv, 2)) return 0;
@@ -220,35 +223,45 @@ ScatteredJob prepare_scattered(const Args& a, Clock::time_point t_start, MpiSess
 }
 
 /// A point store (.mlc) with the mpu field: slab by slab within --memory (stream/scattered_store_isosurface.hpp).
-bool runs_store_slabs(const Args& a, MpiSession* mpi) {
-    if (mpi || a.positional().size() != 1 || field_file_arg(a) || !is_point_store(a.positional()[0])) return false;
+bool runs_store_slabs(const Args& a) {
+    if (a.positional().size() != 1 || field_file_arg(a) || !is_point_store(a.positional()[0])) return false;
     if (parse_finite(a.get_or("max-travel", a.default_of("max-travel")), "--max-travel") == 0) return false;  // (no slab bound: read whole)
     return field_kind_arg(a, kPointsFieldDefault) == "mpu";
 }
 
-int isosurface_scattered_store(const Args& a, Clock::time_point t_start) {
+int isosurface_scattered_store(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
+    const bool root = !mpi || mpi->rank() == 0;
     ScatteredJob s;
     IsosurfaceJob& j = s.job;
     const ColorChoice cc = parse_scattered_options(a, t_start, s);
     const FieldParams fp = field_params(a, kPointsFieldDefault);
     ScatteredStoreParams sp;
-    sp.memory_bytes = a.has("memory") ? parse_memory_size(*a.get("memory")) : available_memory();
+    // (under mpirun --memory is each rank's; by default the ranks on a machine share its memory)
+    sp.memory_bytes = a.has("memory") ? parse_memory_size(*a.get("memory"))
+                                      : available_memory() / static_cast<std::uint64_t>(mpi ? launched_local_size() : 1);
     sp.reg_gap = reg_gap(a);
     const std::string& path = a.positional()[0];
     const auto store = PointStore::open(path);
-    const ScatteredStorePlan plan = plan_scattered_store(*store, joined_names(a.positional()), binning_params(a), stderr_warning());
+    // (every rank scans the store: the plan is what the whole set decides, the same on every rank)
+    const ScatteredStorePlan plan = plan_scattered_store(*store, joined_names(a.positional()), binning_params(a),
+                                                         root ? stderr_warning() : InputWarning{});
     apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
-    const bool warned = !plan.crosses(j.iso) && warn_if_iso_outside(j.iso, plan.value_range, plan.source);
+    const bool warned = root && !plan.crosses(j.iso) && warn_if_iso_outside(j.iso, plan.value_range, plan.source);
     j.out = geometry_output(a, kPointsWhat);
+    if (mpi) {
+        if (!root) j.progress = {};
+        const std::size_t points = run_scattered_store_mpi_job(j, s.dedup, *mpi, *store, plan, fp, sp, a.command_line(), "isosurface");
+        return root ? empty_result_exit(a, points, "points", j.iso, plan.source, warned) : 0;
+    }
     const std::size_t points = run_scattered_store_job(j, s.dedup, *store, plan, fp, sp, a.command_line(), a.get("memory"), "isosurface");
     return empty_result_exit(a, points, "points", j.iso, plan.source, warned);
 }
 
 int isosurface_scattered_run(const Args& a, Clock::time_point t_start, MpiSession* mpi) {
-    if (runs_store_slabs(a, mpi)) return isosurface_scattered_store(a, t_start);
+    if (runs_store_slabs(a)) return isosurface_scattered_store(a, t_start, mpi);
     if (a.has("memory"))  // (a budget the run below cannot keep: say so rather than exceed it silently)
-        std::fprintf(stderr, "meshless isosurface: warning: --memory bounds only a point store (.mlc) with the mpu field, "
-                             "--max-travel > 0 and no mpirun; these points and their field are held in memory whole\n");
+        std::fprintf(stderr, "meshless isosurface: warning: --memory bounds only a point store (.mlc) with the mpu field and "
+                             "--max-travel > 0; these points and their field are held in memory whole\n");
     ScatteredJob s = prepare_scattered(a, t_start, mpi);
     s.job.out = geometry_output(a, kPointsWhat);
     if (mpi) {  // the deal's thread failing leaves the other ranks waiting for rows: end the job

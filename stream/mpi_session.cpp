@@ -37,6 +37,12 @@ int launched_world_rank() {
     return 0;
 }
 
+int launched_local_size() {
+    for (const char* v : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS", "PMI_LOCAL_SIZE"})
+        if (const char* s = std::getenv(v)) return std::max(1, std::atoi(s));
+    return launched_world_size();
+}
+
 bool mpi_built() { return ::access(plugin_path().c_str(), R_OK) == 0; }
 
 MpiSession::MpiSession(int* argc, char*** argv) {

@@ -25,6 +25,9 @@ namespace meshless {
 int launched_world_size();
 /// This process's rank as the launcher announced it (0 when not launched by mpirun).
 int launched_world_rank();
+/// The ranks the launcher started on this machine (the world size when it does not say; 1 when not
+/// launched by mpirun): they share its memory.
+int launched_local_size();
 /// Whether this build can run under MPI.
 bool mpi_built();
 

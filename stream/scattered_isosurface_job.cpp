@@ -1,8 +1,11 @@
 #include "stream/scattered_isosurface_job.hpp"
 
+#include <sys/resource.h>
+
 #include "formats/terminal_safe.hpp"
 #include "stream/projection_meta.hpp"
 #include "stream/scattered_isosurface_mpi.hpp"
+#include "stream/scattered_store_ranks.hpp"
 #include "stream/mpi_session.hpp"
 #include "stream/seconds_since.hpp"
 #include "stream/stencil_source.hpp"
@@ -66,13 +69,73 @@ void run_scattered_isosurface_mpi_job(const IsosurfaceJob& j, double dedup, MpiS
                                 {f.seconds, 0, seconds_since(j.started)}, j.threads);
 }
 
-std::size_t run_scattered_store_job(const IsosurfaceJob& j, double dedup, const PointStore& store, const ScatteredStorePlan& plan,
-                                    const FieldParams& field_params, const ScatteredStoreParams& sp, const std::string& producer,
-                                    const std::optional<std::string>& memory_option, const char* cmd, std::FILE* warn) {
+namespace {
+
+/// The store's metadata as the slab runs write it.
+StreamMeta store_meta(const IsosurfaceJob& j, double dedup, const ScatteredStorePlan& plan, const std::string& producer) {
     StreamMeta meta = scattered_store_meta(plan, j.iso, j.n, producer);
     widen_frame_for_travel(meta, j.np.seed_max_travel);
     add_projection_meta(meta, "mpu", j.np);
     if (dedup > 0) meta.set("dedup", dedup);
+    return meta;
+}
+
+/// This process's peak resident memory in bytes (0 when unknown).
+std::uint64_t peak_rss_bytes() {
+    rusage ru{};
+    if (getrusage(RUSAGE_SELF, &ru) != 0) return 0;
+    return static_cast<std::uint64_t>(ru.ru_maxrss) * 1024;
+}
+
+}  // namespace
+
+std::size_t run_scattered_store_mpi_job(const IsosurfaceJob& j, double dedup, MpiSession& mpi, const PointStore& store,
+                                        const ScatteredStorePlan& plan, const FieldParams& field_params, const ScatteredStoreParams& sp,
+                                        const std::string& producer, const char* cmd) {
+    const StreamMeta meta = store_meta(j, dedup, plan, producer);
+    const int rank = mpi.rank(), ranks = mpi.size();
+    const auto t0 = std::chrono::steady_clock::now();
+    StoreRankResult mine;
+    std::size_t points = 0;
+    std::optional<MpiChannel> channel;
+    if (plan.crosses(j.iso)) channel.emplace(mpi);
+    const auto run = [&](Sink* sink) {
+        if (!channel) {  // (the isovalue crosses no data: rank 0 writes the empty output)
+            if (sink) mine.stats = run_scattered_store_isosurface(store, plan, field_params, sp, j.iso, j.n, j.np, dedup, *sink, {j.threads});
+            return;
+        }
+        const std::array<std::int64_t, 2> layers = store_layers_of_rank(plan, rank, ranks);
+        const double share = static_cast<double>((layers[1] - layers[0]) * StencilGrid(plan.grid.dims).count[0] *
+                                                 StencilGrid(plan.grid.dims).count[1]);
+        const auto progress = rank == 0 && j.progress ? j.progress("stencils", share) : std::function<void(double)>();
+        mine = run_scattered_store_rank(store, plan, field_params, sp, j.iso, j.n, j.np, dedup, rank, ranks, *channel, sink, {j.threads},
+                                        progress);
+    };
+    if (rank == 0)
+        points = write_made_points(j, meta, [&](Sink& sink) { run(&sink); });
+    else
+        run(nullptr);
+    if (channel) channel->flush();
+    mine.peak_rss = peak_rss_bytes();
+    std::vector<StoreRankShare> shares;
+    const StoreRankResult tot = sum_store_rank_stats(mine, rank, ranks, [&mpi](const std::vector<std::int64_t>& v) { return mpi.sum_to_root(v); },
+                                                     &shares);
+    if (rank != 0 || !j.stats) return points;
+    print_store_isosurface_stats(j.stats, cmd, plan, tot.report, tot.stats, j.n, j.np, dedup, points,
+                                 {0, seconds_since(t0), seconds_since(j.started)}, j.threads);
+    std::fprintf(j.stats, "%s: over %d ranks, each its own stencil layers and the points they need:", cmd, ranks);
+    for (int q = 0; q < ranks; ++q)
+        std::fprintf(j.stats, "%s rank %d at most %llu points loaded, peak RSS %.1f MiB", q ? ";" : "", q,
+                     static_cast<unsigned long long>(shares[static_cast<std::size_t>(q)].most_loaded),
+                     static_cast<double>(shares[static_cast<std::size_t>(q)].peak_rss) / 1048576.0);
+    std::fprintf(j.stats, "\n");
+    return points;
+}
+
+std::size_t run_scattered_store_job(const IsosurfaceJob& j, double dedup, const PointStore& store, const ScatteredStorePlan& plan,
+                                    const FieldParams& field_params, const ScatteredStoreParams& sp, const std::string& producer,
+                                    const std::optional<std::string>& memory_option, const char* cmd, std::FILE* warn) {
+    const StreamMeta meta = store_meta(j, dedup, plan, producer);
     ScatteredIsosurfaceStats st;
     ScatteredStoreReport rep;
     const auto t0 = std::chrono::steady_clock::now();

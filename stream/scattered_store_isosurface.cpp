@@ -489,12 +489,14 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
     std::uint64_t seq = 0;
     const double halo0 = first_halo(plan, field_params);
     std::vector<std::pair<Vec3, double>> seen;  // the lacking balls of the slabs so far
-    for (std::int64_t s0 = 0; s0 < planner.layers();) {
+    const std::int64_t first = std::clamp<std::int64_t>(sp.layers[0], 0, planner.layers());
+    const std::int64_t end = sp.layers[1] < 0 ? planner.layers() : std::clamp<std::int64_t>(sp.layers[1], first, planner.layers());
+    for (std::int64_t s0 = first; s0 < end;) {
         double halo = halo0;
         // bricks that lacking balls asked for
         std::vector<char> extra = bricks_still_lacking(store, index, seen, planner.query_from(s0) - halo0);
         std::int64_t s1 = s0 + 1;
-        while (s1 < planner.layers() && fits(planner.slab(s0, s1 + 1, halo, extra))) ++s1;
+        while (s1 < end && fits(planner.slab(s0, s1 + 1, halo, extra))) ++s1;
         for (;;) {
             const Slab slab = planner.slab(s0, s1, halo, extra);
             if (!fits(slab) && s1 > s0 + 1) {  // (one layer is tried whatever the guess: its octree will tell)
@@ -516,7 +518,7 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
             FieldBuildStats fst;
             std::unique_ptr<MpuField> field;
             rep.field_seconds += build_alongside_coverage(in, opt.threads, [&] {
-                cache.begin(s1 < planner.layers() ? planner.query_from(s1) : kInf);
+                cache.begin(s1 < end ? planner.query_from(s1) : kInf);
                 field = std::make_unique<MpuField>(in.points, field_params, &fst, FieldProgress{}, nullptr, &region, &cache);
             });
             rep.coverage_seconds += in.coverage_seconds;

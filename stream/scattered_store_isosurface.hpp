@@ -86,6 +86,9 @@ struct ScatteredStoreParams {
     double other_bytes_per_point = 320;       ///< what one loaded point costs beside its field (points, bins,
                                               ///< support test, the slab's output)
     double reg_gap = 4;                       ///< the support test's factor (0: none), as the in-memory path
+    /// The stencil layers this run makes, [first, end) along z (a rank's share under mpirun:
+    /// stream/scattered_store_ranks.hpp); end -1: to the last layer.
+    std::array<std::int64_t, 2> layers{0, -1};
 };
 
 struct ScatteredStoreReport {
@@ -99,7 +102,8 @@ struct ScatteredStoreReport {
     FieldBuildStats field;         ///< summed over the slabs' fields (locals of their query boxes)
 };
 
-/// Runs the isosurface slab by slab into `sink` (finished once at the end). field_params: an mpu
+/// Runs the isosurface slab by slab into `sink` (finished once at the end): the stencils of
+/// sp.layers, in their single-process order. field_params: an mpu
 /// field's. np.seed_max_travel must be finite. dedup as run_scattered_isosurface (on the sink
 /// side). progress(k): k more stencils done (may be empty). report (optional) gets the figures.
 ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store, const ScatteredStorePlan& plan,

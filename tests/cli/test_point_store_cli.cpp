@@ -260,6 +260,45 @@ TEST_CASE("isosurface of a .mlc in slabs within --memory: the bytes of one slab 
     CHECK(temporaries(dir.path).empty());
 }
 
+TEST_CASE("mpirun -np 2 and 3 isosurface of a .mlc: each rank its own layers, the single-process bytes", "[cli][point_store][mpi]") {
+    TempDir dir("mlc-cli-mpi");
+    const std::string mpirun = mpirun_prefix(dir);
+    if (mpirun.empty()) {
+        WARN("mpirun not installed: MPI test skipped");
+        return;
+    }
+    const std::string csv = (dir / "u.csv").string(), mlc = (dir / "u.mlc").string();
+    spit(csv, uniform_points_csv(7));
+    REQUIRE(sh("MESHLESS convert " + csv + " -o " + mlc + " --brick-points 256", dir).code == 0);
+    const std::string opts = " --max-travel 0.5 --threads 1 --size 96x96", common = " --iso 0.3" + opts;
+    const std::string D = dir.path.string();
+    REQUIRE(sh("MESHLESS isosurface " + mlc + common + " -o " + D + "/one.ply --png " + D + "/one.png", dir).code == 0);
+    auto r = sh(mpirun + "MESHLESS isosurface " + mlc + common + " --stats --memory 64M -o " + D + "/two.ply --png " + D + "/two.png", dir);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.err.find("over 2 ranks, each its own stencil layers") != std::string::npos);
+    CHECK(r.err.find("rank 1 at most") != std::string::npos);
+    CHECK(slurp(dir / "one.ply").size() > 100000);
+    CHECK(slurp(dir / "one.ply") == slurp(dir / "two.ply"));
+    CHECK(slurp(dir / "one.png") == slurp(dir / "two.png"));
+    // three ranks with --dedup on rank 0's side
+    REQUIRE(sh("MESHLESS isosurface " + mlc + common + " --dedup 0.5 -o " + D + "/dd1.ply", dir).code == 0);
+    r = sh(mpirun_prefix(dir, 3) + "MESHLESS isosurface " + mlc + common + " --dedup 0.5 -o " + D + "/dd3.ply", dir);
+    REQUIRE(r.code == 0);
+    CHECK(slurp(dir / "dd1.ply") == slurp(dir / "dd3.ply"));
+    // an isovalue outside the data: the single process's empty output and warning, once
+    REQUIRE(sh("MESHLESS isosurface " + mlc + opts + " --iso 50 -o " + D + "/e1.ply", dir).code == 0);
+    r = sh(mpirun + "MESHLESS isosurface " + mlc + opts + " --iso 50 -o " + D + "/e2.ply", dir);
+    CHECK(r.code == 0);
+    CHECK(slurp(dir / "e1.ply") == slurp(dir / "e2.ply"));
+    // a budget too small on every rank fails the job, nothing written
+    r = sh(mpirun + "MESHLESS isosurface " + mlc + common + " --memory 10M -o " + D + "/small.ply", dir);
+    CHECK(r.code != 0);
+    CHECK(r.err.find("too small") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "small.ply"));
+    CHECK(temporaries(dir.path).empty());
+}
+
 TEST_CASE("convert -o pts.mlc killed mid-run: no temporaries (SIGKILL: swept by the next run)", "[cli][point_store][signals]") {
     if (!have_shared_data()) return;
     TempDir dir("mlc-cli-signals");
