@@ -38,6 +38,8 @@ struct BenchOptions {
     std::string scattered_field;  ///< scattered: --field given to `meshless isosurface` (empty: its default)
     double peer_timeout = 0;      ///< scattered: seconds per peer run (0: 120, --quick 30)
     bool no_peers = false;        ///< scattered: skip the Python/VTK peers
+    std::string scale_sets;       ///< scale: "ct,clustered,layered" subset (empty: ct)
+    std::string scale_ranks;      ///< scale: mpirun rank counts of the store runs, "2,4" (empty: none)
     std::string scattered_fields;         ///< scattered (a): "sphere,gyroid,ml" subset (empty: all three)
     std::string scattered_distributions;  ///< scattered (a): "uniform,clustered,layered" subset (empty: all)
     std::string scattered_parts;          ///< scattered: "a,b,c" subset (empty: all)
@@ -171,6 +173,10 @@ void run_multiblock(const BenchOptions& o, Report& r);
 void run_scattered(const BenchOptions& o, Report& r);
 /// "N1,N2,..." -> counts (each 10..1e8); throws std::invalid_argument naming --sizes otherwise.
 std::vector<std::size_t> parse_scattered_sizes(const std::string& s);
+/// scale: "2,4" as rank counts; throws std::invalid_argument naming --ranks.
+std::vector<int> parse_rank_counts(const std::string& list);
+/// scale: checks --sets and --ranks (std::invalid_argument naming the option).
+void check_scale_options(const BenchOptions& o);
 /// "a,b" -> {"a", "b"}.
 std::vector<std::string> split_list(const std::string& s);
 /// Checks --sizes, --fields, --distributions, --parts; throws std::invalid_argument naming the option.

@@ -125,6 +125,10 @@ int bench_main(int argc, char** argv) {
                                             "diagonal, one table per value (default: the field's own, 0.025)")
         .option("hardy-c-spacing", "", "K", "fields: cap every local fit's Hardy c at K x its point spacing (0: the global c; "
                                             "default: the field's own)")
+        .option("sets", "", "LIST", "scale: ct (LIDC2 samples), clustered, layered (the gyroid at those positions) or a subset "
+                                    "(default: ct)")
+        .option("ranks", "", "LIST", "scale: also run each store under mpirun with these rank counts, e.g. 2,4 (1..64; "
+                                     "default: none)")
         .flag("no-peers", "scattered: skip the SciPy / VTK peers")
         .flag("all-peers", "scattered: peers on every set and size (default: all up to 20,000 points, fewer above)")
         .flag("reuse-peers", "scattered: reuse the peer results an earlier run kept in --work (said in the output)")
@@ -174,8 +178,11 @@ int bench_main(int argc, char** argv) {
         o.hardy_c_spacing = std::stod(*k);
         if (!(o.hardy_c_spacing >= 0)) throw UsageError("--hardy-c-spacing: expected a factor >= 0");
     }
+    o.scale_sets = a.get_or("sets", "");
+    o.scale_ranks = a.get_or("ranks", "");
     try {
         check_scattered_lists(o);
+        check_scale_options(o);
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
     }

@@ -22,6 +22,16 @@ bool is_streaming_output(const std::string& path) {
     return fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st);
 }
 
+std::optional<std::uint64_t> free_space_for_output(const std::string& path) {
+    if (is_streaming_output(path)) return std::nullopt;
+    std::error_code ec;
+    fs::path dir = fs::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    const fs::space_info si = fs::space(dir, ec);
+    if (ec) return std::nullopt;
+    return static_cast<std::uint64_t>(si.available);
+}
+
 void sync_to_disk(const std::string& path) {
     auto sync_one = [&](const std::string& p, int flags) {
         const int fd = ::open(p.c_str(), flags | O_CLOEXEC);

@@ -32,6 +32,8 @@
 #include <cstddef>
 #include <cstdio>
 #include <memory>
+#include <cstdint>
+#include <optional>
 #include <string>
 
 #include "formats/temporary_files.hpp"
@@ -45,6 +47,10 @@ void sync_to_disk(const std::string& path);
 
 /// True for outputs that cannot seek: "-" and existing non-regular files (devices, FIFOs).
 bool is_streaming_output(const std::string& path);
+
+/// Bytes free for an unprivileged writer on the file system that an output file at `path` would be
+/// written to (its folder's); nullopt for streaming outputs and when the folder cannot be asked.
+std::optional<std::uint64_t> free_space_for_output(const std::string& path);
 
 enum class Durability { replace, fsync };
 

@@ -10,13 +10,47 @@
 // opens it at once; formats/vtp_writer.hpp with oriented = false: no normals, no radii).
 // All go through AtomicFile (temporary + rename; "-" = stdout as CSV): nothing half-written on error.
 // Throws IoError naming the path. Thread-safety: reentrant.
+// PointSetWriter writes the same files chunk by chunk (memory bounded whatever the count: the PLY
+// declares the count first, which the appends must reach exactly; VTP spools its arrays to disk).
 #pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "kernels/point_set.hpp"
 
 namespace meshless {
+
+/// A point set with values (or without: has_values false) written by extension as write_point_set
+/// does, one chunk at a time. PLY: `count` is the number of points the appends will give; commit()
+/// throws std::logic_error when they gave another number. CSV and VTP take any number.
+enum class PointSetFormat { ply, csv, vtp };
+
+/// By extension: .ply, .csv or "-", .vtp; anything else InvalidArgument (as write_point_set).
+PointSetFormat point_set_output_format(const std::string& path);
+
+class PointSetWriter {
+public:
+    /// The format by the name's extension (point_set_output_format).
+    PointSetWriter(const std::string& path, std::uint64_t count, bool has_values, const std::string& value_name,
+                   const std::vector<std::string>& comments = {});
+    /// This format whatever the name.
+    PointSetWriter(PointSetFormat format, const std::string& path, std::uint64_t count, bool has_values,
+                   const std::string& value_name, const std::vector<std::string>& comments = {});
+    ~PointSetWriter();
+    PointSetWriter(const PointSetWriter&) = delete;
+    PointSetWriter& operator=(const PointSetWriter&) = delete;
+    /// value: one per position (ignored without values).
+    void append(std::span<const Vec3> pos, std::span<const double> value);
+    /// Renames into place; no appends after.
+    void commit();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> d_;
+};
 
 void write_point_set_ply(const std::string& path, const PointSet& ps, const std::vector<std::string>& comments = {});
 void write_point_set_csv(const std::string& path, const PointSet& ps);

@@ -142,7 +142,7 @@ TEST_CASE("meshless-bench smoke: scattered --quick runs every part, peers in the
 TEST_CASE("meshless-bench smoke: scale --quick runs the whole processes and builds and evaluates both fields", "[bench]") {
     if (!have_shared_data()) return;  // (LIDC2.vti is in the shared data folder)
     TempDir dir("bench-scale");
-    const RunResult r = sh(kBench + " scale --quick --no-peers --sizes 5000 --data " + shared_data().string() + " --meshless " + meshless_exe(), dir);
+    const RunResult r = sh(kBench + " scale --quick --no-peers --sizes 5000 --sets ct,clustered --data " + shared_data().string() + " --meshless " + meshless_exe(), dir);
     INFO(r.err);
     REQUIRE(r.code == 0);
     INFO(r.out);
@@ -151,17 +151,20 @@ TEST_CASE("meshless-bench smoke: scale --quick runs the whole processes and buil
     CHECK(contains(r.out, "eval random Mpts/s"));
     CHECK(contains(r.out, "terms/query"));
     // one row per field, each with its numbers (a failed build or read is a "build: ..." / "read: ..." cell)
-    const auto row_of = [&](const std::string& field) {  // a table line "5000 <spaces> field ..."
+    const auto row_of = [&](const std::string& set, const std::string& field) {  // a table line "set 5000 <spaces> field ..."
         std::istringstream lines(r.out);
         for (std::string line; std::getline(lines, line);) {
             std::istringstream words(line);
-            std::string n, f;
-            if (words >> n >> f && n == "5000" && f == field) return true;
+            std::string k, n, f;
+            if (words >> k >> n >> f && k == set && n == "5000" && f == field) return true;
         }
         return false;
     };
-    CHECK(row_of("mpu"));
-    CHECK(row_of("rbf-grid"));
+    for (const char* set : {"ct", "clustered"}) {
+        INFO(set);
+        CHECK(row_of(set, "mpu"));
+        CHECK(row_of(set, "rbf-grid"));
+    }
     CHECK_FALSE(contains(r.out, "build: "));
     CHECK_FALSE(contains(r.out, "read: "));
 }

@@ -221,6 +221,9 @@ TEST_CASE("a brick store is a VOLUME everywhere: re-bricking, sampling, synth", 
     REQUIRE(sh("MESHLESS sample " + vol + " --count 500 --seed 3 -o " + D + "/a.csv", d).code == 0);
     REQUIRE(sh("MESHLESS sample " + D + "/g32.mlb --count 500 --seed 3 -o " + D + "/b.csv", d).code == 0);
     CHECK(slurp(d / "a.csv") == slurp(d / "b.csv"));
+    // the store read brick by brick through a one-brick cache, the points grouped by brick: the same points
+    REQUIRE(sh("MESHLESS sample " + D + "/g16.mlb --count 500 --seed 3 --memory 1K -o " + D + "/c.csv", d).code == 0);
+    CHECK(slurp(d / "a.csv") == slurp(d / "c.csv"));
     REQUIRE(sh("MESHLESS synth --upsample 2 " + D + "/g32.mlb -o " + D + "/s1.mlb", d).code == 0);
     REQUIRE(sh("MESHLESS synth --upsample 2 " + vol + " -o " + D + "/s2.mlb", d).code == 0);
     CHECK(slurp(d / "s1.mlb") == slurp(d / "s2.mlb"));    spit(d / "garbage.mlb", std::string(1000, '\x42'));

@@ -1,12 +1,14 @@
 // The brick-store field (ooc/brick_field.hpp): the same values and gradients as the trilinear field
 // of the whole volume, bit for bit, anywhere (inside, on brick faces, outside: clamped), with a
-// cache budget of one brick; and the store's bricks as exact value bounds.
+// cache budget of one brick; the same values at scattered positions grouped by brick (each brick
+// read once a call); and the store's bricks as exact value bounds.
 #include <catch2/catch.hpp>
 
 #include <random>
 
 #include "kernels/trilinear_field.hpp"
 #include "ooc/brick_field.hpp"
+#include "ooc/brick_store_values.hpp"
 #include "ooc_test_util.hpp"
 #include "tests/test_paths.hpp"
 
@@ -47,6 +49,37 @@ TEST_CASE("brick-store field evaluates exactly as the trilinear field of the who
             CHECK(ga[i].z == gb[i].z);
         }
         CHECK(cache.stats().misses > 1);
+    }
+}
+
+TEST_CASE("brick store values at scattered positions: the trilinear field's bits, each brick read once a call", "[render]") {
+    test::TempDir d("brickvalues");
+    for (SampleType t : {SampleType::u8, SampleType::f32}) {
+        const Volume v = test::random_volume({37, 20, 9}, t);
+        const std::string path = (d / "v.mlb").string();
+        test::convert_volume(v, path, 8);
+        const auto store = BrickStore::open(path);
+        BrickCache cache(*store, store->max_brick_bytes());  // one brick: a position out of turn would be a miss
+        const BrickStoreField bf(*store, cache);
+        const TrilinearField tf(v.view());
+        std::mt19937 rng(9);
+        const auto [lo, hi] = tf.bounds();
+        std::uniform_real_distribution<double> x(lo.x - 2, hi.x + 2), y(lo.y - 2, hi.y + 2), z(lo.z - 2, hi.z + 2);
+        std::vector<Vec3> p;
+        for (int i = 0; i < 5000; ++i) p.push_back({x(rng), y(rng), z(rng)});
+        std::vector<double> a(p.size()), b(p.size());
+        brick_store_values(*store, bf, p, a);
+        tf.evaluate(p, b, {});
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            if (std::isnan(b[i])) {
+                CHECK(std::isnan(a[i]));
+                continue;
+            }
+            CHECK(a[i] == b[i]);
+        }
+        // 5,000 positions over every brick: one miss a brick, not one a position
+        CHECK(cache.stats().misses == store->bricks().size());
+        CHECK(cache.stats().misses < 100);
     }
 }
 
