@@ -30,7 +30,8 @@ int cmd_sample(int argc, char** argv) {
         .option("output", "o", "FILE", "output .ply, .csv or .vtp ('-' = CSV on stdout; required)");
     add_volume_options(a);
     add_crop_option(a);
-    a.option("memory", "", "BYTES", "brick stores (.mlb): the brick cache's budget, e.g. 256M, 2G; other volumes: the most "
+    a.option("memory", "", "BYTES", "brick stores (.mlb): the budget of the brick cache (half) and of the points drawn at once "
+                                     "(half, 112 bytes a point, 65,536 to 4 Mi of them), e.g. 256M, 2G; other volumes: the most "
                                      "one read whole may take (raw samples are mapped)", "256M")
         .validate([](const std::string& v) { (void)parse_memory_size(v); });
     add_quiet_option(a);
@@ -65,7 +66,7 @@ int cmd_sample(int argc, char** argv) {
     if (!a.has("crop") && is_brick_store(path)) {
         store = BrickStore::open(path);
         in.store = store.get();
-        in.cache_bytes = parse_memory_size(a.get_or("memory", "256M"));
+        in.memory_bytes = parse_memory_size(a.get_or("memory", "256M"));
     } else {
         v = load_volume(path, volume_open_options(a, false), /*map=*/true);
         in.volume = &*v;

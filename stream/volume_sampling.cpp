@@ -39,18 +39,21 @@ std::uint64_t sample_volume_chunks(const GridSpec& g, const SampleValues& values
         for (auto& q : p) q = Vec3{lo[0] + rng.unit() * ext[0], lo[1] + rng.unit() * ext[1], lo[2] + rng.unit() * ext[2]};
         draws += want;
         values(p, val);
-        keep_p.clear();
-        keep_v.clear();
-        for (std::size_t i = 0; i < want; ++i) {
-            if (!std::isfinite(val[i])) {
-                ++redrawn;
-                continue;
+        const std::size_t finite = static_cast<std::size_t>(std::count_if(val.begin(), val.end(), [](double x) { return std::isfinite(x); }));
+        redrawn += want - finite;
+        kept += finite;
+        if (finite == want) {  // (no redraw: the drawn arrays go on as they are)
+            emit(p, val);
+        } else if (finite > 0) {
+            keep_p.clear();
+            keep_v.clear();
+            for (std::size_t i = 0; i < want; ++i) {
+                if (!std::isfinite(val[i])) continue;
+                keep_p.push_back(p[i]);
+                keep_v.push_back(val[i]);
             }
-            keep_p.push_back(p[i]);
-            keep_v.push_back(val[i]);
+            emit(keep_p, keep_v);
         }
-        kept += keep_p.size();
-        if (!keep_p.empty()) emit(keep_p, keep_v);
         if (draws > max_draws)
             throw FormatError(name + ": too many NaN/Inf cells: " + std::to_string(redrawn) + " of " + std::to_string(draws) +
                               " random positions had no finite value");
@@ -87,8 +90,11 @@ std::uint64_t sample_volume_to_file(const SampleInput& in, std::uint64_t count, 
     if (in.volume) {
         field.emplace(in.volume->view());
         values = [&](std::span<const Vec3> p, std::span<double> val) { field->evaluate(p, val, {}); };
+        if (chunk == 0) chunk = std::size_t{1} << 20;
     } else {
-        cache.emplace(*in.store, std::max(in.cache_bytes, in.store->max_brick_bytes()));
+        cache.emplace(*in.store, std::max(in.memory_bytes / 2, in.store->max_brick_bytes()));
+        if (chunk == 0)
+            chunk = static_cast<std::size_t>(std::clamp<std::uint64_t>(in.memory_bytes / 2 / kSampleChunkBytes, 65536, std::uint64_t{1} << 22));
         store_field.emplace(*in.store, *cache);
         values = [&](std::span<const Vec3> p, std::span<double> val) { brick_store_values(*in.store, *store_field, p, val); };
     }

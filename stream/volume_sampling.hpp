@@ -6,7 +6,7 @@
 // chunked, nor on whether the volume is in memory or a brick store.
 // Positions falling in cells with a NaN corner are redrawn and counted.
 // Streaming (sample_volume_chunks, sample_volume_to_file): the points go out in chunks, memory is
-// 40 bytes a point of one chunk plus the volume's (a brick store: its cache budget), whatever the count.
+// kSampleChunkBytes a point of one chunk plus the volume's (a brick store: its cache), whatever the count.
 // Units: world coordinates.
 // Throws FormatError naming `name` when NaN/Inf cells leave too few finite positions (more than
 // 20 draws a point); what the evaluation and the writer throw.
@@ -41,19 +41,24 @@ std::uint64_t sample_volume_chunks(const GridSpec& grid, const SampleValues& val
                                    const std::string& name, std::size_t chunk,
                                    const std::function<void(std::span<const Vec3>, std::span<const double>)>& emit);
 
-/// What sample_volume_to_file reads from: a volume in memory, or a brick store through a cache of
-/// `cache_bytes` (the positions of a chunk grouped by brick, ooc/brick_store_values.hpp).
+/// Bytes a point of a chunk takes while it is drawn, evaluated (grouped by brick) and written.
+inline constexpr std::uint64_t kSampleChunkBytes = 112;
+
+/// What sample_volume_to_file reads from: a volume in memory, or a brick store read brick by brick
+/// (the positions of a chunk grouped by brick, ooc/brick_store_values.hpp) within `memory_bytes`:
+/// half for the brick cache (one brick at least), half for the chunk (65,536 to 4 Mi points).
 struct SampleInput {
     const Volume* volume = nullptr;
     const BrickStore* store = nullptr;
-    std::uint64_t cache_bytes = 256ull << 20;
+    std::uint64_t memory_bytes = 256ull << 20;
 };
 
 /// Writes the `count` points to `path` (formats/point_set_writer.hpp PointSetWriter: PLY, CSV or VTP
 /// by extension, "-" CSV on stdout; temporary name and rename) chunk by chunk, with `comments`
-/// (PLY/VTP provenance). progress(k): k more points written (may be empty). Returns the positions redrawn.
+/// (PLY/VTP provenance). progress(k): k more points written (may be empty). chunk: points a chunk
+/// (0: from in.memory_bytes as above; the points do not depend on it). Returns the positions redrawn.
 std::uint64_t sample_volume_to_file(const SampleInput& in, std::uint64_t count, std::uint64_t seed, const std::string& name,
                                     const std::string& path, const std::vector<std::string>& comments,
-                                    const std::function<void(double)>& progress = {}, std::size_t chunk = std::size_t{1} << 22);
+                                    const std::function<void(double)>& progress = {}, std::size_t chunk = 0);
 
 }  // namespace meshless

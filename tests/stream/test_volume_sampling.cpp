@@ -80,7 +80,7 @@ TEST_CASE("sample to a file: streamed PLY, CSV and VTP of a volume and of its br
         mem.volume = &v;
         SampleInput bricks;
         bricks.store = store.get();
-        bricks.cache_bytes = 1;  // (raised to one brick)
+        bricks.memory_bytes = 1;  // (the cache raised to one brick)
         const std::string a = (d / (std::string("a") + ext)).string(), b = (d / (std::string("b") + ext)).string();
         double progressed = 0;
         CHECK(sample_volume_to_file(mem, 3000, 5, "v", a, {"producer test"}, [&](double k) { progressed += k; }, 1000) == want.redrawn);
