@@ -1,5 +1,7 @@
 #include "formats/vtp_writer.hpp"
 
+#include "formats/vtk_xml_output.hpp"
+
 #include "formats/temporary_files.hpp"
 
 #include <unistd.h>
@@ -363,6 +365,14 @@ void assemble(AtomicFile& out, const std::vector<std::string>& comments, const V
 
 }  // namespace
 
+namespace {
+/// The value array's name as the options ask (see VtpOptions::value_name).
+std::string value_array_name(const VtpOptions& o) {
+    const std::string& n = o.value_name;
+    return n.empty() || n == "Normals" || n == "radius" || n == "block" || n == "Points" ? std::string("value") : n;
+}
+}  // namespace
+
 struct VtpPointWriter::Impl {
     std::string path;
     std::vector<std::string> comments;
@@ -375,7 +385,7 @@ struct VtpPointWriter::Impl {
     std::vector<float> scratch;
     Impl(const std::string& p, const std::vector<std::string>& c, const VtpOptions& opt)
         : path(p), comments(c), o(opt), out(p), pool(opt.threads), points("Points", "Float32", 3, opt, true), normals("Normals", "Float32", 3, opt, true),
-          radius("radius", "Float32", 1, opt), value("value", "Float32", 1, opt) {}
+          radius("radius", "Float32", 1, opt), value(vtk_xml_escape(value_array_name(opt)), "Float32", 1, opt) {}
 };
 
 VtpPointWriter::VtpPointWriter(const std::string& path, const std::vector<std::string>& comments, VtpOptions options)
@@ -432,10 +442,11 @@ void VtpPointWriter::commit() {
     if (d.o.oriented) pd.insert(pd.begin(), {&d.normals, &d.radius});
     if (d.block) pd.push_back(&*d.block);
     const std::string ns = std::to_string(n);
+    const std::string scalars = "Scalars=\"" + vtk_xml_escape(value_array_name(d.o)) + "\">";
+    const std::string pd_open = d.o.oriented ? "<PointData Normals=\"Normals\" " + scalars : "<PointData " + scalars;
     assemble(d.out, d.comments, d.o,
              "NumberOfPoints=\"" + ns + "\" NumberOfVerts=\"" + ns + "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\"",
-             {{d.o.oriented ? "<PointData Normals=\"Normals\" Scalars=\"value\">" : "<PointData Scalars=\"value\">",
-               "</PointData>", pd},
+             {{pd_open.c_str(), "</PointData>", pd},
               {"<Points>", "</Points>", {&d.points}},
               {"<Verts>", "</Verts>", {&conn, &offs}}},
              d.pool);

@@ -60,6 +60,10 @@ struct VtpOptions {
     /// Points only: true writes the Normals and radius arrays; false leaves them out (samples that
     /// are not oriented splats, e.g. a cluster tree's level of detail: PointData value only).
     bool oriented = true;
+    /// Points: the name of the value array (the PointData's active scalars): the array the values
+    /// are, e.g. "temperature" for an isosurface coloured by it. Empty, or a name the other arrays
+    /// take (Normals, radius, block), gives "value".
+    std::string value_name = "value";
 };
 
 class VtpPointWriter {

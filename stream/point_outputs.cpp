@@ -67,6 +67,7 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
     if (!png) {
         VtpOptions vo = out->vtp;
         if (vo.threads == 0) vo.threads = nthreads;
+        if (const auto name = meta.get("value_name")) vo.value_name = *name;  // (coloured by another array: its name)
         PointFileSink sink(out->path, out->format, ply_comments(meta), vo, with_blocks, ply_colors(*out, rs));
         r = run(nullptr, sink);
         return sink.count();
@@ -90,6 +91,7 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
     if (out) {
         VtpOptions vo = out->vtp;
         if (vo.threads == 0) vo.threads = nthreads;
+        if (const auto name = meta.get("value_name")) vo.value_name = *name;  // (coloured by another array: its name)
         ply.emplace(out->path, out->format, ply_comments(meta), vo, with_blocks, ply_colors(*out, rs));
     }
     // the point file is committed after the picture is written (to its temporary), so a failed

@@ -279,6 +279,15 @@ TEST_CASE("isosurface --color-by ARRAY: each point's value is the other array's 
                d).code == 0);
     REQUIRE(sh("MESHLESS splat " + D + "/c.ply -o " + D + "/s.png --size 96x96 --colorbar", d).code == 0);
     CHECK(slurp(d / "s.png") == slurp(d / "cbar.png"));
+    // a VTP names its value array after the array the values are (ParaView lists "torus"), and reads back
+    REQUIRE(sh("MESHLESS isosurface " + D + "/two.vti --iso 0.6 --color-by torus -o " + D + "/c.vtp", d).code == 0);
+    const std::string vtp = slurp(d / "c.vtp");
+    CHECK(vtp.find("Scalars=\"torus\"") != std::string::npos);
+    CHECK(vtp.find("Name=\"torus\"") != std::string::npos);
+    CHECK(vtp.find("Name=\"value\"") == std::string::npos);
+    REQUIRE(sh("MESHLESS splat " + D + "/c.vtp -o " + D + "/sv.png --size 96x96 --colorbar", d).code == 0);
+    REQUIRE(sh("MESHLESS isosurface " + D + "/two.vti --iso 0.6 -o " + D + "/plain.vtp", d).code == 0);
+    CHECK(slurp(d / "plain.vtp").find("Scalars=\"value\"") != std::string::npos);  // (an isosurface's own values: "value")
     // a missing array: exit 2 naming the file's arrays; a sample store or an empty name: exit 1, nothing written
     const RunResult missing = sh("MESHLESS isosurface " + D + "/two.vti --iso 0.6 --color-by nope -o " + D + "/m.ply", d);
     CHECK(missing.code == 2);
