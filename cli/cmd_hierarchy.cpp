@@ -97,9 +97,9 @@ int certified_lod_run(const Args& a, const std::string& out) {
         meter.set_fraction(done / total);
     };
     if (a.has("stats")) job.stats = stderr;
-    run_certified_lod_job(job);
+    const CertifiedLod c = run_certified_lod_job(job);
     meter.done();
-    return 0;
+    return c.reached ? 0 : kExitEmpty;  // (E not reached: the finest is written, and a script sees it)
 }
 
 }  // namespace
@@ -208,7 +208,7 @@ int cmd_lod(int argc, char** argv) {
         .option("max-error", "", "E", "certified: a level of detail (by count) whose field is within E >= 0 of every sample of\n"
                 "--samples (checked at each), found by bisection over the count: one point fewer misses E, a smaller\n"
                 "one may exist where the error does not fall with the count; a size the tree certified (hierarchy\n"
-                "--certify) within E bounds the search. Unreachable: a warning and the finest level of detail")
+                "--certify) within E bounds the search. Unreachable: a warning, the finest level of detail, exit 4")
         .option("samples", "", "INPUT", "--max-error: the data the tree was built from (as given to hierarchy)")
         .option("hardy-c", "", "C", "--max-error: the mpu field's Hardy c relative to the bounding-box diagonal, in (0, 100]\n"
                 "(default: a level of detail's, as its readers use it: 0.003 for a max-error tree, else 0.025)")

@@ -345,6 +345,12 @@ TEST_CASE("meshless lod --max-error: within E at every sample, and one point few
         if (count > 1) CHECK(max_error(lod_point_set(t.nodes, LodMode::count, static_cast<double>(count - 1), t.value_name)) > e);
         CHECK(slurp(d / "c.ply").find("comment meshless field: hardy-c-rel 0.025\n") != std::string::npos);
     }
+    // a tree too shallow for E: the finest level of detail written, a warning, and exit 4 for scripts
+    REQUIRE(sh("MESHLESS hierarchy " + vol + " --max-splits 20 -o " + D + "/small.mlh", d).code == 0);
+    const auto unreached = sh("MESHLESS lod " + D + "/small.mlh --max-error 0.001 --samples " + vol + " -o " + D + "/u.ply", d);
+    CHECK(unreached.code == 4);
+    CHECK(unreached.err.find("no level of detail reaches --max-error") != std::string::npos);
+    CHECK(std::filesystem::exists(d / "u.ply"));
     // the samples of another data set: exit 2 naming it, nothing written
     const std::string other = write_uint8_analytic_volume(d, "other", AnalyticField::marschner_lobb, 10, 200, 20);
     const auto bad = sh("MESHLESS lod " + D + "/t.mlh --max-error 10 --samples " + other + " -o " + D + "/bad.ply", d);
