@@ -57,7 +57,7 @@ void print_usage(std::FILE* out) {
     for (const auto& c : kCommands) std::fprintf(out, "  %-12s %s\n", c.name, c.summary);
     std::fputs("\nPipes: meshless generate VOL --iso V | meshless project | meshless splat -o img.png\n"
                "exit codes: 0 success, 1 usage error, 2 bad input data or I/O failure, 3 internal error,\n"
-               "4 empty result with --fail-empty, 128 + signal when interrupted.\n",
+               "4 empty result with --fail-empty or an unreached lod --max-error, 128 + signal when interrupted.\n",
                out);
 }
 
