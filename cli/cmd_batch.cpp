@@ -192,6 +192,8 @@ int cmd_batch(int argc, char** argv) {
             if (mpi.rank() != 0) return kExitOk;
             line.clear();
             return batch_result(a, run);
+        } catch (const UsageError& e) {
+            return end_mpi_usage(mpi, "batch", e);
         } catch (const std::exception& e) {
             end_mpi_job(mpi, "batch", e);
         }

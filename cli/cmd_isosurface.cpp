@@ -153,6 +153,8 @@ int cmd_isosurface(int argc, char** argv) {
         try {
             VolumeInput in = open_volume_input(a);
             run_isosplat_mpi_job(j, mpi, in);
+        } catch (const UsageError& e) {
+            return end_mpi_usage(mpi, "isosurface", e);
         } catch (const std::exception& e) {
             end_mpi_job(mpi, "isosurface", e);
         }

@@ -30,6 +30,11 @@ void end_mpi_job(MpiSession& mpi, const char* command, const std::exception& e) 
     mpi.abort(code);
 }
 
+int end_mpi_usage(const MpiSession& mpi, const char* command, const UsageError& e) {
+    if (mpi.rank() == 0) std::fprintf(stderr, "meshless %s: %s\n", command, error_message(e).c_str());
+    return kExitUsage;
+}
+
 void end_mpi_job(MpiSession& mpi, const char* command, std::exception_ptr e) {
     try {
         std::rethrow_exception(e);

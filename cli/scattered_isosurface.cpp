@@ -168,6 +168,9 @@ int isosurface_scattered(int argc, char** argv) {
     if (launched_world_size() > 1) mpi = std::make_unique<MpiSession>(&argc, &argv);
     try {
         return isosurface_scattered_run(a, t_start, mpi.get());
+    } catch (const UsageError& e) {
+        if (!mpi) throw;
+        return end_mpi_usage(*mpi, "isosurface", e);
     } catch (const std::exception& e) {
         if (!mpi) throw;
         end_mpi_job(*mpi, "isosurface", e);

@@ -291,6 +291,13 @@ TEST_CASE("mpirun -np 2 and 3 isosurface of a .mlc: each rank its own layers, th
     r = sh(mpirun + "MESHLESS isosurface " + mlc + opts + " --iso 50 -o " + D + "/e2.ply", dir);
     CHECK(r.code == 0);
     CHECK(slurp(dir / "e1.ply") == slurp(dir / "e2.ply"));
+    // a usage error: said once (rank 0), every rank exits 1 without an abort
+    r = sh(mpirun + "MESHLESS isosurface " + mlc + common + " --field nope -o " + D + "/u.ply", dir);
+    CHECK(r.code == 1);
+    std::size_t said = 0;
+    for (std::size_t at = r.err.find("--field: expected"); at != std::string::npos; at = r.err.find("--field: expected", at + 1)) ++said;
+    CHECK(said == 1);
+    CHECK(r.err.find("MPI_ABORT") == std::string::npos);
     // a budget too small on every rank fails the job, nothing written
     r = sh(mpirun + "MESHLESS isosurface " + mlc + common + " --memory 10M -o " + D + "/small.ply", dir);
     CHECK(r.code != 0);
