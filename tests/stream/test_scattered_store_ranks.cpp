@@ -14,22 +14,16 @@
 #include "ooc/point_store_writer.hpp"
 #include "stream/scattered_store_ranks.hpp"
 
+#include "stream/collect_points.hpp"
 #include "stream/hub_channel.hpp"
 #include "test_paths.hpp"
 
 using namespace meshless;
 using meshless::test::Hub;
 using meshless::test::HubChannel;
+using Collect = meshless::test::CollectPoints;
 
 namespace {
-
-struct Collect final : Sink {
-    PayloadSet takes() const override { return Payload::points; }
-    std::vector<PointRecord> points;
-    bool finished = false;
-    void consume(Batch&& b) override { points.insert(points.end(), b.points.begin(), b.points.end()); }
-    void finish() override { finished = true; }
-};
 
 /// n points uniform in the unit cube, value the distance to (0.5, 0.5, 0.45) with a ripple, as a store.
 std::string make_store(const std::filesystem::path& dir, std::size_t n) {

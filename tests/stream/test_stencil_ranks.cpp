@@ -21,20 +21,16 @@
 #include "stream/stencil_source.hpp"
 #include "stream/unit_deal.hpp"
 
+#include "stream/collect_points.hpp"
 #include "stream/hub_channel.hpp"
 #include "stream/sphere_distance_field.hpp"
 
 using namespace meshless;
 using meshless::test::Hub;
 using meshless::test::HubChannel;
+using Collect = meshless::test::CollectPoints;
 
 namespace {
-
-struct Collect final : Sink {
-    PayloadSet takes() const override { return Payload::points; }
-    std::vector<PointRecord> points;
-    void consume(Batch&& b) override { points.insert(points.end(), b.points.begin(), b.points.end()); }
-};
 
 /// |p| as the sphere field, each evaluate() call `delay` slower (a rank on a slower machine).
 class SlowSphere final : public Field {
