@@ -56,20 +56,8 @@ std::optional<int> isosurface_of_blocks_or_points(const Args& a, int argc, char*
     return std::nullopt;
 }
 
-}  // namespace
-
-int cmd_isosurface(int argc, char** argv) {
-    Args a("isosurface", "VOLUME --iso V -o out.ply|out.vtp [--png out.png] [options]",
-           "Paradigm (C) iso-splatting: one sample per active cell (cell centre), value and gradient by\n"
-           "trilinear interpolation, projected onto the isosurface; writes an oriented point set\n"
-           "(binary PLY: x y z nx ny nz radius value, or VTK XML PolyData .vtp with vertex cells, Normals,\n"
-           "radius, value) and/or a surface-splatted picture.\n"
-           "VOLUME: raw (name_XxYxZ_type.raw or --dims/--type), NRRD (.nrrd/.nhdr), MetaImage (.mhd/.mha),\n"
-           "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI, a 3-D NumPy .npy (shape\n"
-           "(nz, ny, nx), --spacing), a Zarr v2 store or OME-Zarr image (a folder, read chunk row by chunk row),\n"
-           "an HDF5 dataset (FILE.h5:/PATH, or --array PATH), a DICOM series, or a brick store (.mlb,\n"
-           "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory,\n"
-           "or a paradigm (A) sample store (.mls, see meshless generate --all): only its candidate cell rows.");
+/// The volume isosurface's options, help and examples.
+void declare_isosurface_options(Args& a) {
     a.option("iso", "", "V[,V2...]", "isovalue (required); several, comma-separated: their surfaces one after another in the same outputs, coloured by isovalue")
         .option("output", "o", "FILE", "point set output (.ply binary PLY, .vtp VTK XML PolyData; '-' for stdout)")
         .option("png", "", "FILE", "also render the points to this PNG")
@@ -98,29 +86,21 @@ int cmd_isosurface(int argc, char** argv) {
              "examples: meshless isosurface ../shared/data/fuel/fuel_64x64x64_uint8.raw --iso 20.5 -o fuel.ply --png fuel.png\n"
              "          meshless isosurface vol.mlb --iso 100.5 --memory 256M -o out.ply\n"
              "          mpirun -np 4 meshless isosurface vol.mlb --iso 100.5 -o out.ply   (ranks split the active bricks)\n");
-    if (const auto other = isosurface_of_blocks_or_points(a, argc, argv)) return *other;
-    if (!a.parse(argc, argv, 2)) return 0;
-    IsosplatJob j;
-    j.isos = isovalue_list(a);
-    j.iso = j.isos[0];
-    if (j.isos.size() == 1) j.isos.clear();
-    j.png = point_outputs_png(a);
-    j.mode = parse_projection(a.get_or("projection", "approx"));
-    j.sp = sampling_params(a);
-    j.rs = render_settings(a);
+}
+
+/// Colours: the points of an isosurface all carry the isovalue, so the default is the uniform surface
+/// colour; --color value maps it within --range, else within the volume's value range (set by the job
+/// once it is read; the MPI and sample-store paths map the isovalue to the middle of the colour map).
+/// Several isovalues: each surface its colour by default, the colour map spanning the isovalues.
+/// --color-by: the array's values, mapped over its range (set by the job).
+void apply_isosurface_colors(const Args& a, IsosplatJob& j) {
     const ColorChoice cc = color_choice(a);
-    j.threads = threads(a);
-    // Colours: the points of an isosurface all carry the isovalue, so the default is the uniform
-    // surface colour; --color value maps it within --range, else within the volume's value range.
     // (block colours need points seeded in blocks: multiblock input, Batch::point_block)
     const bool multiblock_input = !a.positional().empty() && looks_like_multiblock(a.positional()[0]);
     if (cc.request == ColorRequest::block && !multiblock_input)
         throw UsageError((a.positional().empty() ? std::string("the input") : a.positional()[0]) +
                          ": a volume has no blocks; --color block needs multiblock points");
-    // (the range without --range: the volume's, set by the job once it is read; the MPI and sample-store
-    // paths map the isovalue to the middle of the colour map)
-    // Several isovalues: each surface its colour by default, the colour map spanning the isovalues
-    if (const auto name = a.get("color-by")) {  // the array's values: mapped over its range, set by the job
+    if (const auto name = a.get("color-by")) {
         if (name->empty()) throw UsageError("--color-by: expected the name of an array (meshless info lists them)");
         apply_color(j.rs, color_by(cc, ColorBy::value), cc, cc.range ? *cc.range : std::array<double, 2>{0, 1});
         j.range_given = cc.range.has_value();
@@ -132,6 +112,54 @@ int cmd_isosurface(int argc, char** argv) {
         apply_color(j.rs, color_by(cc, ColorBy::none), cc, cc.range ? *cc.range : std::array<double, 2>{j.iso, j.iso});
         j.range_given = cc.range.has_value();
     }
+}
+
+/// Under mpirun: rank 0 writes through the outputs of one process; a failing rank ends the job.
+int isosurface_under_mpi(const Args& a, IsosplatJob& j, int& argc, char**& argv) {
+    single_iso(a, "runs under mpirun");
+    if (a.has("color-by")) throw UsageError("--color-by runs in one process, not under mpirun");
+    if (!a.positional().empty() && is_sample_store(a.positional()[0]))
+        throw UsageError(a.positional()[0] + ": MPI runs need a brick store (.mlb); a sample store (.mls) runs in one "
+                         "process (meshless isosurface STORE.mls, or its .mlb under mpirun)");
+    MpiSession mpi(&argc, &argv);
+    try {
+        VolumeInput in = open_volume_input(a);
+        run_isosplat_mpi_job(j, mpi, in);
+    } catch (const UsageError& e) {
+        return end_mpi_usage(mpi, "isosurface", e);
+    } catch (const std::exception& e) {
+        end_mpi_job(mpi, "isosurface", e);
+    }
+    return 0;
+}
+
+}  // namespace
+
+int cmd_isosurface(int argc, char** argv) {
+    Args a("isosurface", "VOLUME --iso V -o out.ply|out.vtp [--png out.png] [options]",
+           "Paradigm (C) iso-splatting: one sample per active cell (cell centre), value and gradient by\n"
+           "trilinear interpolation, projected onto the isosurface; writes an oriented point set\n"
+           "(binary PLY: x y z nx ny nz radius value, or VTK XML PolyData .vtp with vertex cells, Normals,\n"
+           "radius, value) and/or a surface-splatted picture.\n"
+           "VOLUME: raw (name_XxYxZ_type.raw or --dims/--type), NRRD (.nrrd/.nhdr), MetaImage (.mhd/.mha),\n"
+           "VTK legacy (.vtk), VTK XML image (.vti), vtk-js (index.json), SLC, NIfTI, a 3-D NumPy .npy (shape\n"
+           "(nz, ny, nx), --spacing), a Zarr v2 store or OME-Zarr image (a folder, read chunk row by chunk row),\n"
+           "an HDF5 dataset (FILE.h5:/PATH, or --array PATH), a DICOM series, or a brick store (.mlb,\n"
+           "see meshless convert), read brick by brick: only bricks the isosurface crosses, within --memory,\n"
+           "or a paradigm (A) sample store (.mls, see meshless generate --all): only its candidate cell rows.");
+    declare_isosurface_options(a);
+    if (const auto other = isosurface_of_blocks_or_points(a, argc, argv)) return *other;
+    if (!a.parse(argc, argv, 2)) return 0;
+    IsosplatJob j;
+    j.isos = isovalue_list(a);
+    j.iso = j.isos[0];
+    if (j.isos.size() == 1) j.isos.clear();
+    j.png = point_outputs_png(a);
+    j.mode = parse_projection(a.get_or("projection", "approx"));
+    j.sp = sampling_params(a);
+    j.rs = render_settings(a);
+    j.threads = threads(a);
+    apply_isosurface_colors(a, j);
     j.producer = a.command_line();
     j.out = [&a] { return geometry_output(a, kPointsWhat); };
     j.anatomical_camera = [&a](const AnatomicalFrame& f, Camera& c) { apply_anatomical_frame(a, f, c); };
@@ -142,24 +170,7 @@ int cmd_isosurface(int argc, char** argv) {
     bool warned = false;  // the run said its outputs will be empty (an isovalue outside the data)
     j.warned = &warned;
 
-    if (launched_world_size() > 1) {
-        single_iso(a, "runs under mpirun");
-        if (a.has("color-by")) throw UsageError("--color-by runs in one process, not under mpirun");
-        if (!a.positional().empty() && is_sample_store(a.positional()[0]))
-            throw UsageError(a.positional()[0] + ": MPI runs need a brick store (.mlb); a sample store (.mls) runs in one "
-                             "process (meshless isosurface STORE.mls, or its .mlb under mpirun)");
-        // rank 0 writes through the outputs of one process; a failing rank ends the job
-        MpiSession mpi(&argc, &argv);
-        try {
-            VolumeInput in = open_volume_input(a);
-            run_isosplat_mpi_job(j, mpi, in);
-        } catch (const UsageError& e) {
-            return end_mpi_usage(mpi, "isosurface", e);
-        } catch (const std::exception& e) {
-            end_mpi_job(mpi, "isosurface", e);
-        }
-        return 0;
-    }
+    if (launched_world_size() > 1) return isosurface_under_mpi(a, j, argc, argv);
     if (!a.positional().empty() && is_sample_store(a.positional()[0])) {
         if (a.has("color-by")) throw UsageError("--color-by: " + a.positional()[0] + " is a sample store, which holds one array (give the volume itself)");
         const std::size_t points = run_isosplat_sample_store_job(j, a.positional()[0]);
