@@ -57,7 +57,10 @@ private:
 /// Throws GraphError when a batch reaching the sink is not of the payload the graph declared.
 void check_delivered(const Batch& b, Payload declared, const Source& source, std::span<const Stage* const> stages) {
     if (declared == Payload::cells ? b.count() == 0 : b.kind == record_kind_of(declared)) return;
-    const std::string last = stages.empty() ? graph_node_name(typeid(source)) : graph_node_name(typeid(*stages.back()));
+    const std::string last = stages.empty() ? graph_node_name(typeid(source)) : [&] {
+        const Stage& stage = *stages.back();
+        return graph_node_name(typeid(stage));
+    }();
     throw GraphError("stage graph: " + last + " delivered batch " + std::to_string(b.seq) + " tagged " +
                      payload_name(payload_of(b.kind)) + ", it declared " + payload_name(declared));
 }

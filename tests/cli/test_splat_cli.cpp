@@ -141,7 +141,7 @@ TEST_CASE("a point or sample stream with a NaN or infinite record is refused by 
     std::vector<PointRecord> pts(100, p);
     for (std::size_t i = 0; i < pts.size(); ++i) pts[i].pos[0] = static_cast<float>(i);
     pts[57].normal[1] = std::numeric_limits<float>::quiet_NaN();
-    SampleRecord s{{1, 1, 1}, {1, 0, 0}, 5, 0.5f, {0.5f, 0.5f, 0.5f}, {1, 1, 1}};
+    SampleRecord s{{1, 1, 1}, {1, 0, 0}, 5, 0.5f, {0.5f, 0.5f, 0.5f}, {1, 1, 1}, {}};
     std::vector<SampleRecord> samples(10, s);
     samples[3].value = std::numeric_limits<float>::infinity();
     const auto write = [&](const std::string& name, RecordKind kind, const void* records, std::size_t n) {
