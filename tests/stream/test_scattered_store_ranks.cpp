@@ -95,7 +95,11 @@ TEST_CASE("store layers of ranks: contiguous, in rank order, every layer once, b
 
 TEST_CASE("store ranks: the single-process points for 1-4 ranks, any budget and threads, each rank loading part", "[stream][store_ranks]") {
     test::TempDir dir("store-ranks");
+#ifdef MESHLESS_SANITIZED  // (instrumented, a run of 80,000 points takes minutes: fewer points and cases)
+    const std::size_t n = 20000;
+#else
     const std::size_t n = 80000;
+#endif
     const auto store = PointStore::open(make_store(dir.path, n));
     const ScatteredStorePlan plan = plan_scattered_store(*store, "u", BinningGridParams{}, {});
     const Setup s;
@@ -106,7 +110,11 @@ TEST_CASE("store ranks: the single-process points for 1-4 ranks, any budget and 
         double dedup;
     };
     // (72 MiB: several slabs a rank)
+#ifdef MESHLESS_SANITIZED
+    const Case cases[] = {{2, 1ull << 30, 0}, {3, 1ull << 30, 0.5}};
+#else
     const Case cases[] = {{1, 1ull << 30, 0}, {2, 72ull << 20, 0}, {3, 1ull << 30, 0.5}, {4, 72ull << 20, 0}};
+#endif
     std::vector<PointRecord> wants[2];
     ScatteredIsosurfaceStats ones[2];
     for (const Case& c : cases) {
@@ -118,7 +126,7 @@ TEST_CASE("store ranks: the single-process points for 1-4 ranks, any budget and 
             Collect want;
             ones[d] = run_scattered_store_isosurface(*store, plan, s.fp, s.sp, iso, 3, s.np, dedup, want, {2});
             wants[d] = std::move(want.points);
-            REQUIRE(wants[d].size() > 20000);
+            REQUIRE(wants[d].size() > n / 4);
         }
         const ScatteredIsosurfaceStats& one = ones[d];
         {
@@ -155,7 +163,7 @@ TEST_CASE("store ranks: the single-process points for 1-4 ranks, any budget and 
                     seeds += static_cast<std::uint64_t>(q.stats.newton.input);
                     // (at 80,000 points the halos are a good part of a layer: the end ranks, with one halo, load
                     // little more than half the points with 4 ranks; the share falls as the points grow)
-                    if (ranks >= 3) CHECK(q.report.most_loaded < n);
+                    if (n >= 80000 && ranks >= 3) CHECK(q.report.most_loaded < n);
                     if (ranks == 4 && (r == 0 || r == 3)) CHECK(q.report.most_loaded < 7 * n / 10);
                 }
                 CHECK(seeds == static_cast<std::uint64_t>(one.newton.input));
