@@ -173,6 +173,41 @@ TEST_CASE("store ranks: the single-process points for 1-4 ranks, any budget and 
     }
 }
 
+TEST_CASE("store ranks: more ranks than stencil layers, the ranks without layers send nothing and the bytes hold", "[stream][store_ranks]") {
+    test::TempDir dir("store-ranks-many");
+    const auto store = PointStore::open(make_store(dir.path, 4000));
+    const ScatteredStorePlan plan = plan_scattered_store(*store, "u", BinningGridParams{}, {});
+    const int ranks = static_cast<int>(StencilGrid(plan.grid.dims).count[2]) + 2;
+    const Setup s;
+    Collect want;
+    (void)run_scattered_store_isosurface(*store, plan, s.fp, s.sp, 0.3, 2, s.np, 0, want, {1});
+    REQUIRE(want.points.size() > 1000);
+    Hub hub(ranks, 2);
+    std::vector<HubChannel> ch;
+    for (int r = 0; r < ranks; ++r) ch.emplace_back(hub, r);
+    std::vector<std::exception_ptr> err(static_cast<std::size_t>(ranks));
+    std::vector<StoreRankResult> res(static_cast<std::size_t>(ranks));
+    Collect got;
+    std::vector<std::thread> threads;
+    for (int r = 0; r < ranks; ++r)
+        threads.emplace_back([&, r] {
+            try {
+                res[static_cast<std::size_t>(r)] = run_scattered_store_rank(*store, plan, s.fp, s.sp, 0.3, 2, s.np, 0, r, ranks,
+                                                                            ch[static_cast<std::size_t>(r)], r == 0 ? &got : nullptr, {1});
+            } catch (...) {
+                err[static_cast<std::size_t>(r)] = std::current_exception();
+            }
+        });
+    for (auto& t : threads) t.join();
+    for (auto& e : err)
+        if (e) std::rethrow_exception(e);
+    CHECK(got.finished);
+    CHECK(same_points(got.points, want.points));
+    int idle = 0;
+    for (const StoreRankResult& q : res) idle += q.layers[0] == q.layers[1] && q.report.slabs == 0;
+    CHECK(idle >= 2);
+}
+
 TEST_CASE("store ranks: the ranks' figures summed to rank 0, each rank's own kept at its place", "[stream][store_ranks]") {
     const int ranks = 3;
     std::vector<StoreRankResult> mine(ranks);
