@@ -151,7 +151,9 @@ int run_command(int argc, char** argv) {
             return c.run(argc, argv);
         } catch (const std::exception& e) {
             const int code = exit_code(e);
-            if (code != kExitOk) std::fprintf(stderr, "meshless %s: %s\n", c.name, error_message(e).c_str());
+            // (under mpirun a usage error is every rank's alike: rank 0 says it)
+            const bool quiet_rank = code == kExitUsage && launched_world_size() > 1 && launched_world_rank() != 0;
+            if (code != kExitOk && !quiet_rank) std::fprintf(stderr, "meshless %s: %s\n", c.name, error_message(e).c_str());
             return code;
         }
     }

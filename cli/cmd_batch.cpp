@@ -192,10 +192,8 @@ int cmd_batch(int argc, char** argv) {
             if (mpi.rank() != 0) return kExitOk;
             line.clear();
             return batch_result(a, run);
-        } catch (const UsageError& e) {
-            return end_mpi_usage(mpi, "batch", e);
         } catch (const std::exception& e) {
-            end_mpi_job(mpi, "batch", e);
+            return end_mpi_run(mpi, "batch", e);
         }
     }
     return batch_result(a, run_batch(a.positional()[0], s, cb));

@@ -121,14 +121,15 @@ int isosurface_under_mpi(const Args& a, IsosplatJob& j, int& argc, char**& argv)
     if (!a.positional().empty() && is_sample_store(a.positional()[0]))
         throw UsageError(a.positional()[0] + ": MPI runs need a brick store (.mlb); a sample store (.mls) runs in one "
                          "process (meshless isosurface STORE.mls, or its .mlb under mpirun)");
+    // the outputs' options checked on every rank before any talks (rank 0 alone opens them, later)
+    const std::optional<GeometryOutput> out = geometry_output(a, kPointsWhat);
+    j.out = [out] { return out; };
     MpiSession mpi(&argc, &argv);
     try {
         VolumeInput in = open_volume_input(a);
         run_isosplat_mpi_job(j, mpi, in);
-    } catch (const UsageError& e) {
-        return end_mpi_usage(mpi, "isosurface", e);
     } catch (const std::exception& e) {
-        end_mpi_job(mpi, "isosurface", e);
+        return end_mpi_run(mpi, "isosurface", e);
     }
     return 0;
 }

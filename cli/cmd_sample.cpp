@@ -27,7 +27,8 @@ int cmd_sample(int argc, char** argv) {
            "The same seed gives the same points.");
     a.option("count", "n", "N", "number of points (required, >= 1; written chunk by chunk: memory does not grow with N)")
         .option("seed", "", "S", "random seed, any integer of at most 18 digits", "1")
-        .option("output", "o", "FILE", "output .ply, .csv or .vtp ('-' = CSV on stdout; required)");
+        .option("output", "o", "FILE", "output .ply, .csv or .vtp ('-' = CSV on stdout, written as drawn: a volume found to "
+                                       "have too few finite cells fails after part of it; required)");
     add_volume_options(a);
     add_crop_option(a);
     a.option("memory", "", "BYTES", "brick stores (.mlb): the budget of the brick cache (half) and of the points drawn at once "
@@ -56,7 +57,7 @@ int cmd_sample(int argc, char** argv) {
                          byte_size_text(n > UINT64_MAX / per ? UINT64_MAX : n * per) + " in " + terminal_safe(out) + ", more than the " +
                          byte_size_text(*room) + " free there");
     const ProgressCounter progress = progress_counter(a);
-    const auto meter = progress ? progress("points", static_cast<double>(n)) : std::function<void(double)>();
+    auto meter = progress ? progress("points", static_cast<double>(n)) : std::function<void(double)>();
     // a brick store is read brick by brick through its cache (--memory), the points of a chunk grouped
     // by brick; any other volume is read (raw samples: mapped) whole
     std::uint64_t redrawn = 0;
@@ -72,6 +73,7 @@ int cmd_sample(int argc, char** argv) {
         in.volume = &*v;
     }
     redrawn = sample_volume_to_file(in, n, static_cast<std::uint64_t>(seed), path, out, comments, meter);
+    meter = {};  // (the progress line cleared before the message below)
     if (redrawn) std::fprintf(stderr, "meshless sample: %llu positions in cells with NaN/Inf corners were redrawn\n",
                               static_cast<unsigned long long>(redrawn));
     return 0;

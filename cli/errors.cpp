@@ -30,7 +30,8 @@ void end_mpi_job(MpiSession& mpi, const char* command, const std::exception& e) 
     mpi.abort(code);
 }
 
-int end_mpi_usage(const MpiSession& mpi, const char* command, const UsageError& e) {
+int end_mpi_run(MpiSession& mpi, const char* command, const std::exception& e) {
+    if (mpi.communicated() || exit_code(e) != kExitUsage) end_mpi_job(mpi, command, e);
     if (mpi.rank() == 0) std::fprintf(stderr, "meshless %s: %s\n", command, error_message(e).c_str());
     return kExitUsage;
 }

@@ -52,9 +52,11 @@ std::string error_message(const std::exception& e);
 [[noreturn]] void end_mpi_job(MpiSession& mpi, const char* command, const std::exception& e);
 /// The same for an error caught on another thread (an exception not derived from std::exception: exit 3, quietly).
 [[noreturn]] void end_mpi_job(MpiSession& mpi, const char* command, std::exception_ptr e);
-/// A usage error under mpirun (the options' fault: every rank meets it at the same point, before any
-/// rank waits on another): rank 0 prints "meshless COMMAND: MESSAGE" alone, and every rank returns
-/// kExitUsage for a clean MPI_Finalize (no abort, no banners of the launcher's).
-int end_mpi_usage(const MpiSession& mpi, const char* command, const UsageError& e);
+/// A usage error under mpirun (UsageError or InvalidArgument: exit 1). Met before this rank talked to
+/// any other (MpiSession::communicated), it is the options' fault and every rank meets it alike: rank 0
+/// prints "meshless COMMAND: MESSAGE" alone and every rank returns kExitUsage for a clean MPI_Finalize
+/// (no MPI_ABORT; the launcher still says that a process exited non-zero). Met later (an output
+/// checked by rank 0 alone while the others work), it ends the job as end_mpi_job does.
+int end_mpi_run(MpiSession& mpi, const char* command, const std::exception& e);
 
 }  // namespace meshless::cli

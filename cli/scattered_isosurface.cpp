@@ -168,12 +168,9 @@ int isosurface_scattered(int argc, char** argv) {
     if (launched_world_size() > 1) mpi = std::make_unique<MpiSession>(&argc, &argv);
     try {
         return isosurface_scattered_run(a, t_start, mpi.get());
-    } catch (const UsageError& e) {
-        if (!mpi) throw;
-        return end_mpi_usage(*mpi, "isosurface", e);
     } catch (const std::exception& e) {
         if (!mpi) throw;
-        end_mpi_job(*mpi, "isosurface", e);
+        return end_mpi_run(*mpi, "isosurface", e);
     }
 }
 
@@ -253,7 +250,7 @@ int isosurface_scattered_store(const Args& a, Clock::time_point t_start, MpiSess
     j.out = geometry_output(a, kPointsWhat);
     if (mpi) {
         if (!root) j.progress = {};
-        const std::size_t points = run_scattered_store_mpi_job(j, s.dedup, *mpi, *store, plan, fp, sp, a.command_line(), "isosurface");
+        const std::size_t points = run_scattered_store_mpi_job(j, s.dedup, *mpi, *store, plan, fp, sp, a.command_line(), a.get("memory"), "isosurface");
         return root ? empty_result_exit(a, points, "points", j.iso, plan.source, warned) : 0;
     }
     const std::size_t points = run_scattered_store_job(j, s.dedup, *store, plan, fp, sp, a.command_line(), a.get("memory"), "isosurface");

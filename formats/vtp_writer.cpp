@@ -369,7 +369,9 @@ namespace {
 /// The value array's name as the options ask (see VtpOptions::value_name).
 std::string value_array_name(const VtpOptions& o) {
     const std::string& n = o.value_name;
-    return n.empty() || n == "Normals" || n == "radius" || n == "block" || n == "Points" ? std::string("value") : n;
+    if (n.empty()) return "value";
+    // a name the other arrays take gets a suffix: "radius_value" (the values are another array's)
+    return n == "Normals" || n == "radius" || n == "block" || n == "Points" || n == "connectivity" || n == "offsets" ? n + "_value" : n;
 }
 }  // namespace
 

@@ -61,8 +61,8 @@ struct VtpOptions {
     /// are not oriented splats, e.g. a cluster tree's level of detail: PointData value only).
     bool oriented = true;
     /// Points: the name of the value array (the PointData's active scalars): the array the values
-    /// are, e.g. "temperature" for an isosurface coloured by it. Empty, or a name the other arrays
-    /// take (Normals, radius, block), gives "value".
+    /// are, e.g. "temperature" for an isosurface coloured by it. Empty gives "value"; a name the other
+    /// arrays take (Normals, radius, block, ...) gets "_value" appended ("radius_value").
     std::string value_name = "value";
 };
 

@@ -65,19 +65,26 @@ MpiSession::~MpiSession() {
 }
 
 std::vector<std::int64_t> MpiSession::sum_to_root(const std::vector<std::int64_t>& v) {
+    note_communication();
     std::vector<std::int64_t> out(v.size(), 0);
     backend_->sum_to_root(v.data(), out.data(), static_cast<int>(v.size()));
     return out;
 }
 
-std::vector<std::byte> MpiSession::allgather(std::span<const std::byte> mine) { return backend_->allgather(mine.data(), mine.size()); }
+std::vector<std::byte> MpiSession::allgather(std::span<const std::byte> mine) {
+    note_communication();
+    return backend_->allgather(mine.data(), mine.size());
+}
 
 void MpiSession::abort(int code) {
     backend_->abort(code);
     std::exit(code);  // not reached: the backend does not return
 }
 
-MpiChannel::MpiChannel(const MpiSession& s, int window) : backend_(s.backend()) { backend_.open_channel(window); }
+MpiChannel::MpiChannel(const MpiSession& s, int window) : backend_(s.backend()) {
+    s.note_communication();
+    backend_.open_channel(window);
+}
 MpiChannel::~MpiChannel() { backend_.close_channel(); }
 void MpiChannel::send_to_root(std::vector<std::byte> message) { backend_.send_to_root(std::move(message)); }
 void MpiChannel::receive_from(int rank, std::vector<std::byte>& message) { backend_.receive_from(rank, message); }

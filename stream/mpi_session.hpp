@@ -50,8 +50,13 @@ public:
     [[noreturn]] void abort(int code);
 
     MpiBackend& backend() const { return *backend_; }
+    /// Whether this rank has begun talking to the others (a collective, or a channel opened): before,
+    /// an error every rank meets alike (the options') may end each rank on its own, without an abort.
+    bool communicated() const { return communicated_; }
+    void note_communication() const { communicated_ = true; }
 
 private:
+    mutable bool communicated_ = false;
     void* plugin_ = nullptr;  // dlopen handle
     std::unique_ptr<MpiBackend> backend_;
     int rank_ = 0, size_ = 1;

@@ -80,6 +80,17 @@ StreamMeta store_meta(const IsosurfaceJob& j, double dedup, const ScatteredStore
     return meta;
 }
 
+/// A budget near the least that runs makes many slabs that read the points several times over: said
+/// (when the user gave the budget).
+void warn_thin_slabs(std::FILE* warn, const char* cmd, const std::optional<std::string>& memory_option, const ScatteredStorePlan& plan,
+                     const ScatteredStoreReport& rep) {
+    if (memory_option && rep.slabs > 1 && rep.loaded > 4 * plan.frame.points)
+        std::fprintf(warn, "meshless %s: warning: --memory %s made %d slabs that read the points %.0f times over; "
+                           "more memory makes fewer, faster slabs\n",
+                     cmd, terminal_safe(*memory_option).c_str(), rep.slabs,
+                     static_cast<double>(rep.loaded) / static_cast<double>(plan.frame.points));
+}
+
 /// This process's peak resident memory in bytes (0 when unknown).
 std::uint64_t peak_rss_bytes() {
     rusage ru{};
@@ -91,7 +102,7 @@ std::uint64_t peak_rss_bytes() {
 
 std::size_t run_scattered_store_mpi_job(const IsosurfaceJob& j, double dedup, MpiSession& mpi, const PointStore& store,
                                         const ScatteredStorePlan& plan, const FieldParams& field_params, const ScatteredStoreParams& sp,
-                                        const std::string& producer, const char* cmd) {
+                                        const std::string& producer, const std::optional<std::string>& memory_option, const char* cmd) {
     const StreamMeta meta = store_meta(j, dedup, plan, producer);
     const int rank = mpi.rank(), ranks = mpi.size();
     const auto t0 = std::chrono::steady_clock::now();
@@ -120,7 +131,9 @@ std::size_t run_scattered_store_mpi_job(const IsosurfaceJob& j, double dedup, Mp
     std::vector<StoreRankShare> shares;
     const StoreRankResult tot = sum_store_rank_stats(mine, rank, ranks, [&mpi](const std::vector<std::int64_t>& v) { return mpi.sum_to_root(v); },
                                                      &shares);
-    if (rank != 0 || !j.stats) return points;
+    if (rank != 0) return points;
+    warn_thin_slabs(stderr, cmd, memory_option, plan, tot.report);  // (the slabs of all ranks: each rank's budget)
+    if (!j.stats) return points;
     print_store_isosurface_stats(j.stats, cmd, plan, tot.report, tot.stats, j.n, j.np, dedup, points,
                                  {0, seconds_since(t0), seconds_since(j.started)}, j.threads);
     std::fprintf(j.stats, "%s: over %d ranks, each its own stencil layers and the points they need:", cmd, ranks);
@@ -143,11 +156,7 @@ std::size_t run_scattered_store_job(const IsosurfaceJob& j, double dedup, const 
         st = run_scattered_store_isosurface(store, plan, field_params, sp, j.iso, j.n, j.np, dedup, sink, {j.threads},
                                             stencil_progress(j, plan.grid), &rep);
     });
-    if (memory_option && rep.slabs > 1 && rep.loaded > 4 * plan.frame.points)  // (a budget near the least that runs)
-        std::fprintf(warn, "meshless %s: warning: --memory %s made %d slabs that read the points %.0f times over; "
-                           "more memory makes fewer, faster slabs\n",
-                     cmd, terminal_safe(*memory_option).c_str(), rep.slabs,
-                     static_cast<double>(rep.loaded) / static_cast<double>(plan.frame.points));
+    warn_thin_slabs(warn, cmd, memory_option, plan, rep);
     if (j.stats)
         print_store_isosurface_stats(j.stats, cmd, plan, rep, st, j.n, j.np, dedup, points, {0, seconds_since(t0), seconds_since(j.started)},
                                      j.threads);

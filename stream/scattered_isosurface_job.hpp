@@ -49,10 +49,11 @@ std::size_t run_scattered_store_job(const IsosurfaceJob& j, double dedup, const 
 /// A point store under mpirun (collective: every rank calls it): each rank runs its stencil layers
 /// slab by slab within sp.memory_bytes (its own budget: stream/scattered_store_ranks.hpp), rank 0
 /// writing j's outputs in the single-process order (the bytes of run_scattered_store_job); the
-/// statistics, with each rank's points loaded and peak RSS, summed to rank 0. Returns the points
-/// written (rank 0; 0 elsewhere). A rank's error is thrown on that rank (a front end ends the job).
+/// statistics, with each rank's points loaded and peak RSS, summed to rank 0 (and the warning of
+/// run_scattered_store_job about thin slabs, over all ranks' slabs). Returns the points written (rank
+/// 0; 0 elsewhere). A rank's error is thrown on that rank (a front end ends the job).
 std::size_t run_scattered_store_mpi_job(const IsosurfaceJob& j, double dedup, MpiSession& mpi, const PointStore& store,
                                         const ScatteredStorePlan& plan, const FieldParams& field_params, const ScatteredStoreParams& sp,
-                                        const std::string& producer, const char* cmd);
+                                        const std::string& producer, const std::optional<std::string>& memory_option, const char* cmd);
 
 }  // namespace meshless

@@ -28,7 +28,7 @@ std::uint64_t sample_volume_chunks(const GridSpec& g, const SampleValues& values
     SplitMix rng{seed};
     std::vector<Vec3> p, keep_p;
     std::vector<double> val, keep_v;
-    const std::uint64_t max_draws = count * 20 + 1000;
+    const std::uint64_t max_draws = count > (UINT64_MAX - 1000) / 20 ? UINT64_MAX : count * 20 + 1000;
     std::uint64_t draws = 0, kept = 0, redrawn = 0;
     while (kept < count) {
         // every draw is kept unless its value is not finite, and no more are drawn than are still

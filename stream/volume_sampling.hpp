@@ -55,6 +55,8 @@ struct SampleInput {
 
 /// Writes the `count` points to `path` (formats/point_set_writer.hpp PointSetWriter: PLY, CSV or VTP
 /// by extension, "-" CSV on stdout; temporary name and rename) chunk by chunk, with `comments`
+/// (a volume with too few finite cells fails as it is found out: a file is then removed, while stdout
+/// has already had the chunks drawn before)
 /// (PLY/VTP provenance). progress(k): k more points written (may be empty). chunk: points a chunk
 /// (0: from in.memory_bytes as above; the points do not depend on it). Returns the positions redrawn.
 std::uint64_t sample_volume_to_file(const SampleInput& in, std::uint64_t count, std::uint64_t seed, const std::string& name,

@@ -106,6 +106,15 @@ TEST_CASE("mpirun -np 2 gives the single-process bytes, a failing rank fails the
            d);
     REQUIRE(r.code == 0);
     CHECK(slurp(d / "one.ply") == slurp(d / "three.ply"));
+    // an output option refused (rank 0 alone opens the outputs): found on every rank before any talks,
+    // said once, exit 1, no rank left waiting
+    r = sh("timeout 120 " + mpirun + "MESHLESS isosurface " + D + "/g.mlb --iso 128.5 -o " + D + "/x.vtp --ply-color value", d);
+    CHECK(r.code == 1);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') >= 1);
+    std::size_t said = 0;
+    for (std::size_t at = r.err.find("--ply-color"); at != std::string::npos; at = r.err.find("--ply-color", at + 1)) ++said;
+    CHECK(said == 1);
+    CHECK(r.err.find("MPI_ABORT") == std::string::npos);
     // damage the last brick (rank 1's share): the job must fail and leave no two_bad.ply
     std::string store = slurp(d / "g.mlb");
     const auto size = store.size();

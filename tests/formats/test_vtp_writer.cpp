@@ -178,6 +178,33 @@ TEST_CASE("vtp points: unoriented samples leave out Normals and radius", "[vtp]"
     }
 }
 
+TEST_CASE("vtp points: the value array named as asked, escaped, and kept apart from the other arrays' names", "[vtp]") {
+    meshless::test::TempDir d("vtp-value-name");
+    const std::vector<PointRecord> pts{point(0), point(1), point(2)};
+    const auto written = [&](const std::string& name) {
+        VtpOptions o;
+        o.value_name = name;
+        const fs::path path = d / "n.vtp";
+        VtpPointWriter w(path.string(), {}, o);
+        w.append(pts);
+        w.commit();
+        return slurp(path);
+    };
+    const std::string t = written("temperature");
+    CHECK(t.find("<PointData Normals=\"Normals\" Scalars=\"temperature\">") != std::string::npos);
+    CHECK(t.find("Name=\"temperature\"") != std::string::npos);
+    CHECK(written("a<b&\"c").find("Name=\"a&lt;b&amp;&quot;c\"") != std::string::npos);
+    const std::string r = written("radius");  // (the splat radius keeps its name)
+    CHECK(r.find("Name=\"radius_value\"") != std::string::npos);
+    CHECK(r.find("Name=\"radius\"") != std::string::npos);
+    CHECK(written("").find("Scalars=\"value\"") != std::string::npos);
+    // read back: the active scalars are the values, whatever their name
+    (void)written("temperature");
+    const PointSet back = read_points_vtk_xml((d / "n.vtp").string(), "PolyData", {});
+    REQUIRE(back.size() == 3);
+    CHECK(back.value[1] == static_cast<double>(point(1).value));
+}
+
 TEST_CASE("vtp points: the compressed block layout is VTK's", "[vtp]") {
     meshless::test::TempDir d("vtp-layout");
     VtpOptions o;
