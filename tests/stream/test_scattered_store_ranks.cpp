@@ -63,6 +63,32 @@ struct Setup {
     }
 };
 
+/// Runs every rank of `ranks` as a thread over the in-memory channel, lattice parameter n (rank r with
+/// 1 + r % 2 threads when `mixed`, else one); rank 0 into `out`. Rethrows the first rank's error.
+std::vector<StoreRankResult> run_ranks(const PointStore& store, const ScatteredStorePlan& plan, const Setup& s,
+                                       const ScatteredStoreParams& sp, double iso, int n, double dedup, int ranks, bool mixed, Sink& out) {
+    Hub hub(ranks, 2);
+    std::vector<HubChannel> ch;
+    for (int r = 0; r < ranks; ++r) ch.emplace_back(hub, r);
+    std::vector<StoreRankResult> res(static_cast<std::size_t>(ranks));
+    std::vector<std::exception_ptr> err(static_cast<std::size_t>(ranks));
+    std::vector<std::thread> threads;
+    for (int r = 0; r < ranks; ++r)
+        threads.emplace_back([&, r] {
+            try {
+                res[static_cast<std::size_t>(r)] = run_scattered_store_rank(store, plan, s.fp, sp, iso, n, s.np, dedup, r, ranks,
+                                                                            ch[static_cast<std::size_t>(r)], r == 0 ? &out : nullptr,
+                                                                            {mixed ? 1 + r % 2 : 1});
+            } catch (...) {
+                err[static_cast<std::size_t>(r)] = std::current_exception();
+            }
+        });
+    for (auto& t : threads) t.join();
+    for (auto& e : err)
+        if (e) std::rethrow_exception(e);
+    return res;
+}
+
 }  // namespace
 
 TEST_CASE("store layers of ranks: contiguous, in rank order, every layer once, balanced by points", "[stream][store_ranks]") {
@@ -132,28 +158,10 @@ TEST_CASE("store ranks: the single-process points for 1-4 ranks, any budget and 
         {
             {
                 INFO("dedup " << dedup << ", " << ranks << " ranks, memory " << memory);
-                Hub hub(ranks, 2);
-                std::vector<HubChannel> ch;
-                for (int r = 0; r < ranks; ++r) ch.emplace_back(hub, r);
-                std::vector<StoreRankResult> res(static_cast<std::size_t>(ranks));
-                std::vector<std::exception_ptr> err(static_cast<std::size_t>(ranks));
                 Collect got;
                 ScatteredStoreParams sp = s.sp;
                 sp.memory_bytes = memory;
-                std::vector<std::thread> threads;
-                for (int r = 0; r < ranks; ++r)
-                    threads.emplace_back([&, r] {
-                        try {
-                            res[static_cast<std::size_t>(r)] = run_scattered_store_rank(
-                                *store, plan, s.fp, sp, iso, 3, s.np, dedup, r, ranks, ch[static_cast<std::size_t>(r)],
-                                r == 0 ? &got : nullptr, {1 + r % 2});
-                        } catch (...) {
-                            err[static_cast<std::size_t>(r)] = std::current_exception();
-                        }
-                    });
-                for (auto& t : threads) t.join();
-                for (auto& e : err)
-                    if (e) std::rethrow_exception(e);
+                const std::vector<StoreRankResult> res = run_ranks(*store, plan, s, sp, iso, 3, dedup, ranks, true, got);
                 CHECK(got.finished);
                 CHECK(same_points(got.points, wants[d]));
                 // each rank loads only the points its layers and their halos need
@@ -182,25 +190,8 @@ TEST_CASE("store ranks: more ranks than stencil layers, the ranks without layers
     Collect want;
     (void)run_scattered_store_isosurface(*store, plan, s.fp, s.sp, 0.3, 2, s.np, 0, want, {1});
     REQUIRE(want.points.size() > 1000);
-    Hub hub(ranks, 2);
-    std::vector<HubChannel> ch;
-    for (int r = 0; r < ranks; ++r) ch.emplace_back(hub, r);
-    std::vector<std::exception_ptr> err(static_cast<std::size_t>(ranks));
-    std::vector<StoreRankResult> res(static_cast<std::size_t>(ranks));
     Collect got;
-    std::vector<std::thread> threads;
-    for (int r = 0; r < ranks; ++r)
-        threads.emplace_back([&, r] {
-            try {
-                res[static_cast<std::size_t>(r)] = run_scattered_store_rank(*store, plan, s.fp, s.sp, 0.3, 2, s.np, 0, r, ranks,
-                                                                            ch[static_cast<std::size_t>(r)], r == 0 ? &got : nullptr, {1});
-            } catch (...) {
-                err[static_cast<std::size_t>(r)] = std::current_exception();
-            }
-        });
-    for (auto& t : threads) t.join();
-    for (auto& e : err)
-        if (e) std::rethrow_exception(e);
+    const std::vector<StoreRankResult> res = run_ranks(*store, plan, s, s.sp, 0.3, 2, 0, ranks, false, got);
     CHECK(got.finished);
     CHECK(same_points(got.points, want.points));
     int idle = 0;
