@@ -115,7 +115,7 @@ std::size_t run_scattered_store_mpi_job(const IsosurfaceJob& j, double dedup, Mp
             if (sink) mine.stats = run_scattered_store_isosurface(store, plan, field_params, sp, j.iso, j.n, j.np, dedup, *sink, {j.threads});
             return;
         }
-        const std::array<std::int64_t, 2> layers = store_layers_of_rank(plan, rank, ranks);
+        const std::array<std::int64_t, 2> layers = store_layers_of_rank(plan, rank, ranks, store_slab_reach(plan, field_params, j.np));
         const double share = static_cast<double>((layers[1] - layers[0]) * StencilGrid(plan.grid.dims).count[0] *
                                                  StencilGrid(plan.grid.dims).count[1]);
         const auto progress = rank == 0 && j.progress ? j.progress("stencils", share) : std::function<void(double)>();

@@ -396,6 +396,9 @@ double first_halo(const ScatteredStorePlan& plan, const FieldParams& field_param
     return std::max(2 * g.cell.z, 2 * leaf);
 }
 
+/// Newton's reach from a seed (max travel cell diagonals), one diagonal more for a last trial step.
+double newton_pad(double diag, const FieldProjectParams& np) { return (np.seed_max_travel + 1) * diag * (1 + 1e-6); }
+
 /// A slab's FieldRegion: its query box (the grid in x-y and the slab's query range in z, padded by
 /// Newton's reach), its loaded z range, and the store's counts as the bounds of the points it lacks.
 /// The field is built on several threads: each count reads the brick index under a lock.
@@ -452,6 +455,23 @@ std::vector<char> bricks_still_lacking(const PointStore& store, const StoreBrick
 
 }  // namespace
 
+double store_slab_reach(const ScatteredStorePlan& plan, const FieldParams& field_params, const FieldProjectParams& np) {
+    return newton_pad(plan.grid.diagonal(), np) + first_halo(plan, field_params);
+}
+
+std::uint64_t store_layers_loaded(const ScatteredStorePlan& plan, std::int64_t s0, std::int64_t s1, double reach) {
+    const BinningGrid& g = plan.grid;
+    if (s1 <= s0) return 0;
+    // the z range a slab of stencil layers [s0, s1) loads (SlabPlanner::slab), and the cell layers meeting it
+    const double lo = g.origin.z + static_cast<double>(2 * s0 - 1) * g.cell.z - reach;
+    const double hi = g.origin.z + static_cast<double>(stencil_centre(s1 - 1, g.dims[2]) + 3) * g.cell.z + reach;
+    const auto k0 = static_cast<std::int64_t>(std::max(0.0, std::ceil((lo - g.origin.z) / g.cell.z - 1)));
+    const auto k1 = std::min<std::int64_t>(g.dims[2] - 1, static_cast<std::int64_t>(std::floor((hi - g.origin.z) / g.cell.z)));
+    std::uint64_t n = 0;
+    for (std::int64_t k = k0; k <= k1; ++k) n += plan.layer_points[static_cast<std::size_t>(k)];
+    return n;
+}
+
 ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store, const ScatteredStorePlan& plan,
                                                         const FieldParams& field_params, const ScatteredStoreParams& sp,
                                                         double iso, int n, const FieldProjectParams& np, double dedup,
@@ -475,7 +495,7 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
     const BinningGrid& g = plan.grid;
     const double diag = g.diagonal();
     // Newton's reach from a seed (max travel cell diagonals), one diagonal more for a last trial step
-    const double pad = (np.seed_max_travel + 1) * diag * (1 + 1e-6);
+    const double pad = newton_pad(diag, np);
     const SlabPlanner planner(store, plan, pad);
     const StoreBrickIndex index(store);
     const double fixed = 8.0 * static_cast<double>(g.cell_count());  // the bins' index, and slack for the counts

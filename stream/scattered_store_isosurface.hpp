@@ -113,6 +113,14 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                                                         const std::function<void(double)>& progress = {},
                                                         ScatteredStoreReport* report = nullptr);
 
+/// How far beyond a slab's stencils its points are loaded at first, world units: Newton's reach
+/// (--max-travel) and the first halo (two MPU fit spheres at the mean density, at least two cells).
+double store_slab_reach(const ScatteredStorePlan& plan, const FieldParams& field_params, const FieldProjectParams& np);
+
+/// The points a slab of stencil layers [s0, s1) loads at first with that reach (the cell layers its
+/// loaded z range meets; lacking balls may add more).
+std::uint64_t store_layers_loaded(const ScatteredStorePlan& plan, std::int64_t s0, std::int64_t s1, double reach);
+
 /// The binning line's figures of the plan (what print_scattered_stats writes for points in memory).
 BinningSummary binning_summary(const ScatteredStorePlan& plan);
 

@@ -31,28 +31,54 @@ private:
 
 }  // namespace
 
-std::array<std::int64_t, 2> store_layers_of_rank(const ScatteredStorePlan& plan, int rank, int ranks) {
-    if (ranks < 1 || rank < 0 || rank >= ranks) throw std::invalid_argument("store_layers_of_rank: bad rank");
-    const std::int64_t cells = plan.grid.dims[2];
-    const std::int64_t layers = stencil_count(cells);
-    // the points a stencil layer's cells hold (layer m: cells 2m .. 2m+2, the last one to the end)
-    std::vector<double> cum(static_cast<std::size_t>(layers) + 1, 0.0);
-    for (std::int64_t m = 0; m < layers; ++m) {
-        double w = 1;  // (empty layers still cost their stencils)
-        const std::int64_t k1 = m + 1 == layers ? cells : 2 * m + 2;
-        for (std::int64_t k = 2 * m; k < k1 && k < static_cast<std::int64_t>(plan.layer_points.size()); ++k)
-            w += static_cast<double>(plan.layer_points[static_cast<std::size_t>(k)]);
-        cum[static_cast<std::size_t>(m) + 1] = cum[static_cast<std::size_t>(m)] + w;
-    }
-    // rank r starts at the first layer whose cumulative share reaches r / ranks
-    const auto start = [&](int r) -> std::int64_t {
-        if (r <= 0) return 0;
-        if (r >= ranks) return layers;
-        const double want = cum.back() * static_cast<double>(r) / static_cast<double>(ranks);
-        return static_cast<std::int64_t>(std::lower_bound(cum.begin(), cum.end(), want) - cum.begin());
+std::vector<std::int64_t> store_rank_starts(const ScatteredStorePlan& plan, int ranks, double reach) {
+    if (ranks < 1) throw std::invalid_argument("store_rank_starts: bad rank count");
+    const std::int64_t layers = stencil_count(plan.grid.dims[2]);
+    const auto loaded = [&](std::int64_t a, std::int64_t b) { return store_layers_loaded(plan, a, b, reach); };
+    // the ranges of at most `most` points loaded, greedily from the first layer: their starts
+    const auto cut = [&](std::uint64_t most) {
+        std::vector<std::int64_t> starts;
+        for (std::int64_t a = 0; a < layers;) {
+            starts.push_back(a);
+            std::int64_t b = a + 1;
+            while (b < layers && loaded(a, b + 1) <= most) ++b;
+            a = b;
+        }
+        return starts;
     };
-    const std::int64_t a = std::min(start(rank), layers), b = std::min(start(rank + 1), layers);
-    return {a, std::max(a, b)};
+    // the least `most` that `ranks` ranges reach (a range holds one layer at least)
+    std::uint64_t lo = 0, hi = loaded(0, layers);
+    for (std::int64_t a = 0; a < layers; ++a) lo = std::max(lo, loaded(a, a + 1));
+    while (lo < hi) {
+        const std::uint64_t mid = lo + (hi - lo) / 2;
+        if (cut(mid).size() <= static_cast<std::size_t>(ranks)) hi = mid;
+        else lo = mid + 1;
+    }
+    std::vector<std::int64_t> starts = layers > 0 ? cut(lo) : std::vector<std::int64_t>{};
+    // ranks left over: split the widest ranges (a part of a range loads no more than the range)
+    while (starts.size() < static_cast<std::size_t>(ranks)) {
+        std::size_t widest = 0;
+        std::int64_t width = 0;
+        for (std::size_t i = 0; i < starts.size(); ++i) {
+            const std::int64_t w = (i + 1 < starts.size() ? starts[i + 1] : layers) - starts[i];
+            if (w > width) {
+                width = w;
+                widest = i;
+            }
+        }
+        if (width < 2) break;  // (more ranks than layers)
+        starts.insert(starts.begin() + static_cast<std::ptrdiff_t>(widest) + 1, starts[widest] + width / 2);
+    }
+    while (starts.size() < static_cast<std::size_t>(ranks)) starts.push_back(layers);  // (idle ranks: empty ranges at the end)
+    return starts;
+}
+
+std::array<std::int64_t, 2> store_layers_of_rank(const ScatteredStorePlan& plan, int rank, int ranks, double reach) {
+    if (ranks < 1 || rank < 0 || rank >= ranks) throw std::invalid_argument("store_layers_of_rank: bad rank");
+    const std::vector<std::int64_t> starts = store_rank_starts(plan, ranks, reach);
+    const std::int64_t layers = stencil_count(plan.grid.dims[2]);
+    const auto r = static_cast<std::size_t>(rank);
+    return {starts[r], r + 1 < starts.size() ? starts[r + 1] : layers};
 }
 
 StoreRankResult run_scattered_store_rank(const PointStore& store, const ScatteredStorePlan& plan, const FieldParams& field_params,
@@ -61,7 +87,7 @@ StoreRankResult run_scattered_store_rank(const PointStore& store, const Scattere
                                          const std::function<void(double)>& progress) {
     if (rank == 0 && !out) throw std::invalid_argument("run_scattered_store_rank: rank 0 needs a sink");
     StoreRankResult res;
-    res.layers = store_layers_of_rank(plan, rank, ranks);
+    res.layers = store_layers_of_rank(plan, rank, ranks, store_slab_reach(plan, field_params, np));
     sp.layers = res.layers;
     UnitTags tags;
     const auto unit = static_cast<std::size_t>(rank);

@@ -2,7 +2,7 @@
 // only its work (dissertation sections 5.4-5.7, "machines concurrently generate isosurface fragments
 // while marching through separate stencils"; docs/architecture.md "Fields out of core" and
 // "Distribution"): rank r takes a contiguous range of stencil layers along z (store_layers_of_rank:
-// balanced by the points of the layers) and runs it slab by slab within its own --memory
+// cut so that the largest number of points a rank loads, its halos counted, is least) and runs it slab by slab within its own --memory
 // (stream/scattered_store_isosurface.hpp), loading only the bricks its slabs and their halos meet and
 // building only their field. So each rank holds about 1/N of the points and of the field (plus the
 // halos of its two ends), where the in-memory MPI path (stream/scattered_isosurface_mpi.hpp) gives
@@ -24,9 +24,13 @@
 
 namespace meshless {
 
-/// Stencil layers [first, end) of rank `rank` of `ranks` (ranks >= 1): contiguous, in rank order,
-/// covering every layer once, each range holding about 1/ranks of the points (a rank may get none).
-std::array<std::int64_t, 2> store_layers_of_rank(const ScatteredStorePlan& plan, int rank, int ranks);
+/// The first stencil layer of each of `ranks` ranges (ranks >= 1): contiguous, in rank order, covering
+/// every layer once, cut so that the most points any range loads with its halos (store_layers_loaded
+/// with `reach`, store_slab_reach) is the least it can be; ranks beyond what lowers it take the widest
+/// ranges' halves, and ranks beyond the layers get empty ranges at the end.
+std::vector<std::int64_t> store_rank_starts(const ScatteredStorePlan& plan, int ranks, double reach);
+/// Stencil layers [first, end) of rank `rank` of `ranks` (store_rank_starts).
+std::array<std::int64_t, 2> store_layers_of_rank(const ScatteredStorePlan& plan, int rank, int ranks, double reach);
 
 struct StoreRankResult {
     ScatteredIsosurfaceStats stats;    ///< this rank's stencils (summed over ranks by sum_store_rank_stats)

@@ -91,32 +91,53 @@ std::vector<StoreRankResult> run_ranks(const PointStore& store, const ScatteredS
 
 }  // namespace
 
-TEST_CASE("store layers of ranks: contiguous, in rank order, every layer once, balanced by points", "[stream][store_ranks]") {
+TEST_CASE("store layers of ranks: contiguous, in rank order, every layer once, the largest load least", "[stream][store_ranks]") {
     test::TempDir dir("store-ranks-layers");
-    const auto store = PointStore::open(make_store(dir.path, 20000));
+    const auto store = PointStore::open(make_store(dir.path, 60000));
     const ScatteredStorePlan plan = plan_scattered_store(*store, "u", BinningGridParams{}, {});
     const std::int64_t layers = StencilGrid(plan.grid.dims).count[2];
-    REQUIRE(layers >= 4);
+    REQUIRE(layers >= 8);
+    const Setup s;
+    const double reach = store_slab_reach(plan, s.fp, s.np);
+    REQUIRE(reach > 0);
     for (int ranks = 1; ranks <= 6; ++ranks) {
+        INFO(ranks << " ranks of " << layers << " layers");
         std::int64_t next = 0;
+        std::uint64_t most = 0, most_even = 0;
         for (int r = 0; r < ranks; ++r) {
-            const auto l = store_layers_of_rank(plan, r, ranks);
+            const auto l = store_layers_of_rank(plan, r, ranks, reach);
             CHECK(l[0] == next);
-            CHECK(l[1] >= l[0]);
+            CHECK(l[1] > l[0]);  // (fewer ranks than layers: every rank works)
             next = l[1];
-            // (uniform points: no rank takes more than its share and one layer's worth)
-            if (ranks <= layers) CHECK(l[1] - l[0] <= layers / ranks + 2);
+            most = std::max(most, store_layers_loaded(plan, l[0], l[1], reach));
+            // oracle: the same number of layers a rank
+            const std::int64_t e0 = layers * r / ranks, e1 = layers * (r + 1) / ranks;
+            most_even = std::max(most_even, store_layers_loaded(plan, e0, e1, reach));
         }
         CHECK(next == layers);
+        CHECK(most <= most_even);
+        // brute force over the cuts of two ranks: none loads less at its largest
+        if (ranks == 2) {
+            std::uint64_t best = UINT64_MAX;
+            for (std::int64_t c = 1; c < layers; ++c)
+                best = std::min(best, std::max(store_layers_loaded(plan, 0, c, reach), store_layers_loaded(plan, c, layers, reach)));
+            CHECK(most == best);
+        }
     }
-    // more ranks than layers: some ranks get none, still every layer once
-    std::int64_t total = 0;
+    // the loads: a range loads at least its own layers' points, more with its halos, all with one range
+    CHECK(store_layers_loaded(plan, 0, layers, reach) == plan.frame.points);
+    CHECK(store_layers_loaded(plan, 3, 3, reach) == 0);
+    CHECK(store_layers_loaded(plan, 0, 1, reach) < store_layers_loaded(plan, 0, 2, reach));
+    // more ranks than layers: some ranks get none, still every layer once, in order
+    std::int64_t total = 0, at = 0;
     for (int r = 0; r < static_cast<int>(layers) + 3; ++r) {
-        const auto l = store_layers_of_rank(plan, r, static_cast<int>(layers) + 3);
+        const auto l = store_layers_of_rank(plan, r, static_cast<int>(layers) + 3, reach);
+        CHECK(l[0] == at);
+        at = l[1];
         total += l[1] - l[0];
     }
     CHECK(total == layers);
-    CHECK_THROWS_AS(store_layers_of_rank(plan, 2, 2), std::invalid_argument);
+    CHECK_THROWS_AS(store_layers_of_rank(plan, 2, 2, reach), std::invalid_argument);
 }
 
 TEST_CASE("store ranks: the single-process points for 1-4 ranks, any budget and threads, each rank loading part", "[stream][store_ranks]") {
