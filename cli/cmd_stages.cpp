@@ -62,11 +62,13 @@ int cmd_generate(int argc, char** argv) {
     Args a("generate", "VOLUME --iso V [-o FILE|-]   |   VOLUME --all -o vol.mls",
            "Point generation of paradigm (C) (section 3.4): one sample per active cell, at the cell centre,\n"
            "with trilinear value and gradient and the cell's corner values, written as a binary sample\n"
-           "stream (stdout by default) for `meshless project`.\n"
+           "stream (stdout by default) for `meshless project`. Several isovalues (--iso V1,V2,...) give one\n"
+           "segment of samples each, in order: project | write then gives isosurface --iso V1,V2,...'s points.\n"
            "With --all (VOLUME a brick store .mlb): paradigm (A) preprocessing (Table 3.1): the cell rows of\n"
            "the non-constant cells filed by value interval into a sample store (span-space index) that refers to\n"
            "the .mlb; `meshless extract vol.mls --iso V` then recomputes only the rows that can be active for V.");
-    a.option("iso", "", "V", "isovalue (required unless --all)")
+    a.option("iso", "", "V", "isovalue (required unless --all), or several: V1,V2,... (at most 256; one segment of the stream "
+                             "each, projected onto its own by project)")
         .flag("all", "paradigm (A): index the cells of a brick store for every isovalue into a sample store (-o FILE.mls)")
         .option("output", "o", "FILE", "stream output, '-' = stdout", "-")
         .flag("stats", "print sample counts and timing to stderr");
@@ -93,16 +95,19 @@ int cmd_generate(int argc, char** argv) {
     }
     if (!a.parse(argc, argv, 2)) return 0;
     if (a.has("all")) return generate_all(a);
-    const double iso = single_iso(a, "sample streams (generate)");
+    const std::vector<double> isos = isovalue_list(a);
     const SamplingParams sp = sampling_params(a);
     const int nthreads = threads(a);
     BinaryStreamOutput out(a.get_or("output", "-"), "a sample stream");
     VolumeInput in = open_volume_input(a, /*stream=*/true);
     bool warned = false;
-    const IsoSplatResult r = generate_sample_stream(in, iso, sp, out.f, out.name, a.command_line(), a.has("compress"), nthreads, stderr, &warned);
-    if (a.has("stats")) print_generate_stats(stderr, in.path, iso, r);
+    const std::vector<IsoSplatResult> r =
+        generate_sample_stream(in, isos, sp, out.f, out.name, a.command_line(), a.has("compress"), nthreads, stderr, &warned);
+    if (a.has("stats")) print_generate_stats(stderr, in.path, isos, r);
     out.commit();
-    return empty_result_exit(a, static_cast<std::uint64_t>(r.sampling.active_cells), "samples", iso, in.path, warned);
+    std::uint64_t samples = 0;
+    for (const IsoSplatResult& one : r) samples += static_cast<std::uint64_t>(one.sampling.active_cells);
+    return empty_result_exit(a, samples, "samples", isos[0], in.path, warned);
 }
 
 int cmd_project(int argc, char** argv) {
@@ -125,7 +130,18 @@ int cmd_project(int argc, char** argv) {
     InputFile in(a.positional().empty() ? "-" : a.positional()[0]);
     StreamReader reader(in.f, in.name);
     require_sample_stream(reader, in.name);
+    reader.stop_at_segments();
     reader.read_meta();
+    if (const auto isos = meta_isovalues(reader.meta())) {  // one segment per isovalue, each projected onto its own
+        if (a.has("iso"))
+            throw UsageError("--iso: " + in.name + " holds the samples of " + std::to_string(isos->size()) + " isovalues (" +
+                             *reader.meta().get("isovalues") + "), each projected onto its own; drop --iso");
+        const std::vector<ProjectionStats> s = project_sample_segments(reader, in.name, mode, out.f, out.name, a.has("compress"), nthreads);
+        out.commit();
+        if (a.has("stats"))
+            for (const ProjectionStats& one : s) print_projection_stats(stderr, mode, one);
+        return 0;
+    }
     const double iso = stream_iso(a, reader.meta());
     const ProjectionStats s = project_sample_stream(reader, in.name, iso, mode, out.f, out.name, a.has("compress"), nthreads);
     out.commit();

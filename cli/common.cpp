@@ -367,8 +367,8 @@ std::vector<double> isovalue_list(const Args& a) { return parse_finite_list(a.re
 double single_iso(const Args& a, const std::string& what) {
     const std::string v = a.require("iso");
     if (v.find(',') != std::string::npos)
-        throw UsageError("--iso: " + what + " take one isovalue a run (several, comma-separated, are for isosurface and mc of "
-                         "a volume or a store, in one process), got '" + v + "'");
+        throw UsageError("--iso: " + what + " take one isovalue a run (several, comma-separated, are for isosurface, mc and generate "
+                         "of a volume or a store, in one process), got '" + v + "'");
     return parse_finite(v, "--iso");
 }
 

@@ -201,7 +201,7 @@ int generate_blocks(int argc, char** argv) {
     a.epilog("example: meshless generate combxyz.bin --iso 0.4 | meshless project --field rbf-grid combxyz.bin | meshless write -o c.ply\n");
     a.input_variant("multiblock grids");
     if (!a.parse(argc, argv, 2)) return 0;
-    const double iso = parse_finite(a.require("iso"), "--iso");
+    const double iso = single_iso(a, "multiblock grids");
     const int n = lattice_n(a);
     const int nthreads = threads(a);
     const auto t0 = Clock::now();

@@ -292,7 +292,7 @@ int generate_scattered(int argc, char** argv) {
     a.epilog("example: meshless fit pts.ply -o f.mlf && meshless generate pts.ply --iso 0.5 --field f.mlf | meshless project --field f.mlf | meshless splat -o img.png\n");
     a.input_variant("scattered points");
     if (!a.parse(argc, argv, 2)) return 0;
-    const double iso = parse_finite(a.require("iso"), "--iso");
+    const double iso = single_iso(a, "scattered points");
     const int n = lattice_n(a, kScatteredLatticeN);
     (void)binning_params(a);
     const int nthreads = threads(a);

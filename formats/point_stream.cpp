@@ -193,6 +193,12 @@ void StreamWriter::write_meta(const StreamMeta& m) {
     write_frame(kFrameMeta, 0, 0, 0, s.data(), static_cast<std::uint32_t>(s.size()));
 }
 
+void StreamWriter::write_segment(std::uint64_t index, const StreamMeta& keys) {
+    StreamMeta m = keys;
+    m.kv["segment"] = std::to_string(index);
+    write_meta(m);
+}
+
 void StreamWriter::index_cells(const CellGrid& grid, SampleCellEncoder::Verify verify) {
     if (rsize_ == sizeof(SampleRecord) && !compress_) cells_.emplace(grid, verify);
 }
@@ -334,7 +340,22 @@ std::optional<std::uint64_t> StreamReader::next_data(std::vector<char>& out) {
     });
 }
 
+std::optional<StreamMeta> StreamReader::next_segment() {
+    if (at_segment_) {
+        at_segment_ = false;
+        return segment_;
+    }
+    if (pending_ || (!ended_ && next_records([&](std::uint64_t) -> void* {
+                        throw FormatError(name_ + ": records outside a segment (after " + std::to_string(total_) +
+                                          " records) in a stream of segments");
+                    })))
+        throw FormatError(name_ + ": records before the first segment frame in a stream of segments");
+    if (at_segment_) return next_segment();
+    return std::nullopt;
+}
+
 std::optional<std::uint64_t> StreamReader::next_records(const std::function<void*(std::uint64_t count)>& room) {
+    if (at_segment_) return std::nullopt;
     if (pending_) {
         pending_ = false;
         void* dst = room(pending_count_);
@@ -402,7 +423,18 @@ std::optional<std::uint64_t> StreamReader::next_records(const std::function<void
             return std::nullopt;
         }
         if (type == kFrameMeta) {
-            const StreamMeta m = StreamMeta::parse(std::string(stored_.begin(), stored_.end()), name_);
+            StreamMeta m = StreamMeta::parse(std::string(stored_.begin(), stored_.end()), name_);
+            if (const auto seg = m.get("segment")) {
+                if (*seg != std::to_string(segments_))
+                    throw FormatError(name_ + ": segment frame '" + escape_field(*seg) + "' where segment " + std::to_string(segments_) +
+                                      " was due (after " + std::to_string(total_) + " records)");
+                ++segments_;
+                m.source = name_;
+                segment_ = std::move(m);
+                if (!stop_at_segments_) continue;
+                at_segment_ = true;
+                return std::nullopt;
+            }
             for (const auto& [k, v] : m.kv) meta_.kv[k] = v;
             meta_.source = name_;
             continue;

@@ -17,6 +17,12 @@
 //     instead of 88 for a uint8 volume; the reader rebuilds the same records). A DATA frame with
 //     other flags, with both bits, or cell-indexed in a stream of points or seeds is refused.
 //   exactly one END frame closes the stream.
+// Segments (a stream of several isovalues, `generate VOLUME --iso V1,V2,...`): the first META lists
+//   `isovalues=V1,V2,...` and holds no `iso` (so a reader that knows no segments refuses it for want
+//   of an isovalue); each isovalue's records follow a META frame of their own whose keys are
+//   `segment=K` (0, 1, ... in order) and `iso=VK`. A segment META's keys are not merged into the
+//   stream's metadata; a reader made to stop at segments hands them over one at a time, any other
+//   reads the records of all segments in order. A segment number out of order is refused.
 // Readers skip frame types they do not know, reject a wrong magic ("not a meshless stream"), a
 // version other than 1, a record size that does not match the kind, CRC mismatches, EOF before
 // END ("truncated stream") and bytes after END, all as FormatError naming the stream ("-" = stdin).
@@ -81,6 +87,9 @@ public:
     /// them or better (samples generated on this grid), raw otherwise; the records read back are
     /// the same either way.
     void index_cells(const CellGrid& grid, SampleCellEncoder::Verify verify = SampleCellEncoder::Verify::all);
+    /// Begins segment `index` (0, 1, ... in order; see "Segments" above): a META frame of `keys`
+    /// (its isovalue: iso=V) with segment=index.
+    void write_segment(std::uint64_t index, const StreamMeta& keys);
     /// Writes one DATA frame (skipped when count == 0).
     void write_data(std::uint64_t seq, const void* records, std::uint64_t count);
     /// Writes the END frame and flushes.
@@ -109,10 +118,21 @@ public:
     std::uint32_t flags() const { return flags_; }
     bool has_blocks() const { return (flags_ & kStreamFlagBlocks) != 0; }
     std::size_t record_bytes() const { return rsize_; }
-    /// Metadata of all META frames seen so far (the first frames of a stream in practice).
+    /// Metadata of all META frames seen so far (the first frames of a stream in practice), but for
+    /// segment frames.
     const StreamMeta& meta() const { return meta_; }
-    /// Reads frames up to and including the first META frame, or up to the first DATA frame.
+    /// Reads frames up to the first DATA frame (the META frames before it), or up to the first
+    /// segment frame when stopping at segments.
     void read_meta();
+    /// Makes next_records() end at each segment frame (nullopt) until next_segment() is called; call
+    /// before read_meta(). Otherwise segments are read through as one.
+    void stop_at_segments() { stop_at_segments_ = true; }
+    /// Stopping at segments: the keys of the segment that begins here (segment=K, iso=V), after which
+    /// next_records() delivers its records; nullopt at the END of the stream. Throws FormatError for
+    /// records before the first segment of a stream that has segments.
+    std::optional<StreamMeta> next_segment();
+    /// Segment frames read so far.
+    std::uint64_t segments() const { return segments_; }
     /// Next DATA frame's records appended to `out` as raw bytes; returns the record count, or
     /// nullopt at END (after checking the END total). Throws FormatError on corruption/truncation.
     std::optional<std::uint64_t> next_data(std::vector<char>& out);
@@ -144,6 +164,9 @@ private:
     std::uint64_t total_ = 0;
     std::uint64_t cell_frames_ = 0, data_bytes_ = 0;
     bool ended_ = false;
+    bool stop_at_segments_ = false, at_segment_ = false;
+    std::uint64_t segments_ = 0;
+    StreamMeta segment_;  // the keys of the segment frame read last
     // a DATA frame read ahead by read_meta
     bool pending_ = false;
     std::uint64_t pending_count_ = 0;

@@ -26,13 +26,20 @@ namespace {
 void describe_stream(const std::string& path, std::FILE* out) {
     InputFile in(path);
     StreamReader r(in.f, in.name);
+    r.stop_at_segments();
     r.read_meta();
     std::vector<char> buf;
     std::uint64_t frames = 0;
-    for (;;) {
-        buf.clear();
-        if (!r.next_data(buf)) break;
-        ++frames;
+    std::string segments;  // "; V: N records" for each segment of a stream of several isovalues
+    for (std::optional<StreamMeta> seg;;) {
+        const std::uint64_t before = r.total();
+        for (;;) {
+            buf.clear();
+            if (!r.next_data(buf)) break;
+            ++frames;
+        }
+        if (seg) segments += (segments.empty() ? "" : ", ") + seg->get("iso").value_or("?") + ": " + std::to_string(r.total() - before);
+        if (!(seg = r.next_segment())) break;
     }
     std::fprintf(out, "%s: meshless %s stream%s, version %u, %zu-byte records\n", terminal_safe(path).c_str(),
                  r.kind() == RecordKind::point ? "point" : (r.kind() == RecordKind::seed ? "seed" : "sample"),
@@ -46,6 +53,9 @@ void describe_stream(const std::string& path, std::FILE* out) {
             std::fprintf(out, " (%llu cell-indexed frames)", static_cast<unsigned long long>(r.cell_frames()));
         std::fprintf(out, "\n");
     }
+    if (r.segments() > 0)
+        std::fprintf(out, "  segments: %llu (records per isovalue: %s)\n", static_cast<unsigned long long>(r.segments()),
+                     terminal_safe(segments).c_str());
     for (const auto& [k, v] : r.meta().kv) std::fprintf(out, "  %s: %s\n", terminal_safe(k).c_str(), terminal_safe(v).c_str());
 }
 

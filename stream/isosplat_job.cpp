@@ -8,6 +8,7 @@
 #include "kernels/errors.hpp"
 #include "ooc/sample_store.hpp"
 #include "stream/color_by_stage.hpp"
+#include "stream/continued_sink.hpp"
 #include "stream/iso_range_warning.hpp"
 #include "stream/sample_store_source.hpp"
 #include "stream/stream_metadata.hpp"
@@ -21,82 +22,6 @@ namespace {
 /// same points' PLY or stream draws.
 /// The isovalues of a job in order: its `isos`, or `iso` alone.
 std::vector<double> isovalues_of(const IsosplatJob& j) { return j.isos.empty() ? std::vector<double>{j.iso} : j.isos; }
-
-/// Hands batches on to `to` with their sequence numbers continued from one graph run to the next,
-/// and leaves its finish() to the caller: the runs of several isovalues into one set of outputs.
-class ContinuedSink final : public Sink {
-public:
-    PayloadSet takes() const override { return to_.takes(); }
-    explicit ContinuedSink(Sink& to) : to_(to) {}
-    void consume(Batch&& b) override {
-        b.seq = next(b.seq);
-        points_ += b.points.size();
-        to_.consume(std::move(b));
-    }
-    void observe(const Batch& b) override {
-        Batch copy = b;
-        consume(std::move(copy));
-    }
-    void finish() override {  // the next run's batches follow this one's
-        base_ = end_;
-        last_points_ = points_;
-        points_ = 0;
-    }
-    /// The points of the run that finished last.
-    std::size_t last_run_points() const { return last_points_; }
-
-private:
-    std::uint64_t next(std::uint64_t seq) {
-        end_ = std::max(end_, base_ + seq + 1);
-        return base_ + seq;
-    }
-    Sink& to_;
-    std::uint64_t base_ = 0, end_ = 0;
-    std::size_t points_ = 0, last_points_ = 0;
-};
-
-/// Records the isovalues of a job of several in `meta` (instead of `iso`: the points do not lie on
-/// one surface) and frames the union of their surfaces. `bounds(iso)` gives one surface's.
-void set_isovalues(StreamMeta& meta, const std::vector<double>& isos,
-                   const std::function<std::optional<std::array<Vec3, 2>>(double)>& bounds) {
-    if (isos.size() < 2) return;
-    std::string list;
-    std::optional<std::array<Vec3, 2>> all;
-    for (double v : isos) {
-        StreamMeta one;
-        one.set("iso", v);  // (the number as the metadata writes it)
-        list += (list.empty() ? "" : ",") + *one.get("iso");
-        if (const auto b = bounds(v)) {
-            if (!all) all = *b;
-            const Vec3 &lo = (*all)[0], &hi = (*all)[1];
-            all = std::array<Vec3, 2>{Vec3{std::min(lo.x, (*b)[0].x), std::min(lo.y, (*b)[0].y), std::min(lo.z, (*b)[0].z)},
-                                      Vec3{std::max(hi.x, (*b)[1].x), std::max(hi.y, (*b)[1].y), std::max(hi.z, (*b)[1].z)}};
-        }
-    }
-    meta.kv.erase("iso");
-    meta.set("isovalues", list);
-    if (all) {
-        meta.set("bounds_lo", triple((*all)[0].x, (*all)[0].y, (*all)[0].z));
-        meta.set("bounds_hi", triple((*all)[1].x, (*all)[1].y, (*all)[1].z));
-    }
-}
-
-/// The runs of a job's isovalues into one sink: run(i, sink) for each in turn (sequence numbers
-/// continued), the sink finished after the last; r[i] and counts[i] receive each run's result and
-/// points. Returns the first run's result.
-template <class Run>
-IsoSplatResult run_each_isovalue(std::size_t n, Sink& sink, std::vector<IsoSplatResult>& r, std::vector<std::size_t>& counts,
-                                 const Run& run) {
-    r.assign(n, {});
-    counts.assign(n, 0);
-    ContinuedSink continued(sink);
-    for (std::size_t i = 0; i < n; ++i) {
-        r[i] = run(i, continued);
-        counts[i] = continued.last_run_points();
-    }
-    sink.finish();
-    return r[0];
-}
 
 /// The --stats line of each isovalue (one isovalue: the points written).
 void print_each_isovalue(const IsosplatJob& j, const std::string& path, const std::vector<double>& isos,

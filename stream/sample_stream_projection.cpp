@@ -1,13 +1,15 @@
 #include "stream/sample_stream_projection.hpp"
 
 #include "kernels/errors.hpp"
+#include "stream/continued_sink.hpp"
 #include "stream/project_stage.hpp"
 #include "stream/projection_meta.hpp"
 #include "stream/runner.hpp"
+#include "stream/stream_metadata.hpp"
 
 namespace meshless {
 
-ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projection mode, StreamSink& sink, int threads) {
+ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projection mode, Sink& sink, int threads) {
     StreamSource source(reader);
     ProjectStage project(iso, mode);
     const Stage* stages[] = {&project};
@@ -15,16 +17,50 @@ ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projecti
     return project.stats();
 }
 
-ProjectionStats project_sample_stream(StreamReader& reader, const std::string& in_name, double iso, Projection mode, std::FILE* out,
-                                      const std::string& out_name, bool compress, int threads) {
-    StreamMeta meta = reader.meta();
+namespace {
+void check_corners(const StreamMeta& meta, const std::string& in_name, Projection mode) {
     if (mode == Projection::exact && meta.get("sample_corners") == "none")
         throw FormatError(in_name + ": samples from a paradigm (A) sample store carry no cell corners; "
                           "--projection exact needs them, use approx");
+}
+}  // namespace
+
+ProjectionStats project_sample_stream(StreamReader& reader, const std::string& in_name, double iso, Projection mode, std::FILE* out,
+                                      const std::string& out_name, bool compress, int threads) {
+    StreamMeta meta = reader.meta();
+    check_corners(meta, in_name, mode);
     meta.set("iso", iso);
     meta.set("projection", to_string(mode));
     StreamSink sink(out, out_name, RecordKind::point, meta, compress);
-    return project_sample_stream(reader, iso, mode, sink, threads);
+    const ProjectionStats s = project_sample_stream(reader, iso, mode, sink, threads);
+    if (reader.segments() != 0)  // (a reader stopping at segments ends there)
+        throw FormatError(in_name + ": a segment frame in a stream of one isovalue (its metadata lists no isovalues)");
+    return s;
+}
+
+std::vector<ProjectionStats> project_sample_segments(StreamReader& reader, const std::string& in_name, Projection mode,
+                                                     std::FILE* out, const std::string& out_name, bool compress, int threads) {
+    StreamMeta meta = reader.meta();
+    check_corners(meta, in_name, mode);
+    const std::vector<double> isos = meta_isovalues(meta).value();
+    meta.set("projection", to_string(mode));
+    StreamSink sink(out, out_name, RecordKind::point, meta, compress);
+    std::vector<ProjectionStats> r;
+    ContinuedSink continued(sink);
+    while (const auto seg = reader.next_segment()) {
+        const std::size_t k = r.size();
+        const std::optional<double> iso = seg->get_finite("iso");
+        if (k >= isos.size() || !iso || *iso != isos[k])
+            throw FormatError(in_name + ": segment " + std::to_string(k) + " does not begin isovalue " + std::to_string(k + 1) +
+                              " of the " + std::to_string(isos.size()) + " its metadata lists (" + *meta.get("isovalues") + ")");
+        sink.begin_segment(k, *iso);
+        r.push_back(project_sample_stream(reader, *iso, mode, continued, threads));
+    }
+    if (r.size() != isos.size())
+        throw FormatError(in_name + ": holds " + std::to_string(r.size()) + " segments for the " + std::to_string(isos.size()) +
+                          " isovalues its metadata lists (truncated or corrupt stream)");
+    sink.finish();
+    return r;
 }
 
 void print_projection_stats(std::FILE* out, Projection mode, const ProjectionStats& s) {

@@ -7,6 +7,7 @@
 #pragma once
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "formats/point_stream.hpp"
 #include "kernels/field.hpp"
@@ -24,13 +25,20 @@ void require_sample_stream(const StreamReader& reader, const std::string& name);
 
 /// Projects every sample `reader` delivers onto f = iso (section 3.3: approx, Eq. 3.5; exact, Eq.
 /// 3.3; or none) on `threads` threads, into `sink` (a point stream); returns the projection's counts.
-ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projection mode, StreamSink& sink, int threads);
+ProjectionStats project_sample_stream(StreamReader& reader, double iso, Projection mode, Sink& sink, int threads);
 /// The same into a point stream on `out` (named `out_name`; compress: zstd DATA frames) whose
 /// metadata is the samples' (its metadata read) with `iso` and `mode`. FormatError (naming
 /// `in_name`) for Projection::exact on the samples of a paradigm (A) sample store: they carry no
 /// cell corners.
 ProjectionStats project_sample_stream(StreamReader& reader, const std::string& in_name, double iso, Projection mode, std::FILE* out,
                                       const std::string& out_name, bool compress, int threads);
+/// A sample stream of several isovalues (its metadata read by a reader that stops at segments:
+/// `isovalues` listed, formats/point_stream.hpp "Segments"): each segment's samples projected onto
+/// its own isovalue, into a point stream on `out` of the same segments whose metadata is the
+/// samples' with `mode`; returns each segment's counts. FormatError (naming `in_name`) for segments
+/// that do not match the listed isovalues, and as the one-isovalue form above.
+std::vector<ProjectionStats> project_sample_segments(StreamReader& reader, const std::string& in_name, Projection mode,
+                                                     std::FILE* out, const std::string& out_name, bool compress, int threads);
 /// The statistics line of a sample projection (prefixed `project: `) to `out`.
 void print_projection_stats(std::FILE* out, Projection mode, const ProjectionStats& s);
 

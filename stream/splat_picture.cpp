@@ -147,6 +147,9 @@ SplatInput open_splat_input(const SplatRequest& r, bool is_ply) {
     in.source = std::make_unique<StreamSource>(*in.reader);
     if (in.reader->kind() == RecordKind::sample) {
         // paradigms (B)/(D): projection at render time
+        if (const auto list = in.reader->meta().get("isovalues"))
+            throw InvalidArgument(in.file->name + ": holds the samples of several isovalues (" + *list +
+                                  "); project them first: meshless project | meshless splat");
         const auto [iso, mode] = r.sample_projection(in.reader->meta());
         in.project = std::make_unique<ProjectStage>(iso, mode);
     } else if (r.iso_given) {

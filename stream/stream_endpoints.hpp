@@ -45,6 +45,13 @@ public:
                bool with_blocks = false);
     void consume(Batch&& b) override;
     void finish() override { w_.finish(); }
+    /// Begins segment `index` of a stream of several isovalues (formats/point_stream.hpp "Segments"):
+    /// call between graph runs, when the previous run's batches are all consumed.
+    void begin_segment(std::uint64_t index, double iso) {
+        StreamMeta keys;
+        keys.set("iso", iso);
+        w_.write_segment(index, keys);
+    }
     /// Samples generated on this grid travel cell-indexed (StreamWriter::index_cells).
     void index_cells(const CellGrid& grid, SampleCellEncoder::Verify verify = SampleCellEncoder::Verify::all) {
         w_.index_cells(grid, verify);

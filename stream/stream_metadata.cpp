@@ -156,4 +156,48 @@ std::optional<AnatomicalFrame> meta_patient_axes(const StreamMeta& m) {
     return frame_of_axes(ax, "patient_axes");
 }
 
+/// Records the isovalues of a job of several in `meta` (instead of `iso`: the points do not lie on
+/// one surface) and frames the union of their surfaces. `bounds(iso)` gives one surface's.
+void set_isovalues(StreamMeta& meta, const std::vector<double>& isos,
+                   const std::function<std::optional<std::array<Vec3, 2>>(double)>& bounds) {
+    if (isos.size() < 2) return;
+    std::string list;
+    std::optional<std::array<Vec3, 2>> all;
+    for (double v : isos) {
+        StreamMeta one;
+        one.set("iso", v);  // (the number as the metadata writes it)
+        list += (list.empty() ? "" : ",") + *one.get("iso");
+        if (const auto b = bounds(v)) {
+            if (!all) all = *b;
+            const Vec3 &lo = (*all)[0], &hi = (*all)[1];
+            all = std::array<Vec3, 2>{Vec3{std::min(lo.x, (*b)[0].x), std::min(lo.y, (*b)[0].y), std::min(lo.z, (*b)[0].z)},
+                                      Vec3{std::max(hi.x, (*b)[1].x), std::max(hi.y, (*b)[1].y), std::max(hi.z, (*b)[1].z)}};
+        }
+    }
+    meta.kv.erase("iso");
+    meta.set("isovalues", list);
+    if (all) {
+        meta.set("bounds_lo", triple((*all)[0].x, (*all)[0].y, (*all)[0].z));
+        meta.set("bounds_hi", triple((*all)[1].x, (*all)[1].y, (*all)[1].z));
+    }
+}
+
+std::optional<std::vector<double>> meta_isovalues(const StreamMeta& m) {
+    const auto list = m.get("isovalues");
+    if (!list) return std::nullopt;
+    std::vector<double> v;
+    std::size_t at = 0;
+    for (;;) {
+        const std::size_t comma = list->find(',', at);
+        StreamMeta one;
+        one.source = m.source;
+        one.kv["isovalues"] = list->substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+        v.push_back(*one.get_finite("isovalues"));
+        if (comma == std::string::npos) break;
+        at = comma + 1;
+    }
+    if (v.size() < 2) throw FormatError(m.where() + "stream metadata: 'isovalues' lists fewer than two values");
+    return v;
+}
+
 }  // namespace meshless

@@ -6,6 +6,7 @@
 // numbers; the rest does not throw.
 #pragma once
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,6 +57,14 @@ StreamMeta sample_store_meta(const SampleStore& store, double iso, const std::st
 /// Moves bounds_lo/hi (the volume's, from volume_meta) to volume_bounds_lo/hi and records the
 /// surface's as bounds_lo/hi; nullopt (nothing active) keeps the volume's as the frame.
 void set_surface_bounds(StreamMeta& m, const std::optional<std::array<Vec3, 2>>& surface);
+/// Records the isovalues of a run of several (2 or more; fewer: nothing) in `meta` as
+/// `isovalues=V1,V2,...` instead of `iso` (the points do not lie on one surface) and frames the union
+/// of their surfaces: `bounds(iso)` gives one surface's (nullopt: nothing there).
+void set_isovalues(StreamMeta& meta, const std::vector<double>& isos,
+                   const std::function<std::optional<std::array<Vec3, 2>>(double)>& bounds);
+/// The isovalues a run of several recorded (set_isovalues); nullopt without the key. FormatError
+/// (naming the stream) for a list that is not finite numbers separated by commas.
+std::optional<std::vector<double>> meta_isovalues(const StreamMeta& m);
 /// The PLY comment lines derived from metadata (same for the in-process and piped paths).
 std::vector<std::string> ply_comments(const StreamMeta& m);
 /// Bounds recorded in PLY comments written by ply_comments ("bounds_lo x,y,z", "bounds_hi ..."), if any.

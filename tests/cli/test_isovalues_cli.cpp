@@ -11,6 +11,7 @@
 
 #include "cli/cli_harness.hpp"
 #include "formats/ply_mesh.hpp"
+#include "formats/point_stream.hpp"
 
 using namespace meshless;
 using namespace meshless::test;
@@ -131,4 +132,78 @@ TEST_CASE("mc --iso V1,V2: the single runs' meshes one after another, each welde
     CHECK(r.code == 0);
     CHECK_THAT(r.err, Catch::Contains("isovalue 999 is outside the data range"));
     CHECK_THAT(r.err, Catch::Contains("its surface will be empty"));
+}
+
+TEST_CASE("generate --iso V1,V2 | project | write: isosurface --iso V1,V2's bytes, one stream segment each", "[cli][isovalues]") {
+    TempDir d("isovalues-pipe");
+    const std::string D = d.path.string() + "/";
+    const std::string vol = write_uint8_analytic_volume(d, "vol", AnalyticField::torus, 24, 200.0, 0.0);
+    REQUIRE(sh("MESHLESS convert " + vol + " -o " + D + "v.mlb --brick 8", d).code == 0);
+    for (const std::string& in : {vol, D + "v.mlb"}) {
+        INFO(in);
+        REQUIRE(sh("MESHLESS isosurface " + in + " --iso 150.5,60.5 -o " + D + "i.ply --png " + D + "i.png --size 200x200", d).code == 0);
+        const auto r = sh("MESHLESS generate " + in + " --iso 150.5,60.5 --stats | MESHLESS project --stats --threads 2 | MESHLESS write -o " +
+                              D + "p.ply",
+                          d);
+        REQUIRE(r.code == 0);
+        CHECK(count_of(r.err, "generate: ") == 2);
+        CHECK(count_of(r.err, "project: ") == 2);
+        CHECK(slurp(d / "p.ply") == slurp(d / "i.ply"));
+        REQUIRE(sh("MESHLESS generate " + in + " --iso 150.5,60.5 --compress | MESHLESS project --compress | MESHLESS splat -o " + D +
+                       "p.png --size 200x200",
+                   d)
+                    .code == 0);
+        CHECK(slurp(d / "p.png") == slurp(d / "i.png"));
+    }
+    // one isovalue keeps the stream of one segment-free run
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 60.5 -o " + D + "one.samples", d).code == 0);
+    CHECK_THAT(sh("MESHLESS info " + D + "one.samples", d).out, !Catch::Contains("segments"));
+    // the stream lists its segments; what cannot take several isovalues says so
+    REQUIRE(sh("MESHLESS generate " + vol + " --iso 150.5,60.5 -o " + D + "s.samples", d).code == 0);
+    auto r = sh("MESHLESS info " + D + "s.samples", d);
+    CHECK_THAT(r.out, Catch::Contains("segments: 2 (records per isovalue: 150.5: "));
+    CHECK_THAT(r.out, Catch::Contains("isovalues: 150.5,60.5"));
+    r = sh("MESHLESS project " + D + "s.samples --iso 100 -o " + D + "x.points", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("s.samples holds the samples of 2 isovalues (150.5,60.5), each projected onto its own; drop --iso"));
+    CHECK_FALSE(std::filesystem::exists(d / "x.points"));
+    r = sh("MESHLESS splat " + D + "s.samples -o " + D + "x.png", d);
+    CHECK(r.code == 1);
+    CHECK_THAT(r.err, Catch::Contains("holds the samples of several isovalues (150.5,60.5); project them first"));
+}
+
+TEST_CASE("project refuses segments that do not match the isovalues listed, and segments in a one-isovalue stream", "[cli][isovalues]") {
+    TempDir d("isovalues-segments-bad");
+    const std::string D = d.path.string() + "/";
+    const auto write = [&](const std::string& name, const char* list, const std::vector<double>& segment_isos) {
+        std::FILE* f = std::fopen((d.path / name).c_str(), "wb");
+        REQUIRE(f);
+        StreamWriter w(f, name, RecordKind::sample, false);
+        StreamMeta m;
+        if (*list) m.set("isovalues", list);
+        else m.set("iso", 1.0);
+        w.write_meta(m);
+        for (std::size_t k = 0; k < segment_isos.size(); ++k) {
+            StreamMeta keys;
+            keys.set("iso", segment_isos[k]);
+            w.write_segment(k, keys);
+        }
+        w.finish();
+        std::fclose(f);
+    };
+    write("ok.samples", "1,2", {1, 2});
+    write("wrong.samples", "1,2", {1, 3});
+    write("short.samples", "1,2", {1});
+    write("one.samples", "", {1});
+    CHECK(sh("MESHLESS project " + D + "ok.samples -o " + D + "ok.points", d).code == 0);
+    auto r = sh("MESHLESS project " + D + "wrong.samples -o " + D + "w.points", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("wrong.samples: segment 1 does not begin isovalue 2 of the 2 its metadata lists (1,2)"));
+    r = sh("MESHLESS project " + D + "short.samples -o " + D + "s.points", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("short.samples: holds 1 segments for the 2 isovalues its metadata lists"));
+    r = sh("MESHLESS project " + D + "one.samples -o " + D + "o.points", d);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.err, Catch::Contains("one.samples: a segment frame in a stream of one isovalue"));
+    for (const char* out : {"w.points", "s.points", "o.points"}) CHECK_FALSE(std::filesystem::exists(d / out));
 }

@@ -344,3 +344,97 @@ TEST_CASE("frames larger than the proven-read threshold decode, raw and zstd, an
         CHECK_THROWS_WITH(decode(s), Catch::Contains("corrupt compressed frame"));
     }
 }
+
+namespace {
+/// A stream of several isovalues: metadata listing them, then one segment frame and one DATA frame
+/// of `batches[k]` per segment; `segment_no` gives the number each segment frame carries.
+std::string encode_segments(const std::vector<std::vector<PointRecord>>& batches, const std::vector<std::uint64_t>& segment_no) {
+    char* buf = nullptr;
+    std::size_t len = 0;
+    std::FILE* f = open_memstream(&buf, &len);
+    {
+        StreamWriter w(f, "mem", RecordKind::point, false);
+        StreamMeta m;
+        m.set("isovalues", "1.5,2.5");
+        w.write_meta(m);
+        for (std::size_t k = 0; k < batches.size(); ++k) {
+            StreamMeta keys;
+            keys.set("iso", 1.5 + static_cast<double>(k));
+            w.write_segment(segment_no[k], keys);
+            w.write_data(k, batches[k].data(), batches[k].size());
+        }
+        w.finish();
+    }
+    std::fclose(f);
+    std::string s(buf, len);
+    std::free(buf);
+    return s;
+}
+}  // namespace
+
+TEST_CASE("segments: read through as one, or one at a time with their keys; out of order refused", "[stream-codec]") {
+    const auto a = some_points(5, 1), b = some_points(7, 2);
+    const std::string bytes = encode_segments({a, b}, {0, 1});
+    {  // a reader that does not stop at segments reads every record; the segment keys stay out of meta()
+        const Decoded d = decode(bytes);
+        REQUIRE(d.batches.size() == 2);
+        CHECK(d.batches[0].size() == 5);
+        CHECK(d.batches[1].size() == 7);
+        CHECK(d.meta.get("isovalues") == "1.5,2.5");
+        CHECK(!d.meta.get("iso"));
+        CHECK(!d.meta.get("segment"));
+    }
+    {  // stopping at segments: each segment's keys, then its records only
+        std::FILE* f = fmemopen(const_cast<char*>(bytes.data()), bytes.size(), "rb");
+        StreamReader r(f, "mem");
+        r.stop_at_segments();
+        r.read_meta();
+        std::vector<char> buf;
+        CHECK(!r.next_data(buf));  // the first segment frame comes before any record
+        for (int k = 0; k < 2; ++k) {
+            const auto seg = r.next_segment();
+            REQUIRE(seg);
+            CHECK(seg->get("segment") == std::to_string(k));
+            CHECK(seg->get_double("iso") == 1.5 + k);
+            buf.clear();
+            REQUIRE(r.next_data(buf));
+            CHECK(buf.size() == (k == 0 ? 5u : 7u) * sizeof(PointRecord));
+            CHECK(!r.next_data(buf));
+        }
+        CHECK(!r.next_segment());
+        CHECK(r.segments() == 2);
+        CHECK(r.total() == 12);
+        std::fclose(f);
+    }
+    // a segment number out of order (a spliced stream) is refused by both kinds of reader
+    const std::string spliced = encode_segments({a, b}, {0, 2});
+    CHECK_THROWS_WITH(decode(spliced), Catch::Contains("segment frame '2' where segment 1 was due (after 5 records)"));
+    const std::string late = encode_segments({a}, {1});
+    CHECK_THROWS_WITH(decode(late), Catch::Contains("segment frame '1' where segment 0 was due"));
+}
+
+TEST_CASE("segments: records before the first segment frame are refused by a reader that stops at them", "[stream-codec]") {
+    char* buf = nullptr;
+    std::size_t len = 0;
+    std::FILE* f = open_memstream(&buf, &len);
+    const auto a = some_points(3, 1);
+    {
+        StreamWriter w(f, "mem", RecordKind::point, false);
+        w.write_meta({});
+        w.write_data(0, a.data(), a.size());
+        StreamMeta keys;
+        keys.set("iso", 1.0);
+        w.write_segment(0, keys);
+        w.write_data(1, a.data(), a.size());
+        w.finish();
+    }
+    std::fclose(f);
+    const std::string bytes(buf, len);
+    std::free(buf);
+    std::FILE* in = fmemopen(const_cast<char*>(bytes.data()), bytes.size(), "rb");
+    StreamReader r(in, "mem");
+    r.stop_at_segments();
+    r.read_meta();
+    CHECK_THROWS_WITH(r.next_segment(), Catch::Contains("mem: records before the first segment frame"));
+    std::fclose(in);
+}
