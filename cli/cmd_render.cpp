@@ -148,7 +148,9 @@ void declare_render_options(Args& a) {
         .option("diff-gain", "", "G", "--diff: multiply the differences by G, > 0", "1")
         .flag("colorbar", "draw the transfer function's legend: its colours from the top value to the bottom one, its\n"
                           "                            opacity as a grey strip beside them (white: opaque), titled with --array's name")
-        .flag("axes", "draw the world axes (x red, y green, z blue) and a scale bar of a round world length");
+        .flag("axes", "draw the world axes (x red, y green, z blue) and a scale bar of a round world length (drawn by\n"
+                      "                            default, labelled with the unit, when the volume's file states its length unit)")
+        .flag("no-axes", "draw no axes or scale bar, even where the length unit is known");
     add_orbit_options(a, "512x512");
     add_field_options(a, /*with_coverage=*/false, kDataFieldDefaultHelp);  // --field ... --stats, point-set options, --threads
     a.option("dims", "", "X,Y,Z", "raw volumes: samples along x, y, z")
@@ -253,7 +255,7 @@ int cmd_render(int argc, char** argv) {
     files.diff_gain = gain;
     if (a.has("colorbar")) files.legend = &tf;
     files.legend_title = a.get_or("array", "");
-    files.axes = a.has("axes");
+    files.axes = axes_choice(a);
     // the comparison on stdout, unless a picture goes there (-o - or --diff -)
     files.comparison = png == "-" || a.get_or("diff", "") == "-" ? stderr : stdout;
     if ((tty && !a.has("quiet")) || a.has("stats")) files.stats = stderr;

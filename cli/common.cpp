@@ -207,7 +207,10 @@ void add_color_options(Args& a) {
                           "                            the block palette's swatches with their ids (--color block)")
         .flag("axes", "draw the world axes (x red, y green, z blue, from the bottom left corner, as the camera sees\n"
                       "                            them) and a scale bar of a round length in world units (1, 2 or 5 x 10^k, at the\n"
-                      "                            depth of the framed centre) into the picture");
+                      "                            depth of the framed centre) into the picture; drawn by default, the bar labelled\n"
+                      "                            with the unit, when the volume's file states its length unit (DICOM, NIfTI,\n"
+                      "                            NRRD space units, OME-Zarr axes; a brick store or the points' PLY records it)")
+        .flag("no-axes", "draw no axes or scale bar, even where the length unit is known");
 }
 
 
@@ -280,6 +283,13 @@ void no_patient_axes_hint(const Args& a, const std::string& volume) {
 }
 
 
+AxesChoice axes_choice(const Args& a) {
+    if (!a.declared("axes")) return AxesChoice::off;
+    if (a.has("axes") && a.has("no-axes")) throw UsageError("--axes and --no-axes: give one");
+    if (a.has("axes")) return AxesChoice::on;
+    return a.has("no-axes") ? AxesChoice::off : AxesChoice::when_unit_known;
+}
+
 RenderSettings render_settings(const Args& a) {
     RenderSettings rs;
     rs.camera = camera_from(a, "800x800");
@@ -288,7 +298,7 @@ RenderSettings render_settings(const Args& a) {
     // --memory bounds the process: the EWA picture's footprints take an eighth of it at most
     if (a.declared("memory") && a.has("memory"))
         rs.spool_memory = std::min<std::uint64_t>(SplatSink::kSpoolMemory, parse_memory_size(*a.get("memory")) / 8);
-    rs.axes = a.declared("axes") && a.has("axes");
+    rs.axes = axes_choice(a);
     return rs;
 }
 

@@ -109,6 +109,9 @@ void no_patient_axes_hint(const Args& a, const std::string& volume);
 void add_camera_options(Args& a);
 /// Camera, kernel and shading from the camera options.
 RenderSettings render_settings(const Args& a);
+/// --axes / --no-axes (add_color_options, render's): on, off, or (neither, the default) when the
+/// world's length unit is known; off when the command has no such option. UsageError for both.
+AxesChoice axes_choice(const Args& a);
 
 /// --color value|block|normal|none (default auto), --colormap, --range LO,HI, --colorbar: the
 /// splat colours of `meshless splat` and `meshless isosurface --png`.

@@ -1,8 +1,9 @@
 // The GDCM boundary (formats/dicom_slice.hpp): the only source file that includes GDCM. Every file
 // is walked first (formats/dicom_structure.hpp: Debian's GDCM asserts on malformed elements). Attributes
 // are taken from the data set GDCM parsed up to Pixel Data; the pixels through gdcm::ImageReader
-// after the file has proven the bytes they claim. Compressed transfer syntaxes are refused: GDCM's
-// decoders assert (abort) on damaged streams.
+// after the file has proven the bytes they claim. Compressed transfer syntaxes (RLE, the JPEG family)
+// are decoded in a child process (formats/isolated_call.hpp): GDCM's decoders assert (abort) on
+// damaged streams, which then fail one file in one line instead of the process.
 #include "formats/dicom_slice.hpp"
 
 #include <gdcmDataSet.h>
@@ -18,6 +19,7 @@
 #include <gdcmTransferSyntax.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -27,6 +29,7 @@
 
 #include "formats/binary_file.hpp"
 #include "formats/dicom_structure.hpp"
+#include "formats/isolated_call.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/checked_size.hpp"
 #include "kernels/errors.hpp"
@@ -157,11 +160,6 @@ DicomSliceHeader read_dicom_slice_header(const std::string& path) {
     h.transfer_syntax = text_of(f.GetHeader(), gdcm::Tag(0x0002, 0x0010));
     if (h.transfer_syntax.empty() && ts.GetString()) h.transfer_syntax = ts.GetString();
     h.compressed = ts.IsEncapsulated();
-    // GDCM's decoders (RLE, JPEG family) assert on damaged streams (fuzz_dicom: RLECodec::Decode
-    // aborted the process), so compressed pixel data is refused until it is decoded here safely
-    if (h.compressed)
-        throw FormatError(path + ": compressed transfer syntax " + escape_field(h.transfer_syntax) +
-                          " is not read (only uncompressed series: decompress it first, e.g. gdcmconv --raw)");
     h.sop_class_uid = text_of(ds, gdcm::Tag(0x0008, 0x0016));
     h.series_uid = text_of(ds, gdcm::Tag(0x0020, 0x000e));
     h.series_description = text_of(ds, gdcm::Tag(0x0008, 0x103e));
@@ -212,6 +210,15 @@ DicomSliceHeader read_dicom_slice_header(const std::string& path) {
     return h;
 }
 
+namespace {
+/// GDCM's reading and decoding of the slice's pixels into out (want bytes), checked against its header.
+void decode_pixels(const DicomSliceHeader& h, std::uint64_t want, std::byte* out);
+/// Bits above Bits Stored masked off, signed pixels sign-extended from Bits Stored.
+void mask_bits_stored(const DicomSliceHeader& h, std::uint64_t want, std::byte* out);
+/// The longest a compressed slice may take to decode in its child process.
+constexpr int kDecodeSeconds = 120;
+}  // namespace
+
 void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
     quiet_gdcm();
     const std::string& path = h.file;
@@ -243,6 +250,30 @@ void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
                   "unreadable DICOM data set (GDCM could not parse it; truncated or corrupt)");
         check_dictionary_vrs(header.GetFile().GetDataSet(), path);
     }
+    if (!h.compressed) {
+        decode_pixels(h, want, out);
+    } else {  // GDCM's decoders (RLE, JPEG family) assert on damaged streams (fuzz_dicom: RLECodec::Decode)
+        const IsolatedResult r = run_isolated(want, out, [&](std::byte* dst) { decode_pixels(h, want, dst); }, kDecodeSeconds);
+        const std::string syntax = "transfer syntax " + escape_field(h.transfer_syntax);
+        switch (r.outcome) {
+            case IsolatedResult::Outcome::ok: break;
+            case IsolatedResult::Outcome::error: throw FormatError(r.message.rfind(path, 0) == 0 ? r.message : path + ": " + r.message);
+            case IsolatedResult::Outcome::crashed:
+                throw FormatError(path + ": cannot decode the compressed pixel data (" + syntax + "): GDCM's decoder failed on it (" +
+                                  (r.signal == SIGABRT ? std::string("assertion, SIGABRT") : "signal " + std::to_string(r.signal)) +
+                                  "); the stream is damaged or not of that syntax");
+            case IsolatedResult::Outcome::timed_out:
+                throw FormatError(path + ": cannot decode the compressed pixel data (" + syntax + "): GDCM's decoder ran over " +
+                                  std::to_string(kDecodeSeconds) + " s on one slice (a damaged stream?)");
+        }
+    }
+    mask_bits_stored(h, want, out);
+}
+
+namespace {
+
+void decode_pixels(const DicomSliceHeader& h, std::uint64_t want, std::byte* out) {
+    const std::string& path = h.file;
     gdcm::ImageReader reader;
     reader.SetFileName(path.c_str());
     gdcm_read([&] { return reader.Read(); }, path, "pixel data",
@@ -274,6 +305,9 @@ void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
     if (!got)
         throw FormatError(path + ": cannot decode the pixel data (transfer syntax " + escape_field(h.transfer_syntax) +
                           ": GDCM failed to decode it)");
+}
+
+void mask_bits_stored(const DicomSliceHeader& h, std::uint64_t want, std::byte* out) {
     // bits above Bits Stored masked off, signed pixels sign-extended from Bits Stored
     const int bs = h.bits_stored;
     if (bs > 0 && bs < h.bits_allocated) {
@@ -299,5 +333,7 @@ void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
         }
     }
 }
+
+}  // namespace
 
 }  // namespace meshless

@@ -9,6 +9,7 @@
 
 #include "formats/binary_file.hpp"
 #include "formats/gzip.hpp"
+#include "formats/length_unit.hpp"
 #include "formats/payload.hpp"
 #include "formats/reference_policy.hpp"
 #include "kernels/checked_size.hpp"
@@ -28,6 +29,7 @@ struct NiftiHeader {
     float slope = 0, inter = 0;
     bool pair = false;  // "ni1": data in a separate .img
     std::optional<AnatomicalFrame> frame;  // sform, else qform
+    std::string length_unit;               // xyzt_units (byte 123)
     std::array<bool, 3> flip{false, false, false};  // axes the sform/qform runs backwards along (samples reversed)
 };
 
@@ -136,6 +138,7 @@ NiftiHeader parse_header(const unsigned char* h, const std::string& path) {
     r.vox_offset = static_cast<std::uint64_t>(vo);
     if (!r.pair && r.vox_offset < kHeaderBytes) r.vox_offset = 352;  // n+1 data never overlaps the header
     r.slope = f32(112);
+    r.length_unit = nifti_length_unit(static_cast<std::uint8_t>(h[123]));
     r.inter = f32(116);
     const int qform = i16(252), sform = i16(254);
     if (sform > 0) {
@@ -241,6 +244,7 @@ VolumeInfo probe_nifti(const std::string& path, const ReferencePolicy& refs) {
     i.encoding = is_gz(data) ? "gzip" : "raw";
     i.data_files = {data};
     i.frame = h.frame;
+    i.length_unit = h.length_unit;
     return i;
 }
 

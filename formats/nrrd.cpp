@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "formats/binary_file.hpp"
+#include "formats/length_unit.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/flip_axes.hpp"
@@ -12,6 +13,22 @@
 namespace meshless {
 
 namespace {
+
+// `space units: "mm" "mm" "mm"`: the unit when every quoted one names the same known unit, else "".
+std::string nrrd_space_unit(const std::string& val) {
+    std::string unit;
+    int count = 0;
+    for (std::size_t at = val.find('"'); at != std::string::npos; at = val.find('"', at)) {
+        const std::size_t end = val.find('"', at + 1);
+        if (end == std::string::npos) return {};
+        const std::string u = length_unit_from_name(std::string_view(val).substr(at + 1, end - at - 1));
+        if (u.empty() || (count > 0 && u != unit)) return {};
+        unit = u;
+        ++count;
+        at = end + 1;
+    }
+    return count > 0 ? unit : std::string();
+}
 
 struct HeaderText {
     std::string text;           // header lines (without the blank separator line)
@@ -95,6 +112,8 @@ PayloadPlan plan_nrrd(const std::string& path) {
             if (!cur.empty()) directions_tok.push_back(cur);
         } else if (key == "space") {
             space_tok = to_lower(val);
+        } else if (key == "space units") {
+            plan.length_unit = nrrd_space_unit(val);
         } else if (key == "space origin") {
             origin_tok = val;
         } else if (key == "encoding") {

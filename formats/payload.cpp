@@ -37,6 +37,7 @@ VolumeInfo info_from_plan(const PayloadPlan& plan) {
     i.encoding = to_string(plan.encoding);
     i.data_files = plan.files;
     i.frame = plan.frame;
+    i.length_unit = plan.length_unit;
     i.arrays = plan.arrays;
     i.default_array = plan.default_array;
     i.read_array = plan.read_array;

@@ -41,6 +41,7 @@ struct PayloadPlan {
     std::array<bool, 3> flip{false, false, false};  ///< axes whose file spacing was negative: samples reversed
                                                     ///< after reading (kernels/flip_axes.hpp; grid already positive)
     std::optional<AnatomicalFrame> frame;           ///< what the header says about the patient's axes (after flips)
+    std::string length_unit;                        ///< the world coordinates' unit the header states (formats/length_unit.hpp), else ""
     std::vector<VolumeArray> arrays;                ///< multi-array formats: VolumeInfo::arrays
     std::size_t default_array = 0, read_array = 0;  ///< VolumeInfo::default_array, read_array
 };

@@ -211,6 +211,7 @@ static VolumeInfo dicom_info(const DicomSeries& s) {
     i.grid = s.grid;
     i.type = s.type;
     i.frame = s.frame;
+    i.length_unit = "mm";  // (PS3.3: Pixel Spacing, Image Position and Slice Thickness are in mm)
     std::vector<std::string> syntaxes;
     for (const auto& h : s.slices) {
         i.data_files.push_back(h.file);

@@ -23,6 +23,7 @@
 
 #include "formats/binary_file.hpp"
 #include "formats/gzip.hpp"
+#include "formats/length_unit.hpp"
 #include "formats/json.hpp"
 #include "formats/reference_policy.hpp"
 #include "formats/text_header.hpp"
@@ -221,6 +222,24 @@ std::string read_metadata(const std::string& path) {
     return std::string(reinterpret_cast<const char*>(b.data()), b.size());
 }
 
+// The unit OME-Zarr axes (multiscales[0].axes: {"name", "type", "unit"}) give the spatial axes at the
+// shape positions `axis` (x, y, z), when all three name the same known unit; "" otherwise (the
+// axes only label the picture's scale bar: odd ones are not an error).
+std::string ome_length_unit(const Json* axes, const std::array<int, 3>& axis) {
+    if (!axes || !axes->is_array()) return {};
+    std::string unit;
+    for (int ax = 0; ax < 3; ++ax) {
+        const std::size_t q = static_cast<std::size_t>(axis[ax]);
+        if (q >= axes->arr.size()) return {};
+        const Json* u = axes->arr[q].find("unit");
+        if (!u || !u->is_string()) return {};
+        const std::string one = length_unit_from_name(u->str);
+        if (one.empty() || (ax > 0 && one != unit)) return {};
+        unit = one;
+    }
+    return unit;
+}
+
 // scale and translation of a coordinateTransformations list (absent ones leave the arguments).
 void transformations(const Json* list, const std::string& file, std::size_t ndim, std::vector<double>& scale,
                      std::vector<double>& translation) {
@@ -414,6 +433,7 @@ ZarrArray open_zarr(const std::string& path, const RawOptions& raw) {
             scale[i] *= s2[i];
         }
         a.format = "ome-zarr";
+        a.length_unit = ome_length_unit(m.find("axes"), a.axis);
         a.level = escape_field(level);
         a.level_index = static_cast<int>(L);
         a.level_count = static_cast<int>(ds->arr.size());
@@ -649,6 +669,7 @@ VolumeInfo probe_zarr(const std::string& path, const RawOptions& raw) {
                  " order " + (a.fortran ? "F" : "C") + ", dtype " + a.dtype + ", chunks " + list_text(a.chunks) + " (" +
                  std::to_string(a.count[0] * a.count[1] * a.count[2]) + " chunk files, separator '" + a.separator +
                  "'), compressor " + a.compressor_text + ", fill_value " + number_text(a.fill);
+    i.length_unit = a.length_unit;
     i.data_files = {a.zarray};
     if (!a.zattrs.empty()) i.data_files.insert(i.data_files.begin(), a.zattrs);
     return i;

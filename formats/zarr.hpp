@@ -74,6 +74,7 @@ struct ZarrArray {
     std::array<std::int64_t, 3> count{1, 1, 1};   ///< chunks along x, y, z
     std::uint64_t chunk_bytes = 0;       ///< stored bytes of one decoded chunk (every listed axis)
     GridSpec grid;                       ///< dims x, y, z; spacing; origin
+    std::string length_unit;             ///< OME-Zarr: the unit its axes give x, y and z alike (formats/length_unit.hpp), else ""
     ReferencePolicy references;
 };
 

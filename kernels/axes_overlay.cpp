@@ -32,7 +32,7 @@ double scale_bar_length(double target) {
     return p;
 }
 
-void draw_axes(Image& img, const ViewTransform& v, std::array<std::uint8_t, 3> ink) {
+void draw_axes(Image& img, const ViewTransform& v, std::array<std::uint8_t, 3> ink, const std::string& unit) {
     if (img.width < 48 || img.height < 48 || img.rgb.size() != 3 * static_cast<std::size_t>(img.width) * img.height) return;
     const int s = std::max(1, std::min(img.width, img.height) / 160);
     // the triad
@@ -59,8 +59,9 @@ void draw_axes(Image& img, const ViewTransform& v, std::array<std::uint8_t, 3> i
     line(img, x0, y, x1, y, 2 * s, ink);
     line(img, x0, y - 2 * s, x0, y + s, s, ink);
     line(img, x1, y - 2 * s, x1, y + s, s, ink);
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", length);
+    char number[32];
+    std::snprintf(number, sizeof number, "%g", length);
+    const std::string text = unit.empty() ? std::string(number) : std::string(number) + " " + unit;
     draw_label(img, static_cast<int>(std::lround(0.5 * (img.width - label_width(text, s)))), static_cast<int>(y) - 3 * s - 5 * s, s, text, ink);
 }
 

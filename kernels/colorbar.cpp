@@ -24,6 +24,9 @@ const std::uint8_t* glyph(char c) {
         {5, 7, 7, 5, 5}, {6, 5, 5, 5, 5}, {2, 5, 5, 5, 2}, {6, 5, 6, 4, 4}, {2, 5, 5, 6, 3}, {6, 5, 6, 5, 5},
         {3, 4, 2, 1, 6}, {7, 2, 2, 2, 2}, {5, 5, 5, 5, 7}, {5, 5, 5, 5, 2}, {5, 5, 7, 7, 5}, {5, 5, 2, 5, 5},
         {5, 5, 2, 2, 2}, {7, 1, 2, 4, 7}};
+    // the lower-case letters of the length units (kernels/axes_overlay.hpp: "mm", "um", "nm", "cm")
+    static constexpr std::uint8_t lower_c[5] = {0, 0, 3, 4, 3}, lower_m[5] = {0, 0, 7, 7, 5}, lower_n[5] = {0, 0, 6, 5, 5},
+                                  lower_u[5] = {0, 0, 5, 5, 7};
     static constexpr std::uint8_t underscore[5] = {0, 0, 0, 0, 7};
     static constexpr std::uint8_t colon[5] = {0, 2, 0, 2, 0};
     static constexpr std::uint8_t slash[5] = {1, 1, 2, 4, 4};
@@ -35,7 +38,11 @@ const std::uint8_t* glyph(char c) {
     if (c == '.') return dot;
     if (c == 'e') return e;
     if (c >= 'A' && c <= 'Z') return letters[c - 'A'];
-    if (c >= 'a' && c <= 'z') return letters[c - 'a'];  // (titles: one case)
+    if (c == 'c') return lower_c;
+    if (c == 'm') return lower_m;
+    if (c == 'n') return lower_n;
+    if (c == 'u') return lower_u;
+    if (c >= 'a' && c <= 'z') return letters[c - 'a'];  // (titles: one case, upper-cased before drawing)
     if (c == '_') return underscore;
     if (c == ':') return colon;
     if (c == '/') return slash;

@@ -1,7 +1,8 @@
 // A colour bar legend drawn into a rendered picture (meshless splat / isosurface --png --colorbar):
 // a vertical bar of the colour map at the right edge, value hi at its top and lo at its bottom,
 // framed by a 1-pixel border, with the two values printed (printf "%.3g") above and below it in
-// a built-in 3x5 bitmap font (digits, letters in one case, '-', '+', '.', '_', ':', '/', '(', ')';
+// a built-in 3x5 bitmap font (digits, letters in one case but c, m, n, u also in lower case for the
+// length units, '-', '+', '.', '_', ':', '/', '(', ')';
 // other characters are left blank), and a title (the array's name) above them when given.
 // Layout (colorbar_layout): scale s = max(1, min(W, H) / 160); bar width 6s, from y = H/5 to
 // y = 4H/5 (exclusive), right edge 4s + 2 pixels from the image's right edge. Pictures smaller than

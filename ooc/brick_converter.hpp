@@ -27,6 +27,8 @@ struct ConvertParams {
     /// The source's patient axes (LPS direction of world +x, +y, +z), recorded in the header
     /// (BrickStoreInfo::patient_axes) when given.
     std::optional<std::array<std::array<double, 3>, 3>> patient_axes;
+    /// The source's length unit (formats/length_unit.hpp), recorded as BrickStoreInfo::length_unit.
+    std::string length_unit;
 };
 
 struct ConvertStats {

@@ -1,5 +1,6 @@
 #include "ooc/brick_store.hpp"
 #include "formats/binary_file.hpp"
+#include "formats/length_unit.hpp"
 #include "formats/store_framing.hpp"
 
 #include <fcntl.h>
@@ -115,6 +116,7 @@ std::vector<std::byte> encode_brick_store_header(const BrickStoreInfo& info) {
         for (int i = 0; i < 3; ++i)
             for (int k = 0; k < 3; ++k) put<double>(p, static_cast<std::size_t>(160 + 8 * (3 * i + k)), (*info.patient_axes)[i][k]);
     }
+    put<std::uint32_t>(p, 232, length_unit_code(info.length_unit));
     put<std::uint32_t>(p, 252, brick_store_crc32(p, 252));
     return h;
 }
@@ -210,6 +212,7 @@ std::unique_ptr<BrickStore> BrickStore::open(const std::string& path) {
         }
         if (ok) in.patient_axes = ax;
     }
+    in.length_unit = length_unit_of_code(get<std::uint32_t>(h, 232));  // (an unknown code: no unit, it only labels pictures)
     in.brick_count = get<std::uint64_t>(h, 120);
     for (int a = 0; a < 3; ++a)
         if (in.grid.dims[a] < 1 || in.grid.dims[a] > (std::int64_t{1} << 40))

@@ -7,7 +7,9 @@
 //           u32 brick edge B (cells) | u32 ghost (1) | i32 zstd level | f64 value min | f64 value max
 //           | u64 brick count | i64 bricks per axis[3] | u32 patient axes given (1) or not (0, as every
 //           store made before the axes were recorded: the bytes were padding) at byte 152 | f64 axes[3][3] at 160 (the
-//           LPS unit direction of world +x, +y, +z, formats/anatomical_frame.hpp) | zero padding |
+//           LPS unit direction of world +x, +y, +z, formats/anatomical_frame.hpp) | u32 length unit code
+//           at byte 232 (formats/length_unit.hpp; 0, as in stores made before units were recorded: not
+//           known) | zero padding |
 //           u32 CRC-32 of bytes [0,252)
 //   bricks  one zstd frame each, in ascending Morton key of the brick coordinates
 //   index   brick count x 64-byte entries: u64 key | u64 offset | u64 stored bytes | u32 CRC-32 of
@@ -55,6 +57,8 @@ struct BrickStoreInfo {
     /// What the converted volume's header said about the patient's axes (the LPS unit direction of
     /// world +x, +y, +z), so that pictures of the store face as pictures of the volume do.
     std::optional<std::array<std::array<double, 3>, 3>> patient_axes;
+    /// The converted volume's length unit where its file said it (formats/length_unit.hpp), else "".
+    std::string length_unit;
 };
 
 struct BrickEntry {

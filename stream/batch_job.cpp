@@ -36,8 +36,9 @@ namespace {
 
 /// Bumped when a reader places or orients data differently, so that `batch` rebuilds what an
 /// earlier revision made (1: the first readers; 2: backward direction matrices in world coordinates;
-/// 3: stores record the patient axes, points their patient_axes and value range).
-constexpr int kReadersRevision = 3;
+/// 3: stores record the patient axes, points their patient_axes and value range; 4: stores and
+/// points record the length unit, pictures draw the axes where it is known).
+constexpr int kReadersRevision = 4;
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -156,6 +157,7 @@ public:
             auto src = open_slice_source(item_.path, item_.raw);
             ConvertParams cp = s_.convert;  // the store keeps the volume's patient axes, as convert's does
             if (info.frame) cp.patient_axes = frame_axes(*info.frame);
+            cp.length_unit = info.length_unit;
             convert_to_brick_store(*src, mlb, cp, [&](double f) { progress_.show("converting", f); });
             check_unchanged({mlb});
             record(mlb, mlb_side, c);

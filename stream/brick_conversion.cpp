@@ -11,14 +11,19 @@
 
 namespace meshless {
 
-std::optional<std::array<std::array<double, 3>, 3>> patient_axes_of(const std::string& path, const RawOptions& raw) {
+VolumeLabels volume_labels_of(const std::string& path, const RawOptions& raw) {
     try {
-        if (is_brick_store(path)) return BrickStore::open(path)->info().patient_axes;
-        const std::optional<AnatomicalFrame> f = probe_volume(path, raw).frame;
-        if (!f) return std::nullopt;
-        return frame_axes(*f);
+        if (is_brick_store(path)) {
+            const BrickStoreInfo& i = BrickStore::open(path)->info();
+            return {i.patient_axes, i.length_unit};
+        }
+        const VolumeInfo vi = probe_volume(path, raw);
+        VolumeLabels l;
+        if (vi.frame) l.patient_axes = frame_axes(*vi.frame);
+        l.length_unit = vi.length_unit;
+        return l;
     } catch (const std::exception&) {
-        return std::nullopt;
+        return {};
     }
 }
 
@@ -26,7 +31,7 @@ ConversionInput open_conversion_input(const std::string& path, const VolumeOpenO
     ConversionInput c;
     if (path == "-") {  // standard input, spooled (formats/stdin_spool.hpp): streamed when it can be
         VolumeInput in = open_volume_input(path, o);
-        if (in.spool) c.patient_axes = patient_axes_of(in.spool->path(), o.raw);
+        if (in.spool) c.labels = volume_labels_of(in.spool->path(), o.raw);
         c.slices = in.slices ? std::move(in.slices) : make_volume_source(std::move(*in.volume), "- (stdin)");
         return c;
     }
@@ -36,14 +41,14 @@ ConversionInput open_conversion_input(const std::string& path, const VolumeOpenO
     } else {
         c.slices = open_slice_source(path, o.raw);
     }
-    c.patient_axes = patient_axes_of(path, o.raw);
+    c.labels = volume_labels_of(path, o.raw);
     return c;
 }
 
 ConversionInput open_upsampled_input(const std::string& path, const VolumeOpenOptions& o, int factor, Upsampling mode) {
     ConversionInput c;
     c.volume = std::make_unique<const Volume>(load_volume(path, o));
-    if (path != "-") c.patient_axes = patient_axes_of(path, o.raw);
+    if (path != "-") c.labels = volume_labels_of(path, o.raw);
     c.slices = make_upsampling_source(*c.volume, factor, mode, path);
     return c;
 }

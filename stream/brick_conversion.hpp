@@ -19,17 +19,23 @@
 
 namespace meshless {
 
-/// The patient axes a volume file's header gives (formats/anatomical_frame.hpp), for the store's
-/// header: pictures of the store then face as pictures of the volume do. A brick store gives the
-/// axes it recorded. nullopt when the header cannot be probed: the axes only frame pictures, and the
-/// conversion itself reports what is wrong with the input.
-std::optional<std::array<std::array<double, 3>, 3>> patient_axes_of(const std::string& path, const RawOptions& raw);
+/// What a volume file's header says that a store records for its pictures: the patient axes
+/// (formats/anatomical_frame.hpp; pictures of the store then face as pictures of the volume do) and
+/// the length unit (formats/length_unit.hpp; the scale bar's label).
+struct VolumeLabels {
+    std::optional<std::array<std::array<double, 3>, 3>> patient_axes;
+    std::string length_unit;
+};
+/// The labels of `path`; a brick store gives those it recorded. None when the header cannot be
+/// probed: they only label pictures, and the conversion itself reports what is wrong with the input.
+VolumeLabels volume_labels_of(const std::string& path, const RawOptions& raw);
 
-/// A volume ready to be converted: its slices and the axes to record (ConvertParams::patient_axes).
+/// A volume ready to be converted: its slices and the labels to record (ConvertParams::patient_axes,
+/// ConvertParams::length_unit).
 struct ConversionInput {
     std::unique_ptr<const Volume> volume;  ///< the volume `slices` reads, when it reads one held here
     std::unique_ptr<SliceSource> slices;
-    std::optional<std::array<std::array<double, 3>, 3>> patient_axes;
+    VolumeLabels labels;
 };
 
 /// Opens `path` for conversion: a file through open_slice_source (streamed when its format allows,

@@ -117,7 +117,9 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
     }
     SplatSink& splat = *drawn;
     Image picture = splat.image();
-    decorate_picture(rs, picture, &splat.frame().view());
+    RenderSettings labelled = rs;  // the scale bar in the unit the points' volume recorded
+    if (labelled.length_unit.empty()) labelled.length_unit = meta_length_unit(meta);
+    decorate_picture(labelled, picture, &splat.frame().view());
     const bool png_live = pipe.step([&] { write_png(picture, png_file); });
     if (ply && tee->live(1)) pipe.step([&] { ply->finish(); });  // stdout's PLY is written here
     if (png_live) pipe.step([&] { png_file.commit(); });

@@ -27,12 +27,14 @@ std::string psnr_text(double psnr) {
 void write_render_files(const RenderInput& in, const Camera& cam, const RenderResult& rr, int threads, const RenderFiles& f) {
     // the legend and the axes drawn into the written picture (and so into the one compared)
     Image decorated;
-    if (f.legend || f.axes) {
+    const std::string unit = in.volume ? in.volume->length_unit : std::string();
+    const bool axes = draws_axes(f.axes, unit);
+    if (f.legend || axes) {
         decorated = rr.picture;
         if (f.legend) draw_transfer_legend(decorated, *f.legend, {255, 255, 255}, f.legend_title);
-        if (f.axes) draw_axes(decorated, make_view(cam, in.box[0], in.box[1]));
+        if (axes) draw_axes(decorated, make_view(cam, in.box[0], in.box[1]), {255, 255, 255}, unit);
     }
-    const Image& picture = f.legend || f.axes ? decorated : rr.picture;
+    const Image& picture = f.legend || axes ? decorated : rr.picture;
     const RayCastStats& st = rr.stats;
     // a closed stdout (-o - | head) still lets the difference picture be written; then the quiet exit
     PipeClosure pipe;

@@ -11,6 +11,7 @@
 #include "formats/atomic_file.hpp"
 #include "kernels/splat_rasterizer.hpp"
 #include "stream/field_render.hpp"
+#include "stream/render_settings.hpp"
 
 namespace meshless {
 
@@ -25,7 +26,9 @@ struct RenderFiles {
     /// legend_title (may be empty); null: none.
     const TransferFunction* legend = nullptr;
     std::string legend_title;
-    bool axes = false;  ///< --axes: the triad and the scale bar of the camera over the input's box
+    /// The triad and the scale bar of the camera over the input's box (a volume's length unit, when
+    /// its file says it, labels the bar and decides AxesChoice::when_unit_known).
+    AxesChoice axes = AxesChoice::off;
 };
 
 /// Writes rr.picture of `in` (camera `cam`, `threads` ray-casting threads, for the statistics) to `f`.

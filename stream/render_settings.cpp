@@ -9,7 +9,7 @@
 namespace meshless {
 
 void decorate_picture(const RenderSettings& rs, Image& img, const ViewTransform* view) {
-    if (rs.axes && view) draw_axes(img, *view);
+    if (draws_axes(rs.axes, rs.length_unit) && view) draw_axes(img, *view, {255, 255, 255}, rs.length_unit);
     if (rs.colorbar && rs.shading.color_by == ColorBy::value)
         draw_colorbar(img, rs.shading.colormap, rs.shading.value_lo, rs.shading.value_hi, {255, 255, 255}, rs.legend_title);
     if (rs.colorbar && rs.shading.color_by == ColorBy::block) draw_block_legend(img, rs.legend_blocks);

@@ -14,6 +14,15 @@
 
 namespace meshless {
 
+/// The axes triad and scale bar (kernels/axes_overlay.hpp): drawn, not drawn, or drawn when the
+/// world's length unit is known (the front ends' default: a bar labelled "50 mm" says something, one
+/// of "50" in unknown units less).
+enum class AxesChoice { off, on, when_unit_known };
+/// Whether `choice` draws the axes for a world in `length_unit` ("" = unknown).
+inline bool draws_axes(AxesChoice choice, const std::string& length_unit) {
+    return choice == AxesChoice::on || (choice == AxesChoice::when_unit_known && !length_unit.empty());
+}
+
 struct RenderSettings {
     Camera camera;
     SplatKernel kernel = SplatKernel::ewa;
@@ -21,7 +30,8 @@ struct RenderSettings {
     bool colorbar = false;   ///< draw the legend (kernels/colorbar.hpp): the value bar, or the block swatches
     std::uint32_t legend_blocks = 0;  ///< --color block: the number of blocks (0: unknown, all palette colours)
     std::string legend_title;  ///< the value bar's title: the name of the array the values are (empty: none)
-    bool axes = false;         ///< draw the axes triad and the scale bar (kernels/axes_overlay.hpp)
+    AxesChoice axes = AxesChoice::off;  ///< the axes triad and the scale bar (kernels/axes_overlay.hpp)
+    std::string length_unit;   ///< the world's length unit (formats/length_unit.hpp; "": unknown): the scale bar's label
     /// EWA: bytes of footprints the splat sink keeps in memory (SplatSink::set_spool_memory); with
     /// --memory, which bounds the process (the brick cache), an eighth of it at most.
     std::size_t spool_memory = SplatSink::kSpoolMemory;
@@ -29,8 +39,8 @@ struct RenderSettings {
 
 /// The overlays the settings ask for, drawn into a rendered picture before it is written (with
 /// rs.colorbar): the colour bar of the value range when colouring by value, the block swatches when
-/// colouring by block; with rs.axes and a view (the picture's camera over its framed box), the axes
-/// triad and the scale bar.
+/// colouring by block; when rs.axes draws them and given a view (the picture's camera over its
+/// framed box), the axes triad and the scale bar labelled with rs.length_unit.
 void decorate_picture(const RenderSettings& rs, Image& img, const ViewTransform* view = nullptr);
 
 /// What a front end's colour option asked for, before it is resolved against the input ("auto":

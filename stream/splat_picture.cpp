@@ -201,6 +201,7 @@ SplatReport splat_picture(RenderSettings rs, const SplatRequest& r) {
     refuse_unsplattable_point_file(input);
     std::optional<PointSpool> spool;  // see below; outlives the source that may replay it
     SplatInput in = open_splat_input(r, is_ply);
+    if (rs.length_unit.empty()) rs.length_unit = meta_length_unit(in.recorded);  // (isosurface's points record their volume's)
     std::unique_ptr<Source>& source = in.source;
     std::optional<std::array<Vec3, 2>>& bounds = in.bounds;
     std::vector<const Stage*> stages;

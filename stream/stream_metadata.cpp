@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "formats/length_unit.hpp"
 #include "formats/text_header.hpp"
 #include "kernels/block_minmax.hpp"
 #include "kernels/errors.hpp"
@@ -58,6 +59,7 @@ StreamMeta sample_store_meta(const SampleStore& store, double iso, const std::st
     m.set("paradigm", "A");
     set_surface_bounds(m, store_surface_bounds(mlb, BrickIndex(mlb), iso));  // frames as the .mlb's graph does
     set_patient_axes(m, store_frame(bi));  // and faces alike
+    set_length_unit(m, bi.length_unit);
     return m;
 }
 
@@ -103,11 +105,20 @@ void set_patient_axes(StreamMeta& m, const std::optional<AnatomicalFrame>& f) {
                               triple(ax[2][0], ax[2][1], ax[2][2]));
 }
 
+void set_length_unit(StreamMeta& m, const std::string& unit) {
+    if (!unit.empty()) m.set("length_unit", unit);
+}
+
+std::string meta_length_unit(const StreamMeta& m) {
+    const auto u = m.get("length_unit");
+    return u ? length_unit_from_name(*u) : std::string();
+}
+
 std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
     for (const char* k : {"source", "iso", "isovalues", "projection", "field", "samples", "tolerance", "blocks", "grid_dims", "grid_spacing",
                           "bounds_lo", "bounds_hi", "frame", "volume_bounds_lo", "volume_bounds_hi", "value_min", "value_max",
-                          "value_name", "patient_axes"})
+                          "value_name", "patient_axes", "length_unit"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
 }

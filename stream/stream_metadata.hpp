@@ -32,6 +32,10 @@ std::optional<AnatomicalFrame> meta_patient_axes(const StreamMeta& m);
 std::optional<AnatomicalFrame> store_frame(const BrickStoreInfo& info);
 /// Sets `patient_axes` from f (nothing when f is empty).
 void set_patient_axes(StreamMeta& m, const std::optional<AnatomicalFrame>& f);
+/// Sets `length_unit` (formats/length_unit.hpp; nothing when `unit` is empty).
+void set_length_unit(StreamMeta& m, const std::string& unit);
+/// The recorded `length_unit` when it is one formats/length_unit.hpp knows, else "".
+std::string meta_length_unit(const StreamMeta& m);
 
 /// Metadata describing a volume and the isovalue (keys: source, iso, grid_dims, grid_origin,
 /// grid_spacing, bounds_lo, bounds_hi, value_min, value_max, producer).

@@ -79,13 +79,14 @@ private:
     std::unique_ptr<SliceSource> src_;
 };
 
-/// The patient's axes of a volume already read (the header once more; a header whose probe finds
-/// nothing to add leaves the camera generic).
-std::optional<AnatomicalFrame> probed_frame(const std::string& path, const RawOptions& raw) {
+/// The patient's axes and the length unit of a volume already read, into `in` (the header once
+/// more; a header whose probe finds nothing to add leaves the camera generic and the unit unknown).
+void set_probed_labels(VolumeInput& in, const std::string& path, const RawOptions& raw) {
     try {
-        return probe_volume(path, raw).frame;
+        const VolumeInfo vi = probe_volume(path, raw);
+        in.frame = vi.frame;
+        in.length_unit = vi.length_unit;
     } catch (const std::exception&) {
-        return std::nullopt;
     }
 }
 
@@ -137,7 +138,9 @@ VolumeInput open_cropped(const std::string& path, const VolumeOpenOptions& o) {
         VolumeInput in;
         in.path = path;
         in.threads = o.threads;
-        in.frame = store_frame(BrickStore::open(path)->info());
+        const auto store = BrickStore::open(path);
+        in.frame = store_frame(store->info());
+        in.length_unit = store->info().length_unit;
         auto slices = open_brick_store_slices(path);
         const VoxelBox box = crop_voxels(slices->grid(), *o.crop, path);
         in.slices = make_cropped_source(std::move(slices), box);
@@ -212,7 +215,7 @@ VolumeInput open_volume_input(const std::string& path, const VolumeOpenOptions& 
                 check_volume_fits("- (stdin)", probe_volume(in.spool->path(), raw), true, o.memory);
                 in.volume = map_volume(in.spool->path(), raw);
             }
-            in.frame = probed_frame(in.spool->path(), raw);
+            set_probed_labels(in, in.spool->path(), raw);
         });
         return in;
     }
@@ -224,6 +227,7 @@ VolumeInput open_volume_input(const std::string& path, const VolumeOpenOptions& 
         in.index = std::make_unique<BrickIndex>(*in.store);
         // the axes its volume's header gave, recorded by convert (older stores have none)
         in.frame = store_frame(in.store->info());
+        in.length_unit = in.store->info().length_unit;
     } else {
         in.threads = o.threads;
         if (o.stream && streamable(in.path, raw)) {
@@ -238,7 +242,7 @@ VolumeInput open_volume_input(const std::string& path, const VolumeOpenOptions& 
         } else {
             in.volume = load_volume(in.path, o, /*map=*/true);
         }
-        in.frame = probed_frame(in.path, raw);
+        set_probed_labels(in, in.path, raw);
     }
     return in;
 }
@@ -271,6 +275,7 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
         StreamMeta m = volume_meta(in.path, in.grid(), in.type(), in.value_range(), iso, producer);
         set_surface_bounds(m, store_surface_bounds(*in.store, *in.index, iso));
         set_patient_axes(m, in.frame);
+        set_length_unit(m, in.length_unit);
         return m;
     }
     // one pass gives the value range and the active blocks
@@ -279,6 +284,7 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
     const auto box = active_block_box(b, in.grid(), iso);
     set_surface_bounds(m, box ? std::optional(world_bounds(in.grid(), *box)) : std::nullopt);
     set_patient_axes(m, in.frame);
+    set_length_unit(m, in.length_unit);
     return m;
 }
 

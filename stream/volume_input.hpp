@@ -76,6 +76,9 @@ struct VolumeInput {
     /// The patient's axes, where the header says them (a brick store records its volume's): the
     /// default camera of its pictures, carried in volume_meta as `patient_axes`.
     std::optional<AnatomicalFrame> frame;
+    /// The length unit of its world coordinates where the file says it (formats/length_unit.hpp; a
+    /// brick store records its volume's), else "": carried in volume_meta as `length_unit`.
+    std::string length_unit;
     const GridSpec& grid() const;
     SampleType type() const;
     /// The value range (computed once, on first use: the store's header, or blocks().range()).

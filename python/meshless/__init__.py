@@ -158,12 +158,14 @@ class Volume:
         patient_axes (3, 3) float64 or None: row i is the LPS direction of world axis i, where the
                      header says it (NIfTI sform/qform, NRRD space, MetaImage TransformMatrix)
         patient_axes_source  the header fields it came from, or None
+        length_unit  the unit of the world coordinates where the file states it ("mm", "um", "m", "cm",
+                     "nm": DICOM, NIfTI xyzt_units, NRRD space units, OME-Zarr axes), or None
         format       the reader's name ("raw", "nrrd", "metaimage", "vti", "nifti", "dicom", ...)
         warnings     list of str: what the command would warn about (raw options a header overrides)
     np.asarray(volume) is `array`; isosurface(), mc() and render() take a Volume with its spacing and
     origin."""
 
-    __slots__ = ("array", "spacing", "origin", "patient_axes", "patient_axes_source", "format", "warnings")
+    __slots__ = ("array", "spacing", "origin", "patient_axes", "patient_axes_source", "length_unit", "format", "warnings")
 
     def __init__(self, arrays):
         self.array = arrays["array"]
@@ -171,6 +173,7 @@ class Volume:
         self.origin = tuple(arrays["origin"])
         self.patient_axes = arrays.get("patient_axes")
         self.patient_axes_source = arrays.get("patient_axes_source")
+        self.length_unit = arrays.get("length_unit")
         self.format = arrays.get("format", "")
         self.warnings = list(arrays.get("warnings", []))
 

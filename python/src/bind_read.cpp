@@ -86,17 +86,20 @@ py::dict read_volume(const std::string& path, const std::optional<std::array<std
     o.warn = [&](const std::string& w) { warnings.push_back(w); };
     Volume v;
     std::optional<AnatomicalFrame> frame;
-    std::string format = "brick-store";
+    std::string format = "brick-store", length_unit;
     {
         py::gil_scoped_release free;
         if (is_brick_store(path)) {
             VolumeOpenOptions header = o;
             header.memory = std::uint64_t{16} << 20;  // the header and index only
-            frame = open_volume_input(path, header).frame;
+            const VolumeInput in = open_volume_input(path, header);
+            frame = in.frame;
+            length_unit = in.length_unit;
         } else {
             const VolumeInfo vi = probe_volume(path, o.raw);
             frame = vi.frame;
             format = vi.format;
+            length_unit = vi.length_unit;
         }
         v = load_volume(path, o, /*map=*/true);
     }
@@ -114,6 +117,7 @@ py::dict read_volume(const std::string& path, const std::optional<std::array<std
         out["patient_axes"] = py::none();
         out["patient_axes_source"] = py::none();
     }
+    out["length_unit"] = length_unit.empty() ? py::object(py::none()) : py::object(py::str(length_unit));
     out["warnings"] = warnings;
     out["array"] = volume_array(std::move(v));
     return out;

@@ -372,7 +372,7 @@ std::string encode_segments(const std::vector<std::vector<PointRecord>>& batches
 }
 }  // namespace
 
-TEST_CASE("segments: read through as one, or one at a time with their keys; out of order refused", "[stream-codec]") {
+TEST_CASE("segments: read through as one, or one at a time with their keys, out of order refused", "[stream-codec]") {
     const auto a = some_points(5, 1), b = some_points(7, 2);
     const std::string bytes = encode_segments({a, b}, {0, 1});
     {  // a reader that does not stop at segments reads every record; the segment keys stay out of meta()

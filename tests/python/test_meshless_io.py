@@ -87,6 +87,7 @@ class ReadVolume(unittest.TestCase):
             self.assertTrue(np.array_equal(v.array[:, :, k], sl))
         self.assertIsNotNone(v.patient_axes)  # space: 3D-left-handed
         self.assertEqual(v.patient_axes.shape, (3, 3))
+        self.assertIsNone(v.length_unit)  # no space units
         with tempfile.TemporaryDirectory() as d:
             ply = os.path.join(d, "h.ply")
             cli("isosurface", HEADSQ, "--iso", "1000.5", "-o", ply)
@@ -101,6 +102,7 @@ class ReadVolume(unittest.TestCase):
         self.assertEqual((v.shape, v.dtype, v.spacing, v.format), ((91, 109, 91), np.uint8, (2.0, 2.0, 2.0), "nifti"))
         self.assertIsNotNone(v.patient_axes)
         self.assertTrue(np.allclose(np.abs(v.patient_axes), np.eye(3)))
+        self.assertEqual(v.length_unit, "mm")  # xyzt_units 10: millimetres (and seconds)
         self.assertEqual((int(v.array.min()), int(v.array.max())), (0, 255))  # SOURCES.md's range
 
     @unittest.skipUnless(os.path.isdir(LIDC2), "needs ../shared/data")
