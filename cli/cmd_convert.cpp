@@ -76,6 +76,7 @@ std::string output_path(const Args& a) {
 void run_conversion(ConversionInput in, const std::string& out, ConvertParams p, const Args& a) {
     p.patient_axes = in.labels.patient_axes;
     p.length_unit = in.labels.length_unit;
+    p.value_unit = in.labels.value_unit;
     SliceSource& src = *in.slices;
     ProgressMeter meter("meshless " + a.command(), "slices", static_cast<double>(src.grid().dims[2]), progress_wanted(a), progress_delay());
     const ConvertStats st = convert_to_brick_store(src, out, p, [&](double f) { meter.set_fraction(f); });

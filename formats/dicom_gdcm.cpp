@@ -207,6 +207,8 @@ DicomSliceHeader read_dicom_slice_header(const std::string& path) {
     h.pixel_spacing = numbers_of<2>(ds, gdcm::Tag(0x0028, 0x0030), path, "Pixel Spacing");
     if (auto s = numbers_of<1>(ds, gdcm::Tag(0x0028, 0x1053), path, "Rescale Slope")) h.slope = (*s)[0];
     if (auto i = numbers_of<1>(ds, gdcm::Tag(0x0028, 0x1052), path, "Rescale Intercept")) h.intercept = (*i)[0];
+    h.modality = text_of(ds, gdcm::Tag(0x0008, 0x0060));
+    h.rescale_type = text_of(ds, gdcm::Tag(0x0028, 0x1054));
     return h;
 }
 

@@ -53,6 +53,8 @@ struct DicomSliceHeader {
     std::optional<std::array<double, 6>> orientation;  ///< (0020,0037) row then column direction cosines
     std::optional<std::array<double, 2>> pixel_spacing;  ///< (0028,0030) row spacing, column spacing, mm
     double slope = 1.0, intercept = 0.0;    ///< (0028,1053), (0028,1052)
+    std::string modality;                   ///< (0008,0060), e.g. "CT", "MR"; may be empty
+    std::string rescale_type;               ///< (0028,1054) Rescale Type, e.g. "HU"; may be empty
     std::uint64_t file_size = 0;            ///< bytes
     /// Pixel Data's value length as the element says it (checked against the bytes after it);
     /// nullopt for an encapsulated (undefined-length) element or none.

@@ -3,6 +3,8 @@
 #include <array>
 #include <cctype>
 
+#include "formats/text_header.hpp"
+
 namespace meshless {
 
 namespace {
@@ -47,6 +49,13 @@ std::uint32_t length_unit_code(const std::string& unit) {
 }
 
 std::string length_unit_of_code(std::uint32_t code) { return code < kCodes.size() ? kCodes[code] : ""; }
+
+std::string value_unit_text(std::string_view written) {
+    while (!written.empty() && (std::isspace(static_cast<unsigned char>(written.front())) || written.front() == '"')) written.remove_prefix(1);
+    while (!written.empty() && (std::isspace(static_cast<unsigned char>(written.back())) || written.back() == '"')) written.remove_suffix(1);
+    std::string text = escape_field(std::string(written));
+    return text.size() <= 15 ? text : std::string();
+}
 
 std::string nifti_length_unit(std::uint8_t xyzt_units) {
     switch (xyzt_units & 7) {

@@ -112,6 +112,8 @@ PayloadPlan plan_nrrd(const std::string& path) {
             if (!cur.empty()) directions_tok.push_back(cur);
         } else if (key == "space") {
             space_tok = to_lower(val);
+        } else if (key == "sample units" || key == "sampleunits") {
+            plan.value_unit = value_unit_text(val);
         } else if (key == "space units") {
             plan.length_unit = nrrd_space_unit(val);
         } else if (key == "space origin") {

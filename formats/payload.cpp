@@ -38,6 +38,7 @@ VolumeInfo info_from_plan(const PayloadPlan& plan) {
     i.data_files = plan.files;
     i.frame = plan.frame;
     i.length_unit = plan.length_unit;
+    i.value_unit = plan.value_unit;
     i.arrays = plan.arrays;
     i.default_array = plan.default_array;
     i.read_array = plan.read_array;

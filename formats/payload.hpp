@@ -42,6 +42,7 @@ struct PayloadPlan {
                                                     ///< after reading (kernels/flip_axes.hpp; grid already positive)
     std::optional<AnatomicalFrame> frame;           ///< what the header says about the patient's axes (after flips)
     std::string length_unit;                        ///< the world coordinates' unit the header states (formats/length_unit.hpp), else ""
+    std::string value_unit;                         ///< the values' unit the header states (value_unit_text), else ""
     std::vector<VolumeArray> arrays;                ///< multi-array formats: VolumeInfo::arrays
     std::size_t default_array = 0, read_array = 0;  ///< VolumeInfo::default_array, read_array
 };

@@ -8,6 +8,7 @@
 #include "formats/binary_file.hpp"
 #include "formats/dicom_series.hpp"
 #include "formats/gzip.hpp"
+#include "formats/length_unit.hpp"
 #include "formats/metaimage.hpp"
 #include "formats/nifti.hpp"
 #include "formats/npy_header.hpp"
@@ -212,6 +213,7 @@ static VolumeInfo dicom_info(const DicomSeries& s) {
     i.type = s.type;
     i.frame = s.frame;
     i.length_unit = "mm";  // (PS3.3: Pixel Spacing, Image Position and Slice Thickness are in mm)
+    i.value_unit = value_unit_text(s.value_unit);
     std::vector<std::string> syntaxes;
     for (const auto& h : s.slices) {
         i.data_files.push_back(h.file);

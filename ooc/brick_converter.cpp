@@ -100,6 +100,7 @@ ConvertStats convert_to_brick_store(SliceSource& src, const std::string& out_pat
     info.zstd_level = p.zstd_level;
     info.patient_axes = p.patient_axes;
     info.length_unit = p.length_unit;
+    info.value_unit = p.value_unit;
     info.bricks_per_axis = brick_store_bricks_per_axis(g.dims, B);
     for (int a = 0; a < 3; ++a)
         if (info.bricks_per_axis[a] >= (std::int64_t{1} << 21))

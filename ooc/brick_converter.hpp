@@ -29,6 +29,8 @@ struct ConvertParams {
     std::optional<std::array<std::array<double, 3>, 3>> patient_axes;
     /// The source's length unit (formats/length_unit.hpp), recorded as BrickStoreInfo::length_unit.
     std::string length_unit;
+    /// The source's values' unit (formats/length_unit.hpp value_unit_text), recorded as BrickStoreInfo::value_unit.
+    std::string value_unit;
 };
 
 struct ConvertStats {

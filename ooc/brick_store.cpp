@@ -117,6 +117,8 @@ std::vector<std::byte> encode_brick_store_header(const BrickStoreInfo& info) {
             for (int k = 0; k < 3; ++k) put<double>(p, static_cast<std::size_t>(160 + 8 * (3 * i + k)), (*info.patient_axes)[i][k]);
     }
     put<std::uint32_t>(p, 232, length_unit_code(info.length_unit));
+    const std::string vu = value_unit_text(info.value_unit);
+    std::memcpy(p + 236, vu.data(), vu.size());
     put<std::uint32_t>(p, 252, brick_store_crc32(p, 252));
     return h;
 }
@@ -213,6 +215,10 @@ std::unique_ptr<BrickStore> BrickStore::open(const std::string& path) {
         if (ok) in.patient_axes = ax;
     }
     in.length_unit = length_unit_of_code(get<std::uint32_t>(h, 232));  // (an unknown code: no unit, it only labels pictures)
+    {
+        const char* vu = reinterpret_cast<const char*>(h + 236);
+        in.value_unit = value_unit_text(std::string_view(vu, ::strnlen(vu, 16)));
+    }
     in.brick_count = get<std::uint64_t>(h, 120);
     for (int a = 0; a < 3; ++a)
         if (in.grid.dims[a] < 1 || in.grid.dims[a] > (std::int64_t{1} << 40))

@@ -158,6 +158,7 @@ public:
             ConvertParams cp = s_.convert;  // the store keeps the volume's patient axes, as convert's does
             if (info.frame) cp.patient_axes = frame_axes(*info.frame);
             cp.length_unit = info.length_unit;
+            cp.value_unit = info.value_unit;
             convert_to_brick_store(*src, mlb, cp, [&](double f) { progress_.show("converting", f); });
             check_unchanged({mlb});
             record(mlb, mlb_side, c);

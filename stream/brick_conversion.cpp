@@ -15,12 +15,13 @@ VolumeLabels volume_labels_of(const std::string& path, const RawOptions& raw) {
     try {
         if (is_brick_store(path)) {
             const BrickStoreInfo& i = BrickStore::open(path)->info();
-            return {i.patient_axes, i.length_unit};
+            return {i.patient_axes, i.length_unit, i.value_unit};
         }
         const VolumeInfo vi = probe_volume(path, raw);
         VolumeLabels l;
         if (vi.frame) l.patient_axes = frame_axes(*vi.frame);
         l.length_unit = vi.length_unit;
+        l.value_unit = vi.value_unit;
         return l;
     } catch (const std::exception&) {
         return {};

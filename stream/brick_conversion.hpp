@@ -25,6 +25,7 @@ namespace meshless {
 struct VolumeLabels {
     std::optional<std::array<std::array<double, 3>, 3>> patient_axes;
     std::string length_unit;
+    std::string value_unit;  ///< the values' unit (formats/length_unit.hpp value_unit_text): the legend's
 };
 /// The labels of `path`; a brick store gives those it recorded. None when the header cannot be
 /// probed: they only label pictures, and the conversion itself reports what is wrong with the input.

@@ -119,6 +119,8 @@ std::size_t run_to_outputs(const std::optional<GeometryOutput>& out, const std::
     Image picture = splat.image();
     RenderSettings labelled = rs;  // the scale bar in the unit the points' volume recorded
     if (labelled.length_unit.empty()) labelled.length_unit = meta_length_unit(meta);
+    // the colour bar titled with the values' unit (not when they are another array's: --color-by)
+    if (labelled.legend_title.empty() && !meta.get("value_name")) labelled.legend_title = meta.get("value_unit").value_or("");
     decorate_picture(labelled, picture, &splat.frame().view());
     const bool png_live = pipe.step([&] { write_png(picture, png_file); });
     if (ply && tee->live(1)) pipe.step([&] { ply->finish(); });  // stdout's PLY is written here

@@ -28,10 +28,15 @@ void write_render_files(const RenderInput& in, const Camera& cam, const RenderRe
     // the legend and the axes drawn into the written picture (and so into the one compared)
     Image decorated;
     const std::string unit = in.volume ? in.volume->length_unit : std::string();
+    // the legend titled with the array's name and the values' unit: "density (kg/m^3)", "HU"
+    const std::string value_unit = in.volume ? in.volume->value_unit : std::string();
+    const std::string title = value_unit.empty() ? f.legend_title
+                              : f.legend_title.empty() ? value_unit
+                                                       : f.legend_title + " (" + value_unit + ")";
     const bool axes = draws_axes(f.axes, unit);
     if (f.legend || axes) {
         decorated = rr.picture;
-        if (f.legend) draw_transfer_legend(decorated, *f.legend, {255, 255, 255}, f.legend_title);
+        if (f.legend) draw_transfer_legend(decorated, *f.legend, {255, 255, 255}, title);
         if (axes) draw_axes(decorated, make_view(cam, in.box[0], in.box[1]), {255, 255, 255}, unit);
     }
     const Image& picture = f.legend || axes ? decorated : rr.picture;

@@ -228,6 +228,7 @@ SplatReport splat_picture(RenderSettings rs, const SplatRequest& r) {
         (isosurface_input || value_name) && lo && hi && std::isfinite(*lo) && std::isfinite(*hi) && *lo < *hi)
         data_range = std::array<double, 2>{*lo, *hi};
     if (value_name) rs.legend_title = *value_name;
+    else if (const auto unit = recorded.get("value_unit")) rs.legend_title = *unit;  // (the volume's values, e.g. HU)
     // the patient's axes of the volume the points came from: the picture isosurface --png draws
     // (head up, face to the viewer) unless the caller says otherwise
     if (const auto f = meta_patient_axes(recorded); f && r.anatomical_camera) r.anatomical_camera(*f, rs.camera);

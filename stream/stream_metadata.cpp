@@ -60,6 +60,7 @@ StreamMeta sample_store_meta(const SampleStore& store, double iso, const std::st
     set_surface_bounds(m, store_surface_bounds(mlb, BrickIndex(mlb), iso));  // frames as the .mlb's graph does
     set_patient_axes(m, store_frame(bi));  // and faces alike
     set_length_unit(m, bi.length_unit);
+    if (!bi.value_unit.empty()) m.set("value_unit", bi.value_unit);
     return m;
 }
 
@@ -118,7 +119,7 @@ std::vector<std::string> ply_comments(const StreamMeta& m) {
     std::vector<std::string> c{"meshless oriented point set: x y z, unit normal, splat radius, value"};
     for (const char* k : {"source", "iso", "isovalues", "projection", "field", "samples", "tolerance", "blocks", "grid_dims", "grid_spacing",
                           "bounds_lo", "bounds_hi", "frame", "volume_bounds_lo", "volume_bounds_hi", "value_min", "value_max",
-                          "value_name", "patient_axes", "length_unit"})
+                          "value_name", "value_unit", "patient_axes", "length_unit"})
         if (auto v = m.get(k)) c.push_back(std::string(k) + " " + *v);
     return c;
 }

@@ -42,6 +42,7 @@ void describe_brick_store(const std::string& path, std::FILE* out) {
         std::fprintf(out, "  patient axes: %s (from the converted volume's header)\n",
                      describe_frame(frame_of_axes(*i.patient_axes, "brick store header")).c_str());
     if (!i.length_unit.empty()) std::fprintf(out, "  length unit: %s (from the converted volume's header)\n", i.length_unit.c_str());
+    if (!i.value_unit.empty()) std::fprintf(out, "  value unit: %s (from the converted volume's header)\n", i.value_unit.c_str());
     std::fprintf(out, "  bricks: %llu (%lld x %lld x %lld) of %u cells + %u ghost, Morton order, zstd level %d; %llu constant\n",
                  static_cast<unsigned long long>(i.brick_count), static_cast<long long>(i.bricks_per_axis[0]),
                  static_cast<long long>(i.bricks_per_axis[1]), static_cast<long long>(i.bricks_per_axis[2]), i.brick_edge,
@@ -95,6 +96,7 @@ void describe_volume(const std::string& path, const RawOptions& raw, bool value_
     if (vi.frame)
         std::fprintf(out, "  patient axes: %s (%s)\n", describe_frame(*vi.frame).c_str(), terminal_safe(vi.frame->source).c_str());
     if (!vi.length_unit.empty()) std::fprintf(out, "  length unit: %s\n", vi.length_unit.c_str());
+    if (!vi.value_unit.empty()) std::fprintf(out, "  value unit: %s\n", vi.value_unit.c_str());
     std::fprintf(out, "  payload: checked, %llu bytes decoded%s\n", static_cast<unsigned long long>(decoded_bytes(vi, path)),
                  vi.maps ? " (mapped from the file when read)" : "");
     if (value_range) {

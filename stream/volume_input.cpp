@@ -86,6 +86,7 @@ void set_probed_labels(VolumeInput& in, const std::string& path, const RawOption
         const VolumeInfo vi = probe_volume(path, raw);
         in.frame = vi.frame;
         in.length_unit = vi.length_unit;
+        in.value_unit = vi.value_unit;
     } catch (const std::exception&) {
     }
 }
@@ -141,6 +142,7 @@ VolumeInput open_cropped(const std::string& path, const VolumeOpenOptions& o) {
         const auto store = BrickStore::open(path);
         in.frame = store_frame(store->info());
         in.length_unit = store->info().length_unit;
+        in.value_unit = store->info().value_unit;
         auto slices = open_brick_store_slices(path);
         const VoxelBox box = crop_voxels(slices->grid(), *o.crop, path);
         in.slices = make_cropped_source(std::move(slices), box);
@@ -228,6 +230,7 @@ VolumeInput open_volume_input(const std::string& path, const VolumeOpenOptions& 
         // the axes its volume's header gave, recorded by convert (older stores have none)
         in.frame = store_frame(in.store->info());
         in.length_unit = in.store->info().length_unit;
+        in.value_unit = in.store->info().value_unit;
     } else {
         in.threads = o.threads;
         if (o.stream && streamable(in.path, raw)) {
@@ -276,6 +279,7 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
         set_surface_bounds(m, store_surface_bounds(*in.store, *in.index, iso));
         set_patient_axes(m, in.frame);
         set_length_unit(m, in.length_unit);
+    if (!in.value_unit.empty()) m.set("value_unit", in.value_unit);
         return m;
     }
     // one pass gives the value range and the active blocks
@@ -285,6 +289,7 @@ StreamMeta volume_meta(const VolumeInput& in, double iso, const std::string& pro
     set_surface_bounds(m, box ? std::optional(world_bounds(in.grid(), *box)) : std::nullopt);
     set_patient_axes(m, in.frame);
     set_length_unit(m, in.length_unit);
+    if (!in.value_unit.empty()) m.set("value_unit", in.value_unit);
     return m;
 }
 

@@ -79,6 +79,9 @@ struct VolumeInput {
     /// The length unit of its world coordinates where the file says it (formats/length_unit.hpp; a
     /// brick store records its volume's), else "": carried in volume_meta as `length_unit`.
     std::string length_unit;
+    /// The values' unit where the file says it (VolumeInfo::value_unit; a store records it), else "":
+    /// carried in volume_meta as `value_unit`, the colour bar's title.
+    std::string value_unit;
     const GridSpec& grid() const;
     SampleType type() const;
     /// The value range (computed once, on first use: the store's header, or blocks().range()).

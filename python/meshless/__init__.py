@@ -160,12 +160,14 @@ class Volume:
         patient_axes_source  the header fields it came from, or None
         length_unit  the unit of the world coordinates where the file states it ("mm", "um", "m", "cm",
                      "nm": DICOM, NIfTI xyzt_units, NRRD space units, OME-Zarr axes), or None
+        value_unit   the values' unit where the file states it (DICOM Rescale Type, "HU" for a CT; NRRD
+                     sample units), or None
         format       the reader's name ("raw", "nrrd", "metaimage", "vti", "nifti", "dicom", ...)
         warnings     list of str: what the command would warn about (raw options a header overrides)
     np.asarray(volume) is `array`; isosurface(), mc() and render() take a Volume with its spacing and
     origin."""
 
-    __slots__ = ("array", "spacing", "origin", "patient_axes", "patient_axes_source", "length_unit", "format", "warnings")
+    __slots__ = ("array", "spacing", "origin", "patient_axes", "patient_axes_source", "length_unit", "value_unit", "format", "warnings")
 
     def __init__(self, arrays):
         self.array = arrays["array"]
@@ -174,6 +176,7 @@ class Volume:
         self.patient_axes = arrays.get("patient_axes")
         self.patient_axes_source = arrays.get("patient_axes_source")
         self.length_unit = arrays.get("length_unit")
+        self.value_unit = arrays.get("value_unit")
         self.format = arrays.get("format", "")
         self.warnings = list(arrays.get("warnings", []))
 

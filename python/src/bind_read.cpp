@@ -86,7 +86,7 @@ py::dict read_volume(const std::string& path, const std::optional<std::array<std
     o.warn = [&](const std::string& w) { warnings.push_back(w); };
     Volume v;
     std::optional<AnatomicalFrame> frame;
-    std::string format = "brick-store", length_unit;
+    std::string format = "brick-store", length_unit, value_unit;
     {
         py::gil_scoped_release free;
         if (is_brick_store(path)) {
@@ -95,11 +95,13 @@ py::dict read_volume(const std::string& path, const std::optional<std::array<std
             const VolumeInput in = open_volume_input(path, header);
             frame = in.frame;
             length_unit = in.length_unit;
+            value_unit = in.value_unit;
         } else {
             const VolumeInfo vi = probe_volume(path, o.raw);
             frame = vi.frame;
             format = vi.format;
             length_unit = vi.length_unit;
+            value_unit = vi.value_unit;
         }
         v = load_volume(path, o, /*map=*/true);
     }
@@ -118,6 +120,7 @@ py::dict read_volume(const std::string& path, const std::optional<std::array<std
         out["patient_axes_source"] = py::none();
     }
     out["length_unit"] = length_unit.empty() ? py::object(py::none()) : py::object(py::str(length_unit));
+    out["value_unit"] = value_unit.empty() ? py::object(py::none()) : py::object(py::str(value_unit));
     out["warnings"] = warnings;
     out["array"] = volume_array(std::move(v));
     return out;

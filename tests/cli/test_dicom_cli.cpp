@@ -46,7 +46,9 @@ TEST_CASE("dicom cli: isosurface, convert and info of a CT series equal the NRRD
     r = sh("MESHLESS info " + s, d);
     CHECK(r.code == 0);
     CHECK_THAT(r.out, Contains("dicom volume") && Contains("64 x 60 x 279") && Contains("float32") &&
-                          Contains("series: 1 of 1: ") && Contains("CT head (quarter)") && Contains("patient axes: x L, y P, z S"));
+                          Contains("series: 1 of 1: ") && Contains("CT head (quarter)") && Contains("patient axes: x L, y P, z S") &&
+                          Contains("length unit: mm") && Contains("value unit: HU"));  // (a CT's values: Hounsfield units)
+    CHECK_THAT(slurp(d / "dicom.ply"), Contains("comment value_unit HU\n") && Contains("comment length_unit mm\n"));
     r = sh("MESHLESS render " + s + " --size 64x64 -o " + o + "/ct.png", d);
     INFO(r.err);
     CHECK(r.code == 0);

@@ -118,7 +118,7 @@ def case_ct(out, data):
                  rescale=rescale, signed=False)
     with open(out + ".nrrd", "wb") as f:
         f.write(("NRRD0004\ntype: float\ndimension: 3\nsizes: 64 60 %d\nendian: little\nencoding: raw\n"
-                 "space: left-posterior-superior\nspace units: \"mm\" \"mm\" \"mm\"\nspace directions: (0.75,0,0) (0,0.5,0) (0,0,1.5)\n"
+                 "space: left-posterior-superior\nspace units: \"mm\" \"mm\" \"mm\"\nsample units: \"HU\"\nspace directions: (0.75,0,0) (0,0.5,0) (0,0,1.5)\n"
                  "space origin: (-24,-15.5,20)\n\n" % n).encode())
         f.write(vol.astype("<f4").tobytes())
 
@@ -201,7 +201,7 @@ def case_flipped(out, data):
     write_series(out, vol, origin=(-10.0, 20.0, 30.0), spacing=(0.75, 0.5, 1.5), orientation=orientation)
     with open(out + ".nrrd", "wb") as f:
         f.write(("NRRD0004\ntype: short\ndimension: 3\nsizes: 32 30 8\nendian: little\nencoding: raw\n"
-                 "space: left-posterior-superior\nspace units: \"mm\" \"mm\" \"mm\"\nspace directions: (0.75,0,0) (0,-0.5,0) (0,0,-1.5)\n"
+                 "space: left-posterior-superior\nspace units: \"mm\" \"mm\" \"mm\"\nsample units: \"HU\"\nspace directions: (0.75,0,0) (0,-0.5,0) (0,0,-1.5)\n"
                  "space origin: (-10,20,30)\n\n").encode())
         f.write(vol.astype("<i2").tobytes())
 

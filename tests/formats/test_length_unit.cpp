@@ -50,5 +50,18 @@ TEST_CASE("length units: NRRD space units all equal and known, else none", "[for
     CHECK(nrrd("d.nrrd", "space units: \"mm\" \"mm\" \"parsec\"\n").empty());
     CHECK(nrrd("e.nrrd", "space units: \"mm\n").empty());
     CHECK(nrrd("f.nrrd", "").empty());
+    const auto value_unit = [&](const std::string& units) {
+        const std::string path = (dir / "v.nrrd").string();
+        std::ofstream f(path, std::ios::binary);
+        f << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n" << units << "\n";
+        f.write("\1\2\3\4\5\6\7\10", 8);
+        f.close();
+        return probe_volume(path).value_unit;
+    };
+    CHECK(value_unit("sample units: \"kg/m^3\"\n") == "kg/m^3");
+    CHECK(value_unit("sample units: HU\n") == "HU");
+    CHECK(value_unit("sample units: \"a unit name far too long\"\n").empty());  // (a store keeps 15 bytes)
+    CHECK(value_unit("sample units: \"\x1b[2J\"\n") == "\\x1b[2J");            // escaped, never raw
+    CHECK(value_unit("").empty());
     std::filesystem::remove_all(dir);
 }
