@@ -36,28 +36,22 @@ TEST_CASE("length units: the names files spell, codes and NIfTI's xyzt_units", "
 TEST_CASE("length units: NRRD space units all equal and known, else none", "[formats][units]") {
     const auto dir = std::filesystem::temp_directory_path() / "meshless-units-nrrd";
     std::filesystem::create_directories(dir);
-    const auto nrrd = [&](const std::string& name, const std::string& units) {
-        const std::string path = (dir / name).string();
+    const auto probe = [&](const std::string& lines) {  // a 2x2x2 NRRD with these header lines
+        const std::string path = (dir / "v.nrrd").string();
         std::ofstream f(path, std::ios::binary);
-        f << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n" << units << "\n";
+        f << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n" << lines << "\n";
         f.write("\1\2\3\4\5\6\7\10", 8);
         f.close();
-        return probe_volume(path).length_unit;
+        return probe_volume(path);
     };
+    const auto nrrd = [&](const std::string&, const std::string& lines) { return probe(lines).length_unit; };
     CHECK(nrrd("a.nrrd", "space units: \"mm\" \"mm\" \"mm\"\n") == "mm");
     CHECK(nrrd("b.nrrd", "space units: \"micron\" \"um\" \"micrometer\"\n") == "um");
     CHECK(nrrd("c.nrrd", "space units: \"mm\" \"mm\" \"cm\"\n").empty());
     CHECK(nrrd("d.nrrd", "space units: \"mm\" \"mm\" \"parsec\"\n").empty());
     CHECK(nrrd("e.nrrd", "space units: \"mm\n").empty());
     CHECK(nrrd("f.nrrd", "").empty());
-    const auto value_unit = [&](const std::string& units) {
-        const std::string path = (dir / "v.nrrd").string();
-        std::ofstream f(path, std::ios::binary);
-        f << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n" << units << "\n";
-        f.write("\1\2\3\4\5\6\7\10", 8);
-        f.close();
-        return probe_volume(path).value_unit;
-    };
+    const auto value_unit = [&](const std::string& lines) { return probe(lines).value_unit; };
     CHECK(value_unit("sample units: \"kg/m^3\"\n") == "kg/m^3");
     CHECK(value_unit("sample units: HU\n") == "HU");
     CHECK(value_unit("sample units: \"a unit name far too long\"\n").empty());  // (a store keeps 15 bytes)
