@@ -67,7 +67,6 @@ std::string meta_bytes(const ClusterTree& t) {
     const std::string name = t.value_name.substr(0, kMaxNameBytes);
     put<std::uint32_t>(m, static_cast<std::uint32_t>(name.size()));
     m += name;
-    if (t.certified.empty()) return m;  // version 2
     if (t.certified.size() > kMaxCertifiedErrors)
         throw InvalidArgument("cluster tree: " + std::to_string(t.certified.size()) + " certified errors, at most " +
                               std::to_string(kMaxCertifiedErrors));
@@ -77,16 +76,19 @@ std::string meta_bytes(const ClusterTree& t) {
         put<double>(m, c.max_error);
         put<double>(m, c.hardy_c_rel);
     }
+    put<std::uint64_t>(m, t.samples_hash);
     return m;
 }
 
-/// The version a tree is written in: 3 with certified errors, else 2 (what readers before 3 read).
-std::uint32_t version_of(const ClusterTree& t) { return t.certified.empty() ? 2 : 3; }
+/// The version a tree is written in (what the writer writes: the newest).
+std::uint32_t version_of(const ClusterTree&) { return kClusterTreeFileVersion; }
 
-/// The certified errors of a version 3 meta, `at` bytes into it (after the name), checked.
-std::vector<CertifiedError> parse_certified(const unsigned char* m, std::uint64_t at, std::uint64_t meta, std::uint64_t leaves,
-                                            const std::function<FormatError(std::uint64_t, const std::string&)>& fail) {
-    if (meta - at < 4) throw fail(kClusterTreeHeaderBytes + at, "version 3 meta without its certified error count");
+/// The certified errors of a version 3 or 4 meta, `at` bytes into it (after the name), checked;
+/// `tail` meta bytes follow them (version 4: the samples' hash).
+std::vector<CertifiedError> parse_certified(const unsigned char* m, std::uint64_t at, std::uint64_t meta, std::uint64_t tail,
+                                            std::uint64_t leaves, const std::function<FormatError(std::uint64_t, const std::string&)>& fail) {
+    if (meta - at < 4 + tail) throw fail(kClusterTreeHeaderBytes + at, "meta without its certified error count" + std::string(tail ? " and samples hash" : ""));
+    meta -= tail;
     const std::uint32_t k = get<std::uint32_t>(m + at);
     if (k > kMaxCertifiedErrors)
         throw fail(kClusterTreeHeaderBytes + at, std::to_string(k) + " certified errors, at most " + std::to_string(kMaxCertifiedErrors));
@@ -193,7 +195,8 @@ ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> b, const std
                                              std::to_string(size)
                                        : std::to_string(size - declared) + " bytes after the declared end (" +
                                              std::to_string(declared) + " bytes)");
-    const std::uint64_t max_meta = fixed_meta + kMaxNameBytes + (version >= 3 ? 4 + kMaxCertifiedErrors * kClusterTreeCertifiedBytes : 0);
+    const std::uint64_t max_meta = fixed_meta + kMaxNameBytes + (version >= 3 ? 4 + kMaxCertifiedErrors * kClusterTreeCertifiedBytes : 0) +
+                                   (version >= 4 ? 8 : 0);
     if (meta < fixed_meta || meta > max_meta)
         throw fail(24, "meta size " + std::to_string(meta) + " outside " + std::to_string(fixed_meta) + ".." + std::to_string(max_meta));
     const std::uint64_t fixed = kClusterTreeHeaderBytes + meta + 8;
@@ -258,7 +261,8 @@ ClusterTree parse_cluster_tree_bytes(std::span<const unsigned char> b, const std
     if (s.samples < 2 || s.samples >= 0xFFFFFFFFull) throw fail(off(0), std::to_string(s.samples) + " samples (2 .. 2^32 - 2 expected)");
     if (n != 2 * s.splits + 1)
         throw fail(off(16), std::to_string(s.splits) + " splits claimed, " + std::to_string(n) + " nodes (2 x splits + 1 expected)");
-    if (version >= 3) t.certified = parse_certified(m, fixed_meta + name_bytes, meta, s.splits + 1, fail);
+    if (version >= 3) t.certified = parse_certified(m, fixed_meta + name_bytes, meta, version >= 4 ? 8 : 0, s.splits + 1, fail);
+    if (version >= 4) t.samples_hash = get<std::uint64_t>(m + meta - 8);  // (0: a tree first read from an older file)
 
     t.nodes.resize(n);
     std::memcpy(t.nodes.data(), b.data() + nodes_at, n * kClusterTreeNodeBytes);

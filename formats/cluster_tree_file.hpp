@@ -1,10 +1,10 @@
-// The cluster-binary-tree file (".mlh", magic "\x89MLH\r\n\x1a\n"), version 2: the hierarchy of
+// The cluster-binary-tree file (".mlh", magic "\x89MLH\r\n\x1a\n"), version 4: the hierarchy of
 // dissertation chapter 6 (kernels/cluster_tree.hpp) built once by `meshless hierarchy` and read by
 // `meshless lod`, `meshless info` and every command that reads a point set (a level of detail of
 // it, formats/point_set_reader.hpp).
 //
 // Layout, all little endian:
-//   header (64 bytes): magic[8] | u32 version (2) | u32 header bytes (64) | u64 file bytes |
+//   header (64 bytes): magic[8] | u32 version (1..4) | u32 header bytes (64) | u64 file bytes |
 //       u64 meta bytes (M) | u64 node count (N) | zero padding to 60 | u32 CRC-32 of bytes [0, 60)
 //   meta (M bytes, at 64): u64 samples | u64 dropped non-finite | u64 splits | u64 skipped splits |
 //       u32 depth | u32 neighbours (k) | u32 min cluster | u32 PCA scaling (0 raw, 1 normalised) |
@@ -12,11 +12,14 @@
 //       f64 Hardy's c used (world) | f64 error reached | f64 bounds lo[3], hi[3] | f64 value min, max |
 //       u32 split order (0 max error, 1 weighted) | u32 cluster value (0 fit, 1 mean) | f64 size term |
 //       u32 name bytes (<= 1024) | name (the value's name)            -> M = 180 + name bytes
-//   Version 3 (written when the tree carries certified errors, else version 2) appends to the meta:
+//   Version 3 (written before version 4 when the tree carried certified errors, else version 2) appends:
 //       u32 K (<= 64) | K x (u64 LOD count | f64 max error | f64 Hardy c relative)
 //                                                                      -> M = 184 + name bytes + 24 K
 //   the counts strictly ascending in 1 .. splits + 1, the errors >= 0 (+inf: the LOD's field is NaN
 //   somewhere), the c in (0, 100].
+//   Version 4 (written now) always has the version 3 list (K may be 0) and appends to the meta:
+//       u64 samples hash (kernels/sample_set_hash.hpp; 0: unknown, a tree first read from an older
+//       version's file)                                                -> M = 192 + name bytes + 24 K
 //   Version 1 (still read) has no split order, cluster value or size term (M = 164 + name bytes):
 //   its trees were built with the dissertation's max-error order and fitted values.
 //   u32 CRC-32 of the meta bytes
@@ -45,7 +48,7 @@
 
 namespace meshless {
 
-inline constexpr std::uint32_t kClusterTreeFileVersion = 3;  ///< the newest read; 2 written when no certified errors
+inline constexpr std::uint32_t kClusterTreeFileVersion = 4;  ///< the newest read, and the one written
 inline constexpr std::size_t kClusterTreeHeaderBytes = 64;
 inline constexpr std::size_t kClusterTreeMetaFixedBytes = 180;
 inline constexpr std::size_t kClusterTreeMetaFixedBytesV1 = 164;

@@ -1,4 +1,5 @@
 #include "kernels/cluster_binary_tree.hpp"
+#include "kernels/sample_set_hash.hpp"
 
 #include <tbb/concurrent_vector.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -95,6 +96,7 @@ ClusterTree build_cluster_tree(std::span<const Vec3> pos, std::span<const double
     }
     tree.bounds = {lo, hi};
     tree.value_range = {vlo, vhi};
+    tree.samples_hash = sample_set_hash(pos, value);
     const double diag = norm(hi - lo);
     if (!(diag > 0)) throw InvalidArgument("cluster tree: all " + std::to_string(n) + " samples lie at one position");
     const double c = params.hardy_c_world > 0 ? params.hardy_c_world : params.hardy_c_rel * diag;

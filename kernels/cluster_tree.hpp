@@ -110,6 +110,9 @@ struct ClusterTree {
     std::array<Vec3, 2> bounds{};           ///< of the samples
     std::array<double, 2> value_range{0, 0};
     std::string value_name;
+    /// sample_set_hash (kernels/sample_set_hash.hpp) of the samples it was built from: what a
+    /// certificate checks the given samples against; 0 for trees read from files before version 4.
+    std::uint64_t samples_hash = 0;
 };
 
 /// Checks the structure: at least one node; children in range, numbered after their parent and

@@ -15,6 +15,7 @@
 #include "formats/field_hint.hpp"
 #include "formats/point_set_writer.hpp"
 #include "formats/terminal_safe.hpp"
+#include "kernels/sample_set_hash.hpp"
 #include "kernels/cluster_lod.hpp"
 #include "kernels/errors.hpp"
 #include "kernels/make_field.hpp"
@@ -63,6 +64,9 @@ PointSet tree_samples_checked(const ClusterTree& tree, const PointSet& samples) 
         const double lo[2] = {b[0][k], tree.bounds[0][k]}, hi[2] = {b[1][k], tree.bounds[1][k]};
         if (lo[0] != lo[1] || hi[0] != hi[1]) throw InvalidArgument("the samples are not the tree's: their bounds differ");
     }
+    // (trees before file version 4 record no hash: their count and bounds are all there is to check)
+    if (tree.samples_hash != 0 && sample_set_hash(finite.pos, finite.value) != tree.samples_hash)
+        throw InvalidArgument("the samples are not the tree's: the same count and bounds, other positions or values (their hash differs)");
     return finite;
 }
 

@@ -357,6 +357,17 @@ TEST_CASE("meshless lod --max-error: within E at every sample, and one point few
     CHECK(bad.code == 2);
     CHECK(bad.err.find("not the tree's") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(d / "bad.ply"));
+    // the same grid with its values inverted: the same count and bounds, another hash
+    const std::string name = std::filesystem::path(vol).filename().string();
+    std::string inverted = slurp(vol);
+    for (char& c : inverted) c = static_cast<char>(255 - static_cast<unsigned char>(c));
+    spit(d / ("inv" + name.substr(name.find('_'))), inverted);
+    const auto inv = sh("MESHLESS lod " + D + "/t.mlh --max-error 10 --samples " + D + "/inv" + name.substr(name.find('_')) + " -o " + D +
+                            "/inv.ply",
+                        d);
+    CHECK(inv.code == 2);
+    CHECK(inv.err.find("not the tree's: the same count and bounds, other positions or values (their hash differs)") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(d / "inv.ply"));
 }
 
 TEST_CASE("meshless hierarchy --certify: info lists the error of each size, as probe of the lod's points measures it", "[cli][cbt]") {
@@ -370,8 +381,8 @@ TEST_CASE("meshless hierarchy --certify: info lists the error of each size, as p
     const ClusterTree plain = read_cluster_tree_file(D + "/plain.mlh");
     const ClusterTree t = read_cluster_tree_file(D + "/t.mlh");
     CHECK(plain.certified.empty());
-    CHECK(cluster_tree_file_version(D + "/plain.mlh") == 2);  // a tree without them stays version 2, byte for byte
-    CHECK(cluster_tree_file_version(D + "/t.mlh") == 3);
+    CHECK(cluster_tree_file_version(D + "/plain.mlh") == 4);
+    CHECK(cluster_tree_file_version(D + "/t.mlh") == 4);
     CHECK(t.nodes.size() == plain.nodes.size());
     REQUIRE(t.certified.size() == 2);  // 0.05 twice is one size
     const PointSet samples = point_set_from_volume(vol);
@@ -401,7 +412,7 @@ TEST_CASE("meshless hierarchy --certify: info lists the error of each size, as p
     }
     const auto info = sh("MESHLESS info " + D + "/t.mlh", d);
     REQUIRE(info.code == 0);
-    CHECK(info.out.find(".mlh version 3") != std::string::npos);
+    CHECK(info.out.find(".mlh version 4") != std::string::npos);
     CHECK(info.out.find("certified errors (meshless lod --count N") != std::string::npos);
     char row[64];
     std::snprintf(row, sizeof row, "%14.6g", t.certified[1].max_error);

@@ -65,6 +65,21 @@ void fix_crcs(std::string& b) {
 
 std::size_t node_at(const std::string& b, std::size_t i) { return 64 + get_at<std::uint64_t>(b, 24) + 4 + i * 56; }
 
+/// The bytes of an older version of a version 4 file: without the samples' hash (3), and without
+/// the certified table too (2: the table must be empty).
+std::string older(const std::string& v4, std::uint32_t version) {
+    REQUIRE(get_at<std::uint32_t>(v4, 8) == 4);
+    const std::uint64_t meta = get_at<std::uint64_t>(v4, 24);
+    const std::uint64_t cut = version == 2 ? 12 : 8;  // (u32 K = 0 and the hash; the hash)
+    if (version == 2) REQUIRE(get_at<std::uint32_t>(v4, 64 + meta - 12) == 0);
+    std::string b = v4.substr(0, 64 + meta - cut) + v4.substr(64 + meta);
+    put_at<std::uint32_t>(b, 8, version);
+    put_at<std::uint64_t>(b, 16, b.size());
+    put_at<std::uint64_t>(b, 24, meta - cut);
+    fix_crcs(b);
+    return b;
+}
+
 std::string parse_error(const std::string& b) {
     try {
         (void)parse_cluster_tree_bytes(std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(b.data()), b.size()), "t.mlh");
@@ -110,8 +125,7 @@ TEST_CASE(".mlh version 1 (no split order, cluster value or size term) is read a
     t.params.order = CbtSplitOrder::max_error;
     t.params.value = CbtValueKind::fit;
     t.params.size_term = 0;
-    const std::string v2 = cluster_tree_bytes(t);
-    REQUIRE(get_at<std::uint32_t>(v2, 8) == 2);
+    const std::string v2 = older(cluster_tree_bytes(t), 2);
     // version 1: the same bytes without the 16 at meta offset 160 (order, value kind, size term)
     std::string v1 = v2.substr(0, 64 + 160) + v2.substr(64 + 176);
     put_at<std::uint32_t>(v1, 8, 1);
@@ -123,7 +137,8 @@ TEST_CASE(".mlh version 1 (no split order, cluster value or size term) is read a
     CHECK(r.params.value == CbtValueKind::fit);
     CHECK(r.params.size_term == 0);
     CHECK(r.value_name == "density");
-    CHECK(cluster_tree_bytes(r) == v2);  // written again as version 2: the same tree
+    CHECK(r.samples_hash == 0);  // (not recorded before version 4)
+    CHECK(older(cluster_tree_bytes(r), 2) == v2);  // written again: the same tree
     // and the defaults round-trip as version 2
     const ClusterTree d = small_tree();
     const std::string b = cluster_tree_bytes(d);
@@ -157,7 +172,7 @@ TEST_CASE(".mlh must-fail files, one per defect class", "[formats][cbt]") {
         b[1] = 'X';
         expect(b, "magic", false);
         b = good;
-        put_at<std::uint32_t>(b, 8, 4);
+        put_at<std::uint32_t>(b, 8, 5);
         expect(b, "newer version");
         put_at<std::uint32_t>(b, 8, 0);
         expect(b, "older version");
@@ -239,8 +254,8 @@ TEST_CASE(".mlh must-fail files, one per defect class", "[formats][cbt]") {
         put_at<std::uint32_t>(b, node_at(good, 2) + 52, 4);
         expect(b, "flags");
         b = good;
-        put_at<std::uint32_t>(b, 64 + 176, 3);
-        expect(b, "name");
+        put_at<std::uint32_t>(b, 64 + 176, 5000);  // beyond the meta
+        expect(b, "name of");
         b = good;
         put_at<std::uint32_t>(b, 64 + 160, 2);
         expect(b, "split order");
@@ -268,7 +283,7 @@ TEST_CASE(".mlh writing refuses streams and leaves nothing on failure", "[format
 
 namespace {
 
-/// small_tree with three certified errors (version 3).
+/// small_tree with three certified errors.
 ClusterTree certified_tree() {
     ClusterTree t = small_tree();
     t.certified = {{1, INFINITY, 0.025}, {10, 12.5, 0.025}, {61, 0.25, 0.003}};
@@ -280,32 +295,44 @@ constexpr std::size_t kTableAt = 64 + kClusterTreeMetaFixedBytes + 7;  // "densi
 
 }  // namespace
 
-TEST_CASE(".mlh version 3: certified errors round trip, a tree without them stays version 2", "[formats][cbt]") {
+TEST_CASE(".mlh version 4: certified errors and the samples' hash round trip, versions 2 and 3 still read", "[formats][cbt]") {
     const ClusterTree t = certified_tree();
+    REQUIRE(t.samples_hash != 0);
     const std::string b = cluster_tree_bytes(t);
-    CHECK(get_at<std::uint32_t>(b, 8) == 3);
-    CHECK(get_at<std::uint64_t>(b, 24) == kClusterTreeMetaFixedBytes + 7 + 4 + 3 * kClusterTreeCertifiedBytes);
-    CHECK(get_at<std::uint32_t>(cluster_tree_bytes(small_tree()), 8) == 2);
-    const ClusterTree r = parse_cluster_tree_bytes(std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(b.data()), b.size()), "t.mlh");
+    CHECK(get_at<std::uint32_t>(b, 8) == 4);
+    CHECK(get_at<std::uint64_t>(b, 24) == kClusterTreeMetaFixedBytes + 7 + 4 + 3 * kClusterTreeCertifiedBytes + 8);
+    const std::string plain = cluster_tree_bytes(small_tree());
+    CHECK(get_at<std::uint32_t>(plain, 8) == 4);
+    CHECK(get_at<std::uint64_t>(plain, 24) == kClusterTreeMetaFixedBytes + 7 + 4 + 8);
+    const auto parse = [](const std::string& bytes) {
+        return parse_cluster_tree_bytes(std::span<const unsigned char>(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()), "t.mlh");
+    };
+    const ClusterTree r = parse(b);
     REQUIRE(r.certified.size() == 3);
     for (std::size_t i = 0; i < 3; ++i) {
         CHECK(r.certified[i].count == t.certified[i].count);
         CHECK(r.certified[i].max_error == t.certified[i].max_error);
         CHECK(r.certified[i].hardy_c_rel == t.certified[i].hardy_c_rel);
     }
+    CHECK(r.samples_hash == t.samples_hash);
     CHECK(r.value_name == "density");
     CHECK(cluster_tree_bytes(r) == b);
-    TempDir d("mlh3");
+    // the files of versions 3 and 2 read as before, with no hash
+    const ClusterTree r3 = parse(older(b, 3));
+    CHECK(r3.certified.size() == 3);
+    CHECK(r3.samples_hash == 0);
+    CHECK(parse(older(plain, 2)).samples_hash == 0);
+    TempDir d("mlh4");
     write_cluster_tree_file((d / "t.mlh").string(), t);
     std::ifstream in(d / "t.mlh", std::ios::binary);
     CHECK(std::string(std::istreambuf_iterator<char>(in), {}) == b);
-    CHECK(cluster_tree_file_version((d / "t.mlh").string()) == 3);
+    CHECK(cluster_tree_file_version((d / "t.mlh").string()) == 4);
     ClusterTree many = small_tree();
     for (std::uint64_t k = 1; k <= kMaxCertifiedErrors + 1; ++k) many.certified.push_back({k, 1, 0.025});
     CHECK_THROWS_AS(cluster_tree_bytes(many), InvalidArgument);
 }
 
-TEST_CASE(".mlh version 3 must-fail files: the certified table's defects", "[formats][cbt]") {
+TEST_CASE(".mlh version 3 and 4 must-fail files: the certified table's defects, the hash's room", "[formats][cbt]") {
     const std::string good = cluster_tree_bytes(certified_tree());
     REQUIRE(parse_error(good).empty());
     auto expect = [&](std::string b, const std::string& what) {
@@ -341,17 +368,28 @@ TEST_CASE(".mlh version 3 must-fail files: the certified table's defects", "[for
     expect(b, "Hardy c outside");
     put_at<double>(b, entry + 16, INFINITY);
     expect(b, "Hardy c outside");
-    // a name that claims the table's bytes
+    // a name that claims the table's and the hash's bytes
     b = good;
-    put_at<std::uint32_t>(b, kTableAt - 7 - 4, 7 + 4 + 3 * 24 + 1);
+    put_at<std::uint32_t>(b, kTableAt - 7 - 4, 7 + 4 + 3 * 24 + 8 + 1);
     expect(b, "name of");
     // a version 2 file with the table's bytes: its name does not fill the meta
     b = good;
     put_at<std::uint32_t>(b, 8, 2);
     expect(b, "name of");
     // a version 3 file without the table
-    b = good.substr(0, kTableAt) + good.substr(kTableAt + 4 + 3 * 24);
+    b = good.substr(0, kTableAt) + good.substr(kTableAt + 4 + 3 * 24 + 8);
+    put_at<std::uint32_t>(b, 8, 3);
     put_at<std::uint64_t>(b, 24, kClusterTreeMetaFixedBytes + 7);
     put_at<std::uint64_t>(b, 16, b.size());
     expect(b, "without its certified error count");
+    // a version 4 file without the hash: the table does not fill what is left
+    b = good.substr(0, kTableAt + 4 + 3 * 24) + good.substr(kTableAt + 4 + 3 * 24 + 8);
+    put_at<std::uint64_t>(b, 24, kClusterTreeMetaFixedBytes + 7 + 4 + 3 * 24);
+    put_at<std::uint64_t>(b, 16, b.size());
+    expect(b, "do not fill");
+    // a version 4 file with neither
+    b = good.substr(0, kTableAt) + good.substr(kTableAt + 4 + 3 * 24 + 8);
+    put_at<std::uint64_t>(b, 24, kClusterTreeMetaFixedBytes + 7);
+    put_at<std::uint64_t>(b, 16, b.size());
+    expect(b, "without its certified error count and samples hash");
 }
