@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "formats/binary_file.hpp"
+#include "formats/dicom_rle_check.hpp"
 #include "formats/dicom_structure.hpp"
 #include "formats/isolated_call.hpp"
 #include "formats/text_header.hpp"
@@ -219,6 +220,8 @@ void decode_pixels(const DicomSliceHeader& h, std::uint64_t want, std::byte* out
 void mask_bits_stored(const DicomSliceHeader& h, std::uint64_t want, std::byte* out);
 /// The longest a compressed slice may take to decode in its child process.
 constexpr int kDecodeSeconds = 120;
+/// RLE Lossless (PS3.5 Annex G), checked before GDCM decodes it (formats/dicom_rle_check.hpp).
+constexpr const char* kRleLossless = "1.2.840.10008.1.2.5";
 }  // namespace
 
 void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
@@ -244,13 +247,23 @@ void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
         throw FormatError(path + ": compressed pixel data of " + std::to_string(size) + " bytes cannot hold Rows x Columns (" +
                           std::to_string(h.rows) + " x " + std::to_string(h.columns) + ", more than " +
                           std::to_string(kDicomMaxCompression) + ":1)");
-    check_dicom_structure(path);  // as read_dicom_slice_header: the file may have changed since
+    const DicomStructure structure = check_dicom_structure(path);  // as read_dicom_slice_header: the file may have changed since
     {
         gdcm::Reader header;  // the attributes ImageReader takes, checked as read_dicom_slice_header checks them
         header.SetFileName(path.c_str());
         gdcm_read([&] { return header.ReadUpToTag(kPixelData); }, path, "data set",
                   "unreadable DICOM data set (GDCM could not parse it; truncated or corrupt)");
         check_dictionary_vrs(header.GetFile().GetDataSet(), path);
+    }
+    if (h.compressed && h.transfer_syntax == kRleLossless) {  // GDCM decodes some damaged RLE streams without a word
+        const std::uint64_t from = structure.pixel_data_value_at;
+        if (from == 0) throw FormatError(path + ": no Pixel Data element to decode");
+        FileRangeReader in(path);
+        if (from > in.size()) throw FormatError(path + ": truncated RLE pixel data element");
+        std::vector<unsigned char> element(static_cast<std::size_t>(in.size() - from));
+        in.read_into(from, element.size(), reinterpret_cast<std::byte*>(element.data()));
+        check_rle_pixel_data(element, from, static_cast<std::uint64_t>(h.rows) * static_cast<std::uint64_t>(h.columns),
+                             h.stored_bytes() * h.samples_per_pixel, path);
     }
     if (!h.compressed) {
         decode_pixels(h, want, out);
@@ -261,6 +274,9 @@ void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
             case IsolatedResult::Outcome::ok: break;
             case IsolatedResult::Outcome::error: throw FormatError(r.message.rfind(path, 0) == 0 ? r.message : path + ": " + r.message);
             case IsolatedResult::Outcome::crashed:
+                if (r.signal == SIGKILL)  // (the OOM killer, or a user: not the file's fault)
+                    throw IoError(path + ": the process decoding its compressed pixel data (" + syntax +
+                                  ") was killed (SIGKILL: out of memory, or killed by hand)");
                 throw FormatError(path + ": cannot decode the compressed pixel data (" + syntax + "): GDCM's decoder failed on it (" +
                                   (r.signal == SIGABRT ? std::string("assertion, SIGABRT") : "signal " + std::to_string(r.signal)) +
                                   "); the stream is damaged or not of that syntax");

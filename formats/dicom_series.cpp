@@ -304,7 +304,10 @@ DicomSeries open_dicom_series(const std::string& path, const std::string& choice
     s.uid = s.series[pick].uid;
     s.description = s.series[pick].description;
     if (!s.slices.empty())
-        s.value_unit = !s.slices.front().rescale_type.empty() ? s.slices.front().rescale_type : s.slices.front().modality == "CT" ? "HU" : "";
+    {  // (Rescale Type US: "unspecified", no unit)
+        const std::string& type = s.slices.front().rescale_type;
+        s.value_unit = !type.empty() && type != "US" ? type : s.slices.front().modality == "CT" ? "HU" : "";
+    }
     check_and_sort(s, path);
     return s;
 }

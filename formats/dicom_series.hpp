@@ -65,8 +65,8 @@ struct DicomSeries {
     std::array<bool, 3> flip{false, false, false};  ///< axes reversed to world order (x, y within a slice; z: slices)
     bool rescaled = false;                    ///< samples are slope x stored + intercept (type float32)
     std::string uid, description;             ///< the chosen series
-    /// The unit of the (rescaled) values: the first slice's Rescale Type (0028,1054), else "HU" for
-    /// a CT (PS3.3 C.11.1.1.2: CT values rescale to Hounsfield units), else "".
+    /// The unit of the (rescaled) values: the first slice's Rescale Type (0028,1054) unless "US"
+    /// (unspecified), else "HU" for a CT (PS3.3 C.11.1.1.2: CT values rescale to Hounsfield units), else "".
     std::string value_unit;
     std::vector<DicomSeriesSummary> series;   ///< every image series of the input, in listing order
 };

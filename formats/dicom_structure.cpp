@@ -56,7 +56,10 @@ public:
         walk(at, size_, explicit_vr, big, 0, false);
     }
 
+    DicomStructure found() const { return found_; }
+
 private:
+    DicomStructure found_;
     bool encapsulated_ = false;  ///< the transfer syntax is none of the three uncompressed ones
     [[noreturn]] void fail(std::uint64_t at, const std::string& what) const {
         throw FormatError(path_ + ": malformed DICOM at byte " + std::to_string(at) + ": " + what);
@@ -139,6 +142,7 @@ private:
             }
             const std::string_view vr(h.vr, h.vr[0] ? 2 : 0);
             const bool pixel = h.group == 0x7fe0 && h.element == 0x0010;
+            if (pixel && depth == 0) found_.pixel_data_value_at = h.value_at;
             // (GDCM asserts on Pixel Data inside an item, or of undefined length in an uncompressed syntax)
             if (pixel && depth > 0) fail(at, "Pixel Data (7FE0,0010) inside a sequence item");
             if (pixel && h.length == kUndefined && !encapsulated_)
@@ -201,6 +205,10 @@ private:
 
 }  // namespace
 
-void check_dicom_structure(const std::string& path) { Walker(path).run(); }
+DicomStructure check_dicom_structure(const std::string& path) {
+    Walker w(path);
+    w.run();
+    return w.found();
+}
 
 }  // namespace meshless

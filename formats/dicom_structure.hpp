@@ -16,10 +16,16 @@
 // read. Reads element headers only (values are skipped). Thread-safety: reentrant.
 // Dissertation: none (input plumbing).
 #pragma once
+#include <cstdint>
 #include <string>
 
 namespace meshless {
 
-void check_dicom_structure(const std::string& path);
+/// What the walk found that a reader needs.
+struct DicomStructure {
+    std::uint64_t pixel_data_value_at = 0;  ///< the file offset of the top-level Pixel Data's value (0: none)
+};
+
+DicomStructure check_dicom_structure(const std::string& path);
 
 }  // namespace meshless

@@ -43,10 +43,11 @@ struct Pipe {
     }
 };
 
-[[noreturn]] void run_child(const std::function<void(std::byte*)>& work, std::byte* buffer, char* message) {
+[[noreturn]] void run_child(const std::function<void(std::byte*)>& work, std::byte* buffer, char* message, pid_t parent) {
     // the parent's handlers remove its temporaries and _exit: the child takes the defaults
     for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGXFSZ, SIGBUS, SIGPIPE}) ::signal(sig, SIG_DFL);
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(4);  // the parent died before the line above: nobody waits for this
     int rc = 0;
     try {
         work(buffer);
@@ -71,11 +72,12 @@ IsolatedResult run_isolated(std::size_t bytes, std::byte* out, const std::functi
     message[0] = '\0';
     Pipe alive;  // the child holds the write end: its exit (or death) closes it
     if (::pipe2(alive.fd, O_CLOEXEC) != 0) throw IoError(std::string("cannot make a pipe for an isolated decoder: ") + std::strerror(errno));
+    const pid_t parent = ::getpid();
     const pid_t pid = ::fork();
     if (pid < 0) throw IoError(std::string("cannot start an isolated decoder process: ") + std::strerror(errno));
     if (pid == 0) {
         alive.close_end(0);
-        run_child(work, buffer, message);
+        run_child(work, buffer, message, parent);
     }
     alive.close_end(1);
     IsolatedResult r;

@@ -54,7 +54,7 @@ std::string value_unit_text(std::string_view written) {
     while (!written.empty() && (std::isspace(static_cast<unsigned char>(written.front())) || written.front() == '"')) written.remove_prefix(1);
     while (!written.empty() && (std::isspace(static_cast<unsigned char>(written.back())) || written.back() == '"')) written.remove_suffix(1);
     std::string text = escape_field(std::string(written));
-    return text.size() <= 15 ? text : std::string();
+    return text.size() <= 16 ? text : std::string();
 }
 
 std::string nifti_length_unit(std::uint8_t xyzt_units) {

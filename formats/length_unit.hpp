@@ -22,7 +22,7 @@ std::uint32_t length_unit_code(const std::string& unit);
 std::string length_unit_of_code(std::uint32_t code);
 /// A values' unit as a file writes it ("HU", "\"kg/m^3\"", ...), kept for labels: quotes and spaces
 /// around it dropped, bytes outside printable ASCII escaped (formats/text_header.hpp escape_field),
-/// at most 15 bytes (a brick store's field; longer: ""), else "".
+/// at most 16 bytes (a brick store's field; longer: ""), else "".
 std::string value_unit_text(std::string_view written);
 /// NIfTI-1 xyzt_units (header byte 123; its low three bits): 1 m, 2 mm, 3 um; "" otherwise.
 std::string nifti_length_unit(std::uint8_t xyzt_units);

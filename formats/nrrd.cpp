@@ -14,20 +14,25 @@ namespace meshless {
 
 namespace {
 
-// `space units: "mm" "mm" "mm"`: the unit when every quoted one names the same known unit, else "".
+// `space units: "mm" "mm" "mm"` (quoted, as the format writes them; bare words are taken too): the
+// unit when there are three and each names the same known unit, else "".
 std::string nrrd_space_unit(const std::string& val) {
-    std::string unit;
-    int count = 0;
-    for (std::size_t at = val.find('"'); at != std::string::npos; at = val.find('"', at)) {
-        const std::size_t end = val.find('"', at + 1);
-        if (end == std::string::npos) return {};
-        const std::string u = length_unit_from_name(std::string_view(val).substr(at + 1, end - at - 1));
-        if (u.empty() || (count > 0 && u != unit)) return {};
-        unit = u;
-        ++count;
-        at = end + 1;
+    std::vector<std::string> tokens;
+    if (val.find('"') != std::string::npos) {
+        for (std::size_t at = val.find('"'); at != std::string::npos; at = val.find('"', at)) {
+            const std::size_t end = val.find('"', at + 1);
+            if (end == std::string::npos) return {};
+            tokens.push_back(val.substr(at + 1, end - at - 1));
+            at = end + 1;
+        }
+    } else {
+        tokens = split_ws(val);
     }
-    return count > 0 ? unit : std::string();
+    if (tokens.size() != 3) return {};
+    const std::string unit = length_unit_from_name(tokens[0]);
+    for (const std::string& t : tokens)
+        if (length_unit_from_name(t) != unit) return {};
+    return unit;
 }
 
 struct HeaderText {

@@ -92,7 +92,7 @@ struct VolumeInfo {
     std::optional<AnatomicalFrame> frame; ///< the patient's axes, where the header says them (formats/anatomical_frame.hpp)
     std::string length_unit;              ///< the world coordinates' unit where the file says it (formats/length_unit.hpp), else ""
     std::string value_unit;               ///< the values' unit where the file says it (DICOM Rescale Type or HU for CT, NRRD
-                                          ///< sample units; as written, escaped, at most 15 bytes), else ""
+                                          ///< sample units; as written, escaped, at most 16 bytes), else ""
     std::string series;                   ///< DICOM: the series read and the others of the input (escaped), else empty
     std::vector<VolumeArray> arrays;      ///< .vti, .vtk, vtk.js: the point arrays in file order (a legacy file's up to
                                           ///< its CELL_DATA), else empty

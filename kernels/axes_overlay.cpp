@@ -46,7 +46,9 @@ void draw_axes(Image& img, const ViewTransform& v, std::array<std::uint8_t, 3> i
         const double ex = ox + arm * d.x, ey = oy - arm * d.y;
         line(img, ox, oy, ex, ey, s, kColour[static_cast<std::size_t>(a)]);
         const double len = std::hypot(d.x, d.y);
-        const double lx = ex + (len > 1e-6 ? d.x / len : 0) * 3 * s - 1.5 * s, ly = ey - (len > 1e-6 ? d.y / len : 0) * 3 * s - 2.5 * s;
+        // the label beyond the arm's end, kept inside the picture (an arm pointing left or down)
+        const double lx = std::clamp(ex + (len > 1e-6 ? d.x / len : 0) * 3 * s - 1.5 * s, 1.0, img.width - 4.0 * s);
+        const double ly = std::clamp(ey - (len > 1e-6 ? d.y / len : 0) * 3 * s - 2.5 * s, 1.0, img.height - 6.0 * s);
         draw_label(img, static_cast<int>(std::lround(lx)), static_cast<int>(std::lround(ly)), s, kName[a], kColour[static_cast<std::size_t>(a)]);
     }
     // the scale bar: pixels per world unit at the framed centre's depth

@@ -9,7 +9,7 @@
 //           store made before the axes were recorded: the bytes were padding) at byte 152 | f64 axes[3][3] at 160 (the
 //           LPS unit direction of world +x, +y, +z, formats/anatomical_frame.hpp) | u32 length unit code
 //           at byte 232 (formats/length_unit.hpp; 0, as in stores made before units were recorded: not
-//           known) | the values' unit at 236, 16 bytes of text, NUL-padded (empty: not known) | zero padding |
+//           known) | the values' unit at 236, 16 bytes of text, NUL-padded where shorter (empty: not known) | zero padding |
 //           u32 CRC-32 of bytes [0,252)
 //   bricks  one zstd frame each, in ascending Morton key of the brick coordinates
 //   index   brick count x 64-byte entries: u64 key | u64 offset | u64 stored bytes | u32 CRC-32 of
@@ -60,7 +60,7 @@ struct BrickStoreInfo {
     /// The converted volume's length unit where its file said it (formats/length_unit.hpp), else "".
     std::string length_unit;
     /// The values' unit where the converted volume's file said it (formats/length_unit.hpp
-    /// value_unit_text: at most 15 bytes, printable), else "".
+    /// value_unit_text: at most 16 bytes, printable), else "".
     std::string value_unit;
 };
 

@@ -18,7 +18,7 @@ data=${MESHLESS_DATA:-$root/../shared/data}
 all=(fuzz_ply fuzz_multiblock fuzz_field_file fuzz_raw_sidecar fuzz_nrrd fuzz_mha fuzz_vtk_legacy fuzz_vti fuzz_vtkjs
      fuzz_slc fuzz_nifti fuzz_nifti_gz fuzz_voreen fuzz_npy_volume fuzz_plot3d fuzz_vtp fuzz_oriented_vtp fuzz_vts fuzz_vtu fuzz_csv fuzz_npy fuzz_points_raw
      fuzz_point_stream fuzz_sample_cells fuzz_mlb fuzz_mls fuzz_png fuzz_cluster_tree_file fuzz_point_store
-     fuzz_positions fuzz_dicom fuzz_zarr fuzz_hdf5)
+     fuzz_positions fuzz_dicom fuzz_dicom_rle fuzz_zarr fuzz_hdf5)
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
@@ -53,6 +53,9 @@ z64() { head -c "$1" /dev/zero; }
 
 printf 'ObjectFileName: v.raw\nResolution: 4 4 2\nSliceThickness: 1 1 1\nFormat: UCHAR\n\0' | cat - <(z64 32) | seed fuzz_raw_sidecar small
 printf 'ObjectFileName: w.raw\nResolution: 4 2 2\nSliceThickness: 1 2 1\nFormat: USHORT\n\0' | cat - <(z64 32) | seed fuzz_voreen small
+# RLE Lossless items: 4 pixels, 1 byte a sample; an empty offset table, one fragment (header, a literal run)
+{ printf '\x04\x00\x00\xfe\xff\x00\xe0\x00\x00\x00\x00\xfe\xff\x00\xe0\x46\x00\x00\x00\x01\x00\x00\x00\x40\x00\x00\x00';
+  z64 56; printf '\x03\x01\x02\x03\x04\x00\xfe\xff\xdd\xe0\x00\x00\x00\x00'; } | seed fuzz_dicom_rle literal
 have bucky/Bucky_32x32x32_uint8.dat && seed fuzz_voreen bucky < "$data/bucky/Bucky_32x32x32_uint8.dat"
 { printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 2\nspacings: 1 1 2\nencoding: raw\n\n'; z64 32; } | seed fuzz_nrrd raw
 { printf 'NRRD0005\ntype: short\ndimension: 3\nsizes: 2 2 2\nendian: big\nspace directions: (1,0,0) (0,1,0) (0,0,1)\nspace origin: (0,0,0)\nencoding: gzip\n\n'; z64 16 | gz; } | seed fuzz_nrrd gzip

@@ -51,10 +51,14 @@ TEST_CASE("length units: NRRD space units all equal and known, else none", "[for
     CHECK(nrrd("d.nrrd", "space units: \"mm\" \"mm\" \"parsec\"\n").empty());
     CHECK(nrrd("e.nrrd", "space units: \"mm\n").empty());
     CHECK(nrrd("f.nrrd", "").empty());
+    CHECK(nrrd("g.nrrd", "space units: mm mm mm\n") == "mm");  // bare words, as some writers spell them
+    CHECK(nrrd("h.nrrd", "space units: \"mm\" \"mm\"\n").empty());  // one per axis: three
+    CHECK(nrrd("i.nrrd", "space units: \"mm\" \"mm\" \"mm\" \"mm\"\n").empty());
     const auto value_unit = [&](const std::string& lines) { return probe(lines).value_unit; };
     CHECK(value_unit("sample units: \"kg/m^3\"\n") == "kg/m^3");
     CHECK(value_unit("sample units: HU\n") == "HU");
-    CHECK(value_unit("sample units: \"a unit name far too long\"\n").empty());  // (a store keeps 15 bytes)
+    CHECK(value_unit("sample units: \"Hounsfield units\"\n") == "Hounsfield units");  // 16 bytes: a store keeps them
+    CHECK(value_unit("sample units: \"a unit name far too long\"\n").empty());
     CHECK(value_unit("sample units: \"\x1b[2J\"\n") == "\\x1b[2J");            // escaped, never raw
     CHECK(value_unit("").empty());
     std::filesystem::remove_all(dir);
