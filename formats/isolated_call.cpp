@@ -44,8 +44,9 @@ struct Pipe {
 };
 
 [[noreturn]] void run_child(const std::function<void(std::byte*)>& work, std::byte* buffer, char* message, pid_t parent) {
-    // the parent's handlers remove its temporaries and _exit: the child takes the defaults
-    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGXFSZ, SIGBUS, SIGPIPE}) ::signal(sig, SIG_DFL);
+    // the parent's handlers remove its temporaries and _exit, a sanitizer's report a fault and exit 1:
+    // the child takes the defaults, so that a fault ends it by its signal
+    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGXFSZ, SIGBUS, SIGPIPE, SIGSEGV, SIGFPE, SIGILL, SIGABRT}) ::signal(sig, SIG_DFL);
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (::getppid() != parent) ::_exit(4);  // the parent died before the line above: nobody waits for this
     int rc = 0;
