@@ -14,7 +14,8 @@ namespace meshless {
 VolumeLabels volume_labels_of(const std::string& path, const RawOptions& raw) {
     try {
         if (is_brick_store(path)) {
-            const BrickStoreInfo& i = BrickStore::open(path)->info();
+            const auto store = BrickStore::open(path);  // (held: info() lives in it)
+            const BrickStoreInfo& i = store->info();
             return {i.patient_axes, i.length_unit, i.value_unit};
         }
         const VolumeInfo vi = probe_volume(path, raw);
