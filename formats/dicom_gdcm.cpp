@@ -1,9 +1,10 @@
 // The GDCM boundary (formats/dicom_slice.hpp): the only source file that includes GDCM. Every file
 // is walked first (formats/dicom_structure.hpp: Debian's GDCM asserts on malformed elements). Attributes
 // are taken from the data set GDCM parsed up to Pixel Data; the pixels through gdcm::ImageReader
-// after the file has proven the bytes they claim. Compressed transfer syntaxes (RLE, the JPEG family)
-// are decoded in a child process (formats/isolated_call.hpp): GDCM's decoders assert (abort) on
-// damaged streams, which then fail one file in one line instead of the process.
+// after the file has proven the bytes they claim. RLE Lossless is checked and decoded by
+// formats/dicom_rle.hpp; the other compressed transfer syntaxes (the JPEG family) by GDCM in a child
+// process (formats/isolated_call.hpp): GDCM's decoders assert (abort) on damaged streams, which then
+// fail one file in one line instead of the process.
 #include "formats/dicom_slice.hpp"
 
 #include <gdcmDataSet.h>
@@ -28,7 +29,7 @@
 #include <vector>
 
 #include "formats/binary_file.hpp"
-#include "formats/dicom_rle_check.hpp"
+#include "formats/dicom_rle.hpp"
 #include "formats/dicom_structure.hpp"
 #include "formats/isolated_call.hpp"
 #include "formats/text_header.hpp"
@@ -220,7 +221,7 @@ void decode_pixels(const DicomSliceHeader& h, std::uint64_t want, std::byte* out
 void mask_bits_stored(const DicomSliceHeader& h, std::uint64_t want, std::byte* out);
 /// The longest a compressed slice may take to decode in its child process.
 constexpr int kDecodeSeconds = 120;
-/// RLE Lossless (PS3.5 Annex G), checked before GDCM decodes it (formats/dicom_rle_check.hpp).
+/// RLE Lossless (PS3.5 Annex G), decoded by formats/dicom_rle.hpp.
 constexpr const char* kRleLossless = "1.2.840.10008.1.2.5";
 }  // namespace
 
@@ -255,17 +256,16 @@ void decode_dicom_slice(const DicomSliceHeader& h, std::byte* out) {
                   "unreadable DICOM data set (GDCM could not parse it; truncated or corrupt)");
         check_dictionary_vrs(header.GetFile().GetDataSet(), path);
     }
-    if (h.compressed && h.transfer_syntax == kRleLossless) {  // GDCM decodes some damaged RLE streams without a word
+    if (h.compressed && h.transfer_syntax == kRleLossless) {  // checked and decoded here (formats/dicom_rle.hpp)
         const std::uint64_t from = structure.pixel_data_value_at;
         if (from == 0) throw FormatError(path + ": no Pixel Data element to decode");
         FileRangeReader in(path);
         if (from > in.size()) throw FormatError(path + ": truncated RLE pixel data element");
         std::vector<unsigned char> element(static_cast<std::size_t>(in.size() - from));
         in.read_into(from, element.size(), reinterpret_cast<std::byte*>(element.data()));
-        check_rle_pixel_data(element, from, static_cast<std::uint64_t>(h.rows) * static_cast<std::uint64_t>(h.columns),
-                             h.stored_bytes() * h.samples_per_pixel, path);
-    }
-    if (!h.compressed) {
+        decode_rle_pixel_data(element, from, static_cast<std::uint64_t>(h.rows) * static_cast<std::uint64_t>(h.columns),
+                              h.stored_bytes() * h.samples_per_pixel, path, out);
+    } else if (!h.compressed) {
         decode_pixels(h, want, out);
     } else {  // GDCM's decoders (RLE, JPEG family) assert on damaged streams (fuzz_dicom: RLECodec::Decode)
         const IsolatedResult r = run_isolated(want, out, [&](std::byte* dst) { decode_pixels(h, want, dst); }, kDecodeSeconds);

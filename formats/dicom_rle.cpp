@@ -1,5 +1,6 @@
-#include "formats/dicom_rle_check.hpp"
+#include "formats/dicom_rle.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "kernels/errors.hpp"
@@ -45,9 +46,15 @@ std::uint64_t packbits_length(const unsigned char* s, std::uint64_t n, std::uint
     return out;
 }
 
-}  // namespace
 
-void check_rle_pixel_data(std::span<const unsigned char> element, std::uint64_t at, std::uint64_t pixels, int segments,
+/// The frame's fragment and its segments' [begin, end) offsets in it, checked.
+struct RleFrame {
+    const unsigned char* fragment = nullptr;
+    std::uint32_t segments = 0;
+    std::uint32_t off[16] = {};
+};
+
+RleFrame locate_rle_frame(std::span<const unsigned char> element, std::uint64_t at, std::uint64_t pixels, int segments,
                           const std::string& path) {
     const auto fail = [&](std::uint64_t off, const std::string& what) {
         return FormatError(path + ": RLE pixel data at byte " + std::to_string(at + off) + ": " + what);
@@ -76,7 +83,10 @@ void check_rle_pixel_data(std::span<const unsigned char> element, std::uint64_t 
     const std::uint32_t count = u32(f);
     if (count != static_cast<std::uint32_t>(segments))
         throw fail(frag_at, std::to_string(count) + " segments, " + std::to_string(segments) + " expected (one per byte of a sample)");
-    std::uint32_t off[16];
+    RleFrame frame;
+    frame.fragment = f;
+    frame.segments = count;
+    std::uint32_t* off = frame.off;
     for (int i = 0; i < 15; ++i) off[i] = u32(f + 4 + 4 * i);
     off[count] = static_cast<std::uint32_t>(frag_len);  // (the last segment ends with the fragment)
     if (off[0] != 64) throw fail(frag_at + 4, "the first segment at " + std::to_string(off[0]) + ", 64 expected");
@@ -94,6 +104,42 @@ void check_rle_pixel_data(std::span<const unsigned char> element, std::uint64_t 
             throw fail(frag_at + off[i], "segment " + std::to_string(i + 1) + " decodes to " + std::to_string(got) + " bytes, " +
                                              std::to_string(pixels) + " expected");
     }
+    return frame;
+}
+
+/// Segment bytes s[0, n) as PackBits runs into every `stride`-th byte of out, `pixels` of them
+/// (checked by locate_rle_frame: the runs stay inside the segment and give at least that many).
+void unpack(const unsigned char* s, std::uint64_t n, std::uint64_t pixels, std::byte* out, std::size_t stride) {
+    std::uint64_t o = 0, i = 0;
+    while (i < n && o < pixels) {
+        const int c = static_cast<signed char>(s[i++]);
+        if (c >= 0) {
+            const std::uint64_t len = std::min<std::uint64_t>(static_cast<std::uint64_t>(c) + 1, pixels - o);
+            for (std::uint64_t k = 0; k < len; ++k) out[(o + k) * stride] = static_cast<std::byte>(s[i + k]);
+            i += static_cast<std::uint64_t>(c) + 1;
+            o += len;
+        } else if (c != -128) {
+            const std::uint64_t len = std::min<std::uint64_t>(static_cast<std::uint64_t>(1 - c), pixels - o);
+            const auto v = static_cast<std::byte>(s[i++]);
+            for (std::uint64_t k = 0; k < len; ++k) out[(o + k) * stride] = v;
+            o += len;
+        }
+    }
+}
+
+}  // namespace
+
+void check_rle_pixel_data(std::span<const unsigned char> element, std::uint64_t at, std::uint64_t pixels, int segments,
+                          const std::string& path) {
+    (void)locate_rle_frame(element, at, pixels, segments, path);
+}
+
+void decode_rle_pixel_data(std::span<const unsigned char> element, std::uint64_t at, std::uint64_t pixels, int segments,
+                           const std::string& path, std::byte* out) {
+    const RleFrame f = locate_rle_frame(element, at, pixels, segments, path);
+    const auto stride = static_cast<std::size_t>(f.segments);
+    for (std::uint32_t k = 0; k < f.segments; ++k)  // segment k: byte (segments - 1 - k) of each little-endian sample
+        unpack(f.fragment + f.off[k], f.off[k + 1] - f.off[k], pixels, out + (f.segments - 1 - k), stride);
 }
 
 }  // namespace meshless

@@ -1,4 +1,4 @@
-// The RLE Lossless structure check (formats/dicom_rle_check.hpp): a well-formed element passes, and
+// The RLE Lossless structure check (formats/dicom_rle.hpp): a well-formed element passes, and
 // one must-fail element per defect class: items, fragments, the RLE header, the segments' runs.
 #include <catch2/catch.hpp>
 
@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "error_of.hpp"
-#include "formats/dicom_rle_check.hpp"
+#include "formats/dicom_rle.hpp"
 #include "kernels/errors.hpp"
 
 using namespace meshless;
@@ -105,4 +105,25 @@ TEST_CASE("RLE check: a well-formed element passes, one must-fail element per de
     f = fragment(1, 12);
     f[64] = 0xfb;  // a replicate run (6 x the next byte), then literal bytes read as runs
     CHECK(check(element({f}), 6, 1) == kPasses);
+}
+
+TEST_CASE("RLE decoding: segment k is byte k of each sample, most significant first, out little endian", "[formats][dicom][rle]") {
+    // fragment(2, 12): segment 1 holds 0..11 (the high bytes), segment 2 holds 10..21 (the low bytes)
+    std::vector<std::byte> out(24);
+    decode_rle_pixel_data(element({fragment(2, 12)}), 0, 12, 2, "s.dcm", out.data());
+    for (int i = 0; i < 12; ++i) {
+        CHECK(static_cast<int>(out[2 * static_cast<std::size_t>(i)]) == 10 + i);
+        CHECK(static_cast<int>(out[2 * static_cast<std::size_t>(i) + 1]) == i);
+    }
+    // a replicate run: 6 copies of the byte after it, then a literal
+    std::vector<unsigned char> f(64, 0);
+    put32(f, 0, 1);
+    put32(f, 4, 64);
+    for (unsigned char c : {0xfb, 0x07, 0x01, 0x09, 0x08}) f.push_back(c);
+    f.push_back(0);
+    std::vector<std::byte> one(9);
+    decode_rle_pixel_data(element({f}), 0, 8, 1, "s.dcm", one.data());
+    const int want[8] = {7, 7, 7, 7, 7, 7, 9, 8};
+    for (int i = 0; i < 8; ++i) CHECK(static_cast<int>(one[static_cast<std::size_t>(i)]) == want[i]);
+    CHECK_THROWS_AS(decode_rle_pixel_data(element({f}), 0, 9, 1, "s.dcm", one.data()), FormatError);
 }
