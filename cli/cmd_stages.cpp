@@ -114,7 +114,9 @@ int cmd_project(int argc, char** argv) {
     Args a("project", "[INPUT|-] [--projection approx|exact|none] [-o FILE|-]",
            "Projects a sample stream onto the isosurface (section 3.3): one Newton step with the\n"
            "displacement criterion (approx, Eq. 3.5), the ray-trilinear cubic (exact, Eq. 3.3), or none.\n"
-           "Reads stdin by default; the isovalue comes from the stream unless --iso overrides it.");
+           "Reads stdin by default; the isovalue comes from the stream unless --iso overrides it. A stream of\n"
+           "several isovalues (generate --iso V1,V2,...) is projected segment by segment, each onto its own\n"
+           "isovalue (--iso is refused then), into a point stream of the same segments.");
     a.option("iso", "", "V", "isovalue (default: the one recorded by generate)")
         .option("projection", "", "MODE", "approx | exact | none", "approx")
         .option("output", "o", "FILE", "point stream output, '-' = stdout", "-")

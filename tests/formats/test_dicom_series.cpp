@@ -3,6 +3,7 @@
 // (RLE) series is refused, series are listed and chosen, and every defect is refused with its message.
 // The series are written at test time with pydicom (tests/dicom_test_data.hpp).
 #include <catch2/catch.hpp>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -127,6 +128,32 @@ TEST_CASE("dicom: a compressed (RLE Lossless) series reads as the uncompressed o
     INFO(same);
     CHECK(same.find(slice.string() + ": RLE pixel data at byte ") != std::string::npos);
     CHECK(same.find("segment 2 at 64 (offsets must increase") != std::string::npos);
+}
+
+TEST_CASE("dicom: JPEG-LS, JPEG lossless and JPEG 2000 series (gdcmconv) read as the uncompressed one", "[formats][dicom]") {
+    // the JPEG family is GDCM's to decode, each slice in a child process (formats/isolated_call.hpp)
+    TempDir dir("dicom-jpeg");
+    const auto r = make_dicom_case("rle", dir);
+    if (!r) return;
+    if (std::system("command -v gdcmconv >/dev/null 2>&1") != 0) {
+        WARN("gdcmconv (libgdcm-tools) is not installed: skipping the JPEG-family series");
+        return;
+    }
+    const Volume plain = read_volume((*r / "plain").string());
+    for (const std::string codec : {"jpegls", "jpeg", "j2k"}) {
+        INFO(codec);
+        const fs::path out = dir / codec;
+        fs::create_directories(out);
+        for (const auto& e : fs::directory_iterator(*r / "plain")) {
+            const std::string cmd = "gdcmconv --" + codec + " '" + e.path().string() + "' '" + (out / e.path().filename()).string() + "'";
+            REQUIRE(std::system(cmd.c_str()) == 0);
+        }
+        const Volume v = read_volume(out.string());
+        CHECK(v.grid == plain.grid);
+        CHECK(v.type == plain.type);
+        CHECK(std::equal(v.bytes.data(), v.bytes.data() + v.bytes.size(), plain.bytes.data(), plain.bytes.data() + plain.bytes.size()));
+        CHECK(probe_volume(out.string()).encoding.find("1.2.840.10008.1.2.4.") != std::string::npos);
+    }
 }
 
 TEST_CASE("dicom: a folder of two series is refused listing both, --series picks each", "[formats][dicom]") {
