@@ -53,7 +53,13 @@ const std::uint8_t* glyph(char c) {
 
 void put(Image& img, int x, int y, std::array<std::uint8_t, 3> c) { put_pixel(img, x, y, c); }
 
-std::string format_value(double v) { return significant_text(v, 3); }
+// 3 significant digits, or as many as the integer part has below a million: 2000 and 3926 rather
+// than "2e+03" and "3.93e+03" (a legend's ends read as numbers, not as exponents)
+std::string format_value(double v) {
+    const double a = std::fabs(v);
+    const int digits = a >= 1 && a < 1e6 ? static_cast<int>(std::floor(std::log10(a))) + 1 : 0;
+    return significant_text(v, std::max(3, digits));
+}
 
 }  // namespace
 

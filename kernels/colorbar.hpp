@@ -1,6 +1,7 @@
 // A colour bar legend drawn into a rendered picture (meshless splat / isosurface --png --colorbar):
 // a vertical bar of the colour map at the right edge, value hi at its top and lo at its bottom,
-// framed by a 1-pixel border, with the two values printed (printf "%.3g") above and below it in
+// framed by a 1-pixel border, with the two values printed (printf "%.Ng", N = 3 or the digits of an
+// integer part below a million: 2000, not 2e+03) above and below it in
 // a built-in 3x5 bitmap font (digits, letters in one case but c, m, n, u also in lower case for the
 // length units, '-', '+', '.', '_', ':', '/', '(', ')';
 // other characters are left blank), and a title (the array's name) above them when given.

@@ -267,3 +267,25 @@ TEST_CASE("transfer function legend: rows in the function's colours from hi to l
         for (int x = 0; x < 320; ++x) title += img.at(x, y)[0] == 255;
     CHECK(title > 20);
 }
+
+TEST_CASE("colour bar: values below a million print their integer digits, not an exponent", "[splat][color]") {
+    // the top value's label ends at the bar's right edge: its width is where its ink starts
+    auto top_label_width = [](double hi) {
+        Image img;
+        img.width = 320;
+        img.height = 240;
+        img.rgb.assign(3 * 320 * 240, 0);
+        draw_colorbar(img, Colormap::viridis, 0, hi, {255, 255, 255}, "");
+        const ColorbarLayout l = colorbar_layout(320, 240);
+        int left = l.x1 + 1;
+        for (int y = l.y0 - 3 - 5 * l.scale; y < l.y0 - 3; ++y)
+            for (int x = 0; x <= l.x1; ++x)
+                if (img.at(x, y)[0] == 255) left = std::min(left, x);
+        return std::pair<int, int>{l.x1 + 1 - left, l.scale};
+    };
+    const auto [w2000, s] = top_label_width(2000);
+    CHECK(w2000 == label_width("2000", s));  // not "2e+03"
+    CHECK(top_label_width(3926.4).first == label_width("3926", s));
+    CHECK(top_label_width(0.25).first == label_width("0.25", s));
+    CHECK(top_label_width(2e7).first == label_width("2e+07", s));  // a million and more: the exponent
+}
