@@ -472,16 +472,97 @@ std::uint64_t store_layers_loaded(const ScatteredStorePlan& plan, std::int64_t s
     return n;
 }
 
+namespace {
+
+/// The slab's points loaded and binned on the plan's grid, counted in the report.
+ScatteredIsosurfaceInput slab_input(const PointStore& store, const ScatteredStorePlan& plan, const Slab& slab, double reg_gap,
+                                    ScatteredStoreReport& rep) {
+    ScatteredIsosurfaceInput in;
+    in.source = plan.source;
+    in.points = load_slab(store, slab, rep.read_seconds);
+    in.grid = plan.grid;
+    in.bins = bin_points(plan.grid, in.points.pos);
+    in.reg_gap = reg_gap;
+    rep.loaded += in.points.size();
+    rep.most_loaded = std::max<std::uint64_t>(rep.most_loaded, in.points.size());
+    return in;
+}
+
+/// Flags the bricks the field's lacking balls meet in `extra` and remembers the balls in `seen`;
+/// returns the bricks newly flagged.
+std::size_t add_lacking_bricks(const MpuField& field, const StoreBrickIndex& index, std::vector<char>& extra,
+                               std::vector<std::pair<Vec3, double>>& seen) {
+    std::size_t added = 0;
+    for (const auto& [c, r] : field.lacking_balls()) index.meeting_ball(c, r, [&](std::size_t i) { added += !extra[i]; extra[i] = 1; });
+    seen.insert(seen.end(), field.lacking_balls().begin(), field.lacking_balls().end());
+    return added;
+}
+
+/// The refusal of a budget too small for one stencil layer's field (`need` bytes for `loaded`
+/// points, `others` beside it), with what would do: the fullest layer of the store (its points grown
+/// as this one's grew with the lacking balls), at this field's bytes a point.
+InvalidArgument budget_too_small(const PointStore& store, const SlabPlanner& planner, std::int64_t s0, double halo0,
+                                 std::size_t loaded, double need, double others, double fixed, const ScatteredStoreParams& sp) {
+    const std::vector<char> no_extra(store.bricks().size(), 0);
+    const double base = static_cast<double>(std::max<std::uint64_t>(1, planner.slab(s0, s0 + 1, halo0, no_extra).points));
+    const double grown = std::max(1.0, static_cast<double>(loaded) / base);
+    std::uint64_t most = 0;
+    for (std::int64_t k = 0; k < planner.layers(); ++k) most = std::max(most, planner.slab(k, k + 1, halo0, no_extra).points);
+    const double per = 1.1 * need / static_cast<double>(loaded) + sp.other_bytes_per_point;
+    const double would = 1.1 * std::max(need + others, static_cast<double>(most) * grown * per) + fixed;
+    return InvalidArgument("--memory " + mib(static_cast<double>(sp.memory_bytes)) + " is too small for this store: the field of one " +
+                           "stencil layer of the binning grid (" + std::to_string(loaded) + " points with its halo) takes " + mib(need) +
+                           "; the fullest layer needs about --memory " + mib(would));
+}
+
+/// A slab whose field would not fit its share of the budget: fewer layers, as many as the field's
+/// size allows (`room`: the share over the field's bytes), or, at one layer, no fits kept from the
+/// slab before. False when neither is left.
+bool fewer_layers_or_no_kept_fits(std::int64_t s0, std::int64_t& s1, MpuFitCache& cache, double room) {
+    if (s1 > s0 + 1) {
+        s1 = std::min(s1 - 1, s0 + std::max<std::int64_t>(1, static_cast<std::int64_t>(static_cast<double>(s1 - s0) * room * 0.95)));
+        return true;
+    }
+    if (cache.bytes() > 0) {  // (this slab fits again what it overlaps)
+        cache.clear();
+        return true;
+    }
+    return false;
+}
+
+/// What runs slab by slab: the mpu field (InvalidArgument otherwise) with a limited Newton travel.
+void check_slab_run(const FieldParams& field_params, const FieldProjectParams& np) {
+    if (field_params.kind != FieldKind::mpu) throw InvalidArgument("a point store runs slab by slab with the mpu field only");
+    if (!std::isfinite(np.seed_max_travel))
+        throw InvalidArgument("a point store runs slab by slab only with a limited Newton travel (--max-travel > 0)");
+}
+
+/// A finished slab's figures added to the run's: its seeding and Newton steps, its field, its halo (cells).
+void record_slab(ScatteredIsosurfaceStats& st, ScatteredStoreReport& rep, const ScatteredIsosurfaceStats& part,
+                 const FieldBuildStats& fst, double halo_cells) {
+    add_slab_stats(st, part);
+    add_field_stats(rep.field, fst);
+    rep.halo_cells = std::max(rep.halo_cells, halo_cells);
+    ++rep.slabs;
+}
+
+/// A slab's batches to the sink, numbered on from the slabs before.
+void forward_batches(SlabBuffer& buf, Sink& sink, std::uint64_t& seq) {
+    for (Batch& b : buf.batches) {
+        b.seq = seq++;
+        sink.consume(std::move(b));
+    }
+}
+
+}  // namespace
+
 ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store, const ScatteredStorePlan& plan,
                                                         const FieldParams& field_params, const ScatteredStoreParams& sp,
                                                         double iso, int n, const FieldProjectParams& np, double dedup,
                                                         Sink& out, const RunOptions& opt,
                                                         const std::function<void(double)>& progress,
                                                         ScatteredStoreReport* report) {
-    if (field_params.kind != FieldKind::mpu)
-        throw InvalidArgument("a point store runs slab by slab with the mpu field only");
-    if (!std::isfinite(np.seed_max_travel))
-        throw InvalidArgument("a point store runs slab by slab only with a limited Newton travel (--max-travel > 0)");
+    check_slab_run(field_params, np);
     ScatteredStoreReport rep;
     ScatteredIsosurfaceStats st;
     std::optional<DedupSink> dedup_sink;
@@ -523,14 +604,7 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                 --s1;
                 continue;
             }
-            ScatteredIsosurfaceInput in;
-            in.source = plan.source;
-            in.points = load_slab(store, slab, rep.read_seconds);
-            in.grid = g;
-            in.bins = bin_points(g, in.points.pos);
-            in.reg_gap = sp.reg_gap;
-            rep.loaded += in.points.size();
-            rep.most_loaded = std::max<std::uint64_t>(rep.most_loaded, in.points.size());
+            ScatteredIsosurfaceInput in = slab_input(store, plan, slab, sp.reg_gap, rep);
             SlabRegion slab_region(store, plan, index, slab, pad);
             FieldRegion& region = slab_region.region;
             const double others = static_cast<double>(in.points.size()) * sp.other_bytes_per_point + 2.0 * static_cast<double>(cache.bytes());
@@ -545,38 +619,15 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
             if (in.points.size() > 0)
                 field_per_point = std::max(field_per_point, static_cast<double>(fst.memory_bytes) / static_cast<double>(in.points.size()));
             if (!field->region_exact()) {  // load the bricks the lacking balls meet, and build again
-                std::size_t added = 0;
-                for (const auto& [c, r] : field->lacking_balls())
-                    index.meeting_ball(c, r, [&](std::size_t i) { added += !extra[i]; extra[i] = 1; });
-                seen.insert(seen.end(), field->lacking_balls().begin(), field->lacking_balls().end());
-                if (added == 0) halo *= 2;  // (cannot happen: a lacking ball meets an unloaded brick)
+                if (add_lacking_bricks(*field, index, extra, seen) == 0) halo *= 2;  // (cannot happen: a lacking ball meets an unloaded brick)
                 ++rep.retries;
                 continue;
             }
             if (field->over_budget()) {  // fewer layers (as many as the field's size allows), or no kept fits
                 ++rep.retries;
                 const double need = static_cast<double>(fst.memory_bytes);
-                if (s1 > s0 + 1) {
-                    const double room = static_cast<double>(region.max_field_bytes) / need;
-                    s1 = std::min(s1 - 1, s0 + std::max<std::int64_t>(1, static_cast<std::int64_t>(static_cast<double>(s1 - s0) * room * 0.95)));
-                    continue;
-                }
-                if (cache.bytes() > 0) {  // (this slab fits again what it overlaps)
-                    cache.clear();
-                    continue;
-                }
-                // what would do: the fullest layer of the store (its points grown as this one's grew
-                // with the lacking balls), at this field's bytes a point
-                const std::vector<char> no_extra(store.bricks().size(), 0);
-                const double base = static_cast<double>(std::max<std::uint64_t>(1, planner.slab(s0, s0 + 1, halo0, no_extra).points));
-                const double grown = std::max(1.0, static_cast<double>(in.points.size()) / base);
-                std::uint64_t most = 0;
-                for (std::int64_t k = 0; k < planner.layers(); ++k) most = std::max(most, planner.slab(k, k + 1, halo0, no_extra).points);
-                const double per = 1.1 * need / static_cast<double>(in.points.size()) + sp.other_bytes_per_point;
-                const double would = 1.1 * std::max(need + others, static_cast<double>(most) * grown * per) + fixed;
-                throw InvalidArgument("--memory " + mib(static_cast<double>(sp.memory_bytes)) + " is too small for this store: the field of one " +
-                                      "stencil layer of the binning grid (" + std::to_string(in.points.size()) + " points with its halo) takes " +
-                                      mib(need) + "; the fullest layer needs about --memory " + mib(would));
+                if (fewer_layers_or_no_kept_fits(s0, s1, cache, static_cast<double>(region.max_field_bytes) / need)) continue;
+                throw budget_too_small(store, planner, s0, halo0, in.points.size(), need, others, fixed, sp);
             }
             SlabBuffer buf;
             ScatteredIsosurfaceStats part;
@@ -591,14 +642,8 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                 continue;
             }
             cache.advance();
-            for (Batch& b : buf.batches) {
-                b.seq = seq++;
-                sink.consume(std::move(b));
-            }
-            add_slab_stats(st, part);
-            add_field_stats(rep.field, fst);
-            rep.halo_cells = std::max(rep.halo_cells, halo / g.cell.z);
-            ++rep.slabs;
+            forward_batches(buf, sink, seq);
+            record_slab(st, rep, part, fst, halo / g.cell.z);
             if (progress) progress(static_cast<double>((s1 - s0) * planner.stencils_per_layer()));
             break;
         }
