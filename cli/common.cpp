@@ -369,7 +369,8 @@ std::optional<GeometryOutput> geometry_output(const Args& a, const char* what) {
 
 void add_fail_empty_option(Args& a) {
     a.flag("fail-empty", "an empty result (isovalue outside the data, or crossing no cell) exits 4 instead of 0 "
-                         "(the empty outputs are still written)");
+                         "(the empty outputs are still written; with several isovalues, when every surface is empty: "
+                         "each empty one is warned of)");
 }
 
 std::vector<double> isovalue_list(const Args& a) { return parse_finite_list(a.require("iso"), "--iso", 256); }
