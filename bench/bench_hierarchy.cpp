@@ -24,7 +24,9 @@
 //       sample). The trees are refined to 16% of the samples (--max-splits) so the 15% LOD exists.
 //       Two more columns: the dissertation's tree (max-error order, fitted cluster values; its
 //       error-based LOD closest to m points), and the first m points of the default tree's finest
-//       LOD, which `lod` lists coarse to fine (a prefix read by a viewer that stops early).
+//       LOD, which `lod` lists coarse to fine (a prefix read by a viewer that stops early); and the
+//       PSNR of a picture of the CBT, random and decimated sets (their mpu fields ray cast in the
+//       volume's frame, as `render --bounds --step --ref-step --range --compare` does) against the volume's.
 //       --quick: silicium only.
 #include <sys/resource.h>
 #include <unistd.h>
@@ -48,7 +50,9 @@
 #include "kernels/field_params.hpp"
 #include "kernels/make_field.hpp"
 #include "kernels/splitmix.hpp"
+#include "kernels/image_compare.hpp"
 #include "ooc/brick_store_point_set.hpp"
+#include "stream/field_render.hpp"
 
 namespace meshless::bench {
 
@@ -111,8 +115,35 @@ struct Rmse {
     std::size_t nan = 0;
 };
 
+/// The volume's own picture, as `meshless render VOLUME` makes it (the default grey transfer
+/// function over its value range, no shading), and the settings every point set is rendered with:
+/// the volume's frame, step and opacity unit (half its smallest spacing), `side` pixels square.
+struct LodPicture {
+    Camera cam;
+    TransferFunction tf;
+    RenderOptions ro;
+    Image reference;
+};
+
+LodPicture volume_picture(const std::string& path, int side) {
+    RenderInput in = volume_render_input(open_volume_input(path, VolumeOpenOptions{}));
+    LodPicture p{Camera{}, render_transfer_function("grey", in.range, false), RenderOptions{}, Image{}};
+    p.cam.width = p.cam.height = side;
+    p.ro.step = p.ro.ref_step = 0.5 * in.spacing;
+    p.ro.bounds = in.box;
+    p.ro.threads = 2;
+    p.reference = render_field(in, p.cam, p.tf, p.ro).picture;
+    return p;
+}
+
+/// PSNR (dB) of the picture of `points` through `field` against the volume's.
+double picture_psnr(const LodPicture& pic, const PointSet& points, const Field& field) {
+    RenderInput in = points_render_input(points, field, "lod");
+    return compare_images(render_field(in, pic.cam, pic.tf, pic.ro).picture, pic.reference).psnr;
+}
+
 void compare_row(const std::string& name, const PointSet& all, const ClusterTree& tree, const ClusterTree& paper_tree, double frac,
-                 std::size_t eval_stride, double hardy_c_rel, Table& t) {
+                 std::size_t eval_stride, double hardy_c_rel, const LodPicture* pic, Table& t) {
     const std::size_t n = all.size();
     const std::uint64_t m = static_cast<std::uint64_t>(std::llround(frac * n));
     // the default tree's LOD of m points: the leaves after its first m - 1 splits (LodMode::count)
@@ -142,6 +173,7 @@ void compare_row(const std::string& name, const PointSet& all, const ClusterTree
     }
     std::vector<std::vector<double>> val(5, std::vector<double>(q.size()));
     double build_s = 0;
+    double psnr[3] = {NAN, NAN, NAN};  // CBT, random, decimation
     for (int s = 0; s < 5; ++s) {
         FieldParams fp;
         fp.kind = FieldKind::mpu;
@@ -150,6 +182,7 @@ void compare_row(const std::string& name, const PointSet& all, const ClusterTree
         auto f = make_field(sets[s], fp);
         build_s += sw.ms() / 1000;
         f->evaluate(q, val[s], {});
+        if (pic && s < 3) psnr[s] = picture_psnr(*pic, sets[s], *f);
     }
     Rmse r[5];
     std::size_t used = 0, skipped = 0;
@@ -172,7 +205,9 @@ void compare_row(const std::string& name, const PointSet& all, const ClusterTree
     t.add({name, fmt("%.0f%%", frac * 100), fmt("%llu", static_cast<unsigned long long>(m)), fmt("%.3f", r[0].rmse),
            fmt("%.3f", r[1].rmse), fmt("%.3f", r[2].rmse), fmt("%.2f / %.2f", r[0].rmse / r[1].rmse, r[0].rmse / r[2].rmse),
            fmt("%.1f / %.1f / %.1f", r[0].max, r[1].max, r[2].max), best, fmt("%zu: %.3f", paper.size(), r[3].rmse),
-           fmt("%.3f", r[4].rmse), fmt("%zu (%zu non-finite left out)", used, skipped)});
+           fmt("%.3f", r[4].rmse),
+           pic ? fmt("%.2f / %.2f / %.2f", psnr[0], psnr[1], psnr[2]) : std::string("-"),
+           fmt("%zu (%zu non-finite left out)", used, skipped)});
 }
 
 }  // namespace
@@ -332,8 +367,15 @@ void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& sil_gi
            "the same c for all five sets of a row).");
     Table ct;
     ct.header = {"data", "points", "count", "RMSE CBT", "RMSE random", "RMSE decimation", "CBT / random / decimation",
-                 "max err C/R/D", "best", "dissertation's CBT: count: RMSE", "RMSE finest LOD's prefix", "voxels evaluated"};
-    auto compare = [&](const std::string& name, const PointSet& ps, std::size_t stride) {
+                 "max err C/R/D", "best", "dissertation's CBT: count: RMSE", "RMSE finest LOD's prefix",
+                 "picture PSNR dB C/R/D", "voxels evaluated"};
+    const int side = o.quick ? 128 : 256;
+    r.note(fmt("picture PSNR: each set's mpu field ray cast (%dx%d, the `render` defaults: grey transfer function over "
+               "the volume's value range, no shading) in the volume's frame with its step and opacity unit (half the "
+               "smallest spacing), against the volume's own trilinear picture; `meshless render LOD.ply --bounds "
+               "BOX --step S --ref-step S --range LO,HI --compare volume.png` computes the same.",
+               side, side));
+    auto compare = [&](const std::string& name, const fs::path& path, const PointSet& ps, std::size_t stride) {
         CbtParams p;  // the defaults (weighted order, cluster means)
         p.max_splits = static_cast<std::uint64_t>(0.16 * ps.size());
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
@@ -341,18 +383,19 @@ void run_hierarchy_rmse(const BenchOptions& o, Report& r, const PointSet& sil_gi
         p.order = CbtSplitOrder::max_error;  // the dissertation's: section 6.3
         p.value = CbtValueKind::fit;
         const ClusterTree paper = build_cluster_tree(ps.pos, ps.value, p);
+        const LodPicture pic = volume_picture(path.string(), side);
         for (double c : cs) {
             r.note(name + ", mpu Hardy c = " + (c > 0 ? fmt("%g", c) : fmt("%g (default)", FieldParams{}.hardy_c_rel)) +
                    " x bounding-box diagonal");
-            for (double f : {0.01, 0.02, 0.05, 0.15}) compare_row(name, ps, t, paper, f, stride, c, ct);
+            for (double f : {0.01, 0.02, 0.05, 0.15}) compare_row(name, ps, t, paper, f, stride, c, &pic, ct);
             r.table(ct);
             ct.rows.clear();
         }
     };
-    if (!sil.pos.empty()) compare("silicium", sil, 1);
-    if (!o.quick && fs::exists(head)) compare("head x1 (64x64x93)", point_set_from_volume(head.string()), 1);
-    if (!o.quick && fs::exists(tooth)) compare("tooth (103x94x161)", point_set_from_volume(tooth.string()), 4);
-    if (!o.quick && fs::exists(lidc)) compare("LIDC2 chest CT (256x256x133)", point_set_from_volume(lidc.string()), 8);
+    if (!sil.pos.empty()) compare("silicium", si, sil, 1);
+    if (!o.quick && fs::exists(head)) compare("head x1 (64x64x93)", head, point_set_from_volume(head.string()), 1);
+    if (!o.quick && fs::exists(tooth)) compare("tooth (103x94x161)", tooth, point_set_from_volume(tooth.string()), 4);
+    if (!o.quick && fs::exists(lidc)) compare("LIDC2 chest CT (256x256x133)", lidc, point_set_from_volume(lidc.string()), 8);
 }
 
 }  // namespace meshless::bench
