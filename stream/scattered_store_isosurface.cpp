@@ -7,8 +7,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
-#include <mutex>
-#include <numbers>
 #include <optional>
 
 #include "kernels/binning_rule_scan.hpp"
@@ -19,6 +17,7 @@
 #include "stream/dedup_sink.hpp"
 #include "stream/stencil_seed_stage.hpp"
 #include "stream/stencil_source.hpp"
+#include "stream/store_slab.hpp"
 #include "stream/seconds_since.hpp"
 
 namespace meshless {
@@ -45,95 +44,6 @@ void scan_store(const PointStore& store, const std::function<void(std::span<cons
     }
 }
 
-/// Collects a slab's batches until the slab is known to be exact.
-class SlabBuffer final : public Sink {
-public:
-    PayloadSet takes() const override { return Payload::points; }
-    void consume(Batch&& b) override { batches.push_back(std::move(b)); }
-    void finish() override {}
-    std::vector<Batch> batches;
-};
-
-/// The store's bricks in a uniform grid over its bounds (each listed in the cells its box meets),
-/// to find the bricks a ball or a z range meets without scanning them all.
-class StoreBrickIndex {
-public:
-    explicit StoreBrickIndex(const PointStore& store) : bricks_(store.bricks()) {
-        const PointStoreInfo& in = store.info();
-        lo_ = Vec3{in.lo[0], in.lo[1], in.lo[2]};
-        const Vec3 hi{in.hi[0], in.hi[1], in.hi[2]};
-        side_ = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::cbrt(static_cast<double>(bricks_.size()))), 1, 64);
-        for (int a = 0; a < 3; ++a) inv_[a] = hi[a] > lo_[a] ? static_cast<double>(side_) / (hi[a] - lo_[a]) : 0.0;
-        std::vector<std::vector<std::uint32_t>> lists(static_cast<std::size_t>(side_ * side_ * side_));
-        for (std::size_t i = 0; i < bricks_.size(); ++i) {
-            const auto r = cells(Vec3{bricks_[i].lo[0], bricks_[i].lo[1], bricks_[i].lo[2]}, Vec3{bricks_[i].hi[0], bricks_[i].hi[1], bricks_[i].hi[2]});
-            for (std::int64_t k = r[0][2]; k <= r[1][2]; ++k)
-                for (std::int64_t j = r[0][1]; j <= r[1][1]; ++j)
-                    for (std::int64_t c = r[0][0]; c <= r[1][0]; ++c) lists[static_cast<std::size_t>(c + side_ * (j + side_ * k))].push_back(static_cast<std::uint32_t>(i));
-        }
-        first_.push_back(0);
-        for (const auto& l : lists) {
-            list_.insert(list_.end(), l.begin(), l.end());
-            first_.push_back(list_.size());
-        }
-        stamp_.assign(bricks_.size(), 0);
-    }
-    /// Calls f(i) once for every brick whose box meets the ball (c, r). Not thread-safe.
-    template <class F>
-    void meeting_ball(const Vec3& c, double r, F&& f) const {
-        const auto rc = cells(c - Vec3{r, r, r}, c + Vec3{r, r, r});
-        ++tick_;
-        for (std::int64_t k = rc[0][2]; k <= rc[1][2]; ++k)
-            for (std::int64_t j = rc[0][1]; j <= rc[1][1]; ++j)
-                for (std::int64_t x = rc[0][0]; x <= rc[1][0]; ++x) {
-                    const std::size_t cell = static_cast<std::size_t>(x + side_ * (j + side_ * k));
-                    for (std::size_t q = first_[cell]; q < first_[cell + 1]; ++q) {
-                        const std::uint32_t i = list_[q];
-                        if (stamp_[i] == tick_) continue;
-                        stamp_[i] = tick_;
-                        const PointBrickEntry& b = bricks_[i];
-                        double d2 = 0;
-                        for (int a = 0; a < 3; ++a) {
-                            const double e = c[a] < b.lo[static_cast<std::size_t>(a)] ? b.lo[static_cast<std::size_t>(a)] - c[a]
-                                             : (c[a] > b.hi[static_cast<std::size_t>(a)] ? c[a] - b.hi[static_cast<std::size_t>(a)] : 0.0);
-                            d2 += e * e;
-                        }
-                        if (d2 <= r * r) f(i);
-                    }
-                }
-    }
-
-private:
-    std::array<std::array<std::int64_t, 3>, 2> cells(const Vec3& lo, const Vec3& hi) const {
-        std::array<std::array<std::int64_t, 3>, 2> r{};
-        for (int a = 0; a < 3; ++a) {
-            const double top = static_cast<double>(side_ - 1);
-            const auto ua = static_cast<std::size_t>(a);
-            r[0][ua] = static_cast<std::int64_t>(std::clamp(std::floor((lo[a] - lo_[a]) * inv_[a]), 0.0, top));
-            r[1][ua] = static_cast<std::int64_t>(std::clamp(std::floor((hi[a] - lo_[a]) * inv_[a]), 0.0, top));
-        }
-        return r;
-    }
-    const std::vector<PointBrickEntry>& bricks_;
-    Vec3 lo_;
-    double inv_[3] = {0, 0, 0};
-    std::int64_t side_ = 1;
-    std::vector<std::size_t> first_;
-    std::vector<std::uint32_t> list_;
-    mutable std::vector<std::uint64_t> stamp_;
-    mutable std::uint64_t tick_ = 0;
-};
-
-/// One slab: its stencil layers, the z range of its queries and the bricks it loads: the points
-/// inside the loaded z range of the bricks that meet it, and every point of the `whole` bricks
-/// (those a lacking ball asked for).
-struct Slab {
-    std::int64_t s0 = 0, s1 = 0;
-    std::array<double, 2> query{}, loaded{};  // z ranges, world (loaded: +-infinity beyond the data)
-    std::vector<char> in;                     // per brick: read (1: its points in `loaded`, 2: all)
-    std::uint64_t points = 0;                 // at least the points it loads
-};
-
 class SlabPlanner {
 public:
     SlabPlanner(const PointStore& store, const ScatteredStorePlan& plan, double pad)
@@ -143,33 +53,17 @@ public:
     // The lowest world z where the field of stencil layers [s0, ...) is evaluated.
     double query_from(std::int64_t s0) const { return plan_.grid.origin.z + static_cast<double>(2 * s0 - 1) * plan_.grid.cell.z - pad_; }
     // Stencil layers [s0, s1) with a halo of `halo` world units along z, and the bricks `extra` flags.
-    Slab slab(std::int64_t s0, std::int64_t s1, double halo, const std::vector<char>& extra) const {
+    StoreSlab slab(std::int64_t s0, std::int64_t s1, double halo, const std::vector<char>& extra) const {
         const BinningGrid& g = plan_.grid;
         // the regularised block reaches one cell beyond the stencils' cells (kernels/stencil_seeds.cpp)
         const std::int64_t k1 = stencil_centre(s1 - 1, g.dims[2]) + 3;  // (and k0 = 2 s0 - 1: query_from)
-        Slab s;
-        s.s0 = s0;
-        s.s1 = s1;
-        s.query = {query_from(s0), g.origin.z + static_cast<double>(k1) * g.cell.z + pad_};
-        s.loaded = {s.query[0] - halo, s.query[1] + halo};
-        if (s.loaded[0] <= plan_.frame.bounds[0].z) s.loaded[0] = -kInf;  // (no points beyond the data)
-        if (s.loaded[1] >= plan_.frame.bounds[1].z) s.loaded[1] = kInf;
-        const auto& bricks = store_.bricks();
-        s.in.assign(bricks.size(), 0);
-        std::uint64_t read = 0, whole = 0;
-        for (std::size_t i = 0; i < bricks.size(); ++i) {
-            s.in[i] = extra[i] ? 2 : !(bricks[i].hi[2] < s.loaded[0] || bricks[i].lo[2] > s.loaded[1]);
-            if (s.in[i]) read += bricks[i].count;
-            if (s.in[i] == 2) whole += bricks[i].count;
-        }
-        // the cell layers meeting the loaded range bound the points kept of the bricks read
-        std::uint64_t layers = 0;
-        for (std::int64_t k = 0; k < g.dims[2]; ++k) {
-            const double z0 = g.origin.z + static_cast<double>(k) * g.cell.z;
-            if (!(z0 + g.cell.z < s.loaded[0] || z0 > s.loaded[1])) layers += plan_.layer_points[static_cast<std::size_t>(k)];
-        }
-        s.points = std::min(read, layers + whole);
-        return s;
+        return store_slab(store_, plan_, {query_from(s0), g.origin.z + static_cast<double>(k1) * g.cell.z + pad_}, halo, extra);
+    }
+    /// The x-y extent of every slab's queries: the grid, padded by Newton's reach.
+    std::array<Vec3, 2> query_xy() const {
+        const BinningGrid& g = plan_.grid;
+        return {Vec3{g.origin.x - pad_, g.origin.y - pad_, 0},
+                Vec3{g.origin.x + static_cast<double>(g.dims[0]) * g.cell.x + pad_, g.origin.y + static_cast<double>(g.dims[1]) * g.cell.y + pad_, 0}};
     }
 
 private:
@@ -178,31 +72,6 @@ private:
     StencilGrid sg_;
     double pad_;
 };
-
-/// The points of the slab's bricks, in store order.
-PointSet load_slab(const PointStore& store, const Slab& slab, double& seconds) {
-    const auto t0 = Clock::now();
-    PointSet ps;
-    ps.pos.reserve(slab.points);
-    ps.value.reserve(slab.points);
-    std::vector<double> raw;
-    for (std::size_t i = 0; i < slab.in.size(); ++i) {
-        if (!slab.in[i]) continue;
-        store.read_brick(i, raw);
-        const bool all = slab.in[i] == 2;
-        for (std::size_t k = 0; k < raw.size(); k += 4) {
-            if (!all && !(raw[k + 2] >= slab.loaded[0] && raw[k + 2] <= slab.loaded[1])) continue;
-            ps.pos.push_back(Vec3{raw[k], raw[k + 1], raw[k + 2]});
-            ps.value.push_back(raw[k + 3]);
-        }
-    }
-    ps.value_name = store.info().value_name;
-    ps.has_values = store.info().has_values;
-    ps.blocks.push_back(PointSetBlock{std::filesystem::path(store.path()).filename().string(),
-                                      {static_cast<std::int64_t>(ps.pos.size()), 1, 1}, 0, ps.pos.size()});
-    seconds += seconds_since(t0);
-    return ps;
-}
 
 void add_seed_stats(StencilSeedStats& to, const StencilSeedStats& s) {
     auto a = to.as_array();
@@ -385,54 +254,8 @@ StreamMeta scattered_store_meta(const ScatteredStorePlan& plan, double iso, int 
 
 namespace {
 
-// The first halo: two MPU fit spheres at the mean density (a leaf whose blend sphere meets the
-// query box fits the points of its sphere, which holds at most N points: radius (3N / 4 pi rho)^(1/3)
-// where the density is rho), at least two grid cells; lacking balls add what uneven data needs.
-double first_halo(const ScatteredStorePlan& plan, const FieldParams& field_params) {
-    const BinningGrid& g = plan.grid;
-    const Vec3 ext = plan.frame.bounds[1] - plan.frame.bounds[0];
-    const double volume = std::max(ext.x, g.cell.x) * std::max(ext.y, g.cell.y) * std::max(ext.z, g.cell.z);
-    const double leaf = std::cbrt(3.0 * field_params.mpu_max_points * volume / (4.0 * std::numbers::pi * static_cast<double>(plan.frame.points)));
-    return std::max(2 * g.cell.z, 2 * leaf);
-}
-
 /// Newton's reach from a seed (max travel cell diagonals), one diagonal more for a last trial step.
 double newton_pad(double diag, const FieldProjectParams& np) { return (np.seed_max_travel + 1) * diag * (1 + 1e-6); }
-
-/// A slab's FieldRegion: its query box (the grid in x-y and the slab's query range in z, padded by
-/// Newton's reach), its loaded z range, and the store's counts as the bounds of the points it lacks.
-/// The field is built on several threads: each count reads the brick index under a lock.
-class SlabRegion {
-public:
-    SlabRegion(const PointStore& store, const ScatteredStorePlan& plan, const StoreBrickIndex& index, const Slab& slab, double pad) {
-        const BinningGrid& g = plan.grid;
-        region.frame = plan.frame;
-        region.query = {Vec3{g.origin.x - pad, g.origin.y - pad, slab.query[0]},
-                        Vec3{g.origin.x + static_cast<double>(g.dims[0]) * g.cell.x + pad,
-                             g.origin.y + static_cast<double>(g.dims[1]) * g.cell.y + pad, slab.query[1]}};
-        region.loaded = {Vec3{-kInf, -kInf, slab.loaded[0]}, Vec3{kInf, kInf, slab.loaded[1]}};
-        region.missing = [this, &store, &plan, &index, &slab](const Vec3& c, double r) {
-            const std::lock_guard<std::mutex> hold(lock_);
-            // the bricks meeting the ball that were not read, or read in part where the ball
-            // leaves the loaded range; or the grid cells it meets outside that range
-            const bool below = c.z - r < slab.loaded[0], above = c.z + r > slab.loaded[1];
-            std::uint64_t n = 0;
-            index.meeting_ball(c, r, [&](std::size_t i) {
-                const PointBrickEntry& b = store.bricks()[i];
-                if (slab.in[i] == 0 || (slab.in[i] == 1 && ((below && b.lo[2] < slab.loaded[0]) || (above && b.hi[2] > slab.loaded[1]))))
-                    n += b.count;
-            });
-            return std::min(n, plan.points_near(c, r, slab.loaded));
-        };
-        region.present = [&plan](const Vec3& c, double r) { return plan.points_surely_in(c, r); };
-    }
-    SlabRegion(const SlabRegion&) = delete;
-    SlabRegion& operator=(const SlabRegion&) = delete;
-    FieldRegion region;
-
-private:
-    std::mutex lock_;
-};
 
 /// Adds a slab's seeding and Newton figures to the run's.
 void add_slab_stats(ScatteredIsosurfaceStats& st, const ScatteredIsosurfaceStats& part) {
@@ -442,21 +265,10 @@ void add_slab_stats(ScatteredIsosurfaceStats& st, const ScatteredIsosurfaceStats
     add_seed_stats(st.seeds, part.seeds);
 }
 
-/// The bricks above world z = from that the lacking balls of earlier slabs meet (the balls wholly
-/// below are dropped from `seen`): uneven data asks for the same far points slab after slab.
-std::vector<char> bricks_still_lacking(const PointStore& store, const StoreBrickIndex& index, std::vector<std::pair<Vec3, double>>& seen,
-                                       double from) {
-    std::vector<char> extra(store.bricks().size(), 0);
-    std::erase_if(seen, [&](const std::pair<Vec3, double>& b) { return b.first.z + b.second < from; });
-    for (const auto& [c, r] : seen)
-        index.meeting_ball(c, r, [&](std::size_t i) { extra[i] = extra[i] || store.bricks()[i].hi[2] >= from; });
-    return extra;
-}
-
 }  // namespace
 
 double store_slab_reach(const ScatteredStorePlan& plan, const FieldParams& field_params, const FieldProjectParams& np) {
-    return newton_pad(plan.grid.diagonal(), np) + first_halo(plan, field_params);
+    return newton_pad(plan.grid.diagonal(), np) + store_first_halo(plan, field_params);
 }
 
 std::uint64_t store_layers_loaded(const ScatteredStorePlan& plan, std::int64_t s0, std::int64_t s1, double reach) {
@@ -475,27 +287,17 @@ std::uint64_t store_layers_loaded(const ScatteredStorePlan& plan, std::int64_t s
 namespace {
 
 /// The slab's points loaded and binned on the plan's grid, counted in the report.
-ScatteredIsosurfaceInput slab_input(const PointStore& store, const ScatteredStorePlan& plan, const Slab& slab, double reg_gap,
+ScatteredIsosurfaceInput slab_input(const PointStore& store, const ScatteredStorePlan& plan, const StoreSlab& slab, double reg_gap,
                                     ScatteredStoreReport& rep) {
     ScatteredIsosurfaceInput in;
     in.source = plan.source;
-    in.points = load_slab(store, slab, rep.read_seconds);
+    in.points = load_store_slab(store, slab, rep.read_seconds);
     in.grid = plan.grid;
     in.bins = bin_points(plan.grid, in.points.pos);
     in.reg_gap = reg_gap;
     rep.loaded += in.points.size();
     rep.most_loaded = std::max<std::uint64_t>(rep.most_loaded, in.points.size());
     return in;
-}
-
-/// Flags the bricks the field's lacking balls meet in `extra` and remembers the balls in `seen`;
-/// returns the bricks newly flagged.
-std::size_t add_lacking_bricks(const MpuField& field, const StoreBrickIndex& index, std::vector<char>& extra,
-                               std::vector<std::pair<Vec3, double>>& seen) {
-    std::size_t added = 0;
-    for (const auto& [c, r] : field.lacking_balls()) index.meeting_ball(c, r, [&](std::size_t i) { added += !extra[i]; extra[i] = 1; });
-    seen.insert(seen.end(), field.lacking_balls().begin(), field.lacking_balls().end());
-    return added;
 }
 
 /// The refusal of a budget too small for one stencil layer's field (`need` bytes for `loaded`
@@ -546,14 +348,6 @@ void record_slab(ScatteredIsosurfaceStats& st, ScatteredStoreReport& rep, const 
     ++rep.slabs;
 }
 
-/// A slab's batches to the sink, numbered on from the slabs before.
-void forward_batches(SlabBuffer& buf, Sink& sink, std::uint64_t& seq) {
-    for (Batch& b : buf.batches) {
-        b.seq = seq++;
-        sink.consume(std::move(b));
-    }
-}
-
 }  // namespace
 
 ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store, const ScatteredStorePlan& plan,
@@ -586,9 +380,9 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
     // bytes a loaded point: the first guess until a field shows its own (the most a point took so far)
     double field_per_point = 0;
     const auto per_point = [&] { return field_per_point > 0 ? 1.1 * field_per_point + sp.other_bytes_per_point : sp.bytes_per_point; };
-    const auto fits = [&](const Slab& s) { return static_cast<double>(s.points) * per_point() + 2.0 * static_cast<double>(cache.bytes()) <= budget; };
+    const auto fits = [&](const StoreSlab& s) { return static_cast<double>(s.points) * per_point() + 2.0 * static_cast<double>(cache.bytes()) <= budget; };
     std::uint64_t seq = 0;
-    const double halo0 = first_halo(plan, field_params);
+    const double halo0 = store_first_halo(plan, field_params);
     std::vector<std::pair<Vec3, double>> seen;  // the lacking balls of the slabs so far
     const std::int64_t first = std::clamp<std::int64_t>(sp.layers[0], 0, planner.layers());
     const std::int64_t end = sp.layers[1] < 0 ? planner.layers() : std::clamp<std::int64_t>(sp.layers[1], first, planner.layers());
@@ -599,13 +393,13 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
         std::int64_t s1 = s0 + 1;
         while (s1 < end && fits(planner.slab(s0, s1 + 1, halo, extra))) ++s1;
         for (;;) {
-            const Slab slab = planner.slab(s0, s1, halo, extra);
+            const StoreSlab slab = planner.slab(s0, s1, halo, extra);
             if (!fits(slab) && s1 > s0 + 1) {  // (one layer is tried whatever the guess: its octree will tell)
                 --s1;
                 continue;
             }
             ScatteredIsosurfaceInput in = slab_input(store, plan, slab, sp.reg_gap, rep);
-            SlabRegion slab_region(store, plan, index, slab, pad);
+            StoreSlabRegion slab_region(store, plan, index, slab, planner.query_xy());
             FieldRegion& region = slab_region.region;
             const double others = static_cast<double>(in.points.size()) * sp.other_bytes_per_point + 2.0 * static_cast<double>(cache.bytes());
             region.max_field_bytes = static_cast<std::uint64_t>(std::max(1.0, budget - others));
@@ -629,7 +423,7 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                 if (fewer_layers_or_no_kept_fits(s0, s1, cache, static_cast<double>(region.max_field_bytes) / need)) continue;
                 throw budget_too_small(store, planner, s0, halo0, in.points.size(), need, others, fixed, sp);
             }
-            SlabBuffer buf;
+            BatchBuffer buf(Payload::points);
             ScatteredIsosurfaceStats part;
             if (in.coverage) in.coverage->set_part_of(region.loaded);
             StencilSource source{StencilGrid(g.dims), s0 * planner.stencils_per_layer(), s1 * planner.stencils_per_layer()};
@@ -642,7 +436,7 @@ ScatteredIsosurfaceStats run_scattered_store_isosurface(const PointStore& store,
                 continue;
             }
             cache.advance();
-            forward_batches(buf, sink, seq);
+            buf.forward(sink, seq);
             record_slab(st, rep, part, fst, halo / g.cell.z);
             if (progress) progress(static_cast<double>((s1 - s0) * planner.stencils_per_layer()));
             break;
