@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
@@ -16,7 +17,9 @@
 #include "cli/field_cli.hpp"
 #include "cli/progress_meter.hpp"
 #include "formats/position_list.hpp"
+#include "formats/point_store.hpp"
 #include "stream/field_queries.hpp"
+#include "stream/store_field_queries.hpp"
 
 namespace meshless::cli {
 
@@ -32,6 +35,30 @@ FieldQueryRun query_run(const Args& a, const BuiltField& f, ProgressMeter& meter
             }};
 }
 
+/// A point store queried slab by slab (stream/store_field_queries.hpp): the store and its plan, the
+/// run under --threads with the progress meter and the support report, the --stats line.
+struct StoreSlabQuery {
+    explicit StoreSlabQuery(const Args& args)
+        : a(args), store(PointStore::open(args.positional()[0])),
+          plan(plan_scattered_store(*store, joined_names(args.positional()), BinningGridParams{}, InputWarning{})) {}
+    FieldQueryRun run(ProgressMeter& meter, const StoreQueryParams& p, std::function<void(const FieldQueryStats&)> more = {}) {
+        const bool coverage = p.max_gap > 0;
+        const Extrapolate mode = p.extrapolate;
+        return {threads(a), [&meter](double n) { meter.add(n); }, [this, &meter, coverage, mode, more](const FieldQueryStats& s) {
+                    meter.done();
+                    report_field_support(stderr, a.command(), coverage, mode, s, a.has("stats"));
+                    if (more) more(s);
+                }};
+    }
+    void print_stats() const {
+        if (a.has("stats")) print_store_query_stats(stderr, a.command().c_str(), plan, report);
+    }
+    const Args& a;
+    std::unique_ptr<PointStore> store;
+    ScatteredStorePlan plan;
+    StoreQueryReport report;
+};
+
 }  // namespace
 
 int cmd_probe(int argc, char** argv) {
@@ -43,6 +70,7 @@ int cmd_probe(int argc, char** argv) {
         .option("at-file", "", "FILE", "positions, three numbers per line (CSV or whitespace; header allowed); - = stdin")
         .option("output", "o", "FILE", "CSV output, '-' = stdout", "-");
     add_field_options(a, /*with_coverage=*/true, kDataFieldDefaultHelp);
+    add_store_memory_option(a);
     add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
@@ -61,6 +89,14 @@ int cmd_probe(int argc, char** argv) {
         at.insert(at.end(), more.begin(), more.end());
     }
     if (at.empty()) throw UsageError("nothing to probe: give --at x,y,z or --at-file FILE");
+    if (queries_store_slabs(a)) {
+        const StoreQueryParams p = store_query_params(a);
+        StoreSlabQuery sq(a);
+        ProgressMeter meter = ProgressMeter::of(a, "positions", static_cast<double>(at.size()));
+        probe_store_field(*sq.store, sq.plan, p, std::move(at), csv, sq.run(meter, p), &sq.report);
+        sq.print_stats();
+        return 0;
+    }
     const PointSet pts = read_points_arg(a);
     const auto field = build_field(a, pts, data_field_default(a.positional()));
     ProgressMeter meter = ProgressMeter::of(a, "positions", static_cast<double>(at.size()));
@@ -81,6 +117,7 @@ int cmd_slice(int argc, char** argv) {
         .option("near", "", "D", "overlay data points within D >= 0 of the plane (default: half the mean point spacing)")
         .flag("colorbar", "draw the colour map and its value range (--range or the data's) as a legend bar at the right edge");
     add_field_options(a, /*with_coverage=*/true, kDataFieldDefaultHelp);
+    add_store_memory_option(a);
     add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
@@ -95,9 +132,17 @@ int cmd_slice(int argc, char** argv) {
     const auto [W, H] = parse_size(a.get_or("size", "1024x1024"), "--size", 2, 16384);
     check_option_fits(a, "--size " + a.get_or("size", "1024x1024"), "the RGB image (3 bytes a pixel)", image_bytes(W, H, 3),
                       "give a smaller --size");
-    const PointSet pts = read_points_arg(a);
-    const auto field = build_field(a, pts, data_field_default(a.positional()));
-    r.range = pts.value_range();
+    std::optional<StoreSlabQuery> sq;
+    PointSet pts;
+    BuiltField field;
+    if (queries_store_slabs(a)) {
+        sq.emplace(a);
+        r.range = sq->plan.value_range;
+    } else {
+        pts = read_points_arg(a);
+        field = build_field(a, pts, data_field_default(a.positional()));
+        r.range = pts.value_range();
+    }
     if (auto v = a.get("range")) {
         if (std::sscanf(v->c_str(), "%lf,%lf", &r.range[0], &r.range[1]) != 2 || !(r.range[0] < r.range[1]))
             throw UsageError("--range: expected LO,HI with LO < HI, got '" + *v + "'");
@@ -107,13 +152,21 @@ int cmd_slice(int argc, char** argv) {
         if (*r.near < 0) throw UsageError("--near: expected a distance >= 0, got " + *d);
     }
     r.colorbar = a.has("colorbar");
-    const PlaneRaster raster = slice_raster(pts, axis, at, W, H);
+    const PlaneRaster raster = sq ? slice_raster(sq->plan.frame.bounds, axis, at, W, H) : slice_raster(pts, axis, at, W, H);
     ProgressMeter meter = ProgressMeter::of(a, "pixels", static_cast<double>(raster.width) * raster.height);
-    const SliceResult res = slice_field(field, pts, raster, r, query_run(a, field, meter, [&](const FieldQueryStats& s) {
+    const auto outside = [&](const FieldQueryStats& s) {
         if (s.uncovered == s.positions)
             std::fprintf(stderr, "meshless slice: warning: the plane %c=%g does not meet the data (every pixel is outside it)\n",
                          'x' + axis, at);
-    }));
+    };
+    SliceResult res;
+    if (sq) {
+        const StoreQueryParams p = store_query_params(a);
+        res = slice_store_field(*sq->store, sq->plan, p, raster, r, sq->run(meter, p, outside), &sq->report);
+        sq->print_stats();
+    } else {
+        res = slice_field(field, pts, raster, r, query_run(a, field, meter, outside));
+    }
     if (a.has("stats"))
         std::fprintf(stderr, "slice: %dx%d pixels, %g world units per pixel, %zu data points within %g of the plane\n",
                      raster.width, raster.height, raster.pixel, res.shown, res.near);
@@ -129,6 +182,7 @@ int cmd_resample(int argc, char** argv) {
         .deprecated_alias("dims")
         .option("output", "o", "FILE", "NRRD output (required)");
     add_field_options(a, /*with_coverage=*/true, kDataFieldDefaultHelp);
+    add_store_memory_option(a);
     add_quiet_option(a);
     a.positionals(1, 1000);
     if (!a.parse(argc, argv, 2)) return 0;
@@ -140,6 +194,15 @@ int cmd_resample(int argc, char** argv) {
         dims[i] = static_cast<std::int64_t>((*d)[i]);
     }
     const std::string out = require_output_extension(a.require("output"), ".nrrd", "-o", "a float32 volume (NRRD)");
+    if (queries_store_slabs(a)) {
+        const StoreQueryParams p = store_query_params(a);
+        StoreSlabQuery sq(a);
+        const GridSpec g = resample_grid(sq.plan.frame.bounds, dims);
+        ProgressMeter meter = ProgressMeter::of(a, "voxels", static_cast<double>(g.voxel_count()));
+        resample_store_field(*sq.store, sq.plan, p, g, out, sq.run(meter, p), &sq.report);
+        sq.print_stats();
+        return 0;
+    }
     const PointSet pts = read_points_arg(a);
     const auto field = build_field(a, pts, data_field_default(a.positional()));
     const GridSpec g = resample_grid(pts, dims);

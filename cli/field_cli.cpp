@@ -12,6 +12,8 @@
 #include "formats/file_names.hpp"
 #include "formats/multiblock_reader.hpp"
 #include "formats/point_set_reader.hpp"
+#include "formats/point_store.hpp"
+#include "stream/available_memory.hpp"
 #include "kernels/make_field.hpp"
 #include "kernels/point_set_identity.hpp"
 
@@ -191,18 +193,50 @@ BuiltField build_field(const Args& a, const PointSet& points, const std::string&
         if (a.has("stats") && (!share || share->rank == 0)) print_field_build_report(stderr, a.command(), params, points, st);
     }
     if (a.declared("max-gap")) {
-        const double gap = parse_finite(a.get_or("max-gap", "1"), "--max-gap");
-        if (gap < 0) throw UsageError("--max-gap: expected a factor >= 0");
-        if (gap > 0) f.coverage = std::make_unique<PointCoverage>(points.pos, points.value, gap);
-        const std::string e = a.get_or("extrapolate", "nan");
-        if (e == "nan") f.extrapolate = Extrapolate::nan;
-        else if (e == "clamp") f.extrapolate = Extrapolate::clamp;
-        else if (e == "nearest") f.extrapolate = Extrapolate::nearest;
-        else throw UsageError("--extrapolate: expected nan, clamp or nearest, got '" + e + "'");
-        if (gap == 0 && a.has("extrapolate"))
-            throw UsageError("--extrapolate needs a support test: it has no effect with --max-gap 0");
+        const SupportTestOptions t = support_test_options(a);
+        if (t.max_gap > 0) f.coverage = std::make_unique<PointCoverage>(points.pos, points.value, t.max_gap);
+        f.extrapolate = t.extrapolate;
     }
     return f;
+}
+
+SupportTestOptions support_test_options(const Args& a) {
+    SupportTestOptions t;
+    t.max_gap = parse_finite(a.get_or("max-gap", "1"), "--max-gap");
+    if (t.max_gap < 0) throw UsageError("--max-gap: expected a factor >= 0");
+    const std::string e = a.get_or("extrapolate", "nan");
+    if (e == "nan") t.extrapolate = Extrapolate::nan;
+    else if (e == "clamp") t.extrapolate = Extrapolate::clamp;
+    else if (e == "nearest") t.extrapolate = Extrapolate::nearest;
+    else throw UsageError("--extrapolate: expected nan, clamp or nearest, got '" + e + "'");
+    if (t.max_gap == 0 && a.has("extrapolate")) throw UsageError("--extrapolate needs a support test: it has no effect with --max-gap 0");
+    return t;
+}
+
+void add_store_memory_option(Args& a) {
+    a.option("memory", "", "BYTES",
+             "a point store (.mlc) with the mpu field: the budget its slabs along z are sized to, e.g. 512M, 2G "
+             "(default: the memory this process may use); the output does not depend on it. Other inputs are held whole")
+        .validate([](const std::string& v) { (void)parse_memory_size(v); });
+}
+
+bool queries_store_slabs(const Args& a) {
+    const bool slabs = a.positional().size() == 1 && !field_file_arg(a) && is_point_store(a.positional()[0]) &&
+                       field_kind_arg(a, kPointsFieldDefault) == "mpu";
+    if (!slabs && a.has("memory"))  // (a budget the run cannot keep: say so rather than exceed it silently)
+        std::fprintf(stderr, "meshless %s: warning: --memory bounds only a point store (.mlc) with the mpu field; these points "
+                             "and their field are held in memory whole\n", a.command().c_str());
+    return slabs;
+}
+
+StoreQueryParams store_query_params(const Args& a) {
+    StoreQueryParams p;
+    p.field = field_params(a, kPointsFieldDefault);
+    const SupportTestOptions t = support_test_options(a);
+    p.max_gap = t.max_gap;
+    p.extrapolate = t.extrapolate;
+    p.memory_bytes = a.has("memory") ? parse_memory_size(*a.get("memory")) : available_memory();
+    return p;
 }
 
 BuiltField load_field_arg(const Args& a) {

@@ -16,6 +16,7 @@
 #include "kernels/field_params.hpp"
 #include "kernels/point_set.hpp"
 #include "stream/field_data.hpp"
+#include "stream/store_field_queries.hpp"
 
 namespace meshless::cli {
 
@@ -55,6 +56,24 @@ std::unique_ptr<Field> fit_input_field(const Args& a, const PointSet& points, co
 /// default_kind: as for field_params. share (optional): the mpu fits shared among MPI ranks
 /// (kernels/field_params.hpp FitShare; a .mlf is loaded whole by every rank).
 BuiltField build_field(const Args& a, const PointSet& points, const std::string& default_kind = {}, const FitShare* share = nullptr);
+
+/// --max-gap and --extrapolate (commands with add_field_options(a, true)): the support test's factor
+/// (0: none) and what a position outside the data gets. UsageError for bad values.
+struct SupportTestOptions {
+    double max_gap = 1;
+    Extrapolate extrapolate = Extrapolate::nan;
+};
+SupportTestOptions support_test_options(const Args& a);
+
+/// --memory BYTES of the field queries (probe, resample): a point store's slab budget.
+void add_store_memory_option(Args& a);
+/// A single point store (.mlc) queried through the mpu field (not a .mlf): what runs slab by slab
+/// within --memory (stream/store_field_queries.hpp). A --memory given to any other input is a
+/// warning on stderr: the points and their field are then held whole.
+bool queries_store_slabs(const Args& a);
+/// The field, support test and --memory budget (default: the memory this process may use) of a
+/// store's slab queries.
+StoreQueryParams store_query_params(const Args& a);
 
 /// For commands without the data: the .mlf named by --field, loaded (no coverage). UsageError when
 /// --field names a field kind instead of a file.

@@ -150,6 +150,12 @@ void PointCoverage::set_part_of(const std::array<Vec3, 2>& held) {
 
 bool PointCoverage::part_exact() const { return !impl_->inexact.load(); }
 
+void PointCoverage::set_value_range(const std::array<double, 2>& range) {
+    if (impl_->values.empty()) return;
+    impl_->global_lo = range[0];
+    impl_->global_hi = range[1];
+}
+
 bool PointCoverage::covered(const Vec3& x) const { return impl_->covered(x); }
 
 std::size_t PointCoverage::mask(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const {

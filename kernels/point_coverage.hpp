@@ -58,6 +58,9 @@ public:
     /// that its answer is the whole set's; part_exact() says whether all of them did.
     void set_part_of(const std::array<Vec3, 2>& held);
     bool part_exact() const;
+    /// The whole set's value range, for points that are a part of it (set_part_of): values are kept
+    /// within [range[0], range[1]] instead of the given points' own range. No effect without values.
+    void set_value_range(const std::array<double, 2>& range);
     /// Sets value[i] (and grad[i]) to NaN where p[i] is not covered; returns how many.
     std::size_t mask(std::span<const Vec3> p, std::span<double> value, std::span<Vec3> grad) const;
     /// The support test, then: covered values kept within the data range (when values were given),

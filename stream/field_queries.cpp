@@ -31,17 +31,19 @@ std::array<int, 2> image_axes(int axis) {
     return {std::min(u, v), std::max(u, v)};
 }
 
-/// Half the mean point spacing: the bounding box's measure (over its non-flat axes) per point, to
-/// the power one over their count.
-double half_spacing(const PointSet& points) {
-    const auto [lo, hi] = points.bounds();
+}  // namespace
+
+double half_spacing(const std::array<Vec3, 2>& box, std::size_t points) {
+    const auto [lo, hi] = box;
     const Vec3 ext = hi - lo;
     double vol = 1;
     int k = 0;
     for (int d = 0; d < 3; ++d)
         if (ext[d] > 0) vol *= ext[d], ++k;
-    return 0.5 * (k ? std::pow(vol / std::max<std::size_t>(1, points.size()), 1.0 / k) : 0);
+    return 0.5 * (k ? std::pow(vol / static_cast<double>(std::max<std::size_t>(1, points)), 1.0 / k) : 0);
 }
+
+namespace {
 
 /// Draws the points within `near` of the plane as 3x3 dots (white centre, dark rim); returns how many.
 std::size_t draw_near_points(Image& img, const PointSet& points, const PlaneRaster& r, double near) {
@@ -73,7 +75,11 @@ FieldQueryStats probe_field(const BuiltField& f, std::vector<Vec3> at, const std
 }
 
 PlaneRaster slice_raster(const PointSet& points, int axis, double at, int max_width, int max_height) {
-    const auto [lo, hi] = points.bounds();
+    return slice_raster(points.bounds(), axis, at, max_width, max_height);
+}
+
+PlaneRaster slice_raster(const std::array<Vec3, 2>& box, int axis, double at, int max_width, int max_height) {
+    const auto [lo, hi] = box;
     const auto [ua, va] = image_axes(axis);
     const double eu = std::max(hi[ua] - lo[ua], 1e-12), ev = std::max(hi[va] - lo[va], 1e-12);
     PlaneRaster r;
@@ -93,16 +99,21 @@ SliceResult slice_field(const BuiltField& f, const PointSet& points, const Plane
     SliceImageSink sink(raster.width, raster.height, r.colormap, r.range[0], r.range[1]);
     SliceResult out;
     out.queries = run_queries(source, f, sink, static_cast<std::size_t>(raster.width) * static_cast<std::size_t>(raster.height), run);
-    Image& img = sink.image();
-    out.near = r.near ? *r.near : half_spacing(points);
-    out.shown = draw_near_points(img, points, raster, out.near);
-    if (r.colorbar) draw_colorbar(img, r.colormap, r.range[0], r.range[1]);
-    write_png(img, r.output);
+    out.near = r.near ? *r.near : half_spacing(points.bounds(), points.size());
+    finish_slice(sink.image(), points, raster, r, out);
     return out;
 }
 
-GridSpec resample_grid(const PointSet& points, const std::array<std::int64_t, 3>& dims) {
-    const auto [lo, hi] = points.bounds();
+void finish_slice(Image& img, const PointSet& near_points, const PlaneRaster& raster, const SliceRequest& r, SliceResult& out) {
+    out.shown = draw_near_points(img, near_points, raster, out.near);
+    if (r.colorbar) draw_colorbar(img, r.colormap, r.range[0], r.range[1]);
+    write_png(img, r.output);
+}
+
+GridSpec resample_grid(const PointSet& points, const std::array<std::int64_t, 3>& dims) { return resample_grid(points.bounds(), dims); }
+
+GridSpec resample_grid(const std::array<Vec3, 2>& box, const std::array<std::int64_t, 3>& dims) {
+    const auto [lo, hi] = box;
     GridSpec g;
     for (int i = 0; i < 3; ++i) {
         g.dims[i] = dims[i];
@@ -115,20 +126,24 @@ GridSpec resample_grid(const PointSet& points, const std::array<std::int64_t, 3>
 FieldQueryStats resample_field(const BuiltField& f, const PointSet& points, const GridSpec& g, const std::string& path,
                                const FieldQueryRun& run) {
     GridRasterSource source(g);
-    NrrdVolumeSink sink(g, path,
-                        "meshless resample: " + std::string(f.field->name()) + " field of " + std::to_string(points.size()) + " points");
+    NrrdVolumeSink sink(g, path, resample_comment(f.field->name(), points.size()));
     return run_queries(source, f, sink, static_cast<std::size_t>(g.voxel_count()), run);
 }
 
 void report_field_support(std::FILE* out, const std::string& cmd, const BuiltField& f, const FieldQueryStats& e, bool stats) {
-    if (!f.coverage) return;
+    report_field_support(out, cmd, f.coverage != nullptr, f.extrapolate, e, stats);
+}
+
+void report_field_support(std::FILE* out, const std::string& cmd, bool coverage, Extrapolate mode, const FieldQueryStats& e,
+                          bool stats) {
+    if (!coverage) return;
     static constexpr const char* kModes[] = {"NaN", "clamped", "the nearest data value"};
     if (stats)
         std::fprintf(out, "%s: %zu positions outside the data (%s), %zu values kept within the data range\n",
-                     cmd.c_str(), e.uncovered, kModes[static_cast<int>(f.extrapolate)], e.clamped);
+                     cmd.c_str(), e.uncovered, kModes[static_cast<int>(mode)], e.clamped);
     // (under --extrapolate nan, the default, only positions inside the data are clamped)
     const std::size_t inside = e.positions - std::min(e.positions, e.uncovered);
-    if (f.extrapolate == Extrapolate::nan && inside > 0 && 10 * e.clamped > inside)
+    if (mode == Extrapolate::nan && inside > 0 && 10 * e.clamped > inside)
         std::fprintf(out,
                      "meshless %s: warning: %zu of the %zu values inside the data (%.0f %%) lay outside its value range "
                      "and were clamped to it: the field overshoots its data there\n",

@@ -21,11 +21,13 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "kernels/colormap.hpp"
 #include "kernels/grid.hpp"
 #include "kernels/point_set.hpp"
+#include "kernels/splat_rasterizer.hpp"
 #include "stream/field_data.hpp"
 #include "stream/field_query_sources.hpp"
 
@@ -44,6 +46,9 @@ struct FieldQueryStats {
 /// noisy values), and a picture's flat areas at the range's ends are the clamp's, not the data's.
 /// Lines to `out`, naming `cmd`.
 void report_field_support(std::FILE* out, const std::string& cmd, const BuiltField& f, const FieldQueryStats& e, bool stats);
+/// The same for a field with (coverage) or without a support test, `mode` outside the data.
+void report_field_support(std::FILE* out, const std::string& cmd, bool coverage, Extrapolate mode, const FieldQueryStats& e,
+                          bool stats);
 
 /// How a query graph runs.
 struct FieldQueryRun {
@@ -60,6 +65,8 @@ FieldQueryStats probe_field(const BuiltField& f, std::vector<Vec3> at, const std
 /// that fit the box's extent in max_width x max_height (at least 2 x 2 pixels; a flat extent counts
 /// as 1e-12).
 PlaneRaster slice_raster(const PointSet& points, int axis, double at, int max_width, int max_height);
+/// The same over the box {lo, hi}.
+PlaneRaster slice_raster(const std::array<Vec3, 2>& box, int axis, double at, int max_width, int max_height);
 
 /// The picture of slice_field.
 struct SliceRequest {
@@ -79,8 +86,22 @@ struct SliceResult {
 SliceResult slice_field(const BuiltField& f, const PointSet& points, const PlaneRaster& raster, const SliceRequest& r,
                         const FieldQueryRun& run);
 
+/// The overlay and the file of a slice whose field is in `img`: near_points within out.near of the
+/// plane drawn as dots (out.shown counts them), the colour bar when asked, the PNG written.
+void finish_slice(Image& img, const PointSet& near_points, const PlaneRaster& raster, const SliceRequest& r, SliceResult& out);
+
+/// Half the mean point spacing of `points` points over `box`: its measure (over its non-flat axes)
+/// per point, to the power one over their count (the slice's default overlay distance).
+double half_spacing(const std::array<Vec3, 2>& box, std::size_t points);
+
 /// The grid of `dims` samples spanning the points' bounding box (spacing 1 along an axis the box is flat in).
 GridSpec resample_grid(const PointSet& points, const std::array<std::int64_t, 3>& dims);
+/// The same over the box {lo, hi}.
+GridSpec resample_grid(const std::array<Vec3, 2>& box, const std::array<std::int64_t, 3>& dims);
+/// The NRRD comment of a resampled field: "meshless resample: FIELD field of N points".
+inline std::string resample_comment(std::string_view field, std::uint64_t points) {
+    return "meshless resample: " + std::string(field) + " field of " + std::to_string(points) + " points";
+}
 /// The field at the samples of `g`, x fastest, as a float32 NRRD at `path` whose comment names the
 /// field and the points it was built from.
 FieldQueryStats resample_field(const BuiltField& f, const PointSet& points, const GridSpec& g, const std::string& path,

@@ -50,7 +50,7 @@ std::optional<Batch> PlaneRasterSource::next() {
 }
 
 std::optional<Batch> GridRasterSource::next() {
-    const std::int64_t total = g_.voxel_count();
+    const std::int64_t total = end_;
     if (next_ >= total) return std::nullopt;
     Batch b = query_batch(seq_++, false);
     const std::int64_t end = std::min<std::int64_t>(total, next_ + static_cast<std::int64_t>(per_));

@@ -57,13 +57,16 @@ class GridRasterSource final : public Source {
 public:
     Payload gives() const override { return Payload::queries; }
     explicit GridRasterSource(const GridSpec& g, std::size_t batch_queries = kQueriesPerBatch)
-        : g_(g), per_(batch_queries ? batch_queries : 1) {}
+        : g_(g), per_(batch_queries ? batch_queries : 1), end_(g.voxel_count()) {}
+    /// The samples [first, end) of the grid only (x fastest; a run of whole z layers, say).
+    GridRasterSource(const GridSpec& g, std::int64_t first, std::int64_t end, std::size_t batch_queries = kQueriesPerBatch)
+        : g_(g), per_(batch_queries ? batch_queries : 1), next_(first), end_(end) {}
     std::optional<Batch> next() override;
 
 private:
     GridSpec g_;
     std::size_t per_;
-    std::int64_t next_ = 0;
+    std::int64_t next_ = 0, end_ = 0;
     std::uint64_t seq_ = 0;
 };
 

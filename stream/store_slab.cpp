@@ -12,7 +12,7 @@
 namespace meshless {
 
 namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNoBound = std::numeric_limits<double>::infinity();
 }  // namespace
 
 StoreBrickIndex::StoreBrickIndex(const PointStore& store) : bricks_(store.bricks()) {
@@ -63,8 +63,8 @@ StoreSlab store_slab(const PointStore& store, const ScatteredStorePlan& plan, co
     StoreSlab s;
     s.query = query;
     s.loaded = {s.query[0] - halo, s.query[1] + halo};
-    if (s.loaded[0] <= plan.frame.bounds[0].z) s.loaded[0] = -kInf;  // (no points beyond the data)
-    if (s.loaded[1] >= plan.frame.bounds[1].z) s.loaded[1] = kInf;
+    if (s.loaded[0] <= plan.frame.bounds[0].z) s.loaded[0] = -kNoBound;  // (no points beyond the data)
+    if (s.loaded[1] >= plan.frame.bounds[1].z) s.loaded[1] = kNoBound;
     const auto& bricks = store.bricks();
     s.in.assign(bricks.size(), 0);
     std::uint64_t read = 0, whole = 0;
@@ -119,7 +119,7 @@ StoreSlabRegion::StoreSlabRegion(const PointStore& store, const ScatteredStorePl
                                  const StoreSlab& slab, const std::array<Vec3, 2>& query_xy) {
     region.frame = plan.frame;
     region.query = {Vec3{query_xy[0].x, query_xy[0].y, slab.query[0]}, Vec3{query_xy[1].x, query_xy[1].y, slab.query[1]}};
-    region.loaded = {Vec3{-kInf, -kInf, slab.loaded[0]}, Vec3{kInf, kInf, slab.loaded[1]}};
+    region.loaded = {Vec3{-kNoBound, -kNoBound, slab.loaded[0]}, Vec3{kNoBound, kNoBound, slab.loaded[1]}};
     region.missing = [this, &store, &plan, &index, &slab](const Vec3& c, double r) {
         const std::lock_guard<std::mutex> hold(lock_);
         // the bricks meeting the ball that were not read, or read in part where the ball

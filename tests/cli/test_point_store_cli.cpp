@@ -260,6 +260,66 @@ TEST_CASE("isosurface of a .mlc in slabs within --memory: the bytes of one slab 
     CHECK(temporaries(dir.path).empty());
 }
 
+TEST_CASE("probe, slice and resample of a .mlc in slabs within --memory: the whole field's bytes for any budget and --threads",
+          "[cli][point_store]") {
+    TempDir dir("mlc-cli-queries");
+    const std::string csv = (dir / "u.csv").string(), mlc = (dir / "u.mlc").string(), mlf = (dir / "u.mlf").string();
+    spit(csv, uniform_points_csv(7));
+    REQUIRE(sh("MESHLESS convert " + csv + " -o " + mlc + " --brick-points 256", dir).code == 0);
+    // the oracle: the field fitted to the whole store in memory (fit), its support test over every point
+    REQUIRE(sh("MESHLESS fit " + mlc + " -o " + mlf, dir).code == 0);
+    std::string at = "x,y,z\n";  // positions in and beyond the unit cube, in no order
+    for (int i = 0; i < 3000; ++i) {
+        char line[96];
+        std::snprintf(line, sizeof line, "%.5f,%.5f,%.5f\n", -0.1 + 1.2 * std::fmod(i * 0.6180339887, 1.0),
+                      -0.1 + 1.2 * std::fmod(i * 0.7548776662, 1.0), -0.1 + 1.2 * std::fmod(i * 0.5698402910, 1.0));
+        at += line;
+    }
+    spit((dir / "at.csv").string(), at);
+    struct Query {
+        const char* name;
+        std::string args;
+    };
+    const std::vector<Query> queries{{"ref.nrrd", "resample " + mlc + " --grid 24,20,28"},
+                                     {"ref.csv", "probe " + mlc + " --at-file " + (dir / "at.csv").string()},
+                                     {"ref.png", "slice " + mlc + " --plane y=0.4 --size 120x120 --colorbar"}};
+    for (const Query& q : queries) {
+        INFO(q.args);
+        const auto ext = fs::path(q.name).extension().string();
+        auto r = sh("MESHLESS " + q.args + " --field " + mlf + " -o " + (dir / q.name).string(), dir);
+        REQUIRE(r.code == 0);
+        const std::string want = slurp((dir / q.name).string());
+        REQUIRE(want.size() > 1000);
+#ifdef MESHLESS_SANITIZED  // (the in-memory budget and one thread count: the main tier runs them all)
+        const std::vector<const char*> budgets{"--memory 2G -j 2", "--memory 20M -j 2"};
+#else
+        const std::vector<const char*> budgets{"--memory 2G -j 2", "--memory 30M -j 1", "--memory 20M -j 2"};
+#endif
+        for (const char* opts : budgets) {
+            INFO(opts);
+            const std::string out = (dir / ("out" + ext)).string();
+            r = sh("MESHLESS " + q.args + " --stats -o " + out + " " + opts, dir);
+            INFO(r.err);
+            REQUIRE(r.code == 0);
+            CHECK(r.err.find(std::string(opts).find("2G") != std::string::npos ? "point store in 1 slabs" : " slabs (") != std::string::npos);
+            CHECK(slurp(out) == want);
+        }
+        // a budget below one slab's field: exit 1, one line saying how much would do, nothing written
+        const std::string small = (dir / ("small" + ext)).string();
+        r = sh("MESHLESS " + q.args + " -o " + small + " --memory 4M", dir);
+        CHECK(r.code == 1);
+        CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+        CHECK(r.err.find("--memory 4 MiB is too small for this store") != std::string::npos);
+        CHECK(r.err.find("it needs about --memory") != std::string::npos);
+        CHECK_FALSE(fs::exists(small));
+    }
+    // another field kind holds the points whole, and --memory says so
+    auto r = sh("MESHLESS resample " + mlc + " --grid 8,8,8 --field rbf-grid --memory 30M -o " + (dir / "rbf.nrrd").string(), dir);
+    CHECK(r.code == 0);
+    CHECK(r.err.find("warning: --memory bounds only a point store (.mlc) with the mpu field") != std::string::npos);
+    CHECK(temporaries(dir.path).empty());
+}
+
 TEST_CASE("mpirun -np 2 and 3 isosurface of a .mlc: each rank its own layers, the single-process bytes", "[cli][point_store][mpi]") {
     TempDir dir("mlc-cli-mpi");
     const std::string mpirun = mpirun_prefix(dir);
