@@ -17,7 +17,6 @@
 #include "cli/field_cli.hpp"
 #include "cli/progress_meter.hpp"
 #include "formats/position_list.hpp"
-#include "formats/point_store.hpp"
 #include "stream/field_queries.hpp"
 #include "stream/store_field_queries.hpp"
 
@@ -26,36 +25,32 @@ namespace meshless::cli {
 namespace {
 
 /// A query run under --threads that counts positions on `meter`, and clears it and reports the
-/// support (then `more`) once the field was evaluated.
-FieldQueryRun query_run(const Args& a, const BuiltField& f, ProgressMeter& meter, std::function<void(const FieldQueryStats&)> more = {}) {
-    return {threads(a), [&meter](double n) { meter.add(n); }, [&a, &f, &meter, more](const FieldQueryStats& s) {
+/// support (with or without a support test, `mode` outside the data; then `more`) once the field was evaluated.
+FieldQueryRun query_run(const Args& a, bool coverage, Extrapolate mode, ProgressMeter& meter,
+                        std::function<void(const FieldQueryStats&)> more = {}) {
+    return {threads(a), [&meter](double n) { meter.add(n); }, [&a, coverage, mode, &meter, more](const FieldQueryStats& s) {
                 meter.done();
-                report_field_support(stderr, a.command(), f, s, a.has("stats"));
+                report_field_support(stderr, a.command(), coverage, mode, s, a.has("stats"));
                 if (more) more(s);
             }};
 }
+FieldQueryRun query_run(const Args& a, const BuiltField& f, ProgressMeter& meter, std::function<void(const FieldQueryStats&)> more = {}) {
+    return query_run(a, f.coverage != nullptr, f.extrapolate, meter, std::move(more));
+}
+FieldQueryRun query_run(const Args& a, const StoreQueryParams& p, ProgressMeter& meter, std::function<void(const FieldQueryStats&)> more = {}) {
+    return query_run(a, p.max_gap > 0, p.extrapolate, meter, std::move(more));
+}
 
-/// A point store queried slab by slab (stream/store_field_queries.hpp): the store and its plan, the
-/// run under --threads with the progress meter and the support report, the --stats line.
+/// A point store queried slab by slab (stream/store_field_queries.hpp): the store, its plan and
+/// the query parameters; the --stats line.
 struct StoreSlabQuery {
-    explicit StoreSlabQuery(const Args& args)
-        : a(args), store(PointStore::open(args.positional()[0])),
-          plan(plan_scattered_store(*store, joined_names(args.positional()), BinningGridParams{}, InputWarning{})) {}
-    FieldQueryRun run(ProgressMeter& meter, const StoreQueryParams& p, std::function<void(const FieldQueryStats&)> more = {}) {
-        const bool coverage = p.max_gap > 0;
-        const Extrapolate mode = p.extrapolate;
-        return {threads(a), [&meter](double n) { meter.add(n); }, [this, &meter, coverage, mode, more](const FieldQueryStats& s) {
-                    meter.done();
-                    report_field_support(stderr, a.command(), coverage, mode, s, a.has("stats"));
-                    if (more) more(s);
-                }};
-    }
+    explicit StoreSlabQuery(const Args& args) : a(args), in(open_store_queries(args.positional()[0])), p(store_query_params(args)) {}
     void print_stats() const {
-        if (a.has("stats")) print_store_query_stats(stderr, a.command().c_str(), plan, report);
+        if (a.has("stats")) print_store_query_stats(stderr, a.command().c_str(), in.plan, report);
     }
     const Args& a;
-    std::unique_ptr<PointStore> store;
-    ScatteredStorePlan plan;
+    StoreQueries in;
+    StoreQueryParams p;
     StoreQueryReport report;
 };
 
@@ -90,10 +85,9 @@ int cmd_probe(int argc, char** argv) {
     }
     if (at.empty()) throw UsageError("nothing to probe: give --at x,y,z or --at-file FILE");
     if (queries_store_slabs(a)) {
-        const StoreQueryParams p = store_query_params(a);
         StoreSlabQuery sq(a);
         ProgressMeter meter = ProgressMeter::of(a, "positions", static_cast<double>(at.size()));
-        probe_store_field(*sq.store, sq.plan, p, std::move(at), csv, sq.run(meter, p), &sq.report);
+        probe_store_field(*sq.in.store, sq.in.plan, sq.p, std::move(at), csv, query_run(a, sq.p, meter), &sq.report);
         sq.print_stats();
         return 0;
     }
@@ -137,7 +131,7 @@ int cmd_slice(int argc, char** argv) {
     BuiltField field;
     if (queries_store_slabs(a)) {
         sq.emplace(a);
-        r.range = sq->plan.value_range;
+        r.range = sq->in.plan.value_range;
     } else {
         pts = read_points_arg(a);
         field = build_field(a, pts, data_field_default(a.positional()));
@@ -152,7 +146,7 @@ int cmd_slice(int argc, char** argv) {
         if (*r.near < 0) throw UsageError("--near: expected a distance >= 0, got " + *d);
     }
     r.colorbar = a.has("colorbar");
-    const PlaneRaster raster = sq ? slice_raster(sq->plan.frame.bounds, axis, at, W, H) : slice_raster(pts, axis, at, W, H);
+    const PlaneRaster raster = sq ? slice_raster(sq->in.plan.frame.bounds, axis, at, W, H) : slice_raster(pts, axis, at, W, H);
     ProgressMeter meter = ProgressMeter::of(a, "pixels", static_cast<double>(raster.width) * raster.height);
     const auto outside = [&](const FieldQueryStats& s) {
         if (s.uncovered == s.positions)
@@ -161,8 +155,7 @@ int cmd_slice(int argc, char** argv) {
     };
     SliceResult res;
     if (sq) {
-        const StoreQueryParams p = store_query_params(a);
-        res = slice_store_field(*sq->store, sq->plan, p, raster, r, sq->run(meter, p, outside), &sq->report);
+        res = slice_store_field(*sq->in.store, sq->in.plan, sq->p, raster, r, query_run(a, sq->p, meter, outside), &sq->report);
         sq->print_stats();
     } else {
         res = slice_field(field, pts, raster, r, query_run(a, field, meter, outside));
@@ -195,11 +188,10 @@ int cmd_resample(int argc, char** argv) {
     }
     const std::string out = require_output_extension(a.require("output"), ".nrrd", "-o", "a float32 volume (NRRD)");
     if (queries_store_slabs(a)) {
-        const StoreQueryParams p = store_query_params(a);
         StoreSlabQuery sq(a);
-        const GridSpec g = resample_grid(sq.plan.frame.bounds, dims);
+        const GridSpec g = resample_grid(sq.in.plan.frame.bounds, dims);
         ProgressMeter meter = ProgressMeter::of(a, "voxels", static_cast<double>(g.voxel_count()));
-        resample_store_field(*sq.store, sq.plan, p, g, out, sq.run(meter, p), &sq.report);
+        resample_store_field(*sq.in.store, sq.in.plan, sq.p, g, out, query_run(a, sq.p, meter), &sq.report);
         sq.print_stats();
         return 0;
     }

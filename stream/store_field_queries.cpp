@@ -175,6 +175,13 @@ FieldQueryStats run_query_slabs(const PointStore& store, const ScatteredStorePla
 
 }  // namespace
 
+StoreQueries open_store_queries(const std::string& path) {
+    StoreQueries q;
+    q.store = PointStore::open(path);
+    q.plan = plan_scattered_store(*q.store, path, BinningGridParams{}, InputWarning{});
+    return q;
+}
+
 FieldQueryStats resample_store_field(const PointStore& store, const ScatteredStorePlan& plan, const StoreQueryParams& p,
                                      const GridSpec& g, const std::string& path, const FieldQueryRun& run, StoreQueryReport* report) {
     StoreQueryReport rep;

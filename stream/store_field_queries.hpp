@@ -18,6 +18,7 @@
 // (naming the file and the brick); IoError when the output cannot be written (nothing is left).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,14 @@ struct StoreQueryParams {
     double bytes_per_point = 1200;            ///< what one loaded point costs at first (field and the rest)
     double other_bytes_per_point = 320;       ///< what one loaded point costs beside its field
 };
+
+/// A store opened for its queries, with its plan (plan_scattered_store with the default binning:
+/// the frame, value range and cell counts the slabs read).
+struct StoreQueries {
+    std::unique_ptr<PointStore> store;
+    ScatteredStorePlan plan;
+};
+StoreQueries open_store_queries(const std::string& path);
 
 /// What a slab run did (the --stats line).
 struct StoreQueryReport {
