@@ -28,18 +28,10 @@
 #include "kernels/point_coverage.hpp"
 #include "stream/field_queries.hpp"
 #include "stream/scattered_store_isosurface.hpp"
+#include "stream/store_slab_runner.hpp"
 
 namespace meshless {
 
-/// The field, its support test and the budget of a store's queries.
-struct StoreQueryParams {
-    FieldParams field;                        ///< an mpu field's (InvalidArgument otherwise)
-    double max_gap = 1;                       ///< the support test's factor (0: none), as build_field's --max-gap
-    Extrapolate extrapolate = Extrapolate::nan;
-    std::uint64_t memory_bytes = 1ull << 30;  ///< the budget for a slab's points, field, support test and results
-    double bytes_per_point = 1200;            ///< what one loaded point costs at first (field and the rest)
-    double other_bytes_per_point = 320;       ///< what one loaded point costs beside its field
-};
 
 /// A store opened for its queries, with its plan (plan_scattered_store with the default binning:
 /// the frame, value range and cell counts the slabs read).
@@ -49,17 +41,6 @@ struct StoreQueries {
 };
 StoreQueries open_store_queries(const std::string& path);
 
-/// What a slab run did (the --stats line).
-struct StoreQueryReport {
-    int slabs = 0;                  ///< slabs run
-    int retries = 0;                ///< slab runs redone (lacking balls loaded, a wider halo, fewer layers)
-    std::uint64_t most_loaded = 0;  ///< the most points loaded for one slab
-    std::uint64_t loaded = 0;       ///< points loaded over all slabs (halos counted again)
-    double halo = 0;                ///< the widest halo a slab needed, world units along z
-    std::uint64_t reused_fits = 0;  ///< local fits copied from the slab before
-    FieldBuildStats field;          ///< summed over the slabs' fields (locals of their query boxes)
-    double read_seconds = 0, field_seconds = 0, query_seconds = 0;
-};
 
 /// resample_field of the store's mpu field on grid `g` (resample_grid over the store's bounds) to
 /// the float32 NRRD at `path`, slab by slab (see above); report (optional) gets the figures.
@@ -78,7 +59,5 @@ SliceResult slice_store_field(const PointStore& store, const ScatteredStorePlan&
                               const PlaneRaster& raster, const SliceRequest& req, const FieldQueryRun& run,
                               StoreQueryReport* report = nullptr);
 
-/// The --stats line of a slab run ("CMD: point store in N slabs ..."), to `out`.
-void print_store_query_stats(std::FILE* out, const char* cmd, const ScatteredStorePlan& plan, const StoreQueryReport& r);
 
 }  // namespace meshless
