@@ -124,11 +124,29 @@ struct TileScratch {
           fd_pos(6 * kMaxBatch), fd_val(6 * kMaxBatch) {}
 };
 
+/// Where a ray stands between the parts of a picture (RayCastParts), and the whole of it for
+/// ray_cast_rgba: its sample count (0: it misses the box), the next sample, the premultiplied colour
+/// and opacity so far, the exit of the empty-space cell it is in, its batch size, its way along z.
+struct RayState {
+    std::int64_t n = 0, k = 0;
+    double C[3] = {0, 0, 0}, A = 0;
+    double cell_end = -std::numeric_limits<double>::infinity();
+    int batch = 8;
+    bool rising = true;  // its z rises or stays
+};
+
+/// The samples a march takes: midpoint z in [lo, hi), or [lo, hi] when closed.
+struct ZRange {
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    bool closed = true;
+    bool holds(double z) const { return z >= lo && (z < hi || (closed && z == hi)); }
+};
+
 class Caster {
 public:
-    Caster(const Field& f, const std::array<Vec3, 2>& box, const ViewTransform& view, const TransferFunction& tf,
-           const RayCastParams& p, const ValueBoundsGrid* skip)
-        : field_(f), box_(box), view_(view), p_(p), table_(tf, p.step / p.ref_step), skip_(skip),
+    Caster(const std::array<Vec3, 2>& box, const ViewTransform& view, const TransferFunction& tf, const RayCastParams& p,
+           const ValueBoundsGrid* skip)
+        : box_(box), view_(view), p_(p), table_(tf, p.step / p.ref_step), skip_(skip),
           fd_(p.shade && p.gradient_step[0] > 0 && p.gradient_step[1] > 0 && p.gradient_step[2] > 0) {
         if (p.shininess >= 0 && p.shininess <= 1024 && p.shininess == std::floor(p.shininess))
             int_shininess_ = static_cast<int>(p.shininess);
@@ -139,33 +157,48 @@ public:
         }
     }
 
-    /// Premultiplied {C, A} of the ray through pixel centre (sx, sy).
-    void cast(double sx, double sy, TileScratch& s, float out[4], RayCastStats& st) const {
-        out[0] = out[1] = out[2] = out[3] = 0;
+    /// Starts the ray through pixel centre (sx, sy): its sample count (0: it misses the box) and way.
+    void begin(double sx, double sy, RayState& rs, RayCastStats& st) const {
         ++st.rays;
         const Ray r = pixel_ray(view_, sx, sy);
         double t0, t1;
         if (!intersect_box(r, box_, t0, t1)) return;
         ++st.rays_hit;
-        const double step = p_.step;
-        const double nsteps = std::ceil((t1 - t0) / step);
+        const double nsteps = std::ceil((t1 - t0) / p_.step);
         if (!(nsteps <= kMaxSamplesPerRay))
-            throw InvalidArgument("ray caster: a ray of more than 2^26 samples (step " + std::to_string(step) + " too small)");
-        const auto n = static_cast<std::int64_t>(nsteps);
-        double C[3] = {0, 0, 0}, A = 0;
-        std::int64_t k = 0;
-        int batch = 8;
+            throw InvalidArgument("ray caster: a ray of more than 2^26 samples (step " + std::to_string(p_.step) + " too small)");
+        rs.n = static_cast<std::int64_t>(nsteps);
+        rs.rising = r.d.z >= 0;
+    }
+
+    /// Marches the ray through pixel centre (sx, sy) on from its state, through its samples whose
+    /// midpoint z lies in `zr`, evaluating `field`; stops at the first sample beyond (or at the end).
+    void march(const Field& field, double sx, double sy, RayState& rs, const ZRange& zr, TileScratch& s, RayCastStats& st) const {
+        if (rs.k >= rs.n) return;
+        const Ray r = pixel_ray(view_, sx, sy);
+        double t0, t1;
+        intersect_box(r, box_, t0, t1);  // (the same t0, t1 as begin's)
+        const double step = p_.step;
+        const std::int64_t n = rs.n;
+        std::int64_t k = rs.k;
+        double* C = rs.C;
+        double A = rs.A;
         const bool shade = p_.shade;
         // The macro cell the samples are in, and where the ray leaves it: cells are looked up only
         // when a sample passes that exit (a few times per cell, not once per sample).
-        double cell_end = -std::numeric_limits<double>::infinity();
-        while (k < n) {
+        double& cell_end = rs.cell_end;
+        bool beyond = false;  // the next sample lies beyond zr
+        while (k < n && !beyond) {
             int m = 0;
-            while (m < batch && k < n) {
+            while (m < rs.batch && k < n) {
                 const double tk = t0 + static_cast<double>(k) * step;
                 const double len = std::min(step, t1 - tk);
                 const double tm = tk + 0.5 * len;
                 const Vec3 pos = r.o + r.d * tm;
+                if (!zr.holds(pos.z)) {
+                    beyond = true;
+                    break;
+                }
                 if (skip_ && tm >= cell_end) {
                     const std::int64_t c = cell_of(pos);
                     cell_end = cell_exit(r, c);
@@ -184,11 +217,11 @@ public:
                 ++k;
             }
             if (m == 0) break;
-            field_.evaluate(std::span<const Vec3>(s.pos.data(), m), std::span<double>(s.val.data(), m),
-                            shade && !fd_ ? std::span<Vec3>(s.grad.data(), m) : std::span<Vec3>());
+            field.evaluate(std::span<const Vec3>(s.pos.data(), m), std::span<double>(s.val.data(), m),
+                           shade && !fd_ ? std::span<Vec3>(s.grad.data(), m) : std::span<Vec3>());
             st.samples += static_cast<std::uint64_t>(m);
             for (int i = 0; i < m; ++i) table_.lookup(s.val[i], s.lut[static_cast<std::size_t>(i)].data());
-            if (fd_) central_differences(s, m, A);
+            if (fd_) central_differences(field, s, m, A);
             for (int i = 0; i < m; ++i) {
                 const float* e = s.lut[static_cast<std::size_t>(i)].data();
                 if (e[3] <= 0.0f) continue;
@@ -206,12 +239,10 @@ public:
                     break;
                 }
             }
-            batch = std::min(2 * batch, kMaxBatch);
+            rs.batch = std::min(2 * rs.batch, kMaxBatch);
         }
-        out[0] = static_cast<float>(C[0]);
-        out[1] = static_cast<float>(C[1]);
-        out[2] = static_cast<float>(C[2]);
-        out[3] = static_cast<float>(A);
+        rs.k = k;
+        rs.A = A;
     }
 
 private:
@@ -224,7 +255,7 @@ private:
     /// s.grad of the samples of this batch that reach the pixel (opacity > 0, up to where the
     /// accumulated opacity, starting from A, reaches the termination: the compositing's own
     /// arithmetic, so exactly the samples it shades), by central differences of the field's values.
-    void central_differences(TileScratch& s, int m, double A) const {
+    void central_differences(const Field& field, TileScratch& s, int m, double A) const {
         int nl = 0;
         for (int i = 0; i < m; ++i) {
             const float* e = s.lut[static_cast<std::size_t>(i)].data();
@@ -246,7 +277,7 @@ private:
         }
         if (nl == 0) return;
         const std::size_t n6 = 6 * static_cast<std::size_t>(nl);
-        field_.evaluate(std::span<const Vec3>(s.fd_pos.data(), n6), std::span<double>(s.fd_val.data(), n6), {});
+        field.evaluate(std::span<const Vec3>(s.fd_pos.data(), n6), std::span<double>(s.fd_val.data(), n6), {});
         for (int q = 0; q < nl; ++q) {
             const int i = s.lit[static_cast<std::size_t>(q)];
             const double* v = s.fd_val.data() + 6 * q;
@@ -308,10 +339,9 @@ private:
         for (int i = 0; i < 3; ++i) c[i] = std::clamp(c[i] * lum + spec, 0.0, 1.0);
     }
 
-    const Field& field_;
     std::array<Vec3, 2> box_;
-    const ViewTransform& view_;
-    const RayCastParams& p_;
+    ViewTransform view_;
+    RayCastParams p_;
     TfTable table_;
     const ValueBoundsGrid* skip_;
     bool fd_;  // shading gradients by central differences (RayCastParams::gradient_step)
@@ -319,11 +349,19 @@ private:
     int int_shininess_ = -1;
 };
 
+/// A ray's premultiplied colour and opacity as the picture keeps them.
+void store_pixel(const RayState& rs, float out[4]) {
+    out[0] = static_cast<float>(rs.C[0]);
+    out[1] = static_cast<float>(rs.C[1]);
+    out[2] = static_cast<float>(rs.C[2]);
+    out[3] = static_cast<float>(rs.A);
+}
+
 }  // namespace
 
-RgbaImage ray_cast_rgba(const Field& field, const std::array<Vec3, 2>& box, const ViewTransform& view,
-                        const TransferFunction& tf, const RayCastParams& params, const ValueBoundsGrid* skip, int threads,
-                        RayCastStats* stats, const std::function<void(double)>& progress) {
+namespace {
+/// The parameters' checks of ray_cast_rgba and RayCastParts.
+void check_ray_cast_params(const RayCastParams& params, const ValueBoundsGrid* skip) {
     if (!(params.step > 0) || !std::isfinite(params.step)) throw InvalidArgument("ray caster: step must be positive and finite");
     if (!(params.ref_step > 0) || !std::isfinite(params.ref_step))
         throw InvalidArgument("ray caster: reference step must be positive and finite");
@@ -331,11 +369,40 @@ RgbaImage ray_cast_rgba(const Field& field, const std::array<Vec3, 2>& box, cons
     if (skip && (skip->count() <= 0 || skip->vmin.size() != static_cast<std::size_t>(skip->count()) ||
                  skip->vmax.size() != skip->vmin.size()))
         throw InvalidArgument("ray caster: value bounds grid does not match its dimensions");
+}
+
+/// Runs tile(t) for every tile t of `tiles`, on `threads` threads (a task_arena).
+void for_each_tile(int tiles, int threads, const std::function<void(int)>& tile) {
+    if (threads <= 1) {
+        for (int t = 0; t < tiles; ++t) tile(t);
+        return;
+    }
+    oneapi::tbb::task_arena arena(threads);
+    arena.execute([&] {
+        oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<int>(0, tiles, 1), [&](const oneapi::tbb::blocked_range<int>& r) {
+            for (int t = r.begin(); t != r.end(); ++t) tile(t);
+        });
+    });
+}
+
+void add_stats(RayCastStats& to, const RayCastStats& st) {
+    to.rays += st.rays;
+    to.rays_hit += st.rays_hit;
+    to.samples += st.samples;
+    to.skipped += st.skipped;
+    to.terminated += st.terminated;
+}
+}  // namespace
+
+RgbaImage ray_cast_rgba(const Field& field, const std::array<Vec3, 2>& box, const ViewTransform& view,
+                        const TransferFunction& tf, const RayCastParams& params, const ValueBoundsGrid* skip, int threads,
+                        RayCastStats* stats, const std::function<void(double)>& progress) {
+    check_ray_cast_params(params, skip);
     RgbaImage img;
     img.width = view.width;
     img.height = view.height;
     img.rgba.assign(4 * static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height), 0.0f);
-    const Caster caster(field, box, view, tf, params, skip);
+    const Caster caster(box, view, tf, params, skip);
     const int T = std::max(1, params.tile);
     const int tx = (img.width + T - 1) / T, ty = (img.height + T - 1) / T;
     const int tiles = tx * ty;
@@ -348,30 +415,79 @@ RgbaImage ray_cast_rgba(const Field& field, const std::array<Vec3, 2>& box, cons
         const int x0 = (t % tx) * T, y0 = (t / tx) * T;
         const int x1 = std::min(img.width, x0 + T), y1 = std::min(img.height, y0 + T);
         for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x)
-                caster.cast(x + 0.5, y + 0.5, s, &img.rgba[4 * (static_cast<std::size_t>(y) * img.width + x)], st);
+            for (int x = x0; x < x1; ++x) {
+                RayState rs;
+                caster.begin(x + 0.5, y + 0.5, rs, st);
+                caster.march(field, x + 0.5, y + 0.5, rs, ZRange{}, s, st);
+                store_pixel(rs, &img.rgba[4 * (static_cast<std::size_t>(y) * img.width + x)]);
+            }
         std::lock_guard lock(mu);
-        total.rays += st.rays;
-        total.rays_hit += st.rays_hit;
-        total.samples += st.samples;
-        total.skipped += st.skipped;
-        total.terminated += st.terminated;
+        add_stats(total, st);
         ++done;
         if (progress) progress(static_cast<double>(done) / tiles);
     };
-    if (threads <= 1) {
-        for (int t = 0; t < tiles; ++t) run_tile(t);
-    } else {
-        oneapi::tbb::task_arena arena(threads);
-        arena.execute([&] {
-            oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<int>(0, tiles, 1), [&](const oneapi::tbb::blocked_range<int>& r) {
-                for (int t = r.begin(); t != r.end(); ++t) run_tile(t);
-            });
-        });
-    }
+    for_each_tile(tiles, threads, run_tile);
     if (stats) *stats = total;
     return img;
 }
+
+struct RayCastParts::Impl {
+    Impl(const std::array<Vec3, 2>& box, const ViewTransform& view, const TransferFunction& tf, const RayCastParams& params,
+         const ValueBoundsGrid* skip)
+        : caster(box, view, tf, params, skip), width(view.width), height(view.height), tile(std::max(1, params.tile)) {
+        rays.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) caster.begin(x + 0.5, y + 0.5, rays[static_cast<std::size_t>(y) * width + x], stats);
+    }
+    Caster caster;
+    int width, height, tile;
+    std::vector<RayState> rays;
+    RayCastStats stats;
+};
+
+RayCastParts::RayCastParts(const std::array<Vec3, 2>& box, const ViewTransform& view, const TransferFunction& tf,
+                           const RayCastParams& params, const ValueBoundsGrid* skip) {
+    check_ray_cast_params(params, skip);
+    impl_ = std::make_unique<Impl>(box, view, tf, params, skip);
+}
+
+RayCastParts::~RayCastParts() = default;
+
+bool RayCastParts::pending(bool rising) const {
+    return std::any_of(impl_->rays.begin(), impl_->rays.end(), [rising](const RayState& r) { return r.rising == rising && r.k < r.n; });
+}
+
+void RayCastParts::advance(const Field& field, bool rising, const std::array<double, 2>& z, bool closed, int threads) {
+    Impl& m = *impl_;
+    const int T = m.tile;
+    const int tx = (m.width + T - 1) / T, ty = (m.height + T - 1) / T;
+    const ZRange zr{z[0], z[1], closed};
+    std::mutex mu;
+    for_each_tile(tx * ty, threads, [&](int t) {
+        TileScratch s;
+        RayCastStats st;
+        const int x0 = (t % tx) * T, y0 = (t / tx) * T;
+        const int x1 = std::min(m.width, x0 + T), y1 = std::min(m.height, y0 + T);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                RayState& rs = m.rays[static_cast<std::size_t>(y) * m.width + x];
+                if (rs.rising == rising) m.caster.march(field, x + 0.5, y + 0.5, rs, zr, s, st);
+            }
+        std::lock_guard lock(mu);
+        add_stats(m.stats, st);
+    });
+}
+
+RgbaImage RayCastParts::image() const {
+    RgbaImage img;
+    img.width = impl_->width;
+    img.height = impl_->height;
+    img.rgba.resize(4 * impl_->rays.size());
+    for (std::size_t i = 0; i < impl_->rays.size(); ++i) store_pixel(impl_->rays[i], &img.rgba[4 * i]);
+    return img;
+}
+
+const RayCastStats& RayCastParts::stats() const { return impl_->stats; }
 
 Image compose_over_background(const RgbaImage& img, const std::array<double, 3>& bg) {
     Image out;

@@ -40,12 +40,15 @@
 // do not depend on the thread count or the tiling. Field::evaluate is called concurrently
 // (fields are thread-safe). progress (optional) is called with the finished fraction, serialised
 // (never concurrently), at most once per tile.
+// RayCastParts casts the same picture in parts along z (a field one slab at a time), each ray
+// going on from where it stood.
 // Throws InvalidArgument for step/ref_step not positive and finite, termination outside (0, 1],
 // or a ray of more than 2^26 samples; whatever Field::evaluate throws (std::bad_alloc).
 #pragma once
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "kernels/camera.hpp"
@@ -88,6 +91,36 @@ struct RgbaImage {
 RgbaImage ray_cast_rgba(const Field& field, const std::array<Vec3, 2>& box, const ViewTransform& view,
                         const TransferFunction& tf, const RayCastParams& params, const ValueBoundsGrid* skip, int threads,
                         RayCastStats* stats = nullptr, const std::function<void(double)>& progress = {});
+
+/// A picture cast in parts along z, for a field that exists one z range at a time (a point store's,
+/// slab by slab: stream/store_render.hpp). Every ray keeps where it stands between the parts (its
+/// next sample, the colour and opacity so far, its empty-space cell), so the picture is
+/// ray_cast_rgba's, bit for bit, however the parts cut it, provided each ray meets its samples in
+/// order: advance() the rays whose z rises (or stays) through parts of rising z, and those whose z
+/// falls through parts of falling z. Memory: 64 bytes a pixel. Throws as ray_cast_rgba; the
+/// constructor throws the parameters' errors and that of a ray of more than 2^26 samples.
+class RayCastParts {
+public:
+    RayCastParts(const std::array<Vec3, 2>& box, const ViewTransform& view, const TransferFunction& tf,
+                 const RayCastParams& params, const ValueBoundsGrid* skip);
+    ~RayCastParts();
+    RayCastParts(const RayCastParts&) = delete;
+    RayCastParts& operator=(const RayCastParts&) = delete;
+    /// Whether a ray going `rising` (its z rises or stays) or not has samples left.
+    bool pending(bool rising) const;
+    /// Advances the rays going `rising` through their samples whose midpoint z lies in [z[0], z[1])
+    /// ([z[0], z[1]] when `closed`), evaluating `field` there, on `threads` threads (the picture does
+    /// not depend on them); each stops at its first sample beyond the range, or ends. The field must
+    /// hold there (and, with gradient_step, one step beyond along every axis).
+    void advance(const Field& field, bool rising, const std::array<double, 2>& z, bool closed, int threads);
+    /// The picture so far (ray_cast_rgba's once every ray has ended).
+    RgbaImage image() const;
+    const RayCastStats& stats() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 /// The 8-bit picture of a premultiplied image over params.background: round(255 (C + (1 - A) bg)).
 Image compose_over_background(const RgbaImage& img, const std::array<double, 3>& background);

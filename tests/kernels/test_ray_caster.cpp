@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "kernels/block_minmax.hpp"
@@ -430,4 +431,56 @@ TEST_CASE("shading a volume by central differences is smooth: nearer the functio
     q.gradient_step = {0, 0, 0};
     const RgbaImage own = ray_cast_rgba(lin, box, view, tf, q, nullptr, 1), fd = ray_cast_rgba(lin, box, view, tf, p, nullptr, 1);
     CHECK(rgba_rms(own, fd) < 1e-6);
+}
+
+TEST_CASE("a picture cast in parts along z, each ray on from where it stood, has ray_cast_rgba's bytes", "[render]") {
+    const Volume vol = blob_volume(40);
+    const TrilinearField f(vol.view());
+    const auto box = f.bounds();
+    const ValueBoundsGrid skip = value_bounds_from_blocks(block_minmax(vol.view(), 8), vol.grid);
+    const TransferFunction tf = transfer_function_preset("ct-bone", -0.3, 1.3);
+    // an orbit from outside the box's z range (every ray falls or every ray rises), from inside it
+    // (rays both ways, and some flat), orthographic
+    struct View {
+        double azimuth, elevation, zoom;
+        bool perspective;
+    };
+    bool both_ways = false;  // (some view has rays of both ways)
+    for (const View v : {View{30, 20, 1, true}, View{200, -35, 1, true}, View{90, 0, 3, true}, View{-60, 50, 1, false}}) {
+        Camera cam;
+        cam.width = 48;
+        cam.height = 40;
+        cam.azimuth_deg = v.azimuth;
+        cam.elevation_deg = v.elevation;
+        cam.zoom = v.zoom;
+        cam.perspective = v.perspective;
+        const ViewTransform view = make_view(cam, box[0], box[1]);
+        for (bool shade : {false, true}) {
+            for (const ValueBoundsGrid* sk : {&skip, static_cast<const ValueBoundsGrid*>(nullptr)}) {
+                INFO("azimuth " << v.azimuth << " elevation " << v.elevation << " shade " << shade << " skip " << (sk != nullptr));
+                RayCastParams p;
+                p.ref_step = p.step = 0.37 * vol.grid.spacing[0];
+                p.shade = shade;
+                p.gradient_step = {vol.grid.spacing[0], vol.grid.spacing[1], vol.grid.spacing[2]};
+                RayCastStats whole_stats;
+                const RgbaImage whole = ray_cast_rgba(f, box, view, tf, p, sk, 1, &whole_stats);
+                RayCastParts parts(box, view, tf, p, sk);
+                both_ways = both_ways || (parts.pending(true) && parts.pending(false));
+                // uneven cuts, rising parts for the rising rays, falling for the others; the ends open (a
+                // midpoint may round a hair beyond the box)
+                const double z0 = box[0].z, z1 = box[1].z, inf = std::numeric_limits<double>::infinity();
+                const std::vector<double> cuts{-inf, z0 + 0.11 * (z1 - z0), z0 + 0.5 * (z1 - z0), z0 + 0.5 * (z1 - z0) + 1e-9, inf};
+                for (std::size_t i = 0; i + 1 < cuts.size(); ++i)
+                    parts.advance(f, true, {cuts[i], cuts[i + 1]}, i + 2 == cuts.size(), 2);
+                for (std::size_t i = cuts.size() - 1; i > 0; --i) parts.advance(f, false, {cuts[i - 1], cuts[i]}, i == cuts.size() - 1, 1);
+                CHECK_FALSE(parts.pending(true));
+                CHECK_FALSE(parts.pending(false));
+                CHECK(parts.image().rgba == whole.rgba);
+                // (a batch cut at a part's end evaluates none of the samples a terminated ray leaves)
+                CHECK(parts.stats().samples <= whole_stats.samples);
+                CHECK(parts.stats().rays_hit == whole_stats.rays_hit);
+            }
+        }
+    }
+    CHECK(both_ways);
 }
