@@ -30,6 +30,7 @@
 #include "kernels/ray_caster.hpp"
 #include "ooc/brick_store.hpp"
 #include "stream/field_render.hpp"
+#include "stream/store_render.hpp"
 #include "stream/render_outputs.hpp"
 
 namespace meshless::cli {
@@ -46,10 +47,13 @@ std::array<double, 3> parse_rgb(const std::string& s, const char* what) {
     return {v[0], v[1], v[2]};
 }
 
-/// The library's render input (stream/field_render.hpp) and the meshless field it may render.
+/// The library's render input (stream/field_render.hpp) and the meshless field it may render, or
+/// the point store it renders slab by slab (stream/store_render.hpp).
 struct CliRenderInput {
     RenderInput in;
     BuiltField built;
+    std::optional<StoreQueries> store;
+    StoreQueryReport report;
 };
 
 CliRenderInput open_render_input(const Args& a) {
@@ -82,14 +86,20 @@ CliRenderInput open_render_input(const Args& a) {
         if (kind == "trilinear")
             throw UsageError("--field trilinear: " + first + " is not a volume; scattered points and multiblock grids render "
                              "through rbf-grid, mpu, global-rbf or a fitted .mlf");
+        const bool store = queries_store_slabs(a, /*warn=*/false);  // (--memory to other points: refused below)
         for (const char* o : {"dims", "type", "spacing", "array", "memory", "crop"})
-            if (a.declared(o) && a.has(o))
+            if (a.declared(o) && a.has(o) && !(store && std::string(o) == "memory"))
                 throw UsageError("--" + std::string(o) + " applies to volumes" +
                                  (std::string(o) == "memory"  ? std::string(" read from brick stores (.mlb)")
                                   : std::string(o) == "array" ? std::string(" (.vti, .vtk, vtk.js)")
                                   : std::string(o) == "crop"  ? std::string()
                                                               : std::string(" (raw)")) +
                                  "; " + first + " is read as points");
+        if (store) {
+            r.store = open_store_queries(first);
+            r.in = store_render_input(*r.store, first);
+            return r;
+        }
         const PointSet pts = read_field_points(pos, a);
         if (pts.size() == 0) throw FormatError(first + ": no points to render");
         r.built = build_field(a, pts, data_default);
@@ -159,7 +169,11 @@ void declare_render_options(Args& a) {
         .option("series", "", "UID|N", "DICOM: the series to read from a folder holding several (its UID, or N in their listing)");
     add_array_option(a);
     add_crop_option(a);
-    add_memory_option(a);
+    a.option("memory", "", "BYTES",
+             "brick stores (.mlb): the brick cache, e.g. 256M, 2G (default 256M); point stores (.mlc) with the mpu field: the "
+             "budget the field's slabs along z are sized to (default: the memory this process may use); the picture does "
+             "not depend on it")
+        .validate([](const std::string& v) { (void)parse_memory_size(v); });
     add_quiet_option(a);
     a.positionals(1, 1000);
     a.epilog("examples: meshless render chest.vti --tf ct-bone --shade -o chest.png\n"
@@ -240,8 +254,11 @@ int cmd_render(int argc, char** argv) {
     ProgressMeter meter = ProgressMeter::of(a, "rays", static_cast<double>(cam.width) * cam.height);
     const bool show = progress_wanted(a);
     auto progress = [&](double f) { meter.set_fraction(f); };
-    const RenderResult rr = render_field(in, cam, tf, ro, show ? std::function<void(double)>(progress) : std::function<void(double)>());
+    const auto shown = show ? std::function<void(double)>(progress) : std::function<void(double)>();
+    const RenderResult rr = input.store ? render_store_field(*input.store, store_query_params(a), in, cam, tf, ro, shown, &input.report)
+                                        : render_field(in, cam, tf, ro, shown);
     meter.done();
+    if (input.store && a.has("stats")) print_store_query_stats(stderr, "render", input.store->plan, input.report);
     // a point set whose picture is one colour (a PLY isosurface's points all carry the isovalue: a
     // constant field that the transfer function maps to nothing) says so instead of a silent black image
     if (!in.volume && uniform_picture(rr.picture))

@@ -220,10 +220,10 @@ void add_store_memory_option(Args& a) {
         .validate([](const std::string& v) { (void)parse_memory_size(v); });
 }
 
-bool queries_store_slabs(const Args& a) {
+bool queries_store_slabs(const Args& a, bool warn) {
     const bool slabs = a.positional().size() == 1 && !field_file_arg(a) && is_point_store(a.positional()[0]) &&
                        field_kind_arg(a, kPointsFieldDefault) == "mpu";
-    if (!slabs && a.has("memory"))  // (a budget the run cannot keep: say so rather than exceed it silently)
+    if (warn && !slabs && a.has("memory"))  // (a budget the run cannot keep: say so rather than exceed it silently)
         std::fprintf(stderr, "meshless %s: warning: --memory bounds only a point store (.mlc) with the mpu field; these points "
                              "and their field are held in memory whole\n", a.command().c_str());
     return slabs;

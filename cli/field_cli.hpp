@@ -68,9 +68,9 @@ SupportTestOptions support_test_options(const Args& a);
 /// --memory BYTES of the field queries (probe, resample): a point store's slab budget.
 void add_store_memory_option(Args& a);
 /// A single point store (.mlc) queried through the mpu field (not a .mlf): what runs slab by slab
-/// within --memory (stream/store_field_queries.hpp). A --memory given to any other input is a
-/// warning on stderr: the points and their field are then held whole.
-bool queries_store_slabs(const Args& a);
+/// within --memory (stream/store_field_queries.hpp). With `warn`, a --memory given to any other
+/// input is a warning on stderr: the points and their field are then held whole.
+bool queries_store_slabs(const Args& a, bool warn = true);
 /// The field, support test and --memory budget (default: the memory this process may use) of a
 /// store's slab queries.
 StoreQueryParams store_query_params(const Args& a);

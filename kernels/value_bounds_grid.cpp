@@ -31,8 +31,15 @@ ValueBoundsGrid value_bounds_from_blocks(const BlockMinMax& b, const GridSpec& g
 
 ValueBoundsGrid value_bounds_from_points(std::span<const Vec3> pos, std::span<const double> value, const std::array<Vec3, 2>& box,
                                          double cell_edge, double pad, double margin) {
-    if (!(cell_edge > 0) || !std::isfinite(cell_edge)) throw InvalidArgument("value bounds: macro-cell edge must be positive");
     if (!(pad >= 0) || !(margin >= 0)) throw InvalidArgument("value bounds: pad and margin must be >= 0");
+    ValueBoundsGrid out = empty_point_bounds(box, cell_edge);
+    add_point_bounds(out, pos, value, pad);
+    widen_point_bounds(out, margin);
+    return out;
+}
+
+ValueBoundsGrid empty_point_bounds(const std::array<Vec3, 2>& box, double cell_edge) {
+    if (!(cell_edge > 0) || !std::isfinite(cell_edge)) throw InvalidArgument("value bounds: macro-cell edge must be positive");
     ValueBoundsGrid out;
     out.origin = box[0];
     out.cell = {cell_edge, cell_edge, cell_edge};
@@ -47,6 +54,12 @@ ValueBoundsGrid value_bounds_from_points(std::span<const Vec3> pos, std::span<co
     const auto count = static_cast<std::size_t>(out.count());
     out.vmin.assign(count, std::numeric_limits<double>::infinity());
     out.vmax.assign(count, -std::numeric_limits<double>::infinity());
+    return out;
+}
+
+void add_point_bounds(ValueBoundsGrid& out, std::span<const Vec3> pos, std::span<const double> value, double pad) {
+    if (!(pad >= 0)) throw InvalidArgument("value bounds: pad and margin must be >= 0");
+    const double cell_edge = out.cell[0];
     for (std::size_t n = 0; n < pos.size() && n < value.size(); ++n) {
         const double v = value[n];
         if (!std::isfinite(v)) continue;
@@ -68,12 +81,15 @@ ValueBoundsGrid value_bounds_from_points(std::span<const Vec3> pos, std::span<co
                     out.vmax[c] = std::max(out.vmax[c], v);
                 }
     }
-    for (std::size_t c = 0; c < count; ++c) {
+}
+
+void widen_point_bounds(ValueBoundsGrid& out, double margin) {
+    if (!(margin >= 0)) throw InvalidArgument("value bounds: pad and margin must be >= 0");
+    for (std::size_t c = 0; c < out.vmin.size(); ++c) {
         if (out.vmin[c] > out.vmax[c]) continue;  // no point within pad: no data (the empty interval)
         out.vmin[c] -= margin;
         out.vmax[c] += margin;
     }
-    return out;
 }
 
 }  // namespace meshless

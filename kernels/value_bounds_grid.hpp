@@ -52,4 +52,11 @@ ValueBoundsGrid value_bounds_from_blocks(const BlockMinMax& blocks, const GridSp
 ValueBoundsGrid value_bounds_from_points(std::span<const Vec3> pos, std::span<const double> value,
                                          const std::array<Vec3, 2>& box, double cell_edge, double pad, double margin);
 
+/// The same in pieces, for points that come in parts (a point store's bricks): the empty boxes
+/// (every interval empty; InvalidArgument as above), the points added (any order, any parts), the
+/// margin once the last has been.
+ValueBoundsGrid empty_point_bounds(const std::array<Vec3, 2>& box, double cell_edge);
+void add_point_bounds(ValueBoundsGrid& grid, std::span<const Vec3> pos, std::span<const double> value, double pad);
+void widen_point_bounds(ValueBoundsGrid& grid, double margin);
+
 }  // namespace meshless

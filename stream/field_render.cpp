@@ -17,11 +17,6 @@ namespace meshless {
 namespace {
 /// Edge, in cells, of the empty-space boxes of a volume in memory (a store uses its bricks).
 constexpr int kVolumeMacroCells = 8;
-/// Scattered data: empty-space boxes of this many mean point spacings, bounded by the points within
-/// kPointPad spacings (the reach of the fields' local fits: an mpu leaf's sphere or an RBF-grid cell's
-/// data sphere holds its few dozen nearest points, 2-3 spacings), widened by kPointMargin of the
-/// data's value range (multiquadric interpolants overshoot their data a little).
-constexpr double kPointMacroCell = 8, kPointPad = 3, kPointMargin = 0.05;
 }  // namespace
 
 RenderInput volume_render_input(VolumeInput volume) {
@@ -79,10 +74,8 @@ std::array<Vec3, 2> render_frame(RenderInput& in, const std::optional<std::array
     return frame;
 }
 
-RenderResult render_field(RenderInput& in, const Camera& cam, const TransferFunction& tf, const RenderOptions& o,
-                          const std::function<void(double)>& progress) {
-    RenderResult r;
-    RayCastParams& rp = r.params;
+RayCastParams render_params(const RenderInput& in, const RenderOptions& o) {
+    RayCastParams rp;
     rp.shade = o.shade;
     rp.background = o.background;
     rp.ref_step = o.ref_step ? *o.ref_step : 0.5 * in.spacing;
@@ -93,15 +86,27 @@ RenderResult render_field(RenderInput& in, const Camera& cam, const TransferFunc
         const GridSpec& g = in.volume->grid();
         rp.gradient_step = {g.spacing[0], g.spacing[1], g.spacing[2]};
     }
+    return rp;
+}
+
+ViewTransform render_view(RenderInput& in, const Camera& cam, const RenderOptions& o) {
     const std::array<Vec3, 2> frame = render_frame(in, o.bounds);
-    const ViewTransform view = make_view(cam, frame[0], frame[1]);
-    const auto t0 = std::chrono::steady_clock::now();
     if (o.no_skip && in.skip) {
         // every box with data becomes "unknown" (evaluated); boxes without data (scattered points that do
         // not reach them: kernels/value_bounds_grid.hpp) stay outside the picture, as with skipping
         for (std::size_t c = 0; c < in.skip->vmin.size(); ++c)
             if (!(in.skip->vmin[c] > in.skip->vmax[c])) in.skip->vmin[c] = in.skip->vmax[c] = std::nan("");
     }
+    return make_view(cam, frame[0], frame[1]);
+}
+
+RenderResult render_field(RenderInput& in, const Camera& cam, const TransferFunction& tf, const RenderOptions& o,
+                          const std::function<void(double)>& progress) {
+    RenderResult r;
+    r.params = render_params(in, o);
+    const RayCastParams& rp = r.params;
+    const ViewTransform view = render_view(in, cam, o);
+    const auto t0 = std::chrono::steady_clock::now();
     const RgbaImage rgba = ray_cast_rgba(*in.field, in.box, view, tf, rp, in.skip ? &*in.skip : nullptr, o.threads,
                                          &r.stats, progress);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

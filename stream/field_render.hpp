@@ -42,6 +42,12 @@ struct RenderInput {
 /// boxes are 8-cell blocks (a store: its bricks' exact intervals), the spacing its smallest voxel side.
 RenderInput volume_render_input(VolumeInput volume);
 
+/// Scattered data: empty-space boxes of this many mean point spacings, bounded by the points within
+/// kPointPad spacings (the reach of the fields' local fits: an mpu leaf's sphere or an RBF-grid cell's
+/// data sphere holds its few dozen nearest points, 2-3 spacings), widened by kPointMargin of the
+/// data's value range (multiquadric interpolants overshoot their data a little).
+inline constexpr double kPointMacroCell = 8, kPointPad = 3, kPointMargin = 0.05;
+
 /// Points rendered through `field` (built over them, kept alive by the caller): empty-space boxes of
 /// 8 mean point spacings bounded by the points within 3 spacings (the reach of the fields' local
 /// fits), widened by 5 % of the value range (multiquadrics overshoot their data a little).
@@ -70,6 +76,13 @@ struct RenderResult {
     RayCastParams params;  ///< the step and reference step used
     double seconds = 0;    ///< the ray casting's wall time
 };
+
+/// The ray caster's parameters of a render: the options' step and reference step (default: half
+/// the input's spacing), shading, background; a volume's shading by central differences over a voxel.
+RayCastParams render_params(const RenderInput& in, const RenderOptions& o);
+/// The camera's view of the frame (render_frame: in.box becomes the part rendered); with no_skip,
+/// every empty-space box with data becomes one to evaluate.
+ViewTransform render_view(RenderInput& in, const Camera& cam, const RenderOptions& o);
 
 /// The transfer function of a render (`meshless render --tf NAME`): a preset (kernels/transfer_function.hpp)
 /// spanning `range` (a constant range [v, v] becomes [v, v + 1], a non-finite one [0, 1]), or a file of

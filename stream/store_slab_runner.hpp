@@ -39,6 +39,7 @@ struct StoreQueryParams {
     std::uint64_t memory_bytes = 1ull << 30;  ///< the budget for a slab's points, field, support test and results
     double bytes_per_point = 1200;            ///< what one loaded point costs at first (field and the rest)
     double other_bytes_per_point = 320;       ///< what one loaded point costs beside its field
+    double fixed_bytes = 0;                   ///< of the budget, what the work holds throughout (not the slabs')
 };
 
 /// What a slab run did (the --stats line).

@@ -260,7 +260,7 @@ TEST_CASE("isosurface of a .mlc in slabs within --memory: the bytes of one slab 
     CHECK(temporaries(dir.path).empty());
 }
 
-TEST_CASE("probe, slice and resample of a .mlc in slabs within --memory: the whole field's bytes for any budget and --threads",
+TEST_CASE("probe, slice, resample and render of a .mlc in slabs within --memory: the whole field's bytes for any budget and --threads",
           "[cli][point_store]") {
     TempDir dir("mlc-cli-queries");
     const std::string csv = (dir / "u.csv").string(), mlc = (dir / "u.mlc").string(), mlf = (dir / "u.mlf").string();
@@ -282,7 +282,9 @@ TEST_CASE("probe, slice and resample of a .mlc in slabs within --memory: the who
     };
     const std::vector<Query> queries{{"ref.nrrd", "resample " + mlc + " --grid 24,20,28"},
                                      {"ref.csv", "probe " + mlc + " --at-file " + (dir / "at.csv").string()},
-                                     {"ref.png", "slice " + mlc + " --plane y=0.4 --size 120x120 --colorbar"}};
+                                     {"ref.png", "slice " + mlc + " --plane y=0.4 --size 120x120 --colorbar"},
+                                     {"ref_render.png", "render " + mlc + " --size 96x80 --shade --tf viridis"},
+                                     {"ref_render2.png", "render " + mlc + " --size 64x64 --azimuth 10 --elevation 80 --zoom 3"}};
     for (const Query& q : queries) {
         INFO(q.args);
         const auto ext = fs::path(q.name).extension().string();
