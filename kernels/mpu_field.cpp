@@ -498,7 +498,8 @@ MpuField::MpuField(const PointSet& points, const FieldParams& params, FieldBuild
         const double reach = params.mpu_blend_alpha * 2.0 * std::sqrt(3.0);
         for (std::size_t l = 0; l < locals_.size(); ++l) {
             const auto& nd = b.nodes[static_cast<std::size_t>(leaf_node[l])];
-            if (!cache->keeps((nd.c.z + nd.half * (1 + reach)) / scale_.z + origin_.z)) continue;
+            if (!cache->keeps((nd.c.z - nd.half * (1 + reach)) / scale_.z + origin_.z, (nd.c.z + nd.half * (1 + reach)) / scale_.z + origin_.z))
+                continue;
             const MultiquadricLocal& h = locals_[l];
             MpuFitCache::Fit f{h, std::vector<double>(lambda_.begin() + h.first, lambda_.begin() + h.first + b.leaf_range[l].second),
                                outcome[l], rank_def[l]};

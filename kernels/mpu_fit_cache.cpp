@@ -39,8 +39,9 @@ MpuFitCache::Key MpuFitCache::key_of(const Vec3& c, double half, std::span<const
     return k;
 }
 
-void MpuFitCache::begin(double keep_from_z) {
-    keep_from_z_ = keep_from_z;
+void MpuFitCache::begin(double keep_z, bool falling) {
+    keep_z_ = keep_z;
+    falling_ = falling;
     kept_.clear();
     bytes_kept_ = 0;
 }

@@ -10,9 +10,9 @@
 // bits with the list's length: a lookup that matches all of them is taken as the same list (two
 // different lists agree on 128 hash bits with probability ~2^-128).
 //
-// Use, per region: begin(keep_from_z) before the build (the build looks fits up among those kept
+// Use, per region: begin(keep_z) before the build (the build looks fits up among those kept
 // by the previous region and keeps, for the next one, every leaf whose blend sphere rises to world
-// z >= keep_from_z); advance() once the region's build is final (what it kept
+// z >= keep_z; regions taken from the top down keep those reaching down to z <= keep_z); advance() once the region's build is final (what it kept
 // becomes what the next build finds; the previous region's fits are freed). A build that is
 // started again (a wider halo) calls begin() again first. Not thread-safe, except find(), which
 // may run on many threads while nothing else runs. Throws only std::bad_alloc.
@@ -49,11 +49,12 @@ public:
     static Key key_of(const Vec3& c, double half, std::span<const Vec3> pos, std::span<const double> value,
                       std::span<const std::uint32_t> idx);
 
-    /// Starts a build that keeps the leaves rising to world z >= keep_from_z (world units); clears
-    /// what a previous start of the same region kept.
-    void begin(double keep_from_z);
-    /// Whether the current build keeps a leaf whose blend sphere rises to world z = top.
-    bool keeps(double top) const { return top >= keep_from_z_; }
+    /// Starts a build that keeps the leaves rising to world z >= keep_z (world units), or with
+    /// `falling` (regions taken from the top down) those reaching down to z <= keep_z; clears what a
+    /// previous start of the same region kept.
+    void begin(double keep_z, bool falling = false);
+    /// Whether the current build keeps a leaf whose blend sphere spans world z = [bottom, top].
+    bool keeps(double bottom, double top) const { return falling_ ? bottom <= keep_z_ : top >= keep_z_; }
     /// The fit kept by the previous region under `key`, or null.
     const Fit* find(const Key& key) const;
     /// Keeps a fit for the next region.
@@ -74,7 +75,8 @@ private:
     };
     std::unordered_map<Key, Fit, Hash> found_, kept_;
     std::uint64_t bytes_found_ = 0, bytes_kept_ = 0, hits_ = 0;
-    double keep_from_z_ = 0;
+    double keep_z_ = 0;
+    bool falling_ = false;
 };
 
 }  // namespace meshless

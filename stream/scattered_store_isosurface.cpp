@@ -81,17 +81,6 @@ void add_seed_stats(StencilSeedStats& to, const StencilSeedStats& s) {
     to = StencilSeedStats::from_array(a);
 }
 
-void add_field_stats(FieldBuildStats& to, const FieldBuildStats& s) {
-    to.locals += s.locals;
-    to.interpolated += s.interpolated;
-    to.regularised += s.regularised;
-    to.linear_fallback += s.linear_fallback;
-    to.polynomial_only += s.polynomial_only;
-    to.capped += s.capped;
-    to.grown += s.grown;
-    to.spanned += s.spanned;
-    to.memory_bytes = std::max(to.memory_bytes, s.memory_bytes);
-}
 
 std::string mib(double bytes) {
     char b[64];
@@ -343,7 +332,7 @@ void check_slab_run(const FieldParams& field_params, const FieldProjectParams& n
 void record_slab(ScatteredIsosurfaceStats& st, ScatteredStoreReport& rep, const ScatteredIsosurfaceStats& part,
                  const FieldBuildStats& fst, double halo_cells) {
     add_slab_stats(st, part);
-    add_field_stats(rep.field, fst);
+    add_slab_field_stats(rep.field, fst);
     rep.halo_cells = std::max(rep.halo_cells, halo_cells);
     ++rep.slabs;
 }

@@ -153,6 +153,18 @@ std::vector<char> bricks_still_lacking(const PointStore& store, const StoreBrick
     return extra;
 }
 
+void add_slab_field_stats(FieldBuildStats& to, const FieldBuildStats& s) {
+    to.locals += s.locals;
+    to.interpolated += s.interpolated;
+    to.regularised += s.regularised;
+    to.linear_fallback += s.linear_fallback;
+    to.polynomial_only += s.polynomial_only;
+    to.capped += s.capped;
+    to.grown += s.grown;
+    to.spanned += s.spanned;
+    to.memory_bytes = std::max(to.memory_bytes, s.memory_bytes);
+}
+
 void BatchBuffer::forward(Sink& sink, std::uint64_t& seq) {
     for (Batch& b : batches) {
         b.seq = seq++;

@@ -110,6 +110,9 @@ std::size_t add_lacking_bricks(const MpuField& field, const StoreBrickIndex& ind
 std::vector<char> bricks_still_lacking(const PointStore& store, const StoreBrickIndex& index,
                                        std::vector<std::pair<Vec3, double>>& seen, double from);
 
+/// A slab field's build figures added to a run's: its locals by outcome, and the largest field.
+void add_slab_field_stats(FieldBuildStats& to, const FieldBuildStats& s);
+
 /// Keeps a slab's batches (of one payload kind) until the slab is known to be exact.
 class BatchBuffer final : public Sink {
 public:

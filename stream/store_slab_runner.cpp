@@ -24,14 +24,6 @@ constexpr double kNoSlabAbove = std::numeric_limits<double>::infinity();
 
 std::string budget_mib(double bytes) { return std::to_string(static_cast<std::uint64_t>(std::ceil(bytes / 1048576.0))) + " MiB"; }
 
-void add_slab_field_stats(FieldBuildStats& to, const FieldBuildStats& s) {
-    to.locals += s.locals;
-    to.interpolated += s.interpolated;
-    to.regularised += s.regularised;
-    to.linear_fallback += s.linear_fallback;
-    to.polynomial_only += s.polynomial_only;
-    to.memory_bytes = std::max(to.memory_bytes, s.memory_bytes);
-}
 
 }  // namespace
 
@@ -91,8 +83,9 @@ void for_each_store_slab(const PointStore& store, const ScatteredStorePlan& plan
                 oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
                 oneapi::tbb::parallel_invoke(
                     [&] {
-                        // a rising run keeps for the next slab the fits reaching up to its range
-                        cache.begin(!q.descending && k1 < q.count ? q.range(k1, k1 + 1)[0] : kNoSlabAbove);
+                        // the fits reaching into the next slab's range are kept for it
+                        if (q.descending) cache.begin(k1 < q.count ? q.range(k1, k1 + 1)[1] : -kNoSlabAbove, /*falling=*/true);
+                        else cache.begin(k1 < q.count ? q.range(k1, k1 + 1)[0] : kNoSlabAbove);
                         field = std::make_unique<MpuField>(points, p.field, &fst, FieldProgress{}, nullptr, &region, &cache);
                     },
                     [&] {

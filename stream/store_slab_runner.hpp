@@ -12,9 +12,9 @@
 // (and, with max_gap > 0, its support test with the whole set's value range, noting what it reads),
 // builds again over the bricks its lacking balls meet until it is exact, takes fewer layers when
 // the field does not fit, then calls run(k0, k1, field, coverage): false (the support test read
-// beyond the loaded range) doubles the halo and runs the slab again. Rising runs keep the fits the
-// next slab overlaps (kernels/mpu_fit_cache.hpp) and load from its first build the bricks that
-// earlier lacking balls reach into it.
+// beyond the loaded range) doubles the halo and runs the slab again. Both ways a run keeps the fits
+// the next slab overlaps (kernels/mpu_fit_cache.hpp); a rising run also loads from a slab's first
+// build the bricks that earlier lacking balls reach into it.
 // Units: world, bytes. Throws InvalidArgument when the field is not mpu, or one layer's slab does
 // not fit the budget (naming the budget that would do); FormatError/IoError from the store; what run throws.
 #pragma once

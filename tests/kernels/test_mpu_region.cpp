@@ -64,7 +64,8 @@ struct RegionRun {
 // the points of z0 - halo .. z1 + halo, then those of every lacking ball, until exact; compares
 // it with `whole` at queries in the query box.
 RegionRun check_slab(const std::vector<Vec3>& all, const MpuField& whole, const FieldParams& params, double z0, double z1,
-                     double halo, bool with_counts, MpuFitCache* cache = nullptr, double keep_from = INFINITY) {
+                     double halo, bool with_counts, MpuFitCache* cache = nullptr, double keep_from = INFINITY,
+                     bool falling = false) {
     const PointSet ws = points_of(all);
     FieldRegion region;
     region.frame = field_frame_of(all);
@@ -92,7 +93,7 @@ RegionRun check_slab(const std::vector<Vec3>& all, const MpuField& whole, const 
         for (std::size_t i = 0; i < all.size(); ++i)
             if (given[i]) part.push_back(all[i]);
         std::shuffle(part.begin(), part.end(), rng);  // (any order)
-        if (cache) cache->begin(keep_from);
+        if (cache) cache->begin(keep_from, falling);
         const MpuField f(points_of(part), params, nullptr, {}, nullptr, &region, cache);
         ++run.builds;
         if (!f.region_exact()) {
@@ -178,6 +179,12 @@ TEST_CASE("fits kept from one slab serve the next with the same bits", "[kernels
     CHECK(cache.bytes() == 0);
     check_slab(all, whole, params, 0.0, 0.5, 0.1, true, &cache, INFINITY);  // nothing kept: every fit solved
     CHECK(cache.hits() == hits);
+    // slabs taken from the top down keep the fits reaching down into the next one
+    MpuFitCache down;
+    check_slab(all, whole, params, 0.0, 0.9, 0.1, true, &down, 0.0, /*falling=*/true);
+    CHECK(down.bytes() > 0);
+    check_slab(all, whole, params, -0.9, 0.0, 0.1, true, &down, -INFINITY, true);  // compared with the whole field's bits
+    CHECK(down.hits() > 0);
 }
 
 TEST_CASE("a fit is known by its cube and the bits of its list", "[kernels][mpu][region]") {
@@ -193,8 +200,12 @@ TEST_CASE("a fit is known by its cube and the bits of its list", "[kernels][mpu]
     CHECK(!(k == MpuFitCache::key_of({0.5, 0.5, 0.5}, 0.5, pos, val, idx)));
     MpuFitCache cache;
     cache.begin(0);
-    CHECK(cache.keeps(0.0));
-    CHECK(!cache.keeps(-0.1));
+    CHECK(cache.keeps(-1, 0.0));
+    CHECK(!cache.keeps(-1, -0.1));
+    cache.begin(0, /*falling=*/true);
+    CHECK(cache.keeps(0.0, 1));
+    CHECK(!cache.keeps(0.1, 1));
+    cache.begin(0);
     cache.keep(k, MpuFitCache::Fit{MultiquadricLocal{}, {1, 2, 3, 4}, MultiquadricOutcome::interpolated, 0});
     CHECK(cache.find(k) == nullptr);  // (kept for the next build)
     cache.advance();
