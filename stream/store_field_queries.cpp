@@ -103,16 +103,14 @@ FieldQueryStats resample_store_field(const PointStore& store, const ScatteredSto
 
 namespace {
 
-/// The field (value, and gradient when want_grad) at every position of `at`, in its order:
-/// the positions taken in z order (stable) slab by slab, those of one z in one slab.
-struct PositionResults {
-    std::vector<double> value;
-    std::vector<Vec3> grad;
-    FieldQueryStats stats;
-};
+/// The results as the in-memory graph's batches (kQueriesPerBatch positions each, in order) to `sink`.
+void emit_results(const std::vector<Vec3>& at, const StorePositionValues& r, bool want_grad, Sink& sink);
 
-PositionResults evaluate_positions(const PointStore& store, const ScatteredStorePlan& plan, const StoreQueryParams& p,
-                                   const std::vector<Vec3>& at, bool want_grad, const FieldQueryRun& run, StoreQueryReport& rep) {
+}  // namespace
+
+StorePositionValues evaluate_store_positions(const PointStore& store, const ScatteredStorePlan& plan, const StoreQueryParams& p,
+                                             const std::vector<Vec3>& at, bool want_grad, const FieldQueryRun& run,
+                                             StoreQueryReport& rep) {
     const std::size_t n = at.size();
     std::vector<std::size_t> order(n);
     std::iota(order.begin(), order.end(), std::size_t{0});
@@ -122,7 +120,7 @@ PositionResults evaluate_positions(const PointStore& store, const ScatteredStore
     for (std::size_t k = 1; k < n; ++k)
         if (at[order[k]].z != at[order[k - 1]].z) start.push_back(k);
     start.push_back(n);
-    PositionResults r;
+    StorePositionValues r;
     r.value.assign(n, std::numeric_limits<double>::quiet_NaN());
     r.grad.assign(want_grad ? n : 0, Vec3{});
     const auto first = [&start](std::int64_t k) { return start[static_cast<std::size_t>(k)]; };
@@ -158,8 +156,9 @@ PositionResults evaluate_positions(const PointStore& store, const ScatteredStore
     return r;
 }
 
-/// The results as the in-memory graph's batches (kQueriesPerBatch positions each, in order) to `sink`.
-void emit_results(const std::vector<Vec3>& at, const PositionResults& r, bool want_grad, Sink& sink) {
+namespace {
+
+void emit_results(const std::vector<Vec3>& at, const StorePositionValues& r, bool want_grad, Sink& sink) {
     std::uint64_t seq = 0;
     for (std::size_t b0 = 0; b0 < at.size(); b0 += kQueriesPerBatch) {
         const std::size_t b1 = std::min(at.size(), b0 + kQueriesPerBatch);
@@ -181,7 +180,7 @@ FieldQueryStats probe_store_field(const PointStore& store, const ScatteredStoreP
                                   std::vector<Vec3> at, const std::string& csv, const FieldQueryRun& run, StoreQueryReport* report) {
     StoreQueryReport rep;
     ProbeCsvSink sink(csv);
-    const PositionResults r = evaluate_positions(store, plan, p, at, /*want_grad=*/true, run, rep);
+    const StorePositionValues r = evaluate_store_positions(store, plan, p, at, /*want_grad=*/true, run, rep);
     emit_results(at, r, true, sink);
     sink.finish();
     if (report) *report = rep;
@@ -195,7 +194,7 @@ SliceResult slice_store_field(const PointStore& store, const ScatteredStorePlan&
     at.reserve(static_cast<std::size_t>(raster.width) * static_cast<std::size_t>(raster.height));
     for (int row = 0; row < raster.height; ++row)
         for (int col = 0; col < raster.width; ++col) at.push_back(raster.position(row, col));
-    const PositionResults r = evaluate_positions(store, plan, p, at, /*want_grad=*/false, run, rep);
+    const StorePositionValues r = evaluate_store_positions(store, plan, p, at, /*want_grad=*/false, run, rep);
     SliceImageSink sink(raster.width, raster.height, req.colormap, req.range[0], req.range[1]);
     emit_results(at, r, false, sink);
     at = {};

@@ -48,6 +48,18 @@ FieldQueryStats resample_store_field(const PointStore& store, const ScatteredSto
                                      const GridSpec& g, const std::string& path, const FieldQueryRun& run,
                                      StoreQueryReport* report = nullptr);
 
+/// The store's mpu field (value, and gradient when want_grad) at every position of `at`, in its
+/// order, with the support test's figures: the positions taken in z order (stable), those of one z
+/// in one slab (what probe writes; Python's Store.probe).
+struct StorePositionValues {
+    std::vector<double> value;
+    std::vector<Vec3> grad;  ///< want_grad only
+    FieldQueryStats stats;
+};
+StorePositionValues evaluate_store_positions(const PointStore& store, const ScatteredStorePlan& plan, const StoreQueryParams& p,
+                                             const std::vector<Vec3>& at, bool want_grad, const FieldQueryRun& run,
+                                             StoreQueryReport& report);
+
 /// probe_field of the store's mpu field at `at`, in the given order, as CSV at `csv` ("-": stdout).
 FieldQueryStats probe_store_field(const PointStore& store, const ScatteredStorePlan& plan, const StoreQueryParams& p,
                                   std::vector<Vec3> at, const std::string& csv, const FieldQueryRun& run,

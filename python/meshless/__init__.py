@@ -820,6 +820,7 @@ class Store:
     info(): the report of `meshless info STORE`.
     isosurface(iso, ...) yields the isosurface's points batch by batch, what `meshless isosurface
     STORE --iso V` writes, in its order; bricks() (point stores) yields each brick's points;
+    probe(positions, ...) (point stores) evaluates the field slab by slab within a budget;
     render(store, ...) ray casts a brick store."""
 
     __slots__ = ("_s",)
@@ -872,6 +873,17 @@ class Store:
         if field != "mpu" or field_options:
             raise ValueError("field options apply to a point store (.mlc); %s is a %s store" % (self.path, self.kind))
         return _batches(self._s._isosurface(float(iso), str(projection), _memory_bytes(memory), int(threads)))
+
+    def probe(self, positions, *, memory="1G", threads=0, field="mpu", max_gap=1.0, extrapolate="nan", **field_options):
+        """A point store's field at positions (m, 3): (values (m,), gradients (m, 3)), the numbers
+        `meshless probe STORE --at-file F --memory M` writes, for any `memory` and `threads`. The mpu
+        field (section 5.5) is built slab by slab along z within `memory` ('1G' as `--memory 1G`, or an
+        int); max_gap and extrapolate as probe's --max-gap and --extrapolate (NaN where the data does
+        not reach; max_gap=0: no support test); the field options as isosurface_points()."""
+        if self.kind != "point":
+            raise ValueError("probe: %s is a %s store; probe() evaluates a point store's (.mlc) field" % (self.path, self.kind))
+        return self._s._probe(_np.asarray(positions, dtype=_np.float64), _field_params(field, **field_options), float(max_gap),
+                              str(extrapolate), _memory_bytes(memory), int(threads))
 
     def bricks(self):
         """A point store's bricks, one PointSet each (points (count, 3), values (count,) float64 views

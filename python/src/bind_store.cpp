@@ -8,7 +8,8 @@
 // - a point store (.mlc, `meshless convert POINTS -o pts.mlc`, formats/point_store.hpp): its bricks
 //   one by one (bricks()), and the scattered isosurface of chapter 5 slab by slab within a memory
 //   budget (stream/scattered_store_isosurface.hpp plan_scattered_store and
-//   run_scattered_store_isosurface, the recipe `meshless isosurface pts.mlc --memory M` runs).
+//   run_scattered_store_isosurface, the recipe `meshless isosurface pts.mlc --memory M` runs), and
+//   its field at given positions slab by slab (stream/store_field_queries.hpp, `meshless probe pts.mlc`).
 // Isosurfaces are handed out batch by batch, in the order the command writes them, to a Python
 // generator. Threads: the graph runs on a thread of its own (and its workers) with the GIL
 // released; it delivers each batch's points into a queue of at most kQueued batches and waits while
@@ -39,6 +40,7 @@
 #include "stream/sample_store_source.hpp"
 #include "stream/scattered_store_isosurface.hpp"
 #include "stream/stage.hpp"
+#include "stream/store_field_queries.hpp"
 #include "stream/volume_input.hpp"
 
 namespace meshless::python {
@@ -322,6 +324,41 @@ const char* kind_name(StoreKind k) {
     return "brick";
 }
 
+/// A point store's mpu field at `positions` (m, 3), slab by slab within `memory`
+/// (stream/store_field_queries.hpp evaluate_store_positions, what `meshless probe STORE` writes):
+/// (values (m,), gradients (m, 3)).
+py::tuple point_store_probe(const StoreObject& s, const py::array& positions, const FieldParams& field, double max_gap,
+                            const std::string& extrapolate, std::uint64_t memory, int threads) {
+    if (s.kind != StoreKind::point) throw py::value_error(s.path + ": probe() evaluates a point store's (.mlc) field");
+    if (field.kind != FieldKind::mpu) throw py::value_error("field: a point store's field is built slab by slab with the mpu field");
+    if (!(max_gap >= 0) || !std::isfinite(max_gap)) throw py::value_error("max_gap: expected a factor >= 0");
+    if (memory < (std::uint64_t{1} << 20)) throw py::value_error("memory: expected at least 1M");
+    if (threads < 0 || threads > 1024) throw py::value_error("threads: expected 0..1024 (0: every CPU this process may use)");
+    StoreQueryParams p;
+    p.field = field;
+    p.max_gap = max_gap;
+    p.memory_bytes = memory;
+    if (extrapolate == "nan") p.extrapolate = Extrapolate::nan;
+    else if (extrapolate == "clamp") p.extrapolate = Extrapolate::clamp;
+    else if (extrapolate == "nearest") p.extrapolate = Extrapolate::nearest;
+    else throw py::value_error("extrapolate: expected nan, clamp or nearest, got '" + extrapolate + "'");
+    const std::vector<Vec3> at = vec3_rows(positions, "positions");
+    const auto n = static_cast<py::ssize_t>(at.size());
+    py::array_t<double> values(n), grads({n, py::ssize_t{3}});
+    if (at.empty()) return py::make_tuple(values, grads);
+    StorePositionValues r;
+    {
+        py::gil_scoped_release free;
+        const ScatteredStorePlan plan = plan_scattered_store(*s.point_store, s.path, BinningGridParams{}, InputWarning{});
+        StoreQueryReport rep;
+        r = evaluate_store_positions(*s.point_store, plan, p, at, /*want_grad=*/true, FieldQueryRun{threads == 0 ? available_cpus() : threads, {}, {}}, rep);
+    }
+    std::copy(r.value.begin(), r.value.end(), values.mutable_data());
+    double* g = grads.mutable_data();
+    for (std::size_t i = 0; i < r.grad.size(); ++i) g[3 * i] = r.grad[i].x, g[3 * i + 1] = r.grad[i].y, g[3 * i + 2] = r.grad[i].z;
+    return py::make_tuple(values, grads);
+}
+
 }  // namespace
 
 void bind_store(py::module_& m) {
@@ -350,6 +387,8 @@ void bind_store(py::module_& m) {
         })
         .def_property_readonly("value_name", [](const StoreObject& s) { return s.points.value_name; })
         .def("_brick", &point_brick, py::arg("index"))
+        .def("_probe", &point_store_probe, py::arg("positions"), py::arg("field"), py::arg("max_gap"), py::arg("extrapolate"),
+             py::arg("memory"), py::arg("threads"))
         .def("_isosurface", &volume_store_isosurface, py::arg("iso"), py::arg("projection"), py::arg("memory"), py::arg("threads"))
         .def("_point_isosurface", &point_store_isosurface, py::arg("iso"), py::arg("field"), py::arg("samples"), py::arg("reg_gap"),
              py::arg("max_cells"), py::arg("max_level"), py::arg("tolerance"), py::arg("max_iterations"), py::arg("max_travel"),

@@ -386,6 +386,23 @@ class Stores(unittest.TestCase):
                 s.isosurface(0.5, field="rbf-grid")
             with self.assertRaises(ValueError):
                 meshless.render(s)
+            # the field at positions, slab by slab: the numbers `meshless probe` writes
+            at = np.random.default_rng(4).uniform(-1.1, 1.1, size=(500, 3))
+            at_csv, probe_csv = os.path.join(d, "at.csv"), os.path.join(d, "probe.csv")
+            np.savetxt(at_csv, at, delimiter=",", fmt="%.17g")
+            cli("probe", mlc, "--at-file", at_csv, "--memory", "8M", "-o", probe_csv)
+            want = np.loadtxt(probe_csv, delimiter=",", skiprows=1)
+            for memory, threads in (("8M", 1), ("1G", 2)):
+                values, grads = s.probe(at, memory=memory, threads=threads)
+                self.assertEqual((values.shape, grads.shape), ((500,), (500, 3)))
+                self.assertTrue(np.allclose(values, want[:, 3], rtol=1e-8, atol=0, equal_nan=True))
+                self.assertTrue(np.allclose(grads, want[:, 4:7], rtol=1e-8, atol=0, equal_nan=True))
+            self.assertGreater(np.isfinite(values).sum(), 100)
+            self.assertTrue(np.isnan(values).any())  # (positions beyond the data)
+            with self.assertRaises(ValueError):
+                s.probe(at, field="rbf-grid")
+            with self.assertRaises(ValueError):
+                s.probe(at, extrapolate="far")
 
     def test_not_a_store(self):
         with tempfile.TemporaryDirectory() as d:
