@@ -90,7 +90,7 @@ CliRenderInput open_render_input(const Args& a) {
         for (const char* o : {"dims", "type", "spacing", "array", "memory", "crop"})
             if (a.declared(o) && a.has(o) && !(store && std::string(o) == "memory"))
                 throw UsageError("--" + std::string(o) + " applies to volumes" +
-                                 (std::string(o) == "memory"  ? std::string(" read from brick stores (.mlb)")
+                                 (std::string(o) == "memory"  ? std::string(" read from brick stores (.mlb) and to point stores (.mlc) with the mpu field")
                                   : std::string(o) == "array" ? std::string(" (.vti, .vtk, vtk.js)")
                                   : std::string(o) == "crop"  ? std::string()
                                                               : std::string(" (raw)")) +
