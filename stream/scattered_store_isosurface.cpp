@@ -90,8 +90,24 @@ std::string mib(double bytes) {
 
 }  // namespace
 
+namespace {
+ScatteredStorePlan plan_store(const PointStore& store, const std::string& source, const BinningGridParams& bp, const InputWarning& warn,
+                              std::optional<int> level);
+}  // namespace
+
 ScatteredStorePlan plan_scattered_store(const PointStore& store, const std::string& source, const BinningGridParams& bp,
                                         const InputWarning& warn) {
+    return plan_store(store, source, bp, warn, std::nullopt);
+}
+
+ScatteredStorePlan plan_store_field(const PointStore& store, const std::string& source, int level) {
+    if (level < 0 || level > 10) throw InvalidArgument("plan_store_field: level " + std::to_string(level) + " outside 0..10");
+    return plan_store(store, source, BinningGridParams{}, InputWarning{}, level);
+}
+
+namespace {
+ScatteredStorePlan plan_store(const PointStore& store, const std::string& source, const BinningGridParams& bp, const InputWarning& warn,
+                              std::optional<int> level) {
     const auto t0 = Clock::now();
     ScatteredStorePlan plan;
     plan.source = source;
@@ -115,7 +131,8 @@ ScatteredStorePlan plan_scattered_store(const PointStore& store, const std::stri
     const PointScan positions = [&](const std::function<void(std::span<const Vec3>)>& chunk) {
         scan_store(store, [&](std::span<const Vec3> pos, std::span<const double>) { chunk(pos); });
     };
-    plan.grid = binning_grid_of(plan.frame.bounds, binning_rule_level_scanned(positions, plan.frame.points, plan.frame.bounds, bp, &scans), bp);
+    plan.grid = binning_grid_of(plan.frame.bounds,
+                                level ? *level : binning_rule_level_scanned(positions, plan.frame.points, plan.frame.bounds, bp, &scans), bp);
     // last scan: the points of every cell (the statistics, the largest stencil, the layer counts)
     BinnedPoints counts;
     counts.start.assign(static_cast<std::size_t>(plan.grid.cell_count()) + 1, 0);
@@ -162,6 +179,7 @@ ScatteredStorePlan plan_scattered_store(const PointStore& store, const std::stri
     plan.seconds = seconds_since(t0);
     return plan;
 }
+}  // namespace
 
 std::uint64_t ScatteredStorePlan::points_in_cells(std::array<std::int64_t, 3> lo, std::array<std::int64_t, 3> hi) const {
     for (std::size_t a = 0; a < 3; ++a) {

@@ -76,6 +76,11 @@ struct ScatteredStorePlan {
 ScatteredStorePlan plan_scattered_store(const PointStore& store, const std::string& source, const BinningGridParams& bp,
                                         const InputWarning& warn);
 
+/// The plan of work that needs no stencils (the field queries and the rendering of a store): the
+/// frame and values, and a grid of `level` (2^level cells a side of the bounding box, 0..10) for the
+/// slabs' counts instead of the binning rule's: two scans of the store.
+ScatteredStorePlan plan_store_field(const PointStore& store, const std::string& source, int level);
+
 /// The metadata scattered_isosurface_meta writes for the same points in memory.
 StreamMeta scattered_store_meta(const ScatteredStorePlan& plan, double iso, int n, const std::string& producer);
 

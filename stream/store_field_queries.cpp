@@ -73,7 +73,10 @@ FieldQueryStats run_query_slabs(const PointStore& store, const ScatteredStorePla
 StoreQueries open_store_queries(const std::string& path) {
     StoreQueries q;
     q.store = PointStore::open(path);
-    q.plan = plan_scattered_store(*q.store, path, BinningGridParams{}, InputWarning{});
+    // the slabs' counts need no stencils: a grid of about 16 points a cell, at most 128 cells a side
+    const double n = static_cast<double>(std::max<std::uint64_t>(1, q.store->info().points));
+    const int level = std::clamp(static_cast<int>(std::ceil(std::log2(std::cbrt(n / 16.0)))), 1, 7);
+    q.plan = plan_store_field(*q.store, path, level);
     return q;
 }
 

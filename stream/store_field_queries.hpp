@@ -33,8 +33,8 @@
 namespace meshless {
 
 
-/// A store opened for its queries, with its plan (plan_scattered_store with the default binning:
-/// the frame, value range and cell counts the slabs read).
+/// A store opened for its queries, with its plan (plan_store_field: the frame, value range and the
+/// cell counts the slabs read, on a grid of about 16 points a cell, at most 128 a side).
 struct StoreQueries {
     std::unique_ptr<PointStore> store;
     ScatteredStorePlan plan;

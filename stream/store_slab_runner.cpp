@@ -32,7 +32,7 @@ void for_each_store_slab(const PointStore& store, const ScatteredStorePlan& plan
     if (p.field.kind != FieldKind::mpu) throw InvalidArgument("a point store is queried slab by slab with the mpu field only");
     const StoreBrickIndex index(store);
     // (what the work holds throughout is not the slabs')
-    const double budget = static_cast<double>(p.memory_bytes) - p.fixed_bytes;
+    const double budget = static_cast<double>(p.memory_bytes) - p.fixed_bytes - 4.0 * static_cast<double>(plan.cell_table.size());
     MpuFitCache cache;
     // A slab's field holds the fits of the leaves meeting its query box, not of its halo: its bytes
     // go with the points of the query range (the most a point there took so far), the rest of the
@@ -115,7 +115,7 @@ void for_each_store_slab(const PointStore& store, const ScatteredStorePlan& plan
                                       " is too small for this store: the field of one slab (" +
                                       std::to_string(points.size()) + " points with its halo) takes " +
                                       budget_mib(static_cast<double>(fst.memory_bytes)) + "; it needs about --memory " +
-                                      budget_mib(1.1 * (static_cast<double>(fst.memory_bytes) + others) + p.fixed_bytes));
+                                      budget_mib(1.1 * (static_cast<double>(fst.memory_bytes) + others) + static_cast<double>(p.memory_bytes) - budget));
             }
             if (coverage) {
                 coverage->set_value_range(plan.value_range);

@@ -38,8 +38,12 @@ struct StoreQueryParams {
     Extrapolate extrapolate = Extrapolate::nan;
     std::uint64_t memory_bytes = 1ull << 30;  ///< the budget for a slab's points, field, support test and results
     double bytes_per_point = 1200;            ///< what one loaded point costs at first (field and the rest)
-    double other_bytes_per_point = 320;       ///< what one loaded point costs beside its field
+    /// What one loaded point costs beside its field: its record (32 bytes), its share of the octree's
+    /// build lists and of the support test's tree, reach and values (10^8 LIDC2 samples, a slab of
+    /// 2.07 M points: 881 MiB peak with a 507 MiB field, ~130 bytes a point beside it).
+    double other_bytes_per_point = 160;
     double fixed_bytes = 0;                   ///< of the budget, what the work holds throughout (not the slabs')
+                                              ///< beside the plan's cell table, which the slabs count themselves
 };
 
 /// What a slab run did (the --stats line).

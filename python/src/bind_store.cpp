@@ -349,7 +349,7 @@ py::tuple point_store_probe(const StoreObject& s, const py::array& positions, co
     StorePositionValues r;
     {
         py::gil_scoped_release free;
-        const ScatteredStorePlan plan = plan_scattered_store(*s.point_store, s.path, BinningGridParams{}, InputWarning{});
+        const ScatteredStorePlan plan = open_store_queries(s.path).plan;
         StoreQueryReport rep;
         r = evaluate_store_positions(*s.point_store, plan, p, at, /*want_grad=*/true, FieldQueryRun{threads == 0 ? available_cpus() : threads, {}, {}}, rep);
     }
