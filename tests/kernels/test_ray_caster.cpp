@@ -239,12 +239,23 @@ TEST_CASE("opacity correction: half the step gives nearly the same picture", "[r
     CHECK(compare_images(full, uncorrected).psnr < 35);
 }
 
+/// The blob volume of 40^3 samples through its trilinear field, its 8-cell empty-space boxes and
+/// the ct-bone transfer function over its values: the scene of the skipping and in-parts tests.
+struct BlobScene {
+    Volume vol = blob_volume(40);
+    TrilinearField f{vol.view()};
+    std::array<Vec3, 2> box = f.bounds();
+    ValueBoundsGrid skip = value_bounds_from_blocks(block_minmax(vol.view(), 8), vol.grid);
+    TransferFunction tf = transfer_function_preset("ct-bone", -0.3, 1.3);
+};
+
 TEST_CASE("empty-space skipping of a volume leaves the picture unchanged, and skips", "[render]") {
-    const Volume vol = blob_volume(40);
-    const TrilinearField f(vol.view());
-    const auto box = f.bounds();
-    const ValueBoundsGrid skip = value_bounds_from_blocks(block_minmax(vol.view(), 8), vol.grid);
-    const TransferFunction tf = transfer_function_preset("ct-bone", -0.3, 1.3);
+    const BlobScene scene;
+    const Volume& vol = scene.vol;
+    const TrilinearField& f = scene.f;
+    const auto& box = scene.box;
+    const ValueBoundsGrid& skip = scene.skip;
+    const TransferFunction& tf = scene.tf;
     Camera cam;
     cam.width = cam.height = 80;
     const ViewTransform view = make_view(cam, box[0], box[1]);
@@ -434,11 +445,12 @@ TEST_CASE("shading a volume by central differences is smooth: nearer the functio
 }
 
 TEST_CASE("a picture cast in parts along z, each ray on from where it stood, has ray_cast_rgba's bytes", "[render]") {
-    const Volume vol = blob_volume(40);
-    const TrilinearField f(vol.view());
-    const auto box = f.bounds();
-    const ValueBoundsGrid skip = value_bounds_from_blocks(block_minmax(vol.view(), 8), vol.grid);
-    const TransferFunction tf = transfer_function_preset("ct-bone", -0.3, 1.3);
+    const BlobScene scene;
+    const Volume& vol = scene.vol;
+    const TrilinearField& f = scene.f;
+    const auto& box = scene.box;
+    const ValueBoundsGrid& skip = scene.skip;
+    const TransferFunction& tf = scene.tf;
     // an orbit from outside the box's z range (every ray falls or every ray rises), from inside it
     // (rays both ways, and some flat), orthographic
     struct View {
