@@ -251,11 +251,7 @@ struct BlobScene {
 
 TEST_CASE("empty-space skipping of a volume leaves the picture unchanged, and skips", "[render]") {
     const BlobScene scene;
-    const Volume& vol = scene.vol;
-    const TrilinearField& f = scene.f;
-    const auto& box = scene.box;
-    const ValueBoundsGrid& skip = scene.skip;
-    const TransferFunction& tf = scene.tf;
+    const auto& [vol, f, box, skip, tf] = scene;
     Camera cam;
     cam.width = cam.height = 80;
     const ViewTransform view = make_view(cam, box[0], box[1]);
@@ -446,11 +442,7 @@ TEST_CASE("shading a volume by central differences is smooth: nearer the functio
 
 TEST_CASE("a picture cast in parts along z, each ray on from where it stood, has ray_cast_rgba's bytes", "[render]") {
     const BlobScene scene;
-    const Volume& vol = scene.vol;
-    const TrilinearField& f = scene.f;
-    const auto& box = scene.box;
-    const ValueBoundsGrid& skip = scene.skip;
-    const TransferFunction& tf = scene.tf;
+    const auto& [vol, f, box, skip, tf] = scene;
     // an orbit from outside the box's z range (every ray falls or every ray rises), from inside it
     // (rays both ways, and some flat), orthographic
     struct View {
